@@ -1,0 +1,23 @@
+"""insrail: office software for inertial track-geometry trolleys.
+
+Data flows one way, stage by stage (see ``docs/architecture.md``)::
+
+    raw files --io--> SurveyData --nav--> Trajectory --track--> rails, sleepers,
+    geometry, irregularities --report--> xlsx / pdf
+
+Conventions used everywhere in the package (each sub-package restates the ones it
+uses in its own docstring):
+
+* Units are SI inside the core: metres, seconds, radians, m/s, m/s^2. Millimetres
+  and degrees appear only at the reporting edge (files the user reads, reports,
+  plots) and in names that say so (``gauge_mm``).
+* Time is GPS time, seconds of the GPS week, unless a name says otherwise.
+* Navigation frame n = local-level North-East-Down; body frame b = the IMU's
+  forward-right-down axes; vehicle frame v = the trolley's forward-right-down axes
+  (x along the rails in the direction of travel).
+* Attitude is roll, pitch, heading (Euler z-y-x) of b (or v) relative to n.
+* Geodetic coordinates are on the WGS84/CGCS2000 ellipsoid (they differ by 0.1 mm
+  in the semi-minor axis), latitude/longitude in radians inside the core.
+"""
+
+__version__ = "0.1.0"

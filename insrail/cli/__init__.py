@@ -1,0 +1,1 @@
+"""Command-line shell: parses arguments, shows progress, calls the core. No computing here."""

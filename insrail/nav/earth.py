@@ -1,0 +1,158 @@
+"""Reference ellipsoid, radii of curvature, normal gravity and frame rates.
+
+All functions are vectorised over numpy arrays. Latitude ``lat`` and longitude
+``lon`` are geodetic, in radians; heights ``h`` are ellipsoidal, in metres.
+The gravity model is the WGS84 Somigliana normal gravity with the second-order
+free-air height correction; its direction is taken along the ellipsoid normal
+(n-frame z, down), the usual convention for strapdown navigation, deflection of
+the vertical being ignored (thesis 2.4.1.3).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Ellipsoid:
+    """An earth ellipsoid with the constants the navigation needs."""
+
+    name: str
+    a: float  #: semi-major axis [m]
+    f: float  #: flattening
+    gm: float = 3.986004418e14  #: geocentric gravitational constant [m^3/s^2]
+    omega: float = 7.292115e-5  #: earth rotation rate [rad/s] (WGS84 defining value)
+    gamma_e: float = 9.7803253359  #: normal gravity at the equator [m/s^2]
+    gamma_p: float = 9.8321849378  #: normal gravity at the pole [m/s^2]
+
+    @property
+    def b(self) -> float:
+        return self.a * (1.0 - self.f)
+
+    @property
+    def e2(self) -> float:
+        return self.f * (2.0 - self.f)
+
+    @property
+    def m(self) -> float:
+        """omega^2 a^2 b / GM, used in the height correction of normal gravity."""
+        return self.omega**2 * self.a**2 * self.b / self.gm
+
+    @property
+    def k_somigliana(self) -> float:
+        return (self.b * self.gamma_p) / (self.a * self.gamma_e) - 1.0
+
+
+WGS84 = Ellipsoid("WGS84", 6378137.0, 1.0 / 298.257223563)
+#: CGCS2000 differs from WGS84 only in the flattening (0.1 mm in b); normal gravity
+#: is taken as WGS84's (differences below 1e-8 m/s^2).
+CGCS2000 = Ellipsoid("CGCS2000", 6378137.0, 1.0 / 298.257222101)
+
+
+def radii(lat, ell: Ellipsoid = WGS84):
+    """Meridian radius R_M and prime-vertical radius R_N [m] (thesis 2.8, 2.9)."""
+    s2 = np.sin(lat) ** 2
+    w = 1.0 - ell.e2 * s2
+    r_n = ell.a / np.sqrt(w)
+    r_m = ell.a * (1.0 - ell.e2) / (w * np.sqrt(w))
+    return r_m, r_n
+
+
+def normal_gravity(lat, h, ell: Ellipsoid = WGS84):
+    """Magnitude of normal gravity [m/s^2] at geodetic latitude and ellipsoidal height."""
+    s2 = np.sin(lat) ** 2
+    g0 = ell.gamma_e * (1.0 + ell.k_somigliana * s2) / np.sqrt(1.0 - ell.e2 * s2)
+    a = ell.a
+    return g0 * (1.0 - 2.0 * h / a * (1.0 + ell.f + ell.m - 2.0 * ell.f * s2) + 3.0 * h**2 / a**2)
+
+
+def gravity_ned(lat, h, ell: Ellipsoid = WGS84):
+    """Normal gravity vector in the n-frame, shape (..., 3): [0, 0, g]."""
+    g = np.asarray(normal_gravity(lat, h, ell), dtype=float)
+    out = np.zeros(g.shape + (3,))
+    out[..., 2] = g
+    return out
+
+
+def earth_rate_ned(lat, ell: Ellipsoid = WGS84):
+    """omega_ie^n [rad/s], shape (..., 3) (thesis 2.6)."""
+    lat = np.asarray(lat, dtype=float)
+    out = np.zeros(lat.shape + (3,))
+    out[..., 0] = ell.omega * np.cos(lat)
+    out[..., 2] = -ell.omega * np.sin(lat)
+    return out
+
+
+def transport_rate_ned(lat, h, vel_ned, ell: Ellipsoid = WGS84):
+    """omega_en^n [rad/s] from NED ground velocity, shape (..., 3) (thesis 2.7)."""
+    vel_ned = np.asarray(vel_ned, dtype=float)
+    r_m, r_n = radii(lat, ell)
+    out = np.empty(np.broadcast_shapes(np.shape(lat), vel_ned.shape[:-1]) + (3,))
+    out[..., 0] = vel_ned[..., 1] / (r_n + h)
+    out[..., 1] = -vel_ned[..., 0] / (r_m + h)
+    out[..., 2] = -vel_ned[..., 1] * np.tan(lat) / (r_n + h)
+    return out
+
+
+def geodetic_to_ecef(lat, lon, h, ell: Ellipsoid = WGS84):
+    """Geodetic (rad, rad, m) to ECEF, shape (..., 3) [m]."""
+    lat = np.asarray(lat, dtype=float)
+    _, r_n = radii(lat, ell)
+    cl = np.cos(lat)
+    out = np.empty(np.broadcast_shapes(lat.shape, np.shape(lon), np.shape(h)) + (3,))
+    out[..., 0] = (r_n + h) * cl * np.cos(lon)
+    out[..., 1] = (r_n + h) * cl * np.sin(lon)
+    out[..., 2] = (r_n * (1.0 - ell.e2) + h) * np.sin(lat)
+    return out
+
+
+def ecef_to_geodetic(xyz, ell: Ellipsoid = WGS84):
+    """ECEF (..., 3) [m] to geodetic (lat [rad], lon [rad], h [m]).
+
+    Bowring's starting value then fixed-point iteration; for points within a few
+    hundred km of the surface four iterations reach 1e-12 rad and 1e-9 m.
+    """
+    xyz = np.asarray(xyz, dtype=float)
+    x, y, z = xyz[..., 0], xyz[..., 1], xyz[..., 2]
+    e2 = ell.e2
+    lon = np.arctan2(y, x)
+    p = np.hypot(x, y)
+    b = ell.b
+    ep2 = e2 / (1.0 - e2)
+    beta = np.arctan2(z * ell.a, p * b)
+    lat = np.arctan2(z + ep2 * b * np.sin(beta) ** 3, p - e2 * ell.a * np.cos(beta) ** 3)
+    for _ in range(4):
+        _, r_n = radii(lat, ell)
+        h = p * np.cos(lat) + z * np.sin(lat) - ell.a**2 / r_n
+        lat = np.arctan2(z, p * (1.0 - e2 * r_n / (r_n + h)))
+    _, r_n = radii(lat, ell)
+    h = p * np.cos(lat) + z * np.sin(lat) - ell.a**2 / r_n
+    return lat, lon, h
+
+
+def dcm_ecef_from_ned(lat, lon):
+    """C_n^e, shape (..., 3, 3) (thesis 2.4)."""
+    lat = np.asarray(lat, dtype=float)
+    lon = np.asarray(lon, dtype=float)
+    sl, cl = np.sin(lat), np.cos(lat)
+    so, co = np.sin(lon), np.cos(lon)
+    c = np.empty(np.broadcast_shapes(lat.shape, lon.shape) + (3, 3))
+    c[..., 0, 0] = -sl * co
+    c[..., 0, 1] = -so
+    c[..., 0, 2] = -cl * co
+    c[..., 1, 0] = -sl * so
+    c[..., 1, 1] = co
+    c[..., 1, 2] = -cl * so
+    c[..., 2, 0] = cl
+    c[..., 2, 1] = 0.0
+    c[..., 2, 2] = -sl
+    return c
+
+
+def ned_to_geodetic_delta(d_ned, lat, h, ell: Ellipsoid = WGS84):
+    """Small NED displacement [m] to (dlat, dlon, dh) [rad, rad, m] (thesis D_R^-1)."""
+    d_ned = np.asarray(d_ned, dtype=float)
+    r_m, r_n = radii(lat, ell)
+    return (d_ned[..., 0] / (r_m + h), d_ned[..., 1] / ((r_n + h) * np.cos(lat)), -d_ned[..., 2])
