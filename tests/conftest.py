@@ -1,3 +1,20 @@
 import os
+import sys
+from pathlib import Path
+
+import pytest
 
 os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
+# Test helpers (reference implementations) live beside the tests.
+sys.path.insert(0, str(Path(__file__).parent))
+
+
+@pytest.fixture(scope="session")
+def short_perfect_survey(tmp_path_factory):
+    """The `short` scenario with an error-free IMU, simulated once per session."""
+    from insrail.sim.scenario import preset
+    from insrail.sim.simulate import simulate
+
+    out = tmp_path_factory.mktemp("sim") / "short-perfect"
+    simulate(preset("short", imu_profile="perfect"), seed=7, out_dir=out)
+    return out

@@ -11,7 +11,8 @@ from insrail.progress import Cancelled
 
 # (name, module) of every sub-command; a module provides add_arguments(parser) and run(args).
 COMMANDS = [
-
+    ("simulate", "insrail.cli.simulate"),
+    ("demo", "insrail.cli.demo"),
 ]
 
 

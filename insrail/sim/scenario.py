@@ -1,0 +1,286 @@
+"""Scenario parameters of the simulator and the built-in presets ``short`` and ``long``.
+
+Every value is a parameter; the defaults are the benchmark scenario the later issues
+measure against (GNSS white 10 mm horizontal / 20 mm vertical plus Gauss-Markov
+5 mm / 10 mm with 300 s; a 120 s GNSS outage in ``short``; odometer, gauge and sleeper
+detector as on the thesis's trolley).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from insrail.io.survey import TrolleyGeometry
+from insrail.sim.irregularity import Bump
+
+INF = math.inf
+
+
+@dataclass(frozen=True)
+class DesignSpec:
+    """Design alignment in the engineering plane.
+
+    horizontal: ("line", length) | ("clothoid", length, radius_start, radius_end, turn)
+                | ("arc", length, radius, turn), turn "left"/"right", INF for a straight end
+    pvis: (station, elevation [m, normal height], vertical-curve radius [m]; 0 at the ends)
+    cant: (station, signed design cant [m]) rows, linear in between
+    """
+
+    start_east_m: float
+    start_north_m: float
+    start_azimuth_deg: float
+    start_station_m: float
+    horizontal: tuple
+    pvis: tuple
+    cant: tuple
+    name: str = "main"
+
+
+@dataclass(frozen=True)
+class IrregularitySpec:
+    """Injected irregularities: random band-limited parts (RMS and band) and isolated bumps."""
+
+    lateral_rms_m: float = 1.0e-3
+    vertical_rms_m: float = 1.0e-3
+    band_m: tuple[float, float] = (3.0, 70.0)
+    gauge_rms_m: float = 0.3e-3
+    cross_level_rms_m: float = 0.3e-3
+    gauge_band_m: tuple[float, float] = (3.0, 30.0)
+    lateral_bumps: tuple[Bump, ...] = ()
+    vertical_bumps: tuple[Bump, ...] = ()
+    gauge_bumps: tuple[Bump, ...] = ()
+    cross_level_bumps: tuple[Bump, ...] = ()
+    nominal_gauge_m: float = 1.435
+
+
+@dataclass(frozen=True)
+class MotionSpec:
+    start_station_m: float
+    end_station_m: float
+    cruise_speed_mps: float = 1.2
+    speed_variation: float = 0.15
+    speed_change_interval_s: float = 45.0
+    ramp_s: float = 6.0
+    static_start_s: float = 300.0
+    static_end_s: float = 60.0
+    stops: tuple[tuple[float, float], ...] = ()  # (station, duration)
+
+
+@dataclass(frozen=True)
+class GnssSpec:
+    rate_hz: float = 1.0
+    white_horizontal_m: float = 0.010
+    white_vertical_m: float = 0.020
+    gm_horizontal_m: float = 0.005
+    gm_vertical_m: float = 0.010
+    gm_tau_s: float = 300.0
+    outages: tuple[tuple[float, float], ...] = ()  # (station where it starts, duration s)
+    with_velocity: bool = False
+    velocity_sigma_mps: float = 0.005
+
+
+@dataclass(frozen=True)
+class OdometerSpec:
+    rate_hz: float = 10.0
+    scale_factor_error: float = 0.0015  # reported distance = (1 + error) * true distance
+    pulse_length_m: float = 0.001
+    form: str = "distance"  # "distance" or "pulses"
+
+
+@dataclass(frozen=True)
+class GaugeSpec:
+    rate_hz: float = 20.0
+    noise_m: float = 0.1e-3
+    resolution_m: float = 0.01e-3
+
+
+@dataclass(frozen=True)
+class SleeperSpec:
+    spacing_m: float = 0.625
+    spacing_jitter_m: float = 0.002
+    missed_fraction: float = 0.01
+    false_fraction: float = 0.005
+    timing_jitter_s: float = 0.001
+
+
+@dataclass(frozen=True)
+class PrismSpec:
+    """Total-station fixes of the trolley's prism, taken at stops (stations listed)."""
+
+    stations_m: tuple[float, ...] = ()
+    sigma_m: float = 0.001
+    duration_s: float = 20.0
+
+
+@dataclass(frozen=True)
+class GeodeticSpec:
+    """Engineering CRS of the line and the height-anomaly surface zeta = h - H.
+
+    zeta(E, N) = zeta0 + gradient . (E - E0, N - N0) + curvature * |(E, N) - (E0, N0)|^2
+    with (E0, N0) the design start point.
+    """
+
+    crs: dict = field(
+        default_factory=lambda: {
+            "ellipsoid": "CGCS2000",
+            "central_meridian_deg": 114.3,
+            "scale_factor": 1.0,
+            "false_easting_m": 500000.0,
+            "false_northing_m": 0.0,
+            "projection_height_m": 30.0,
+            "projection_height_convention": "scale_factor",
+        }
+    )
+    zeta0_m: float = -12.35
+    zeta_gradient: tuple[float, float] = (4.0e-6, -9.0e-6)
+    zeta_curvature_per_m: float = 2.0e-11
+    benchmark_spacing_m: float = 500.0
+    benchmark_offset_m: tuple[float, float] = (20.0, 150.0)
+    benchmark_sigma_h_m: float = 0.003
+    benchmark_sigma_normal_height_m: float = 0.001
+
+
+@dataclass(frozen=True)
+class ScenarioConfig:
+    name: str
+    design: DesignSpec
+    motion: MotionSpec
+    irregularities: IrregularitySpec = IrregularitySpec()
+    gnss: GnssSpec = GnssSpec()
+    odometer: OdometerSpec = OdometerSpec()
+    gauge: GaugeSpec = GaugeSpec()
+    sleepers: SleeperSpec = SleeperSpec()
+    prism: PrismSpec = PrismSpec()
+    geodetic: GeodeticSpec = GeodeticSpec()
+    trolley: TrolleyGeometry = field(default_factory=lambda: default_trolley())
+    imu_profile: str = "nav"
+    imu_rate_hz: float = 200.0
+    gps_week: int = 2380
+    start_time_s: float = 230400.0025  # GPS seconds of week; IMU epochs fall between GNSS seconds
+    station_grid_m: float = 0.05  # spacing of the kinematic splines
+
+
+def default_trolley() -> TrolleyGeometry:
+    """Geometry of the simulated trolley (IMU about 0.3 m above the rails, antenna and prism on a mast)."""
+    return TrolleyGeometry(
+        imu_to_antenna_m=np.array([0.02, 0.18, -1.35]),
+        imu_to_odometer_m=np.array([0.45, -0.60, 0.31]),
+        imu_to_prism_m=np.array([0.02, 0.18, -1.52]),
+        imu_to_sleeper_detector_m=np.array([0.30, -0.45, 0.22]),
+        imu_to_reference_rail_m=np.array([0.10, -0.60, 0.31]),
+        reference_rail="left",
+        mounting_rpy_rad=np.deg2rad([0.05, -0.08, 0.12]),
+        rail_centre_spacing_m=1.5,
+    )
+
+
+def _short_design() -> DesignSpec:
+    # 1.2 km: straight, clothoid, R = 2000 m right-hand arc, clothoid, straight; a crest
+    # vertical curve between +3 and -2 per mille; 120 mm cant ramped on the clothoids.
+    return DesignSpec(
+        start_east_m=512340.0,
+        start_north_m=3374210.0,
+        start_azimuth_deg=32.0,
+        start_station_m=1000.0,
+        horizontal=(
+            ("line", 240.0),
+            ("clothoid", 120.0, INF, 2000.0, "right"),
+            ("arc", 420.0, 2000.0, "right"),
+            ("clothoid", 120.0, 2000.0, INF, "right"),
+            ("line", 400.0),
+        ),
+        pvis=((1000.0, 28.40, 0.0), (1620.0, 30.26, 25000.0), (2300.0, 28.90, 0.0)),
+        cant=((1000.0, 0.0), (1240.0, 0.0), (1360.0, 0.120), (1780.0, 0.120), (1900.0, 0.0), (2300.0, 0.0)),
+    )
+
+
+def _long_design() -> DesignSpec:
+    # About 10.3 km of high-speed line: two curves of opposite hand (R 5500 m and 7000 m),
+    # rolling grades with vertical curves.
+    return DesignSpec(
+        start_east_m=508120.0,
+        start_north_m=3369880.0,
+        start_azimuth_deg=58.0,
+        start_station_m=20000.0,
+        horizontal=(
+            ("line", 1400.0),
+            ("clothoid", 260.0, INF, 5500.0, "right"),
+            ("arc", 1500.0, 5500.0, "right"),
+            ("clothoid", 260.0, 5500.0, INF, "right"),
+            ("line", 2100.0),
+            ("clothoid", 220.0, INF, 7000.0, "left"),
+            ("arc", 1300.0, 7000.0, "left"),
+            ("clothoid", 220.0, 7000.0, INF, "left"),
+            ("line", 3040.0),
+        ),
+        pvis=(
+            (20000.0, 35.20, 0.0),
+            (22600.0, 43.00, 25000.0),
+            (25400.0, 37.40, 30000.0),
+            (28200.0, 44.40, 25000.0),
+            (30300.0, 42.30, 0.0),
+        ),
+        cant=(
+            (20000.0, 0.0), (21400.0, 0.0), (21660.0, 0.150), (23160.0, 0.150), (23420.0, 0.0),
+            (25520.0, 0.0), (25740.0, -0.110), (27040.0, -0.110), (27260.0, 0.0), (30300.0, 0.0),
+        ),
+    )
+
+
+def _bumps(rng_seed: int, first: float, last: float, count: int, amplitude_m: float) -> tuple[Bump, ...]:
+    rng = np.random.default_rng(rng_seed)
+    stations = np.sort(rng.uniform(first, last, count))
+    return tuple(
+        Bump(float(s), float(rng.uniform(4.0, 9.0)), float(amplitude_m * rng.choice([-1.0, 1.0]) * rng.uniform(0.7, 1.0)))
+        for s in stations
+    )
+
+
+def short_scenario() -> ScenarioConfig:
+    """About 1.2 km at walking speed with two stops and a 120 s GNSS outage on the curve."""
+    design = _short_design()
+    return ScenarioConfig(
+        name="short",
+        design=design,
+        motion=MotionSpec(start_station_m=1050.0, end_station_m=2250.0, stops=((1450.0, 20.0), (1900.0, 20.0))),
+        irregularities=IrregularitySpec(
+            lateral_bumps=_bumps(11, 1100.0, 2200.0, 3, 3.0e-3),
+            vertical_bumps=_bumps(12, 1100.0, 2200.0, 3, 3.0e-3),
+        ),
+        gnss=GnssSpec(outages=((1600.0, 120.0),)),
+    )
+
+
+def long_scenario(outage_700s: bool = False) -> ScenarioConfig:
+    """About 10 km; optionally a 700 s GNSS outage (a tunnel) with prism fixes at its ends."""
+    design = _long_design()
+    outages = ((25000.0, 700.0),) if outage_700s else ()
+    return ScenarioConfig(
+        name="long-outage" if outage_700s else "long",
+        design=design,
+        motion=MotionSpec(
+            start_station_m=20050.0,
+            end_station_m=30250.0,
+            stops=tuple((float(s), 20.0) for s in range(21000, 30000, 1000)),
+        ),
+        irregularities=IrregularitySpec(
+            lateral_bumps=_bumps(21, 20100.0, 30200.0, 10, 3.0e-3),
+            vertical_bumps=_bumps(22, 20100.0, 30200.0, 10, 3.0e-3),
+        ),
+        gnss=GnssSpec(outages=outages),
+    )
+
+
+PRESETS = {"short": short_scenario, "long": long_scenario, "long-outage": lambda: long_scenario(True)}
+
+
+def preset(name: str, **overrides) -> ScenarioConfig:
+    """A built-in scenario by name, with top-level fields replaced by ``overrides``."""
+    try:
+        config = PRESETS[name]()
+    except KeyError:
+        raise ValueError(f"unknown scenario preset {name!r}; choose one of {', '.join(PRESETS)}") from None
+    return replace(config, **overrides) if overrides else config
