@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -208,9 +208,9 @@ def fit_similarity_2d(src_en, dst_en, *,
     redundancy = 2 * len(src) - 4
     sigma0 = float(np.sqrt(np.sum(residuals**2) / redundancy))
 
+    _refuse_mirrored_points(src, dst, residuals)  # the more specific diagnosis first
     if abs(params.scale_ppm) > max_scale_deviation_ppm:
         raise FitError(_implausible_scale_message("4-parameter", params.scale_ppm, max_scale_deviation_ppm))
-    _refuse_mirrored_points(src, dst, residuals)
 
     cov = jac_final @ (sigma0**2 * centred_cov_factor) @ jac_final.T
     std = dict(zip(("translation_east_m", "translation_north_m", "rotation_rad", "scale"),
