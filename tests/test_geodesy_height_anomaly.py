@@ -18,11 +18,13 @@ from insrail.geodesy import (
 RADIUS_M = 8000.0  # the corridor is a circular arc, so benchmarks are not all on one line
 LENGTH_M = 10_000.0
 
+
 def corridor_point(chainage_m, offset_m):
     angle = np.asarray(chainage_m) / RADIUS_M
     east = 495_000.0 + (RADIUS_M + offset_m) * np.sin(angle)
     north = 3_520_000.0 + RADIUS_M - (RADIUS_M + offset_m) * np.cos(angle)
     return east, north
+
 
 def benchmarks(rng, n):
     """n benchmarks about evenly along the corridor, alternately 80-250 m left and right of it."""
@@ -31,8 +33,10 @@ def benchmarks(rng, n):
     east, north = corridor_point(chainage, offset)
     return np.c_[east, north], chainage
 
+
 def km(east, north):
     return (east - 500_000.0) / 1000.0, (north - 3_521_000.0) / 1000.0
+
 
 # Known ζ surfaces [m], one per model family; the spline case varies along the line only.
 SURFACES = {
@@ -42,6 +46,7 @@ SURFACES = {
                                   - 0.008 * km(e, n)[0] * km(e, n)[1] + 0.015 * km(e, n)[1] ** 2),
     "spline": lambda e, n, s: 8.0 + 0.2 * np.sin(2.0 * np.pi * s / 12_000.0) + 0.02 * s / 1000.0,
 }
+
 
 @pytest.mark.parametrize("n_benchmarks, seed", [(8, 1), (10, 2), (12, 3)])
 @pytest.mark.parametrize("model", list(SURFACES))
@@ -60,6 +65,7 @@ def test_each_model_recovers_its_surface_inside_the_hull(model, n_benchmarks, se
     error = fit.zeta_m(check_e, check_n, check_chainage) - truth(check_e, check_n, check_chainage)
     assert np.max(np.abs(error[inside])) <= 0.005
 
+
 @pytest.mark.parametrize("model", list(SURFACES))
 def test_auto_chooses_the_generating_model_by_leave_one_out(model):
     rng = np.random.default_rng(11)
@@ -74,6 +80,7 @@ def test_auto_chooses_the_generating_model_by_leave_one_out(model):
     assert "<- chosen" in report.splitlines()[2 + [c.name for c in fit.candidates].index(model)]
     assert "leave-one-out RMS" in report
 
+
 def test_without_chainage_auto_skips_the_spline_and_internal_rms_is_reported():
     rng = np.random.default_rng(4)
     en, chainage = benchmarks(rng, 9)
@@ -83,6 +90,7 @@ def test_without_chainage_auto_skips_the_spline_and_internal_rms_is_reported():
     assert 0.2e-3 < fit.internal_rms_m < 2e-3
     np.testing.assert_allclose(fit.chosen.residuals_m, zeta - fit.zeta_m(en[:, 0], en[:, 1]), atol=1e-12)
 
+
 def test_leave_one_out_residual_equals_explicit_refit():
     rng = np.random.default_rng(6)
     en, chainage = benchmarks(rng, 9)
@@ -91,6 +99,7 @@ def test_leave_one_out_residual_equals_explicit_refit():
     keep = np.arange(9) != 4
     refit = fit_height_anomaly(en[keep], zeta[keep], model="quadratic")
     assert fit.chosen.loo_residuals_m[4] == pytest.approx(zeta[4] - refit.zeta_m(en[4, 0], en[4, 1]), abs=1e-10)
+
 
 def test_warnings_for_points_outside_hull_and_chainage_span():
     rng = np.random.default_rng(8)
@@ -111,6 +120,7 @@ def test_warnings_for_points_outside_hull_and_chainage_span():
     s = chainage[-1] + np.array([100.0, 200.0, 300.0])
     assert np.diff(spline.zeta_m(None, None, s), 2) == pytest.approx(0.0, abs=1e-12)
 
+
 def test_too_few_points_for_a_model_are_refused_and_auto_says_why():
     rng = np.random.default_rng(2)
     en, chainage = benchmarks(rng, 6)
@@ -124,6 +134,7 @@ def test_too_few_points_for_a_model_are_refused_and_auto_says_why():
     assert "quadratic  not fitted" in fit.report()
     with pytest.raises(FitError, match="no height-anomaly model can be fitted"):
         fit_height_anomaly(en[:1], zeta[:1])
+
 
 def test_collinear_benchmarks_are_refused_for_surfaces():
     chainage = np.linspace(0.0, 10_000.0, 9)
@@ -141,6 +152,7 @@ def test_collinear_benchmarks_are_refused_for_surfaces():
     constant = fit_height_anomaly(en, zeta, model="constant")
     assert "no 2-D hull" in constant.warnings_for([500_100.0], [3_520_000.0])[0]
 
+
 @pytest.mark.parametrize("kwargs, error, message", [
     ({"model": "cubic"}, GeodesyError, "unknown height-anomaly model 'cubic'"),
     ({"model": "spline"}, FitError, "give chainage_m"),
@@ -148,6 +160,8 @@ def test_collinear_benchmarks_are_refused_for_surfaces():
     ({"duplicate_chainage": True}, FitError, "two benchmarks share chainage"),
     ({"nan": True}, GeodesyError, r"benchmarks \[2\] have missing"),
 ])
+
+
 def test_bad_input_is_refused(kwargs, error, message):
     rng = np.random.default_rng(0)
     en, chainage = benchmarks(rng, 8)
@@ -160,6 +174,7 @@ def test_bad_input_is_refused(kwargs, error, message):
     with pytest.raises(error, match=message):
         fit_height_anomaly(en, zeta, **kwargs)
 
+
 def test_spline_model_needs_chainage_when_evaluated():
     rng = np.random.default_rng(0)
     en, chainage = benchmarks(rng, 8)
@@ -167,6 +182,7 @@ def test_spline_model_needs_chainage_when_evaluated():
                              chainage_m=chainage)
     with pytest.raises(GeodesyError, match="give chainage_m"):
         fit.zeta_m(en[:, 0], en[:, 1])
+
 
 def test_settings_validation_and_missing_grid():
     assert HeightAnomalySettings.from_settings({"model": "plane"}).model == "plane"
@@ -177,6 +193,7 @@ def test_settings_validation_and_missing_grid():
     assert len(err.value.problems) == 3
     with pytest.raises(GeoidGridError, match="geoid grid file not found"):
         settings.plane_geoid(EngineeringCRS(central_meridian_deg=117.5))
+
 
 def test_remove_restore_with_egm96():
     geoid = PlaneGeoid(egm96_or_skip(), EngineeringCRS(central_meridian_deg=117.5))
