@@ -114,7 +114,7 @@ def simulate(
     step(0.0, "building the track")
     track = true_track(config, rng_track)
     crs = EngineeringCRS.from_settings(config.geodetic.crs)
-    ell = earth.CGCS2000 if crs.ellipsoid_name == "CGCS2000" else earth.WGS84
+    ell = earth.Ellipsoid(crs.ellipsoid, crs.semi_major_axis_m, 1.0 / crs.inverse_flattening_value)
     motion = config.motion
     prism_stops = tuple((s, config.prism.duration_s) for s in config.prism.stations_m)
     profile = walking_profile(
