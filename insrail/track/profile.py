@@ -174,13 +174,13 @@ class VerticalProfile:
                 centre_z = begin_z + sag * radius * math.cos(a1)
             begin, end = pvi.station_m - before, pvi.station_m + after
             if begin < previous_end - _STATION_TOLERANCE_M:
-                what = f"the vertical curve of PVI {previous_pvi + 1}" if previous_pvi else "the first PVI"
-                raise DesignError(
-                    "profile",
-                    i,
-                    f"the vertical curve of PVI {i + 1} begins at station {begin:.4f} m, before the end of "
-                    f"{what} at {previous_end:.4f} m: curves overlap by {previous_end - begin:.4f} m",
-                )
+                start = f"begins at station {begin:.4f} m, before"
+                if previous_pvi == 0:
+                    message = f"{start} PVI 1 at {previous_end:.4f} m"
+                else:
+                    message = (f"{start} the end of the vertical curve of PVI {previous_pvi + 1} at "
+                               f"{previous_end:.4f} m: curves overlap by {previous_end - begin:.4f} m")
+                raise DesignError("profile", i, f"the vertical curve of PVI {i + 1} {message}")
             if end > stations[i + 1] + _STATION_TOLERANCE_M:
                 raise DesignError(
                     "profile",
@@ -200,7 +200,8 @@ class VerticalProfile:
         return _Curves(*columns)
 
     def _evaluate(self, station_m):
-        stations = np.asarray(station_m, dtype=float)
+        shape = np.shape(station_m)
+        stations = np.asarray(station_m, dtype=float).reshape(-1)
         pvi_s = self.stations_m
         _check_range("vertical profile", stations, pvi_s[0], pvi_s[-1])
         pvi_z, grades = self.elevations_m, self.grades
@@ -233,7 +234,7 @@ class VerticalProfile:
             elevation[inside] = np.where(circular, z_circ, z_para)
             grade[inside] = np.where(circular, g_circ, g_para)
             curvature[inside] = np.where(circular, k_circ, k_para)
-        return elevation, grade, curvature
+        return elevation.reshape(shape), grade.reshape(shape), curvature.reshape(shape)
 
     def elevation_at(self, station_m) -> np.ndarray:
         """Design height [m] at the stations (vectorised)."""
