@@ -312,7 +312,9 @@ class HorizontalAlignment:
             raise DesignError("horizontal", None, "a horizontal alignment needs at least one element")
         for index, element in enumerate(self.elements):
             if not isinstance(element, (Line, Clothoid, Arc)):
-                raise DesignError("horizontal", index, f"element {index + 1} is not a Line, Clothoid or Arc: {element!r}")
+                raise DesignError(
+                    "horizontal", index, f"element {index + 1} is not a Line, Clothoid or Arc: {element!r}"
+                )
         for index in range(1, len(self.elements)):
             before, after = self.elements[index - 1], self.elements[index]
             if (isinstance(before, Clothoid) or isinstance(after, Clothoid)) and not _same_curvature(

@@ -95,7 +95,8 @@ def _split_sections(path: Path, text: str) -> dict[str, _Section]:
                 raise InputError(path, number, f"expected 'key, value' in [alignment], found {len(cells)} fields")
             key = cells[0].lower()
             if key not in _ALIGNMENT_KEYS:
-                raise InputError(path, number, f"unknown key {cells[0]!r}; expected one of {', '.join(_ALIGNMENT_KEYS)}")
+                expected = ", ".join(_ALIGNMENT_KEYS)
+                raise InputError(path, number, f"unknown key {cells[0]!r}; expected one of {expected}")
             if any(row.cells.get("key") == key for row in current.rows):
                 raise InputError(path, number, f"key {key!r} given twice")
             current.rows.append(_Row(number, {"key": key, "value": cells[1]}))

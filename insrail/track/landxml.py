@@ -436,7 +436,8 @@ def _coord_geom(parent: ET.Element, horizontal: HorizontalAlignment) -> None:
             node = ET.SubElement(geometry, "Line", length=length)
         elif isinstance(element, Arc):
             rot = "cw" if element.turn == "right" else "ccw"
-            node = ET.SubElement(geometry, "Curve", rot=rot, crvType="arc", radius=_fmt(element.radius_m), length=length)
+            node = ET.SubElement(geometry, "Curve", rot=rot, crvType="arc", radius=_fmt(element.radius_m),
+                                 length=length)
         else:
             rot = "cw" if element.turn == "right" else "ccw"
             node = ET.SubElement(geometry, "Spiral", length=length, radiusStart=_fmt(element.radius_start_m),

@@ -107,7 +107,9 @@ class VerticalProfile:
                 )
         for i in (0, len(self.pvis) - 1):
             if self.pvis[i].curve != "none":
-                raise DesignError("profile", i, f"PVI {i + 1} is an end of the profile and cannot carry a vertical curve")
+                raise DesignError(
+                    "profile", i, f"PVI {i + 1} is an end of the profile and cannot carry a vertical curve"
+                )
         object.__setattr__(self, "_curves", self._resolve_curves(stations))
 
     @property

@@ -48,7 +48,9 @@ class StationEquations:
     def __post_init__(self):
         object.__setattr__(self, "equations", tuple(self.equations))
         if any(ch.isdigit() or ch in "+-" for ch in self.prefix):
-            raise DesignError("station_equations", None, f"the station prefix {self.prefix!r} may not hold digits, '+' or '-'")
+            raise DesignError(
+                "station_equations", None, f"the station prefix {self.prefix!r} may not hold digits, '+' or '-'"
+            )
         internal = []
         for index, equation in enumerate(self.equations):
             if index == 0:
