@@ -6,12 +6,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
 
 from insrail.io.errors import InputError
 from insrail.track.alignment import Arc, Clothoid, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.alignment_csv import format_alignment_csv, read_alignment_csv, write_alignment_csv
 from insrail.track.profile import PVI, CantTable, VerticalProfile
 from insrail.track.stationing import StationEquation, StationEquations
+from track_alignment_strategies import design_alignments
 
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "alignment.md"
 
@@ -150,3 +152,15 @@ def test_written_table_matches_documented_layout():
     assert "clothoid,90.0,inf,650.0,left" in text
     assert "2240.25,-95.0" in text
     np.testing.assert_equal(sample_design().cant.cant_m[2], -0.095)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(design=design_alignments())
+def test_random_alignments_round_trip(tmp_path, design):
+    path = tmp_path / "random.csv"
+    write_alignment_csv(path, design)
+    back = read_alignment_csv(path)
+    assert back.horizontal.elements == design.horizontal.elements
+    assert back.horizontal.start_azimuth_rad == pytest.approx(design.horizontal.start_azimuth_rad, abs=1e-13)
+    assert (back.vertical, back.cant, back.station_equations, back.name) == (
+        design.vertical, design.cant, design.station_equations, design.name)

@@ -7,12 +7,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
 
 from insrail.io.errors import InputError
 from insrail.track.alignment import Arc, Clothoid, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.landxml import LandXMLError, read_landxml, read_landxml_alignments, write_landxml
 from insrail.track.profile import PVI, CantTable, VerticalProfile
 from insrail.track.stationing import StationEquation, StationEquations
+from track_alignment_strategies import design_alignments
 
 HANDMADE = Path(__file__).resolve().parent / "data" / "landxml" / "handmade_spiral_arc.xml"
 NS = {"lx": "http://www.landxml.org/schema/LandXML-1.2"}
@@ -96,7 +98,7 @@ def test_handmade_file_reads_correctly():
     assert h.elements == (Line(250.0), Clothoid(100.0, math.inf, 1200.0, "right"), Arc(300.0, 1200.0, "right"),
                           Clothoid(100.0, 1200.0, math.inf, "right"), Line(200.0))
     assert (h.start_east_m, h.start_north_m, h.start_station_m) == (512345.6789, 3380512.3456, 10000.0)
-    assert h.start_azimuth_rad == pytest.approx(math.radians(60.0), abs=1e-6)
+    assert h.start_azimuth_rad == pytest.approx(math.radians(60.0), abs=1e-14)  # from dir="300.0"
     assert [k.label for k in h.key_points()] == ["POB", "TS", "SC", "CS", "ST", "POE"]
     # the file's element ends (computed independently with the clothoid series) are reproduced
     root = ET.parse(HANDMADE).getroot()
@@ -201,3 +203,29 @@ def test_not_well_formed_and_foreign_files(tmp_path):
         read_landxml(tmp_path / "other.xml")
     with pytest.raises(InputError, match="cannot read"):
         read_landxml(tmp_path / "absent.xml")
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(design=design_alignments())
+def test_random_alignments_round_trip(tmp_path, design):
+    path = tmp_path / "random.xml"
+    write_landxml(path, design)
+    assert_same_design(read_landxml(path), design)
+
+
+def test_curve_length_and_spiral_pi_are_optional(tmp_path):
+    path = mutated(tmp_path, 'radius="1200.0" length="300.0"', 'radius="1200.0"')
+    path.write_text(path.read_text().replace("<PI>3380798.3451 512962.2738</PI>", ""))
+    design = read_landxml(path)
+    arc = design.horizontal.elements[2]
+    assert (type(arc), arc.radius_m, arc.turn) == (Arc, 1200.0, "right")
+    assert arc.length_m == pytest.approx(300.0, abs=1e-4)  # from the angle at the Center (0.1 mm coordinates)
+    assert design.horizontal.elements[3] == Clothoid(100.0, 1200.0, math.inf, "right")
+
+
+def test_direction_in_another_convention_falls_back_to_coordinates(tmp_path):
+    design = read_landxml(mutated(tmp_path, 'dir="300.0"', 'dir="60.0"'))  # clockwise: not LandXML's convention
+    difference = abs(design.horizontal.start_azimuth_rad - math.radians(60.0))
+    assert 1e-9 < difference < 1e-6  # the coordinates, rounded to 0.1 mm, give the direction
+    with pytest.raises(LandXMLError, match="attribute 'dir' is not a number"):
+        read_landxml(mutated(tmp_path, 'dir="300.0"', 'dir="NNW"'))

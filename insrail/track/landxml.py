@@ -11,7 +11,11 @@ What is read, per ``Alignments/Alignment`` (name, length, staStart):
   the tolerances (``position_tolerance_m``, ``azimuth_tolerance_rad``), else the
   error names the element (gap or kink). Directions come from the coordinates
   (Start->End of a line, Start->PI of a spiral, the radius at Start of a curve);
-  ``dir`` attributes, whose convention differs between programs, are not used.
+  The start direction of the whole chain may come from the first element's
+  ``dir`` / ``dirStart`` (LandXML: counter-clockwise from north, in
+  Units/@directionUnit) when it agrees with the coordinates within the tolerance -
+  it is more precise than coordinates of a short element; programs that use
+  another convention fail that check and the coordinates are used.
 * ``StaEquation`` (staBack, staAhead; staInternal, when present, is checked).
 * ``Profile/ProfAlign``: ``PVI``, ``ParaCurve`` (length) and ``CircCurve`` (radius;
   its length attribute is informative only), text "station elevation".
@@ -25,8 +29,8 @@ starting at staStart. Only metric files (linearUnit="meter") are accepted.
 Errors are :class:`LandXMLError` (an InputError) naming the file, the line and the
 element path, e.g. ``Alignments/Alignment[@name='main']/CoordGeom/Spiral[2]``.
 Writing then reading a file gives back the same alignment: all numbers are written
-with full precision (repr); the start azimuth is recovered from coordinates and cant
-passes through millimetres, so those agree to round-off (1e-12).
+with full precision (repr); the start azimuth passes through the counter-clockwise
+``dir`` and cant through millimetres, so those agree to round-off (~1e-15).
 """
 
 from __future__ import annotations
@@ -229,6 +233,29 @@ def _parse_element(doc: _Document, node: ET.Element, tolerance_m: float) -> _Par
     raise doc.error(node, f"unsupported geometry element <{node.tag}>; expected Line, Spiral or Curve")
 
 
+_DIRECTION_UNITS = {"radians": 1.0, "decimal degrees": math.pi / 180.0, "grads": math.pi / 200.0}
+
+
+def _direction_unit(doc: _Document) -> float | None:
+    """Radians per unit of LandXML directions (None for units insrail does not read)."""
+    for units in (c for c in doc.root if c.tag == "Units"):
+        for system in units:
+            if system.tag == "Metric":
+                return _DIRECTION_UNITS.get(system.get("directionUnit", "radians"))
+    return 1.0
+
+
+def _start_azimuth(doc: _Document, first: _ParsedElement, tolerance_rad: float) -> float:
+    """The first element's start azimuth: its direction attribute if it agrees with the coordinates."""
+    attribute = "dir" if first.node.tag == "Line" else "dirStart"
+    unit = _direction_unit(doc)
+    value = doc.number(first.node, attribute, required=False)
+    if value is None or unit is None:
+        return first.start_azimuth
+    clockwise = (-value * unit) % (2 * math.pi)
+    return clockwise if _angle_difference(clockwise, first.start_azimuth) <= tolerance_rad else first.start_azimuth
+
+
 def _horizontal(doc: _Document, alignment_node: ET.Element, position_tolerance_m: float,
                 azimuth_tolerance_rad: float) -> HorizontalAlignment:
     geometry = [c for c in alignment_node if c.tag == "CoordGeom"]
@@ -244,7 +271,7 @@ def _horizontal(doc: _Document, alignment_node: ET.Element, position_tolerance_m
         horizontal = HorizontalAlignment(
             start_east_m=float(first.start[0]),
             start_north_m=float(first.start[1]),
-            start_azimuth_rad=first.start_azimuth,
+            start_azimuth_rad=_start_azimuth(doc, first, azimuth_tolerance_rad),
             start_station_m=doc.number(alignment_node, "staStart"),
             elements=tuple(p.element for p in parsed),
         )
@@ -411,6 +438,11 @@ def _fmt(value: float) -> str:
     return "INF" if math.isinf(value) else repr(float(value))
 
 
+def _direction(azimuth_rad: float) -> str:
+    """A LandXML direction: radians counter-clockwise from north (the Units we write)."""
+    return _fmt((-azimuth_rad) % (2 * math.pi))
+
+
 def _point_text(east: float, north: float) -> str:
     return f"{_fmt(north)} {_fmt(east)}"
 
@@ -433,7 +465,7 @@ def _coord_geom(parent: ET.Element, horizontal: HorizontalAlignment) -> None:
         element = placed.element
         length = _fmt(element.length_m)
         if isinstance(element, Line):
-            node = ET.SubElement(geometry, "Line", length=length)
+            node = ET.SubElement(geometry, "Line", dir=_direction(placed.start_azimuth_rad), length=length)
         elif isinstance(element, Arc):
             rot = "cw" if element.turn == "right" else "ccw"
             node = ET.SubElement(geometry, "Curve", rot=rot, crvType="arc", radius=_fmt(element.radius_m),
@@ -442,6 +474,9 @@ def _coord_geom(parent: ET.Element, horizontal: HorizontalAlignment) -> None:
             rot = "cw" if element.turn == "right" else "ccw"
             node = ET.SubElement(geometry, "Spiral", length=length, radiusStart=_fmt(element.radius_start_m),
                                  radiusEnd=_fmt(element.radius_end_m), rot=rot, spiType="clothoid")
+        if not isinstance(element, Line):
+            node.set("dirStart", _direction(placed.start_azimuth_rad))
+            node.set("dirEnd", _direction(placed.end_azimuth_rad))
         ET.SubElement(node, "Start").text = _point_text(placed.start_east_m, placed.start_north_m)
         if isinstance(element, Arc):
             sign = 1.0 if element.turn == "right" else -1.0

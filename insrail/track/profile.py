@@ -74,6 +74,7 @@ class _Curves:
     pvi_index: np.ndarray
     begin_m: np.ndarray
     end_m: np.ndarray
+    length_m: np.ndarray  # resolved directly, not end - begin, which loses digits to cancellation
     pvi_station_m: np.ndarray
     pvi_elevation_m: np.ndarray
     grade_in: np.ndarray
@@ -129,7 +130,7 @@ class VerticalProfile:
     def curve_lengths_m(self) -> np.ndarray:
         """Station extent of each PVI's curve (0 where there is none)."""
         lengths = np.zeros(len(self.pvis))
-        lengths[self._curves.pvi_index] = self._curves.end_m - self._curves.begin_m
+        lengths[self._curves.pvi_index] = self._curves.length_m
         return lengths
 
     @property
@@ -191,14 +192,14 @@ class VerticalProfile:
                     f"at {stations[i + 1]:.4f} m",
                 )
             rows.append(
-                (i, begin, end, pvi.station_m, pvi.elevation_m, g1, g2, pvi.curve == "circular", radius,
-                 centre_s, centre_z, sag)
+                (i, begin, end, before + after, pvi.station_m, pvi.elevation_m, g1, g2, pvi.curve == "circular",
+                 radius, centre_s, centre_z, sag)
             )
             previous_end, previous_pvi = end, i
-        table = np.array(rows, dtype=float).reshape(len(rows), 12)
-        columns = [np.ascontiguousarray(table[:, j]) for j in range(12)]
+        table = np.array(rows, dtype=float).reshape(len(rows), 13)
+        columns = [np.ascontiguousarray(table[:, j]) for j in range(13)]
         columns[0] = columns[0].astype(int)
-        columns[7] = columns[7].astype(bool)
+        columns[8] = columns[8].astype(bool)
         return _Curves(*columns)
 
     def _evaluate(self, station_m):
@@ -219,7 +220,7 @@ class VerticalProfile:
             g1, g2 = c.grade_in[k], c.grade_out[k]
             with np.errstate(invalid="ignore", divide="ignore"):
                 # parabola z = z_pvi + g1 (s - s_pvi) + (g2 - g1) x^2 / (2 L), x = s - begin
-                length = c.end_m[k] - c.begin_m[k]
+                length = c.length_m[k]
                 x = s - c.begin_m[k]
                 bend = np.where(length > 0, (g2 - g1) / np.where(length > 0, length, 1.0), 0.0)
                 z_para = c.pvi_elevation_m[k] + g1 * (s - c.pvi_station_m[k]) + 0.5 * bend * x * x
