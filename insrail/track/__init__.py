@@ -28,6 +28,3 @@ Conventions (written once here, used by every module of the package):
   ValueError; projecting a point whose foot lies beyond the alignment's ends gives
   NaN (the point is reported, not silently clamped).
 """
-
-CANT_BASE_M = 1.5
-"""Distance between the rail-head centres of standard-gauge track, the base of cant [m]."""

@@ -55,6 +55,7 @@ from insrail.track.stationing import StationEquation, StationEquations
 NAMESPACE = "http://www.landxml.org/schema/LandXML-1.2"
 DEFAULT_POSITION_TOLERANCE_M = 0.001
 DEFAULT_AZIMUTH_TOLERANCE_RAD = 5e-5
+_STANDARD_GAUGE_M = 1.435  # Cant@gauge; insrail's cant is referred to the 1.5 m rail-centre base
 
 
 class LandXMLError(InputError):
@@ -504,7 +505,7 @@ def _profile_element(parent: ET.Element, vertical: VerticalProfile) -> None:
 
 
 def _cant_element(parent: ET.Element, cant: CantTable) -> None:
-    node = ET.SubElement(parent, "Cant", name="design", gauge="1.435")
+    node = ET.SubElement(parent, "Cant", name="design", gauge=_fmt(_STANDARD_GAUGE_M))
     for station, value in zip(cant.stations_m, cant.cant_m):
         ET.SubElement(node, "CantStation", station=_fmt(station), appliedCant=_fmt(abs(value) * 1000.0),
                       curvature="ccw" if value < 0 else "cw")
