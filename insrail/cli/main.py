@@ -44,6 +44,9 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as err:
         print(f"insrail: input error: {err}", file=sys.stderr)
         return 1
+    except (FileExistsError, FileNotFoundError) as err:
+        print(f"insrail: {err}", file=sys.stderr)
+        return 1
     except (Cancelled, KeyboardInterrupt):
         print("insrail: cancelled", file=sys.stderr)
         return 130

@@ -8,6 +8,7 @@ half-written.
 
 from __future__ import annotations
 
+import os
 import shutil
 import tempfile
 from dataclasses import asdict, dataclass
@@ -18,7 +19,12 @@ import tomli_w
 
 from insrail import __version__
 from insrail.geodesy import EngineeringCRS
-from insrail.io import writers
+from insrail.io.control import write_benchmarks, write_prism_enu
+from insrail.io.imu import write_imu_kfgins, write_imu_npy
+from insrail.io.odometer import write_odometer_distance, write_odometer_pulses
+from insrail.io.rtklib import write_rtklib_pos
+from insrail.io.survey import write_manifest
+from insrail.io.track_sensors import write_gauge_mm, write_sleeper_times
 from insrail.io.survey import SurveyFile, SurveyManifest
 from insrail.io.types import (
     Benchmarks,
@@ -273,6 +279,7 @@ def simulate(
     sleeper_truth = track.sections(sleeper_station)
     out_dir.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.", dir=out_dir.parent))
+    os.chmod(tmp, 0o755)  # mkdtemp makes it private; the survey is an ordinary folder
     try:
         files = _write_survey(
             tmp, config, seed, imu, imu_format, gnss, odometer, gauge, sleepers, prism, benchmarks
@@ -326,34 +333,30 @@ def _benchmarks(config: ScenarioConfig, track: TrueTrack, crs, rng: np.random.Ge
 
 
 def _write_survey(folder, config, seed, imu, imu_format, gnss, odometer, gauge, sleepers, prism, benchmarks):
-    files = {}
+    """Write the raw files and survey.toml; returns {role: path}."""
     if imu_format == "text":
-        files["imu"] = writers.write_imu_text(folder / "imu.txt", imu)
-        imu_entry = SurveyFile("imu.txt", "kfgins-imu")
+        entries = {"imu": SurveyFile("imu.txt", "kfgins-imu")}
+        write_imu_kfgins(folder / "imu.txt", imu)
     else:
-        files["imu"] = writers.write_imu_npy(folder / "imu.npy", imu)
-        imu_entry = SurveyFile("imu.npy", "imu-npy")
-    files["gnss"] = writers.write_rtklib_pos(folder / "gnss.pos", gnss)
+        entries = {"imu": SurveyFile("imu.npy", "imu-npy")}
+        write_imu_npy(folder / "imu.npy", imu)
+    entries["gnss"] = SurveyFile("gnss.pos", "rtklib-pos")
+    write_rtklib_pos(folder / "gnss.pos", gnss)
     if config.odometer.form == "pulses":
-        files["odometer"] = writers.write_odometer_pulses(folder / "odometer.txt", odometer)
-        odo_entry = SurveyFile("odometer.txt", "odometer-pulses", {"pulse_length_m": config.odometer.pulse_length_m})
+        entries["odometer"] = SurveyFile("odometer.txt", "odometer-pulses", {"pulse_length_m": config.odometer.pulse_length_m})
+        write_odometer_pulses(folder / "odometer.txt", odometer)
     else:
-        files["odometer"] = writers.write_odometer_distance(folder / "odometer.txt", odometer)
-        odo_entry = SurveyFile("odometer.txt", "odometer-distance")
-    files["gauge"] = writers.write_gauge_mm(folder / "gauge.txt", gauge)
-    files["sleepers"] = writers.write_sleeper_times(folder / "sleepers.txt", sleepers)
-    files["benchmarks"] = writers.write_benchmarks(folder / "benchmarks.txt", benchmarks)
-    entries = {
-        "imu": imu_entry,
-        "gnss": SurveyFile("gnss.pos", "rtklib-pos"),
-        "odometer": odo_entry,
-        "gauge": SurveyFile("gauge.txt", "gauge-mm"),
-        "sleepers": SurveyFile("sleepers.txt", "sleeper-times"),
-        "benchmarks": SurveyFile("benchmarks.txt", "benchmarks"),
-    }
+        entries["odometer"] = SurveyFile("odometer.txt", "odometer-distance")
+        write_odometer_distance(folder / "odometer.txt", odometer)
+    entries["gauge"] = SurveyFile("gauge.txt", "gauge-mm")
+    write_gauge_mm(folder / "gauge.txt", gauge)
+    entries["sleepers"] = SurveyFile("sleepers.txt", "sleeper-times")
+    write_sleeper_times(folder / "sleepers.txt", sleepers)
+    entries["benchmarks"] = SurveyFile("benchmarks.txt", "benchmarks")
+    write_benchmarks(folder / "benchmarks.txt", benchmarks)
     if prism is not None:
-        files["prism"] = writers.write_prism(folder / "prism.txt", prism)
         entries["prism"] = SurveyFile("prism.txt", "prism-enu")
+        write_prism_enu(folder / "prism.txt", prism)
     manifest = SurveyManifest(
         name=f"{config.name}-seed{seed}",
         files=entries,
@@ -362,7 +365,8 @@ def _write_survey(folder, config, seed, imu, imu_format, gnss, odometer, gauge, 
         gps_week=config.gps_week,
         description=f"Simulated by insrail {__version__}: scenario {config.name}, seed {seed}",
     )
-    files["manifest"] = writers.write_manifest(folder, manifest)
+    files = {role: folder / entry.path for role, entry in entries.items()}
+    files["manifest"] = write_manifest(folder, manifest)
     return files
 
 
@@ -391,10 +395,9 @@ def _write_error_truth(folder: Path, config, errors, t, outages, false_times) ->
 def _write_design(folder: Path, design) -> dict[str, Path]:
     from insrail.track import alignment_csv, landxml
 
-    return {
-        "design_csv": alignment_csv.write_alignment_csv(folder / "design.csv", design),
-        "design_landxml": landxml.write_landxml(folder / "design.xml", design),
-    }
+    alignment_csv.write_alignment_csv(folder / "design.csv", design)
+    landxml.write_landxml(folder / "design.xml", design)
+    return {"design_csv": folder / "design.csv", "design_landxml": folder / "design.xml"}
 
 
 def _plain(value):
