@@ -21,7 +21,7 @@ from insrail.io.textparse import (
     read_numeric_table,
     write_numeric_table,
 )
-from insrail.io.timescale import unix_gpst_to_gps_seconds, week_and_seconds
+from insrail.io.timescale import unix_gpst_to_week_seconds
 from insrail.io.types import ImuIncrements
 
 STANDARD_GRAVITY_MPS2 = 9.80665
@@ -191,7 +191,7 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
     if len(stamps) < 2:
         raise InputError(path, None, "need at least 2 samples to integrate rates into increments")
     if time_scale == "unix-gpst":
-        gps_week, time_s = week_and_seconds(unix_gpst_to_gps_seconds(stamps))
+        gps_week, time_s = unix_gpst_to_week_seconds(stamps)
     else:
         gps_week, time_s = None, stamps
 

@@ -32,10 +32,11 @@ from insrail.io.textparse import (
 )
 from insrail.io.timescale import (
     SECONDS_PER_WEEK,
-    calendar_to_gps_seconds,
+    calendar_to_week_seconds,
+    normalise_week,
     seconds_to_week_tow,
-    utc_to_gps_seconds,
-    week_and_seconds,
+    utc_to_gpst,
+    week_tow_to_week_seconds,
 )
 from insrail.io.types import GnssSolution
 
@@ -114,18 +115,17 @@ def read_rtklib_pos(path: str | Path) -> GnssSolution:
                     & (values[:, :5] == np.round(values[:, :5])).all(axis=1))
         if not in_range.all():
             table.fail(int(np.argmin(in_range)), "invalid calendar date or time: expected yyyy/mm/dd hh:mm:ss.sss")
-        seconds = calendar_to_gps_seconds(year, month, day, hour, minute, second)
+        gps_week, time_s = calendar_to_week_seconds(year, month, day, hour, minute, second)
     else:
         week, tow = values[:, 0], values[:, 1]
         in_range = (week >= 0) & (week == np.round(week)) & (tow >= 0) & (tow < SECONDS_PER_WEEK + 1)
         if not in_range.all():
             table.fail(int(np.argmin(in_range)), "invalid GPS week or time of week: expected 'week tow'")
-        seconds = week * SECONDS_PER_WEEK + tow
+        gps_week, time_s = week_tow_to_week_seconds(week, tow)
     if time_system == "JST":
-        seconds = seconds - JST_MINUS_UTC_S
+        gps_week, time_s = normalise_week(gps_week, time_s - JST_MINUS_UTC_S)
     if time_system in ("UTC", "JST"):
-        seconds = utc_to_gps_seconds(seconds)
-    gps_week, time_s = week_and_seconds(seconds)
+        gps_week, time_s = utc_to_gpst(gps_week, time_s)
     check_time_order(time_s, table.fail, where=table.line_of_row)
 
     p = t_cols

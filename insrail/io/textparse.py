@@ -329,6 +329,8 @@ def read_token_table(path: str | Path, *, min_columns: int, max_columns: int,
             line_numbers.append(lineno)
     except OSError as exc:
         raise InputError(path, None, f"cannot be read: {exc.strerror or exc}") from None
+    if not rows:
+        raise InputError(path, None, "empty file: no data lines")
     names = tuple(column_names) or layout.header
     return TokenTable(path, tuple(rows), tuple(line_numbers), names, layout.header, layout.comments)
 

@@ -1,8 +1,6 @@
 """GPS time: calendar dates, Unix-style stamps, UTC leap seconds, week and seconds of week.
 
-All functions are vectorised. "GPS seconds" below means seconds since the GPS epoch
-1980-01-06 00:00:00 GPST, on the GPST scale (no leap seconds). A time series is
-returned as (week of its first stamp, seconds of that week): a recording that runs
+All functions are vectorised. A time series is returned as (week of its first stamp, seconds of that week): a recording that runs
 past the end of the week keeps counting beyond 604800 s instead of wrapping, so the
 time stays monotonic.
 """
@@ -34,43 +32,58 @@ def days_since_gps_epoch(year, month, day) -> np.ndarray:
     return (dates - np.datetime64("1980-01-06", "D")).astype(np.int64)
 
 
-def calendar_to_gps_seconds(year, month, day, hour, minute, second) -> np.ndarray:
-    """Seconds since the GPS epoch of calendar times, read on the same scale as the epoch."""
+# Absolute GPS seconds (~1.4e9) carry only ~0.2 us of resolution in a double, so the
+# functions below never form them: a series is (week of its first stamp, seconds
+# from the start of that week), built from small numbers.
+
+def normalise_week(week: int, seconds_of_week: np.ndarray) -> tuple[int, np.ndarray]:
+    """Move whole weeks between the two parts so the first stamp lies in [0, 604800)."""
+    shift = int(np.floor(seconds_of_week[0] / SECONDS_PER_WEEK))
+    return week + shift, seconds_of_week - shift * SECONDS_PER_WEEK
+
+
+def calendar_to_week_seconds(year, month, day, hour, minute, second) -> tuple[int, np.ndarray]:
+    """(week, seconds of that week) of calendar times, read on the scale they are given in."""
     days = days_since_gps_epoch(year, month, day)
-    return (days * SECONDS_PER_DAY + np.asarray(hour, dtype=np.float64) * 3600.0
-            + np.asarray(minute, dtype=np.float64) * 60.0 + np.asarray(second, dtype=np.float64))
+    week = int(days[0] // 7)
+    seconds = ((days - 7 * week) * SECONDS_PER_DAY + np.asarray(hour, dtype=np.float64) * 3600.0
+               + np.asarray(minute, dtype=np.float64) * 60.0 + np.asarray(second, dtype=np.float64))
+    return normalise_week(week, seconds)
 
 
-_LEAP_STEP_UTC_S = calendar_to_gps_seconds(*np.array([d for d, _ in _LEAP_SECOND_STEPS]).T, 0, 0, 0)
-_LEAP_STEP_VALUE_S = np.array([v for _, v in _LEAP_SECOND_STEPS], dtype=np.float64)
+def week_tow_to_week_seconds(week, tow) -> tuple[int, np.ndarray]:
+    """(week of the first stamp, seconds from its start) of per-stamp (week, time of week) pairs."""
+    week = np.asarray(week, dtype=np.int64)
+    first = int(week[0])
+    return normalise_week(first, (week - first) * float(SECONDS_PER_WEEK) + np.asarray(tow, dtype=np.float64))
 
 
-def gpst_minus_utc(utc_seconds) -> np.ndarray:
-    """GPST - UTC [s] at UTC instants given as calendar seconds since 1980-01-06 UTC."""
-    index = np.searchsorted(_LEAP_STEP_UTC_S, np.asarray(utc_seconds, dtype=np.float64), side="right")
-    return np.concatenate(([0.0], _LEAP_STEP_VALUE_S))[index]
+_LEAP_STEP_DAYS = days_since_gps_epoch(*np.array([d for d, _ in _LEAP_SECOND_STEPS]).T)
+_LEAP_VALUES_S = np.array([0.0] + [v for _, v in _LEAP_SECOND_STEPS])
 
 
-def utc_to_gps_seconds(utc_seconds) -> np.ndarray:
-    """GPS seconds of UTC calendar seconds (since 1980-01-06 UTC), adding the leap seconds."""
-    utc_seconds = np.asarray(utc_seconds, dtype=np.float64)
-    return utc_seconds + gpst_minus_utc(utc_seconds)
+def gpst_minus_utc(week: int, utc_seconds_of_week) -> np.ndarray:
+    """GPST - UTC [s] at UTC instants given as (week, seconds of week) on the UTC calendar."""
+    days = week * 7 + np.floor(np.asarray(utc_seconds_of_week, dtype=np.float64) / SECONDS_PER_DAY)
+    return _LEAP_VALUES_S[np.searchsorted(_LEAP_STEP_DAYS, days, side="right")]
 
 
-def unix_gpst_to_gps_seconds(unix_s) -> np.ndarray:
-    """GPS seconds of stamps counted like Unix time but on the GPST scale.
+def utc_to_gpst(week: int, utc_seconds_of_week) -> tuple[int, np.ndarray]:
+    """(week, GPST seconds of week) of UTC times given as (week, seconds of week) of the UTC calendar."""
+    utc = np.asarray(utc_seconds_of_week, dtype=np.float64)
+    return normalise_week(week, utc + gpst_minus_utc(week, utc))
+
+
+def unix_gpst_to_week_seconds(unix_s) -> tuple[int, np.ndarray]:
+    """(week, seconds of week) of stamps counted like Unix time but on the GPST scale.
 
     Loggers that convert GPST calendar time with a Unix-time routine produce these
-    (e.g. the rtklibexplorer/GNSS_IMU files): no leap seconds are involved.
+    (e.g. the rtklibexplorer/GNSS_IMU files): no leap seconds are involved. The
+    subtraction of the week start (an exact integer) loses nothing.
     """
-    return np.asarray(unix_s, dtype=np.float64) - GPS_EPOCH_UNIX_S
-
-
-def week_and_seconds(gps_seconds) -> tuple[int, np.ndarray]:
-    """(week of the first stamp, seconds of that week) of a series of GPS seconds."""
-    gps_seconds = np.asarray(gps_seconds, dtype=np.float64)
-    week = int(gps_seconds.flat[0] // SECONDS_PER_WEEK)
-    return week, gps_seconds - week * SECONDS_PER_WEEK
+    unix_s = np.asarray(unix_s, dtype=np.float64)
+    week = int((unix_s[0] - GPS_EPOCH_UNIX_S) // SECONDS_PER_WEEK)
+    return week, unix_s - float(GPS_EPOCH_UNIX_S + week * SECONDS_PER_WEEK)
 
 
 def seconds_to_week_tow(gps_week: int, seconds_of_week) -> tuple[np.ndarray, np.ndarray]:
