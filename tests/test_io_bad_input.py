@@ -241,3 +241,12 @@ def test_npy_with_wrong_fields(tmp_path):
     path.write_bytes(b"not numpy at all")
     with pytest.raises(InputError, match="not a readable NumPy"):
         read_imu_npy(path)
+
+
+def test_both_comment_markers_anywhere(tmp_path):
+    path = tmp_path / "imu.txt"
+    good = "{:.3f} 1e-5 2e-5 3e-5 1e-4 2e-4 -0.049"
+    path.write_text("# header\n" + good.format(100) + "\n% logger paused\n"
+                    + good.format(100.005) + " # trailing note\n" + good.format(100.010) + " % another\n")
+    imu = read_imu_kfgins(path)
+    np.testing.assert_allclose(imu.time_s, [100.0, 100.005, 100.010])

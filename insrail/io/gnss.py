@@ -14,11 +14,10 @@ from insrail.io.textparse import (
     NumericTable,
     check_table_time,
     find_gaps,
-    header_value,
+    header_gps_week,
     read_numeric_table,
     write_numeric_table,
 )
-from insrail.io.errors import InputError
 from insrail.io.types import GnssSolution
 
 KFGINS_GNSS_COLUMNS = ("t", "lat", "lon", "h", "sigN", "sigE", "sigD",
@@ -40,16 +39,6 @@ def check_sigmas(table: NumericTable, sigmas: np.ndarray, what: str) -> None:
     negative = np.flatnonzero((sigmas < 0).any(axis=1))
     if negative.size:
         table.fail(negative[0], f"negative {what} standard deviation {sigmas[negative[0]].min()}")
-
-
-def gps_week_from_header(table: NumericTable) -> int | None:
-    value = header_value(table.comments, "gps_week")
-    if value is None:
-        return None
-    try:
-        return int(value)
-    except ValueError:
-        raise InputError(table.path, None, f"header gps_week = {value!r}: expected an integer") from None
 
 
 def read_gnss_kfgins(path: str | Path) -> GnssSolution:
@@ -74,7 +63,7 @@ def read_gnss_kfgins(path: str | Path) -> GnssSolution:
         ratio=np.full(n, np.nan),
         vel_ned_mps=values[:, 7:10].copy() if with_velocity else None,
         sigma_vel_ned_mps=values[:, 10:13].copy() if with_velocity else None,
-        gps_week=gps_week_from_header(table),
+        gps_week=header_gps_week(table.path, table.comments),
         gaps=find_gaps(time_s),
         source=table.path,
     )

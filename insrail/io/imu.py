@@ -17,7 +17,7 @@ from insrail.io.textparse import (
     check_table_time,
     check_time_order,
     find_gaps,
-    header_value,
+    header_gps_week,
     read_numeric_table,
     write_numeric_table,
 )
@@ -32,16 +32,6 @@ IMU_NPY_DTYPE = np.dtype([("time_s", "<f8"), ("dtheta_rad", "<f8", (3,)), ("dvel
 # 10 g of median specific force or 20 rad/s of median turn rate is no trolley.
 _MAX_MEDIAN_SPECIFIC_FORCE_MPS2 = 10 * STANDARD_GRAVITY_MPS2
 _MAX_MEDIAN_TURN_RATE_RADPS = 20.0
-
-
-def _gps_week_from_header(table) -> int | None:
-    value = header_value(table.comments, "gps_week")
-    if value is None:
-        return None
-    try:
-        return int(value)
-    except ValueError:
-        raise InputError(table.path, None, f"header gps_week = {value!r}: expected an integer") from None
 
 
 def _check_increment_magnitudes(path: Path, time_s: np.ndarray, dtheta: np.ndarray,
@@ -73,7 +63,7 @@ def read_imu_kfgins(path: str | Path) -> ImuIncrements:
     dtheta, dvel = table.values[:, 1:4], table.values[:, 4:7]
     _check_increment_magnitudes(table.path, time_s, dtheta, dvel)
     return ImuIncrements(time_s=np.ascontiguousarray(time_s), dtheta_rad=np.ascontiguousarray(dtheta),
-                         dvel_mps=np.ascontiguousarray(dvel), gps_week=_gps_week_from_header(table),
+                         dvel_mps=np.ascontiguousarray(dvel), gps_week=header_gps_week(table.path, table.comments),
                          gaps=find_gaps(time_s), source=table.path)
 
 

@@ -1,8 +1,8 @@
 """GPS time: calendar dates, Unix-style stamps, UTC leap seconds, week and seconds of week.
 
-All functions are vectorised. A time series is returned as (week of its first stamp, seconds of that week): a recording that runs
-past the end of the week keeps counting beyond 604800 s instead of wrapping, so the
-time stays monotonic.
+All functions are vectorised. A time series is returned as (week of its first stamp,
+seconds from the start of that week): a recording that runs past the end of the week
+keeps counting beyond 604800 s instead of wrapping, so the time stays monotonic.
 """
 
 from __future__ import annotations
