@@ -1,13 +1,45 @@
 """Readers and writers of raw survey data, one function per format.
 
-Conventions: time stamps are GPS seconds of the week; body frame b is the IMU's
-forward-right-down; positions in files are geodetic degrees and ellipsoidal metres
-unless the format says otherwise (prism observations are in the engineering frame);
-gauge files are in mm, everything returned is SI. Every reader raises
-:class:`~insrail.io.errors.InputError` naming the file, the line and what was
-expected; none lets a bare numpy/parser traceback through.
+Conventions: time stamps are GPS seconds of the week (a series that crosses the
+end of a week keeps counting past 604800 s from the week of its first stamp);
+body frame b is the IMU's forward-right-down; positions in files are geodetic
+degrees and ellipsoidal metres unless the format says otherwise (prism
+observations are in the engineering frame); gauge files are in mm, everything
+returned is SI. Every reader raises :class:`~insrail.io.errors.InputError` naming
+the file, the line and what was expected; none lets a bare numpy/parser traceback
+through. Every writer writes atomically (:func:`~insrail.io.atomic.atomic_write`).
+Formats are registered by name in :mod:`insrail.io.formats`; docs/formats.md
+describes each one.
 """
 
-from insrail.io.errors import InputError
+from insrail.io.atomic import atomic_write
+from insrail.io.control import read_benchmarks, read_prism_enu, write_benchmarks, write_prism_enu
+from insrail.io.errors import InputError, ManifestError
+from insrail.io.formats import FORMATS, FileFormat, detect_format, read_any
+from insrail.io.gnss import read_gnss_kfgins, write_gnss_kfgins
+from insrail.io.imu import (
+    read_imu_kfgins,
+    read_imu_npy,
+    read_imu_rates_csv,
+    write_imu_kfgins,
+    write_imu_npy,
+)
+from insrail.io.odometer import (
+    read_odometer_distance,
+    read_odometer_pulses,
+    write_odometer_distance,
+    write_odometer_pulses,
+)
+from insrail.io.rtklib import read_rtklib_pos, write_rtklib_pos
+from insrail.io.survey import read_manifest, read_survey, write_manifest
+from insrail.io.track_sensors import read_gauge_mm, read_sleeper_times, write_gauge_mm, write_sleeper_times
 
-__all__ = ["InputError"]
+__all__ = [
+    "FORMATS", "FileFormat", "InputError", "ManifestError", "atomic_write", "detect_format", "read_any",
+    "read_benchmarks", "read_gauge_mm", "read_gnss_kfgins", "read_imu_kfgins", "read_imu_npy",
+    "read_imu_rates_csv", "read_manifest", "read_odometer_distance", "read_odometer_pulses",
+    "read_prism_enu", "read_rtklib_pos", "read_sleeper_times", "read_survey", "write_benchmarks",
+    "write_gauge_mm", "write_gnss_kfgins", "write_imu_kfgins", "write_imu_npy", "write_manifest",
+    "write_odometer_distance", "write_odometer_pulses", "write_prism_enu", "write_rtklib_pos",
+    "write_sleeper_times",
+]

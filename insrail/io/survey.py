@@ -8,11 +8,20 @@ the named point, resolved in the IMU body frame b (forward-right-down), metres.
 
 from __future__ import annotations
 
+import dataclasses
+import re
+import tomllib
+import types
+import typing
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import tomli_w
 
+from insrail.io.atomic import atomic_write
+from insrail.io.errors import InputError, ManifestError
+from insrail.io.formats import FORMATS
 from insrail.io.types import (
     Benchmarks,
     GaugeData,
@@ -22,6 +31,7 @@ from insrail.io.types import (
     PrismObservations,
     SleeperPulses,
 )
+from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 
 
 @dataclass(frozen=True)
@@ -88,3 +98,265 @@ class SurveyData:
     sleepers: SleeperPulses | None = None
     prism: PrismObservations | None = None
     benchmarks: Benchmarks | None = None
+
+
+# --- survey.toml ------------------------------------------------------------------------------
+
+MANIFEST_NAME = "survey.toml"
+ROLE_TYPES: dict[str, type] = {
+    "imu": ImuIncrements,
+    "gnss": GnssSolution,
+    "odometer": OdometerData,
+    "gauge": GaugeData,
+    "sleepers": SleeperPulses,
+    "prism": PrismObservations,
+    "benchmarks": Benchmarks,
+}
+REQUIRED_ROLES = ("imu", "gnss", "odometer")
+_LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m",
+               "imu_to_sleeper_detector_m", "imu_to_reference_rail_m")
+# A lever arm is required only when the data that uses it is in the survey; one not
+# given is NaN so that any use of it shows up instead of passing for a zero offset.
+_LEVER_ARM_NEEDED_BY = {"imu_to_prism_m": "prism", "imu_to_sleeper_detector_m": "sleepers"}
+_SURVEY_KEYS = ("name", "gps_week", "imu_profile", "description")
+_TROLLEY_KEYS = _LEVER_ARMS + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m")
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and np.isfinite(value)
+
+
+def _vector3(value) -> np.ndarray | None:
+    if isinstance(value, list) and len(value) == 3 and all(_is_number(v) for v in value):
+        return np.array(value, dtype=float)
+    return None
+
+
+def _option_problem(hint, value) -> str | None:
+    """Why a TOML value does not fit a reader parameter's type hint, or None if it does."""
+    allowed = typing.get_args(hint) if isinstance(hint, types.UnionType) else (hint,)
+    for kind in allowed:
+        if kind is type(None):
+            continue
+        if kind is float and _is_number(value):
+            return None
+        if kind is int and isinstance(value, int) and not isinstance(value, bool):
+            return None
+        if kind is str and isinstance(value, str):
+            return None
+        if typing.get_origin(kind) is tuple and isinstance(value, list):
+            items = typing.get_args(kind)
+            if len(value) == len(items) and all(
+                    _option_problem(item, v) is None for item, v in zip(items, value)):
+                return None
+            return f"expected a list of {len(items)} {items[0].__name__} values"
+    return f"expected {' or '.join(k.__name__ for k in allowed if k is not type(None))}, found {value!r}"
+
+
+def _parse_files(folder: Path, table, problems: list[str]) -> dict[str, SurveyFile]:
+    files: dict[str, SurveyFile] = {}
+    if not isinstance(table, dict):
+        problems.append("files: missing table [files.<role>] (roles imu, gnss, odometer are required)")
+        return files
+    for role in REQUIRED_ROLES:
+        if role not in table:
+            problems.append(f"files.{role}: missing (required role)")
+    for role, entry in table.items():
+        key = f"files.{role}"
+        if role not in ROLE_TYPES:
+            problems.append(f"{key}: unknown role (expected one of {', '.join(ROLE_TYPES)})")
+            continue
+        if not isinstance(entry, dict):
+            problems.append(f"{key}: expected a table with path and format")
+            continue
+        options = {k: v for k, v in entry.items() if k not in ("path", "format")}
+        path, name = entry.get("path"), entry.get("format")
+        if not isinstance(path, str) or not path:
+            problems.append(f"{key}.path: expected a file name relative to the survey folder")
+        elif not (folder / path).is_file():
+            problems.append(f"{key}.path: file not found: {path}")
+        if not isinstance(name, str):
+            problems.append(f"{key}.format: expected a format name ({', '.join(FORMATS)})")
+        elif name not in FORMATS:
+            problems.append(f"{key}.format: unknown format {name!r} (expected one of {', '.join(FORMATS)})")
+        elif FORMATS[name].data_type is not ROLE_TYPES[role]:
+            fitting = [f for f, spec in FORMATS.items() if spec.data_type is ROLE_TYPES[role]]
+            problems.append(f"{key}.format: {name} does not hold {role} data (use one of {', '.join(fitting)})")
+        else:
+            hints = FORMATS[name].option_hints()
+            for option, value in options.items():
+                if option not in hints:
+                    known = ", ".join(hints) or "none"
+                    problems.append(f"{key}.{option}: unknown option for format {name} (known: {known})")
+                elif (why := _option_problem(hints[option], value)) is not None:
+                    problems.append(f"{key}.{option}: {why}")
+        if isinstance(path, str) and isinstance(name, str):
+            files[role] = SurveyFile(path=path, format=name, options=options)
+    return files
+
+
+def _parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometry | None:
+    if not isinstance(table, dict):
+        problems.append("trolley: missing table [trolley] (lever arms and reference rail)")
+        return None
+    for key in table:
+        if key not in _TROLLEY_KEYS:
+            problems.append(f"trolley.{key}: unknown key (expected {', '.join(_TROLLEY_KEYS)})")
+    arms: dict[str, np.ndarray] = {}
+    for key in _LEVER_ARMS:
+        needed = _LEVER_ARM_NEEDED_BY.get(key)
+        if key not in table:
+            if needed is None or needed in roles:
+                reason = "required" if needed is None else f"required with files.{needed}"
+                problems.append(f"trolley.{key}: missing ({reason}; 3 numbers [m], IMU body frame FRD)")
+            arms[key] = np.full(3, np.nan)
+            continue
+        vector = _vector3(table[key])
+        if vector is None:
+            problems.append(f"trolley.{key}: expected 3 numbers [m], found {table[key]!r}")
+        arms[key] = vector if vector is not None else np.full(3, np.nan)
+    reference_rail = table.get("reference_rail", "left")
+    if reference_rail not in ("left", "right"):
+        problems.append(f"trolley.reference_rail: expected \"left\" or \"right\", found {reference_rail!r}")
+    mounting = _vector3(table.get("mounting_rpy_deg", [0.0, 0.0, 0.0]))
+    if mounting is None:
+        problems.append(f"trolley.mounting_rpy_deg: expected 3 numbers [deg], found {table['mounting_rpy_deg']!r}")
+    spacing = table.get("rail_centre_spacing_m", 1.5)
+    if not (_is_number(spacing) and spacing > 0):
+        problems.append(f"trolley.rail_centre_spacing_m: expected a positive number [m], found {spacing!r}")
+    if problems:
+        return None
+    return TrolleyGeometry(**arms, reference_rail=reference_rail, mounting_rpy_rad=np.radians(mounting),
+                           rail_centre_spacing_m=float(spacing))
+
+
+def read_manifest(folder: str | Path) -> SurveyManifest:
+    """Read and validate ``<folder>/survey.toml``.
+
+    Raises :class:`ManifestError` listing every problem found, each with its key
+    path (``files.gnss.path: file not found: gnss.pos``).
+    """
+    folder = Path(folder)
+    path = folder / MANIFEST_NAME
+    if not path.is_file():
+        raise InputError(path, None, "file not found: the survey folder needs a survey.toml")
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        # tomllib says "... (at line 7, column 3)"; lift the line into the error's place.
+        match = re.search(r"\(at line (\d+), column \d+\)", str(exc))
+        raise InputError(path, int(match.group(1)) if match else None, f"not valid TOML: {exc}") from None
+
+    problems: list[str] = []
+    for key in document:
+        if key not in ("survey", "files", "trolley"):
+            problems.append(f"{key}: unknown table (expected [survey], [files.<role>], [trolley])")
+    survey = document.get("survey")
+    if not isinstance(survey, dict):
+        problems.append("survey: missing table [survey] (name, gps_week, imu_profile, description)")
+        survey = {}
+    for key in survey:
+        if key not in _SURVEY_KEYS:
+            problems.append(f"survey.{key}: unknown key (expected {', '.join(_SURVEY_KEYS)})")
+    name = survey.get("name")
+    if not isinstance(name, str) or not name:
+        problems.append("survey.name: expected a non-empty text")
+    gps_week = survey.get("gps_week")
+    if gps_week is not None and not (isinstance(gps_week, int) and not isinstance(gps_week, bool)
+                                     and gps_week >= 0):
+        problems.append(f"survey.gps_week: expected a whole GPS week number, found {gps_week!r}")
+    for key in ("imu_profile", "description"):
+        if key in survey and not isinstance(survey[key], str):
+            problems.append(f"survey.{key}: expected text, found {survey[key]!r}")
+    files = _parse_files(folder, document.get("files"), problems)
+    trolley = _parse_trolley(document.get("trolley"), set(files), problems)
+    if problems:
+        raise ManifestError(path, problems)
+    return SurveyManifest(name=name, files=files, trolley=trolley,
+                          imu_profile=survey.get("imu_profile", "nav"), gps_week=gps_week,
+                          description=survey.get("description", ""))
+
+
+def manifest_to_toml(manifest: SurveyManifest) -> str:
+    """The TOML text of a manifest (lever arms not given are left out)."""
+    survey = {"name": manifest.name, "imu_profile": manifest.imu_profile}
+    if manifest.gps_week is not None:
+        survey["gps_week"] = manifest.gps_week
+    if manifest.description:
+        survey["description"] = manifest.description
+    files = {role: {"path": f.path, "format": f.format, **f.options} for role, f in manifest.files.items()}
+    geometry = manifest.trolley
+    trolley: dict = {key: [float(v) for v in getattr(geometry, key)] for key in _LEVER_ARMS
+                     if np.all(np.isfinite(getattr(geometry, key)))}
+    trolley.update(reference_rail=geometry.reference_rail,
+                   mounting_rpy_deg=[float(v) for v in np.degrees(geometry.mounting_rpy_rad)],
+                   rail_centre_spacing_m=float(geometry.rail_centre_spacing_m))
+    return tomli_w.dumps({"survey": survey, "files": files, "trolley": trolley})
+
+
+def write_manifest(folder: str | Path, manifest: SurveyManifest) -> Path:
+    """Write ``<folder>/survey.toml`` atomically; returns its path."""
+    path = Path(folder) / MANIFEST_NAME
+    text = manifest_to_toml(manifest)
+    with atomic_write(path) as handle:
+        handle.write(text)
+    return path
+
+
+# --- loading a survey -------------------------------------------------------------------------
+
+def _check_time_overlap(imu: ImuIncrements, other, role: str, problems: list[str]) -> None:
+    """An aiding series that never overlaps the IMU is almost always a time-scale mix-up."""
+    if other.time_s[-1] < imu.time_s[0] or other.time_s[0] > imu.time_s[-1]:
+        problems.append(
+            f"files.{role}: time span {other.time_s[0]:.3f}..{other.time_s[-1]:.3f} s does not overlap "
+            f"the IMU's {imu.time_s[0]:.3f}..{imu.time_s[-1]:.3f} s (different time scales?)")
+
+
+def _with_week(data, role: str, gps_week: int | None, problems: list[str]):
+    """Fill in the manifest's GPS week; a file that states another week is a problem."""
+    if gps_week is None or not hasattr(data, "gps_week"):
+        return data
+    if data.gps_week is None:
+        return dataclasses.replace(data, gps_week=gps_week)
+    if data.gps_week != gps_week:
+        problems.append(f"files.{role}: data is from GPS week {data.gps_week}, "
+                        f"survey.gps_week says {gps_week}")
+    return data
+
+
+def read_survey(folder: str | Path, progress: ProgressFn | None = None,
+                cancel: CancelToken = None) -> SurveyData:
+    """Load every file of a survey folder by its role and format.
+
+    Every file is read even after one fails, so the user sees all bad files at
+    once: one bad file raises its own InputError, several raise a ManifestError
+    listing them. Then the aiding data must overlap the IMU in time.
+    """
+    folder = Path(folder)
+    manifest = read_manifest(folder)
+    step = StepProgress(progress)
+    loaded: dict = {}
+    errors: list[InputError] = []
+    roles = list(manifest.files.items())
+    for index, (role, entry) in enumerate(roles):
+        check_cancel(cancel)
+        step(index / len(roles), f"reading {role}: {entry.path}")
+        try:
+            loaded[role] = FORMATS[entry.format].read(folder / entry.path, **entry.options)
+        except InputError as exc:
+            errors.append(exc)
+    if len(errors) == 1:
+        raise errors[0]
+    if errors:
+        raise ManifestError(folder / MANIFEST_NAME, [str(e) for e in errors])
+
+    problems: list[str] = []
+    loaded = {role: _with_week(data, role, manifest.gps_week, problems) for role, data in loaded.items()}
+    for role in ("gnss", "odometer", "gauge", "sleepers", "prism"):
+        if role in loaded:
+            _check_time_overlap(loaded["imu"], loaded[role], role, problems)
+    if problems:
+        raise ManifestError(folder / MANIFEST_NAME, problems)
+    step(1.0, "survey loaded")
+    return SurveyData(manifest=manifest, folder=folder, **loaded)

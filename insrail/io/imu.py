@@ -1,0 +1,200 @@
+"""IMU readers and writers: KF-GINS increment text, the binary .npy table, foreign rate CSVs.
+
+All return :class:`~insrail.io.types.ImuIncrements`: angle and velocity increments
+over the interval ending at each time stamp, body frame forward-right-down.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from insrail.io.atomic import atomic_write
+from insrail.io.errors import InputError
+from insrail.io.textparse import (
+    check_table_time,
+    check_time_order,
+    find_gaps,
+    header_gps_week,
+    read_numeric_table,
+    write_numeric_table,
+)
+from insrail.io.timescale import unix_gpst_to_week_seconds
+from insrail.io.types import ImuIncrements
+
+STANDARD_GRAVITY_MPS2 = 9.80665
+KFGINS_IMU_COLUMNS = ("t", "dtheta_x", "dtheta_y", "dtheta_z", "dvel_x", "dvel_y", "dvel_z")
+IMU_NPY_DTYPE = np.dtype([("time_s", "<f8"), ("dtheta_rad", "<f8", (3,)), ("dvel_mps", "<f8", (3,))])
+
+# A file of rates or accelerations read as increments shows up as absurd implied rates:
+# 10 g of median specific force or 20 rad/s of median turn rate is no trolley.
+_MAX_MEDIAN_SPECIFIC_FORCE_MPS2 = 10 * STANDARD_GRAVITY_MPS2
+_MAX_MEDIAN_TURN_RATE_RADPS = 20.0
+
+
+def _check_increment_magnitudes(path: Path, time_s: np.ndarray, dtheta: np.ndarray,
+                                dvel: np.ndarray) -> None:
+    """Refuse files that hold rates (rad/s, m/s^2) where increments are expected."""
+    if len(time_s) < 2:
+        return
+    interval = float(np.median(np.diff(time_s)))
+    specific_force = float(np.median(np.linalg.norm(dvel, axis=1))) / interval
+    turn_rate = float(np.median(np.linalg.norm(dtheta, axis=1))) / interval
+    if specific_force > _MAX_MEDIAN_SPECIFIC_FORCE_MPS2:
+        raise InputError(path, None, f"velocity increments imply a median specific force of "
+                         f"{specific_force:.0f} m/s^2 at {1 / interval:.0f} Hz: the file seems to hold "
+                         "accelerations (m/s^2), expected velocity increments (m/s)")
+    if turn_rate > _MAX_MEDIAN_TURN_RATE_RADPS:
+        raise InputError(path, None, f"angle increments imply a median turn rate of {turn_rate:.0f} "
+                         f"rad/s at {1 / interval:.0f} Hz: the file seems to hold angular rates, "
+                         "expected angle increments (rad)")
+
+
+def read_imu_kfgins(path: str | Path) -> ImuIncrements:
+    """KF-GINS IMU text: ``t dtheta_x dtheta_y dtheta_z [rad] dvel_x dvel_y dvel_z [m/s]``.
+
+    t is GPS seconds of week at the end of each increment interval; body FRD. A
+    ``# gps_week = N`` comment line sets :attr:`ImuIncrements.gps_week`.
+    """
+    table = read_numeric_table(path, columns=(7,), column_names=KFGINS_IMU_COLUMNS)
+    time_s = check_table_time(table)
+    dtheta, dvel = table.values[:, 1:4], table.values[:, 4:7]
+    _check_increment_magnitudes(table.path, time_s, dtheta, dvel)
+    return ImuIncrements(time_s=np.ascontiguousarray(time_s), dtheta_rad=np.ascontiguousarray(dtheta),
+                         dvel_mps=np.ascontiguousarray(dvel), gps_week=header_gps_week(table.path, table.comments),
+                         gaps=find_gaps(time_s), source=table.path)
+
+
+def write_imu_kfgins(path: str | Path, imu: ImuIncrements) -> None:
+    """Write KF-GINS IMU text losslessly (increments %.16e; time to 1 ns), atomically."""
+    header = ["format: kfgins-imu"]
+    if imu.gps_week is not None:
+        header.append(f"gps_week = {imu.gps_week}")
+    header += ["columns: t[s of GPS week] dtheta_x dtheta_y dtheta_z [rad] dvel_x dvel_y dvel_z [m/s]",
+               "increments over the interval ending at t, IMU body frame forward-right-down"]
+    write_numeric_table(path, [imu.time_s, imu.dtheta_rad, imu.dvel_mps],
+                        ["%.9f"] + ["%.16e"] * 6, header)
+
+
+def read_imu_npy(path: str | Path) -> ImuIncrements:
+    """Binary IMU increments: a .npy structured array with fields
+    ``time_s`` (f8), ``dtheta_rad`` (f8, 3), ``dvel_mps`` (f8, 3), little-endian.
+
+    Errors name the 0-based record index.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise InputError(path, None, "file not found")
+    try:
+        records = np.load(path, mmap_mode="r", allow_pickle=False)
+    except (ValueError, OSError, EOFError) as exc:
+        raise InputError(path, None, f"not a readable NumPy .npy file ({exc})") from None
+    expected = ", ".join(f"{name} {IMU_NPY_DTYPE.fields[name][0].str}" for name in IMU_NPY_DTYPE.names)
+    if records.dtype.names is None or records.ndim != 1:
+        raise InputError(path, None, f"expected a 1-D structured array with fields {expected}, "
+                         f"found dtype {records.dtype} with shape {records.shape}")
+    for name in IMU_NPY_DTYPE.names:
+        want = IMU_NPY_DTYPE.fields[name][0]
+        have = records.dtype.fields.get(name)
+        if have is None or have[0].shape != want.shape or have[0].base.kind != "f":
+            raise InputError(path, None, f"field {name!r}: expected {want.base} with shape {want.shape}; "
+                             f"the file's fields are {records.dtype}")
+    if len(records) == 0:
+        raise InputError(path, None, "empty file: no records")
+
+    def fail(index: int, message: str):
+        raise InputError(path, index, message, unit="index")
+
+    time_s = np.array(records["time_s"], dtype=np.float64)
+    dtheta = np.array(records["dtheta_rad"], dtype=np.float64)
+    dvel = np.array(records["dvel_mps"], dtype=np.float64)
+    for name, values in (("time_s", time_s), ("dtheta_rad", dtheta), ("dvel_mps", dvel)):
+        finite = np.isfinite(values.reshape(len(values), -1)).all(axis=1)
+        if not finite.all():
+            index = int(np.argmin(finite))
+            fail(index, f"{name} is {values[index]}: expected finite numbers")
+    check_time_order(time_s, fail, unit="index", where=lambda index: index)
+    _check_increment_magnitudes(path, time_s, dtheta, dvel)
+    return ImuIncrements(time_s=time_s, dtheta_rad=dtheta, dvel_mps=dvel, gaps=find_gaps(time_s),
+                         source=path)
+
+
+def write_imu_npy(path: str | Path, imu: ImuIncrements) -> None:
+    """Write the binary .npy IMU table (see :func:`read_imu_npy`), atomically."""
+    records = np.empty(len(imu), dtype=IMU_NPY_DTYPE)
+    records["time_s"] = imu.time_s
+    records["dtheta_rad"] = imu.dtheta_rad
+    records["dvel_mps"] = imu.dvel_mps
+    with atomic_write(path, "wb") as handle:
+        np.save(handle, records, allow_pickle=False)
+
+
+TIME_SCALES = ("gps-sow", "unix-gpst")
+ACCEL_UNITS = {"m/s^2": 1.0, "g": STANDARD_GRAVITY_MPS2}
+GYRO_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180.0}
+
+
+def _choice(path: Path, option: str, value: str, allowed) -> None:
+    if value not in allowed:
+        raise InputError(path, None, f"option {option} = {value!r}: expected one of "
+                         + ", ".join(repr(a) for a in allowed))
+
+
+def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
+                       accel_columns: tuple[int, int, int] = (1, 2, 3),
+                       gyro_columns: tuple[int, int, int] = (4, 5, 6),
+                       time_scale: str = "gps-sow", accel_unit: str = "m/s^2",
+                       gyro_unit: str = "rad/s",
+                       sensor_rpy_deg: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> ImuIncrements:
+    """Rates from a foreign logger (specific force and angular rate per sample) -> increments.
+
+    Column indices are 0-based. time_scale "gps-sow": seconds of the GPS week;
+    "unix-gpst": seconds counted like Unix time but on the GPST scale (converted to
+    week + seconds of week). sensor_rpy_deg: roll, pitch, yaw [deg] of the sensor
+    axes relative to the body FRD axes, ``C_s^b = Rz(yaw) Ry(pitch) Rx(roll)``, so
+    ``f^b = C_s^b f^s``. Each output increment is the trapezoidal integral of the
+    rates over the interval between consecutive samples, stamped at its end; the
+    output has one sample fewer than the file.
+    """
+    path = Path(path)
+    _choice(path, "time_scale", time_scale, TIME_SCALES)
+    _choice(path, "accel_unit", accel_unit, ACCEL_UNITS)
+    _choice(path, "gyro_unit", gyro_unit, GYRO_UNITS)
+    wanted = {"time_column": [time_column], "accel_columns": list(accel_columns),
+              "gyro_columns": list(gyro_columns)}
+    for option, indices in wanted.items():
+        if option != "time_column" and len(indices) != 3:
+            raise InputError(path, None, f"option {option}: expected 3 column indices, found {len(indices)}")
+    if len(sensor_rpy_deg) != 3:
+        raise InputError(path, None, "option sensor_rpy_deg: expected 3 angles (roll, pitch, yaw)")
+
+    table = read_numeric_table(path)
+    width = table.values.shape[1]
+    for option, indices in wanted.items():
+        for index in indices:
+            if not 0 <= int(index) < width:
+                raise InputError(path, None, f"option {option}: column index {index} does not exist, "
+                                 f"the file has {width} columns (indices 0 to {width - 1})")
+    stamps = check_table_time(table, time_column)
+    if len(stamps) < 2:
+        raise InputError(path, None, "need at least 2 samples to integrate rates into increments")
+    if time_scale == "unix-gpst":
+        gps_week, time_s = unix_gpst_to_week_seconds(stamps)
+    else:
+        gps_week, time_s = None, stamps
+
+    sensor_to_body = Rotation.from_euler("ZYX", np.asarray(sensor_rpy_deg, dtype=float)[::-1],
+                                         degrees=True).as_matrix()
+    specific_force = table.values[:, list(accel_columns)] * ACCEL_UNITS[accel_unit] @ sensor_to_body.T
+    angular_rate = table.values[:, list(gyro_columns)] * GYRO_UNITS[gyro_unit] @ sensor_to_body.T
+    interval = np.diff(time_s)[:, None]
+    return ImuIncrements(
+        time_s=time_s[1:].copy(),
+        dtheta_rad=0.5 * (angular_rate[1:] + angular_rate[:-1]) * interval,
+        dvel_mps=0.5 * (specific_force[1:] + specific_force[:-1]) * interval,
+        gps_week=gps_week,
+        gaps=find_gaps(time_s),
+        source=path,
+    )

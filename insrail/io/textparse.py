@@ -1,0 +1,377 @@
+"""Strict, fast parsing and writing of the numeric text tables every text format is made of.
+
+Accepted layout (all text readers share it):
+
+* Lines starting with ``#`` or ``%`` are comments; so is anything after such a
+  marker on a data line. Blank lines are skipped.
+* The first non-comment line may be a header row of column names (a line none of
+  whose fields is a number); it is skipped and kept in :attr:`NumericTable.header`.
+* Fields are separated by whitespace, or by commas when the first data line holds
+  a comma (spaces around the commas are allowed).
+
+Speed: the fast path is numpy's C parser (``np.loadtxt``, one comment marker) on the
+file itself, which reads a 2.2-million-line IMU file in about 3 s here. Nothing Python-level runs per
+line unless the parse fails or a check finds a bad row; only then a slow scan walks
+the lines to name the exact line number and field for the error message.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import re
+import warnings
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+from typing import Collection, Iterator, NoReturn, Sequence
+
+import numpy as np
+
+from insrail.io.atomic import atomic_write
+from insrail.io.errors import InputError
+from insrail.io.types import Gap
+
+COMMENT_MARKERS = ("#", "%")
+GAP_FACTOR = 1.5
+"""An interval longer than GAP_FACTOR x the median interval is reported as a Gap."""
+
+_WRITE_CHUNK_ROWS = 20_000
+# latin-1 decodes any byte: numbers are ASCII, and a comment in another 8-bit
+# encoding (GBK from a Chinese logger, say) must not stop the parse.
+_NUMERIC_ENCODING = "latin-1"
+
+
+def strip_comment(line: str) -> str:
+    """The data part of a line: text before the first comment marker, stripped."""
+    cut = len(line)
+    for marker in COMMENT_MARKERS:
+        at = line.find(marker)
+        if 0 <= at < cut:
+            cut = at
+    return line[:cut].strip()
+
+
+def split_fields(content: str, delimiter: str | None) -> list[str]:
+    if delimiter is None:
+        return content.split()
+    return [f.strip() for f in content.split(delimiter)]
+
+
+def is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def header_value(comments: Sequence[str], key: str) -> str | None:
+    """Value of a ``key = value`` (or ``key: value``) comment line, e.g. ``pulse_length_m = 0.001``."""
+    pattern = re.compile(rf"^\s*{re.escape(key)}\s*[=:]\s*(\S+)")
+    for comment in comments:
+        match = pattern.match(comment)
+        if match:
+            return match.group(1)
+    return None
+
+
+def header_gps_week(path: Path, comments: Sequence[str]) -> int | None:
+    """The GPS week of a ``# gps_week = 2381`` comment line, None without one."""
+    value = header_value(comments, "gps_week")
+    if value is None:
+        return None
+    try:
+        return int(value)
+    except ValueError:
+        raise InputError(path, None, f"header gps_week = {value!r}: expected an integer") from None
+
+
+def _column_label(col: int, names: Sequence[str]) -> str:
+    return f"column {col + 1} ({names[col]})" if col < len(names) else f"column {col + 1}"
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """What the head of a file says about its layout."""
+
+    delimiter: str | None
+    skip_lines: int            # lines before the first data row (comments and header row)
+    header: tuple[str, ...]
+    comments: tuple[str, ...]  # leading comment lines, marker stripped
+    first_data_line: int       # 1-based
+
+
+def _iter_lines(path: Path, text: str | None) -> Iterator[tuple[int, str]]:
+    if text is not None:
+        yield from enumerate(io.StringIO(text, newline=None), start=1)
+        return
+    with open(path, encoding="utf-8", errors="replace") as handle:
+        yield from enumerate(handle, start=1)
+
+
+def _sniff(path: Path, text: str | None) -> _Layout:
+    comments: list[str] = []
+    for lineno, raw in _iter_lines(path, text):
+        stripped = raw.strip().lstrip("\ufeff")
+        if stripped[:1] in COMMENT_MARKERS:
+            comments.append(stripped[1:].strip())
+            continue
+        content = strip_comment(stripped)
+        if not content:
+            continue
+        delimiter = "," if "," in content else None
+        fields = split_fields(content, delimiter)
+        if not any(is_number(f) for f in fields):
+            return _Layout(delimiter, lineno, tuple(fields), tuple(comments), lineno + 1)
+        return _Layout(delimiter, lineno - 1, (), tuple(comments), lineno)
+    raise InputError(path, None, "empty file: no data lines")
+
+
+@dataclass(frozen=True)
+class NumericTable:
+    """A parsed numeric text file.
+
+    values       : (rows, columns) float64, all finite
+    column_names : names used in messages (the reader's, else the header row's)
+    header       : the header row found in the file, () if none
+    comments     : the leading comment lines, marker stripped
+    """
+
+    path: Path
+    values: np.ndarray
+    column_names: tuple[str, ...]
+    header: tuple[str, ...]
+    comments: tuple[str, ...]
+    layout: _Layout = field(repr=False)
+    text: str | None = field(default=None, repr=False)
+
+    def __len__(self) -> int:
+        return len(self.values)
+
+    @cached_property
+    def line_numbers(self) -> np.ndarray:
+        """1-based file line of every row (slow scan, used only to report errors)."""
+        lines = [lineno for lineno, raw in _iter_lines(self.path, self.text)
+                 if lineno > self.layout.skip_lines and strip_comment(raw)]
+        return np.asarray(lines, dtype=np.int64)
+
+    def line_of_row(self, row: int) -> int:
+        return int(self.line_numbers[row])
+
+    def fail(self, row: int, message: str) -> NoReturn:
+        raise InputError(self.path, self.line_of_row(row), message)
+
+    def column(self, col: int) -> np.ndarray:
+        return self.values[:, col]
+
+
+def _diagnose(path: Path, text: str | None, layout: _Layout, columns: Collection[int] | None,
+              names: Sequence[str], parser_message: str) -> InputError:
+    """Slow scan for the first line the C parser rejected: wrong field count or a non-number."""
+    expected = None if columns is None else sorted(columns)
+    first_count = None
+    for lineno, raw in _iter_lines(path, text):
+        if lineno <= layout.skip_lines:
+            continue
+        content = strip_comment(raw)
+        if not content:
+            continue
+        fields = split_fields(content, layout.delimiter)
+        if first_count is None:
+            first_count = len(fields)
+        allowed = expected if expected is not None else [first_count]
+        if len(fields) not in allowed:
+            wanted = " or ".join(str(c) for c in allowed)
+            return InputError(path, lineno, f"expected {wanted} columns, found {len(fields)}")
+        for col, token in enumerate(fields):
+            if not token:
+                return InputError(path, lineno, f"{_column_label(col, names)} is empty")
+            if not is_number(token):
+                return InputError(path, lineno,
+                                  f"{_column_label(col, names)}: expected a number, found {token!r}")
+    return InputError(path, None, f"could not be parsed as numbers ({parser_message})")
+
+
+def _load(path: Path, text: str | None, layout: _Layout, comments) -> np.ndarray:
+    source = path if text is None else io.StringIO(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return np.loadtxt(source, dtype=np.float64, comments=comments, delimiter=layout.delimiter,
+                          skiprows=layout.skip_lines, ndmin=2, encoding=_NUMERIC_ENCODING)
+
+
+def read_numeric_table(path: str | Path, *, columns: Collection[int] | None = None,
+                       column_names: Sequence[str] = (), text: str | None = None) -> NumericTable:
+    """Parse a numeric text table strictly.
+
+    columns      : the allowed column counts (None: any, but the same on every line)
+    column_names : names for error messages
+    text         : the file's content already transformed in memory (e.g. dates
+                   turned into numbers); line numbers still refer to ``path``
+
+    Raises InputError for a missing or empty file, a wrong column count, a field
+    that is not a number, and NaN or infinite values, naming the line.
+    """
+    path = Path(path)
+    if text is None:
+        if not path.exists():
+            raise InputError(path, None, "file not found")
+        if path.is_dir():
+            raise InputError(path, None, "is a folder, expected a file")
+    try:
+        layout = _sniff(path, text)
+        header = layout.header
+        names = tuple(column_names) or header
+        try:
+            values = _load(path, text, layout, COMMENT_MARKERS[0])
+        except ValueError:
+            # numpy strips a single comment marker in C but several only in Python
+            # (2 s on 2 million lines); the rare file with "%" comments inside its
+            # body pays that, and a real error still fails here and is diagnosed.
+            try:
+                values = _load(path, text, layout, COMMENT_MARKERS)
+            except ValueError as exc:
+                raise _diagnose(path, text, layout, columns, names, str(exc)) from None
+    except OSError as exc:
+        raise InputError(path, None, f"cannot be read: {exc.strerror or exc}") from None
+
+    table = NumericTable(path, values, names, header, layout.comments, layout, text)
+    if values.shape[0] == 0:
+        raise InputError(path, None, "empty file: no data lines")
+    if columns is not None and values.shape[1] not in columns:
+        wanted = " or ".join(str(c) for c in sorted(columns))
+        table.fail(0, f"expected {wanted} columns, found {values.shape[1]}")
+    finite = np.isfinite(values)
+    if not finite.all():
+        row, col = np.argwhere(~finite)[0]
+        table.fail(row, f"{_column_label(col, names)} is {values[row, col]}: expected a finite number")
+    return table
+
+
+def check_time_order(time_s: np.ndarray, fail, unit: str = "line", where=lambda row: row + 1) -> None:
+    """Raise (through ``fail(row, message)``) at the first time stamp that does not increase.
+
+    ``where(row)`` gives the line (or row) number shown for the previous stamp.
+    """
+    step = np.diff(time_s)
+    bad = np.flatnonzero(step <= 0)
+    if bad.size == 0:
+        return
+    row = int(bad[0]) + 1
+    previous = f"{unit} {where(row - 1)}"
+    if step[bad[0]] == 0:
+        fail(row, f"duplicate time stamp {time_s[row]:.6f} (same as {previous})")
+    fail(row, f"time stamp {time_s[row]:.6f} is earlier than {time_s[row - 1]:.6f} on {previous}: "
+              "time stamps must increase")
+
+
+def check_table_time(table: NumericTable, col: int = 0) -> np.ndarray:
+    """The strictly increasing time column ``col`` of a table (InputError otherwise)."""
+    time_s = table.column(col)
+    check_time_order(time_s, table.fail, where=table.line_of_row)
+    return time_s
+
+
+def find_gaps(time_s: np.ndarray, factor: float = GAP_FACTOR) -> tuple[Gap, ...]:
+    """Intervals longer than ``factor`` x the median interval, as Gap(start, end)."""
+    if len(time_s) < 3:
+        return ()
+    step = np.diff(time_s)
+    nominal = np.median(step)
+    return tuple(Gap(float(time_s[i]), float(time_s[i + 1]))
+                 for i in np.flatnonzero(step > factor * nominal))
+
+
+# --- tables with text fields (small files: CPIII observations, benchmarks) -----------------
+
+@dataclass(frozen=True)
+class TokenTable:
+    """A small text table parsed field by field (files with text columns such as point ids)."""
+
+    path: Path
+    rows: tuple[tuple[str, ...], ...]
+    line_numbers: tuple[int, ...]
+    column_names: tuple[str, ...]
+    header: tuple[str, ...]
+    comments: tuple[str, ...]
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def line_of_row(self, row: int) -> int:
+        return self.line_numbers[row]
+
+    def fail(self, row: int, message: str) -> NoReturn:
+        raise InputError(self.path, self.line_numbers[row], message)
+
+    def numbers(self, col: int) -> np.ndarray:
+        """Column ``col`` as finite floats; rows lacking it are an error."""
+        out = np.empty(len(self.rows))
+        for i, (row, lineno) in enumerate(zip(self.rows, self.line_numbers)):
+            label = _column_label(col, self.column_names)
+            try:
+                value = float(row[col])
+            except ValueError:
+                raise InputError(self.path, lineno, f"{label}: expected a number, found {row[col]!r}") from None
+            if not math.isfinite(value):
+                raise InputError(self.path, lineno, f"{label} is {value}: expected a finite number")
+            out[i] = value
+        return out
+
+    def texts(self, col: int, default: str = "") -> np.ndarray:
+        """Column ``col`` as strings, ``default`` where a row is shorter."""
+        return np.array([row[col] if col < len(row) else default for row in self.rows], dtype=str)
+
+
+def read_token_table(path: str | Path, *, min_columns: int, max_columns: int,
+                     column_names: Sequence[str] = ()) -> TokenTable:
+    """Split a small text table into fields, checking each line's field count."""
+    path = Path(path)
+    if not path.exists():
+        raise InputError(path, None, "file not found")
+    if path.is_dir():
+        raise InputError(path, None, "is a folder, expected a file")
+    try:
+        layout = _sniff(path, None)
+        rows: list[tuple[str, ...]] = []
+        line_numbers: list[int] = []
+        for lineno, raw in _iter_lines(path, None):
+            content = strip_comment(raw)
+            if lineno <= layout.skip_lines or not content:
+                continue
+            fields = tuple(split_fields(content, layout.delimiter))
+            if not min_columns <= len(fields) <= max_columns:
+                wanted = (f"{min_columns}" if min_columns == max_columns
+                          else f"{min_columns} to {max_columns}")
+                raise InputError(path, lineno, f"expected {wanted} columns, found {len(fields)}")
+            rows.append(fields)
+            line_numbers.append(lineno)
+    except OSError as exc:
+        raise InputError(path, None, f"cannot be read: {exc.strerror or exc}") from None
+    if not rows:
+        raise InputError(path, None, "empty file: no data lines")
+    names = tuple(column_names) or layout.header
+    return TokenTable(path, tuple(rows), tuple(line_numbers), names, layout.header, layout.comments)
+
+
+# --- writing --------------------------------------------------------------------------------
+
+def write_numeric_table(path: str | Path, columns: Sequence[np.ndarray], formats: Sequence[str],
+                        header: Sequence[str], marker: str = "#") -> None:
+    """Write columns as a whitespace-separated table with comment header lines, atomically.
+
+    ``formats`` are printf formats, one per column (a 2-D column array takes one
+    format per sub-column). Rows are formatted a block at a time with one C-level
+    ``%`` so 2 million rows take seconds, not minutes.
+    """
+    data = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])
+    if data.shape[1] != len(formats):
+        raise ValueError(f"{len(formats)} formats for {data.shape[1]} columns")
+    row_format = " ".join(formats) + "\n"
+    with atomic_write(path) as handle:
+        for line in header:
+            handle.write(f"{marker} {line}\n")
+        for start in range(0, len(data), _WRITE_CHUNK_ROWS):
+            block = data[start:start + _WRITE_CHUNK_ROWS]
+            handle.write((row_format * len(block)) % tuple(block.ravel().tolist()))

@@ -1,0 +1,85 @@
+"""Real recordings in foreign formats (rtklibexplorer/GNSS_IMU walk_0827) import correctly."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from insrail.io import detect_format, read_any, read_imu_rates_csv, read_rtklib_pos
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture(scope="session")
+def walk_0827() -> Path:
+    """The shared walk_0827 folder at <repo>/../shared; skipped locally if absent, an error in CI."""
+    folder = REPO.parent / "shared" / "data" / "real" / "walk_0827"
+    if not folder.is_dir():
+        if os.environ.get("CI"):
+            pytest.fail(f"shared real data missing in CI: {folder}")
+        pytest.skip(f"shared real data not present: {folder}")
+    return folder
+
+
+def test_rtklib_pos_walk(walk_0827):
+    gnss = read_rtklib_pos(walk_0827 / "gnss_1730_sf.pos")
+    assert len(gnss) == 536
+    quality, counts = np.unique(gnss.quality, return_counts=True)
+    assert dict(zip(quality.tolist(), counts.tolist())) == {1: 349, 2: 187}
+    assert np.median(np.diff(gnss.time_s)) == pytest.approx(0.25, abs=1e-6)  # 4 Hz
+    assert gnss.gaps == ()
+    # First line: 2025/08/28 17:30:39.749 GPST = week 2381, Thursday.
+    assert gnss.gps_week == 2381
+    assert gnss.time_s[0] == pytest.approx(4 * 86400 + 17 * 3600 + 30 * 60 + 39.749, abs=1e-6)
+    assert np.degrees(gnss.lat_rad[0]) == pytest.approx(40.0966916)
+    assert np.degrees(gnss.lon_rad[0]) == pytest.approx(-105.1471665)
+    assert gnss.height_m[0] == pytest.approx(1601.435)
+    np.testing.assert_allclose(gnss.sigma_ned_m[0], [0.0098995, 0.0098995, 0.0100000])
+    assert gnss.num_sats[0] == 25
+    # vu = +0.027 m/s up in the file is -0.027 m/s down.
+    np.testing.assert_allclose(gnss.vel_ned_mps[0], [0.001, -0.002, -0.027])
+    np.testing.assert_allclose(gnss.sigma_vel_ned_mps[0], [0.0494975] * 3)
+    assert detect_format(walk_0827 / "gnss_1730_sf.pos") == "rtklib-pos"
+
+
+def test_imu_rates_csv_walk(walk_0827):
+    path = walk_0827 / "imu_1730_sf.csv"
+    imu = read_imu_rates_csv(path, time_scale="unix-gpst", accel_unit="g", gyro_unit="rad/s",
+                             sensor_rpy_deg=(180.0, 0.0, -90.0))
+    raw = np.loadtxt(path, delimiter=",")
+    assert len(imu) == len(raw) - 1 == 20454
+    assert imu.gps_week == 2381
+    # Same time scale as the .pos: the IMU starts 1.2 s after the first GNSS epoch.
+    gnss = read_rtklib_pos(walk_0827 / "gnss_1730_sf.pos")
+    assert imu.time_s[0] - gnss.time_s[0] == pytest.approx(1756402240.9670007 - 1756402239.749, abs=1e-6)
+    # The logger samples every 6-9 ms (median 6 ms), not at the 100 Hz its README states.
+    assert imu.rate_hz == pytest.approx(1 / 0.006, rel=1e-3)
+    interval = np.diff(raw[:, 0])[:, None]
+    specific_force = imu.dvel_mps / interval
+    # Held still at the start: gravity reaction points up, i.e. -z in the FRD body frame.
+    at_rest = specific_force[:100].mean(axis=0)
+    assert at_rest[2] == pytest.approx(-9.91, abs=0.05)
+    assert np.hypot(at_rest[0], at_rest[1]) < 0.3
+    # Sensor (x, y, z) -> body (-y, -x, -z) for roll 180, yaw -90: check one sample exactly.
+    f0 = 0.5 * (raw[0, 1:4] + raw[1, 1:4]) * 9.80665
+    np.testing.assert_allclose(specific_force[0], [-f0[1], -f0[0], -f0[2]], rtol=1e-9)
+    w0 = 0.5 * (raw[0, 4:7] + raw[1, 4:7])
+    np.testing.assert_allclose(imu.dtheta_rad[0] / interval[0], [-w0[1], -w0[0], -w0[2]], rtol=1e-9)
+
+
+def test_imu_rates_csv_detected_and_read_any(walk_0827):
+    path = walk_0827 / "imu_1730_sf.csv"
+    assert detect_format(path) == "imu-rates-csv"
+    imu = read_any(path, time_scale="unix-gpst", accel_unit="g")
+    assert len(imu) == 20454
+
+
+def test_rates_csv_option_errors(walk_0827):
+    path = walk_0827 / "imu_1730_sf.csv"
+    with pytest.raises(ValueError, match="column index 11 does not exist, the file has 11 columns"):
+        read_imu_rates_csv(path, gyro_columns=(4, 5, 11))
+    with pytest.raises(ValueError, match="accel_unit = 'mg'"):
+        read_imu_rates_csv(path, accel_unit="mg")

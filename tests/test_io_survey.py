@@ -1,0 +1,254 @@
+"""survey.toml round trip, validation that lists every problem, loading a survey folder, detection."""
+
+from __future__ import annotations
+
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from insrail.io import (
+    InputError,
+    ManifestError,
+    detect_format,
+    read_any,
+    read_manifest,
+    read_survey,
+    write_gauge_mm,
+    write_imu_kfgins,
+    write_manifest,
+    write_odometer_pulses,
+    write_prism_enu,
+    write_rtklib_pos,
+    write_sleeper_times,
+)
+from insrail.io.survey import SurveyFile, SurveyManifest, TrolleyGeometry
+from insrail.io.types import GaugeData, GnssSolution, ImuIncrements, OdometerData, PrismObservations, SleeperPulses
+from insrail.progress import Cancelled
+
+T0 = 345_600.0
+
+
+def make_survey_files(folder: Path) -> dict[str, SurveyFile]:
+    n = 2001  # 10 s at 200 Hz
+    t = T0 + np.arange(n) * 0.005
+    dvel = np.tile([0.0, 0.0, -9.8 * 0.005], (n, 1))
+    write_imu_kfgins(folder / "imu.txt", ImuIncrements(t, np.full((n, 3), 1e-7), dvel, gps_week=2381))
+    tg = T0 + np.arange(11.0)
+    write_rtklib_pos(folder / "gnss.pos", GnssSolution(
+        tg, np.full(11, 0.53), np.full(11, 1.99), np.full(11, 30.0), np.full((11, 3), 0.01),
+        np.ones(11, int), np.full(11, 20), np.full(11, 5.0), gps_week=2381))
+    to = T0 + np.arange(101) * 0.1
+    write_odometer_pulses(folder / "odo.txt", OdometerData(to, np.arange(101) * 0.01, pulse_length_m=0.001))
+    write_gauge_mm(folder / "gauge.txt", GaugeData(to, np.full(101, 1.4352)))
+    write_sleeper_times(folder / "sleepers.txt", SleeperPulses(T0 + np.arange(1.0, 9.0)))
+    write_prism_enu(folder / "prism.txt", PrismObservations(
+        T0 + np.array([1.0, 5.0]), np.array([500.0, 501.0]), np.array([3000.0, 3001.0]), np.array([12.0, 12.1]),
+        np.array([0.001, 0.001]), np.array(["CP1", "CP2"])))
+    return {
+        "imu": SurveyFile("imu.txt", "kfgins-imu"),
+        "gnss": SurveyFile("gnss.pos", "rtklib-pos"),
+        "odometer": SurveyFile("odo.txt", "odometer-pulses", {"pulse_length_m": 0.001}),
+        "gauge": SurveyFile("gauge.txt", "gauge-mm"),
+        "sleepers": SurveyFile("sleepers.txt", "sleeper-times"),
+        "prism": SurveyFile("prism.txt", "prism-enu"),
+    }
+
+
+def make_manifest(files) -> SurveyManifest:
+    trolley = TrolleyGeometry(
+        imu_to_antenna_m=np.array([0.1, -0.2, -1.3]), imu_to_odometer_m=np.array([0.3, 0.7, 0.25]),
+        imu_to_prism_m=np.array([0.0, 0.0, -1.1]), imu_to_sleeper_detector_m=np.array([0.2, 0.0, 0.3]),
+        imu_to_reference_rail_m=np.array([0.0, -0.72, 0.35]), reference_rail="right",
+        mounting_rpy_rad=np.radians([0.5, -0.25, 180.0]), rail_centre_spacing_m=1.5)
+    return SurveyManifest(name="Line 3 down track", files=files, trolley=trolley, imu_profile="nav",
+                          gps_week=2381, description="km 12.3 - 14.0")
+
+
+@pytest.fixture()
+def survey_folder(tmp_path) -> Path:
+    write_manifest(tmp_path, make_manifest(make_survey_files(tmp_path)))
+    return tmp_path
+
+
+def test_manifest_round_trip(survey_folder):
+    expected = make_manifest(make_survey_files(survey_folder))
+    manifest = read_manifest(survey_folder)
+    assert manifest.files == expected.files
+    assert (manifest.name, manifest.gps_week, manifest.imu_profile, manifest.description) == (
+        expected.name, expected.gps_week, expected.imu_profile, expected.description)
+    for field in ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m", "imu_to_sleeper_detector_m",
+                  "imu_to_reference_rail_m", "mounting_rpy_rad"):
+        np.testing.assert_allclose(getattr(manifest.trolley, field), getattr(expected.trolley, field),
+                                   rtol=1e-15, atol=1e-15)
+    assert manifest.trolley.reference_rail == "right"
+    text = (survey_folder / "survey.toml").read_text()
+    assert "mounting_rpy_deg = [\n    0.5," in text or "mounting_rpy_deg = [0.5," in text
+
+
+def test_read_survey_loads_every_role(survey_folder):
+    fractions = []
+    data = read_survey(survey_folder, progress=lambda f, message: fractions.append(f))
+    assert len(data.imu) == 2001 and data.imu.gps_week == 2381
+    assert len(data.gnss) == 11 and data.gnss.gps_week == 2381
+    assert data.odometer.pulse_length_m == 0.001
+    assert data.odometer.distance_m[-1] == pytest.approx(1.0)
+    assert data.gauge.gauge_m[0] == pytest.approx(1.4352)
+    assert len(data.sleepers) == 8 and list(data.prism.point_id) == ["CP1", "CP2"]
+    assert data.benchmarks is None
+    assert fractions == sorted(fractions) and fractions[-1] == 1.0
+
+
+def test_read_survey_can_be_cancelled(survey_folder):
+    stop = threading.Event()
+    stop.set()
+    with pytest.raises(Cancelled):
+        read_survey(survey_folder, cancel=stop)
+
+
+BROKEN = """
+[survey]
+name = "broken"
+gps_week = -3
+colour = "red"
+
+[files.imu]
+path = "imu.txt"
+format = "kfgins-imu"
+
+[files.gnss]
+path = "gnss.pos"
+format = "rtklib-pos"
+
+[files.odometer]
+path = "odo.txt"
+format = "odometer-pulses"
+pulse_lenght_m = 0.001
+
+[files.gauge]
+path = "gauge.txt"
+format = "kfgins-gnss"
+
+[files.sleepers]
+path = "sleepers.txt"
+format = "sleeper-times"
+
+[files.wheels]
+path = "x.txt"
+format = "gauge-mm"
+
+[trolley]
+imu_to_antenna_m = [0.1, 0.2]
+imu_to_odometer_m = [0.0, 0.0, 0.1]
+reference_rail = "middle"
+"""
+
+
+def test_broken_manifest_lists_every_problem(tmp_path):
+    (tmp_path / "imu.txt").write_text("1 0 0 0 0 0 0\n")
+    (tmp_path / "odo.txt").write_text("1 0\n")
+    (tmp_path / "gauge.txt").write_text("1 1435\n")
+    (tmp_path / "survey.toml").write_text(BROKEN)
+    with pytest.raises(ManifestError) as info:
+        read_manifest(tmp_path)
+    problems = info.value.problems
+    expected = [
+        "survey.gps_week: expected a whole GPS week number",
+        "survey.colour: unknown key",
+        "files.gnss.path: file not found: gnss.pos",
+        "files.odometer.pulse_lenght_m: unknown option for format odometer-pulses (known: pulse_length_m)",
+        "files.gauge.format: kfgins-gnss does not hold gauge data (use one of gauge-mm)",
+        "files.sleepers.path: file not found: sleepers.txt",
+        "files.wheels: unknown role",
+        "trolley.imu_to_antenna_m: expected 3 numbers",
+        "trolley.imu_to_reference_rail_m: missing (required",
+        "trolley.imu_to_sleeper_detector_m: missing (required with files.sleepers",
+        "trolley.reference_rail: expected \"left\" or \"right\"",
+    ]
+    for fragment in expected:
+        assert any(p.startswith(fragment) for p in problems), (fragment, problems)
+    assert len(problems) == len(expected)
+    assert "imu_to_prism_m" not in str(info.value)  # no prism file, so no prism lever arm needed
+    assert str(info.value).startswith(f"{tmp_path / 'survey.toml'}: 11 problems:")
+
+
+def test_manifest_option_types_are_checked(survey_folder):
+    path = survey_folder / "survey.toml"
+    text = path.read_text().replace("pulse_length_m = 0.001", 'pulse_length_m = "one mm"')
+    path.write_text(text)
+    with pytest.raises(ManifestError, match="files.odometer.pulse_length_m: expected float"):
+        read_manifest(survey_folder)
+
+
+def test_toml_syntax_error_names_the_line(tmp_path):
+    (tmp_path / "survey.toml").write_text('[survey]\nname = "x"\nname = \n')
+    with pytest.raises(InputError) as info:
+        read_manifest(tmp_path)
+    assert info.value.line == 3 and "not valid TOML" in info.value.message
+
+
+def test_missing_manifest(tmp_path):
+    with pytest.raises(InputError, match="needs a survey.toml"):
+        read_manifest(tmp_path)
+
+
+def test_one_bad_file_raises_its_own_error(survey_folder):
+    with open(survey_folder / "gauge.txt", "a") as handle:
+        handle.write("999.0 1435\n")
+    with pytest.raises(InputError) as info:
+        read_survey(survey_folder)
+    assert info.value.path == survey_folder / "gauge.txt" and "earlier than" in info.value.message
+
+
+def test_several_bad_files_are_all_reported(survey_folder):
+    for name in ("gauge.txt", "sleepers.txt"):
+        with open(survey_folder / name, "a") as handle:
+            handle.write("abc\n")
+    with pytest.raises(ManifestError) as info:
+        read_survey(survey_folder)
+    assert len(info.value.problems) == 2
+    assert all("expected" in p for p in info.value.problems)
+
+
+def test_time_scale_mix_up_is_reported(survey_folder):
+    odo = OdometerData(np.arange(10.0) + 1.7e9, np.arange(10.0), pulse_length_m=0.001)
+    write_odometer_pulses(survey_folder / "odo.txt", odo)
+    with pytest.raises(ManifestError, match="files.odometer: time span .* does not overlap the IMU"):
+        read_survey(survey_folder)
+
+
+def test_week_conflict_is_reported(survey_folder):
+    path = survey_folder / "survey.toml"
+    path.write_text(path.read_text().replace("gps_week = 2381", "gps_week = 2380"))
+    with pytest.raises(ManifestError) as info:
+        read_survey(survey_folder)
+    assert any("files.gnss: data is from GPS week 2381, survey.gps_week says 2380" in p
+               for p in info.value.problems)
+
+
+def test_detect_format_of_foreign_files(tmp_path):
+    cases = {
+        "imu.txt": ("456300.005 1.2e-6 -3.1e-7 2.2e-6 1.1e-4 -2.0e-5 -0.04903\n"
+                    "456300.010 1.1e-6 -3.0e-7 2.1e-6 1.0e-4 -2.1e-5 -0.04904\n", "kfgins-imu"),
+        "GNSS-RTK.txt": ("456300.000 30.4447 114.4718 20.91 0.005 0.004 0.010\n", "kfgins-gnss"),
+        "GNSS-POSVEL.txt": ("116454 30.52 114.35 22.3 0.01 0.01 0.02 1.0 0.5 0.0 0.01 0.01 0.02\n",
+                            "kfgins-gnss"),
+        "odo_m.txt": ("1.0 0.152\n2.0 1.377\n", "odometer-distance"),
+        "odo_pulses.txt": ("1.0 152\n2.0 1377\n", "odometer-pulses"),
+        "gauge.txt": ("1.0 1435.21\n2.0 1435.80\n", "gauge-mm"),
+        "sleepers.txt": ("1.0\n1.6\n", "sleeper-times"),
+        "cpiii.txt": ("1.0 500.0 3000.0 12.0 0.001 CP1\n", "prism-enu"),
+        "bm.csv": ("id,lat,lon,h,H\nBM1,30.5,114.2,25.3,36.1\n", "benchmarks"),
+        "notes.txt": ("hello world\nthis is text\n", None),
+    }
+    for name, (content, expected) in cases.items():
+        (tmp_path / name).write_text(content)
+        assert detect_format(tmp_path / name) == expected, name
+    assert detect_format(tmp_path / "absent.txt") is None
+    with pytest.raises(InputError, match="format not recognised"):
+        read_any(tmp_path / "notes.txt")
+    with pytest.raises(InputError, match="unknown option 'speed'"):
+        read_any(tmp_path / "gauge.txt", speed=3)
+    with pytest.raises(InputError, match="file not found"):
+        read_any(tmp_path / "absent.txt")
