@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from insrail.io.errors import InputError
-from insrail.track._atomic import write_text_atomically
+from insrail.io.atomic import atomic_write
 from insrail.track.alignment import Arc, Clothoid, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.errors import DesignError
 from insrail.track.profile import PVI, CantTable, VerticalProfile
@@ -322,4 +322,6 @@ def format_alignment_csv(alignment: DesignAlignment) -> str:
 
 def write_alignment_csv(path: str | Path, alignment: DesignAlignment) -> None:
     """Write the element table of ``alignment`` to ``path`` (atomically)."""
-    write_text_atomically(path, format_alignment_csv(alignment))
+    text = format_alignment_csv(alignment)
+    with atomic_write(path) as stream:
+        stream.write(text)

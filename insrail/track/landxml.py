@@ -46,7 +46,7 @@ import numpy as np
 
 import insrail
 from insrail.io.errors import InputError
-from insrail.track._atomic import write_text_atomically
+from insrail.io.atomic import atomic_write
 from insrail.track.alignment import Arc, Clothoid, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.errors import DesignError
 from insrail.track.profile import PVI, CantTable, VerticalProfile
@@ -545,4 +545,6 @@ def format_landxml(alignments: DesignAlignment | tuple[DesignAlignment, ...] | l
 
 def write_landxml(path: str | Path, alignments) -> None:
     """Write one or several design alignments to a LandXML 1.2 file (atomically)."""
-    write_text_atomically(path, format_landxml(alignments))
+    text = format_landxml(alignments)
+    with atomic_write(path) as stream:
+        stream.write(text)
