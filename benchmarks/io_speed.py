@@ -1,6 +1,9 @@
-"""Reader speed on a 3-hour, 200 Hz IMU recording (2.2 million lines).
+"""Reader speed on a 3-hour, 200 Hz IMU recording (2.2 million lines), and simulator speed.
 
-    PYTHONPATH=. python benchmarks/io_speed.py [--lines N]
+    python benchmarks/io_speed.py [--lines N] [--no-simulator]
+
+The simulator measurement runs the `long` scenario (about 10 km, 1.8 M IMU epochs) with
+the navigation-grade IMU and writes it as a KF-GINS text survey.
 
 Generates the files in a temporary folder (about 340 MB of text), times each
 measurement and prints the figures. One function per measurement; main() runs them.
@@ -53,15 +56,27 @@ def measure_npy(folder: Path, imu: ImuIncrements) -> None:
     timed("read_imu_npy", lambda: read_imu_npy(path))
 
 
+def measure_simulator(folder: Path) -> None:
+    from insrail.sim.scenario import preset
+    from insrail.sim.simulate import simulate
+
+    result = timed("simulate long (nav grade, text)", lambda: simulate(preset("long"), 1, folder / "long"))
+    print(f"{'  survey':<34s} {result.length_m:7.0f} m, {result.duration_s:.0f} s, "
+          f"{result.imu_epochs:,} IMU epochs, {result.sleepers:,} sleepers")
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--lines", type=int, default=DEFAULT_LINES)
+    parser.add_argument("--no-simulator", action="store_true", help="skip the simulator measurement")
     args = parser.parse_args(argv)
     imu = realistic_imu(args.lines)
     with tempfile.TemporaryDirectory(prefix="insrail-io-speed-") as tmp:
         folder = Path(tmp)
         measure_kfgins_text(folder, imu)
         measure_npy(folder, imu)
+        if not args.no_simulator:
+            measure_simulator(folder)
 
 
 if __name__ == "__main__":
