@@ -1,0 +1,154 @@
+"""The INS error-state model: 22 states, their dynamics F, noise and discretisation.
+
+State vector (0-based indices; "computed minus true" for every error):
+
+====  =======================================  ==========
+0-2   position error, NED                      m (dr_D = -dh)
+3-5   velocity error, NED                      m/s
+6-8   attitude error phi (true n -> computed)  rad
+9-11  gyro bias, b frame                       rad/s
+12-14 accelerometer bias, b frame              m/s^2
+15-17 gyro scale-factor error                  -
+18-20 accelerometer scale-factor error         -
+21    odometer scale-factor error              -
+====  =======================================  ==========
+
+States 0-20 are the thesis's 21 states (eq. 2.96), F from eqs. 2.61-2.72 with the
+sensor coupling of eqs. 2.24-2.26 (ins-filter digest section 5.7). State 21 augments
+them with the odometer scale factor (see ``insrail.nav.measurements.OdometerNhc`` for
+why it is a state here and not a pre-processing step as in thesis 5.3.1).
+
+Sensor errors are first-order Gauss-Markov: the filter's initial sigma is the turn-on
+plus in-run value, the driving noise only the in-run part's, 2 sigma_gm^2 / tau; the
+turn-on part is thus estimated as a slowly forgotten constant. The odometer scale is a
+random constant with a tiny random walk (wheel wear, temperature).
+
+Discretisation over an interval dt (thesis 2.101, 2.105): Phi = I + F dt + (F dt)^2 / 2
+and Q_k = (Phi G Q G^T Phi^T + G Q G^T) dt / 2.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from insrail.nav import earth
+from insrail.nav.imu_profile import ImuProfile
+from insrail.nav.rotation import skew
+
+N_STATES = 22
+POS, VEL, ATT, BG, BA, SG, SA, ODO = 0, 3, 6, 9, 12, 15, 18, 21
+
+#: Random walk of the odometer scale factor [1/sqrt(s)]: 1e-5 per sqrt(hour).
+ODOMETER_SCALE_RANDOM_WALK = 1e-5 / 60.0
+
+
+@dataclass(frozen=True)
+class ErrorModelNoise:
+    """Continuous noise parameters the filter uses (SI), from an IMU profile."""
+
+    vrw: float
+    arw: float
+    gyro_bias_tau_s: float
+    gyro_bias_psd: float
+    accel_bias_tau_s: float
+    accel_bias_psd: float
+    gyro_scale_tau_s: float
+    gyro_scale_psd: float
+    accel_scale_tau_s: float
+    accel_scale_psd: float
+
+    @classmethod
+    def from_profile(cls, p: ImuProfile) -> "ErrorModelNoise":
+        return cls(
+            vrw=p.accel_vrw,
+            arw=p.gyro_arw,
+            gyro_bias_tau_s=p.gyro_bias_gm_tau_s,
+            gyro_bias_psd=2.0 * p.gyro_bias_gm_sigma**2 / p.gyro_bias_gm_tau_s,
+            accel_bias_tau_s=p.accel_bias_gm_tau_s,
+            accel_bias_psd=2.0 * p.accel_bias_gm_sigma**2 / p.accel_bias_gm_tau_s,
+            gyro_scale_tau_s=p.gyro_scale_factor_tau_s,
+            gyro_scale_psd=2.0 * p.gyro_scale_factor**2 / p.gyro_scale_factor_tau_s,
+            accel_scale_tau_s=p.accel_scale_factor_tau_s,
+            accel_scale_psd=2.0 * p.accel_scale_factor**2 / p.accel_scale_factor_tau_s,
+        )
+
+
+def initial_sensor_sigmas(p: ImuProfile) -> np.ndarray:
+    """1-sigma of states 9-20 at the start: turn-on and in-run parts together."""
+    gyro_bias = np.hypot(p.gyro_bias_turn_on, p.gyro_bias_gm_sigma)
+    accel_bias = np.hypot(p.accel_bias_turn_on, p.accel_bias_gm_sigma)
+    return np.repeat([gyro_bias, accel_bias, p.gyro_scale_factor, p.accel_scale_factor], 3)
+
+
+def dynamics_matrix(lat, h, vel_ned, c_bn, f_b, omega_ib_b, noise: ErrorModelNoise, ell=earth.WGS84) -> np.ndarray:
+    """F (22 x 22) at one epoch; f_b and omega_ib_b are the compensated specific force
+    [m/s^2] and angular rate [rad/s] in b."""
+    vn, ve, vd = vel_ned
+    r_m, r_n = earth.radii(lat, ell)
+    rm, rn = r_m + h, r_n + h
+    w = ell.omega
+    sl, cl, tl = np.sin(lat), np.cos(lat), np.tan(lat)
+    sec2 = 1.0 / cl**2
+    g = earth.normal_gravity(lat, h, ell)
+    f_n = c_bn @ f_b
+
+    F = np.zeros((N_STATES, N_STATES))
+    # position (2.70-2.72)
+    F[0, 0], F[0, 2] = -vd / rm, vn / rm
+    F[1, 0], F[1, 1], F[1, 2] = ve * tl / rn, -(vd + vn * tl) / rn, ve / rn
+    F[0:3, 3:6] = np.eye(3)
+    # velocity (2.65-2.67)
+    F[3, 0] = -(2 * ve * w * cl / rm + ve**2 * sec2 / (rm * rn))
+    F[3, 2] = vn * vd / rm**2 - ve**2 * tl / rn**2
+    F[4, 0] = 2 * w * (vn * cl - vd * sl) / rm + vn * ve * sec2 / (rm * rn)
+    F[4, 2] = (ve * vd + vn * ve * tl) / rn**2
+    F[5, 0] = 2 * w * ve * sl / rm
+    F[5, 2] = -(ve**2 / rn**2 + vn**2 / rm**2 - 2 * g / (np.sqrt(r_m * r_n) + h))
+    F[3, 3], F[3, 4], F[3, 5] = vd / rm, -2 * (w * sl + ve * tl / rn), vn / rm
+    F[4, 3], F[4, 4], F[4, 5] = 2 * w * sl + ve * tl / rn, (vd + vn * tl) / rn, 2 * w * cl + ve / rn
+    F[5, 3], F[5, 4] = -2 * vn / rm, -2 * (w * cl + ve / rn)
+    F[3:6, 6:9] = skew(f_n)
+    F[3:6, BA : BA + 3] = c_bn
+    F[3:6, SA : SA + 3] = c_bn * f_b  # C_b^n diag(f^b)
+    # attitude (2.61-2.63)
+    F[6, 0], F[6, 2] = -w * sl / rm, ve / rn**2
+    F[7, 2] = -vn / rm**2
+    F[8, 0], F[8, 2] = -(w * cl / rm + ve * sec2 / (rn * rm)), -ve * tl / rn**2
+    F[6, 4], F[7, 3], F[8, 4] = 1.0 / rn, -1.0 / rm, -tl / rn
+    omega_in = np.array([w * cl + ve / rn, -vn / rm, -w * sl - ve * tl / rn])
+    F[6:9, 6:9] = -skew(omega_in)
+    F[6:9, BG : BG + 3] = -c_bn
+    F[6:9, SG : SG + 3] = -c_bn * omega_ib_b
+    # sensor errors: first-order Gauss-Markov
+    F[BG : BG + 3, BG : BG + 3] = -np.eye(3) / noise.gyro_bias_tau_s
+    F[BA : BA + 3, BA : BA + 3] = -np.eye(3) / noise.accel_bias_tau_s
+    F[SG : SG + 3, SG : SG + 3] = -np.eye(3) / noise.gyro_scale_tau_s
+    F[SA : SA + 3, SA : SA + 3] = -np.eye(3) / noise.accel_scale_tau_s
+    return F
+
+
+def noise_matrix(noise: ErrorModelNoise) -> np.ndarray:
+    """G Q G^T (22 x 22): the continuous process-noise spectral density in state space.
+
+    The white noises are equal on the three sensor axes, so C_b^n Q C_n^b = Q: the
+    matrix does not depend on the attitude.
+    """
+    q = np.zeros((N_STATES, N_STATES))
+    q[3:6, 3:6] = noise.vrw**2 * np.eye(3)
+    q[6:9, 6:9] = noise.arw**2 * np.eye(3)
+    q[BG : BG + 3, BG : BG + 3] = noise.gyro_bias_psd * np.eye(3)
+    q[BA : BA + 3, BA : BA + 3] = noise.accel_bias_psd * np.eye(3)
+    q[SG : SG + 3, SG : SG + 3] = noise.gyro_scale_psd * np.eye(3)
+    q[SA : SA + 3, SA : SA + 3] = noise.accel_scale_psd * np.eye(3)
+    q[ODO, ODO] = ODOMETER_SCALE_RANDOM_WALK**2
+    return q
+
+
+def discretise(F: np.ndarray, gqg: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """(Phi, Q_k) over ``dt`` (thesis 2.101 to second order, 2.105 trapezoid)."""
+    fdt = F * dt
+    phi = np.eye(N_STATES) + fdt + 0.5 * (fdt @ fdt)
+    q = 0.5 * (phi @ gqg @ phi.T + gqg) * dt
+    return phi, q
