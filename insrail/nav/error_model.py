@@ -1,6 +1,8 @@
 """The INS error-state model: 22 states, their dynamics F, noise and discretisation.
 
-State vector (0-based indices; "computed minus true" for every error):
+State vector (0-based indices). Navigation errors (0-8) are "computed minus true";
+sensor errors (9-21) are the residual errors not yet compensated ("true minus
+estimate"), so the feedback subtracts the first and adds the second:
 
 ====  =======================================  ==========
 0-2   position error, NED                      m (dr_D = -dh)

@@ -172,7 +172,8 @@ class OdometerNhc:
         if self.use_odometer:
             v_mean, H_odo = _vehicle_velocity_rows(nav, self.dcm_vehicle_from_body, self.odometer_lever_arm_m, nav.mean_vel_ned)
             corrected = self.speed_mps[i] / (1.0 + nav.odometer_scale)
-            H_odo[0, ODO] = corrected
+            # odometer state = residual scale error s - s_hat: z = dv_x - v (s - s_hat)
+            H_odo[0, ODO] = -corrected
             rows.append(H_odo[0])
             z.append(v_mean[0] - corrected)
             sig.append(self.sigma_speed_mps[i])

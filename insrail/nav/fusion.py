@@ -1,0 +1,519 @@
+"""GNSS/INS/odometer fusion: closed-loop error-state EKF and RTS smoother.
+
+Forward pass
+    The IMU epochs are cut into segments at update epochs: a fixed grid (``update_rate_hz``,
+    10 Hz by default, where odometer/NHC and ZUPT are applied) plus the epoch that closes
+    each GNSS observation. A compiled kernel (numba) runs the strapdown over a segment with
+    the increments compensated by the current sensor-error estimates and accumulates the
+    mean velocity and rates over it; Python then propagates the covariance over the whole
+    segment in one step (Phi to second order, trapezoidal Q) and applies the segment's
+    measurements one after the other, each gated by a chi-square test on its innovation.
+    After the updates the error state is fed back into the navigation solution and the
+    sensor-error estimates and reset to zero (thesis Fig. 5-8). No Python code runs per
+    200 Hz epoch.
+
+Smoother
+    Rauch-Tung-Striebel over the segments (thesis 2.93-2.95). With closed-loop resets the
+    forward estimate of the error is zero after every update, so the smoothed error of the
+    stored solution obeys e_j = A_j (e_{j+1} + dx_{j+1}) with A_j = P+_j Phi_{j+1}^T
+    (P-_{j+1})^-1 and dx_{j+1} the update applied at j+1 (ins-filter digest 6.2).
+
+Memory stays bounded: what the backward pass needs per segment (Phi, P-, P+, dx: 1474
+doubles, 12 kB) goes to a temporary file in chunks and is read back chunk by chunk in
+reverse, so a 10 km survey (90 000 segments, about 1 GB) never holds more than one chunk
+of covariances in RAM. The navigation solution itself (12 doubles per IMU epoch) stays
+in memory.
+
+Error-state conventions: see ``insrail.nav.error_model``. Navigation errors are computed
+minus true (subtracted on feedback); sensor-error states are the residual errors not yet
+compensated (added to the estimates on feedback).
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+from dataclasses import dataclass, field
+
+import numpy as np
+from numba import njit
+from scipy.stats import chi2
+
+from insrail.io.survey import SurveyData
+from insrail.nav import _kernels, earth
+from insrail.nav.alignment import coarse_alignment, detect_stops
+from insrail.nav.error_model import (
+    ATT,
+    BA,
+    BG,
+    N_STATES,
+    ODO,
+    POS,
+    SA,
+    SG,
+    VEL,
+    ErrorModelNoise,
+    discretise,
+    dynamics_matrix,
+    initial_sensor_sigmas,
+    noise_matrix,
+)
+from insrail.nav.imu_profile import ImuProfile, load_imu_profile
+from insrail.nav.measurements import GnssPosition, GnssVelocity, NavSnapshot, OdometerNhc, Zupt
+from insrail.nav.mechanization import euler_from_q_bn, lat_lon_from_q_ne, q_ne_from_lat_lon
+from insrail.nav.rotation import dcm_to_quat, euler_to_dcm, quat_multiply, quat_to_dcm, rotvec_to_quat
+from insrail.nav.trajectory import Trajectory
+from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+
+
+@dataclass(frozen=True)
+class FusionOptions:
+    """What the filter uses and how much it trusts it."""
+
+    use_gnss: bool = True
+    use_gnss_velocity: bool = True  # when the GNSS file has velocities
+    use_odometer: bool = True
+    use_nhc: bool = True
+    use_zupt: bool = True
+    smoother: bool = True
+    update_rate_hz: float = 10.0
+    gnss_sigma_scale: float = 1.0
+    gnss_sigma_floor_m: float = 0.002
+    odometer_sigma_mps: float = 0.001  # plus the pulse quantisation over the segment
+    nhc_sigma_mps: float = 0.0005  # thesis Table 3-2: 0.1 mm/s/sqrt(Hz), i.e. 0.3 mm/s at 10 Hz
+    zupt_sigma_mps: float = 0.001
+    gate_probability: float = 0.9999
+    initial_heading_rad: float | None = None  # None: gyrocompassing in the static start
+    initial_sigma_heading_rad: float = math.radians(0.1)
+    initial_sigma_level_rad: float = math.radians(0.01)
+    initial_sigma_odometer_scale: float = 0.01
+    min_static_s: float = 30.0
+
+
+@dataclass(frozen=True)
+class Rejection:
+    time_s: float
+    measurement: str
+    test_statistic: float
+    threshold: float
+    innovation: tuple[float, ...]
+
+
+@dataclass
+class MeasurementStats:
+    used: int = 0
+    rejected: int = 0
+    sum_sq: np.ndarray | None = None  # per innovation component
+    sum_nis: float = 0.0
+
+    def add(self, z, nis):
+        self.used += 1
+        self.sum_sq = z**2 if self.sum_sq is None else self.sum_sq + z**2
+        self.sum_nis += nis
+
+    def summary(self) -> dict:
+        rms = (np.sqrt(self.sum_sq / self.used).tolist() if self.used else [])
+        return {"used": self.used, "rejected": self.rejected, "innovation_rms": rms,
+                "mean_nis": self.sum_nis / self.used if self.used else float("nan")}
+
+
+@dataclass(frozen=True)
+class FusionResult:
+    trajectory: Trajectory  # smoothed when options.smoother, else the forward solution
+    forward: Trajectory
+    rejections: tuple[Rejection, ...]
+    statistics: dict
+    stops: tuple[tuple[float, float], ...]
+    info: dict = field(default_factory=dict)
+
+
+# --------------------------------------------------------------------------- kernel
+
+
+@njit(cache=True)
+def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out, sums):
+    """Strapdown over epochs start..stop-1 with compensated increments.
+
+    sensor = [bg(3), ba(3), sg(3), sa(3)] (estimates); out[k] receives nav after epoch k;
+    sums = [sum v dt (3), sum dtheta_c (3), sum dvel_c (3), total dt, last dtheta_c (3),
+    last dvel_c (3)].
+    """
+    for i in range(16):
+        sums[i] = 0.0
+    th_prev = np.empty(3)
+    dv_prev = np.empty(3)
+    th = np.empty(3)
+    dv = np.empty(3)
+    for k in range(start, stop):
+        prev = k - 1 if k > 0 else 0
+        for a in range(3):
+            th_prev[a] = (dtheta[prev, a] - sensor[a] * dt[prev]) / (1.0 + sensor[6 + a])
+            dv_prev[a] = (dvel[prev, a] - sensor[3 + a] * dt[prev]) / (1.0 + sensor[9 + a])
+            th[a] = (dtheta[k, a] - sensor[a] * dt[k]) / (1.0 + sensor[6 + a])
+            dv[a] = (dvel[k, a] - sensor[3 + a] * dt[k]) / (1.0 + sensor[9 + a])
+        _kernels.strapdown_step(nav, th_prev, dv_prev, th, dv, dt[k], earth_c, nav)
+        for a in range(12):
+            out[k, a] = nav[a]
+        for a in range(3):
+            sums[a] += nav[_kernels.NAV_VEL + a] * dt[k]
+            sums[3 + a] += th[a]
+            sums[6 + a] += dv[a]
+        sums[9] += dt[k]
+    for a in range(3):
+        sums[10 + a] = th[a]
+        sums[13 + a] = dv[a]
+
+
+# --------------------------------------------------------------------------- storage
+
+
+class _SmootherStore:
+    """Append-only, chunked, disk-backed store of per-segment records for the RTS pass."""
+
+    RECORD = 3 * N_STATES * N_STATES + N_STATES  # Phi, P-, P+, dx
+
+    def __init__(self, chunk: int = 2048):
+        self.file = tempfile.TemporaryFile(prefix="insrail-rts-")
+        self.chunk = chunk
+        self.buffer = np.empty((chunk, self.RECORD))
+        self.fill = 0
+        self.count = 0
+
+    def append(self, phi, p_minus, p_plus, dx):
+        n = N_STATES * N_STATES
+        row = self.buffer[self.fill]
+        row[:n] = phi.ravel()
+        row[n : 2 * n] = p_minus.ravel()
+        row[2 * n : 3 * n] = p_plus.ravel()
+        row[3 * n :] = dx
+        self.fill += 1
+        self.count += 1
+        if self.fill == self.chunk:
+            self.flush()
+
+    def flush(self):
+        if self.fill:
+            self.file.write(self.buffer[: self.fill].tobytes())
+            self.fill = 0
+
+    def reversed_chunks(self):
+        """Yield (first index, records) from the last chunk to the first."""
+        self.flush()
+        size = self.RECORD * 8
+        for first in range(((self.count - 1) // self.chunk) * self.chunk, -1, -self.chunk):
+            n = min(self.chunk, self.count - first)
+            self.file.seek(first * size)
+            yield first, np.frombuffer(self.file.read(n * size), dtype=np.float64).reshape(n, self.RECORD)
+
+    def close(self):
+        self.file.close()
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _nav_from(lat, lon, h, vel, c_bn) -> np.ndarray:
+    nav = np.zeros(_kernels.NAV_SIZE)
+    nav[0:4] = q_ne_from_lat_lon(lat, lon)
+    nav[4] = h
+    nav[5:8] = vel
+    nav[8:12] = dcm_to_quat(c_bn)
+    return nav
+
+
+def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, odo_scale: float, ell) -> float:
+    """Apply the error estimate dx to the navigation vector and sensor estimates in place."""
+    lat, lon = lat_lon_from_q_ne(nav[0:4])
+    h = nav[4]
+    r_m, r_n = earth.radii(lat, ell)
+    lat -= dx[POS] / (r_m + h)
+    lon -= dx[POS + 1] / ((r_n + h) * np.cos(lat))
+    nav[0:4] = q_ne_from_lat_lon(lat, lon)
+    nav[4] = h + dx[POS + 2]
+    nav[5:8] -= dx[VEL : VEL + 3]
+    # C_b^n <- (I + phi x) C_b^n: rotate the computed attitude back by phi in the n-frame.
+    q = quat_multiply(rotvec_to_quat(dx[ATT : ATT + 3]), nav[8:12])
+    nav[8:12] = q / np.linalg.norm(q)
+    sensor += dx[BG : SA + 3]
+    return odo_scale + dx[ODO]
+
+
+def _initial_covariance(profile: ImuProfile, options: FusionOptions, sigma_pos_ned) -> np.ndarray:
+    sig = np.zeros(N_STATES)
+    sig[POS : POS + 3] = sigma_pos_ned
+    sig[VEL : VEL + 3] = 0.005
+    sig[ATT : ATT + 3] = [options.initial_sigma_level_rad, options.initial_sigma_level_rad, options.initial_sigma_heading_rad]
+    sig[BG : SA + 3] = initial_sensor_sigmas(profile)
+    sig[ODO] = options.initial_sigma_odometer_scale
+    return np.diag(np.maximum(sig, 1e-12) ** 2)
+
+
+def _odometer_speeds(survey: SurveyData, times: np.ndarray, pulse_length_m: float, options: FusionOptions):
+    """Mean odometer speed over each segment ending at ``times[1:]`` and its sigma."""
+    odo = survey.odometer
+    d = np.interp(times, odo.time_s, odo.distance_m)
+    span = np.diff(times)
+    speed = np.diff(d) / span
+    # Quantisation: each interpolated distance is off by up to one pulse (uniform), so the
+    # difference of two has a standard deviation of pulse / sqrt(6).
+    sigma = np.hypot(options.odometer_sigma_mps, pulse_length_m / (np.sqrt(6.0) * span))
+    valid = (times[:-1] >= odo.time_s[0]) & (times[1:] <= odo.time_s[-1])
+    return speed, sigma, valid
+
+
+# --------------------------------------------------------------------------- engine
+
+
+def fuse(
+    survey: SurveyData,
+    options: FusionOptions = FusionOptions(),
+    profile: ImuProfile | None = None,
+    ellipsoid: earth.Ellipsoid = earth.WGS84,
+    progress: ProgressFn | None = None,
+    cancel: CancelToken = None,
+) -> FusionResult:
+    """Fuse one survey's IMU, GNSS, odometer (NHC, ZUPT) into a trajectory."""
+    step = StepProgress(progress)
+    profile = profile or load_imu_profile(survey.manifest.imu_profile)
+    noise = ErrorModelNoise.from_profile(profile)
+    gqg = noise_matrix(noise)
+    trolley = survey.manifest.trolley
+    c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
+    imu = survey.imu
+    n = len(imu)
+    t = imu.time_s
+    dt = np.empty(n)
+    dt[1:] = np.diff(t)
+    dt[0] = np.median(dt[1 : min(n, 1000)])
+
+    gnss = survey.gnss
+    if not options.use_gnss:
+        gnss_idx = np.zeros(0, dtype=int)
+    else:
+        inside = (gnss.time_s > t[0]) & (gnss.time_s <= t[-1])
+        gnss_idx = np.flatnonzero(inside)
+        if gnss_idx.size == 0:
+            raise ValueError(
+                f"{gnss.source or 'GNSS'}: no GNSS epoch lies within the IMU data "
+                f"({t[0]:.3f} - {t[-1]:.3f} s of week); check the files and their time scales"
+            )
+
+    # --- static start and initial state ------------------------------------------------
+    stops = detect_stops(imu, survey.odometer) if (options.use_zupt or options.initial_heading_rad is None) else []
+    first_gnss = gnss_idx[0] if gnss_idx.size else None
+    if first_gnss is None:
+        raise ValueError("the filter needs GNSS positions for its initial position")
+    lat0, lon0, h0 = gnss.lat_rad[first_gnss], gnss.lon_rad[first_gnss], gnss.height_m[first_gnss]
+    static = stops[0] if stops and stops[0][0] <= t[0] + 5.0 else None
+    if static is None or static[1] - static[0] < options.min_static_s:
+        raise ValueError(
+            "the survey does not start with a static period of at least "
+            f"{options.min_static_s:.0f} s for the initial alignment"
+        )
+    k_align_end = int(np.searchsorted(t, static[1]))
+    roll, pitch, heading = coarse_alignment(imu, 1, k_align_end, lat0, ellipsoid)
+    if options.initial_heading_rad is not None:
+        heading = options.initial_heading_rad
+    c_bn = euler_to_dcm(roll, pitch, heading)
+    # GNSS antenna -> IMU with the lever arm (NED metres -> geodetic).
+    lever_n = c_bn @ trolley.imu_to_antenna_m
+    d_lat, d_lon, d_h = earth.ned_to_geodetic_delta(lever_n, lat0, h0, ellipsoid)
+    nav = _nav_from(lat0 - d_lat, lon0 - d_lon, h0 - d_h, np.zeros(3), c_bn)
+    k0 = int(np.searchsorted(t, gnss.time_s[first_gnss]))  # filter starts at the first GNSS epoch
+    nav_store = np.empty((n, 12))
+    nav_store[: k0 + 1] = nav[:12]
+
+    # --- update schedule ----------------------------------------------------------------
+    every = max(int(round(1.0 / (options.update_rate_hz * dt[0]))), 1)
+    grid = np.arange(k0, n, every)
+    gnss_epoch = np.minimum(np.searchsorted(t, gnss.time_s[gnss_idx]), n - 1)
+    keep = gnss_epoch >= k0
+    gnss_idx, gnss_epoch = gnss_idx[keep], gnss_epoch[keep]
+    epochs = np.unique(np.concatenate([grid, gnss_epoch, [n - 1]]))
+    epochs = epochs[epochs >= k0]
+    gnss_at = {int(e): [] for e in np.unique(gnss_epoch)}
+    for i, e in zip(gnss_idx, gnss_epoch):
+        gnss_at[int(e)].append(int(i))
+
+    pulse = survey.odometer.pulse_length_m or 0.001
+    speed, speed_sigma, speed_valid = _odometer_speeds(survey, t[epochs], pulse, options)
+    odo_meas = OdometerNhc(
+        t[epochs[1:]], speed, c_vb, trolley.imu_to_odometer_m, trolley.imu_to_reference_rail_m, speed_sigma,
+        sigma_nhc_mps=options.nhc_sigma_mps, use_odometer=options.use_odometer, use_nhc=options.use_nhc,
+    )
+    gnss_pos = GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
+                            trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m)
+    gnss_vel = None
+    if options.use_gnss_velocity and gnss.vel_ned_mps is not None:
+        gnss_vel = GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m)
+    zupt = Zupt(t, options.zupt_sigma_mps, gyro_white_noise=max(noise.arw, 1e-7))
+    stop_start = np.array([s[0] for s in stops])
+    stop_end = np.array([s[1] for s in stops])
+
+    def at_rest(time_s: float) -> bool:
+        j = np.searchsorted(stop_start, time_s) - 1
+        return j >= 0 and time_s <= stop_end[j]
+
+    # --- forward pass ---------------------------------------------------------------------
+    P = _initial_covariance(profile, options, np.maximum(gnss.sigma_ned_m[first_gnss], 0.005))
+    sensor = np.zeros(12)
+    odo_scale = 0.0
+    sensor_hist = np.empty((len(epochs), 13))
+    sigma_hist = np.empty((len(epochs), N_STATES))
+    sensor_hist[0, :12], sensor_hist[0, 12] = sensor, odo_scale
+    sigma_hist[0] = np.sqrt(np.diag(P))
+    store = _SmootherStore() if options.smoother else None
+    earth_c = _kernels.earth_constants(ellipsoid)
+    sums = np.zeros(16)
+    gates = {m: chi2.ppf(options.gate_probability, m) for m in range(1, 7)}
+    stats: dict[str, MeasurementStats] = {}
+    rejections: list[Rejection] = []
+    forward_step = step.sub(0.0, 0.8 if options.smoother else 0.95)
+    m_epochs = len(epochs)
+
+    try:
+        for j in range(1, m_epochs):
+            if j % 2000 == 0:
+                check_cancel(cancel)
+                forward_step(j / m_epochs, f"forward filter {t[epochs[j]] - t[epochs[0]]:.0f} s")
+            a, b = epochs[j - 1] + 1, epochs[j] + 1
+            _propagate_segment(nav, imu.dtheta_rad, imu.dvel_mps, dt, a, b, sensor, earth_c, nav_store, sums)
+            seg = sums[9]
+            lat, lon = lat_lon_from_q_ne(nav[0:4])
+            snap = NavSnapshot(
+                time_s=t[b - 1], lat=float(lat), lon=float(lon), h=float(nav[4]), vel_ned=nav[5:8].copy(),
+                c_bn=quat_to_dcm(nav[8:12]), omega_ib_b=sums[10:13] / dt[b - 1], f_b=sums[13:16] / dt[b - 1],
+                mean_vel_ned=sums[0:3] / seg, mean_omega_ib_b=sums[3:6] / seg, segment_s=seg,
+                odometer_scale=odo_scale, ellipsoid=ellipsoid,
+            )
+            F = dynamics_matrix(snap.lat, snap.h, snap.vel_ned, snap.c_bn, sums[6:9] / seg, sums[3:6] / seg, noise, ellipsoid)
+            phi, q = discretise(F, gqg, seg)
+            P_minus = phi @ P @ phi.T + q
+            P = P_minus.copy()
+            x = np.zeros(N_STATES)
+
+            batch = []
+            if options.use_gnss:
+                batch += [(gnss_pos, i) for i in gnss_at.get(int(epochs[j]), [])]
+                if gnss_vel is not None:
+                    batch += [(gnss_vel, i) for i in gnss_at.get(int(epochs[j]), [])]
+            if (options.use_odometer or options.use_nhc) and speed_valid[j - 1]:
+                batch.append((odo_meas, j - 1))
+            if options.use_zupt and at_rest(snap.time_s) and at_rest(snap.time_s - seg):
+                batch.append((zupt, b - 1))
+            for meas, i in batch:
+                z, H, R = meas.model(snap, i)
+                nu = z - H @ x
+                S = H @ P @ H.T + R
+                nis = float(nu @ np.linalg.solve(S, nu))
+                st = stats.setdefault(meas.name, MeasurementStats())
+                if nis > gates[len(nu)]:
+                    st.rejected += 1
+                    rejections.append(Rejection(float(snap.time_s), meas.name, nis, gates[len(nu)], tuple(nu)))
+                    continue
+                st.add(nu, nis)
+                K = np.linalg.solve(S, H @ P).T
+                x = x + K @ nu
+                I_KH = np.eye(N_STATES) - K @ H
+                P = I_KH @ P @ I_KH.T + K @ R @ K.T
+            if batch:
+                odo_scale = _feedback(nav, x, sensor, odo_scale, ellipsoid)
+            P = 0.5 * (P + P.T)
+            if store is not None:
+                store.append(phi, P_minus, P, x)
+            sensor_hist[j, :12], sensor_hist[j, 12] = sensor, odo_scale
+            sigma_hist[j] = np.sqrt(np.diag(P))
+
+        forward = _trajectory(t, nav_store, epochs, k0, sensor_hist, sigma_hist, None, survey, ellipsoid, smoothed=False)
+        trajectory = forward
+        if store is not None:
+            smooth_step = step.sub(0.8, 0.95)
+            corrections, sigma_smooth = _rts(store, m_epochs, sigma_hist[0], cancel, smooth_step)
+            trajectory = _trajectory(t, nav_store, epochs, k0, sensor_hist, sigma_smooth, corrections, survey, ellipsoid, smoothed=True)
+    finally:
+        if store is not None:
+            store.close()
+    step(1.0, "fusion done")
+    statistics = {name: s.summary() for name, s in stats.items()}
+    return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops),
+                        info={"update_epochs": m_epochs, "alignment_rpy_rad": (roll, pitch, heading)})
+
+
+def _rts(store: _SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):
+    """Backward RTS pass. Returns per update epoch j the correction pair
+    (left: e_j relative to the stored post-update solution, right: e_j + dx_j relative
+    to the pre-update solution) as an (m, 2, N) array, and the smoothed sigmas (m, N)."""
+    nn = N_STATES * N_STATES
+    corrections = np.zeros((m, 2, N_STATES))
+    sigma = np.zeros((m, N_STATES))
+    e_next = np.zeros(N_STATES)
+    P_s_next = None
+    phi_next = p_minus_next = None
+    done = 0
+    for first, chunk in store.reversed_chunks():
+        check_cancel(cancel)
+        for r in range(len(chunk) - 1, -1, -1):
+            j = first + r + 1  # store record r describes update epoch j (segment j-1 -> j)
+            rec = chunk[r]
+            phi = rec[:nn].reshape(N_STATES, N_STATES)
+            p_minus = rec[nn : 2 * nn].reshape(N_STATES, N_STATES)
+            p_plus = rec[2 * nn : 3 * nn].reshape(N_STATES, N_STATES)
+            dx = rec[3 * nn :]
+            if P_s_next is None:  # last epoch: smoothed = filtered
+                e, P_s = np.zeros(N_STATES), p_plus
+            else:
+                A = np.linalg.solve(p_minus_next.T, (p_plus @ phi_next.T).T).T
+                e = A @ e_next
+                P_s = p_plus + A @ (P_s_next - p_minus_next) @ A.T
+            corrections[j, 0] = e
+            corrections[j, 1] = e + dx
+            sigma[j] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
+            # Prepare epoch j-1: its successor's quantities.
+            e_next = e + dx
+            P_s_next, phi_next, p_minus_next = P_s, phi, p_minus
+            done += 1
+        progress(done / m, "smoother")
+    # epoch 0: before the first segment
+    p0 = np.diag(sigma0**2)
+    A = np.linalg.solve(p_minus_next.T, (p0 @ phi_next.T).T).T
+    corrections[0, 0] = corrections[0, 1] = A @ e_next
+    sigma[0] = np.sqrt(np.maximum(np.diag(p0 + A @ (P_s_next - p_minus_next) @ A.T), 0.0))
+    return corrections, sigma
+
+
+def _trajectory(t, nav_store, epochs, k0, sensor_hist, sigma_hist, corrections, survey, ell, smoothed):
+    """Trajectory at every IMU epoch from k0 on, with the errors interpolated between update epochs."""
+    idx = np.arange(epochs[0], epochs[-1] + 1)
+    # Segment j covers epochs (epochs[j-1], epochs[j]]; w is the position inside it.
+    seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, len(epochs) - 1)
+    left, right = epochs[seg - 1], epochs[seg]
+    w = ((t[idx] - t[left]) / (t[right] - t[left]))[:, None]
+    nav = nav_store[idx]
+    lat, lon = lat_lon_from_q_ne(nav[:, 0:4])
+    h = nav[:, 4].copy()
+    vel = nav[:, 5:8].copy()
+    q_bn = nav[:, 8:12].copy()
+    sensors_fwd = sensor_hist[seg - 1]  # estimates used while propagating the segment
+    if corrections is not None:
+        c = (1.0 - w) * corrections[seg - 1, 0] + w * corrections[seg, 1]
+        r_m, r_n = earth.radii(lat, ell)
+        lat = lat - c[:, POS] / (r_m + h)
+        lon = lon - c[:, POS + 1] / ((r_n + h) * np.cos(lat))
+        h = h + c[:, POS + 2]
+        vel = vel - c[:, VEL : VEL + 3]
+        q_bn = quat_multiply(rotvec_to_quat(c[:, ATT : ATT + 3]), q_bn)
+        sensors = sensors_fwd.copy()
+        sensors[:, :12] += c[:, BG : SA + 3]
+        sensors[:, 12] += c[:, ODO]
+    else:
+        sensors = sensors_fwd
+    sig = (1.0 - w) * sigma_hist[seg - 1] + w * sigma_hist[seg]
+    roll, pitch, heading = euler_from_q_bn(q_bn)
+    return Trajectory(
+        time_s=t[idx], lat_rad=lat, lon_rad=lon, height_m=h, vel_ned_mps=vel,
+        rpy_rad=np.column_stack([roll, pitch, heading]),
+        sigma_pos_ned_m=sig[:, POS : POS + 3], sigma_vel_ned_mps=sig[:, VEL : VEL + 3], sigma_rpy_rad=sig[:, ATT : ATT + 3],
+        gyro_bias_radps=sensors[:, 0:3], accel_bias_mps2=sensors[:, 3:6], gyro_scale=sensors[:, 6:9],
+        accel_scale=sensors[:, 9:12], odometer_scale=sensors[:, 12], smoothed=smoothed,
+        gps_week=survey.imu.gps_week, ellipsoid_name=ell.name,
+    )
