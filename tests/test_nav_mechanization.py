@@ -385,6 +385,18 @@ def test_start_on_an_imu_epoch_uses_its_increment_for_the_two_sample_terms():
     assert np.abs(d_ned).max() < 1e-6 and att.max() < 1e-11
 
 
+def test_increment_after_a_gap_covers_the_gap():
+    motion, imu = rest_imu(400)
+    state = motion.initial_state(earth.WGS84)
+    keep = np.arange(400) != 199
+    dtheta, dvel = imu.dtheta_rad.copy(), imu.dvel_mps.copy()
+    dtheta[200] += dtheta[199]
+    dvel[200] += dvel[199]
+    gap = integrate(ImuIncrements(imu.time_s[keep], dtheta[keep], dvel[keep]), state)
+    d_ned, att = errors(gap, motion)
+    assert np.abs(d_ned).max() < 1e-6 and att.max() < 1e-11
+
+
 def test_cancel_stops_between_chunks(monkeypatch):
     monkeypatch.setattr(mech, "CHUNK_EPOCHS", 100)
     motion, imu = rest_imu(1000)

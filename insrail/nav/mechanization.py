@@ -40,34 +40,30 @@ def q_ne_from_lat_lon(lat, lon):
     return np.stack([ca * co, -sa * so, sa * co, ca * so], axis=-1)
 
 
-def lat_lon_from_q_ne(q_ne):
-    """Geodetic latitude and longitude [rad] from q_n^e (..., 4).
+def _rows_of(q) -> np.ndarray:
+    q = np.asarray(q, dtype=float)
+    if q.shape[-1:] != (4,):
+        raise ValueError(f"expected quaternions of shape (..., 4), got {q.shape}")
+    return np.ascontiguousarray(q.reshape(-1, 4))
 
-    Read off the third column of C_n^e, the down axis -(cos lat cos lon, cos lat sin lon,
-    sin lat), which a rotation of n about its own down axis (wander) leaves unchanged.
-    """
-    q = np.asarray(q_ne, dtype=float)
-    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    c02 = 2.0 * (q1 * q3 + q0 * q2)
-    c12 = 2.0 * (q2 * q3 - q0 * q1)
-    c22 = q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
-    return np.arctan2(-c22, np.hypot(c02, c12)), np.arctan2(-c12, -c02)
+
+def lat_lon_from_q_ne(q_ne):
+    """Geodetic latitude and longitude [rad] from q_n^e (..., 4), via the n-frame down axis
+    in e (wander-free); arrays of shape (...)."""
+    rows = _rows_of(q_ne)
+    lat, lon = np.empty(len(rows)), np.empty(len(rows))
+    _kernels.lat_lon_rows(rows, lat, lon)
+    shape = np.shape(q_ne)[:-1]
+    return lat.reshape(shape), lon.reshape(shape)
 
 
 def euler_from_q_bn(q_bn):
-    """(roll, pitch, heading) [rad] of b relative to n from q_b^n (..., 4); heading in (-pi, pi].
-
-    Computes only the five DCM elements the z-y-x angles need, so long solutions are
-    converted without a (n, 3, 3) temporary.
-    """
-    q = np.asarray(q_bn, dtype=float)
-    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    c00 = q0 * q0 + q1 * q1 - q2 * q2 - q3 * q3
-    c10 = 2.0 * (q1 * q2 + q0 * q3)
-    c20 = 2.0 * (q1 * q3 - q0 * q2)
-    c21 = 2.0 * (q2 * q3 + q0 * q1)
-    c22 = q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
-    return np.arctan2(c21, c22), np.arctan2(-c20, np.hypot(c21, c22)), np.arctan2(c10, c00)
+    """(roll, pitch, heading) [rad] of b relative to n from q_b^n (..., 4); heading in (-pi, pi]."""
+    rows = _rows_of(q_bn)
+    angles = np.empty((3, len(rows)))
+    _kernels.euler_rows(rows, angles[0], angles[1], angles[2])
+    shape = np.shape(q_bn)[:-1]
+    return tuple(a.reshape(shape) for a in angles)
 
 
 @dataclass(frozen=True)
@@ -162,7 +158,12 @@ class NavSolution:
         )
 
 
-def _nav_vector(state: NavState) -> np.ndarray:
+def nav_vector(state: NavState) -> np.ndarray:
+    """The compiled kernels' navigation vector (layout in :mod:`insrail.nav._kernels`) at ``state``.
+
+    The last-velocity-change slot starts at zero: the first gravity/Coriolis evaluation
+    then uses the initial velocity for the mid-epoch one.
+    """
     nav = np.zeros(_kernels.NAV_SIZE)
     nav[_kernels.NAV_Q_NE : _kernels.NAV_Q_NE + 4] = q_ne_from_lat_lon(state.lat_rad, state.lon_rad)
     nav[_kernels.NAV_H] = state.height_m
@@ -177,7 +178,7 @@ def _where(imu: ImuIncrements, index: int) -> str:
 
 
 def _validated_arrays(imu: ImuIncrements):
-    """Contiguous float64 copies of the increments, after checking shapes and values."""
+    """The increments as contiguous float64 arrays (copied only if needed), checked."""
     time = np.ascontiguousarray(imu.time_s, dtype=float)
     dtheta = np.ascontiguousarray(imu.dtheta_rad, dtype=float)
     dvel = np.ascontiguousarray(imu.dvel_mps, dtype=float)
@@ -213,8 +214,10 @@ def integrate(
     ``initial.time_s`` must be an IMU time stamp (integration starts with the next
     interval, whose predecessor feeds the two-sample terms) or the start of the first
     interval, one nominal sample interval before ``time_s[0]`` (the first update is then
-    one-sample). Interval lengths come from the time stamps, so after a data gap the
-    next increment is integrated over the whole gap.
+    one-sample). Each increment covers the interval since the previous time stamp (the
+    :class:`~insrail.io.types.ImuIncrements` contract), so the one after a gap is integrated
+    over the whole gap; a reader whose device drops increments must say so in ``gaps``
+    and the caller decide how to bridge them.
 
     output_every : keep every n-th epoch (row 0 is always the initial state)
     Raises ValueError for malformed increments or an initial time that is not on the grid,
@@ -243,15 +246,17 @@ def integrate(
 
     n_epochs = len(time) - start
     rows = 1 + n_epochs // output_every
-    out = np.empty((rows, _kernels.NAV_SIZE))
-    nav = _nav_vector(initial)
-    out[0] = nav
+    q_ne, height, vel, q_bn = np.empty((rows, 4)), np.empty(rows), np.empty((rows, 3)), np.empty((rows, 4))
+    nav = nav_vector(initial)
+    q_ne[0] = nav[_kernels.NAV_Q_NE : _kernels.NAV_Q_NE + 4]
+    height[0], vel[0], q_bn[0] = initial.height_m, initial.vel_ned_mps, initial.q_bn
     earth = _kernels.earth_constants(ellipsoid)
     for chunk_start in range(start, len(time), CHUNK_EPOCHS):
         check_cancel(cancel)
         chunk_stop = min(chunk_start + CHUNK_EPOCHS, len(time))
         _kernels.integrate_span(
-            nav, dtheta, dvel, dt, earth, chunk_start, chunk_stop, output_every, chunk_start - start, out
+            nav, dtheta, dvel, dt, earth, chunk_start, chunk_stop, output_every, chunk_start - start,
+            q_ne, height, vel, q_bn,
         )
         if progress is not None:
             done = chunk_stop - start
@@ -260,19 +265,6 @@ def integrate(
     times = np.empty(rows)
     times[0] = initial.time_s
     times[1:] = time[start - 1 + output_every * np.arange(1, rows)]
-    q_ne = out[:, _kernels.NAV_Q_NE : _kernels.NAV_Q_NE + 4]
-    q_bn = out[:, _kernels.NAV_Q_BN : _kernels.NAV_Q_BN + 4]
     lat, lon = lat_lon_from_q_ne(q_ne)
     roll, pitch, heading = euler_from_q_bn(q_bn)
-    return NavSolution(
-        time_s=times,
-        lat_rad=lat,
-        lon_rad=lon,
-        height_m=out[:, _kernels.NAV_H].copy(),
-        vel_ned_mps=out[:, _kernels.NAV_VEL : _kernels.NAV_VEL + 3].copy(),
-        roll_rad=roll,
-        pitch_rad=pitch,
-        heading_rad=heading,
-        q_bn=q_bn.copy(),
-        q_ne=q_ne.copy(),
-    )
+    return NavSolution(times, lat, lon, height, vel, roll, pitch, heading, q_bn, q_ne)
