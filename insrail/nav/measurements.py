@@ -68,6 +68,7 @@ def _position_rows(nav: NavSnapshot, time_s: float, lat: float, lon: float, h: f
     measured_ned = np.array([(lat - nav.lat) * rm, (lon - nav.lon) * rn * np.cos(nav.lat), -(h - nav.h)])
     H = _h(3)
     H[:, POS : POS + 3] = np.eye(3)
+    H[:, VEL : VEL + 3] = (time_s - nav.time_s) * np.eye(3)
     H[:, ATT : ATT + 3] = skew(lever_n)
     return predicted_ned - measured_ned, H
 

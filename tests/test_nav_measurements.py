@@ -1,0 +1,119 @@
+"""Each aiding measurement's Jacobian H matches its innovation's response to small errors.
+
+A true navigation state is perturbed by an error vector x (in the filter's conventions:
+navigation errors computed minus true, sensor errors residual = true minus estimate) and
+the change of the innovation is compared with H x. A wrong sign or a missing term in any
+block of H fails this.
+"""
+
+import numpy as np
+import pytest
+
+from insrail.nav import earth
+from insrail.nav.error_model import ATT, BG, N_STATES, ODO, POS, SG, VEL
+from insrail.nav.measurements import GnssPosition, GnssVelocity, NavSnapshot, OdometerNhc, Zupt
+from insrail.nav.rotation import euler_to_dcm, rotvec_to_dcm
+
+RNG = np.random.default_rng(42)
+
+
+def true_state():
+    c_bn = euler_to_dcm(0.03, -0.01, 1.2)
+    omega = np.array([0.002, -0.003, 0.02])
+    vel = c_bn @ np.array([1.3, 0.0, 0.0])
+    return NavSnapshot(
+        time_s=1000.0, lat=0.53, lon=1.99, h=40.0, vel_ned=vel, c_bn=c_bn, omega_ib_b=omega,
+        f_b=np.array([0.1, 0.05, -9.79]), mean_vel_ned=vel * 0.999, mean_omega_ib_b=omega * 1.01,
+        segment_s=0.1, odometer_scale=0.0012,
+    )
+
+
+def perturbed(nav: NavSnapshot, x: np.ndarray) -> NavSnapshot:
+    r_m, r_n = earth.radii(nav.lat)
+    c_hat = rotvec_to_dcm(-x[ATT : ATT + 3]) @ nav.c_bn  # C_hat = (I - phi x) C
+    omega_hat = nav.omega_ib_b + x[BG : BG + 3] + nav.omega_ib_b * x[SG : SG + 3]
+    mean_omega_hat = nav.mean_omega_ib_b + x[BG : BG + 3] + nav.mean_omega_ib_b * x[SG : SG + 3]
+    return NavSnapshot(
+        time_s=nav.time_s,
+        lat=nav.lat + x[POS] / (r_m + nav.h),
+        lon=nav.lon + x[POS + 1] / ((r_n + nav.h) * np.cos(nav.lat)),
+        h=nav.h - x[POS + 2],
+        vel_ned=nav.vel_ned + x[VEL : VEL + 3],
+        c_bn=c_hat,
+        omega_ib_b=omega_hat,
+        f_b=nav.f_b,
+        mean_vel_ned=nav.mean_vel_ned + x[VEL : VEL + 3],
+        mean_omega_ib_b=mean_omega_hat,
+        segment_s=nav.segment_s,
+        odometer_scale=nav.odometer_scale - x[ODO],
+    )
+
+
+def small_error(scale=1.0):
+    x = np.zeros(N_STATES)
+    x[POS : POS + 3] = RNG.normal(0, 0.02, 3)
+    x[VEL : VEL + 3] = RNG.normal(0, 0.01, 3)
+    x[ATT : ATT + 3] = RNG.normal(0, 2e-4, 3)
+    x[BG : BG + 3] = RNG.normal(0, 1e-5, 3)
+    x[SG : SG + 3] = RNG.normal(0, 1e-3, 3)
+    x[ODO] = RNG.normal(0, 2e-3)
+    return x * scale
+
+
+def check_linearisation(measurement, i=0):
+    nav = true_state()
+    z0, H, R = measurement.model(nav, i)
+    assert R.shape == (len(z0), len(z0)) and np.all(np.linalg.eigvalsh(R) > 0)
+    for _ in range(5):
+        x = small_error()
+        z1, _, _ = measurement.model(perturbed(nav, x), i)
+        predicted = H @ x
+        # Second-order terms (e.g. phi^2 v) stay below 0.5 % of the largest first-order response.
+        assert np.allclose(z1 - z0, predicted, rtol=0, atol=5e-3 * np.abs(predicted).max()), (z1 - z0, predicted)
+        # And each block matters: errors in one block alone are also reproduced.
+        for block in (slice(POS, POS + 3), slice(VEL, VEL + 3), slice(ATT, ATT + 3), slice(BG, BG + 3), slice(SG, SG + 3), slice(ODO, ODO + 1)):
+            xb = np.zeros(N_STATES)
+            xb[block] = x[block]
+            zb, _, _ = measurement.model(perturbed(nav, xb), i)
+            response = H @ xb
+            scale = max(np.abs(response).max(), np.abs(zb - z0).max())
+            # Couplings the models neglect (error of the earth rate with position) are
+            # below 1e-6 of the full response; a missing or wrong block is not.
+            # Attitude enters through rotations: phi^2 (|v|, |l| ~ 1) terms remain.
+            second_order = 10.0 * np.abs(xb[ATT : ATT + 3]).max() ** 2
+            assert np.allclose(zb - z0, response, rtol=0,
+                               atol=5e-3 * scale + 1e-6 * np.abs(predicted).max() + second_order), block
+
+
+def test_gnss_position_jacobian():
+    nav = true_state()
+    check_linearisation(GnssPosition(np.array([nav.time_s + 0.002]), np.array([nav.lat + 1e-7]), np.array([nav.lon]),
+                                     np.array([nav.h + 1.0]), np.array([[0.01, 0.01, 0.02]]), np.array([0.1, 0.2, -1.3])))
+
+
+def test_gnss_velocity_jacobian():
+    check_linearisation(GnssVelocity(np.array([1000.0]), np.array([[0.5, 1.0, 0.0]]), np.array([[0.01] * 3]), np.array([0.1, 0.2, -1.3])))
+
+
+@pytest.mark.parametrize("use_odometer, use_nhc", [(True, True), (True, False), (False, True)])
+def test_odometer_nhc_jacobian(use_odometer, use_nhc):
+    m = OdometerNhc(np.array([1000.0]), np.array([1.31]), euler_to_dcm(0.001, -0.002, 0.003), np.array([0.45, -0.6, 0.31]),
+                    np.array([0.1, -0.6, 0.31]), np.array([0.004]), use_odometer=use_odometer, use_nhc=use_nhc)
+    check_linearisation(m)
+    z, H, R = m.model(true_state(), 0)
+    assert len(z) == int(use_odometer) + 2 * int(use_nhc)
+
+
+def test_zupt_jacobian():
+    check_linearisation(Zupt(np.array([1000.0])))
+
+
+def test_gnss_position_is_zero_for_a_consistent_observation():
+    nav = true_state()
+    lever = np.array([0.1, 0.2, -1.3])
+    d_lat, d_lon, d_h = earth.ned_to_geodetic_delta(nav.c_bn @ lever, nav.lat, nav.h)
+    m = GnssPosition(np.array([nav.time_s]), np.array([nav.lat + d_lat]), np.array([nav.lon + d_lon]),
+                     np.array([nav.h + d_h]), np.array([[0.01, 0.01, 0.02]]), lever)
+    z, _, R = m.model(nav, 0)
+    assert np.abs(z).max() < 1e-6
+    assert np.allclose(np.diag(R), [1e-4, 1e-4, 4e-4])
