@@ -12,6 +12,7 @@ from insrail.progress import Cancelled
 # (name, module) of every sub-command; a module provides add_arguments(parser) and run(args).
 COMMANDS = [
     ("simulate", "insrail.cli.simulate"),
+    ("fuse", "insrail.cli.fuse"),
     ("demo", "insrail.cli.demo"),
 ]
 

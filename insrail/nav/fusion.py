@@ -269,10 +269,14 @@ def fuse(
     options: FusionOptions = FusionOptions(),
     profile: ImuProfile | None = None,
     ellipsoid: earth.Ellipsoid = earth.WGS84,
+    output_every: int = 1,
     progress: ProgressFn | None = None,
     cancel: CancelToken = None,
 ) -> FusionResult:
-    """Fuse one survey's IMU, GNSS, odometer (NHC, ZUPT) into a trajectory."""
+    """Fuse one survey's IMU, GNSS, odometer (NHC, ZUPT) into a trajectory.
+
+    output_every : the trajectories hold every n-th IMU epoch (1: the full IMU rate)
+    """
     step = StepProgress(progress)
     profile = profile or load_imu_profile(survey.manifest.imu_profile)
     noise = ErrorModelNoise.from_profile(profile)
@@ -424,12 +428,12 @@ def fuse(
             sensor_hist[j, :12], sensor_hist[j, 12] = sensor, odo_scale
             sigma_hist[j] = np.sqrt(np.diag(P))
 
-        forward = _trajectory(t, nav_store, epochs, k0, sensor_hist, sigma_hist, None, survey, ellipsoid, smoothed=False)
+        forward = _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, None, survey, ellipsoid, False, output_every)
         trajectory = forward
         if store is not None:
             smooth_step = step.sub(0.8, 0.95)
             corrections, sigma_smooth = _rts(store, m_epochs, sigma_hist[0], cancel, smooth_step)
-            trajectory = _trajectory(t, nav_store, epochs, k0, sensor_hist, sigma_smooth, corrections, survey, ellipsoid, smoothed=True)
+            trajectory = _trajectory(t, nav_store, epochs, sensor_hist, sigma_smooth, corrections, survey, ellipsoid, True, output_every)
     finally:
         if store is not None:
             store.close()
@@ -481,39 +485,46 @@ def _rts(store: _SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken,
     return corrections, sigma
 
 
-def _trajectory(t, nav_store, epochs, k0, sensor_hist, sigma_hist, corrections, survey, ell, smoothed):
-    """Trajectory at every IMU epoch from k0 on, with the errors interpolated between update epochs."""
-    idx = np.arange(epochs[0], epochs[-1] + 1)
-    # Segment j covers epochs (epochs[j-1], epochs[j]]; w is the position inside it.
-    seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, len(epochs) - 1)
-    left, right = epochs[seg - 1], epochs[seg]
-    w = ((t[idx] - t[left]) / (t[right] - t[left]))[:, None]
-    nav = nav_store[idx]
-    lat, lon = lat_lon_from_q_ne(nav[:, 0:4])
-    h = nav[:, 4].copy()
-    vel = nav[:, 5:8].copy()
-    q_bn = nav[:, 8:12].copy()
-    sensors_fwd = sensor_hist[seg - 1]  # estimates used while propagating the segment
-    if corrections is not None:
-        c = (1.0 - w) * corrections[seg - 1, 0] + w * corrections[seg, 1]
-        r_m, r_n = earth.radii(lat, ell)
-        lat = lat - c[:, POS] / (r_m + h)
-        lon = lon - c[:, POS + 1] / ((r_n + h) * np.cos(lat))
-        h = h + c[:, POS + 2]
-        vel = vel - c[:, VEL : VEL + 3]
-        q_bn = quat_multiply(rotvec_to_quat(c[:, ATT : ATT + 3]), q_bn)
-        sensors = sensors_fwd.copy()
-        sensors[:, :12] += c[:, BG : SA + 3]
-        sensors[:, 12] += c[:, ODO]
-    else:
-        sensors = sensors_fwd
-    sig = (1.0 - w) * sigma_hist[seg - 1] + w * sigma_hist[seg]
-    roll, pitch, heading = euler_from_q_bn(q_bn)
+def _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, corrections, survey, ell, smoothed, output_every,
+                chunk: int = 100_000):
+    """Trajectory at every ``output_every``-th IMU epoch from the first update epoch on, the
+    errors interpolated linearly between update epochs. Built in chunks so the temporaries
+    of a 10 km survey stay small."""
+    idx_all = np.arange(epochs[0], epochs[-1] + 1, output_every)
+    n = len(idx_all)
+    out = {name: np.empty((n, 3)) for name in ("vel", "rpy", "sp", "sv", "sa", "bg", "ba", "sg", "sa_")}
+    lat_out, lon_out, h_out, odo_out = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    for c0 in range(0, n, chunk):
+        idx = idx_all[c0 : c0 + chunk]
+        sl = slice(c0, c0 + len(idx))
+        # Segment j covers epochs (epochs[j-1], epochs[j]]; w is the position inside it.
+        seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, len(epochs) - 1)
+        left, right = epochs[seg - 1], epochs[seg]
+        w = ((t[idx] - t[left]) / (t[right] - t[left]))[:, None]
+        nav = nav_store[idx]
+        lat, lon = lat_lon_from_q_ne(nav[:, 0:4])
+        h, vel, q_bn = nav[:, 4], nav[:, 5:8], nav[:, 8:12]
+        sensors = sensor_hist[seg - 1].copy()  # the estimates used while propagating the segment
+        if corrections is not None:
+            c = (1.0 - w) * corrections[seg - 1, 0] + w * corrections[seg, 1]
+            r_m, r_n = earth.radii(lat, ell)
+            lat = lat - c[:, POS] / (r_m + h)
+            lon = lon - c[:, POS + 1] / ((r_n + h) * np.cos(lat))
+            h = h + c[:, POS + 2]
+            vel = vel - c[:, VEL : VEL + 3]
+            q_bn = quat_multiply(rotvec_to_quat(c[:, ATT : ATT + 3]), q_bn)
+            sensors[:, :12] += c[:, BG : SA + 3]
+            sensors[:, 12] += c[:, ODO]
+        sig = (1.0 - w) * sigma_hist[seg - 1] + w * sigma_hist[seg]
+        lat_out[sl], lon_out[sl], h_out[sl] = lat, lon, h
+        out["vel"][sl] = vel
+        out["rpy"][sl] = np.column_stack(euler_from_q_bn(q_bn))
+        out["sp"][sl], out["sv"][sl], out["sa"][sl] = sig[:, POS : POS + 3], sig[:, VEL : VEL + 3], sig[:, ATT : ATT + 3]
+        out["bg"][sl], out["ba"][sl], out["sg"][sl], out["sa_"][sl] = (sensors[:, 0:3], sensors[:, 3:6], sensors[:, 6:9], sensors[:, 9:12])
+        odo_out[sl] = sensors[:, 12]
     return Trajectory(
-        time_s=t[idx], lat_rad=lat, lon_rad=lon, height_m=h, vel_ned_mps=vel,
-        rpy_rad=np.column_stack([roll, pitch, heading]),
-        sigma_pos_ned_m=sig[:, POS : POS + 3], sigma_vel_ned_mps=sig[:, VEL : VEL + 3], sigma_rpy_rad=sig[:, ATT : ATT + 3],
-        gyro_bias_radps=sensors[:, 0:3], accel_bias_mps2=sensors[:, 3:6], gyro_scale=sensors[:, 6:9],
-        accel_scale=sensors[:, 9:12], odometer_scale=sensors[:, 12], smoothed=smoothed,
-        gps_week=survey.imu.gps_week, ellipsoid_name=ell.name,
+        time_s=t[idx_all], lat_rad=lat_out, lon_rad=lon_out, height_m=h_out, vel_ned_mps=out["vel"], rpy_rad=out["rpy"],
+        sigma_pos_ned_m=out["sp"], sigma_vel_ned_mps=out["sv"], sigma_rpy_rad=out["sa"],
+        gyro_bias_radps=out["bg"], accel_bias_mps2=out["ba"], gyro_scale=out["sg"], accel_scale=out["sa_"],
+        odometer_scale=odo_out, smoothed=smoothed, gps_week=survey.imu.gps_week, ellipsoid_name=ell.name,
     )

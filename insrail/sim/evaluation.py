@@ -1,0 +1,87 @@
+"""Compare a fused trajectory with the simulator's navigation truth.
+
+The figures the benchmarks and tests quote: position error (north, east, down and its
+lateral/vertical parts across the track), attitude error, the error inside GNSS outages,
+and the relative accuracy track geometry needs: the standard deviation of the difference
+of the lateral (vertical) error between points a given distance apart along the track
+(5 m for the 30 m/5 m check, 150 m for 300 m/150 m; thesis eqs. 3.8-3.11).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from insrail.nav import earth
+from insrail.nav.trajectory import Trajectory
+
+SLEEPER_SPACING_M = 0.625
+
+
+@dataclass(frozen=True)
+class TrajectoryErrors:
+    """Errors (solution minus truth) at the trajectory's epochs."""
+
+    time_s: np.ndarray
+    station_m: np.ndarray
+    ned_m: np.ndarray  # (n, 3)
+    lateral_m: np.ndarray  # positive to the right of the direction of travel
+    vertical_m: np.ndarray  # positive up
+    rpy_rad: np.ndarray  # (n, 3), wrapped to (-pi, pi]
+    moving: np.ndarray  # the trolley has left its start
+
+    def rms_horizontal_m(self) -> float:
+        return float(np.sqrt(np.mean(np.sum(self.ned_m[self.moving, :2] ** 2, axis=1))))
+
+    def rms_vertical_m(self) -> float:
+        return float(np.sqrt(np.mean(self.ned_m[self.moving, 2] ** 2)))
+
+    def rms_attitude_rad(self) -> np.ndarray:
+        return np.sqrt(np.mean(self.rpy_rad[self.moving] ** 2, axis=0))
+
+    def max_in(self, intervals) -> tuple[float, float]:
+        """Largest horizontal and vertical error inside the time intervals (NaN if none)."""
+        mask = np.zeros(len(self.time_s), dtype=bool)
+        for start, end in intervals:
+            mask |= (self.time_s >= start) & (self.time_s <= end)
+        if not mask.any():
+            return float("nan"), float("nan")
+        return float(np.max(np.hypot(self.ned_m[mask, 0], self.ned_m[mask, 1]))), float(np.max(np.abs(self.ned_m[mask, 2])))
+
+    def lag_difference_sigma_m(self, lag_m: float) -> tuple[float, float]:
+        """1-sigma of e(s + lag) - e(s) for the lateral and the vertical error, sampled at
+        sleeper spacing along the travelled stations."""
+        s = self.station_m
+        grid = np.arange(s[self.moving][0] + 1.0, s[-1] - 1.0, SLEEPER_SPACING_M)
+        k = np.searchsorted(s, grid)  # first epoch reaching each station (stations never decrease)
+        lag = int(round(lag_m / SLEEPER_SPACING_M))
+        if len(k) <= lag:
+            return float("nan"), float("nan")
+        lat, ver = self.lateral_m[k], self.vertical_m[k]
+        return float(np.std(lat[lag:] - lat[:-lag])), float(np.std(ver[lag:] - ver[:-lag]))
+
+
+def trajectory_errors(trajectory: Trajectory, truth: np.ndarray, ell: earth.Ellipsoid = earth.WGS84) -> TrajectoryErrors:
+    """Errors of ``trajectory`` against truth/nav.npy rows at the same IMU epochs."""
+    k = np.searchsorted(truth["time_s"], trajectory.time_s - 1e-6)
+    if np.any(k >= len(truth)) or np.abs(truth["time_s"][np.minimum(k, len(truth) - 1)] - trajectory.time_s).max() > 1e-6:
+        raise ValueError("the trajectory's epochs are not epochs of the truth file")
+    tt = truth[k]
+    r_m, r_n = earth.radii(tt["lat_rad"], ell)
+    north = (trajectory.lat_rad - tt["lat_rad"]) * (r_m + tt["height_m"])
+    east = (trajectory.lon_rad - tt["lon_rad"]) * (r_n + tt["height_m"]) * np.cos(tt["lat_rad"])
+    down = -(trajectory.height_m - tt["height_m"])
+    heading = tt["rpy_rad"][:, 2]
+    lateral = -north * np.sin(heading) + east * np.cos(heading)
+    rpy = np.angle(np.exp(1j * (trajectory.rpy_rad - tt["rpy_rad"])))
+    station = tt["station_m"]
+    return TrajectoryErrors(
+        time_s=trajectory.time_s,
+        station_m=station,
+        ned_m=np.column_stack([north, east, down]),
+        lateral_m=lateral,
+        vertical_m=-down,
+        rpy_rad=rpy,
+        moving=station > station[0] + 1.0,
+    )
