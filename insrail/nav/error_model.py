@@ -13,12 +13,18 @@ estimate"), so the feedback subtracts the first and adds the second:
 15-17 gyro scale-factor error                  -
 18-20 accelerometer scale-factor error         -
 21    odometer scale-factor error              -
+22-24 GNSS correlated position error, NED       m
 ====  =======================================  ==========
 
 States 0-20 are the thesis's 21 states (eq. 2.96), F from eqs. 2.61-2.72 with the
 sensor coupling of eqs. 2.24-2.26 (ins-filter digest section 5.7). State 21 augments
 them with the odometer scale factor (see ``insrail.nav.measurements.OdometerNhc`` for
-why it is a state here and not a pre-processing step as in thesis 5.3.1).
+why it is a state here and not a pre-processing step as in thesis 5.3.1). States 22-24
+model the slowly varying part of the GNSS (PPK) position error as first-order
+Gauss-Markov (a few mm over minutes: multipath, residual troposphere). Treating it as
+white, as the thesis does, makes the solution follow that wander at the 150 m scale
+the 300 m/150 m check measures; modelled, the filter leans on the INS, odometer and NHC
+there and on GNSS only for the long-term position.
 
 Sensor errors are first-order Gauss-Markov: the filter's initial sigma is the turn-on
 plus in-run value, the driving noise only the in-run part's, 2 sigma_gm^2 / tau; the
@@ -39,8 +45,8 @@ from insrail.nav import earth
 from insrail.nav.imu_profile import ImuProfile
 from insrail.nav.rotation import skew
 
-N_STATES = 22
-POS, VEL, ATT, BG, BA, SG, SA, ODO = 0, 3, 6, 9, 12, 15, 18, 21
+N_STATES = 25
+POS, VEL, ATT, BG, BA, SG, SA, ODO, GNSS = 0, 3, 6, 9, 12, 15, 18, 21, 22
 
 #: Random walk of the odometer scale factor [1/sqrt(s)]: 1e-5 per sqrt(hour).
 ODOMETER_SCALE_RANDOM_WALK = 1e-5 / 60.0
@@ -60,10 +66,15 @@ class ErrorModelNoise:
     gyro_scale_psd: float
     accel_scale_tau_s: float
     accel_scale_psd: float
+    gnss_tau_s: float = 300.0
+    gnss_sigma_ned_m: tuple[float, float, float] = (0.005, 0.005, 0.010)
 
     @classmethod
-    def from_profile(cls, p: ImuProfile) -> "ErrorModelNoise":
+    def from_profile(cls, p: ImuProfile, gnss_tau_s: float = 300.0,
+                     gnss_sigma_ned_m: tuple[float, float, float] = (0.005, 0.005, 0.010)) -> "ErrorModelNoise":
         return cls(
+            gnss_tau_s=gnss_tau_s,
+            gnss_sigma_ned_m=tuple(gnss_sigma_ned_m),
             vrw=p.accel_vrw,
             arw=p.gyro_arw,
             gyro_bias_tau_s=p.gyro_bias_gm_tau_s,
@@ -128,6 +139,7 @@ def dynamics_matrix(lat, h, vel_ned, c_bn, f_b, omega_ib_b, noise: ErrorModelNoi
     F[BA : BA + 3, BA : BA + 3] = -np.eye(3) / noise.accel_bias_tau_s
     F[SG : SG + 3, SG : SG + 3] = -np.eye(3) / noise.gyro_scale_tau_s
     F[SA : SA + 3, SA : SA + 3] = -np.eye(3) / noise.accel_scale_tau_s
+    F[GNSS : GNSS + 3, GNSS : GNSS + 3] = -np.eye(3) / noise.gnss_tau_s
     return F
 
 
@@ -145,6 +157,7 @@ def noise_matrix(noise: ErrorModelNoise) -> np.ndarray:
     q[SG : SG + 3, SG : SG + 3] = noise.gyro_scale_psd * np.eye(3)
     q[SA : SA + 3, SA : SA + 3] = noise.accel_scale_psd * np.eye(3)
     q[ODO, ODO] = ODOMETER_SCALE_RANDOM_WALK**2
+    q[GNSS : GNSS + 3, GNSS : GNSS + 3] = np.diag(2.0 * np.square(noise.gnss_sigma_ned_m) / noise.gnss_tau_s)
     return q
 
 

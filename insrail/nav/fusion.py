@@ -46,6 +46,7 @@ from insrail.nav.error_model import (
     ATT,
     BA,
     BG,
+    GNSS,
     N_STATES,
     ODO,
     POS,
@@ -79,6 +80,9 @@ class FusionOptions:
     update_rate_hz: float = 10.0
     gnss_sigma_scale: float = 1.0
     gnss_sigma_floor_m: float = 0.002
+    #: correlated part of the GNSS position error (Gauss-Markov): short-baseline PPK
+    gnss_correlated_sigma_ned_m: tuple[float, float, float] = (0.005, 0.005, 0.010)
+    gnss_correlated_tau_s: float = 300.0
     odometer_sigma_mps: float = 0.001  # plus the pulse quantisation over the segment
     nhc_sigma_mps: float = 0.0005  # thesis Table 3-2: 0.1 mm/s/sqrt(Hz), i.e. 0.3 mm/s at 10 Hz
     zupt_sigma_mps: float = 0.001
@@ -221,8 +225,9 @@ def _nav_from(lat, lon, h, vel, c_bn) -> np.ndarray:
     return nav
 
 
-def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, odo_scale: float, ell) -> float:
-    """Apply the error estimate dx to the navigation vector and sensor estimates in place."""
+def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, gnss_error: np.ndarray, odo_scale: float, ell) -> float:
+    """Apply the error estimate dx to the navigation vector, the sensor and GNSS error
+    estimates (in place); returns the new odometer scale estimate."""
     lat, lon = lat_lon_from_q_ne(nav[0:4])
     h = nav[4]
     r_m, r_n = earth.radii(lat, ell)
@@ -235,6 +240,7 @@ def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, odo_scale: fl
     q = quat_multiply(rotvec_to_quat(dx[ATT : ATT + 3]), nav[8:12])
     nav[8:12] = q / np.linalg.norm(q)
     sensor += dx[BG : SA + 3]
+    gnss_error += dx[GNSS : GNSS + 3]
     return odo_scale + dx[ODO]
 
 
@@ -245,6 +251,7 @@ def _initial_covariance(profile: ImuProfile, options: FusionOptions, sigma_pos_n
     sig[ATT : ATT + 3] = [options.initial_sigma_level_rad, options.initial_sigma_level_rad, options.initial_sigma_heading_rad]
     sig[BG : SA + 3] = initial_sensor_sigmas(profile)
     sig[ODO] = options.initial_sigma_odometer_scale
+    sig[GNSS : GNSS + 3] = options.gnss_correlated_sigma_ned_m
     return np.diag(np.maximum(sig, 1e-12) ** 2)
 
 
@@ -279,7 +286,7 @@ def fuse(
     """
     step = StepProgress(progress)
     profile = profile or load_imu_profile(survey.manifest.imu_profile)
-    noise = ErrorModelNoise.from_profile(profile)
+    noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
     gqg = noise_matrix(noise)
     trolley = survey.manifest.trolley
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
@@ -346,7 +353,8 @@ def fuse(
         sigma_nhc_mps=options.nhc_sigma_mps, use_odometer=options.use_odometer, use_nhc=options.use_nhc,
     )
     gnss_pos = GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
-                            trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m)
+                            trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
+                            options.gnss_correlated_sigma_ned_m)
     gnss_vel = None
     if options.use_gnss_velocity and gnss.vel_ned_mps is not None:
         gnss_vel = GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m)
@@ -361,6 +369,7 @@ def fuse(
     # --- forward pass ---------------------------------------------------------------------
     P = _initial_covariance(profile, options, np.maximum(gnss.sigma_ned_m[first_gnss], 0.005))
     sensor = np.zeros(12)
+    gnss_error = np.zeros(3)
     odo_scale = 0.0
     sensor_hist = np.empty((len(epochs), 13))
     sigma_hist = np.empty((len(epochs), N_STATES))
@@ -388,13 +397,14 @@ def fuse(
                 time_s=t[b - 1], lat=float(lat), lon=float(lon), h=float(nav[4]), vel_ned=nav[5:8].copy(),
                 c_bn=quat_to_dcm(nav[8:12]), omega_ib_b=sums[10:13] / dt[b - 1], f_b=sums[13:16] / dt[b - 1],
                 mean_vel_ned=sums[0:3] / seg, mean_omega_ib_b=sums[3:6] / seg, segment_s=seg,
-                odometer_scale=odo_scale, ellipsoid=ellipsoid,
+                odometer_scale=odo_scale, ellipsoid=ellipsoid, gnss_error_ned_m=gnss_error.copy(),
             )
             F = dynamics_matrix(snap.lat, snap.h, snap.vel_ned, snap.c_bn, sums[6:9] / seg, sums[3:6] / seg, noise, ellipsoid)
             phi, q = discretise(F, gqg, seg)
             P_minus = phi @ P @ phi.T + q
             P = P_minus.copy()
             x = np.zeros(N_STATES)
+            gnss_error *= math.exp(-seg / options.gnss_correlated_tau_s)  # the estimate follows its model
 
             batch = []
             if options.use_gnss:
@@ -421,7 +431,7 @@ def fuse(
                 I_KH = np.eye(N_STATES) - K @ H
                 P = I_KH @ P @ I_KH.T + K @ R @ K.T
             if batch:
-                odo_scale = _feedback(nav, x, sensor, odo_scale, ellipsoid)
+                odo_scale = _feedback(nav, x, sensor, gnss_error, odo_scale, ellipsoid)
             P = 0.5 * (P + P.T)
             if store is not None:
                 store.append(phi, P_minus, P, x)

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from insrail.nav import earth
-from insrail.nav.error_model import ATT, BG, N_STATES, ODO, POS, SG, VEL
+from insrail.nav.error_model import ATT, BG, GNSS, N_STATES, ODO, POS, SG, VEL
 from insrail.nav.rotation import skew
 
 
@@ -28,6 +28,7 @@ class NavSnapshot:
     mean_omega_ib_b : mean compensated angular rate over that segment [rad/s]
     segment_s       : length of that segment [s]
     odometer_scale  : current estimate of the odometer scale-factor error
+    gnss_error_ned_m: current estimate of the correlated GNSS position error
     """
 
     time_s: float
@@ -43,6 +44,7 @@ class NavSnapshot:
     segment_s: float
     odometer_scale: float
     ellipsoid: earth.Ellipsoid = earth.WGS84
+    gnss_error_ned_m: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
     def radii_h(self):
         r_m, r_n = earth.radii(self.lat, self.ellipsoid)
@@ -75,11 +77,13 @@ def _position_rows(nav: NavSnapshot, time_s: float, lat: float, lon: float, h: f
 
 @dataclass(frozen=True)
 class GnssPosition:
-    """GNSS antenna position (thesis 2.106-2.112).
+    """GNSS antenna position (thesis 2.106-2.112) with a correlated error part.
 
-    R = diag((max(scale * sigma, floor))^2) from the file's sigmas. The observation time may
-    differ from the update epoch by a fraction of an IMU interval; the prediction is moved
-    along the antenna velocity to the observation time.
+    measured = true + g + white, g the Gauss-Markov error (states 22-24, estimate
+    ``nav.gnss_error_ned_m``). The file's sigma is the total; the white part's variance is
+    what is left after the modelled correlated part: R = max((scale sigma)^2 - sigma_gm^2,
+    floor^2). The observation time may differ from the update epoch by a fraction of an
+    IMU interval; the prediction is moved along the velocity to the observation time.
     """
 
     time_s: np.ndarray
@@ -90,12 +94,16 @@ class GnssPosition:
     lever_arm_m: np.ndarray
     sigma_scale: float = 1.0
     sigma_floor_m: float = 0.002
+    correlated_sigma_ned_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     name: str = "gnss_position"
 
     def model(self, nav: NavSnapshot, i: int):
         z, H = _position_rows(nav, self.time_s[i], self.lat[i], self.lon[i], self.h[i], self.lever_arm_m)
-        sigma = np.maximum(self.sigma_scale * self.sigma_ned_m[i], self.sigma_floor_m)
-        return z, H, np.diag(sigma**2)
+        # residual state x_g = g - g_hat: z = dr - (g - g_hat) once the estimate is removed
+        z = z + nav.gnss_error_ned_m
+        H[:, GNSS : GNSS + 3] = -np.eye(3)
+        variance = np.square(self.sigma_scale * self.sigma_ned_m[i]) - np.square(self.correlated_sigma_ned_m)
+        return z, H, np.diag(np.maximum(variance, self.sigma_floor_m**2))
 
 
 @dataclass(frozen=True)
