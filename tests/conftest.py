@@ -18,3 +18,14 @@ def short_perfect_survey(tmp_path_factory):
     out = tmp_path_factory.mktemp("sim") / "short-perfect"
     simulate(preset("short", imu_profile="perfect"), seed=7, out_dir=out)
     return out
+
+
+@pytest.fixture(scope="session")
+def short_nav_survey(tmp_path_factory):
+    """The benchmark `short` scenario (navigation-grade IMU, seed 1), simulated once per session."""
+    from insrail.sim.scenario import preset
+    from insrail.sim.simulate import simulate
+
+    out = tmp_path_factory.mktemp("sim") / "short-nav"
+    simulate(preset("short"), seed=1, out_dir=out, imu_format="npy")
+    return out

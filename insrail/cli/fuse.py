@@ -65,6 +65,7 @@ def run(args: argparse.Namespace) -> int:
         "alignment_rpy_deg": [float(a) * 57.29577951308232 for a in result.info["alignment_rpy_rad"]],
         "odometer_scale_ppm": float(traj.odometer_scale[-1] * 1e6),
         "stops_s": [list(s) for s in result.stops],
+        "warnings": result.info["warnings"],
         "measurements": result.statistics,
         "rejected": [
             {"time_s": r.time_s, "measurement": r.measurement, "test_statistic": r.test_statistic,
@@ -75,6 +76,8 @@ def run(args: argparse.Namespace) -> int:
     with atomic_write(args.out / "fusion_log.toml") as stream:
         stream.write(tomli_w.dumps(log))
     elapsed = bar.done()
+    for warning in result.info["warnings"]:
+        print(f"warning: {warning}")
     kind = "smoothed" if options.smoother else "forward"
     print(f"Fused {len(survey.imu):,} IMU epochs in {elapsed:.1f} s ({kind}); {len(result.rejections)} measurements rejected")
     for name, st in result.statistics.items():

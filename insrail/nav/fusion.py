@@ -59,6 +59,7 @@ from insrail.nav.error_model import (
     initial_sensor_sigmas,
     noise_matrix,
 )
+from insrail.nav.imu_gaps import bridge_gaps
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import GnssPosition, GnssVelocity, NavSnapshot, OdometerNhc, Zupt
 from insrail.nav.mechanization import euler_from_q_bn, lat_lon_from_q_ne, q_ne_from_lat_lon
@@ -92,6 +93,7 @@ class FusionOptions:
     initial_sigma_level_rad: float = math.radians(0.01)
     initial_sigma_odometer_scale: float = 0.01
     min_static_s: float = 30.0
+    max_imu_gap_s: float = 1.0  # longer IMU gaps are refused, shorter ones bridged with a warning
 
 
 @dataclass(frozen=True)
@@ -290,7 +292,7 @@ def fuse(
     gqg = noise_matrix(noise)
     trolley = survey.manifest.trolley
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
-    imu = survey.imu
+    imu, warnings = bridge_gaps(survey.imu, options.max_imu_gap_s)
     n = len(imu)
     t = imu.time_s
     dt = np.empty(n)
@@ -423,7 +425,7 @@ def fuse(
                 st = stats.setdefault(meas.name, MeasurementStats())
                 if nis > gates[len(nu)]:
                     st.rejected += 1
-                    rejections.append(Rejection(float(snap.time_s), meas.name, nis, gates[len(nu)], tuple(nu)))
+                    rejections.append(Rejection(float(meas.time_s[i]), meas.name, nis, gates[len(nu)], tuple(nu)))
                     continue
                 st.add(nu, nis)
                 K = np.linalg.solve(S, H @ P).T
@@ -450,7 +452,8 @@ def fuse(
     step(1.0, "fusion done")
     statistics = {name: s.summary() for name, s in stats.items()}
     return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops),
-                        info={"update_epochs": m_epochs, "alignment_rpy_rad": (roll, pitch, heading)})
+                        info={"update_epochs": m_epochs, "alignment_rpy_rad": (roll, pitch, heading),
+                              "warnings": warnings})
 
 
 def _rts(store: _SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):

@@ -1,0 +1,106 @@
+"""The fusion engine on the simulated benchmark survey, and its handling of bad input.
+
+The bounds are regression bounds a little looser than the figures benchmarks/fusion.py
+measures (seed 1: smoothed 150 m-lag 0.7 / 1.2 mm, 5 m-lag 0.10 / 0.10 mm).
+"""
+
+import tomllib
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from insrail.io.survey import read_survey
+from insrail.nav.earth import CGCS2000
+from insrail.nav.fusion import FusionOptions, fuse
+from insrail.nav.imu_gaps import bridge_gaps
+from insrail.sim.evaluation import trajectory_errors
+from insrail.sim.truth import read_nav_truth
+
+JUMP_TIME_OFFSET_S = 900.0  # after the start of the survey: the trolley is walking
+
+
+@pytest.fixture(scope="module")
+def survey(short_nav_survey):
+    return read_survey(short_nav_survey)
+
+
+@pytest.fixture(scope="module")
+def fused(survey):
+    """Fusion of the survey with one GNSS epoch moved 5 m north (an outlier to reject)."""
+    gnss = survey.gnss
+    k = int(np.searchsorted(gnss.time_s, gnss.time_s[0] + JUMP_TIME_OFFSET_S))
+    lat = gnss.lat_rad.copy()
+    lat[k] += 5.0 / 6.35e6
+    bad = replace(survey, gnss=replace(gnss, lat_rad=lat))
+    return fuse(bad, FusionOptions(), ellipsoid=CGCS2000, output_every=2), float(gnss.time_s[k])
+
+
+def test_smoothed_solution_meets_the_accuracy_bars(short_nav_survey, fused):
+    result, _ = fused
+    truth = read_nav_truth(short_nav_survey / "truth" / "nav.npy")
+    outages = tomllib.loads((short_nav_survey / "truth" / "errors.toml").read_text())["gnss_outages_s"]
+    smoothed = trajectory_errors(result.trajectory, truth, CGCS2000)
+    forward = trajectory_errors(result.forward, truth, CGCS2000)
+    assert smoothed.rms_horizontal_m() < 0.010 and smoothed.rms_vertical_m() < 0.015
+    assert np.all(np.rad2deg(smoothed.rms_attitude_rad()) < [0.003, 0.003, 0.01])
+    assert max(smoothed.max_in(outages)) < 0.020
+    lat5, ver5 = smoothed.lag_difference_sigma_m(5.0)
+    lat150, ver150 = smoothed.lag_difference_sigma_m(150.0)
+    assert lat5 < 0.25e-3 and ver5 < 0.25e-3
+    assert lat150 < 1.5e-3 and ver150 < 2.0e-3
+    # The smoother is what gets the short-wave accuracy: forward alone is several times worse.
+    assert forward.lag_difference_sigma_m(5.0)[0] > 3 * lat5
+    # Odometer scale: +0.15 % simulated (the wheel on the outer rail adds about 0.02 %).
+    assert result.trajectory.odometer_scale[-1] == pytest.approx(0.0015, abs=4e-4)
+    # Normalised innovations near their degrees of freedom: the noise model fits the data.
+    nis = result.statistics["gnss_position"]["mean_nis"]
+    assert 1.0 < nis < 6.0
+
+
+def test_a_gnss_jump_is_rejected_and_listed(short_nav_survey, fused):
+    result, jump_time = fused
+    rejected = [r for r in result.rejections if r.measurement == "gnss_position"]
+    assert [round(r.time_s, 3) for r in rejected] == [round(jump_time, 3)]
+    assert rejected[0].innovation[0] == pytest.approx(-5.0, abs=0.05)
+    assert result.statistics["gnss_position"]["rejected"] == 1
+    truth = read_nav_truth(short_nav_survey / "truth" / "nav.npy")
+    errors = trajectory_errors(result.trajectory, truth, CGCS2000)
+    near = np.abs(errors.time_s - jump_time) < 5.0
+    assert np.abs(errors.ned_m[near, 0]).max() < 0.02
+
+
+def test_gnss_that_does_not_overlap_the_imu_is_a_clear_error(survey):
+    shifted = replace(survey, gnss=replace(survey.gnss, time_s=survey.gnss.time_s + 2 * 86400.0))
+    with pytest.raises(ValueError, match="no GNSS epoch lies within the IMU data"):
+        fuse(shifted)
+
+
+def test_short_imu_gaps_are_bridged_with_a_warning_and_long_ones_refused(survey):
+    imu = survey.imu
+    keep = np.ones(len(imu), dtype=bool)
+    keep[100_000:100_012] = False  # 12 samples (60 ms) lost by the logger
+    holed = replace(imu, time_s=imu.time_s[keep], dtheta_rad=imu.dtheta_rad[keep], dvel_mps=imu.dvel_mps[keep])
+    bridged, warnings = bridge_gaps(holed)
+    assert len(bridged) == len(imu) and np.allclose(bridged.time_s, imu.time_s)
+    assert len(warnings) == 1 and "0.065 s" in warnings[0] and "12 missing samples" in warnings[0]
+    # Interpolated rates are close to the lost ones (the trolley moves smoothly).
+    assert np.abs(bridged.dvel_mps[100_000:100_012] - imu.dvel_mps[100_000:100_012]).max() < 1e-4
+    keep[200_000:200_400] = False  # 2 s
+    with pytest.raises(ValueError, match=r"IMU data gap of 2\.005 s after t = .* cannot be bridged"):
+        bridge_gaps(replace(imu, time_s=imu.time_s[keep], dtheta_rad=imu.dtheta_rad[keep], dvel_mps=imu.dvel_mps[keep]))
+
+
+def test_cli_fuse_writes_the_results(short_nav_survey, tmp_path, capsys):
+    from insrail.cli.main import main
+    from insrail.nav.trajectory import load_trajectory
+
+    assert main(["fuse", str(short_nav_survey), "--out", str(tmp_path), "--gnss-only", "--no-smoother", "--rate", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "Fused" in out and "gnss_position" in out and "odometer_nhc" not in out
+    traj = load_trajectory(tmp_path / "trajectory.npy")
+    assert np.median(np.diff(traj.time_s)) == pytest.approx(0.1)
+    log = tomllib.loads((tmp_path / "fusion_log.toml").read_text())
+    assert log["options"]["use_nhc"] is False and "gnss_position" in log["measurements"]
+    nav_lines = (tmp_path / "trajectory.nav").read_text().splitlines()
+    assert len(nav_lines) == len(traj) + 2 and len(nav_lines[2].split()) == 11
