@@ -104,3 +104,44 @@ def test_cli_fuse_writes_the_results(short_nav_survey, tmp_path, capsys):
     assert log["options"]["use_nhc"] is False and "gnss_position" in log["measurements"]
     nav_lines = (tmp_path / "trajectory.nav").read_text().splitlines()
     assert len(nav_lines) == len(traj) + 2 and len(nav_lines[2].split()) == 11
+
+
+@pytest.fixture(scope="module")
+def tunnel_survey(tmp_path_factory):
+    """`short` with a 400 s GNSS outage (a tunnel) and two total-station prism fixes inside it."""
+    from insrail.sim.scenario import PrismSpec, preset
+    from insrail.sim.simulate import simulate
+
+    base = preset("short")
+    config = replace(base, gnss=replace(base.gnss, outages=((1500.0, 400.0),)),
+                     prism=PrismSpec(stations_m=(1680.0, 1820.0)))
+    out = tmp_path_factory.mktemp("sim") / "tunnel"
+    simulate(config, seed=5, out_dir=out, imu_format="npy")
+    return out, config
+
+
+def test_prism_fixes_on_cpiii_bound_the_error_in_a_gnss_outage(tunnel_survey):
+    from insrail.geodesy import EngineeringCRS
+    from insrail.nav.measurements import PositionFix
+    from insrail.sim.simulate import height_anomaly
+
+    folder, config = tunnel_survey
+    survey = read_survey(folder)
+    assert len(survey.prism) == 2
+    crs = EngineeringCRS.from_settings(config.geodetic.crs)
+
+    def to_geodetic(east, north, normal_height):
+        lat, lon = crs.to_geodetic(east, north)
+        return lat, lon, normal_height + height_anomaly(config, east, north)
+
+    fixes = PositionFix.from_prism(survey.prism, survey.manifest.trolley.imu_to_prism_m, to_geodetic)
+    truth = read_nav_truth(folder / "truth" / "nav.npy")
+    outage = tomllib.loads((folder / "truth" / "errors.toml").read_text())["gnss_outages_s"]
+    options = FusionOptions(use_nhc=False)  # a weaker INS makes the fixes' effect plain
+    without = trajectory_errors(fuse(survey, options, ellipsoid=CGCS2000, output_every=4).trajectory, truth, CGCS2000)
+    result = fuse(survey, options, ellipsoid=CGCS2000, output_every=4, position_fixes=fixes)
+    with_fixes = trajectory_errors(result.trajectory, truth, CGCS2000)
+    assert result.statistics["position_fix"]["used"] == 2
+    assert max(with_fixes.max_in(outage)) < 0.5 * max(without.max_in(outage))
+    at_fix = np.abs(with_fixes.time_s[:, None] - survey.prism.time_s).min(axis=1) < 0.05
+    assert np.abs(with_fixes.ned_m[at_fix]).max() < 0.004

@@ -61,7 +61,7 @@ from insrail.nav.error_model import (
 )
 from insrail.nav.imu_gaps import bridge_gaps
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
-from insrail.nav.measurements import GnssPosition, GnssVelocity, NavSnapshot, OdometerNhc, Zupt
+from insrail.nav.measurements import GnssPosition, GnssVelocity, NavSnapshot, OdometerNhc, PositionFix, Zupt
 from insrail.nav.mechanization import euler_from_q_bn, lat_lon_from_q_ne, q_ne_from_lat_lon
 from insrail.nav.rotation import dcm_to_quat, euler_to_dcm, quat_multiply, quat_to_dcm, rotvec_to_quat
 from insrail.nav.trajectory import Trajectory
@@ -279,12 +279,16 @@ def fuse(
     profile: ImuProfile | None = None,
     ellipsoid: earth.Ellipsoid = earth.WGS84,
     output_every: int = 1,
+    position_fixes: PositionFix | None = None,
     progress: ProgressFn | None = None,
     cancel: CancelToken = None,
 ) -> FusionResult:
     """Fuse one survey's IMU, GNSS, odometer (NHC, ZUPT) into a trajectory.
 
-    output_every : the trajectories hold every n-th IMU epoch (1: the full IMU rate)
+    output_every   : the trajectories hold every n-th IMU epoch (1: the full IMU rate)
+    position_fixes : known positions of a point on the trolley (total-station prism on CPIII
+                     control), already transformed to geodetic coordinates by the caller,
+                     who knows the project's engineering CRS (see :func:`prism_fixes`)
     """
     step = StepProgress(progress)
     profile = profile or load_imu_profile(survey.manifest.imu_profile)
@@ -336,17 +340,23 @@ def fuse(
     nav_store = np.empty((n, 12))
     nav_store[: k0 + 1] = nav[:12]
 
-    # --- update schedule ----------------------------------------------------------------
+    # --- measurements and the update schedule ----------------------------------------------
+    gnss_pos = GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
+                            trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
+                            options.gnss_correlated_sigma_ned_m)
+    timed = [gnss_pos] if options.use_gnss else []
+    if options.use_gnss and options.use_gnss_velocity and gnss.vel_ned_mps is not None:
+        timed.append(GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m))
+    if position_fixes is not None:
+        timed.append(position_fixes)
+    # Each time-stamped observation is applied at the IMU epoch that closes its interval.
+    observations_at: dict[int, list] = {}
+    for meas in timed:
+        inside = np.flatnonzero((meas.time_s > t[k0]) & (meas.time_s <= t[-1]))
+        for i, e in zip(inside, np.searchsorted(t, meas.time_s[inside])):
+            observations_at.setdefault(int(e), []).append((meas, int(i)))
     every = max(int(round(1.0 / (options.update_rate_hz * dt[0]))), 1)
-    grid = np.arange(k0, n, every)
-    gnss_epoch = np.minimum(np.searchsorted(t, gnss.time_s[gnss_idx]), n - 1)
-    keep = gnss_epoch >= k0
-    gnss_idx, gnss_epoch = gnss_idx[keep], gnss_epoch[keep]
-    epochs = np.unique(np.concatenate([grid, gnss_epoch, [n - 1]]))
-    epochs = epochs[epochs >= k0]
-    gnss_at = {int(e): [] for e in np.unique(gnss_epoch)}
-    for i, e in zip(gnss_idx, gnss_epoch):
-        gnss_at[int(e)].append(int(i))
+    epochs = np.unique(np.concatenate([np.arange(k0, n, every), list(observations_at), [n - 1]])).astype(int)
 
     pulse = survey.odometer.pulse_length_m or 0.001
     speed, speed_sigma, speed_valid = _odometer_speeds(survey, t[epochs], pulse, options)
@@ -354,12 +364,6 @@ def fuse(
         t[epochs[1:]], speed, c_vb, trolley.imu_to_odometer_m, trolley.imu_to_reference_rail_m, speed_sigma,
         sigma_nhc_mps=options.nhc_sigma_mps, use_odometer=options.use_odometer, use_nhc=options.use_nhc,
     )
-    gnss_pos = GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
-                            trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
-                            options.gnss_correlated_sigma_ned_m)
-    gnss_vel = None
-    if options.use_gnss_velocity and gnss.vel_ned_mps is not None:
-        gnss_vel = GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m)
     zupt = Zupt(t, options.zupt_sigma_mps, gyro_white_noise=max(noise.arw, 1e-7))
     stop_start = np.array([s[0] for s in stops])
     stop_end = np.array([s[1] for s in stops])
@@ -408,11 +412,7 @@ def fuse(
             x = np.zeros(N_STATES)
             gnss_error *= math.exp(-seg / options.gnss_correlated_tau_s)  # the estimate follows its model
 
-            batch = []
-            if options.use_gnss:
-                batch += [(gnss_pos, i) for i in gnss_at.get(int(epochs[j]), [])]
-                if gnss_vel is not None:
-                    batch += [(gnss_vel, i) for i in gnss_at.get(int(epochs[j]), [])]
+            batch = list(observations_at.get(int(epochs[j]), ()))
             if (options.use_odometer or options.use_nhc) and speed_valid[j - 1]:
                 batch.append((odo_meas, j - 1))
             if options.use_zupt and at_rest(snap.time_s) and at_rest(snap.time_s - seg):

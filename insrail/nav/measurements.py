@@ -236,6 +236,13 @@ class PositionFix:
     lever_arm_m: np.ndarray
     name: str = "position_fix"
 
+    @classmethod
+    def from_prism(cls, prism, lever_arm_m, to_geodetic) -> "PositionFix":
+        """From total-station observations in the engineering frame; ``to_geodetic(east, north,
+        normal_height) -> (lat, lon, h)`` is the project's CRS and height model."""
+        lat, lon, h = to_geodetic(prism.east_m, prism.north_m, prism.height_m)
+        return cls(prism.time_s, np.asarray(lat), np.asarray(lon), np.asarray(h), prism.sigma_m, np.asarray(lever_arm_m))
+
     def model(self, nav: NavSnapshot, i: int):
         z, H = _position_rows(nav, self.time_s[i], self.lat[i], self.lon[i], self.h[i], self.lever_arm_m)
         return z, H, np.eye(3) * self.sigma_m[i] ** 2
