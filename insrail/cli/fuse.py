@@ -10,6 +10,7 @@ with its time and size, stops, alignment, options).
 from __future__ import annotations
 
 import argparse
+import math
 from dataclasses import asdict
 from pathlib import Path
 
@@ -25,6 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--imu-profile", help="IMU error profile name or .toml (default: the survey's)")
     p.add_argument("--rate", type=float, default=0.0, help="output rate [Hz] (default: the IMU rate)")
     p.add_argument("--ellipsoid", choices=("WGS84", "CGCS2000"), default="CGCS2000")
+    p.add_argument("--heading", type=float, help="initial heading of the IMU [deg] instead of gyrocompassing")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -42,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
         use_nhc=not (args.no_nhc or args.gnss_only),
         use_odometer=not args.gnss_only,
         use_zupt=not args.gnss_only,
+        initial_heading_rad=None if args.heading is None else math.radians(args.heading),
     )
     bar = TerminalProgress("fuse")
     survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m))
