@@ -145,3 +145,18 @@ def test_prism_fixes_on_cpiii_bound_the_error_in_a_gnss_outage(tunnel_survey):
     assert max(with_fixes.max_in(outage)) < 0.5 * max(without.max_in(outage))
     at_fix = np.abs(with_fixes.time_s[:, None] - survey.prism.time_s).min(axis=1) < 0.05
     assert np.abs(with_fixes.ned_m[at_fix]).max() < 0.004
+
+
+def test_a_survey_that_starts_moving_is_aligned_on_the_gnss_track(tmp_path):
+    from insrail.sim.scenario import preset
+    from insrail.sim.simulate import simulate
+
+    base = preset("short")
+    config = replace(base, motion=replace(base.motion, static_start_s=5.0, end_station_m=1650.0, stops=((1450.0, 20.0),)))
+    simulate(config, seed=2, out_dir=tmp_path / "moving", imu_format="npy")
+    result = fuse(read_survey(tmp_path / "moving"), ellipsoid=CGCS2000, output_every=4)
+    assert result.info["alignment"] == "gnss-track"
+    errors = trajectory_errors(result.trajectory, read_nav_truth(tmp_path / "moving" / "truth" / "nav.npy"), CGCS2000)
+    assert np.all(np.rad2deg(errors.rms_attitude_rad()) < [0.004, 0.004, 0.01])
+    assert errors.rms_horizontal_m() < 0.012
+    assert max(errors.lag_difference_sigma_m(5.0)) < 0.3e-3

@@ -88,3 +88,41 @@ def detect_stops(
         if t1 - t0 >= min_duration_s:
             intervals.append((float(t0), float(t1)))
     return intervals
+
+
+def track_alignment(
+    imu: ImuIncrements,
+    gnss_time_s: np.ndarray,
+    gnss_ned_m: np.ndarray,
+    odometer: OdometerData,
+    min_speed_mps: float = 0.2,
+    min_distance_m: float = 10.0,
+):
+    """Initial attitude for a survey that starts moving: (GNSS epoch index, roll, pitch,
+    heading) of the trolley frame.
+
+    Heading and pitch are the direction of the GNSS track over the first
+    ``min_distance_m`` of motion (10 m with 1 cm GNSS noise: about 0.1 deg); roll comes
+    from the mean specific force over the same stretch (a walking trolley accelerates by
+    a few cm/s^2: a few hundredths of a degree). ``gnss_ned_m`` are GNSS positions as
+    local NED metres. Raises ValueError when the survey never moves far enough.
+    """
+    d_ahead = np.interp(gnss_time_s + 0.5, odometer.time_s, odometer.distance_m)
+    d_behind = np.interp(gnss_time_s - 0.5, odometer.time_s, odometer.distance_m)
+    moving = np.flatnonzero(np.abs(d_ahead - d_behind) > min_speed_mps)
+    if moving.size == 0:
+        raise ValueError("track alignment: the trolley never moves faster than "
+                         f"{min_speed_mps} m/s (by the odometer)")
+    i0 = int(moving[0])
+    travelled = np.hypot(*(gnss_ned_m[i0:, :2] - gnss_ned_m[i0, :2]).T)
+    far = np.flatnonzero(travelled >= min_distance_m)
+    if far.size == 0:
+        raise ValueError(f"track alignment: the GNSS track never leaves a {min_distance_m:.0f} m circle")
+    i1 = i0 + int(far[0])
+    d = gnss_ned_m[i1] - gnss_ned_m[i0]
+    heading = np.arctan2(d[1], d[0])
+    pitch = np.arctan2(-d[2], np.hypot(d[0], d[1]))
+    k0, k1 = np.searchsorted(imu.time_s, gnss_time_s[[i0, i1]])
+    f = imu.dvel_mps[k0:k1].sum(axis=0)
+    roll = np.arctan2(-f[1], -f[2])
+    return i0, float(roll), float(pitch), float(heading)

@@ -41,7 +41,7 @@ from scipy.stats import chi2
 
 from insrail.io.survey import SurveyData
 from insrail.nav import _kernels, earth
-from insrail.nav.alignment import coarse_alignment, detect_stops
+from insrail.nav.alignment import coarse_alignment, detect_stops, track_alignment
 from insrail.nav.error_model import (
     ATT,
     BA,
@@ -72,7 +72,6 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 class FusionOptions:
     """What the filter uses and how much it trusts it."""
 
-    use_gnss: bool = True
     use_gnss_velocity: bool = True  # when the GNSS file has velocities
     use_odometer: bool = True
     use_nhc: bool = True
@@ -246,11 +245,64 @@ def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, gnss_error: n
     return odo_scale + dx[ODO]
 
 
-def _initial_covariance(profile: ImuProfile, options: FusionOptions, sigma_pos_ned) -> np.ndarray:
+@dataclass(frozen=True)
+class _Start:
+    """Initial state of the filter: IMU epoch, navigation vector and its 1-sigma."""
+
+    epoch: int
+    nav: np.ndarray
+    method: str
+    rpy_rad: tuple[float, float, float]
+    sigma_pos_ned_m: np.ndarray
+    sigma_vel_mps: float
+    sigma_level_rad: float
+    sigma_heading_rad: float
+
+
+def _initial_state(imu, gnss, gnss_idx, stops, odometer, c_vb, antenna_lever_m, options: FusionOptions, ell) -> _Start:
+    """Static coarse alignment when the survey starts at rest long enough, otherwise the
+    attitude of the GNSS track (heading overridden by ``options.initial_heading_rad``)."""
+    t = imu.time_s
+    static = stops[0] if stops and stops[0][0] <= t[0] + 5.0 else None
+    if static is not None and static[1] - static[0] >= options.min_static_s:
+        i0 = int(gnss_idx[0])
+        lat0 = gnss.lat_rad[i0]
+        roll, pitch, heading = coarse_alignment(imu, 1, int(np.searchsorted(t, static[1])), lat0, ell)
+        method, vel = "static", np.zeros(3)
+        sigma_vel, sigma_level, sigma_heading = 0.005, options.initial_sigma_level_rad, options.initial_sigma_heading_rad
+        mounting = np.eye(3)  # the static alignment gives the attitude of b itself
+    else:
+        lat_ref, lon_ref, h_ref = gnss.lat_rad[gnss_idx[0]], gnss.lon_rad[gnss_idx[0]], gnss.height_m[gnss_idx[0]]
+        r_m, r_n = earth.radii(lat_ref, ell)
+        ned = np.column_stack([(gnss.lat_rad[gnss_idx] - lat_ref) * (r_m + h_ref),
+                               (gnss.lon_rad[gnss_idx] - lon_ref) * (r_n + h_ref) * np.cos(lat_ref),
+                               -(gnss.height_m[gnss_idx] - h_ref)])
+        j0, roll, pitch, heading = track_alignment(imu, gnss.time_s[gnss_idx], ned, odometer)
+        i0 = int(gnss_idx[j0])
+        window = gnss.time_s[i0] + np.array([-0.5, 0.5])
+        speed = float(np.diff(np.interp(window, odometer.time_s, odometer.distance_m))[0])
+        method = "gnss-track"
+        vel = speed * np.array([np.cos(heading) * np.cos(pitch), np.sin(heading) * np.cos(pitch), -np.sin(pitch)])
+        sigma_vel, sigma_level, sigma_heading = 0.05, np.radians(0.5), np.radians(0.3)
+        mounting = c_vb  # the track gives the attitude of the trolley frame v
+    if options.initial_heading_rad is not None:
+        heading, sigma_heading = options.initial_heading_rad, options.initial_sigma_heading_rad
+    c_bn = euler_to_dcm(roll, pitch, heading) @ mounting
+    lat0, lon0, h0 = gnss.lat_rad[i0], gnss.lon_rad[i0], gnss.height_m[i0]
+    d_lat, d_lon, d_h = earth.ned_to_geodetic_delta(c_bn @ antenna_lever_m, lat0, h0, ell)
+    nav = _nav_from(lat0 - d_lat, lon0 - d_lon, h0 - d_h, vel, c_bn)
+    return _Start(
+        epoch=int(np.searchsorted(t, gnss.time_s[i0])), nav=nav, method=method, rpy_rad=(roll, pitch, heading),
+        sigma_pos_ned_m=np.maximum(gnss.sigma_ned_m[i0], 0.005), sigma_vel_mps=sigma_vel,
+        sigma_level_rad=sigma_level, sigma_heading_rad=sigma_heading,
+    )
+
+
+def _initial_covariance(profile: ImuProfile, options: FusionOptions, start: _Start) -> np.ndarray:
     sig = np.zeros(N_STATES)
-    sig[POS : POS + 3] = sigma_pos_ned
-    sig[VEL : VEL + 3] = 0.005
-    sig[ATT : ATT + 3] = [options.initial_sigma_level_rad, options.initial_sigma_level_rad, options.initial_sigma_heading_rad]
+    sig[POS : POS + 3] = start.sigma_pos_ned_m
+    sig[VEL : VEL + 3] = start.sigma_vel_mps
+    sig[ATT : ATT + 3] = [start.sigma_level_rad, start.sigma_level_rad, start.sigma_heading_rad]
     sig[BG : SA + 3] = initial_sensor_sigmas(profile)
     sig[ODO] = options.initial_sigma_odometer_scale
     sig[GNSS : GNSS + 3] = options.gnss_correlated_sigma_ned_m
@@ -304,39 +356,15 @@ def fuse(
     dt[0] = np.median(dt[1 : min(n, 1000)])
 
     gnss = survey.gnss
-    if not options.use_gnss:
-        gnss_idx = np.zeros(0, dtype=int)
-    else:
-        inside = (gnss.time_s > t[0]) & (gnss.time_s <= t[-1])
-        gnss_idx = np.flatnonzero(inside)
-        if gnss_idx.size == 0:
-            raise ValueError(
-                f"{gnss.source or 'GNSS'}: no GNSS epoch lies within the IMU data "
-                f"({t[0]:.3f} - {t[-1]:.3f} s of week); check the files and their time scales"
-            )
-
-    # --- static start and initial state ------------------------------------------------
-    stops = detect_stops(imu, survey.odometer) if (options.use_zupt or options.initial_heading_rad is None) else []
-    first_gnss = gnss_idx[0] if gnss_idx.size else None
-    if first_gnss is None:
-        raise ValueError("the filter needs GNSS positions for its initial position")
-    lat0, lon0, h0 = gnss.lat_rad[first_gnss], gnss.lon_rad[first_gnss], gnss.height_m[first_gnss]
-    static = stops[0] if stops and stops[0][0] <= t[0] + 5.0 else None
-    if static is None or static[1] - static[0] < options.min_static_s:
+    gnss_idx = np.flatnonzero((gnss.time_s > t[0]) & (gnss.time_s <= t[-1]))
+    if gnss_idx.size == 0:
         raise ValueError(
-            "the survey does not start with a static period of at least "
-            f"{options.min_static_s:.0f} s for the initial alignment"
+            f"{gnss.source or 'GNSS'}: no GNSS epoch lies within the IMU data "
+            f"({t[0]:.3f} - {t[-1]:.3f} s of week); check the files and their time scales"
         )
-    k_align_end = int(np.searchsorted(t, static[1]))
-    roll, pitch, heading = coarse_alignment(imu, 1, k_align_end, lat0, ellipsoid)
-    if options.initial_heading_rad is not None:
-        heading = options.initial_heading_rad
-    c_bn = euler_to_dcm(roll, pitch, heading)
-    # GNSS antenna -> IMU with the lever arm (NED metres -> geodetic).
-    lever_n = c_bn @ trolley.imu_to_antenna_m
-    d_lat, d_lon, d_h = earth.ned_to_geodetic_delta(lever_n, lat0, h0, ellipsoid)
-    nav = _nav_from(lat0 - d_lat, lon0 - d_lon, h0 - d_h, np.zeros(3), c_bn)
-    k0 = int(np.searchsorted(t, gnss.time_s[first_gnss]))  # filter starts at the first GNSS epoch
+    stops = detect_stops(imu, survey.odometer)
+    start = _initial_state(imu, gnss, gnss_idx, stops, survey.odometer, c_vb, trolley.imu_to_antenna_m, options, ellipsoid)
+    k0, nav = start.epoch, start.nav
     nav_store = np.empty((n, 12))
     nav_store[: k0 + 1] = nav[:12]
 
@@ -344,8 +372,8 @@ def fuse(
     gnss_pos = GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
                             trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
                             options.gnss_correlated_sigma_ned_m)
-    timed = [gnss_pos] if options.use_gnss else []
-    if options.use_gnss and options.use_gnss_velocity and gnss.vel_ned_mps is not None:
+    timed = [gnss_pos]
+    if options.use_gnss_velocity and gnss.vel_ned_mps is not None:
         timed.append(GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m))
     if position_fixes is not None:
         timed.append(position_fixes)
@@ -373,7 +401,7 @@ def fuse(
         return j >= 0 and time_s <= stop_end[j]
 
     # --- forward pass ---------------------------------------------------------------------
-    P = _initial_covariance(profile, options, np.maximum(gnss.sigma_ned_m[first_gnss], 0.005))
+    P = _initial_covariance(profile, options, start)
     sensor = np.zeros(12)
     gnss_error = np.zeros(3)
     odo_scale = 0.0
@@ -452,8 +480,8 @@ def fuse(
     step(1.0, "fusion done")
     statistics = {name: s.summary() for name, s in stats.items()}
     return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops),
-                        info={"update_epochs": m_epochs, "alignment_rpy_rad": (roll, pitch, heading),
-                              "warnings": warnings})
+                        info={"update_epochs": m_epochs, "alignment_rpy_rad": start.rpy_rad,
+                              "alignment": start.method, "warnings": warnings})
 
 
 def _rts(store: _SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):
