@@ -19,16 +19,16 @@ import numpy as np
 from numba import njit
 
 A = 6378137.0
-F = 1.0 / 298.257223563
-E2 = F * (2.0 - F)
 OMEGA = 7.292115e-5
 GAMMA_E, GAMMA_P = 9.7803253359, 9.8321849378
 GM = 3.986004418e14
 
 
 @njit(cache=True)
-def _gravity(r):
-    """Normal gravity vector (ECEF) at r: Somigliana plus free-air, along the ellipsoid normal."""
+def _gravity(r, F):
+    """Normal gravity vector (ECEF) at r: Somigliana plus free-air, along the ellipsoid normal
+    of the ellipsoid with flattening F (WGS84 and CGCS2000 differ only there)."""
+    E2 = F * (2.0 - F)
     p = math.hypot(r[0], r[1])
     lon = math.atan2(r[1], r[0])
     lat = math.atan2(r[2], p * (1.0 - E2))
@@ -60,7 +60,7 @@ def _rot(phi):
 
 
 @njit(cache=True)
-def integrate_ecef(time_s, dtheta, dvel, r0, v0, c_be0, dtheta_prev, dvel_prev):
+def integrate_ecef(time_s, dtheta, dvel, r0, v0, c_be0, dtheta_prev, dvel_prev, flattening):
     """ECEF positions (n-1, 3) at time_s[1:], from the state at time_s[0]; row k of the
     increments covers (time_s[k-1], time_s[k]]."""
     w = np.array([0.0, 0.0, OMEGA])
@@ -72,10 +72,10 @@ def integrate_ecef(time_s, dtheta, dvel, r0, v0, c_be0, dtheta_prev, dvel_prev):
         dth, dv = dtheta[k], dvel[k]
         dv_b = dv + 0.5 * np.cross(dth, dv) + (np.cross(pth, dv) + np.cross(pdv, dth)) / 12.0
         dv_f = c @ dv_b - 0.5 * np.cross(w, c @ dv) * dt
-        v_new = v + dv_f + (_gravity(r + 0.5 * v * dt) - 2.0 * np.cross(w, v)) * dt
+        v_new = v + dv_f + (_gravity(r + 0.5 * v * dt, flattening) - 2.0 * np.cross(w, v)) * dt
         for _ in range(2):
             v_mid = 0.5 * (v + v_new)
-            v_new = v + dv_f + (_gravity(r + 0.5 * v_mid * dt) - 2.0 * np.cross(w, v_mid)) * dt
+            v_new = v + dv_f + (_gravity(r + 0.5 * v_mid * dt, flattening) - 2.0 * np.cross(w, v_mid)) * dt
         r = r + 0.5 * (v + v_new) * dt
         v = v_new
         c = _rot(-w * dt) @ c @ _rot(dth + np.cross(pth, dth) / 12.0)

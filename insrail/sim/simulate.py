@@ -170,7 +170,7 @@ def simulate(
         check_cancel(cancel)
         sl = slice(start, min(start + CHUNK_EPOCHS, n))
         tt = t[sl]
-        d_theta, d_vel, d_wheel = kin.increments(tt - dt, tt, trolley.imu_to_odometer_m)
+        d_theta, d_vel, d_wheel = kin.increments(tt, dt, trolley.imu_to_odometer_m)
         dtheta[sl], dvel[sl] = sensors.corrupt_increments(
             rng_noise, profile_imu, imu_errors, sl, np.full(len(tt), dt), d_theta, d_vel
         )
