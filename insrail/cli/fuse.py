@@ -27,6 +27,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--rate", type=float, default=0.0, help="output rate [Hz] (default: the IMU rate)")
     p.add_argument("--ellipsoid", choices=("WGS84", "CGCS2000"), default="CGCS2000")
     p.add_argument("--heading", type=float, help="initial heading of the IMU [deg] instead of gyrocompassing")
+    p.add_argument("--gnss-sigma-scale", type=float, default=1.0, help="factor on the GNSS file's sigmas (default 1)")
+    p.add_argument("--gnss-sigma-floor", type=float, default=2.0, help="smallest GNSS sigma used [mm] (default 2)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -45,6 +47,8 @@ def run(args: argparse.Namespace) -> int:
         use_odometer=not args.gnss_only,
         use_zupt=not args.gnss_only,
         initial_heading_rad=None if args.heading is None else math.radians(args.heading),
+        gnss_sigma_scale=args.gnss_sigma_scale,
+        gnss_sigma_floor_m=args.gnss_sigma_floor / 1000.0,
     )
     bar = TerminalProgress("fuse")
     survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m))
