@@ -44,14 +44,12 @@ from insrail.nav import _kernels, earth
 from insrail.nav.alignment import coarse_alignment, detect_stops, track_alignment
 from insrail.nav.error_model import (
     ATT,
-    BA,
     BG,
     GNSS,
     N_STATES,
     ODO,
     POS,
     SA,
-    SG,
     VEL,
     ErrorModelNoise,
     discretise,

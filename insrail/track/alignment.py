@@ -246,7 +246,7 @@ class _Knots:
 
 
 def _build_knots(alignment: HorizontalAlignment) -> _Knots:
-    station, east, north = alignment.start_station_m, alignment.start_east_m, alignment.start_north_m
+    east, north = alignment.start_east_m, alignment.start_north_m
     azimuth = alignment.start_azimuth_rad
     rows = []
     placed = []
