@@ -38,8 +38,10 @@ ToEngineering = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray,
 
 _ELLIPSOIDS = {ell.name: ell for ell in (earth.WGS84, earth.CGCS2000)}
 
-#: Along-track base over which the curvature for the gauge curve correction is differenced [m].
-CURVATURE_BASE_M = 2.0
+#: Along-track base over which the path curvature for the gauge curve correction is differenced [m]:
+#: long enough to average out the curvature of the rail's own short-wave irregularities
+#: (1 mm at 5 m wavelength is a curvature of 1.6e-3 1/m, more than a 2000 m curve's).
+CURVATURE_BASE_M = 10.0
 
 
 @dataclass(frozen=True)
@@ -126,13 +128,16 @@ def rails_from_pose(
     gauge: GaugeData,
     to_engineering: ToEngineering,
     beam_wheel_spacing_m: float = 0.0,
+    curvature_per_m: np.ndarray | None = None,
     ellipsoid: earth.Ellipsoid | None = None,
 ) -> RailPoints:
     """Both rails and the centreline at every trajectory epoch (see the module docstring).
 
     ``beam_wheel_spacing_m`` > 0 applies the gauge curve correction
-    (:func:`gauge_curve_correction_m`) with the beam on the reference rail and the curvature of
-    the reference rail's measured path; 0 (default) leaves the readings as they are.
+    (:func:`gauge_curve_correction_m`) with the beam on the reference rail; the curvature per
+    epoch is ``curvature_per_m`` (e.g. the design's at each epoch's station, as the thesis does)
+    or, when None, that of the reference rail's measured path over :data:`CURVATURE_BASE_M`.
+    0 (default) leaves the readings as they are.
     """
     if trolley.reference_rail not in ("left", "right"):
         raise ValueError(f"trolley.reference_rail must be 'left' or 'right', not {trolley.reference_rail!r}")
@@ -165,7 +170,8 @@ def rails_from_pose(
 
     gauge_m = gauge_at_times(gauge, trajectory.time_s)
     if beam_wheel_spacing_m:
-        curvature = path_curvature_per_m(forward, ref[:, 0], ref[:, 1])
+        curvature = (path_curvature_per_m(forward, ref[:, 0], ref[:, 1]) if curvature_per_m is None
+                     else np.asarray(curvature_per_m, dtype=float))
         gauge_m = gauge_m + gauge_curve_correction_m(curvature, beam_wheel_spacing_m, trolley.reference_rail)
     side = 1.0 if trolley.reference_rail == "left" else -1.0
     other = engineering(ref_e + side * np.nan_to_num(gauge_m)[:, None] * cross_e)
