@@ -3,10 +3,11 @@
 import numpy as np
 import pytest
 
+from insrail.io.track_sensors import read_sleeper_times
 from insrail.track.alignment import Arc, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.deviations import design_rail_offsets, rail_deviations
 from insrail.track.profile import PVI, CantTable, VerticalProfile
-from insrail.track.sleeper_table import build_sleeper_table, regular_sleepers
+from insrail.track.sleeper_table import build_sleeper_table, reconstruct_track, regular_sleepers
 from insrail.track.sleepers import SleeperNumbering
 from track_truth import truth_reconstruction
 
@@ -116,3 +117,35 @@ def test_plan_only_design_gives_no_vertical_deviation():
     points = np.array([[1020.0, 2000.7, 50.0], [1030.0, 1999.3, 50.0]])
     lateral, vertical = rail_deviations(plan_only, points, points)
     assert np.isfinite(lateral).all() and np.isnan(vertical).all()
+
+
+def test_reconstruct_track_end_to_end(short_perfect_survey):
+    recon = truth_reconstruction(short_perfect_survey)
+    pulses = read_sleeper_times(short_perfect_survey / "sleepers.txt")
+    result = reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering,
+                               design=recon.design, pulses=pulses, first_number=0)
+    truth, tab = recon.sleepers, result.table
+    first = int(truth["index"][np.argmin(np.abs(truth["station"] - tab.station_m[0]))])
+    rows = tab.number + first
+    assert tab.valid.all() and np.array_equal(tab.detected, truth["detected"][rows].astype(bool))
+    lateral, vertical = expected_deviations(truth)
+    # Pulse stations carry the detector's timing jitter (mm along the track): no visible effect.
+    assert np.abs(tab.lateral_deviation_m - lateral[rows]).max() < 0.1 * MM
+    assert np.abs(tab.vertical_deviation_m - vertical[rows]).max() < 0.1 * MM
+    assert np.abs(tab.gauge_m - truth["gauge"][rows]).max() < 0.05 * MM
+    assert np.abs(tab.cant_m - truth["cant"][rows]).max() < 0.05 * MM
+
+
+def test_reconstruct_track_without_design_needs_a_start_station(short_perfect_survey):
+    recon = truth_reconstruction(short_perfect_survey)
+    with pytest.raises(ValueError, match="start station"):
+        reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering)
+    start = float(recon.nav["station_m"][0])
+    result = reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering,
+                               start_station_m=start)
+    tab = result.table
+    assert np.isnan(tab.lateral_deviation_m).all() and tab.valid[1:-1].all()
+    # Along-path stations: the sections found there are the true ones within a few millimetres.
+    truth = recon.track.sections(tab.station_m[tab.valid])
+    assert np.abs(tab.centre_enh_m[tab.valid] - truth.centre_enh_m).max() < 5 * MM
+    assert np.abs(tab.gauge_m[tab.valid] - truth.gauge_m).max() < 0.05 * MM

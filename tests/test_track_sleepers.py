@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from insrail.io.track_sensors import read_sleeper_times
 from insrail.track.chainage import epoch_station_track
-from insrail.track.sleepers import number_sleepers
+from insrail.track.sleepers import number_sleepers, sleeper_detector_ahead_m
 from track_truth import truth_reconstruction
 
 MM = 1e-3
@@ -20,7 +20,7 @@ def numbered(short_perfect_survey):
     recon = truth_reconstruction(short_perfect_survey)
     pulses = read_sleeper_times(short_perfect_survey / "sleepers.txt")
     t, s = epoch_station_track(recon.rails.time_s, recon.stations.reference_m)
-    numbering = number_sleepers(pulses.time_s, t, s, recon.detector_ahead_m, first_number=0)
+    numbering = number_sleepers(pulses.time_s, t, s, sleeper_detector_ahead_m(recon.trolley), first_number=0)
     errors = tomllib.loads((short_perfect_survey / "truth" / "errors.toml").read_text())
     return recon, numbering, np.array(errors["false_sleeper_pulse_times_s"])
 

@@ -13,7 +13,6 @@ import numpy as np
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.io.survey import TrolleyGeometry, read_manifest
 from insrail.io.types import GaugeData
-from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.trajectory import Trajectory
 from insrail.sim.scenario import ScenarioConfig, preset
 from insrail.sim.simulate import height_anomaly, true_track
@@ -43,12 +42,6 @@ class TruthReconstruction:
     def to_engineering(self, lat, lon, h):
         east, north = self.crs.to_plane(lat, lon)
         return east, north, h - height_anomaly(self.config, east, north)
-
-    @property
-    def detector_ahead_m(self) -> float:
-        """Along-track distance of the sleeper detector ahead of the reference point (as the simulator)."""
-        c_vb = euler_to_dcm(*self.trolley.mounting_rpy_rad)
-        return float((c_vb @ (self.trolley.imu_to_sleeper_detector_m - self.trolley.imu_to_reference_rail_m))[0])
 
 
 def trajectory_from_truth(nav: np.ndarray, ellipsoid_name: str) -> Trajectory:

@@ -12,12 +12,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from insrail.io.survey import TrolleyGeometry
+from insrail.io.types import GaugeData, SleeperPulses
+from insrail.nav.trajectory import Trajectory
 from insrail.track.alignment import DesignAlignment
-from insrail.track.chainage import RailStations, epoch_station_track
+from insrail.track.chainage import RailStations, epoch_station_track, stations_along_path, stations_on_design
 from insrail.track.deviations import CANT_BASE_M, NOMINAL_GAUGE_M, design_cant_m, rail_deviations
-from insrail.track.rails import RailPoints
+from insrail.track.rails import RailPoints, ToEngineering, rails_from_pose
 from insrail.track.resample import DEFAULT_WINDOW_M, interpolate_in_station, sliding_window_fit
-from insrail.track.sleepers import SleeperNumbering
+from insrail.track.sleepers import SleeperNumbering, number_sleepers, sleeper_detector_ahead_m
 
 
 @dataclass(frozen=True)
@@ -136,3 +139,44 @@ def build_sleeper_table(
         sigma_roll_rad=sigma_roll,
         valid=valid,
     )
+
+
+@dataclass(frozen=True)
+class TrackReconstruction:
+    """Everything the reconstruction produced, for reports and diagnostics."""
+
+    rails: RailPoints
+    stations: RailStations
+    sleepers: SleeperNumbering
+    table: SleeperTable
+
+
+def reconstruct_track(
+    trajectory: Trajectory,
+    trolley: TrolleyGeometry,
+    gauge: GaugeData,
+    to_engineering: ToEngineering,
+    design: DesignAlignment | None = None,
+    pulses: SleeperPulses | None = None,
+    start_station_m: float | None = None,
+    spacing_m: float = 0.625,
+    window_m: float = DEFAULT_WINDOW_M,
+    first_number: int = 1,
+    beam_wheel_spacing_m: float = 0.0,
+    design_gauge_m: float = NOMINAL_GAUGE_M,
+) -> TrackReconstruction:
+    """Rails from pose -> stations (on ``design``, else along the path from ``start_station_m``)
+    -> sleepers (numbered from ``pulses``, else a regular grid every ``spacing_m``) -> table."""
+    if design is None and start_station_m is None:
+        raise ValueError("without a design alignment the start station (start_station_m) must be given")
+    rails = rails_from_pose(trajectory, trolley, gauge, to_engineering, beam_wheel_spacing_m)
+    stations = stations_on_design(rails, design) if design is not None else stations_along_path(rails, start_station_m)
+    if pulses is None:
+        sleepers = regular_sleepers(rails, stations, spacing_m, first_number)
+    else:
+        t, s = epoch_station_track(rails.time_s, stations.reference_m)
+        sleepers = number_sleepers(pulses.time_s, t, s, sleeper_detector_ahead_m(trolley), spacing_m,
+                                   first_number=first_number)
+    table = build_sleeper_table(rails, stations, sleepers, design, window_m, design_gauge_m,
+                                trolley.rail_centre_spacing_m)
+    return TrackReconstruction(rails, stations, sleepers, table)

@@ -11,6 +11,9 @@ one:
   sleepers in between were missed and are inserted at equal steps;
 * otherwise (too short, or half-way between whole spacings): a false pulse, rejected.
 
+The tolerance grows by half for every sleeper beyond two in a gap (k > 2), since the local
+spacing error accumulates over a run of missed sleepers.
+
 The spacing is the nominal one, replaced by the median of the recent regular gaps once there
 are enough of them, so that a track laid at 0.6 m, or a station scale off by a few per mille,
 still numbers correctly. The tolerance must stay below half the smallest offset of a false
@@ -24,6 +27,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from insrail.io.survey import TrolleyGeometry
+from insrail.nav.rotation import euler_to_dcm
+
 #: Number of recent regular gaps whose median replaces the nominal spacing.
 SPACING_MEMORY = 15
 
@@ -34,8 +40,9 @@ class SleeperNumbering:
 
     Per sleeper (length m, ordered by station): ``number``, ``station_m`` (of the detector's
     sensing point over it), ``time_s`` (when the detector passed it), ``detected`` (False:
-    missed by the detector, inserted). Per pulse (length p, sorted by time):
-    ``pulse_time_s``, ``pulse_station_m``, ``pulse_accepted`` (False: rejected as false).
+    missed by the detector, inserted). Per pulse within the trajectory's time span (length p,
+    sorted by time): ``pulse_time_s``, ``pulse_station_m``, ``pulse_accepted`` (False: rejected
+    as false).
     """
 
     number: np.ndarray
@@ -58,6 +65,14 @@ class SleeperNumbering:
         return (f"{len(self.number)} sleepers numbered {self.number[0]}..{self.number[-1]} "
                 f"from {len(self.pulse_time_s)} pulses: {len(self.missed_numbers)} missed sleepers inserted, "
                 f"{int((~self.pulse_accepted).sum())} false pulses rejected")
+
+
+def sleeper_detector_ahead_m(trolley: TrolleyGeometry) -> float:
+    """Along-track distance [m] of the sleeper detector ahead of the reference-rail point
+    (x component in the trolley frame v of the lever-arm difference)."""
+    c_vb = euler_to_dcm(*np.asarray(trolley.mounting_rpy_rad, dtype=float))
+    lever = np.asarray(trolley.imu_to_sleeper_detector_m, dtype=float) - np.asarray(trolley.imu_to_reference_rail_m, dtype=float)
+    return float((c_vb @ lever)[0])
 
 
 def _walk(stations: np.ndarray, anchor: int, spacing_m: float, tolerance_m: float):
