@@ -38,6 +38,9 @@ ToEngineering = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray,
 
 _ELLIPSOIDS = {ell.name: ell for ell in (earth.WGS84, earth.CGCS2000)}
 
+#: Epochs converted at a time: bounds the memory of the per-epoch rotation matrices.
+CHUNK_EPOCHS = 200_000
+
 #: Along-track base over which the path curvature for the gauge curve correction is differenced [m]:
 #: long enough to average out the curvature of the rail's own short-wave irregularities
 #: (1 mm at 5 m wavelength is a curvature of 1.6e-3 1/m, more than a 2000 m curve's).
@@ -122,6 +125,36 @@ def path_curvature_per_m(forward_enh: np.ndarray, east_m: np.ndarray, north_m: n
     return np.where(span > 0.0, (ahead - behind) / np.where(span > 0.0, span, 1.0), 0.0)
 
 
+def _trolley_axes_enh(trajectory: Trajectory, part: slice, trolley: TrolleyGeometry,
+                      to_engineering: ToEngineering, ell: earth.Ellipsoid):
+    """Reference-rail point, the trolley's unit x and y axes in the engineering frame, and the
+    sine of the running plane's cross slope, for the epochs ``part``.
+
+    The axes are the grid images of 1 m steps from the rail point: the map is conformal and,
+    over the 1.4 m of a gauge, linear to 1e-7 m, so the other rail is the rail point plus the
+    gauge times the mapped y axis.
+    """
+    lat, lon, h = trajectory.lat_rad[part], trajectory.lon_rad[part], trajectory.height_m[part]
+    rpy = trajectory.rpy_rad[part]
+    c_nb = euler_to_dcm(rpy[:, 0], rpy[:, 1], rpy[:, 2])
+    c_eb = earth.dcm_ecef_from_ned(lat, lon) @ c_nb
+    # Trolley axes in b: rows of C_b^v are v's axes expressed in b.
+    c_vb = euler_to_dcm(*np.asarray(trolley.mounting_rpy_rad, dtype=float))
+    x_v_b, y_v_b = c_vb[0], c_vb[1]
+    ref_e = earth.geodetic_to_ecef(lat, lon, h, ell) + c_eb @ np.asarray(trolley.imu_to_reference_rail_m, dtype=float)
+
+    def engineering(points_e: np.ndarray) -> np.ndarray:
+        la, lo, hh = earth.ecef_to_geodetic(points_e, ell)
+        return np.column_stack(to_engineering(la, lo, hh))
+
+    ref = engineering(ref_e)
+    forward = engineering(ref_e + c_eb @ x_v_b) - ref
+    forward /= np.linalg.norm(forward, axis=1)[:, None]
+    cross = engineering(ref_e + c_eb @ y_v_b) - ref
+    sin_slope = np.clip((c_nb @ y_v_b)[:, 2], -1.0, 1.0)
+    return ref, forward, cross, sin_slope
+
+
 def rails_from_pose(
     trajectory: Trajectory,
     trolley: TrolleyGeometry,
@@ -144,29 +177,13 @@ def rails_from_pose(
     ell = ellipsoid or _ELLIPSOIDS.get(trajectory.ellipsoid_name)
     if ell is None:
         raise ValueError(f"unknown ellipsoid {trajectory.ellipsoid_name!r} of the trajectory; pass ellipsoid=")
-    lat, lon, h = trajectory.lat_rad, trajectory.lon_rad, trajectory.height_m
-    rpy = trajectory.rpy_rad
-    c_nb = euler_to_dcm(rpy[:, 0], rpy[:, 1], rpy[:, 2])
-    c_en = earth.dcm_ecef_from_ned(lat, lon)
-    c_eb = c_en @ c_nb
-    # Trolley axes in b: rows of C_b^v are v's axes expressed in b.
-    c_vb = euler_to_dcm(*np.asarray(trolley.mounting_rpy_rad, dtype=float))
-    x_v_b, y_v_b = c_vb[0], c_vb[1]
-
-    imu_e = earth.geodetic_to_ecef(lat, lon, h, ell)
-    ref_e = imu_e + c_eb @ np.asarray(trolley.imu_to_reference_rail_m, dtype=float)
-    cross_e = c_eb @ y_v_b
-    forward_e = c_eb @ x_v_b
-    sin_slope = np.clip((c_nb @ y_v_b)[:, 2], -1.0, 1.0)
-
-    def engineering(points_e: np.ndarray) -> np.ndarray:
-        la, lo, hh = earth.ecef_to_geodetic(points_e, ell)
-        return np.column_stack(to_engineering(la, lo, hh))
-
-    ref = engineering(ref_e)
-    # A point 1 m ahead along the trolley's x axis gives that axis in the (conformal) grid.
-    forward = engineering(ref_e + forward_e) - ref
-    forward /= np.linalg.norm(forward, axis=1)[:, None]
+    n = len(trajectory)
+    ref, forward, cross = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+    sin_slope = np.empty(n)
+    for start in range(0, n, CHUNK_EPOCHS):
+        part = slice(start, min(start + CHUNK_EPOCHS, n))
+        ref[part], forward[part], cross[part], sin_slope[part] = _trolley_axes_enh(
+            trajectory, part, trolley, to_engineering, ell)
 
     gauge_m = gauge_at_times(gauge, trajectory.time_s)
     if beam_wheel_spacing_m:
@@ -174,8 +191,7 @@ def rails_from_pose(
                      else np.asarray(curvature_per_m, dtype=float))
         gauge_m = gauge_m + gauge_curve_correction_m(curvature, beam_wheel_spacing_m, trolley.reference_rail)
     side = 1.0 if trolley.reference_rail == "left" else -1.0
-    other = engineering(ref_e + side * np.nan_to_num(gauge_m)[:, None] * cross_e)
-    other[np.isnan(gauge_m)] = np.nan
+    other = ref + side * gauge_m[:, None] * cross
     left, right = (ref, other) if side > 0 else (other, ref)
     cant = trolley.rail_centre_spacing_m * sin_slope
     return RailPoints(
