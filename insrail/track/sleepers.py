@@ -11,8 +11,8 @@ one:
   sleepers in between were missed and are inserted at equal steps;
 * otherwise (too short, or half-way between whole spacings): a false pulse, rejected.
 
-The tolerance grows by half for every sleeper beyond two in a gap (k > 2), since the local
-spacing error accumulates over a run of missed sleepers.
+For a gap of k > 2 sleepers the tolerance is scaled by k / 2: the local spacing error
+accumulates over a run of missed sleepers.
 
 The spacing is the nominal one, replaced by the median of the recent regular gaps once there
 are enough of them, so that a track laid at 0.6 m, or a station scale off by a few per mille,
@@ -144,8 +144,8 @@ def number_sleepers(
     accepted[:anchor + 1] |= back_accepted[::-1]
     steps = fwd_steps.copy()
     steps[:anchor] = 0
-    # A pulse before the anchor lies back_steps (of the pulse after it) sleepers below that one.
-    back_offsets = np.cumsum(back_steps)[::-1]  # sleepers from the anchor down to each pulse
+    # Mirrored walk: its cumulative steps count the sleepers from the anchor down to each pulse.
+    back_offsets = np.cumsum(back_steps)[::-1]
     numbers = np.zeros(len(stations), dtype=int)
     numbers[anchor:] = np.cumsum(steps[anchor:])
     numbers[:anchor + 1] = -back_offsets
