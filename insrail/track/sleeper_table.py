@@ -1,0 +1,182 @@
+"""The sleeper table: the measured track resampled at every sleeper, with its deviations.
+
+This is the contract between the reconstruction (rails, chainage, sleepers, resampling,
+deviations) and the irregularity / parameter / adjustment computations. One row per sleeper,
+ordered by station; lengths in metres, frames and signs as in :mod:`insrail.track` and
+:mod:`insrail.track.deviations`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from insrail.io.survey import TrolleyGeometry
+from insrail.io.types import GaugeData, SleeperPulses
+from insrail.nav.trajectory import Trajectory
+from insrail.track.alignment import DesignAlignment
+from insrail.track.chainage import RailStations, epoch_station_track, stations_along_path, stations_on_design
+from insrail.track.deviations import CANT_BASE_M, NOMINAL_GAUGE_M, design_cant_m, rail_deviations
+from insrail.track.rails import RailPoints, ToEngineering, rails_from_pose
+from insrail.track.resample import DEFAULT_WINDOW_M, interpolate_in_station, sliding_window_fit
+from insrail.track.sleepers import SleeperNumbering, number_sleepers, sleeper_detector_ahead_m
+
+
+@dataclass(frozen=True)
+class SleeperTable:
+    """Per sleeper (arrays of length n; (n, 3) = E, N, H; (n, 2) = [left, right]).
+
+    number            sleeper number (int)
+    station_m         continuous station of the sleeper (see :mod:`insrail.track`)
+    label             displayed chainage ("DK1+695.917") when a design gives the station equations, else ""
+    time_s            when the trolley passed it (GPS seconds of week)
+    detected          False where the sleeper detector missed it (inserted) or for a regular grid
+    centre_enh_m, left_rail_enh_m, right_rail_enh_m   resampled points (rail: top above the gauge face)
+    gauge_m           measured gauge
+    cant_m            measured cant, + left rail higher (1.5 m * sin(cross slope))
+    design_cant_m     design cant (0 without a design or a cant table)
+    lateral_deviation_m   (n, 2) + = rail to the RIGHT of its design (or fitted) position
+    vertical_deviation_m  (n, 2) + = rail ABOVE its design (or fitted) position
+    sigma_pos_ned_m   (n, 3) 1-sigma of the trajectory's position at ``time_s``
+    sigma_roll_rad    1-sigma of the roll at ``time_s``
+    valid             every quantity above is finite
+    """
+
+    number: np.ndarray
+    station_m: np.ndarray
+    label: tuple[str, ...]
+    time_s: np.ndarray
+    detected: np.ndarray
+    centre_enh_m: np.ndarray
+    left_rail_enh_m: np.ndarray
+    right_rail_enh_m: np.ndarray
+    gauge_m: np.ndarray
+    cant_m: np.ndarray
+    design_cant_m: np.ndarray
+    lateral_deviation_m: np.ndarray
+    vertical_deviation_m: np.ndarray
+    sigma_pos_ned_m: np.ndarray
+    sigma_roll_rad: np.ndarray
+    valid: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.number)
+
+
+def regular_sleepers(rails: RailPoints, stations: RailStations, spacing_m: float = 0.625,
+                     first_number: int = 1) -> SleeperNumbering:
+    """A regular grid of "sleepers" every ``spacing_m`` over the stations the survey covers, for
+    tracks without detector pulses; the grid starts at the first whole multiple of the spacing."""
+    t, s = epoch_station_track(rails.time_s, stations.reference_m)
+    first, last = np.ceil(s[0] / spacing_m), np.floor(s[-1] / spacing_m)
+    grid = np.arange(first, last + 1) * spacing_m
+    times = np.interp(grid, s, t)
+    return SleeperNumbering(
+        number=np.arange(len(grid)) + first_number,
+        station_m=grid,
+        time_s=times,
+        detected=np.zeros(len(grid), dtype=bool),
+        pulse_time_s=np.empty(0),
+        pulse_station_m=np.empty(0),
+        pulse_accepted=np.empty(0, dtype=bool),
+    )
+
+
+def build_sleeper_table(
+    rails: RailPoints,
+    stations: RailStations,
+    sleepers: SleeperNumbering,
+    design: DesignAlignment | None = None,
+    window_m: float = DEFAULT_WINDOW_M,
+    design_gauge_m: float = NOMINAL_GAUGE_M,
+    cant_base_m: float = CANT_BASE_M,
+) -> SleeperTable:
+    """Resample the dense rail points at the sleepers and compute the deviations from ``design``.
+
+    Each rail is fitted against its own stations (a rail point slightly ahead of the
+    centreline is not mistaken for the section at the centreline's station); gauge and cant,
+    measured at the trolley's reference cross-section, are interpolated in its station.
+    Without a design the deviations are NaN (a fitted alignment can be passed as ``design``).
+    """
+    at = sleepers.station_m
+    left = sliding_window_fit(stations.left_m, rails.left_rail_enh_m, at, window_m)
+    right = sliding_window_fit(stations.right_m, rails.right_rail_enh_m, at, window_m)
+    gauge = interpolate_in_station(stations.reference_m, rails.gauge_m, at)
+    cant = interpolate_in_station(stations.reference_m, rails.cant_m, at)
+    n = len(at)
+    if design is not None:
+        lateral, vertical = rail_deviations(design, left, right, design_gauge_m, cant_base_m)
+        design_cant = design_cant_m(design, at)
+        labels = tuple(design.station_equations.label(at)) if n else ()
+    else:
+        lateral = vertical = np.full((n, 2), np.nan)
+        design_cant = np.zeros(n)
+        labels = ("",) * n
+    sigma_pos = np.column_stack([np.interp(sleepers.time_s, rails.time_s, rails.sigma_pos_ned_m[:, i]) for i in range(3)])
+    sigma_roll = np.interp(sleepers.time_s, rails.time_s, rails.sigma_roll_rad)
+    valid = (np.all(np.isfinite(left), axis=1) & np.all(np.isfinite(right), axis=1) & np.isfinite(gauge)
+             & np.isfinite(cant))
+    if design is not None:
+        valid &= np.all(np.isfinite(lateral), axis=1)
+        if design.vertical is not None:
+            valid &= np.all(np.isfinite(vertical), axis=1)
+    return SleeperTable(
+        number=np.asarray(sleepers.number, dtype=int),
+        station_m=at,
+        label=labels,
+        time_s=sleepers.time_s,
+        detected=sleepers.detected,
+        centre_enh_m=0.5 * (left + right),
+        left_rail_enh_m=left,
+        right_rail_enh_m=right,
+        gauge_m=gauge,
+        cant_m=cant,
+        design_cant_m=design_cant,
+        lateral_deviation_m=lateral,
+        vertical_deviation_m=vertical,
+        sigma_pos_ned_m=sigma_pos,
+        sigma_roll_rad=sigma_roll,
+        valid=valid,
+    )
+
+
+@dataclass(frozen=True)
+class TrackReconstruction:
+    """Everything the reconstruction produced, for reports and diagnostics."""
+
+    rails: RailPoints
+    stations: RailStations
+    sleepers: SleeperNumbering
+    table: SleeperTable
+
+
+def reconstruct_track(
+    trajectory: Trajectory,
+    trolley: TrolleyGeometry,
+    gauge: GaugeData,
+    to_engineering: ToEngineering,
+    design: DesignAlignment | None = None,
+    pulses: SleeperPulses | None = None,
+    start_station_m: float | None = None,
+    spacing_m: float = 0.625,
+    window_m: float = DEFAULT_WINDOW_M,
+    first_number: int = 1,
+    beam_wheel_spacing_m: float = 0.0,
+    design_gauge_m: float = NOMINAL_GAUGE_M,
+) -> TrackReconstruction:
+    """Rails from pose -> stations (on ``design``, else along the path from ``start_station_m``)
+    -> sleepers (numbered from ``pulses``, else a regular grid every ``spacing_m``) -> table."""
+    if design is None and start_station_m is None:
+        raise ValueError("without a design alignment the start station (start_station_m) must be given")
+    rails = rails_from_pose(trajectory, trolley, gauge, to_engineering, beam_wheel_spacing_m)
+    stations = stations_on_design(rails, design) if design is not None else stations_along_path(rails, start_station_m)
+    if pulses is None:
+        sleepers = regular_sleepers(rails, stations, spacing_m, first_number)
+    else:
+        t, s = epoch_station_track(rails.time_s, stations.reference_m)
+        sleepers = number_sleepers(pulses.time_s, t, s, sleeper_detector_ahead_m(trolley), spacing_m,
+                                   first_number=first_number)
+    table = build_sleeper_table(rails, stations, sleepers, design, window_m, design_gauge_m,
+                                trolley.rail_centre_spacing_m)
+    return TrackReconstruction(rails, stations, sleepers, table)

@@ -1,0 +1,151 @@
+"""The sleeper table on the simulator truth: resampled rails, gauge, cant and deviations."""
+
+import numpy as np
+import pytest
+
+from insrail.io.track_sensors import read_sleeper_times
+from insrail.track.alignment import Arc, DesignAlignment, HorizontalAlignment, Line
+from insrail.track.deviations import design_rail_offsets, rail_deviations
+from insrail.track.profile import PVI, CantTable, VerticalProfile
+from insrail.track.sleeper_table import build_sleeper_table, reconstruct_track, regular_sleepers
+from insrail.track.sleepers import SleeperNumbering
+from track_truth import truth_reconstruction
+
+MM = 1e-3
+
+
+def expected_deviations(truth, design_gauge_m=1.435, base_m=1.5):
+    """Per-rail deviations implied by the injected centreline irregularities, gauge and cant
+    (docs/simulator.md geometry; see insrail.track.deviations)."""
+    g, c, dc = truth["gauge"], truth["cant"], truth["design_cant"]
+    across = g * np.sqrt(1 - (c / base_m) ** 2) - design_gauge_m * np.sqrt(1 - (dc / base_m) ** 2)
+    rise = (g * c - design_gauge_m * dc) / base_m
+    lateral = np.column_stack([truth["lateral"] - across / 2, truth["lateral"] + across / 2])
+    vertical = np.column_stack([truth["vertical"] + rise / 2, truth["vertical"] - rise / 2])
+    return lateral, vertical
+
+
+@pytest.fixture(scope="module")
+def table(short_perfect_survey):
+    recon = truth_reconstruction(short_perfect_survey)
+    truth = recon.sleepers
+    at_truth = SleeperNumbering(
+        number=truth["index"].astype(int), station_m=truth["station"], time_s=truth["pass_time"],
+        detected=truth["detected"].astype(bool), pulse_time_s=np.empty(0), pulse_station_m=np.empty(0),
+        pulse_accepted=np.empty(0, dtype=bool))
+    return recon, build_sleeper_table(recon.rails, recon.stations, at_truth, recon.design)
+
+
+def test_table_is_complete_and_labelled(table):
+    recon, tab = table
+    assert tab.valid.all() and len(tab) == len(recon.sleepers)
+    assert tab.label[0].startswith(("DK", "K")) and "+" in tab.label[0]
+
+
+def test_rails_resampled_at_the_sleepers(table):
+    recon, tab = table
+    truth = recon.sleepers
+    for name, column in (("left", tab.left_rail_enh_m), ("right", tab.right_rail_enh_m), ("centre", tab.centre_enh_m)):
+        expected = np.column_stack([truth[f"{name}_e"], truth[f"{name}_n"], truth[f"{name}_h"]])
+        # 0.625 m quadratic window: the shortest (3 m) irregularity waves leave ~0.03 mm.
+        assert np.abs(column - expected).max() < 0.1 * MM, name
+
+
+def test_station_of_the_resampled_centre_within_a_millimetre(table):
+    recon, tab = table
+    station, _ = recon.design.horizontal.station_offset(tab.centre_enh_m[:, 0], tab.centre_enh_m[:, 1])
+    assert np.abs(station - recon.sleepers["station"]).max() < 1 * MM
+
+
+def test_gauge_and_cant_to_five_hundredths_of_a_millimetre(table):
+    recon, tab = table
+    assert np.abs(tab.gauge_m - recon.sleepers["gauge"]).max() < 0.05 * MM
+    assert np.abs(tab.cant_m - recon.sleepers["cant"]).max() < 0.05 * MM
+    assert np.allclose(tab.design_cant_m, recon.sleepers["design_cant"], atol=1e-9)
+    assert np.abs(recon.sleepers["design_cant"]).max() > 0.05  # the curve is canted
+
+
+def test_deviations_equal_the_injected_irregularities(table):
+    recon, tab = table
+    lateral, vertical = expected_deviations(recon.sleepers)
+    assert np.abs(tab.lateral_deviation_m - lateral).max() < 0.1 * MM
+    assert np.abs(tab.vertical_deviation_m - vertical).max() < 0.1 * MM
+    assert np.abs(lateral).max() > 2 * MM  # the comparison is not trivially small
+
+
+def test_regular_grid_table_without_design(table):
+    recon, _ = table
+    sleepers = regular_sleepers(recon.rails, recon.stations, spacing_m=0.625)
+    assert np.allclose(np.diff(sleepers.station_m), 0.625)
+    tab = build_sleeper_table(recon.rails, recon.stations, sleepers)
+    assert np.isnan(tab.lateral_deviation_m).all() and tab.label[0] == ""
+    assert tab.valid[1:-1].all()
+    truth = recon.track.sections(sleepers.station_m[tab.valid])
+    assert np.abs(tab.left_rail_enh_m[tab.valid] - truth.left_rail_enh_m).max() < 0.1 * MM
+
+
+# ------------------------------------------------------------- sign conventions
+def _canted_straight():
+    horizontal = HorizontalAlignment(start_east_m=1000.0, start_north_m=2000.0, start_azimuth_rad=np.pi / 2,
+                                     elements=(Line(100.0), Arc(50.0, 500.0, "right"), Line(100.0)), start_station_m=0.0)
+    vertical = VerticalProfile((PVI(0.0, 50.0), PVI(250.0, 52.5)))
+    cant = CantTable(np.array([0.0, 250.0]), np.array([0.1, 0.1]))
+    return DesignAlignment(horizontal, vertical, cant)
+
+
+def test_deviation_signs():
+    design = _canted_straight()
+    s = np.array([20.0, 50.0, 80.0])
+    offsets, rises = design_rail_offsets(design, s)
+    height = design.vertical.elevation_at(s)
+    left = np.column_stack([*design.horizontal.point_at(s, offsets[:, 0]), height + rises[:, 0]])
+    right = np.column_stack([*design.horizontal.point_at(s, offsets[:, 1]), height + rises[:, 1]])
+    lateral, vertical = rail_deviations(design, left, right)
+    assert np.abs(lateral).max() < 1e-9 and np.abs(vertical).max() < 1e-9
+    # Heading east, right = south: move the right rail 1 mm south, lift the left rail 1 mm.
+    lateral, vertical = rail_deviations(design, left + [0, 0, 1e-3], right - [0, 1e-3, 0])
+    assert lateral[:, 1] == pytest.approx(1e-3, abs=1e-9) and lateral[:, 0] == pytest.approx(0, abs=1e-9)
+    assert vertical[:, 0] == pytest.approx(1e-3, abs=1e-9) and vertical[:, 1] == pytest.approx(0, abs=1e-9)
+    # Positive cant: the left design rail is the higher one, both sit 0.7175 cos(phi) off the centre.
+    assert rises[0, 0] == pytest.approx(0.7175 * 0.1 / 1.5) and rises[0, 1] == pytest.approx(-rises[0, 0])
+    assert offsets[0, 1] == pytest.approx(0.7175 * np.sqrt(1 - (0.1 / 1.5) ** 2))
+
+
+def test_plan_only_design_gives_no_vertical_deviation():
+    design = _canted_straight()
+    plan_only = DesignAlignment(design.horizontal)
+    points = np.array([[1020.0, 2000.7, 50.0], [1030.0, 1999.3, 50.0]])
+    lateral, vertical = rail_deviations(plan_only, points, points)
+    assert np.isfinite(lateral).all() and np.isnan(vertical).all()
+
+
+def test_reconstruct_track_end_to_end(short_perfect_survey):
+    recon = truth_reconstruction(short_perfect_survey)
+    pulses = read_sleeper_times(short_perfect_survey / "sleepers.txt")
+    result = reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering,
+                               design=recon.design, pulses=pulses, first_number=0)
+    truth, tab = recon.sleepers, result.table
+    first = int(truth["index"][np.argmin(np.abs(truth["station"] - tab.station_m[0]))])
+    rows = tab.number + first
+    assert tab.valid.all() and np.array_equal(tab.detected, truth["detected"][rows].astype(bool))
+    lateral, vertical = expected_deviations(truth)
+    # Pulse stations carry the detector's timing jitter (mm along the track): no visible effect.
+    assert np.abs(tab.lateral_deviation_m - lateral[rows]).max() < 0.1 * MM
+    assert np.abs(tab.vertical_deviation_m - vertical[rows]).max() < 0.1 * MM
+    assert np.abs(tab.gauge_m - truth["gauge"][rows]).max() < 0.05 * MM
+    assert np.abs(tab.cant_m - truth["cant"][rows]).max() < 0.05 * MM
+
+
+def test_reconstruct_track_without_design_needs_a_start_station(short_perfect_survey):
+    recon = truth_reconstruction(short_perfect_survey)
+    with pytest.raises(ValueError, match="start station"):
+        reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering)
+    start = float(recon.nav["station_m"][0])
+    result = reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering,
+                               start_station_m=start)
+    tab = result.table
+    assert np.isnan(tab.lateral_deviation_m).all() and tab.valid[1:-1].all()
+    # Along-path stations: the sections found there are the true ones within a few millimetres.
+    truth = recon.track.sections(tab.station_m[tab.valid])
+    assert np.abs(tab.centre_enh_m[tab.valid] - truth.centre_enh_m).max() < 5 * MM
+    assert np.abs(tab.gauge_m[tab.valid] - truth.gauge_m).max() < 0.05 * MM
