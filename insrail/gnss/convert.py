@@ -62,6 +62,8 @@ def _rnxopt():
 
 
 def _has_records(path: Path) -> bool:
+    if not path.exists():  # RTKLIB deletes outputs it wrote nothing to
+        return False
     text = path.read_text(encoding="ascii", errors="replace")
     _, _, body = text.partition("END OF HEADER")
     return bool(body.strip())

@@ -39,6 +39,10 @@ FORCED_OUTPUT_OPTIONS = {"out-solformat": "llh", "out-outhead": "on", "out-degfo
 _POLL_INTERVAL_S = 0.1
 
 
+class GnssProcessingError(RuntimeError):
+    """RTKLIB failed or crashed on inputs that passed insrail's checks."""
+
+
 class ApproximateBaseWarning(UserWarning):
     """The base position comes from the RINEX header (APPROX POSITION XYZ), good to metres only."""
 
@@ -243,7 +247,7 @@ def _run_child(options: dict[str, str], inputs: list[str], out_path: str, progre
     finally:
         errors.close()
     if error:
-        raise RuntimeError(f"GNSS post-processing failed: {error}")
+        raise GnssProcessingError(f"GNSS post-processing failed: {error}")
 
 
 def _written_fraction(out_path: str, first_s: float, span_s: float) -> float:
