@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from insrail.gnss import (ApproximateBaseWarning, BasePosition, OptionError, convert_to_rinex, ppk)
+from insrail.gnss import ApproximateBaseWarning, BasePosition, OptionError, convert_to_rinex, ppk
 from insrail.gnss.rinex import read_obs_info
 from insrail.io.errors import InputError
 from insrail.io.rtklib import read_rtklib_pos
@@ -138,7 +138,7 @@ def _split_rinex(path: Path) -> tuple[str, list[str]]:
     """(header, epoch blocks) of a RINEX 2 observation file."""
     text = path.read_text()
     header, _, body = text.partition("END OF HEADER\n")
-    starts = [m.start() for m in re.finditer(r"^ \d\d [ \d]\d [ \d]\d [ \d]\d [ \d]\d [ \d]\d\.\d{7}  0", body, re.M)]
+    starts = [m.start() for m in re.finditer(r"^ \d\d [ \d]\d [ \d]\d [ \d]\d [ \d]\d [ \d]\d\.\d{7}  0", body, re.MULTILINE)]
     return header + "END OF HEADER\n", [body[a:b] for a, b in zip(starts, starts[1:] + [len(body)])]
 
 

@@ -11,8 +11,8 @@ The trolley defaults live in ``resources/gnss/ppk_default.conf``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
-from typing import Mapping
 
 from insrail.io.errors import InputError
 from insrail.resources import resource

@@ -21,9 +21,9 @@ import queue
 import tempfile
 import time
 import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping, Sequence
 
 from insrail.gnss.options import OptionError, apply_options, load_options
 from insrail.gnss.qc import GnssQc, gnss_qc
@@ -32,7 +32,7 @@ from insrail.io.errors import InputError
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.timescale import calendar_to_week_seconds
 from insrail.io.types import GnssSolution
-from insrail.progress import CancelToken, Cancelled, ProgressFn, StepProgress, is_cancelled
+from insrail.progress import Cancelled, CancelToken, ProgressFn, StepProgress, is_cancelled
 
 # insrail reads lat/lon/height .pos files with RTKLIB's header; the user cannot change these.
 FORCED_OUTPUT_OPTIONS = {"out-solformat": "llh", "out-outhead": "on", "out-degform": "deg"}
@@ -66,8 +66,9 @@ class BasePosition:
 
     def __post_init__(self):
         geodetic = (self.lat_rad, self.lon_rad, self.height_m)
-        has_geodetic = all(v is not None for v in geodetic)
-        if has_geodetic == (self.ecef_m is not None) or (not has_geodetic and any(v is not None for v in geodetic)):
+        given = sum(v is not None for v in geodetic)
+        has_geodetic = given == len(geodetic)
+        if given not in (0, len(geodetic)) or has_geodetic == (self.ecef_m is not None):
             raise ValueError("BasePosition: give either lat_rad, lon_rad and height_m, or ecef_m")
         values = geodetic if has_geodetic else self.ecef_m
         if not all(math.isfinite(v) for v in values) or not math.isfinite(self.antenna_height_m):
@@ -77,7 +78,7 @@ class BasePosition:
 
     @classmethod
     def from_degrees(cls, lat_deg: float, lon_deg: float, height_m: float, antenna_height_m: float = 0.0,
-                     antenna_type: str = "") -> "BasePosition":
+                     antenna_type: str = "") -> BasePosition:
         return cls(math.radians(lat_deg), math.radians(lon_deg), height_m,
                    antenna_height_m=antenna_height_m, antenna_type=antenna_type)
 
@@ -126,7 +127,7 @@ def _run_postpos(options: dict[str, str], input_files: list[str], out_path: str,
         status = pyrtklib.postpos(pyrtklib.gtime_t(), pyrtklib.gtime_t(), 0.0, 0.0, prcopt, solopt, filopt,
                                   input_files, len(input_files), pyrtklib.Arr1Dchar(out_path), "", "")
         errors.put(None if status == 0 else f"RTKLIB postpos returned status {status}")
-    except Exception as err:  # the parent reports it; a child traceback would be lost
+    except Exception as err:  # noqa: BLE001 - any failure goes to the parent, which reports it
         errors.put(f"{type(err).__name__}: {err}")
 
 

@@ -59,8 +59,8 @@ class GnssQc:
 
     def report(self) -> str:
         """Plain-text report for the processing log and the terminal."""
-        lines = [f"epochs           : {self.epochs} over {self.last_s - self.first_s:.1f} s "
-                 f"(interval {self.interval_s:g} s)"]
+        lines = [(f"epochs           : {self.epochs} over {self.last_s - self.first_s:.1f} s "
+                 f"(interval {self.interval_s:g} s)")]
         for name, count in self.epochs_by_quality.items():
             share = 100.0 * count / self.epochs if self.epochs else 0.0
             lines.append(f"  {name:<15}: {count:7d}  {share:6.2f} %")

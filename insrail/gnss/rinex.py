@@ -19,8 +19,8 @@ from insrail.io.timescale import calendar_to_week_seconds
 
 SECONDS_PER_WEEK = 604800.0
 # Epoch lines: RINEX 3 "> 2005 04 02 00 00 30.0000000  0 12", RINEX 2 " 05  4  2  0  0 30.0000000  0  7G..".
-_EPOCH_RINEX3 = re.compile(r"^> (\d{4}) ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d\.\d+) +[0-6]", re.M)
-_EPOCH_RINEX2 = re.compile(r"^ ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d\.\d{7})  [0-6]", re.M)
+_EPOCH_RINEX3 = re.compile(r"^> (\d{4}) ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d\.\d+) +[0-6]", re.MULTILINE)
+_EPOCH_RINEX2 = re.compile(r"^ ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d) ([ \d]\d\.\d{7})  [0-6]", re.MULTILINE)
 
 
 @dataclass(frozen=True)
@@ -104,7 +104,7 @@ def check_navigation(path: str | Path) -> None:
     """InputError unless ``path`` is a RINEX navigation file with at least one record."""
     path = Path(path)
     header, body = _header(path)
-    version, file_type = _version_and_type(path, header)
+    _version, file_type = _version_and_type(path, header)
     if file_type not in ("N", "G", "H", "L", "C", "J", "I", "E", "B"):
         raise InputError(path, 1, f"expected a RINEX navigation file (type N, G, ...), found type {file_type!r}")
     if not body.strip():
