@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from insrail.gnss import ApproximateBaseWarning, BasePosition, OptionError, convert_to_rinex, ppk
+from insrail.gnss import ApproximateBaseWarning, BasePosition, LongBaselineWarning, OptionError, convert_to_rinex, ppk
 from insrail.gnss.rinex import read_obs_info
 from insrail.io.errors import InputError
 from insrail.io.rtklib import read_rtklib_pos
@@ -59,6 +59,7 @@ def test_kinematic_against_static(geonet, tmp_path):
     static = _run(geonet, tmp_path / "static.pos",
                   options_overrides={"pos1-posmode": "static", "out-solstatic": "single"})
     assert kinematic.base_from_header
+    assert kinematic.baseline_m == pytest.approx(3300, abs=100)  # README: about 3.3 km
     solution = kinematic.solution
     assert read_rtklib_pos(tmp_path / "kinematic.pos").time_s.tolist() == solution.time_s.tolist()
     assert len(solution) >= 110  # 1 h at 30 s, a few epochs without a common solution
@@ -210,3 +211,13 @@ def test_bad_options_and_cancel_leave_the_old_file(geonet, tmp_path):
         ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], out, cancel=lambda: True)
     assert out.read_text() == "previous result\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.pos"]
+
+
+def test_long_baseline_warns(geonet, tmp_path):
+    far = tuple(np.array(read_obs_info(geonet / BASE).approx_position_ecef_m) + [0.0, 20_000.0, 0.0])
+    out = tmp_path / "out.pos"
+    with pytest.warns(LongBaselineWarning, match=r"baseline \d+\.\d km is longer than the 15 km"), \
+            pytest.raises(Cancelled):
+        ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], out, base_position=BasePosition(ecef_m=far),
+            cancel=lambda: True)
+    _expect_nothing_written(tmp_path, out)

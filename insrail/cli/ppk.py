@@ -43,7 +43,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from insrail.gnss import ApproximateBaseWarning, BasePosition, GnssProcessingError, OptionError, ppk
+    from insrail.gnss import (ApproximateBaseWarning, BasePosition, GnssProcessingError, LongBaselineWarning,
+                              OptionError, ppk)
 
     if args.out.exists() and not args.force:
         raise FileExistsError(f"{args.out} exists; use --force to overwrite it")
@@ -56,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
         base = BasePosition.from_degrees(lat, lon, height, antenna_height_m=args.antenna_height)
     bar = TerminalProgress("ppk")
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ApproximateBaseWarning)  # printed below from result.warnings
+        for category in (ApproximateBaseWarning, LongBaselineWarning):  # printed below from result.warnings
+            warnings.simplefilter("ignore", category)
         try:
             result = ppk(args.rover, args.base, args.nav, args.out, base_position=base, config=args.config,
                          options_overrides=dict(args.set), precise_files=args.precise, progress=bar)

@@ -25,6 +25,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from insrail.gnss.options import OptionError, apply_options, load_options
 from insrail.gnss.qc import GnssQc, gnss_qc
 from insrail.gnss.rinex import RinexObsInfo, check_navigation, read_obs_info
@@ -32,15 +34,22 @@ from insrail.io.errors import InputError
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.timescale import calendar_to_week_seconds
 from insrail.io.types import GnssSolution
+from insrail.nav.earth import geodetic_to_ecef
 from insrail.progress import Cancelled, CancelToken, ProgressFn, StepProgress, is_cancelled
 
 # insrail reads lat/lon/height .pos files with RTKLIB's header; the user cannot change these.
 FORCED_OUTPUT_OPTIONS = {"out-solformat": "llh", "out-outhead": "on", "out-degform": "deg"}
 _POLL_INTERVAL_S = 0.1
+# Short-baseline PPK reaches 1-2 cm up to about 15 km (thesis seed 002, section 5.2.2.4).
+MAX_SHORT_BASELINE_M = 15_000.0
 
 
 class GnssProcessingError(RuntimeError):
     """RTKLIB failed or crashed on inputs that passed insrail's checks."""
+
+
+class LongBaselineWarning(UserWarning):
+    """Base and rover further apart than short-baseline PPK allows (MAX_SHORT_BASELINE_M)."""
 
 
 class ApproximateBaseWarning(UserWarning):
@@ -82,6 +91,12 @@ class BasePosition:
         return cls(math.radians(lat_deg), math.radians(lon_deg), height_m,
                    antenna_height_m=antenna_height_m, antenna_type=antenna_type)
 
+    def ecef(self) -> np.ndarray:
+        """ECEF of the antenna reference point [m] (WGS84)."""
+        if self.ecef_m is not None:
+            return np.array(self.ecef_m, dtype=float)
+        return geodetic_to_ecef(self.lat_rad, self.lon_rad, self.height_m)
+
     def rtklib_options(self) -> dict[str, str]:
         if self.ecef_m is not None:
             options = {"ant2-postype": "xyz", "ant2-pos1": repr(self.ecef_m[0]),
@@ -104,6 +119,7 @@ class PpkResult:
     qc        : quality summary
     options   : every RTKLIB option used (key -> value text)
     base_from_header : True when the base position is the approximate RINEX header one
+    baseline_m : base to rover header position distance (metre level), None when unknown
     warnings  : messages for the processing log
     """
 
@@ -114,6 +130,7 @@ class PpkResult:
     rover: RinexObsInfo
     base: RinexObsInfo
     base_from_header: bool
+    baseline_m: float | None
     warnings: tuple[str, ...]
     elapsed_s: float
 
@@ -198,6 +215,12 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
         warnings.warn(message, ApproximateBaseWarning, stacklevel=2)
         notes.append(message)
     base_from_header = options.get("ant2-postype") in ("rinexhead", "4")
+    baseline_m = _baseline_m(rover, base, base_position)
+    if baseline_m is not None and baseline_m > MAX_SHORT_BASELINE_M:
+        message = (f"baseline {baseline_m / 1e3:.1f} km is longer than the {MAX_SHORT_BASELINE_M / 1e3:.0f} km "
+                   "of short-baseline PPK: expect slower fixing and larger errors; use a nearer base")
+        warnings.warn(message, LongBaselineWarning, stacklevel=2)
+        notes.append(message)
 
     if not out_pos.parent.is_dir():
         raise InputError(out_pos, None, f"output folder {out_pos.parent} does not exist")
@@ -221,8 +244,16 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
     solution = read_rtklib_pos(out_pos)
     qc = gnss_qc(solution)
     report(1.0, f"fix rate {100 * qc.fix_rate:.1f} %")
-    return PpkResult(out_pos, solution, qc, options, rover, base, base_from_header, tuple(notes),
+    return PpkResult(out_pos, solution, qc, options, rover, base, base_from_header, baseline_m, tuple(notes),
                      time.monotonic() - started)
+
+
+def _baseline_m(rover: RinexObsInfo, base: RinexObsInfo, base_position: BasePosition | None) -> float | None:
+    """Base-rover distance from the rover's header position; None when either is unknown."""
+    base_ecef = base_position.ecef() if base_position is not None else base.approx_position_ecef_m
+    if rover.approx_position_ecef_m is None or base_ecef is None:
+        return None
+    return float(np.linalg.norm(np.subtract(rover.approx_position_ecef_m, base_ecef)))
 
 
 def _run_child(options: dict[str, str], inputs: list[str], out_path: str, progress: StepProgress,
