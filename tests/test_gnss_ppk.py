@@ -61,7 +61,8 @@ def test_kinematic_against_static(geonet, tmp_path):
     assert kinematic.base_from_header
     assert kinematic.baseline_m == pytest.approx(3300, abs=100)  # README: about 3.3 km
     solution = kinematic.solution
-    assert read_rtklib_pos(tmp_path / "kinematic.pos").time_s.tolist() == solution.time_s.tolist()
+    assert solution.source == tmp_path / "kinematic.pos"
+    assert read_rtklib_pos(solution.source).time_s.tolist() == solution.time_s.tolist()
     assert len(solution) >= 110  # 1 h at 30 s, a few epochs without a common solution
     fix_rate = kinematic.qc.fix_rate
     assert len(static.solution) == 1  # out-solstatic = single: the one static solution
@@ -207,6 +208,8 @@ def test_bad_options_and_cancel_leave_the_old_file(geonet, tmp_path):
         ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], out, options_overrides={"pos2-armode": "hold"})
     with pytest.raises(OptionError, match="out-solformat"):
         ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], out, options_overrides={"out-solformat": "xyz"})
+    with pytest.raises(OptionError, match="out-height"):
+        ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], out, options_overrides={"out-height": "1"})
     with pytest.raises(Cancelled), pytest.warns(ApproximateBaseWarning):
         ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], out, cancel=lambda: True)
     assert out.read_text() == "previous result\n"

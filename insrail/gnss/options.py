@@ -51,6 +51,15 @@ def _enum_choices(comment: str) -> dict[str, str]:
     return choices
 
 
+def same_value(key: str, a: str, b: str, table: Mapping[str, tuple[int, str]]) -> bool:
+    """True if two values of option ``key`` mean the same (an enumeration's name and number do)."""
+    fmt, comment = table[key]
+    if fmt == 3:
+        choices = _enum_choices(comment)
+        return choices.get(a) == choices.get(b)
+    return a == b
+
+
 def check_option(key: str, value: str, table: Mapping[str, tuple[int, str]]) -> str | None:
     """None if RTKLIB accepts ``key = value``, else what is wrong."""
     if key not in table:

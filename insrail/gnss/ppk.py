@@ -22,12 +22,12 @@ import tempfile
 import time
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
-from insrail.gnss.options import OptionError, apply_options, load_options
+from insrail.gnss.options import OptionError, apply_options, load_options, rtklib_option_table, same_value
 from insrail.gnss.qc import GnssQc, gnss_qc
 from insrail.gnss.rinex import RinexObsInfo, check_navigation, read_obs_info
 from insrail.io.errors import InputError
@@ -38,7 +38,8 @@ from insrail.nav.earth import geodetic_to_ecef
 from insrail.progress import Cancelled, CancelToken, ProgressFn, StepProgress, is_cancelled
 
 # insrail reads lat/lon/height .pos files with RTKLIB's header; the user cannot change these.
-FORCED_OUTPUT_OPTIONS = {"out-solformat": "llh", "out-outhead": "on", "out-degform": "deg"}
+FORCED_OUTPUT_OPTIONS = {"out-solformat": "llh", "out-outhead": "on", "out-degform": "deg",
+                         "out-height": "ellipsoidal"}
 _POLL_INTERVAL_S = 0.1
 # Short-baseline PPK reaches 1-2 cm up to about 15 km (thesis seed 002, section 5.2.2.4).
 MAX_SHORT_BASELINE_M = 15_000.0
@@ -195,7 +196,9 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
             raise InputError(path, None, "file not found")
 
     options = load_options(config, options_overrides)
-    forced = {k: v for k, v in FORCED_OUTPUT_OPTIONS.items() if options.get(k, v) != v}
+    table = rtklib_option_table()
+    forced = {k: options[k] for k, v in FORCED_OUTPUT_OPTIONS.items()
+              if k in options and not same_value(k, options[k], v, table)}
     if forced:
         raise OptionError(f"insrail needs {FORCED_OUTPUT_OPTIONS}: cannot use {forced}")
     options.update(FORCED_OUTPUT_OPTIONS)
@@ -236,12 +239,14 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
         except InputError as err:
             raise InputError(rover_obs, None, "RTKLIB produced no usable solution (check the navigation "
                              f"files, the time span and the options): {err.message}") from None
+        with open(tmp_name, "rb") as handle:  # on disk before it replaces the destination
+            os.fsync(handle.fileno())
         os.chmod(tmp_name, 0o644)
         os.replace(tmp_name, out_pos)
     finally:
         if os.path.exists(tmp_name):
             os.unlink(tmp_name)
-    solution = read_rtklib_pos(out_pos)
+    solution = replace(solution, source=out_pos)
     qc = gnss_qc(solution)
     report(1.0, f"fix rate {100 * qc.fix_rate:.1f} %")
     return PpkResult(out_pos, solution, qc, options, rover, base, base_from_header, baseline_m, tuple(notes),
