@@ -1,0 +1,309 @@
+"""Post-processed kinematic GNSS (PPK) of a rover against a base receiver, with RTKLIB.
+
+insrail checks the inputs (RINEX types, navigation data present, base and rover
+overlapping in time, a known base position), builds RTKLIB's options from the
+trolley defaults plus the user's overrides (:mod:`insrail.gnss.options`), and runs
+RTKLIB's ``postpos`` in a child process: RTKLIB keeps its options in static memory
+and cannot be interrupted, so a separate process keeps runs independent, lets the
+user cancel, and turns an RTKLIB crash into an error instead of a dead application.
+
+The result is an RTKLIB .pos (GPST, latitude/longitude/ellipsoidal height, RTKLIB's
+header) written to a temporary file next to the destination and renamed onto it
+only when complete and loadable by :func:`insrail.io.rtklib.read_rtklib_pos`.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+import os
+import queue
+import tempfile
+import time
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from insrail.gnss.options import OptionError, apply_options, load_options, rtklib_option_table, same_value
+from insrail.gnss.qc import GnssQc, gnss_qc
+from insrail.gnss.rinex import RinexObsInfo, check_navigation, read_obs_info
+from insrail.io.errors import InputError
+from insrail.io.rtklib import read_rtklib_pos
+from insrail.io.timescale import calendar_to_week_seconds
+from insrail.io.types import GnssSolution
+from insrail.nav.earth import geodetic_to_ecef
+from insrail.progress import Cancelled, CancelToken, ProgressFn, StepProgress, is_cancelled
+
+# insrail reads lat/lon/height .pos files with RTKLIB's header; the user cannot change these.
+FORCED_OUTPUT_OPTIONS = {"out-solformat": "llh", "out-outhead": "on", "out-degform": "deg",
+                         "out-height": "ellipsoidal"}
+_POLL_INTERVAL_S = 0.1
+# Short-baseline PPK reaches 1-2 cm up to about 15 km (thesis seed 002, section 5.2.2.4).
+MAX_SHORT_BASELINE_M = 15_000.0
+
+
+class GnssProcessingError(RuntimeError):
+    """RTKLIB failed or crashed on inputs that passed insrail's checks."""
+
+
+class LongBaselineWarning(UserWarning):
+    """Base and rover further apart than short-baseline PPK allows (MAX_SHORT_BASELINE_M)."""
+
+
+class ApproximateBaseWarning(UserWarning):
+    """The base position comes from the RINEX header (APPROX POSITION XYZ), good to metres only."""
+
+
+@dataclass(frozen=True)
+class BasePosition:
+    """Position of the base antenna's reference point (ARP) and its antenna.
+
+    Either geodetic (``lat_rad``, ``lon_rad``, ``height_m`` ellipsoidal, WGS84 / the
+    GNSS frame of the products) or ECEF (``ecef_m``). ``antenna_height_m`` is the
+    vertical offset from the surveyed mark to the ARP; ``antenna_type`` an ANTEX name
+    (used when an ANTEX file is configured with ``file-rcvantfile``).
+    """
+
+    lat_rad: float | None = None
+    lon_rad: float | None = None
+    height_m: float | None = None
+    ecef_m: tuple[float, float, float] | None = None
+    antenna_height_m: float = 0.0
+    antenna_type: str = ""
+
+    def __post_init__(self):
+        geodetic = (self.lat_rad, self.lon_rad, self.height_m)
+        given = sum(v is not None for v in geodetic)
+        has_geodetic = given == len(geodetic)
+        if given not in (0, len(geodetic)) or has_geodetic == (self.ecef_m is not None):
+            raise ValueError("BasePosition: give either lat_rad, lon_rad and height_m, or ecef_m")
+        values = geodetic if has_geodetic else self.ecef_m
+        if not all(math.isfinite(v) for v in values) or not math.isfinite(self.antenna_height_m):
+            raise ValueError(f"BasePosition: non-finite coordinate in {values}")
+        if has_geodetic and (abs(self.lat_rad) > math.pi / 2 or abs(self.lon_rad) > 2 * math.pi):
+            raise ValueError(f"BasePosition: latitude/longitude out of range: {self.lat_rad}, {self.lon_rad} rad")
+
+    @classmethod
+    def from_degrees(cls, lat_deg: float, lon_deg: float, height_m: float, antenna_height_m: float = 0.0,
+                     antenna_type: str = "") -> BasePosition:
+        return cls(math.radians(lat_deg), math.radians(lon_deg), height_m,
+                   antenna_height_m=antenna_height_m, antenna_type=antenna_type)
+
+    def ecef(self) -> np.ndarray:
+        """ECEF of the antenna reference point [m] (WGS84)."""
+        if self.ecef_m is not None:
+            return np.array(self.ecef_m, dtype=float)
+        return geodetic_to_ecef(self.lat_rad, self.lon_rad, self.height_m)
+
+    def rtklib_options(self) -> dict[str, str]:
+        if self.ecef_m is not None:
+            options = {"ant2-postype": "xyz", "ant2-pos1": repr(self.ecef_m[0]),
+                       "ant2-pos2": repr(self.ecef_m[1]), "ant2-pos3": repr(self.ecef_m[2])}
+        else:
+            options = {"ant2-postype": "llh", "ant2-pos1": repr(math.degrees(self.lat_rad)),
+                       "ant2-pos2": repr(math.degrees(self.lon_rad)), "ant2-pos3": repr(self.height_m)}
+        options["ant2-antdelu"] = repr(self.antenna_height_m)
+        if self.antenna_type:
+            options["ant2-anttype"] = self.antenna_type
+        return options
+
+
+@dataclass(frozen=True)
+class PpkResult:
+    """Outcome of :func:`ppk`.
+
+    out_pos   : the .pos file written
+    solution  : its contents as read back by read_rtklib_pos
+    qc        : quality summary
+    options   : every RTKLIB option used (key -> value text)
+    base_from_header : True when the base position is the approximate RINEX header one
+    baseline_m : base to rover header position distance (metre level), None when unknown
+    warnings  : messages for the processing log
+    """
+
+    out_pos: Path
+    solution: GnssSolution
+    qc: GnssQc
+    options: dict[str, str]
+    rover: RinexObsInfo
+    base: RinexObsInfo
+    base_from_header: bool
+    baseline_m: float | None
+    warnings: tuple[str, ...]
+    elapsed_s: float
+
+
+def _run_postpos(options: dict[str, str], input_files: list[str], out_path: str, errors) -> None:
+    """Child process: RTKLIB postpos over the whole observation span."""
+    import pyrtklib
+
+    try:
+        prcopt, solopt, filopt = apply_options(options)
+        status = pyrtklib.postpos(pyrtklib.gtime_t(), pyrtklib.gtime_t(), 0.0, 0.0, prcopt, solopt, filopt,
+                                  input_files, len(input_files), pyrtklib.Arr1Dchar(out_path), "", "")
+        errors.put(None if status == 0 else f"RTKLIB postpos returned status {status}")
+    except Exception as err:  # noqa: BLE001 - any failure goes to the parent, which reports it
+        errors.put(f"{type(err).__name__}: {err}")
+
+
+def _check_inputs(rover_obs: Path, base_obs: Path, nav_files: Sequence[Path]) -> tuple[RinexObsInfo, RinexObsInfo]:
+    rover = read_obs_info(rover_obs)
+    base = read_obs_info(base_obs)
+    if not nav_files:
+        raise InputError(rover_obs, None, "no navigation data: give at least one RINEX navigation file")
+    for path in nav_files:
+        check_navigation(path)
+    start, end = max(rover.first_s, base.first_s), min(rover.last_s, base.last_s)
+    if start >= end:
+        raise InputError(base_obs, None, "base and rover do not overlap in time: base "
+                         f"{_span(base)}, rover {rover_obs.name} {_span(rover)}")
+    return rover, base
+
+
+def _span(info: RinexObsInfo) -> str:
+    week = int(info.first_s // 604800)
+    return (f"GPS week {week} {info.first_s - 604800 * week:.0f} s .. "
+            f"{info.last_s - 604800 * week:.0f} s")
+
+
+def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | Path], out_pos: str | Path, *,
+        base_position: BasePosition | None = None, config: str | Path | None = None,
+        options_overrides: Mapping[str, object] | None = None, precise_files: Sequence[str | Path] = (),
+        progress: ProgressFn | None = None, cancel: CancelToken = None) -> PpkResult:
+    """Carrier-phase kinematic positioning of ``rover_obs`` against ``base_obs`` with RTKLIB.
+
+    nav_files         : RINEX navigation files (at least one)
+    base_position     : the base antenna's known position; None takes the RINEX header's
+                        APPROX POSITION XYZ, with an :class:`ApproximateBaseWarning`
+    config            : RTKLIB .conf (default ``resources/gnss/ppk_default.conf``)
+    options_overrides : any RTKLIB option, e.g. ``{"pos1-soltype": "forward",
+                        "pos2-armode": "continuous", "pos1-elmask": 10, "pos1-navsys": 1}``
+    precise_files     : SP3 / CLK products passed to RTKLIB with the navigation files
+    Raises InputError naming the file for bad input; nothing is left at ``out_pos``
+    (nor a temporary file) on any failure or on cancellation.
+    """
+    started = time.monotonic()
+    report = StepProgress(progress)
+    rover_obs, base_obs, out_pos = Path(rover_obs), Path(base_obs), Path(out_pos)
+    nav_paths = [Path(p) for p in nav_files]
+    report(0.0, "checking the input files")
+    rover, base = _check_inputs(rover_obs, base_obs, nav_paths)
+    for path in precise_files:
+        if not Path(path).is_file():
+            raise InputError(path, None, "file not found")
+
+    options = load_options(config, options_overrides)
+    table = rtklib_option_table()
+    forced = {k: options[k] for k, v in FORCED_OUTPUT_OPTIONS.items()
+              if k in options and not same_value(k, options[k], v, table)}
+    if forced:
+        raise OptionError(f"insrail needs {FORCED_OUTPUT_OPTIONS}: cannot use {forced}")
+    options.update(FORCED_OUTPUT_OPTIONS)
+    notes: list[str] = []
+    if base_position is not None:
+        options.update(base_position.rtklib_options())
+    elif options.get("ant2-postype", "rinexhead") not in ("rinexhead", "4"):
+        notes.append(f"base position from the RTKLIB options: ant2-postype = {options['ant2-postype']}")
+    else:
+        if base.approx_position_ecef_m is None:
+            raise InputError(base_obs, None, "unknown base position: the RINEX header has no APPROX POSITION XYZ; "
+                             "give the base position (control point coordinates)")
+        options["ant2-postype"] = "rinexhead"
+        message = (f"base position from the RINEX header of {base_obs.name} (APPROX POSITION XYZ "
+                   f"{base.approx_position_ecef_m}): approximate, metre level; every rover position "
+                   "carries its error. Give the control point's coordinates for survey work.")
+        warnings.warn(message, ApproximateBaseWarning, stacklevel=2)
+        notes.append(message)
+    base_from_header = options.get("ant2-postype") in ("rinexhead", "4")
+    baseline_m = _baseline_m(rover, base, base_position)
+    if baseline_m is not None and baseline_m > MAX_SHORT_BASELINE_M:
+        message = (f"baseline {baseline_m / 1e3:.1f} km is longer than the {MAX_SHORT_BASELINE_M / 1e3:.0f} km "
+                   "of short-baseline PPK: expect slower fixing and larger errors; use a nearer base")
+        warnings.warn(message, LongBaselineWarning, stacklevel=2)
+        notes.append(message)
+
+    if not out_pos.parent.is_dir():
+        raise InputError(out_pos, None, f"output folder {out_pos.parent} does not exist")
+    fd, tmp_name = tempfile.mkstemp(prefix=f".{out_pos.name}.", suffix=".tmp", dir=out_pos.parent)
+    os.close(fd)
+    try:
+        report(0.05, "RTKLIB post-processing")
+        inputs = [str(rover_obs), str(base_obs)] + [str(p) for p in nav_paths] + [str(p) for p in precise_files]
+        _run_child(options, inputs, tmp_name, report.sub(0.05, 0.9), cancel, rover)
+        report(0.9, "reading the solution")
+        try:
+            solution = read_rtklib_pos(tmp_name)
+        except InputError as err:
+            raise InputError(rover_obs, None, "RTKLIB produced no usable solution (check the navigation "
+                             f"files, the time span and the options): {err.message}") from None
+        with open(tmp_name, "rb") as handle:  # on disk before it replaces the destination
+            os.fsync(handle.fileno())
+        os.chmod(tmp_name, 0o644)
+        os.replace(tmp_name, out_pos)
+    finally:
+        if os.path.exists(tmp_name):
+            os.unlink(tmp_name)
+    solution = replace(solution, source=out_pos)
+    qc = gnss_qc(solution)
+    report(1.0, f"fix rate {100 * qc.fix_rate:.1f} %")
+    return PpkResult(out_pos, solution, qc, options, rover, base, base_from_header, baseline_m, tuple(notes),
+                     time.monotonic() - started)
+
+
+def _baseline_m(rover: RinexObsInfo, base: RinexObsInfo, base_position: BasePosition | None) -> float | None:
+    """Base-rover distance from the rover's header position; None when either is unknown."""
+    base_ecef = base_position.ecef() if base_position is not None else base.approx_position_ecef_m
+    if rover.approx_position_ecef_m is None or base_ecef is None:
+        return None
+    return float(np.linalg.norm(np.subtract(rover.approx_position_ecef_m, base_ecef)))
+
+
+def _run_child(options: dict[str, str], inputs: list[str], out_path: str, progress: StepProgress,
+               cancel: CancelToken, rover: RinexObsInfo) -> None:
+    """Run postpos in a spawned process; progress from the epochs written so far (forward runs)."""
+    context = multiprocessing.get_context("spawn")
+    errors = context.Queue()
+    child = context.Process(target=_run_postpos, args=(options, inputs, out_path, errors), daemon=True)
+    child.start()
+    span = max(rover.last_s - rover.first_s, 1.0)
+    try:
+        while child.is_alive():
+            if is_cancelled(cancel):
+                child.terminate()
+                child.join()
+                raise Cancelled("GNSS post-processing cancelled by the user")
+            progress(_written_fraction(out_path, rover.first_s, span), "RTKLIB post-processing")
+            child.join(_POLL_INTERVAL_S)
+        try:
+            error = errors.get(timeout=1.0)
+        except queue.Empty:
+            error = f"RTKLIB stopped unexpectedly (exit code {child.exitcode})"
+    finally:
+        errors.close()
+    if error:
+        raise GnssProcessingError(f"GNSS post-processing failed: {error}")
+
+
+def _written_fraction(out_path: str, first_s: float, span_s: float) -> float:
+    """Share of the rover span already in the output (0 until RTKLIB writes; combined mode writes at the end)."""
+    try:
+        with open(out_path, "rb") as handle:
+            handle.seek(0, os.SEEK_END)
+            size = handle.tell()
+            handle.seek(max(0, size - 400))
+            tail = handle.read().decode("ascii", errors="replace").splitlines()
+    except OSError:
+        return 0.0
+    for line in reversed(tail[1:]):
+        fields = line.split()
+        if len(fields) > 2 and "/" in fields[0]:
+            try:
+                date = [float(v) for v in fields[0].split("/") + fields[1].split(":")]
+            except ValueError:
+                return 0.0
+            week, seconds = calendar_to_week_seconds(*([value] for value in date))
+            return min(max((week * 604800 + float(seconds[0]) - first_s) / span_s, 0.0), 1.0)
+    return 0.0
