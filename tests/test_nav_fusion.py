@@ -160,3 +160,20 @@ def test_a_survey_that_starts_moving_is_aligned_on_the_gnss_track(tmp_path):
     assert np.all(np.rad2deg(errors.rms_attitude_rad()) < [0.004, 0.004, 0.01])
     assert errors.rms_horizontal_m() < 0.012
     assert max(errors.lag_difference_sigma_m(5.0)) < 0.3e-3
+
+
+def test_gnss_quality_policy_inflates_float_and_excludes_single(survey):
+    from insrail.nav.fusion import gnss_by_quality
+
+    gnss = survey.gnss
+    quality = np.ones(len(gnss), dtype=int)
+    quality[100:150] = 2
+    quality[300:310] = 5
+    mixed = replace(gnss, quality=quality)
+    kept, counts = gnss_by_quality(mixed, FusionOptions().gnss_quality_policy)
+    assert counts == {"fix": {"epochs": len(gnss) - 60, "sigma_factor": 1.0, "used": True},
+                      "float": {"epochs": 50, "sigma_factor": 3.0, "used": True},
+                      "single": {"epochs": 10, "sigma_factor": None, "used": False}}
+    assert len(kept) == len(gnss) - 10
+    assert np.allclose(kept.sigma_ned_m[100:150], 3.0 * gnss.sigma_ned_m[100:150])
+    assert not np.isin(gnss.time_s[300:310], kept.time_s).any()

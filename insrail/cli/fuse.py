@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
     from insrail.io.atomic import atomic_write
     from insrail.io.survey import read_survey
     from insrail.nav import earth
-    from insrail.nav.fusion import FusionOptions, fuse
+    from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, fuse
     from insrail.nav.imu_profile import load_imu_profile
     from insrail.nav.trajectory import save_trajectory, write_kfgins_imu_errors, write_kfgins_nav, write_kfgins_std
 
@@ -68,11 +68,13 @@ def run(args: argparse.Namespace) -> int:
     log = {
         "survey": str(args.survey.resolve()),
         "imu_profile": profile.name,
-        "options": {k: v for k, v in asdict(options).items() if v is not None},
+        "options": {k: v for k, v in asdict(options).items() if v is not None and k != "gnss_quality_policy"},
+        "gnss_quality_policy": {QUALITY_NAMES[q]: ("excluded" if f is None else f) for q, f in options.gnss_quality_policy},
         "alignment_rpy_deg": [float(a) * 57.29577951308232 for a in result.info["alignment_rpy_rad"]],
         "odometer_scale_ppm": float(traj.odometer_scale[-1] * 1e6),
         "stops_s": [list(s) for s in result.stops],
         "warnings": result.info["warnings"],
+        "gnss_quality": {k: {kk: vv for kk, vv in v.items() if vv is not None} for k, v in result.info["gnss_quality"].items()},
         "measurements": result.statistics,
         "rejected": [
             {"time_s": r.time_s, "measurement": r.measurement, "test_statistic": r.test_statistic,
@@ -87,6 +89,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"warning: {warning}")
     kind = "smoothed" if options.smoother else "forward"
     print(f"Fused {len(survey.imu):,} IMU epochs in {elapsed:.1f} s ({kind}); {len(result.rejections)} measurements rejected")
+    for quality, c in result.info["gnss_quality"].items():
+        how = f"used, sigma x {c['sigma_factor']:g}" if c["used"] else "excluded"
+        print(f"  GNSS {quality:8s} {c['epochs']:7d} epochs ({how})")
     for name, st in result.statistics.items():
         print(f"  {name:14s} used {st['used']:7d}  rejected {st['rejected']:4d}  mean NIS {st['mean_nis']:.2f}")
     print(f"  odometer scale {traj.odometer_scale[-1] * 1e6:+.0f} ppm; final 1-sigma N/E/D "

@@ -33,13 +33,14 @@ from __future__ import annotations
 
 import math
 import tempfile
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numba import njit
 from scipy.stats import chi2
 
 from insrail.io.survey import SurveyData
+from insrail.io.types import GnssSolution
 from insrail.nav import _kernels, earth
 from insrail.nav.alignment import coarse_alignment, detect_stops, track_alignment
 from insrail.nav.error_model import (
@@ -77,6 +78,11 @@ class FusionOptions:
     smoother: bool = True
     update_rate_hz: float = 10.0
     gnss_sigma_scale: float = 1.0
+    #: (RTKLIB quality flag, factor on its sigmas or None to exclude): 0 unknown, 1 fix, 2 float,
+    #: 3 SBAS, 4 DGPS, 5 single, 6 PPP. Float solutions are kept with inflated sigmas, single ones left out.
+    gnss_quality_policy: tuple[tuple[int, float | None], ...] = (
+        (0, 1.0), (1, 1.0), (2, 3.0), (3, 5.0), (4, 5.0), (5, None), (6, 2.0),
+    )
     gnss_sigma_floor_m: float = 0.002
     #: correlated part of the GNSS position error (Gauss-Markov): short-baseline PPK
     gnss_correlated_sigma_ned_m: tuple[float, float, float] = (0.005, 0.005, 0.010)
@@ -296,6 +302,38 @@ def _initial_state(imu, gnss, gnss_idx, stops, odometer, c_vb, antenna_lever_m, 
     )
 
 
+QUALITY_NAMES = {0: "unknown", 1: "fix", 2: "float", 3: "sbas", 4: "dgps", 5: "single", 6: "ppp"}
+
+
+def gnss_by_quality(gnss: GnssSolution, policy) -> tuple[GnssSolution, dict[str, dict]]:
+    """Apply the surveyor's choice per GNSS quality flag: keep with sigmas x factor, or exclude.
+
+    Returns the solution to use and, per quality present, {"epochs", "factor", "used"}.
+    """
+    factors = dict(policy)
+    keep = np.zeros(len(gnss), dtype=bool)
+    scale = np.ones(len(gnss))
+    counts = {}
+    for q in np.unique(gnss.quality):
+        mask = gnss.quality == q
+        factor = factors.get(int(q))
+        counts[QUALITY_NAMES.get(int(q), str(int(q)))] = {
+            "epochs": int(mask.sum()), "sigma_factor": factor, "used": factor is not None,
+        }
+        if factor is not None:
+            keep |= mask
+            scale[mask] = factor
+    sig_vel = None if gnss.sigma_vel_ned_mps is None else gnss.sigma_vel_ned_mps[keep] * scale[keep, None]
+    kept = replace(
+        gnss,
+        time_s=gnss.time_s[keep], lat_rad=gnss.lat_rad[keep], lon_rad=gnss.lon_rad[keep], height_m=gnss.height_m[keep],
+        sigma_ned_m=gnss.sigma_ned_m[keep] * scale[keep, None], quality=gnss.quality[keep], num_sats=gnss.num_sats[keep],
+        ratio=gnss.ratio[keep], vel_ned_mps=None if gnss.vel_ned_mps is None else gnss.vel_ned_mps[keep],
+        sigma_vel_ned_mps=sig_vel,
+    )
+    return kept, counts
+
+
 def _initial_covariance(profile: ImuProfile, options: FusionOptions, start: _Start) -> np.ndarray:
     sig = np.zeros(N_STATES)
     sig[POS : POS + 3] = start.sigma_pos_ned_m
@@ -353,7 +391,7 @@ def fuse(
     dt[1:] = np.diff(t)
     dt[0] = np.median(dt[1 : min(n, 1000)])
 
-    gnss = survey.gnss
+    gnss, gnss_quality = gnss_by_quality(survey.gnss, options.gnss_quality_policy)
     gnss_idx = np.flatnonzero((gnss.time_s > t[0]) & (gnss.time_s <= t[-1]))
     if gnss_idx.size == 0:
         raise ValueError(
@@ -479,7 +517,7 @@ def fuse(
     statistics = {name: s.summary() for name, s in stats.items()}
     return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops),
                         info={"update_epochs": m_epochs, "alignment_rpy_rad": start.rpy_rad,
-                              "alignment": start.method, "warnings": warnings})
+                              "alignment": start.method, "warnings": warnings, "gnss_quality": gnss_quality})
 
 
 def _rts(store: _SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):
