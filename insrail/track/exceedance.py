@@ -1,0 +1,192 @@
+"""Assess per-sleeper track geometry against a tolerance profile: values and exceedance runs.
+
+Inputs are the plain arrays of the sleeper table: ``station_m`` (n), ``lateral_deviation_m``
+and ``vertical_deviation_m`` (n, 2) with columns [left, right] (lateral + right, vertical + up),
+``gauge_m``, ``cant_m``, ``design_cant_m`` (n) and an optional ``valid`` mask (invalid
+sleepers become NaN before anything is computed, so no chord or base uses them).
+
+Every check of the profile produces one or more *channels* (a check on both rails and two
+directions gives four). An exceedance is a run of consecutive sleepers whose value lies
+outside the check's limits; it carries the chainage range, the signed peak, the limit the peak
+crosses and the first and last sleeper numbers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from insrail.track.irregularity import band_pass, check_series, differential_versine, versine
+from insrail.track.parameters import change_to_previous, difference_over_base
+from insrail.track.tolerance import Check, ToleranceProfile
+
+RAILS = ("left", "right")
+
+
+@dataclass(frozen=True)
+class SleeperGeometry:
+    """The per-sleeper arrays an assessment needs (SI units; NaN where not measured)."""
+
+    station_m: np.ndarray
+    lateral_deviation_m: np.ndarray  # (n, 2) [left, right], + right
+    vertical_deviation_m: np.ndarray  # (n, 2) [left, right], + up
+    gauge_m: np.ndarray
+    cant_m: np.ndarray  # + when the left rail is higher
+    design_cant_m: np.ndarray
+    sleeper_number: np.ndarray  # (n) int, as printed for the crews
+
+    @classmethod
+    def from_arrays(
+        cls,
+        station_m,
+        lateral_deviation_m,
+        vertical_deviation_m,
+        gauge_m,
+        cant_m,
+        design_cant_m=None,
+        valid=None,
+        sleeper_number=None,
+    ) -> "SleeperGeometry":
+        station = np.asarray(station_m, dtype=float)
+        n = station.size
+        check_series(station, np.zeros(n), "station_m")
+        arrays = {}
+        for name, raw, shape in (
+            ("lateral_deviation_m", lateral_deviation_m, (n, 2)),
+            ("vertical_deviation_m", vertical_deviation_m, (n, 2)),
+            ("gauge_m", gauge_m, (n,)),
+            ("cant_m", cant_m, (n,)),
+            ("design_cant_m", np.zeros(n) if design_cant_m is None else design_cant_m, (n,)),
+        ):
+            array = np.array(raw, dtype=float)
+            if array.shape != shape:
+                raise ValueError(f"{name}: expected shape {shape} (one row per sleeper), found {array.shape}")
+            arrays[name] = array
+        if valid is not None:
+            mask = np.asarray(valid, dtype=bool)
+            if mask.shape != (n,):
+                raise ValueError(f"valid: expected one flag per sleeper ({n}), found shape {mask.shape}")
+            for name in ("lateral_deviation_m", "vertical_deviation_m", "gauge_m", "cant_m"):
+                arrays[name][~mask] = np.nan
+        numbers = np.arange(1, n + 1) if sleeper_number is None else np.asarray(sleeper_number, dtype=int)
+        if numbers.shape != (n,):
+            raise ValueError(f"sleeper_number: expected one number per sleeper ({n}), found shape {numbers.shape}")
+        return cls(station_m=station, sleeper_number=numbers, **arrays)
+
+
+@dataclass(frozen=True)
+class Channel:
+    """Per-sleeper values of one check on one rail/direction (``rail`` "track" for both rails)."""
+
+    check: str
+    kind: str
+    rail: str
+    direction: str
+    values: np.ndarray  # m, or a ratio for rates
+    lower: float
+    upper: float
+
+
+@dataclass(frozen=True)
+class Exceedance:
+    check: str
+    kind: str
+    rail: str
+    direction: str
+    station_from_m: float
+    station_to_m: float
+    peak: float  # signed value of largest excess, m (ratio for rates)
+    limit: float  # the bound the peak crosses, same unit
+    first_index: int
+    last_index: int
+    first_sleeper: int
+    last_sleeper: int
+
+
+@dataclass(frozen=True)
+class Assessment:
+    profile: str
+    channels: tuple[Channel, ...]
+    exceedances: tuple[Exceedance, ...]
+
+    def channel(self, check: str, rail: str = "track", direction: str = "") -> Channel:
+        for channel in self.channels:
+            if (channel.check, channel.rail, channel.direction) == (check, rail, direction):
+                return channel
+        raise KeyError(f"no channel {check}/{rail}/{direction}")
+
+
+def _rail_signals(geometry: SleeperGeometry, check: Check, signal: Callable[[np.ndarray], np.ndarray]):
+    deviations = {"lateral": geometry.lateral_deviation_m, "vertical": geometry.vertical_deviation_m}
+    for direction in check.directions:
+        for column, rail in enumerate(RAILS):
+            yield rail, direction, signal(deviations[direction][:, column])
+
+
+def _track_signal(values: np.ndarray):
+    yield "track", "", values
+
+
+def _signals(geometry: SleeperGeometry, check: Check, nominal_gauge_m: float):
+    """(rail, direction, values) for every channel of ``check``."""
+    s = geometry.station_m
+    if check.kind == "gauge_deviation":
+        return _track_signal(geometry.gauge_m - nominal_gauge_m)
+    if check.kind == "gauge_change_rate":
+        if check.base_m is None:
+            return _track_signal(change_to_previous(s, geometry.gauge_m)[1])
+        return _track_signal(difference_over_base(s, geometry.gauge_m, check.base_m) / check.base_m)
+    cross_level = geometry.cant_m - geometry.design_cant_m
+    if check.kind == "cross_level":
+        return _track_signal(cross_level)
+    if check.kind == "twist":
+        return _track_signal(difference_over_base(s, cross_level if check.relative_to_design else geometry.cant_m, check.base_m))
+    if check.kind == "versine":
+        return _rail_signals(geometry, check, lambda d: versine(s, d, check.chord_m, check.back_m))
+    if check.kind == "differential_versine":
+        return _rail_signals(geometry, check, lambda d: differential_versine(s, d, check.chord_m, check.pair_m))
+    if check.kind == "band_peak":
+        return _rail_signals(geometry, check, lambda d: band_pass(s, d, check.band))
+    raise ValueError(f"check {check.name}: unknown kind {check.kind!r}")
+
+
+def exceedance_runs(values: np.ndarray, lower: float, upper: float) -> list[tuple[int, int, int]]:
+    """(first, last, peak index) of every run of consecutive entries outside [lower, upper]."""
+    with np.errstate(invalid="ignore"):
+        excess = np.fmax(values - upper, lower - values)
+    outside = excess > 0
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], outside.astype(np.int8), [0]])))
+    runs = []
+    for first, stop in zip(edges[::2], edges[1::2]):  # one iteration per run, not per sleeper
+        runs.append((int(first), int(stop - 1), int(first + np.argmax(excess[first:stop]))))
+    return runs
+
+
+def assess(geometry: SleeperGeometry, profile: ToleranceProfile) -> Assessment:
+    """Every check of ``profile`` on ``geometry``: channel values and exceedances in station order."""
+    channels = []
+    exceedances = []
+    for check in profile.checks:
+        for rail, direction, values in _signals(geometry, check, profile.nominal_gauge_m):
+            channels.append(Channel(check.name, check.kind, rail, direction, values, check.lower, check.upper))
+            for first, last, peak in exceedance_runs(values, check.lower, check.upper):
+                exceedances.append(
+                    Exceedance(
+                        check=check.name,
+                        kind=check.kind,
+                        rail=rail,
+                        direction=direction,
+                        station_from_m=float(geometry.station_m[first]),
+                        station_to_m=float(geometry.station_m[last]),
+                        peak=float(values[peak]),
+                        limit=check.upper if values[peak] > check.upper else check.lower,
+                        first_index=first,
+                        last_index=last,
+                        first_sleeper=int(geometry.sleeper_number[first]),
+                        last_sleeper=int(geometry.sleeper_number[last]),
+                    )
+                )
+    exceedances.sort(key=lambda e: (e.station_from_m, e.check, e.rail, e.direction))
+    return Assessment(profile.name, tuple(channels), tuple(exceedances))
