@@ -40,15 +40,19 @@ def test_ramps_give_exact_rates_and_twists(gauge_slope, cant_slope, design_slope
     assert np.isnan(result.gauge_change_m[0])
 
 
-def test_twist_of_a_step_is_centred_on_it():
+def test_twist_of_a_step_and_of_a_single_sleeper():
     station = 0.625 * np.arange(40)
     cross_level = np.where(np.arange(40) >= 20, 2e-3, 0.0)
     twist = difference_over_base(station, cross_level, 3.0)
-    # The step is a ramp between sleepers 19 and 20 (11.875-12.5 m); a base s +- 1.5 m touches it
-    # for 10.375 < s < 14.0, i.e. sleepers 17..22.
-    assert np.flatnonzero(np.abs(twist) > 0).tolist() == list(range(17, 23))
-    assert np.nanmax(twist) == pytest.approx(2e-3)
-    assert np.isnan(twist[:2]).all() and np.isnan(twist[-2:]).all()
+    # The step is a ramp between sleepers 19 and 20 (11.875-12.5 m). A 3 m base spans all of it
+    # when it starts at sleepers 16..19 or ends at 20..23, and touches it from sleeper 15 to 24.
+    assert np.flatnonzero(np.abs(twist) > 0).tolist() == list(range(15, 25))
+    np.testing.assert_allclose(twist[16:24], 2e-3)
+    spike = np.zeros(40)
+    spike[20] = 2.5e-3
+    twist = difference_over_base(station, spike, 3.0)
+    assert np.abs(twist[20]) == pytest.approx(2.5e-3)  # the defect sleeper is never diluted
+    assert np.isfinite(twist).all()  # near the ends one of the two bases still fits
 
 
 def test_bad_inputs_are_named():

@@ -4,9 +4,11 @@ Inputs are plain arrays at the sleepers (``station_m`` increasing; NaN marks an 
 sleeper). Cant is positive when the left rail is higher (see :mod:`insrail.track`); all
 values are in metres, rates are dimensionless (1/1500 = 0.000667).
 
-Quantities over a base length b are *centred*: q(s) = f(s + b/2) - f(s - b/2), assigned to the
-middle of the base, with f interpolated linearly between sleepers (sleepers are not exactly
-b/2 apart). They are NaN where the base leaves the data or spans a gap.
+Quantities over a base length b (twist, gauge change rate) are anchored at a measured sleeper:
+the base ends at the sleeper, f(s) - f(s - b), or starts there, f(s + b) - f(s); the sleeper
+gets the one of larger magnitude. The far end is interpolated linearly (sleepers are not
+exactly b apart), but the sleeper's own value is never diluted, so a defect at one sleeper
+shows its full size. NaN where neither base fits inside valid data.
 """
 
 from __future__ import annotations
@@ -23,13 +25,15 @@ NOMINAL_GAUGE_M = 1.435
 def difference_over_base(
     station_m: np.ndarray, values: np.ndarray, base_m: float, max_gap_m: float = DEFAULT_MAX_GAP_M
 ) -> np.ndarray:
-    """f(s + base/2) - f(s - base/2) at every station (same unit as ``values``)."""
+    """Signed difference of ``values`` over a base ending or starting at each station, whichever
+    is larger in magnitude (same unit as ``values``; forward difference sign in both cases)."""
     station, data = check_series(station_m, values, "difference_over_base")
     if base_m <= 0:
         raise ValueError(f"base length must be positive, found {base_m} m")
-    ahead = interpolate_valid(station, data, station + base_m / 2.0, max_gap_m)
-    behind = interpolate_valid(station, data, station - base_m / 2.0, max_gap_m)
-    return ahead - behind
+    ending = data - interpolate_valid(station, data, station - base_m, max_gap_m)
+    starting = interpolate_valid(station, data, station + base_m, max_gap_m) - data
+    take_starting = np.isnan(ending) | (np.abs(starting) > np.abs(ending))
+    return np.where(take_starting, starting, ending)
 
 
 def change_to_previous(station_m: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
