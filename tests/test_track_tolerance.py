@@ -8,7 +8,7 @@ import pytest
 from insrail.track.exceedance import SleeperGeometry, assess, exceedance_runs
 from insrail.track.tolerance import (
     DEFAULT_PROFILE,
-    ToleranceProfileError,
+    SettingsFileError,
     copy_tolerance_profile,
     load_tolerance_profile,
     shipped_tolerance_profiles,
@@ -67,7 +67,7 @@ def test_profile_errors_name_file_key_and_expectation(tmp_path, change, key, mes
     assert old in VALID
     path = tmp_path / "mine.toml"
     path.write_text(VALID.replace(old, new, 1), encoding="utf-8")
-    with pytest.raises(ToleranceProfileError, match=message) as info:
+    with pytest.raises(SettingsFileError, match=message) as info:
         load_tolerance_profile(path)
     assert info.value.key == key and info.value.path == path and str(path) in str(info.value)
 
@@ -78,12 +78,12 @@ def test_ratio_strings_and_broken_files(tmp_path):
     (check,) = load_tolerance_profile(path).checks
     assert check.base_m is None and check.upper == pytest.approx(1e-3) and check.lower == pytest.approx(-1e-3)
     path.write_text('[checks.rate]\nkind = "gauge_change_rate"\nbase_m = 2.5\nmax_abs_ratio = "1/x"\n')
-    with pytest.raises(ToleranceProfileError, match="ratio like"):
+    with pytest.raises(SettingsFileError, match="ratio like"):
         load_tolerance_profile(path)
     path.write_text("[checks\n")
-    with pytest.raises(ToleranceProfileError, match="not valid TOML"):
+    with pytest.raises(SettingsFileError, match="not valid TOML"):
         load_tolerance_profile(path)
-    with pytest.raises(ToleranceProfileError, match="shipped: .*cn_hsr_ballastless"):
+    with pytest.raises(SettingsFileError, match="shipped: .*cn_hsr_ballastless"):
         load_tolerance_profile("no_such_profile")
 
 

@@ -18,7 +18,8 @@ File layout::
     directions = ["lateral", "vertical"]
     max_abs_mm = 2.0              # or lower_mm / upper_mm (one of them may be omitted)
 
-Every problem is reported as ``ToleranceProfileError(path, key path, message)``.
+Every problem is reported as ``SettingsFileError(path, key path, message)`` (also used for the
+fastener types of :mod:`insrail.track.adjustment`).
 """
 
 from __future__ import annotations
@@ -56,8 +57,9 @@ REQUIRED = {
 _SCALE = {"mm": 1e-3, "ratio": 1.0}
 
 
-class ToleranceProfileError(ValueError):
-    """A tolerance profile that cannot be used: file, key path inside it, what was expected."""
+class SettingsFileError(ValueError):
+    """A settings file (tolerance profile, fastener type) that cannot be used: file, key path
+    inside it, what was expected."""
 
     def __init__(self, path: Path | str, key: str, message: str):
         self.path = Path(path)
@@ -97,11 +99,11 @@ class ToleranceProfile:
     path: Path
 
 
-def _number(path: Path, key: str, raw: object, positive: bool = False) -> float:
+def read_number(path: Path, key: str, raw: object, positive: bool = False) -> float:
     if isinstance(raw, bool) or not isinstance(raw, (int, float)) or not math.isfinite(raw):
-        raise ToleranceProfileError(path, key, f"expected a number, found {raw!r}")
+        raise SettingsFileError(path, key, f"expected a number, found {raw!r}")
     if positive and raw <= 0:
-        raise ToleranceProfileError(path, key, f"expected a positive number, found {raw!r}")
+        raise SettingsFileError(path, key, f"expected a positive number, found {raw!r}")
     return float(raw)
 
 
@@ -112,72 +114,72 @@ def _ratio(path: Path, key: str, raw: object) -> float:
         try:
             value = float(numerator) / float(denominator) if slash else float(raw)
         except (ValueError, ZeroDivisionError):
-            raise ToleranceProfileError(path, key, f'expected a number or a ratio like "1/1500", found {raw!r}') from None
-        return _number(path, key, value)
-    return _number(path, key, raw)
+            raise SettingsFileError(path, key, f'expected a number or a ratio like "1/1500", found {raw!r}') from None
+        return read_number(path, key, value)
+    return read_number(path, key, raw)
 
 
 def _limits(path: Path, key: str, table: dict, unit: str) -> tuple[float, float]:
-    read = _ratio if unit == "ratio" else _number
+    read = _ratio if unit == "ratio" else read_number
     names = {f"max_abs_{unit}", f"lower_{unit}", f"upper_{unit}"}
     given = names & table.keys()
     if f"max_abs_{unit}" in given:
         if len(given) > 1:
-            raise ToleranceProfileError(path, key, f"give either max_abs_{unit} or lower_{unit}/upper_{unit}, not both")
+            raise SettingsFileError(path, key, f"give either max_abs_{unit} or lower_{unit}/upper_{unit}, not both")
         limit = read(path, f"{key}.max_abs_{unit}", table[f"max_abs_{unit}"])
         if limit <= 0:
-            raise ToleranceProfileError(path, f"{key}.max_abs_{unit}", f"expected a positive limit, found {limit}")
+            raise SettingsFileError(path, f"{key}.max_abs_{unit}", f"expected a positive limit, found {limit}")
         return -limit * _SCALE[unit], limit * _SCALE[unit]
     if not given:
-        raise ToleranceProfileError(path, key, f"no limit: expected max_abs_{unit} or lower_{unit}/upper_{unit}")
+        raise SettingsFileError(path, key, f"no limit: expected max_abs_{unit} or lower_{unit}/upper_{unit}")
     lower = read(path, f"{key}.lower_{unit}", table[f"lower_{unit}"]) if f"lower_{unit}" in given else -math.inf
     upper = read(path, f"{key}.upper_{unit}", table[f"upper_{unit}"]) if f"upper_{unit}" in given else math.inf
     if not lower < upper:
-        raise ToleranceProfileError(path, key, f"lower_{unit} ({lower}) must be below upper_{unit} ({upper})")
+        raise SettingsFileError(path, key, f"lower_{unit} ({lower}) must be below upper_{unit} ({upper})")
     return lower * _SCALE[unit], upper * _SCALE[unit]
 
 
 def _check(path: Path, name: str, table: object) -> Check:
     key = f"checks.{name}"
     if not isinstance(table, dict):
-        raise ToleranceProfileError(path, key, "expected a table")
+        raise SettingsFileError(path, key, "expected a table")
     kind = table.get("kind")
     if kind not in KINDS:
-        raise ToleranceProfileError(path, f"{key}.kind", f"expected one of {', '.join(KINDS)}, found {kind!r}")
+        raise SettingsFileError(path, f"{key}.kind", f"expected one of {', '.join(KINDS)}, found {kind!r}")
     unit, parameters = KINDS[kind]
     allowed = parameters | {"kind", "note", f"max_abs_{unit}", f"lower_{unit}", f"upper_{unit}"}
     unknown = sorted(set(table) - allowed)
     if unknown:
-        raise ToleranceProfileError(
+        raise SettingsFileError(
             path, f"{key}.{unknown[0]}", f"not a setting of a {kind} check (expected {', '.join(sorted(allowed))})"
         )
     for required in REQUIRED.get(kind, ()):
         if required not in table:
-            raise ToleranceProfileError(path, f"{key}.{required}", f"a {kind} check needs {required}")
+            raise SettingsFileError(path, f"{key}.{required}", f"a {kind} check needs {required}")
     lower, upper = _limits(path, key, table, unit)
     fields: dict[str, object] = {}
     for length in ("chord_m", "back_m", "pair_m"):
         if length in table:
-            fields[length] = _number(path, f"{key}.{length}", table[length], positive=True)
+            fields[length] = read_number(path, f"{key}.{length}", table[length], positive=True)
     if "base_m" in table:
         base = table["base_m"]
         if not (kind == "gauge_change_rate" and base == "sleeper"):
-            fields["base_m"] = _number(path, f"{key}.base_m", base, positive=True)
+            fields["base_m"] = read_number(path, f"{key}.base_m", base, positive=True)
     if kind == "gauge_change_rate" and "base_m" not in table:
-        raise ToleranceProfileError(path, f"{key}.base_m", 'expected a base length in metres or "sleeper"')
+        raise SettingsFileError(path, f"{key}.base_m", 'expected a base length in metres or "sleeper"')
     if "pair_m" in fields and not fields["pair_m"] < fields["chord_m"]:
-        raise ToleranceProfileError(path, f"{key}.pair_m", "the point pair must be shorter than the chord")
+        raise SettingsFileError(path, f"{key}.pair_m", "the point pair must be shorter than the chord")
     if "back_m" in fields and not fields["back_m"] < fields["chord_m"]:
-        raise ToleranceProfileError(path, f"{key}.back_m", "the back part must be shorter than the chord")
+        raise SettingsFileError(path, f"{key}.back_m", "the back part must be shorter than the chord")
     if "band" in table and table["band"] not in BANDS_M:
-        raise ToleranceProfileError(path, f"{key}.band", f"expected one of {', '.join(BANDS_M)}, found {table['band']!r}")
+        raise SettingsFileError(path, f"{key}.band", f"expected one of {', '.join(BANDS_M)}, found {table['band']!r}")
     if "relative_to_design" in table and not isinstance(table["relative_to_design"], bool):
-        raise ToleranceProfileError(path, f"{key}.relative_to_design", "expected true or false")
+        raise SettingsFileError(path, f"{key}.relative_to_design", "expected true or false")
     directions = table.get("directions", list(DIRECTIONS) if "directions" in parameters else [])
     if not isinstance(directions, list) or not set(directions) <= set(DIRECTIONS) or len(set(directions)) != len(directions):
-        raise ToleranceProfileError(path, f"{key}.directions", f'expected a list of "lateral" and/or "vertical", found {directions!r}')
+        raise SettingsFileError(path, f"{key}.directions", f'expected a list of "lateral" and/or "vertical", found {directions!r}')
     if "directions" in parameters and not directions:
-        raise ToleranceProfileError(path, f"{key}.directions", "expected at least one direction")
+        raise SettingsFileError(path, f"{key}.directions", "expected at least one direction")
     return Check(
         name=name,
         kind=kind,
@@ -204,26 +206,26 @@ def shipped_tolerance_profiles() -> list[str]:
 
 
 def load_tolerance_profile(name_or_path: str | Path = DEFAULT_PROFILE) -> ToleranceProfile:
-    """Load and validate a profile by shipped name or file path (ToleranceProfileError if unusable)."""
+    """Load and validate a profile by shipped name or file path (SettingsFileError if unusable)."""
     path = profile_path(name_or_path)
     if not path.is_file():
-        raise ToleranceProfileError(path, "", f"no such tolerance profile (shipped: {', '.join(shipped_tolerance_profiles())})")
+        raise SettingsFileError(path, "", f"no such tolerance profile (shipped: {', '.join(shipped_tolerance_profiles())})")
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as err:
-        raise ToleranceProfileError(path, "", f"not valid TOML: {err}") from None
+        raise SettingsFileError(path, "", f"not valid TOML: {err}") from None
     except UnicodeDecodeError as err:
-        raise ToleranceProfileError(path, "", f"not UTF-8 text: {err}") from None
+        raise SettingsFileError(path, "", f"not UTF-8 text: {err}") from None
     unknown = sorted(set(data) - {"name", "description", "source", "nominal_gauge_mm", "checks"})
     if unknown:
-        raise ToleranceProfileError(path, unknown[0], "unknown key (expected name, description, source, nominal_gauge_mm, checks)")
+        raise SettingsFileError(path, unknown[0], "unknown key (expected name, description, source, nominal_gauge_mm, checks)")
     for text_key in ("name", "description", "source"):
         if text_key in data and not isinstance(data[text_key], str):
-            raise ToleranceProfileError(path, text_key, f"expected text, found {data[text_key]!r}")
+            raise SettingsFileError(path, text_key, f"expected text, found {data[text_key]!r}")
     checks = data.get("checks")
     if not isinstance(checks, dict) or not checks:
-        raise ToleranceProfileError(path, "checks", "expected at least one [checks.<name>] table")
-    gauge = _number(path, "nominal_gauge_mm", data.get("nominal_gauge_mm", 1435.0), positive=True)
+        raise SettingsFileError(path, "checks", "expected at least one [checks.<name>] table")
+    gauge = read_number(path, "nominal_gauge_mm", data.get("nominal_gauge_mm", 1435.0), positive=True)
     return ToleranceProfile(
         name=data.get("name", path.stem),
         description=data.get("description", ""),
