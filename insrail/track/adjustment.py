@@ -275,29 +275,40 @@ def _optimise_channel(deviation, limits, low, high, step, chunk_sleepers):
         start = 0
         while True:
             stop = min(n, start + chunk)
-            cost, matrix, upper, bounds = _channel_programme(
-                deviation[start:stop], limits, low, high, step, fixed[start:stop]
-            )
-            result = milp(cost, constraints=LinearConstraint(matrix, -np.inf, upper), bounds=bounds)
-            if result.x is None:
-                raise RuntimeError(f"adjustment optimisation failed: {result.message}")
-            piece = stop - start
-            rounded = np.round(result.x[:piece] - result.x[piece : 2 * piece])
-            free = np.isnan(fixed[start:stop])
-            amounts[start:stop][free] = rounded[free]
+            as_is = deviation[start:stop] + step * np.nan_to_num(fixed[start:stop])
+            if not _passes(as_is, limits):  # otherwise leaving the free sleepers alone is optimal
+                cost, matrix, upper, bounds = _channel_programme(
+                    deviation[start:stop], limits, low, high, step, fixed[start:stop]
+                )
+                result = milp(cost, constraints=LinearConstraint(matrix, -np.inf, upper), bounds=bounds)
+                if result.x is None:
+                    raise RuntimeError(f"adjustment optimisation failed: {result.message}")
+                piece = stop - start
+                rounded = np.round(result.x[:piece] - result.x[piece : 2 * piece])
+                free = np.isnan(fixed[start:stop])
+                amounts[start:stop][free] = rounded[free]
             fixed[start:stop] = amounts[start:stop]
             if stop == n:
                 break
             start = stop - overlap
     amounts *= step
     unresolved = np.zeros(n, bool)
-    adjusted = deviation + amounts
-    for limit in limits:
-        value = differential_versine_grid(adjusted, limit.chord_steps, limit.pair_steps)
-        exceeding = np.flatnonzero(np.abs(value) > limit.limit_m + 1e-9)
+    for limit, exceeding in zip(limits, _exceeding_pairs(deviation + amounts, limits)):
         unresolved[exceeding] = True
         unresolved[exceeding + limit.pair_steps] = True
     return amounts, unresolved
+
+
+def _exceeding_pairs(deviation: np.ndarray, limits: list[ChordLimit]) -> list[np.ndarray]:
+    """First sleepers of the pairs exceeding each limit (any chord placement)."""
+    return [
+        np.flatnonzero(np.abs(differential_versine_grid(deviation, limit.chord_steps, limit.pair_steps)) > limit.limit_m + 1e-9)
+        for limit in limits
+    ]
+
+
+def _passes(deviation: np.ndarray, limits: list[ChordLimit]) -> bool:
+    return not any(pairs.size for pairs in _exceeding_pairs(deviation, limits))
 
 
 def optimise_adjustment(
