@@ -16,7 +16,11 @@ import time
 
 import numpy as np
 
-from insrail.track.adjustment import correct_to_line, load_fastener_type, optimise_adjustment
+from insrail.track.adjustment import (
+    correct_to_line,
+    load_fastener_type,
+    optimise_adjustment,
+)
 from insrail.track.exceedance import SleeperGeometry, assess
 from insrail.track.tolerance import load_tolerance_profile
 

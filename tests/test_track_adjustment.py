@@ -3,7 +3,11 @@
 import numpy as np
 import pytest
 
-from insrail.track.adjustment import correct_to_line, load_fastener_type, optimise_adjustment
+from insrail.track.adjustment import (
+    correct_to_line,
+    load_fastener_type,
+    optimise_adjustment,
+)
 from insrail.track.exceedance import SleeperGeometry, assess
 from insrail.track.tolerance import SettingsFileError, load_tolerance_profile
 

@@ -5,6 +5,8 @@ import math
 import numpy as np
 import pytest
 
+from insrail.sim.irregularity import random_irregularity
+from insrail.sim.scenario import preset
 from insrail.track.exceedance import SleeperGeometry, assess, exceedance_runs
 from insrail.track.tolerance import (
     DEFAULT_PROFILE,
@@ -158,3 +160,48 @@ def test_geometry_shapes_are_checked():
     station = np.arange(10.0)
     with pytest.raises(ValueError, match=r"lateral_deviation_m: expected shape \(10, 2\)"):
         SleeperGeometry.from_arrays(station, np.zeros(10), np.zeros((10, 2)), np.zeros(10), np.zeros(10))
+
+
+def test_simulator_bumps_above_the_limit_are_all_reported_at_their_chainage():
+    spec = preset("long").irregularities
+    station = 20100.0 + 0.625 * np.arange(16160)  # 10 km of sleepers
+    rng = np.random.default_rng(3)
+    offsets = {}
+    for direction, bumps in (("lateral", spec.lateral_bumps), ("vertical", spec.vertical_bumps)):
+        injected = random_irregularity(rng, 0.1e-3, bumps=bumps)
+        offsets[direction] = np.repeat(injected.evaluate(station)[:, None], 2, axis=1)  # the centreline moves both rails
+    geometry = SleeperGeometry.from_arrays(station, offsets["lateral"], offsets["vertical"], np.full(station.size, 1.435), np.zeros(station.size))
+    result = assess(geometry, load_tolerance_profile())
+    limit = 2e-3
+    checked = 0
+    for direction, bumps in (("lateral", spec.lateral_bumps), ("vertical", spec.vertical_bumps)):
+        for bump in bumps:
+            if abs(bump.amplitude_m) <= limit * 1.05:  # clear of the limit, so noise cannot decide
+                continue
+            peak = int(np.argmin(np.abs(station - (bump.start_station_m + bump.length_m / 2))))
+            for rail in ("left", "right"):
+                assert any(
+                    e.first_index - 1 <= peak <= e.last_index + 1
+                    for e in result.exceedances
+                    if (e.check, e.rail, e.direction) == ("short_wave_30m_5m", rail, direction)
+                ), (direction, rail, bump)
+            checked += 1
+    assert checked >= 8
+
+
+def test_every_check_kind_has_a_signal_and_en_template_finds_a_d1_dip():
+    from insrail.track.exceedance import SIGNALS
+    from insrail.track.tolerance import KINDS
+
+    assert set(SIGNALS) == set(KINDS)
+    station = 0.625 * np.arange(1600)
+    vertical = np.zeros((1600, 2))
+    x = (station - 500.0) / 8.0
+    dip = np.where((x > 0) & (x < 1), -25e-3 * np.sin(np.pi * x) ** 4, 0.0)
+    vertical += dip[:, None]
+    geometry = SleeperGeometry.from_arrays(station, np.zeros((1600, 2)), vertical, np.full(1600, 1.435), np.zeros(1600))
+    result = assess(geometry, load_tolerance_profile("en13848_5_template"))
+    runs = [e for e in result.exceedances if e.check == "level_d1"]
+    assert {e.rail for e in runs} == {"left", "right"}
+    assert all(e.peak < -16e-3 and 500.0 <= e.station_from_m <= e.station_to_m <= 508.0 for e in runs)
+    assert not [e for e in result.exceedances if e.check != "level_d1"]

@@ -159,6 +159,12 @@ def _window_rows(n_chords: int, block: int):
     return previous, following
 
 
+def _chord_terms(start: np.ndarray, m: int, r: float, n: int, sign: float) -> list:
+    """sign * (S(a) - S0) = sign * r (a[j+m] - a[j]) as (column, coefficient) pairs, a = a+ - a-
+    with a+ in columns 0..n-1 and a- in n..2n-1."""
+    return [(start + m, sign * r), (start + m + n, -sign * r), (start, -sign * r), (start + n, sign * r)]
+
+
 def _channel_programme(
     deviation: np.ndarray, limits: list[ChordLimit], low: float, high: float, step: float, fixed_steps: np.ndarray
 ):
@@ -203,14 +209,10 @@ def _channel_programme(
         variables += 4 * n_chords
         ok = np.flatnonzero(valid[:n_chords] & valid[m:])
         s0 = r * (d[ok + m] - d[ok])
-
-        def chord(sign):  # sign * (S(a) - S0) = sign * r (a[j+m] - a[j]) with a = a+ - a-
-            return [(ok + m, sign * r), (ok + m + n, -sign * r), (ok, -sign * r), (ok + n, sign * r)]
-
         for running in (pmax, qmax):  # S_j <= running maximum
-            add(chord(1.0) + [(running[ok], -1.0)], -s0)
+            add(_chord_terms(ok, m, r, n, 1.0) + [(running[ok], -1.0)], -s0)
         for running in (pmin, qmin):  # S_j >= running minimum
-            add(chord(-1.0) + [(running[ok], 1.0)], s0)
+            add(_chord_terms(ok, m, r, n, -1.0) + [(running[ok], 1.0)], s0)
         previous, following = _window_rows(n_chords, m - p + 1)
         chained = np.flatnonzero(previous >= 0)
         add([(pmax[previous[chained]], 1.0), (pmax[chained], -1.0)], np.zeros(chained.size))

@@ -13,12 +13,17 @@ crosses and the first and last sleeper numbers.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
-from insrail.track.irregularity import band_pass, check_series, differential_versine, versine
+from insrail.track.irregularity import (
+    band_pass,
+    check_series,
+    differential_versine,
+    versine,
+)
 from insrail.track.parameters import change_to_previous, difference_over_base
 from insrail.track.tolerance import Check, ToleranceProfile
 
@@ -48,7 +53,7 @@ class SleeperGeometry:
         design_cant_m=None,
         valid=None,
         sleeper_number=None,
-    ) -> "SleeperGeometry":
+    ) -> SleeperGeometry:
         station = np.asarray(station_m, dtype=float)
         n = station.size
         check_series(station, np.zeros(n), "station_m")
@@ -129,27 +134,36 @@ def _track_signal(values: np.ndarray):
     yield "track", "", values
 
 
-def _signals(geometry: SleeperGeometry, check: Check, nominal_gauge_m: float):
-    """(rail, direction, values) for every channel of ``check``."""
-    s = geometry.station_m
-    if check.kind == "gauge_deviation":
-        return _track_signal(geometry.gauge_m - nominal_gauge_m)
-    if check.kind == "gauge_change_rate":
-        if check.base_m is None:
-            return _track_signal(change_to_previous(s, geometry.gauge_m)[1])
-        return _track_signal(difference_over_base(s, geometry.gauge_m, check.base_m) / check.base_m)
-    cross_level = geometry.cant_m - geometry.design_cant_m
-    if check.kind == "cross_level":
-        return _track_signal(cross_level)
-    if check.kind == "twist":
-        return _track_signal(difference_over_base(s, cross_level if check.relative_to_design else geometry.cant_m, check.base_m))
-    if check.kind == "versine":
-        return _rail_signals(geometry, check, lambda d: versine(s, d, check.chord_m, check.back_m))
-    if check.kind == "differential_versine":
-        return _rail_signals(geometry, check, lambda d: differential_versine(s, d, check.chord_m, check.pair_m))
-    if check.kind == "band_peak":
-        return _rail_signals(geometry, check, lambda d: band_pass(s, d, check.band))
-    raise ValueError(f"check {check.name}: unknown kind {check.kind!r}")
+def _cross_level(geometry: SleeperGeometry) -> np.ndarray:
+    return geometry.cant_m - geometry.design_cant_m
+
+
+def _gauge_change_rate(geometry: SleeperGeometry, check: Check, nominal_gauge_m: float):
+    s, gauge = geometry.station_m, geometry.gauge_m
+    if check.base_m is None:
+        return _track_signal(change_to_previous(s, gauge)[1])
+    return _track_signal(difference_over_base(s, gauge, check.base_m) / check.base_m)
+
+
+def _twist(geometry: SleeperGeometry, check: Check, nominal_gauge_m: float):
+    cant = _cross_level(geometry) if check.relative_to_design else geometry.cant_m
+    return _track_signal(difference_over_base(geometry.station_m, cant, check.base_m))
+
+
+# kind -> function(geometry, check, nominal gauge) yielding (rail, direction, values) per channel
+SIGNALS = {
+    "gauge_deviation": lambda g, check, nominal: _track_signal(g.gauge_m - nominal),
+    "gauge_change_rate": _gauge_change_rate,
+    "cross_level": lambda g, check, nominal: _track_signal(_cross_level(g)),
+    "twist": _twist,
+    "versine": lambda g, check, nominal: _rail_signals(
+        g, check, lambda d: versine(g.station_m, d, check.chord_m, check.back_m)
+    ),
+    "differential_versine": lambda g, check, nominal: _rail_signals(
+        g, check, lambda d: differential_versine(g.station_m, d, check.chord_m, check.pair_m)
+    ),
+    "band_peak": lambda g, check, nominal: _rail_signals(g, check, lambda d: band_pass(g.station_m, d, check.band)),
+}
 
 
 def exceedance_runs(values: np.ndarray, lower: float, upper: float) -> list[tuple[int, int, int]]:
@@ -169,7 +183,7 @@ def assess(geometry: SleeperGeometry, profile: ToleranceProfile) -> Assessment:
     channels = []
     exceedances = []
     for check in profile.checks:
-        for rail, direction, values in _signals(geometry, check, profile.nominal_gauge_m):
+        for rail, direction, values in SIGNALS[check.kind](geometry, check, profile.nominal_gauge_m):
             channels.append(Channel(check.name, check.kind, rail, direction, values, check.lower, check.upper))
             for first, last, peak in exceedance_runs(values, check.lower, check.upper):
                 exceedances.append(

@@ -88,7 +88,7 @@ class UniformGrid:
         values: np.ndarray,
         spacing_m: float = SLEEPER_SPACING_M,
         max_gap_m: float = DEFAULT_MAX_GAP_M,
-    ) -> "UniformGrid":
+    ) -> UniformGrid:
         station, data = check_series(station_m, values, "resample")
         if spacing_m <= 0:
             raise ValueError(f"grid spacing must be positive, found {spacing_m}")
@@ -116,7 +116,7 @@ class UniformGrid:
             raise ValueError(
                 f"{what} = {length_m} m must be a positive multiple of the grid spacing {self.spacing_m} m"
             )
-        return int(round(count))
+        return round(count)
 
 
 def versine(

@@ -17,7 +17,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from insrail.track.irregularity import DEFAULT_MAX_GAP_M, check_series, interpolate_valid
+from insrail.track.irregularity import (
+    DEFAULT_MAX_GAP_M,
+    check_series,
+    interpolate_valid,
+)
 
 NOMINAL_GAUGE_M = 1.435
 
