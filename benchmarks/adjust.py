@@ -1,6 +1,6 @@
 """Irregularity assessment speed and adjustment quality on a synthetic 10 km line.
 
-    python benchmarks/adjust.py [--km 10] [--seed 1] [--chunk 1600] [--roughness-mm 0.1]
+    python benchmarks/adjust.py [--km 10] [--seed 1] [--chunk 960] [--roughness-mm 0.1]
 
 Builds per-sleeper deviations (random-walk rails, --roughness-mm per sleeper, plus 3 bumps
 of 3 mm per km),
@@ -49,7 +49,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--km", type=float, default=10.0)
     parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--chunk", type=int, default=1600, help="sleepers per optimisation chunk")
+    parser.add_argument("--chunk", type=int, default=960, help="sleepers per optimisation chunk")
     parser.add_argument("--roughness-mm", type=float, default=0.1, help="random-walk step per sleeper")
     args = parser.parse_args()
     profile = load_tolerance_profile()

@@ -264,7 +264,9 @@ def _optimise_channel(deviation, limits, low, high, step, chunk_sleepers):
 
     The line is solved in chunks of ``chunk_sleepers`` that overlap by the longest chord; the
     overlap's amounts come from the previous chunk and stay fixed, so every chord placement
-    lies wholly inside one chunk and the cost grows linearly with the length of line. The
+    lies wholly inside one chunk and the cost grows linearly with the length of line (the
+    greedy hand-over costs optimality: on the 10 km benchmark 960-sleeper chunks move 81 mm in
+    5 s, 2400-sleeper chunks 64 mm in 29 s). Chunks that already pass are not solved. The
     programme's continuous solution is rounded to whole steps; the checks are then evaluated
     again and the sleepers of every pair that still exceeds its limit are flagged.
     """
@@ -314,7 +316,7 @@ def _passes(deviation: np.ndarray, limits: list[ChordLimit]) -> bool:
 
 
 def optimise_adjustment(
-    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, chunk_sleepers: int = 1600
+    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, chunk_sleepers: int = 960
 ) -> Adjustment:
     """Least total movement that satisfies every differential-versine check of ``profile``
     (every chord placement and point pair) within the fastener range, per rail and direction.
