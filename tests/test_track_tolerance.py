@@ -205,3 +205,21 @@ def test_every_check_kind_has_a_signal_and_en_template_finds_a_d1_dip():
     assert {e.rail for e in runs} == {"left", "right"}
     assert all(e.peak < -16e-3 and 500.0 <= e.station_from_m <= e.station_to_m <= 508.0 for e in runs)
     assert not [e for e in result.exceedances if e.check != "level_d1"]
+
+
+def test_track_quality_index_sums_the_seven_channels():
+    from insrail.track.exceedance import track_quality
+
+    station = 0.625 * np.arange(1920)  # 1200 m: six 200 m sections
+    vertical = np.zeros((1920, 2))
+    vertical[:, 0] = 2e-3 * np.sin(2 * np.pi * station / 10.0)  # inside D1
+    vertical[:, 1] = 3e-3 * np.sin(2 * np.pi * station / 100.0)  # outside D1: no contribution
+    gauge = 1.435 + 0.5e-3 * np.sin(2 * np.pi * station / 8.0)
+    geometry = SleeperGeometry.from_arrays(station, np.zeros((1920, 2)), vertical, gauge, np.zeros(1920))
+    quality = track_quality(geometry)
+    assert quality.channels == ("left_level", "right_level", "left_alignment", "right_alignment", "gauge", "cross_level", "twist")
+    inner = slice(1, 5)  # the filter settles within a section of the ends
+    np.testing.assert_allclose(quality.standard_deviation_m[inner, 0], 2e-3 / np.sqrt(2), rtol=0.03)
+    assert (quality.standard_deviation_m[inner, 1] < 0.05e-3).all()
+    np.testing.assert_allclose(quality.standard_deviation_m[inner, 4], 0.5e-3 / np.sqrt(2), rtol=0.02)
+    np.testing.assert_allclose(quality.track_quality_index_m[inner], 2e-3 / np.sqrt(2) + 0.5e-3 / np.sqrt(2), rtol=0.05)

@@ -19,9 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from insrail.track.irregularity import (
+    SectionStatistics,
     band_pass,
     check_series,
     differential_versine,
+    section_statistics,
     versine,
 )
 from insrail.track.parameters import change_to_previous, difference_over_base
@@ -204,3 +206,22 @@ def assess(geometry: SleeperGeometry, profile: ToleranceProfile) -> Assessment:
                 )
     exceedances.sort(key=lambda e: (e.station_from_m, e.check, e.rail, e.direction))
     return Assessment(profile.name, tuple(channels), tuple(exceedances))
+
+
+def track_quality(
+    geometry: SleeperGeometry, band: str | tuple[float, float] = "D1", section_m: float = 200.0, twist_base_m: float = 3.0
+) -> SectionStatistics:
+    """Standard deviations of the 7 TQI channels per ``section_m`` section; their sum per section
+    (``track_quality_index_m``) is the Chinese TQI (轨道质量指数). Level and alignment are the
+    deviations band-passed to ``band`` (EN 13848 D1 by default; inspection cars use about
+    1.5-42 m); gauge is the deviation from nominal, twist is over ``twist_base_m`` of cross-level."""
+    s = geometry.station_m
+    cross_level = _cross_level(geometry)
+    channels = {}
+    for direction, deviation in (("level", geometry.vertical_deviation_m), ("alignment", geometry.lateral_deviation_m)):
+        for column, rail in enumerate(RAILS):
+            channels[f"{rail}_{direction}"] = band_pass(s, deviation[:, column], band)
+    channels["gauge"] = geometry.gauge_m  # a standard deviation: the nominal value drops out
+    channels["cross_level"] = cross_level
+    channels["twist"] = difference_over_base(s, cross_level, twist_base_m)
+    return section_statistics(s, channels, section_m)
