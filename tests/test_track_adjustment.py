@@ -86,3 +86,17 @@ def test_a_kink_beyond_the_fastener_range_is_flagged_and_only_there():
     assert remaining and all(e.rail == "left" and e.direction == "lateral" for e in remaining)
     for e in remaining:
         assert adjustment.unresolved_lateral[e.first_index : e.last_index + 1, 0].any()
+
+
+def test_invalid_sleepers_are_not_moved_and_the_rest_still_passes():
+    profile = load_tolerance_profile()
+    base = random_walk_track(700, seed=11)
+    valid = np.ones(700, bool)
+    valid[200:215] = False  # a level crossing
+    geometry = SleeperGeometry.from_arrays(
+        base.station_m, base.lateral_deviation_m, base.vertical_deviation_m, base.gauge_m, base.cant_m, valid=valid
+    )
+    adjustment = optimise_adjustment(geometry, profile, load_fastener_type())
+    assert not adjustment.lateral_m[200:215].any() and not adjustment.vertical_m[200:215].any()
+    assert np.count_nonzero(adjustment.lateral_m) > 0
+    assert differential_exceedances(adjustment.apply(geometry), profile) == []
