@@ -8,32 +8,14 @@ from insrail.track.alignment import Arc, DesignAlignment, HorizontalAlignment, L
 from insrail.track.deviations import design_rail_offsets, rail_deviations
 from insrail.track.profile import PVI, CantTable, VerticalProfile
 from insrail.track.sleeper_table import build_sleeper_table, reconstruct_track, regular_sleepers
-from insrail.track.sleepers import SleeperNumbering
-from track_truth import truth_reconstruction
+from track_truth import expected_deviations, truth_reconstruction, truth_sleeper_table
 
 MM = 1e-3
 
 
-def expected_deviations(truth, design_gauge_m=1.435, base_m=1.5):
-    """Per-rail deviations implied by the injected centreline irregularities, gauge and cant
-    (docs/simulator.md geometry; see insrail.track.deviations)."""
-    g, c, dc = truth["gauge"], truth["cant"], truth["design_cant"]
-    across = g * np.sqrt(1 - (c / base_m) ** 2) - design_gauge_m * np.sqrt(1 - (dc / base_m) ** 2)
-    rise = (g * c - design_gauge_m * dc) / base_m
-    lateral = np.column_stack([truth["lateral"] - across / 2, truth["lateral"] + across / 2])
-    vertical = np.column_stack([truth["vertical"] + rise / 2, truth["vertical"] - rise / 2])
-    return lateral, vertical
-
-
 @pytest.fixture(scope="module")
 def table(short_perfect_survey):
-    recon = truth_reconstruction(short_perfect_survey)
-    truth = recon.sleepers
-    at_truth = SleeperNumbering(
-        number=truth["index"].astype(int), station_m=truth["station"], time_s=truth["pass_time"],
-        detected=truth["detected"].astype(bool), pulse_time_s=np.empty(0), pulse_station_m=np.empty(0),
-        pulse_accepted=np.empty(0, dtype=bool))
-    return recon, build_sleeper_table(recon.rails, recon.stations, at_truth, recon.design)
+    return truth_sleeper_table(short_perfect_survey)
 
 
 def test_table_is_complete_and_labelled(table):

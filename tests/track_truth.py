@@ -22,6 +22,8 @@ from insrail.track.alignment import DesignAlignment
 from insrail.track.alignment_csv import read_alignment_csv
 from insrail.track.chainage import RailStations, stations_on_design
 from insrail.track.rails import RailPoints, rails_from_pose
+from insrail.track.sleeper_table import SleeperTable, build_sleeper_table
+from insrail.track.sleepers import SleeperNumbering
 
 
 @dataclass(frozen=True)
@@ -74,3 +76,26 @@ def truth_reconstruction(folder: Path) -> TruthReconstruction:
     rails = rails_from_pose(trajectory, trolley, gauge, partial.to_engineering)
     stations = stations_on_design(rails, design)
     return replace(partial, rails=rails, stations=stations)
+
+
+@lru_cache(maxsize=2)
+def truth_sleeper_table(folder: Path) -> tuple[TruthReconstruction, SleeperTable]:
+    """The sleeper table built from the truth rails at the simulator's own sleepers."""
+    recon = truth_reconstruction(folder)
+    truth = recon.sleepers
+    at_truth = SleeperNumbering(
+        number=truth["index"].astype(int), station_m=truth["station"], time_s=truth["pass_time"],
+        detected=truth["detected"].astype(bool), pulse_time_s=np.empty(0), pulse_station_m=np.empty(0),
+        pulse_accepted=np.empty(0, dtype=bool))
+    return recon, build_sleeper_table(recon.rails, recon.stations, at_truth, recon.design)
+
+
+def expected_deviations(truth, design_gauge_m=1.435, base_m=1.5):
+    """Per-rail deviations implied by the injected centreline irregularities, gauge and cant
+    (docs/simulator.md geometry; see insrail.track.deviations)."""
+    g, c, dc = truth["gauge"], truth["cant"], truth["design_cant"]
+    across = g * np.sqrt(1 - (c / base_m) ** 2) - design_gauge_m * np.sqrt(1 - (dc / base_m) ** 2)
+    rise = (g * c - design_gauge_m * dc) / base_m
+    lateral = np.column_stack([truth["lateral"] - across / 2, truth["lateral"] + across / 2])
+    vertical = np.column_stack([truth["vertical"] + rise / 2, truth["vertical"] - rise / 2])
+    return lateral, vertical
