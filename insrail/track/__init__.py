@@ -24,6 +24,10 @@ Conventions (written once here, used by every module of the package):
 * Element boundaries carry the usual labels: TS/SC/CS/ST at tangent-spiral,
   spiral-curve, curve-spiral and spiral-tangent points (Chinese ZH/HY/YH/HZ),
   PC/PT where an arc meets a tangent directly.
+* Deviations are measured minus design (or fitted) line, per rail: lateral + to the right,
+  vertical + up. An adjustment amount is the movement that cancels a deviation, in the same
+  signs (a rail 2 mm too far left gets +2 mm: move it right). Irregularity values (chords)
+  are assigned to the chainage of their check point (thesis eq. 2.2).
 * Evaluating a design quantity outside the range where it is defined raises
   ValueError; projecting a point whose foot lies beyond the alignment's ends gives
   NaN (the point is reported, not silently clamped).
