@@ -35,7 +35,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from insrail.track.alignment import Arc, Clothoid, DesignAlignment, HorizontalAlignment, Line
+from insrail.track.alignment import (
+    Arc,
+    Clothoid,
+    DesignAlignment,
+    HorizontalAlignment,
+    Line,
+)
 from insrail.track.profile import PVI, VerticalProfile
 
 _END_MARGIN_M = 5.0
@@ -122,6 +128,11 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
     curvature = (np.interp(grid + 0.5 * window_m, s, heading) - np.interp(grid - 0.5 * window_m, s, heading)) / window_m
     seeds = []
     for first, last in _runs(np.abs(curvature) > 1.0 / max_radius_m):
+        if first == 0 or last == grid.size - 1:
+            raise LineFitError(
+                f"line fitting: the centreline {'starts' if first == 0 else 'ends'} inside a curve; the "
+                "data must begin and end on a straight (extend the survey or cut it at a tangent)"
+            )
         if grid[last] - grid[first] < _MIN_CURVE_RUN_M:
             continue
         piece = curvature[first : last + 1]
@@ -243,12 +254,14 @@ def fit_horizontal(
     chord_half_m: float = 10.0,
     curvature_window_m: float = 50.0,
     max_radius_m: float = 50_000.0,
+    min_transition_shift_m: float = 1e-3,
 ) -> HorizontalFit:
     """Fit lines, clothoids and arcs to a centreline given at increasing stations [m].
 
     Curves flatter than ``max_radius_m`` count as straight. Each curve is fitted as
-    clothoid-arc-clothoid; a clothoid the data do not support shrinks to nothing and is
-    dropped (the arc then meets the line directly, PC/PT).
+    clothoid-arc-clothoid; a clothoid whose shift L^2/(24 R) stays below
+    ``min_transition_shift_m`` is not supported by the data and is dropped (the arc then
+    meets the line directly, PC/PT).
     """
     station, east, north = _checked_series(station_m, east_m, north_m, names=("east_m", "north_m"))
     if station[-1] - station[0] < 2 * chord_half_m + curvature_window_m:
@@ -258,11 +271,6 @@ def fit_horizontal(
         )
     seeds = _seed_curves(station, east, north, chord_half_m, curvature_window_m, max_radius_m)
     start, end = station[0] - _END_MARGIN_M, station[-1] + _END_MARGIN_M
-    if seeds and (seeds[0].ts_m <= station[0] + chord_half_m or seeds[-1].st_m >= station[-1] - chord_half_m):
-        raise LineFitError(
-            "line fitting: the centreline starts or ends inside a curve; the data must begin and end on "
-            "a straight (extend the survey or cut it at a tangent)"
-        )
     _, heading = _heading(station, east, north, chord_half_m)
     azimuth0 = float(heading[0])
     reference_east = east[0] - _END_MARGIN_M * math.sin(azimuth0)
@@ -273,15 +281,33 @@ def fit_horizontal(
     x0 = np.concatenate(([0.0, azimuth0], lengths[:-1], [c.curvature for c in seeds]))
     lower = np.concatenate(([-np.inf, -np.inf], np.zeros(lengths.size - 1), [-np.inf] * len(seeds)))
 
-    def residuals(x):
-        try:
-            alignment = chain.alignment(x)
-        except (LineFitError, ValueError):
-            return np.full(station.size, 10.0)
-        return _foot(alignment, station, east, north)[1]
+    def solve(x_start, free):
+        def residuals(x_free):
+            x = x_start.copy()
+            x[free] = x_free
+            try:
+                alignment = chain.alignment(x)
+            except ValueError:  # lengths beyond the data: a large residual pushes the solver back
+                return np.full(station.size, 10.0)
+            return _foot(alignment, station, east, north)[1]
 
-    solution = least_squares(residuals, x0, bounds=(lower, np.inf), x_scale="jac", method="trf")
-    alignment = _without_margins(chain.alignment(solution.x), station[0], station[-1])
+        solution = least_squares(residuals, x_start[free], bounds=(lower[free], np.inf), x_scale="jac")
+        x = x_start.copy()
+        x[free] = solution.x
+        return x
+
+    free = np.ones(x0.size, dtype=bool)
+    x = solve(x0, free)
+    # A clothoid shifts its arc by L^2 / (24 R); below min_transition_shift_m the data cannot tell it
+    # from none, so it is removed and the rest refitted (an arc meeting its straights directly).
+    clothoid = np.array([j for j in range(1, chain.element_count - 1) if (j - 1) % 4 in (0, 2)], dtype=int)
+    arc_curvature = np.abs(x[2 + chain.element_count - 1 + (clothoid - 1) // 4])
+    unsupported = 2 + clothoid[x[2 + clothoid] ** 2 * arc_curvature / 24.0 < min_transition_shift_m]
+    if unsupported.size:
+        x[unsupported] = 0.0
+        free[unsupported] = False
+        x = solve(x, free)
+    alignment = _without_margins(chain.alignment(x), station[0], station[-1])
     feet, offsets = _foot(alignment, station, east, north)
     return HorizontalFit(alignment, feet, offsets)
 
@@ -292,11 +318,15 @@ def _without_margins(alignment: HorizontalAlignment, first: float, last: float) 
     head, tail = elements[0], elements[-1]
     cut_head = first - alignment.start_station_m
     cut_tail = alignment.end_station_m - last
-    if not (isinstance(head, Line) and isinstance(tail, Line) and head.length_m > cut_head
-            and tail.length_m > cut_tail and len(elements) > 1):
+    if not (isinstance(head, Line) and isinstance(tail, Line)):
         return alignment
-    elements[0] = Line(head.length_m - cut_head)
-    elements[-1] = Line(tail.length_m - cut_tail)
+    if len(elements) == 1:
+        elements[0] = Line(head.length_m - cut_head - cut_tail)
+    elif head.length_m > cut_head and tail.length_m > cut_tail:
+        elements[0] = Line(head.length_m - cut_head)
+        elements[-1] = Line(tail.length_m - cut_tail)
+    else:
+        return alignment
     east, north = alignment.point_at(first)
     return HorizontalAlignment(
         start_east_m=float(east),
@@ -465,17 +495,18 @@ def fit_alignment(station_m, east_m, north_m, height_m, *, name: str = "fitted",
     """Fit plan and profile of a centreline; the profile is fitted on the fitted plan's stations.
 
     ``options`` go to :func:`fit_horizontal` (chord_half_m, curvature_window_m,
-    max_radius_m) and :func:`fit_vertical` (window_m, min_grade_change).
+    max_radius_m, min_transition_shift_m) and :func:`fit_vertical` (window_m, min_grade_change).
     """
     vertical_keys = {"window_m", "min_grade_change"}
-    unknown = set(options) - vertical_keys - {"chord_half_m", "curvature_window_m", "max_radius_m"}
+    horizontal_keys = {"chord_half_m", "curvature_window_m", "max_radius_m", "min_transition_shift_m"}
+    unknown = set(options) - vertical_keys - horizontal_keys
     if unknown:
         raise TypeError(f"fit_alignment: unknown option(s) {', '.join(sorted(unknown))}")
     station, east, north, height = _checked_series(
         station_m, east_m, north_m, height_m, names=("east_m", "north_m", "height_m")
     )
     horizontal = fit_horizontal(
-        station, east, north, **{k: v for k, v in options.items() if k not in vertical_keys}
+        station, east, north, **{k: v for k, v in options.items() if k in horizontal_keys}
     )
     plan = horizontal.alignment
     # feet pinned to the alignment's ends (the first and last points) keep the profile's range equal to the plan's
