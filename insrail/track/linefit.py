@@ -47,7 +47,9 @@ from insrail.track.profile import PVI, VerticalProfile
 _END_MARGIN_M = 5.0
 """The fitted chain reaches this far beyond the data, so every point has a perpendicular foot."""
 
-_NEWTON_STEPS = 4
+_NEWTON_STEPS_COLD = 8
+_NEWTON_STEPS_WARM = 2
+"""Newton steps to the perpendicular feet from the input stations, and from the previous solution's feet."""
 _MIN_ELEMENT_M = 1e-3
 """Elements the fit shrinks below this length are dropped (e.g. a curve without transitions)."""
 
@@ -213,14 +215,14 @@ class _Chain:
         )
 
 
-def _foot(alignment: HorizontalAlignment, stations, east, north):
-    """Perpendicular offsets [m] of the points by a fixed number of Newton steps from ``stations``.
+def _foot(alignment: HorizontalAlignment, stations, east, north, steps=_NEWTON_STEPS_COLD):
+    """Feet stations and perpendicular offsets [m] of the points, ``steps`` Newton steps from ``stations``.
 
     A fixed step count keeps the residual a smooth function of the parameters.
     """
     low, high = alignment.start_station_m, alignment.end_station_m
     s = np.clip(stations, low, high)
-    for _ in range(_NEWTON_STEPS):
+    for _ in range(steps):
         ce, cn = alignment.point_at(s)
         az = alignment.azimuth_at(s)
         k = alignment.curvature_at(s)
@@ -282,6 +284,9 @@ def fit_horizontal(
     lower = np.concatenate(([-np.inf, -np.inf], np.zeros(lengths.size - 1), [-np.inf] * len(seeds)))
 
     def solve(x_start, free):
+        # the feet move little while the solver refines the seed, so each evaluation starts from these
+        start_feet = _foot(chain.alignment(x_start), station, east, north)[0]
+
         def residuals(x_free):
             x = x_start.copy()
             x[free] = x_free
@@ -289,7 +294,7 @@ def fit_horizontal(
                 alignment = chain.alignment(x)
             except ValueError:  # lengths beyond the data: a large residual pushes the solver back
                 return np.full(station.size, 10.0)
-            return _foot(alignment, station, east, north)[1]
+            return _foot(alignment, start_feet, east, north, _NEWTON_STEPS_WARM)[1]
 
         solution = least_squares(residuals, x_start[free], bounds=(lower[free], np.inf), x_scale="jac")
         x = x_start.copy()
