@@ -56,7 +56,7 @@ def compare(fitted, design) -> bool:
         print("  element sequence differs:", [p.element.describe() for p in got])
         return False
     all_ok = True
-    print("  joint  design [m]  error [m]   element                      error")
+    print("  joint  design [m]  error [m]   element                          error")
     for label, g, t in zip((k.label for k in plan.key_points()[1:-1]), got, truth):
         boundary_error = g.start_station_m - t.start_station_m
         ok = abs(boundary_error) < BOUNDARY_BAR_M
@@ -71,7 +71,7 @@ def compare(fitted, design) -> bool:
             figure = f"clothoid L {t.element.length_m:.0f} m      {error:+.3f} m"
         else:
             figure = f"line L {t.element.length_m:.0f} m"
-        print(f"  {label:<5}{t.start_station_m:>11.3f}{boundary_error:>+11.3f}   {figure:<29}{verdict(ok)}")
+        print(f"  {label:<5}{t.start_station_m:>11.3f}{boundary_error:>+11.3f}   {figure:<33}{verdict(ok)}")
         all_ok &= ok
     got_pvis, truth_pvis = fitted.vertical.pvis[1:-1], design.vertical.pvis[1:-1]
     if len(got_pvis) != len(truth_pvis):

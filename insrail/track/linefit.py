@@ -312,8 +312,11 @@ def fit_horizontal(
         x[unsupported] = 0.0
         free[unsupported] = False
         x = solve(x, free)
-    alignment = _without_margins(chain.alignment(x), station[0], station[-1])
-    feet, offsets = _foot(alignment, station, east, north)
+    with_margins = chain.alignment(x)
+    feet = _foot(with_margins, station, east, north)[0]
+    # cut where the outermost points' perpendiculars fall, so the plan spans exactly the data
+    alignment = _without_margins(with_margins, float(feet.min()), float(feet.max()))
+    feet, offsets = _foot(alignment, feet, east, north)
     return HorizontalFit(alignment, feet, offsets)
 
 
@@ -514,7 +517,7 @@ def fit_alignment(station_m, east_m, north_m, height_m, *, name: str = "fitted",
         station, east, north, **{k: v for k, v in options.items() if k in horizontal_keys}
     )
     plan = horizontal.alignment
-    # feet pinned to the alignment's ends (the first and last points) keep the profile's range equal to the plan's
+    # the outermost feet lie on the plan's ends (to round-off): pinning them there gives the profile the plan's range
     feet = np.clip(horizontal.station_m, plan.start_station_m, plan.end_station_m)
     order = np.argsort(feet, kind="stable")
     keep = np.concatenate(([True], np.diff(feet[order]) > 0.0))
