@@ -109,6 +109,13 @@ def _crossing(s, value, level, first: bool) -> float:
     return float(np.interp(level, [value[j], value[i]], [s[j], s[i]]))
 
 
+def _transition(s, magnitude, plateau, window_m, entry: bool) -> tuple[float, float]:
+    """Midpoint and length of the entry (or exit) ramp of a curve's smoothed curvature magnitude."""
+    spread = abs(_crossing(s, magnitude, 0.9 * plateau, entry) - _crossing(s, magnitude, 0.1 * plateau, entry)) / 0.8
+    # a boxcar of width w stretches a ramp of length L to about L + w/2 between 10 and 90 %
+    return _crossing(s, magnitude, 0.5 * plateau, entry), max(spread - 0.5 * window_m, 10.0)
+
+
 @dataclass(frozen=True)
 class _CurveSeed:
     """One curve as found on the curvature diagram: TS, SC, CS, ST stations and arc curvature."""
@@ -122,8 +129,6 @@ class _CurveSeed:
 
 def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> list[_CurveSeed]:
     s, heading = _heading(station, east, north, chord_half_m)
-    if s.size < 2:
-        return []
     grid = np.arange(s[0] + 0.5 * window_m, s[-1] - 0.5 * window_m, 1.0)
     if grid.size < 2:
         return []
@@ -145,14 +150,10 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
         lo = max(first - int(window_m), 0)
         hi = min(last + int(window_m), grid.size - 1)
         g, m = grid[lo : hi + 1], sign * curvature[lo : hi + 1]
-        ends = []
-        for entry in (True, False):
-            mid = _crossing(g, m, 0.5 * plateau, entry)
-            spread = abs(_crossing(g, m, 0.9 * plateau, entry) - _crossing(g, m, 0.1 * plateau, entry)) / 0.8
-            # a boxcar of width w stretches a ramp of length L to about L + w/2 between 10 and 90 %
-            length = max(spread - 0.5 * window_m, 10.0)
-            ends.append((mid - 0.5 * length, mid + 0.5 * length) if entry else (mid + 0.5 * length, mid - 0.5 * length))
-        (ts, sc), (st, cs) = ends
+        entry_mid, entry_length = _transition(g, m, plateau, window_m, entry=True)
+        exit_mid, exit_length = _transition(g, m, plateau, window_m, entry=False)
+        ts, sc = entry_mid - 0.5 * entry_length, entry_mid + 0.5 * entry_length
+        cs, st = exit_mid - 0.5 * exit_length, exit_mid + 0.5 * exit_length
         if cs - sc < 1.0:
             continue
         seeds.append(_CurveSeed(ts, sc, cs, st, float(sign * plateau)))
