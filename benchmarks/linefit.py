@@ -1,0 +1,125 @@
+"""Line-type fitting on the simulator's `short` and `long` truth centrelines plus white noise.
+
+    python benchmarks/linefit.py [--scenario short long] [--seed 1] [--noise-mm 0.5] [--work DIR]
+
+Simulates each scenario with a perfect IMU (the centreline truth does not depend on the
+IMU; `long` takes about 30 s, reused when DIR already holds it), adds --noise-mm of white
+noise to the truth centreline (which already carries the injected 1 mm irregularities and
+3 mm bumps), fits plan and profile, and prints every element boundary, arc radius,
+clothoid length and vertical-curve radius against the design with the issue's bars
+(boundaries 2 m, radii 0.2 %, clothoid lengths 1 m, vertical radii 2 %, <= 10 s per 10 km).
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from insrail.sim.scenario import preset
+from insrail.sim.simulate import simulate
+from insrail.sim.truth import read_sleeper_truth
+from insrail.track.alignment import Arc, Clothoid
+from insrail.track.alignment_csv import read_alignment_csv
+from insrail.track.linefit import fit_alignment
+
+BOUNDARY_BAR_M = 2.0
+RADIUS_BAR = 0.002
+CLOTHOID_BAR_M = 1.0
+VERTICAL_RADIUS_BAR = 0.02
+SECONDS_PER_10_KM_BAR = 10.0
+
+
+def survey(name: str, seed: int, work: Path) -> Path:
+    folder = work / f"{name}-seed{seed}"
+    if not (folder / "truth" / "sleepers.csv").exists():
+        simulate(preset(name, imu_profile="perfect"), seed, folder, overwrite=True)
+    return folder
+
+
+def verdict(ok: bool) -> str:
+    return "ok" if ok else "FAIL"
+
+
+def compare(fitted, design) -> bool:
+    """Print the fitted elements against the design; True when every figure is inside its bar."""
+    plan = fitted.horizontal
+    truth = [
+        p for p in design.horizontal.placed_elements[1:]
+        if plan.start_station_m < p.start_station_m < plan.end_station_m
+    ]
+    got = plan.placed_elements[1:]
+    if [type(p.element) for p in got] != [type(p.element) for p in truth]:
+        print("  element sequence differs:", [p.element.describe() for p in got])
+        return False
+    all_ok = True
+    print("  joint  design [m]  error [m]   element                          error")
+    for label, g, t in zip((k.label for k in plan.key_points()[1:-1]), got, truth):
+        boundary_error = g.start_station_m - t.start_station_m
+        ok = abs(boundary_error) < BOUNDARY_BAR_M
+        figure = ""
+        if isinstance(t.element, Arc):
+            error = g.element.radius_m / t.element.radius_m - 1.0
+            ok &= abs(error) < RADIUS_BAR and g.element.turn == t.element.turn
+            figure = f"arc R {t.element.radius_m:.0f} m {t.element.turn:<5}  {100 * error:+.4f} %"
+        elif isinstance(t.element, Clothoid):
+            error = g.element.length_m - t.element.length_m
+            ok &= abs(error) < CLOTHOID_BAR_M
+            figure = f"clothoid L {t.element.length_m:.0f} m      {error:+.3f} m"
+        else:
+            figure = f"line L {t.element.length_m:.0f} m"
+        print(f"  {label:<5}{t.start_station_m:>11.3f}{boundary_error:>+11.3f}   {figure:<33}{verdict(ok)}")
+        all_ok &= ok
+    got_pvis, truth_pvis = fitted.vertical.pvis[1:-1], design.vertical.pvis[1:-1]
+    if len(got_pvis) != len(truth_pvis):
+        print(f"  {len(got_pvis)} PVIs found, design has {len(truth_pvis)}")
+        return False
+    print("  PVI    design [m]  error [m]   vertical curve               error")
+    for i, (g, t) in enumerate(zip(got_pvis, truth_pvis), start=2):
+        station_error = g.station_m - t.station_m
+        error = g.curve_radius_m / t.curve_radius_m - 1.0
+        ok = abs(station_error) < BOUNDARY_BAR_M and abs(error) < VERTICAL_RADIUS_BAR
+        print(
+            f"  {i:<5}{t.station_m:>11.3f}{station_error:>+11.3f}   R {t.curve_radius_m:.0f} m"
+            f"{'':<15}{100 * error:+.3f} %   {verdict(ok)}"
+        )
+        all_ok &= ok
+    return all_ok
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--scenario", nargs="+", default=["short", "long"])
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--noise-mm", type=float, default=0.5)
+    parser.add_argument("--work", type=Path, default=Path(tempfile.gettempdir()) / "insrail-linefit-bench")
+    args = parser.parse_args()
+    all_ok = True
+    for name in args.scenario:
+        folder = survey(name, args.seed, args.work)
+        truth = read_sleeper_truth(folder / "truth" / "sleepers.csv")
+        design = read_alignment_csv(folder / "truth" / "design.csv")
+        rng = np.random.default_rng(args.seed)
+        east, north, height = (
+            truth[c] + rng.normal(0.0, 1e-3 * args.noise_mm, len(truth)) for c in ("centre_e", "centre_n", "centre_h")
+        )
+        started = time.perf_counter()
+        fit = fit_alignment(truth["station"], east, north, height, name=f"fitted {name}")
+        elapsed = time.perf_counter() - started
+        length_km = (truth["station"][-1] - truth["station"][0]) / 1000.0
+        time_ok = elapsed <= SECONDS_PER_10_KM_BAR * max(length_km, 1.0) / 10.0
+        print(f"\n{name}: {len(truth)} points over {length_km:.2f} km, noise {args.noise_mm} mm")
+        print(
+            f"  fit time {elapsed:.2f} s ({verdict(time_ok)}); residual RMS plan {1e3 * fit.horizontal.rms_m:.2f} mm, "
+            f"profile {1e3 * fit.vertical.rms_m:.2f} mm"
+        )
+        all_ok &= compare(fit.alignment, design) and time_ok
+    print("\nall figures inside the bars" if all_ok else "\nSOME FIGURES OUTSIDE THE BARS")
+    return 0 if all_ok else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
