@@ -47,7 +47,10 @@ def sample_project(root, **changes):
 
 
 def test_round_trip(tmp_path):
-    project = sample_project(make_folder(tmp_path), imu_profile="tactical",
+    trolley = {"imu_to_antenna_m": [0.02, 0.18, -1.35], "imu_to_odometer_m": [0.45, -0.6, 0.31],
+               "imu_to_sleeper_detector_m": [0.3, -0.45, 0.22], "imu_to_reference_rail_m": [0.1, -0.6, 0.31],
+               "reference_rail": "right", "mounting_rpy_deg": [0.05, -0.08, 0.12]}
+    project = sample_project(make_folder(tmp_path), imu_profile="tactical", trolley_settings=trolley,
                              fusion=FusionOptions(use_nhc=False, update_rate_hz=5.0, gnss_sigma_scale=1.5))
     path = save_project(project)
     loaded = load_project(tmp_path)
@@ -57,6 +60,9 @@ def test_round_trip(tmp_path):
     document = tomllib.loads(path.read_text())
     assert document["surveys"][1] == {"name": "b", "folder": "surveys/b"}
     assert document["processing"]["use_nhc"] is False
+    assert loaded.trolley().reference_rail == "right"
+    assert loaded.trolley().mounting_rpy_rad[2] == pytest.approx(0.12 * 3.141592653589793 / 180)
+    assert sample_project(tmp_path).trolley() is None  # each survey brings its own
 
 
 @settings(max_examples=25, deadline=None)
@@ -89,6 +95,8 @@ def test_every_problem_is_listed_with_its_key_path(tmp_path):
         design = "design.csv"
         tolerance_profile = "no_such_profile"
         fastener = 3
+        [trolley]
+        reference_rail = "middle"
         [[surveys]]
         name = "a"
         folder = "surveys/a"
@@ -104,7 +112,8 @@ def test_every_problem_is_listed_with_its_key_path(tmp_path):
     keys = {problem.split(":")[0] for problem in caught.value.problems}
     assert {"colour", "geodesy.crs.central_meridian_deg", "geodesy.crs.scale_factor", "geodesy.height.benchmarks",
             "geodesy.height.model", "processing.use_nhc", "processing.update_rate_hz", "processing.imu_profile",
-            "track.design", "track.tolerance_profile", "track.fastener", "surveys[1].name",
+            "track.design", "track.tolerance_profile", "track.fastener", "surveys[1].name", "trolley.reference_rail",
+            "trolley.imu_to_antenna_m",
             "surveys[2].folder"} <= keys
     assert "surveys[2].folder: not found: surveys/c" in caught.value.problems
     assert str(tmp_path / "project.toml") in str(caught.value)

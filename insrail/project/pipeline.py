@@ -136,8 +136,11 @@ def fit_heights(project: Project) -> HeightAnomalyFit | None:
         return None
     benchmarks = read_benchmarks(project.resolve(project.height.benchmarks))
     east, north = project.crs.to_plane(benchmarks.lat_rad, benchmarks.lon_rad)
+    anomaly = project.height.anomaly
+    if anomaly.geoid_grid not in (None, "egm96"):  # a grid file named relative to the project
+        anomaly = replace(anomaly, geoid_grid=str(project.resolve(anomaly.geoid_grid)))
     return fit_height_anomaly(np.column_stack([east, north]), benchmarks.height_anomaly_m,
-                              project.height.anomaly.model, geoid=project.height.anomaly.plane_geoid(project.crs))
+                              anomaly.model, geoid=anomaly.plane_geoid(project.crs))
 
 
 def process(project: Project, survey_name: str, progress: ProgressFn | None = None,
