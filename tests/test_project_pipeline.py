@@ -44,6 +44,7 @@ def test_result_files_exist_and_parse(processed):
     summary = tomllib.loads((folder / "summary.toml").read_text())
     assert summary["track"]["sleepers"] == len(results.table) > 1800
     assert summary["heights"]["model"] in ("constant", "plane", "quadratic")
+    assert isinstance(summary["heights"]["warnings"], list)
     sleepers = read_csv(folder / "sleepers.csv")
     header = (folder / "sleepers.csv").read_text().splitlines()[0].split(",")
     assert header[:3] == ["number", "label", "station_m"]
@@ -155,3 +156,17 @@ def test_cli_reports_a_broken_project(tmp_path, capsys):
     assert main(["process", str(tmp_path)]) == 1
     err = capsys.readouterr().err
     assert "geodesy.crs: missing" in err and "surveys[0].folder: not found: x" in err and "track.fastener" in err
+
+
+def test_a_survey_without_gauge_is_refused_before_the_fusion(short_nav_survey, tmp_path):
+    from insrail.io.errors import InputError
+    from insrail.io.survey import read_manifest, write_manifest
+
+    survey = tmp_path / "surveys" / "short"
+    shutil.copytree(short_nav_survey, survey)
+    manifest = read_manifest(survey)
+    write_manifest(survey, replace(manifest, files={k: v for k, v in manifest.files.items() if k != "gauge"}))
+    project = project_for_simulated_survey(tmp_path, survey)
+    with pytest.raises(InputError, match="files.gauge: missing"):
+        process(project, "short")
+    assert not (tmp_path / "results").exists()

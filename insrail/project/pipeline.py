@@ -36,7 +36,8 @@ import tomli_w
 from insrail.geodesy.height_anomaly import HeightAnomalyFit, fit_height_anomaly
 from insrail.io.atomic import atomic_write
 from insrail.io.control import read_benchmarks
-from insrail.io.survey import SurveyData, read_survey
+from insrail.io.errors import InputError
+from insrail.io.survey import MANIFEST_NAME, SurveyData, read_survey
 from insrail.nav.earth import Ellipsoid
 from insrail.nav.fusion import fuse
 from insrail.nav.imu_profile import load_imu_profile
@@ -101,7 +102,7 @@ def fusion_key(project: Project, survey: SurveyData) -> str:
     trolley = {k: np.asarray(v).tolist() if not isinstance(v, str) else v
                for k, v in asdict(survey.manifest.trolley).items()}
     profile = load_imu_profile(project.resource(project.imu_profile or survey.manifest.imu_profile))
-    settings = {"version": CACHE_VERSION, "trolley": trolley, "imu_profile": repr(profile),
+    settings = {"version": CACHE_VERSION, "gps_week": survey.manifest.gps_week, "trolley": trolley, "imu_profile": repr(profile),
                 "fusion": repr(project.fusion), "ellipsoid": repr(ellipsoid_of(project)),
                 "files": {r: asdict(f) for r, f in survey.manifest.files.items()}}
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
@@ -153,6 +154,9 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     trolley = project.trolley()
     if trolley is not None:
         survey = replace(survey, manifest=replace(survey.manifest, trolley=trolley))
+    if survey.gauge is None:
+        raise InputError(survey.folder / MANIFEST_NAME, None,
+                         "files.gauge: missing; the track reconstruction needs the gauge record")
     check_cancel(cancel)
     trajectory, trajectory_file, cached, fusion_info = _fused_trajectory(project, survey, step.sub(0.05, 0.8), cancel)
     check_cancel(cancel)
@@ -173,6 +177,9 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     check_cancel(cancel)
     step(0.88, "irregularities and exceedances")
     table = recon.table
+    measured = table.valid
+    height_warnings = (height_fit.warnings_for(table.centre_enh_m[measured, 0], table.centre_enh_m[measured, 1])
+                       if height_fit is not None else [])
     geometry = SleeperGeometry.from_arrays(table.station_m, table.lateral_deviation_m, table.vertical_deviation_m,
                                            table.gauge_m, table.cant_m, table.design_cant_m, valid=table.valid,
                                            sleeper_number=table.number)
@@ -184,8 +191,8 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     check_cancel(cancel)
 
     step(0.97, "writing results")
-    summary = _summary(project, entry.name, survey, fusion_info, cached, height_fit, table, assessment, adjustment,
-                       time.monotonic() - started)
+    summary = _summary(project, entry.name, survey, fusion_info, cached, height_fit, height_warnings, table,
+                       assessment, adjustment, time.monotonic() - started)
     folder = _write_results(project, entry.name, trajectory_file, table, assessment, adjustment, summary, cancel)
     step(1.0, "done")
     return SurveyResults(entry.name, folder, trajectory, height_fit, recon, assessment, adjustment, cached, summary)
@@ -252,7 +259,8 @@ def _exceedances_csv(assessment: Assessment) -> str:
     return "\n".join([",".join(EXCEEDANCE_HEADER), *rows]) + "\n"
 
 
-def _summary(project, name, survey, fusion_info, cached, height_fit, table, assessment, adjustment, elapsed) -> dict:
+def _summary(project, name, survey, fusion_info, cached, height_fit, height_warnings, table, assessment, adjustment,
+             elapsed) -> dict:
     counts: dict[str, int] = {}
     for e in assessment.exceedances:
         counts[e.check] = counts.get(e.check, 0) + 1
@@ -261,7 +269,8 @@ def _summary(project, name, survey, fusion_info, cached, height_fit, table, asse
                    "processing_time_s": round(elapsed, 2)},
         "fusion": {"from_cache": cached, **fusion_info},
         "heights": ({"model": height_fit.model_name, "internal_rms_mm": 1e3 * height_fit.internal_rms_m,
-                     "loo_rms_mm": 1e3 * height_fit.loo_rms_m if np.isfinite(height_fit.loo_rms_m) else -1.0}
+                     "loo_rms_mm": 1e3 * height_fit.loo_rms_m if np.isfinite(height_fit.loo_rms_m) else -1.0,
+                     "warnings": height_warnings}
                     if height_fit is not None else {"model": "none (ellipsoidal heights)"}),
         "track": {"design": project.design or "", "sleepers": len(table), "valid_sleepers": int(table.valid.sum()),
                   "station_from_m": float(table.station_m[0]) if len(table) else 0.0,
