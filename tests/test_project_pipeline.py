@@ -170,3 +170,15 @@ def test_a_survey_without_gauge_is_refused_before_the_fusion(short_nav_survey, t
     with pytest.raises(InputError, match="files.gauge: missing"):
         process(project, "short")
     assert not (tmp_path / "results").exists()
+
+
+@pytest.mark.slow
+def test_cli_demo_builds_and_processes_a_project(tmp_path, capsys):
+    assert main(["demo", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert f"Project file: {(tmp_path / 'project.toml').resolve()}" in out
+    assert "sleepers, largest error" in out
+    project = load_project(tmp_path)
+    assert project.design == "surveys/short/truth/design.csv"
+    summary = tomllib.loads((tmp_path / "results" / "short" / "summary.toml").read_text())
+    assert summary["track"]["valid_sleepers"] > 1800
