@@ -14,6 +14,7 @@ COMMANDS = [
     ("simulate", "insrail.cli.simulate"),
     ("fuse", "insrail.cli.fuse"),
     ("demo", "insrail.cli.demo"),
+    ("process", "insrail.cli.process"),
     ("ppk", "insrail.cli.ppk"),
 ]
 

@@ -1,0 +1,67 @@
+"""Process the surveys of a project end to end (fusion, coordinates, track, assessment, adjustment).
+
+Reads PROJECT/project.toml (or the given .toml), processes the named survey (or every survey
+of the project, in order) and writes PROJECT/results/<survey>/: trajectory.npy, sleepers.csv,
+exceedances.csv and summary.toml. A fusion already computed with the same raw data and
+settings is reused from PROJECT/results/.cache. Exit code 0 when every survey was processed,
+1 on bad input or a processing error (reported with the file and key path), 130 when cancelled.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from insrail.cli.progressbar import TerminalProgress
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("project", type=Path, help="project folder (with project.toml) or project .toml file")
+    p.add_argument("--survey", action="append", metavar="NAME",
+                   help="survey to process (repeatable; default: every survey of the project)")
+
+
+def describe(results) -> list[str]:
+    """Headline lines for one survey's results (shared with ``insrail demo``)."""
+    s = results.summary
+    track, assessment, adjustment = s["track"], s["assessment"], s["adjustment"]
+    heights = s["heights"]
+    height_line = (f"height anomaly: {heights['model']} model, benchmark RMS {heights['internal_rms_mm']:.1f} mm"
+                   if "internal_rms_mm" in heights else f"heights: {heights['model']}")
+    by_check = ", ".join(f"{name} {count}" for name, count in assessment["by_check"].items()) or "none"
+    return [
+        f"Survey {results.survey}: results in {results.folder.resolve()}",
+        (f"  fusion: {'reused from the cache' if s['fusion']['from_cache'] else 'computed'}, "
+         f"{s['fusion']['rejections']} measurements rejected; {height_line}"),
+        (f"  track: {track['sleepers']} sleepers ({track['valid_sleepers']} valid), "
+         f"stations {track['station_from_m']:.3f} .. {track['station_to_m']:.3f} m"),
+        f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
+        (f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "
+         f"max vertical {adjustment['max_vertical_mm']:.1f} mm, {adjustment['unresolved_sleepers']} sleepers unresolved"),
+        "  files: trajectory.npy, sleepers.csv, exceedances.csv, summary.toml",
+    ]
+
+
+def run(args: argparse.Namespace) -> int:
+    from insrail.project import load_project, process
+
+    project = load_project(args.project)
+    names = args.survey or [s.name for s in project.surveys]
+    known = {s.name for s in project.surveys}
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        print(f"insrail: {project.path}: no survey named {', '.join(unknown)} (surveys: {', '.join(sorted(known))})",
+              file=sys.stderr)
+        return 1
+    for name in names:
+        bar = TerminalProgress(name)
+        try:
+            results = process(project, name, progress=bar)
+        except ValueError as err:  # geodesy fits, tolerance/fastener files, reconstruction limits
+            print(f"insrail: survey {name}: {err}", file=sys.stderr)
+            return 1
+        elapsed = bar.done()
+        print("\n".join(describe(results)))
+        print(f"  processed in {elapsed:.1f} s")
+    return 0

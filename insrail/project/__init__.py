@@ -1,0 +1,34 @@
+"""insrail.project: project files (``project.toml``) and the end-to-end processing of a survey.
+
+A project folder holds ``project.toml`` (see :mod:`insrail.project.model`), the survey folders it
+names, and ``results/<survey>/`` written by :func:`process` (see :mod:`insrail.project.pipeline`).
+"""
+
+from insrail.project.model import (
+    HEIGHT_MODELS,
+    PROJECT_FILE,
+    HeightSettings,
+    Project,
+    ProjectError,
+    SurveyEntry,
+    load_project,
+    project_from_settings,
+    save_project,
+)
+from insrail.project.pipeline import SurveyResults, fit_heights, process, read_design
+
+__all__ = [
+    "HEIGHT_MODELS",
+    "PROJECT_FILE",
+    "HeightSettings",
+    "Project",
+    "ProjectError",
+    "SurveyEntry",
+    "SurveyResults",
+    "fit_heights",
+    "load_project",
+    "process",
+    "project_from_settings",
+    "read_design",
+    "save_project",
+]

@@ -1,0 +1,371 @@
+"""The project file: ``project.toml`` in a project folder, and its validated model.
+
+Layout (all tables but [geodesy.crs] and [[surveys]] optional; paths relative to the project
+folder; a tolerance profile, fastener type or IMU profile is a shipped name or a ``.toml`` path)::
+
+    [project]            name, description
+    [geodesy.crs]        EngineeringCRS settings (insrail.geodesy.crs)
+    [geodesy.height]     benchmarks = "benchmarks.txt" (GNSS levelling, h and H), model = "auto" |
+                         "constant" | "plane" | "quadratic", geoid_grid = path or "egm96" (remove-restore).
+                         Without benchmarks heights stay ellipsoidal (H = h).
+    [trolley]            as in survey.toml; when absent each survey's own [trolley] is used
+    [processing]         imu_profile (default: each survey's), a subset of FusionOptions
+    [track]              design (alignment CSV or LandXML), start_station_m (needed without a design),
+                         first_sleeper_number, tolerance_profile, fastener
+    [[surveys]]          name, folder (holding a survey.toml)
+
+Loading checks everything and raises :class:`ProjectError` listing every problem with its key
+path (``surveys[2].folder: not found: runs/x``). Nothing in the file is executed or unpickled.
+Saving writes the whole file atomically (a crash leaves the previous file intact).
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import tomli_w
+
+from insrail.geodesy.crs import EngineeringCRS
+from insrail.geodesy.errors import SettingsError
+from insrail.geodesy.height_anomaly import HeightAnomalySettings
+from insrail.io.atomic import atomic_write
+from insrail.io.errors import InputError
+from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, _parse_trolley
+from insrail.nav.fusion import FusionOptions
+from insrail.nav.imu_profile import load_imu_profile
+from insrail.track.adjustment import DEFAULT_FASTENER, load_fastener_type
+from insrail.track.tolerance import DEFAULT_PROFILE, load_tolerance_profile
+
+PROJECT_FILE = "project.toml"
+#: Surface models only: a spline in chainage needs benchmark chainages the benchmarks file lacks.
+HEIGHT_MODELS = ("auto", "constant", "plane", "quadratic")
+#: The FusionOptions a project may set (the rest keep their defaults).
+FUSION_FLAGS = ("use_gnss_velocity", "use_odometer", "use_nhc", "use_zupt", "smoother")
+FUSION_NUMBERS = ("update_rate_hz", "gnss_sigma_scale", "gnss_sigma_floor_m", "gnss_correlated_tau_s",
+                  "odometer_sigma_mps", "nhc_sigma_mps", "zupt_sigma_mps", "min_static_s")
+_TOP_LEVEL = ("project", "geodesy", "trolley", "processing", "track", "surveys")
+_SURVEY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")  # used as a results folder name
+
+
+class ProjectError(InputError):
+    """``project.toml`` has problems; ``problems`` lists every one, each starting with its key path."""
+
+    def __init__(self, path: str | Path, problems: list[str]):
+        self.problems = tuple(problems)
+        count = len(self.problems)
+        super().__init__(path, None, f"{count} problem{'s' if count != 1 else ''}:\n  " + "\n  ".join(self.problems))
+
+
+@dataclass(frozen=True)
+class SurveyEntry:
+    name: str
+    folder: str  # relative to the project folder
+
+
+@dataclass(frozen=True)
+class HeightSettings:
+    """How normal heights are obtained: ζ fitted on ``benchmarks`` (None: H = h)."""
+
+    benchmarks: str | None = None
+    anomaly: HeightAnomalySettings = field(default_factory=HeightAnomalySettings)
+
+
+@dataclass(frozen=True)
+class Project:
+    folder: Path
+    name: str
+    crs: EngineeringCRS
+    height: HeightSettings
+    surveys: tuple[SurveyEntry, ...]
+    description: str = ""
+    trolley_settings: dict | None = None  # the [trolley] table as written; None: each survey's own
+    imu_profile: str | None = None  # None: each survey's own
+    fusion: FusionOptions = field(default_factory=FusionOptions)
+    design: str | None = None
+    start_station_m: float | None = None
+    first_sleeper_number: int = 1
+    tolerance_profile: str = DEFAULT_PROFILE
+    fastener: str = DEFAULT_FASTENER
+
+    @property
+    def path(self) -> Path:
+        return self.folder / PROJECT_FILE
+
+    def resolve(self, relative: str) -> Path:
+        return self.folder / relative
+
+    def resource(self, name_or_path: str) -> str | Path:
+        """A shipped resource name as is, a ``.toml`` path relative to the project resolved."""
+        return self.resolve(name_or_path) if name_or_path.endswith(".toml") else name_or_path
+
+    def survey(self, name: str) -> SurveyEntry:
+        for entry in self.surveys:
+            if entry.name == name:
+                return entry
+        raise KeyError(f"{self.path}: no survey named {name!r} (surveys: {', '.join(s.name for s in self.surveys)})")
+
+    def trolley(self) -> TrolleyGeometry | None:
+        """The project's trolley geometry, or None when each survey brings its own."""
+        if self.trolley_settings is None:
+            return None
+        return _parse_trolley(self.trolley_settings, {"sleepers"}, [])
+
+    def to_settings(self) -> dict[str, Any]:
+        """The TOML document as plain data; ``load_project`` of it gives an equal project."""
+        height = {**self.height.anomaly.to_settings()}
+        if self.height.benchmarks is not None:
+            height["benchmarks"] = self.height.benchmarks
+        processing: dict[str, Any] = {name: getattr(self.fusion, name) for name in FUSION_FLAGS + FUSION_NUMBERS}
+        if self.imu_profile is not None:
+            processing["imu_profile"] = self.imu_profile
+        track: dict[str, Any] = {"first_sleeper_number": self.first_sleeper_number,
+                                 "tolerance_profile": self.tolerance_profile, "fastener": self.fastener}
+        if self.design is not None:
+            track["design"] = self.design
+        if self.start_station_m is not None:
+            track["start_station_m"] = self.start_station_m
+        document: dict[str, Any] = {
+            "project": {"name": self.name, "description": self.description},
+            "geodesy": {"crs": self.crs.to_settings(), "height": height},
+        }
+        if self.trolley_settings is not None:
+            document["trolley"] = self.trolley_settings
+        document["processing"] = processing
+        document["track"] = track
+        document["surveys"] = [{"name": s.name, "folder": s.folder} for s in self.surveys]
+        return document
+
+
+def save_project(project: Project, path: str | Path | None = None) -> Path:
+    """Write ``project.toml`` atomically (to ``path`` or the project's own file)."""
+    path = Path(path) if path is not None else project.path
+    with atomic_write(path, "wb") as handle:
+        tomli_w.dump(project.to_settings(), handle)
+    return path
+
+
+def load_project(path: str | Path) -> Project:
+    """Read and validate a project (``project.toml`` or the folder holding it)."""
+    path = Path(path)
+    if path.is_dir():
+        path = path / PROJECT_FILE
+    if not path.is_file():
+        raise InputError(path, None, "project file not found")
+    try:
+        document = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        match = re.search(r"\(at line (\d+), column \d+\)", str(exc))
+        raise InputError(path, int(match.group(1)) if match else None, f"not valid TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise InputError(path, None, f"not UTF-8 text: {exc}") from None
+    return project_from_settings(document, path.parent, path)
+
+
+def project_from_settings(document: dict, folder: Path, path: Path | None = None) -> Project:
+    """Validate a project document (paths relative to ``folder``); every problem is reported at once."""
+    reader = _Reader(Path(folder))
+    for key in document:
+        if key not in _TOP_LEVEL:
+            reader.add(key, f"unknown table (expected {', '.join(_TOP_LEVEL)})")
+    meta = reader.table(document, "project")
+    reader.known(meta, "project", ("name", "description"))
+    name = reader.text(meta, "project.name", Path(folder).resolve().name)
+    description = reader.text(meta, "project.description", "")
+
+    geodesy = reader.table(document, "geodesy")
+    reader.known(geodesy, "geodesy", ("crs", "height"))
+    crs = None
+    if "crs" not in geodesy:
+        reader.add("geodesy.crs", "missing table (the engineering coordinate system)")
+    else:
+        try:
+            crs = EngineeringCRS.from_settings(geodesy["crs"], "geodesy.crs")
+        except SettingsError as err:
+            reader.problems.extend(err.problems)
+    height = _height(reader, reader.table(geodesy, "height", "geodesy.height"))
+
+    trolley_settings = document.get("trolley")
+    if trolley_settings is not None:
+        trolley_problems: list[str] = []
+        _parse_trolley(trolley_settings, {"sleepers"}, trolley_problems)
+        reader.problems.extend(trolley_problems)
+
+    processing = reader.table(document, "processing")
+    reader.known(processing, "processing", ("imu_profile",) + FUSION_FLAGS + FUSION_NUMBERS)
+    imu_profile = processing.get("imu_profile")
+    if imu_profile is not None:
+        reader.loadable(processing, "processing.imu_profile", load_imu_profile, resolve=True)
+    options = {}
+    for key in FUSION_FLAGS:
+        if key in processing:
+            if isinstance(processing[key], bool):
+                options[key] = processing[key]
+            else:
+                reader.add(f"processing.{key}", f"expected true or false, found {processing[key]!r}")
+    for key in FUSION_NUMBERS:
+        if key in processing:
+            value = reader.number(processing, f"processing.{key}", positive=True)
+            if value is not None:
+                options[key] = value
+
+    track = reader.table(document, "track")
+    reader.known(track, "track", ("design", "start_station_m", "first_sleeper_number", "tolerance_profile", "fastener"))
+    design = reader.file(track, "track.design")
+    if design is not None:
+        _check_design(reader, design)
+    start_station = reader.number(track, "track.start_station_m") if "start_station_m" in track else None
+    if design is None and "design" not in track and "start_station_m" not in track:
+        reader.add("track.start_station_m", "missing: without a design alignment the start station is needed")
+    first_number = track.get("first_sleeper_number", 1)
+    if not isinstance(first_number, int) or isinstance(first_number, bool):
+        reader.add("track.first_sleeper_number", f"expected a whole number, found {first_number!r}")
+    tolerance = reader.loadable(track, "track.tolerance_profile", load_tolerance_profile, DEFAULT_PROFILE)
+    fastener = reader.loadable(track, "track.fastener", load_fastener_type, DEFAULT_FASTENER)
+
+    surveys = _surveys(reader, document.get("surveys"))
+    reader.raise_if_any(path or Path(folder) / PROJECT_FILE)
+    return Project(
+        folder=Path(folder), name=name, description=description, crs=crs, height=height, surveys=surveys,
+        trolley_settings=trolley_settings, imu_profile=imu_profile, fusion=FusionOptions(**options),
+        design=design, start_station_m=start_station, first_sleeper_number=first_number,
+        tolerance_profile=tolerance, fastener=fastener,
+    )
+
+
+def _height(reader: _Reader, table: dict) -> HeightSettings:
+    reader.known(table, "geodesy.height", ("benchmarks", "model", "geoid_grid"))
+    benchmarks = reader.file(table, "geodesy.height.benchmarks")
+    model = table.get("model", "auto")
+    if model not in HEIGHT_MODELS:
+        reader.add("geodesy.height.model", f"expected one of {', '.join(HEIGHT_MODELS)}, found {model!r}")
+        model = "auto"
+    anomaly = HeightAnomalySettings()
+    try:
+        anomaly = HeightAnomalySettings.from_settings(
+            {k: v for k, v in table.items() if k in ("model", "geoid_grid")} | {"model": model}, "geodesy.height")
+    except SettingsError as err:
+        reader.problems.extend(err.problems)
+    return HeightSettings(benchmarks, anomaly)
+
+
+def _check_design(reader: _Reader, design: str) -> None:
+    from insrail.project.pipeline import read_design
+
+    try:
+        read_design(reader.folder / design)
+    except (InputError, ValueError) as err:
+        reader.add("track.design", str(err))
+
+
+def _surveys(reader: _Reader, table) -> tuple[SurveyEntry, ...]:
+    if not isinstance(table, list) or not table:
+        reader.add("surveys", "expected at least one [[surveys]] entry with name and folder")
+        return ()
+    entries, seen = [], set()
+    for i, entry in enumerate(table):
+        key = f"surveys[{i}]"
+        if not isinstance(entry, dict):
+            reader.add(key, "expected a table with name and folder")
+            continue
+        reader.known(entry, key, ("name", "folder"))
+        name, folder = entry.get("name"), entry.get("folder")
+        if not isinstance(name, str) or not _SURVEY_NAME.match(name):
+            reader.add(f"{key}.name", f"expected a name of letters, digits, '.', '_' or '-', found {name!r}")
+        elif name in seen:
+            reader.add(f"{key}.name", f"duplicate survey name {name!r}")
+        seen.add(name)
+        if not isinstance(folder, str) or not folder:
+            reader.add(f"{key}.folder", "expected a folder path relative to the project")
+        elif not (reader.folder / folder).is_dir():
+            reader.add(f"{key}.folder", f"not found: {folder}")
+        elif not (reader.folder / folder / MANIFEST_NAME).is_file():
+            reader.add(f"{key}.folder", f"no {MANIFEST_NAME} in {folder}")
+        if isinstance(name, str) and isinstance(folder, str):
+            entries.append(SurveyEntry(name, folder))
+    return tuple(entries)
+
+
+class _Reader:
+    """Collects problems as ``key.path: message`` while reading a document."""
+
+    def __init__(self, folder: Path):
+        self.folder = folder
+        self.problems: list[str] = []
+
+    def add(self, key: str, message: str) -> None:
+        self.problems.append(f"{key}: {message}")
+
+    def raise_if_any(self, path: Path) -> None:
+        if self.problems:
+            raise ProjectError(path, self.problems)
+
+    def table(self, parent: dict, key: str, key_path: str | None = None) -> dict:
+        value = parent.get(key, {})
+        if not isinstance(value, dict):
+            self.add(key_path or key, f"expected a table, found {value!r}")
+            return {}
+        return value
+
+    def known(self, table: dict, key_path: str, keys: tuple[str, ...]) -> None:
+        for key in table:
+            if key not in keys:
+                self.add(f"{key_path}.{key}", f"unknown key (expected {', '.join(keys)})")
+
+    def text(self, table: dict, key_path: str, default: str) -> str:
+        value = table.get(key_path.rsplit(".", 1)[1], default)
+        if not isinstance(value, str):
+            self.add(key_path, f"expected text, found {value!r}")
+            return default
+        return value
+
+    def number(self, table: dict, key_path: str, positive: bool = False) -> float | None:
+        value = table[key_path.rsplit(".", 1)[1]]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+            self.add(key_path, f"expected a number, found {value!r}")
+            return None
+        if positive and value <= 0:
+            self.add(key_path, f"expected a positive number, found {value!r}")
+            return None
+        return float(value)
+
+    def file(self, table: dict, key_path: str) -> str | None:
+        value = table.get(key_path.rsplit(".", 1)[1])
+        if value is None:
+            return None
+        if not isinstance(value, str) or not value:
+            self.add(key_path, f"expected a file path relative to the project, found {value!r}")
+        elif not (self.folder / value).is_file():
+            self.add(key_path, f"file not found: {value}")
+        else:
+            return value
+        return None
+
+    def loadable(self, table: dict, key_path: str, load, default: str | None = None, resolve: bool = True):
+        """A shipped name or ``.toml`` path that ``load`` accepts; the value as written."""
+        value = table.get(key_path.rsplit(".", 1)[1], default)
+        if not isinstance(value, str) or not value:
+            self.add(key_path, f"expected a shipped name or a .toml path, found {value!r}")
+            return default
+        try:
+            load(self.folder / value if resolve and value.endswith(".toml") else value)
+        except (ValueError, OSError) as err:
+            self.add(key_path, str(err).replace("\n", " "))
+        return value
+
+
+__all__ = [
+    "HEIGHT_MODELS",
+    "PROJECT_FILE",
+    "HeightSettings",
+    "Project",
+    "ProjectError",
+    "SurveyEntry",
+    "load_project",
+    "project_from_settings",
+    "save_project",
+]

@@ -1,0 +1,155 @@
+"""project.toml: round trip, every problem reported with its key path, atomic save."""
+
+import os
+import subprocess
+import sys
+import textwrap
+import tomllib
+from dataclasses import replace
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from insrail.geodesy.crs import EngineeringCRS
+from insrail.io.errors import InputError
+from insrail.nav.fusion import FusionOptions
+from insrail.project import (
+    HeightSettings,
+    Project,
+    ProjectError,
+    SurveyEntry,
+    load_project,
+    save_project,
+)
+from insrail.project.model import FUSION_NUMBERS
+
+CRS = {"ellipsoid": "CGCS2000", "central_meridian_deg": 114.3, "false_easting_m": 500000.0,
+       "projection_height_m": 30.0}
+
+
+def make_folder(root):
+    """A project folder with two survey folders (only their survey.toml is looked at here),
+    a benchmarks file and a design file name."""
+    for name in ("a", "b"):
+        (root / "surveys" / name).mkdir(parents=True, exist_ok=True)
+        (root / "surveys" / name / "survey.toml").write_text("")
+    (root / "benchmarks.txt").write_text("BM1 30.4 114.4 14.0 26.5\n")
+    return root
+
+
+def sample_project(root, **changes):
+    project = Project(folder=root, name="line 7", description="two runs", crs=EngineeringCRS.from_settings(CRS),
+                      height=HeightSettings(benchmarks="benchmarks.txt"),
+                      surveys=(SurveyEntry("a", "surveys/a"), SurveyEntry("b", "surveys/b")),
+                      start_station_m=1000.0, first_sleeper_number=5, tolerance_profile="fra_class_3")
+    return replace(project, **changes)
+
+
+def test_round_trip(tmp_path):
+    trolley = {"imu_to_antenna_m": [0.02, 0.18, -1.35], "imu_to_odometer_m": [0.45, -0.6, 0.31],
+               "imu_to_sleeper_detector_m": [0.3, -0.45, 0.22], "imu_to_reference_rail_m": [0.1, -0.6, 0.31],
+               "reference_rail": "right", "mounting_rpy_deg": [0.05, -0.08, 0.12]}
+    project = sample_project(make_folder(tmp_path), imu_profile="tactical", trolley_settings=trolley,
+                             fusion=FusionOptions(use_nhc=False, update_rate_hz=5.0, gnss_sigma_scale=1.5))
+    path = save_project(project)
+    loaded = load_project(tmp_path)
+    assert loaded == project
+    assert load_project(path) == project
+    # A plain TOML file a surveyor can read and edit.
+    document = tomllib.loads(path.read_text())
+    assert document["surveys"][1] == {"name": "b", "folder": "surveys/b"}
+    assert document["processing"]["use_nhc"] is False
+    assert loaded.trolley().reference_rail == "right"
+    assert loaded.trolley().mounting_rpy_rad[2] == pytest.approx(0.12 * 3.141592653589793 / 180)
+    assert sample_project(tmp_path).trolley() is None  # each survey brings its own
+
+
+@settings(max_examples=25, deadline=None)
+@given(numbers=st.dictionaries(st.sampled_from(FUSION_NUMBERS), st.floats(1e-4, 1e4)),
+       flags=st.fixed_dictionaries({"use_zupt": st.booleans(), "smoother": st.booleans()}),
+       start=st.floats(-1e6, 1e6), number=st.integers(-10**6, 10**6))
+def test_round_trip_of_processing_options(tmp_path_factory, numbers, flags, start, number):
+    root = make_folder(tmp_path_factory.mktemp("p"))
+    project = sample_project(root, fusion=FusionOptions(**numbers, **flags), start_station_m=start,
+                             first_sleeper_number=number)
+    save_project(project)
+    assert load_project(root) == project
+
+
+def test_every_problem_is_listed_with_its_key_path(tmp_path):
+    make_folder(tmp_path)
+    (tmp_path / "project.toml").write_text(textwrap.dedent("""
+        colour = "blue"
+        [geodesy.crs]
+        ellipsoid = "CGCS2000"
+        scale_factor = 2.0
+        [geodesy.height]
+        benchmarks = "missing.txt"
+        model = "spline"
+        [processing]
+        use_nhc = "yes"
+        update_rate_hz = -1
+        imu_profile = "no-such-imu"
+        [track]
+        design = "design.csv"
+        tolerance_profile = "no_such_profile"
+        fastener = 3
+        [trolley]
+        reference_rail = "middle"
+        [[surveys]]
+        name = "a"
+        folder = "surveys/a"
+        [[surveys]]
+        name = "a"
+        folder = "surveys/b"
+        [[surveys]]
+        name = "c"
+        folder = "surveys/c"
+    """))
+    with pytest.raises(ProjectError) as caught:
+        load_project(tmp_path)
+    keys = {problem.split(":")[0] for problem in caught.value.problems}
+    assert {"colour", "geodesy.crs.central_meridian_deg", "geodesy.crs.scale_factor", "geodesy.height.benchmarks",
+            "geodesy.height.model", "processing.use_nhc", "processing.update_rate_hz", "processing.imu_profile",
+            "track.design", "track.tolerance_profile", "track.fastener", "surveys[1].name", "trolley.reference_rail",
+            "trolley.imu_to_antenna_m",
+            "surveys[2].folder"} <= keys
+    assert "surveys[2].folder: not found: surveys/c" in caught.value.problems
+    assert str(tmp_path / "project.toml") in str(caught.value)
+
+
+def test_missing_tables_and_bad_toml(tmp_path):
+    (tmp_path / "project.toml").write_text("[project]\nname = 'x'\n")
+    with pytest.raises(ProjectError) as caught:
+        load_project(tmp_path)
+    keys = {p.split(":")[0] for p in caught.value.problems}
+    assert keys == {"geodesy.crs", "track.start_station_m", "surveys"}
+    (tmp_path / "project.toml").write_text("[project\n")
+    with pytest.raises(InputError) as bad:
+        load_project(tmp_path)
+    assert bad.value.line == 1
+
+
+def test_killed_save_leaves_the_previous_project_intact(tmp_path):
+    project = sample_project(make_folder(tmp_path))
+    path = save_project(project)
+    before = path.read_bytes()
+    # A child process starts saving a changed project and is killed half way through writing.
+    script = textwrap.dedent(f"""
+        import os, signal, tomli_w
+        from dataclasses import replace
+        from insrail.project import load_project, save_project
+        def dump_half(data, handle):
+            text = tomli_w.dumps(data).encode()
+            handle.write(text[: len(text) // 2])
+            handle.flush()
+            os.kill(os.getpid(), signal.SIGKILL)
+        tomli_w.dump = dump_half
+        save_project(replace(load_project({str(tmp_path)!r}), name="changed"))
+    """)
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(p) for p in sys.path if p])}
+    child = subprocess.run([sys.executable, "-c", script], check=False, env=env)
+    assert child.returncode == -9
+    assert path.read_bytes() == before
+    assert load_project(tmp_path) == project
