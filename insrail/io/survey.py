@@ -9,8 +9,6 @@ the named point, resolved in the IMU body frame b (forward-right-down), metres.
 from __future__ import annotations
 
 import dataclasses
-import re
-import tomllib
 import types
 import typing
 from dataclasses import dataclass, field
@@ -20,6 +18,7 @@ import numpy as np
 import tomli_w
 
 from insrail.io.atomic import atomic_write
+from insrail.io.tomlfile import read_toml
 from insrail.io.errors import InputError, ManifestError
 from insrail.io.formats import FORMATS
 from insrail.io.types import (
@@ -240,12 +239,7 @@ def read_manifest(folder: str | Path) -> SurveyManifest:
     path = folder / MANIFEST_NAME
     if not path.is_file():
         raise InputError(path, None, "file not found: the survey folder needs a survey.toml")
-    try:
-        document = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        # tomllib says "... (at line 7, column 3)"; lift the line into the error's place.
-        match = re.search(r"\(at line (\d+), column \d+\)", str(exc))
-        raise InputError(path, int(match.group(1)) if match else None, f"not valid TOML: {exc}") from None
+    document = read_toml(path)
 
     problems: list[str] = []
     for key in document:

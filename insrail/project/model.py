@@ -22,7 +22,6 @@ Saving writes the whole file atomically (a crash leaves the previous file intact
 from __future__ import annotations
 
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -34,6 +33,7 @@ from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import SettingsError
 from insrail.geodesy.height_anomaly import HeightAnomalySettings
 from insrail.io.atomic import atomic_write
+from insrail.io.tomlfile import read_toml
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, _parse_trolley
 from insrail.nav.fusion import FusionOptions
@@ -156,13 +156,7 @@ def load_project(path: str | Path) -> Project:
         path = path / PROJECT_FILE
     if not path.is_file():
         raise InputError(path, None, "project file not found")
-    try:
-        document = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        match = re.search(r"\(at line (\d+), column \d+\)", str(exc))
-        raise InputError(path, int(match.group(1)) if match else None, f"not valid TOML: {exc}") from None
-    except UnicodeDecodeError as exc:
-        raise InputError(path, None, f"not UTF-8 text: {exc}") from None
+    document = read_toml(path)
     return project_from_settings(document, path.parent, path)
 
 

@@ -1,0 +1,22 @@
+"""Reading the TOML files users edit (survey.toml, project.toml) with errors that name the line."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+
+from insrail.io.errors import InputError
+
+
+def read_toml(path: str | Path) -> dict:
+    """The document in ``path``; syntax errors become InputError at tomllib's line."""
+    path = Path(path)
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        # tomllib says "... (at line 7, column 3)"; lift the line into the error's place.
+        match = re.search(r"\(at line (\d+), column \d+\)", str(exc))
+        raise InputError(path, int(match.group(1)) if match else None, f"not valid TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise InputError(path, None, f"not UTF-8 text: {exc}") from None
