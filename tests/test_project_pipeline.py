@@ -182,3 +182,39 @@ def test_cli_demo_builds_and_processes_a_project(tmp_path, capsys):
     assert project.design == "surveys/short/truth/design.csv"
     summary = tomllib.loads((tmp_path / "results" / "short" / "summary.toml").read_text())
     assert summary["track"]["valid_sleepers"] > 1800
+
+
+def test_stored_results_read_back_what_the_pipeline_computed(processed):
+    from insrail.project.results import load_results
+
+    project, results = processed
+    stored = load_results(project.folder, "short")
+    table = results.table
+    assert len(stored) == len(table)
+    assert np.array_equal(stored.number, table.number) and stored.label == table.label
+    np.testing.assert_allclose(stored.columns["station_m"], table.station_m, atol=5e-5)
+    np.testing.assert_allclose(stored.columns["gauge_mm"], 1e3 * table.gauge_m, atol=5e-4, equal_nan=True)
+    assert np.array_equal(np.isnan(stored.columns["lateral_deviation_left_mm"]),
+                          np.isnan(table.lateral_deviation_m[:, 0]))
+    assert len(stored.exceedances) == len(results.assessment.exceedances)
+    first = results.assessment.exceedances[0]
+    assert stored.exceedances[0].check == first.check
+    assert stored.exceedances[0].first_sleeper == first.first_sleeper
+    assert len(stored.trajectory()) == len(results.trajectory)
+
+
+def test_damaged_result_files_are_named(processed, tmp_path):
+    from insrail.io.errors import InputError
+    from insrail.project.results import load_results
+
+    project, _ = processed
+    copy = tmp_path / "copy"
+    shutil.copytree(project.folder / "results" / "short", copy / "results" / "short")
+    sleepers = copy / "results" / "short" / "sleepers.csv"
+    lines = sleepers.read_text().splitlines()
+    lines[5] = lines[5].replace(",", ",x", 3)
+    sleepers.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=r"sleepers\.csv.*line 6"):
+        load_results(copy, "short")
+    with pytest.raises(InputError, match="process it first"):
+        load_results(copy, "other")

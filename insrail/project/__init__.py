@@ -16,6 +16,7 @@ from insrail.project.model import (
     save_project,
 )
 from insrail.project.pipeline import SurveyResults, fit_heights, process, read_design
+from insrail.project.results import StoredResults, load_results
 
 __all__ = [
     "HEIGHT_MODELS",
@@ -24,9 +25,11 @@ __all__ = [
     "Project",
     "ProjectError",
     "SurveyEntry",
+    "StoredResults",
     "SurveyResults",
     "fit_heights",
     "load_project",
+    "load_results",
     "process",
     "project_from_settings",
     "read_design",

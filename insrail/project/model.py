@@ -33,9 +33,9 @@ from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import SettingsError
 from insrail.geodesy.height_anomaly import HeightAnomalySettings
 from insrail.io.atomic import atomic_write
-from insrail.io.tomlfile import read_toml
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, _parse_trolley
+from insrail.io.tomlfile import read_toml
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.track.adjustment import DEFAULT_FASTENER, load_fastener_type

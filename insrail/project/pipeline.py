@@ -2,15 +2,8 @@
 
 ``process`` runs read_survey -> fuse -> engineering coordinates (CRS + fitted height anomaly)
 -> reconstruct_track (on the design, else along the path from the start station) -> assess
-(tolerance profile) -> adjustment (fastener type) and writes ``<project>/results/<survey>/``:
-
-* ``trajectory.npy``   the fused trajectory (insrail.nav.trajectory.TRAJECTORY_DTYPE records)
-* ``sleepers.csv``     one row per sleeper; the header names every column with its unit
-* ``exceedances.csv``  one row per exceedance run
-* ``summary.toml``     settings used, headline numbers, file list
-
-The result folder is assembled beside the old one and swapped in at the end, so a cancelled
-or failed run leaves the previous results (or none) and never a mixture.
+(tolerance profile) -> adjustment (fastener type) and writes ``<project>/results/<survey>/``
+(the files and how they are swapped in: :mod:`insrail.project.results`).
 
 The fusion, the slow stage, is cached in ``<project>/results/.cache/`` under a hash of what
 determines it (the raw survey files' contents, trolley, IMU profile, fusion options,
@@ -20,11 +13,7 @@ ellipsoid): changing the tolerance profile, fastener, design or height model reu
 from __future__ import annotations
 
 import hashlib
-import io
 import json
-import os
-import shutil
-import tempfile
 import time
 import tomllib
 from dataclasses import asdict, dataclass, replace
@@ -44,6 +33,17 @@ from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
+from insrail.project.results import (
+    EXCEEDANCES_FILE,
+    RESULTS_FOLDER,
+    SLEEPERS_FILE,
+    SUMMARY_FILE,
+    TRAJECTORY_FILE,
+    exceedances_csv,
+    sleepers_csv,
+    summary_toml,
+    write_results,
+)
 from insrail.track.adjustment import Adjustment, load_fastener_type, optimise_adjustment
 from insrail.track.alignment import DesignAlignment
 from insrail.track.alignment_csv import read_alignment_csv
@@ -56,7 +56,6 @@ from insrail.track.sleeper_table import (
 )
 from insrail.track.tolerance import load_tolerance_profile
 
-RESULTS_FOLDER = "results"
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
 CACHE_VERSION = 1
@@ -193,71 +192,14 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     step(0.97, "writing results")
     summary = _summary(project, entry.name, survey, fusion_info, cached, height_fit, height_warnings, table,
                        assessment, adjustment, time.monotonic() - started)
-    folder = _write_results(project, entry.name, trajectory_file, table, assessment, adjustment, summary, cancel)
+    folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
+        TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment),
+        EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary)}, cancel)
     step(1.0, "done")
     return SurveyResults(entry.name, folder, trajectory, height_fit, recon, assessment, adjustment, cached, summary)
 
 
 # --------------------------------------------------------------------------- result files
-
-def _channel_column(channel) -> tuple[str, float, str]:
-    """Column name (``check_`` + check, rail, direction, unit), factor from SI, number format."""
-    parts = [channel.check] + [p for p in (channel.rail, channel.direction) if p and p != "track"]
-    name = "check_" + "_".join(parts)
-    return (f"{name}_ratio", 1.0, "%.6f") if channel.kind.endswith("rate") else (f"{name}_mm", 1e3, "%.3f")
-
-
-def sleeper_columns(table: SleeperTable, assessment: Assessment,
-                    adjustment: Adjustment) -> dict[str, tuple[np.ndarray, str]]:
-    """The columns of sleepers.csv after number and label, in file order: name -> (values, format)."""
-    columns: dict[str, tuple[np.ndarray, str]] = {
-        "station_m": (table.station_m, "%.4f"), "time_s": (table.time_s, "%.4f"),
-        "detected": (table.detected, "%d"), "valid": (table.valid, "%d"),
-    }
-    for rail, points in (("left", table.left_rail_enh_m), ("right", table.right_rail_enh_m)):
-        for axis, values in zip("ENH", points.T):
-            columns[f"{rail}_{axis}_m"] = (values, "%.4f")
-    columns |= {"gauge_mm": (1e3 * table.gauge_m, "%.3f"), "cant_mm": (1e3 * table.cant_m, "%.3f"),
-                "design_cant_mm": (1e3 * table.design_cant_m, "%.3f")}
-    for direction, deviation in (("lateral", table.lateral_deviation_m), ("vertical", table.vertical_deviation_m)):
-        for side, rail in enumerate(("left", "right")):
-            columns[f"{direction}_deviation_{rail}_mm"] = (1e3 * deviation[:, side], "%.3f")
-    for channel in assessment.channels:
-        name, factor, fmt = _channel_column(channel)
-        columns[name] = (factor * channel.values, fmt)
-    for direction, amounts, flags in (("lateral", adjustment.lateral_m, adjustment.unresolved_lateral),
-                                      ("vertical", adjustment.vertical_m, adjustment.unresolved_vertical)):
-        for side, rail in enumerate(("left", "right")):
-            columns[f"adjust_{direction}_{rail}_mm"] = (1e3 * amounts[:, side], "%.1f")
-            columns[f"unresolved_{direction}_{rail}"] = (flags[:, side], "%d")
-    return columns
-
-
-def _sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjustment) -> str:
-    """number, label, then the columns of :func:`sleeper_columns`; NaN (not computable) as empty."""
-    columns = sleeper_columns(table, assessment, adjustment)
-    header = ",".join(["number", "label", *columns]) + "\n"
-    if not len(table):
-        return header
-    block = io.StringIO()
-    numeric = np.column_stack([np.asarray(values, dtype=float) for values, _ in columns.values()])
-    np.savetxt(block, numeric, fmt=[fmt for _, fmt in columns.values()], delimiter=",")
-    lines = block.getvalue().replace("nan", "").splitlines()
-    return header + "".join(f"{n},{label},{line}\n" for n, label, line in zip(table.number, table.label, lines))
-
-
-EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from_m", "station_to_m", "peak",
-                     "limit", "first_sleeper", "last_sleeper"]
-
-
-def _exceedances_csv(assessment: Assessment) -> str:
-    rows = [",".join([e.check, e.kind, e.rail, e.direction, *(
-        ("ratio", f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", f"{e.peak:.6f}", f"{e.limit:.6f}")
-        if e.kind.endswith("rate") else
-        ("mm", f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", f"{1e3 * e.peak:.3f}", f"{1e3 * e.limit:.3f}")),
-        str(e.first_sleeper), str(e.last_sleeper)]) for e in assessment.exceedances]
-    return "\n".join([",".join(EXCEEDANCE_HEADER), *rows]) + "\n"
-
 
 def _summary(project, name, survey, fusion_info, cached, height_fit, height_warnings, table, assessment, adjustment,
              elapsed) -> dict:
@@ -266,6 +208,7 @@ def _summary(project, name, survey, fusion_info, cached, height_fit, height_warn
         counts[e.check] = counts.get(e.check, 0) + 1
     summary = {
         "survey": {"name": name, "folder": project.survey(name).folder, "imu_epochs": len(survey.imu),
+                   **({"gps_week": survey.manifest.gps_week} if survey.manifest.gps_week is not None else {}),
                    "processing_time_s": round(elapsed, 2)},
         "fusion": {"from_cache": cached, **fusion_info},
         "heights": ({"model": height_fit.model_name, "internal_rms_mm": 1e3 * height_fit.internal_rms_m,
@@ -282,41 +225,6 @@ def _summary(project, name, survey, fusion_info, cached, height_fit, height_warn
                        "max_vertical_mm": 1e3 * float(np.abs(adjustment.vertical_m).max(initial=0.0)),
                        "unresolved_sleepers": int(np.any(adjustment.unresolved_lateral | adjustment.unresolved_vertical,
                                                          axis=1).sum())},
-        "files": {"trajectory": "trajectory.npy", "sleepers": "sleepers.csv", "exceedances": "exceedances.csv"},
+        "files": {"trajectory": TRAJECTORY_FILE, "sleepers": SLEEPERS_FILE, "exceedances": EXCEEDANCES_FILE},
     }
     return summary
-
-
-def _write_results(project, name, trajectory_file, table, assessment, adjustment, summary, cancel) -> Path:
-    """Write every file into a staging folder, then swap it for the previous results."""
-    results = project.folder / RESULTS_FOLDER
-    results.mkdir(parents=True, exist_ok=True)
-    final = results / name
-    staging = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=".new", dir=results))
-    try:
-        _link_or_copy(trajectory_file, staging / "trajectory.npy")
-        (staging / "sleepers.csv").write_text(_sleepers_csv(table, assessment, adjustment), encoding="utf-8")
-        (staging / "exceedances.csv").write_text(_exceedances_csv(assessment), encoding="utf-8")
-        with open(staging / "summary.toml", "wb") as handle:
-            tomli_w.dump(summary, handle)
-        check_cancel(cancel)
-        os.chmod(staging, 0o755)
-        old = None
-        if final.exists():
-            old = results / f".{name}.old-{os.getpid()}"
-            os.replace(final, old)
-        os.replace(staging, final)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-    return final
-
-
-def _link_or_copy(source: Path, destination: Path) -> None:
-    """Share the cached trajectory (files are only ever replaced, never modified in place)."""
-    try:
-        os.link(source, destination)
-    except OSError:
-        shutil.copyfile(source, destination)

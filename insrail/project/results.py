@@ -1,0 +1,254 @@
+"""The result files of one processed survey: written by the pipeline, read back by reports, GUI and batch.
+
+``<project>/results/<survey>/`` holds
+
+* ``trajectory.npy``   the fused trajectory (insrail.nav.trajectory.TRAJECTORY_DTYPE records)
+* ``sleepers.csv``     one row per sleeper: ``number``, ``label`` (the broken-chainage label), then the
+  columns of :func:`sleeper_columns`, each name ending in its unit (``_m``, ``_mm``, ``_ratio``) or a
+  0/1 flag; an empty cell is a value that cannot be computed there (NaN)
+* ``exceedances.csv``  one row per run of sleepers beyond a tolerance (:data:`EXCEEDANCE_HEADER`)
+* ``summary.toml``     settings used, headline numbers, file list
+
+A result folder is assembled beside the old one and swapped in at the end (:func:`write_results`), so
+a cancelled or failed run leaves the previous results (or none) and never a mixture. Readers see the
+files exactly as a user opening them in a spreadsheet would: :func:`load_results` is the one way back.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import shutil
+import tempfile
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import tomli_w
+
+from insrail.io.errors import InputError
+from insrail.nav.trajectory import Trajectory, load_trajectory
+from insrail.progress import CancelToken, check_cancel
+from insrail.track.adjustment import Adjustment
+from insrail.track.exceedance import Assessment
+from insrail.track.sleeper_table import SleeperTable
+
+RESULTS_FOLDER = "results"
+TRAJECTORY_FILE = "trajectory.npy"
+SLEEPERS_FILE = "sleepers.csv"
+EXCEEDANCES_FILE = "exceedances.csv"
+SUMMARY_FILE = "summary.toml"
+
+EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from_m", "station_to_m", "peak",
+                     "limit", "first_sleeper", "last_sleeper"]
+
+
+# --------------------------------------------------------------------------- writing
+
+def _channel_column(channel) -> tuple[str, float, str]:
+    """Column name (``check_`` + check, rail, direction, unit), factor from SI, number format."""
+    parts = [channel.check] + [p for p in (channel.rail, channel.direction) if p and p != "track"]
+    name = "check_" + "_".join(parts)
+    return (f"{name}_ratio", 1.0, "%.6f") if channel.kind.endswith("rate") else (f"{name}_mm", 1e3, "%.3f")
+
+
+def sleeper_columns(table: SleeperTable, assessment: Assessment,
+                    adjustment: Adjustment) -> dict[str, tuple[np.ndarray, str]]:
+    """The columns of sleepers.csv after number and label, in file order: name -> (values, format)."""
+    columns: dict[str, tuple[np.ndarray, str]] = {
+        "station_m": (table.station_m, "%.4f"), "time_s": (table.time_s, "%.4f"),
+        "detected": (table.detected, "%d"), "valid": (table.valid, "%d"),
+    }
+    for rail, points in (("left", table.left_rail_enh_m), ("right", table.right_rail_enh_m)):
+        for axis, values in zip("ENH", points.T):
+            columns[f"{rail}_{axis}_m"] = (values, "%.4f")
+    columns |= {"gauge_mm": (1e3 * table.gauge_m, "%.3f"), "cant_mm": (1e3 * table.cant_m, "%.3f"),
+                "design_cant_mm": (1e3 * table.design_cant_m, "%.3f")}
+    for direction, deviation in (("lateral", table.lateral_deviation_m), ("vertical", table.vertical_deviation_m)):
+        for side, rail in enumerate(("left", "right")):
+            columns[f"{direction}_deviation_{rail}_mm"] = (1e3 * deviation[:, side], "%.3f")
+    for channel in assessment.channels:
+        name, factor, fmt = _channel_column(channel)
+        columns[name] = (factor * channel.values, fmt)
+    for direction, amounts, flags in (("lateral", adjustment.lateral_m, adjustment.unresolved_lateral),
+                                      ("vertical", adjustment.vertical_m, adjustment.unresolved_vertical)):
+        for side, rail in enumerate(("left", "right")):
+            columns[f"adjust_{direction}_{rail}_mm"] = (1e3 * amounts[:, side], "%.1f")
+            columns[f"unresolved_{direction}_{rail}"] = (flags[:, side], "%d")
+    return columns
+
+
+def sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjustment) -> str:
+    """number, label, then the columns of :func:`sleeper_columns`; NaN (not computable) as empty."""
+    columns = sleeper_columns(table, assessment, adjustment)
+    header = ",".join(["number", "label", *columns]) + "\n"
+    if not len(table):
+        return header
+    block = io.StringIO()
+    numeric = np.column_stack([np.asarray(values, dtype=float) for values, _ in columns.values()])
+    np.savetxt(block, numeric, fmt=[fmt for _, fmt in columns.values()], delimiter=",")
+    lines = block.getvalue().replace("nan", "").splitlines()
+    return header + "".join(f"{n},{label},{line}\n" for n, label, line in zip(table.number, table.label, lines))
+
+
+def exceedances_csv(assessment: Assessment) -> str:
+    """One row per exceedance; lengths and values in mm, rates as ratios (the ``unit`` column says which)."""
+    rows = [",".join([e.check, e.kind, e.rail, e.direction, *(
+        ("ratio", f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", f"{e.peak:.6f}", f"{e.limit:.6f}")
+        if e.kind.endswith("rate") else
+        ("mm", f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", f"{1e3 * e.peak:.3f}", f"{1e3 * e.limit:.3f}")),
+        str(e.first_sleeper), str(e.last_sleeper)]) for e in assessment.exceedances]
+    return "\n".join([",".join(EXCEEDANCE_HEADER), *rows]) + "\n"
+
+
+def write_results(results: Path, name: str, files: dict[str, str | bytes | Path],
+                  cancel: CancelToken = None) -> Path:
+    """Write ``results/<name>/`` from ``files`` (file name -> text, bytes, or a file to share by hard
+    link) into a staging folder, then swap it for the previous results."""
+    results.mkdir(parents=True, exist_ok=True)
+    final = results / name
+    staging = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=".new", dir=results))
+    try:
+        for file_name, content in files.items():
+            target = staging / file_name
+            if isinstance(content, Path):
+                _link_or_copy(content, target)
+            elif isinstance(content, bytes):
+                target.write_bytes(content)
+            else:
+                target.write_text(content, encoding="utf-8")
+        check_cancel(cancel)
+        os.chmod(staging, 0o755)
+        old = None
+        if final.exists():
+            old = results / f".{name}.old-{os.getpid()}"
+            os.replace(final, old)
+        os.replace(staging, final)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+    return final
+
+
+def summary_toml(summary: dict) -> bytes:
+    return tomli_w.dumps(summary).encode("utf-8")
+
+
+def _link_or_copy(source: Path, destination: Path) -> None:
+    """Share the cached trajectory (files are only ever replaced, never modified in place)."""
+    try:
+        os.link(source, destination)
+    except OSError:
+        shutil.copyfile(source, destination)
+
+
+# --------------------------------------------------------------------------- reading
+
+@dataclass(frozen=True)
+class ExceedanceRow:
+    """One row of exceedances.csv; ``peak`` and ``limit`` in ``unit`` (``mm`` or ``ratio``)."""
+
+    check: str
+    kind: str
+    rail: str
+    direction: str
+    unit: str
+    station_from_m: float
+    station_to_m: float
+    peak: float
+    limit: float
+    first_sleeper: int
+    last_sleeper: int
+
+
+@dataclass(frozen=True)
+class StoredResults:
+    """A survey's result files read back (values in the files' units, as named by each column)."""
+
+    survey: str
+    folder: Path
+    summary: dict
+    number: np.ndarray  # (n,) int sleeper numbers as printed for the crews
+    label: tuple[str, ...]  # broken-chainage label per sleeper
+    columns: dict[str, np.ndarray]  # sleepers.csv columns after number and label; NaN where empty
+    exceedances: tuple[ExceedanceRow, ...]
+
+    def __len__(self) -> int:
+        return len(self.number)
+
+    def trajectory(self) -> Trajectory:
+        """The fused trajectory (read on demand: it is the large file)."""
+        return load_trajectory(self.folder / TRAJECTORY_FILE, gps_week=self.summary.get("survey", {}).get("gps_week"))
+
+
+def load_results(project_folder: Path, survey: str) -> StoredResults:
+    """Read ``<project_folder>/results/<survey>/``; a missing or damaged file raises InputError naming it."""
+    folder = Path(project_folder) / RESULTS_FOLDER / survey
+    summary_path = folder / SUMMARY_FILE
+    if not summary_path.is_file():
+        raise InputError(folder, None, f"no results for survey {survey!r}: process it first")
+    try:
+        summary = tomllib.loads(summary_path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+        raise InputError(summary_path, None, f"not a valid summary file ({error})") from None
+    number, label, columns = _read_sleepers(folder / SLEEPERS_FILE)
+    return StoredResults(survey, folder, summary, number, label, columns,
+                         _read_exceedances(folder / EXCEEDANCES_FILE))
+
+
+def _lines(path: Path) -> list[str]:
+    try:
+        return path.read_text(encoding="utf-8").splitlines()
+    except FileNotFoundError:
+        raise InputError(path, None, "result file missing: process the survey again") from None
+
+
+def _read_sleepers(path: Path) -> tuple[np.ndarray, tuple[str, ...], dict[str, np.ndarray]]:
+    lines = _lines(path)
+    if not lines or not lines[0].startswith("number,label,"):
+        raise InputError(path, 1, "expected the header 'number,label,...' of an insrail sleeper table")
+    names = lines[0].split(",")[2:]
+    rows = [line.split(",") for line in lines[1:]]
+    for line_number, row in enumerate(rows, start=2):
+        if len(row) != len(names) + 2:
+            raise InputError(path, line_number, f"expected {len(names) + 2} fields, found {len(row)}")
+    if not rows:
+        return np.zeros(0, int), (), {name: np.zeros(0) for name in names}
+    cells = np.array([row[2:] for row in rows])
+    cells[cells == ""] = "nan"
+    try:
+        values = cells.astype(float)
+        number = np.array([row[0] for row in rows]).astype(int)
+    except ValueError:
+        bad = next(i for i, row in enumerate(rows) if not _numeric(row))
+        raise InputError(path, bad + 2, "expected numbers in every column but the label") from None
+    return number, tuple(row[1] for row in rows), {name: values[:, i] for i, name in enumerate(names)}
+
+
+def _numeric(row: list[str]) -> bool:
+    try:
+        int(row[0])
+        [float(cell) for cell in row[2:] if cell]
+    except ValueError:
+        return False
+    return True
+
+
+def _read_exceedances(path: Path) -> tuple[ExceedanceRow, ...]:
+    lines = _lines(path)
+    if not lines or lines[0].split(",") != EXCEEDANCE_HEADER:
+        raise InputError(path, 1, f"expected the header {','.join(EXCEEDANCE_HEADER)}")
+    rows = []
+    for line_number, line in enumerate(lines[1:], start=2):
+        fields = line.split(",")
+        try:
+            check, kind, rail, direction, unit, s0, s1, peak, limit, first, last = fields
+            rows.append(ExceedanceRow(check, kind, rail, direction, unit, float(s0), float(s1), float(peak),
+                                      float(limit), int(first), int(last)))
+        except ValueError:
+            raise InputError(path, line_number, f"expected {len(EXCEEDANCE_HEADER)} fields: "
+                                                f"{','.join(EXCEEDANCE_HEADER)}") from None
+    return tuple(rows)
