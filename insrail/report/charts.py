@@ -111,7 +111,7 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
             x0, x1 = px(station_m[run[0]] - 0.3), px(station_m[run[-1]] + 0.3)
             drawing.add(Rect(max(x0, left), bottom, min(x1, left + plot_w) - max(x0, left), plot_h,
                              fillColor=INVALID_COLOUR, strokeColor=None))
-    step = nice_step(high - low, 4)
+    step = nice_step(high - low, 5)
     for tick in np.arange(math.ceil(low / step) * step, high, step):
         y = float(py(tick))
         drawing.add(Line(left, y, left + plot_w, y, strokeColor=GRID_COLOUR, strokeWidth=0.3))

@@ -330,7 +330,7 @@ def _flatten(prefix: str, value, rows: list[tuple[str, object]]) -> None:
 def _log_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
     sheet.title("Processing log")
     sheet.start([42, 90])
-    now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     sheet.pairs(("Software", content.software), ("Report written", now))
     sheet.pairs(("Project file", str(content.project.path)), ("Results", str(content.results.folder)))
     for note in content.notes:
@@ -346,6 +346,16 @@ def _log_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, ca
             sheet.append([sheet.cell(key), sheet.cell(value, "0.000" if isinstance(value, float) else None)])
         sheet.append([])
     progress(1.0, "processing log")
+
+
+def _discard(workbook: Workbook) -> None:
+    """End the row streams of an abandoned write-only workbook and delete their temporary files
+    (openpyxl keeps them until the workbook is saved)."""
+    for sheet in workbook.worksheets:
+        if not sheet.closed:
+            sheet.close()
+        if sheet._writer is not None and Path(sheet._writer.out).exists():
+            sheet._writer.cleanup()
 
 
 SHEETS: tuple[tuple[str, Callable, float], ...] = (
@@ -367,13 +377,17 @@ def write_workbook(project: Project, results: StoredResults, path, progress: Pro
     workbook.properties.title = f"{project.name} – {results.survey}: track geometry"
     workbook.properties.creator = content.software
     position = 0.0
-    for name, build, share in SHEETS:
+    try:
+        for name, build, share in SHEETS:
+            check_cancel(cancel)
+            build(_Sheet(workbook.create_sheet(name)), content, step.sub(position, position + share), cancel)
+            position += share
         check_cancel(cancel)
-        build(_Sheet(workbook.create_sheet(name)), content, step.sub(position, position + share), cancel)
-        position += share
-    check_cancel(cancel)
-    step(position, "saving the workbook")
-    with atomic_write(path, "wb") as handle:
-        workbook.save(handle)
+        step(position, "saving the workbook")
+        with atomic_write(path, "wb") as handle:
+            workbook.save(handle)
+    except BaseException:
+        _discard(workbook)
+        raise
     step(1.0, f"workbook written: {path.name}")
     return path

@@ -65,7 +65,8 @@ MARGIN = 14 * mm
 CHART_RANGE_M = 500.0
 CHARTS_PER_PAGE = 5
 CJK_FONT = "STSong-Light"  # an Adobe CID font every PDF viewer provides; Helvetica has no CJK glyphs
-#: A section added to the report: content -> flowables (e.g. repeatability of several runs).
+#: A section added to the report: content -> flowables (e.g. repeatability of several runs), starting
+#: with a :class:`Heading` to name its pages in the page header; it ends with a page break.
 Section = Callable[[ReportContent], list[Flowable]]
 
 _styles = getSampleStyleSheet()
@@ -181,12 +182,12 @@ def _cover(content: ReportContent, trajectory: Trajectory | None) -> list[Flowab
         ("Sleepers", f"{track.get('sleepers', len(content.results))}, {track.get('valid_sleepers', int(content.valid.sum()))} valid"),
         ("Tolerance profile", f"{content.profile.name}: {content.profile.description}"),
         ("Exceedances", f"{assessment.get('exceedances', len(content.results.exceedances))} runs of sleepers beyond a limit"),
-        ("Adjustment", f"{adjustment.get('fastener', '')}: largest lateral {_fmt(adjustment.get('max_lateral_mm'), 0, 'mm')}, "
+        ("Adjustment", (f"{adjustment.get('fastener', '')}: largest lateral {_fmt(adjustment.get('max_lateral_mm'), 0, 'mm')}, "
                        f"vertical {_fmt(adjustment.get('max_vertical_mm'), 0, 'mm')}, "
-                       f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail"),
+                       f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")),
         ("TQI", f"mean {np.mean(tqi):.2f} mm, largest {max(tqi):.2f} mm over {len(tqi)} sections of "
                 f"{s['track_quality'].get('section_m', 200):g} m" if tqi else "-"),
-        ("Report", f"{content.software}, {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC"),
+        ("Report", f"{content.software}, {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC"),
     ], widths=(40 * mm, 200 * mm)), PageBreak()]
     return story
 
@@ -202,8 +203,8 @@ def _gnss_rows(gnss: dict) -> list[tuple[str, object]]:
     if len(outages) > 12:
         listed += f"; and {len(outages) - 12} more"
     return [
-        ("GNSS solutions", f"{gnss['solutions']} at {gnss.get('interval_s', 0):g} s "
-                           f"({100 * gnss['solutions'] / expected:.1f} % of the survey span), {gnss['fixed']} fixed"),
+        ("GNSS solutions", (f"{gnss['solutions']} at {gnss.get('interval_s', 0):g} s "
+                           f"({100 * gnss['solutions'] / expected:.1f} % of the survey span), {gnss['fixed']} fixed")),
         ("GNSS outages", f"{len(outages)} longer than 3 s, {gnss.get('outage_total_s', 0):.0f} s in all"
                          + (f": {listed} (GPS seconds of week)" if outages else "")),
     ]
@@ -216,13 +217,13 @@ def _trajectory_rows(trajectory: Trajectory | None, smoother: bool) -> list[tupl
     horizontal = 1e3 * np.hypot(sigma[:, 0], sigma[:, 1])
     vertical = 1e3 * sigma[:, 2]
     rows = [
-        ("Trajectory", f"{len(trajectory)} epochs, {trajectory.time_s[0]:.1f} - {trajectory.time_s[-1]:.1f} s of week "
+        ("Trajectory", (f"{len(trajectory)} epochs, {trajectory.time_s[0]:.1f} - {trajectory.time_s[-1]:.1f} s of week "
                        f"({trajectory.time_s[-1] - trajectory.time_s[0]:.0f} s), "
-                       f"{'forward filter and RTS smoother' if smoother else 'forward filter only'}"),
-        ("Position sigma, horizontal", f"median {np.median(horizontal):.1f} mm, 95 % {np.percentile(horizontal, 95):.1f} mm, "
-                                       f"largest {horizontal.max():.1f} mm"),
-        ("Position sigma, vertical", f"median {np.median(vertical):.1f} mm, 95 % {np.percentile(vertical, 95):.1f} mm, "
-                                     f"largest {vertical.max():.1f} mm"),
+                       f"{'forward filter and RTS smoother' if smoother else 'forward filter only'}")),
+        ("Position sigma, horizontal", (f"median {np.median(horizontal):.1f} mm, 95 % {np.percentile(horizontal, 95):.1f} mm, "
+                                       f"largest {horizontal.max():.1f} mm")),
+        ("Position sigma, vertical", (f"median {np.median(vertical):.1f} mm, 95 % {np.percentile(vertical, 95):.1f} mm, "
+                                     f"largest {vertical.max():.1f} mm")),
     ]
     scale = trajectory.odometer_scale
     if np.any(scale != 0):  # a state of the filter: 0 throughout when the odometer was not used
@@ -237,8 +238,8 @@ def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[F
     survey, fusion, heights = s.get("survey", {}), s.get("fusion", {}), s.get("heights", {})
     rows = [("IMU", f"{survey.get('imu_epochs', '-')} epochs"), *_gnss_rows(s.get("gnss", {})),
             *_trajectory_rows(trajectory, content.project.fusion.smoother),
-            ("Fusion", f"{'reused from the cache' if fusion.get('from_cache') else 'computed'}; "
-                       f"{fusion.get('rejections', '-')} measurements rejected, {fusion.get('stops', '-')} stops (ZUPT)"),
+            ("Fusion", (f"{'reused from the cache' if fusion.get('from_cache') else 'computed'}; "
+                       f"{fusion.get('rejections', '-')} measurements rejected, {fusion.get('stops', '-')} stops (ZUPT)")),
             ("Heights", f"{heights.get('model', '-')} height-anomaly model"
                         + (f", benchmark RMS {heights['internal_rms_mm']:.1f} mm (leave-one-out "
                            f"{heights['loo_rms_mm']:.1f} mm)" if "internal_rms_mm" in heights else ""))]
@@ -406,7 +407,7 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     story += _charts(content, step.sub(0.05, 0.45), cancel)
     story += _plan(content)
     for section in sections:
-        story += section(content)
+        story += section(content) + [PageBreak()]
     story += _exceedances(content)
     check_cancel(cancel)
     step(0.5, "laying out the pages")
