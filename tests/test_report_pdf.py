@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from report_support import INVALID, shared_project, stored
 from reportlab.graphics.shapes import PolyLine
 from reportlab.platypus import Paragraph
-from report_support import INVALID, shared_project, stored
 
 from insrail.report import write_pdf
 from insrail.report.charts import Series, StripChart, decimate_min_max, line_runs, strip_drawing

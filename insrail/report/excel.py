@@ -13,12 +13,18 @@ Numbers are stored unrounded (as read from the result files) and formatted to 0.
 from __future__ import annotations
 
 import datetime
+import io
+import math
+import re
+import zipfile
 from collections.abc import Callable
 from pathlib import Path
+from xml.sax.saxutils import escape
 
 import numpy as np
 from openpyxl import Workbook
 from openpyxl.cell import WriteOnlyCell
+from openpyxl.cell.cell import Cell
 from openpyxl.styles import Alignment, Border, Font, PatternFill, Side
 from openpyxl.utils import get_column_letter
 from openpyxl.worksheet.worksheet import Worksheet
@@ -46,11 +52,13 @@ TITLE_FONT = Font(bold=True, size=14)
 BOLD = Font(bold=True)
 RED_FONT = Font(color="9C0006")
 HEADER_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)
+GROUP_ALIGNMENT = Alignment(horizontal="left", vertical="center")  # a group title runs on over its columns
+#: Columns (0-based) of label, value, label, value ... in the header blocks above the tables.
+BLOCK_ANCHORS = (0, 4, 12, 16, 24, 28)
 THIN = Side(style="thin", color="808080")
 HEADER_BORDER = Border(bottom=THIN)
 SECTION_M = 200.0
 PAPER_A4, PAPER_A3 = "9", "8"  # OOXML paper size codes
-PROGRESS_ROWS = 2000  # sleeper rows between progress reports and cancel checks
 
 
 class _Sheet:
@@ -59,6 +67,11 @@ class _Sheet:
     A write-only sheet streams its rows to disk, and the file format puts the sheet's layout
     (frozen panes, column widths, fit-to-page) before the rows: rows appended before
     :meth:`start` wait in memory (the header block) until the layout is known.
+
+    Big tables go through :meth:`table`: without lxml, openpyxl serialises about 25 000 cells a
+    second, so a 16 000-sleeper table would take half a minute. :meth:`table` writes the rows'
+    SpreadsheetML itself (styles registered with openpyxl, so styles.xml stays openpyxl's) and
+    :func:`_splice_tables` puts them at the end of the sheet's data when the workbook is saved.
     """
 
     def __init__(self, sheet: Worksheet):
@@ -66,6 +79,35 @@ class _Sheet:
         self.rows = 0
         self._pending: list[list] | None = []
         self._heights: dict[int, float] = {}
+        self.table_xml: list[str] = []
+        self.last_cell = "A1"
+
+    def style_id(self, number_format: str | None = None, fill: PatternFill | None = None,
+                 font: Font | None = None) -> int:
+        """The workbook's index of a cell style (registered when new)."""
+        return self.cell(None, number_format, font=font, fill=fill).style_id
+
+    def table(self, columns: list[tuple[list, list[int] | int]], progress: StepProgress | None = None,
+              cancel: CancelToken = None) -> None:
+        """Rows below everything appended so far: one (values, style id per row or for all) per column.
+        Values are float (NaN: empty cell), int, or str ("" empty)."""
+        if self._pending is not None:
+            raise RuntimeError("start() the sheet before its table")
+        if not columns or not len(columns[0][0]):
+            return
+        first = self.rows + 1
+        count = len(columns[0][0])
+        numbers = [str(r) for r in range(first, first + count)]
+        cells = []
+        for index, (values, styles) in enumerate(columns):
+            check_cancel(cancel)
+            if progress is not None:
+                progress(index / len(columns), "writing the table")
+            cells.append(_cells(get_column_letter(index + 1), numbers, values,
+                                styles if isinstance(styles, list) else [styles] * count))
+        self.table_xml.append("".join(f'<row r="{r}">{"".join(row)}</row>' for r, *row in zip(numbers, *cells)))
+        self.rows += count
+        self.last_cell = f"{get_column_letter(len(columns))}{self.rows}"
 
     def cell(self, value, number_format: str | None = None, font: Font | None = None, fill: PatternFill | None = None,
              alignment: Alignment | None = None, border: Border | None = None) -> WriteOnlyCell:
@@ -93,11 +135,13 @@ class _Sheet:
     def title(self, text: str) -> None:
         self.append([self.cell(text, font=TITLE_FONT)])
 
-    def pairs(self, *pairs: tuple[str, object]) -> None:
-        """One row of label: value pairs."""
-        row = []
-        for label, value in pairs:
-            row += [self.cell(label, font=BOLD), self.cell(value)]
+    def pairs(self, *pairs: tuple[str, object], anchors: tuple[int, ...] = BLOCK_ANCHORS) -> None:
+        """One row of label: value pairs, label and value at the given columns (0-based) so that
+        text runs on over the empty cells between them."""
+        row: list = [None] * (anchors[2 * len(pairs) - 1] + 1)
+        for index, (label, value) in enumerate(pairs):
+            row[anchors[2 * index]] = self.cell(label, font=BOLD)
+            row[anchors[2 * index + 1]] = value if isinstance(value, Cell) else self.cell(value)
         self.append(row)
 
     def header(self, titles: list[str], height: float | None = None) -> int:
@@ -127,6 +171,39 @@ class _Sheet:
         self.sheet.print_title_rows = f"{first_header_row}:{header_row}"
 
 
+def _cells(letter: str, rows: list[str], values: list, styles: list[int]) -> list[str]:
+    """The <c> elements of one column; floats as the shortest text that reads back the same number."""
+    out = []
+    for row, value, style in zip(rows, values, styles):
+        if isinstance(value, str):
+            out.append(f'<c r="{letter}{row}" s="{style}" t="inlineStr"><is><t>{escape(value)}</t></is></c>' if value
+                       else f'<c r="{letter}{row}" s="{style}"/>')
+        elif value is None or math.isnan(value):  # an empty, styled cell
+            out.append(f'<c r="{letter}{row}" s="{style}"/>')
+        else:
+            out.append(f'<c r="{letter}{row}" s="{style}"><v>{value!r}</v></c>')
+    return out
+
+
+def _splice_tables(xlsx: bytes, sheets: list[_Sheet], handle) -> None:
+    """Copy the workbook ``xlsx`` to ``handle`` with each sheet's :meth:`_Sheet.table` rows at the
+    end of its sheetData and its dimension covering them."""
+    tables = {sheet.sheet.path.lstrip("/"): sheet for sheet in sheets if sheet.table_xml}
+    with zipfile.ZipFile(io.BytesIO(xlsx)) as source, \
+            zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED, compresslevel=1) as target:
+        for info in source.infolist():
+            data = source.read(info.filename)
+            sheet = tables.get(info.filename)
+            if sheet is not None:
+                text = data.decode("utf-8")
+                text = re.sub(r'<dimension ref="[^"]*"\s*/>', f'<dimension ref="A1:{sheet.last_cell}"/>', text, count=1)
+                rows = "".join(sheet.table_xml)
+                text = (text.replace("</sheetData>", rows + "</sheetData>", 1) if "</sheetData>" in text
+                        else text.replace("<sheetData/>", f"<sheetData>{rows}</sheetData>", 1))
+                data = text.encode("utf-8")
+            target.writestr(info.filename, data)
+
+
 def _cell_value(value):
     """Cells hold numbers or text; NaN (not computable) is an empty cell, numpy scalars plain Python."""
     if isinstance(value, (float, np.floating)):
@@ -145,59 +222,57 @@ def _printable(sheet: Worksheet, paper_a3: bool = False) -> None:
     sheet.print_options.gridLines = True
 
 
+def _context(content: ReportContent) -> str:
+    """Project, survey, chainage and tolerance profile in one line (above the smaller tables)."""
+    return (f"{content.project.name}, survey {content.survey} {survey_start(content)}, {content.chainage_range}, "
+            f"tolerance profile {content.profile.name}; {content.software}")
+
+
 def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     project, summary = content.project, content.summary
     track = summary.get("track", {})
     sheet.title(title)
-    sheet.pairs(("Project", project.name), ("Survey", content.survey), ("Survey start", survey_start(content)),
-                ("Software", content.software))
-    sheet.pairs(("Line", project.description or project.name), ("Design", project.design or "fitted lines"),
-                ("Chainage", content.chainage_range),
-                ("Sleepers", f"{track.get('sleepers', len(content.results))} ({track.get('valid_sleepers', int(content.valid.sum()))} valid)"))
+    sleepers = f"{track.get('sleepers', len(content.results))} ({track.get('valid_sleepers', int(content.valid.sum()))} valid)"
+    sheet.pairs(("Project", project.name), ("Line", project.description or project.name), ("Survey", content.survey))
+    sheet.pairs(("Chainage", content.chainage_range), ("Sleepers", sleepers), ("Survey start", survey_start(content)))
     profile = content.profile
-    sheet.pairs(("Tolerance profile", profile.name), ("Standard", profile.source or profile.description),
-                ("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"))
-    sheet.append([sheet.cell("Limits", font=BOLD)] + [sheet.cell(f"{c.name}: {limits_text(c)}") for c in profile.checks])
+    sheet.pairs(("Tolerance profile", f"{profile.name}: {profile.description}"), ("Standard", profile.source),
+                ("Design", project.design or "fitted lines (no design alignment)"))
+    sheet.pairs(("Limits", "; ".join(f"{c.name} {limits_text(c)}" for c in profile.checks)),
+                ("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"), ("Software", content.software),
+                anchors=(0, 4, 24, 28, 32, 36))
 
 
 # --------------------------------------------------------------------------- sleepers
 
 def _sleeper_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
     _header_block(sheet, content, "Track geometry per sleeper")
-    sheet.append([sheet.cell("Legend", font=BOLD), sheet.cell("beyond the limit", fill=EXCEEDANCE_FILL),
-                  sheet.cell("invalid sleeper", fill=INVALID_FILL),
-                  sheet.cell("deviations: + right / + up; adjustment: move the rail by the amount (+ right / + up)")])
-    sheet.append([])
+    sheet.pairs(("Legend", sheet.cell("beyond a limit", fill=EXCEEDANCE_FILL)),
+                ("", sheet.cell("invalid sleeper", fill=INVALID_FILL)),
+                ("Signs", "deviations + right / + up; adjustment: move the rail by the amount, + right / + up"))
     columns = content.columns
     groups, previous = [], None
     for column in columns:
-        groups.append(column.group if column.group != previous else "")
+        groups.append(column.group if column.group != previous else None)
         previous = column.group
-    first_header = sheet.header(groups)
+    first_header = sheet.append([sheet.cell(g, font=BOLD, fill=HEADER_FILL, alignment=GROUP_ALIGNMENT) for g in groups])
     sheet.header([limits_text_for(column) for column in columns])
-    header = sheet.header([f"{c.title} ({c.unit})" if c.unit else c.title for c in columns], height=32)
+    header = sheet.header([f"{c.title} ({c.unit})" if c.unit else c.title for c in columns], height=44)
     sheet.start([c.width for c in columns], freeze=f"E{header + 1}", paper_a3=True)
 
-    # one template per (column, state); a template's style is copied by index, not rebuilt per cell
-    templates = [{state: sheet.cell(None, c.number_format, fill=fill)
-                  for state, fill in (("plain", None), ("exceeding", EXCEEDANCE_FILL), ("invalid", INVALID_FILL))}
-                 for c in columns]
-    values = [c.values.tolist() for c in columns]
-    exceeding = [c.exceeding if c.exceeding is not None else None for c in columns]
+    # a style per column and state: plain, inside an exceedance run, invalid sleeper
+    plain = [sheet.style_id(c.number_format) for c in columns]
+    red = [sheet.style_id(c.number_format, EXCEEDANCE_FILL) for c in columns]
+    grey = [sheet.style_id(c.number_format, INVALID_FILL) for c in columns]
     valid = content.valid
-    n = len(content.results)
-    for row in range(n):
-        if row % PROGRESS_ROWS == 0:
-            check_cancel(cancel)
-            progress(row / max(n, 1), f"sleeper table, row {row} of {n}")
-        state = "plain" if valid[row] else "invalid"
-        cells = []
-        for index, template in enumerate(templates):
-            mask = exceeding[index]
-            cell = WriteOnlyCell(sheet.sheet, value=_cell_value(values[index][row]))
-            cell._style = template["exceeding" if mask is not None and mask[row] else state]._style
-            cells.append(cell)
-        sheet.append(cells)
+    table = []
+    for index, column in enumerate(columns):
+        styles = np.where(valid, plain[index], grey[index])
+        if column.exceeding is not None:
+            styles = np.where(column.exceeding, red[index], styles)
+        values = column.values.tolist() if column.values.dtype != object else [str(v) for v in column.values]
+        table.append((values, styles.tolist()))
+    sheet.table(table, progress, cancel)
     sheet.finish_table(header, first_header, len(columns))
 
 
@@ -217,28 +292,28 @@ ADJUSTMENT_KEYS = ("adjust_lateral_left_mm", "adjust_lateral_right_mm", "adjust_
 
 
 def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    _header_block(sheet, content, "Adjustment: the sleepers to move, in chainage order")
+    sheet.title("Adjustment: the sleepers to move, in chainage order")
+    sheet.append([sheet.cell(_context(content))])
     fastener = content.fastener
     adjustment = content.summary.get("adjustment", {})
-    sheet.pairs(("Fastener", fastener.description or fastener.name if fastener else adjustment.get("fastener", "")),
-                ("Step", f"{1e3 * fastener.step_m:g} mm" if fastener else ""),
-                ("Total movement", f"{adjustment.get('total_movement_mm', 0.0):.0f} mm"),
-                ("Unresolved sleepers", adjustment.get("unresolved_sleepers", "")))
-    sheet.append([sheet.cell("Signs", font=BOLD),
-                  sheet.cell("lateral + = move the rail to the right, vertical + = raise it (looking along increasing chainage)")])
-    sheet.append([])
+    kind = (f"{fastener.description or fastener.name}, steps of {1e3 * fastener.step_m:g} mm" if fastener
+            else adjustment.get("fastener", ""))
+    sheet.append([sheet.cell(f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm; "
+                             f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")])
+    sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it "
+                             "(looking towards increasing chainage)", font=BOLD)])
     amounts = [content.column(key) for key in ADJUSTMENT_KEYS]
     titles = ["sleeper", "chainage", "station (m)"] + [f"{c.title} (mm)" for c in amounts] + ["checks still failed"]
     header = sheet.header(titles, height=32)
     sheet.start([9, 13, 11, 10, 10, 10, 10, 12], freeze=f"C{header + 1}")
     moving = np.flatnonzero(np.any([np.nan_to_num(c.values) != 0 for c in amounts], axis=0))
     order = moving[np.argsort(content.station_m[moving], kind="stable")]
-    number, label, station = content.column("number").values, content.column("label").values, content.station_m
-    unresolved = content.column("unresolved").values
-    for index in order:
-        sheet.append([sheet.cell(number[index]), sheet.cell(label[index]), sheet.cell(station[index], "0.000")]
-                     + [sheet.cell(c.values[index], "0") for c in amounts]
-                     + [sheet.cell(unresolved[index], font=RED_FONT)])
+    columns = [content.column("number").values[order].tolist(), [str(v) for v in content.column("label").values[order]],
+               content.station_m[order].tolist()] + [c.values[order].tolist() for c in amounts] + \
+        [[str(v) for v in content.column("unresolved").values[order]]]
+    styles = [sheet.style_id(), sheet.style_id(), sheet.style_id("0.000")] + [sheet.style_id("0")] * len(amounts) + \
+        [sheet.style_id(font=RED_FONT)]
+    sheet.table(list(zip(columns, styles)), cancel=cancel)
     progress(1.0, "adjustment sheet")
     sheet.finish_table(header, header, len(titles))
 
@@ -246,8 +321,8 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
 # --------------------------------------------------------------------------- exceedances
 
 def _exceedance_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    _header_block(sheet, content, "Exceedances")
-    sheet.append([])
+    sheet.title("Exceedances")
+    sheet.append([sheet.cell(_context(content))])
     titles = ["no.", "check", "what", "rail", "direction", "from", "to", "from (m)", "to (m)", "length (m)", "peak",
               "limit", "unit", "first sleeper", "last sleeper"]
     header = sheet.header(titles, height=32)
@@ -271,8 +346,8 @@ def _exceedance_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
 # --------------------------------------------------------------------------- summary
 
 def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    _header_block(sheet, content, "Summary")
-    sheet.append([])
+    sheet.title("Summary")
+    sheet.append([sheet.cell(_context(content))])
     sheet.append([sheet.cell("Statistics per parameter (valid sleepers)", font=BOLD)])
     titles = ["group", "parameter", "unit", "limit", "valid sleepers", "minimum", "maximum", "mean", "standard deviation",
               "sleepers beyond", "exceedances"]
@@ -331,10 +406,10 @@ def _log_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, ca
     sheet.title("Processing log")
     sheet.start([42, 90])
     now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
-    sheet.pairs(("Software", content.software), ("Report written", now))
-    sheet.pairs(("Project file", str(content.project.path)), ("Results", str(content.results.folder)))
-    for note in content.notes:
-        sheet.pairs(("Note", note))
+    for label, value in (("Software", content.software), ("Report written", now),
+                         ("Project file", str(content.project.path)), ("Results", str(content.results.folder)),
+                         *(("Note", note) for note in content.notes)):
+        sheet.pairs((label, value), anchors=(0, 1))
     sheet.append([])
     for title, document in (("summary.toml (QC figures of the processing)", content.summary),
                             ("project.toml (settings)", content.project.to_settings())):
@@ -359,7 +434,7 @@ def _discard(workbook: Workbook) -> None:
 
 
 SHEETS: tuple[tuple[str, Callable, float], ...] = (
-    ("Sleepers", _sleeper_sheet, 0.8),
+    ("Sleepers", _sleeper_sheet, 0.6),
     ("Adjustment", _adjustment_sheet, 0.04),
     ("Exceedances", _exceedance_sheet, 0.04),
     ("Summary", _summary_sheet, 0.04),
@@ -377,15 +452,19 @@ def write_workbook(project: Project, results: StoredResults, path, progress: Pro
     workbook.properties.title = f"{project.name} – {results.survey}: track geometry"
     workbook.properties.creator = content.software
     position = 0.0
+    sheets = []
     try:
         for name, build, share in SHEETS:
             check_cancel(cancel)
-            build(_Sheet(workbook.create_sheet(name)), content, step.sub(position, position + share), cancel)
+            sheets.append(_Sheet(workbook.create_sheet(name)))
+            build(sheets[-1], content, step.sub(position, position + share), cancel)
             position += share
         check_cancel(cancel)
         step(position, "saving the workbook")
+        assembled = io.BytesIO()
+        workbook.save(assembled)
         with atomic_write(path, "wb") as handle:
-            workbook.save(handle)
+            _splice_tables(assembled.getvalue(), sheets, handle)
     except BaseException:
         _discard(workbook)
         raise
