@@ -50,6 +50,11 @@ def line_runs(indices: np.ndarray, y: np.ndarray) -> list[np.ndarray]:
     return [run for run in np.split(indices, breaks) if run.size > 1]
 
 
+def _runs(indices: np.ndarray) -> list[np.ndarray]:
+    """Consecutive stretches of sorted indices."""
+    return np.split(indices, np.flatnonzero(np.diff(indices) > 1) + 1) if indices.size else []
+
+
 def nice_step(span: float, target: int) -> float:
     """A 1-2-5 step giving about ``target`` intervals over ``span``."""
     if not span > 0:
@@ -67,12 +72,14 @@ class Series:
 
 @dataclass(frozen=True)
 class StripChart:
-    """One quantity along chainage: series, tolerance limits, the stretches of invalid sleepers."""
+    """One quantity along chainage: series, tolerance limits, and the sleepers of the exceedance
+    runs (marked in red along the bottom of the plot)."""
 
     title: str
     unit: str
     series: tuple[Series, ...]
     limits: tuple[float, float] | None = None
+    exceeding: np.ndarray | None = None
 
 
 def _value_range(chart: StripChart, window: np.ndarray) -> tuple[float, float]:
@@ -105,12 +112,13 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
         return bottom + (np.asarray(v) - low) / (high - low) * plot_h
 
     # invalid stretches first, under everything
-    invalid = window[~valid[window]]
-    if invalid.size:
-        for run in np.split(invalid, np.flatnonzero(np.diff(invalid) > 1) + 1):
-            x0, x1 = px(station_m[run[0]] - 0.3), px(station_m[run[-1]] + 0.3)
-            drawing.add(Rect(max(x0, left), bottom, min(x1, left + plot_w) - max(x0, left), plot_h,
-                             fillColor=INVALID_COLOUR, strokeColor=None))
+    for run in _runs(window[~valid[window]]):
+        x0, x1 = px(station_m[run[0]] - 0.3), px(station_m[run[-1]] + 0.3)
+        drawing.add(Rect(max(x0, left), bottom, min(x1, left + plot_w) - max(x0, left), plot_h,
+                         fillColor=INVALID_COLOUR, strokeColor=None))
+    for run in _runs(window[chart.exceeding[window]] if chart.exceeding is not None else np.zeros(0, dtype=int)):
+        x0, x1 = px(station_m[run[0]] - 0.3), px(station_m[run[-1]] + 0.3)
+        drawing.add(Rect(float(x0), bottom, float(max(x1 - x0, 1.0)), 3.0, fillColor=LIMIT_COLOUR, strokeColor=None))
     step = nice_step(high - low, 5)
     for tick in np.arange(math.ceil(low / step) * step, high, step):
         y = float(py(tick))
@@ -140,7 +148,7 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
     drawing.add(Rect(left, bottom, plot_w, plot_h, fillColor=None, strokeColor=colors.black, strokeWidth=0.5))
     title = f"{chart.title} ({chart.unit})" if chart.unit else chart.title
     if chart.limits is not None:
-        title += "   - - limit"
+        title += "   - - limit" + ("   red: exceedances" if chart.exceeding is not None and chart.exceeding[window].any() else "")
     drawing.add(String(left, height - 10, title, fontName="Helvetica-Bold", fontSize=8))
     x = left + plot_w
     for colour, series in reversed(list(zip(SERIES_COLOURS, chart.series))):

@@ -288,16 +288,19 @@ def chart_specs(content: ReportContent) -> list[StripChart]:
             continue
         seen.add(check.name)
         for direction in check.directions:
-            series = tuple(Series(rail, c[check_column(check.name, check.kind, rail, direction)].values) for rail in RAILS)
-            charts.append(StripChart(f"{check_description(check).capitalize()}, {direction}", "mm", series, column.limits))
+            shown = [c[check_column(check.name, check.kind, rail, direction)] for rail in RAILS]
+            charts.append(StripChart(f"{check_description(check).capitalize()}, {direction}", "mm",
+                                     tuple(Series(rail, col.values) for rail, col in zip(RAILS, shown)), column.limits,
+                                     shown[0].exceeding | shown[1].exceeding))
     gauge = next(col for col in content.columns if col.group.startswith("Deviation") and col.title == "gauge")
-    charts.append(StripChart("Gauge deviation from nominal", "mm", (Series("gauge", gauge.values),), gauge.limits))
+    charts.append(StripChart("Gauge deviation from nominal", "mm", (Series("gauge", gauge.values),), gauge.limits,
+                             gauge.exceeding))
     charts.append(StripChart("Cant", "mm", (Series("measured", c["cant_mm"].values), Series("design", c["design_cant_mm"].values))))
     for column in content.columns:
         parameter = column.group == "Track parameters" and column.title.startswith(("twist", "gauge change rate"))
         if parameter or (column.group.startswith("Deviation") and column.title == "cross-level"):
             charts.append(StripChart(column.title.capitalize(), column.unit, (Series(column.title, column.values),),
-                                     column.limits))
+                                     column.limits, column.exceeding))
     return charts
 
 
