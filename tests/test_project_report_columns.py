@@ -1,13 +1,17 @@
 """What the pipeline stores for the reports: the thesis's Figure 5-7 columns beside the profile's
 checks, the GNSS availability and TQI sections of summary.toml; and `insrail report`."""
 
+import shutil
+import subprocess
+
 import numpy as np
 import pytest
+from openpyxl import load_workbook
 from report_support import SURVEY, shared_project, stored
 
 from insrail.cli.main import main
 from insrail.project import save_project
-from insrail.project.results import gnss_section
+from insrail.project.results import gnss_section, load_results
 from insrail.track.parameters import guiding_rail_is_right
 
 
@@ -63,3 +67,20 @@ def test_cli_report_writes_both_reports_beside_the_results(project, capsys):
         assert path.stat().st_size > 10_000 and str(path.resolve()) in out
     assert main(["report", str(project.folder), "--survey", "nope"]) == 1
     assert "no survey named nope" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(shutil.which("pdftoppm") is None, reason="poppler-utils (pdftoppm) not installed; .ci/run installs it")
+def test_the_demo_writes_both_reports_and_its_pdf_renders(tmp_path, capsys):
+    assert main(["demo", "--out", str(tmp_path / "demo")]) == 0
+    folder = tmp_path / "demo" / "results" / "short"
+    results = load_results(tmp_path / "demo", "short")
+    pdf = folder / "track_geometry_short.pdf"
+    subprocess.run(["pdftoppm", "-r", "20", "-png", str(pdf), str(tmp_path / "page")], check=True, timeout=300)
+    assert len(list(tmp_path.glob("page-*.png"))) > 10
+    sheet = load_workbook(folder / "track_geometry_short.xlsx", read_only=True)["Sleepers"]
+    rows = list(sheet.iter_rows(values_only=True))
+    header = next(i for i, row in enumerate(rows) if row and row[0] == "row")
+    data = rows[header + 1:]
+    assert [row[1] for row in data] == results.number.tolist()
+    assert [row[3] for row in data] == results.columns["station_m"].tolist()

@@ -3,6 +3,7 @@ keep every peak while drawing a fraction of the points."""
 
 import shutil
 import subprocess
+import threading
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from report_support import INVALID, shared_project, stored
 from reportlab.graphics.shapes import PolyLine
 from reportlab.platypus import Paragraph
 
+from insrail.progress import Cancelled
 from insrail.report import write_pdf
 from insrail.report.charts import Series, StripChart, decimate_min_max, line_runs, strip_drawing
 from insrail.report.pdf import BODY, CHART_RANGE_M, Heading
@@ -86,6 +88,21 @@ def test_writing_is_atomic_and_reports_progress(project, tmp_path):
     assert path.read_bytes().startswith(b"%PDF")
     assert [p.name for p in tmp_path.iterdir()] == ["r.pdf"]
     assert fractions == sorted(fractions) and fractions[-1] == 1.0
+
+
+def test_cancelling_while_the_pages_are_laid_out_leaves_the_previous_file(project, tmp_path):
+    path = tmp_path / "r.pdf"
+    path.write_bytes(b"previous")
+    event = threading.Event()
+
+    def progress(fraction, message):
+        if "laying out" in message and fraction > 0.6:
+            event.set()
+
+    with pytest.raises(Cancelled):
+        write_pdf(project, stored(project), path, progress=progress, cancel=event)
+    assert event.is_set() and path.read_bytes() == b"previous"
+    assert [p.name for p in tmp_path.iterdir()] == ["r.pdf"]
 
 
 @settings(max_examples=60, deadline=None)

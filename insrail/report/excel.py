@@ -366,11 +366,15 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     channels = list(quality.get("channels", []))
     tqi_start = np.asarray(quality.get("start_m", []), dtype=float)
     section_m = float(quality.get("section_m", SECTION_M))
-    sheet.append([sheet.cell(f"Per {section_m:g} m section: standard deviations of the TQI channels "
+    sheet.append([sheet.cell(f"Per {section_m:g} m section: the largest magnitude of every check of the profile "
+                             f"(over its rails and directions), the standard deviations of the TQI channels "
                              f"({quality.get('band', 'D1')} band for level and alignment) and their sum, the TQI", font=BOLD)])
+    checks = [(check, [c for c in content.columns if c.check == check.name]) for check in content.profile.checks]
+    checks = [(check, columns) for check, columns in checks if columns]
     titles = (["from (m)", "to (m)", "from", "to", "sleepers", "valid", "exceedances starting"]
+              + [f"max |{check.name}| ({columns[0].unit})" for check, columns in checks]
               + [f"SD {name.replace('_', ' ')} (mm)" for name in channels] + (["TQI (mm)"] if channels else []))
-    sheet.header(titles, height=32)
+    sheet.header(titles, height=44)
     starts = np.array([e.station_from_m for e in content.results.exceedances])
     labels = content.column("label").values
     for start, end, rows in sections(content, section_m):
@@ -380,8 +384,16 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
         sheet.append([sheet.cell(start, "0.000"), sheet.cell(end, "0.000"), sheet.cell(labels[rows[0]]),
                       sheet.cell(labels[rows[-1]]), sheet.cell(len(rows)), sheet.cell(int(content.valid[rows].sum())),
                       sheet.cell(int(np.count_nonzero((starts >= start) & (starts < end))) if starts.size else 0)]
+                     + [sheet.cell(_largest_magnitude(columns, rows), columns[0].number_format) for _, columns in checks]
                      + [sheet.cell(v if v is None or v >= 0 else None, "0.00") for v in tqi])
     progress(1.0, "summary sheet")
+
+
+def _largest_magnitude(columns: list[Column], rows: np.ndarray) -> float:
+    """max |value| over the columns at ``rows``; NaN where none is finite."""
+    values = np.abs(np.concatenate([c.values[rows] for c in columns]))
+    values = values[np.isfinite(values)]
+    return float(values.max()) if values.size else math.nan
 
 
 # --------------------------------------------------------------------------- processing log

@@ -386,6 +386,20 @@ def _on_page(canvas: Canvas, doc) -> None:
     canvas.restoreState()
 
 
+def _layout_progress(progress: StepProgress, cancel: CancelToken) -> Callable[[str, int], None]:
+    """reportlab's build callback -> progress and cancel checks while the pages are laid out."""
+    total = [1]
+
+    def callback(kind: str, value: int) -> None:
+        if kind == "SIZE_EST":
+            total[0] = max(int(value), 1)
+        elif kind == "PROGRESS":
+            check_cancel(cancel)
+            progress(min(value / total[0], 1.0), "laying out the pages")
+
+    return callback
+
+
 def _ascii(value: str) -> str:
     """Header and footer lines are drawn in Helvetica: characters it lacks become '?'."""
     return value.encode("cp1252", "replace").decode("cp1252")
@@ -423,6 +437,7 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
         frame = Frame(MARGIN, MARGIN, PAGE[0] - 2 * MARGIN, PAGE[1] - 2 * MARGIN, leftPadding=0, rightPadding=0,
                       topPadding=0, bottomPadding=0)
         doc.addPageTemplates([PageTemplate("page", frames=[frame], onPageEnd=_on_page)])
+        doc.setProgressCallBack(_layout_progress(step.sub(0.5, 0.98), cancel))
         doc.build(story, canvasmaker=NumberedCanvas)
     step(1.0, f"report written: {path.name}")
     return path
