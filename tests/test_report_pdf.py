@@ -4,6 +4,7 @@ keep every peak while drawing a fraction of the points."""
 import shutil
 import subprocess
 import threading
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -80,6 +81,14 @@ def test_an_added_section_lands_before_the_exceedances(project, tmp_path):
     added = next(i for i, text in enumerate(texts) if "Runs compared: run1 only" in text)
     assert "Repeatability" in texts[added].splitlines()[0]
     assert added < next(i for i, text in enumerate(texts) if "Exceedances" in text.splitlines()[0])
+
+
+@needs_poppler
+def test_chinese_names_are_set_in_a_cjk_font(project, tmp_path):
+    path = write_pdf(replace(project, name="兰新铁路第二双线", description="精调测量 SDK1+695"), stored(project), tmp_path / "cn.pdf")
+    fonts = subprocess.run(["pdffonts", str(path)], capture_output=True, text=True, check=True).stdout
+    assert "STSong-Light" in fonts
+    subprocess.run(["pdftoppm", "-r", "20", "-png", "-f", "1", "-l", "1", str(path), str(tmp_path / "p")], check=True)
 
 
 def test_writing_is_atomic_and_reports_progress(project, tmp_path):

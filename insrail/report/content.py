@@ -93,18 +93,16 @@ class ReportContent:
                 return column
         raise KeyError(key)
 
-    def checked_columns(self) -> list[Column]:
-        return [c for c in self.columns if c.limits is not None]
-
 
 def limits_text(check: Check) -> str:
-    """A check's limits as a reader writes them: ±2.0 mm, ±0.67 ‰, ≥ -5.0 mm."""
+    """A check's limits as a reader writes them: ±2.0 mm, ±0.67 ‰, >= -5.0 and <= 35.0 mm (Helvetica
+    in the PDF has ± and ‰ but no ≥)."""
     scale, unit = (PER_MILLE, "‰") if check.kind.endswith("rate") else (1e3, "mm")
     lower, upper = scale * check.lower, scale * check.upper
     digits = 2 if unit == "‰" else 1
     if np.isfinite(lower) and np.isfinite(upper) and np.isclose(-lower, upper):
         return f"±{upper:.{digits}f} {unit}"
-    parts = ([f"≥ {lower:.{digits}f}"] if np.isfinite(lower) else []) + ([f"≤ {upper:.{digits}f}"] if np.isfinite(upper) else [])
+    parts = ([f">= {lower:.{digits}f}"] if np.isfinite(lower) else []) + ([f"<= {upper:.{digits}f}"] if np.isfinite(upper) else [])
     return " and ".join(parts) + f" {unit}"
 
 
@@ -261,16 +259,17 @@ class ParameterStatistics:
     exceedances: int
 
 
-def parameter_statistics(content: ReportContent, rows: slice | np.ndarray = slice(None)) -> list[ParameterStatistics]:
-    """Statistics of every numeric measured column over ``rows`` (valid sleepers only)."""
+def parameter_statistics(content: ReportContent) -> list[ParameterStatistics]:
+    """Statistics of every numeric measured column over the valid sleepers, with its exceedances."""
     statistics = []
     for column in content.columns:
         if column.values.dtype == object or column.group == "Sleeper" or column.key.startswith("adjust_"):
             continue
-        values = column.values[rows][content.valid[rows]]
+        values = column.values[content.valid]
         values = values[np.isfinite(values)]
-        runs = sum(1 for e in _exceedances_of(content, column))
-        exceeding = int(column.exceeding[rows].sum()) if column.exceeding is not None else 0
+        runs = sum(1 for e in content.results.exceedances
+                   if column.check is not None and check_column(e.check, e.kind, e.rail, e.direction) == column.key)
+        exceeding = int(column.exceeding.sum()) if column.exceeding is not None else 0
         if values.size:
             statistics.append(ParameterStatistics(column, int(values.size), float(values.min()), float(values.max()),
                                                   float(values.mean()), float(values.std(ddof=1)) if values.size > 1 else 0.0,
@@ -278,11 +277,6 @@ def parameter_statistics(content: ReportContent, rows: slice | np.ndarray = slic
         else:
             statistics.append(ParameterStatistics(column, 0, np.nan, np.nan, np.nan, np.nan, exceeding, runs))
     return statistics
-
-
-def _exceedances_of(content: ReportContent, column: Column) -> list[ExceedanceRow]:
-    return [e for e in content.results.exceedances
-            if column.check is not None and check_column(e.check, e.kind, e.rail, e.direction) == column.key]
 
 
 def sections(content: ReportContent, length_m: float) -> list[tuple[float, float, np.ndarray]]:

@@ -97,12 +97,8 @@ KEY_VALUE_STYLE = TableStyle([
 def text(value) -> str:
     """Paragraph markup for any text: escaped, and in a CJK font when Helvetica cannot show it."""
     value = escape(str(value))
-    try:
-        value.encode("cp1252")
-    except UnicodeEncodeError:
-        _register_cjk()
-        return f'<font name="{CJK_FONT}">{value}</font>'
-    return value
+    font = _font_for(value)
+    return value if font == "Helvetica" else f'<font name="{font}">{value}</font>'
 
 
 def _register_cjk() -> None:
@@ -378,10 +374,11 @@ def _on_page(canvas: Canvas, doc) -> None:
     canvas.setStrokeColor(colors.grey)
     top = PAGE[1] - MARGIN + 6
     canvas.line(MARGIN, top - 3, PAGE[0] - MARGIN, top - 3)
-    canvas.drawString(MARGIN, top, f"{doc.report_title}")
+    canvas.setFont(_font_for(doc.report_title), 8)
+    canvas.drawString(MARGIN, top, doc.report_title)
     canvas.setFont("Helvetica-Bold", 8)
     canvas.drawRightString(PAGE[0] - MARGIN, top, getattr(canvas, "_insrail_heading", ""))
-    canvas.setFont("Helvetica", 8)
+    canvas.setFont(_font_for(doc.report_footer), 8)
     canvas.drawString(MARGIN, MARGIN - 16, doc.report_footer)
     canvas.restoreState()
 
@@ -400,9 +397,14 @@ def _layout_progress(progress: StepProgress, cancel: CancelToken) -> Callable[[s
     return callback
 
 
-def _ascii(value: str) -> str:
-    """Header and footer lines are drawn in Helvetica: characters it lacks become '?'."""
-    return value.encode("cp1252", "replace").decode("cp1252")
+def _font_for(value: str) -> str:
+    """Helvetica, or the CJK font for text Helvetica cannot show (a project named in Chinese)."""
+    try:
+        value.encode("cp1252")
+    except UnicodeEncodeError:
+        _register_cjk()
+        return CJK_FONT
+    return "Helvetica"
 
 
 def write_pdf(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
@@ -432,8 +434,8 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
         doc = BaseDocTemplate(handle, pagesize=PAGE, leftMargin=MARGIN, rightMargin=MARGIN, topMargin=MARGIN,
                               bottomMargin=MARGIN, title=f"{project.name} - {results.survey}: track geometry survey report",
                               author=content.software, creator=content.software)
-        doc.report_title = _ascii(f"{project.name} - survey {results.survey} - {content.profile.name}")
-        doc.report_footer = _ascii(f"{content.software}; results {results.folder.name}")
+        doc.report_title = f"{project.name} - survey {results.survey} - {content.profile.name}"
+        doc.report_footer = f"{content.software}; results {results.folder.name}"
         frame = Frame(MARGIN, MARGIN, PAGE[0] - 2 * MARGIN, PAGE[1] - 2 * MARGIN, leftPadding=0, rightPadding=0,
                       topPadding=0, bottomPadding=0)
         doc.addPageTemplates([PageTemplate("page", frames=[frame], onPageEnd=_on_page)])
