@@ -178,7 +178,7 @@ def _cells(letter: str, rows: list[str], values: list, styles: list[int]) -> lis
         if isinstance(value, str):
             out.append(f'<c r="{letter}{row}" s="{style}" t="inlineStr"><is><t>{escape(value)}</t></is></c>' if value
                        else f'<c r="{letter}{row}" s="{style}"/>')
-        elif value is None or math.isnan(value):  # an empty, styled cell
+        elif value is None or not math.isfinite(value):  # an empty, styled cell (NaN: not computable)
             out.append(f'<c r="{letter}{row}" s="{style}"/>')
         else:
             out.append(f'<c r="{letter}{row}" s="{style}"><v>{value!r}</v></c>')
