@@ -5,7 +5,8 @@ Simulates the 1.2 km `short` survey with a navigation-grade IMU into DIR/surveys
 CRS, its GNSS-levelling benchmarks for the height model, its design alignment) and
 processes the survey like `insrail process DIR`: fusion, engineering coordinates, rails,
 chainage and sleepers, deviations, irregularities, exceedances and adjustment amounts into
-DIR/results/short. Then compares the results with the simulator's truth.
+DIR/results/short, with the Excel workbook and the PDF report beside them. Then compares the
+results with the simulator's truth.
 """
 
 from __future__ import annotations
@@ -47,6 +48,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from insrail.cli.process import describe
+    from insrail.cli.report import default_paths, write_reports
     from insrail.project import process
     from insrail.project.demo import project_for_simulated_survey
     from insrail.project.pipeline import ellipsoid_of
@@ -66,6 +68,8 @@ def run(args: argparse.Namespace) -> int:
     results = process(project, "short", progress=lambda f, m: bar(0.25 + 0.75 * f, m))
     elapsed = bar.done()
     print("\n".join(describe(results)))
+    for path in write_reports(project, "short", *default_paths(results.folder, "short")):
+        print(f"Report: {path.resolve()}")
 
     errors = trajectory_errors(results.trajectory, read_nav_truth(survey_dir / "truth" / "nav.npy"), ellipsoid_of(project))
     lat5, ver5 = errors.lag_difference_sigma_m(5.0)

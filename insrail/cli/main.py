@@ -15,6 +15,7 @@ COMMANDS = [
     ("fuse", "insrail.cli.fuse"),
     ("demo", "insrail.cli.demo"),
     ("process", "insrail.cli.process"),
+    ("report", "insrail.cli.report"),
     ("ppk", "insrail.cli.ppk"),
 ]
 

@@ -40,8 +40,10 @@ from insrail.project.results import (
     SUMMARY_FILE,
     TRAJECTORY_FILE,
     exceedances_csv,
+    gnss_section,
     sleepers_csv,
     summary_toml,
+    track_quality_section,
     write_results,
 )
 from insrail.track.adjustment import Adjustment, load_fastener_type, optimise_adjustment
@@ -192,6 +194,8 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     step(0.97, "writing results")
     summary = _summary(project, entry.name, survey, fusion_info, cached, height_fit, height_warnings, table,
                        assessment, adjustment, time.monotonic() - started)
+    summary["gnss"] = gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])
+    summary["track_quality"] = track_quality_section(geometry)
     folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment),
         EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary)}, cancel)

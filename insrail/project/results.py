@@ -31,7 +31,8 @@ from insrail.io.errors import InputError
 from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.progress import CancelToken, check_cancel
 from insrail.track.adjustment import Adjustment
-from insrail.track.exceedance import Assessment
+from insrail.track.exceedance import Assessment, SleeperGeometry, track_quality
+from insrail.track.parameters import guiding_rail_is_right, track_parameters
 from insrail.track.sleeper_table import SleeperTable
 
 RESULTS_FOLDER = "results"
@@ -46,11 +47,38 @@ EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from
 
 # --------------------------------------------------------------------------- writing
 
+#: Figure 5-7 parameters stored whatever the tolerance profile checks: base lengths of the thesis's table.
+GAUGE_CHANGE_BASE_M = 2.5
+TWIST_BASE_M = 3.0
+#: Section length of the track quality index (TQI) in summary.toml.
+TQI_SECTION_M = 200.0
+
+
+def check_column(check: str, kind: str, rail: str, direction: str) -> str:
+    """The sleepers.csv column of one channel of a check (``check_`` + check, rail, direction, unit)."""
+    parts = [check] + [p for p in (rail, direction) if p and p != "track"]
+    return "check_" + "_".join(parts) + ("_ratio" if kind.endswith("rate") else "_mm")
+
+
 def _channel_column(channel) -> tuple[str, float, str]:
-    """Column name (``check_`` + check, rail, direction, unit), factor from SI, number format."""
-    parts = [channel.check] + [p for p in (channel.rail, channel.direction) if p and p != "track"]
-    name = "check_" + "_".join(parts)
-    return (f"{name}_ratio", 1.0, "%.6f") if channel.kind.endswith("rate") else (f"{name}_mm", 1e3, "%.3f")
+    """Column name, factor from SI, number format."""
+    name = check_column(channel.check, channel.kind, channel.rail, channel.direction)
+    return (name, 1.0, "%.6f") if channel.kind.endswith("rate") else (name, 1e3, "%.3f")
+
+
+def _figure_5_7_columns(table: SleeperTable) -> dict[str, tuple[np.ndarray, str]]:
+    """Gauge change to the neighbour and over 2.5 m, twist over 3 m (cross-level, the design cant ramp
+    removed) and the guiding rail (1 = right), as in the thesis's sleeper table; NaN at invalid sleepers."""
+    invalid = ~np.asarray(table.valid, dtype=bool)
+    gauge, cant = table.gauge_m.copy(), table.cant_m.copy()
+    gauge[invalid] = np.nan
+    cant[invalid] = np.nan
+    parameters = track_parameters(table.station_m, gauge, cant, table.design_cant_m,
+                                  gauge_change_base_m=GAUGE_CHANGE_BASE_M, twist_base_m=TWIST_BASE_M)
+    return {"gauge_change_mm": (1e3 * parameters.gauge_change_m, "%.3f"),
+            "gauge_change_rate_2_5m_ratio": (parameters.gauge_change_rate, "%.6f"),
+            "twist_3m_mm": (1e3 * parameters.twist_from_design_m, "%.3f"),
+            "guiding_rail_right": (guiding_rail_is_right(table.design_cant_m), "%d")}
 
 
 def sleeper_columns(table: SleeperTable, assessment: Assessment,
@@ -65,6 +93,7 @@ def sleeper_columns(table: SleeperTable, assessment: Assessment,
             columns[f"{rail}_{axis}_m"] = (values, "%.4f")
     columns |= {"gauge_mm": (1e3 * table.gauge_m, "%.3f"), "cant_mm": (1e3 * table.cant_m, "%.3f"),
                 "design_cant_mm": (1e3 * table.design_cant_m, "%.3f")}
+    columns |= _figure_5_7_columns(table)
     for direction, deviation in (("lateral", table.lateral_deviation_m), ("vertical", table.vertical_deviation_m)):
         for side, rail in enumerate(("left", "right")):
             columns[f"{direction}_deviation_{rail}_mm"] = (1e3 * deviation[:, side], "%.3f")
@@ -131,6 +160,40 @@ def write_results(results: Path, name: str, files: dict[str, str | bytes | Path]
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)
     return final
+
+
+def track_quality_section(geometry: SleeperGeometry, section_m: float = TQI_SECTION_M) -> dict:
+    """summary.toml's ``[track_quality]``: standard deviations [mm] of the 7 TQI channels per section
+    (EN 13848 D1 band for level and alignment) and their sum, the TQI; -1 where a section has too
+    few valid sleepers (TOML files are read by spreadsheets and scripts that choke on nan)."""
+    if len(geometry.station_m) < 2:
+        return {"section_m": section_m, "band": "D1", "start_m": [], "channels": [], "tqi_mm": []}
+    statistics = track_quality(geometry, section_m=section_m)
+
+    def listed(values: np.ndarray) -> list[float]:
+        return [round(float(v), 4) if np.isfinite(v) else -1.0 for v in 1e3 * values]
+
+    return {"section_m": section_m, "band": "D1", "start_m": [round(float(s), 3) for s in statistics.start_m],
+            "channels": list(statistics.channels),
+            **{f"sd_{name}_mm": listed(statistics.standard_deviation_m[:, i])
+               for i, name in enumerate(statistics.channels)},
+            "tqi_mm": listed(statistics.track_quality_index_m)}
+
+
+def gnss_section(gnss_time_s: np.ndarray, quality: np.ndarray, start_s: float, end_s: float,
+                 outage_s: float = 3.0) -> dict:
+    """summary.toml's ``[gnss]``: solutions inside the survey span, how many fixed (RTKLIB Q = 1), and
+    every outage (no solution for more than ``outage_s``) as [from, to] GPS seconds of week."""
+    time = np.asarray(gnss_time_s, dtype=float)
+    inside = (time >= start_s) & (time <= end_s)
+    time, quality = time[inside], np.asarray(quality)[inside]
+    edges = np.concatenate([[start_s], time, [end_s]])
+    gaps = np.flatnonzero(np.diff(edges) > outage_s)
+    outages = [[round(float(edges[i]), 3), round(float(edges[i + 1]), 3)] for i in gaps]
+    return {"solutions": int(time.size), "fixed": int(np.count_nonzero(quality == 1)),
+            "interval_s": float(np.median(np.diff(time))) if time.size > 1 else 0.0,
+            "span_s": [float(start_s), float(end_s)], "outages": outages,
+            "outage_total_s": round(float(sum(b - a for a, b in outages)), 3)}
 
 
 def summary_toml(summary: dict) -> bytes:

@@ -96,3 +96,13 @@ def track_parameters(
         twist_base_m=float(twist_base_m),
         cant_change_rate=change_to_previous(station, cant)[1],
     )
+
+
+def guiding_rail_is_right(design_cant_m: np.ndarray) -> np.ndarray:
+    """The guiding rail per sleeper (thesis Fig. 5-7 column 导向轨), True where it is the right rail.
+
+    Chinese fine-adjustment practice lines a curve up on its outer, higher rail; on straight track
+    (design cant 0) the left rail in the direction of increasing chainage guides. [U]: the thesis
+    prints the flag without defining it; this is the rule of the adjustment crews' handbooks.
+    """
+    return np.asarray(design_cant_m, dtype=float) < 0.0  # cant + when the left rail is higher

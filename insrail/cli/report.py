@@ -1,0 +1,72 @@
+"""Write the crews' Excel workbook and the PDF survey report of processed surveys.
+
+Reads PROJECT/project.toml and the results of `insrail process` in PROJECT/results/<survey>/.
+Without --xlsx or --pdf both reports go into that results folder (track_geometry_<survey>.xlsx
+and .pdf; processing the survey again replaces them with the results); with one or both options
+only the named files are written (then --survey must name one survey if the project has several).
+Exit code 0 when every report was written, 1 on missing results or bad input, 130 when cancelled.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from insrail.cli.progressbar import TerminalProgress
+
+REPORT_STEM = "track_geometry"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("project", type=Path, help="project folder (with project.toml) or project .toml file")
+    p.add_argument("--survey", action="append", metavar="NAME",
+                   help="survey to report (repeatable; default: every survey of the project)")
+    p.add_argument("--xlsx", type=Path, metavar="FILE", help="write the Excel workbook to FILE")
+    p.add_argument("--pdf", type=Path, metavar="FILE", help="write the PDF report to FILE")
+
+
+def default_paths(results_folder: Path, survey: str) -> tuple[Path, Path]:
+    return results_folder / f"{REPORT_STEM}_{survey}.xlsx", results_folder / f"{REPORT_STEM}_{survey}.pdf"
+
+
+def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> list[Path]:
+    """Write the requested reports of one processed survey with a progress bar; returns the files."""
+    from insrail.project.results import load_results
+    from insrail.report import write_pdf, write_workbook
+
+    results = load_results(project.folder, survey)
+    written = []
+    for path, writer, what in ((xlsx, write_workbook, "workbook"), (pdf, write_pdf, "pdf")):
+        if path is not None:
+            bar = TerminalProgress(f"{survey} {what}")
+            written.append(writer(project, results, path, progress=bar))
+            bar.done()
+    return written
+
+
+def run(args: argparse.Namespace) -> int:
+    from insrail.project import load_project
+
+    project = load_project(args.project)
+    names = args.survey or [s.name for s in project.surveys]
+    known = {s.name for s in project.surveys}
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        print(f"insrail: {project.path}: no survey named {', '.join(unknown)} (surveys: {', '.join(sorted(known))})",
+              file=sys.stderr)
+        return 1
+    explicit = args.xlsx is not None or args.pdf is not None
+    if explicit and len(names) > 1:
+        print(f"insrail: --xlsx/--pdf name one file: choose the survey with --survey ({', '.join(names)})", file=sys.stderr)
+        return 1
+    for name in names:
+        xlsx, pdf = (args.xlsx, args.pdf) if explicit else default_paths(project.folder / "results" / name, name)
+        try:
+            written = write_reports(project, name, xlsx, pdf)
+        except ValueError as err:  # tolerance profile changed since processing, unreadable settings file
+            print(f"insrail: survey {name}: {err}", file=sys.stderr)
+            return 1
+        for path in written:
+            print(f"{name}: {path.resolve()}")
+    return 0

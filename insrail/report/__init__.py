@@ -1,0 +1,11 @@
+"""Reports that leave the office: the crews' Excel workbook and the PDF survey report.
+
+Both read a survey's stored results (:func:`insrail.project.results.load_results`) and the
+project's settings; they format and compute no track geometry. Both write atomically and take
+``progress(fraction, message)`` and a cancel token (:mod:`insrail.progress`).
+"""
+
+from insrail.report.excel import write_workbook
+from insrail.report.pdf import write_pdf
+
+__all__ = ["write_pdf", "write_workbook"]

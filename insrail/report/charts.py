@@ -1,0 +1,233 @@
+"""Vector charts for the PDF report, drawn with reportlab's own graphics (no raster images).
+
+A chart of 16 000 sleepers must stay light and never lose a peak: :func:`decimate_min_max`
+keeps, per pixel column, the points holding the column's minimum and maximum (in their
+original order), so every spike a reader could see at full resolution is still drawn.
+NaN (invalid sleepers) breaks a line instead of bridging it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from reportlab.graphics.shapes import Circle, Drawing, Line, PolyLine, Rect, String
+from reportlab.lib import colors
+
+SERIES_COLOURS = (colors.HexColor("#1f4e9c"), colors.HexColor("#d9641e"), colors.HexColor("#2b8a3e"))
+LIMIT_COLOUR = colors.HexColor("#c0141e")
+INVALID_COLOUR = colors.HexColor("#e3e3e3")
+OUTAGE_COLOUR = colors.HexColor("#f0a030")
+GRID_COLOUR = colors.HexColor("#d0d0d0")
+FONT = "Helvetica"
+
+
+def decimate_min_max(x: np.ndarray, y: np.ndarray, x_from: float, x_to: float, columns: int) -> np.ndarray:
+    """Indices of the points to draw of ``y(x)`` (``x`` increasing) over ``columns`` pixel columns
+    of [x_from, x_to]: each column's minimum and maximum and the first and last point, in order.
+    Non-finite values are left out (callers break lines there); a short series is kept whole."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    finite = np.flatnonzero(np.isfinite(y))
+    if finite.size <= 2 * columns:
+        return finite
+    column = np.clip(((x[finite] - x_from) / (x_to - x_from) * columns).astype(int), 0, columns - 1)
+    order = np.lexsort((y[finite], column))  # by column, then by value
+    starts = np.searchsorted(column[order], np.arange(columns), side="left")
+    stops = np.searchsorted(column[order], np.arange(columns), side="right")
+    present = stops > starts
+    keep = np.concatenate([order[starts[present]], order[stops[present] - 1], [0, finite.size - 1]])
+    return finite[np.unique(keep)]
+
+
+def line_runs(indices: np.ndarray, y: np.ndarray) -> list[np.ndarray]:
+    """Split drawn indices into runs that do not cross a non-finite value of ``y``."""
+    if not indices.size:
+        return []
+    bad = np.cumsum(~np.isfinite(np.asarray(y, dtype=float)))
+    breaks = np.flatnonzero(np.diff(bad[indices]) != 0) + 1
+    return [run for run in np.split(indices, breaks) if run.size > 1]
+
+
+def _runs(indices: np.ndarray) -> list[np.ndarray]:
+    """Consecutive stretches of sorted indices."""
+    return np.split(indices, np.flatnonzero(np.diff(indices) > 1) + 1) if indices.size else []
+
+
+def nice_step(span: float, target: int) -> float:
+    """A 1-2-5 step giving about ``target`` intervals over ``span``."""
+    if not span > 0:
+        return 1.0
+    raw = span / target
+    power = 10.0 ** math.floor(math.log10(raw))
+    return next(m * power for m in (1.0, 2.0, 5.0, 10.0) if m * power >= raw)
+
+
+@dataclass(frozen=True)
+class Series:
+    name: str
+    values: np.ndarray
+
+
+@dataclass(frozen=True)
+class StripChart:
+    """One quantity along chainage: series, tolerance limits, and the sleepers of the exceedance
+    runs (marked in red along the bottom of the plot)."""
+
+    title: str
+    unit: str
+    series: tuple[Series, ...]
+    limits: tuple[float, float] | None = None
+    exceeding: np.ndarray | None = None
+
+
+def _value_range(chart: StripChart, window: np.ndarray) -> tuple[float, float]:
+    finite = [s.values[window][np.isfinite(s.values[window])] for s in chart.series]
+    values = np.concatenate(finite) if finite else np.zeros(0)
+    low, high = (float(values.min()), float(values.max())) if values.size else (-1.0, 1.0)
+    if chart.limits is not None:
+        for limit in chart.limits:
+            if np.isfinite(limit):
+                low, high = min(low, 1.15 * limit if limit < 0 else -0.15 * limit), max(high, 1.15 * limit if limit > 0 else 0.0)
+    if high - low < 1e-9:
+        low, high = low - 1.0, high + 1.0
+    pad = 0.05 * (high - low)
+    return low - pad, high + pad
+
+
+def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, station_from: float, station_to: float,
+                  width: float, height: float, label_axis: bool = True) -> Drawing:
+    """A chart of ``chart`` over [station_from, station_to] m; x labels in metres of station."""
+    left, right, bottom, top = 46.0, 8.0, 14.0 if label_axis else 6.0, 14.0
+    plot_w, plot_h = width - left - right, height - bottom - top
+    drawing = Drawing(width, height)
+    window = np.flatnonzero((station_m >= station_from) & (station_m <= station_to))
+    low, high = _value_range(chart, window)
+
+    def px(s):
+        return left + (np.asarray(s) - station_from) / (station_to - station_from) * plot_w
+
+    def py(v):
+        return bottom + (np.asarray(v) - low) / (high - low) * plot_h
+
+    # invalid stretches first, under everything
+    for run in _runs(window[~valid[window]]):
+        x0, x1 = px(station_m[run[0]] - 0.3), px(station_m[run[-1]] + 0.3)
+        drawing.add(Rect(max(x0, left), bottom, min(x1, left + plot_w) - max(x0, left), plot_h,
+                         fillColor=INVALID_COLOUR, strokeColor=None))
+    for run in _runs(window[chart.exceeding[window]] if chart.exceeding is not None else np.zeros(0, dtype=int)):
+        x0, x1 = px(station_m[run[0]] - 0.3), px(station_m[run[-1]] + 0.3)
+        drawing.add(Rect(float(x0), bottom, float(max(x1 - x0, 1.0)), 3.0, fillColor=LIMIT_COLOUR, strokeColor=None))
+    step = nice_step(high - low, 5)
+    for tick in np.arange(math.ceil(low / step) * step, high, step):
+        y = float(py(tick))
+        drawing.add(Line(left, y, left + plot_w, y, strokeColor=GRID_COLOUR, strokeWidth=0.3))
+        drawing.add(String(left - 3, y - 2.5, f"{tick:g}", fontName=FONT, fontSize=6.5, textAnchor="end"))
+    x_step = nice_step(station_to - station_from, 10)
+    for tick in np.arange(math.ceil(station_from / x_step) * x_step, station_to + 1e-9, x_step):
+        x = float(px(tick))
+        drawing.add(Line(x, bottom, x, bottom + plot_h, strokeColor=GRID_COLOUR, strokeWidth=0.3))
+        if label_axis:
+            drawing.add(String(x, bottom - 9, f"{tick:.0f}", fontName=FONT, fontSize=6.5, textAnchor="middle"))
+    if chart.limits is not None:
+        for limit in chart.limits:
+            if np.isfinite(limit) and low < limit < high:
+                y = float(py(limit))
+                drawing.add(Line(left, y, left + plot_w, y, strokeColor=LIMIT_COLOUR, strokeWidth=0.6,
+                                 strokeDashArray=[3, 2]))
+    if low < 0 < high:
+        drawing.add(Line(left, float(py(0)), left + plot_w, float(py(0)), strokeColor=colors.grey, strokeWidth=0.4))
+    columns = int(plot_w)
+    for colour, series in zip(SERIES_COLOURS, chart.series):
+        values = series.values[window]
+        drawn = decimate_min_max(station_m[window], values, station_from, station_to, columns)
+        for run in line_runs(drawn, values):
+            points = np.column_stack([px(station_m[window][run]), py(values[run])]).ravel().tolist()
+            drawing.add(PolyLine(points, strokeColor=colour, strokeWidth=0.5))
+    drawing.add(Rect(left, bottom, plot_w, plot_h, fillColor=None, strokeColor=colors.black, strokeWidth=0.5))
+    title = f"{chart.title} ({chart.unit})" if chart.unit else chart.title
+    if chart.limits is not None:
+        title += "   - - limit" + ("   red: exceedances" if chart.exceeding is not None and chart.exceeding[window].any() else "")
+    drawing.add(String(left, height - 10, title, fontName="Helvetica-Bold", fontSize=8))
+    x = left + plot_w
+    for colour, series in reversed(list(zip(SERIES_COLOURS, chart.series))):
+        if len(chart.series) > 1:
+            text = String(x, height - 10, series.name, fontName=FONT, fontSize=7, textAnchor="end", fillColor=colour)
+            drawing.add(text)
+            x -= 7 * 0.55 * len(series.name) + 10
+    return drawing
+
+
+@dataclass(frozen=True)
+class PlanMark:
+    east_m: np.ndarray
+    north_m: np.ndarray
+    colour: object
+    name: str
+
+
+def plan_drawing(east_m: np.ndarray, north_m: np.ndarray, station_m: np.ndarray, width: float, height: float,
+                 marks: tuple[PlanMark, ...] = (), highlight: tuple[tuple[np.ndarray, object, str], ...] = ()) -> Drawing:
+    """The centreline in plan at one scale for both axes, station ticks, north arrow and scale bar;
+    ``highlight`` draws (mask, colour, name) stretches over the line, ``marks`` dots."""
+    drawing = Drawing(width, height)
+    finite = np.isfinite(east_m) & np.isfinite(north_m)
+    if finite.sum() < 2:
+        drawing.add(String(10, height / 2, "no coordinates", fontName=FONT, fontSize=9))
+        return drawing
+    e0, e1 = east_m[finite].min(), east_m[finite].max()
+    n0, n1 = north_m[finite].min(), north_m[finite].max()
+    margin = 30.0
+    scale = min((width - 2 * margin) / max(e1 - e0, 1.0), (height - 2 * margin) / max(n1 - n0, 1.0))
+    ox = margin + (width - 2 * margin - scale * (e1 - e0)) / 2
+    oy = margin + (height - 2 * margin - scale * (n1 - n0)) / 2
+
+    def xy(e, n):
+        return ox + scale * (np.asarray(e) - e0), oy + scale * (np.asarray(n) - n0)
+
+    # a plan is not a function of x: keep a point per 0.5 pt of drawn length (no peak to lose at this scale)
+    stride = max(1, int(len(east_m) / max(1.0, 2 * scale * np.nansum(np.hypot(np.diff(east_m), np.diff(north_m))))))
+
+    def polylines(mask, colour, width_pt):
+        index = np.flatnonzero(mask & finite)
+        for run in np.split(index, np.flatnonzero(np.diff(index) > 1) + 1) if index.size else []:
+            picked = np.unique(np.concatenate([run[::stride], run[-1:]]))
+            if picked.size > 1:
+                x, y = xy(east_m[picked], north_m[picked])
+                drawing.add(PolyLine(np.column_stack([x, y]).ravel().tolist(), strokeColor=colour, strokeWidth=width_pt))
+
+    polylines(np.ones(len(east_m), dtype=bool), SERIES_COLOURS[0], 1.2)
+    for mask, colour, _ in highlight:
+        polylines(mask, colour, 3.0)
+    for mark in marks:
+        x, y = xy(mark.east_m, mark.north_m)
+        for px_, py_ in zip(np.atleast_1d(x), np.atleast_1d(y)):
+            drawing.add(Circle(float(px_), float(py_), 1.8, fillColor=mark.colour, strokeColor=None))
+    # station ticks perpendicular to the line
+    span = station_m[finite][-1] - station_m[finite][0]
+    step = nice_step(span, 8)
+    for tick in np.arange(math.ceil(station_m[finite][0] / step) * step, station_m[finite][-1], step):
+        k = int(np.clip(np.searchsorted(station_m, tick), 1, len(station_m) - 1))
+        if not (finite[k] and finite[k - 1]):
+            continue
+        de, dn = east_m[k] - east_m[k - 1], north_m[k] - north_m[k - 1]
+        norm = math.hypot(de, dn) or 1.0
+        x, y = xy(east_m[k], north_m[k])
+        nx, ny = -dn / norm, de / norm
+        drawing.add(Line(float(x), float(y), float(x + 6 * nx), float(y + 6 * ny), strokeColor=colors.black, strokeWidth=0.6))
+        drawing.add(String(float(x + 9 * nx), float(y + 9 * ny) - 2, f"{tick:.0f}", fontName=FONT, fontSize=6.5,
+                           textAnchor="start" if nx >= 0 else "end"))
+    # north arrow and scale bar
+    drawing.add(Line(width - 20, height - 40, width - 20, height - 15, strokeColor=colors.black, strokeWidth=1))
+    drawing.add(PolyLine([width - 24, height - 22, width - 20, height - 14, width - 16, height - 22], strokeColor=colors.black))
+    drawing.add(String(width - 20, height - 50, "N", fontName="Helvetica-Bold", fontSize=8, textAnchor="middle"))
+    bar_m = nice_step((width - 2 * margin) / scale, 5)
+    drawing.add(Line(margin, 12, margin + bar_m * scale, 12, strokeColor=colors.black, strokeWidth=2))
+    drawing.add(String(margin + bar_m * scale + 4, 9, f"{bar_m:g} m", fontName=FONT, fontSize=7))
+    x = width - margin
+    for colour, name in [(SERIES_COLOURS[0], "centreline")] + [(c, n) for _, c, n in highlight] + \
+            [(m.colour, m.name) for m in marks]:
+        drawing.add(String(x, 9, name, fontName=FONT, fontSize=7, fillColor=colour, textAnchor="end"))
+        x -= 7 * 0.55 * len(name) + 12
+    return drawing

@@ -1,0 +1,309 @@
+"""What both reports show, gathered once from a project and its stored results.
+
+Reports format; they compute no track geometry. Every number comes from the result files
+(:mod:`insrail.project.results`) in the unit its column names, converted only for display:
+ratios (gauge change rates) are shown in per mille (‰), lengths stay in mm or m.
+
+The sleeper columns follow the thesis's sleeper table (Chen 2016, Figure 5-7): deviations
+[measured − best] per rail, gauge and cross-level, design cant, gauge change to the neighbour
+and over 2.5 m, twist over 3 m, guiding rail, the 30 m / 5 m and 300 m / 150 m differential
+versines; then every other check of the tolerance profile, then the adjustment amounts. Where
+the profile checks a quantity the column shows the check's channel, carries its limits, and the
+sleepers inside one of the pipeline's exceedance runs are marked: exceedances.csv is the verdict,
+never a re-evaluation of rounded numbers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from insrail import __version__
+from insrail.project.model import Project
+from insrail.project.results import (
+    GAUGE_CHANGE_BASE_M,
+    TWIST_BASE_M,
+    ExceedanceRow,
+    StoredResults,
+    check_column,
+)
+from insrail.track.adjustment import FastenerType, load_fastener_type
+from insrail.track.exceedance import RAILS
+from insrail.track.tolerance import DIRECTIONS, Check, ToleranceProfile, load_tolerance_profile
+
+PER_MILLE = 1e3  # ratio -> ‰
+RAIL_KINDS = ("versine", "differential_versine", "band_peak")  # checks with one channel per rail and direction
+SHORT_TITLES = {("left", "lateral"): "L lateral", ("right", "lateral"): "R lateral",
+                ("left", "vertical"): "L vertical", ("right", "vertical"): "R vertical"}
+
+
+@dataclass(frozen=True)
+class Column:
+    """One column of the sleeper table as displayed.
+
+    ``values`` are in ``unit`` (float; NaN shows as an empty cell) or text; ``limits`` (lower,
+    upper) in the same unit when a check of the profile judges the column; ``exceeding`` marks
+    the sleepers of the pipeline's exceedance runs of that check channel.
+    """
+
+    key: str  # the sleepers.csv column shown (or a derived name)
+    group: str
+    title: str
+    unit: str
+    values: np.ndarray
+    number_format: str = "0.0"
+    width: float = 8.0
+    limits: tuple[float, float] | None = None
+    exceeding: np.ndarray | None = None
+    check: str | None = None
+
+
+@dataclass(frozen=True)
+class ReportContent:
+    """Everything the workbook and the PDF present, in display units."""
+
+    project: Project
+    results: StoredResults
+    profile: ToleranceProfile
+    fastener: FastenerType | None
+    columns: tuple[Column, ...]
+    valid: np.ndarray  # (n,) bool
+    station_m: np.ndarray
+    software: str = f"insrail {__version__}"
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def summary(self) -> dict:
+        return self.results.summary
+
+    @property
+    def survey(self) -> str:
+        return self.results.survey
+
+    @property
+    def chainage_range(self) -> str:
+        if not len(self.results):
+            return "no sleepers"
+        return f"{self.results.label[0]} – {self.results.label[-1]}"
+
+    def column(self, key: str) -> Column:
+        for column in self.columns:
+            if column.key == key:
+                return column
+        raise KeyError(key)
+
+
+def limits_text(check: Check) -> str:
+    """A check's limits as a reader writes them: ±2.0 mm, ±0.67 ‰, >= -5.0 and <= 35.0 mm (Helvetica
+    in the PDF has ± and ‰ but no ≥)."""
+    scale, unit = (PER_MILLE, "‰") if check.kind.endswith("rate") else (1e3, "mm")
+    lower, upper = scale * check.lower, scale * check.upper
+    digits = 2 if unit == "‰" else 1
+    if np.isfinite(lower) and np.isfinite(upper) and np.isclose(-lower, upper):
+        return f"±{upper:.{digits}f} {unit}"
+    parts = ([f">= {lower:.{digits}f}"] if np.isfinite(lower) else []) + ([f"<= {upper:.{digits}f}"] if np.isfinite(upper) else [])
+    return " and ".join(parts) + f" {unit}"
+
+
+def check_description(check: Check) -> str:
+    """What a check measures, in words (for the header block and the PDF)."""
+    kind = check.kind
+    if kind == "versine":
+        return f"versine, {check.chord_m:g} m chord" + (f" ({check.back_m:g} m back)" if check.back_m else "")
+    if kind == "differential_versine":
+        return f"differential versine, {check.chord_m:g} m chord / {check.pair_m:g} m pairs"
+    if kind == "band_peak":
+        return f"band-passed peak, band {check.band}"
+    if kind == "twist":
+        return f"twist over {check.base_m:g} m" + (" (design cant ramp removed)" if check.relative_to_design else "")
+    if kind == "gauge_change_rate":
+        return "gauge change rate " + (f"over {check.base_m:g} m" if check.base_m else "sleeper to sleeper")
+    return {"gauge_deviation": "gauge deviation from nominal", "cross_level": "cross-level (measured - design cant)"}[kind]
+
+
+def load_report_content(project: Project, results: StoredResults) -> ReportContent:
+    """Collect the columns and settings the reports show (see the module docstring)."""
+    profile = load_tolerance_profile(project.resource(project.tolerance_profile))
+    stored_profile = results.summary.get("assessment", {}).get("tolerance_profile")
+    notes = []
+    if stored_profile is not None and stored_profile != profile.name:
+        raise ValueError(f"{results.folder}: results were assessed with tolerance profile {stored_profile!r}, the project "
+                         f"now names {profile.name!r}: process the survey again before reporting")
+    try:
+        fastener = load_fastener_type(project.resource(project.fastener))
+    except ValueError as error:  # a fastener file edited since processing: the amounts are still in the results
+        fastener = None
+        notes.append(f"fastener type not readable: {error}")
+    columns = _sleeper_columns(results, profile)
+    valid = results.columns["valid"] > 0
+    return ReportContent(project, results, profile, fastener, tuple(columns), valid, results.columns["station_m"],
+                         notes=tuple(notes))
+
+
+# --------------------------------------------------------------------------- columns
+
+def _exceeding(results: StoredResults, check: str, rail: str, direction: str) -> np.ndarray:
+    """Sleepers inside the pipeline's exceedance runs of one check channel."""
+    row_of = {int(number): row for row, number in enumerate(results.number)}
+    mask = np.zeros(len(results), dtype=bool)
+    for e in results.exceedances:
+        if (e.check, e.rail, e.direction) == (check, rail, direction):
+            mask[row_of[e.first_sleeper]:row_of[e.last_sleeper] + 1] = True
+    return mask
+
+
+def _check_column(results: StoredResults, check: Check, rail: str, direction: str, group: str, title: str) -> Column:
+    key = check_column(check.name, check.kind, rail, direction)
+    rate = check.kind.endswith("rate")
+    scale = PER_MILLE if rate else 1e3
+    return Column(key, group, title, "‰" if rate else "mm", (PER_MILLE if rate else 1.0) * results.columns[key],
+                  "0.00" if rate else "0.0", limits=(scale * check.lower, scale * check.upper),
+                  exceeding=_exceeding(results, check.name, rail, direction), check=check.name)
+
+
+def _channels(results: StoredResults, check: Check, group: str) -> list[Column]:
+    if check.kind in RAIL_KINDS:
+        return [_check_column(results, check, rail, direction, group, SHORT_TITLES[rail, direction])
+                for direction in DIRECTIONS if direction in check.directions for rail in RAILS]
+    return [_check_column(results, check, "track", "", group, _track_title(check))]
+
+
+def _track_title(check: Check) -> str:
+    """Title of a check with one channel for the track (gauge, cross-level, twist, gauge change rate)."""
+    if check.kind == "twist":
+        return f"twist {check.base_m:g} m"
+    if check.kind == "gauge_change_rate":
+        return f"gauge change rate {check.base_m:g} m" if check.base_m else "gauge change rate per sleeper"
+    return {"gauge_deviation": "gauge", "cross_level": "cross-level"}[check.kind]
+
+
+def _find(profile: ToleranceProfile, used: set[str], kind: str, **parameters) -> Check | None:
+    for check in profile.checks:
+        if check.name not in used and check.kind == kind and all(
+                getattr(check, name) is not None and np.isclose(getattr(check, name), value) if isinstance(value, float)
+                else getattr(check, name) == value for name, value in parameters.items()):
+            used.add(check.name)
+            return check
+    return None
+
+
+def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[Column]:
+    c = results.columns
+    n = len(results)
+    used: set[str] = set()
+    deviation = "Deviation [measured - best]"
+    columns = [
+        Column("row", "Sleeper", "row", "", np.arange(1, n + 1), "0", 6),
+        Column("number", "Sleeper", "number", "", results.number, "0", 8),
+        Column("label", "Sleeper", "chainage", "", np.array(results.label, dtype=object), "@", 13),
+        Column("station_m", "Sleeper", "station", "m", c["station_m"], "0.000", 11),
+    ]
+    for direction in DIRECTIONS:
+        for rail in RAILS:
+            columns.append(Column(f"{direction}_deviation_{rail}_mm", deviation, SHORT_TITLES[rail, direction], "mm",
+                                  c[f"{direction}_deviation_{rail}_mm"]))
+    gauge = _find(profile, used, "gauge_deviation")
+    columns += (_channels(results, gauge, deviation) if gauge else
+                [Column("gauge_deviation_mm", deviation, "gauge", "mm", c["gauge_mm"] - 1e3 * profile.nominal_gauge_m)])
+    cross_level = _find(profile, used, "cross_level")
+    columns += (_channels(results, cross_level, deviation) if cross_level else
+                [Column("cross_level_mm", deviation, "cross-level", "mm", c["cant_mm"] - c["design_cant_mm"])])
+    parameters = "Track parameters"
+    columns += [Column("gauge_mm", parameters, "gauge", "mm", c["gauge_mm"], width=9),
+                Column("cant_mm", parameters, "cant", "mm", c["cant_mm"]),
+                Column("design_cant_mm", parameters, "design cant", "mm", c["design_cant_mm"]),
+                Column("gauge_change_mm", parameters, "gauge change to neighbour", "mm", c["gauge_change_mm"], width=11)]
+    rate = _find(profile, used, "gauge_change_rate", base_m=GAUGE_CHANGE_BASE_M)
+    columns += (_channels(results, rate, parameters) if rate else
+                [Column("gauge_change_rate_2_5m_ratio", parameters, f"gauge change rate {GAUGE_CHANGE_BASE_M:g} m", "‰",
+                        PER_MILLE * c["gauge_change_rate_2_5m_ratio"], "0.00", 10)])
+    twist = _find(profile, used, "twist", base_m=TWIST_BASE_M, relative_to_design=True)
+    columns += (_channels(results, twist, parameters) if twist else
+                [Column("twist_3m_mm", parameters, f"twist {TWIST_BASE_M:g} m", "mm", c["twist_3m_mm"])])
+    columns.append(Column("guiding_rail", parameters, "guiding rail", "",
+                          np.where(c["guiding_rail_right"] > 0, "R", "L").astype(object), "@", 7))
+    # the thesis's short- and long-wave columns first, then the profile's other checks in file order
+    for chord, pair, name in ((30.0, 5.0, "Short wave"), (300.0, 150.0, "Long wave")):
+        check = _find(profile, used, "differential_versine", chord_m=chord, pair_m=pair)
+        if check:
+            columns += _channels(results, check, f"{name} {chord:g} m chord / {pair:g} m pairs")
+    for check in profile.checks:
+        if check.name not in used:
+            columns += _channels(results, check, check_description(check))
+    adjustment = "Adjustment (move the rail by)"
+    for direction in DIRECTIONS:
+        for rail in RAILS:
+            columns.append(Column(f"adjust_{direction}_{rail}_mm", adjustment, SHORT_TITLES[rail, direction], "mm",
+                                  c[f"adjust_{direction}_{rail}_mm"], "0.0"))
+    unresolved = np.zeros(n, dtype=bool)
+    for direction in DIRECTIONS:
+        for rail in RAILS:
+            unresolved |= c[f"unresolved_{direction}_{rail}"] > 0
+    columns.append(Column("unresolved", adjustment, "checks still failed", "", np.where(unresolved, "yes", "").astype(object),
+                          "@", 9))
+    return columns
+
+
+# --------------------------------------------------------------------------- statistics
+
+@dataclass(frozen=True)
+class ParameterStatistics:
+    column: Column
+    valid_count: int
+    minimum: float
+    maximum: float
+    mean: float
+    standard_deviation: float
+    exceeding_sleepers: int
+    exceedances: int
+
+
+def parameter_statistics(content: ReportContent) -> list[ParameterStatistics]:
+    """Statistics of every numeric measured column over the valid sleepers, with its exceedances."""
+    statistics = []
+    for column in content.columns:
+        if column.values.dtype == object or column.group == "Sleeper" or column.key.startswith("adjust_"):
+            continue
+        values = column.values[content.valid]
+        values = values[np.isfinite(values)]
+        runs = sum(1 for e in content.results.exceedances
+                   if column.check is not None and check_column(e.check, e.kind, e.rail, e.direction) == column.key)
+        exceeding = int(column.exceeding.sum()) if column.exceeding is not None else 0
+        if values.size:
+            statistics.append(ParameterStatistics(column, int(values.size), float(values.min()), float(values.max()),
+                                                  float(values.mean()), float(values.std(ddof=1)) if values.size > 1 else 0.0,
+                                                  exceeding, runs))
+        else:
+            statistics.append(ParameterStatistics(column, 0, np.nan, np.nan, np.nan, np.nan, exceeding, runs))
+    return statistics
+
+
+def sections(content: ReportContent, length_m: float) -> list[tuple[float, float, np.ndarray]]:
+    """(start, end, row indices) of consecutive ``length_m`` sections of station from the first sleeper."""
+    station = content.station_m
+    if not station.size:
+        return []
+    index = np.floor((station - station[0]) / length_m).astype(int)
+    return [(station[0] + k * length_m, station[0] + (k + 1) * length_m, np.flatnonzero(index == k))
+            for k in range(index.max() + 1) if np.any(index == k)]
+
+
+def exceedance_display(row: ExceedanceRow) -> tuple[float, float, str]:
+    """(peak, limit, unit) of an exceedance as displayed (ratios in ‰)."""
+    if row.unit == "ratio":
+        return PER_MILLE * row.peak, PER_MILLE * row.limit, "‰"
+    return row.peak, row.limit, row.unit
+
+
+GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "s")
+
+
+def survey_start(content: ReportContent) -> str:
+    """Date and GPS time of the first sleeper ("2025-08-21 16:05 GPST"), or "" without the GPS week."""
+    week = content.summary.get("survey", {}).get("gps_week")
+    time = content.results.columns.get("time_s")
+    if week is None or time is None or not np.isfinite(time).any():
+        return ""
+    moment = GPS_EPOCH + np.timedelta64(int(week) * 7 * 86400 + int(np.nanmin(time)), "s")
+    return str(moment).replace("T", " ")[:16] + " GPST"

@@ -1,0 +1,484 @@
+"""The Excel workbook for the adjustment crews (openpyxl, write-only: a 16 000-sleeper table in seconds).
+
+Sheets: ``Sleepers`` (the thesis's Figure 5-7 table and more, see :mod:`insrail.report.content`),
+``Adjustment`` (only the sleepers to move, in the order the crew walks: by chainage),
+``Exceedances``, ``Summary`` (statistics per parameter, per 200 m section, TQI) and
+``Processing log`` (software, settings, QC figures of summary.toml).
+
+Cell fills carry meaning and nothing else: red = inside one of the pipeline's exceedance runs,
+grey = invalid sleeper (crossing, switch, flagged data); header rows have their own style.
+Numbers are stored unrounded (as read from the result files) and formatted to 0.1 mm.
+"""
+
+from __future__ import annotations
+
+import datetime
+import io
+import math
+import re
+import zipfile
+from collections.abc import Callable
+from pathlib import Path
+from xml.sax.saxutils import escape
+
+import numpy as np
+from openpyxl import Workbook
+from openpyxl.cell import WriteOnlyCell
+from openpyxl.cell.cell import Cell
+from openpyxl.styles import Alignment, Border, Font, PatternFill, Side
+from openpyxl.utils import get_column_letter
+from openpyxl.worksheet.worksheet import Worksheet
+
+from insrail.io.atomic import atomic_write
+from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project.model import Project
+from insrail.project.results import StoredResults
+from insrail.report.content import (
+    Column,
+    ReportContent,
+    check_description,
+    exceedance_display,
+    limits_text,
+    load_report_content,
+    parameter_statistics,
+    sections,
+    survey_start,
+)
+
+EXCEEDANCE_FILL = PatternFill("solid", fgColor="FFC7CE")  # the spreadsheet's usual "bad" red
+INVALID_FILL = PatternFill("solid", fgColor="D9D9D9")
+HEADER_FILL = PatternFill("solid", fgColor="DDEBF7")
+TITLE_FONT = Font(bold=True, size=14)
+BOLD = Font(bold=True)
+RED_FONT = Font(color="9C0006")
+HEADER_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)
+GROUP_ALIGNMENT = Alignment(horizontal="left", vertical="center")  # a group title runs on over its columns
+#: Columns (0-based) of label, value, label, value ... in the header blocks above the tables.
+BLOCK_ANCHORS = (0, 4, 12, 16, 24, 28)
+THIN = Side(style="thin", color="808080")
+HEADER_BORDER = Border(bottom=THIN)
+SECTION_M = 200.0
+PAPER_A4, PAPER_A3 = "9", "8"  # OOXML paper size codes
+
+
+class _Sheet:
+    """Rows appended to a write-only worksheet.
+
+    A write-only sheet streams its rows to disk, and the file format puts the sheet's layout
+    (frozen panes, column widths, fit-to-page) before the rows: rows appended before
+    :meth:`start` wait in memory (the header block) until the layout is known.
+
+    Big tables go through :meth:`table`: without lxml, openpyxl serialises about 25 000 cells a
+    second, so a 16 000-sleeper table would take half a minute. :meth:`table` writes the rows'
+    SpreadsheetML itself (styles registered with openpyxl, so styles.xml stays openpyxl's) and
+    :func:`_splice_tables` puts them at the end of the sheet's data when the workbook is saved.
+    """
+
+    def __init__(self, sheet: Worksheet):
+        self.sheet = sheet
+        self.rows = 0
+        self._pending: list[list] | None = []
+        self._heights: dict[int, float] = {}
+        self.table_xml: list[str] = []
+        self.last_cell = "A1"
+
+    def style_id(self, number_format: str | None = None, fill: PatternFill | None = None,
+                 font: Font | None = None) -> int:
+        """The workbook's index of a cell style (registered when new)."""
+        return self.cell(None, number_format, font=font, fill=fill).style_id
+
+    def table(self, columns: list[tuple[list, list[int] | int]], progress: StepProgress | None = None,
+              cancel: CancelToken = None) -> None:
+        """Rows below everything appended so far: one (values, style id per row or for all) per column.
+        Values are float (NaN: empty cell), int, or str ("" empty)."""
+        if self._pending is not None:
+            raise RuntimeError("start() the sheet before its table")
+        if not columns or not len(columns[0][0]):
+            return
+        first = self.rows + 1
+        count = len(columns[0][0])
+        numbers = [str(r) for r in range(first, first + count)]
+        cells = []
+        for index, (values, styles) in enumerate(columns):
+            check_cancel(cancel)
+            if progress is not None:
+                progress(index / len(columns), "writing the table")
+            cells.append(_cells(get_column_letter(index + 1), numbers, values,
+                                styles if isinstance(styles, list) else [styles] * count))
+        self.table_xml.append("".join(f'<row r="{r}">{"".join(row)}</row>' for r, *row in zip(numbers, *cells)))
+        self.rows += count
+        self.last_cell = f"{get_column_letter(len(columns))}{self.rows}"
+
+    def cell(self, value, number_format: str | None = None, font: Font | None = None, fill: PatternFill | None = None,
+             alignment: Alignment | None = None, border: Border | None = None) -> WriteOnlyCell:
+        cell = WriteOnlyCell(self.sheet, value=_cell_value(value))
+        if number_format:
+            cell.number_format = number_format
+        if font:
+            cell.font = font
+        if fill:
+            cell.fill = fill
+        if alignment:
+            cell.alignment = alignment
+        if border:
+            cell.border = border
+        return cell
+
+    def append(self, row: list) -> int:
+        self.rows += 1
+        if self._pending is None:
+            self.sheet.append(row)
+        else:
+            self._pending.append(row)
+        return self.rows
+
+    def title(self, text: str) -> None:
+        self.append([self.cell(text, font=TITLE_FONT)])
+
+    def pairs(self, *pairs: tuple[str, object], anchors: tuple[int, ...] = BLOCK_ANCHORS) -> None:
+        """One row of label: value pairs, label and value at the given columns (0-based) so that
+        text runs on over the empty cells between them."""
+        row: list = [None] * (anchors[2 * len(pairs) - 1] + 1)
+        for index, (label, value) in enumerate(pairs):
+            row[anchors[2 * index]] = self.cell(label, font=BOLD)
+            row[anchors[2 * index + 1]] = value if isinstance(value, Cell) else self.cell(value)
+        self.append(row)
+
+    def header(self, titles: list[str], height: float | None = None) -> int:
+        row = self.append([self.cell(t, font=BOLD, fill=HEADER_FILL, alignment=HEADER_ALIGNMENT, border=HEADER_BORDER)
+                           for t in titles])
+        if height:
+            self._heights[row] = height
+        return row
+
+    def start(self, widths: list[float], freeze: str | None = None, paper_a3: bool = False) -> None:
+        """Fix the layout (column widths, frozen panes, printing) and write the rows held so far."""
+        for index, width in enumerate(widths, start=1):
+            self.sheet.column_dimensions[get_column_letter(index)].width = width
+        if freeze:
+            self.sheet.freeze_panes = freeze
+        _printable(self.sheet, paper_a3)
+        pending, self._pending = self._pending or [], None
+        for index, row in enumerate(pending, start=1):
+            if index in self._heights:
+                self.sheet.row_dimensions[index].height = self._heights[index]
+            self.sheet.append(row)
+
+    def finish_table(self, header_row: int, first_header_row: int, columns: int) -> None:
+        """Filter the table below ``header_row``; print the header rows on every page."""
+        if self.rows > header_row:
+            self.sheet.auto_filter.ref = f"A{header_row}:{get_column_letter(columns)}{self.rows}"
+        self.sheet.print_title_rows = f"{first_header_row}:{header_row}"
+
+
+def _cells(letter: str, rows: list[str], values: list, styles: list[int]) -> list[str]:
+    """The <c> elements of one column; floats as the shortest text that reads back the same number."""
+    out = []
+    for row, value, style in zip(rows, values, styles):
+        if isinstance(value, str):
+            out.append(f'<c r="{letter}{row}" s="{style}" t="inlineStr"><is><t>{escape(value)}</t></is></c>' if value
+                       else f'<c r="{letter}{row}" s="{style}"/>')
+        elif value is None or not math.isfinite(value):  # an empty, styled cell (NaN: not computable)
+            out.append(f'<c r="{letter}{row}" s="{style}"/>')
+        else:
+            out.append(f'<c r="{letter}{row}" s="{style}"><v>{value!r}</v></c>')
+    return out
+
+
+def _splice_tables(xlsx: bytes, sheets: list[_Sheet], handle) -> None:
+    """Copy the workbook ``xlsx`` to ``handle`` with each sheet's :meth:`_Sheet.table` rows at the
+    end of its sheetData and its dimension covering them."""
+    tables = {sheet.sheet.path.lstrip("/"): sheet for sheet in sheets if sheet.table_xml}
+    with zipfile.ZipFile(io.BytesIO(xlsx)) as source, \
+            zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED, compresslevel=1) as target:
+        for info in source.infolist():
+            data = source.read(info.filename)
+            sheet = tables.get(info.filename)
+            if sheet is not None:
+                text = data.decode("utf-8")
+                text = re.sub(r'<dimension ref="[^"]*"\s*/>', f'<dimension ref="A1:{sheet.last_cell}"/>', text, count=1)
+                rows = "".join(sheet.table_xml)
+                text = (text.replace("</sheetData>", rows + "</sheetData>", 1) if "</sheetData>" in text
+                        else text.replace("<sheetData/>", f"<sheetData>{rows}</sheetData>", 1))
+                data = text.encode("utf-8")
+            target.writestr(info.filename, data)
+
+
+def _cell_value(value):
+    """Cells hold numbers or text; NaN (not computable) is an empty cell, numpy scalars plain Python."""
+    if isinstance(value, (float, np.floating)):
+        return None if not np.isfinite(value) else float(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+def _printable(sheet: Worksheet, paper_a3: bool = False) -> None:
+    sheet.page_setup.orientation = "landscape"
+    sheet.page_setup.paperSize = PAPER_A3 if paper_a3 else PAPER_A4
+    sheet.page_setup.fitToWidth = 1
+    sheet.page_setup.fitToHeight = 0  # as many pages as the rows need
+    sheet.sheet_properties.pageSetUpPr.fitToPage = True
+    sheet.print_options.gridLines = True
+
+
+def _context(content: ReportContent) -> str:
+    """Project, survey, chainage and tolerance profile in one line (above the smaller tables)."""
+    return (f"{content.project.name}, survey {content.survey} {survey_start(content)}, {content.chainage_range}, "
+            f"tolerance profile {content.profile.name}; {content.software}")
+
+
+def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
+    project, summary = content.project, content.summary
+    track = summary.get("track", {})
+    sheet.title(title)
+    sleepers = f"{track.get('sleepers', len(content.results))} ({track.get('valid_sleepers', int(content.valid.sum()))} valid)"
+    sheet.pairs(("Project", project.name), ("Line", project.description or project.name), ("Survey", content.survey))
+    sheet.pairs(("Chainage", content.chainage_range), ("Sleepers", sleepers), ("Survey start", survey_start(content)))
+    profile = content.profile
+    sheet.pairs(("Tolerance profile", f"{profile.name}: {profile.description}"), ("Standard", profile.source),
+                ("Design", project.design or "fitted lines (no design alignment)"))
+    sheet.pairs(("Limits", "; ".join(f"{c.name} {limits_text(c)}" for c in profile.checks)),
+                ("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"), ("Software", content.software),
+                anchors=(0, 4, 24, 28, 32, 36))
+
+
+# --------------------------------------------------------------------------- sleepers
+
+def _sleeper_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    _header_block(sheet, content, "Track geometry per sleeper")
+    sheet.pairs(("Legend", sheet.cell("beyond a limit", fill=EXCEEDANCE_FILL)),
+                ("", sheet.cell("invalid sleeper", fill=INVALID_FILL)),
+                ("Signs", "deviations + right / + up; adjustment: move the rail by the amount, + right / + up"))
+    columns = content.columns
+    groups, previous = [], None
+    for column in columns:
+        groups.append(column.group if column.group != previous else None)
+        previous = column.group
+    first_header = sheet.append([sheet.cell(g, font=BOLD, fill=HEADER_FILL, alignment=GROUP_ALIGNMENT) for g in groups])
+    sheet.header([limits_text_for(column) for column in columns])
+    header = sheet.header([f"{c.title} ({c.unit})" if c.unit else c.title for c in columns], height=44)
+    sheet.start([c.width for c in columns], freeze=f"E{header + 1}", paper_a3=True)
+
+    # a style per column and state: plain, inside an exceedance run, invalid sleeper
+    plain = [sheet.style_id(c.number_format) for c in columns]
+    red = [sheet.style_id(c.number_format, EXCEEDANCE_FILL) for c in columns]
+    grey = [sheet.style_id(c.number_format, INVALID_FILL) for c in columns]
+    valid = content.valid
+    table = []
+    for index, column in enumerate(columns):
+        styles = np.where(valid, plain[index], grey[index])
+        if column.exceeding is not None:
+            styles = np.where(column.exceeding, red[index], styles)
+        values = column.values.tolist() if column.values.dtype != object else [str(v) for v in column.values]
+        table.append((values, styles.tolist()))
+    sheet.table(table, progress, cancel)
+    sheet.finish_table(header, first_header, len(columns))
+
+
+def limits_text_for(column: Column) -> str:
+    if column.limits is None:
+        return ""
+    lower, upper = column.limits
+    digits = 2 if column.unit == "‰" else 1
+    if np.isfinite(lower) and np.isfinite(upper) and np.isclose(-lower, upper):
+        return f"limit ±{upper:.{digits}f}"
+    return "limit " + " / ".join(f"{v:.{digits}f}" for v in (lower, upper) if np.isfinite(v))
+
+
+# --------------------------------------------------------------------------- adjustment
+
+ADJUSTMENT_KEYS = ("adjust_lateral_left_mm", "adjust_lateral_right_mm", "adjust_vertical_left_mm", "adjust_vertical_right_mm")
+
+
+def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    sheet.title("Adjustment: the sleepers to move, in chainage order")
+    sheet.append([sheet.cell(_context(content))])
+    fastener = content.fastener
+    adjustment = content.summary.get("adjustment", {})
+    kind = (f"{fastener.description or fastener.name}, steps of {1e3 * fastener.step_m:g} mm" if fastener
+            else adjustment.get("fastener", ""))
+    sheet.append([sheet.cell(f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm; "
+                             f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")])
+    sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it "
+                             "(looking towards increasing chainage)", font=BOLD)])
+    amounts = [content.column(key) for key in ADJUSTMENT_KEYS]
+    titles = ["sleeper", "chainage", "station (m)"] + [f"{c.title} (mm)" for c in amounts] + ["checks still failed"]
+    header = sheet.header(titles, height=32)
+    sheet.start([9, 13, 11, 10, 10, 10, 10, 12], freeze=f"C{header + 1}")
+    moving = np.flatnonzero(np.any([np.nan_to_num(c.values) != 0 for c in amounts], axis=0))
+    order = moving[np.argsort(content.station_m[moving], kind="stable")]
+    columns = [content.column("number").values[order].tolist(), [str(v) for v in content.column("label").values[order]],
+               content.station_m[order].tolist()] + [c.values[order].tolist() for c in amounts] + \
+        [[str(v) for v in content.column("unresolved").values[order]]]
+    styles = [sheet.style_id(), sheet.style_id(), sheet.style_id("0.000")] + [sheet.style_id("0")] * len(amounts) + \
+        [sheet.style_id(font=RED_FONT)]
+    sheet.table(list(zip(columns, styles)), cancel=cancel)
+    progress(1.0, "adjustment sheet")
+    sheet.finish_table(header, header, len(titles))
+
+
+# --------------------------------------------------------------------------- exceedances
+
+def _exceedance_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    sheet.title("Exceedances")
+    sheet.append([sheet.cell(_context(content))])
+    titles = ["no.", "check", "what", "rail", "direction", "from", "to", "from (m)", "to (m)", "length (m)", "peak",
+              "limit", "unit", "first sleeper", "last sleeper"]
+    header = sheet.header(titles, height=32)
+    sheet.start([6, 22, 34, 7, 9, 13, 13, 11, 11, 9, 8, 8, 6, 9, 9], freeze=f"B{header + 1}")
+    checks = {c.name: c for c in content.profile.checks}
+    label_of = dict(zip(content.results.number.tolist(), content.results.label))
+    for index, e in enumerate(content.results.exceedances, start=1):
+        peak, limit, unit = exceedance_display(e)
+        fmt = "0.000" if unit == "‰" else "0.00"  # enough to see the peak beyond the limit
+        what = check_description(checks[e.check]) if e.check in checks else e.kind
+        sheet.append([sheet.cell(index), sheet.cell(e.check), sheet.cell(what), sheet.cell(e.rail),
+                      sheet.cell(e.direction), sheet.cell(label_of.get(e.first_sleeper, "")),
+                      sheet.cell(label_of.get(e.last_sleeper, "")), sheet.cell(e.station_from_m, "0.000"),
+                      sheet.cell(e.station_to_m, "0.000"), sheet.cell(e.station_to_m - e.station_from_m, "0.000"),
+                      sheet.cell(peak, fmt), sheet.cell(limit, fmt), sheet.cell(unit), sheet.cell(e.first_sleeper),
+                      sheet.cell(e.last_sleeper)])
+    progress(1.0, "exceedance sheet")
+    sheet.finish_table(header, header, len(titles))
+
+
+# --------------------------------------------------------------------------- summary
+
+def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    sheet.title("Summary")
+    sheet.append([sheet.cell(_context(content))])
+    sheet.append([sheet.cell("Statistics per parameter (valid sleepers)", font=BOLD)])
+    titles = ["group", "parameter", "unit", "limit", "valid sleepers", "minimum", "maximum", "mean", "standard deviation",
+              "sleepers beyond", "exceedances"]
+    sheet.header(titles, height=32)
+    sheet.start([30, 24, 6, 12, 9, 9, 9, 9, 10, 9, 11, 9, 9, 9, 9, 9])
+    for s in parameter_statistics(content):
+        fmt = s.column.number_format
+        sheet.append([sheet.cell(s.column.group), sheet.cell(s.column.title), sheet.cell(s.column.unit),
+                      sheet.cell(limits_text_for(s.column)), sheet.cell(s.valid_count), sheet.cell(s.minimum, fmt),
+                      sheet.cell(s.maximum, fmt), sheet.cell(s.mean, fmt), sheet.cell(s.standard_deviation, "0.00"),
+                      sheet.cell(s.exceeding_sleepers if s.column.limits else None),
+                      sheet.cell(s.exceedances if s.column.limits else None)])
+    progress(0.5, "summary: parameters")
+    sheet.append([])
+    quality = content.summary.get("track_quality", {})
+    channels = list(quality.get("channels", []))
+    tqi_start = np.asarray(quality.get("start_m", []), dtype=float)
+    section_m = float(quality.get("section_m", SECTION_M))
+    sheet.append([sheet.cell(f"Per {section_m:g} m section: the largest magnitude of every check of the profile "
+                             f"(over its rails and directions), the standard deviations of the TQI channels "
+                             f"({quality.get('band', 'D1')} band for level and alignment) and their sum, the TQI", font=BOLD)])
+    checks = [(check, [c for c in content.columns if c.check == check.name]) for check in content.profile.checks]
+    checks = [(check, columns) for check, columns in checks if columns]
+    titles = (["from (m)", "to (m)", "from", "to", "sleepers", "valid", "exceedances starting"]
+              + [f"max |{check.name}| ({columns[0].unit})" for check, columns in checks]
+              + [f"SD {name.replace('_', ' ')} (mm)" for name in channels] + (["TQI (mm)"] if channels else []))
+    sheet.header(titles, height=44)
+    starts = np.array([e.station_from_m for e in content.results.exceedances])
+    labels = content.column("label").values
+    for start, end, rows in sections(content, section_m):
+        match = np.flatnonzero(np.isclose(tqi_start, start, atol=1e-3)) if tqi_start.size else []
+        tqi = ([quality[f"sd_{name}_mm"][match[0]] for name in channels] + [quality["tqi_mm"][match[0]]]
+               if len(match) else [None] * (len(channels) + bool(channels)))
+        sheet.append([sheet.cell(start, "0.000"), sheet.cell(end, "0.000"), sheet.cell(labels[rows[0]]),
+                      sheet.cell(labels[rows[-1]]), sheet.cell(len(rows)), sheet.cell(int(content.valid[rows].sum())),
+                      sheet.cell(int(np.count_nonzero((starts >= start) & (starts < end))) if starts.size else 0)]
+                     + [sheet.cell(_largest_magnitude(columns, rows), columns[0].number_format) for _, columns in checks]
+                     + [sheet.cell(v if v is None or v >= 0 else None, "0.00") for v in tqi])
+    progress(1.0, "summary sheet")
+
+
+def _largest_magnitude(columns: list[Column], rows: np.ndarray) -> float:
+    """max |value| over the columns at ``rows``; NaN where none is finite."""
+    values = np.abs(np.concatenate([c.values[rows] for c in columns]))
+    values = values[np.isfinite(values)]
+    return float(values.max()) if values.size else math.nan
+
+
+# --------------------------------------------------------------------------- processing log
+
+def _flatten(prefix: str, value, rows: list[tuple[str, object]]) -> None:
+    if isinstance(value, dict):
+        for key, item in value.items():
+            _flatten(f"{prefix}.{key}" if prefix else str(key), item, rows)
+    elif isinstance(value, list):
+        if value and all(isinstance(item, dict) for item in value):
+            for index, item in enumerate(value):
+                _flatten(f"{prefix}[{index}]", item, rows)
+        elif len(value) > 12:
+            rows.append((prefix, f"{len(value)} values (see the Summary sheet)"))
+        else:
+            rows.append((prefix, "; ".join("–".join(map(str, v)) if isinstance(v, list) else str(v) for v in value)))
+    else:
+        rows.append((prefix, value if isinstance(value, (int, float, str, bool)) else str(value)))
+
+
+def _log_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    sheet.title("Processing log")
+    sheet.start([42, 90])
+    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
+    for label, value in (("Software", content.software), ("Report written", now),
+                         ("Project file", str(content.project.path)), ("Results", str(content.results.folder)),
+                         *(("Note", note) for note in content.notes)):
+        sheet.pairs((label, value), anchors=(0, 1))
+    sheet.append([])
+    for title, document in (("summary.toml (QC figures of the processing)", content.summary),
+                            ("project.toml (settings)", content.project.to_settings())):
+        sheet.append([sheet.cell(title, font=BOLD)])
+        sheet.header(["key", "value"])
+        rows: list[tuple[str, object]] = []
+        _flatten("", document, rows)
+        for key, value in rows:
+            sheet.append([sheet.cell(key), sheet.cell(value, "0.000" if isinstance(value, float) else None)])
+        sheet.append([])
+    progress(1.0, "processing log")
+
+
+def _discard(workbook: Workbook) -> None:
+    """End the row streams of an abandoned write-only workbook and delete their temporary files
+    (openpyxl keeps them until the workbook is saved)."""
+    for sheet in workbook.worksheets:
+        if not sheet.closed:
+            sheet.close()
+        if sheet._writer is not None and Path(sheet._writer.out).exists():
+            sheet._writer.cleanup()
+
+
+SHEETS: tuple[tuple[str, Callable, float], ...] = (
+    ("Sleepers", _sleeper_sheet, 0.6),
+    ("Adjustment", _adjustment_sheet, 0.04),
+    ("Exceedances", _exceedance_sheet, 0.04),
+    ("Summary", _summary_sheet, 0.04),
+    ("Processing log", _log_sheet, 0.01),
+)
+
+
+def write_workbook(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
+                   cancel: CancelToken = None) -> Path:
+    """Write the crews' workbook for one survey's results to ``path`` (atomically); returns the path."""
+    step = StepProgress(progress)
+    path = Path(path)
+    content = load_report_content(project, results)
+    workbook = Workbook(write_only=True)
+    workbook.properties.title = f"{project.name} – {results.survey}: track geometry"
+    workbook.properties.creator = content.software
+    position = 0.0
+    sheets = []
+    try:
+        for name, build, share in SHEETS:
+            check_cancel(cancel)
+            sheets.append(_Sheet(workbook.create_sheet(name)))
+            build(sheets[-1], content, step.sub(position, position + share), cancel)
+            position += share
+        check_cancel(cancel)
+        step(position, "saving the workbook")
+        assembled = io.BytesIO()
+        workbook.save(assembled)
+        with atomic_write(path, "wb") as handle:
+            _splice_tables(assembled.getvalue(), sheets, handle)
+    except BaseException:
+        _discard(workbook)
+        raise
+    step(1.0, f"workbook written: {path.name}")
+    return path

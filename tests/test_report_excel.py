@@ -1,0 +1,213 @@
+"""The crews' workbook: exact values of the result files, red fill on exactly the exceedance cells,
+LibreOffice opens it, the adjustment sheet in walking order, atomic and cancellable writing."""
+
+import shutil
+import subprocess
+import threading
+
+import numpy as np
+import pytest
+from openpyxl import load_workbook
+from report_support import INVALID, shared_project, stored, with_profile
+
+from insrail.progress import Cancelled
+from insrail.project.results import check_column
+from insrail.report import write_workbook
+
+RED, GREY = "00FFC7CE", "00D9D9D9"
+
+
+@pytest.fixture(scope="module")
+def project(tmp_path_factory):
+    return shared_project(tmp_path_factory)
+
+
+@pytest.fixture(scope="module")
+def workbook(project, tmp_path_factory):
+    path = write_workbook(project, stored(project), tmp_path_factory.mktemp("xlsx") / "crews.xlsx")
+    return path, load_workbook(path)
+
+
+def sleeper_table(sheet):
+    """(header row number, {title: column index} (the last of equal titles), data rows as lists of cells)."""
+    header = next(row[0].row for row in sheet.iter_rows() if row[0].value == "row")
+    titles = {cell.value: cell.column - 1 for cell in sheet[header] if cell.value}
+    width = max(titles.values()) + 1  # the header block above may reach further right
+    rows = list(sheet.iter_rows(min_row=header + 1, max_col=width))
+    return header, titles, rows
+
+
+def column_values(rows, index):
+    return [row[index].value for row in rows]
+
+
+def as_cells(values):
+    """What a cell holds for a value of the result files: NaN is an empty cell."""
+    return [None if isinstance(v, float) and np.isnan(v) else v for v in values]
+
+
+def test_the_sleeper_sheet_holds_the_exact_values_of_the_result_files(project, workbook):
+    results = stored(project)
+    _, titles, rows = sleeper_table(workbook[1]["Sleepers"])
+    assert len(rows) == len(results)
+    assert column_values(rows, titles["number"]) == results.number.tolist()
+    assert column_values(rows, titles["chainage"]) == list(results.label)
+    assert column_values(rows, titles["station (m)"]) == results.columns["station_m"].tolist()
+    for title, key in (("gauge (mm)", "gauge_mm"), ("design cant (mm)", "design_cant_mm"),
+                       ("gauge change to neighbour (mm)", "gauge_change_mm")):
+        assert column_values(rows, titles[title]) == as_cells(results.columns[key].tolist()), title
+    # every check channel and every deviation and adjustment column appears, value for value
+    shown = [column_values(rows, index) for index in range(len(rows[0]))]
+    for key, values in results.columns.items():
+        if key.startswith(("check_", "lateral_deviation", "vertical_deviation", "adjust_")):
+            expected = as_cells((values * (1e3 if key.endswith("_ratio") else 1.0)).tolist())
+            assert any(column == expected or (key.endswith("_ratio") and _close(column, expected)) for column in shown), key
+
+
+def _close(column, expected):
+    return len(column) == len(expected) and all(
+        (a is None and b is None) or (isinstance(a, float) and b is not None and np.isclose(a, b, rtol=1e-12, atol=0))
+        for a, b in zip(column, expected))
+
+
+def test_red_fill_on_exactly_the_exceedance_cells_and_grey_on_invalid_rows(project, workbook):
+    results = stored(project)
+    header, _, rows = sleeper_table(workbook[1]["Sleepers"])
+    row_of = {number: i for i, number in enumerate(results.number.tolist())}
+    expected_red = set()
+    for e in results.exceedances:
+        values = results.columns[check_column(e.check, e.kind, e.rail, e.direction)]
+        scale = 1e3 if e.unit == "ratio" else 1.0
+        target = as_cells((scale * values).tolist())
+        matches = [i for i in range(len(rows[0])) if column_values(rows, i) == target or _close(column_values(rows, i), target)]
+        assert len(matches) == 1, e
+        expected_red |= {(r, matches[0]) for r in range(row_of[e.first_sleeper], row_of[e.last_sleeper] + 1)}
+    assert expected_red
+    red, grey, other = set(), set(), set()
+    for r, row in enumerate(rows):
+        for cell in row:
+            if cell.fill.fill_type is None:
+                continue
+            colour = cell.fill.fgColor.rgb
+            (red if colour == RED else grey if colour == GREY else other).add((r, cell.column - 1))
+    assert red == expected_red
+    assert not other
+    invalid_rows = set(range(len(results))[INVALID])
+    assert {r for r, _ in grey} == invalid_rows
+    assert grey == {(r, c) for r in invalid_rows for c in range(len(rows[0]))}
+    # above the table only header styling and the legend's two sample cells are filled
+    legend = [cell for row in workbook[1]["Sleepers"].iter_rows(max_row=header - 3) for cell in row
+              if cell.fill.fill_type is not None]
+    assert sorted(cell.fill.fgColor.rgb for cell in legend) == sorted([RED, GREY])
+
+
+def test_layout_for_the_crews(workbook):
+    sheets = workbook[1]
+    assert sheets.sheetnames == ["Sleepers", "Adjustment", "Exceedances", "Summary", "Processing log"]
+    sheet = sheets["Sleepers"]
+    header, titles, rows = sleeper_table(sheet)
+    assert sheet.freeze_panes == f"E{header + 1}"
+    assert sheet.auto_filter.ref == f"A{header}:{sheet.cell(header, len(rows[0])).column_letter}{header + len(rows)}"
+    assert sheet.print_title_rows == f"${header - 2}:${header}"
+    assert sheet.page_setup.orientation == "landscape"
+    assert rows[0][titles["L lateral (mm)"]].number_format == "0.0"
+    assert rows[0][titles["gauge change rate 2.5 m (‰)"]].number_format == "0.00"
+    assert "Limits" in [row[0].value for row in sheet.iter_rows(max_row=header)]
+    # units in headers; the Figure 5-7 groups present
+    groups = {cell.value for cell in sheet[header - 2] if cell.value}
+    assert {"Deviation [measured - best]", "Short wave 30 m chord / 5 m pairs", "Long wave 300 m chord / 150 m pairs",
+            "Adjustment (move the rail by)"} <= groups
+    assert {"twist 3 m (mm)", "guiding rail", "cross-level (mm)", "gauge (mm)"} <= set(titles)
+
+
+def test_guiding_rail_is_the_high_rail_of_the_curve(project, workbook):
+    results = stored(project)
+    _, titles, rows = sleeper_table(workbook[1]["Sleepers"])
+    guide = np.array(column_values(rows, titles["guiding rail"]))
+    right_high = results.columns["design_cant_mm"] < 0
+    assert right_high.any() and (~right_high).any()
+    assert np.all(guide[right_high] == "R") and np.all(guide[~right_high] == "L")
+
+
+def test_adjustment_sheet_lists_the_sleepers_to_move_in_chainage_order(project, workbook):
+    results = stored(project)
+    sheet = workbook[1]["Adjustment"]
+    header = next(row[0].row for row in sheet.iter_rows() if row[0].value == "sleeper")
+    rows = [[c.value for c in row] for row in sheet.iter_rows(min_row=header + 1)]
+    keys = ["adjust_lateral_left_mm", "adjust_lateral_right_mm", "adjust_vertical_left_mm", "adjust_vertical_right_mm"]
+    amounts = np.column_stack([results.columns[k] for k in keys])
+    moving = np.flatnonzero(np.any(amounts != 0, axis=1))
+    assert moving.size
+    assert [r[0] for r in rows] == results.number[moving].tolist()
+    assert [r[2] for r in rows] == sorted(r[2] for r in rows)
+    assert [r[3:7] for r in rows] == amounts[moving].tolist()
+
+
+def test_exceedance_and_summary_sheets(project, workbook):
+    results = stored(project)
+    sheet = workbook[1]["Exceedances"]
+    header = next(row[0].row for row in sheet.iter_rows() if row[0].value == "no.")
+    rows = [[c.value for c in row] for row in sheet.iter_rows(min_row=header + 1)]
+    assert len(rows) == len(results.exceedances)
+    for row, e in zip(rows, results.exceedances):
+        assert (row[1], row[7], row[8], row[13], row[14]) == (e.check, e.station_from_m, e.station_to_m, e.first_sleeper,
+                                                              e.last_sleeper)
+        assert row[10] == pytest.approx(e.peak * (1e3 if e.unit == "ratio" else 1.0), rel=1e-12)
+    summary = [[c.value for c in row] for row in workbook[1]["Summary"].iter_rows()]
+    tqi = results.summary["track_quality"]["tqi_mm"]
+    tqi_column = next(row.index("TQI (mm)") for row in summary if "TQI (mm)" in row)
+    first = next(i for i, row in enumerate(summary) if "TQI (mm)" in row) + 1
+    assert [row[tqi_column] for row in summary[first:first + len(tqi)]] == [v if v >= 0 else None for v in tqi]
+    log = {row[0]: row[1] for row in workbook[1]["Processing log"].iter_rows(values_only=True) if row and row[0]}
+    assert log["fusion.rejections"] == 3
+    assert log["gnss.outages"].startswith(str(results.summary["gnss"]["outages"][0][0]))
+
+
+def test_a_profile_without_the_wave_checks_leaves_their_columns_out(tmp_path_factory, tmp_path):
+    """en13848_5_template has no 30 m / 5 m or 300 m / 150 m check and an EN twist (not relative to
+    design): the Figure 5-7 twist comes from the stored column, the profile's checks follow."""
+    other = shared_project(tmp_path_factory, "en13848_5_template")
+    path = write_workbook(other, stored(other), tmp_path / "en.xlsx")
+    sheet = load_workbook(path, read_only=True)["Sleepers"]
+    rows = list(sheet.iter_rows(values_only=True))
+    header = next(i for i, row in enumerate(rows) if row and row[0] == "row")
+    groups = {v for v in rows[header - 2] if v}
+    assert not any(g.startswith(("Short wave", "Long wave")) for g in groups)
+    assert "band-passed peak, band D1" in groups and "twist over 3 m" in groups
+    assert "twist 3 m (mm)" in rows[header]
+
+
+def test_a_changed_tolerance_profile_is_refused(project, tmp_path):
+    with pytest.raises(ValueError, match="process the survey again"):
+        write_workbook(with_profile(project, "fra_class_1"), stored(project), tmp_path / "x.xlsx")
+    assert not list(tmp_path.iterdir())
+
+
+def test_cancelling_leaves_no_file(project, tmp_path):
+    path = tmp_path / "crews.xlsx"
+    path.write_bytes(b"previous")
+    event = threading.Event()
+    calls = []
+
+    def progress(fraction, message):
+        calls.append(fraction)
+        if fraction > 0.3:
+            event.set()
+
+    with pytest.raises(Cancelled):
+        write_workbook(project, stored(project), path, progress=progress, cancel=event)
+    assert path.read_bytes() == b"previous"
+    assert [p.name for p in tmp_path.iterdir()] == ["crews.xlsx"]
+    assert calls == sorted(calls)
+
+
+@pytest.mark.skipif(shutil.which("soffice") is None, reason="LibreOffice (soffice) is not installed; .ci/run installs it")
+def test_libreoffice_opens_the_workbook(workbook, tmp_path):
+    path, _ = workbook
+    result = subprocess.run(["soffice", f"-env:UserInstallation=file://{tmp_path}/profile", "--headless",
+                             "--convert-to", "csv", "--outdir", str(tmp_path), str(path)],
+                            capture_output=True, text=True, timeout=120, check=False)
+    assert result.returncode == 0, result.stderr
+    csv = (tmp_path / "crews.csv").read_text(encoding="utf-8", errors="replace").splitlines()
+    assert csv[0].startswith("Track geometry per sleeper")
+    assert any(line.startswith("1,1,DK1+000.000,1000") for line in csv)

@@ -1,0 +1,165 @@
+"""The PDF survey report: it renders, holds what it promises page by page, and its charts
+keep every peak while drawing a fraction of the points."""
+
+import shutil
+import subprocess
+import threading
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from report_support import INVALID, shared_project, stored
+from reportlab.graphics.shapes import PolyLine
+from reportlab.platypus import Paragraph
+
+from insrail.progress import Cancelled
+from insrail.report import write_pdf
+from insrail.report.charts import Series, StripChart, decimate_min_max, line_runs, strip_drawing
+from insrail.report.pdf import BODY, CHART_RANGE_M, Heading
+
+needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
+                                   reason="poppler-utils (pdftotext, pdftoppm) not installed; .ci/run installs them")
+
+
+@pytest.fixture(scope="module")
+def project(tmp_path_factory):
+    return shared_project(tmp_path_factory)
+
+
+@pytest.fixture(scope="module")
+def report(project, tmp_path_factory):
+    return write_pdf(project, stored(project), tmp_path_factory.mktemp("pdf") / "survey.pdf")
+
+
+def page_texts(path):
+    text = subprocess.run(["pdftotext", "-layout", str(path), "-"], capture_output=True, text=True, check=True).stdout
+    return text.split("\f")[:-1]
+
+
+@needs_poppler
+def test_the_report_renders_and_every_page_is_numbered(report, tmp_path):
+    subprocess.run(["pdftoppm", "-r", "30", "-png", str(report), str(tmp_path / "page")], check=True, timeout=120)
+    pages = sorted(tmp_path.glob("page-*.png"))
+    texts = page_texts(report)
+    assert len(pages) == len(texts) > 5
+    assert all(p.stat().st_size > 2000 for p in pages)  # something drawn on every page
+    for number, text in enumerate(texts, start=1):
+        assert f"page {number} of {len(texts)}" in text
+
+
+@needs_poppler
+def test_pages_hold_the_summary_charts_per_chainage_range_plan_and_exceedances(project, report):
+    results = stored(project)
+    texts = page_texts(report)
+    assert "Track geometry survey report" in texts[0] and "Synthetic line" in texts[0]
+    processing = texts[1]
+    for expected in ("GNSS outages", "1 longer than 3 s", "Position sigma, horizontal", "median 6.0 mm",
+                     "Odometer scale error", "+1.50 per mille", "3 measurements rejected", "Track quality per 200 m"):
+        assert expected in processing, expected
+    # charts: one page group per 500 m of station, the range in the page header
+    ranges = sorted({line.split("Charts ")[1].strip() for text in texts for line in text.splitlines() if "Charts DK" in line})
+    station = results.columns["station_m"]
+    expected_groups = len(np.unique(np.floor(station / CHART_RANGE_M)))
+    assert len(ranges) == expected_groups
+    assert ranges[0].startswith(results.label[0])
+    assert any("Twist 3 m (mm)" in text for text in texts)
+    assert any("Differential versine, 300 m chord / 150 m pairs, vertical" in text for text in texts)
+    assert any("Plan view" in text.splitlines()[0] for text in texts)
+    exceedance_pages = "\n".join(text for text in texts if "Exceedances" in text.splitlines()[0])
+    for e in results.exceedances:
+        assert f"{e.first_sleeper} - {e.last_sleeper}" in exceedance_pages
+
+
+@needs_poppler
+def test_an_added_section_lands_before_the_exceedances(project, tmp_path):
+    path = write_pdf(project, stored(project), tmp_path / "with.pdf",
+                     sections=[lambda content: [Heading("Repeatability"),
+                                                Paragraph(f"Runs compared: {content.survey} only", BODY)]])
+    texts = page_texts(path)
+    added = next(i for i, text in enumerate(texts) if "Runs compared: run1 only" in text)
+    assert "Repeatability" in texts[added].splitlines()[0]
+    assert added < next(i for i, text in enumerate(texts) if "Exceedances" in text.splitlines()[0])
+
+
+@needs_poppler
+def test_chinese_names_are_set_in_a_cjk_font(project, tmp_path):
+    path = write_pdf(replace(project, name="兰新铁路第二双线", description="精调测量 SDK1+695"), stored(project), tmp_path / "cn.pdf")
+    fonts = subprocess.run(["pdffonts", str(path)], capture_output=True, text=True, check=True).stdout
+    assert "STSong-Light" in fonts
+    subprocess.run(["pdftoppm", "-r", "20", "-png", "-f", "1", "-l", "1", str(path), str(tmp_path / "p")], check=True)
+
+
+def test_writing_is_atomic_and_reports_progress(project, tmp_path):
+    fractions = []
+    path = write_pdf(project, stored(project), tmp_path / "r.pdf", progress=lambda f, m: fractions.append(f))
+    assert path.read_bytes().startswith(b"%PDF")
+    assert [p.name for p in tmp_path.iterdir()] == ["r.pdf"]
+    assert fractions == sorted(fractions) and fractions[-1] == 1.0
+
+
+def test_cancelling_while_the_pages_are_laid_out_leaves_the_previous_file(project, tmp_path):
+    path = tmp_path / "r.pdf"
+    path.write_bytes(b"previous")
+    event = threading.Event()
+
+    def progress(fraction, message):
+        if "laying out" in message and fraction > 0.6:
+            event.set()
+
+    with pytest.raises(Cancelled):
+        write_pdf(project, stored(project), path, progress=progress, cancel=event)
+    assert event.is_set() and path.read_bytes() == b"previous"
+    assert [p.name for p in tmp_path.iterdir()] == ["r.pdf"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(2, 4000), columns=st.integers(5, 400), seed=st.integers(0, 2**32 - 1))
+def test_decimation_keeps_every_column_extreme(n, columns, seed):
+    rng = np.random.default_rng(seed)
+    x = np.cumsum(rng.uniform(0.1, 1.0, n))
+    y = rng.standard_cauchy(n)
+    y[rng.random(n) < 0.05] = np.nan
+    kept = decimate_min_max(x, y, x[0], x[-1], columns)
+    assert np.all(np.diff(kept) > 0) and np.all(np.isfinite(y[kept]))
+    finite = np.flatnonzero(np.isfinite(y))
+    if finite.size <= 2 * columns:
+        assert kept.tolist() == finite.tolist()
+        return
+    assert kept.size <= 2 * columns + 2
+    column = np.clip(((x - x[0]) / (x[-1] - x[0]) * columns).astype(int), 0, columns - 1)
+    for c in np.unique(column[finite]):
+        inside = finite[column[finite] == c]
+        assert y[inside].max() in y[kept] and y[inside].min() in y[kept]
+
+
+def test_lines_break_at_invalid_sleepers():
+    y = np.array([1.0, 2.0, np.nan, 3.0, 4.0, 5.0, np.nan, np.nan, 6.0])
+    runs = line_runs(np.flatnonzero(np.isfinite(y)), y)
+    assert [r.tolist() for r in runs] == [[0, 1], [3, 4, 5]]  # a lone point draws no line
+
+
+def test_a_16000_sleeper_chart_stays_light_and_keeps_its_spike():
+    station = 0.625 * np.arange(16000)
+    values = np.sin(station / 7.0)
+    values[12345] = 9.0
+    chart = StripChart("test", "mm", (Series("v", values),), (-2.0, 2.0))
+    drawing = strip_drawing(chart, station, np.ones(16000, dtype=bool), 0.0, station[-1], 760.0, 95.0)
+    lines = [shape for shape in drawing.contents if isinstance(shape, PolyLine)]
+    points = sum(len(line.points) // 2 for line in lines)
+    assert points <= 2 * 760 + 2
+    top = max(max(line.points[1::2]) for line in lines)
+    assert top == pytest.approx(95.0 - 14.0 - 0.05 / 1.1 * (95.0 - 14.0 - 14.0), abs=1.0)  # the spike reaches the top
+
+
+def test_invalid_stretch_is_shaded(project):
+    results = stored(project)
+    station = results.columns["station_m"]
+    valid = results.columns["valid"] > 0
+    chart = StripChart("gauge", "mm", (Series("g", results.columns["gauge_mm"]),))
+    drawing = strip_drawing(chart, station, valid, station[0], station[0] + 500.0, 760.0, 95.0)
+    shaded = [s for s in drawing.contents if type(s).__name__ == "Rect" and s.fillColor is not None]
+    assert len(shaded) == 1
+    width_m = shaded[0].width / (760.0 - 46.0 - 8.0) * 500.0
+    assert width_m == pytest.approx(station[INVALID][-1] - station[INVALID][0] + 0.6, abs=0.05)
