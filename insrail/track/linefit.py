@@ -48,7 +48,7 @@ from insrail.track.alignment import (
     HorizontalAlignment,
     Line,
 )
-from insrail.track.profile import PVI, VerticalProfile
+from insrail.track.profile import PVI, CantTable, VerticalProfile
 
 _END_MARGIN_M = 5.0
 """The fitted chain reaches this far beyond the data, so every point has a perpendicular foot."""
@@ -561,6 +561,30 @@ def fit_vertical(
     return VerticalFit(profile, height - profile.elevation_at(station))
 
 
+# ------------------------------------------------------------------- cant
+def fit_cant(plan: HorizontalAlignment, station_m, cant_m) -> CantTable:
+    """The design cant of ``plan`` that best fits measured cant [m] at stations on it.
+
+    One cant per arc, ramped linearly along the clothoids (0 on the straights, the mean of
+    the two arcs where arcs meet directly): a linear least-squares problem over the arcs.
+    """
+    station, cant = _checked_series(station_m, cant_m, names=("cant_m",))
+    boundaries = plan.boundary_stations_m
+    elements = plan.elements
+    arcs = [i for i, element in enumerate(elements) if isinstance(element, Arc)]
+    # knot k joins elements k - 1 and k; each arc's cant sits on both its knots
+    knots = np.zeros((len(arcs), boundaries.size))
+    for j, i in enumerate(arcs):
+        for k in (i, i + 1):
+            neighbours = sum(1 for e in (k - 1, k) if 0 <= e < len(elements) and isinstance(elements[e], Arc))
+            knots[j, k] = 1.0 / neighbours
+    if not arcs:
+        return CantTable(boundaries[[0, -1]], np.zeros(2))
+    basis = np.column_stack([np.interp(station, boundaries, row) for row in knots])
+    per_arc = np.linalg.lstsq(basis, cant, rcond=None)[0]
+    return CantTable(boundaries, per_arc @ knots)
+
+
 # ---------------------------------------------------------------- whole design
 @dataclass(frozen=True)
 class ElementRow:
@@ -599,6 +623,8 @@ class AlignmentFit:
     alignment: DesignAlignment
     horizontal: HorizontalFit
     vertical: VerticalFit
+    cant_residual_m: np.ndarray | None = None
+    """Measured - fitted cant [m] when cant was fitted."""
 
     def report(self) -> str:
         """Residuals, element table and PVI table as plain text (stations in m, residuals in mm)."""
@@ -607,8 +633,12 @@ class AlignmentFit:
             f"line-type fit of {lateral.size} points",
             f"  plan residuals:    RMS {1e3 * self.horizontal.rms_m:.2f} mm, max {1e3 * np.abs(lateral).max():.2f} mm",
             f"  profile residuals: RMS {1e3 * self.vertical.rms_m:.2f} mm, max {1e3 * np.abs(vertical).max():.2f} mm",
-            "  element   start [m]      end [m]   length [m]   R start [m]     R end [m]  turn",
         ]
+        if self.cant_residual_m is not None:
+            cant = self.cant_residual_m
+            lines.append(f"  cant residuals:    RMS {1e3 * np.sqrt(np.mean(cant**2)):.2f} mm, "
+                         f"max {1e3 * np.abs(cant).max():.2f} mm")
+        lines.append("  element   start [m]      end [m]   length [m]   R start [m]     R end [m]  turn")
         for row in element_table(self.alignment.horizontal):
             lines.append(
                 f"  {row.kind:<8}{row.start_station_m:>11.3f}{row.end_station_m:>13.3f}{row.length_m:>13.3f}"
@@ -622,8 +652,10 @@ class AlignmentFit:
         return "\n".join(lines)
 
 
-def fit_alignment(station_m, east_m, north_m, height_m, *, name: str = "fitted", **options) -> AlignmentFit:
-    """Fit plan and profile of a centreline; the profile is fitted on the fitted plan's stations.
+def fit_alignment(station_m, east_m, north_m, height_m, *, cant_m=None, name: str = "fitted",
+                  **options) -> AlignmentFit:
+    """Fit plan and profile of a centreline; the profile is fitted on the fitted plan's stations,
+    and so is the cant (:func:`fit_cant`) when the measured ``cant_m`` is given.
 
     ``options`` go to :func:`fit_horizontal` (chord_half_m, curvature_window_m,
     max_radius_m, min_transition_shift_m) and :func:`fit_vertical` (window_m, min_grade_change).
@@ -647,5 +679,10 @@ def fit_alignment(station_m, east_m, north_m, height_m, *, name: str = "fitted",
     vertical = fit_vertical(
         feet[order][keep], height[order][keep], **{k: v for k, v in options.items() if k in vertical_keys}
     )
-    design = DesignAlignment(horizontal=plan, vertical=vertical.profile, name=name)
-    return AlignmentFit(design, horizontal, vertical)
+    cant_table = cant_residual = None
+    if cant_m is not None:
+        cant = _checked_series(station, cant_m, names=("cant_m",))[1]
+        cant_table = fit_cant(plan, feet[order][keep], cant[order][keep])
+        cant_residual = cant - cant_table.cant_at(feet)
+    design = DesignAlignment(horizontal=plan, vertical=vertical.profile, cant=cant_table, name=name)
+    return AlignmentFit(design, horizontal, vertical, cant_residual)
