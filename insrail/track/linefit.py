@@ -300,20 +300,32 @@ class _Chain:
         lengths = self.lengths(x)
         if lengths[-1] < _MIN_ELEMENT_M:
             raise LineFitError("line fitting: the fitted elements are longer than the data")
-        ends = self.curvatures(x)
-        elements = tuple(
-            _element(kind, float(length), float(k[0]), float(k[1]))
-            for kind, length, k in zip(self.kinds, lengths, ends)
-            if length >= _MIN_ELEMENT_M
-        )
         offset, azimuth = x[0], x[1]
         return HorizontalAlignment(
             start_east_m=self.reference_east + offset * math.cos(azimuth),
             start_north_m=self.reference_north - offset * math.sin(azimuth),
             start_azimuth_rad=float(azimuth),
             start_station_m=self.start_station,
-            elements=elements,
+            elements=self.elements(x, 0, self.element_count - 1),
         )
+
+    def elements(self, x: np.ndarray, first: int, last: int) -> tuple:
+        """Elements ``first`` to ``last`` (those of at least _MIN_ELEMENT_M)."""
+        lengths, ends = self.lengths(x), self.curvatures(x)
+        return tuple(
+            _element(self.kinds[i], float(lengths[i]), float(ends[i, 0]), float(ends[i, 1]))
+            for i in range(first, last + 1)
+            if lengths[i] >= _MIN_ELEMENT_M
+        )
+
+    def affected_elements(self, parameter: int) -> tuple[int, int]:
+        """First and last element whose shape parameter ``parameter`` (a length or an arc
+        curvature) changes; the elements after them only move rigidly."""
+        count = self.element_count
+        if parameter < 2 + count - 1:
+            return parameter - 2, parameter - 2
+        arc = int(self.arc_elements[parameter - (2 + count - 1)])
+        return max(arc - 1, 0), min(arc + 1, count - 1)
 
 
 def _foot(alignment: HorizontalAlignment, stations, east, north, steps=_NEWTON_STEPS_COLD):
@@ -349,6 +361,77 @@ class HorizontalFit:
         return float(np.sqrt(np.mean(self.offset_m**2)))
 
 
+_JACOBIAN_STEP = {"length": 1e-4, "curvature": 1e-9}
+"""Finite-difference steps [m, 1/m] for the shape parameters' Jacobian columns."""
+
+
+def _chain_jacobian(chain: _Chain, x: np.ndarray, free: np.ndarray, feet_seed, east, north) -> np.ndarray:
+    """d(offsets)/d(x[free]), semi-analytically.
+
+    Offset and azimuth move the whole chain rigidly, so their columns are exact:
+    d(offset) = -n . d(foot point), n the unit normal to the right. A length or an arc
+    curvature reshapes only its own elements (and an arc's clothoids); everything after them
+    moves rigidly with the pose at their end. So the column is a finite difference over the
+    reshaped elements' points alone (a short alignment from the pose at their start) and the
+    rigid motion for the points after them: a few metres of geometry instead of the whole chain.
+    """
+    alignment = chain.alignment(x)
+    feet, offsets = _foot(alignment, feet_seed, east, north, _NEWTON_STEPS_WARM)
+    foot_east, foot_north = alignment.point_at(feet)
+    azimuth = alignment.azimuth_at(feet)
+    normal_east, normal_north = np.cos(azimuth), -np.sin(azimuth)
+
+    def column(shift_east, shift_north):
+        return -(normal_east * shift_east + normal_north * shift_north)
+
+    def rotation(pivot_east, pivot_north):
+        # moving azimuth clockwise by 1 rad moves a point (dE, dN) from the pivot by (dN, -dE)
+        return foot_north - pivot_north, -(foot_east - pivot_east)
+
+    bounds = chain.start_station + np.concatenate(([0.0], np.cumsum(chain.lengths(x))))
+    columns = []
+    for parameter in np.flatnonzero(free):
+        if parameter == 0:
+            columns.append(column(math.cos(x[1]), -math.sin(x[1])))
+            continue
+        if parameter == 1:
+            east_turn, north_turn = rotation(alignment.start_east_m, alignment.start_north_m)
+            # the start point itself sits x[0] across the initial tangent from the reference point
+            columns.append(column(east_turn - x[0] * math.sin(x[1]), north_turn - x[0] * math.cos(x[1])))
+            continue
+        first, last = chain.affected_elements(parameter)
+        is_length = parameter < 2 + chain.element_count - 1
+        step = _JACOBIAN_STEP["length" if is_length else "curvature"]
+        begin, end = bounds[first], bounds[last + 1]
+        moved = x.copy()
+        moved[parameter] += step
+        reshaped = chain.elements(moved, first, last)
+        if not reshaped:
+            step = -step
+            moved[parameter] = x[parameter] + step
+            reshaped = chain.elements(moved, first, last)
+        start_east, start_north = alignment.point_at(begin)
+        local = HorizontalAlignment(float(start_east), float(start_north), float(alignment.azimuth_at(begin)), begin,
+                                    reshaped)
+        # pose at the end of the reshaped stretch, before and after
+        end_east, end_north = alignment.point_at(end)
+        new_east, new_north = local.point_at(local.end_station_m)
+        turn = (float(local.azimuth_at(local.end_station_m)) - float(alignment.azimuth_at(end))) / step
+        derivative = np.zeros(feet.size)
+        inside = (feet >= begin) & (feet <= end)
+        if inside.any():
+            feet_inside = np.clip(feet[inside], local.start_station_m, local.end_station_m)
+            before = _foot(alignment, feet[inside], east[inside], north[inside], _NEWTON_STEPS_WARM)[1]
+            after = _foot(local, feet_inside, east[inside], north[inside], _NEWTON_STEPS_WARM)[1]
+            derivative[inside] = (after - before) / step
+        beyond = feet > end
+        east_turn, north_turn = rotation(end_east, end_north)
+        shift = column((new_east - end_east) / step + turn * east_turn, (new_north - end_north) / step + turn * north_turn)
+        derivative[beyond] = shift[beyond]
+        columns.append(derivative)
+    return np.column_stack(columns)
+
+
 def _solve_chain(chain: _Chain, x_start, station, east, north, free=None, prior_sigma=None):
     """Total least squares of the points' perpendicular offsets to the chain over the ``free`` parameters.
 
@@ -363,21 +446,31 @@ def _solve_chain(chain: _Chain, x_start, station, east, north, free=None, prior_
     start_feet = _foot(chain.alignment(x_start), station, east, north)[0]
     prior_weight = None if prior_sigma is None else _PRIOR_UNIT_M / prior_sigma[free]
 
-    def residuals(x_free):
+    def full(x_free):
         x = x_start.copy()
         x[free] = x_free
+        return x
+
+    def residuals(x_free):
         try:
-            offsets = _foot(chain.alignment(x), start_feet, east, north, _NEWTON_STEPS_WARM)[1]
+            offsets = _foot(chain.alignment(full(x_free)), start_feet, east, north, _NEWTON_STEPS_WARM)[1]
         except ValueError:  # lengths beyond the data, a clothoid turning both ways: push the solver back
             offsets = np.full(station.size, 10.0)
         if prior_weight is None:
             return offsets
         return np.concatenate((offsets, prior_weight * (x_free - x_start[free])))
 
-    solution = least_squares(residuals, x_start[free], bounds=(lower[free], np.inf), x_scale="jac")
-    x = x_start.copy()
-    x[free] = solution.x
-    return x
+    def jacobian(x_free):
+        try:
+            matrix = _chain_jacobian(chain, full(x_free), free, start_feet, east, north)
+        except ValueError:  # outside the valid region the residuals are constant
+            matrix = np.zeros((station.size, int(free.sum())))
+        if prior_weight is None:
+            return matrix
+        return np.vstack((matrix, np.diag(prior_weight)))
+
+    solution = least_squares(residuals, x_start[free], jac=jacobian, bounds=(lower[free], np.inf), x_scale="jac")
+    return full(solution.x)
 
 
 def fit_horizontal(
