@@ -4,11 +4,15 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from insrail.track.alignment import Arc, Clothoid, HorizontalAlignment, Line
+from insrail.track.alignment_csv import read_alignment_csv, write_alignment_csv
+from insrail.track.landxml import read_landxml, write_landxml
 from insrail.track.linefit import LineFitError, fit_alignment
 from insrail.track.linefit_windows import blend_weights, fit_windows, window_ranges
-from insrail.track.profile import PVI, VerticalProfile
+from insrail.track.profile import PVI, CantTable, VerticalProfile
 
 INF = math.inf
 PLAN = HorizontalAlignment(
@@ -108,3 +112,43 @@ def test_bad_window_options_are_refused(with_long_waves, window, overlap, messag
     points, fit, _ = with_long_waves
     with pytest.raises(LineFitError, match=message):
         fit_windows(fit, *points, window_m=window, overlap_m=overlap)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    first=st.floats(-5000.0, 5000.0),
+    span=st.floats(301.0, 20000.0),
+    window=st.floats(300.0, 2000.0),
+    overlap_fraction=st.floats(0.01, 0.5),
+)
+def test_windows_tile_the_data_and_weights_blend_continuously(first, span, window, overlap_fraction):
+    overlap = overlap_fraction * window
+    ranges = window_ranges(first, first + span, window, overlap)
+    assert ranges[0, 0] == first and ranges[-1, 1] == first + span
+    if len(ranges) > 1:
+        assert np.all(ranges[:, 1] - ranges[:, 0] >= window - 1e-6)
+        assert np.allclose(ranges[:-1, 1] - ranges[1:, 0], overlap)
+    stations = np.linspace(first, first + span, 20001)
+    weights = blend_weights(stations, ranges)
+    assert np.allclose(weights.sum(axis=0), 1.0) and weights.min() >= 0.0
+    # linear ramps: no weight changes faster than 1 / overlap per metre
+    step = stations[1] - stations[0]
+    assert np.abs(np.diff(weights, axis=1)).max() <= step / overlap + 1e-9
+
+
+def test_fitted_cant_and_its_export(tmp_path):
+    """Cant is fitted per arc and ramped along the clothoids, and travels with the fitted alignment."""
+    design_cant = CantTable(np.array([0.0, 1200.0, 1300.0, 1700.0, 1800.0, PLAN.end_station_m]),
+                            np.array([0.0, 0.0, 0.08, 0.08, 0.0, 0.0]))
+    rng = np.random.default_rng(9)
+    measured_cant = design_cant.cant_at(STATIONS) + rng.normal(0.0, 0.3e-3, STATIONS.size)
+    points = centreline(IRREGULARITY_LATERAL, IRREGULARITY_VERTICAL)
+    fit = fit_alignment(*points, cant_m=measured_cant)
+    cant = fit.alignment.cant
+    assert np.abs(cant.cant_at(np.clip(STATIONS, cant.stations_m[0], cant.stations_m[-1]))
+                  - design_cant.cant_at(STATIONS)).max() < 0.2e-3
+    assert 0.2e-3 < np.sqrt(np.mean(fit.cant_residual_m**2)) < 0.4e-3 and "cant residuals" in fit.report()
+    write_alignment_csv(tmp_path / "fitted.csv", fit.alignment)
+    write_landxml(tmp_path / "fitted.xml", fit.alignment)
+    for back in (read_alignment_csv(tmp_path / "fitted.csv"), read_landxml(tmp_path / "fitted.xml")):
+        assert np.allclose(back.cant.cant_at(STATIONS[100:-100]), cant.cant_at(STATIONS[100:-100]), atol=1e-6)
