@@ -4,13 +4,13 @@ from dataclasses import fields, replace
 
 import numpy as np
 import pytest
+from track_truth import expected_deviations, truth_reconstruction, truth_sleeper_table
 
 from insrail.io.track_sensors import read_sleeper_times
 from insrail.track.alignment import Arc, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.deviations import design_rail_offsets, rail_deviations
 from insrail.track.profile import PVI, CantTable, VerticalProfile
 from insrail.track.sleeper_table import build_sleeper_table, reconstruct_track, regular_sleepers
-from track_truth import expected_deviations, truth_reconstruction, truth_sleeper_table
 
 MM = 1e-3
 

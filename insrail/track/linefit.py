@@ -164,7 +164,7 @@ def _plateaus(g, magnitude, window_m) -> list[tuple[int, int, float]]:
     5 % of each other are one arc interrupted by noise. A curve without a flat stretch (an arc
     shorter than the smoothing) gets one plateau at its peak.
     """
-    half = int(round(0.5 * window_m))
+    half = round(0.5 * window_m)
     peak = float(magnitude.max())
     change = np.full(magnitude.size, np.inf)
     change[half:-half] = np.abs(magnitude[2 * half :] - magnitude[: -2 * half])
@@ -376,7 +376,7 @@ def _chain_jacobian(chain: _Chain, x: np.ndarray, free: np.ndarray, feet_seed, e
     rigid motion for the points after them: a few metres of geometry instead of the whole chain.
     """
     alignment = chain.alignment(x)
-    feet, offsets = _foot(alignment, feet_seed, east, north, _NEWTON_STEPS_WARM)
+    feet = _foot(alignment, feet_seed, east, north, _NEWTON_STEPS_WARM)[0]
     foot_east, foot_north = alignment.point_at(feet)
     azimuth = alignment.azimuth_at(feet)
     normal_east, normal_north = np.cos(azimuth), -np.sin(azimuth)

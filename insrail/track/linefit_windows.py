@@ -39,6 +39,7 @@ from scipy.optimize import least_squares
 
 from insrail.track.alignment import Arc, HorizontalAlignment, Line
 from insrail.track.linefit import (
+    _PRIOR_UNIT_M,
     ARC,
     CLOTHOID,
     LINE,
@@ -49,7 +50,6 @@ from insrail.track.linefit import (
     _foot,
     _profile,
     _solve_chain,
-    _PRIOR_UNIT_M,
 )
 from insrail.track.profile import VerticalProfile
 
@@ -118,7 +118,7 @@ def window_ranges(first_m: float, last_m: float, window_m: float, overlap_m: flo
             f"window ({window_m} m), so that only neighbouring windows overlap"
         )
     span = last_m - first_m
-    count = max(1, int(math.floor((span - overlap_m) / (window_m - overlap_m))))
+    count = max(1, math.floor((span - overlap_m) / (window_m - overlap_m)))
     if count == 1:
         return np.array([[first_m, last_m]])
     length = (span - overlap_m) / count + overlap_m
