@@ -1,14 +1,16 @@
 """The sleeper table on the simulator truth: resampled rails, gauge, cant and deviations."""
 
+from dataclasses import fields, replace
+
 import numpy as np
 import pytest
+from track_truth import expected_deviations, truth_reconstruction, truth_sleeper_table
 
 from insrail.io.track_sensors import read_sleeper_times
 from insrail.track.alignment import Arc, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.deviations import design_rail_offsets, rail_deviations
 from insrail.track.profile import PVI, CantTable, VerticalProfile
 from insrail.track.sleeper_table import build_sleeper_table, reconstruct_track, regular_sleepers
-from track_truth import expected_deviations, truth_reconstruction, truth_sleeper_table
 
 MM = 1e-3
 
@@ -124,10 +126,47 @@ def test_reconstruct_track_without_design_needs_a_start_station(short_perfect_su
         reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering)
     start = float(recon.nav["station_m"][0])
     result = reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering,
-                               start_station_m=start)
+                               start_station_m=start, fit_line=False)
     tab = result.table
     assert np.isnan(tab.lateral_deviation_m).all() and tab.valid[1:-1].all()
+    assert result.fitted is None and result.reference is None
     # Along-path stations: the sections found there are the true ones within a few millimetres.
     truth = recon.track.sections(tab.station_m[tab.valid])
     assert np.abs(tab.centre_enh_m[tab.valid] - truth.centre_enh_m).max() < 5 * MM
     assert np.abs(tab.gauge_m[tab.valid] - truth.gauge_m).max() < 0.05 * MM
+
+
+def test_reconstruct_track_without_design_measures_against_the_fitted_line(short_perfect_survey):
+    """No design: deviations are "measured - best" from the windowed line-type fit. On the error-free
+    trajectory they equal the deviations from the true design (measured: 0.03 mm RMS, max 0.24 mm
+    lateral, 0.57 mm vertical, against 1 mm RMS irregularities), and the fitted cant the design cant."""
+    recon = truth_reconstruction(short_perfect_survey)
+    result = reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering,
+                               start_station_m=float(recon.nav["station_m"][0]))
+    tab, truth = result.table, recon.sleepers
+    assert result.line_fit_error == "" and result.fitted is not None and tab.valid.all()
+    assert [row.element.describe().split()[0] for row in result.fitted.alignment.horizontal.placed_elements] == [
+        "Line", "Clothoid", "Arc", "Clothoid", "Line"]
+    lateral, vertical = expected_deviations(truth)
+    at = [np.column_stack([np.interp(tab.station_m, truth["station"], d[:, i]) for i in range(2)])
+          for d in (lateral, vertical)]
+    for got, want in ((tab.lateral_deviation_m, at[0]), (tab.vertical_deviation_m, at[1])):
+        error = got - want
+        assert np.sqrt(np.mean(error**2)) < 0.1 * MM and np.abs(error).max() < 1 * MM
+        assert np.sqrt(np.mean(want**2)) > 0.8 * MM
+    assert np.abs(tab.design_cant_m - np.interp(tab.station_m, truth["station"], truth["design_cant"])).max() < 0.1 * MM
+    assert len(result.reference.windows) >= 2
+
+
+def test_reconstruct_track_reports_a_line_fit_it_cannot_make(short_perfect_survey):
+    """A survey that starts inside the curve cannot be line-fitted: the reconstruction still
+    completes, says why, and leaves the deviations empty."""
+    recon = truth_reconstruction(short_perfect_survey)
+    trajectory = recon.trajectory
+    keep = (recon.nav["station_m"] > 1400.0) & (recon.nav["station_m"] < 1750.0)
+    sliced = {f.name: getattr(trajectory, f.name)[keep] for f in fields(trajectory)
+              if isinstance(getattr(trajectory, f.name), np.ndarray) and len(getattr(trajectory, f.name)) == len(keep)}
+    result = reconstruct_track(replace(trajectory, **sliced), recon.trolley, recon.gauge, recon.to_engineering,
+                               start_station_m=1400.0)
+    assert "inside a curve" in result.line_fit_error and result.fitted is None
+    assert np.isnan(result.table.lateral_deviation_m).all() and len(result.table) > 400

@@ -55,7 +55,11 @@ def design_rail_offsets(design: DesignAlignment, station_m, design_gauge_m: floa
                         cant_base_m: float = CANT_BASE_M):
     """(horizontal offset [m, + right], height above the design centre [m]) of the left and
     right design rails at the stations: arrays (n, 2) = [left, right]."""
-    sin_slope = design_cant_m(design, station_m) / cant_base_m
+    return _rail_offsets(design_cant_m(design, station_m), design_gauge_m, cant_base_m)
+
+
+def _rail_offsets(cant_m, design_gauge_m: float, cant_base_m: float):
+    sin_slope = np.asarray(cant_m, dtype=float) / cant_base_m
     half = 0.5 * design_gauge_m
     horizontal = half * np.sqrt(1.0 - sin_slope**2)
     vertical = half * sin_slope
@@ -85,4 +89,32 @@ def rail_deviations(
         else:
             design_height = _evaluate_finite(design.vertical.elevation_at, station) + design_rise[:, column]
             vertical[:, column] = rail[:, 2] - design_height
+    return lateral, vertical
+
+
+def rail_deviations_from_reference(
+    reference_enh_m: np.ndarray,
+    reference_azimuth_rad: np.ndarray,
+    reference_cant_m: np.ndarray,
+    left_rail_enh_m: np.ndarray,
+    right_rail_enh_m: np.ndarray,
+    design_gauge_m: float = NOMINAL_GAUGE_M,
+    cant_base_m: float = CANT_BASE_M,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(lateral, vertical) deviations [m], (n, 2) = [left, right], from a pointwise reference line.
+
+    For a reference given only at the sections (the windowed best fit of
+    :mod:`insrail.track.linefit_windows`): centre point E, N, H, tangent azimuth and cant of
+    each section, whose rails sit where the module docstring puts the design rails. A rail's
+    lateral deviation is its offset across the reference tangent minus its reference rail's,
+    its vertical deviation its height minus its reference rail's.
+    """
+    reference = np.asarray(reference_enh_m, dtype=float)
+    normal = np.column_stack([np.cos(reference_azimuth_rad), -np.sin(reference_azimuth_rad)])  # to the right
+    offsets, rises = _rail_offsets(reference_cant_m, design_gauge_m, cant_base_m)
+    lateral = np.empty((len(reference), 2))
+    vertical = np.empty_like(lateral)
+    for column, rail in enumerate((left_rail_enh_m, right_rail_enh_m)):
+        lateral[:, column] = np.sum((rail[:, :2] - reference[:, :2]) * normal, axis=1) - offsets[:, column]
+        vertical[:, column] = rail[:, 2] - reference[:, 2] - rises[:, column]
     return lateral, vertical

@@ -7,24 +7,30 @@ curvature, is a trapezoid per curve. The pipeline:
 1. heading from chords of +-``chord_half_m`` (interpolated, so uneven spacing is fine);
    curvature = heading change over ``curvature_window_m``, which averages out the
    short-wave irregularities (3-70 m) the fit must not chase;
-2. segmentation: every run of |curvature| above 1/``max_radius_m`` is one curve;
-   its plateau gives the arc curvature, the 10 %/50 %/90 % crossings of the plateau
-   give the clothoid midpoints and lengths; straights lie in between;
+2. segmentation: every run of |curvature| above 1/``max_radius_m`` is one curve group
+   (a sign change starts a new group: reverse curves). Inside a group the flat stretches of
+   the curvature are its arcs (two or more: a compound curve); the 10 %/50 %/90 % crossings
+   of each ramp between neighbouring levels (0 on the straights) give the clothoids'
+   midpoints and lengths; straights lie between groups;
 3. total least squares on the orthogonal distances of all points to the element
    chain (:class:`HorizontalAlignment`), with unknowns the start point's offset
    across the initial tangent, the start azimuth, every element length but the last
    and the arcs' curvatures. The chain is built from curvature, so tangent and
    curvature continuity hold by construction (the digest's recommendation rather than
-   the thesis's per-element fits and its eq. 5.7, which minimises sum d^4).
+   the thesis's per-element fits and its eq. 5.7, which minimises sum d^4). Clothoids the
+   data cannot tell from none and straights under 1 m between two curves are removed
+   and the rest refitted, so an arc may meet a straight or another arc directly and two
+   clothoids may meet at an inflection (S-curve).
 
 Profile. Grade lines meet at PVIs carrying circular vertical curves. A PVI shows up
 as a jump between the grades of least-squares lines fitted over ``window_m`` before
 and after a station; the peaks of |jump| above ``min_grade_change`` seed the PVIs,
 then least squares on the heights refines PVI stations, elevations and radii.
 
-The fit is global (one chain for the whole run). Residual RMS values in the report
-say how well it holds; eq. 5.24's overlapping windows, needed when the centreline
-carries GNSS-level long-wave errors, are not implemented here.
+The fit is global (one chain for the whole run): that is the exportable alignment (element
+table, CSV, LandXML, usable as the design of the next survey). Deviations "measured - best"
+come from :mod:`insrail.track.linefit_windows`, which refits it in overlapping windows
+(thesis eq. 5.24) so that the GNSS-level long waves of a fused centreline stay out of them.
 """
 
 from __future__ import annotations
@@ -42,7 +48,7 @@ from insrail.track.alignment import (
     HorizontalAlignment,
     Line,
 )
-from insrail.track.profile import PVI, VerticalProfile
+from insrail.track.profile import PVI, CantTable, VerticalProfile
 
 _END_MARGIN_M = 5.0
 """The fitted chain reaches this far beyond the data, so every point has a perpendicular foot."""
@@ -50,10 +56,17 @@ _END_MARGIN_M = 5.0
 _NEWTON_STEPS_COLD = 8
 _NEWTON_STEPS_WARM = 2
 """Newton steps to the perpendicular feet from the input stations, and from the previous solution's feet."""
+_PRIOR_UNIT_M = 1e-3
+"""Residual [m] a parameter's weak prior is worth at one prior sigma (see :func:`_solve_chain`)."""
 _MIN_ELEMENT_M = 1e-3
 """Elements the fit shrinks below this length are dropped (e.g. a curve without transitions)."""
 
 _MIN_CURVE_RUN_M = 20.0
+_MIN_FLAT_M = 10
+"""Shortest flat stretch [m, grid steps of 1 m] of the smoothed curvature that seeds an arc."""
+_MIN_INTERIOR_LINE_M = 1.0
+"""A straight between two curves shorter than this is not supported by 10 m chords: it is removed
+and the curves meet directly (a reverse curve through an inflection point)."""
 
 
 class LineFitError(ValueError):
@@ -99,32 +112,75 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
 
 
-def _crossing(s, value, level, first: bool) -> float:
-    """Station where ``value`` first (or last) reaches ``level``, interpolated."""
-    above = np.flatnonzero(value >= level)
-    i = above[0] if first else above[-1]
-    j = i - 1 if first else i + 1
-    if j < 0 or j >= len(s):
-        return float(s[i])
-    return float(np.interp(level, [value[j], value[i]], [s[j], s[i]]))
+def _crossing(s, u, level, entry: bool) -> float:
+    """Station where the ramp ``u`` (0 -> 1 along ``s``) crosses ``level``, interpolated.
+
+    An entry ramp rises into the flat at the end of ``s``: its crossing nearest that end is
+    taken; an exit ramp leaves the flat at the start: the crossing nearest the start. Noise
+    or a neighbouring curve farther away cannot then move it.
+    """
+    if entry:
+        below = np.flatnonzero(u < level)
+        if below.size == 0:
+            return float(s[0])
+        i = below[-1]
+        if i == len(s) - 1:
+            return float(s[-1])
+        return float(np.interp(level, [u[i], u[i + 1]], [s[i], s[i + 1]]))
+    above = np.flatnonzero(u >= level)
+    if above.size == 0:
+        return float(s[-1])
+    i = above[0]
+    if i == 0:
+        return float(s[0])
+    return float(np.interp(level, [u[i - 1], u[i]], [s[i - 1], s[i]]))
 
 
-def _transition(s, magnitude, plateau, window_m, entry: bool) -> tuple[float, float]:
-    """Midpoint and length of the entry (or exit) ramp of a curve's smoothed curvature magnitude."""
-    spread = abs(_crossing(s, magnitude, 0.9 * plateau, entry) - _crossing(s, magnitude, 0.1 * plateau, entry)) / 0.8
+def _ramp(s, curvature, k_from, k_to, window_m, entry: bool) -> tuple[float, float]:
+    """Midpoint and length of the ramp of the smoothed curvature from ``k_from`` to ``k_to``."""
+    u = (curvature - k_from) / (k_to - k_from)
+    spread = abs(_crossing(s, u, 0.9, entry) - _crossing(s, u, 0.1, entry)) / 0.8
     # a boxcar of width w stretches a ramp of length L to about L + w/2 between 10 and 90 %
-    return _crossing(s, magnitude, 0.5 * plateau, entry), max(spread - 0.5 * window_m, 10.0)
+    return _crossing(s, u, 0.5, entry), max(spread - 0.5 * window_m, 10.0)
 
 
 @dataclass(frozen=True)
 class _CurveSeed:
-    """One curve as found on the curvature diagram: TS, SC, CS, ST stations and arc curvature."""
+    """One curve group as found on the curvature diagram.
 
-    ts_m: float
-    sc_m: float
-    cs_m: float
-    st_m: float
-    curvature: float
+    boundaries_m: TS, then SC, CS per arc, then ST (2 + 2 * arcs stations, clothoids between
+    TS-SC, CS-SC of the next arc, CS-ST); curvatures: signed curvature of each arc [1/m].
+    """
+
+    boundaries_m: tuple[float, ...]
+    curvatures: tuple[float, ...]
+
+
+def _plateaus(g, magnitude, window_m) -> list[tuple[int, int, float]]:
+    """(first, last, level) of the flat stretches of one curve's smoothed curvature magnitude.
+
+    Flat: the magnitude changes by less than 10 % of its peak over ``window_m`` (a clothoid
+    changes it by its whole step over its length, arcs not at all). Neighbouring flats within
+    5 % of each other are one arc interrupted by noise. A curve without a flat stretch (an arc
+    shorter than the smoothing) gets one plateau at its peak.
+    """
+    half = round(0.5 * window_m)
+    peak = float(magnitude.max())
+    change = np.full(magnitude.size, np.inf)
+    change[half:-half] = np.abs(magnitude[2 * half :] - magnitude[: -2 * half])
+    flats = []
+    for first, last in _runs((change < 0.1 * peak) & (magnitude > 0.25 * peak)):
+        if last - first < _MIN_FLAT_M:
+            continue
+        level = float(np.median(magnitude[first : last + 1]))
+        if flats and abs(level - flats[-1][2]) < 0.05 * max(level, flats[-1][2]):
+            first = flats.pop()[0]
+            level = float(np.median(magnitude[first : last + 1]))
+        flats.append((first, last, level))
+    if not flats:
+        top = np.flatnonzero(magnitude >= 0.8 * peak)
+        flats = [(int(top[0]), int(top[-1]), float(np.median(magnitude[top])))]
+    return flats
 
 
 def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> list[_CurveSeed]:
@@ -134,6 +190,7 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
         return []
     curvature = (np.interp(grid + 0.5 * window_m, s, heading) - np.interp(grid - 0.5 * window_m, s, heading)) / window_m
     seeds = []
+    reach = int(window_m)
     for first, last in _runs(np.abs(curvature) > 1.0 / max_radius_m):
         if first == 0 or last == grid.size - 1:
             raise LineFitError(
@@ -142,68 +199,105 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
             )
         if grid[last] - grid[first] < _MIN_CURVE_RUN_M:
             continue
-        piece = curvature[first : last + 1]
-        sign = np.sign(np.median(piece))
-        magnitude = sign * piece
-        plateau = float(np.median(magnitude[magnitude >= 0.8 * magnitude.max()]))
+        sign = float(np.sign(np.median(curvature[first : last + 1])))
         # widen the run to where the curvature leaves zero, so the 10 % crossings are inside it
-        lo = max(first - int(window_m), 0)
-        hi = min(last + int(window_m), grid.size - 1)
-        g, m = grid[lo : hi + 1], sign * curvature[lo : hi + 1]
-        entry_mid, entry_length = _transition(g, m, plateau, window_m, entry=True)
-        exit_mid, exit_length = _transition(g, m, plateau, window_m, entry=False)
-        ts, sc = entry_mid - 0.5 * entry_length, entry_mid + 0.5 * entry_length
-        cs, st = exit_mid - 0.5 * exit_length, exit_mid + 0.5 * exit_length
-        if cs - sc < 1.0:
+        lo, hi = max(first - reach, 0), min(last + reach, grid.size - 1)
+        g, magnitude = grid[lo : hi + 1], sign * curvature[lo : hi + 1]
+        flats = _plateaus(g, np.where((g >= grid[first]) & (g <= grid[last]), magnitude, 0.0), window_m)
+        levels = [0.0] + [level for _, _, level in flats] + [0.0]
+        # ramp i runs from the end of flat i - 1 (or the widened start) to the start of flat i
+        starts = [0] + [f_last for _, f_last, _ in flats]
+        stops = [f_first for f_first, _, _ in flats] + [g.size - 1]
+        boundaries = []
+        for i, (a, b) in enumerate(zip(starts, stops)):
+            entry = levels[i + 1] > levels[i]
+            mid, length = _ramp(g[a : b + 1], magnitude[a : b + 1], levels[i], levels[i + 1], window_m, entry)
+            boundaries += [mid - 0.5 * length, mid + 0.5 * length]
+        # boundaries: TS, SC, (CS, SC)*, CS, ST -- pairs are the clothoids' ends
+        if np.any(np.diff(boundaries) < 1.0):
             continue
-        seeds.append(_CurveSeed(ts, sc, cs, st, float(sign * plateau)))
+        seeds.append(_CurveSeed(tuple(boundaries), tuple(sign * level for level in levels[1:-1])))
     return seeds
 
 
 # --------------------------------------------------------------- chain model
+LINE, ARC, CLOTHOID = "line", "arc", "clothoid"
+
+
+def _element(kind: str, length: float, k_start: float, k_end: float):
+    """A Line, Arc or Clothoid of ``length`` from the signed curvatures at its ends [1/m]."""
+    if kind == LINE:
+        return Line(length)
+    if kind == ARC:
+        if k_start == 0.0:
+            raise ValueError("an arc of zero curvature")
+        return Arc(length, 1.0 / abs(k_start), "right" if k_start > 0 else "left")
+    if k_start * k_end < 0.0:
+        raise ValueError("a clothoid cannot change the side it turns to")
+    turn = "right" if k_start + k_end > 0 else "left"
+    radius_start = math.inf if k_start == 0.0 else 1.0 / abs(k_start)
+    radius_end = math.inf if k_end == 0.0 else 1.0 / abs(k_end)
+    return Clothoid(length, radius_start, radius_end, turn)
+
+
 @dataclass(frozen=True)
 class _Chain:
-    """Element pattern line, (clothoid, arc, clothoid, line) per curve, and its parameter vector.
+    """A pattern of element kinds from ``start_station`` to ``end_station`` and its parameter vector.
 
-    x = [start offset across the initial tangent, start azimuth, lengths of every element
-    but the last, arc curvatures]; the last length closes the chain at ``end_station``.
+    x = [start offset across the initial tangent, start azimuth, lengths of every element but
+    the last, arc curvatures]; the last length closes the chain at ``end_station``. Lines have
+    curvature 0, arcs their own; a clothoid runs from its predecessor's curvature to its
+    successor's, so tangent and curvature continuity hold by construction. Two clothoids meet at
+    curvature 0 (an inflection, through a zero-length line); a clothoid cut by the chain's start
+    (end) starts (ends) at ``start_curvature`` (``end_curvature``).
     """
 
     start_station: float
     end_station: float
     reference_east: float
     reference_north: float
-    curves: int
+    kinds: tuple[str, ...]
+    start_curvature: float = 0.0
+    end_curvature: float = 0.0
 
     @property
     def element_count(self) -> int:
-        return 1 + 4 * self.curves
+        return len(self.kinds)
 
-    def elements(self, x: np.ndarray):
-        lengths = np.append(x[2 : 2 + self.element_count - 1], 0.0)
+    @property
+    def length_index(self) -> np.ndarray:
+        """Indices in x of the free element lengths (all but the last element's)."""
+        return 2 + np.arange(self.element_count - 1)
+
+    @property
+    def arc_elements(self) -> np.ndarray:
+        return np.array([i for i, kind in enumerate(self.kinds) if kind == ARC], dtype=int)
+
+    def lengths(self, x: np.ndarray) -> np.ndarray:
+        lengths = np.append(x[self.length_index], 0.0)
         lengths[-1] = self.end_station - self.start_station - lengths[:-1].sum()
-        curvatures = x[2 + self.element_count - 1 :]
-        elements = []
-        for index, length in enumerate(lengths):
-            if length < _MIN_ELEMENT_M:
+        return lengths
+
+    def curvatures(self, x: np.ndarray) -> np.ndarray:
+        """Signed curvature at the start and end of every element, shape (m, 2)."""
+        level = np.zeros(self.element_count)
+        level[self.arc_elements] = x[2 + self.element_count - 1 :]
+        ends = np.column_stack([level, level])
+        for i, kind in enumerate(self.kinds):
+            if kind != CLOTHOID:
                 continue
-            position = (index - 1) % 4  # 0 entry clothoid, 1 arc, 2 exit clothoid, 3 line
-            if index == 0 or position == 3:
-                elements.append(Line(float(length)))
-                continue
-            k = float(curvatures[(index - 1) // 4])
-            turn = "right" if k > 0 else "left"
-            radius = 1.0 / abs(k)
-            if position == 1:
-                elements.append(Arc(float(length), radius, turn))
-            elif position == 0:
-                elements.append(Clothoid(float(length), math.inf, radius, turn))
-            else:
-                elements.append(Clothoid(float(length), radius, math.inf, turn))
-        return tuple(elements), lengths
+            if i == 0:
+                ends[i, 0] = self.start_curvature
+            elif self.kinds[i - 1] == ARC:
+                ends[i, 0] = level[i - 1]
+            if i == self.element_count - 1:
+                ends[i, 1] = self.end_curvature
+            elif self.kinds[i + 1] == ARC:
+                ends[i, 1] = level[i + 1]
+        return ends
 
     def alignment(self, x: np.ndarray) -> HorizontalAlignment:
-        elements, lengths = self.elements(x)
+        lengths = self.lengths(x)
         if lengths[-1] < _MIN_ELEMENT_M:
             raise LineFitError("line fitting: the fitted elements are longer than the data")
         offset, azimuth = x[0], x[1]
@@ -212,8 +306,26 @@ class _Chain:
             start_north_m=self.reference_north - offset * math.sin(azimuth),
             start_azimuth_rad=float(azimuth),
             start_station_m=self.start_station,
-            elements=elements,
+            elements=self.elements(x, 0, self.element_count - 1),
         )
+
+    def elements(self, x: np.ndarray, first: int, last: int) -> tuple:
+        """Elements ``first`` to ``last`` (those of at least _MIN_ELEMENT_M)."""
+        lengths, ends = self.lengths(x), self.curvatures(x)
+        return tuple(
+            _element(self.kinds[i], float(lengths[i]), float(ends[i, 0]), float(ends[i, 1]))
+            for i in range(first, last + 1)
+            if lengths[i] >= _MIN_ELEMENT_M
+        )
+
+    def affected_elements(self, parameter: int) -> tuple[int, int]:
+        """First and last element whose shape parameter ``parameter`` (a length or an arc
+        curvature) changes; the elements after them only move rigidly."""
+        count = self.element_count
+        if parameter < 2 + count - 1:
+            return parameter - 2, parameter - 2
+        arc = int(self.arc_elements[parameter - (2 + count - 1)])
+        return max(arc - 1, 0), min(arc + 1, count - 1)
 
 
 def _foot(alignment: HorizontalAlignment, stations, east, north, steps=_NEWTON_STEPS_COLD):
@@ -249,6 +361,118 @@ class HorizontalFit:
         return float(np.sqrt(np.mean(self.offset_m**2)))
 
 
+_JACOBIAN_STEP = {"length": 1e-4, "curvature": 1e-9}
+"""Finite-difference steps [m, 1/m] for the shape parameters' Jacobian columns."""
+
+
+def _chain_jacobian(chain: _Chain, x: np.ndarray, free: np.ndarray, feet_seed, east, north) -> np.ndarray:
+    """d(offsets)/d(x[free]), semi-analytically.
+
+    Offset and azimuth move the whole chain rigidly, so their columns are exact:
+    d(offset) = -n . d(foot point), n the unit normal to the right. A length or an arc
+    curvature reshapes only its own elements (and an arc's clothoids); everything after them
+    moves rigidly with the pose at their end. So the column is a finite difference over the
+    reshaped elements' points alone (a short alignment from the pose at their start) and the
+    rigid motion for the points after them: a few metres of geometry instead of the whole chain.
+    """
+    alignment = chain.alignment(x)
+    feet = _foot(alignment, feet_seed, east, north, _NEWTON_STEPS_WARM)[0]
+    foot_east, foot_north = alignment.point_at(feet)
+    azimuth = alignment.azimuth_at(feet)
+    normal_east, normal_north = np.cos(azimuth), -np.sin(azimuth)
+
+    def column(shift_east, shift_north):
+        return -(normal_east * shift_east + normal_north * shift_north)
+
+    def rotation(pivot_east, pivot_north):
+        # moving azimuth clockwise by 1 rad moves a point (dE, dN) from the pivot by (dN, -dE)
+        return foot_north - pivot_north, -(foot_east - pivot_east)
+
+    bounds = chain.start_station + np.concatenate(([0.0], np.cumsum(chain.lengths(x))))
+    columns = []
+    for parameter in np.flatnonzero(free):
+        if parameter == 0:
+            columns.append(column(math.cos(x[1]), -math.sin(x[1])))
+            continue
+        if parameter == 1:
+            east_turn, north_turn = rotation(alignment.start_east_m, alignment.start_north_m)
+            # the start point itself sits x[0] across the initial tangent from the reference point
+            columns.append(column(east_turn - x[0] * math.sin(x[1]), north_turn - x[0] * math.cos(x[1])))
+            continue
+        first, last = chain.affected_elements(parameter)
+        is_length = parameter < 2 + chain.element_count - 1
+        step = _JACOBIAN_STEP["length" if is_length else "curvature"]
+        begin, end = bounds[first], bounds[last + 1]
+        moved = x.copy()
+        moved[parameter] += step
+        reshaped = chain.elements(moved, first, last)
+        if not reshaped:
+            step = -step
+            moved[parameter] = x[parameter] + step
+            reshaped = chain.elements(moved, first, last)
+        start_east, start_north = alignment.point_at(begin)
+        local = HorizontalAlignment(float(start_east), float(start_north), float(alignment.azimuth_at(begin)), begin,
+                                    reshaped)
+        # pose at the end of the reshaped stretch, before and after
+        end_east, end_north = alignment.point_at(end)
+        new_east, new_north = local.point_at(local.end_station_m)
+        turn = (float(local.azimuth_at(local.end_station_m)) - float(alignment.azimuth_at(end))) / step
+        derivative = np.zeros(feet.size)
+        inside = (feet >= begin) & (feet <= end)
+        if inside.any():
+            feet_inside = np.clip(feet[inside], local.start_station_m, local.end_station_m)
+            before = _foot(alignment, feet[inside], east[inside], north[inside], _NEWTON_STEPS_WARM)[1]
+            after = _foot(local, feet_inside, east[inside], north[inside], _NEWTON_STEPS_WARM)[1]
+            derivative[inside] = (after - before) / step
+        beyond = feet > end
+        east_turn, north_turn = rotation(end_east, end_north)
+        shift = column((new_east - end_east) / step + turn * east_turn, (new_north - end_north) / step + turn * north_turn)
+        derivative[beyond] = shift[beyond]
+        columns.append(derivative)
+    return np.column_stack(columns)
+
+
+def _solve_chain(chain: _Chain, x_start, station, east, north, free=None, prior_sigma=None):
+    """Total least squares of the points' perpendicular offsets to the chain over the ``free`` parameters.
+
+    ``prior_sigma`` (one per parameter) adds weak pseudo-observations x = x_start, each worth
+    one 1 mm residual at that sigma: it holds parameters the points cannot see (an element just
+    outside a window) where they were, and does not move the ones they determine.
+    """
+    free = np.ones(x_start.size, dtype=bool) if free is None else free
+    lower = np.full(x_start.size, -np.inf)
+    lower[chain.length_index] = 0.0
+    # the feet move little while the solver refines the seed, so each evaluation starts from these
+    start_feet = _foot(chain.alignment(x_start), station, east, north)[0]
+    prior_weight = None if prior_sigma is None else _PRIOR_UNIT_M / prior_sigma[free]
+
+    def full(x_free):
+        x = x_start.copy()
+        x[free] = x_free
+        return x
+
+    def residuals(x_free):
+        try:
+            offsets = _foot(chain.alignment(full(x_free)), start_feet, east, north, _NEWTON_STEPS_WARM)[1]
+        except ValueError:  # lengths beyond the data, a clothoid turning both ways: push the solver back
+            offsets = np.full(station.size, 10.0)
+        if prior_weight is None:
+            return offsets
+        return np.concatenate((offsets, prior_weight * (x_free - x_start[free])))
+
+    def jacobian(x_free):
+        try:
+            matrix = _chain_jacobian(chain, full(x_free), free, start_feet, east, north)
+        except ValueError:  # outside the valid region the residuals are constant
+            matrix = np.zeros((station.size, int(free.sum())))
+        if prior_weight is None:
+            return matrix
+        return np.vstack((matrix, np.diag(prior_weight)))
+
+    solution = least_squares(residuals, x_start[free], jac=jacobian, bounds=(lower[free], np.inf), x_scale="jac")
+    return full(solution.x)
+
+
 def fit_horizontal(
     station_m,
     east_m,
@@ -261,10 +485,10 @@ def fit_horizontal(
 ) -> HorizontalFit:
     """Fit lines, clothoids and arcs to a centreline given at increasing stations [m].
 
-    Curves flatter than ``max_radius_m`` count as straight. Each curve is fitted as
-    clothoid-arc-clothoid; a clothoid whose shift L^2/(24 R) stays below
-    ``min_transition_shift_m`` is not supported by the data and is dropped (the arc then
-    meets the line directly, PC/PT).
+    Curves flatter than ``max_radius_m`` count as straight. Each curve group is fitted as
+    clothoid, then (arc, clothoid) per arc; a clothoid whose shift L^2 |1/R2 - 1/R1| / 24 stays
+    below ``min_transition_shift_m`` is not supported by the data and is dropped (the arc then
+    meets the line, PC/PT, or the next arc directly).
     """
     station, east, north = _checked_series(station_m, east_m, north_m, names=("east_m", "north_m"))
     if station[-1] - station[0] < 2 * chord_half_m + curvature_window_m:
@@ -278,41 +502,32 @@ def fit_horizontal(
     azimuth0 = float(heading[0])
     reference_east = east[0] - _END_MARGIN_M * math.sin(azimuth0)
     reference_north = north[0] - _END_MARGIN_M * math.cos(azimuth0)
-    chain = _Chain(start, end, reference_east, reference_north, len(seeds))
-    boundaries = [start] + [b for c in seeds for b in (c.ts_m, c.sc_m, c.cs_m, c.st_m)] + [end]
+    kinds = [LINE]
+    for seed in seeds:
+        kinds += [CLOTHOID] + [ARC, CLOTHOID] * len(seed.curvatures) + [LINE]
+    chain = _Chain(start, end, reference_east, reference_north, tuple(kinds))
+    boundaries = [start] + [b for seed in seeds for b in seed.boundaries_m] + [end]
     lengths = np.maximum(np.diff(boundaries), 1.0)
-    x0 = np.concatenate(([0.0, azimuth0], lengths[:-1], [c.curvature for c in seeds]))
-    lower = np.concatenate(([-np.inf, -np.inf], np.zeros(lengths.size - 1), [-np.inf] * len(seeds)))
-
-    def solve(x_start, free):
-        # the feet move little while the solver refines the seed, so each evaluation starts from these
-        start_feet = _foot(chain.alignment(x_start), station, east, north)[0]
-
-        def residuals(x_free):
-            x = x_start.copy()
-            x[free] = x_free
-            try:
-                alignment = chain.alignment(x)
-            except ValueError:  # lengths beyond the data: a large residual pushes the solver back
-                return np.full(station.size, 10.0)
-            return _foot(alignment, start_feet, east, north, _NEWTON_STEPS_WARM)[1]
-
-        solution = least_squares(residuals, x_start[free], bounds=(lower[free], np.inf), x_scale="jac")
-        x = x_start.copy()
-        x[free] = solution.x
-        return x
-
-    free = np.ones(x0.size, dtype=bool)
-    x = solve(x0, free)
-    # A clothoid shifts its arc by L^2 / (24 R); below min_transition_shift_m the data cannot tell it
-    # from none, so it is removed and the rest refitted (an arc meeting its straights directly).
-    clothoid = np.array([j for j in range(1, chain.element_count - 1) if (j - 1) % 4 in (0, 2)], dtype=int)
-    arc_curvature = np.abs(x[2 + chain.element_count - 1 + (clothoid - 1) // 4])
-    unsupported = 2 + clothoid[x[2 + clothoid] ** 2 * arc_curvature / 24.0 < min_transition_shift_m]
-    if unsupported.size:
-        x[unsupported] = 0.0
-        free[unsupported] = False
-        x = solve(x, free)
+    x0 = np.concatenate(([0.0, azimuth0], lengths[:-1], [k for seed in seeds for k in seed.curvatures]))
+    x = _solve_chain(chain, x0, station, east, north)
+    # A clothoid shifts its arc by L^2 |k2 - k1| / 24; below min_transition_shift_m the data cannot
+    # tell it from none, so it is removed and the rest refitted (an arc meeting its neighbour directly).
+    # A very short straight between two curves is removed too (a reverse curve).
+    lengths, ends = chain.lengths(x), chain.curvatures(x)
+    kinds_array = np.array(chain.kinds)
+    interior = np.arange(chain.element_count) < chain.element_count - 1
+    interior[0] = False
+    shift = lengths**2 * np.abs(ends[:, 1] - ends[:, 0]) / 24.0
+    unsupported = interior & (
+        ((kinds_array == CLOTHOID) & (shift < min_transition_shift_m))
+        | ((kinds_array == LINE) & (lengths < _MIN_INTERIOR_LINE_M))
+    )
+    if unsupported.any():
+        fixed = chain.length_index[unsupported[:-1]]
+        x[fixed] = 0.0
+        free = np.ones(x.size, dtype=bool)
+        free[fixed] = False
+        x = _solve_chain(chain, x, station, east, north, free)
     with_margins = chain.alignment(x)
     feet = _foot(with_margins, station, east, north)[0]
     # cut where the outermost points' perpendiculars fall, so the plan spans exactly the data
@@ -439,6 +654,30 @@ def fit_vertical(
     return VerticalFit(profile, height - profile.elevation_at(station))
 
 
+# ------------------------------------------------------------------- cant
+def fit_cant(plan: HorizontalAlignment, station_m, cant_m) -> CantTable:
+    """The design cant of ``plan`` that best fits measured cant [m] at stations on it.
+
+    One cant per arc, ramped linearly along the clothoids (0 on the straights, the mean of
+    the two arcs where arcs meet directly): a linear least-squares problem over the arcs.
+    """
+    station, cant = _checked_series(station_m, cant_m, names=("cant_m",))
+    boundaries = plan.boundary_stations_m
+    elements = plan.elements
+    arcs = [i for i, element in enumerate(elements) if isinstance(element, Arc)]
+    # knot k joins elements k - 1 and k; each arc's cant sits on both its knots
+    knots = np.zeros((len(arcs), boundaries.size))
+    for j, i in enumerate(arcs):
+        for k in (i, i + 1):
+            neighbours = sum(1 for e in (k - 1, k) if 0 <= e < len(elements) and isinstance(elements[e], Arc))
+            knots[j, k] = 1.0 / neighbours
+    if not arcs:
+        return CantTable(boundaries[[0, -1]], np.zeros(2))
+    basis = np.column_stack([np.interp(station, boundaries, row) for row in knots])
+    per_arc = np.linalg.lstsq(basis, cant, rcond=None)[0]
+    return CantTable(boundaries, per_arc @ knots)
+
+
 # ---------------------------------------------------------------- whole design
 @dataclass(frozen=True)
 class ElementRow:
@@ -477,6 +716,8 @@ class AlignmentFit:
     alignment: DesignAlignment
     horizontal: HorizontalFit
     vertical: VerticalFit
+    cant_residual_m: np.ndarray | None = None
+    """Measured - fitted cant [m] when cant was fitted."""
 
     def report(self) -> str:
         """Residuals, element table and PVI table as plain text (stations in m, residuals in mm)."""
@@ -485,8 +726,12 @@ class AlignmentFit:
             f"line-type fit of {lateral.size} points",
             f"  plan residuals:    RMS {1e3 * self.horizontal.rms_m:.2f} mm, max {1e3 * np.abs(lateral).max():.2f} mm",
             f"  profile residuals: RMS {1e3 * self.vertical.rms_m:.2f} mm, max {1e3 * np.abs(vertical).max():.2f} mm",
-            "  element   start [m]      end [m]   length [m]   R start [m]     R end [m]  turn",
         ]
+        if self.cant_residual_m is not None:
+            cant = self.cant_residual_m
+            lines.append(f"  cant residuals:    RMS {1e3 * np.sqrt(np.mean(cant**2)):.2f} mm, "
+                         f"max {1e3 * np.abs(cant).max():.2f} mm")
+        lines.append("  element   start [m]      end [m]   length [m]   R start [m]     R end [m]  turn")
         for row in element_table(self.alignment.horizontal):
             lines.append(
                 f"  {row.kind:<8}{row.start_station_m:>11.3f}{row.end_station_m:>13.3f}{row.length_m:>13.3f}"
@@ -500,8 +745,10 @@ class AlignmentFit:
         return "\n".join(lines)
 
 
-def fit_alignment(station_m, east_m, north_m, height_m, *, name: str = "fitted", **options) -> AlignmentFit:
-    """Fit plan and profile of a centreline; the profile is fitted on the fitted plan's stations.
+def fit_alignment(station_m, east_m, north_m, height_m, *, cant_m=None, name: str = "fitted",
+                  **options) -> AlignmentFit:
+    """Fit plan and profile of a centreline; the profile is fitted on the fitted plan's stations,
+    and so is the cant (:func:`fit_cant`) when the measured ``cant_m`` is given.
 
     ``options`` go to :func:`fit_horizontal` (chord_half_m, curvature_window_m,
     max_radius_m, min_transition_shift_m) and :func:`fit_vertical` (window_m, min_grade_change).
@@ -525,5 +772,10 @@ def fit_alignment(station_m, east_m, north_m, height_m, *, name: str = "fitted",
     vertical = fit_vertical(
         feet[order][keep], height[order][keep], **{k: v for k, v in options.items() if k in vertical_keys}
     )
-    design = DesignAlignment(horizontal=plan, vertical=vertical.profile, name=name)
-    return AlignmentFit(design, horizontal, vertical)
+    cant_table = cant_residual = None
+    if cant_m is not None:
+        cant = _checked_series(station, cant_m, names=("cant_m",))[1]
+        cant_table = fit_cant(plan, feet[order][keep], cant[order][keep])
+        cant_residual = cant - cant_table.cant_at(feet)
+    design = DesignAlignment(horizontal=plan, vertical=vertical.profile, cant=cant_table, name=name)
+    return AlignmentFit(design, horizontal, vertical, cant_residual)

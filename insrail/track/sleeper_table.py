@@ -8,7 +8,7 @@ ordered by station; lengths in metres, frames and signs as in :mod:`insrail.trac
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -17,7 +17,17 @@ from insrail.io.types import GaugeData, SleeperPulses
 from insrail.nav.trajectory import Trajectory
 from insrail.track.alignment import DesignAlignment
 from insrail.track.chainage import RailStations, epoch_station_track, stations_along_path, stations_on_design
-from insrail.track.deviations import CANT_BASE_M, NOMINAL_GAUGE_M, design_cant_m, rail_deviations
+from insrail.track.deviations import (
+    CANT_BASE_M,
+    NOMINAL_GAUGE_M,
+    design_cant_m,
+    rail_deviations,
+    rail_deviations_from_reference,
+)
+from insrail.track.linefit import AlignmentFit, LineFitError, fit_alignment
+from insrail.track.linefit_windows import DEFAULT_OVERLAP_M as DEFAULT_FIT_OVERLAP_M
+from insrail.track.linefit_windows import DEFAULT_WINDOW_M as DEFAULT_FIT_WINDOW_M
+from insrail.track.linefit_windows import WindowedReference, fit_windows
 from insrail.track.rails import RailPoints, ToEngineering, rails_from_pose
 from insrail.track.resample import DEFAULT_WINDOW_M, interpolate_in_station, sliding_window_fit
 from insrail.track.sleepers import SleeperNumbering, number_sleepers, sleeper_detector_ahead_m
@@ -141,14 +151,57 @@ def build_sleeper_table(
     )
 
 
+def deviations_from_fitted_line(
+    table: SleeperTable,
+    window_m: float = DEFAULT_FIT_WINDOW_M,
+    overlap_m: float = DEFAULT_FIT_OVERLAP_M,
+    design_gauge_m: float = NOMINAL_GAUGE_M,
+    cant_base_m: float = CANT_BASE_M,
+) -> tuple[SleeperTable, AlignmentFit, WindowedReference]:
+    """The table with deviations "measured - best" (thesis Fig. 5-7, 偏差量 [实测-最优]).
+
+    Plan, profile and cant are fitted to the valid rows' centreline and cant
+    (:func:`~insrail.track.linefit.fit_alignment`); the deviations are taken from the windowed
+    best-fit reference (:func:`~insrail.track.linefit_windows.fit_windows`), the design cant
+    column holds the fitted cant. Raises LineFitError when the centreline cannot be fitted.
+    """
+    rows = np.flatnonzero(table.valid)
+    if rows.size < 2:
+        raise LineFitError("line fitting: the sleeper table has fewer than two valid rows")
+    centre = table.centre_enh_m[rows]
+    fit = fit_alignment(table.station_m[rows], *centre.T, cant_m=table.cant_m[rows], name="fitted")
+    reference = fit_windows(fit, table.station_m[rows], *centre.T, window_m=window_m, overlap_m=overlap_m)
+    fitted_cant = fit.alignment.cant.cant_at(np.clip(reference.station_m, fit.alignment.horizontal.start_station_m,
+                                                     fit.alignment.horizontal.end_station_m))
+    n = len(table)
+    lateral, vertical = np.full((n, 2), np.nan), np.full((n, 2), np.nan)
+    lateral[rows], vertical[rows] = rail_deviations_from_reference(
+        reference.reference_enh_m, reference.azimuth_rad, fitted_cant, table.left_rail_enh_m[rows],
+        table.right_rail_enh_m[rows], design_gauge_m, cant_base_m,
+    )
+    design_cant = np.zeros(n)
+    design_cant[rows] = fitted_cant
+    updated = replace(table, lateral_deviation_m=lateral, vertical_deviation_m=vertical, design_cant_m=design_cant)
+    return updated, fit, reference
+
+
 @dataclass(frozen=True)
 class TrackReconstruction:
-    """Everything the reconstruction produced, for reports and diagnostics."""
+    """Everything the reconstruction produced, for reports and diagnostics.
+
+    Without a design: ``fitted`` is the line-type fit of the measured centreline (the
+    alignment to export as CSV / LandXML), ``reference`` the windowed best-fit line the
+    deviations were taken from; ``line_fit_error`` says why they are None when the fit was
+    asked for but failed (then the deviations are NaN, as with line fitting off).
+    """
 
     rails: RailPoints
     stations: RailStations
     sleepers: SleeperNumbering
     table: SleeperTable
+    fitted: AlignmentFit | None = None
+    reference: WindowedReference | None = None
+    line_fit_error: str = ""
 
 
 def reconstruct_track(
@@ -164,9 +217,16 @@ def reconstruct_track(
     first_number: int = 1,
     beam_wheel_spacing_m: float = 0.0,
     design_gauge_m: float = NOMINAL_GAUGE_M,
+    fit_line: bool = True,
+    fit_window_m: float = DEFAULT_FIT_WINDOW_M,
+    fit_overlap_m: float = DEFAULT_FIT_OVERLAP_M,
 ) -> TrackReconstruction:
     """Rails from pose -> stations (on ``design``, else along the path from ``start_station_m``)
-    -> sleepers (numbered from ``pulses``, else a regular grid every ``spacing_m``) -> table."""
+    -> sleepers (numbered from ``pulses``, else a regular grid every ``spacing_m``) -> table.
+
+    Without a design and with ``fit_line`` the deviations are "measured - best": see
+    :func:`deviations_from_fitted_line` (windows of ``fit_window_m`` overlapping by
+    ``fit_overlap_m``)."""
     if design is None and start_station_m is None:
         raise ValueError("without a design alignment the start station (start_station_m) must be given")
     rails = rails_from_pose(trajectory, trolley, gauge, to_engineering, beam_wheel_spacing_m)
@@ -179,4 +239,11 @@ def reconstruct_track(
                                    first_number=first_number)
     table = build_sleeper_table(rails, stations, sleepers, design, window_m, design_gauge_m,
                                 trolley.rail_centre_spacing_m)
-    return TrackReconstruction(rails, stations, sleepers, table)
+    if design is not None or not fit_line:
+        return TrackReconstruction(rails, stations, sleepers, table)
+    try:
+        table, fitted, reference = deviations_from_fitted_line(table, fit_window_m, fit_overlap_m, design_gauge_m,
+                                                               trolley.rail_centre_spacing_m)
+    except LineFitError as error:
+        return TrackReconstruction(rails, stations, sleepers, table, line_fit_error=str(error))
+    return TrackReconstruction(rails, stations, sleepers, table, fitted, reference)
