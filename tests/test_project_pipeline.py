@@ -231,3 +231,50 @@ def test_damaged_result_files_are_named(processed, tmp_path):
         load_results(copy, "short")
     with pytest.raises(InputError, match="process it first"):
         load_results(copy, "other")
+
+
+def test_prism_observations_aid_the_fusion_as_position_fixes(processed, tmp_path, monkeypatch):
+    """Total-station fixes (project CRS, normal heights) reach fuse() as geodetic fixes of the prism."""
+    from insrail.io.control import write_prism_enu
+    from insrail.io.survey import SurveyFile, read_manifest, write_manifest
+    from insrail.io.types import PrismObservations
+
+    project, results = processed
+    survey = tmp_path / "surveys" / "short"
+    shutil.copytree(project.folder / "surveys" / "short", survey)
+    table = results.table
+    rows = np.flatnonzero(table.valid)[[100, 900, 1500]]
+    prism = PrismObservations(table.time_s[rows], table.centre_enh_m[rows, 0], table.centre_enh_m[rows, 1],
+                              table.centre_enh_m[rows, 2] + 1.8, np.full(3, 1e-3), np.array(["CP1", "CP2", "CP3"]))
+    write_prism_enu(survey / "prism.txt", prism)
+    manifest = read_manifest(survey)
+    write_manifest(survey, replace(manifest, files={**manifest.files, "prism": SurveyFile("prism.txt", "prism-enu")}))
+    with_prism = project_for_simulated_survey(tmp_path, survey)
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def capture(survey_data, *args, position_fixes=None, **kwargs):
+        seen["fixes"] = position_fixes
+        raise Stop
+
+    monkeypatch.setattr(pipeline, "fuse", capture)
+    with pytest.raises(Stop):
+        process(with_prism, "short")
+    fixes = seen["fixes"]
+    np.testing.assert_array_equal(fixes.time_s, prism.time_s)
+    np.testing.assert_array_equal(fixes.lever_arm_m, manifest.trolley.imu_to_prism_m)
+    east, north = with_prism.crs.to_plane(fixes.lat, fixes.lon)
+    np.testing.assert_allclose(east, prism.east_m, atol=1e-6)
+    np.testing.assert_allclose(north, prism.north_m, atol=1e-6)
+    zeta = results.height_fit.zeta_m(prism.east_m, prism.north_m)
+    np.testing.assert_allclose(fixes.h - zeta, prism.height_m, atol=1e-6)  # normal height + anomaly = h
+    assert np.ptp(zeta) > 0 or abs(zeta[0]) > 1.0  # the anomaly is really applied
+    # The fixes depend on the height model, so the fusion key does too (without prism it does not).
+    constant = replace(with_prism.height, anomaly=replace(with_prism.height.anomaly, model="constant"))
+    manifest = read_manifest(survey)
+    assert fusion_key(replace(with_prism, height=constant), manifest, survey) != fusion_key(with_prism, manifest, survey)
+    plain = project.folder / "surveys" / "short"
+    assert fusion_key(replace(project, height=constant), read_manifest(plain), plain) == fusion_key(
+        project, read_manifest(plain), plain)
