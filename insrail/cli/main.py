@@ -15,6 +15,8 @@ COMMANDS = [
     ("fuse", "insrail.cli.fuse"),
     ("demo", "insrail.cli.demo"),
     ("process", "insrail.cli.process"),
+    ("batch", "insrail.cli.batch"),
+    ("compare", "insrail.cli.compare"),
     ("ppk", "insrail.cli.ppk"),
 ]
 
