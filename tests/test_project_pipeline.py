@@ -95,17 +95,24 @@ def test_exceedances_include_the_injected_bumps(processed):
 
 
 def test_changing_the_tolerance_profile_reuses_the_fusion(processed, monkeypatch):
+    from insrail.resources import resources_dir
+
     project, first = processed
     first_sleepers = (first.folder / "sleepers.csv").read_bytes()
 
     def not_again(*args, **kwargs):
-        raise AssertionError("the fusion ran again or a raw file was read")
+        raise AssertionError("a cached stage ran again or a raw file was read")
 
-    monkeypatch.setattr(pipeline, "fuse", not_again)
-    monkeypatch.setattr(pipeline, "read_survey", not_again)
-    monkeypatch.setattr(pipeline, "reconstruct_track", not_again)
-    changed = replace(project, tolerance_profile="cn_conventional_160")
-    save_project(changed)
+    for stage in ("fuse", "read_survey", "reconstruct_track", "optimise_adjustment"):
+        monkeypatch.setattr(pipeline, stage, not_again)
+    # The surveyor widens the 10 m versine limit in a copy of the default profile: a new
+    # assessment, everything else (the adjustment too: same differential-versine limits) cached.
+    default = (resources_dir() / "tolerance_profiles" / "cn_hsr_ballastless.toml").read_text()
+    edited = default.replace('chord_m = 10.0\ndirections = ["lateral", "vertical"]\nmax_abs_mm = 2.0',
+                             'chord_m = 10.0\ndirections = ["lateral", "vertical"]\nmax_abs_mm = 4.0')
+    assert edited != default
+    (project.folder / "edited.toml").write_text(edited)
+    save_project(replace(project, tolerance_profile="edited.toml"))
     try:
         started = time.perf_counter()
         again = process(load_project(project.folder), "short")
@@ -116,13 +123,18 @@ def test_changing_the_tolerance_profile_reuses_the_fusion(processed, monkeypatch
     assert first.summary["survey"]["processing_time_s"] > 10 * elapsed
     assert again.fusion_from_cache and not first.fusion_from_cache
     assert again.summary["track"]["from_cache"] and not first.summary["track"]["from_cache"]
+    assert tomllib.loads((again.folder / "summary.toml").read_text())["fusion"]["from_cache"] is True
+    versine = [sum(e.check == "versine_10m" for e in r.assessment.exceedances) for r in (first, again)]
+    assert versine[0] > versine[1]
+    np.testing.assert_array_equal(again.adjustment.lateral_m, first.adjustment.lateral_m)
+    np.testing.assert_array_equal(again.trajectory.lat_rad, first.trajectory.lat_rad)
+
+    monkeypatch.undo()
+    other = process(replace(project, tolerance_profile="cn_conventional_160"), "short")  # no 30/5 checks
+    assert other.assessment.profile != first.assessment.profile and other.adjustment.total_movement_m == 0
     monkeypatch.setattr(pipeline, "optimise_adjustment", not_again)
-    back = process(project, "short")  # the original profile: its adjustment is cached too
+    back = process(project, "short")  # the original profile: its adjustment comes from the cache
     assert (back.folder / "sleepers.csv").read_bytes() == first_sleepers
-    assert again.assessment.profile != first.assessment.profile
-    assert np.array_equal(again.trajectory.lat_rad, first.trajectory.lat_rad)
-    summary = tomllib.loads((again.folder / "summary.toml").read_text())
-    assert summary["fusion"]["from_cache"] is True
 
 
 def test_fusion_key_follows_what_the_fusion_depends_on(processed):
