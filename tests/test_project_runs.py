@@ -169,3 +169,23 @@ def test_repeatability_of_arrays():
         repeatability({"a": runs["a"], "d": (stations[::-1], {"x": truth})})
     gap = on_stations(np.array([0.0, 1.0, 5.0]), np.array([0.0, 1.0, 5.0]), np.array([0.5, 3.0, 6.0]))
     assert gap[0] == pytest.approx(0.5) and np.isnan(gap[1:]).all()
+
+
+def test_cancelling_a_batch_drops_the_surveys_not_started(tiny_projects, tmp_path):
+    import threading
+
+    from insrail.progress import Cancelled
+
+    broken, *good = fresh_copies(tiny_projects, tmp_path)
+    (broken / "surveys" / "tiny" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
+    stop = threading.Event()
+    messages = []
+
+    def progress(fraction, message):
+        messages.append(message)
+        stop.set()  # the user cancels as soon as the first survey is reported
+
+    with pytest.raises(Cancelled):
+        run_batch([broken, *good], workers=1, progress=progress, cancel=stop)
+    assert "FAILED" in messages[0]
+    assert not (good[-1] / "results" / "tiny").exists()  # never started

@@ -117,15 +117,24 @@ def _outcome(future, task: BatchTask) -> BatchOutcome:
 
 def _run_locally(tasks, workers, report, cancel) -> None:
     workers = max(1, min(workers or os.cpu_count() or 1, len(tasks)))
+    waiting = list(tasks)
+    pending = {}
     with ProcessPoolExecutor(workers, mp_context=get_context("spawn")) as pool:
-        pending = {pool.submit(run_task, task): task for task in tasks}
+
+        def start_more() -> None:  # no more tasks in flight than workers: the rest stay cancellable
+            while waiting and len(pending) < workers:
+                task = waiting.pop(0)
+                pending[pool.submit(run_task, task)] = task
+
         try:
+            start_more()
             while pending:
                 done, _ = wait(pending, timeout=POLL_S, return_when=FIRST_COMPLETED)
                 for future in done:
                     report(_outcome(future, pending.pop(future)))
                 if is_cancelled(cancel):
                     raise Cancelled("batch cancelled by the user")
+                start_more()
         except BaseException:
             for future in pending:
                 future.cancel()
