@@ -20,7 +20,9 @@ so the sleepers are assumed evenly spaced (the assessment re-checks the result o
 
 from __future__ import annotations
 
+import os
 import tomllib
+from concurrent.futures import ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,7 +30,7 @@ import numpy as np
 from scipy import sparse
 from scipy.optimize import Bounds, LinearConstraint, milp
 
-from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.progress import CancelToken, ProgressFn, check_cancel
 from insrail.resources import resources_dir
 from insrail.track.exceedance import RAILS, SleeperGeometry
 from insrail.track.irregularity import SLEEPER_SPACING_M, differential_versine_grid
@@ -39,6 +41,8 @@ DEFAULT_FASTENER = "wj8"
 VIOLATION_PENALTY = 1000.0  # cost of 1 step of residual exceedance against 1 step of movement
 #: Rounds of "solve the windows, check the whole line again" (a round that changes nothing ends it).
 MAX_SWEEPS = 4
+#: How often [s] the progress of the channels (solved in parallel threads) is reported.
+PROGRESS_INTERVAL_S = 0.2
 
 
 @dataclass(frozen=True)
@@ -366,20 +370,33 @@ def optimise_adjustment(
     VIOLATION_PENALTY times a unit of movement). Sleepers of pairs that still exceed after
     rounding to whole steps are flagged unresolved. Invalid sleepers are not moved and their
     pairs are not checked. Gauge and cross-level are not constraints here (the rails are
-    optimised independently); re-assess the adjusted geometry to see them. ``progress`` and
-    ``cancel`` as in :mod:`insrail.progress` (checked before every programme is solved).
+    optimised independently); re-assess the adjusted geometry to see them. The four channels
+    (rail x direction) are solved in parallel threads; ``progress`` is called from the calling
+    thread, ``cancel`` is checked before every programme is solved (see :mod:`insrail.progress`).
     """
     amounts = {direction: np.zeros((geometry.station_m.size, 2)) for direction in DIRECTIONS}
     flags = {direction: np.zeros((geometry.station_m.size, 2), bool) for direction in DIRECTIONS}
     deviations = {"lateral": geometry.lateral_deviation_m, "vertical": geometry.vertical_deviation_m}
-    step = StepProgress(progress)
     channels = [(direction, column) for direction in DIRECTIONS for column in range(len(RAILS))]
-    for index, (direction, column) in enumerate(channels):
-        limits = chord_limits(profile, direction)
+    done = np.zeros(len(channels))  # per channel, written by its thread, reported by this one
+
+    def solve(index: int):
+        def channel_progress(fraction: float, message: str) -> None:
+            done[index] = max(done[index], fraction)  # a second round starts again from 0
+
+        direction, column = channels[index]
         low, high = fastener.range_m(direction)
-        amounts[direction][:, column], flags[direction][:, column] = _optimise_channel(
-            deviations[direction][:, column], limits, low, high, fastener.step_m, chunk_sleepers,
-            step.sub(index / len(channels), (index + 1) / len(channels)), cancel
-        )
-    step(1.0, "adjustment amounts")
+        return _optimise_channel(deviations[direction][:, column], chord_limits(profile, direction), low, high,
+                                 fastener.step_m, chunk_sleepers, channel_progress, cancel)
+
+    # The channels are independent and HiGHS releases the GIL while it solves: one thread each.
+    with ThreadPoolExecutor(min(len(channels), os.cpu_count() or 1)) as pool:
+        futures = [pool.submit(solve, index) for index in range(len(channels))]
+        while not wait(futures, timeout=PROGRESS_INTERVAL_S).done.issuperset(futures):
+            if progress is not None:
+                progress(float(done.mean()), "adjustment amounts")
+        for (direction, column), future in zip(channels, futures):
+            amounts[direction][:, column], flags[direction][:, column] = future.result()
+    if progress is not None:
+        progress(1.0, "adjustment amounts")
     return Adjustment(amounts["lateral"], amounts["vertical"], flags["lateral"], flags["vertical"], fastener.name)
