@@ -49,7 +49,9 @@ class BatchOutcome:
 
     @property
     def label(self) -> str:
-        return f"{self.project_file.parent.name}/{self.survey}"
+        """``<project folder>/<survey>``; a project that did not load shows its path and ``*``."""
+        project = self.project_file.parent.name if self.project_file.name == PROJECT_FILE else str(self.project_file)
+        return f"{project}/{self.survey}"
 
 
 def batch_tasks(projects: list[str | Path]) -> tuple[list[BatchTask], list[BatchOutcome]]:
