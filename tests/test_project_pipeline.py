@@ -2,6 +2,7 @@
 agreement with the simulator's truth, fusion cache, cancellation, and the CLI."""
 
 import shutil
+import time
 import tomllib
 from dataclasses import replace
 
@@ -94,34 +95,58 @@ def test_exceedances_include_the_injected_bumps(processed):
 
 
 def test_changing_the_tolerance_profile_reuses_the_fusion(processed, monkeypatch):
+    from insrail.resources import resources_dir
+
     project, first = processed
+    first_sleepers = (first.folder / "sleepers.csv").read_bytes()
 
-    def no_fusion(*args, **kwargs):
-        raise AssertionError("the fusion ran again")
+    def not_again(*args, **kwargs):
+        raise AssertionError("a cached stage ran again or a raw file was read")
 
-    monkeypatch.setattr(pipeline, "fuse", no_fusion)
-    changed = replace(project, tolerance_profile="cn_conventional_160")
-    save_project(changed)
+    for stage in ("fuse", "read_survey", "reconstruct_track", "optimise_adjustment"):
+        monkeypatch.setattr(pipeline, stage, not_again)
+    # The surveyor widens the 10 m versine limit in a copy of the default profile: a new
+    # assessment, everything else (the adjustment too: same differential-versine limits) cached.
+    default = (resources_dir() / "tolerance_profiles" / "cn_hsr_ballastless.toml").read_text()
+    edited = default.replace('chord_m = 10.0\ndirections = ["lateral", "vertical"]\nmax_abs_mm = 2.0',
+                             'chord_m = 10.0\ndirections = ["lateral", "vertical"]\nmax_abs_mm = 4.0')
+    assert edited != default
+    (project.folder / "edited.toml").write_text(edited)
+    save_project(replace(project, tolerance_profile="edited.toml"))
     try:
+        started = time.perf_counter()
         again = process(load_project(project.folder), "short")
+        elapsed = time.perf_counter() - started
     finally:
         save_project(project)
+    # The issue's bar is 10x; on this machine the first run takes ~15 s and the cached one ~0.2 s.
+    assert first.summary["survey"]["processing_time_s"] > 10 * elapsed
     assert again.fusion_from_cache and not first.fusion_from_cache
-    assert again.assessment.profile != first.assessment.profile
-    assert np.array_equal(again.trajectory.lat_rad, first.trajectory.lat_rad)
-    summary = tomllib.loads((again.folder / "summary.toml").read_text())
-    assert summary["fusion"]["from_cache"] is True
+    assert again.summary["track"]["from_cache"] and not first.summary["track"]["from_cache"]
+    assert tomllib.loads((again.folder / "summary.toml").read_text())["fusion"]["from_cache"] is True
+    versine = [sum(e.check == "versine_10m" for e in r.assessment.exceedances) for r in (first, again)]
+    assert versine[0] > versine[1]
+    np.testing.assert_array_equal(again.adjustment.lateral_m, first.adjustment.lateral_m)
+    np.testing.assert_array_equal(again.trajectory.lat_rad, first.trajectory.lat_rad)
+
+    monkeypatch.undo()
+    other = process(replace(project, tolerance_profile="cn_conventional_160"), "short")  # no 30/5 checks
+    assert other.assessment.profile != first.assessment.profile and other.adjustment.total_movement_m == 0
+    monkeypatch.setattr(pipeline, "optimise_adjustment", not_again)
+    back = process(project, "short")  # the original profile: its adjustment comes from the cache
+    assert (back.folder / "sleepers.csv").read_bytes() == first_sleepers
 
 
 def test_fusion_key_follows_what_the_fusion_depends_on(processed):
-    from insrail.io.survey import read_survey
+    from insrail.io.survey import read_manifest
 
     project, _ = processed
-    survey = read_survey(project.folder / "surveys" / "short")
-    key = fusion_key(project, survey)
-    assert fusion_key(replace(project, tolerance_profile="fra_class_1", design=None), survey) == key
-    assert fusion_key(replace(project, fusion=replace(project.fusion, use_nhc=False)), survey) != key
-    assert fusion_key(replace(project, imu_profile="tactical"), survey) != key
+    folder = project.folder / "surveys" / "short"
+    manifest = read_manifest(folder)
+    key = fusion_key(project, manifest, folder)
+    assert fusion_key(replace(project, tolerance_profile="fra_class_1", design=None), manifest, folder) == key
+    assert fusion_key(replace(project, fusion=replace(project.fusion, use_nhc=False)), manifest, folder) != key
+    assert fusion_key(replace(project, imu_profile="tactical"), manifest, folder) != key
 
 
 @pytest.mark.parametrize("stage", ["irregularities and exceedances", "writing results"])
@@ -218,3 +243,50 @@ def test_damaged_result_files_are_named(processed, tmp_path):
         load_results(copy, "short")
     with pytest.raises(InputError, match="process it first"):
         load_results(copy, "other")
+
+
+def test_prism_observations_aid_the_fusion_as_position_fixes(processed, tmp_path, monkeypatch):
+    """Total-station fixes (project CRS, normal heights) reach fuse() as geodetic fixes of the prism."""
+    from insrail.io.control import write_prism_enu
+    from insrail.io.survey import SurveyFile, read_manifest, write_manifest
+    from insrail.io.types import PrismObservations
+
+    project, results = processed
+    survey = tmp_path / "surveys" / "short"
+    shutil.copytree(project.folder / "surveys" / "short", survey)
+    table = results.table
+    rows = np.flatnonzero(table.valid)[[100, 900, 1500]]
+    prism = PrismObservations(table.time_s[rows], table.centre_enh_m[rows, 0], table.centre_enh_m[rows, 1],
+                              table.centre_enh_m[rows, 2] + 1.8, np.full(3, 1e-3), np.array(["CP1", "CP2", "CP3"]))
+    write_prism_enu(survey / "prism.txt", prism)
+    manifest = read_manifest(survey)
+    write_manifest(survey, replace(manifest, files={**manifest.files, "prism": SurveyFile("prism.txt", "prism-enu")}))
+    with_prism = project_for_simulated_survey(tmp_path, survey)
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def capture(survey_data, *args, position_fixes=None, **kwargs):
+        seen["fixes"] = position_fixes
+        raise Stop
+
+    monkeypatch.setattr(pipeline, "fuse", capture)
+    with pytest.raises(Stop):
+        process(with_prism, "short")
+    fixes = seen["fixes"]
+    np.testing.assert_array_equal(fixes.time_s, prism.time_s)
+    np.testing.assert_array_equal(fixes.lever_arm_m, manifest.trolley.imu_to_prism_m)
+    east, north = with_prism.crs.to_plane(fixes.lat, fixes.lon)
+    np.testing.assert_allclose(east, prism.east_m, atol=1e-6)
+    np.testing.assert_allclose(north, prism.north_m, atol=1e-6)
+    zeta = results.height_fit.zeta_m(prism.east_m, prism.north_m)
+    np.testing.assert_allclose(fixes.h - zeta, prism.height_m, atol=1e-6)  # normal height + anomaly = h
+    assert np.ptp(zeta) > 0 or abs(zeta[0]) > 1.0  # the anomaly is really applied
+    # The fixes depend on the height model, so the fusion key does too (without prism it does not).
+    constant = replace(with_prism.height, anomaly=replace(with_prism.height.anomaly, model="constant"))
+    manifest = read_manifest(survey)
+    assert fusion_key(replace(with_prism, height=constant), manifest, survey) != fusion_key(with_prism, manifest, survey)
+    plain = project.folder / "surveys" / "short"
+    assert fusion_key(replace(project, height=constant), read_manifest(plain), plain) == fusion_key(
+        project, read_manifest(plain), plain)

@@ -100,3 +100,15 @@ def test_invalid_sleepers_are_not_moved_and_the_rest_still_passes():
     assert not adjustment.lateral_m[200:215].any() and not adjustment.vertical_m[200:215].any()
     assert np.count_nonzero(adjustment.lateral_m) > 0
     assert differential_exceedances(adjustment.apply(geometry), profile) == []
+
+
+def test_optimised_adjustment_reports_progress_and_can_be_cancelled():
+    from insrail.progress import Cancelled
+
+    profile = load_tolerance_profile()
+    geometry = random_walk_track(700, seed=4)
+    fractions = []
+    optimise_adjustment(geometry, profile, load_fastener_type(), progress=lambda f, m: fractions.append(f))
+    assert fractions[-1] == 1.0 and fractions == sorted(fractions)
+    with pytest.raises(Cancelled):
+        optimise_adjustment(geometry, profile, load_fastener_type(), cancel=lambda: True)

@@ -16,6 +16,8 @@ COMMANDS = [
     ("demo", "insrail.cli.demo"),
     ("process", "insrail.cli.process"),
     ("report", "insrail.cli.report"),
+    ("batch", "insrail.cli.batch"),
+    ("compare", "insrail.cli.compare"),
     ("ppk", "insrail.cli.ppk"),
 ]
 

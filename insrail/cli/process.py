@@ -30,10 +30,12 @@ def describe(results) -> list[str]:
     height_line = (f"height anomaly: {heights['model']} model, benchmark RMS {heights['internal_rms_mm']:.1f} mm"
                    if "internal_rms_mm" in heights else f"heights: {heights['model']}")
     by_check = ", ".join(f"{name} {count}" for name, count in assessment["by_check"].items()) or "none"
+    prism = s["fusion"].get("prism_fixes", 0)
+    prism_text = f", {prism} total-station prism fixes on CPIII points" if prism else ""
     return [
         f"Survey {results.survey}: results in {results.folder.resolve()}",
         (f"  fusion: {'reused from the cache' if s['fusion']['from_cache'] else 'computed'}, "
-         f"{s['fusion']['rejections']} measurements rejected; {height_line}"),
+         f"{s['fusion']['rejections']} measurements rejected{prism_text}; {height_line}"),
         (f"  track: {track['sleepers']} sleepers ({track['valid_sleepers']} valid), "
          f"stations {track['station_from_m']:.3f} .. {track['station_to_m']:.3f} m"),
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",

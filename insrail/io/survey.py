@@ -194,7 +194,10 @@ def _parse_files(folder: Path, table, problems: list[str]) -> dict[str, SurveyFi
     return files
 
 
-def _parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometry | None:
+def parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometry | None:
+    """A ``[trolley]`` table (as in survey.toml or project.toml) as TrolleyGeometry; ``roles`` are
+    the survey's file roles (a lever arm is required only with the data using it). Problems are
+    appended to ``problems`` as ``trolley.<key>: ...``; None when there are any."""
     if not isinstance(table, dict):
         problems.append("trolley: missing table [trolley] (lever arms and reference rail)")
         return None
@@ -263,7 +266,7 @@ def read_manifest(folder: str | Path) -> SurveyManifest:
         if key in survey and not isinstance(survey[key], str):
             problems.append(f"survey.{key}: expected text, found {survey[key]!r}")
     files = _parse_files(folder, document.get("files"), problems)
-    trolley = _parse_trolley(document.get("trolley"), set(files), problems)
+    trolley = parse_trolley(document.get("trolley"), set(files), problems)
     if problems:
         raise ManifestError(path, problems)
     return SurveyManifest(name=name, files=files, trolley=trolley,

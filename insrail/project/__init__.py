@@ -2,8 +2,12 @@
 
 A project folder holds ``project.toml`` (see :mod:`insrail.project.model`), the survey folders it
 names, and ``results/<survey>/`` written by :func:`process` (see :mod:`insrail.project.pipeline`).
+:func:`compare_surveys` compares repeat runs (:mod:`insrail.project.compare`); :func:`run_batch`
+processes many projects in parallel, locally or on a Dask cluster (:mod:`insrail.project.batch`).
 """
 
+from insrail.project.batch import BatchOutcome, run_batch
+from insrail.project.compare import compare_surveys
 from insrail.project.model import (
     HEIGHT_MODELS,
     PROJECT_FILE,
@@ -21,17 +25,20 @@ from insrail.project.results import StoredResults, load_results
 __all__ = [
     "HEIGHT_MODELS",
     "PROJECT_FILE",
+    "BatchOutcome",
     "HeightSettings",
     "Project",
     "ProjectError",
-    "SurveyEntry",
     "StoredResults",
+    "SurveyEntry",
     "SurveyResults",
+    "compare_surveys",
     "fit_heights",
     "load_project",
     "load_results",
     "process",
     "project_from_settings",
     "read_design",
+    "run_batch",
     "save_project",
 ]

@@ -34,7 +34,7 @@ from insrail.geodesy.errors import SettingsError
 from insrail.geodesy.height_anomaly import HeightAnomalySettings
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
-from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, _parse_trolley
+from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, parse_trolley
 from insrail.io.tomlfile import read_toml
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
@@ -113,7 +113,7 @@ class Project:
         """The project's trolley geometry, or None when each survey brings its own."""
         if self.trolley_settings is None:
             return None
-        return _parse_trolley(self.trolley_settings, {"sleepers"}, [])
+        return parse_trolley(self.trolley_settings, {"sleepers"}, [])
 
     def to_settings(self) -> dict[str, Any]:
         """The TOML document as plain data; ``load_project`` of it gives an equal project."""
@@ -186,7 +186,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     trolley_settings = document.get("trolley")
     if trolley_settings is not None:
         trolley_problems: list[str] = []
-        _parse_trolley(trolley_settings, {"sleepers"}, trolley_problems)
+        parse_trolley(trolley_settings, {"sleepers"}, trolley_problems)
         reader.problems.extend(trolley_problems)
 
     processing = reader.table(document, "processing")

@@ -1,13 +1,22 @@
 """The end-to-end processing of one survey of a project, and its result files.
 
-``process`` runs read_survey -> fuse -> engineering coordinates (CRS + fitted height anomaly)
--> reconstruct_track (on the design, else along the path from the start station) -> assess
-(tolerance profile) -> adjustment (fastener type) and writes ``<project>/results/<survey>/``
-(the files and how they are swapped in: :mod:`insrail.project.results`).
+``process`` runs read_survey -> fuse (GNSS, odometer, ..., and the total-station prism fixes on
+CPIII points when the survey has them, placed by the project's CRS and height model) ->
+engineering coordinates (CRS + fitted height anomaly) -> reconstruct_track (on the design, else
+along the path from the start station) -> assess (tolerance profile) -> adjustment (fastener
+type) and writes ``<project>/results/<survey>/`` (the files and how they are swapped in:
+:mod:`insrail.project.results`).
 
-The fusion, the slow stage, is cached in ``<project>/results/.cache/`` under a hash of what
-determines it (the raw survey files' contents, trolley, IMU profile, fusion options,
-ellipsoid): changing the tolerance profile, fastener, design or height model reuses it.
+Three stages are cached in ``<project>/results/.cache/``, each under a hash of what determines it:
+
+* ``fusion-<key>.npy``       the raw survey files' contents, trolley, IMU profile, fusion options,
+  ellipsoid (and with prism fixes the geodesy placing them). A cached fusion reads no raw file.
+* ``track-<key>.npz``        rails, chainage and sleepers: the fusion key plus CRS, height model,
+  design alignment (contents) and stationing settings.
+* ``adjustment-<key>.npz``   the deviations, the differential-versine limits and the fastener.
+
+Changing only the tolerance profile therefore recomputes the assessment (and the adjustment
+when its limits changed) and rewrites the result files; nothing else.
 """
 
 from __future__ import annotations
@@ -17,6 +26,7 @@ import json
 import time
 import tomllib
 from dataclasses import asdict, dataclass, replace
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -26,10 +36,19 @@ from insrail.geodesy.height_anomaly import HeightAnomalyFit, fit_height_anomaly
 from insrail.io.atomic import atomic_write
 from insrail.io.control import read_benchmarks
 from insrail.io.errors import InputError
-from insrail.io.survey import MANIFEST_NAME, SurveyData, read_survey
+from insrail.io.formats import FORMATS
+from insrail.io.survey import (
+    MANIFEST_NAME,
+    SurveyManifest,
+    TrolleyGeometry,
+    read_manifest,
+    read_survey,
+)
+from insrail.io.types import GaugeData, PrismObservations, SleeperPulses
 from insrail.nav.earth import Ellipsoid
 from insrail.nav.fusion import fuse
 from insrail.nav.imu_profile import load_imu_profile
+from insrail.nav.measurements import PositionFix
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
@@ -46,7 +65,14 @@ from insrail.project.results import (
     track_quality_section,
     write_results,
 )
-from insrail.track.adjustment import Adjustment, load_fastener_type, optimise_adjustment
+from insrail.project.stagecache import load_dataclass, save_dataclass
+from insrail.track.adjustment import (
+    DIRECTIONS,
+    Adjustment,
+    chord_limits,
+    load_fastener_type,
+    optimise_adjustment,
+)
 from insrail.track.alignment import DesignAlignment
 from insrail.track.alignment_csv import read_alignment_csv
 from insrail.track.exceedance import Assessment, SleeperGeometry, assess
@@ -60,7 +86,7 @@ from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 1
+CACHE_VERSION = 3
 
 
 @dataclass(frozen=True)
@@ -69,7 +95,7 @@ class SurveyResults:
 
     survey: str
     folder: Path  # <project>/results/<survey>
-    trajectory: Trajectory
+    gps_week: int | None
     height_fit: HeightAnomalyFit | None
     reconstruction: TrackReconstruction
     assessment: Assessment
@@ -80,6 +106,21 @@ class SurveyResults:
     @property
     def table(self) -> SleeperTable:
         return self.reconstruction.table
+
+    @cached_property
+    def trajectory(self) -> Trajectory:
+        """The fused trajectory (read from the result folder on first use: it is the large array)."""
+        return load_trajectory(self.folder / TRAJECTORY_FILE, gps_week=self.gps_week)
+
+
+@dataclass(frozen=True)
+class FreshFusion:
+    """What the track reconstruction needs from a fusion just computed (the 200 Hz IMU data and
+    the fusion's covariances are dropped here: they dominate the memory of a long survey)."""
+
+    trajectory: Trajectory
+    gauge: GaugeData
+    pulses: SleeperPulses | None
 
 
 def read_design(path: Path) -> DesignAlignment:
@@ -92,44 +133,141 @@ def ellipsoid_of(project: Project) -> Ellipsoid:
     return Ellipsoid(project.crs.ellipsoid, project.crs.semi_major_axis_m, 1.0 / project.crs.inverse_flattening_value)
 
 
-def fusion_key(project: Project, survey: SurveyData) -> str:
-    """Hash of everything the fused trajectory depends on."""
+def _hash_file(digest, path: Path) -> None:
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+
+
+def _geodesy_settings(project: Project) -> dict:
+    """What the engineering coordinates depend on: CRS, benchmarks (contents) and height model."""
+    settings = {"crs": project.crs.to_settings(), "height": project.height.anomaly.to_settings()}
+    if project.height.benchmarks is not None:
+        digest = hashlib.sha256()
+        _hash_file(digest, project.resolve(project.height.benchmarks))
+        settings["benchmarks"] = digest.hexdigest()
+    return settings
+
+
+def fusion_key(project: Project, manifest: SurveyManifest, folder: Path) -> str:
+    """Hash of everything the fused trajectory of the survey in ``folder`` depends on (its
+    manifest with the project's trolley applied): raw files, settings and, when prism fixes
+    aid the fusion, the geodesy that places them."""
     digest = hashlib.sha256()
-    for role in sorted(survey.manifest.files):
+    for role in sorted(manifest.files):
         digest.update(role.encode())
-        with open(survey.folder / survey.manifest.files[role].path, "rb") as handle:
-            for block in iter(lambda: handle.read(1 << 20), b""):
-                digest.update(block)
+        _hash_file(digest, folder / manifest.files[role].path)
     trolley = {k: np.asarray(v).tolist() if not isinstance(v, str) else v
-               for k, v in asdict(survey.manifest.trolley).items()}
-    profile = load_imu_profile(project.resource(project.imu_profile or survey.manifest.imu_profile))
-    settings = {"version": CACHE_VERSION, "gps_week": survey.manifest.gps_week, "trolley": trolley, "imu_profile": repr(profile),
+               for k, v in asdict(manifest.trolley).items()}
+    profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
+    settings = {"version": CACHE_VERSION, "gps_week": manifest.gps_week, "trolley": trolley, "imu_profile": repr(profile),
                 "fusion": repr(project.fusion), "ellipsoid": repr(ellipsoid_of(project)),
-                "files": {r: asdict(f) for r, f in survey.manifest.files.items()}}
+                "files": {r: asdict(f) for r, f in manifest.files.items()}}
+    if "prism" in manifest.files:
+        settings["prism_geodesy"] = _geodesy_settings(project)
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
 
 
-def _fused_trajectory(project: Project, survey: SurveyData, progress: StepProgress,
-                      cancel: CancelToken) -> tuple[Trajectory, Path, bool, dict]:
-    """The fused trajectory, its cache file, whether it came from the cache, fusion statistics."""
+def track_key(project: Project, fusion: str) -> str:
+    """Hash of everything the track reconstruction depends on beyond the fusion (whose key holds
+    the raw files, gauge and sleeper pulses included, and the trolley)."""
+    digest = hashlib.sha256(fusion.encode())
+    settings = {"version": CACHE_VERSION, "geodesy": _geodesy_settings(project),
+                "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number}
+    if project.design is not None:
+        design = hashlib.sha256()
+        _hash_file(design, project.resolve(project.design))
+        settings["design"] = [project.design, design.hexdigest()]
+    digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
+    return digest.hexdigest()[:32]
+
+
+def prism_fixes(project: Project, prism: PrismObservations, trolley: TrolleyGeometry,
+                height_fit: HeightAnomalyFit | None) -> PositionFix:
+    """Total-station fixes (project CRS, normal heights) as geodetic position fixes of the prism."""
+    def to_geodetic(east, north, normal_height):
+        lat, lon = project.crs.to_geodetic(east, north)
+        zeta = height_fit.zeta_m(east, north) if height_fit is not None else 0.0
+        return lat, lon, normal_height + zeta
+
+    return PositionFix.from_prism(prism, trolley.imu_to_prism_m, to_geodetic)
+
+
+def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, key: str,
+                      height_fit: HeightAnomalyFit | None, progress: StepProgress,
+                      cancel: CancelToken) -> tuple[FreshFusion | None, Path, dict]:
+    """What a computed fusion leaves for the track (None when it comes from the cache), the fused
+    trajectory's cache file and the fusion statistics. A cached fusion reads no raw file."""
     cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
-    path = cache / f"fusion-{fusion_key(project, survey)}.npy"
+    path = cache / f"fusion-{key}.npy"
     info_path = path.with_suffix(".toml")
     if path.is_file() and info_path.is_file():
         progress(1.0, "fusion reused from the cache")
-        info = tomllib.loads(info_path.read_text(encoding="utf-8"))
-        return load_trajectory(path, gps_week=survey.manifest.gps_week), path, True, info
-    profile = load_imu_profile(project.resource(project.imu_profile or survey.manifest.imu_profile))
-    result = fuse(survey, project.fusion, profile, ellipsoid_of(project), progress=progress, cancel=cancel)
+        return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
+    survey = read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel)
+    survey = replace(survey, manifest=manifest)
+    fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
+             if survey.prism is not None and len(survey.prism) else None)
+    profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
+    result = fuse(survey, project.fusion, profile, ellipsoid_of(project), position_fixes=fixes,
+                  progress=progress.sub(0.05, 1.0), cancel=cancel)
     check_cancel(cancel)
     cache.mkdir(parents=True, exist_ok=True)
-    info = {"rejections": len(result.rejections), "stops": len(result.stops),
-            "imu_epochs": len(survey.imu), "trajectory_epochs": len(result.trajectory)}
+    info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": len(survey.imu),
+            "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
+            "gnss": gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])}
     save_trajectory(path, result.trajectory)
     with atomic_write(info_path, "wb") as handle:
         tomli_w.dump(info, handle)
-    return result.trajectory, path, False, info
+    return FreshFusion(result.trajectory, survey.gauge, survey.sleepers), path, {"from_cache": False} | info
+
+
+def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Path, fresh: FreshFusion | None,
+                         trajectory_file: Path, key: str, height_fit: HeightAnomalyFit | None,
+                         cancel: CancelToken) -> tuple[TrackReconstruction, bool]:
+    """Rails, chainage and sleepers (from the cache when nothing they depend on changed)."""
+    path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"track-{key}.npz"
+    if path.is_file():
+        return load_dataclass(path, TrackReconstruction), True
+
+    def to_engineering(lat, lon, h):
+        east, north = project.crs.to_plane(lat, lon)
+        zeta = height_fit.zeta_m(east, north) if height_fit is not None else 0.0
+        return east, north, h - zeta
+
+    if fresh is None:
+        fresh = FreshFusion(load_trajectory(trajectory_file, gps_week=manifest.gps_week),
+                            _read_role(folder, manifest, "gauge"), _read_role(folder, manifest, "sleepers"))
+    design = read_design(project.resolve(project.design)) if project.design is not None else None
+    check_cancel(cancel)
+    recon = reconstruct_track(fresh.trajectory, manifest.trolley, fresh.gauge, to_engineering, design=design,
+                              pulses=fresh.pulses,
+                              start_station_m=project.start_station_m, first_number=project.first_sleeper_number)
+    save_dataclass(path, recon)
+    return recon, False
+
+
+def _read_role(folder: Path, manifest: SurveyManifest, role: str):
+    """One raw file of the survey by its role (None when the survey has none)."""
+    entry = manifest.files.get(role)
+    return None if entry is None else FORMATS[entry.format].read(folder / entry.path, **entry.options)
+
+
+def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress, cancel) -> Adjustment:
+    """The optimised adjustment, from the cache when the deviations, the tolerance profile's
+    differential-versine limits and the fastener are those of an earlier run."""
+    fastener = load_fastener_type(project.resource(project.fastener))
+    digest = hashlib.sha256(json.dumps({"version": CACHE_VERSION, "fastener": repr(fastener), "limits": {
+        direction: [repr(limit) for limit in chord_limits(profile, direction)] for direction in DIRECTIONS}}).encode())
+    for values in (geometry.lateral_deviation_m, geometry.vertical_deviation_m):
+        digest.update(np.ascontiguousarray(values).tobytes())
+    path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"adjustment-{digest.hexdigest()[:32]}.npz"
+    if path.is_file():
+        return load_dataclass(path, Adjustment)
+    adjustment = optimise_adjustment(geometry, profile, fastener, progress=progress, cancel=cancel)
+    save_dataclass(path, adjustment)
+    return adjustment
 
 
 def fit_heights(project: Project) -> HeightAnomalyFit | None:
@@ -151,30 +289,26 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     step = StepProgress(progress)
     started = time.monotonic()
     entry = project.survey(survey_name)
-    survey = read_survey(project.resolve(entry.folder), progress=step.sub(0.0, 0.05))
+    folder = project.resolve(entry.folder)
+    manifest = read_manifest(folder)
     trolley = project.trolley()
     if trolley is not None:
-        survey = replace(survey, manifest=replace(survey.manifest, trolley=trolley))
-    if survey.gauge is None:
-        raise InputError(survey.folder / MANIFEST_NAME, None,
+        manifest = replace(manifest, trolley=trolley)
+    if "gauge" not in manifest.files:
+        raise InputError(folder / MANIFEST_NAME, None,
                          "files.gauge: missing; the track reconstruction needs the gauge record")
     check_cancel(cancel)
-    trajectory, trajectory_file, cached, fusion_info = _fused_trajectory(project, survey, step.sub(0.05, 0.8), cancel)
+    step(0.0, "height model")
+    height_fit = fit_heights(project)
+    key = fusion_key(project, manifest, folder)
+    fresh, trajectory_file, fusion_info = _fused_trajectory(project, manifest, folder, key, height_fit,
+                                                             step.sub(0.0, 0.8), cancel)
     check_cancel(cancel)
 
-    step(0.8, "height model")
-    height_fit = fit_heights(project)
-
-    def to_engineering(lat, lon, h):
-        east, north = project.crs.to_plane(lat, lon)
-        zeta = height_fit.zeta_m(east, north) if height_fit is not None else 0.0
-        return east, north, h - zeta
-
-    design = read_design(project.resolve(project.design)) if project.design is not None else None
     step(0.82, "rails, chainage and sleepers")
-    recon = reconstruct_track(trajectory, survey.manifest.trolley, survey.gauge, to_engineering, design=design,
-                              pulses=survey.sleepers, start_station_m=project.start_station_m,
-                              first_number=project.first_sleeper_number)
+    recon, track_cached = _reconstructed_track(project, manifest, folder, fresh, trajectory_file,
+                                               track_key(project, key), height_fit, cancel)
+    del fresh
     check_cancel(cancel)
     step(0.88, "irregularities and exceedances")
     table = recon.table
@@ -187,39 +321,42 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     profile = load_tolerance_profile(project.resource(project.tolerance_profile))
     assessment = assess(geometry, profile)
     check_cancel(cancel)
-    step(0.92, "adjustment amounts")
-    adjustment = optimise_adjustment(geometry, profile, load_fastener_type(project.resource(project.fastener)))
+    step(0.9, "adjustment amounts")
+    adjustment = _adjustment(project, geometry, profile, step.sub(0.9, 0.97), cancel)
     check_cancel(cancel)
 
     step(0.97, "writing results")
-    summary = _summary(project, entry.name, survey, fusion_info, cached, height_fit, height_warnings, table,
+    gnss_summary = fusion_info.pop("gnss", None)  # cached with the fusion: the GNSS file is not re-read
+    summary = _summary(project, entry.name, manifest, fusion_info, track_cached, height_fit, height_warnings, table,
                        assessment, adjustment, time.monotonic() - started)
-    summary["gnss"] = gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])
+    if gnss_summary is not None:
+        summary["gnss"] = gnss_summary
     summary["track_quality"] = track_quality_section(geometry)
-    folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
+    results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment),
         EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary)}, cancel)
     step(1.0, "done")
-    return SurveyResults(entry.name, folder, trajectory, height_fit, recon, assessment, adjustment, cached, summary)
+    return SurveyResults(entry.name, results_folder, manifest.gps_week, height_fit, recon, assessment, adjustment,
+                         fusion_info["from_cache"], summary)
 
 
 # --------------------------------------------------------------------------- result files
 
-def _summary(project, name, survey, fusion_info, cached, height_fit, height_warnings, table, assessment, adjustment,
-             elapsed) -> dict:
+def _summary(project, name, manifest, fusion_info, track_cached, height_fit, height_warnings, table, assessment,
+             adjustment, elapsed) -> dict:
     counts: dict[str, int] = {}
     for e in assessment.exceedances:
         counts[e.check] = counts.get(e.check, 0) + 1
     summary = {
-        "survey": {"name": name, "folder": project.survey(name).folder, "imu_epochs": len(survey.imu),
-                   **({"gps_week": survey.manifest.gps_week} if survey.manifest.gps_week is not None else {}),
+        "survey": {"name": name, "folder": project.survey(name).folder, "imu_epochs": fusion_info["imu_epochs"],
+                   **({"gps_week": manifest.gps_week} if manifest.gps_week is not None else {}),
                    "processing_time_s": round(elapsed, 2)},
-        "fusion": {"from_cache": cached, **fusion_info},
+        "fusion": {"prism_fixes": 0, **fusion_info},
         "heights": ({"model": height_fit.model_name, "internal_rms_mm": 1e3 * height_fit.internal_rms_m,
                      "loo_rms_mm": 1e3 * height_fit.loo_rms_m if np.isfinite(height_fit.loo_rms_m) else -1.0,
                      "warnings": height_warnings}
                     if height_fit is not None else {"model": "none (ellipsoidal heights)"}),
-        "track": {"design": project.design or "", "sleepers": len(table), "valid_sleepers": int(table.valid.sum()),
+        "track": {"design": project.design or "", "from_cache": track_cached, "sleepers": len(table), "valid_sleepers": int(table.valid.sum()),
                   "station_from_m": float(table.station_m[0]) if len(table) else 0.0,
                   "station_to_m": float(table.station_m[-1]) if len(table) else 0.0},
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),

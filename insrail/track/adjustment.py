@@ -20,7 +20,9 @@ so the sleepers are assumed evenly spaced (the assessment re-checks the result o
 
 from __future__ import annotations
 
+import os
 import tomllib
+from concurrent.futures import ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,6 +30,7 @@ import numpy as np
 from scipy import sparse
 from scipy.optimize import Bounds, LinearConstraint, milp
 
+from insrail.progress import CancelToken, ProgressFn, check_cancel
 from insrail.resources import resources_dir
 from insrail.track.exceedance import RAILS, SleeperGeometry
 from insrail.track.irregularity import SLEEPER_SPACING_M, differential_versine_grid
@@ -36,6 +39,10 @@ from insrail.track.tolerance import SettingsFileError, ToleranceProfile, read_nu
 DIRECTIONS = ("lateral", "vertical")
 DEFAULT_FASTENER = "wj8"
 VIOLATION_PENALTY = 1000.0  # cost of 1 step of residual exceedance against 1 step of movement
+#: Rounds of "solve the windows, check the whole line again" (a round that changes nothing ends it).
+MAX_SWEEPS = 4
+#: How often [s] the progress of the channels (solved in parallel threads) is reported.
+PROGRESS_INTERVAL_S = 0.2
 
 
 @dataclass(frozen=True)
@@ -259,43 +266,80 @@ def _channel_programme(
     return cost, matrix, np.concatenate(upper), Bounds(lower, upper_bounds)
 
 
-def _optimise_channel(deviation, limits, low, high, step, chunk_sleepers):
+def _trouble_windows(deviation: np.ndarray, limits: list[ChordLimit]) -> list[tuple[int, int]]:
+    """Sleeper ranges [start, stop) worth moving: around every exceeding pair, the sleepers of
+    every chord placement holding it plus half a chord of room, merged where their LP ranges
+    (one chord beyond each end) would overlap."""
+    n = deviation.size
+    starts, stops = [], []
+    for limit, pairs in zip(limits, _exceeding_pairs(deviation, limits)):
+        m, p = limit.chord_steps, limit.pair_steps
+        starts.append(pairs - (m - p) - 2 * m)
+        stops.append(pairs + m + 2 * m + 1)
+    if not starts:
+        return []
+    starts, stops = np.clip(np.concatenate(starts), 0, n), np.clip(np.concatenate(stops), 0, n)
+    order = np.argsort(starts)
+    reach = max(limit.chord_steps for limit in limits)
+    windows: list[list[int]] = []
+    for start, stop in zip(starts[order], stops[order]):
+        if windows and start <= windows[-1][1] + 2 * reach:
+            windows[-1][1] = max(windows[-1][1], stop)
+        else:
+            windows.append([start, stop])
+    return [(int(a), int(b)) for a, b in windows]
+
+
+def _solve_window(deviation, amounts, start, stop, limits, low, high, step) -> np.ndarray:
+    """Amounts [steps] of sleepers start..stop-1 by the LP; the sleepers one chord beyond each
+    end keep ``amounts``, so every chord placement touching a free sleeper is in the programme."""
+    reach = max(limit.chord_steps for limit in limits)
+    lo, hi = max(0, start - reach), min(deviation.size, stop + reach)
+    fixed = amounts[lo:hi].copy()
+    fixed[start - lo : stop - lo] = np.nan
+    cost, matrix, upper, bounds = _channel_programme(deviation[lo:hi], limits, low, high, step, fixed)
+    result = milp(cost, constraints=LinearConstraint(matrix, -np.inf, upper), bounds=bounds)
+    if result.x is None:
+        raise RuntimeError(f"adjustment optimisation failed: {result.message}")
+    piece = hi - lo
+    return np.round(result.x[start - lo : stop - lo] - result.x[piece + start - lo : piece + stop - lo])
+
+
+def _optimise_channel(deviation, limits, low, high, step, chunk_sleepers, progress=None, cancel=None):
     """(amounts [m], unresolved flags) for one rail and direction.
 
-    The line is solved in chunks of ``chunk_sleepers`` that overlap by the longest chord; the
-    overlap's amounts come from the previous chunk and stay fixed, so every chord placement
-    lies wholly inside one chunk and the cost grows linearly with the length of line (the
-    greedy hand-over costs optimality: on the 10 km benchmark 960-sleeper chunks move 81 mm in
-    5 s, 2400-sleeper chunks 64 mm in 29 s). Chunks that already pass are not solved. The
-    programme's continuous solution is rounded to whole steps; the checks are then evaluated
-    again and the sleepers of every pair that still exceeds its limit are flagged.
+    Only the sleepers near exceedances are moved (:func:`_trouble_windows`), by a linear
+    programme over the window plus one chord of fixed sleepers on either side, holding only the
+    checks that are exceeded (the others, typically the long 300 m / 150 m chord, would triple
+    the programme's size for constraints that are inactive). A window longer than
+    ``chunk_sleepers`` is solved in consecutive chunks, each starting from the amounts of the
+    one before (the greedy hand-over costs some optimality; the cost grows linearly with the
+    length of line). The continuous solution is rounded to whole steps. The line is then
+    checked again against every limit; a check the moves broke joins the programme and the
+    windows are solved again, until nothing changes. Sleepers of every pair that still
+    exceeds its limit are flagged.
     """
     n = deviation.size
     amounts = np.zeros(n)
-    if limits:
-        overlap = max(limit.chord_steps for limit in limits)
-        chunk = max(chunk_sleepers, 2 * overlap)
-        fixed = np.full(n, np.nan)
-        start = 0
-        while True:
-            stop = min(n, start + chunk)
-            as_is = deviation[start:stop] + step * np.nan_to_num(fixed[start:stop])
-            if not _passes(as_is, limits):  # otherwise leaving the free sleepers alone is optimal
-                cost, matrix, upper, bounds = _channel_programme(
-                    deviation[start:stop], limits, low, high, step, fixed[start:stop]
-                )
-                result = milp(cost, constraints=LinearConstraint(matrix, -np.inf, upper), bounds=bounds)
-                if result.x is None:
-                    raise RuntimeError(f"adjustment optimisation failed: {result.message}")
-                piece = stop - start
-                rounded = np.round(result.x[:piece] - result.x[piece : 2 * piece])
-                free = np.isnan(fixed[start:stop])
-                amounts[start:stop][free] = rounded[free]
-            fixed[start:stop] = amounts[start:stop]
-            if stop == n:
-                break
-            start = stop - overlap
-    amounts *= step
+    active: list[ChordLimit] = []
+    for _ in range(MAX_SWEEPS):
+        current = deviation + step * amounts
+        exceeded = [limit for limit, pairs in zip(limits, _exceeding_pairs(current, limits)) if pairs.size]
+        active += [limit for limit in exceeded if limit not in active]
+        windows = _trouble_windows(current, exceeded)
+        pieces = [(a, min(a + chunk_sleepers, stop)) for start, stop in windows
+                  for a in range(start, stop, chunk_sleepers)]
+        changed = False
+        for index, (start, stop) in enumerate(pieces):
+            check_cancel(cancel)
+            if progress is not None:
+                progress(index / len(pieces), "adjustment amounts")
+            solved = _solve_window(deviation, amounts, start, stop, active, low, high, step)
+            changed |= not np.array_equal(solved, amounts[start:stop])
+            amounts[start:stop] = solved
+        if not changed:
+            break
+    amounts = amounts * step
     unresolved = np.zeros(n, bool)
     for limit, exceeding in zip(limits, _exceeding_pairs(deviation + amounts, limits)):
         unresolved[exceeding] = True
@@ -316,7 +360,8 @@ def _passes(deviation: np.ndarray, limits: list[ChordLimit]) -> bool:
 
 
 def optimise_adjustment(
-    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, chunk_sleepers: int = 960
+    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, chunk_sleepers: int = 960,
+    progress: ProgressFn | None = None, cancel: CancelToken = None,
 ) -> Adjustment:
     """Least total movement that satisfies every differential-versine check of ``profile``
     (every chord placement and point pair) within the fastener range, per rail and direction.
@@ -325,16 +370,33 @@ def optimise_adjustment(
     VIOLATION_PENALTY times a unit of movement). Sleepers of pairs that still exceed after
     rounding to whole steps are flagged unresolved. Invalid sleepers are not moved and their
     pairs are not checked. Gauge and cross-level are not constraints here (the rails are
-    optimised independently); re-assess the adjusted geometry to see them.
+    optimised independently); re-assess the adjusted geometry to see them. The four channels
+    (rail x direction) are solved in parallel threads; ``progress`` is called from the calling
+    thread, ``cancel`` is checked before every programme is solved (see :mod:`insrail.progress`).
     """
     amounts = {direction: np.zeros((geometry.station_m.size, 2)) for direction in DIRECTIONS}
     flags = {direction: np.zeros((geometry.station_m.size, 2), bool) for direction in DIRECTIONS}
     deviations = {"lateral": geometry.lateral_deviation_m, "vertical": geometry.vertical_deviation_m}
-    for direction in DIRECTIONS:
-        limits = chord_limits(profile, direction)
+    channels = [(direction, column) for direction in DIRECTIONS for column in range(len(RAILS))]
+    done = np.zeros(len(channels))  # per channel, written by its thread, reported by this one
+
+    def solve(index: int):
+        def channel_progress(fraction: float, message: str) -> None:
+            done[index] = max(done[index], fraction)  # a second round starts again from 0
+
+        direction, column = channels[index]
         low, high = fastener.range_m(direction)
-        for column in range(len(RAILS)):
-            amounts[direction][:, column], flags[direction][:, column] = _optimise_channel(
-                deviations[direction][:, column], limits, low, high, fastener.step_m, chunk_sleepers
-            )
+        return _optimise_channel(deviations[direction][:, column], chord_limits(profile, direction), low, high,
+                                 fastener.step_m, chunk_sleepers, channel_progress, cancel)
+
+    # The channels are independent and HiGHS releases the GIL while it solves: one thread each.
+    with ThreadPoolExecutor(min(len(channels), os.cpu_count() or 1)) as pool:
+        futures = [pool.submit(solve, index) for index in range(len(channels))]
+        while not wait(futures, timeout=PROGRESS_INTERVAL_S).done.issuperset(futures):
+            if progress is not None:
+                progress(float(done.mean()), "adjustment amounts")
+        for (direction, column), future in zip(channels, futures):
+            amounts[direction][:, column], flags[direction][:, column] = future.result()
+    if progress is not None:
+        progress(1.0, "adjustment amounts")
     return Adjustment(amounts["lateral"], amounts["vertical"], flags["lateral"], flags["vertical"], fastener.name)

@@ -1,0 +1,59 @@
+"""Process every survey of several projects in parallel, locally or on a Dask cluster.
+
+Each survey runs as `insrail process` would (same cache, same result files) in its own worker:
+with --workers N local processes (default: one per core; a 10 km survey needs about 2 GB per
+worker), or, with --scheduler ADDRESS (e.g. tcp://10.0.0.5:8786), on that Dask distributed
+cluster (pip install insrail[cluster]; the workers must see the project folders under the same
+paths). A failed survey is reported and the others go on. Exit code 0 when every survey was
+processed, 1 when some failed, 2 on bad usage, 130 when cancelled (Ctrl-C).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from insrail.cli.progressbar import TerminalProgress
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("projects", type=Path, nargs="+", metavar="PROJECT",
+                   help="project folder (with project.toml) or project .toml file")
+    p.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: one per core)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address; the cluster runs the surveys")
+
+
+def run(args: argparse.Namespace) -> int:
+    from insrail.project.batch import run_batch
+
+    if args.workers is not None and args.workers < 1:
+        print("insrail batch: --workers must be at least 1", file=sys.stderr)
+        return 2
+    if args.workers is not None and args.scheduler is not None:
+        print("insrail batch: --workers is for local processing; the Dask cluster has its own workers",
+              file=sys.stderr)
+        return 2
+    bar = TerminalProgress("batch")
+
+    def progress(fraction: float, message: str) -> None:
+        if not bar.tty:  # plain lines in logs: one per finished survey
+            print(f"batch: {100 * fraction:3.0f} %  {message}", file=sys.stderr, flush=True)
+        else:
+            bar(fraction, message)
+
+    try:
+        outcomes = run_batch(args.projects, workers=args.workers, scheduler=args.scheduler, progress=progress)
+    except RuntimeError as error:  # no Dask installed
+        print(f"insrail batch: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:  # a scheduler that cannot be reached
+        print(f"insrail batch: cannot reach the scheduler {args.scheduler}: {error}", file=sys.stderr)
+        return 2
+    failed = [o for o in outcomes if not o.ok]
+    for outcome in outcomes:
+        state = f"ok     {outcome.elapsed_s:7.1f} s  {outcome.detail}" if outcome.ok else f"FAILED  {outcome.detail}"
+        print(f"{outcome.label:<32} {state}")
+    print(f"{len(outcomes) - len(failed)} of {len(outcomes)} surveys processed"
+          + (f", {len(failed)} failed" if failed else ""))
+    return 1 if failed else 0

@@ -1,0 +1,166 @@
+"""Every survey of many projects processed in parallel: on this machine's cores or on a Dask cluster.
+
+Each (project, survey) is one task running :func:`insrail.project.process` in a worker, exactly
+as ``insrail process`` would: same cache, same result files, so a batch gives the same results
+as single runs. A task that fails is reported (its outcome holds the error) and the others go
+on. Locally the tasks run in a ``ProcessPoolExecutor`` (spawned processes: one survey per
+process at a time, so peak memory is ``workers`` times one survey's, about 2 GB for a 10 km
+survey). With a Dask scheduler address the tasks are submitted to that cluster
+(``pip install insrail[cluster]``); its workers must see the project folders under the same
+paths (a shared file system).
+
+Cancelling (the ``cancel`` token, or Ctrl-C in the CLI) stops scheduling: tasks not started are
+dropped, running ones are left to finish (or are interrupted by the same Ctrl-C, which leaves
+their previous results in place), and :class:`insrail.progress.Cancelled` is raised.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from multiprocessing import get_context
+from pathlib import Path
+
+from insrail.io.errors import InputError
+from insrail.progress import Cancelled, CancelToken, ProgressFn, is_cancelled
+from insrail.project.model import PROJECT_FILE, load_project
+
+#: How often [s] the coordinator looks at the cancel token while tasks run.
+POLL_S = 0.2
+
+
+@dataclass(frozen=True)
+class BatchTask:
+    project_file: Path
+    survey: str
+
+
+@dataclass(frozen=True)
+class BatchOutcome:
+    """What became of one task: ``detail`` is the results folder, or the error when not ``ok``."""
+
+    project_file: Path
+    survey: str
+    ok: bool
+    detail: str
+    elapsed_s: float
+
+    @property
+    def label(self) -> str:
+        """``<project folder>/<survey>``; a project that did not load shows its path and ``*``."""
+        project = self.project_file.parent.name if self.project_file.name == PROJECT_FILE else str(self.project_file)
+        return f"{project}/{self.survey}"
+
+
+def batch_tasks(projects: list[str | Path]) -> tuple[list[BatchTask], list[BatchOutcome]]:
+    """One task per survey of every project; a project that cannot be loaded is a failed outcome."""
+    tasks, failed = [], []
+    for given in projects:
+        path = Path(given)
+        path = path / PROJECT_FILE if path.is_dir() else path
+        try:
+            project = load_project(path)
+        except InputError as error:
+            failed.append(BatchOutcome(path, "*", False, str(error), 0.0))
+            continue
+        tasks += [BatchTask(project.path, survey.name) for survey in project.surveys]
+    return tasks, failed
+
+
+def run_task(task: BatchTask) -> BatchOutcome:
+    """Process one survey (in a worker). Any error becomes a failed outcome: one bad survey must
+    not take the batch down."""
+    from insrail.project.pipeline import process
+
+    started = time.monotonic()
+    try:
+        results = process(load_project(task.project_file), task.survey)
+    except Exception as error:  # noqa: BLE001 - reported per survey, with its type
+        detail = str(error) if isinstance(error, InputError) else f"{type(error).__name__}: {error}"
+        return BatchOutcome(task.project_file, task.survey, False, detail, time.monotonic() - started)
+    return BatchOutcome(task.project_file, task.survey, True, str(results.folder), time.monotonic() - started)
+
+
+def run_batch(projects: list[str | Path], workers: int | None = None, scheduler: str | None = None,
+              progress: ProgressFn | None = None, cancel: CancelToken = None) -> list[BatchOutcome]:
+    """Process every survey of ``projects`` (folders or project.toml files) with ``workers``
+    local processes (default: one per core), or on the Dask cluster at ``scheduler`` (its
+    workers decide the parallelism); outcomes in task order, projects that failed to load first. ``progress`` gets one call per finished task
+    with the fraction done and ``"<project>/<survey>: done in 12.3 s"`` or ``"...: FAILED: why"``."""
+    tasks, outcomes = batch_tasks(projects)
+    total = len(tasks) + len(outcomes)
+
+    def report(outcome: BatchOutcome) -> None:
+        outcomes.append(outcome)
+        if progress is not None:
+            state = f"done in {outcome.elapsed_s:.1f} s" if outcome.ok else f"FAILED: {outcome.detail}"
+            progress(len(outcomes) / total, f"{outcome.label}: {state}")
+
+    for failed in list(outcomes):
+        outcomes.remove(failed)
+        report(failed)
+    if tasks and scheduler is not None:
+        _run_on_dask(tasks, scheduler, report, cancel)
+    elif tasks:
+        _run_locally(tasks, workers, report, cancel)
+    order = {(t.project_file, t.survey): i for i, t in enumerate(tasks)}
+    return sorted(outcomes, key=lambda o: order.get((o.project_file, o.survey), -1))
+
+
+def _outcome(future, task: BatchTask) -> BatchOutcome:
+    """The task's outcome, or a failed one when its worker died (killed, out of memory)."""
+    try:
+        return future.result()
+    except Exception as error:  # noqa: BLE001 - the worker, not the survey, failed
+        return BatchOutcome(task.project_file, task.survey, False, f"worker lost: {type(error).__name__}: {error}", 0.0)
+
+
+def _run_locally(tasks, workers, report, cancel) -> None:
+    workers = max(1, min(workers or os.cpu_count() or 1, len(tasks)))
+    waiting = list(tasks)
+    pending = {}
+    with ProcessPoolExecutor(workers, mp_context=get_context("spawn")) as pool:
+
+        def start_more() -> None:  # no more tasks in flight than workers: the rest stay cancellable
+            while waiting and len(pending) < workers:
+                task = waiting.pop(0)
+                pending[pool.submit(run_task, task)] = task
+
+        try:
+            start_more()
+            while pending:
+                done, _ = wait(pending, timeout=POLL_S, return_when=FIRST_COMPLETED)
+                for future in done:
+                    report(_outcome(future, pending.pop(future)))
+                if is_cancelled(cancel):
+                    raise Cancelled("batch cancelled by the user")
+                start_more()
+        except BaseException:
+            for future in pending:
+                future.cancel()
+            raise
+
+
+def _run_on_dask(tasks, scheduler, report, cancel) -> None:
+    try:
+        from distributed import Client
+        from distributed import wait as dask_wait
+    except ImportError:
+        raise RuntimeError("a Dask scheduler needs the 'distributed' package: pip install insrail[cluster]") from None
+    with Client(scheduler, timeout="10s") as client:
+        pending = {client.submit(run_task, task, pure=False): task for task in tasks}
+        try:
+            while pending:
+                try:
+                    dask_wait(list(pending), timeout=POLL_S, return_when="FIRST_COMPLETED")
+                except TimeoutError:
+                    pass
+                for future in [f for f in pending if f.done()]:
+                    report(_outcome(future, pending.pop(future)))
+                if is_cancelled(cancel):
+                    raise Cancelled("batch cancelled by the user")
+        except BaseException:
+            client.cancel(list(pending))
+            raise

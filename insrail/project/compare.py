@@ -1,0 +1,97 @@
+"""Repeat runs of a project compared (thesis §5.4.2): ``results/repeatability.csv`` and ``.toml``.
+
+Each survey's stored results (``load_results``) give its sleeper stations and values; the
+deviations of both rails, gauge, cant and every irregularity check in millimetres are compared
+by chainage with :func:`insrail.track.repeatability.repeatability` (the first survey named is
+the reference). Invalid sleepers take no part.
+
+* ``repeatability.csv``  one row per reference sleeper: ``station_m``, ``label``, then per
+  parameter and compared run ``<run>_minus_<reference>_<parameter>`` (mm; empty where not comparable)
+* ``repeatability.toml`` per parameter and run: count, mean, std, RMS, 95th percentile and
+  maximum of |difference| in mm, and the single-run repeatability (pooled std / sqrt 2)
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+import tomli_w
+
+from insrail.io.atomic import atomic_write
+from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project.model import Project
+from insrail.project.results import RESULTS_FOLDER, load_results
+from insrail.track.repeatability import Repeatability, repeatability
+
+REPEATABILITY_FILE = "repeatability.csv"
+REPEATABILITY_SUMMARY = "repeatability.toml"
+#: Compared in this order, then every ``check_*_mm`` irregularity column.
+BASE_PARAMETERS = ("lateral_deviation_left_mm", "lateral_deviation_right_mm", "vertical_deviation_left_mm",
+                   "vertical_deviation_right_mm", "gauge_mm", "cant_mm")
+
+
+def compared_parameters(columns) -> list[str]:
+    """The sleepers.csv columns worth comparing between runs (values in mm)."""
+    return [c for c in BASE_PARAMETERS if c in columns] + [c for c in columns if c.startswith("check_") and c.endswith("_mm")]
+
+
+def compare_surveys(project: Project, names: list[str] | None = None, progress: ProgressFn | None = None,
+                    cancel: CancelToken = None) -> tuple[Repeatability, Path]:
+    """Compare the processed surveys ``names`` (default: every survey of the project, the first
+    being the reference); writes the two files into ``<project>/results/`` and returns the
+    comparison (values in metres) and the CSV's path."""
+    names = list(names) if names else [s.name for s in project.surveys]
+    if len(names) < 2:
+        raise ValueError(f"{project.path}: comparing runs needs at least two surveys, got {', '.join(names) or 'none'}")
+    step = StepProgress(progress)
+    runs, labels = {}, ()
+    for index, name in enumerate(names):
+        check_cancel(cancel)
+        step(index / len(names), f"reading the results of {name}")
+        project.survey(name)  # an unknown name fails here, listing the project's surveys
+        stored = load_results(project.folder, name)
+        valid = (stored.columns["valid"] > 0) & np.isfinite(stored.columns["station_m"])
+        runs[name] = (stored.columns["station_m"][valid],
+                      {column: 1e-3 * stored.columns[column][valid] for column in compared_parameters(stored.columns)})
+        if index == 0:
+            labels = tuple(label for label, ok in zip(stored.label, valid) if ok)
+    step(0.9, "comparing")
+    result = repeatability(runs)
+    folder = project.folder / RESULTS_FOLDER
+    with atomic_write(folder / REPEATABILITY_FILE) as handle:
+        handle.write(_csv(result, labels))
+    with atomic_write(folder / REPEATABILITY_SUMMARY, "wb") as handle:
+        tomli_w.dump(_summary(result), handle)
+    step(1.0, "done")
+    return result, folder / REPEATABILITY_FILE
+
+
+def _csv(result: Repeatability, labels: tuple[str, ...]) -> str:
+    names = [f"{run}_minus_{result.reference}_{p.name}" for p in result.parameters for run in result.compared]
+    header = ",".join(["station_m", "label", *names]) + "\n"
+    if not result.station_m.size:
+        return header
+    values = np.column_stack([result.station_m] + [1e3 * row for p in result.parameters for row in p.difference])
+    block = io.StringIO()
+    np.savetxt(block, values, fmt=["%.4f"] + ["%.3f"] * len(names), delimiter=",")
+    rows = block.getvalue().replace("nan", "").splitlines()
+    return header + "".join(f"{row.split(',', 1)[0]},{label},{row.split(',', 1)[1] if names else ''}\n"
+                            for row, label in zip(rows, labels))
+
+
+def _mm(value: float) -> float:
+    return round(1e3 * float(value), 4)
+
+
+def _summary(result: Repeatability) -> dict:
+    parameters = {}
+    for p in result.parameters:
+        entry: dict = {"single_run_std_mm": _mm(p.single_run_std)}
+        for k, run in enumerate(result.compared):
+            entry[run] = {"count": int(p.count[k]), "mean_mm": _mm(p.mean[k]), "std_mm": _mm(p.std[k]),
+                          "rms_mm": _mm(p.rms[k]), "p95_abs_mm": _mm(p.p95_abs[k]), "max_abs_mm": _mm(p.max_abs[k])}
+        parameters[p.name.removesuffix("_mm")] = entry
+    return {"reference": result.reference, "compared": list(result.compared), "stations": int(result.station_m.size),
+            "file": REPEATABILITY_FILE, "parameters": parameters}

@@ -1,0 +1,191 @@
+"""Repeat runs and batches on tiny simulated surveys: three runs (seeds 1, 2, 3) over the same
+track (design plus the scenario's fixed bumps, no random roughness), 150 m each."""
+
+import shutil
+import tomllib
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from insrail.cli.main import main
+from insrail.project import load_project, process, save_project
+from insrail.project.batch import run_batch
+from insrail.project.compare import compare_surveys
+from insrail.project.demo import project_for_simulated_survey
+from insrail.project.model import SurveyEntry
+from insrail.sim.scenario import GnssSpec, preset
+from insrail.sim.simulate import simulate
+from insrail.track.repeatability import on_stations, repeatability
+
+SEEDS = (1, 2, 3)
+RESULT_FILES = ("sleepers.csv", "exceedances.csv")
+
+
+def tiny_scenario():
+    short = preset("short")
+    return replace(
+        short, name="tiny",
+        motion=replace(short.motion, start_station_m=1100.0, end_station_m=1250.0, stops=(), static_start_s=60.0,
+                       static_end_s=10.0),
+        irregularities=replace(short.irregularities, lateral_rms_m=0.0, vertical_rms_m=0.0, gauge_rms_m=0.0,
+                               cross_level_rms_m=0.0),
+        gnss=GnssSpec(),
+    )
+
+
+@pytest.fixture(scope="module")
+def tiny_projects(tmp_path_factory):
+    """Three one-survey projects, processed once (the single runs batches are checked against)."""
+    root = tmp_path_factory.mktemp("runs")
+    projects = []
+    for seed in SEEDS:
+        survey = root / f"p{seed}" / "surveys" / "tiny"
+        simulate(tiny_scenario(), seed, survey, imu_format="npy")
+        project = project_for_simulated_survey(root / f"p{seed}", survey, name=f"tiny {seed}")
+        process(project, "tiny")
+        projects.append(project)
+    return projects
+
+
+def fresh_copies(projects, folder):
+    """The projects without their results (nothing cached)."""
+    copies = []
+    for project in projects:
+        shutil.copytree(project.folder, folder / project.folder.name, ignore=shutil.ignore_patterns("results"))
+        copies.append(folder / project.folder.name)
+    return copies
+
+
+def assert_same_results(projects, copies):
+    for project, copy in zip(projects, copies):
+        for name in RESULT_FILES:
+            assert (copy / "results" / "tiny" / name).read_bytes() == (project.folder / "results" / "tiny" / name).read_bytes()
+
+
+def test_local_batch_gives_the_single_runs_results(tiny_projects, tmp_path):
+    copies = fresh_copies(tiny_projects, tmp_path)
+    lines = []
+    outcomes = run_batch(copies, workers=2, progress=lambda f, m: lines.append((f, m)))
+    assert [o.ok for o in outcomes] == [True] * 3
+    assert sorted(f for f, _ in lines) == pytest.approx([1 / 3, 2 / 3, 1.0])
+    assert all(": done in" in m for _, m in lines)
+    assert_same_results(tiny_projects, copies)
+
+
+def test_dask_batch_gives_the_single_runs_results(tiny_projects, tmp_path):
+    from distributed import LocalCluster
+
+    copies = fresh_copies(tiny_projects, tmp_path)
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+        outcomes = run_batch(copies, scheduler=cluster.scheduler_address)
+    assert [o.ok for o in outcomes] == [True] * 3
+    assert_same_results(tiny_projects, copies)
+
+
+def test_batch_cli_reports_a_failed_survey_and_goes_on(tiny_projects, tmp_path, capsys):
+    good, broken = fresh_copies(tiny_projects[:2], tmp_path)
+    (broken / "surveys" / "tiny" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
+    (tmp_path / "not-a-project").mkdir()
+    code = main(["batch", str(good), str(broken), str(tmp_path / "not-a-project"), "--workers", "2"])
+    out = capsys.readouterr()
+    assert code == 1
+    assert "1 of 3 surveys processed, 2 failed" in out.out
+    assert "project file not found" in out.out and "gauge.txt" in out.out
+    assert (good / "results" / "tiny" / "sleepers.csv").is_file() and not (broken / "results" / "tiny").exists()
+    assert "batch:" in out.err  # progress lines (not a terminal)
+    assert main(["batch", str(good), "--workers", "0"]) == 2
+
+
+def test_repeat_runs_agree_within_the_fusion_accuracy_and_a_shifted_run_shows(tiny_projects, tmp_path, capsys):
+    # One project holding the three runs; run 3's stored lateral deviations of the left rail are
+    # shifted by 1.5 mm over 20 m, as a badly set-up run would be.
+    project = replace(tiny_projects[0], folder=tmp_path, surveys=tuple(
+        SurveyEntry(f"run{seed}", f"surveys/run{seed}") for seed in SEEDS))
+    for seed, source in zip(SEEDS, tiny_projects):
+        shutil.copytree(source.folder / "surveys" / "tiny", tmp_path / "surveys" / f"run{seed}")
+        shutil.copytree(source.folder / "results" / "tiny", tmp_path / "results" / f"run{seed}")
+    project = replace(project, design="surveys/run1/truth/design.csv",
+                      height=replace(project.height, benchmarks="surveys/run1/benchmarks.txt"))
+    save_project(project)
+    sleepers = tmp_path / "results" / "run3" / "sleepers.csv"
+    lines = sleepers.read_text().splitlines()
+    header = lines[0].split(",")
+    column, station = header.index("lateral_deviation_left_mm"), header.index("station_m")
+    for i, line in enumerate(lines[1:], start=1):
+        cells = line.split(",")
+        if 1150.0 <= float(cells[station]) <= 1170.0:
+            cells[column] = f"{float(cells[column]) + 1.5:.3f}"
+            lines[i] = ",".join(cells)
+    sleepers.write_text("\n".join(lines) + "\n")
+
+    assert main(["compare", str(tmp_path)]) == 0
+    assert "Repeatability against run1" in capsys.readouterr().out
+    summary = tomllib.loads((tmp_path / "results" / "repeatability.toml").read_text())
+    assert summary["reference"] == "run1" and summary["compared"] == ["run2", "run3"]
+    result, path = compare_surveys(load_project(tmp_path), ["run1", "run2", "run3"])
+    mm = 1e-3
+    # Relative geometry repeats like the fusion's short-lag accuracy (thesis: within 0.2-0.4 mm) ...
+    for name in ("check_short_wave_30m_5m_left_lateral_mm", "check_short_wave_30m_5m_right_vertical_mm",
+                 "cant_mm", "gauge_mm"):
+        parameter = result.parameter(name)
+        assert parameter.count.min() > 150
+        assert parameter.single_run_std < 0.3 * mm and parameter.max_abs[0] < 1.0 * mm, name
+    # ... absolute deviations like the GNSS: its correlated error (tau 300 s, about one run long) is
+    # nearly a constant per run, so two runs differ by up to 3 sigma * sqrt(2) of it.
+    gnss = tiny_scenario().gnss
+    for name, sigma in (("lateral_deviation_right_mm", gnss.gm_horizontal_m),
+                        ("vertical_deviation_left_mm", gnss.gm_vertical_m)):
+        assert np.abs(result.parameter(name).mean).max() < 3 * np.sqrt(2) * sigma, name
+    # The shifted stretch stands out against run 2's differences.
+    shifted = result.parameter("lateral_deviation_left_mm").difference
+    station = result.station_m
+    inside = (station >= 1151) & (station <= 1169)
+    before, after = (station >= 1140) & (station <= 1148), (station >= 1172) & (station <= 1180)
+    step = np.median(shifted[1, inside]) - 0.5 * (np.median(shifted[1, before]) + np.median(shifted[1, after]))
+    assert step == pytest.approx(1.5 * mm, abs=0.3 * mm)
+    assert np.abs(np.median(shifted[0, inside]) - 0.5 * (np.median(shifted[0, before]) + np.median(shifted[0, after]))) < 0.3 * mm
+    csv = path.read_text().splitlines()
+    assert csv[0].startswith("station_m,label,run2_minus_run1_lateral_deviation_left_mm,run3_minus_run1_")
+    assert len(csv) == result.station_m.size + 1
+
+
+def test_repeatability_of_arrays():
+    stations = np.arange(0.0, 100.0, 0.625)
+    truth = np.sin(stations / 7.0) * 1e-3
+    rng = np.random.default_rng(3)
+    runs = {"a": (stations, {"x": truth + rng.normal(0, 1e-4, stations.size)}),
+            "b": (stations + 0.01, {"x": np.sin((stations + 0.01) / 7.0) * 1e-3 + rng.normal(0, 1e-4, stations.size)}),
+            "c": (stations[::2], {"x": truth[::2] + 5e-4})}
+    result = repeatability(runs)
+    x = result.parameter("x")
+    assert result.compared == ("b", "c")
+    assert x.std[0] == pytest.approx(np.sqrt(2) * 1e-4, rel=0.15)  # two runs' noise
+    assert x.mean[1] == pytest.approx(5e-4, abs=5e-5)  # a shifted run shows in its mean
+    assert x.count[0] == stations.size - 1  # the last reference station lies beyond run b
+    with pytest.raises(ValueError, match="at least two runs"):
+        repeatability({"a": runs["a"]})
+    with pytest.raises(ValueError, match="strictly increasing"):
+        repeatability({"a": runs["a"], "d": (stations[::-1], {"x": truth})})
+    gap = on_stations(np.array([0.0, 1.0, 5.0]), np.array([0.0, 1.0, 5.0]), np.array([0.5, 3.0, 6.0]))
+    assert gap[0] == pytest.approx(0.5) and np.isnan(gap[1:]).all()
+
+
+def test_cancelling_a_batch_drops_the_surveys_not_started(tiny_projects, tmp_path):
+    import threading
+
+    from insrail.progress import Cancelled
+
+    broken, *good = fresh_copies(tiny_projects, tmp_path)
+    (broken / "surveys" / "tiny" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
+    stop = threading.Event()
+    messages = []
+
+    def progress(fraction, message):
+        messages.append(message)
+        stop.set()  # the user cancels as soon as the first survey is reported
+
+    with pytest.raises(Cancelled):
+        run_batch([broken, *good], workers=1, progress=progress, cancel=stop)
+    assert "FAILED" in messages[0]
+    assert not (good[-1] / "results" / "tiny").exists()  # never started
