@@ -244,7 +244,8 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
     recon = reconstruct_track(fresh.trajectory, manifest.trolley, fresh.gauge, to_engineering, design=design,
                               pulses=fresh.pulses,
                               start_station_m=project.start_station_m, first_number=project.first_sleeper_number)
-    save_dataclass(path, recon)
+    if recon.fitted is None and recon.reference is None:  # a fitted line (element objects) is recomputed instead
+        save_dataclass(path, recon)
     return recon, False
 
 

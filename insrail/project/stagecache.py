@@ -22,6 +22,8 @@ def _flatten(value, prefix: str, out: dict[str, np.ndarray]) -> None:
     for field in dataclasses.fields(value):
         item = getattr(value, field.name)
         name = f"{prefix}{field.name}"
+        if item is None:  # an optional field left empty: absent from the file, its default on reading
+            continue
         if dataclasses.is_dataclass(item):
             _flatten(item, name + ".", out)
         elif isinstance(item, tuple):
@@ -45,6 +47,9 @@ def _build(cls, prefix: str, arrays) -> object:
     for field in dataclasses.fields(cls):
         kind = hints[field.name]
         name = f"{prefix}{field.name}"
+        if name not in arrays and not any(key.startswith(name + ".") for key in arrays):
+            values[field.name] = None  # saved as None (see _flatten)
+            continue
         if dataclasses.is_dataclass(kind):
             values[field.name] = _build(kind, name + ".", arrays)
             continue
