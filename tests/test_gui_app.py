@@ -188,3 +188,20 @@ def test_repeatability_overlays_plain_arrays_of_several_runs(qtbot):
     curves = view.item.listDataItems()
     assert len(curves) == 3
     assert np.allclose(curves[2].getOriginalDataset()[1], runs["run2"][1]["gauge_mm"])
+
+
+def test_void_qt_calls_do_not_exhaust_none():
+    """The installed shiboken6 returns None without a reference on Python 3.11 (see _binding_fix):
+    a long session of painter calls must not deallocate None."""
+    import sys
+
+    from PySide6.QtGui import QImage, QPainter, QPen
+
+    image = QImage(8, 8, QImage.Format_ARGB32)
+    painter = QPainter(image)
+    pen = QPen()
+    before = sys.getrefcount(None)
+    for _ in range(20_000):
+        painter.setPen(pen)
+    painter.end()
+    assert sys.getrefcount(None) > 2**39 or sys.getrefcount(None) >= before

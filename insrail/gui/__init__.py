@@ -6,3 +6,7 @@ in a worker thread; the core's progress callback and cancel token are marshalled
 
 Start it with ``insrail gui [PROJECT]`` or :func:`insrail.gui.app.run`.
 """
+
+from insrail.gui._binding_fix import make_singletons_immortal
+
+make_singletons_immortal()

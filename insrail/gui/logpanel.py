@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 import time
 
+from PySide6.QtCore import QSize
 from PySide6.QtWidgets import QPlainTextEdit
 
 
@@ -14,6 +15,9 @@ class LogPanel(QPlainTextEdit):
         self.setReadOnly(True)
         self.setMaximumBlockCount(5000)
         self._last_kind = ""
+
+    def sizeHint(self) -> QSize:  # noqa: N802 (Qt name): a few lines; the views get the height
+        return QSize(600, 110)
 
     def info(self, message: str) -> None:
         self._append("", message)

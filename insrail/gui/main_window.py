@@ -93,7 +93,6 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         else:
             self.resize(1400, 900)
-            self.resizeDocks([self.findChild(QDockWidget, "log")], [130], Qt.Vertical)
             self.resizeDocks([self.findChild(QDockWidget, "explorer")], [330], Qt.Horizontal)
         if state is not None:
             self.restoreState(state)

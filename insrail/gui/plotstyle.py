@@ -8,6 +8,7 @@ from PySide6.QtCore import Qt
 #: Colour-blind-safe cycle (Okabe-Ito), in the order the curves of a plot are drawn.
 COLOURS = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000")
 LIMIT_PEN = pg.mkPen("#C00000", width=1, style=Qt.DashLine)
+ZERO_PEN = pg.mkPen("#C8C8C8", width=1)
 CROSSHAIR_PEN = pg.mkPen("#606060", width=1)
 
 

@@ -53,7 +53,6 @@ class NavigationView(QWidget):
         for row, s in enumerate(shown):
             item = self.plots.addPlot(row=row, col=0)
             plotstyle.make_fluid(item)
-            item.showGrid(x=True, y=True, alpha=0.25)
             title = f"{s.title} [{s.unit}]" + (", 1σ band" if s.sigma is not None else "")
             item.setTitle(plotstyle.titled(title, s.labels), size="8pt")
             item.setLabel("left", s.unit)
