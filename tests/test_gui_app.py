@@ -85,7 +85,7 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
 
     worker = window.process()
     assert worker is not None and not window.process_action.isEnabled()
-    qtbot.waitUntil(lambda: window.worker is None, timeout=60_000)
+    qtbot.waitUntil(lambda: window.worker is None, timeout=120_000)
     assert "short" in window.results
     stored = window.results["short"]
     assert window.progress.isHidden() and "exceedances" in window.log.toPlainText()
