@@ -112,8 +112,12 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     expected = exceedance_window(stored.exceedances[row].station_from_m, stored.exceedances[row].station_to_m)
     for item in track_plots.values():
         assert np.allclose(item.vb.viewRange()[0], expected, atol=1e-6)
-    assert stored.label[stored.exceedances[row].first_sleeper - stored.number[0]] in window.track.readout.text() \
-        or "sleeper" in window.track.readout.text()
+    exceedance = stored.exceedances[row]
+    centre = 0.5 * (exceedance.station_from_m + exceedance.station_to_m)
+    nearest = int(np.argmin(np.abs(stored.columns["station_m"] - centre)))
+    assert f"sleeper {stored.number[nearest]} " in window.track.readout.text()
+    marked = window.plan.curves["marker"].getOriginalDataset()[0]
+    assert len(marked) == exceedance.last_sleeper - exceedance.first_sleeper + 1  # ringed in the plan too
 
 
 def test_cancel_stops_the_run_and_keeps_the_previous_results(window, qtbot, demo_project, tmp_path):
@@ -205,3 +209,38 @@ def test_void_qt_calls_do_not_exhaust_none():
         painter.setPen(pen)
     painter.end()
     assert sys.getrefcount(None) > 2**39 or sys.getrefcount(None) >= before
+
+
+def test_a_reader_error_while_processing_is_reported_with_file_and_line(window, qtbot, demo_project, tmp_path,
+                                                                       monkeypatch):
+    root = tmp_path / "broken"
+    link_tree(demo_project / "surveys", root / "surveys")
+    shutil.copy(demo_project / "project.toml", root / "project.toml")
+    gauge = root / "surveys" / "short" / "gauge.txt"
+    lines = gauge.read_text().splitlines()
+    gauge.unlink()  # a hard link to the shared demo: replace it, never write through it
+    lines[9] = "230400.4 1435.x"
+    gauge.write_text("\n".join(lines) + "\n")
+    shown = []
+    monkeypatch.setattr(QMessageBox, "warning", lambda *args: shown.append(args[2]))
+    assert window.open_project(root)
+    window.process()
+    qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    assert shown and "gauge.txt, line 10" in shown[0]
+    assert "error: survey short:" in window.log.toPlainText()
+    assert not (root / "results" / "short").exists()
+
+
+def test_wizard_lists_the_project_problems_with_their_key_paths(window, demo_project, tmp_path):
+    wizard = window.new_project()
+    wizard.folder.setText(str(tmp_path / "p"))
+    wizard.benchmarks.setText(str(tmp_path / "missing.txt"))
+    wizard.set_trolley(read_manifest(demo_project / "surveys" / "short").trolley)
+    manifest = demo_project / "surveys" / "short" / "survey.toml"
+    before = manifest.read_bytes()
+    wizard.survey.load_survey_folder(manifest.parent)
+    assert wizard.survey.name.text() == "short" and wizard.survey.gps_week.value() == 2380
+    assert not wizard.create_project()
+    assert "geodesy.height.benchmarks: file not found" in wizard.problems.text()
+    assert window.project is None and not (tmp_path / "p" / "project.toml").exists()
+    assert manifest.read_bytes() == before  # a rejected project writes nothing

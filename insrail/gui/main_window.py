@@ -5,7 +5,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from PySide6.QtCore import QSettings, Qt
+import numpy as np
+from PySide6.QtCore import QSettings, Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
@@ -68,6 +69,7 @@ class MainWindow(QMainWindow):
         self.explorer = ProjectExplorer()
         self.properties = PropertiesPanel()
         self.log = LogPanel()
+        self.track.exceedanceSelected.connect(self._mark_in_plan)
         self.explorer.propertiesChanged.connect(self.properties.show_rows)
         self.explorer.resultsActivated.connect(self.show_results)
         self._dock("explorer", "Project", self.explorer, Qt.LeftDockWidgetArea)
@@ -93,6 +95,8 @@ class MainWindow(QMainWindow):
             self.restoreGeometry(geometry)
         else:
             self.resize(1400, 900)
+            log_dock = self.findChild(QDockWidget, "log")
+            QTimer.singleShot(0, lambda: self.resizeDocks([log_dock], [120], Qt.Vertical))  # once laid out
             self.resizeDocks([self.findChild(QDockWidget, "explorer")], [330], Qt.Horizontal)
         if state is not None:
             self.restoreState(state)
@@ -349,6 +353,10 @@ class MainWindow(QMainWindow):
                                chainage_plots(stored.columns, profile), stored.exceedances)
         self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
         self.status.setText(f"Showing survey {name}")
+
+    def _mark_in_plan(self, first_sleeper: int, last_sleeper: int) -> None:
+        number = self.results[self.shown_survey].number
+        self.plan.mark_sleepers(np.flatnonzero((number >= first_sleeper) & (number <= last_sleeper)))
 
     # ------------------------------------------------------------------ closing
 

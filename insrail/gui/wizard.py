@@ -28,7 +28,7 @@ from PySide6.QtWidgets import (
 from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
 from insrail.gui.importer import ImportWidget, shipped_names
 from insrail.io.errors import InputError
-from insrail.io.survey import TrolleyGeometry, read_manifest
+from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, read_manifest
 from insrail.project import HEIGHT_MODELS, Project, ProjectError, project_from_settings, save_project
 from insrail.track.tolerance import DEFAULT_PROFILE, shipped_tolerance_profiles
 
@@ -276,26 +276,34 @@ class NewProjectWizard(QWizard):
         }
 
     def create_project(self) -> bool:
-        """Write the survey's survey.toml and the project file; False (problems shown) if not possible."""
+        """Write the survey's survey.toml and the project file; False (problems shown) if not possible.
+
+        The project is validated before survey.toml is written, so a rejected project leaves no file behind."""
         self.problems.clear()
         folder_text = self.folder.text().strip()
         if not folder_text:
             self.problems.setText("Choose the project folder (first page).")
             return False
+        if not self.survey.entries():
+            self.problems.setText("Add the raw files of the first survey.")
+            return False
         folder = Path(folder_text)
-        folder.mkdir(parents=True, exist_ok=True)
-        survey_folder = self.survey.write_survey(self.trolley())
-        if survey_folder is None:
+        survey_folder = self.survey.survey_folder()
+        document = self.settings(folder, self.survey.name.text().strip(), survey_folder)
+        not_yet_written = f"surveys[0].folder: no {MANIFEST_NAME} in"
+        try:
+            project_from_settings(document, folder)
+        except ProjectError as error:
+            blocking = [p for p in error.problems if not p.startswith(not_yet_written)]
+            if blocking:
+                self.problems.setText("The project has problems; go back and correct them:\n" + "\n".join(blocking))
+                return False
+        if self.survey.write_survey(self.trolley()) is None:
             self.problems.setText("The survey's files have problems (listed above).")
             return False
-        try:
-            project = project_from_settings(self.settings(folder, self.survey.name.text().strip(), survey_folder),
-                                            folder)
-        except ProjectError as error:
-            self.problems.setText("The project has problems; go back and correct them:\n" + "\n".join(error.problems))
-            return False
-        save_project(project)
-        self.project = project
+        folder.mkdir(parents=True, exist_ok=True)
+        self.project = project_from_settings(document, folder)
+        save_project(self.project)
         return True
 
 

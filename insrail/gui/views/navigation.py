@@ -60,12 +60,12 @@ class NavigationView(QWidget):
             for k in range(len(s.labels)):
                 value = s.values[:, k]
                 if s.sigma is not None:
-                    below = item.plot(self._time, value - s.sigma[:, k], pen=None)
-                    above = item.plot(self._time, value + s.sigma[:, k], pen=None)
+                    below, above = (item.plot(self._time, value + sign * s.sigma[:, k], pen=None,
+                                              autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL) for sign in (-1, 1))
                     colour = pg.mkColor(plotstyle.COLOURS[k % len(plotstyle.COLOURS)])
                     colour.setAlpha(70)
                     item.addItem(pg.FillBetweenItem(below, above, brush=colour))
-                item.plot(self._time, value, pen=plotstyle.pen(k))
+                item.plot(self._time, value, pen=plotstyle.pen(k), autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
             if row:
                 item.setXLink(self.items[shown[0].key])
             item.getAxis("bottom").setStyle(showValues=row == len(shown) - 1)

@@ -51,3 +51,15 @@ class PlanView(pg.PlotWidget):
         item.setLabel("bottom", f"E − {self.origin[0]:.0f} m")
         item.setLabel("left", f"N − {self.origin[1]:.0f} m")
         item.autoRange()
+
+    def mark_sleepers(self, rows: np.ndarray) -> None:
+        """Ring the centreline at the given sleeper rows (an exceedance picked in the track view)."""
+        if not len(rows) or "centreline" not in self.curves:
+            return
+        east, north = self.curves["centreline"].getOriginalDataset()
+        if "marker" not in self.curves:
+            self.curves["marker"] = self.item.plot([], [], pen=pg.mkPen("#C00000", width=6), symbol="o",
+                                                   symbolSize=16, symbolBrush=None,
+                                                   symbolPen=pg.mkPen("#C00000", width=2))
+            self.curves["marker"].setZValue(10)
+        self.curves["marker"].setData(east[rows], north[rows])

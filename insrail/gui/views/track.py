@@ -59,7 +59,8 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                           size="8pt")
             item.getAxis("left").setWidth(48)
             for index, (label, column) in enumerate(spec.curves):
-                item.plot(station_m, spec.scale * columns[column], pen=plotstyle.pen(index))
+                item.plot(station_m, spec.scale * columns[column], pen=plotstyle.pen(index),
+                          autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
             for limit in (spec.lower, spec.upper):
                 if limit is not None:
                     item.addItem(pg.InfiniteLine(limit, angle=0, pen=plotstyle.LIMIT_PEN))
@@ -109,6 +110,8 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
 
 class TrackView(QWidget):
     """The chainage plots, their read-out line and the exceedance table under them."""
+
+    exceedanceSelected = Signal(int, int)  # first and last sleeper number of the exceedance shown
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -208,6 +211,7 @@ class TrackView(QWidget):
         centre = 0.5 * (e.station_from_m + e.station_to_m)
         self.plots.set_cursor(centre)
         self.show_values_at(centre)
+        self.exceedanceSelected.emit(e.first_sleeper, e.last_sleeper)
 
     def show_values_at(self, station: float) -> None:
         if not len(self._station):
