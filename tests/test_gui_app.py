@@ -102,22 +102,35 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     assert window.repeatability.parameter.count() > 10 and window.repeatability.item.listDataItems()
     assert window.track.exceedances.rowCount() == len(stored.exceedances) > 0
 
-    # A click on an exceedance zooms every plot there.
-    row = len(stored.exceedances) // 2
+    # A click on an exceedance zooms every plot there; the table starts in chainage order.
     table = window.track.exceedances
-    rect = table.visualRect(table.model().index(row, 0))
+    shown_from = [float(table.item(r, 3).text()) for r in range(table.rowCount())]
+    assert shown_from == sorted(shown_from)
+    row = table.rowCount() // 2
     table.scrollTo(table.model().index(row, 0))
-    rect = table.visualRect(table.model().index(row, 0))
-    qtbot.mouseClick(table.viewport(), Qt.LeftButton, pos=rect.center())
-    expected = exceedance_window(stored.exceedances[row].station_from_m, stored.exceedances[row].station_to_m)
+    qtbot.mouseClick(table.viewport(), Qt.LeftButton, pos=table.visualRect(table.model().index(row, 0)).center())
+    exceedance = stored.exceedances[table.item(row, 0).data(Qt.UserRole)]
+    assert f"{exceedance.station_from_m:.3f}" == table.item(row, 3).text()
+    expected = exceedance_window(exceedance.station_from_m, exceedance.station_to_m)
     for item in track_plots.values():
         assert np.allclose(item.vb.viewRange()[0], expected, atol=1e-6)
-    exceedance = stored.exceedances[row]
     centre = 0.5 * (exceedance.station_from_m + exceedance.station_to_m)
     nearest = int(np.argmin(np.abs(stored.columns["station_m"] - centre)))
     assert f"sleeper {stored.number[nearest]} " in window.track.readout.text()
     marked = window.plan.curves["marker"].getOriginalDataset()[0]
     assert len(marked) == exceedance.last_sleeper - exceedance.first_sleeper + 1  # ringed in the plan too
+
+    # Sorted by peak, the top row is the largest exceedance, and a click still zooms to it.
+    table.sortItems(5, Qt.DescendingOrder)
+    qtbot.mouseClick(table.viewport(), Qt.LeftButton, pos=table.visualRect(table.model().index(0, 0)).center())
+    largest = max(stored.exceedances, key=lambda e: abs(e.peak))
+    expected = exceedance_window(largest.station_from_m, largest.station_to_m)
+    assert np.allclose(window.track.plots.x_range(), expected, atol=1e-6)
+
+    # The explorer offers to process one survey again.
+    results_item = window.explorer.findItems("Results", Qt.MatchRecursive)[0].child(0)
+    assert [text for text, _ in window.explorer.context_actions(results_item)] == [
+        "Show results of short", "Process short again"]
 
 
 def test_cancel_stops_the_run_and_keeps_the_previous_results(window, qtbot, demo_project, tmp_path):

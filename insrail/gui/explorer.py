@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from PySide6.QtCore import Qt, Signal
-from PySide6.QtWidgets import QTreeWidget, QTreeWidgetItem
+from PySide6.QtWidgets import QMenu, QTreeWidget, QTreeWidgetItem
 
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, read_manifest
@@ -35,6 +35,7 @@ class ProjectExplorer(QTreeWidget):
 
     propertiesChanged = Signal(list)  # [(key, value)] of the selected item
     resultsActivated = Signal(str)  # a survey whose results should be shown
+    processRequested = Signal(str)  # a survey to process
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -42,6 +43,8 @@ class ProjectExplorer(QTreeWidget):
         self.project: Project | None = None
         self.currentItemChanged.connect(lambda item, _old: self._describe(item))
         self.itemDoubleClicked.connect(self._activated)
+        self.setContextMenuPolicy(Qt.CustomContextMenu)
+        self.customContextMenuRequested.connect(self._context_menu)
 
     def set_project(self, project: Project | None) -> None:
         self.project = project
@@ -69,6 +72,25 @@ class ProjectExplorer(QTreeWidget):
         item = QTreeWidgetItem(parent, [text])
         item.setData(0, ROLE, data)
         return item
+
+    def context_actions(self, item: QTreeWidgetItem) -> list[tuple[str, object]]:
+        """(text, slot) of what can be done with an item."""
+        kind, payload = item.data(0, ROLE)
+        if kind == "survey":
+            return [(f"Process {payload}", lambda: self.processRequested.emit(payload))]
+        if kind == "results":
+            return [(f"Show results of {payload}", lambda: self.resultsActivated.emit(payload)),
+                    (f"Process {payload} again", lambda: self.processRequested.emit(payload))]
+        return []
+
+    def _context_menu(self, position) -> None:
+        item = self.itemAt(position)
+        actions = self.context_actions(item) if item is not None else []
+        if actions:
+            menu = QMenu(self)
+            for text, slot in actions:
+                menu.addAction(text, slot)
+            menu.popup(self.viewport().mapToGlobal(position))
 
     def _activated(self, item: QTreeWidgetItem) -> None:
         kind, payload = item.data(0, ROLE)

@@ -146,6 +146,22 @@ class ImportWidget(QWidget):
         layout.addWidget(self.files, 2)
         layout.addWidget(lower, 2)
         self.files.currentCellChanged.connect(lambda row, *_: self._show_preview(row))
+        self.setAcceptDrops(True)
+
+    # Files dropped from a file manager are added like "Add files…".
+    def dragEnterEvent(self, event) -> None:  # noqa: N802 (Qt name)
+        if event.mimeData().hasUrls():
+            event.acceptProposedAction()
+
+    def dropEvent(self, event) -> None:  # noqa: N802 (Qt name)
+        paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
+        files = [p for p in paths if Path(p).is_file()]
+        folders = [p for p in paths if (Path(p) / MANIFEST_NAME).is_file()]
+        if folders:
+            self.load_survey_folder(folders[0])
+        elif files:
+            self.add_files(files)
+        event.acceptProposedAction()
 
     # ------------------------------------------------------------------ the file list
 

@@ -72,6 +72,7 @@ class MainWindow(QMainWindow):
         self.track.exceedanceSelected.connect(self._mark_in_plan)
         self.explorer.propertiesChanged.connect(self.properties.show_rows)
         self.explorer.resultsActivated.connect(self.show_results)
+        self.explorer.processRequested.connect(lambda name: self.process([name]))
         self._dock("explorer", "Project", self.explorer, Qt.LeftDockWidgetArea)
         self._dock("properties", "Properties", self.properties, Qt.LeftDockWidgetArea)
         self._dock("log", "Log", self.log, Qt.BottomDockWidgetArea)

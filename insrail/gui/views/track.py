@@ -32,6 +32,19 @@ HIDDEN_KINDS = ("gauge_deviation", "gauge_change_rate", "versine", "cross_level"
 EXCEEDANCE_COLUMNS = ("Check", "Rail", "Direction", "From [m]", "To [m]", "Peak", "Limit", "Unit", "Sleepers")
 
 
+class SortableItem(QTableWidgetItem):
+    """A cell that sorts by a number (peaks by magnitude) when it has one, else by its text."""
+
+    def __init__(self, text: str, key: float | None):
+        super().__init__(text)
+        self.key = key
+
+    def __lt__(self, other) -> bool:
+        if self.key is not None and getattr(other, "key", None) is not None:
+            return self.key < other.key
+        return self.text() < other.text()
+
+
 class ChainagePlots(pg.GraphicsLayoutWidget):
     """Stacked plots along chainage sharing the x axis of the top one, with a crosshair."""
 
@@ -130,8 +143,8 @@ class TrackView(QWidget):
         self.exceedances.verticalHeader().setVisible(False)
         self.exceedances.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeToContents)
         self.exceedances.horizontalHeader().setStretchLastSection(True)
-        self.exceedances.cellClicked.connect(self.zoom_to_exceedance)
-        self.exceedances.currentCellChanged.connect(lambda row, *_: self.zoom_to_exceedance(row))
+        self.exceedances.cellClicked.connect(lambda row, _column: self.zoom_to_exceedance(self._exceedance_at(row)))
+        self.exceedances.currentCellChanged.connect(lambda row, *_: self.zoom_to_exceedance(self._exceedance_at(row)))
 
         top = QHBoxLayout()
         top.addWidget(self.readout, 1)
@@ -188,23 +201,32 @@ class TrackView(QWidget):
 
     def _fill_table(self) -> None:
         table = self.exceedances
+        table.setSortingEnabled(False)
         table.setRowCount(len(self._rows))
         for row, e in enumerate(self._rows):
-            cells = (e.check, e.rail, e.direction, f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}",
-                     f"{e.peak:.3f}" if e.unit == "mm" else f"{e.peak:.6f}",
-                     f"{e.limit:.3f}" if e.unit == "mm" else f"{e.limit:.6f}", e.unit,
-                     f"{e.first_sleeper}–{e.last_sleeper}")
-            for column, text in enumerate(cells):
-                item = QTableWidgetItem(text)
-                if column >= 3 and column != 7:
+            digits = 3 if e.unit == "mm" else 6
+            cells = ((e.check, None), (e.rail, None), (e.direction, None),
+                     (f"{e.station_from_m:.3f}", e.station_from_m), (f"{e.station_to_m:.3f}", e.station_to_m),
+                     (f"{e.peak:.{digits}f}", abs(e.peak)), (f"{e.limit:.{digits}f}", abs(e.limit)), (e.unit, None),
+                     (f"{e.first_sleeper}–{e.last_sleeper}", e.first_sleeper))
+            for column, (text, key) in enumerate(cells):
+                item = SortableItem(text, key)
+                item.setData(Qt.UserRole, row)  # the exceedance's index, whatever the sort order
+                if key is not None:
                     item.setTextAlignment(Qt.AlignRight | Qt.AlignVCenter)
                 table.setItem(row, column, item)
+        table.horizontalHeader().setSortIndicator(3, Qt.AscendingOrder)  # along the track, as walked
+        table.setSortingEnabled(True)
 
-    def zoom_to_exceedance(self, row: int) -> None:
-        if not 0 <= row < len(self._rows):
+    def _exceedance_at(self, table_row: int) -> int:
+        item = self.exceedances.item(table_row, 0)
+        return -1 if item is None else int(item.data(Qt.UserRole))
+
+    def zoom_to_exceedance(self, index: int) -> None:
+        """Zoom every plot to exceedance ``index`` (in the order of the results, not of the table)."""
+        if not 0 <= index < len(self._rows):
             return
-        e = self._rows[row]
-        self.exceedances.scrollTo(self.exceedances.model().index(row, 0))
+        e = self._rows[index]
         low, high = exceedance_window(e.station_from_m, e.station_to_m)
         self.plots.set_x_range(low, high)
         self.plots.highlight(min(e.station_from_m, e.station_to_m), max(e.station_from_m, e.station_to_m))
