@@ -1,6 +1,9 @@
 """Screenshots of the main views into docs/gui_*.png (the window at 1400 x 900, offscreen).
 
     QT_QPA_PLATFORM=offscreen python benchmarks/gui_screenshots.py PROJECT_FOLDER
+
+The docs/ pictures show the demo project with a second simulated run (seed 2) added as survey
+`short2`, so that the repeatability view has two runs to overlay.
 """
 
 from __future__ import annotations
@@ -24,7 +27,8 @@ def main(project: str) -> None:
         window.resize(1400, 900)
         window.show()
         window.open_project(project)
-        shots = {"track": window.track, "plan": window.plan, "navigation": window.navigation}
+        shots = {"track": window.track, "plan": window.plan, "navigation": window.navigation,
+                 "repeatability": window.repeatability}
         for name, view in shots.items():
             window.tabs.setCurrentWidget(view)
             if name == "track":
