@@ -50,7 +50,8 @@ def window(qtbot, tmp_path):
     main.resize(1400, 900)
     main.show()
     yield main
-    main.modified = False
+    main.modified = False  # closing must not ask (a modal question would block the tests)
+    main.close()
 
 
 def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_project, tmp_path):
@@ -257,3 +258,27 @@ def test_wizard_lists_the_project_problems_with_their_key_paths(window, demo_pro
     assert "geodesy.height.benchmarks: file not found" in wizard.problems.text()
     assert window.project is None and not (tmp_path / "p" / "project.toml").exists()
     assert manifest.read_bytes() == before  # a rejected project writes nothing
+
+
+def test_import_adds_a_survey_to_the_open_project(window, demo_project, tmp_path, monkeypatch):
+    warnings = []
+    monkeypatch.setattr(QMessageBox, "warning", lambda *args: warnings.append(args[2]))
+    root = tmp_path / "project"
+    link_tree(demo_project / "surveys", root / "surveys")
+    shutil.copy(demo_project / "project.toml", root / "project.toml")
+    raw = root / "second-run"
+    raw.mkdir()
+    for name in RAW_FILES:
+        os.link(demo_project / "surveys" / "short" / name, raw / name)
+    assert window.open_project(root)
+    dialog = window.import_survey()
+    dialog.widget.add_files(sorted(raw.iterdir()))
+    dialog.widget.name.setText("second-run")
+    dialog.accept()
+    assert not warnings and dialog.folder == raw.resolve()
+    assert [s.name for s in window.project.surveys] == ["short", "second-run"]
+    assert window.modified and window.windowTitle().startswith(f"{window.project.name} * ")
+    # The project has no trolley of its own: the first survey's geometry went into survey.toml.
+    assert read_manifest(raw).trolley.reference_rail == read_manifest(root / "surveys" / "short").trolley.reference_rail
+    assert window.save_project() and not window.modified
+    assert [s.name for s in load_project(root).surveys] == ["short", "second-run"]

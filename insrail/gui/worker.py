@@ -7,6 +7,7 @@ of objects living in the GUI thread as queued calls, so the window stays respons
 from __future__ import annotations
 
 import threading
+import traceback
 from collections.abc import Sequence
 
 from PySide6.QtCore import QThread, Signal
@@ -47,5 +48,10 @@ class ProcessingWorker(QThread):
                 return
             except (InputError, ValueError, OSError) as error:  # bad input, settings or files: the core's words
                 self.failed.emit(f"survey {name}: {error}")
+                return
+            except Exception as error:  # a defect: the window must survive it and say what happened
+                traceback.print_exc()
+                self.failed.emit(f"survey {name}: internal error {type(error).__name__}: {error} "
+                                 "(details on the console; please report it)")
                 return
             self.surveyDone.emit(name)
