@@ -30,7 +30,8 @@ def tiled(stored, count: int) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     length = station[-1] - station[0] + np.median(np.diff(station))
     tiles = -(-count // len(station))
     columns = {name: np.tile(values, tiles)[:count] for name, values in stored.columns.items()}
-    columns["station_m"] = (station[0] + np.concatenate([station - station[0] + k * length for k in range(tiles)]))[:count]
+    offsets = np.repeat(np.arange(tiles) * length, len(station))[:count]
+    columns["station_m"] = columns["station_m"] + offsets
     return columns["station_m"], columns
 
 

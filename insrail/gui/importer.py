@@ -149,11 +149,11 @@ class ImportWidget(QWidget):
         self.setAcceptDrops(True)
 
     # Files dropped from a file manager are added like "Add files…".
-    def dragEnterEvent(self, event) -> None:  # noqa: N802 (Qt name)
+    def dragEnterEvent(self, event) -> None:
         if event.mimeData().hasUrls():
             event.acceptProposedAction()
 
-    def dropEvent(self, event) -> None:  # noqa: N802 (Qt name)
+    def dropEvent(self, event) -> None:
         paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
         files = [p for p in paths if Path(p).is_file()]
         folders = [p for p in paths if (Path(p) / MANIFEST_NAME).is_file()]
@@ -241,7 +241,8 @@ class ImportWidget(QWidget):
         roles = [role for _, role, _ in self.entries()]
         for role in REQUIRED_ROLES:
             if role not in roles:
-                problems.append(Problem("", None, f"no file has the role {role} (required: {', '.join(REQUIRED_ROLES)})"))
+                required = ", ".join(REQUIRED_ROLES)
+                problems.append(Problem("", None, f"no file has the role {role} (required: {required})"))
         weeks = set()
         for row, (path, role, name) in enumerate(self.entries()):
             status = "ok"

@@ -16,7 +16,8 @@ class LogPanel(QPlainTextEdit):
         self.setMaximumBlockCount(5000)
         self._last_kind = ""
 
-    def sizeHint(self) -> QSize:  # noqa: N802 (Qt name): a few lines; the views get the height
+    def sizeHint(self) -> QSize:
+        """A few lines: the views get the height."""
         return QSize(600, 110)
 
     def info(self, message: str) -> None:

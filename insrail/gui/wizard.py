@@ -257,7 +257,8 @@ class NewProjectWizard(QWizard):
             track["design"] = relative(self.design.text().strip())
         else:
             track["start_station_m"] = self.start_station.value()
-        processing = {} if self.imu_profile.currentText() == EACH_SURVEY else {"imu_profile": self.imu_profile.currentText()}
+        profile = self.imu_profile.currentText()
+        processing = {} if profile == EACH_SURVEY else {"imu_profile": profile}
         return {
             "project": {"name": self.name.text().strip(), "description": self.description.text().strip()},
             "geodesy": {"crs": {
@@ -314,5 +315,5 @@ class SurveyPage(QWizardPage):
         super().__init__()
         self._wizard = wizard
 
-    def validatePage(self) -> bool:  # noqa: N802 (Qt name)
+    def validatePage(self) -> bool:
         return self._wizard.create_project()

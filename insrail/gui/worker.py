@@ -49,7 +49,7 @@ class ProcessingWorker(QThread):
             except (InputError, ValueError, OSError) as error:  # bad input, settings or files: the core's words
                 self.failed.emit(f"survey {name}: {error}")
                 return
-            except Exception as error:  # a defect: the window must survive it and say what happened
+            except Exception as error:  # noqa: BLE001 (a defect: the window must survive it and say what happened)
                 traceback.print_exc()
                 self.failed.emit(f"survey {name}: internal error {type(error).__name__}: {error} "
                                  "(details on the console; please report it)")

@@ -13,8 +13,8 @@ The desktop application only draws; every derived value it shows comes from here
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Iterable
 
 import numpy as np
 
@@ -112,7 +112,8 @@ def navigation_series(trajectory: Trajectory, ellipsoid: Ellipsoid) -> tuple[Nav
                   degrees_per_hour * trajectory.gyro_bias_radps, None),
         NavSeries("accel_bias", "Accelerometer bias (estimated)", "mGal", ("x", "y", "z"),
                   1e5 * trajectory.accel_bias_mps2, None),
-        NavSeries("gyro_scale", "Gyro scale factor (estimated)", "ppm", ("x", "y", "z"), 1e6 * trajectory.gyro_scale, None),
+        NavSeries("gyro_scale", "Gyro scale factor (estimated)", "ppm", ("x", "y", "z"),
+                  1e6 * trajectory.gyro_scale, None),
         NavSeries("accel_scale", "Accelerometer scale factor (estimated)", "ppm", ("x", "y", "z"),
                   1e6 * trajectory.accel_scale, None),
         NavSeries("odometer_scale", "Odometer scale factor (estimated)", "ppm", ("odometer",),
@@ -173,8 +174,9 @@ def chainage_plots(columns: Iterable[str], profile: ToleranceProfile) -> tuple[C
         ratio = channels[0][1].endswith("_ratio")
         scale, unit = (1e3, "‰") if ratio else (1.0, "mm")
         limit_scale = 1e3  # limits are in metres or plain ratios; both show x 1000
-        plots.append(ChainagePlot(f"check_{check.name}", check.kind, check.name.replace("_", " "), unit, tuple(channels), scale,
-                                  _limit(check.lower, limit_scale), _limit(check.upper, limit_scale)))
+        plots.append(ChainagePlot(f"check_{check.name}", check.kind, check.name.replace("_", " "), unit,
+                                  tuple(channels), scale, _limit(check.lower, limit_scale),
+                                  _limit(check.upper, limit_scale)))
     plots.append(ChainagePlot("gauge", "gauge", "Gauge", "mm", (("gauge", "gauge_mm"),)))
     plots.append(ChainagePlot("cant", "cant", "Cant", "mm", (("measured", "cant_mm"), ("design", "design_cant_mm"))))
     return tuple(p for p in plots if all(column in columns for _, column in p.curves))

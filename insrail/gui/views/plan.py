@@ -30,7 +30,10 @@ class PlanView(pg.PlotWidget):
         else:
             item.addLegend(offset=(10, 10), brush=(255, 255, 255, 200))
         self.origin = np.floor(data.trajectory_en_m[0] / 1000.0) * 1000.0
-        local = lambda points: points - self.origin  # noqa: E731 (display offset only)
+
+        def local(points: np.ndarray) -> np.ndarray:  # display offset only
+            return points - self.origin
+
         self.curves = {
             "trajectory": item.plot(*local(data.trajectory_en_m).T, pen=pg.mkPen("#A0A0A0", width=3),
                                     name="trajectory (IMU)"),
