@@ -19,6 +19,7 @@ COMMANDS = [
     ("batch", "insrail.cli.batch"),
     ("compare", "insrail.cli.compare"),
     ("ppk", "insrail.cli.ppk"),
+    ("gui", "insrail.cli.gui"),
 ]
 
 

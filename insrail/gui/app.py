@@ -1,0 +1,28 @@
+"""Start the desktop application."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+
+def run(project: str | Path | None = None, argv: list[str] | None = None) -> int:
+    """Show the main window (opening ``project`` if given) and run the event loop; the exit code."""
+    from PySide6.QtWidgets import QApplication
+
+    from insrail.gui.main_window import MainWindow
+    from insrail.gui.settings import APPLICATION, ORGANISATION, user_settings
+
+    app = QApplication.instance() or QApplication(argv if argv is not None else sys.argv[:1])
+    app.setOrganizationName(ORGANISATION)
+    app.setApplicationName(APPLICATION)
+    window = MainWindow(user_settings())
+    window.show()
+    if project is not None:
+        window.open_project(project)
+    return app.exec()
+
+
+def main() -> int:
+    """The ``insrail-gui`` entry point: ``insrail-gui [PROJECT]``."""
+    return run(sys.argv[1] if len(sys.argv) > 1 else None)

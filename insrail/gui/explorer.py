@@ -1,0 +1,149 @@
+"""Project explorer (surveys, their raw files, results) and the properties panel of the selected item."""
+
+from __future__ import annotations
+
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import QMenu, QTreeWidget, QTreeWidgetItem
+
+from insrail.io.errors import InputError
+from insrail.io.survey import MANIFEST_NAME, read_manifest
+from insrail.io.tomlfile import read_toml
+from insrail.project import Project
+from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+
+ROLE = Qt.UserRole
+
+
+def flatten(settings: dict, prefix: str = "") -> list[tuple[str, str]]:
+    """Key paths and values of a nested settings table, as the TOML files name them."""
+    rows = []
+    for key, value in settings.items():
+        path = f"{prefix}{key}"
+        if isinstance(value, dict):
+            rows += flatten(value, path + ".")
+        elif isinstance(value, list) and value and isinstance(value[0], dict):
+            for i, entry in enumerate(value):
+                rows += flatten(entry, f"{path}[{i}].")
+        else:
+            rows.append((path, ", ".join(map(str, value)) if isinstance(value, list) else str(value)))
+    return rows
+
+
+class ProjectExplorer(QTreeWidget):
+    """Items carry (kind, payload): ("project", None), ("survey", name), ("file", (survey, role)),
+    ("results", name)."""
+
+    propertiesChanged = Signal(list)  # [(key, value)] of the selected item
+    resultsActivated = Signal(str)  # a survey whose results should be shown
+    processRequested = Signal(str)  # a survey to process
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.setHeaderLabels(["Project"])
+        self.project: Project | None = None
+        self.currentItemChanged.connect(lambda item, _old: self._describe(item))
+        self.itemDoubleClicked.connect(self._activated)
+        self.setContextMenuPolicy(Qt.CustomContextMenu)
+        self.customContextMenuRequested.connect(self._context_menu)
+
+    def set_project(self, project: Project | None) -> None:
+        self.project = project
+        self.clear()
+        if project is None:
+            return
+        root = self._item(self, project.name, ("project", None))
+        surveys = self._item(root, "Surveys", ("group", None))
+        results = self._item(root, "Results", ("group", None))
+        for entry in project.surveys:
+            survey = self._item(surveys, entry.name, ("survey", entry.name))
+            try:
+                manifest = read_manifest(project.resolve(entry.folder))
+            except InputError as error:
+                self._item(survey, f"⚠ {error.message.splitlines()[0]}", ("error", str(error)))
+                continue
+            for role, file in manifest.files.items():
+                self._item(survey, f"{role}: {file.path}", ("file", (entry.name, role)))
+            if (project.folder / RESULTS_FOLDER / entry.name / SUMMARY_FILE).is_file():
+                self._item(results, entry.name, ("results", entry.name))
+        self.expandAll()
+        self.setCurrentItem(root)
+
+    def _item(self, parent, text: str, data) -> QTreeWidgetItem:
+        item = QTreeWidgetItem(parent, [text])
+        item.setData(0, ROLE, data)
+        return item
+
+    def context_actions(self, item: QTreeWidgetItem) -> list[tuple[str, object]]:
+        """(text, slot) of what can be done with an item."""
+        kind, payload = item.data(0, ROLE)
+        if kind == "survey":
+            return [(f"Process {payload}", lambda: self.processRequested.emit(payload))]
+        if kind == "results":
+            return [(f"Show results of {payload}", lambda: self.resultsActivated.emit(payload)),
+                    (f"Process {payload} again", lambda: self.processRequested.emit(payload))]
+        return []
+
+    def _context_menu(self, position) -> None:
+        item = self.itemAt(position)
+        actions = self.context_actions(item) if item is not None else []
+        if actions:
+            menu = QMenu(self)
+            for text, slot in actions:
+                menu.addAction(text, slot)
+            menu.popup(self.viewport().mapToGlobal(position))
+
+    def _activated(self, item: QTreeWidgetItem) -> None:
+        kind, payload = item.data(0, ROLE)
+        if kind == "results":
+            self.resultsActivated.emit(payload)
+
+    def _describe(self, item: QTreeWidgetItem | None) -> None:
+        if item is None or self.project is None:
+            self.propertiesChanged.emit([])
+            return
+        kind, payload = item.data(0, ROLE)
+        project = self.project
+        if kind == "project":
+            rows = [("folder", str(project.folder.resolve())), ("coordinate system", project.crs.describe())]
+            rows += flatten(project.to_settings())
+        elif kind == "survey":
+            folder = project.resolve(project.survey(payload).folder)
+            rows = [("folder", str(folder.resolve()))]
+            try:
+                rows += flatten(read_toml(folder / MANIFEST_NAME))
+            except (OSError, ValueError) as error:
+                rows.append(("problem", str(error)))
+        elif kind == "file":
+            survey, role = payload
+            folder = project.resolve(project.survey(survey).folder)
+            file = read_manifest(folder).files[role]
+            path = folder / file.path
+            rows = [("role", role), ("path", str(path.resolve())), ("format", file.format),
+                    ("size", f"{path.stat().st_size / 1e6:.2f} MB" if path.is_file() else "missing")]
+            rows += [(f"option {k}", str(v)) for k, v in file.options.items()]
+        elif kind == "results":
+            summary = project.folder / RESULTS_FOLDER / payload / SUMMARY_FILE
+            rows = [("folder", str(summary.parent.resolve()))] + flatten(read_toml(summary))
+        elif kind == "error":
+            rows = [("problem", payload)]
+        else:
+            rows = []
+        self.propertiesChanged.emit(rows)
+
+
+class PropertiesPanel(QTreeWidget):
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.setHeaderLabels(["Property", "Value"])
+        self.setRootIsDecorated(False)
+        self.setColumnWidth(0, 170)
+        self.setWordWrap(True)
+
+    def show_rows(self, rows: list[tuple[str, str]]) -> None:
+        self.clear()
+        for key, value in rows:
+            item = QTreeWidgetItem(self, [key, value])
+            item.setToolTip(1, value)
+
+    def rows(self) -> list[tuple[str, str]]:
+        return [(self.topLevelItem(i).text(0), self.topLevelItem(i).text(1)) for i in range(self.topLevelItemCount())]

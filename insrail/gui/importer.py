@@ -1,0 +1,331 @@
+"""Import of raw files as a survey: format detection, a preview of the first rows, reader errors shown
+as file, line and what is wrong; the result is a survey folder described by ``survey.toml``."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtGui import QFont
+from PySide6.QtWidgets import (
+    QAbstractItemView,
+    QComboBox,
+    QDialog,
+    QDialogButtonBox,
+    QFileDialog,
+    QFormLayout,
+    QHBoxLayout,
+    QHeaderView,
+    QLabel,
+    QLineEdit,
+    QPlainTextEdit,
+    QPushButton,
+    QSpinBox,
+    QSplitter,
+    QTableWidget,
+    QTableWidgetItem,
+    QVBoxLayout,
+    QWidget,
+)
+
+from insrail.io.errors import InputError
+from insrail.io.formats import FORMATS, detect_format, read_any
+from insrail.io.survey import (
+    MANIFEST_NAME,
+    REQUIRED_ROLES,
+    ROLE_TYPES,
+    SurveyFile,
+    SurveyManifest,
+    TrolleyGeometry,
+    read_manifest,
+    write_manifest,
+)
+from insrail.resources import resources_dir
+
+PREVIEW_LINES = 12
+_ROLE_OF_TYPE = {data_type: role for role, data_type in ROLE_TYPES.items()}
+_FILE, _ROLE, _FORMAT, _STATUS = range(4)
+
+
+def shipped_names(folder: str) -> list[str]:
+    return sorted(p.stem for p in (resources_dir() / folder).glob("*.toml"))
+
+
+def preview(path: Path, lines: int = PREVIEW_LINES) -> str:
+    """The first rows of a raw file as the user would see them in an editor (.npy: its records)."""
+    if path.suffix.lower() == ".npy":
+        try:
+            records = np.load(path, mmap_mode="r", allow_pickle=False)
+        except (ValueError, OSError) as error:
+            return f"not a readable .npy file: {error}"
+        names = records.dtype.names or ("value",)
+        rows = [" ".join(names)] + [str(records[i]) for i in range(min(lines, len(records)))]
+        return f"{len(records)} records\n" + "\n".join(rows)
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            return "".join(line for _, line in zip(range(lines), handle))
+    except OSError as error:
+        return f"cannot read: {error}"
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A reader error as the surveyor wants it: which file, which line, what is wrong."""
+
+    file: str
+    line: int | None
+    message: str
+
+
+class ImportWidget(QWidget):
+    """Pick raw files (or a survey folder), check them with the readers, write ``survey.toml``."""
+
+    changed = Signal()
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.name = QLineEdit()
+        self.name.setPlaceholderText("letters, digits, '.', '_' or '-'")
+        self.gps_week = QSpinBox()
+        self.gps_week.setRange(0, 9999)
+        self.gps_week.setSpecialValueText("from the files")
+        self.imu_profile = QComboBox()
+        self.imu_profile.addItems(shipped_names("imu_profiles"))
+        self.imu_profile.setCurrentText("nav")
+        self.files = QTableWidget(0, 4)
+        self.files.setHorizontalHeaderLabels(["File", "Role", "Format", "Check"])
+        self.files.setSelectionBehavior(QAbstractItemView.SelectRows)
+        self.files.verticalHeader().setVisible(False)
+        self.files.horizontalHeader().setSectionResizeMode(_FILE, QHeaderView.Stretch)
+        self.files.horizontalHeader().setSectionResizeMode(_STATUS, QHeaderView.Stretch)
+        self.preview = QPlainTextEdit(readOnly=True)
+        self.preview.setFont(QFont("monospace", 8))
+        self.preview.setLineWrapMode(QPlainTextEdit.NoWrap)
+        self.problems = QTableWidget(0, 3)
+        self.problems.setHorizontalHeaderLabels(["File", "Line", "What is wrong"])
+        self.problems.verticalHeader().setVisible(False)
+        self.problems.horizontalHeader().setStretchLastSection(True)
+        self.problems.setEditTriggers(QAbstractItemView.NoEditTriggers)
+        self.folder_trolley: TrolleyGeometry | None = None  # from a survey.toml that was opened
+
+        add = QPushButton("Add files…")
+        add.clicked.connect(self._browse_files)
+        open_folder = QPushButton("Open survey folder…")
+        open_folder.clicked.connect(self._browse_folder)
+        remove = QPushButton("Remove")
+        remove.clicked.connect(self._remove_selected)
+        check = QPushButton("Check files")
+        check.clicked.connect(self.check)
+        buttons = QHBoxLayout()
+        for button in (add, open_folder, remove, check):
+            buttons.addWidget(button)
+        buttons.addStretch(1)
+        form = QFormLayout()
+        form.addRow("Survey name", self.name)
+        form.addRow("GPS week", self.gps_week)
+        form.addRow("IMU profile", self.imu_profile)
+        lower = QSplitter(Qt.Horizontal)
+        preview_box = QWidget()
+        preview_layout = QVBoxLayout(preview_box)
+        preview_layout.setContentsMargins(0, 0, 0, 0)
+        preview_layout.addWidget(QLabel("First rows of the selected file"))
+        preview_layout.addWidget(self.preview)
+        problems_box = QWidget()
+        problems_layout = QVBoxLayout(problems_box)
+        problems_layout.setContentsMargins(0, 0, 0, 0)
+        problems_layout.addWidget(QLabel("Problems found by the readers"))
+        problems_layout.addWidget(self.problems)
+        lower.addWidget(preview_box)
+        lower.addWidget(problems_box)
+        layout = QVBoxLayout(self)
+        layout.addLayout(form)
+        layout.addLayout(buttons)
+        layout.addWidget(self.files, 2)
+        layout.addWidget(lower, 2)
+        self.files.currentCellChanged.connect(lambda row, *_: self._show_preview(row))
+        self.setAcceptDrops(True)
+
+    # Files dropped from a file manager are added like "Add files…".
+    def dragEnterEvent(self, event) -> None:
+        if event.mimeData().hasUrls():
+            event.acceptProposedAction()
+
+    def dropEvent(self, event) -> None:
+        paths = [url.toLocalFile() for url in event.mimeData().urls() if url.isLocalFile()]
+        files = [p for p in paths if Path(p).is_file()]
+        folders = [p for p in paths if (Path(p) / MANIFEST_NAME).is_file()]
+        if folders:
+            self.load_survey_folder(folders[0])
+        elif files:
+            self.add_files(files)
+        event.acceptProposedAction()
+
+    # ------------------------------------------------------------------ the file list
+
+    def add_files(self, paths: list[str | Path], roles: dict[str, str] | None = None,
+                  formats: dict[str, str] | None = None) -> None:
+        """Add files; their format is detected and their role guessed from the data the format holds."""
+        for path in map(Path, paths):
+            name = (formats or {}).get(str(path)) or detect_format(path)
+            role = (roles or {}).get(str(path)) or (_ROLE_OF_TYPE[FORMATS[name].data_type] if name else "")
+            row = self.files.rowCount()
+            self.files.insertRow(row)
+            item = QTableWidgetItem(str(path))
+            item.setFlags(item.flags() & ~Qt.ItemIsEditable)
+            self.files.setItem(row, _FILE, item)
+            role_box = QComboBox()
+            role_box.addItems(["", *ROLE_TYPES])
+            role_box.setCurrentText(role)
+            format_box = QComboBox()
+            format_box.addItems(["", *FORMATS])
+            format_box.setCurrentText(name or "")
+            for box in (role_box, format_box):
+                box.currentTextChanged.connect(lambda _text: self.changed.emit())
+            self.files.setCellWidget(row, _ROLE, role_box)
+            self.files.setCellWidget(row, _FORMAT, format_box)
+            status = QTableWidgetItem("detected" if name else "format not recognised: choose one")
+            status.setFlags(status.flags() & ~Qt.ItemIsEditable)
+            self.files.setItem(row, _STATUS, status)
+        if self.files.rowCount():
+            self.files.setCurrentCell(self.files.rowCount() - 1, _FILE)
+        self.changed.emit()
+
+    def load_survey_folder(self, folder: str | Path) -> None:
+        """Take the files, name, week, IMU profile and trolley from an existing ``survey.toml``."""
+        folder = Path(folder)
+        manifest = read_manifest(folder)
+        self.files.setRowCount(0)
+        paths = {role: str(folder / f.path) for role, f in manifest.files.items()}
+        self.add_files(list(paths.values()), roles={p: r for r, p in paths.items()},
+                       formats={paths[r]: f.format for r, f in manifest.files.items()})
+        self.name.setText(folder.name)
+        self.gps_week.setValue(manifest.gps_week or 0)
+        self.imu_profile.setCurrentText(manifest.imu_profile)
+        self.folder_trolley = manifest.trolley
+
+    def entries(self) -> list[tuple[Path, str, str]]:
+        """(path, role, format) of every row."""
+        return [(Path(self.files.item(row, _FILE).text()), self.files.cellWidget(row, _ROLE).currentText(),
+                 self.files.cellWidget(row, _FORMAT).currentText()) for row in range(self.files.rowCount())]
+
+    def _browse_files(self) -> None:
+        paths, _ = QFileDialog.getOpenFileNames(self, "Raw files of one survey")
+        if paths:
+            self.add_files(paths)
+
+    def _browse_folder(self) -> None:
+        folder = QFileDialog.getExistingDirectory(self, f"Survey folder (with {MANIFEST_NAME})")
+        if folder:
+            try:
+                self.load_survey_folder(folder)
+            except InputError as error:
+                self._show_problems([Problem(str(error.path), error.line, error.message)])
+
+    def _remove_selected(self) -> None:
+        for row in sorted({index.row() for index in self.files.selectedIndexes()}, reverse=True):
+            self.files.removeRow(row)
+        self.changed.emit()
+
+    def _show_preview(self, row: int) -> None:
+        if 0 <= row < self.files.rowCount():
+            self.preview.setPlainText(preview(Path(self.files.item(row, _FILE).text())))
+
+    # ------------------------------------------------------------------ checking and writing
+
+    def check(self) -> list[Problem]:
+        """Read every file with its format; every problem is listed (file, line, what is wrong)."""
+        problems: list[Problem] = []
+        roles = [role for _, role, _ in self.entries()]
+        for role in REQUIRED_ROLES:
+            if role not in roles:
+                required = ", ".join(REQUIRED_ROLES)
+                problems.append(Problem("", None, f"no file has the role {role} (required: {required})"))
+        weeks = set()
+        for row, (path, role, name) in enumerate(self.entries()):
+            status = "ok"
+            if not role:
+                problems.append(Problem(path.name, None, "choose the role of this file"))
+                status = "no role"
+            elif roles.count(role) > 1:
+                problems.append(Problem(path.name, None, f"more than one file has the role {role}"))
+                status = "duplicate role"
+            elif not name:
+                problems.append(Problem(path.name, None, "format not recognised: choose one"))
+                status = "no format"
+            elif FORMATS[name].data_type is not ROLE_TYPES[role]:
+                problems.append(Problem(path.name, None, f"format {name} does not hold {role} data"))
+                status = "format does not fit the role"
+            else:
+                try:
+                    data = read_any(path, name)
+                    weeks.add(getattr(data, "gps_week", None))
+                except InputError as error:
+                    problems.append(Problem(error.path.name, error.line, error.message))
+                    status = f"{error.unit} {error.line}: {error.message}" if error.line else error.message
+            self.files.item(row, _STATUS).setText(status)
+        weeks.discard(None)
+        if self.gps_week.value() == 0 and len(weeks) == 1:
+            self.gps_week.setValue(weeks.pop())
+        self._show_problems(problems)
+        return problems
+
+    def _show_problems(self, problems: list[Problem]) -> None:
+        self.problems.setRowCount(len(problems))
+        for row, problem in enumerate(problems):
+            for column, text in enumerate((problem.file, "" if problem.line is None else str(problem.line),
+                                           problem.message)):
+                self.problems.setItem(row, column, QTableWidgetItem(text))
+        self.problems.resizeColumnsToContents()
+
+    def survey_folder(self) -> Path:
+        """The folder of the survey: the one holding all its files."""
+        return Path(os.path.commonpath([str(p.resolve().parent) for p, _, _ in self.entries()]))
+
+    def write_survey(self, trolley: TrolleyGeometry | None) -> Path | None:
+        """Check the files and write ``survey.toml`` beside them; None (problems shown) if not possible."""
+        problems = self.check()
+        if trolley is None:
+            problems.append(Problem("", None, "no trolley geometry: enter it in the project"))
+        name = self.name.text().strip()
+        if not name:
+            problems.append(Problem("", None, "enter a survey name"))
+        if problems:
+            self._show_problems(problems)
+            return None
+        folder = self.survey_folder()
+        files = {role: SurveyFile(os.path.relpath(path.resolve(), folder).replace(os.sep, "/"), fmt)
+                 for path, role, fmt in self.entries()}
+        manifest = SurveyManifest(name=name, files=files, trolley=trolley, imu_profile=self.imu_profile.currentText(),
+                                  gps_week=self.gps_week.value() or None)
+        write_manifest(folder, manifest)
+        return folder
+
+
+class ImportDialog(QDialog):
+    """The import widget in a dialog (File > Import); ``accepted`` after survey.toml was written."""
+
+    def __init__(self, trolley: TrolleyGeometry | None, fallback: TrolleyGeometry | None = None, parent=None):
+        """``trolley``: the project's geometry (it overrides every survey's); without it, the opened survey
+        folder's own, else ``fallback`` (an existing survey's) is written to survey.toml."""
+        super().__init__(parent)
+        self.fallback = fallback
+        self.setWindowTitle("Import raw files as a survey")
+        self.resize(900, 640)
+        self.trolley = trolley
+        self.widget = ImportWidget()
+        self.folder: Path | None = None
+        buttons = QDialogButtonBox(QDialogButtonBox.Ok | QDialogButtonBox.Cancel)
+        buttons.button(QDialogButtonBox.Ok).setText("Import")
+        buttons.accepted.connect(self.accept)
+        buttons.rejected.connect(self.reject)
+        layout = QVBoxLayout(self)
+        layout.addWidget(self.widget)
+        layout.addWidget(buttons)
+
+    def accept(self) -> None:
+        self.folder = self.widget.write_survey(self.trolley or self.widget.folder_trolley or self.fallback)
+        if self.folder is not None:
+            super().accept()

@@ -1,0 +1,374 @@
+"""The main window: project explorer, central views, properties, log, progress with Cancel."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+from PySide6.QtCore import QSettings, Qt, QTimer
+from PySide6.QtGui import QAction, QKeySequence
+from PySide6.QtWidgets import (
+    QDockWidget,
+    QFileDialog,
+    QLabel,
+    QMainWindow,
+    QMessageBox,
+    QProgressBar,
+    QPushButton,
+    QTabWidget,
+)
+
+from insrail import __version__
+from insrail.gui import plotstyle
+from insrail.gui.explorer import ProjectExplorer, PropertiesPanel
+from insrail.gui.importer import ImportDialog
+from insrail.gui.logpanel import LogPanel
+from insrail.gui.settings import recent_projects, remember_project
+from insrail.gui.views.navigation import NavigationView
+from insrail.gui.views.plan import PlanView
+from insrail.gui.views.repeatability import RepeatabilityView
+from insrail.gui.views.track import TrackView
+from insrail.gui.wizard import NewProjectWizard
+from insrail.gui.worker import ProcessingWorker
+from insrail.io.errors import InputError
+from insrail.io.survey import read_manifest
+from insrail.project import Project, ProjectError, StoredResults, load_project, load_results, save_project
+from insrail.project.model import project_from_settings
+from insrail.project.pipeline import ellipsoid_of
+from insrail.project.plotdata import chainage_plots, navigation_series, plan_data, survey_gnss
+from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+from insrail.track.tolerance import load_tolerance_profile
+
+PROGRESS_STEPS = 1000
+
+
+class MainWindow(QMainWindow):
+    def __init__(self, settings: QSettings):
+        super().__init__()
+        plotstyle.configure()
+        self.settings = settings
+        self.project: Project | None = None
+        self.modified = False
+        self.worker: ProcessingWorker | None = None
+        self.shown_survey: str | None = None
+        self.results: dict[str, StoredResults] = {}
+        self.wizard: NewProjectWizard | None = None
+
+        self.plan = PlanView()
+        self.navigation = NavigationView()
+        self.track = TrackView()
+        self.repeatability = RepeatabilityView()
+        self.tabs = QTabWidget()
+        self.tabs.setDocumentMode(True)
+        for view, title in ((self.track, "Track"), (self.plan, "Plan"), (self.navigation, "Navigation"),
+                            (self.repeatability, "Repeatability")):
+            self.tabs.addTab(view, title)
+        self.setCentralWidget(self.tabs)
+
+        self.explorer = ProjectExplorer()
+        self.properties = PropertiesPanel()
+        self.log = LogPanel()
+        self.track.exceedanceSelected.connect(self._mark_in_plan)
+        self.explorer.propertiesChanged.connect(self.properties.show_rows)
+        self.explorer.resultsActivated.connect(self.show_results)
+        self.explorer.processRequested.connect(lambda name: self.process([name]))
+        self._dock("explorer", "Project", self.explorer, Qt.LeftDockWidgetArea)
+        self._dock("properties", "Properties", self.properties, Qt.LeftDockWidgetArea)
+        self._dock("log", "Log", self.log, Qt.BottomDockWidgetArea)
+
+        self.status = QLabel("Ready")
+        self.progress = QProgressBar()
+        self.progress.setRange(0, PROGRESS_STEPS)
+        self.progress.setMaximumWidth(260)
+        self.progress.hide()
+        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button.clicked.connect(self.cancel_processing)
+        self.cancel_button.hide()
+        self.statusBar().addWidget(self.status, 1)
+        self.statusBar().addPermanentWidget(self.progress)
+        self.statusBar().addPermanentWidget(self.cancel_button)
+
+        self._make_actions()
+        self._update_title()
+        geometry, state = settings.value("window/geometry"), settings.value("window/state")
+        if geometry is not None:
+            self.restoreGeometry(geometry)
+        else:
+            self.resize(1400, 900)
+            log_dock = self.findChild(QDockWidget, "log")
+            QTimer.singleShot(0, lambda: self.resizeDocks([log_dock], [120], Qt.Vertical))  # once laid out
+            self.resizeDocks([self.findChild(QDockWidget, "explorer")], [330], Qt.Horizontal)
+        if state is not None:
+            self.restoreState(state)
+
+    # ------------------------------------------------------------------ building
+
+    def _dock(self, name: str, title: str, widget, area) -> QDockWidget:
+        dock = QDockWidget(title, self)
+        dock.setObjectName(name)  # saveState needs names
+        dock.setWidget(widget)
+        self.addDockWidget(area, dock)
+        return dock
+
+    def _action(self, text: str, slot, shortcut=None, tip: str = "") -> QAction:
+        action = QAction(text, self)
+        if shortcut is not None:
+            action.setShortcut(QKeySequence(shortcut))
+        action.setStatusTip(tip)
+        action.triggered.connect(lambda _checked=False: slot())
+        return action
+
+    def _make_actions(self) -> None:
+        self.new_action = self._action("&New project…", self.new_project, QKeySequence.New,
+                                       "Create a project with the wizard")
+        self.open_action = self._action("&Open project…", self.open_project, QKeySequence.Open)
+        self.save_action = self._action("&Save project", self.save_project, QKeySequence.Save)
+        self.import_action = self._action("&Import raw files…", self.import_survey, "Ctrl+I",
+                                          "Add a survey from raw files")
+        self.process_action = self._action("&Process", self.process, "F5", "Process every survey of the project")
+        self.cancel_action = self._action("&Cancel processing", self.cancel_processing, "Esc")
+        self.quit_action = self._action("&Quit", self.close, QKeySequence.Quit)
+        self.cancel_action.setEnabled(False)
+        file_menu = self.menuBar().addMenu("&File")
+        for action in (self.new_action, self.open_action):
+            file_menu.addAction(action)
+        self.recent_menu = file_menu.addMenu("Open &recent")
+        file_menu.addAction(self.save_action)
+        file_menu.addSeparator()
+        file_menu.addAction(self.import_action)
+        file_menu.addSeparator()
+        file_menu.addAction(self.quit_action)
+        run_menu = self.menuBar().addMenu("&Run")
+        run_menu.addAction(self.process_action)
+        run_menu.addAction(self.cancel_action)
+        view_menu = self.menuBar().addMenu("&View")
+        for dock in self.findChildren(QDockWidget):
+            view_menu.addAction(dock.toggleViewAction())
+        help_menu = self.menuBar().addMenu("&Help")
+        help_menu.addAction(self._action("&About insrail", lambda: QMessageBox.about(
+            self, "About insrail", f"insrail {__version__}\nInertial track-geometry trolley processing.")))
+        toolbar = self.addToolBar("Main")
+        toolbar.setObjectName("main_toolbar")
+        for action in (self.new_action, self.open_action, self.save_action, self.import_action, self.process_action,
+                       self.cancel_action):
+            toolbar.addAction(action)
+        self._fill_recent()
+        self._enable_project_actions()
+
+    def _fill_recent(self) -> None:
+        self.recent_menu.clear()
+        for path in recent_projects(self.settings):
+            self.recent_menu.addAction(path, lambda path=path: self.open_project(path))
+        self.recent_menu.setEnabled(not self.recent_menu.isEmpty())
+
+    def _enable_project_actions(self) -> None:
+        has_project, busy = self.project is not None, self.worker is not None
+        for action in (self.save_action, self.import_action, self.process_action):
+            action.setEnabled(has_project and not busy)
+        for action in (self.new_action, self.open_action):
+            action.setEnabled(not busy)
+        self.cancel_action.setEnabled(busy)
+
+    def _update_title(self) -> None:
+        name = self.project.name if self.project is not None else "no project"
+        self.setWindowTitle(f"{name}{' *' if self.modified else ''} — insrail")
+
+    # ------------------------------------------------------------------ projects
+
+    def maybe_save(self) -> bool:
+        """True when it is fine to drop the current project (saved, discarded, or nothing to lose)."""
+        if not self.modified or self.project is None:
+            return True
+        answer = QMessageBox.question(self, "Unsaved changes", f"Save the changes to {self.project.name}?",
+                                      QMessageBox.Save | QMessageBox.Discard | QMessageBox.Cancel, QMessageBox.Save)
+        if answer == QMessageBox.Save:
+            return self.save_project()
+        return answer == QMessageBox.Discard
+
+    def new_project(self) -> NewProjectWizard | None:
+        """Open the wizard (not modal: the window stays usable); the project opens when it finishes."""
+        if not self.maybe_save():
+            return None
+        self.wizard = NewProjectWizard(self)
+        self.wizard.accepted.connect(lambda: self.set_project(self.wizard.project))
+        self.wizard.show()
+        return self.wizard
+
+    def open_project(self, path: str | Path | None = None) -> bool:
+        if not self.maybe_save():
+            return False
+        if path is None:
+            path, _ = QFileDialog.getOpenFileName(self, "Open project", filter="insrail project (project.toml)")
+            if not path:
+                return False
+        try:
+            project = load_project(path)
+        except InputError as error:
+            self.log.error(str(error))
+            QMessageBox.warning(self, "Cannot open the project", str(error))
+            return False
+        self.set_project(project)
+        return True
+
+    def set_project(self, project: Project, modified: bool = False) -> None:
+        self.project = project
+        self.modified = modified
+        remember_project(self.settings, project.path)
+        self._fill_recent()
+        self.explorer.set_project(project)
+        self.log.info(f"project {project.name}: {project.path.resolve()}")
+        self.results.clear()
+        self._load_all_results()
+        self._update_title()
+        self._enable_project_actions()
+
+    def save_project(self) -> bool:
+        if self.project is None:
+            return False
+        try:
+            save_project(self.project)
+        except OSError as error:
+            QMessageBox.warning(self, "Cannot save the project", str(error))
+            return False
+        self.modified = False
+        self._update_title()
+        self.log.info(f"saved {self.project.path.resolve()}")
+        return True
+
+    def import_survey(self) -> ImportDialog | None:
+        """The import dialog (not modal); an imported survey joins the project (unsaved until Save)."""
+        if self.project is None:
+            return None
+        fallback = None
+        try:
+            fallback = read_manifest(self.project.resolve(self.project.surveys[0].folder)).trolley
+        except InputError as error:
+            self.log.warning(f"first survey's trolley geometry unavailable: {error}")
+        dialog = ImportDialog(self.project.trolley(), fallback, self)
+        dialog.accepted.connect(lambda: self.add_survey(dialog.widget.name.text().strip(), dialog.folder))
+        dialog.show()
+        return dialog
+
+    def add_survey(self, name: str, folder: Path) -> bool:
+        project = self.project
+        relative = os.path.relpath(folder.resolve(), project.folder.resolve()).replace(os.sep, "/")
+        document = project.to_settings()
+        document["surveys"] = [*document["surveys"], {"name": name, "folder": relative}]
+        try:
+            updated = project_from_settings(document, project.folder, project.path)
+        except ProjectError as error:
+            self.log.error(str(error))
+            QMessageBox.warning(self, "Cannot add the survey", "\n".join(error.problems))
+            return False
+        self.set_project(updated, modified=True)
+        self.log.info(f"survey {name} imported from {folder.resolve()}")
+        return True
+
+    # ------------------------------------------------------------------ processing
+
+    def process(self, surveys: list[str] | None = None) -> ProcessingWorker | None:
+        if self.project is None or self.worker is not None:
+            return None
+        if self.modified and not self.save_project():
+            return None
+        names = surveys or [s.name for s in self.project.surveys]
+        self.worker = ProcessingWorker(self.project, names, self)
+        self.worker.progressed.connect(self._progressed)
+        self.worker.surveyDone.connect(self._survey_done)
+        self.worker.failed.connect(self._failed)
+        self.worker.cancelled.connect(lambda: self.log.warning("processing cancelled; previous results kept"))
+        self.worker.finished.connect(self._worker_finished)
+        self.progress.setValue(0)
+        self.progress.show()
+        self.cancel_button.show()
+        self.cancel_button.setEnabled(True)
+        self.log.info(f"processing {', '.join(names)}")
+        self.worker.start()
+        self._enable_project_actions()
+        return self.worker
+
+    def cancel_processing(self) -> None:
+        if self.worker is not None:
+            self.worker.cancel()
+            self.cancel_button.setEnabled(False)
+            self.status.setText("Cancelling…")
+
+    def _progressed(self, fraction: float, message: str) -> None:
+        self.progress.setValue(round(fraction * PROGRESS_STEPS))
+        self.status.setText(message)
+        self.log.progress(message)
+
+    def _survey_done(self, name: str) -> None:
+        self.explorer.set_project(self.project)
+        self._load_results(name)
+        self.show_results(name)
+        summary = self.results[name].summary
+        for warning in summary.get("heights", {}).get("warnings", []):
+            self.log.warning(f"{name}: {warning}")
+        self.log.info(f"{name}: {summary['assessment']['exceedances']} exceedances, results in "
+                      f"{self.results[name].folder.resolve()}")
+
+    def _failed(self, message: str) -> None:
+        self.log.error(message)
+        QMessageBox.warning(self, "Processing failed", message)
+
+    def _worker_finished(self) -> None:
+        self.worker.deleteLater()
+        self.worker = None
+        self.progress.hide()
+        self.cancel_button.hide()
+        self.status.setText("Ready")
+        self._enable_project_actions()
+
+    # ------------------------------------------------------------------ results
+
+    def _load_results(self, name: str) -> None:
+        try:
+            self.results[name] = load_results(self.project.folder, name)
+        except InputError as error:
+            self.log.error(str(error))
+
+    def _load_all_results(self) -> None:
+        for entry in self.project.surveys:
+            if (self.project.folder / RESULTS_FOLDER / entry.name / SUMMARY_FILE).is_file():
+                self._load_results(entry.name)
+        if self.results:
+            self.show_results(next(iter(self.results)))
+
+    def show_results(self, name: str) -> None:
+        """Fill every view with one survey's results (the repeatability view with all processed ones)."""
+        stored = self.results[name]
+        project = self.project
+        self.shown_survey = name
+        trajectory = stored.trajectory()
+        try:
+            gnss = survey_gnss(project, name)
+        except (InputError, KeyError) as error:
+            self.log.warning(f"GNSS points not shown: {error}")
+            gnss = None
+        self.plan.set_data(plan_data(project, stored, trajectory, gnss))
+        self.navigation.set_series(trajectory.time_s, navigation_series(trajectory, ellipsoid_of(project)))
+        profile = load_tolerance_profile(project.resource(project.tolerance_profile))
+        self.track.set_results(stored.columns["station_m"], stored.number, stored.label, stored.columns,
+                               chainage_plots(stored.columns, profile), stored.exceedances)
+        self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
+        self.status.setText(f"Showing survey {name}")
+
+    def _mark_in_plan(self, first_sleeper: int, last_sleeper: int) -> None:
+        number = self.results[self.shown_survey].number
+        self.plan.mark_sleepers(np.flatnonzero((number >= first_sleeper) & (number <= last_sleeper)))
+
+    # ------------------------------------------------------------------ closing
+
+    def closeEvent(self, event) -> None:
+        if self.worker is not None:
+            self.worker.cancel()
+            self.worker.wait()
+        if not self.maybe_save():
+            event.ignore()
+            return
+        self.settings.setValue("window/geometry", self.saveGeometry())
+        self.settings.setValue("window/state", self.saveState())
+        self.settings.sync()
+        event.accept()

@@ -1,0 +1,68 @@
+"""Plan view: trajectory, centreline, GNSS points and outages, benchmarks; equal aspect."""
+
+from __future__ import annotations
+
+import numpy as np
+import pyqtgraph as pg
+
+from insrail.gui import plotstyle
+from insrail.project.plotdata import PlanData
+
+
+class PlanView(pg.PlotWidget):
+    """Coordinates are drawn relative to a whole-kilometre origin (named in the axis labels):
+    engineering eastings and northings of millions of metres lose precision in Qt's float painter."""
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.item = self.getPlotItem()
+        self.item.setAspectLocked(True)
+        self.item.showGrid(x=True, y=True, alpha=0.25)
+        plotstyle.make_fluid(self.item)
+        self.origin = np.zeros(2)
+        self.curves: dict[str, pg.PlotDataItem] = {}
+
+    def set_data(self, data: PlanData) -> None:
+        item = self.item
+        item.clear()
+        if item.legend is not None:
+            item.legend.clear()
+        else:
+            item.addLegend(offset=(10, 10), brush=(255, 255, 255, 200))
+        self.origin = np.floor(data.trajectory_en_m[0] / 1000.0) * 1000.0
+
+        def local(points: np.ndarray) -> np.ndarray:  # display offset only
+            return points - self.origin
+
+        self.curves = {
+            "trajectory": item.plot(*local(data.trajectory_en_m).T, pen=pg.mkPen("#A0A0A0", width=3),
+                                    name="trajectory (IMU)"),
+            "gnss": item.plot(*local(data.gnss_en_m).T, pen=None, symbol="o", symbolSize=5,
+                              symbolPen=None, symbolBrush=plotstyle.COLOURS[2], name="GNSS"),
+            "centreline": item.plot(*local(data.centreline_en_m).T, pen=plotstyle.pen(0, 2), name="centreline"),
+        }
+        for index, outage in enumerate(data.outages_en_m):
+            self.curves[f"outage{index}"] = item.plot(*local(outage).T, pen=pg.mkPen("#C00000", width=4),
+                                                      name="GNSS outage" if index == 0 else None)
+        if len(data.benchmark_en_m):
+            self.curves["benchmarks"] = item.plot(*local(data.benchmark_en_m).T, pen=None, symbol="t1", symbolSize=12,
+                                                  symbolBrush=plotstyle.COLOURS[4], name="benchmarks")
+            for name, (east, north) in zip(data.benchmark_ids, local(data.benchmark_en_m)):
+                text = pg.TextItem(name, color="k", anchor=(0, 1))
+                text.setPos(east, north)
+                item.addItem(text)
+        item.setLabel("bottom", f"E − {self.origin[0]:.0f} m")
+        item.setLabel("left", f"N − {self.origin[1]:.0f} m")
+        item.autoRange()
+
+    def mark_sleepers(self, rows: np.ndarray) -> None:
+        """Ring the centreline at the given sleeper rows (an exceedance picked in the track view)."""
+        if not len(rows) or "centreline" not in self.curves:
+            return
+        east, north = self.curves["centreline"].getOriginalDataset()
+        if "marker" not in self.curves:
+            self.curves["marker"] = self.item.plot([], [], pen=pg.mkPen("#C00000", width=6), symbol="o",
+                                                   symbolSize=16, symbolBrush=None,
+                                                   symbolPen=pg.mkPen("#C00000", width=2))
+            self.curves["marker"].setZValue(10)
+        self.curves["marker"].setData(east[rows], north[rows])

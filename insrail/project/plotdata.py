@@ -1,0 +1,202 @@
+"""What the GUI's plots show, derived from the result files and the project (pure numpy, no Qt).
+
+The desktop application only draws; every derived value it shows comes from here:
+
+* :func:`plan_data`: trajectory, centreline, GNSS points and outages, benchmarks in the engineering
+  plane (E, N metres);
+* :func:`navigation_series`: the trajectory's time series with their 1-sigma, in display units;
+* :func:`chainage_plots`: which sleepers.csv columns go into which plot along chainage, with the
+  tolerance profile's limits in the same units;
+* :func:`exceedance_window`: the chainage range to show for one exceedance.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from insrail.io.control import read_benchmarks
+from insrail.io.formats import read_any
+from insrail.io.survey import read_manifest
+from insrail.io.types import GnssSolution
+from insrail.nav.earth import Ellipsoid, radii
+from insrail.nav.trajectory import Trajectory
+from insrail.project.model import Project
+from insrail.project.results import StoredResults
+from insrail.track.tolerance import ToleranceProfile
+
+#: Margin shown either side of an exceedance [m]: enough to see the 30 m chord around it.
+EXCEEDANCE_MARGIN_M = 20.0
+
+
+# --------------------------------------------------------------------------- plan view
+
+@dataclass(frozen=True)
+class PlanData:
+    """Engineering-plane coordinates (E, N in metres) of everything the plan view draws."""
+
+    trajectory_en_m: np.ndarray  # (n, 2) the IMU centre
+    centreline_en_m: np.ndarray  # (m, 2) the mean of the two rails at each sleeper
+    gnss_en_m: np.ndarray  # (k, 2) GNSS positions used by the fusion (empty if unreadable)
+    outages_en_m: tuple[np.ndarray, ...]  # the trajectory during each GNSS gap, (j, 2) each
+    benchmark_en_m: np.ndarray  # (b, 2)
+    benchmark_ids: tuple[str, ...]
+
+
+def survey_gnss(project: Project, survey: str) -> GnssSolution:
+    """The GNSS solution of one survey, read as the pipeline reads it."""
+    folder = project.resolve(project.survey(survey).folder)
+    entry = read_manifest(folder).files["gnss"]
+    return read_any(folder / entry.path, entry.format, **entry.options)
+
+
+def plan_data(project: Project, stored: StoredResults, trajectory: Trajectory,
+              gnss: GnssSolution | None) -> PlanData:
+    east, north = project.crs.to_plane(trajectory.lat_rad, trajectory.lon_rad)
+    track = np.column_stack([east, north])
+    columns = stored.columns
+    centre = np.column_stack([0.5 * (columns["left_E_m"] + columns["right_E_m"]),
+                              0.5 * (columns["left_N_m"] + columns["right_N_m"])])
+    if gnss is not None and len(gnss.time_s):
+        gnss_en = np.column_stack(project.crs.to_plane(gnss.lat_rad, gnss.lon_rad))
+        outages = tuple(track[(trajectory.time_s >= gap.start_s) & (trajectory.time_s <= gap.end_s)]
+                        for gap in gnss.gaps)
+    else:
+        gnss_en, outages = np.zeros((0, 2)), ()
+    if project.height.benchmarks is not None:
+        benchmarks = read_benchmarks(project.resolve(project.height.benchmarks))
+        bench_en = np.column_stack(project.crs.to_plane(benchmarks.lat_rad, benchmarks.lon_rad))
+        ids = tuple(benchmarks.point_id)
+    else:
+        bench_en, ids = np.zeros((0, 2)), ()
+    return PlanData(track, centre, gnss_en, tuple(o for o in outages if len(o)), bench_en, ids)
+
+
+# --------------------------------------------------------------------------- navigation time series
+
+@dataclass(frozen=True)
+class NavSeries:
+    """One plot of the navigation view: ``values`` (n, k) in ``unit``; ``sigma`` the same shape or None."""
+
+    key: str
+    title: str
+    unit: str
+    labels: tuple[str, ...]
+    values: np.ndarray
+    sigma: np.ndarray | None
+
+
+def navigation_series(trajectory: Trajectory, ellipsoid: Ellipsoid) -> tuple[NavSeries, ...]:
+    """Position (local north/east/up from the first epoch), velocity, attitude with their 1-sigma,
+    then the estimated sensor errors (the filter stores no sigma for them)."""
+    lat0, lon0, h0 = trajectory.lat_rad[0], trajectory.lon_rad[0], trajectory.height_m[0]
+    meridian, normal = radii(lat0, ellipsoid)
+    position = np.column_stack([(trajectory.lat_rad - lat0) * (meridian + h0),
+                                (trajectory.lon_rad - lon0) * (normal + h0) * np.cos(lat0),
+                                trajectory.height_m - h0])
+    sigma_position = trajectory.sigma_pos_ned_m  # sigma of down equals sigma of up
+    heading = np.unwrap(trajectory.rpy_rad[:, 2])
+    attitude = np.rad2deg(np.column_stack([trajectory.rpy_rad[:, :2], heading]))
+    ned, rpy = ("north", "east", "down"), ("roll", "pitch", "heading")
+    degrees_per_hour = np.rad2deg(1.0) * 3600.0
+    return (
+        NavSeries("position", "Position from the first epoch", "m", ("north", "east", "up"), position, sigma_position),
+        NavSeries("position_sigma", "Position 1σ", "mm", ned, 1e3 * sigma_position, None),
+        NavSeries("velocity", "Velocity", "m/s", ned, trajectory.vel_ned_mps, trajectory.sigma_vel_ned_mps),
+        NavSeries("attitude", "Attitude", "°", rpy, attitude, np.rad2deg(trajectory.sigma_rpy_rad)),
+        NavSeries("attitude_sigma", "Attitude 1σ", "°", rpy, np.rad2deg(trajectory.sigma_rpy_rad), None),
+        NavSeries("gyro_bias", "Gyro bias (estimated)", "°/h", ("x", "y", "z"),
+                  degrees_per_hour * trajectory.gyro_bias_radps, None),
+        NavSeries("accel_bias", "Accelerometer bias (estimated)", "mGal", ("x", "y", "z"),
+                  1e5 * trajectory.accel_bias_mps2, None),
+        NavSeries("gyro_scale", "Gyro scale factor (estimated)", "ppm", ("x", "y", "z"),
+                  1e6 * trajectory.gyro_scale, None),
+        NavSeries("accel_scale", "Accelerometer scale factor (estimated)", "ppm", ("x", "y", "z"),
+                  1e6 * trajectory.accel_scale, None),
+        NavSeries("odometer_scale", "Odometer scale factor (estimated)", "ppm", ("odometer",),
+                  1e6 * trajectory.odometer_scale[:, None], None),
+    )
+
+
+# --------------------------------------------------------------------------- track view along chainage
+
+@dataclass(frozen=True)
+class ChainagePlot:
+    """One plot along chainage: curves as (legend label, sleepers.csv column); the column values
+    times ``scale`` are in ``unit``; ``lower``/``upper`` tolerance limits in ``unit`` (None: no line)."""
+
+    key: str
+    kind: str  # "deviation", "gauge", "cant" or the check's kind (insrail.track.tolerance.KINDS)
+    title: str
+    unit: str
+    curves: tuple[tuple[str, str], ...]
+    scale: float = 1.0
+    lower: float | None = None
+    upper: float | None = None
+
+
+_CHANNEL = re.compile(r"^(?:_(left|right))?(?:_(lateral|vertical))?_(mm|ratio)$")
+
+
+def _channels(columns: list[str], check: str) -> list[tuple[str, str]]:
+    """(label, column) of the stored channels of one check, e.g. check_versine_10m_left_lateral_mm."""
+    found = []
+    prefix = f"check_{check}"
+    for column in columns:
+        match = _CHANNEL.match(column[len(prefix):]) if column.startswith(prefix) else None
+        if match:
+            rail, direction, _unit = match.groups()
+            found.append((" ".join(p for p in (rail, direction) if p) or check.replace("_", " "), column))
+    return found
+
+
+def _limit(value: float, scale: float) -> float | None:
+    return float(value * scale) if np.isfinite(value) else None
+
+
+def chainage_plots(columns: Iterable[str], profile: ToleranceProfile) -> tuple[ChainagePlot, ...]:
+    """The plots of the track view for the columns of a sleepers.csv: deviations, one plot per
+    check of the tolerance profile (with its limits), gauge and cant."""
+    columns = list(columns)
+    plots = [
+        ChainagePlot("lateral_deviation", "deviation", "Lateral deviation", "mm",
+                     (("left", "lateral_deviation_left_mm"), ("right", "lateral_deviation_right_mm"))),
+        ChainagePlot("vertical_deviation", "deviation", "Vertical deviation", "mm",
+                     (("left", "vertical_deviation_left_mm"), ("right", "vertical_deviation_right_mm"))),
+    ]
+    for check in profile.checks:
+        channels = _channels(columns, check.name)
+        if not channels:
+            continue
+        ratio = channels[0][1].endswith("_ratio")
+        scale, unit = (1e3, "‰") if ratio else (1.0, "mm")
+        limit_scale = 1e3  # limits are in metres or plain ratios; both show x 1000
+        plots.append(ChainagePlot(f"check_{check.name}", check.kind, check.name.replace("_", " "), unit,
+                                  tuple(channels), scale, _limit(check.lower, limit_scale),
+                                  _limit(check.upper, limit_scale)))
+    plots.append(ChainagePlot("gauge", "gauge", "Gauge", "mm", (("gauge", "gauge_mm"),)))
+    plots.append(ChainagePlot("cant", "cant", "Cant", "mm", (("measured", "cant_mm"), ("design", "design_cant_mm"))))
+    return tuple(p for p in plots if all(column in columns for _, column in p.curves))
+
+
+def exceedance_window(station_from_m: float, station_to_m: float,
+                      margin_m: float = EXCEEDANCE_MARGIN_M) -> tuple[float, float]:
+    """Chainage range [m] that shows an exceedance with some track either side."""
+    low, high = sorted((station_from_m, station_to_m))
+    return low - margin_m, high + margin_m
+
+
+__all__ = [
+    "EXCEEDANCE_MARGIN_M",
+    "ChainagePlot",
+    "NavSeries",
+    "PlanData",
+    "chainage_plots",
+    "exceedance_window",
+    "navigation_series",
+    "plan_data",
+    "survey_gnss",
+]

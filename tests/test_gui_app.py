@@ -1,0 +1,285 @@
+"""The desktop application driven through its real main window (pytest-qt, offscreen).
+
+One processed demo project is shared by the tests (the core runs once per session); the GUI's
+own processing run reuses its fusion cache, so each test stays a few seconds.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tomllib
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+from PySide6.QtCore import QSettings, Qt
+from PySide6.QtWidgets import QMessageBox, QWizard
+
+from insrail.gui.importer import ImportWidget
+from insrail.gui.main_window import MainWindow
+from insrail.gui.settings import recent_projects
+from insrail.io.survey import read_manifest
+from insrail.project import load_project, process
+from insrail.project.demo import project_for_simulated_survey
+from insrail.project.plotdata import exceedance_window
+
+RAW_FILES = ("imu.npy", "gnss.pos", "odometer.txt", "gauge.txt", "sleepers.txt", "benchmarks.txt")
+
+
+def link_tree(source, destination) -> None:
+    shutil.copytree(source, destination, copy_function=os.link)
+
+
+@pytest.fixture(scope="session")
+def demo_project(short_nav_survey, tmp_path_factory):
+    """The demo project around the simulated `short` survey, processed once."""
+    root = tmp_path_factory.mktemp("gui-demo")
+    link_tree(short_nav_survey, root / "surveys" / "short")
+    project = project_for_simulated_survey(root, root / "surveys" / "short")
+    process(project, "short")
+    return root
+
+
+@pytest.fixture
+def window(qtbot, tmp_path):
+    settings = QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat)  # never the user's settings
+    main = MainWindow(settings)
+    qtbot.addWidget(main)
+    main.resize(1400, 900)
+    main.show()
+    yield main
+    main.modified = False  # closing must not ask (a modal question would block the tests)
+    main.close()
+
+
+def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_project, tmp_path):
+    raw = tmp_path / "raw"
+    raw.mkdir()
+    survey = demo_project / "surveys" / "short"
+    for name in RAW_FILES:
+        os.link(survey / name, raw / name)
+    project_folder = tmp_path / "project"
+    # The same raw data, trolley and settings: the fusion cache of the shared demo applies.
+    link_tree(demo_project / "results" / ".cache", project_folder / "results" / ".cache")
+
+    wizard = window.new_project()
+    wizard.name.setText("GUI test")
+    wizard.folder.setText(str(project_folder))
+    wizard.set_crs_settings(tomllib.loads((survey / "truth" / "scenario.toml").read_text())["engineering_crs"])
+    wizard.benchmarks.setText(str(raw / "benchmarks.txt"))
+    wizard.set_trolley(read_manifest(survey).trolley)
+    wizard.design.setText(str(survey / "truth" / "design.csv"))
+    wizard.survey.add_files([raw / name for name in RAW_FILES])
+    assert [role for _, role, _ in wizard.survey.entries()] == ["imu", "gnss", "odometer", "gauge", "sleepers",
+                                                                "benchmarks"]
+    wizard.survey.name.setText("short")
+    assert "records" in wizard.survey.preview.toPlainText() or wizard.survey.preview.toPlainText()
+    while wizard.currentId() != wizard.pageIds()[-1]:
+        wizard.next()
+    wizard.button(QWizard.FinishButton).click()
+    assert wizard.problems.text() == ""
+    assert window.project is not None and window.project.name == "GUI test"
+    assert load_project(project_folder).surveys[0].folder == "../raw"
+    assert str((project_folder / "project.toml").resolve()) in recent_projects(window.settings)
+
+    worker = window.process()
+    assert worker is not None and not window.process_action.isEnabled()
+    qtbot.waitUntil(lambda: window.worker is None, timeout=120_000)
+    assert "short" in window.results
+    stored = window.results["short"]
+    assert window.progress.isHidden() and "exceedances" in window.log.toPlainText()
+
+    # Every view holds data.
+    track_plots = window.track.plots.plots
+    assert {"lateral_deviation", "vertical_deviation", "gauge", "cant"} <= set(track_plots)
+    for item in track_plots.values():
+        x, _ = item.listDataItems()[0].getOriginalDataset()
+        assert len(x) == len(stored)
+    assert len(window.plan.curves["centreline"].getOriginalDataset()[0]) == len(stored)
+    assert len(window.plan.curves["gnss"].getOriginalDataset()[0]) > 100
+    assert window.navigation.items and all(i.listDataItems() for i in window.navigation.items.values())
+    assert window.repeatability.parameter.count() > 10 and window.repeatability.item.listDataItems()
+    assert window.track.exceedances.rowCount() == len(stored.exceedances) > 0
+
+    # A click on an exceedance zooms every plot there; the table starts in chainage order.
+    table = window.track.exceedances
+    shown_from = [float(table.item(r, 3).text()) for r in range(table.rowCount())]
+    assert shown_from == sorted(shown_from)
+    row = table.rowCount() // 2
+    table.scrollTo(table.model().index(row, 0))
+    qtbot.mouseClick(table.viewport(), Qt.LeftButton, pos=table.visualRect(table.model().index(row, 0)).center())
+    exceedance = stored.exceedances[table.item(row, 0).data(Qt.UserRole)]
+    assert f"{exceedance.station_from_m:.3f}" == table.item(row, 3).text()
+    expected = exceedance_window(exceedance.station_from_m, exceedance.station_to_m)
+    # Linked plots follow the first one through the laid-out geometry: let the layout settle.
+    qtbot.waitUntil(lambda: all(np.allclose(item.vb.viewRange()[0], expected, atol=1e-6)
+                                for item in track_plots.values()), timeout=3000)
+    centre = 0.5 * (exceedance.station_from_m + exceedance.station_to_m)
+    nearest = int(np.argmin(np.abs(stored.columns["station_m"] - centre)))
+    assert f"sleeper {stored.number[nearest]} " in window.track.readout.text()
+    marked = window.plan.curves["marker"].getOriginalDataset()[0]
+    assert len(marked) == exceedance.last_sleeper - exceedance.first_sleeper + 1  # ringed in the plan too
+
+    # Sorted by peak, the top row is the largest exceedance, and a click still zooms to it.
+    table.sortItems(5, Qt.DescendingOrder)
+    qtbot.mouseClick(table.viewport(), Qt.LeftButton, pos=table.visualRect(table.model().index(0, 0)).center())
+    largest = max(stored.exceedances, key=lambda e: abs(e.peak))
+    expected = exceedance_window(largest.station_from_m, largest.station_to_m)
+    assert np.allclose(window.track.plots.x_range(), expected, atol=1e-6)
+
+    # The explorer offers to process one survey again.
+    results_item = window.explorer.findItems("Results", Qt.MatchRecursive)[0].child(0)
+    assert [text for text, _ in window.explorer.context_actions(results_item)] == [
+        "Show results of short", "Process short again"]
+
+
+def test_cancel_stops_the_run_and_keeps_the_previous_results(window, qtbot, demo_project, tmp_path):
+    root = tmp_path / "copy"
+    link_tree(demo_project / "surveys", root / "surveys")
+    shutil.copy(demo_project / "project.toml", root / "project.toml")
+    link_tree(demo_project / "results" / "short", root / "results" / "short")  # results without the fusion cache
+    before = (root / "results" / "short" / "summary.toml").read_bytes()
+    assert window.open_project(root)
+    assert window.track.exceedances.rowCount() > 0  # previous results shown
+
+    window.process()
+    qtbot.waitUntil(lambda: window.progress.value() > 60, timeout=30_000)  # inside the fusion
+    assert window.cancel_button.isVisible()
+    window.cancel_button.click()
+    qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    assert "cancelled" in window.log.toPlainText()
+    assert (root / "results" / "short" / "summary.toml").read_bytes() == before
+    assert not list((root / "results").glob(".short.*"))  # no half-written result folder
+
+
+def test_reader_errors_show_file_line_and_problem(qtbot, tmp_path):
+    widget = ImportWidget()
+    qtbot.addWidget(widget)
+    bad = tmp_path / "gauge.txt"
+    bad.write_text("# format: gauge-mm\n230400.0 1435.1\n230400.1 1435.2\n230400.2 abc\n")
+    widget.add_files([bad])
+    problems = widget.check()
+    located = [p for p in problems if p.file == "gauge.txt"]
+    assert located and located[0].line == 4
+    assert widget.problems.item([p.file for p in problems].index("gauge.txt"), 1).text() == "4"
+    assert any("imu" in p.message for p in problems)  # required roles missing
+    assert widget.write_survey(None) is None and not (tmp_path / "survey.toml").exists()
+
+
+def test_unsaved_changes_prompt_before_they_are_lost(window, demo_project, monkeypatch):
+    assert window.open_project(demo_project)
+    window.modified = True
+    asked = []
+    monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: asked.append(a) or QMessageBox.Cancel)
+    assert not window.open_project(demo_project)  # the user cancelled: the project stays open
+    assert asked and window.modified
+    monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.Discard)
+    assert window.open_project(demo_project) and not window.modified
+
+
+def test_window_layout_and_recent_projects_are_remembered(qtbot, demo_project, tmp_path):
+    settings = QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat)
+    first = MainWindow(settings)
+    qtbot.addWidget(first)
+    first.show()
+    first.resize(701, 555)  # the offscreen screen is 800 x 800
+    first.open_project(demo_project)
+    first.close()
+    second = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat))
+    qtbot.addWidget(second)
+    second.show()
+    assert (second.width(), second.height()) == (701, 555)
+    assert [a.text() for a in second.recent_menu.actions()] == [str((demo_project / "project.toml").resolve())]
+
+
+def test_repeatability_overlays_plain_arrays_of_several_runs(qtbot):
+    from insrail.gui.views.repeatability import RepeatabilityView
+
+    view = RepeatabilityView()
+    qtbot.addWidget(view)
+    station = np.linspace(0.0, 100.0, 161)
+    runs = {f"run{k}": (station, {"gauge_mm": 1435.0 + 0.1 * k + np.sin(station), "time_s": station})
+            for k in range(3)}
+    view.set_runs(runs)
+    assert [view.parameter.itemText(i) for i in range(view.parameter.count())] == ["gauge_mm"]
+    curves = view.item.listDataItems()
+    assert len(curves) == 3
+    assert np.allclose(curves[2].getOriginalDataset()[1], runs["run2"][1]["gauge_mm"])
+
+
+def test_void_qt_calls_do_not_exhaust_none():
+    """The installed shiboken6 returns None without a reference on Python 3.11 (see _binding_fix):
+    a long session of painter calls must not deallocate None."""
+    import sys
+
+    from PySide6.QtGui import QImage, QPainter, QPen
+
+    image = QImage(8, 8, QImage.Format_ARGB32)
+    painter = QPainter(image)
+    pen = QPen()
+    before = sys.getrefcount(None)
+    for _ in range(20_000):
+        painter.setPen(pen)
+    painter.end()
+    assert sys.getrefcount(None) > 2**39 or sys.getrefcount(None) >= before
+
+
+def test_a_reader_error_while_processing_is_reported_with_file_and_line(window, qtbot, demo_project, tmp_path,
+                                                                       monkeypatch):
+    root = tmp_path / "broken"
+    link_tree(demo_project / "surveys", root / "surveys")
+    shutil.copy(demo_project / "project.toml", root / "project.toml")
+    gauge = root / "surveys" / "short" / "gauge.txt"
+    lines = gauge.read_text().splitlines()
+    gauge.unlink()  # a hard link to the shared demo: replace it, never write through it
+    lines[9] = "230400.4 1435.x"
+    gauge.write_text("\n".join(lines) + "\n")
+    shown = []
+    monkeypatch.setattr(QMessageBox, "warning", lambda *args: shown.append(args[2]))
+    assert window.open_project(root)
+    window.process()
+    qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    assert shown and "gauge.txt, line 10" in shown[0]
+    assert "error: survey short:" in window.log.toPlainText()
+    assert not (root / "results" / "short").exists()
+
+
+def test_wizard_lists_the_project_problems_with_their_key_paths(window, demo_project, tmp_path):
+    wizard = window.new_project()
+    wizard.folder.setText(str(tmp_path / "p"))
+    wizard.benchmarks.setText(str(tmp_path / "missing.txt"))
+    wizard.set_trolley(read_manifest(demo_project / "surveys" / "short").trolley)
+    manifest = demo_project / "surveys" / "short" / "survey.toml"
+    before = manifest.read_bytes()
+    wizard.survey.load_survey_folder(manifest.parent)
+    assert wizard.survey.name.text() == "short" and wizard.survey.gps_week.value() == 2380
+    assert not wizard.create_project()
+    assert "geodesy.height.benchmarks: file not found" in wizard.problems.text()
+    assert window.project is None and not (tmp_path / "p" / "project.toml").exists()
+    assert manifest.read_bytes() == before  # a rejected project writes nothing
+
+
+def test_import_adds_a_survey_to_the_open_project(window, demo_project, tmp_path, monkeypatch):
+    warnings = []
+    monkeypatch.setattr(QMessageBox, "warning", lambda *args: warnings.append(args[2]))
+    root = tmp_path / "project"
+    link_tree(demo_project / "surveys", root / "surveys")
+    shutil.copy(demo_project / "project.toml", root / "project.toml")
+    raw = root / "second-run"
+    raw.mkdir()
+    for name in RAW_FILES:
+        os.link(demo_project / "surveys" / "short" / name, raw / name)
+    assert window.open_project(root)
+    dialog = window.import_survey()
+    dialog.widget.add_files(sorted(raw.iterdir()))
+    dialog.widget.name.setText("second-run")
+    dialog.accept()
+    assert not warnings and dialog.folder == raw.resolve()
+    assert [s.name for s in window.project.surveys] == ["short", "second-run"]
+    assert window.modified and window.windowTitle().startswith(f"{window.project.name} * ")
+    # The project has no trolley of its own: the first survey's geometry went into survey.toml.
+    assert read_manifest(raw).trolley.reference_rail == read_manifest(root / "surveys" / "short").trolley.reference_rail
+    assert window.save_project() and not window.modified
+    assert [s.name for s in load_project(root).surveys] == ["short", "second-run"]

@@ -1,0 +1,58 @@
+"""The core functions the GUI draws from (insrail.project.plotdata): no Qt needed."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given
+from hypothesis import strategies as st
+
+from insrail.nav.earth import CGCS2000
+from insrail.nav.trajectory import Trajectory
+from insrail.project.plotdata import chainage_plots, exceedance_window, navigation_series
+from insrail.track.tolerance import load_tolerance_profile
+
+COLUMNS = ["station_m", "gauge_mm", "cant_mm", "design_cant_mm", "lateral_deviation_left_mm",
+           "lateral_deviation_right_mm", "vertical_deviation_left_mm", "vertical_deviation_right_mm",
+           "check_gauge_mm", "check_gauge_change_rate_ratio", "check_short_wave_30m_5m_left_lateral_mm",
+           "check_short_wave_30m_5m_right_vertical_mm", "check_twist_3m_mm"]
+
+
+def test_chainage_plots_follow_the_profile_and_its_limits():
+    plots = {p.key: p for p in chainage_plots(COLUMNS, load_tolerance_profile("cn_hsr_ballastless"))}
+    assert set(plots) == {"lateral_deviation", "vertical_deviation", "check_gauge", "check_gauge_change_rate",
+                          "check_short_wave_30m_5m", "check_twist_3m", "gauge", "cant"}
+    short = plots["check_short_wave_30m_5m"]
+    assert short.curves == (("left lateral", "check_short_wave_30m_5m_left_lateral_mm"),
+                            ("right vertical", "check_short_wave_30m_5m_right_vertical_mm"))
+    assert (short.lower, short.upper, short.unit) == (-2.0, 2.0, "mm")
+    rate = plots["check_gauge_change_rate"]  # 'gauge' must not claim the gauge change rate's column
+    assert plots["check_gauge"].curves == (("gauge", "check_gauge_mm"),)
+    assert rate.unit == "‰" and np.isclose(rate.upper, 1000 / 1500) and rate.scale == 1e3
+
+
+def test_checks_without_stored_columns_get_no_plot():
+    plots = chainage_plots(COLUMNS[:8], load_tolerance_profile("cn_hsr_ballastless"))
+    assert [p.key for p in plots] == ["lateral_deviation", "vertical_deviation", "gauge", "cant"]
+
+
+@given(st.floats(-1e6, 1e6), st.floats(0, 500), st.floats(0, 100))
+def test_exceedance_window_contains_the_exceedance(start, length, margin):
+    low, high = exceedance_window(start + length, start, margin)
+    assert np.isclose(low, start - margin) and np.isclose(high, start + length + margin)
+
+
+def test_navigation_series_units_and_local_position():
+    n = 5
+    time = np.arange(n, dtype=float)
+    lat = np.radians(30.0) + np.arange(n) * 1e-6  # ~6.4 m north per epoch
+    zeros = np.zeros((n, 3))
+    sigma = np.full((n, 3), 0.004)
+    trajectory = Trajectory(time, lat, np.full(n, np.radians(114.0)), np.full(n, 20.0), zeros,
+                            np.tile(np.radians([1.0, 2.0, 359.0]), (n, 1)), sigma, sigma, np.radians(sigma),
+                            np.full((n, 3), np.radians(1.0) / 3600), np.full((n, 3), 1e-4), zeros, zeros, np.zeros(n))
+    series = {s.key: s for s in navigation_series(trajectory, CGCS2000)}
+    north = series["position"].values[:, 0]
+    assert np.allclose(np.diff(north), 6.38, atol=0.05) and np.allclose(series["position"].values[:, 1:], 0.0)
+    assert np.allclose(series["position_sigma"].values, 4.0)
+    assert np.allclose(series["attitude"].values[0], [1.0, 2.0, 359.0])
+    assert np.allclose(series["gyro_bias"].values, 1.0) and np.allclose(series["accel_bias"].values, 10.0)
