@@ -170,7 +170,6 @@ def analyse(
     P = P0.copy()
     var_f[0] = project(P, 0)
     active.add(starts_at.get(0, ()), seeds(P, 0, starts_at.get(0, ())))
-    eye = np.eye(n)
     for j in range(1, m):
         if j % 2000 == 0:
             check_cancel(cancel)
@@ -180,11 +179,12 @@ def analyse(
         P = P_minus
         M = phi
         for H, R in updates:
-            S = H @ P @ H.T + R
-            K = np.linalg.solve(S, H @ P).T
-            I_KH = eye - K @ H
-            P = I_KH @ P @ I_KH.T + K @ R @ K.T
-            M = I_KH @ M
+            HP = H @ P
+            S = HP @ H.T + R
+            K = np.linalg.solve(S, HP).T
+            # (I - KH) P with the optimal gain equals the fusion's Joseph form
+            P = P - K @ HP
+            M = M - K @ (H @ M)
         P = 0.5 * (P + P.T)
         if record is not None:
             record[j] = P
