@@ -106,7 +106,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--nhc-sigma", type=float, help="NHC sigma of the fusion and the prediction [mm/s] "
                         "(default: FusionOptions's)")
     parser.add_argument("--workdir", type=Path, help="keep per-seed errors here (default: a temporary folder)")
+    parser.add_argument("--sweeps", type=Path, metavar="DIR",
+                        help="instead: write the chapter-3 sweep table and plot (accuracy_sweeps.md/.svg) into DIR")
     args = parser.parse_args(argv)
+    if args.sweeps:
+        sweeps(args.sweeps)
+        return
 
     options = FusionOptions() if args.nhc_sigma is None else FusionOptions(nhc_sigma_mps=args.nhc_sigma / 1e3)
     start = time.perf_counter()
@@ -133,6 +138,78 @@ def main(argv: list[str] | None = None) -> None:
         for f in FIGURES:
             p, m = 1e3 * predicted[f], 1e3 * mc[name][f]
             print(f"{AccuracyFigures.NAMES[f]:<34} {name:<9} {p:10.3f} {m:8.3f} {p / m:8.2f}")
+
+
+SWEEPS = {
+    "gyro_bias": (0.005, 0.01, 0.1, 1.0),
+    "accel_bias": (25.0, 100.0, 300.0),
+    "arw": (0.0022, 0.01, 0.05),
+    "vrw": (0.00075, 0.01, 0.03),
+    "gnss_sigma": (0.005, 0.01, 0.02),
+    "speed": (0.25, 0.5, 1.0, 2.0, 5.0),
+}
+SWEEP_FIGURES = ("position_lateral_m", "position_vertical_m", "cant_m", "lag5_lateral_m", "lag5_vertical_m",
+                 "lag150_lateral_m", "lag150_vertical_m")
+
+
+def sweeps(out: Path) -> None:
+    """Thesis chapter-3 style sweeps: a markdown table (forward / smoothed) and an SVG plot."""
+    from insrail.nav.fusion import FusionOptions
+    from insrail.quality.sweep import sweep
+
+    lines = ["| parameter | value | " + " | ".join(f.replace("_m", "") for f in SWEEP_FIGURES) + " |",
+             "|---|---|" + "---|" * len(SWEEP_FIGURES)]
+    tables = {}
+    for parameter, values in SWEEPS.items():
+        table = sweep(parameter, values, aiding=FusionOptions())
+        tables[parameter] = table
+        for value, f, s in zip(table.values, table.forward, table.smoothed):
+            fd, sd = f.as_dict(), s.as_dict()
+            cells = [f"{1e3 * fd[n]:.2f} / {1e3 * sd[n]:.2f}" if n != "cant_m" else f"{1e3 * fd[n]:.3f} / {1e3 * sd[n]:.3f}"
+                     for n in SWEEP_FIGURES]
+            lines.append(f"| {parameter} [{table.unit}] | {value:g} | " + " | ".join(cells) + " |")
+        print(f"sweep {parameter} done", flush=True)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "accuracy_sweeps.md").write_text("\n".join(lines) + "\n")
+    (out / "accuracy_sweeps.svg").write_text(_svg(tables))
+
+
+def _svg(tables) -> str:
+    """Small multiples, log-log: 3-sigma of the 5 m and 150 m lateral lag differences (forward
+    filter solid, smoother dashed) against each swept parameter."""
+    w, h, cols = 260, 200, 3
+    rows = math.ceil(len(tables) / cols)
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{cols * w}" height="{rows * h + 30}" '
+             'font-family="sans-serif" font-size="10">',
+             '<text x="10" y="18" font-size="12">3-sigma lateral lag difference [mm]: 5 m (blue), 150 m (red); '
+             'forward solid, smoothed dashed; dotted: 2 mm / 10 mm limits</text>']
+    for i, (name, table) in enumerate(tables.items()):
+        x0, y0 = (i % cols) * w + 45, (i // cols) * h + 45
+        pw, ph = w - 65, h - 60
+        xs = np.log10(table.values)
+        xlo, xhi = xs.min(), xs.max()
+        ylo, yhi = -2.0, 1.5  # 0.01 .. 30 mm
+
+        def px(x, y):
+            return x0 + pw * (x - xlo) / (xhi - xlo), y0 + ph * (1 - (np.clip(y, ylo, yhi) - ylo) / (yhi - ylo))
+
+        parts.append(f'<rect x="{x0}" y="{y0}" width="{pw}" height="{ph}" fill="none" stroke="#888"/>')
+        parts.append(f'<text x="{x0}" y="{y0 + ph + 28}">{name} [{table.unit}]</text>')
+        for v, x in zip(table.values, xs):
+            tx, _ = px(x, ylo)
+            parts.append(f'<text x="{tx - 8:.0f}" y="{y0 + ph + 12}">{v:g}</text>')
+        for tick in (0.01, 0.1, 1.0, 10.0):
+            _, ty = px(xlo, math.log10(tick))
+            parts.append(f'<text x="{x0 - 32}" y="{ty + 3:.0f}">{tick:g}</text>')
+        for limit in (2.0, 10.0):
+            _, ty = px(xlo, math.log10(limit))
+            parts.append(f'<line x1="{x0}" y1="{ty:.1f}" x2="{x0 + pw}" y2="{ty:.1f}" stroke="#aaa" stroke-dasharray="1,3"/>')
+        for figs, dash in ((table.forward, ""), (table.smoothed, ' stroke-dasharray="5,3"')):
+            for key, colour in (("lag5_lateral_m", "#1f5fbf"), ("lag150_lateral_m", "#c0392b")):
+                pts = " ".join("%.1f,%.1f" % px(x, math.log10(3e3 * getattr(f, key))) for x, f in zip(xs, figs))
+                parts.append(f'<polyline points="{pts}" fill="none" stroke="{colour}" stroke-width="1.5"{dash}/>')
+    parts.append("</svg>")
+    return "\n".join(parts) + "\n"
 
 
 if __name__ == "__main__":

@@ -16,6 +16,7 @@ COMMANDS = [
     ("demo", "insrail.cli.demo"),
     ("process", "insrail.cli.process"),
     ("ppk", "insrail.cli.ppk"),
+    ("predict", "insrail.cli.predict"),
 ]
 
 
