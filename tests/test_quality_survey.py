@@ -46,7 +46,7 @@ def test_replay_reproduces_the_fusion_covariance(fused):
 
 
 def test_outage_section_is_the_weakest(fused):
-    _, result, quality = fused
+    _, _, quality = fused
     assert quality.smoothed
     station = quality.profile.station_m
     assert 380.0 < station[-1] < 420.0

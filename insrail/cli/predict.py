@@ -11,6 +11,7 @@ gnss_sigma m, speed m/s).
 from __future__ import annotations
 
 import argparse
+import math
 
 from insrail.cli.progressbar import TerminalProgress
 
@@ -53,7 +54,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _mm(value_m: float) -> str:
-    return f"{1e3 * value_m:8.3f}" if value_m == value_m else f"{'-':>8}"
+    return f"{'-':>8}" if math.isnan(value_m) else f"{1e3 * value_m:8.3f}"
 
 
 def run(args: argparse.Namespace) -> int:

@@ -22,12 +22,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
 from insrail.io.survey import TrolleyGeometry
 from insrail.nav import earth
-from insrail.nav.error_model import ErrorModelNoise, discretise, dynamics_matrix, noise_matrix
+from insrail.nav.error_model import (
+    ErrorModelNoise,
+    discretise,
+    dynamics_matrix,
+    noise_matrix,
+)
 from insrail.nav.fusion import FusionOptions, initial_covariance, odometer_speed_sigma
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import GnssPosition, NavSnapshot, OdometerNhc, Zupt
@@ -70,7 +76,7 @@ class AccuracyFigures:
     outage_growth_lateral_m: float
     outage_growth_vertical_m: float
 
-    NAMES = {
+    NAMES: ClassVar[dict[str, str]] = {
         "position_lateral_m": "position lateral",
         "position_vertical_m": "position vertical",
         "cant_m": "cant",

@@ -23,7 +23,12 @@ import numpy as np
 
 from insrail.io.survey import SurveyData
 from insrail.nav import earth
-from insrail.nav.error_model import ErrorModelNoise, discretise, dynamics_matrix, noise_matrix
+from insrail.nav.error_model import (
+    ErrorModelNoise,
+    discretise,
+    dynamics_matrix,
+    noise_matrix,
+)
 from insrail.nav.fusion import FusionOptions, FusionResult
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import NavSnapshot
