@@ -20,6 +20,7 @@ COMMANDS = [
     ("compare", "insrail.cli.compare"),
     ("ppk", "insrail.cli.ppk"),
     ("gui", "insrail.cli.gui"),
+    ("predict", "insrail.cli.predict"),
 ]
 
 

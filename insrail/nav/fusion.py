@@ -127,6 +127,19 @@ class MeasurementStats:
 
 
 @dataclass(frozen=True)
+class UpdateTimeline:
+    """What the forward filter did when, for covariance analyses along the survey
+    (``insrail.quality.survey_quality``): the update epochs, the measurement models, and per
+    measurement the (update-epoch index, observation index) pairs it applied; rejected
+    observations are not listed. The record costs two integers per applied observation."""
+
+    time_s: np.ndarray  # (m,) update epochs [s of week]
+    measurements: dict  # name -> measurement model (insrail.nav.measurements)
+    applied: dict  # name -> (k, 2) int array
+    initial_covariance: np.ndarray  # (N, N) at the first update epoch
+
+
+@dataclass(frozen=True)
 class FusionResult:
     trajectory: Trajectory  # smoothed when options.smoother, else the forward solution
     forward: Trajectory
@@ -134,6 +147,7 @@ class FusionResult:
     statistics: dict
     stops: tuple[tuple[float, float], ...]
     info: dict = field(default_factory=dict)
+    timeline: UpdateTimeline | None = None
 
 
 # --------------------------------------------------------------------------- kernel
@@ -334,15 +348,24 @@ def gnss_by_quality(gnss: GnssSolution, policy) -> tuple[GnssSolution, dict[str,
     return kept, counts
 
 
-def _initial_covariance(profile: ImuProfile, options: FusionOptions, start: _Start) -> np.ndarray:
+def initial_covariance(profile: ImuProfile, options: FusionOptions, sigma_pos_ned_m, sigma_vel_mps: float,
+                       sigma_level_rad: float, sigma_heading_rad: float) -> np.ndarray:
+    """P at the first update epoch, from the alignment's sigmas, the IMU profile and the options."""
     sig = np.zeros(N_STATES)
-    sig[POS : POS + 3] = start.sigma_pos_ned_m
-    sig[VEL : VEL + 3] = start.sigma_vel_mps
-    sig[ATT : ATT + 3] = [start.sigma_level_rad, start.sigma_level_rad, start.sigma_heading_rad]
+    sig[POS : POS + 3] = sigma_pos_ned_m
+    sig[VEL : VEL + 3] = sigma_vel_mps
+    sig[ATT : ATT + 3] = [sigma_level_rad, sigma_level_rad, sigma_heading_rad]
     sig[BG : SA + 3] = initial_sensor_sigmas(profile)
     sig[ODO] = options.initial_sigma_odometer_scale
     sig[GNSS : GNSS + 3] = options.gnss_correlated_sigma_ned_m
     return np.diag(np.maximum(sig, 1e-12) ** 2)
+
+
+def odometer_speed_sigma(span_s, pulse_length_m: float, options: FusionOptions):
+    """1-sigma of the odometer's mean speed over segments of ``span_s`` seconds."""
+    # Quantisation: each interpolated distance is off by up to one pulse (uniform), so the
+    # difference of two has a standard deviation of pulse / sqrt(6).
+    return np.hypot(options.odometer_sigma_mps, pulse_length_m / (np.sqrt(6.0) * np.asarray(span_s)))
 
 
 def _odometer_speeds(survey: SurveyData, times: np.ndarray, pulse_length_m: float, options: FusionOptions):
@@ -351,9 +374,7 @@ def _odometer_speeds(survey: SurveyData, times: np.ndarray, pulse_length_m: floa
     d = np.interp(times, odo.time_s, odo.distance_m)
     span = np.diff(times)
     speed = np.diff(d) / span
-    # Quantisation: each interpolated distance is off by up to one pulse (uniform), so the
-    # difference of two has a standard deviation of pulse / sqrt(6).
-    sigma = np.hypot(options.odometer_sigma_mps, pulse_length_m / (np.sqrt(6.0) * span))
+    sigma = odometer_speed_sigma(span, pulse_length_m, options)
     valid = (times[:-1] >= odo.time_s[0]) & (times[1:] <= odo.time_s[-1])
     return speed, sigma, valid
 
@@ -437,7 +458,10 @@ def fuse(
         return j >= 0 and time_s <= stop_end[j]
 
     # --- forward pass ---------------------------------------------------------------------
-    P = _initial_covariance(profile, options, start)
+    P = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
+                           start.sigma_heading_rad)
+    P_initial = P.copy()
+    applied: dict[str, list[tuple[int, int]]] = {}
     sensor = np.zeros(12)
     gnss_error = np.zeros(3)
     odo_scale = 0.0
@@ -492,6 +516,7 @@ def fuse(
                     rejections.append(Rejection(float(meas.time_s[i]), meas.name, nis, gates[len(nu)], tuple(nu)))
                     continue
                 st.add(nu, nis)
+                applied.setdefault(meas.name, []).append((j, i))
                 K = np.linalg.solve(S, H @ P).T
                 x = x + K @ nu
                 I_KH = np.eye(N_STATES) - K @ H
@@ -515,7 +540,12 @@ def fuse(
             store.close()
     step(1.0, "fusion done")
     statistics = {name: s.summary() for name, s in stats.items()}
-    return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops),
+    timeline = UpdateTimeline(
+        time_s=t[epochs], measurements={m.name: m for m in (*timed, odo_meas, zupt)},
+        applied={name: np.array(pairs, dtype=int).reshape(-1, 2) for name, pairs in applied.items()},
+        initial_covariance=P_initial,
+    )
+    return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops), timeline=timeline,
                         info={"update_epochs": m_epochs, "alignment_rpy_rad": start.rpy_rad,
                               "alignment": start.method, "warnings": warnings, "gnss_quality": gnss_quality})
 

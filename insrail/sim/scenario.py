@@ -1,4 +1,4 @@
-"""Scenario parameters of the simulator and the built-in presets ``short`` and ``long``.
+"""Scenario parameters of the simulator and the built-in presets ``short``, ``long`` and ``straight``.
 
 Every value is a parameter; the defaults are the benchmark scenario the later issues
 measure against (GNSS white 10 mm horizontal / 20 mm vertical plus Gauss-Markov
@@ -274,7 +274,27 @@ def long_scenario(outage_700s: bool = False) -> ScenarioConfig:
     )
 
 
-PRESETS = {"short": short_scenario, "long": long_scenario, "long-outage": lambda: long_scenario(True)}
+def straight_scenario() -> ScenarioConfig:
+    """1 km of straight, level, north-bound track at a constant 1 m/s, no stops, no outage:
+    the thesis's chapter 3-4 set-up, for Monte Carlo checks of the accuracy prediction."""
+    design = DesignSpec(
+        start_east_m=512340.0,
+        start_north_m=3374210.0,
+        start_azimuth_deg=0.0,
+        start_station_m=1000.0,
+        horizontal=(("line", 1100.0),),
+        pvis=((1000.0, 28.40, 0.0), (2100.0, 28.40, 0.0)),
+        cant=((1000.0, 0.0), (2100.0, 0.0)),
+    )
+    return ScenarioConfig(
+        name="straight",
+        design=design,
+        motion=MotionSpec(start_station_m=1050.0, end_station_m=2050.0,
+                          cruise_speed_mps=1.0, speed_variation=0.0),
+    )
+
+
+PRESETS = {"short": short_scenario, "straight": straight_scenario, "long": long_scenario, "long-outage": lambda: long_scenario(True)}
 
 
 def preset(name: str, **overrides) -> ScenarioConfig:

@@ -1,0 +1,16 @@
+"""Accuracy before and after a survey, from the fusion's own error model (no Qt, no I/O).
+
+* :func:`predict` - covariance analysis of a planned run (``prediction``)
+* :func:`survey_quality` - the same along a fused survey's measurement timeline, per section (``survey``)
+* :func:`sweep` - one parameter at a time from a baseline, like the thesis's chapter 3 (``sweep``)
+
+The engine, with the exact forward and smoothed cross-covariances behind the lag
+differences, is ``insrail.quality.covariance``. See docs/accuracy.md.
+"""
+
+from insrail.quality.prediction import AccuracyFigures, GnssQuality, Prediction, predict
+from insrail.quality.survey import SectionQuality, sections, survey_quality
+from insrail.quality.sweep import SweepTable, sweep
+
+__all__ = ["AccuracyFigures", "GnssQuality", "Prediction", "SectionQuality", "SweepTable", "predict", "sections",
+           "survey_quality", "sweep"]

@@ -1,0 +1,290 @@
+"""Covariance-only filter and RTS smoother, with the cross-covariances behind lag differences.
+
+The accuracy of track geometry measured by an aided INS is set less by the absolute
+position error than by how that error changes along the track: a 30 m/5 m check sees
+e(s + 5 m) - e(s), a 300 m/150 m check e(s + 150 m) - e(s). For a pair of update
+epochs j < k with projection rows u_j, u_k (lateral or vertical, 1 x 3 on the position
+error),
+
+    Var[u_k e_k - u_j e_j] = u_k P_k u_k^T + u_j P_j u_j^T - 2 u_k C(k, j) u_j^T,
+    C(k, j) = Cov(e_k, e_j).
+
+This module runs the error-state Kalman filter in covariance-only form along a timeline
+(the transition Phi and noise Q of every segment and the (H, R) of every measurement
+applied at its end) and evaluates C(k, j) exactly for chosen pairs, without Monte Carlo.
+
+Forward filter. The post-update error obeys e_k = (I - K_k H_k) (Phi_k e_{k-1} + w_k)
+- K_k v_k; with several measurements applied one after the other at the same epoch the
+factor is the product of their (I - K H). The noises after j are independent of e_j, so
+
+    C(k, j) = M_k M_{k-1} ... M_{j+1} P_j,   M_i = (I - K_i H_i) Phi_i.
+
+Only the columns u_j^T are needed: D_j = P_j[:, pos] u_j^T (N x 1) is pushed forward with
+D_i = M_i D_{i-1} until epoch k, where u_k D_k[pos] is the cross term. All pairs alive at
+an epoch are stacked as columns of one matrix, so an epoch costs one N x N by N x n_pairs
+product.
+
+RTS smoother. With A_j = P+_j Phi_{j+1}^T (P-_{j+1})^-1 the smoothed estimate is
+x_j|N = x_j|j + A_j (x_j+1|N - x_j+1|j), hence the smoothed error
+
+    e_j|N = [e_j|j - A_j e_j+1|j] + A_j e_j+1|N .
+
+The bracket equals x_j - E[x_j | x_j+1, Y_j] (Gauss-Markov: A_j is the regression of
+x_j on x_j+1 given the data up to j). It is orthogonal to x_j+1 and Y_j by construction
+and to all later process and measurement noise by independence, so it is orthogonal to
+every e_k|N with k > j (a linear function of x_k and Y_N). Therefore
+
+    P_j,k|N = Cov(e_j|N, e_k|N) = A_j P_j+1,k|N = A_j A_j+1 ... A_k-1 P_k|N .
+
+The backward pass pushes D = P_k|N[:, pos] u_k^T from epoch k back to j with D <- A_i D.
+tests/test_quality_covariance.py checks both recursions against the exact covariance of
+the stacked (augmented) state of a small linear system.
+
+The covariances are the ones the real fusion computes: the closed-loop resets of
+``insrail.nav.fusion`` change the estimate, not P, K or A. What this module assumes is
+that the filter's model is the truth (the Monte Carlo in benchmarks/predict.py checks
+that assumption against the simulator).
+"""
+
+from __future__ import annotations
+
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from insrail.nav.error_model import ATT, POS
+from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+
+#: One segment of the timeline: (Phi, Q, [(H, R), ...]) from the previous update epoch to this one.
+Segment = tuple[np.ndarray, np.ndarray, Sequence[tuple[np.ndarray, np.ndarray]]]
+
+
+@dataclass(frozen=True)
+class LagDifference:
+    """1-sigma of u e(s + lag) - u e(s) for pairs of update epochs (j, k)."""
+
+    lag_m: float
+    first_epoch: np.ndarray  # j
+    second_epoch: np.ndarray  # k, the first epoch at least lag_m further along the track
+    station_m: np.ndarray  # station of the first point
+    sigma_lateral_m: np.ndarray
+    sigma_vertical_m: np.ndarray
+
+
+@dataclass(frozen=True)
+class PassCovariance:
+    """Per update epoch 1-sigma of the lateral and vertical position and the roll error,
+    and the lag differences, of one pass (forward filter or smoother)."""
+
+    sigma_lateral_m: np.ndarray
+    sigma_vertical_m: np.ndarray
+    sigma_roll_rad: np.ndarray
+    lags: tuple[LagDifference, ...]
+
+    def lag(self, lag_m: float) -> LagDifference:
+        for item in self.lags:
+            if item.lag_m == lag_m:
+                return item
+        raise KeyError(f"no lag difference of {lag_m} m was computed")
+
+
+@dataclass(frozen=True)
+class CovarianceProfile:
+    time_s: np.ndarray
+    station_m: np.ndarray
+    forward: PassCovariance
+    smoothed: PassCovariance | None
+
+
+def projections(heading_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows picking lateral (positive right), vertical (positive up) position error and
+    roll error out of the NED position and attitude errors, per epoch: (m, 3) each."""
+    s, c = np.sin(heading_rad), np.cos(heading_rad)
+    z = np.zeros_like(s)
+    return np.column_stack([-s, c, z]), np.column_stack([z, z, z - 1.0]), np.column_stack([c, s, z])
+
+
+def lag_pairs(station_m: np.ndarray, anchors: np.ndarray, lag_m: float) -> tuple[np.ndarray, np.ndarray]:
+    """(j, k): k is the first epoch whose station is at least ``lag_m`` beyond epoch j's."""
+    k = np.searchsorted(station_m, station_m[anchors] + lag_m - 1e-9)
+    keep = k < len(station_m)
+    return anchors[keep], k[keep]
+
+
+def analyse(
+    P0: np.ndarray,
+    segment: Callable[[int], Segment],
+    time_s: np.ndarray,
+    station_m: np.ndarray,
+    heading_rad: np.ndarray,
+    anchors: np.ndarray,
+    lags_m: Sequence[float],
+    smoother: bool = True,
+    progress: ProgressFn | None = None,
+    cancel: CancelToken = None,
+) -> CovarianceProfile:
+    """Covariance-only forward filter (and RTS smoother) over update epochs 0..m-1.
+
+    segment(j) for j = 1..m-1 gives Phi, Q of epochs j-1 -> j and the measurements applied
+    at j, in the order the filter applies them. ``station_m`` must not decrease;
+    ``anchors`` are the epochs whose lag differences are wanted (e.g. one per metre).
+    """
+    m = len(time_s)
+    n = P0.shape[0]
+    u_lat, u_ver, u_roll = projections(np.asarray(heading_rad, dtype=float))
+    pairs = [lag_pairs(station_m, np.asarray(anchors), lag) for lag in lags_m]
+    step = StepProgress(progress)
+    forward_progress = step.sub(0.0, 0.55 if smoother else 1.0)
+
+    # Pair columns: pair p of lag l is one column for lateral, one for vertical.
+    first = np.concatenate([j for j, _ in pairs]).astype(int)
+    second = np.concatenate([k for _, k in pairs]).astype(int)
+    n_pairs = len(first)
+    starts_at = _group(first, m)
+    ends_at = _group(second, m)
+
+    var_f = np.empty((m, 3))
+    cross_f = np.empty((n_pairs, 2))
+    # The backward pass needs P+ of every epoch; Phi and Q it asks ``segment`` for again.
+    record = _disk_array((m, n, n)) if smoother else None
+
+    def project(P, i):
+        pos = P[POS : POS + 3, POS : POS + 3]
+        att = P[ATT : ATT + 3, ATT : ATT + 3]
+        return u_lat[i] @ pos @ u_lat[i], u_ver[i] @ pos @ u_ver[i], u_roll[i] @ att @ u_roll[i]
+
+    def seeds(P, i, idx):
+        # columns P[:, pos] u^T for lateral and vertical, interleaved per pair
+        cols = np.empty((n, 2 * len(idx)))
+        cols[:, 0::2] = (P[:, POS : POS + 3] @ u_lat[i])[:, None]
+        cols[:, 1::2] = (P[:, POS : POS + 3] @ u_ver[i])[:, None]
+        return cols
+
+    def read(D, i, idx_cols):
+        pos = D[POS : POS + 3]
+        return np.column_stack([u_lat[i] @ pos[:, idx_cols[0::2]], u_ver[i] @ pos[:, idx_cols[1::2]]])
+
+    active = _ActivePairs(n)
+    P = P0.copy()
+    var_f[0] = project(P, 0)
+    active.add(starts_at.get(0, ()), seeds(P, 0, starts_at.get(0, ())))
+    for j in range(1, m):
+        if j % 2000 == 0:
+            check_cancel(cancel)
+            forward_progress(j / m, "covariance: forward filter")
+        phi, q, updates = segment(j)
+        P_minus = phi @ P @ phi.T + q
+        P = P_minus
+        M = phi
+        for H, R in updates:
+            HP = H @ P
+            S = HP @ H.T + R
+            K = np.linalg.solve(S, HP).T
+            # (I - KH) P with the optimal gain equals the fusion's Joseph form
+            P = P - K @ HP
+            M = M - K @ (H @ M)
+        P = 0.5 * (P + P.T)
+        if record is not None:
+            record[j] = P
+        var_f[j] = project(P, j)
+        active.apply(M)
+        done = ends_at.get(j, ())
+        if len(done):
+            cross_f[done] = read(active.columns, j, active.take(done))
+            active.remove(done)
+        new = starts_at.get(j, ())
+        if len(new):
+            active.add(new, seeds(P, j, new))
+    if record is not None:
+        record[0] = P0
+
+    forward = _pass(var_f, cross_f, pairs, lags_m, station_m)
+    smoothed = None
+    if smoother:
+        backward_progress = step.sub(0.55, 1.0)
+        var_s = np.empty((m, 3))
+        cross_s = np.empty((n_pairs, 2))
+        active = _ActivePairs(n)
+        P_s = np.array(record[m - 1])
+        var_s[m - 1] = project(P_s, m - 1)
+        new = ends_at.get(m - 1, ())
+        active.add(new, seeds(P_s, m - 1, new))
+        for j in range(m - 2, -1, -1):
+            if j % 2000 == 0:
+                check_cancel(cancel)
+                backward_progress((m - j) / m, "covariance: smoother")
+            phi_next, q_next, _ = segment(j + 1)
+            p_plus = np.array(record[j])
+            p_minus_next = phi_next @ p_plus @ phi_next.T + q_next
+            A = np.linalg.solve(p_minus_next, phi_next @ p_plus).T  # P+ Phi^T (P-)^-1, P symmetric
+            P_s = p_plus + A @ (P_s - p_minus_next) @ A.T
+            P_s = 0.5 * (P_s + P_s.T)
+            var_s[j] = project(P_s, j)
+            active.apply(A)
+            done = starts_at.get(j, ())
+            if len(done):
+                cross_s[done] = read(active.columns, j, active.take(done))
+                active.remove(done)
+            new = ends_at.get(j, ())
+            if len(new):
+                active.add(new, seeds(P_s, j, new))
+        smoothed = _pass(var_s, cross_s, pairs, lags_m, station_m)
+    step(1.0, "covariance analysis done")
+    return CovarianceProfile(np.asarray(time_s), np.asarray(station_m), forward, smoothed)
+
+
+def _group(epochs: np.ndarray, m: int) -> dict[int, np.ndarray]:
+    """{epoch: indices of the pairs with that epoch}."""
+    order = np.argsort(epochs, kind="stable")
+    keys, first = np.unique(epochs[order], return_index=True)
+    return {int(k): idx for k, idx in zip(keys, np.split(order, first[1:]))}
+
+
+def _pass(var, cross, pairs, lags_m, station_m) -> PassCovariance:
+    var = np.maximum(var, 0.0)
+    lags = []
+    offset = 0
+    for lag, (j, k) in zip(lags_m, pairs):
+        c = cross[offset : offset + len(j)]
+        offset += len(j)
+        diff_lat = np.maximum(var[k, 0] + var[j, 0] - 2.0 * c[:, 0], 0.0)
+        diff_ver = np.maximum(var[k, 1] + var[j, 1] - 2.0 * c[:, 1], 0.0)
+        lags.append(LagDifference(float(lag), j, k, station_m[j], np.sqrt(diff_lat), np.sqrt(diff_ver)))
+    return PassCovariance(np.sqrt(var[:, 0]), np.sqrt(var[:, 1]), np.sqrt(var[:, 2]), tuple(lags))
+
+
+class _ActivePairs:
+    """Columns D (N x 2 per pair) of the pairs whose first point has been passed and whose
+    second has not; ``apply`` pushes all of them one epoch on."""
+
+    def __init__(self, n: int):
+        self.ids = np.empty(0, dtype=int)
+        self.columns = np.empty((n, 0))
+
+    def add(self, ids, cols):
+        if len(ids):
+            self.ids = np.concatenate([self.ids, np.asarray(ids, dtype=int)])
+            self.columns = np.hstack([self.columns, cols])
+
+    def apply(self, M):
+        if self.ids.size:
+            self.columns = M @ self.columns
+
+    def take(self, ids) -> np.ndarray:
+        """Column indices (lateral, vertical interleaved) of the given pairs, in their order."""
+        where = {p: i for i, p in enumerate(self.ids)}
+        slots = np.array([where[p] for p in ids], dtype=int)
+        return np.column_stack([2 * slots, 2 * slots + 1]).ravel()
+
+    def remove(self, ids):
+        keep = ~np.isin(self.ids, ids)
+        self.ids = self.ids[keep]
+        self.columns = self.columns[:, np.repeat(keep, 2)]
+
+
+def _disk_array(shape) -> np.ndarray:
+    """A float array in an anonymous temporary file: a 10 km survey's P+ (about 0.5 GB)
+    lives in the page cache, not in the process's memory."""
+    return np.memmap(tempfile.TemporaryFile(prefix="insrail-cov-"), dtype=np.float64, mode="w+", shape=shape)

@@ -1,0 +1,193 @@
+"""Accuracy after a survey: the covariance analysis along its actual measurement timeline.
+
+``survey_quality`` replays what the forward filter of ``insrail.nav.fusion`` did (its
+``FusionResult.timeline``: the update epochs and every measurement it applied, rejected
+ones left out; the GNSS gaps, stops with their ZUPTs, odometer and NHC) in covariance-only
+form: Phi and Q of every segment from ``insrail.nav.error_model`` linearised on the forward
+trajectory, H and R from the fusion's own measurement objects. It then summarises the
+forward or smoothed covariances per section of track (200 m by default): the 1-sigma
+lateral and vertical position error and the 1-sigma of the 5 m and 150 m lag differences,
+the quantities behind the 30 m/5 m and 300 m/150 m checks.
+
+Stations are the odometer distance from the first update epoch (plus ``station_offset_m``);
+a lag pair is assigned to the section holding its midpoint. Section figures are RMS values
+over the moving update epochs (position) or pairs (lags) in the section.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from insrail.io.survey import SurveyData
+from insrail.nav import earth
+from insrail.nav.error_model import (
+    ErrorModelNoise,
+    discretise,
+    dynamics_matrix,
+    noise_matrix,
+)
+from insrail.nav.fusion import FusionOptions, FusionResult
+from insrail.nav.imu_profile import ImuProfile, load_imu_profile
+from insrail.nav.measurements import NavSnapshot
+from insrail.nav.rotation import euler_to_dcm
+from insrail.progress import CancelToken, ProgressFn
+from insrail.quality.covariance import CovarianceProfile, PassCovariance, analyse
+from insrail.quality.prediction import LONG_LAG_M, SHORT_LAG_M
+
+#: Below this speed [m/s] the direction of travel is carried over from the last motion.
+_MOVING_SPEED_MPS = 0.05
+
+_COLUMNS = ("sigma_lateral_m", "sigma_vertical_m", "sigma_lag5_lateral_m", "sigma_lag5_vertical_m",
+            "sigma_lag150_lateral_m", "sigma_lag150_vertical_m")
+
+
+@dataclass(frozen=True)
+class SectionQuality:
+    """Predicted 1-sigma per section of the survey [m]; NaN where a section has no data
+    (no moving epoch, or no lag pair with its midpoint there)."""
+
+    station_from_m: np.ndarray
+    station_to_m: np.ndarray
+    sigma_lateral_m: np.ndarray
+    sigma_vertical_m: np.ndarray
+    sigma_lag5_lateral_m: np.ndarray
+    sigma_lag5_vertical_m: np.ndarray
+    sigma_lag150_lateral_m: np.ndarray
+    sigma_lag150_vertical_m: np.ndarray
+    smoothed: bool
+    profile: CovarianceProfile
+
+    def weakest(self, figure: str = "sigma_lag5_lateral_m") -> int:
+        """Index of the section with the largest value of ``figure``."""
+        if figure not in _COLUMNS:
+            raise ValueError(f"unknown figure {figure!r}; choose one of {', '.join(_COLUMNS)}")
+        return int(np.nanargmax(getattr(self, figure)))
+
+    def to_rows(self) -> list[dict]:
+        """One dict per section for CSV and reports: stations in m, sigmas in mm."""
+        rows = []
+        for i in range(len(self.station_from_m)):
+            row = {"station_from_m": round(float(self.station_from_m[i]), 3),
+                   "station_to_m": round(float(self.station_to_m[i]), 3)}
+            for name in _COLUMNS:
+                row[name[:-2] + "_mm"] = round(1e3 * float(getattr(self, name)[i]), 3)
+            rows.append(row)
+        return rows
+
+
+def survey_quality(
+    survey: SurveyData,
+    result: FusionResult,
+    options: FusionOptions = FusionOptions(),
+    profile: ImuProfile | None = None,
+    ellipsoid: earth.Ellipsoid = earth.WGS84,
+    section_m: float = 200.0,
+    smoothed: bool | None = None,
+    station_offset_m: float = 0.0,
+    anchor_spacing_m: float = 1.0,
+    progress: ProgressFn | None = None,
+    cancel: CancelToken = None,
+) -> SectionQuality:
+    """Per-section accuracy of a fused survey. ``options``, ``profile`` and ``ellipsoid``
+    must be those the fusion used; ``smoothed`` defaults to what the fusion delivered."""
+    timeline = result.timeline
+    if timeline is None:
+        raise ValueError("the fusion result carries no measurement timeline; fuse the survey again")
+    if section_m <= 0.0:
+        raise ValueError(f"section length must be positive, got {section_m} m")
+    smoothed = result.trajectory.smoothed if smoothed is None else smoothed
+    profile = profile or load_imu_profile(survey.manifest.imu_profile)
+    noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
+    gqg = noise_matrix(noise)
+    t = timeline.time_s
+    m = len(t)
+
+    # The navigation state the filter linearised on: the forward solution at the update epochs.
+    nav = result.forward
+    k = np.clip(np.searchsorted(nav.time_s, t - 1e-6), 0, len(nav.time_s) - 1)
+    lat, lon, h, vel = nav.lat_rad[k], nav.lon_rad[k], nav.height_m[k], nav.vel_ned_mps[k]
+    c_bn = euler_to_dcm(nav.rpy_rad[k, 0], nav.rpy_rad[k, 1], nav.rpy_rad[k, 2])
+    odometer_scale = nav.odometer_scale[k]
+    # Mean compensated-enough rates over each segment from the raw increments (biases of a
+    # few deg/h do not change F).
+    imu = survey.imu
+    i_end = np.searchsorted(imu.time_s, t - 1e-6)
+    cum_theta = np.vstack([np.zeros(3), np.cumsum(imu.dtheta_rad, axis=0)])
+    cum_vel = np.vstack([np.zeros(3), np.cumsum(imu.dvel_mps, axis=0)])
+    seg = np.diff(t, prepend=t[0])
+    seg[0] = seg[1] if m > 1 else 0.1
+    span = np.maximum(seg, 1e-6)[:, None]
+    i_start = np.searchsorted(imu.time_s, t - seg - 1e-6)
+    omega_b = (cum_theta[i_end + 1] - cum_theta[i_start + 1]) / span
+    f_b = (cum_vel[i_end + 1] - cum_vel[i_start + 1]) / span
+
+    applied_at: dict[int, list] = {}
+    for name, pairs in timeline.applied.items():
+        meas = timeline.measurements[name]
+        for j, i in pairs:
+            applied_at.setdefault(int(j), []).append((meas, int(i)))
+
+    def snapshot(j):
+        return NavSnapshot(time_s=float(t[j]), lat=float(lat[j]), lon=float(lon[j]), h=float(h[j]), vel_ned=vel[j],
+                           c_bn=c_bn[j], omega_ib_b=omega_b[j], f_b=f_b[j], mean_vel_ned=vel[j],
+                           mean_omega_ib_b=omega_b[j], segment_s=float(seg[j]), odometer_scale=float(odometer_scale[j]),
+                           ellipsoid=ellipsoid)
+
+    def segment(j):
+        F = dynamics_matrix(lat[j], h[j], vel[j], c_bn[j], f_b[j], omega_b[j], noise, ellipsoid)
+        phi, q = discretise(F, gqg, seg[j])
+        snap = snapshot(j)
+        # lazily: the smoother's pass asks for Phi and Q only
+        return phi, q, (meas.model(snap, i)[1:] for meas, i in applied_at.get(j, ()))
+
+    odo = survey.odometer
+    distance = np.maximum.accumulate(np.interp(t, odo.time_s, odo.distance_m))
+    station = distance - distance[0] + station_offset_m
+    heading = _travel_direction(vel, nav.rpy_rad[k, 2])
+    anchors = np.unique(np.searchsorted(station, np.arange(station[0], station[-1], anchor_spacing_m)))
+    cov = analyse(timeline.initial_covariance, segment, t, station, heading, anchors, (SHORT_LAG_M, LONG_LAG_M),
+                  smoother=smoothed, progress=progress, cancel=cancel)
+    return sections(cov, smoothed, section_m)
+
+
+def _travel_direction(vel_ned: np.ndarray, heading_rad: np.ndarray) -> np.ndarray:
+    """Direction of the velocity where the trolley moves, carried over through stops (the
+    IMU heading before the first motion)."""
+    speed = np.hypot(vel_ned[:, 0], vel_ned[:, 1])
+    moving = speed > _MOVING_SPEED_MPS
+    direction = np.where(moving, np.arctan2(vel_ned[:, 1], vel_ned[:, 0]), heading_rad)
+    last = np.maximum.accumulate(np.where(moving, np.arange(len(speed)), -1))
+    return np.where(last >= 0, direction[np.maximum(last, 0)], heading_rad)
+
+
+def sections(profile: CovarianceProfile, smoothed: bool, section_m: float = 200.0) -> SectionQuality:
+    """Section figures of one pass of a covariance profile. The last section takes the
+    remainder of the track, so it is between 1/4 and 5/4 of ``section_m`` long."""
+    cov: PassCovariance = profile.smoothed if smoothed else profile.forward
+    if cov is None:
+        raise ValueError("the covariance profile has no smoothed pass")
+    station = profile.station_m
+    moving = np.diff(station, prepend=station[0]) > 0.0
+    n = max(int(math.floor((station[-1] - station[0]) / section_m + 0.75)), 1)
+    edges = station[0] + section_m * np.arange(n + 1)
+    edges[-1] = station[-1]
+
+    def rms_per_section(where, values):
+        idx = np.clip(np.searchsorted(edges, where, side="right") - 1, 0, n - 1)
+        sums = np.bincount(idx, values**2, minlength=n)
+        counts = np.bincount(idx, minlength=n)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(counts > 0, np.sqrt(sums / np.maximum(counts, 1)), np.nan)
+
+    figures = {"sigma_lateral_m": rms_per_section(station[moving], cov.sigma_lateral_m[moving]),
+               "sigma_vertical_m": rms_per_section(station[moving], cov.sigma_vertical_m[moving])}
+    for lag in (SHORT_LAG_M, LONG_LAG_M):
+        item = cov.lag(lag)
+        middle = 0.5 * (station[item.first_epoch] + station[item.second_epoch])
+        figures[f"sigma_lag{lag:g}_lateral_m"] = rms_per_section(middle, item.sigma_lateral_m)
+        figures[f"sigma_lag{lag:g}_vertical_m"] = rms_per_section(middle, item.sigma_vertical_m)
+    return SectionQuality(station_from_m=edges[:-1], station_to_m=edges[1:], smoothed=bool(smoothed), profile=profile,
+                          **figures)

@@ -1,0 +1,80 @@
+"""Per-section quality of a fused survey with a GNSS outage."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from insrail.io.survey import read_survey
+from insrail.nav.earth import CGCS2000
+from insrail.nav.fusion import FusionOptions, fuse
+from insrail.quality.survey import sections, survey_quality
+from insrail.sim.scenario import preset
+from insrail.sim.simulate import simulate
+
+SECTION_M = 100.0
+
+
+@pytest.fixture(scope="module")
+def fused(tmp_path_factory):
+    """400 m of the short scenario with a tactical IMU and a 120 s GNSS outage from 150 m
+    into the run (about 150-294 m at 1.2 m/s)."""
+    config = preset("short", imu_profile="tactical")
+    config = replace(
+        config,
+        motion=replace(config.motion, start_station_m=1450.0, end_station_m=1850.0, stops=(), static_start_s=60.0,
+                       static_end_s=20.0),
+        gnss=replace(config.gnss, outages=((1600.0, 120.0),)),
+    )
+    folder = tmp_path_factory.mktemp("quality") / "survey"
+    simulate(config, 3, folder, imu_format="npy")
+    survey = read_survey(folder)
+    result = fuse(survey, FusionOptions(), ellipsoid=CGCS2000)
+    return survey, result, survey_quality(survey, result, ellipsoid=CGCS2000, section_m=SECTION_M)
+
+
+def test_replay_reproduces_the_fusion_covariance(fused):
+    """Same timeline, same models: the replayed sigmas are the fusion's own."""
+    _, result, quality = fused
+    t = result.timeline.time_s
+    for trajectory, cov in ((result.forward, quality.profile.forward), (result.trajectory, quality.profile.smoothed)):
+        k = np.searchsorted(trajectory.time_s, t[:-1] - 1e-6)
+        np.testing.assert_allclose(cov.sigma_vertical_m[:-1], trajectory.sigma_pos_ned_m[k, 2], rtol=2e-3)
+        # straight north-east bound start: compare the horizontal variance, which does not depend on heading
+        horizontal = np.hypot(trajectory.sigma_pos_ned_m[k, 0], trajectory.sigma_pos_ned_m[k, 1])
+        assert np.all(cov.sigma_lateral_m[:-1] <= horizontal * (1 + 2e-3))
+
+
+def test_outage_section_is_the_weakest(fused):
+    _, _, quality = fused
+    assert quality.smoothed
+    station = quality.profile.station_m
+    assert 380.0 < station[-1] < 420.0
+    assert len(quality.station_from_m) == 4
+    np.testing.assert_allclose(quality.station_to_m[:-1], quality.station_from_m[1:])
+    outage_section = 2  # 200-300 m: the end of the outage, where the sigma has grown most
+    assert quality.weakest("sigma_lateral_m") == outage_section
+    forward = sections(quality.profile, smoothed=False, section_m=SECTION_M)
+    assert forward.weakest("sigma_lateral_m") == outage_section
+    assert forward.weakest("sigma_lag5_lateral_m") == outage_section
+    # the smoother bridges the outage: better than the forward filter everywhere
+    assert np.all(quality.sigma_lateral_m <= forward.sigma_lateral_m)
+    assert forward.sigma_lateral_m[outage_section] > 2.0 * forward.sigma_lateral_m[0]
+
+
+def test_rows_for_csv(fused):
+    _, _, quality = fused
+    rows = quality.to_rows()
+    assert len(rows) == len(quality.station_from_m)
+    assert set(rows[0]) == {"station_from_m", "station_to_m", "sigma_lateral_mm", "sigma_vertical_mm",
+                            "sigma_lag5_lateral_mm", "sigma_lag5_vertical_mm", "sigma_lag150_lateral_mm",
+                            "sigma_lag150_vertical_mm"}
+    assert rows[1]["sigma_lag5_lateral_mm"] == pytest.approx(1e3 * quality.sigma_lag5_lateral_m[1], abs=1e-3)
+    with pytest.raises(ValueError, match="unknown figure"):
+        quality.weakest("sigma_lateral_mm")
+
+
+def test_result_without_timeline_is_refused(fused):
+    survey, result, _ = fused
+    with pytest.raises(ValueError, match="no measurement timeline"):
+        survey_quality(survey, replace(result, timeline=None))
