@@ -59,12 +59,13 @@ class ApproximateBaseWarning(UserWarning):
 
 @dataclass(frozen=True)
 class BasePosition:
-    """Position of the base antenna's reference point (ARP) and its antenna.
+    """Position of the surveyed mark under the base antenna, and the antenna on it.
 
     Either geodetic (``lat_rad``, ``lon_rad``, ``height_m`` ellipsoidal, WGS84 / the
     GNSS frame of the products) or ECEF (``ecef_m``). ``antenna_height_m`` is the
-    vertical offset from the surveyed mark to the ARP; ``antenna_type`` an ANTEX name
-    (used when an ANTEX file is configured with ``file-rcvantfile``).
+    vertical offset from the mark up to the antenna reference point (ARP), RTKLIB's
+    ``ant2-antdelu``; ``antenna_type`` an ANTEX name (used when an ANTEX file is
+    configured with ``file-rcvantfile``).
     """
 
     lat_rad: float | None = None
@@ -93,7 +94,7 @@ class BasePosition:
                    antenna_height_m=antenna_height_m, antenna_type=antenna_type)
 
     def ecef(self) -> np.ndarray:
-        """ECEF of the antenna reference point [m] (WGS84)."""
+        """ECEF of the mark [m] (WGS84)."""
         if self.ecef_m is not None:
             return np.array(self.ecef_m, dtype=float)
         return geodetic_to_ecef(self.lat_rad, self.lon_rad, self.height_m)

@@ -8,6 +8,9 @@
 The fusion, the slow stage, is cached in ``<project>/results/.cache/`` under a hash of what
 determines it (the raw survey files' contents, trolley, IMU profile, fusion options,
 ellipsoid): changing the tolerance profile, fastener, design or height model reuses it.
+
+A survey with raw GNSS observations (``[gnss_raw]``) first goes through the cached GNSS stage
+(:mod:`insrail.project.gnss_stage`: PPK with RTKLIB); its solution's hash joins the fusion key.
 """
 
 from __future__ import annotations
@@ -26,12 +29,13 @@ from insrail.geodesy.height_anomaly import HeightAnomalyFit, fit_height_anomaly
 from insrail.io.atomic import atomic_write
 from insrail.io.control import read_benchmarks
 from insrail.io.errors import InputError
-from insrail.io.survey import MANIFEST_NAME, SurveyData, read_survey
+from insrail.io.survey import MANIFEST_NAME, SurveyData, read_manifest, read_survey
 from insrail.nav.earth import Ellipsoid
 from insrail.nav.fusion import fuse
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.model import Project
 from insrail.project.results import (
     EXCEEDANCES_FILE,
@@ -90,9 +94,9 @@ def ellipsoid_of(project: Project) -> Ellipsoid:
     return Ellipsoid(project.crs.ellipsoid, project.crs.semi_major_axis_m, 1.0 / project.crs.inverse_flattening_value)
 
 
-def fusion_key(project: Project, survey: SurveyData) -> str:
-    """Hash of everything the fused trajectory depends on."""
-    digest = hashlib.sha256()
+def fusion_key(project: Project, survey: SurveyData, gnss_sha256: str = "") -> str:
+    """Hash of everything the fused trajectory depends on (``gnss_sha256``: a computed GNSS solution's)."""
+    digest = hashlib.sha256(gnss_sha256.encode())
     for role in sorted(survey.manifest.files):
         digest.update(role.encode())
         with open(survey.folder / survey.manifest.files[role].path, "rb") as handle:
@@ -109,10 +113,10 @@ def fusion_key(project: Project, survey: SurveyData) -> str:
 
 
 def _fused_trajectory(project: Project, survey: SurveyData, progress: StepProgress,
-                      cancel: CancelToken) -> tuple[Trajectory, Path, bool, dict]:
+                      cancel: CancelToken, gnss_sha256: str = "") -> tuple[Trajectory, Path, bool, dict]:
     """The fused trajectory, its cache file, whether it came from the cache, fusion statistics."""
     cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
-    path = cache / f"fusion-{fusion_key(project, survey)}.npy"
+    path = cache / f"fusion-{fusion_key(project, survey, gnss_sha256)}.npy"
     info_path = path.with_suffix(".toml")
     if path.is_file() and info_path.is_file():
         progress(1.0, "fusion reused from the cache")
@@ -149,7 +153,13 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     step = StepProgress(progress)
     started = time.monotonic()
     entry = project.survey(survey_name)
-    survey = read_survey(project.resolve(entry.folder), progress=step.sub(0.0, 0.05))
+    folder = project.resolve(entry.folder)
+    manifest = read_manifest(folder)
+    gnss = None  # the GNSS stage (PPK), for a survey with raw observations
+    if manifest.raw_gnss is not None:
+        gnss = run_gnss_stage(project, folder, manifest, project.folder / RESULTS_FOLDER / CACHE_FOLDER,
+                              step.sub(0.0, 0.04), cancel)
+    survey = read_survey(folder, progress=step.sub(0.04, 0.05), gnss=gnss.solution if gnss else None)
     trolley = project.trolley()
     if trolley is not None:
         survey = replace(survey, manifest=replace(survey.manifest, trolley=trolley))
@@ -157,7 +167,8 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
         raise InputError(survey.folder / MANIFEST_NAME, None,
                          "files.gauge: missing; the track reconstruction needs the gauge record")
     check_cancel(cancel)
-    trajectory, trajectory_file, cached, fusion_info = _fused_trajectory(project, survey, step.sub(0.05, 0.8), cancel)
+    trajectory, trajectory_file, cached, fusion_info = _fused_trajectory(project, survey, step.sub(0.05, 0.8), cancel,
+                                                                         gnss.pos_sha256 if gnss else "")
     check_cancel(cancel)
 
     step(0.8, "height model")
@@ -192,9 +203,13 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     step(0.97, "writing results")
     summary = _summary(project, entry.name, survey, fusion_info, cached, height_fit, height_warnings, table,
                        assessment, adjustment, time.monotonic() - started)
+    if gnss is not None:
+        summary["gnss"] = gnss.summary(project.fusion.gnss_quality_policy)
+        summary["files"].update(gnss=GNSS_POS_FILE, gnss_qc=GNSS_QC_FILE)
     folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment),
-        EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary)}, cancel)
+        EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary),
+        **(gnss.result_files() if gnss else {})}, cancel)
     step(1.0, "done")
     return SurveyResults(entry.name, folder, trajectory, height_fit, recon, assessment, adjustment, cached, summary)
 
