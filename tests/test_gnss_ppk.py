@@ -224,3 +224,12 @@ def test_long_baseline_warns(geonet, tmp_path):
         ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], out, base_position=BasePosition(ecef_m=far),
             cancel=lambda: True)
     _expect_nothing_written(tmp_path, out)
+
+
+def test_backward_solution_is_written_in_time_order(geonet, tmp_path):
+    backward = _run(geonet, tmp_path / "backward.pos", options_overrides={"pos1-soltype": "backward"})
+    forward = _run(geonet, tmp_path / "forward.pos", options_overrides={"pos1-soltype": "forward"})
+    assert np.all(np.diff(backward.solution.time_s) > 0)
+    assert backward.solution.time_s[-1] == forward.solution.time_s[-1]
+    assert np.isin(forward.solution.time_s, backward.solution.time_s).all()
+    assert backward.qc.fix_rate >= 0.95

@@ -234,6 +234,8 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
         report(0.05, "RTKLIB post-processing")
         inputs = [str(rover_obs), str(base_obs)] + [str(p) for p in nav_paths] + [str(p) for p in precise_files]
         _run_child(options, inputs, tmp_name, report.sub(0.05, 0.9), cancel, rover)
+        if same_value("pos1-soltype", options.get("pos1-soltype", "forward"), "backward", table):
+            _reverse_epochs(tmp_name)
         report(0.9, "reading the solution")
         try:
             solution = read_rtklib_pos(tmp_name)
@@ -252,6 +254,16 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
     report(1.0, f"fix rate {100 * qc.fix_rate:.1f} %")
     return PpkResult(out_pos, solution, qc, options, rover, base, base_from_header, baseline_m, tuple(notes),
                      time.monotonic() - started)
+
+
+def _reverse_epochs(path: str) -> None:
+    """Put a backward solution in time order: RTKLIB writes it from the last epoch to the first."""
+    with open(path, encoding="ascii", errors="replace") as handle:
+        lines = handle.readlines()
+    header = [line for line in lines if line.startswith("%")]
+    epochs = [line for line in lines if line.strip() and not line.startswith("%")]
+    with open(path, "w", encoding="ascii") as handle:
+        handle.writelines(header + epochs[::-1])
 
 
 def _baseline_m(rover: RinexObsInfo, base: RinexObsInfo, base_position: BasePosition | None) -> float | None:
