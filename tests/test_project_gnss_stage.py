@@ -14,10 +14,14 @@ import pytest
 
 from insrail.cli.main import main
 from insrail.cli.process import describe
+from insrail.gnss import gnss_qc
 from insrail.io.errors import InputError, ManifestError
 from insrail.io.rinex import RinexObsHeader, write_rinex2_obs
 from insrail.io.survey import read_manifest, read_survey, write_manifest
 from insrail.io.survey_gnss import RawGnss
+from insrail.io.types import GnssSolution
+from insrail.nav.earth import geodetic_to_ecef
+from insrail.nav.fusion import FusionOptions
 from insrail.progress import Cancelled
 from insrail.project import (
     ProjectError,
@@ -27,10 +31,10 @@ from insrail.project import (
     project_from_settings,
     save_project,
 )
-from insrail.project.control_points import ControlPoint
+from insrail.project.control_points import ControlPoint, resolve_control_point
 from insrail.project.demo import project_for_simulated_survey
-from insrail.project.gnss_stage import run_gnss_stage
-from insrail.project.pipeline import ellipsoid_of
+from insrail.project.gnss_stage import GnssStageResult, run_gnss_stage
+from insrail.project.pipeline import ellipsoid_of, fit_heights
 from insrail.sim.evaluation import trajectory_errors
 from insrail.sim.gnss_obs import convert_survey_to_raw_gnss
 from insrail.sim.scenario import preset
@@ -235,3 +239,40 @@ def test_receiver_log_is_converted_once_and_its_navigation_used(raw_survey, tmp_
         assert len(converted) == 1 and sorted(p.name for p in converted[0].iterdir()) == ["rover.nav", "rover.obs"]
         stamps.append((converted[0] / "rover.obs").stat().st_mtime_ns)
     assert stamps[0] == stamps[1]  # the second run took the converted files from the cache
+
+
+def test_control_points_resolve_to_the_ellipsoid(raw_survey):
+    root, raw = raw_survey
+    project = load_project(root)
+    ellipsoid, fit = ellipsoid_of(project), fit_heights(project)
+    geodetic = resolve_control_point(ControlPoint("G", geodetic=(30.5, 114.4, 12.0)), project.crs, ellipsoid, fit)
+    assert (np.degrees(geodetic.lat_rad), np.degrees(geodetic.lon_rad), geodetic.height_m) == pytest.approx(
+        (30.5, 114.4, 12.0), abs=1e-12)
+    assert np.allclose(geodetic.ecef_m, geodetic_to_ecef(np.radians(30.5), np.radians(114.4), 12.0, ellipsoid))
+    east, north, normal_height = raw.base_enh_m
+    engineering = resolve_control_point(ControlPoint("E", engineering=raw.base_enh_m), project.crs, ellipsoid, fit)
+    back = project.crs.to_plane(engineering.lat_rad, engineering.lon_rad)
+    assert np.allclose(back, (east, north), atol=1e-6)
+    zeta = float(fit.zeta_m(np.array([east]), np.array([north]))[0])
+    assert engineering.height_m == pytest.approx(normal_height + zeta, abs=1e-9) and -13.0 < zeta < -11.5
+    without_benchmarks = resolve_control_point(ControlPoint("E", engineering=raw.base_enh_m), project.crs, ellipsoid,
+                                               None)
+    assert without_benchmarks.height_m == normal_height and "H taken as ellipsoidal" in without_benchmarks.derivation
+
+
+def test_summary_counts_the_epochs_the_fusion_inflates_or_excludes(tmp_path):
+    quality = np.array([1, 1, 2, 2, 2, 5])
+    n = len(quality)
+    solution = GnssSolution(time_s=np.arange(n, dtype=float), lat_rad=np.full(n, 0.5), lon_rad=np.full(n, 2.0),
+                            height_m=np.zeros(n), sigma_ned_m=np.full((n, 3), 0.01), quality=quality,
+                            num_sats=np.full(n, 8), ratio=np.full(n, 5.0))
+    stage = GnssStageResult(solution, gnss_qc(solution), tmp_path / "p.pos", tmp_path / "q.toml", "0" * 64, False,
+                            {"base": {"point": "CP1"}, "warnings": []})
+    summary = stage.summary(FusionOptions().gnss_quality_policy)
+    assert summary["epochs_by_quality"] == {"fix": 2, "float": 3, "single": 1}
+    assert summary["fix_rate"] == pytest.approx(2 / 6)
+    assert summary["fusion_inflated_epochs"] == 3 and summary["fusion_excluded_epochs"] == 1
+    assert summary["fusion_by_quality"]["float"] == {"epochs": 3, "use": "sigma x 3"}
+    assert summary["fusion_by_quality"]["single"] == {"epochs": 1, "use": "excluded"}
+    custom = stage.summary(((1, 1.0), (2, None), (5, 10.0)))
+    assert custom["fusion_inflated_epochs"] == 1 and custom["fusion_excluded_epochs"] == 3
