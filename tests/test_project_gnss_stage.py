@@ -276,3 +276,27 @@ def test_summary_counts_the_epochs_the_fusion_inflates_or_excludes(tmp_path):
     assert summary["fusion_by_quality"]["single"] == {"epochs": 1, "use": "excluded"}
     custom = stage.summary(((1, 1.0), (2, None), (5, 10.0)))
     assert custom["fusion_inflated_epochs"] == 1 and custom["fusion_excluded_epochs"] == 3
+
+
+def test_antex_and_base_antenna_reach_rtklib(raw_survey, tmp_path, monkeypatch):
+    root, raw = raw_survey
+    folder = root / "surveys" / "short"
+    (folder / "igs.atx").write_text("ANTEX placeholder: the options are checked, RTKLIB does not run\n")
+    manifest = read_manifest(folder)
+    manifest = replace(manifest, raw_gnss=replace(manifest.raw_gnss, antex="igs.atx",
+                                                  base_antenna_type="TRM55971.00     NONE"))
+    seen = {}
+
+    def record(*args, **kwargs):
+        seen.update(kwargs)
+        raise Cancelled("recorded")
+
+    monkeypatch.setattr("insrail.project.gnss_stage.ppk", record)
+    with pytest.raises(Cancelled):
+        run_gnss_stage(load_project(root), folder, manifest, tmp_path / "cache")
+    assert seen["options_overrides"] == {"file-rcvantfile": str(folder / "igs.atx"), "ant1-anttype": "*",
+                                         "ant2-anttype": "*"}
+    base = seen["base_position"]
+    assert base.antenna_type == "TRM55971.00     NONE" and base.antenna_height_m == 1.55
+    assert base.rtklib_options()["ant2-anttype"] == "TRM55971.00     NONE"  # applied after the overrides
+    assert np.allclose(base.ecef(), raw.base_mark_ecef_m, atol=0.01)  # the mark, within the height fit's error

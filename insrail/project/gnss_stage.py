@@ -185,7 +185,9 @@ def run_gnss_stage(project: Project, folder: Path, manifest: SurveyManifest, cac
         check_cancel(cancel)
         overrides = {}
         if raw.antex is not None:
-            overrides = {"file-rcvantfile": str(folder / raw.antex)}
+            # Phase-centre offsets and variations of both antennas; "*" takes the type from the RINEX
+            # header (ANT # / TYPE), base_antenna_type (BasePosition) overrides it for the base.
+            overrides = {"file-rcvantfile": str(folder / raw.antex), "ant1-anttype": "*", "ant2-anttype": "*"}
         with warnings.catch_warnings():  # kept in the QC report and the summary instead
             for category in (ApproximateBaseWarning, LongBaselineWarning):
                 warnings.simplefilter("ignore", category)
