@@ -95,7 +95,10 @@ def test_base_position_given_moves_the_rover_by_the_base_offset(geonet, tmp_path
     raised = ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], tmp_path / "b.pos", options_overrides=forward,
                  base_position=BasePosition(lat, lon, height, antenna_height_m=1.0))
     assert not raised.base_from_header
-    assert raised.options["ant2-antdelu"] == "1.0"
+    # RTKLIB gets the antenna reference point itself (its troposphere then refers to the antenna).
+    assert raised.options["ant2-antdelu"] == "0.0" and raised.options["ant2-postype"] == "xyz"
+    arp = [float(raised.options[f"ant2-pos{i}"]) for i in (1, 2, 3)]
+    assert np.allclose(arp, geodetic_to_ecef(lat, lon, height + 1.0), atol=1e-6)
     lift = raised.solution.height_m - from_header.solution.height_m
     np.testing.assert_allclose(lift, 1.0, atol=0.003)
 

@@ -34,7 +34,7 @@ from insrail.io.errors import InputError
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.timescale import calendar_to_week_seconds
 from insrail.io.types import GnssSolution
-from insrail.nav.earth import geodetic_to_ecef
+from insrail.nav.earth import ecef_to_geodetic, geodetic_to_ecef
 from insrail.progress import Cancelled, CancelToken, ProgressFn, StepProgress, is_cancelled
 
 # insrail reads lat/lon/height .pos files with RTKLIB's header; the user cannot change these.
@@ -99,14 +99,24 @@ class BasePosition:
             return np.array(self.ecef_m, dtype=float)
         return geodetic_to_ecef(self.lat_rad, self.lon_rad, self.height_m)
 
+    def antenna_reference_point_ecef(self) -> np.ndarray:
+        """ECEF of the ARP [m]: ``antenna_height_m`` above the mark along the ellipsoid normal."""
+        mark = self.ecef()
+        lat, lon, height = ecef_to_geodetic(mark)
+        return geodetic_to_ecef(lat, lon, height + self.antenna_height_m)
+
     def rtklib_options(self) -> dict[str, str]:
-        if self.ecef_m is not None:
-            options = {"ant2-postype": "xyz", "ant2-pos1": repr(self.ecef_m[0]),
-                       "ant2-pos2": repr(self.ecef_m[1]), "ant2-pos3": repr(self.ecef_m[2])}
-        else:
-            options = {"ant2-postype": "llh", "ant2-pos1": repr(math.degrees(self.lat_rad)),
-                       "ant2-pos2": repr(math.degrees(self.lon_rad)), "ant2-pos3": repr(self.height_m)}
-        options["ant2-antdelu"] = repr(self.antenna_height_m)
+        """RTKLIB's base options: the ARP itself as the base position, ``ant2-antdelu`` 0.
+
+        RTKLIB evaluates the base's troposphere model at the position it is given and adds
+        the antenna delta only to the range; given the mark and the height, its hydrostatic
+        delay refers to a point ``antenna_height_m`` too low, which lowers every rover height
+        by about 0.8 mm per metre of antenna height (measured with insrail.sim.gnss_obs).
+        """
+        arp = self.antenna_reference_point_ecef()
+        options = {"ant2-postype": "xyz", "ant2-pos1": repr(float(arp[0])), "ant2-pos2": repr(float(arp[1])),
+                   "ant2-pos3": repr(float(arp[2])), "ant2-antdele": "0.0", "ant2-antdeln": "0.0",
+                   "ant2-antdelu": "0.0"}
         if self.antenna_type:
             options["ant2-anttype"] = self.antenna_type
         return options
