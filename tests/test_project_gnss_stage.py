@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from track_truth import expected_deviations
 
 from insrail.cli.main import main
 from insrail.cli.process import describe
@@ -39,7 +40,7 @@ from insrail.sim.evaluation import trajectory_errors
 from insrail.sim.gnss_obs import convert_survey_to_raw_gnss
 from insrail.sim.scenario import preset
 from insrail.sim.simulate import simulate
-from insrail.sim.truth import read_nav_truth
+from insrail.sim.truth import read_nav_truth, read_sleeper_truth
 
 NAV = Path("/work/shared/data/real/rinex_0759_3040/07590920.05n")
 
@@ -300,3 +301,36 @@ def test_antex_and_base_antenna_reach_rtklib(raw_survey, tmp_path, monkeypatch):
     assert base.antenna_type == "TRM55971.00     NONE" and base.antenna_height_m == 1.55
     assert base.rtklib_options()["ant2-anttype"] == "TRM55971.00     NONE"  # applied after the overrides
     assert np.allclose(base.ecef(), raw.base_mark_ecef_m, atol=0.01)  # the mark, within the height fit's error
+
+
+@pytest.mark.slow
+def test_whole_short_survey_from_rinex_matches_the_truth(tmp_path, capsys):
+    """The full `short` benchmark (1.2 km, two stops, a 120 s outage on the curve) from RINEX."""
+    config = preset("short", gps_week=1316, start_time_s=558000.0025)
+    folder = tmp_path / "surveys" / "short"
+    simulate(config, seed=1, out_dir=folder, imu_format="npy")
+    raw = convert_survey_to_raw_gnss(folder, config, NAV, seed=2)
+    project = project_for_simulated_survey(tmp_path, folder)
+    save_project(replace(project, control_points=(ControlPoint(raw.base_point, engineering=raw.base_enh_m),)))
+    assert main(["process", str(tmp_path)]) == 0
+    print(capsys.readouterr().out)
+    stored = load_results(tmp_path, "short")
+    assert stored.summary["gnss"]["fix_rate"] >= 0.95
+    errors = trajectory_errors(stored.trajectory(), read_nav_truth(folder / "truth" / "nav.npy"),
+                               ellipsoid_of(load_project(tmp_path)))
+    print(f"RINEX short: trajectory RMS horizontal {1e3 * errors.rms_horizontal_m():.2f} mm, vertical "
+          f"{1e3 * errors.rms_vertical_m():.2f} mm; fix rate {100 * stored.summary['gnss']['fix_rate']:.1f} %")
+    assert errors.rms_horizontal_m() < 0.005 and errors.rms_vertical_m() < 0.008
+    truth = read_sleeper_truth(folder / "truth" / "sleepers.csv")
+    lateral, vertical = expected_deviations(truth)
+    station = stored.columns["station_m"]
+    right = np.clip(np.searchsorted(truth["station"], station), 1, len(truth) - 1)
+    rows = np.where(np.abs(truth["station"][right - 1] - station) < np.abs(truth["station"][right] - station),
+                    right - 1, right)
+    close = np.abs(truth["station"][rows] - station) < 0.05
+    assert close.mean() > 0.95
+    for side, rail in enumerate(("left", "right")):
+        measured = stored.columns[f"lateral_deviation_{rail}_mm"][close]
+        assert np.nanmax(np.abs(measured - 1e3 * lateral[rows[close], side])) < 10
+        measured = stored.columns[f"vertical_deviation_{rail}_mm"][close]
+        assert np.nanmax(np.abs(measured - 1e3 * vertical[rows[close], side])) < 10
