@@ -137,13 +137,19 @@ def test_cli_ppk(tmp_path, capsys):
 def test_base_position_options():
     from insrail.gnss import BasePosition
 
+    from insrail.nav.earth import geodetic_to_ecef
+
+    # RTKLIB gets the antenna reference point (1.5 m above the mark) with a zero antenna delta.
     geodetic = BasePosition.from_degrees(35.5, 139.25, 60.0, antenna_height_m=1.5).rtklib_options()
-    assert geodetic["ant2-postype"] == "llh" and float(geodetic["ant2-pos1"]) == pytest.approx(35.5)
-    assert float(geodetic["ant2-pos2"]) == pytest.approx(139.25) and geodetic["ant2-antdelu"] == "1.5"
+    assert geodetic["ant2-postype"] == "xyz" and geodetic["ant2-antdelu"] == "0.0"
+    prcopt, _, _ = apply_options(load_options(overrides=geodetic))
+    arp = geodetic_to_ecef(np.radians(35.5), np.radians(139.25), 61.5)
+    assert [prcopt.rb[i] for i in range(3)] == pytest.approx(arp, abs=1e-6)
+    assert [prcopt.antdel[1, i] for i in range(3)] == [0.0, 0.0, 0.0]
     ecef = BasePosition(ecef_m=(-3976219.5, 3382372.5, 3652512.9)).rtklib_options()
-    assert ecef["ant2-postype"] == "xyz" and ecef["ant2-pos3"] == "3652512.9"
+    assert ecef["ant2-postype"] == "xyz" and float(ecef["ant2-pos3"]) == pytest.approx(3652512.9, abs=1e-6)
     prcopt, _, _ = apply_options(load_options(overrides=ecef))
-    assert [prcopt.rb[i] for i in range(3)] == pytest.approx([-3976219.5, 3382372.5, 3652512.9])
+    assert [prcopt.rb[i] for i in range(3)] == pytest.approx([-3976219.5, 3382372.5, 3652512.9], abs=1e-6)
     for bad in ({"lat_rad": 0.6, "lon_rad": 2.4}, {}, {"lat_rad": 0.6, "lon_rad": 2.4, "height_m": 1.0,
                                                        "ecef_m": (1.0, 2.0, 3.0)}, {"ecef_m": (np.nan, 0.0, 0.0)}):
         with pytest.raises(ValueError, match="BasePosition"):

@@ -95,7 +95,10 @@ def test_base_position_given_moves_the_rover_by_the_base_offset(geonet, tmp_path
     raised = ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], tmp_path / "b.pos", options_overrides=forward,
                  base_position=BasePosition(lat, lon, height, antenna_height_m=1.0))
     assert not raised.base_from_header
-    assert raised.options["ant2-antdelu"] == "1.0"
+    # RTKLIB gets the antenna reference point itself (its troposphere then refers to the antenna).
+    assert raised.options["ant2-antdelu"] == "0.0" and raised.options["ant2-postype"] == "xyz"
+    arp = [float(raised.options[f"ant2-pos{i}"]) for i in (1, 2, 3)]
+    assert np.allclose(arp, geodetic_to_ecef(lat, lon, height + 1.0), atol=1e-6)
     lift = raised.solution.height_m - from_header.solution.height_m
     np.testing.assert_allclose(lift, 1.0, atol=0.003)
 
@@ -224,3 +227,12 @@ def test_long_baseline_warns(geonet, tmp_path):
         ppk(geonet / ROVER, geonet / BASE, [geonet / NAV[0]], out, base_position=BasePosition(ecef_m=far),
             cancel=lambda: True)
     _expect_nothing_written(tmp_path, out)
+
+
+def test_backward_solution_is_written_in_time_order(geonet, tmp_path):
+    backward = _run(geonet, tmp_path / "backward.pos", options_overrides={"pos1-soltype": "backward"})
+    forward = _run(geonet, tmp_path / "forward.pos", options_overrides={"pos1-soltype": "forward"})
+    assert np.all(np.diff(backward.solution.time_s) > 0)
+    assert backward.solution.time_s[-1] == forward.solution.time_s[-1]
+    assert np.isin(forward.solution.time_s, backward.solution.time_s).all()
+    assert backward.qc.fix_rate >= 0.95

@@ -32,8 +32,18 @@ def describe(results) -> list[str]:
     by_check = ", ".join(f"{name} {count}" for name, count in assessment["by_check"].items()) or "none"
     prism = s["fusion"].get("prism_fixes", 0)
     prism_text = f", {prism} total-station prism fixes on CPIII points" if prism else ""
+    gnss_lines = []
+    if "ppk" in s:
+        gnss = s["ppk"]
+        qualities = ", ".join(f"{name} {count}" for name, count in gnss["epochs_by_quality"].items())
+        gnss_lines = [(f"  GNSS (PPK, {'reused from the cache' if gnss['from_cache'] else 'computed'}): "
+                      f"fix rate {100 * gnss['fix_rate']:.1f} % of {gnss['epochs']} epochs ({qualities}); "
+                      f"fusion inflated {gnss['fusion_inflated_epochs']}, excluded {gnss['fusion_excluded_epochs']}; "
+                      f"base {gnss['base']['point']}")]
+        gnss_lines += [f"  warning: {w}" for w in gnss["warnings"]]
     return [
         f"Survey {results.survey}: results in {results.folder.resolve()}",
+        *gnss_lines,
         (f"  fusion: {'reused from the cache' if s['fusion']['from_cache'] else 'computed'}, "
          f"{s['fusion']['rejections']} measurements rejected{prism_text}; {height_line}"),
         (f"  track: {track['sleepers']} sleepers ({track['valid_sleepers']} valid), "
@@ -41,7 +51,7 @@ def describe(results) -> list[str]:
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
         (f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "
          f"max vertical {adjustment['max_vertical_mm']:.1f} mm, {adjustment['unresolved_sleepers']} sleepers unresolved"),
-        "  files: trajectory.npy, sleepers.csv, exceedances.csv, summary.toml",
+        "  files: " + ", ".join(dict.fromkeys([*s["files"].values(), "summary.toml"])),
     ]
 
 

@@ -34,7 +34,7 @@ from insrail.io.errors import InputError
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.timescale import calendar_to_week_seconds
 from insrail.io.types import GnssSolution
-from insrail.nav.earth import geodetic_to_ecef
+from insrail.nav.earth import ecef_to_geodetic, geodetic_to_ecef
 from insrail.progress import Cancelled, CancelToken, ProgressFn, StepProgress, is_cancelled
 
 # insrail reads lat/lon/height .pos files with RTKLIB's header; the user cannot change these.
@@ -59,12 +59,13 @@ class ApproximateBaseWarning(UserWarning):
 
 @dataclass(frozen=True)
 class BasePosition:
-    """Position of the base antenna's reference point (ARP) and its antenna.
+    """Position of the surveyed mark under the base antenna, and the antenna on it.
 
     Either geodetic (``lat_rad``, ``lon_rad``, ``height_m`` ellipsoidal, WGS84 / the
     GNSS frame of the products) or ECEF (``ecef_m``). ``antenna_height_m`` is the
-    vertical offset from the surveyed mark to the ARP; ``antenna_type`` an ANTEX name
-    (used when an ANTEX file is configured with ``file-rcvantfile``).
+    vertical offset from the mark up to the antenna reference point (ARP), RTKLIB's
+    ``ant2-antdelu``; ``antenna_type`` an ANTEX name (used when an ANTEX file is
+    configured with ``file-rcvantfile``).
     """
 
     lat_rad: float | None = None
@@ -93,19 +94,29 @@ class BasePosition:
                    antenna_height_m=antenna_height_m, antenna_type=antenna_type)
 
     def ecef(self) -> np.ndarray:
-        """ECEF of the antenna reference point [m] (WGS84)."""
+        """ECEF of the mark [m] (WGS84)."""
         if self.ecef_m is not None:
             return np.array(self.ecef_m, dtype=float)
         return geodetic_to_ecef(self.lat_rad, self.lon_rad, self.height_m)
 
+    def antenna_reference_point_ecef(self) -> np.ndarray:
+        """ECEF of the ARP [m]: ``antenna_height_m`` above the mark along the ellipsoid normal."""
+        mark = self.ecef()
+        lat, lon, height = ecef_to_geodetic(mark)
+        return geodetic_to_ecef(lat, lon, height + self.antenna_height_m)
+
     def rtklib_options(self) -> dict[str, str]:
-        if self.ecef_m is not None:
-            options = {"ant2-postype": "xyz", "ant2-pos1": repr(self.ecef_m[0]),
-                       "ant2-pos2": repr(self.ecef_m[1]), "ant2-pos3": repr(self.ecef_m[2])}
-        else:
-            options = {"ant2-postype": "llh", "ant2-pos1": repr(math.degrees(self.lat_rad)),
-                       "ant2-pos2": repr(math.degrees(self.lon_rad)), "ant2-pos3": repr(self.height_m)}
-        options["ant2-antdelu"] = repr(self.antenna_height_m)
+        """RTKLIB's base options: the ARP itself as the base position, ``ant2-antdelu`` 0.
+
+        RTKLIB evaluates the base's troposphere model at the position it is given and adds
+        the antenna delta only to the range; given the mark and the height, its hydrostatic
+        delay refers to a point ``antenna_height_m`` too low, which lowers every rover height
+        by about 0.8 mm per metre of antenna height (measured with insrail.sim.gnss_obs).
+        """
+        arp = self.antenna_reference_point_ecef()
+        options = {"ant2-postype": "xyz", "ant2-pos1": repr(float(arp[0])), "ant2-pos2": repr(float(arp[1])),
+                   "ant2-pos3": repr(float(arp[2])), "ant2-antdele": "0.0", "ant2-antdeln": "0.0",
+                   "ant2-antdelu": "0.0"}
         if self.antenna_type:
             options["ant2-anttype"] = self.antenna_type
         return options
@@ -233,6 +244,8 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
         report(0.05, "RTKLIB post-processing")
         inputs = [str(rover_obs), str(base_obs)] + [str(p) for p in nav_paths] + [str(p) for p in precise_files]
         _run_child(options, inputs, tmp_name, report.sub(0.05, 0.9), cancel, rover)
+        if same_value("pos1-soltype", options.get("pos1-soltype", "forward"), "backward", table):
+            _reverse_epochs(tmp_name)
         report(0.9, "reading the solution")
         try:
             solution = read_rtklib_pos(tmp_name)
@@ -251,6 +264,16 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
     report(1.0, f"fix rate {100 * qc.fix_rate:.1f} %")
     return PpkResult(out_pos, solution, qc, options, rover, base, base_from_header, baseline_m, tuple(notes),
                      time.monotonic() - started)
+
+
+def _reverse_epochs(path: str) -> None:
+    """Put a backward solution in time order: RTKLIB writes it from the last epoch to the first."""
+    with open(path, encoding="ascii", errors="replace") as handle:
+        lines = handle.readlines()
+    header = [line for line in lines if line.startswith("%")]
+    epochs = [line for line in lines if line.strip() and not line.startswith("%")]
+    with open(path, "w", encoding="ascii") as handle:
+        handle.writelines(header + epochs[::-1])
 
 
 def _baseline_m(rover: RinexObsInfo, base: RinexObsInfo, base_position: BasePosition | None) -> float | None:

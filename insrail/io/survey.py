@@ -2,7 +2,9 @@
 
 ``survey.toml`` names each raw file with its role and format, the trolley's
 geometry (lever arms, mounting angles) and the IMU profile. Paths inside it are
-relative to the folder. Lever arms are vectors from the IMU measurement centre to
+relative to the folder. Instead of ``[files.gnss]`` (a finished GNSS solution) a survey may hold
+raw GNSS observations in ``[gnss_raw]`` (:mod:`insrail.io.survey_gnss`), which a project turns into
+a solution by PPK before the fusion. Lever arms are vectors from the IMU measurement centre to
 the named point, resolved in the IMU body frame b (forward-right-down), metres.
 """
 
@@ -18,9 +20,10 @@ import numpy as np
 import tomli_w
 
 from insrail.io.atomic import atomic_write
-from insrail.io.tomlfile import read_toml
 from insrail.io.errors import InputError, ManifestError
 from insrail.io.formats import FORMATS
+from insrail.io.survey_gnss import RawGnss, parse_raw_gnss
+from insrail.io.tomlfile import read_toml
 from insrail.io.types import (
     Benchmarks,
     GaugeData,
@@ -73,7 +76,8 @@ class SurveyManifest:
     """Contents of ``survey.toml``.
 
     files maps a role (``imu gnss odometer gauge sleepers prism benchmarks``) to a
-    :class:`SurveyFile`; imu, gnss and odometer are required, the rest optional.
+    :class:`SurveyFile`; imu, gnss and odometer are required, the rest optional, except
+    that ``raw_gnss`` (the ``[gnss_raw]`` table) replaces the gnss role.
     """
 
     name: str
@@ -82,6 +86,7 @@ class SurveyManifest:
     imu_profile: str = "nav"
     gps_week: int | None = None
     description: str = ""
+    raw_gnss: RawGnss | None = None
 
 
 @dataclass(frozen=True)
@@ -152,14 +157,19 @@ def _option_problem(hint, value) -> str | None:
     return f"expected {' or '.join(k.__name__ for k in allowed if k is not type(None))}, found {value!r}"
 
 
-def _parse_files(folder: Path, table, problems: list[str]) -> dict[str, SurveyFile]:
+def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = False) -> dict[str, SurveyFile]:
     files: dict[str, SurveyFile] = {}
     if not isinstance(table, dict):
         problems.append("files: missing table [files.<role>] (roles imu, gnss, odometer are required)")
         return files
     for role in REQUIRED_ROLES:
-        if role not in table:
-            problems.append(f"files.{role}: missing (required role)")
+        if role == "gnss" and raw_gnss:
+            if role in table:
+                problems.append("files.gnss: give either a GNSS solution [files.gnss] or raw observations "
+                                "[gnss_raw], not both")
+        elif role not in table:
+            problems.append(f"files.{role}: missing (required role"
+                            + (", or raw observations in [gnss_raw])" if role == "gnss" else ")"))
     for role, entry in table.items():
         key = f"files.{role}"
         if role not in ROLE_TYPES:
@@ -246,8 +256,8 @@ def read_manifest(folder: str | Path) -> SurveyManifest:
 
     problems: list[str] = []
     for key in document:
-        if key not in ("survey", "files", "trolley"):
-            problems.append(f"{key}: unknown table (expected [survey], [files.<role>], [trolley])")
+        if key not in ("survey", "files", "trolley", "gnss_raw"):
+            problems.append(f"{key}: unknown table (expected [survey], [files.<role>], [trolley], [gnss_raw])")
     survey = document.get("survey")
     if not isinstance(survey, dict):
         problems.append("survey: missing table [survey] (name, gps_week, imu_profile, description)")
@@ -265,13 +275,14 @@ def read_manifest(folder: str | Path) -> SurveyManifest:
     for key in ("imu_profile", "description"):
         if key in survey and not isinstance(survey[key], str):
             problems.append(f"survey.{key}: expected text, found {survey[key]!r}")
-    files = _parse_files(folder, document.get("files"), problems)
+    raw_gnss = parse_raw_gnss(folder, document["gnss_raw"], problems) if "gnss_raw" in document else None
+    files = _parse_files(folder, document.get("files"), problems, raw_gnss="gnss_raw" in document)
     trolley = parse_trolley(document.get("trolley"), set(files), problems)
     if problems:
         raise ManifestError(path, problems)
     return SurveyManifest(name=name, files=files, trolley=trolley,
                           imu_profile=survey.get("imu_profile", "nav"), gps_week=gps_week,
-                          description=survey.get("description", ""))
+                          description=survey.get("description", ""), raw_gnss=raw_gnss)
 
 
 def manifest_to_toml(manifest: SurveyManifest) -> str:
@@ -288,7 +299,10 @@ def manifest_to_toml(manifest: SurveyManifest) -> str:
     trolley.update(reference_rail=geometry.reference_rail,
                    mounting_rpy_deg=[float(v) for v in np.degrees(geometry.mounting_rpy_rad)],
                    rail_centre_spacing_m=float(geometry.rail_centre_spacing_m))
-    return tomli_w.dumps({"survey": survey, "files": files, "trolley": trolley})
+    document = {"survey": survey, "files": files, "trolley": trolley}
+    if manifest.raw_gnss is not None:
+        document["gnss_raw"] = manifest.raw_gnss.to_settings()
+    return tomli_w.dumps(document)
 
 
 def write_manifest(folder: str | Path, manifest: SurveyManifest) -> Path:
@@ -323,15 +337,21 @@ def _with_week(data, role: str, gps_week: int | None, problems: list[str]):
 
 
 def read_survey(folder: str | Path, progress: ProgressFn | None = None,
-                cancel: CancelToken = None) -> SurveyData:
+                cancel: CancelToken = None, gnss: GnssSolution | None = None) -> SurveyData:
     """Load every file of a survey folder by its role and format.
 
     Every file is read even after one fails, so the user sees all bad files at
     once: one bad file raises its own InputError, several raise a ManifestError
     listing them. Then the aiding data must overlap the IMU in time.
+    ``gnss`` is the solution computed from ``[gnss_raw]`` (a project's GNSS stage);
+    it is required for such a survey and refused for one with ``[files.gnss]``.
     """
     folder = Path(folder)
     manifest = read_manifest(folder)
+    if (manifest.raw_gnss is not None) != (gnss is not None):
+        raise InputError(folder / MANIFEST_NAME, None, "gnss_raw: the survey holds raw GNSS observations; "
+                         "process it in a project (PPK) first" if gnss is None else
+                         "files.gnss: the survey has its own GNSS solution; a computed one is not used")
     step = StepProgress(progress)
     loaded: dict = {}
     errors: list[InputError] = []
@@ -343,6 +363,8 @@ def read_survey(folder: str | Path, progress: ProgressFn | None = None,
             loaded[role] = FORMATS[entry.format].read(folder / entry.path, **entry.options)
         except InputError as exc:
             errors.append(exc)
+    if gnss is not None:
+        loaded["gnss"] = gnss
     if len(errors) == 1:
         raise errors[0]
     if errors:

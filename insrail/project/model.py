@@ -8,6 +8,8 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
     [geodesy.height]     benchmarks = "benchmarks.txt" (GNSS levelling, h and H), model = "auto" |
                          "constant" | "plane" | "quadratic", geoid_grid = path or "egm96" (remove-restore).
                          Without benchmarks heights stay ellipsoidal (H = h).
+    [geodesy.control_points.<name>]  lat_deg, lon_deg, ellipsoidal_height_m, or east_m, north_m,
+                         normal_height_m (insrail.project.control_points): e.g. the GNSS base's mark
     [trolley]            as in survey.toml; when absent each survey's own [trolley] is used
     [processing]         imu_profile (default: each survey's), a subset of FusionOptions
     [track]              design (alignment CSV or LandXML), start_station_m (needed without a design),
@@ -38,6 +40,7 @@ from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, parse_trolley
 from insrail.io.tomlfile import read_toml
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
+from insrail.project.control_points import ControlPoint, parse_control_points
 from insrail.track.adjustment import DEFAULT_FASTENER, load_fastener_type
 from insrail.track.tolerance import DEFAULT_PROFILE, load_tolerance_profile
 
@@ -91,6 +94,7 @@ class Project:
     first_sleeper_number: int = 1
     tolerance_profile: str = DEFAULT_PROFILE
     fastener: str = DEFAULT_FASTENER
+    control_points: tuple[ControlPoint, ...] = ()
 
     @property
     def path(self) -> Path:
@@ -108,6 +112,9 @@ class Project:
             if entry.name == name:
                 return entry
         raise KeyError(f"{self.path}: no survey named {name!r} (surveys: {', '.join(s.name for s in self.surveys)})")
+
+    def control_point(self, name: str) -> ControlPoint | None:
+        return next((p for p in self.control_points if p.name == name), None)
 
     def trolley(self) -> TrolleyGeometry | None:
         """The project's trolley geometry, or None when each survey brings its own."""
@@ -133,6 +140,8 @@ class Project:
             "project": {"name": self.name, "description": self.description},
             "geodesy": {"crs": self.crs.to_settings(), "height": height},
         }
+        if self.control_points:
+            document["geodesy"]["control_points"] = {p.name: p.to_settings() for p in self.control_points}
         if self.trolley_settings is not None:
             document["trolley"] = self.trolley_settings
         document["processing"] = processing
@@ -172,7 +181,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     description = reader.text(meta, "project.description", "")
 
     geodesy = reader.table(document, "geodesy")
-    reader.known(geodesy, "geodesy", ("crs", "height"))
+    reader.known(geodesy, "geodesy", ("crs", "height", "control_points"))
     crs = None
     if "crs" not in geodesy:
         reader.add("geodesy.crs", "missing table (the engineering coordinate system)")
@@ -182,6 +191,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
         except SettingsError as err:
             reader.problems.extend(err.problems)
     height = _height(reader, reader.table(geodesy, "height", "geodesy.height"))
+    control_points = parse_control_points(geodesy.get("control_points", {}), "geodesy.control_points", reader.problems)
 
     trolley_settings = document.get("trolley")
     if trolley_settings is not None:
@@ -227,7 +237,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
         folder=Path(folder), name=name, description=description, crs=crs, height=height, surveys=surveys,
         trolley_settings=trolley_settings, imu_profile=imu_profile, fusion=FusionOptions(**options),
         design=design, start_station_m=start_station, first_sleeper_number=first_number,
-        tolerance_profile=tolerance, fastener=fastener,
+        tolerance_profile=tolerance, fastener=fastener, control_points=control_points,
     )
 
 

@@ -17,6 +17,10 @@ Three stages are cached in ``<project>/results/.cache/``, each under a hash of w
 
 Changing only the tolerance profile therefore recomputes the assessment (and the adjustment
 when its limits changed) and rewrites the result files; nothing else.
+
+A survey with raw GNSS observations (``[gnss_raw]``) first goes through the cached GNSS stage
+(:mod:`insrail.project.gnss_stage`: PPK with RTKLIB); its solution's hash joins the fusion key
+(``ppk-<key>.pos``/``.toml`` in the same cache).
 """
 
 from __future__ import annotations
@@ -44,13 +48,14 @@ from insrail.io.survey import (
     read_manifest,
     read_survey,
 )
-from insrail.io.types import GaugeData, PrismObservations, SleeperPulses
+from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
 from insrail.nav.earth import Ellipsoid
 from insrail.nav.fusion import fuse
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.measurements import PositionFix
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.model import Project
 from insrail.project.results import (
     EXCEEDANCES_FILE,
@@ -149,11 +154,12 @@ def _geodesy_settings(project: Project) -> dict:
     return settings
 
 
-def fusion_key(project: Project, manifest: SurveyManifest, folder: Path) -> str:
+def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sha256: str = "") -> str:
     """Hash of everything the fused trajectory of the survey in ``folder`` depends on (its
     manifest with the project's trolley applied): raw files, settings and, when prism fixes
-    aid the fusion, the geodesy that places them."""
-    digest = hashlib.sha256()
+    aid the fusion, the geodesy that places them; ``gnss_sha256``: the hash of a GNSS solution
+    computed by the GNSS stage (PPK)."""
+    digest = hashlib.sha256(gnss_sha256.encode())
     for role in sorted(manifest.files):
         digest.update(role.encode())
         _hash_file(digest, folder / manifest.files[role].path)
@@ -195,17 +201,18 @@ def prism_fixes(project: Project, prism: PrismObservations, trolley: TrolleyGeom
 
 
 def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, key: str,
-                      height_fit: HeightAnomalyFit | None, progress: StepProgress,
-                      cancel: CancelToken) -> tuple[FreshFusion | None, Path, dict]:
+                      height_fit: HeightAnomalyFit | None, gnss: GnssSolution | None,
+                      progress: StepProgress, cancel: CancelToken) -> tuple[FreshFusion | None, Path, dict]:
     """What a computed fusion leaves for the track (None when it comes from the cache), the fused
-    trajectory's cache file and the fusion statistics. A cached fusion reads no raw file."""
+    trajectory's cache file and the fusion statistics. A cached fusion reads no raw file.
+    ``gnss``: the solution of the GNSS stage for a survey with raw observations."""
     cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
     path = cache / f"fusion-{key}.npy"
     info_path = path.with_suffix(".toml")
     if path.is_file() and info_path.is_file():
         progress(1.0, "fusion reused from the cache")
         return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
-    survey = read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel)
+    survey = read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel, gnss=gnss)
     survey = replace(survey, manifest=manifest)
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
@@ -292,6 +299,10 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     entry = project.survey(survey_name)
     folder = project.resolve(entry.folder)
     manifest = read_manifest(folder)
+    gnss = None  # the GNSS stage (PPK), for a survey with raw observations
+    if manifest.raw_gnss is not None:
+        gnss = run_gnss_stage(project, folder, manifest, project.folder / RESULTS_FOLDER / CACHE_FOLDER,
+                              step.sub(0.0, 0.04), cancel)
     trolley = project.trolley()
     if trolley is not None:
         manifest = replace(manifest, trolley=trolley)
@@ -299,11 +310,12 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
         raise InputError(folder / MANIFEST_NAME, None,
                          "files.gauge: missing; the track reconstruction needs the gauge record")
     check_cancel(cancel)
-    step(0.0, "height model")
+    step(0.04, "height model")
     height_fit = fit_heights(project)
-    key = fusion_key(project, manifest, folder)
+    key = fusion_key(project, manifest, folder, gnss.pos_sha256 if gnss else "")
     fresh, trajectory_file, fusion_info = _fused_trajectory(project, manifest, folder, key, height_fit,
-                                                             step.sub(0.0, 0.8), cancel)
+                                                             gnss.solution if gnss else None,
+                                                             step.sub(0.04, 0.8), cancel)
     check_cancel(cancel)
 
     step(0.82, "rails, chainage and sleepers")
@@ -332,10 +344,14 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
                        assessment, adjustment, time.monotonic() - started)
     if gnss_summary is not None:
         summary["gnss"] = gnss_summary
+    if gnss is not None:
+        summary["ppk"] = gnss.summary(project.fusion.gnss_quality_policy)
+        summary["files"].update(gnss=GNSS_POS_FILE, gnss_qc=GNSS_QC_FILE)
     summary["track_quality"] = track_quality_section(geometry)
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment),
-        EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary)}, cancel)
+        EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary),
+        **(gnss.result_files() if gnss else {})}, cancel)
     step(1.0, "done")
     return SurveyResults(entry.name, results_folder, manifest.gps_week, height_fit, recon, assessment, adjustment,
                          fusion_info["from_cache"], summary)

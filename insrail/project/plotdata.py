@@ -24,8 +24,9 @@ from insrail.io.survey import read_manifest
 from insrail.io.types import GnssSolution
 from insrail.nav.earth import Ellipsoid, radii
 from insrail.nav.trajectory import Trajectory
+from insrail.project.gnss_stage import GNSS_POS_FILE
 from insrail.project.model import Project
-from insrail.project.results import StoredResults
+from insrail.project.results import RESULTS_FOLDER, StoredResults
 from insrail.track.tolerance import ToleranceProfile
 
 #: Margin shown either side of an exceedance [m]: enough to see the 30 m chord around it.
@@ -47,9 +48,12 @@ class PlanData:
 
 
 def survey_gnss(project: Project, survey: str) -> GnssSolution:
-    """The GNSS solution of one survey, read as the pipeline reads it."""
+    """The GNSS solution of one survey, read as the pipeline reads it: the survey's own file, or
+    the solution the GNSS stage (PPK) wrote into the results for raw observations."""
     folder = project.resolve(project.survey(survey).folder)
-    entry = read_manifest(folder).files["gnss"]
+    entry = read_manifest(folder).files.get("gnss")
+    if entry is None:
+        return read_any(project.folder / RESULTS_FOLDER / survey / GNSS_POS_FILE, "rtklib-pos")
     return read_any(folder / entry.path, entry.format, **entry.options)
 
 

@@ -46,7 +46,7 @@ from insrail.sim.kinematics import TrolleyKinematics
 from insrail.sim.motion import walking_profile
 from insrail.sim.scenario import ScenarioConfig
 from insrail.sim.track import TrueTrack
-from insrail.sim.truth import NAV_TRUTH_DTYPE, write_sleeper_truth
+from insrail.sim.truth import ANTENNA_TRUTH_DTYPE, NAV_TRUTH_DTYPE, write_sleeper_truth
 
 #: IMU epochs per vectorised chunk: bounds memory (about 60 MB of temporaries) for any length.
 CHUNK_EPOCHS = 50_000
@@ -203,6 +203,9 @@ def simulate(
     full_clock = np.arange(np.ceil(t[0]), t[-1], 1.0 / gcfg.rate_hz)
     gm_full = sensors.gauss_markov(rng_gnss, len(full_clock), 1.0 / gcfg.rate_hz, sig_gm, gcfg.gm_tau_s)
     gm = gm_full[np.searchsorted(full_clock, t_gnss)]
+    antenna_truth = np.empty(len(full_clock), dtype=ANTENNA_TRUTH_DTYPE)
+    antenna_truth["time_s"] = full_clock
+    antenna_truth["ecef_m"] = kin.point_ecef(full_clock, trolley.imu_to_antenna_m)[0]
     err_ned = gm + rng_gnss.standard_normal((len(t_gnss), 3)) * sig_white
     d_lat, d_lon, d_h = earth.ned_to_geodetic_delta(err_ned, a_lat, a_h, ell)
     sigma = np.sqrt(sig_white**2 + sig_gm**2)
@@ -288,6 +291,8 @@ def simulate(
         truth_dir.mkdir()
         np.save(truth_dir / "nav.npy", truth)
         files["truth_nav"] = truth_dir / "nav.npy"
+        np.save(truth_dir / "antenna.npy", antenna_truth)
+        files["truth_antenna"] = truth_dir / "antenna.npy"
         files["truth_sleepers"] = write_sleeper_truth(
             truth_dir / "sleepers.csv", sleeper_truth, np.arange(len(nominal)), pass_time, detected
         )

@@ -4,6 +4,8 @@ and benchmarks.
 ``truth/nav.npy``       structured array at the IMU rate (NAV_TRUTH_DTYPE): IMU position,
                         NED velocity, attitude of b relative to NED, and station of the
                         trolley's reference point
+``truth/antenna.npy``   the GNSS antenna's phase centre (ANTENNA_TRUTH_DTYPE: time, ECEF) at the
+                        GNSS rate on the whole run, outages included (the RINEX simulator's rover)
 ``truth/sleepers.csv``  one row per sleeper: design station, passing time of the detector,
                         whether the detector saw it, centreline and rails (E, N, H), gauge,
                         cant, design cant and the injected irregularities
@@ -31,6 +33,8 @@ NAV_TRUTH_DTYPE = np.dtype(
         ("station_m", "f8"),
     ]
 )
+
+ANTENNA_TRUTH_DTYPE = np.dtype([("time_s", "f8"), ("ecef_m", "f8", (3,))])
 
 #: Columns of truth/sleepers.csv: (name, unit). Lengths in metres; the CSV header row
 #: carries "name [unit]".
@@ -89,4 +93,12 @@ def read_nav_truth(path: str | Path) -> np.ndarray:
     arr = np.load(path, mmap_mode="r")
     if arr.dtype != NAV_TRUTH_DTYPE:
         raise ValueError(f"{path}: not an insrail navigation truth file (dtype {arr.dtype})")
+    return arr
+
+
+def read_antenna_truth(path: str | Path) -> np.ndarray:
+    """truth/antenna.npy: the antenna phase centre (time [s of week], ECEF [m])."""
+    arr = np.load(path)
+    if arr.dtype != ANTENNA_TRUTH_DTYPE:
+        raise ValueError(f"{path}: not an insrail antenna truth file (dtype {arr.dtype})")
     return arr
