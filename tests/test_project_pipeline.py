@@ -290,3 +290,45 @@ def test_prism_observations_aid_the_fusion_as_position_fixes(processed, tmp_path
     plain = project.folder / "surveys" / "short"
     assert fusion_key(replace(project, height=constant), read_manifest(plain), plain) == fusion_key(
         project, read_manifest(plain), plain)
+
+
+def test_without_a_design_the_fitted_alignment_is_written_and_serves_as_a_design(processed, capsys):
+    from insrail.track.alignment_csv import read_alignment_csv
+    from insrail.track.landxml import read_landxml
+    from insrail.track.linefit import element_table
+
+    project, with_design = processed
+    # Without a design the chainage runs along the measured path from the start station.
+    undesigned = replace(project, design=None, start_station_m=float(with_design.table.station_m[0]))
+    results = process(undesigned, "short")
+    fit = results.reconstruction.fitted
+    assert fit is not None and results.fusion_from_cache
+    line_fit = results.summary["track"]["line_fit"]
+    assert line_fit["fitted"] and line_fit["elements"] == {"Line": 2, "Clothoid": 2, "Arc": 1} and line_fit["plan_rms_mm"] < 10.0
+    files = results.summary["files"]
+    for key in ("fitted_alignment_csv", "fitted_alignment_landxml", "line_fit_report"):
+        assert (results.folder / files[key]).is_file()
+    assert (results.folder / "line_fit.txt").read_text().startswith("line-type fit of ")
+    # Both files read back as the alignment that was fitted (the element table to the writer's precision).
+    expected = element_table(fit.alignment.horizontal)
+    for read in (read_alignment_csv(results.folder / "fitted_alignment.csv"),
+                 read_landxml(results.folder / "fitted_alignment.xml")):
+        rows = element_table(read.horizontal)
+        assert [r.kind for r in rows] == [r.kind for r in expected]
+        np.testing.assert_allclose([r.start_station_m for r in rows], [r.start_station_m for r in expected], atol=1e-6)
+        np.testing.assert_allclose([r.length_m for r in rows], [r.length_m for r in expected], atol=1e-6)
+    # The surveyor takes the fitted alignment as the design of the project: the deviations on it are the
+    # line-fit residuals, millimetres, against tens of millimetres between fitted and true design.
+    shutil.copy(results.folder / "fitted_alignment.csv", project.folder / "fitted.csv")
+    redesigned = process(replace(project, design="fitted.csv"), "short")
+    table = redesigned.table
+    lateral = table.lateral_deviation_m[table.valid]
+    assert "line_fit" not in redesigned.summary["track"]
+    assert np.sqrt(np.nanmean(lateral**2)) < 0.01
+    # Chainage on the fitted design runs parallel to the true design's (one start offset).
+    common, mine, theirs = np.intersect1d(table.number, with_design.table.number, return_indices=True)
+    assert len(common) > 1800
+    offset = table.station_m[mine] - with_design.table.station_m[theirs]
+    assert np.ptp(offset[np.isfinite(offset)]) < 0.05
+    main(["process", str(project.folder)])  # restore the design results for the other tests
+    capsys.readouterr()

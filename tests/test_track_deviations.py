@@ -8,7 +8,7 @@ from track_truth import expected_deviations, truth_reconstruction, truth_sleeper
 
 from insrail.io.track_sensors import read_sleeper_times
 from insrail.track.alignment import Arc, DesignAlignment, HorizontalAlignment, Line
-from insrail.track.deviations import design_rail_offsets, rail_deviations
+from insrail.track.deviations import design_cant_m, design_rail_offsets, rail_deviations
 from insrail.track.profile import PVI, CantTable, VerticalProfile
 from insrail.track.sleeper_table import build_sleeper_table, reconstruct_track, regular_sleepers
 
@@ -101,6 +101,21 @@ def test_plan_only_design_gives_no_vertical_deviation():
     points = np.array([[1020.0, 2000.7, 50.0], [1030.0, 1999.3, 50.0]])
     lateral, vertical = rail_deviations(plan_only, points, points)
     assert np.isfinite(lateral).all() and np.isnan(vertical).all()
+
+
+def test_points_past_the_profile_or_cant_table_are_not_assessed():
+    """A survey running past the end of the design's profile or cant table (a fitted alignment used
+    as the design of a longer repeat run) gets NaN there, like points beyond the plan's ends."""
+    design = _canted_straight()  # plan 0..250 m
+    short_profile = DesignAlignment(design.horizontal, VerticalProfile((PVI(0.0, 50.0), PVI(200.0, 52.0))),
+                                    CantTable(np.array([0.0, 150.0]), np.array([0.1, 0.1])))
+    s = np.array([20.0, 120.0, 180.0, 240.0])
+    points = np.column_stack([*design.horizontal.point_at(s), np.full(4, 51.0)])
+    lateral, vertical = rail_deviations(short_profile, points, points)
+    # cant defined up to 150 m: the design rail offsets (and so the lateral deviations) stop there
+    assert np.isfinite(lateral[:2]).all() and np.isnan(lateral[2:]).all()
+    assert np.isfinite(vertical[:2]).all() and np.isnan(vertical[2:]).all()
+    assert np.isnan(design_cant_m(short_profile, s)[2:]).all()
 
 
 def test_reconstruct_track_end_to_end(short_perfect_survey):

@@ -22,6 +22,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="survey to process (repeatable; default: every survey of the project)")
 
 
+def _line_fit_lines(line_fit: dict | None) -> list[str]:
+    """The line-type fit of a survey without a design alignment."""
+    if line_fit is None:
+        return []
+    if not line_fit["fitted"]:
+        return [f"  line-type fit failed, deviations left empty: {line_fit['error']}"]
+    elements = ", ".join(f"{count} {kind}" for kind, count in line_fit["elements"].items())
+    return [(f"  line-type fit (no design): {elements}, {line_fit['pvis']} PVIs; residual RMS plan "
+             f"{line_fit['plan_rms_mm']:.2f} mm, profile {line_fit['profile_rms_mm']:.2f} mm; deviations from "
+             f"{line_fit['windows']} overlapping windows; fitted_alignment.csv/.xml usable as the design")]
+
+
 def describe(results) -> list[str]:
     """Headline lines for one survey's results (shared with ``insrail demo``)."""
     s = results.summary
@@ -48,6 +60,7 @@ def describe(results) -> list[str]:
          f"{s['fusion']['rejections']} measurements rejected{prism_text}; {height_line}"),
         (f"  track: {track['sleepers']} sleepers ({track['valid_sleepers']} valid), "
          f"stations {track['station_from_m']:.3f} .. {track['station_to_m']:.3f} m"),
+        *_line_fit_lines(track.get("line_fit")),
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
         (f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "
          f"max vertical {adjustment['max_vertical_mm']:.1f} mm, {adjustment['unresolved_sleepers']} sleepers unresolved"),

@@ -59,6 +59,9 @@ from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_sta
 from insrail.project.model import Project
 from insrail.project.results import (
     EXCEEDANCES_FILE,
+    FITTED_ALIGNMENT_CSV,
+    FITTED_ALIGNMENT_XML,
+    LINE_FIT_REPORT,
     RESULTS_FOLDER,
     SLEEPERS_FILE,
     SUMMARY_FILE,
@@ -79,9 +82,10 @@ from insrail.track.adjustment import (
     optimise_adjustment,
 )
 from insrail.track.alignment import DesignAlignment
-from insrail.track.alignment_csv import read_alignment_csv
+from insrail.track.alignment_csv import format_alignment_csv, read_alignment_csv
 from insrail.track.exceedance import Assessment, SleeperGeometry, assess
-from insrail.track.landxml import read_landxml
+from insrail.track.landxml import format_landxml, read_landxml
+from insrail.track.linefit import element_table
 from insrail.track.sleeper_table import (
     SleeperTable,
     TrackReconstruction,
@@ -348,16 +352,44 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
         summary["ppk"] = gnss.summary(project.fusion.gnss_quality_policy)
         summary["files"].update(gnss=GNSS_POS_FILE, gnss_qc=GNSS_QC_FILE)
     summary["track_quality"] = track_quality_section(geometry)
+    line_fit_files = _line_fit_files(recon)
+    if project.design is None:
+        summary["track"]["line_fit"] = _line_fit_section(recon)
+        summary["files"].update(dict(zip(("fitted_alignment_csv", "fitted_alignment_landxml", "line_fit_report"),
+                                          line_fit_files)))
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment),
         EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary),
-        **(gnss.result_files() if gnss else {})}, cancel)
+        **line_fit_files, **(gnss.result_files() if gnss else {})}, cancel)
     step(1.0, "done")
     return SurveyResults(entry.name, results_folder, manifest.gps_week, height_fit, recon, assessment, adjustment,
                          fusion_info["from_cache"], summary)
 
 
 # --------------------------------------------------------------------------- result files
+
+def _line_fit_files(recon: TrackReconstruction) -> dict[str, str]:
+    """Without a design: the fitted alignment, usable as the design of a later survey (CSV element
+    table and LandXML 1.2), and the fit's residual and element report."""
+    if recon.fitted is None:
+        return {}
+    alignment = recon.fitted.alignment
+    return {FITTED_ALIGNMENT_CSV: format_alignment_csv(alignment), FITTED_ALIGNMENT_XML: format_landxml([alignment]),
+            LINE_FIT_REPORT: recon.fitted.report() + "\n"}
+
+
+def _line_fit_section(recon: TrackReconstruction) -> dict:
+    """summary.toml's ``[track.line_fit]``: the fitted elements and residuals, or why there is no fit."""
+    if recon.fitted is None:
+        return {"fitted": False, "error": recon.line_fit_error or "line fitting off"}
+    fit = recon.fitted
+    kinds: dict[str, int] = {}
+    for row in element_table(fit.alignment.horizontal):
+        kinds[row.kind] = kinds.get(row.kind, 0) + 1
+    return {"fitted": True, "elements": kinds, "pvis": len(fit.vertical.profile.pvis),
+            "plan_rms_mm": round(1e3 * fit.horizontal.rms_m, 3), "profile_rms_mm": round(1e3 * fit.vertical.rms_m, 3),
+            "windows": 0 if recon.reference is None else len(recon.reference.windows)}
+
 
 def _summary(project, name, manifest, fusion_info, track_cached, height_fit, height_warnings, table, assessment,
              adjustment, elapsed) -> dict:

@@ -40,6 +40,10 @@ TRAJECTORY_FILE = "trajectory.npy"
 SLEEPERS_FILE = "sleepers.csv"
 EXCEEDANCES_FILE = "exceedances.csv"
 SUMMARY_FILE = "summary.toml"
+# Without a design alignment: the fitted one (usable as a design) and the fit's report.
+FITTED_ALIGNMENT_CSV = "fitted_alignment.csv"
+FITTED_ALIGNMENT_XML = "fitted_alignment.xml"
+LINE_FIT_REPORT = "line_fit.txt"
 
 EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from_m", "station_to_m", "peak",
                      "limit", "first_sleeper", "last_sleeper"]

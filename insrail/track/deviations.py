@@ -39,15 +39,18 @@ def design_cant_m(design: DesignAlignment, station_m) -> np.ndarray:
     s = np.asarray(station_m, dtype=float)
     if design.cant is None:
         return np.zeros_like(s)
-    return _evaluate_finite(design.cant.cant_at, s)
+    stations = design.cant.stations_m
+    return _evaluate_inside(design.cant.cant_at, s, stations[0], stations[-1])
 
 
-def _evaluate_finite(function, station_m: np.ndarray) -> np.ndarray:
-    """A design function at finite stations, NaN at NaN stations (the design refuses NaN)."""
+def _evaluate_inside(function, station_m: np.ndarray, first_m: float, last_m: float) -> np.ndarray:
+    """A design function (profile, cant table) at the stations inside its range [first_m, last_m],
+    NaN elsewhere: a measurement running past the end of the design's profile or cant table is
+    not assessed, like one projecting beyond the plan's ends (the design functions refuse both)."""
     out = np.full(station_m.shape, np.nan)
-    finite = np.isfinite(station_m)
-    if finite.any():
-        out[finite] = function(station_m[finite])
+    inside = np.isfinite(station_m) & (station_m >= first_m) & (station_m <= last_m)
+    if inside.any():
+        out[inside] = function(station_m[inside])
     return out
 
 
@@ -76,7 +79,7 @@ def rail_deviations(
     """(lateral, vertical) deviations [m], arrays (n, 2) = [left, right] (see the module docstring).
 
     Vertical deviations are NaN when the design has no profile; points projecting beyond the
-    design's ends give NaN.
+    design's ends (of the plan, the profile or the cant table) give NaN.
     """
     lateral = np.empty((len(left_rail_enh_m), 2))
     vertical = np.empty_like(lateral)
@@ -87,7 +90,9 @@ def rail_deviations(
         if design.vertical is None:
             vertical[:, column] = np.nan
         else:
-            design_height = _evaluate_finite(design.vertical.elevation_at, station) + design_rise[:, column]
+            pvi_stations = design.vertical.stations_m
+            design_height = (_evaluate_inside(design.vertical.elevation_at, station, pvi_stations[0], pvi_stations[-1])
+                             + design_rise[:, column])
             vertical[:, column] = rail[:, 2] - design_height
     return lateral, vertical
 
