@@ -10,7 +10,11 @@ from insrail.io.track_sensors import read_sleeper_times
 from insrail.track.alignment import Arc, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.deviations import design_cant_m, design_rail_offsets, rail_deviations
 from insrail.track.profile import PVI, CantTable, VerticalProfile
-from insrail.track.sleeper_table import build_sleeper_table, reconstruct_track, regular_sleepers
+from insrail.track.sleeper_table import (
+    build_sleeper_table,
+    reconstruct_track,
+    regular_sleepers,
+)
 
 MM = 1e-3
 
