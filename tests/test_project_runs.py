@@ -1,7 +1,9 @@
 """Repeat runs and batches on tiny simulated surveys: three runs (seeds 1, 2, 3) over the same
 track (design plus the scenario's fixed bumps, no random roughness), 150 m each."""
 
+import os
 import shutil
+import subprocess
 import tomllib
 from dataclasses import replace
 
@@ -11,7 +13,9 @@ import pytest
 from insrail.cli.main import main
 from insrail.project import load_project, process, save_project
 from insrail.project.batch import run_batch
-from insrail.project.compare import compare_surveys
+from insrail.project.compare import compare_surveys, load_repeatability
+from insrail.project.results import load_results
+from insrail.report import write_pdf
 from insrail.project.demo import project_for_simulated_survey
 from insrail.project.model import SurveyEntry
 from insrail.sim.scenario import GnssSpec, preset
@@ -149,6 +153,27 @@ def test_repeat_runs_agree_within_the_fusion_accuracy_and_a_shifted_run_shows(ti
     assert csv[0].startswith("station_m,label,run2_minus_run1_lateral_deviation_left_mm,run3_minus_run1_")
     assert len(csv) == result.station_m.size + 1
 
+    # Read back as stored, and reported in the PDF of every run compared (thesis §5.4.2's plots).
+    stored = load_repeatability(tmp_path)
+    assert stored.reference == "run1" and stored.compared == ("run2", "run3") and stored.includes("run3")
+    np.testing.assert_allclose(stored.station_m, result.station_m, atol=1e-4)
+    np.testing.assert_allclose(stored.difference_mm["lateral_deviation_left_mm"], 1e3 * shifted, atol=6e-4)
+    assert stored.statistics["gauge"]["run2"]["count"] == result.parameter("gauge_mm").count[0]
+    pdf = write_pdf(load_project(tmp_path), load_results(tmp_path, "run3"), tmp_path / "run3.pdf")
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    assert "Repeatability of repeat runs" in text and "run3 - run1" in text
+    assert "Lateral deviation left: run minus reference" in text
+    row = next(line for line in text.splitlines() if line.strip().startswith("lateral deviation left")
+               and "run3 - run1" in line)
+    max_abs = stored.statistics["lateral_deviation_left"]["run3"]["max_abs_mm"]
+    assert f"{max_abs:.2f}" in row.split()
+    assert "before the current results" not in text
+    (tmp_path / "results" / "run3" / "summary.toml").touch()  # the run processed again after the comparison
+    os.utime(tmp_path / "results" / "repeatability.toml", (0, 0))
+    pdf = write_pdf(load_project(tmp_path), load_results(tmp_path, "run3"), tmp_path / "run3.pdf")
+    text = subprocess.run(["pdftotext", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    assert "before the current results" in " ".join(text.split())
+
 
 def test_repeatability_of_arrays():
     stations = np.arange(0.0, 100.0, 0.625)
@@ -189,3 +214,4 @@ def test_cancelling_a_batch_drops_the_surveys_not_started(tiny_projects, tmp_pat
         run_batch([broken, *good], workers=1, progress=progress, cancel=stop)
     assert "FAILED" in messages[0]
     assert not (good[-1] / "results" / "tiny").exists()  # never started
+

@@ -13,13 +13,17 @@ the reference). Invalid sleepers take no part.
 
 from __future__ import annotations
 
+import csv
 import io
+import tomllib
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import tomli_w
 
 from insrail.io.atomic import atomic_write
+from insrail.io.errors import InputError
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import RESULTS_FOLDER, load_results
@@ -95,3 +99,63 @@ def _summary(result: Repeatability) -> dict:
         parameters[p.name.removesuffix("_mm")] = entry
     return {"reference": result.reference, "compared": list(result.compared), "stations": int(result.station_m.size),
             "file": REPEATABILITY_FILE, "parameters": parameters}
+
+
+# --------------------------------------------------------------------------- reading back
+
+@dataclass(frozen=True)
+class StoredRepeatability:
+    """A comparison as ``compare_surveys`` wrote it (values in mm, as in the files).
+
+    difference_mm : sleepers.csv column (``gauge_mm``, ...) -> (len(compared), n) run minus reference
+                    at the reference stations, NaN where not comparable
+    statistics    : repeatability.toml's ``parameters`` table (per parameter and run)
+    written_s     : modification time of repeatability.toml (POSIX seconds), to tell a stale comparison
+    """
+
+    reference: str
+    compared: tuple[str, ...]
+    station_m: np.ndarray
+    label: tuple[str, ...]
+    difference_mm: dict[str, np.ndarray]
+    statistics: dict
+    written_s: float
+
+    def includes(self, survey: str) -> bool:
+        return survey == self.reference or survey in self.compared
+
+
+def load_repeatability(project_folder: Path) -> StoredRepeatability | None:
+    """The last comparison of repeat runs in ``<project_folder>/results/`` (None when there is none);
+    damaged files raise InputError naming them."""
+    folder = Path(project_folder) / RESULTS_FOLDER
+    summary_path, csv_path = folder / REPEATABILITY_SUMMARY, folder / REPEATABILITY_FILE
+    if not summary_path.is_file():
+        return None
+    try:
+        summary = tomllib.loads(summary_path.read_text(encoding="utf-8"))
+        reference, compared = summary["reference"], tuple(summary["compared"])
+        statistics = summary["parameters"]
+    except (tomllib.TOMLDecodeError, KeyError, TypeError) as error:
+        raise InputError(summary_path, None, f"not a repeatability summary written by insrail compare ({error})") from None
+    if not csv_path.is_file():
+        raise InputError(csv_path, None, "missing: run insrail compare again")
+    with open(csv_path, newline="", encoding="utf-8") as handle:
+        rows = list(csv.reader(handle))
+    header, body = rows[0], rows[1:]
+    try:
+        values = np.array([[float(v) if v else np.nan for i, v in enumerate(row) if i != 1] for row in body],
+                          dtype=float).reshape(len(body), len(header) - 1)
+    except ValueError as error:
+        raise InputError(csv_path, None, f"expected numbers after the label column ({error})") from None
+    column = {name: i for i, name in enumerate(header[:1] + header[2:])}
+    difference = {}
+    for parameter in statistics:
+        name = parameter + "_mm"
+        keys = [f"{run}_minus_{reference}_{name}" for run in compared]
+        missing = [k for k in keys if k not in column]
+        if missing:
+            raise InputError(csv_path, 1, f"no column {missing[0]!r} although repeatability.toml lists {parameter!r}")
+        difference[name] = np.array([values[:, column[k]] for k in keys])
+    return StoredRepeatability(reference, compared, values[:, 0], tuple(row[1] for row in body), difference,
+                               statistics, summary_path.stat().st_mtime)

@@ -38,8 +38,13 @@ from reportlab.platypus import (
 from insrail.io.atomic import atomic_write
 from insrail.nav.trajectory import Trajectory
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project.compare import (
+    BASE_PARAMETERS,
+    StoredRepeatability,
+    load_repeatability,
+)
 from insrail.project.model import Project
-from insrail.project.results import StoredResults, check_column
+from insrail.project.results import SUMMARY_FILE, StoredResults, check_column
 from insrail.report.charts import (
     LIMIT_COLOUR,
     OUTAGE_COLOUR,
@@ -367,6 +372,50 @@ def _exceedances(content: ReportContent) -> list[Flowable]:
     return story
 
 
+def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Section:
+    """Repeat runs compared by chainage (thesis §5.4.2): statistics per parameter and run, and the
+    differences along chainage of the deviations, gauge and cant."""
+    def section(content: ReportContent) -> list[Flowable]:
+        story: list[Flowable] = [Heading("Repeatability"), Paragraph("Repeatability of repeat runs", H1), Paragraph(
+            f"Reference run <b>{escape(stored.reference)}</b>, compared: {escape(', '.join(stored.compared))}; "
+            f"{stored.station_m.size} valid sleepers of the reference compared by chainage (each run interpolated "
+            "onto the reference stations, never across a gap of more than two sleepers). A run minus the reference "
+            "carries the noise of both: the repeatability of one run is the pooled standard deviation / &radic;2. "
+            "A mean away from zero is a systematic shift between runs, not noise.", BODY)]
+        if stored.written_s < results_written_s:
+            story.append(Paragraph("<b>Note:</b> this comparison was made before the current results of this survey "
+                                   "were written; run <i>insrail compare</i> again to bring it up to date.", BODY))
+        rows = []
+        for parameter, entry in stored.statistics.items():
+            for run in stored.compared:
+                stats = entry[run]
+                if not stats["count"]:  # e.g. a 300 m chord on a run shorter than 300 m
+                    continue
+                rows.append([parameter.replace("_", " "), f"{run} - {stored.reference}", stats["count"],
+                             *(f"{stats[key]:.2f}" for key in ("mean_mm", "std_mm", "rms_mm", "p95_abs_mm", "max_abs_mm")),
+                             f"{entry['single_run_std_mm']:.2f}"])
+        story += [Spacer(1, 4), table(["parameter", "runs", "sleepers", "mean (mm)", "std (mm)", "RMS (mm)",
+                                       "95 % |d| (mm)", "max |d| (mm)", "one run std (mm)"], rows,
+                                      [70 * mm, 45 * mm, 18 * mm, 20 * mm, 20 * mm, 20 * mm, 24 * mm, 24 * mm, 26 * mm]),
+                  PageBreak()]
+        shown = [name for name in BASE_PARAMETERS if name in stored.difference_mm]
+        station = stored.station_m
+        if not station.size or not shown:
+            return story
+        width = PAGE[0] - 2 * MARGIN
+        height = (PAGE[1] - 2 * MARGIN - 24) / len(shown) - 2
+        story.append(Heading("Repeatability"))
+        for name in shown:
+            differences = stored.difference_mm[name]
+            chart = StripChart(f"{name.removesuffix('_mm').replace('_', ' ').capitalize()}: run minus reference", "mm",
+                               tuple(Series(run, values) for run, values in zip(stored.compared, differences)))
+            story.append(strip_drawing(chart, station, np.isfinite(differences).any(axis=0), float(station[0]),
+                                       float(station[-1]), width, height))
+        return story
+
+    return section
+
+
 def _on_page(canvas: Canvas, doc) -> None:
     """Header and footer, drawn after the page's flowables so the heading they set is known."""
     canvas.saveState()
@@ -412,7 +461,8 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     """Write the survey report for one survey's results to ``path`` (atomically); returns the path.
 
     ``sections`` are added after the plan view, each a function of the report content returning
-    flowables (the place for repeatability once several runs of a line are compared)."""
+    flowables; the repeatability of repeat runs follows by itself when the project's last
+    comparison (``insrail compare``) includes this survey."""
     step = StepProgress(progress)
     path = Path(path)
     content = load_report_content(project, results)
@@ -422,6 +472,9 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     except (OSError, ValueError):  # the report still stands without the trajectory's statistics
         trajectory = None
     check_cancel(cancel)
+    compared = load_repeatability(project.folder)
+    if compared is not None and compared.includes(results.survey):
+        sections = (*sections, _repeatability(compared, (results.folder / SUMMARY_FILE).stat().st_mtime))
     story = _cover(content, trajectory) + _processing(content, trajectory)
     story += _charts(content, step.sub(0.05, 0.45), cancel)
     story += _plan(content)
