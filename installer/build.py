@@ -4,8 +4,9 @@
 
 Writes ``DIR/insrail/`` (default ``build/bundle/insrail``) holding the ``insrail`` executable
 (CLI, and the desktop application as ``insrail gui``), the resources and the EGM96 grid; prints
-the build time and the bundle size, then runs ``insrail --version`` and ``insrail demo`` from the
-bundle in a clean environment (no Python on PATH, read-only bundle, empty HOME).
+the build time and the bundle size, then runs ``insrail --version``, ``insrail demo`` and the
+desktop application on the demo project (offscreen, one window drawn to PNG) from the bundle in a
+clean environment (no Python on PATH, read-only bundle, empty HOME).
 """
 
 from __future__ import annotations
@@ -61,7 +62,8 @@ def smoke_test(bundle: Path) -> None:
         (scratch / "home" / "bin").mkdir(parents=True)
         set_read_only(bundle, True)
         try:
-            for arguments in (["--version"], ["demo", "--out", str(scratch / "demo")]):
+            for arguments in (["--version"], ["demo", "--out", str(scratch / "demo")],
+                              ["gui", str(scratch / "demo"), "--screenshot", str(scratch / "gui.png")]):
                 started = time.monotonic()
                 run = subprocess.run([str(executable), *arguments], env=env, cwd=scratch, capture_output=True,
                                      text=True, timeout=900)
@@ -70,6 +72,10 @@ def smoke_test(bundle: Path) -> None:
                 if run.returncode != 0:
                     print(run.stderr, file=sys.stderr)
                     raise SystemExit(f"smoke test failed: insrail {' '.join(arguments)} exited {run.returncode}")
+            shot = scratch / "gui.png"
+            if not shot.is_file() or shot.stat().st_size < 20_000:
+                raise SystemExit("smoke test failed: the desktop application drew no window")
+            print(f"desktop application started from the bundle; window drawn ({shot.stat().st_size // 1024} KiB PNG)")
         finally:
             set_read_only(bundle, False)
 

@@ -25,3 +25,4 @@ def test_bundle_builds_and_runs_the_demo(tmp_path):
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     assert "insrail 0." in run.stdout  # --version from the bundle
     assert "Against the simulator's truth" in run.stdout and "Done in" in run.stdout
+    assert "desktop application started from the bundle" in run.stdout

@@ -6,8 +6,11 @@ import sys
 from pathlib import Path
 
 
-def run(project: str | Path | None = None, argv: list[str] | None = None) -> int:
-    """Show the main window (opening ``project`` if given) and run the event loop; the exit code."""
+def run(project: str | Path | None = None, argv: list[str] | None = None, screenshot: str | Path | None = None) -> int:
+    """Show the main window (opening ``project`` if given) and run the event loop; the exit code.
+
+    With ``screenshot`` the window is drawn once with the project's results, saved as that PNG
+    and closed (a check that the application starts, e.g. from an installed bundle)."""
     from PySide6.QtWidgets import QApplication
 
     from insrail.gui.main_window import MainWindow
@@ -18,8 +21,16 @@ def run(project: str | Path | None = None, argv: list[str] | None = None) -> int
     app.setApplicationName(APPLICATION)
     window = MainWindow(user_settings())
     window.show()
-    if project is not None:
-        window.open_project(project)
+    if project is not None and not window.open_project(project):
+        return 1
+    if screenshot is not None:
+        app.processEvents()
+        window.resize(1400, 900)
+        app.processEvents()
+        saved = window.grab().save(str(screenshot))
+        window.setWindowModified(False)
+        window.close()
+        return 0 if saved else 1
     return app.exec()
 
 
