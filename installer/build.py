@@ -12,7 +12,6 @@ clean environment (no Python on PATH, read-only bundle, empty HOME).
 from __future__ import annotations
 
 import argparse
-import os
 import shutil
 import stat
 import subprocess
