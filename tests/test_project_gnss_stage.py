@@ -103,9 +103,13 @@ def test_process_runs_ppk_and_matches_the_truth(processed):
     assert "gnss.pos, gnss_qc.toml" in lines[-1]
     qc = tomllib.loads((folder / "gnss_qc.toml").read_text())
     assert qc["qc"]["fix_rate"] == gnss["fix_rate"] and qc["qc"]["gaps"][0]["duration_s"] == pytest.approx(21.0)
-    # The base mark through the CRS and the fitted height anomaly lands on the truth within the fit's error.
+    # The base mark through the CRS and the fitted height anomaly lands on the truth within the fit's
+    # error; the mark stands off the line, outside the benchmarks' hull, and the surveyor is told so.
     truth = tomllib.loads((root / "surveys" / "short" / "truth" / "base_point.toml").read_text())
-    assert gnss["base"]["ellipsoidal_height_m"] == pytest.approx(truth["ellipsoidal_height_m"], abs=0.005)
+    loo_m = 1e-3 * summary["heights"]["loo_rms_mm"]
+    assert gnss["base"]["ellipsoidal_height_m"] == pytest.approx(truth["ellipsoidal_height_m"], abs=3 * loo_m)
+    assert gnss["warnings"][0].startswith("control point CPII-BASE: height anomaly extrapolated")
+    assert any(line.startswith("  warning: control point CPII-BASE") for line in lines)
     assert gnss["base"]["lat_deg"] == pytest.approx(truth["lat_deg"], abs=1e-9)
     # The fused trajectory agrees with the truth as in the demo (GNSS-limited, millimetres).
     trajectory = load_results(root, "short").trajectory()

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from insrail.geodesy.crs import EngineeringCRS
+from insrail.geodesy.errors import GeodesyError
 from insrail.geodesy.height_anomaly import HeightAnomalyFit
 from insrail.nav.earth import Ellipsoid, geodetic_to_ecef
 
@@ -61,6 +62,7 @@ class ResolvedPoint:
     height_m: float
     ecef_m: tuple[float, float, float]
     derivation: str
+    warnings: tuple[str, ...] = ()  # e.g. the height anomaly extrapolated at the point
 
 
 def parse_control_points(table: Any, key_path: str, problems: list[str]) -> tuple[ControlPoint, ...]:
@@ -110,6 +112,7 @@ def resolve_control_point(point: ControlPoint, crs: EngineeringCRS, ellipsoid: E
     if point.geodetic is not None:
         lat, lon, h = math.radians(point.geodetic[0]), math.radians(point.geodetic[1]), point.geodetic[2]
         derivation = "geodetic coordinates from the project"
+        warnings = ()
     else:
         east, north, normal_height = point.engineering
         lat_a, lon_a = crs.to_geodetic(east, north)
@@ -118,9 +121,14 @@ def resolve_control_point(point: ControlPoint, crs: EngineeringCRS, ellipsoid: E
             zeta = float(np.asarray(height_fit.zeta_m(np.array([east]), np.array([north])))[0])
             derivation = (f"engineering E/N through the CRS; h = H + zeta = {normal_height:.4f} m {zeta:+.4f} m "
                           f"(height anomaly model {height_fit.model_name})")
+            try:  # a surface model says when the point lies outside the benchmarks' hull
+                warnings = tuple(f"control point {point.name}: {w}"
+                                 for w in height_fit.warnings_for(np.array([east]), np.array([north])))
+            except GeodesyError:  # a spline in chainage: the point's chainage is not known here
+                warnings = ()
         else:
-            zeta = 0.0
+            zeta, warnings = 0.0, ()
             derivation = "engineering E/N through the CRS; no benchmarks in the project: H taken as ellipsoidal"
         h = normal_height + zeta
     ecef = geodetic_to_ecef(lat, lon, h, ellipsoid)
-    return ResolvedPoint(point.name, lat, lon, h, tuple(float(v) for v in ecef), derivation)
+    return ResolvedPoint(point.name, lat, lon, h, tuple(float(v) for v in ecef), derivation, warnings)

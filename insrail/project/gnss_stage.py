@@ -89,7 +89,8 @@ class GnssStageResult:
                 "epochs": self.qc.epochs, "fix_rate": self.qc.fix_rate,
                 "epochs_by_quality": dict(self.qc.epochs_by_quality),
                 "fusion_inflated_epochs": inflated, "fusion_excluded_epochs": excluded,
-                "fusion_by_quality": fusion, "base": self.report["base"], "warnings": self.report["warnings"]}
+                "fusion_by_quality": fusion, "base": self.report["base"],
+                "warnings": [*self.report["base"].get("warnings", []), *self.report["warnings"]]}
 
 
 def _hash_files(digest, folder: Path, names) -> None:
@@ -122,7 +123,7 @@ def _base_position(project: Project, folder: Path, raw: RawGnss) -> tuple[BasePo
     return base, {"point": resolved.name, "approximate": False, "lat_deg": math.degrees(resolved.lat_rad),
                   "lon_deg": math.degrees(resolved.lon_rad), "ellipsoidal_height_m": resolved.height_m,
                   "antenna_height_m": raw.base_antenna_height_m, "antenna_type": raw.base_antenna_type,
-                  "derivation": resolved.derivation}
+                  "derivation": resolved.derivation, "warnings": list(resolved.warnings)}
 
 
 def _converted_log(cache: Path, folder: Path, raw: RawGnss) -> tuple[Path, tuple[Path, ...]]:
