@@ -36,7 +36,12 @@ def run(args: argparse.Namespace) -> int:
     from insrail.nav.fusion import FusionOptions
     from insrail.quality.prediction import GnssQuality, predict
     from insrail.quality.sweep import sweep
-    from insrail.quality.tables import accuracy_rows, accuracy_table, prediction_heading, sweep_table
+    from insrail.quality.tables import (
+        accuracy_rows,
+        accuracy_table,
+        prediction_heading,
+        sweep_table,
+    )
 
     gnss = GnssQuality(*args.gnss_sigma)
     aiding = FusionOptions(smoother=args.smoothed, use_nhc=not args.no_nhc)

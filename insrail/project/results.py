@@ -40,6 +40,8 @@ TRAJECTORY_FILE = "trajectory.npy"
 SLEEPERS_FILE = "sleepers.csv"
 EXCEEDANCES_FILE = "exceedances.csv"
 SUMMARY_FILE = "summary.toml"
+#: The reports' default name in a survey's result folder (`insrail report`, the GUI's export).
+REPORT_STEM = "track_geometry"
 
 EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from_m", "station_to_m", "peak",
                      "limit", "first_sleeper", "last_sleeper"]
@@ -260,6 +262,11 @@ def load_results(project_folder: Path, survey: str) -> StoredResults:
     number, label, columns = _read_sleepers(folder / SLEEPERS_FILE)
     return StoredResults(survey, folder, summary, number, label, columns,
                          _read_exceedances(folder / EXCEEDANCES_FILE))
+
+
+def report_path(results_folder: Path, survey: str, suffix: str) -> Path:
+    """The default place of a survey's report: ``<results folder>/track_geometry_<survey>.<suffix>``."""
+    return Path(results_folder) / f"{REPORT_STEM}_{survey}.{suffix}"
 
 
 def _lines(path: Path) -> list[str]:
