@@ -43,6 +43,7 @@ from insrail.nav.fusion import FusionOptions
 from insrail.quality import GnssQuality, Prediction, SweepTable, predict, sweep
 from insrail.quality.sweep import PARAMETERS
 from insrail.quality.tables import (
+    EXCEEDS,
     ROWS,
     SWEEP_VALUES,
     FigureRow,
@@ -54,8 +55,10 @@ from insrail.quality.tables import (
 NO_SWEEP = "none"
 PROGRESS_STEPS = 1000
 OK_COLOUR, EXCEEDS_COLOUR = QColor("#1B7F3B"), QColor("#C00000")
-#: The figures the sweep plot draws (their 3 sigma against the limits of their checks).
-SWEEP_PLOT = ("lag5_lateral_m", "lag5_vertical_m", "lag150_lateral_m", "lag150_vertical_m", "cant_m")
+#: The figures the sweep plot draws (their 3 sigma against the limits of their checks), with short
+#: labels: a long title would widen the plot beyond the dialog.
+SWEEP_PLOT = {"lag5_lateral_m": "5 m lag lateral", "lag5_vertical_m": "5 m lag vertical",
+              "lag150_lateral_m": "150 m lag lateral", "lag150_vertical_m": "150 m lag vertical", "cant_m": "cant"}
 
 
 @dataclass(frozen=True)
@@ -110,6 +113,7 @@ class PlanSurveyDialog(QDialog):
 
     def __init__(self, parent=None):
         super().__init__(parent)
+        plotstyle.configure()
         self.setWindowTitle("Plan survey — predicted accuracy")
         self.worker: TaskWorker | None = None
         self.result: Prediction | SweepTable | None = None
@@ -194,6 +198,7 @@ class PlanSurveyDialog(QDialog):
         results = QSplitter(Qt.Vertical)
         results.addWidget(self.table)
         results.addWidget(self.plot)
+        results.setSizes([300, 330])
         right = QWidget()
         right_layout = QVBoxLayout(right)
         right_layout.setContentsMargins(0, 0, 0, 0)
@@ -337,21 +342,27 @@ class PlanSurveyDialog(QDialog):
         header.setSectionResizeMode(4, QHeaderView.Stretch)
 
     def _fill_sweep(self, result: SweepTable, rows: list[tuple[float, list[FigureRow]]]) -> None:
+        """One row per figure, one column per value (the command's table transposed: it fits a dialog)."""
         table = self.table
         table.clear()
-        labels = [row.label for row in rows[0][1]]
-        table.setColumnCount(1 + len(labels))
-        table.setRowCount(len(rows))
-        table.setHorizontalHeaderLabels([f"{result.parameter} [{result.unit}]", *labels])
-        for r, (value, figures) in enumerate(rows):
-            table.setItem(r, 0, _cell(f"{value:g}"))
-            for c, row in enumerate(figures, start=1):
+        figures = rows[0][1]
+        table.setColumnCount(2 + len(rows))
+        table.setRowCount(len(figures))
+        table.setHorizontalHeaderLabels(["Figure, 1σ [mm]", "Limit [mm]",
+                                         *(f"{value:g} {result.unit}" for value, _ in rows)])
+        for r, figure in enumerate(figures):
+            table.setItem(r, 0, _cell(figure.label, Qt.AlignLeft | Qt.AlignVCenter))
+            table.setItem(r, 1, _cell("" if figure.limit_mm is None else f"{figure.limit_mm:.1f}"))
+        for c, (_, value_rows) in enumerate(rows, start=2):
+            for r, row in enumerate(value_rows):
                 cell = _cell(_mm(row.sigma_mm))
                 if row.within_limit is False:
                     cell.setForeground(EXCEEDS_COLOUR)
+                    cell.setToolTip(f"3σ {row.three_sigma_mm:.3f} mm: {EXCEEDS}")
                 table.setItem(r, c, cell)
-        table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeToContents)
-        table.horizontalHeader().setStretchLastSection(False)
+        header = table.horizontalHeader()
+        header.setSectionResizeMode(QHeaderView.ResizeToContents)
+        header.setStretchLastSection(True)
 
     def _plot_sweep(self, result: SweepTable, rows: list[tuple[float, list[FigureRow]]]) -> None:
         item = self.plot.getPlotItem()
@@ -359,16 +370,16 @@ class PlanSurveyDialog(QDialog):
         values = [value for value, _ in rows]
         logarithmic = max(values) / min(values) >= 10.0
         item.setLogMode(x=logarithmic, y=False)
-        labels = []
+        # Ticks at the swept values only: pyqtgraph's logarithmic minor ticks crowd into each other.
+        item.getAxis("bottom").setTicks([[(math.log10(v) if logarithmic else v, f"{v:g}") for v in values]])
         for index, name in enumerate(SWEEP_PLOT):
             three_sigma = [next(row.three_sigma_mm for row in figures if row.name == name) for _, figures in rows]
             item.plot(values, three_sigma, pen=plotstyle.pen(index, 2), symbol="o", symbolSize=6,
                       symbolBrush=plotstyle.COLOURS[index], symbolPen=None)
-            labels.append(ROWS[name][0])
         for limit in sorted({ROWS[name][1] for name in SWEEP_PLOT}):
             item.addItem(pg.InfiniteLine(limit, angle=0, pen=plotstyle.LIMIT_PEN,
                                          label=f"{limit:g} mm", labelOpts={"position": 0.04, "color": "#C00000"}))
-        item.setTitle(plotstyle.titled("3σ [mm]", labels), size="8pt")
+        item.setTitle(plotstyle.titled("3σ [mm]", list(SWEEP_PLOT.values())), size="8pt")
         item.setLabel("bottom", f"{result.parameter} [{result.unit}]")
         item.setLabel("left", "3σ [mm]")
         self.plot.show()

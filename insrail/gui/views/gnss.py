@@ -118,7 +118,7 @@ class KeyValueTree(QTreeWidget):
     def __init__(self, title: str, parent=None):
         super().__init__(parent)
         self.setHeaderLabels([title, "Value"])
-        self.setColumnWidth(0, 170)
+        self.setColumnWidth(0, 160)
         self.setWordWrap(True)
 
     def show_groups(self, groups: list[tuple[str, list[tuple[str, str]]]]) -> None:
@@ -181,11 +181,11 @@ class GnssView(QWidget):
         tables = QSplitter(Qt.Vertical)
         tables.addWidget(self.inputs)
         tables.addWidget(self.qc)
-        tables.setSizes([230, 420])
+        tables.setSizes([220, 430])
         body = QSplitter(Qt.Horizontal)
         body.addWidget(tables)
         body.addWidget(self.plots)
-        body.setSizes([470, 900])
+        body.setSizes([600, 800])
         layout = QVBoxLayout(self)
         layout.setContentsMargins(4, 4, 4, 4)
         layout.addLayout(top)
@@ -214,8 +214,9 @@ class GnssView(QWidget):
             self.headline.setText("Not post-processed yet: Run > Post-process GNSS.")
             return
         qc = view.report["qc"]
+        gaps = len(qc["gaps"])
         self.headline.setText(f"<b>Fix rate {100.0 * qc['fix_rate']:.1f} %</b> of {qc['epochs']} epochs, "
-                              f"{len(qc['gaps'])} gaps{source}")
+                              f"{gaps} gap{'' if gaps == 1 else 's'}{source}")
         self.qc.show_groups(qc_rows(view))
         self._plot(view)
 
