@@ -200,6 +200,9 @@ class GnssView(QWidget):
         self.survey.blockSignals(False)
         if names:
             self.surveyChosen.emit(names[0])
+        else:  # nothing of another project stays behind the hidden tab
+            self.inputs.clear()
+            self.set_ppk(None)
 
     def set_inputs(self, groups: list[tuple[str, list[tuple[str, str]]]]) -> None:
         self.inputs.show_groups(groups)
