@@ -29,3 +29,20 @@ def short_nav_survey(tmp_path_factory):
     out = tmp_path_factory.mktemp("sim") / "short-nav"
     simulate(preset("short"), seed=1, out_dir=out, imu_format="npy")
     return out
+
+
+@pytest.fixture
+def window(qtbot, tmp_path):
+    """The desktop application's main window (pytest-qt), with throwaway settings."""
+    from PySide6.QtCore import QSettings
+
+    from insrail.gui.main_window import MainWindow
+
+    settings = QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat)  # never the user's settings
+    main = MainWindow(settings)
+    qtbot.addWidget(main)
+    main.resize(1400, 900)
+    main.show()
+    yield main
+    main.modified = False  # closing must not ask (a modal question would block the tests)
+    main.close()

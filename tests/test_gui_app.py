@@ -11,11 +11,13 @@ import shutil
 import tomllib
 
 import numpy as np
+import openpyxl
 import pytest
 
 pytest.importorskip("pytestqt")
-from PySide6.QtCore import QSettings, Qt
-from PySide6.QtWidgets import QMessageBox, QWizard
+from PySide6.QtCore import QSettings, Qt, QUrl
+from PySide6.QtGui import QDesktopServices
+from PySide6.QtWidgets import QFileDialog, QMessageBox, QWizard
 
 from insrail.gui.importer import ImportWidget
 from insrail.gui.main_window import MainWindow
@@ -40,18 +42,6 @@ def demo_project(short_nav_survey, tmp_path_factory):
     project = project_for_simulated_survey(root, root / "surveys" / "short")
     process(project, "short")
     return root
-
-
-@pytest.fixture
-def window(qtbot, tmp_path):
-    settings = QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat)  # never the user's settings
-    main = MainWindow(settings)
-    qtbot.addWidget(main)
-    main.resize(1400, 900)
-    main.show()
-    yield main
-    main.modified = False  # closing must not ask (a modal question would block the tests)
-    main.close()
 
 
 def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_project, tmp_path):
@@ -283,3 +273,80 @@ def test_import_adds_a_survey_to_the_open_project(window, demo_project, tmp_path
     assert read_manifest(raw).trolley.reference_rail == read_manifest(root / "surveys" / "short").trolley.reference_rail
     assert window.save_project() and not window.modified
     assert [s.name for s in load_project(root).surveys] == ["short", "second-run"]
+
+
+def processed_copy(demo_project, root):
+    """The demo project with its results (hard links; new files land in the copy only)."""
+    link_tree(demo_project / "surveys", root / "surveys")
+    shutil.copy(demo_project / "project.toml", root / "project.toml")
+    link_tree(demo_project / "results" / "short", root / "results" / "short")
+    return root
+
+
+def test_export_both_reports_and_open_their_folder(window, qtbot, demo_project, tmp_path, monkeypatch):
+    root = processed_copy(demo_project, tmp_path / "copy")
+    assert not window.export_pdf_action.isEnabled()  # no results yet
+    assert window.open_project(root)
+    assert window.export_xlsx_action.isEnabled() and window.export_pdf_action.isEnabled()
+    assert not window.tabs.isTabVisible(window.tabs.indexOf(window.gnss))  # no raw GNSS in the demo
+    suggested = []
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", lambda parent, title, path, filter: (
+        suggested.append(path) or path, filter))
+    opened = []
+    monkeypatch.setattr(QDesktopServices, "openUrl", lambda url: opened.append(url) or True)
+    folder = root / "results" / "short"
+
+    window.export_xlsx_action.trigger()
+    assert window.progress.isVisible() and not window.export_pdf_action.isEnabled()  # one job at a time
+    qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    workbook = folder / "track_geometry_short.xlsx"
+    assert suggested == [str(workbook)]
+    assert workbook.read_bytes()[:4] == b"PK\x03\x04" and "Sleepers" in openpyxl.load_workbook(workbook).sheetnames
+    assert window.status.text() == f"Written {workbook.name} in {folder.resolve()}"
+    assert window.open_folder_button.isVisible()
+    window.open_folder_button.click()
+    assert opened == [QUrl.fromLocalFile(str(folder.resolve()))]
+
+    window.export_pdf_action.trigger()
+    assert window.open_folder_button.isHidden()  # belongs to the previous export
+    qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    report = folder / "track_geometry_short.pdf"
+    assert suggested[1] == str(report) and report.read_bytes()[:5] == b"%PDF-"
+    assert f"written {report.resolve()}" in window.log.toPlainText()
+
+
+def test_cancel_an_export_writes_nothing(window, qtbot, demo_project, tmp_path):
+    root = processed_copy(demo_project, tmp_path / "copy")
+    assert window.open_project(root)
+    target = tmp_path / "out" / "report.pdf"
+    target.parent.mkdir()
+    assert window.export_report("pdf", target) is not None
+    window.cancel_button.click()  # the report takes far longer than this click
+    qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    assert "export cancelled; nothing written" in window.log.toPlainText()
+    assert list(target.parent.iterdir()) == []  # neither the report nor its temporary file
+    assert window.open_folder_button.isHidden() and window.status.text() == "Ready"
+
+
+def test_export_error_names_the_file_and_the_problem(window, qtbot, demo_project, tmp_path, monkeypatch):
+    root = processed_copy(demo_project, tmp_path / "copy")
+    assert window.open_project(root)
+    shown = []
+    monkeypatch.setattr(QMessageBox, "warning", lambda parent, title, text: shown.append((title, text)))
+    target = tmp_path / "no such folder" / "short"  # the suffix is added
+    window.export_report("xlsx", target)
+    qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    assert shown == [("Export failed", (f"Excel workbook {target}.xlsx: cannot write the file: "
+                                       "No such file or directory"))]
+
+
+def test_about_shows_the_version_and_actions_have_shortcuts(window, monkeypatch):
+    from insrail import __version__
+
+    shown = []
+    monkeypatch.setattr(QMessageBox, "about", lambda parent, title, text: shown.append(text))
+    window.about_action.trigger()
+    assert shown and f"insrail {__version__}" in shown[0]
+    for action, keys in ((window.export_xlsx_action, "Ctrl+E"), (window.export_pdf_action, "Ctrl+Shift+E"),
+                         (window.plan_survey_action, "Ctrl+Shift+P"), (window.ppk_action, "F6")):
+        assert action.shortcut().toString() == keys and keys in action.toolTip()

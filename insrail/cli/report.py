@@ -15,8 +15,6 @@ from pathlib import Path
 
 from insrail.cli.progressbar import TerminalProgress
 
-REPORT_STEM = "track_geometry"
-
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("project", type=Path, help="project folder (with project.toml) or project .toml file")
@@ -27,7 +25,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def default_paths(results_folder: Path, survey: str) -> tuple[Path, Path]:
-    return results_folder / f"{REPORT_STEM}_{survey}.xlsx", results_folder / f"{REPORT_STEM}_{survey}.pdf"
+    from insrail.project.results import report_path
+
+    return report_path(results_folder, survey, "xlsx"), report_path(results_folder, survey, "pdf")
 
 
 def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> list[Path]:

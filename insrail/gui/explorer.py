@@ -31,7 +31,7 @@ def flatten(settings: dict, prefix: str = "") -> list[tuple[str, str]]:
 
 class ProjectExplorer(QTreeWidget):
     """Items carry (kind, payload): ("project", None), ("survey", name), ("file", (survey, role)),
-    ("results", name)."""
+    ("gnss_raw", survey), ("results", name)."""
 
     propertiesChanged = Signal(list)  # [(key, value)] of the selected item
     resultsActivated = Signal(str)  # a survey whose results should be shown
@@ -63,6 +63,11 @@ class ProjectExplorer(QTreeWidget):
                 continue
             for role, file in manifest.files.items():
                 self._item(survey, f"{role}: {file.path}", ("file", (entry.name, role)))
+            raw = manifest.raw_gnss
+            if raw is not None:
+                for name in (raw.rover or raw.rover_log, raw.base, *raw.navigation, *raw.precise, raw.antex, raw.config):
+                    if name is not None:
+                        self._item(survey, f"gnss_raw: {name}", ("gnss_raw", entry.name))
             if (project.folder / RESULTS_FOLDER / entry.name / SUMMARY_FILE).is_file():
                 self._item(results, entry.name, ("results", entry.name))
         self.expandAll()
@@ -121,6 +126,9 @@ class ProjectExplorer(QTreeWidget):
             rows = [("role", role), ("path", str(path.resolve())), ("format", file.format),
                     ("size", f"{path.stat().st_size / 1e6:.2f} MB" if path.is_file() else "missing")]
             rows += [(f"option {k}", str(v)) for k, v in file.options.items()]
+        elif kind == "gnss_raw":
+            raw = read_manifest(project.resolve(project.survey(payload).folder)).raw_gnss
+            rows = flatten({"gnss_raw": raw.to_settings()})
         elif kind == "results":
             summary = project.folder / RESULTS_FOLDER / payload / SUMMARY_FILE
             rows = [("folder", str(summary.parent.resolve()))] + flatten(read_toml(summary))

@@ -6,8 +6,8 @@ import os
 from pathlib import Path
 
 import numpy as np
-from PySide6.QtCore import QSettings, Qt, QTimer
-from PySide6.QtGui import QAction, QKeySequence
+from PySide6.QtCore import QSettings, Qt, QTimer, QUrl
+from PySide6.QtGui import QAction, QDesktopServices, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
     QFileDialog,
@@ -24,23 +24,44 @@ from insrail.gui import plotstyle
 from insrail.gui.explorer import ProjectExplorer, PropertiesPanel
 from insrail.gui.importer import ImportDialog
 from insrail.gui.logpanel import LogPanel
+from insrail.gui.plan_survey import PlanSurveyDialog
 from insrail.gui.settings import recent_projects, remember_project
+from insrail.gui.views.gnss import GnssView, input_rows
 from insrail.gui.views.navigation import NavigationView
 from insrail.gui.views.plan import PlanView
 from insrail.gui.views.repeatability import RepeatabilityView
 from insrail.gui.views.track import TrackView
 from insrail.gui.wizard import NewProjectWizard
-from insrail.gui.worker import ProcessingWorker
+from insrail.gui.worker import CoreWorker, ProcessingWorker, TaskWorker
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.project import Project, ProjectError, StoredResults, load_project, load_results, save_project
+from insrail.project import (
+    Project,
+    ProjectError,
+    StoredResults,
+    load_project,
+    load_results,
+    save_project,
+)
+from insrail.project.gnss_stage import GnssStageResult, run_gnss_stage
 from insrail.project.model import project_from_settings
-from insrail.project.pipeline import ellipsoid_of
-from insrail.project.plotdata import chainage_plots, navigation_series, plan_data, survey_gnss
-from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+from insrail.project.pipeline import CACHE_FOLDER, ellipsoid_of
+from insrail.project.plotdata import (
+    PpkView,
+    chainage_plots,
+    navigation_series,
+    plan_data,
+    stored_ppk,
+    survey_gnss,
+)
+from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, report_path
+from insrail.report import write_pdf, write_workbook
 from insrail.track.tolerance import load_tolerance_profile
 
 PROGRESS_STEPS = 1000
+#: kind -> (what it is, writer, file dialog filter)
+REPORTS = {"xlsx": ("Excel workbook", write_workbook, "Excel workbook (*.xlsx)"),
+           "pdf": ("PDF report", write_pdf, "PDF report (*.pdf)")}
 
 
 class MainWindow(QMainWindow):
@@ -50,20 +71,27 @@ class MainWindow(QMainWindow):
         self.settings = settings
         self.project: Project | None = None
         self.modified = False
-        self.worker: ProcessingWorker | None = None
+        self.worker: CoreWorker | None = None  # one core job at a time: processing, export or PPK
+        self.job_failure_title = ""
+        self.done_message = "Ready"  # the status bar's text when the job ends
         self.shown_survey: str | None = None
         self.results: dict[str, StoredResults] = {}
         self.wizard: NewProjectWizard | None = None
+        self.plan_dialog: PlanSurveyDialog | None = None
+        self.exported: Path | None = None
 
         self.plan = PlanView()
         self.navigation = NavigationView()
         self.track = TrackView()
         self.repeatability = RepeatabilityView()
+        self.gnss = GnssView()
+        self.gnss.surveyChosen.connect(self.show_gnss)
         self.tabs = QTabWidget()
         self.tabs.setDocumentMode(True)
         for view, title in ((self.track, "Track"), (self.plan, "Plan"), (self.navigation, "Navigation"),
-                            (self.repeatability, "Repeatability")):
+                            (self.repeatability, "Repeatability"), (self.gnss, "GNSS")):
             self.tabs.addTab(view, title)
+        self.tabs.setTabVisible(self.tabs.indexOf(self.gnss), False)  # for surveys with raw GNSS only
         self.setCentralWidget(self.tabs)
 
         self.explorer = ProjectExplorer()
@@ -85,7 +113,12 @@ class MainWindow(QMainWindow):
         self.cancel_button = QPushButton("Cancel")
         self.cancel_button.clicked.connect(self.cancel_processing)
         self.cancel_button.hide()
+        self.open_folder_button = QPushButton("Open folder")
+        self.open_folder_button.setToolTip("Open the folder of the exported report")
+        self.open_folder_button.clicked.connect(self.open_export_folder)
+        self.open_folder_button.hide()
         self.statusBar().addWidget(self.status, 1)
+        self.statusBar().addPermanentWidget(self.open_folder_button)
         self.statusBar().addPermanentWidget(self.progress)
         self.statusBar().addPermanentWidget(self.cancel_button)
 
@@ -116,6 +149,9 @@ class MainWindow(QMainWindow):
         if shortcut is not None:
             action.setShortcut(QKeySequence(shortcut))
         action.setStatusTip(tip)
+        if tip:
+            action.setToolTip(f"{tip} ({action.shortcut().toString(QKeySequence.NativeText)})"
+                              if shortcut is not None else tip)
         action.triggered.connect(lambda _checked=False: slot())
         return action
 
@@ -127,7 +163,18 @@ class MainWindow(QMainWindow):
         self.import_action = self._action("&Import raw files…", self.import_survey, "Ctrl+I",
                                           "Add a survey from raw files")
         self.process_action = self._action("&Process", self.process, "F5", "Process every survey of the project")
-        self.cancel_action = self._action("&Cancel processing", self.cancel_processing, "Esc")
+        self.ppk_action = self._action("Post-process &GNSS", self.post_process_gnss, "F6",
+                                       "Run the PPK stage (RTKLIB) of the survey on the GNSS page")
+        self.cancel_action = self._action("&Cancel", self.cancel_processing, "Esc",
+                                          "Stop the running job (processing, export, GNSS)")
+        self.export_xlsx_action = self._action("&Excel workbook…", lambda: self.export_report("xlsx"), "Ctrl+E",
+                                               "Export the crews' Excel workbook of the survey shown")
+        self.export_xlsx_action.setIconText("Export Excel")
+        self.export_pdf_action = self._action("&PDF report…", lambda: self.export_report("pdf"), "Ctrl+Shift+E",
+                                              "Export the PDF survey report of the survey shown")
+        self.export_pdf_action.setIconText("Export PDF")
+        self.plan_survey_action = self._action("&Plan survey…", self.plan_survey, "Ctrl+Shift+P",
+                                               "Predict the accuracy of a planned survey (IMU, GNSS, speed, aiding)")
         self.quit_action = self._action("&Quit", self.close, QKeySequence.Quit)
         self.cancel_action.setEnabled(False)
         file_menu = self.menuBar().addMenu("&File")
@@ -137,22 +184,33 @@ class MainWindow(QMainWindow):
         file_menu.addAction(self.save_action)
         file_menu.addSeparator()
         file_menu.addAction(self.import_action)
+        export_menu = file_menu.addMenu("&Export")
+        export_menu.addAction(self.export_xlsx_action)
+        export_menu.addAction(self.export_pdf_action)
         file_menu.addSeparator()
         file_menu.addAction(self.quit_action)
         run_menu = self.menuBar().addMenu("&Run")
         run_menu.addAction(self.process_action)
+        run_menu.addAction(self.ppk_action)
         run_menu.addAction(self.cancel_action)
+        tools_menu = self.menuBar().addMenu("&Tools")
+        tools_menu.addAction(self.plan_survey_action)
         view_menu = self.menuBar().addMenu("&View")
         for dock in self.findChildren(QDockWidget):
             view_menu.addAction(dock.toggleViewAction())
         help_menu = self.menuBar().addMenu("&Help")
-        help_menu.addAction(self._action("&About insrail", lambda: QMessageBox.about(
-            self, "About insrail", f"insrail {__version__}\nInertial track-geometry trolley processing.")))
+        self.about_action = self._action("&About insrail", self.about)
+        help_menu.addAction(self.about_action)
         toolbar = self.addToolBar("Main")
         toolbar.setObjectName("main_toolbar")
         for action in (self.new_action, self.open_action, self.save_action, self.import_action, self.process_action,
-                       self.cancel_action):
-            toolbar.addAction(action)
+                       self.cancel_action, None, self.export_xlsx_action, self.export_pdf_action, None,
+                       self.plan_survey_action):
+            if action is None:
+                toolbar.addSeparator()
+            else:
+                toolbar.addAction(action)
+        self.gnss.run_button.setDefaultAction(self.ppk_action)
         self._fill_recent()
         self._enable_project_actions()
 
@@ -166,6 +224,9 @@ class MainWindow(QMainWindow):
         has_project, busy = self.project is not None, self.worker is not None
         for action in (self.save_action, self.import_action, self.process_action):
             action.setEnabled(has_project and not busy)
+        for action in (self.export_xlsx_action, self.export_pdf_action):
+            action.setEnabled(self.shown_survey in self.results and not busy)
+        self.ppk_action.setEnabled(has_project and bool(self.gnss.survey.currentText()) and not busy)
         for action in (self.new_action, self.open_action):
             action.setEnabled(not busy)
         self.cancel_action.setEnabled(busy)
@@ -219,7 +280,11 @@ class MainWindow(QMainWindow):
         self.explorer.set_project(project)
         self.log.info(f"project {project.name}: {project.path.resolve()}")
         self.results.clear()
+        self.shown_survey = None
         self._load_all_results()
+        raw_gnss = self._raw_gnss_surveys()
+        self.tabs.setTabVisible(self.tabs.indexOf(self.gnss), bool(raw_gnss))
+        self.gnss.set_surveys(raw_gnss)
         self._update_title()
         self._enable_project_actions()
 
@@ -273,20 +338,31 @@ class MainWindow(QMainWindow):
         if self.modified and not self.save_project():
             return None
         names = surveys or [s.name for s in self.project.surveys]
-        self.worker = ProcessingWorker(self.project, names, self)
-        self.worker.progressed.connect(self._progressed)
-        self.worker.surveyDone.connect(self._survey_done)
-        self.worker.failed.connect(self._failed)
-        self.worker.cancelled.connect(lambda: self.log.warning("processing cancelled; previous results kept"))
-        self.worker.finished.connect(self._worker_finished)
+        worker = ProcessingWorker(self.project, names, self)
+        worker.surveyDone.connect(self._survey_done)
+        worker.cancelled.connect(self._processing_cancelled)
+        return self._start(worker, f"processing {', '.join(names)}", "Processing failed")
+
+    def _processing_cancelled(self) -> None:
+        self.log.warning("processing cancelled; previous results kept")
+
+    def _start(self, worker: CoreWorker, message: str, failure_title: str) -> CoreWorker:
+        """Run a core job with the status bar's progress and Cancel; one job at a time."""
+        self.worker = worker
+        self.job_failure_title = failure_title
+        self.done_message = "Ready"
+        worker.progressed.connect(self._progressed)
+        worker.failed.connect(self._failed)
+        worker.finished.connect(self._worker_finished)
         self.progress.setValue(0)
         self.progress.show()
         self.cancel_button.show()
         self.cancel_button.setEnabled(True)
-        self.log.info(f"processing {', '.join(names)}")
-        self.worker.start()
+        self.open_folder_button.hide()
+        self.log.info(message)
+        worker.start()
         self._enable_project_actions()
-        return self.worker
+        return worker
 
     def cancel_processing(self) -> None:
         if self.worker is not None:
@@ -303,6 +379,8 @@ class MainWindow(QMainWindow):
         self.explorer.set_project(self.project)
         self._load_results(name)
         self.show_results(name)
+        if name == self.gnss.survey.currentText():
+            self.show_gnss(name)
         summary = self.results[name].summary
         for warning in summary.get("heights", {}).get("warnings", []):
             self.log.warning(f"{name}: {warning}")
@@ -311,14 +389,14 @@ class MainWindow(QMainWindow):
 
     def _failed(self, message: str) -> None:
         self.log.error(message)
-        QMessageBox.warning(self, "Processing failed", message)
+        QMessageBox.warning(self, self.job_failure_title, message)
 
     def _worker_finished(self) -> None:
         self.worker.deleteLater()
         self.worker = None
         self.progress.hide()
         self.cancel_button.hide()
-        self.status.setText("Ready")
+        self.status.setText(self.done_message)
         self._enable_project_actions()
 
     # ------------------------------------------------------------------ results
@@ -354,10 +432,128 @@ class MainWindow(QMainWindow):
                                chainage_plots(stored.columns, profile), stored.exceedances)
         self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
         self.status.setText(f"Showing survey {name}")
+        self._enable_project_actions()
 
     def _mark_in_plan(self, first_sleeper: int, last_sleeper: int) -> None:
         number = self.results[self.shown_survey].number
         self.plan.mark_sleepers(np.flatnonzero((number >= first_sleeper) & (number <= last_sleeper)))
+
+    # ------------------------------------------------------------------ export
+
+    def export_report(self, kind: str, path: str | Path | None = None) -> TaskWorker | None:
+        """Write the shown survey's Excel workbook (``kind`` "xlsx") or PDF report ("pdf") in a worker;
+        without ``path`` a file dialog asks, starting at the default name in the survey's results."""
+        if self.project is None or self.shown_survey not in self.results or self.worker is not None:
+            return None
+        survey, stored, project = self.shown_survey, self.results[self.shown_survey], self.project
+        what, writer, file_filter = REPORTS[kind]
+        if path is None:
+            path, _ = QFileDialog.getSaveFileName(self, f"Export the {what.lower()} of {survey}",
+                                                  str(report_path(stored.folder, survey, kind)), file_filter)
+            if not path:
+                return None
+        path = Path(path)
+        if path.suffix.lower() != f".{kind}":
+            path = path.with_name(f"{path.name}.{kind}")
+
+        def export(progress, cancel) -> Path:
+            try:
+                return writer(project, stored, path, progress, cancel)
+            except OSError as error:  # the file system's words, about the file the user chose
+                raise OSError(f"cannot write the file: {error.strerror or error}") from error
+
+        worker = TaskWorker(f"{what} {path}", export, self)
+        worker.succeeded.connect(self._exported)
+        worker.cancelled.connect(self._export_cancelled)
+        return self._start(worker, f"exporting the {what.lower()} of {survey} to {path}", "Export failed")
+
+    def _exported(self, path: Path) -> None:
+        self.exported = path
+        self.log.info(f"written {path.resolve()}")
+        self.done_message = f"Written {path.name} in {path.parent.resolve()}"
+        self.open_folder_button.show()
+
+    def _export_cancelled(self) -> None:
+        self.log.warning("export cancelled; nothing written")
+
+    def open_export_folder(self) -> None:
+        """Open the folder of the last exported report in the desktop's file manager."""
+        if self.exported is not None:
+            QDesktopServices.openUrl(QUrl.fromLocalFile(str(self.exported.parent.resolve())))
+
+    # ------------------------------------------------------------------ GNSS (PPK)
+
+    def _raw_gnss_surveys(self) -> list[str]:
+        """The surveys whose survey.toml holds raw GNSS observations ([gnss_raw])."""
+        names = []
+        for entry in self.project.surveys:
+            try:
+                if read_manifest(self.project.resolve(entry.folder)).raw_gnss is not None:
+                    names.append(entry.name)
+            except InputError:  # the explorer shows the problem
+                continue
+        return names
+
+    def show_gnss(self, name: str) -> None:
+        """The GNSS page for one survey: its raw inputs and, once post-processed, the QC."""
+        project = self.project
+        folder = project.resolve(project.survey(name).folder)
+        raw = read_manifest(folder).raw_gnss
+        self.gnss.set_inputs(input_rows(raw, folder, project.control_point(raw.base_point)))
+        try:
+            self.gnss.set_ppk(stored_ppk(project, name), " (from the processed results)")
+        except InputError as error:
+            self.log.error(str(error))
+            self.gnss.set_ppk(None)
+        self._enable_project_actions()
+
+    def post_process_gnss(self) -> TaskWorker | None:
+        """Run the PPK stage alone for the survey on the GNSS page (cached like the pipeline's)."""
+        name = self.gnss.survey.currentText()
+        if self.project is None or self.worker is not None or not name:
+            return None
+        project = self.project
+        folder = project.resolve(project.survey(name).folder)
+        try:
+            manifest = read_manifest(folder)
+        except InputError as error:
+            self.log.error(str(error))
+            QMessageBox.warning(self, "GNSS post-processing failed", str(error))
+            return None
+        cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
+        worker = TaskWorker(f"survey {name}: GNSS", lambda progress, cancel: run_gnss_stage(
+            project, folder, manifest, cache, progress, cancel), self)
+        worker.succeeded.connect(self._gnss_done)
+        worker.cancelled.connect(self._gnss_cancelled)
+        self.tabs.setCurrentWidget(self.gnss)
+        return self._start(worker, f"post-processing the GNSS of {name}", "GNSS post-processing failed")
+
+    def _gnss_done(self, stage: GnssStageResult) -> None:
+        summary = stage.summary(self.project.fusion.gnss_quality_policy)
+        source = " (from the cache)" if stage.from_cache else " (computed now)"
+        self.gnss.set_ppk(PpkView(stage.report, stage.solution, summary), source)
+        self.log.info(f"GNSS of {self.gnss.survey.currentText()}: fix rate {100.0 * stage.qc.fix_rate:.1f} % of "
+                      f"{stage.qc.epochs} epochs{source}")
+        for warning in stage.report["warnings"]:
+            self.log.warning(warning)
+
+    def _gnss_cancelled(self) -> None:
+        self.log.warning("GNSS post-processing cancelled")
+
+    # ------------------------------------------------------------------ tools and help
+
+    def plan_survey(self) -> PlanSurveyDialog:
+        """The Plan survey dialog (not modal; one at a time)."""
+        if self.plan_dialog is None:
+            self.plan_dialog = PlanSurveyDialog(self)
+        self.plan_dialog.show()
+        self.plan_dialog.raise_()
+        return self.plan_dialog
+
+    def about(self) -> None:
+        QMessageBox.about(self, "About insrail", f"<b>insrail {__version__}</b><br>Inertial track-geometry "
+                                                 "trolley processing: GNSS/INS/odometer fusion, track geometry, "
+                                                 "reports.")
 
     # ------------------------------------------------------------------ closing
 
@@ -365,6 +561,8 @@ class MainWindow(QMainWindow):
         if self.worker is not None:
             self.worker.cancel()
             self.worker.wait()
+        if self.plan_dialog is not None:
+            self.plan_dialog.close()
         if not self.maybe_save():
             event.ignore()
             return

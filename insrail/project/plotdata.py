@@ -7,7 +7,9 @@ The desktop application only draws; every derived value it shows comes from here
 * :func:`navigation_series`: the trajectory's time series with their 1-sigma, in display units;
 * :func:`chainage_plots`: which sleepers.csv columns go into which plot along chainage, with the
   tolerance profile's limits in the same units;
-* :func:`exceedance_window`: the chainage range to show for one exceedance.
+* :func:`exceedance_window`: the chainage range to show for one exceedance;
+* :func:`stored_ppk`, :func:`quality_epochs`: a PPK solution, its QC report and its epochs by quality
+  for the GNSS page.
 """
 
 from __future__ import annotations
@@ -18,15 +20,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from insrail.gnss.qc import QUALITY_NAMES
 from insrail.io.control import read_benchmarks
 from insrail.io.formats import read_any
+from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.survey import read_manifest
+from insrail.io.tomlfile import read_toml
 from insrail.io.types import GnssSolution
 from insrail.nav.earth import Ellipsoid, radii
 from insrail.nav.trajectory import Trajectory
-from insrail.project.gnss_stage import GNSS_POS_FILE
+from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE
 from insrail.project.model import Project
-from insrail.project.results import RESULTS_FOLDER, StoredResults
+from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, StoredResults
 from insrail.track.tolerance import ToleranceProfile
 
 #: Margin shown either side of an exceedance [m]: enough to see the 30 m chord around it.
@@ -198,9 +203,44 @@ __all__ = [
     "ChainagePlot",
     "NavSeries",
     "PlanData",
+    "PpkView",
     "chainage_plots",
     "exceedance_window",
     "navigation_series",
     "plan_data",
+    "quality_epochs",
+    "stored_ppk",
     "survey_gnss",
 ]
+
+
+# --------------------------------------------------------------------------- GNSS page (PPK)
+
+@dataclass(frozen=True)
+class PpkView:
+    """A PPK solution as the GNSS page shows it.
+
+    report : the GNSS stage's QC report (``gnss_qc.toml``: ``base``, ``warnings``, ``baseline_m``, ``qc``)
+    fusion : ``[ppk]`` of summary.toml once the survey is processed (what the fusion did with each
+             quality), else None
+    """
+
+    report: dict
+    solution: GnssSolution
+    fusion: dict | None = None
+
+
+def stored_ppk(project: Project, survey: str) -> PpkView | None:
+    """The PPK solution and QC in a processed survey's results; None when it has none."""
+    folder = project.folder / RESULTS_FOLDER / survey
+    if not (folder / GNSS_QC_FILE).is_file():
+        return None
+    summary = read_toml(folder / SUMMARY_FILE) if (folder / SUMMARY_FILE).is_file() else {}
+    return PpkView(read_toml(folder / GNSS_QC_FILE), read_rtklib_pos(folder / GNSS_POS_FILE), summary.get("ppk"))
+
+
+def quality_epochs(solution: GnssSolution) -> tuple[tuple[int, str, np.ndarray], ...]:
+    """(RTKLIB quality flag, its name, epoch times [s]) of each quality present, best first."""
+    quality = np.asarray(solution.quality)
+    return tuple((int(q), QUALITY_NAMES.get(int(q), f"quality {int(q)}"), solution.time_s[quality == q])
+                 for q in np.unique(quality))

@@ -44,6 +44,8 @@ SUMMARY_FILE = "summary.toml"
 FITTED_ALIGNMENT_CSV = "fitted_alignment.csv"
 FITTED_ALIGNMENT_XML = "fitted_alignment.xml"
 LINE_FIT_REPORT = "line_fit.txt"
+#: The reports' default name in a survey's result folder (`insrail report`, the GUI's export).
+REPORT_STEM = "track_geometry"
 
 EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from_m", "station_to_m", "peak",
                      "limit", "first_sleeper", "last_sleeper"]
@@ -264,6 +266,11 @@ def load_results(project_folder: Path, survey: str) -> StoredResults:
     number, label, columns = _read_sleepers(folder / SLEEPERS_FILE)
     return StoredResults(survey, folder, summary, number, label, columns,
                          _read_exceedances(folder / EXCEEDANCES_FILE))
+
+
+def report_path(results_folder: Path, survey: str, suffix: str) -> Path:
+    """The default place of a survey's report: ``<results folder>/track_geometry_<survey>.<suffix>``."""
+    return Path(results_folder) / f"{REPORT_STEM}_{survey}.{suffix}"
 
 
 def _lines(path: Path) -> list[str]:
