@@ -294,7 +294,7 @@ def test_export_both_reports_and_open_their_folder(window, qtbot, demo_project, 
         suggested.append(path) or path, filter))
     opened = []
     monkeypatch.setattr(QDesktopServices, "openUrl", lambda url: opened.append(url) or True)
-    folder = root / "results" / "short"
+    folder = root / "reports"
 
     window.export_xlsx_action.trigger()
     assert window.progress.isVisible() and not window.export_pdf_action.isEnabled()  # one job at a time

@@ -55,13 +55,13 @@ def test_summary_holds_tqi_per_section(project):
         assert quality["tqi_mm"][k] == pytest.approx(sum(quality[f"sd_{c}_mm"][k] for c in quality["channels"]), abs=1e-3)
 
 
-def test_cli_report_writes_both_reports_beside_the_results(project, capsys):
+def test_cli_report_writes_both_reports_into_the_project_reports_folder(project, capsys):
     (project.folder / "surveys" / SURVEY).mkdir(parents=True, exist_ok=True)
     (project.folder / "surveys" / SURVEY / "survey.toml").write_text("")
     save_project(project)
     assert main(["report", str(project.folder)]) == 0
     out = capsys.readouterr().out
-    folder = project.folder / "results" / SURVEY
+    folder = project.folder / "reports"
     for suffix in (".xlsx", ".pdf"):
         path = folder / f"track_geometry_{SURVEY}{suffix}"
         assert path.stat().st_size > 10_000 and str(path.resolve()) in out
@@ -73,7 +73,7 @@ def test_cli_report_writes_both_reports_beside_the_results(project, capsys):
 @pytest.mark.skipif(shutil.which("pdftoppm") is None, reason="poppler-utils (pdftoppm) not installed; .ci/run installs it")
 def test_the_demo_writes_both_reports_and_its_pdf_renders(tmp_path, capsys):
     assert main(["demo", "--out", str(tmp_path / "demo")]) == 0
-    folder = tmp_path / "demo" / "results" / "short"
+    folder = tmp_path / "demo" / "reports"
     results = load_results(tmp_path / "demo", "short")
     pdf = folder / "track_geometry_short.pdf"
     subprocess.run(["pdftoppm", "-r", "20", "-png", str(pdf), str(tmp_path / "page")], check=True, timeout=300)

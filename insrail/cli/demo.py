@@ -5,7 +5,7 @@ Simulates the 1.2 km `short` survey with a navigation-grade IMU into DIR/surveys
 CRS, its GNSS-levelling benchmarks for the height model, its design alignment) and
 processes the survey like `insrail process DIR`: fusion, engineering coordinates, rails,
 chainage and sleepers, deviations, irregularities, exceedances and adjustment amounts into
-DIR/results/short, with the Excel workbook and the PDF report beside them. Then compares the
+DIR/results/short, the Excel workbook and the PDF report into DIR/reports. Then compares the
 results with the simulator's truth.
 """
 
@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
     results = process(project, "short", progress=lambda f, m: bar(0.25 + 0.75 * f, m))
     elapsed = bar.done()
     print("\n".join(describe(results)))
-    for path in write_reports(project, "short", *default_paths(results.folder, "short")):
+    for path in write_reports(project, "short", *default_paths(project.folder, "short")):
         print(f"Report: {path.resolve()}")
 
     errors = trajectory_errors(results.trajectory, read_nav_truth(survey_dir / "truth" / "nav.npy"), ellipsoid_of(project))

@@ -24,10 +24,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--pdf", type=Path, metavar="FILE", help="write the PDF report to FILE")
 
 
-def default_paths(results_folder: Path, survey: str) -> tuple[Path, Path]:
+def default_paths(project_folder: Path, survey: str) -> tuple[Path, Path]:
+    """Where the reports go without --xlsx/--pdf: ``<project>/reports/track_geometry_<survey>.*``."""
     from insrail.project.results import report_path
 
-    return report_path(results_folder, survey, "xlsx"), report_path(results_folder, survey, "pdf")
+    xlsx, pdf = report_path(project_folder, survey, "xlsx"), report_path(project_folder, survey, "pdf")
+    xlsx.parent.mkdir(exist_ok=True)
+    return xlsx, pdf
 
 
 def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> list[Path]:
@@ -61,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"insrail: --xlsx/--pdf name one file: choose the survey with --survey ({', '.join(names)})", file=sys.stderr)
         return 1
     for name in names:
-        xlsx, pdf = (args.xlsx, args.pdf) if explicit else default_paths(project.folder / "results" / name, name)
+        xlsx, pdf = (args.xlsx, args.pdf) if explicit else default_paths(project.folder, name)
         try:
             written = write_reports(project, name, xlsx, pdf)
         except ValueError as err:  # tolerance profile changed since processing, unreadable settings file

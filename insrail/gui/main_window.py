@@ -442,14 +442,16 @@ class MainWindow(QMainWindow):
 
     def export_report(self, kind: str, path: str | Path | None = None) -> TaskWorker | None:
         """Write the shown survey's Excel workbook (``kind`` "xlsx") or PDF report ("pdf") in a worker;
-        without ``path`` a file dialog asks, starting at the default name in the survey's results."""
+        without ``path`` a file dialog asks, starting at the default name in the project's reports folder."""
         if self.project is None or self.shown_survey not in self.results or self.worker is not None:
             return None
         survey, stored, project = self.shown_survey, self.results[self.shown_survey], self.project
         what, writer, file_filter = REPORTS[kind]
         if path is None:
-            path, _ = QFileDialog.getSaveFileName(self, f"Export the {what.lower()} of {survey}",
-                                                  str(report_path(stored.folder, survey, kind)), file_filter)
+            default = report_path(project.folder, survey, kind)
+            default.parent.mkdir(exist_ok=True)  # the dialog opens in the project's reports folder
+            path, _ = QFileDialog.getSaveFileName(self, f"Export the {what.lower()} of {survey}", str(default),
+                                                  file_filter)
             if not path:
                 return None
         path = Path(path)

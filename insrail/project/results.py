@@ -44,7 +44,8 @@ SUMMARY_FILE = "summary.toml"
 FITTED_ALIGNMENT_CSV = "fitted_alignment.csv"
 FITTED_ALIGNMENT_XML = "fitted_alignment.xml"
 LINE_FIT_REPORT = "line_fit.txt"
-#: The reports' default name in a survey's result folder (`insrail report`, the GUI's export).
+#: The reports' default folder in the project and name (`insrail report`, the GUI's export).
+REPORTS_FOLDER = "reports"
 REPORT_STEM = "track_geometry"
 
 EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from_m", "station_to_m", "peak",
@@ -268,9 +269,12 @@ def load_results(project_folder: Path, survey: str) -> StoredResults:
                          _read_exceedances(folder / EXCEEDANCES_FILE))
 
 
-def report_path(results_folder: Path, survey: str, suffix: str) -> Path:
-    """The default place of a survey's report: ``<results folder>/track_geometry_<survey>.<suffix>``."""
-    return Path(results_folder) / f"{REPORT_STEM}_{survey}.{suffix}"
+def report_path(project_folder: Path, survey: str, suffix: str) -> Path:
+    """The default place of a survey's report: ``<project>/reports/track_geometry_<survey>.<suffix>``.
+
+    Not in ``results/<survey>/``: that folder belongs to the pipeline and is replaced whole when the
+    survey is processed again, and a report a surveyor saved must never go with it."""
+    return Path(project_folder) / REPORTS_FOLDER / f"{REPORT_STEM}_{survey}.{suffix}"
 
 
 def _lines(path: Path) -> list[str]:
