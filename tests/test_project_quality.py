@@ -10,6 +10,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from insrail.progress import Cancelled
 from insrail.project import pipeline, process
 from insrail.project.demo import project_for_simulated_survey
 from insrail.project.results import QUALITY_FILE, QUALITY_HEADER, load_results
@@ -98,6 +99,24 @@ def test_a_cached_rerun_reuses_the_covariance_analysis(processed, monkeypatch):
     again = process(project, SURVEY)
     assert again.fusion_from_cache
     assert (again.folder / QUALITY_FILE).read_text() == before
+
+
+def test_cancelling_the_covariance_analysis_caches_nothing(processed, tmp_path):
+    project, _ = processed
+    root = tmp_path / "project"
+    shutil.copytree(project.folder / "surveys" / SURVEY, root / "surveys" / SURVEY)
+    fresh = project_for_simulated_survey(root, root / "surveys" / SURVEY)
+    messages = []
+
+    def progress(fraction, message):
+        messages.append((fraction, message))
+
+    with pytest.raises(Cancelled):
+        process(fresh, SURVEY, progress=progress, cancel=lambda: bool(messages) and messages[-1][1].startswith("covariance: smoother"))
+    analysis = [f for f, m in messages if m.startswith("covariance")]
+    assert analysis and analysis == sorted(analysis)
+    assert not list((root / "results" / ".cache").glob("fusion-*"))  # neither the fusion nor its analysis
+    assert not (root / "results" / SURVEY).exists()
 
 
 def test_results_without_quality_file_load_with_none(processed, tmp_path):
