@@ -120,7 +120,7 @@ def test_cancelling_the_covariance_analysis_caches_nothing(processed, tmp_path):
 
 
 def test_results_without_quality_file_load_with_none(processed, tmp_path):
-    project, results = processed
+    project, _ = processed
     copy = tmp_path / "project"
     shutil.copytree(project.folder / "results" / SURVEY, copy / "results" / SURVEY)
     (copy / "results" / SURVEY / QUALITY_FILE).unlink()

@@ -67,19 +67,24 @@ from insrail.project.results import (
     RESULTS_FOLDER,
     SLEEPERS_FILE,
     SUMMARY_FILE,
+    TQI_SECTION_M,
     TRAJECTORY_FILE,
     exceedances_csv,
     gnss_section,
     quality_csv,
     quality_section,
     sleepers_csv,
-    TQI_SECTION_M,
     summary_toml,
     track_quality_section,
     write_results,
 )
 from insrail.project.stagecache import load_dataclass, save_dataclass
-from insrail.quality.survey import EpochQuality, SectionQuality, epoch_quality, sections_along
+from insrail.quality.survey import (
+    EpochQuality,
+    SectionQuality,
+    epoch_quality,
+    sections_along,
+)
 from insrail.track.adjustment import (
     DIRECTIONS,
     Adjustment,

@@ -10,7 +10,14 @@ differences, is ``insrail.quality.covariance``. See docs/accuracy.md.
 """
 
 from insrail.quality.prediction import AccuracyFigures, GnssQuality, Prediction, predict
-from insrail.quality.survey import EpochQuality, SectionQuality, epoch_quality, sections, sections_along, survey_quality
+from insrail.quality.survey import (
+           EpochQuality,
+           SectionQuality,
+           epoch_quality,
+           sections,
+           sections_along,
+           survey_quality,
+)
 from insrail.quality.sweep import SweepTable, sweep
 
 __all__ = ["AccuracyFigures", "EpochQuality", "GnssQuality", "Prediction", "SectionQuality", "SweepTable",

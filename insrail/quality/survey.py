@@ -193,14 +193,11 @@ def _travel_direction(vel_ned: np.ndarray, heading_rad: np.ndarray) -> np.ndarra
 def sections(profile: CovarianceProfile, smoothed: bool, section_m: float = 200.0) -> SectionQuality:
     """Section figures of one pass of a covariance profile. The last section takes the
     remainder of the track, so it is between 1/4 and 5/4 of ``section_m`` long."""
-    cov: PassCovariance = profile.smoothed if smoothed else profile.forward
-    if cov is None:
-        raise ValueError("the covariance profile has no smoothed pass")
+    epochs = EpochQuality.from_profile(profile, smoothed)
     station = profile.station_m
     n = max(int(math.floor((station[-1] - station[0]) / section_m + 0.75)), 1)
     edges = station[0] + section_m * np.arange(n + 1)
     edges[-1] = station[-1]
-    epochs = EpochQuality.from_profile(profile, smoothed)
 
     def section_of(where):
         return np.clip(np.searchsorted(edges, where, side="right") - 1, 0, n - 1)

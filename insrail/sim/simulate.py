@@ -23,9 +23,8 @@ from insrail.io.control import write_benchmarks, write_prism_enu
 from insrail.io.imu import write_imu_kfgins, write_imu_npy
 from insrail.io.odometer import write_odometer_distance, write_odometer_pulses
 from insrail.io.rtklib import write_rtklib_pos
-from insrail.io.survey import write_manifest
+from insrail.io.survey import SurveyFile, SurveyManifest, write_manifest
 from insrail.io.track_sensors import write_gauge_mm, write_sleeper_times
-from insrail.io.survey import SurveyFile, SurveyManifest
 from insrail.io.types import (
     Benchmarks,
     GaugeData,
@@ -91,8 +90,8 @@ def trolley_play(spec: TrolleyPlaySpec, rng: np.random.Generator, station_m: np.
     (n, 2); None when the play is off."""
     if spec.pitch_rms_rad == 0.0 and spec.yaw_rms_rad == 0.0:
         return None
-    band = dict(shortest_wavelength_m=spec.shortest_wavelength_m, longest_wavelength_m=spec.longest_wavelength_m,
-                components=spec.components, spectral_slope=-0.5)  # flat PSD over log-uniform wavelengths
+    band = {"shortest_wavelength_m": spec.shortest_wavelength_m, "longest_wavelength_m": spec.longest_wavelength_m,
+            "components": spec.components, "spectral_slope": -0.5}  # flat PSD over log-uniform wavelengths
     return np.column_stack([random_irregularity(rng, rms, **band).evaluate(station_m)
                             for rms in (spec.pitch_rms_rad, spec.yaw_rms_rad)])
 
