@@ -39,11 +39,12 @@ def run_errors(workdir: Path, seed: int, imu: str, speed: float, options) -> Pat
     from insrail.sim.simulate import simulate
     from insrail.sim.truth import read_nav_truth
 
-    tag = f"{imu}-{speed:g}-nhc{1e3 * options.nhc_sigma_mps:g}"
+    config = preset("straight", imu_profile=imu)
+    play = config.play
+    tag = f"{imu}-{speed:g}-nhc{1e3 * options.nhc_sigma_mps:g}-play{1e3 * play.pitch_rms_rad:g}-{1e3 * play.yaw_rms_rad:g}"
     cache = workdir / f"errors-{tag}-seed{seed}.npz"
     if cache.exists():
         return cache
-    config = preset("straight", imu_profile=imu)
     config = replace(config, motion=replace(config.motion, cruise_speed_mps=speed))
     folder = workdir / f"straight-{tag}-seed{seed}"
     simulate(config, seed, folder, imu_format="npy", overwrite=True)

@@ -38,7 +38,7 @@ def test_result_files_exist_and_parse(processed):
     project, results = processed
     folder = project.folder / "results" / "short"
     assert results.folder == folder
-    assert sorted(p.name for p in folder.iterdir()) == ["exceedances.csv", "sleepers.csv", "summary.toml",
+    assert sorted(p.name for p in folder.iterdir()) == ["exceedances.csv", "quality.csv", "sleepers.csv", "summary.toml",
                                                          "trajectory.npy"]
     trajectory = np.load(folder / "trajectory.npy")
     assert np.array_equal(trajectory["time_s"], results.trajectory.time_s)

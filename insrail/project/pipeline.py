@@ -11,6 +11,10 @@ Three stages are cached in ``<project>/results/.cache/``, each under a hash of w
 
 * ``fusion-<key>.npy``       the raw survey files' contents, trolley, IMU profile, fusion options,
   ellipsoid (and with prism fixes the geodesy placing them). A cached fusion reads no raw file.
+  Beside it ``fusion-<key>.quality.npz``: the covariance analysis of the fusion's timeline
+  (:func:`insrail.quality.epoch_quality`, per update epoch), computed right after the fusion
+  while its timeline and the survey are at hand. The per-section table in ``quality.csv`` is
+  formed from it on the reconstructed chainage (which depends on the track settings).
 * ``track-<key>.npz``        rails, chainage and sleepers: the fusion key plus CRS, height model,
   design alignment (contents) and stationing settings.
 * ``adjustment-<key>.npz``   the deviations, the differential-versine limits and the fastener.
@@ -62,18 +66,28 @@ from insrail.project.results import (
     FITTED_ALIGNMENT_CSV,
     FITTED_ALIGNMENT_XML,
     LINE_FIT_REPORT,
+    QUALITY_FILE,
     RESULTS_FOLDER,
     SLEEPERS_FILE,
     SUMMARY_FILE,
+    TQI_SECTION_M,
     TRAJECTORY_FILE,
     exceedances_csv,
     gnss_section,
+    quality_csv,
+    quality_section,
     sleepers_csv,
     summary_toml,
     track_quality_section,
     write_results,
 )
 from insrail.project.stagecache import load_dataclass, save_dataclass
+from insrail.quality.survey import (
+    EpochQuality,
+    SectionQuality,
+    epoch_quality,
+    sections_along,
+)
 from insrail.track.adjustment import (
     DIRECTIONS,
     Adjustment,
@@ -95,7 +109,7 @@ from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 3
+CACHE_VERSION = 4
 
 
 @dataclass(frozen=True)
@@ -111,6 +125,7 @@ class SurveyResults:
     adjustment: Adjustment
     fusion_from_cache: bool
     summary: dict
+    quality: SectionQuality
 
     @property
     def table(self) -> SleeperTable:
@@ -204,16 +219,22 @@ def prism_fixes(project: Project, prism: PrismObservations, trolley: TrolleyGeom
     return PositionFix.from_prism(prism, trolley.imu_to_prism_m, to_geodetic)
 
 
+def quality_cache_file(trajectory_file: Path) -> Path:
+    """The covariance analysis cached beside a fused trajectory (``fusion-<key>.quality.npz``)."""
+    return trajectory_file.with_suffix(".quality.npz")
+
+
 def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, key: str,
                       height_fit: HeightAnomalyFit | None, gnss: GnssSolution | None,
                       progress: StepProgress, cancel: CancelToken) -> tuple[FreshFusion | None, Path, dict]:
     """What a computed fusion leaves for the track (None when it comes from the cache), the fused
     trajectory's cache file and the fusion statistics. A cached fusion reads no raw file.
-    ``gnss``: the solution of the GNSS stage for a survey with raw observations."""
+    ``gnss``: the solution of the GNSS stage for a survey with raw observations. A fresh fusion
+    is followed by its covariance analysis (cached in :func:`quality_cache_file`)."""
     cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
     path = cache / f"fusion-{key}.npy"
     info_path = path.with_suffix(".toml")
-    if path.is_file() and info_path.is_file():
+    if path.is_file() and info_path.is_file() and quality_cache_file(path).is_file():
         progress(1.0, "fusion reused from the cache")
         return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
     survey = read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel, gnss=gnss)
@@ -222,9 +243,13 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
              if survey.prism is not None and len(survey.prism) else None)
     profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
     result = fuse(survey, project.fusion, profile, ellipsoid_of(project), position_fixes=fixes,
-                  progress=progress.sub(0.05, 1.0), cancel=cancel)
+                  progress=progress.sub(0.05, 0.72), cancel=cancel)
     check_cancel(cancel)
+    # about 40 % of the fusion's time (10 Hz covariance replay, forward and backward)
+    quality = epoch_quality(survey, result, project.fusion, profile, ellipsoid_of(project),
+                            progress=progress.sub(0.72, 1.0), cancel=cancel)
     cache.mkdir(parents=True, exist_ok=True)
+    save_dataclass(quality_cache_file(path), quality)
     info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": len(survey.imu),
             "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
             "gnss": gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])}
@@ -357,13 +382,33 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
         summary["track"]["line_fit"] = _line_fit_section(recon)
         summary["files"].update(dict(zip(("fitted_alignment_csv", "fitted_alignment_landxml", "line_fit_report"),
                                           line_fit_files)))
+    quality = _section_quality(trajectory_file, recon)
+    summary["quality"] = quality_section(quality)
+    summary["files"]["quality"] = QUALITY_FILE
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment),
+        QUALITY_FILE: quality_csv(quality),
         EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary),
         **line_fit_files, **(gnss.result_files() if gnss else {})}, cancel)
     step(1.0, "done")
     return SurveyResults(entry.name, results_folder, manifest.gps_week, height_fit, recon, assessment, adjustment,
-                         fusion_info["from_cache"], summary)
+                         fusion_info["from_cache"], summary, quality)
+
+
+def _section_quality(trajectory_file: Path, recon: TrackReconstruction) -> SectionQuality:
+    """The cached covariance analysis per section of chainage: each update epoch takes the chainage
+    of the reconstructed centreline at its time (the reference rail's where the centreline has
+    none); sections of TQI_SECTION_M start at the first sleeper, like the ``[track_quality]`` ones."""
+    epochs = load_dataclass(quality_cache_file(trajectory_file), EpochQuality)
+    stations = recon.stations
+    chainage = np.where(np.isfinite(stations.centre_m), stations.centre_m, stations.reference_m)
+    known = np.isfinite(chainage)
+    if not known.any():
+        raise InputError(trajectory_file, None, "no epoch of the reconstructed track has a chainage")
+    at_epochs = np.interp(epochs.time_s, recon.rails.time_s[known], chainage[known])
+    table = recon.table
+    start = float(table.station_m[0]) if len(table) else float(np.min(chainage[known]))
+    return sections_along(epochs, at_epochs, start, TQI_SECTION_M)
 
 
 # --------------------------------------------------------------------------- result files

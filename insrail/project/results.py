@@ -7,6 +7,8 @@
   columns of :func:`sleeper_columns`, each name ending in its unit (``_m``, ``_mm``, ``_ratio``) or a
   0/1 flag; an empty cell is a value that cannot be computed there (NaN)
 * ``exceedances.csv``  one row per run of sleepers beyond a tolerance (:data:`EXCEEDANCE_HEADER`)
+* ``quality.csv``      predicted 1-sigma accuracy per 200 m section of chainage (:data:`QUALITY_HEADER`:
+  stations in m, sigmas in mm; empty where a section has no value); absent in results of older versions
 * ``summary.toml``     settings used, headline numbers, file list
 
 A result folder is assembled beside the old one and swapped in at the end (:func:`write_results`), so
@@ -30,6 +32,7 @@ import tomli_w
 from insrail.io.errors import InputError
 from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.progress import CancelToken, check_cancel
+from insrail.quality.survey import SectionQuality, weakness
 from insrail.track.adjustment import Adjustment
 from insrail.track.exceedance import Assessment, SleeperGeometry, track_quality
 from insrail.track.parameters import guiding_rail_is_right, track_parameters
@@ -47,7 +50,12 @@ LINE_FIT_REPORT = "line_fit.txt"
 #: The reports' default folder in the project and name (`insrail report`, the GUI's export).
 REPORTS_FOLDER = "reports"
 REPORT_STEM = "track_geometry"
+QUALITY_FILE = "quality.csv"
 
+#: Columns of quality.csv: the section's chainage, then the 1-sigma of the lateral and vertical position and of
+#: their 5 m and 150 m lag differences (behind the 30 m/5 m and 300 m/150 m checks).
+QUALITY_HEADER = ["station_from_m", "station_to_m", "sigma_lateral_mm", "sigma_vertical_mm", "sigma_lag5_lateral_mm",
+                  "sigma_lag5_vertical_mm", "sigma_lag150_lateral_mm", "sigma_lag150_vertical_mm"]
 EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from_m", "station_to_m", "peak",
                      "limit", "first_sleeper", "last_sleeper"]
 
@@ -203,6 +211,34 @@ def gnss_section(gnss_time_s: np.ndarray, quality: np.ndarray, start_s: float, e
             "outage_total_s": round(float(sum(b - a for a, b in outages)), 3)}
 
 
+def quality_csv(quality: SectionQuality) -> str:
+    """quality.csv: one row per section (:data:`QUALITY_HEADER`), NaN as an empty cell."""
+    def cell(value: float) -> str:
+        return f"{value:.3f}" if np.isfinite(value) else ""
+
+    rows = [",".join(cell(row[name]) for name in QUALITY_HEADER) for row in quality.to_rows()]
+    return "\n".join([",".join(QUALITY_HEADER), *rows]) + "\n"
+
+
+def quality_section(quality: SectionQuality) -> dict:
+    """summary.toml's ``[quality]``: the pass, the weakest section (``SectionQuality.weakest_section``)
+    with its figures, and the median of each figure over the sections [mm]; -1 for no value."""
+    rows = quality.to_rows()
+    weakest = quality.weakest_section()
+    figures = QUALITY_HEADER[2:]
+
+    def value(v: float) -> float:
+        return round(float(v), 3) if np.isfinite(v) else -1.0
+
+    median = {name: value(np.nanmedian([row[name] for row in rows])) if any(np.isfinite(row[name]) for row in rows)
+              else -1.0 for name in figures}
+    return {"pass": "smoothed" if quality.smoothed else "forward", "file": QUALITY_FILE, "sections": len(rows),
+            "weakest": {"station_from_m": rows[weakest]["station_from_m"],
+                        "station_to_m": rows[weakest]["station_to_m"],
+                        **{name: value(rows[weakest][name]) for name in figures}},
+            "median": median}
+
+
 def summary_toml(summary: dict) -> bytes:
     return tomli_w.dumps(summary).encode("utf-8")
 
@@ -235,6 +271,39 @@ class ExceedanceRow:
 
 
 @dataclass(frozen=True)
+class StoredQuality:
+    """quality.csv read back: predicted 1-sigma per section of chainage, in the file's units.
+    ``smoothed``: the pass the figures describe (summary.toml's ``[quality] pass``)."""
+
+    smoothed: bool
+    station_from_m: np.ndarray
+    station_to_m: np.ndarray
+    sigma_lateral_mm: np.ndarray
+    sigma_vertical_mm: np.ndarray
+    sigma_lag5_lateral_mm: np.ndarray
+    sigma_lag5_vertical_mm: np.ndarray
+    sigma_lag150_lateral_mm: np.ndarray
+    sigma_lag150_vertical_mm: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.station_from_m)
+
+    def weakest(self, figure: str = "sigma_lag5_lateral_mm") -> int:
+        """Index of the section with the largest ``figure``."""
+        if figure not in QUALITY_HEADER[2:]:
+            raise ValueError(f"unknown figure {figure!r}; choose one of {', '.join(QUALITY_HEADER[2:])}")
+        return int(np.nanargmax(getattr(self, figure)))
+
+    def weakest_sections(self, count: int = 1) -> np.ndarray:
+        """Indices of the ``count`` weakest sections, weakest first (:func:`insrail.quality.survey.weakness`:
+        the irregularity figures furthest above the survey's median); ``[0]`` is summary.toml's
+        ``[quality.weakest]``."""
+        score = weakness(self.sigma_lag5_lateral_mm, self.sigma_lag5_vertical_mm, self.sigma_lag150_lateral_mm,
+                         self.sigma_lag150_vertical_mm)
+        return np.argsort(-score, kind="stable")[:count]
+
+
+@dataclass(frozen=True)
 class StoredResults:
     """A survey's result files read back (values in the files' units, as named by each column)."""
 
@@ -245,6 +314,7 @@ class StoredResults:
     label: tuple[str, ...]  # broken-chainage label per sleeper
     columns: dict[str, np.ndarray]  # sleepers.csv columns after number and label; NaN where empty
     exceedances: tuple[ExceedanceRow, ...]
+    quality: StoredQuality | None = None  # None: results written before quality.csv existed
 
     def __len__(self) -> int:
         return len(self.number)
@@ -265,8 +335,11 @@ def load_results(project_folder: Path, survey: str) -> StoredResults:
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
         raise InputError(summary_path, None, f"not a valid summary file ({error})") from None
     number, label, columns = _read_sleepers(folder / SLEEPERS_FILE)
+    quality_path = folder / QUALITY_FILE
+    quality = (_read_quality(quality_path, summary.get("quality", {}).get("pass", "smoothed") == "smoothed")
+               if quality_path.is_file() else None)
     return StoredResults(survey, folder, summary, number, label, columns,
-                         _read_exceedances(folder / EXCEEDANCES_FILE))
+                         _read_exceedances(folder / EXCEEDANCES_FILE), quality)
 
 
 def report_path(project_folder: Path, survey: str, suffix: str) -> Path:
@@ -330,3 +403,20 @@ def _read_exceedances(path: Path) -> tuple[ExceedanceRow, ...]:
             raise InputError(path, line_number, f"expected {len(EXCEEDANCE_HEADER)} fields: "
                                                 f"{','.join(EXCEEDANCE_HEADER)}") from None
     return tuple(rows)
+
+
+def _read_quality(path: Path, smoothed: bool) -> StoredQuality:
+    lines = _lines(path)
+    if not lines or lines[0].split(",") != QUALITY_HEADER:
+        raise InputError(path, 1, f"expected the header {','.join(QUALITY_HEADER)}")
+    values = np.full((len(lines) - 1, len(QUALITY_HEADER)), np.nan)
+    for row, line in enumerate(lines[1:]):
+        fields = line.split(",")
+        try:
+            if len(fields) != len(QUALITY_HEADER):
+                raise ValueError
+            values[row] = [float(cell) if cell else np.nan for cell in fields]
+        except ValueError:
+            raise InputError(path, row + 2, f"expected {len(QUALITY_HEADER)} numbers (or empty cells): "
+                                            f"{','.join(QUALITY_HEADER)}") from None
+    return StoredQuality(smoothed, *(values[:, i] for i in range(len(QUALITY_HEADER))))

@@ -37,6 +37,8 @@ every e_k|N with k > j (a linear function of x_k and Y_N). Therefore
     P_j,k|N = Cov(e_j|N, e_k|N) = A_j P_j+1,k|N = A_j A_j+1 ... A_k-1 P_k|N .
 
 The backward pass pushes D = P_k|N[:, pos] u_k^T from epoch k back to j with D <- A_i D.
+It reads Phi, P- and P+ of every epoch back from a disk record the forward pass wrote
+(as the fusion's own smoother does), so the models are evaluated once per epoch.
 tests/test_quality_covariance.py checks both recursions against the exact covariance of
 the stacked (augmented) state of a small linear system.
 
@@ -122,21 +124,24 @@ def analyse(
     anchors: np.ndarray,
     lags_m: Sequence[float],
     smoother: bool = True,
+    forward_lags: bool = True,
     progress: ProgressFn | None = None,
     cancel: CancelToken = None,
 ) -> CovarianceProfile:
     """Covariance-only forward filter (and RTS smoother) over update epochs 0..m-1.
 
     segment(j) for j = 1..m-1 gives Phi, Q of epochs j-1 -> j and the measurements applied
-    at j, in the order the filter applies them. ``station_m`` must not decrease;
-    ``anchors`` are the epochs whose lag differences are wanted (e.g. one per metre).
+    at j, in the order the filter applies them; it is asked once per epoch. ``station_m``
+    must not decrease; ``anchors`` are the epochs whose lag differences are wanted (e.g.
+    one per metre). ``forward_lags=False`` skips the forward filter's lag differences
+    (its ``lags`` are then empty) when only the smoother's are wanted.
     """
     m = len(time_s)
     n = P0.shape[0]
     u_lat, u_ver, u_roll = projections(np.asarray(heading_rad, dtype=float))
     pairs = [lag_pairs(station_m, np.asarray(anchors), lag) for lag in lags_m]
     step = StepProgress(progress)
-    forward_progress = step.sub(0.0, 0.55 if smoother else 1.0)
+    forward_progress = step.sub(0.0, 0.7 if smoother else 1.0)
 
     # Pair columns: pair p of lag l is one column for lateral, one for vertical.
     first = np.concatenate([j for j, _ in pairs]).astype(int)
@@ -147,8 +152,8 @@ def analyse(
 
     var_f = np.empty((m, 3))
     cross_f = np.empty((n_pairs, 2))
-    # The backward pass needs P+ of every epoch; Phi and Q it asks ``segment`` for again.
-    record = _disk_array((m, n, n)) if smoother else None
+    # The backward pass needs Phi, P- and P+ of every epoch: written to disk as they come.
+    record = _ReverseStore(3 * n * n) if smoother else None
 
     def project(P, i):
         pos = P[POS : POS + 3, POS : POS + 3]
@@ -166,63 +171,82 @@ def analyse(
         pos = D[POS : POS + 3]
         return np.column_stack([u_lat[i] @ pos[:, idx_cols[0::2]], u_ver[i] @ pos[:, idx_cols[1::2]]])
 
-    active = _ActivePairs(n)
-    P = P0.copy()
-    var_f[0] = project(P, 0)
-    active.add(starts_at.get(0, ()), seeds(P, 0, starts_at.get(0, ())))
-    for j in range(1, m):
-        if j % 2000 == 0:
-            check_cancel(cancel)
-            forward_progress(j / m, "covariance: forward filter")
-        phi, q, updates = segment(j)
-        P_minus = phi @ P @ phi.T + q
-        P = P_minus
-        M = phi
-        for H, R in updates:
-            HP = H @ P
-            S = HP @ H.T + R
-            K = np.linalg.solve(S, HP).T
-            # (I - KH) P with the optimal gain equals the fusion's Joseph form
-            P = P - K @ HP
-            M = M - K @ (H @ M)
-        P = 0.5 * (P + P.T)
-        if record is not None:
-            record[j] = P
-        var_f[j] = project(P, j)
-        active.apply(M)
-        done = ends_at.get(j, ())
-        if len(done):
-            cross_f[done] = read(active.columns, j, active.take(done))
-            active.remove(done)
-        new = starts_at.get(j, ())
-        if len(new):
-            active.add(new, seeds(P, j, new))
-    if record is not None:
-        record[0] = P0
-
-    forward = _pass(var_f, cross_f, pairs, lags_m, station_m)
-    smoothed = None
-    if smoother:
-        backward_progress = step.sub(0.55, 1.0)
-        var_s = np.empty((m, 3))
-        cross_s = np.empty((n_pairs, 2))
+    try:
         active = _ActivePairs(n)
-        P_s = np.array(record[m - 1])
-        var_s[m - 1] = project(P_s, m - 1)
-        new = ends_at.get(m - 1, ())
-        active.add(new, seeds(P_s, m - 1, new))
-        for j in range(m - 2, -1, -1):
+        P = P0.copy()
+        var_f[0] = project(P, 0)
+        if record is not None:
+            record.append(np.concatenate([np.eye(n).ravel(), P0.ravel(), P0.ravel()]))
+        if forward_lags:
+            active.add(starts_at.get(0, ()), seeds(P, 0, starts_at.get(0, ())))
+        for j in range(1, m):
             if j % 2000 == 0:
                 check_cancel(cancel)
-                backward_progress((m - j) / m, "covariance: smoother")
-            phi_next, q_next, _ = segment(j + 1)
-            p_plus = np.array(record[j])
-            p_minus_next = phi_next @ p_plus @ phi_next.T + q_next
-            A = np.linalg.solve(p_minus_next, phi_next @ p_plus).T  # P+ Phi^T (P-)^-1, P symmetric
-            P_s = p_plus + A @ (P_s - p_minus_next) @ A.T
-            P_s = 0.5 * (P_s + P_s.T)
+                forward_progress(j / m, "covariance: forward filter")
+            phi, q, updates = segment(j)
+            P_minus = phi @ P @ phi.T + q
+            P = P_minus
+            M = phi if forward_lags else None
+            for H, R in updates:
+                HP = H @ P
+                S = HP @ H.T + R
+                K = np.linalg.solve(S, HP).T
+                # (I - KH) P with the optimal gain equals the fusion's Joseph form
+                P = P - K @ HP
+                if M is not None:
+                    M = M - K @ (H @ M)
+            P = 0.5 * (P + P.T)
+            if record is not None:
+                record.append(np.concatenate([phi.ravel(), P_minus.ravel(), P.ravel()]))
+            var_f[j] = project(P, j)
+            if M is not None:
+                active.apply(M)
+                done = ends_at.get(j, ())
+                if len(done):
+                    cross_f[done] = read(active.columns, j, active.take(done))
+                    active.remove(done)
+                new = starts_at.get(j, ())
+                if len(new):
+                    active.add(new, seeds(P, j, new))
+
+        forward = _pass(var_f, cross_f, pairs if forward_lags else [], lags_m if forward_lags else [], station_m)
+        smoothed = None
+        if record is not None:
+            var_s, cross_s = _smooth(record, m, n, project, seeds, read, starts_at, ends_at, n_pairs,
+                                     step.sub(0.7, 1.0), cancel)
+            smoothed = _pass(var_s, cross_s, pairs, lags_m, station_m)
+    finally:
+        if record is not None:
+            record.close()
+    step(1.0, "covariance analysis done")
+    return CovarianceProfile(np.asarray(time_s), np.asarray(station_m), forward, smoothed)
+
+
+def _smooth(record, m, n, project, seeds, read, starts_at, ends_at, n_pairs, progress, cancel):
+    """The RTS backward pass over the recorded (Phi, P-, P+): smoothed variances and the
+    cross terms of every pair."""
+    var_s = np.empty((m, 3))
+    cross_s = np.empty((n_pairs, 2))
+    nn = n * n
+    active = _ActivePairs(n)
+    P_s = None
+    phi_next = p_minus_next = None  # Phi and P- of the epoch after the current one
+    for first, chunk in record.reversed_chunks():
+        check_cancel(cancel)
+        progress((m - first) / m, "covariance: smoother")
+        for r in range(len(chunk) - 1, -1, -1):
+            j = first + r
+            phi = chunk[r, :nn].reshape(n, n)
+            p_minus = chunk[r, nn : 2 * nn].reshape(n, n)
+            p_plus = chunk[r, 2 * nn :].reshape(n, n)
+            if P_s is None:
+                P_s = p_plus.copy()
+            else:
+                A = np.linalg.solve(p_minus_next, phi_next @ p_plus).T  # P+ Phi^T (P-)^-1, P symmetric
+                P_s = p_plus + A @ (P_s - p_minus_next) @ A.T
+                P_s = 0.5 * (P_s + P_s.T)
+                active.apply(A)
             var_s[j] = project(P_s, j)
-            active.apply(A)
             done = starts_at.get(j, ())
             if len(done):
                 cross_s[done] = read(active.columns, j, active.take(done))
@@ -230,9 +254,8 @@ def analyse(
             new = ends_at.get(j, ())
             if len(new):
                 active.add(new, seeds(P_s, j, new))
-        smoothed = _pass(var_s, cross_s, pairs, lags_m, station_m)
-    step(1.0, "covariance analysis done")
-    return CovarianceProfile(np.asarray(time_s), np.asarray(station_m), forward, smoothed)
+            phi_next, p_minus_next = phi, p_minus
+    return var_s, cross_s
 
 
 def _group(epochs: np.ndarray, m: int) -> dict[int, np.ndarray]:
@@ -284,7 +307,37 @@ class _ActivePairs:
         self.columns = self.columns[:, np.repeat(keep, 2)]
 
 
-def _disk_array(shape) -> np.ndarray:
-    """A float array in an anonymous temporary file: a 10 km survey's P+ (about 0.5 GB)
-    lives in the page cache, not in the process's memory."""
-    return np.memmap(tempfile.TemporaryFile(prefix="insrail-cov-"), dtype=np.float64, mode="w+", shape=shape)
+class _ReverseStore:
+    """Append-only, chunked, disk-backed rows read back last chunk first. Written with plain
+    file writes, not a memory map: a 10 km survey's 1.4 GB of records stays in the page
+    cache and never counts towards the process's memory."""
+
+    def __init__(self, width: int, chunk: int = 1024):
+        self.file = tempfile.TemporaryFile(prefix="insrail-cov-")
+        self.buffer = np.empty((chunk, width))
+        self.fill = 0
+        self.count = 0
+
+    def append(self, row: np.ndarray) -> None:
+        self.buffer[self.fill] = row
+        self.fill += 1
+        self.count += 1
+        if self.fill == len(self.buffer):
+            self._flush()
+
+    def _flush(self) -> None:
+        self.file.write(self.buffer[: self.fill].tobytes())
+        self.fill = 0
+
+    def reversed_chunks(self):
+        """(index of the first row, rows) from the last chunk to the first."""
+        self._flush()
+        chunk, width = self.buffer.shape
+        size = width * 8
+        for first in range(((self.count - 1) // chunk) * chunk, -1, -chunk):
+            rows = min(chunk, self.count - first)
+            self.file.seek(first * size)
+            yield first, np.frombuffer(self.file.read(rows * size), dtype=np.float64).reshape(rows, width)
+
+    def close(self) -> None:
+        self.file.close()

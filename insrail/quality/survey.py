@@ -12,12 +12,18 @@ the quantities behind the 30 m/5 m and 300 m/150 m checks.
 Stations are the odometer distance from the first update epoch (plus ``station_offset_m``);
 a lag pair is assigned to the section holding its midpoint. Section figures are RMS values
 over the moving update epochs (position) or pairs (lags) in the section.
+
+The processing pipeline splits the work: ``epoch_quality`` (the expensive covariance pass,
+cached with the fusion) keeps one pass's figures per update epoch and per lag pair;
+``sections_along`` then forms the sections on any station measure given per epoch, e.g. the
+project's chainage, which is known only after the track reconstruction.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -58,13 +64,17 @@ class SectionQuality:
     sigma_lag150_lateral_m: np.ndarray
     sigma_lag150_vertical_m: np.ndarray
     smoothed: bool
-    profile: CovarianceProfile
+    profile: CovarianceProfile | None = None  # the covariance analysis behind the figures, when kept
 
     def weakest(self, figure: str = "sigma_lag5_lateral_m") -> int:
         """Index of the section with the largest value of ``figure``."""
         if figure not in _COLUMNS:
             raise ValueError(f"unknown figure {figure!r}; choose one of {', '.join(_COLUMNS)}")
         return int(np.nanargmax(getattr(self, figure)))
+
+    def weakest_section(self) -> int:
+        """Index of the weakest section (:func:`weakness`)."""
+        return int(np.argmax(weakness(*(getattr(self, name) for name in _COLUMNS if "lag" in name))))
 
     def to_rows(self) -> list[dict]:
         """One dict per section for CSV and reports: stations in m, sigmas in mm."""
@@ -76,6 +86,17 @@ class SectionQuality:
                 row[name[:-2] + "_mm"] = round(1e3 * float(getattr(self, name)[i]), 3)
             rows.append(row)
         return rows
+
+
+def weakness(*lag_sigmas: np.ndarray) -> np.ndarray:
+    """Per section, how far its irregularity figures (the 5 m and 150 m lag sigmas, lateral and
+    vertical, in any one unit) stand above the survey's median: the largest ratio to the median
+    over the figures; -inf for a section without any. Ratios, because the figures differ by an
+    order of magnitude. The weakest section has the largest value."""
+    lags = np.column_stack(lag_sigmas).astype(float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = lags / np.nanmedian(lags, axis=0)
+    return np.max(np.where(np.isfinite(ratio), ratio, -np.inf), axis=1)
 
 
 def survey_quality(
@@ -93,12 +114,20 @@ def survey_quality(
 ) -> SectionQuality:
     """Per-section accuracy of a fused survey. ``options``, ``profile`` and ``ellipsoid``
     must be those the fusion used; ``smoothed`` defaults to what the fusion delivered."""
-    timeline = result.timeline
-    if timeline is None:
-        raise ValueError("the fusion result carries no measurement timeline; fuse the survey again")
     if section_m <= 0.0:
         raise ValueError(f"section length must be positive, got {section_m} m")
     smoothed = result.trajectory.smoothed if smoothed is None else smoothed
+    cov = _covariance(survey, result, options, profile, ellipsoid, smoothed, True, station_offset_m,
+                      anchor_spacing_m, progress, cancel)
+    return sections(cov, smoothed, section_m)
+
+
+def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_lags, station_offset_m,
+                anchor_spacing_m, progress, cancel) -> CovarianceProfile:
+    """The covariance analysis along the fusion's timeline (stations: odometer distance)."""
+    timeline = result.timeline
+    if timeline is None:
+        raise ValueError("the fusion result carries no measurement timeline; fuse the survey again")
     profile = profile or load_imu_profile(survey.manifest.imu_profile)
     noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
     gqg = noise_matrix(noise)
@@ -140,7 +169,6 @@ def survey_quality(
         F = dynamics_matrix(lat[j], h[j], vel[j], c_bn[j], f_b[j], omega_b[j], noise, ellipsoid)
         phi, q = discretise(F, gqg, seg[j])
         snap = snapshot(j)
-        # lazily: the smoother's pass asks for Phi and Q only
         return phi, q, (meas.model(snap, i)[1:] for meas, i in applied_at.get(j, ()))
 
     odo = survey.odometer
@@ -148,9 +176,8 @@ def survey_quality(
     station = distance - distance[0] + station_offset_m
     heading = _travel_direction(vel, nav.rpy_rad[k, 2])
     anchors = np.unique(np.searchsorted(station, np.arange(station[0], station[-1], anchor_spacing_m)))
-    cov = analyse(timeline.initial_covariance, segment, t, station, heading, anchors, (SHORT_LAG_M, LONG_LAG_M),
-                  smoother=smoothed, progress=progress, cancel=cancel)
-    return sections(cov, smoothed, section_m)
+    return analyse(timeline.initial_covariance, segment, t, station, heading, anchors, (SHORT_LAG_M, LONG_LAG_M),
+                   smoother=smoothed, forward_lags=forward_lags, progress=progress, cancel=cancel)
 
 
 def _travel_direction(vel_ned: np.ndarray, heading_rad: np.ndarray) -> np.ndarray:
@@ -166,28 +193,123 @@ def _travel_direction(vel_ned: np.ndarray, heading_rad: np.ndarray) -> np.ndarra
 def sections(profile: CovarianceProfile, smoothed: bool, section_m: float = 200.0) -> SectionQuality:
     """Section figures of one pass of a covariance profile. The last section takes the
     remainder of the track, so it is between 1/4 and 5/4 of ``section_m`` long."""
-    cov: PassCovariance = profile.smoothed if smoothed else profile.forward
-    if cov is None:
-        raise ValueError("the covariance profile has no smoothed pass")
+    epochs = EpochQuality.from_profile(profile, smoothed)
     station = profile.station_m
-    moving = np.diff(station, prepend=station[0]) > 0.0
     n = max(int(math.floor((station[-1] - station[0]) / section_m + 0.75)), 1)
     edges = station[0] + section_m * np.arange(n + 1)
     edges[-1] = station[-1]
 
+    def section_of(where):
+        return np.clip(np.searchsorted(edges, where, side="right") - 1, 0, n - 1)
+
+    return _binned(epochs, station, section_of, edges[:-1], edges[1:], profile)
+
+
+@dataclass(frozen=True)
+class EpochQuality:
+    """One pass of a survey's covariance analysis, per update epoch and per lag pair [m]:
+    what section figures are made of, on whatever station measure (see ``sections_along``).
+    Lag pair p joins epochs ``lag5_first_epoch[p]`` and ``lag5_second_epoch[p]``."""
+
+    smoothed: bool
+    time_s: np.ndarray  # update epochs [s of week]
+    moving: np.ndarray  # the trolley advanced over the segment ending at the epoch
+    sigma_lateral_m: np.ndarray
+    sigma_vertical_m: np.ndarray
+    lag5_first_epoch: np.ndarray
+    lag5_second_epoch: np.ndarray
+    lag5_sigma_lateral_m: np.ndarray
+    lag5_sigma_vertical_m: np.ndarray
+    lag150_first_epoch: np.ndarray
+    lag150_second_epoch: np.ndarray
+    lag150_sigma_lateral_m: np.ndarray
+    lag150_sigma_vertical_m: np.ndarray
+
+    LAGS: ClassVar[dict[str, float]] = {"lag5": SHORT_LAG_M, "lag150": LONG_LAG_M}
+
+    @classmethod
+    def from_profile(cls, profile: CovarianceProfile, smoothed: bool) -> EpochQuality:
+        cov: PassCovariance = profile.smoothed if smoothed else profile.forward
+        if cov is None:
+            raise ValueError("the covariance profile has no smoothed pass")
+        lags = {}
+        for prefix, lag_m in cls.LAGS.items():
+            item = cov.lag(lag_m)
+            lags |= {f"{prefix}_first_epoch": item.first_epoch, f"{prefix}_second_epoch": item.second_epoch,
+                     f"{prefix}_sigma_lateral_m": item.sigma_lateral_m,
+                     f"{prefix}_sigma_vertical_m": item.sigma_vertical_m}
+        station = profile.station_m
+        return cls(smoothed=bool(smoothed), time_s=profile.time_s, moving=np.diff(station, prepend=station[0]) > 0.0,
+                   sigma_lateral_m=cov.sigma_lateral_m, sigma_vertical_m=cov.sigma_vertical_m, **lags)
+
+
+def epoch_quality(
+    survey: SurveyData,
+    result: FusionResult,
+    options: FusionOptions = FusionOptions(),
+    profile: ImuProfile | None = None,
+    ellipsoid: earth.Ellipsoid = earth.WGS84,
+    smoothed: bool | None = None,
+    anchor_spacing_m: float = 1.0,
+    progress: ProgressFn | None = None,
+    cancel: CancelToken = None,
+) -> EpochQuality:
+    """The covariance analysis of a fused survey for the pass it delivered (or ``smoothed``),
+    kept per epoch. Only that pass's lag differences are computed."""
+    smoothed = result.trajectory.smoothed if smoothed is None else smoothed
+    cov = _covariance(survey, result, options, profile, ellipsoid, smoothed, not smoothed, 0.0, anchor_spacing_m,
+                      progress, cancel)
+    return EpochQuality.from_profile(cov, smoothed)
+
+
+def sections_along(epochs: EpochQuality, station_m: np.ndarray, start_m: float,
+                   section_m: float = 200.0) -> SectionQuality:
+    """Section figures on a station measure given per update epoch (e.g. the chainage of the
+    reconstructed centreline at the epochs' times): sections [start_m + k section_m,
+    start_m + (k + 1) section_m), k = 0, 1, ..., as many as the moving epochs cover, the last
+    one cut at the last covered station. Stations before ``start_m`` (e.g. the metre before
+    the first sleeper) count in the first section."""
+    if section_m <= 0.0:
+        raise ValueError(f"section length must be positive, got {section_m} m")
+    station = np.asarray(station_m, dtype=float)
+    if station.shape != epochs.time_s.shape:
+        raise ValueError(f"need one station per update epoch ({len(epochs.time_s)}), got {station.shape}")
+    covered = station[epochs.moving & np.isfinite(station)]
+    if covered.size == 0 or covered.max() <= start_m:
+        raise ValueError(f"no moving epoch lies beyond station {start_m} m: nothing to divide into sections")
+    high = float(covered.max())
+    n = max(int(math.ceil((high - start_m) / section_m)), 1)
+    edges = start_m + section_m * np.arange(n + 1)
+    edges[-1] = min(edges[-1], high)
+
+    def section_of(where):
+        return np.clip(np.floor((where - start_m) / section_m).astype(int), 0, n - 1)
+
+    return _binned(epochs, station, section_of, edges[:-1], edges[1:])
+
+
+def _binned(epochs: EpochQuality, station: np.ndarray, section_of, station_from, station_to,
+            profile: CovarianceProfile | None = None) -> SectionQuality:
+    """RMS per section of the position sigmas (moving epochs) and the lag sigmas (pairs, by the
+    station of their midpoint); NaN where a section has none."""
+    n = len(station_from)
+
     def rms_per_section(where, values):
-        idx = np.clip(np.searchsorted(edges, where, side="right") - 1, 0, n - 1)
-        sums = np.bincount(idx, values**2, minlength=n)
+        keep = np.isfinite(where)
+        idx = section_of(where[keep])
+        sums = np.bincount(idx, values[keep] ** 2, minlength=n)
         counts = np.bincount(idx, minlength=n)
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(counts > 0, np.sqrt(sums / np.maximum(counts, 1)), np.nan)
 
-    figures = {"sigma_lateral_m": rms_per_section(station[moving], cov.sigma_lateral_m[moving]),
-               "sigma_vertical_m": rms_per_section(station[moving], cov.sigma_vertical_m[moving])}
-    for lag in (SHORT_LAG_M, LONG_LAG_M):
-        item = cov.lag(lag)
-        middle = 0.5 * (station[item.first_epoch] + station[item.second_epoch])
-        figures[f"sigma_lag{lag:g}_lateral_m"] = rms_per_section(middle, item.sigma_lateral_m)
-        figures[f"sigma_lag{lag:g}_vertical_m"] = rms_per_section(middle, item.sigma_vertical_m)
-    return SectionQuality(station_from_m=edges[:-1], station_to_m=edges[1:], smoothed=bool(smoothed), profile=profile,
+    moving = epochs.moving
+    figures = {"sigma_lateral_m": rms_per_section(station[moving], epochs.sigma_lateral_m[moving]),
+               "sigma_vertical_m": rms_per_section(station[moving], epochs.sigma_vertical_m[moving])}
+    for prefix in EpochQuality.LAGS:
+        first, second = getattr(epochs, f"{prefix}_first_epoch"), getattr(epochs, f"{prefix}_second_epoch")
+        middle = 0.5 * (station[first] + station[second])
+        for axis in ("lateral", "vertical"):
+            figures[f"sigma_{prefix}_{axis}_m"] = rms_per_section(middle, getattr(epochs, f"{prefix}_sigma_{axis}_m"))
+    return SectionQuality(station_from_m=np.asarray(station_from, dtype=float),
+                          station_to_m=np.asarray(station_to, dtype=float), smoothed=epochs.smoothed, profile=profile,
                           **figures)

@@ -19,6 +19,7 @@ SERIES_COLOURS = (colors.HexColor("#1f4e9c"), colors.HexColor("#d9641e"), colors
 LIMIT_COLOUR = colors.HexColor("#c0141e")
 INVALID_COLOUR = colors.HexColor("#e3e3e3")
 OUTAGE_COLOUR = colors.HexColor("#f0a030")
+WEAK_COLOUR = colors.HexColor("#fde2c4")
 GRID_COLOUR = colors.HexColor("#d0d0d0")
 FONT = "Helvetica"
 
@@ -71,15 +72,34 @@ class Series:
 
 
 @dataclass(frozen=True)
+class Band:
+    """A stretch of chainage shaded behind a chart's lines and named in its legend."""
+
+    station_from_m: float
+    station_to_m: float
+    colour: object
+    name: str
+
+
+@dataclass(frozen=True)
 class StripChart:
-    """One quantity along chainage: series, tolerance limits, and the sleepers of the exceedance
-    runs (marked in red along the bottom of the plot)."""
+    """One quantity along chainage: series, tolerance limits, the sleepers of the exceedance
+    runs (marked in red along the bottom of the plot) and shaded bands."""
 
     title: str
     unit: str
     series: tuple[Series, ...]
     limits: tuple[float, float] | None = None
     exceeding: np.ndarray | None = None
+    bands: tuple[Band, ...] = ()
+    include_zero: bool = False  # the value axis starts at zero (sigmas, magnitudes)
+
+
+def section_steps(station_from_m: np.ndarray, station_to_m: np.ndarray, *values: np.ndarray):
+    """Per-section values as a step line for :func:`strip_drawing`: (stations, values...) with
+    each section's value held from its start to its end (a NaN section breaks the line)."""
+    stations = np.column_stack([station_from_m, station_to_m]).ravel()
+    return (stations, *(np.repeat(np.asarray(v, dtype=float), 2) for v in values))
 
 
 def _value_range(chart: StripChart, window: np.ndarray) -> tuple[float, float]:
@@ -90,10 +110,12 @@ def _value_range(chart: StripChart, window: np.ndarray) -> tuple[float, float]:
         for limit in chart.limits:
             if np.isfinite(limit):
                 low, high = min(low, 1.15 * limit if limit < 0 else -0.15 * limit), max(high, 1.15 * limit if limit > 0 else 0.0)
+    if chart.include_zero:
+        low, high = min(low, 0.0), max(high, 0.0)
     if high - low < 1e-9:
         low, high = low - 1.0, high + 1.0
     pad = 0.05 * (high - low)
-    return low - pad, high + pad
+    return (0.0 if chart.include_zero and low == 0.0 else low - pad), high + pad
 
 
 def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, station_from: float, station_to: float,
@@ -111,7 +133,11 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
     def py(v):
         return bottom + (np.asarray(v) - low) / (high - low) * plot_h
 
-    # invalid stretches first, under everything
+    # bands and invalid stretches first, under everything
+    for band in chart.bands:
+        x0, x1 = (float(np.clip(px(s), left, left + plot_w)) for s in (band.station_from_m, band.station_to_m))
+        if x1 > x0:
+            drawing.add(Rect(x0, bottom, x1 - x0, plot_h, fillColor=band.colour, strokeColor=None))
     for run in _runs(window[~valid[window]]):
         x0, x1 = px(station_m[run[0]] - 0.3), px(station_m[run[-1]] + 0.3)
         drawing.add(Rect(max(x0, left), bottom, min(x1, left + plot_w) - max(x0, left), plot_h,
@@ -151,11 +177,15 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
         title += "   - - limit" + ("   red: exceedances" if chart.exceeding is not None and chart.exceeding[window].any() else "")
     drawing.add(String(left, height - 10, title, fontName="Helvetica-Bold", fontSize=8))
     x = left + plot_w
-    for colour, series in reversed(list(zip(SERIES_COLOURS, chart.series))):
-        if len(chart.series) > 1:
-            text = String(x, height - 10, series.name, fontName=FONT, fontSize=7, textAnchor="end", fillColor=colour)
-            drawing.add(text)
-            x -= 7 * 0.55 * len(series.name) + 10
+    legend = [(colour, series.name) for colour, series in zip(SERIES_COLOURS, chart.series)] if len(chart.series) > 1 else []
+    for colour, name in reversed(legend):
+        drawing.add(String(x, height - 10, name, fontName=FONT, fontSize=7, textAnchor="end", fillColor=colour))
+        x -= 7 * 0.55 * len(name) + 10
+    for band in reversed(chart.bands):
+        width_text = 7 * 0.55 * len(band.name)
+        drawing.add(Rect(x - width_text - 2, height - 12, width_text + 4, 9, fillColor=band.colour, strokeColor=None))
+        drawing.add(String(x, height - 10, band.name, fontName=FONT, fontSize=7, textAnchor="end"))
+        x -= width_text + 14
     return drawing
 
 

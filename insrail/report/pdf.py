@@ -1,7 +1,7 @@
 """The PDF survey report (reportlab platypus, A4 landscape, vector charts).
 
 Order: cover; survey and processing summary (data spans, GNSS availability and outages, fusion
-quality, heights, assessment, TQI per section); charts along chainage, one range of
+quality, heights, assessment, TQI per section, predicted accuracy per section); charts along chainage, one range of
 ``CHART_RANGE_M`` per page group with the range in the page header; the plan view; any extra
 sections (``sections``: e.g. repeatability when several runs exist); the exceedance table. Every
 page carries the project and survey, its section or chainage range and "page i of n".
@@ -48,10 +48,13 @@ from insrail.project.results import SUMMARY_FILE, StoredResults, check_column
 from insrail.report.charts import (
     LIMIT_COLOUR,
     OUTAGE_COLOUR,
+    WEAK_COLOUR,
+    Band,
     PlanMark,
     Series,
     StripChart,
     plan_drawing,
+    section_steps,
     strip_drawing,
 )
 from insrail.report.content import (
@@ -257,21 +260,75 @@ def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[F
     quality = s.get("track_quality", {})
     if quality.get("tqi_mm"):
         channels = quality["channels"]
-        labels = content.column("label").values
-        station = content.station_m
         rows = []
         for k, start in enumerate(quality["start_m"]):
-            inside = np.flatnonzero((station >= start) & (station < start + quality["section_m"]))
-            where = f"{labels[inside[0]]} - {labels[inside[-1]]}" if inside.size else f"{start:.0f} m"
-            rows.append([where] + [_fmt(quality[f"sd_{c}_mm"][k] if quality[f"sd_{c}_mm"][k] >= 0 else None, 2)
-                                   for c in channels] + [_fmt(quality["tqi_mm"][k] if quality["tqi_mm"][k] >= 0 else None, 2)])
+            rows.append([_section_label(content, start, start + quality["section_m"])]
+                        + [_fmt(quality[f"sd_{c}_mm"][k] if quality[f"sd_{c}_mm"][k] >= 0 else None, 2) for c in channels]
+                        + [_fmt(quality["tqi_mm"][k] if quality["tqi_mm"][k] >= 0 else None, 2)])
         story += [CondPageBreak(60 * mm),
                   Paragraph(f"Track quality per {quality['section_m']:g} m section (standard deviations, mm; level and "
                             f"alignment in the {quality.get('band', 'D1')} band)", H2),
                   table(["section"] + [c.replace("_", " ") for c in channels] + ["TQI"], rows,
                         [45 * mm] + [24 * mm] * len(channels) + [22 * mm])]
+    story += _predicted_accuracy(content)
     story.append(PageBreak())
     return story
+
+
+def _section_label(content: ReportContent, start_m: float, end_m: float) -> str:
+    """A section of stations as the chainage labels of its first and last sleeper (metres without sleepers)."""
+    station = content.station_m
+    inside = np.flatnonzero((station >= start_m) & (station < end_m))
+    if not inside.size:
+        return f"{start_m:.0f} - {end_m:.0f} m"
+    labels = content.column("label").values
+    return f"{labels[inside[0]]} - {labels[inside[-1]]}"
+
+
+#: Sections listed by name in the predicted-accuracy table (the chart shows them all).
+WEAKEST_LISTED = 3
+
+
+def _predicted_accuracy(content: ReportContent) -> list[Flowable]:
+    """The 1-sigma the fusion's error model predicts per section (quality.csv): a chart along
+    chainage of the 5 m and 150 m lag differences with the weakest section shaded, and a table
+    of the weakest sections and the median."""
+    quality = content.results.quality
+    if quality is None or not len(quality):
+        return []
+    weakest = quality.weakest_sections(WEAKEST_LISTED)
+    first = int(weakest[0])
+    band = (Band(float(quality.station_from_m[first]), float(quality.station_to_m[first]), WEAK_COLOUR,
+                 "weakest section"),)
+    stations, lag5_lat, lag5_ver, lag150_lat, lag150_ver = section_steps(
+        quality.station_from_m, quality.station_to_m, quality.sigma_lag5_lateral_mm, quality.sigma_lag5_vertical_mm,
+        quality.sigma_lag150_lateral_mm, quality.sigma_lag150_vertical_mm)
+    charts = (StripChart("1-sigma of the 5 m lag difference (30 m / 5 m check)", "mm",
+                         (Series("lateral", lag5_lat), Series("vertical", lag5_ver)), bands=band, include_zero=True),
+              StripChart("1-sigma of the 150 m lag difference (300 m / 150 m check)", "mm",
+                         (Series("lateral", lag150_lat), Series("vertical", lag150_ver)), bands=band,
+                         include_zero=True))
+    low, high = float(np.nanmin(stations)), float(np.nanmax(stations))
+    width = PAGE[0] - 2 * MARGIN
+    drawings = [strip_drawing(chart, stations, np.ones(len(stations), dtype=bool), low, high, width, 42 * mm)
+                for chart in charts]
+    figures = ("sigma_lateral_mm", "sigma_vertical_mm", "sigma_lag5_lateral_mm", "sigma_lag5_vertical_mm",
+               "sigma_lag150_lateral_mm", "sigma_lag150_vertical_mm")
+    rows = [[f"weakest {rank}" if len(weakest) > 1 else "weakest",
+             _section_label(content, quality.station_from_m[k], quality.station_to_m[k])]
+            + [_fmt(getattr(quality, name)[k], 2) for name in figures] for rank, k in enumerate(weakest, start=1)]
+    rows.append(["median", f"{len(quality)} sections"]
+                + [_fmt(float(np.nanmedian(getattr(quality, name))), 2) for name in figures])
+    passes = "forward filter and RTS smoother" if quality.smoothed else "forward filter"
+    return [CondPageBreak(120 * mm), Paragraph("Predicted accuracy per section", H2),
+            Paragraph(text(f"1-sigma of the {passes} from the fusion's error model along this survey's measurements "
+                           f"(its GNSS outages, stops and rejected data); lag differences are the errors behind the "
+                           f"30 m / 5 m and 300 m / 150 m checks. Shaded: the section whose figures stand furthest "
+                           f"above the survey's median."), BODY),
+            *drawings,
+            table(["1-sigma (mm)", "section", "position lateral", "position vertical", "5 m lag lateral",
+                   "5 m lag vertical", "150 m lag lateral", "150 m lag vertical"], rows,
+                  [24 * mm, 45 * mm] + [30 * mm] * 6)]
 
 
 def chart_specs(content: ReportContent) -> list[StripChart]:

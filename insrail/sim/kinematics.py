@@ -9,6 +9,13 @@ path tangent in the local NED frame, roll from the running plane; the IMU frame 
 v rotated by the mounting angles, and the IMU sits at ``-C_b^e l`` from the rail
 point, l being the IMU-to-rail lever arm in b.
 
+Body play: the trolley frame need not point exactly along the rail. Optional small
+pitch and yaw deviations (functions of station, on the same grid) turn the frame about
+the reference rail point, which stays on the rail; so the rail point's velocity has a
+small vertical and lateral component in the trolley frame, the physical content of the
+non-holonomic constraint's noise. The IMU position follows from the deviated attitude,
+so position, attitude, rates and increments remain one consistent motion.
+
 Angular rate and specific force (e-frame mechanisation, no approximation):
     omega_ib^b = omega_nb^b + C_n^b (omega_ie^n + omega_en^n)        (n at the rail point)
     f^b        = C_e^b (a^e + 2 omega_ie^e x v^e - g^e)              (at the IMU)
@@ -55,6 +62,7 @@ class TrolleyKinematics:
         dcm_vehicle_from_body: np.ndarray,
         profile: SpeedProfile,
         ellipsoid: earth.Ellipsoid = earth.WGS84,
+        play_pitch_yaw_rad: np.ndarray | None = None,
     ):
         self.ellipsoid = ellipsoid
         self.profile = profile
@@ -71,6 +79,9 @@ class TrolleyKinematics:
         # The running plane's cross slope is measured from the horizontal; the Euler
         # roll follows the pitched x axis: sin(cross slope) = sin(roll) cos(pitch).
         roll = np.arcsin(np.sin(running_plane_roll_rad) / np.cos(pitch))
+        if play_pitch_yaw_rad is not None:
+            pitch = pitch + play_pitch_yaw_rad[:, 0]
+            heading = heading + play_pitch_yaw_rad[:, 1]
         self._euler = make_interp_spline(station_m, np.column_stack([roll, pitch, heading]), k=5)
         self._euler_d1 = self._euler.derivative(1)
 

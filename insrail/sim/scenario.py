@@ -116,6 +116,41 @@ class PrismSpec:
 
 
 @dataclass(frozen=True)
+class TrolleyPlaySpec:
+    """Play of the trolley frame about the reference rail point: pitch and yaw deviations
+    from the rail's tangent, band-limited random functions of station with a flat
+    spectrum (``random_irregularity`` with amplitude proportional to wavelength^-1/2)
+    between the two wavelengths. The rail point stays on the rail; the IMU and the other
+    points of the trolley move with the frame.
+
+    Physically: wheel and flange play, wheels rolling over rail-head roughness and gauge
+    variations, the push on the handle. In the trolley frame the rail point then moves
+    sideways at v*yaw and vertically at v*pitch: what the fusion's NHC noise stands for.
+    Seen by 10 Hz NHC updates the process is coloured (about 1 s correlation at 1 m/s),
+    but its spectrum is flat down to the longest wavelength, so at the long waves that
+    set the 5 m and 150 m lag errors it acts like white noise of
+    ``equivalent_nhc_sigma_mps``. The default (0.316 mrad = 0.018 deg RMS, 0.5 m to 5 km)
+    is equivalent to the fusion's default NHC sigma, 0.5 mm/s at 10 Hz, at 1 m/s; zero
+    RMS turns the play off (the trolley frame then follows the rail exactly).
+    """
+
+    pitch_rms_rad: float = 0.316e-3
+    yaw_rms_rad: float = 0.316e-3
+    shortest_wavelength_m: float = 0.5
+    longest_wavelength_m: float = 5000.0
+    components: int = 400
+
+    def equivalent_nhc_sigma_mps(self, speed_mps: float, update_interval_s: float) -> tuple[float, float]:
+        """(vertical, lateral) sigma of white NHC noise at ``update_interval_s`` with the same
+        low-frequency spectrum as the play at ``speed_mps``: for a flat one-sided spatial
+        PSD G = rms^2 / (1/shortest - 1/longest), the lateral velocity v*yaw has the
+        two-sided PSD v G / 2 at zero frequency, and white samples sigma^2 * dt."""
+        band = 1.0 / self.shortest_wavelength_m - 1.0 / self.longest_wavelength_m
+        return tuple(math.sqrt(speed_mps * rms**2 / band / (2.0 * update_interval_s))
+                     for rms in (self.pitch_rms_rad, self.yaw_rms_rad))
+
+
+@dataclass(frozen=True)
 class GeodeticSpec:
     """Engineering CRS of the line and the height-anomaly surface zeta = h - H.
 
@@ -155,6 +190,7 @@ class ScenarioConfig:
     sleepers: SleeperSpec = SleeperSpec()
     prism: PrismSpec = PrismSpec()
     geodetic: GeodeticSpec = GeodeticSpec()
+    play: TrolleyPlaySpec = TrolleyPlaySpec()
     trolley: TrolleyGeometry = field(default_factory=lambda: default_trolley())
     imu_profile: str = "nav"
     imu_rate_hz: float = 200.0

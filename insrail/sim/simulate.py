@@ -44,7 +44,7 @@ from insrail.sim.design import design_alignment
 from insrail.sim.irregularity import random_irregularity
 from insrail.sim.kinematics import TrolleyKinematics
 from insrail.sim.motion import walking_profile
-from insrail.sim.scenario import ScenarioConfig
+from insrail.sim.scenario import ScenarioConfig, TrolleyPlaySpec
 from insrail.sim.track import TrueTrack
 from insrail.sim.truth import ANTENNA_TRUTH_DTYPE, NAV_TRUTH_DTYPE, write_sleeper_truth
 
@@ -86,6 +86,17 @@ def true_track(config: ScenarioConfig, rng: np.random.Generator) -> TrueTrack:
     )
 
 
+def trolley_play(spec: TrolleyPlaySpec, rng: np.random.Generator, station_m: np.ndarray) -> np.ndarray | None:
+    """Pitch and yaw of the trolley frame against the rail tangent at ``station_m`` [rad],
+    (n, 2); None when the play is off."""
+    if spec.pitch_rms_rad == 0.0 and spec.yaw_rms_rad == 0.0:
+        return None
+    band = {"shortest_wavelength_m": spec.shortest_wavelength_m, "longest_wavelength_m": spec.longest_wavelength_m,
+            "components": spec.components, "spectral_slope": -0.5}  # flat PSD over log-uniform wavelengths
+    return np.column_stack([random_irregularity(rng, rms, **band).evaluate(station_m)
+                            for rms in (spec.pitch_rms_rad, spec.yaw_rms_rad)])
+
+
 def _station_inverse(times_s: np.ndarray, stations_m: np.ndarray, targets_m: np.ndarray) -> np.ndarray:
     """First time the trolley reaches each target station (stations non-decreasing in time)."""
     idx = np.searchsorted(stations_m, targets_m, side="left")
@@ -111,8 +122,9 @@ def simulate(
     if imu_format not in ("text", "npy"):
         raise ValueError("imu_format must be 'text' or 'npy'")
     step = StepProgress(progress)
-    streams = np.random.SeedSequence(seed).spawn(8)
-    rng_track, rng_motion, rng_imu, rng_gnss, rng_odo, rng_sleeper, rng_misc, rng_noise = (
+    # a ninth stream for the trolley play leaves the first eight (and older truths) unchanged
+    streams = np.random.SeedSequence(seed).spawn(9)
+    rng_track, rng_motion, rng_imu, rng_gnss, rng_odo, rng_sleeper, rng_misc, rng_noise, rng_play = (
         np.random.default_rng(s) for s in streams
     )
 
@@ -152,6 +164,7 @@ def simulate(
         c_vb,
         profile,
         ell,
+        play_pitch_yaw_rad=trolley_play(config.play, rng_play, grid),
     )
     check_cancel(cancel)
 

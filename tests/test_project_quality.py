@@ -1,0 +1,142 @@
+"""Predicted accuracy per section in the processing pipeline: quality.csv on the chainage, the
+[quality] summary, StoredResults.quality, the fusion cache and the PDF, on a survey with a GNSS
+outage."""
+
+import shutil
+import subprocess
+import tomllib
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from insrail.progress import Cancelled
+from insrail.project import pipeline, process
+from insrail.project.demo import project_for_simulated_survey
+from insrail.project.results import QUALITY_FILE, QUALITY_HEADER, load_results
+from insrail.report import write_pdf
+from insrail.sim.scenario import preset
+from insrail.sim.simulate import simulate
+
+SURVEY = "outage"
+
+
+@pytest.fixture(scope="module")
+def processed(tmp_path_factory):
+    """600 m of the `short` line with a tactical-grade IMU and a 120 s GNSS outage from station
+    1460 m (to about 1600 m), no stops: three 200 m sections, the outage inside the middle one."""
+    config = preset("short", imu_profile="tactical")
+    config = replace(config,
+                     motion=replace(config.motion, start_station_m=1250.0, end_station_m=1850.0, stops=(),
+                                    static_start_s=60.0, static_end_s=20.0),
+                     gnss=replace(config.gnss, outages=((1460.0, 120.0),)))
+    root = tmp_path_factory.mktemp("quality-project")
+    simulate(config, 3, root / "surveys" / SURVEY, imu_format="npy")
+    project = project_for_simulated_survey(root, root / "surveys" / SURVEY)
+    return project, process(project, SURVEY)
+
+
+def outage_chainage(project, stored) -> tuple[float, float]:
+    """Chainage of the outage's start and end: its GPS times mapped through the sleeper table."""
+    errors = tomllib.loads((project.folder / "surveys" / SURVEY / "truth" / "errors.toml").read_text())
+    (start, end), = errors["gnss_outages_s"]
+    time, station = stored.columns["time_s"], stored.columns["station_m"]
+    return tuple(float(np.interp(t, time, station)) for t in (start, end))
+
+
+def test_quality_csv_is_on_the_chainage_of_the_tqi_sections(processed):
+    project, results = processed
+    folder = results.folder
+    lines = (folder / QUALITY_FILE).read_text().splitlines()
+    assert lines[0].split(",") == QUALITY_HEADER
+    stored = load_results(project.folder, SURVEY)
+    quality = stored.quality
+    assert quality is not None and quality.smoothed and len(quality) == len(lines) - 1 == 3
+    # sections of the project's chainage, aligned with the [track_quality] sections (from the first sleeper)
+    starts = stored.summary["track_quality"]["start_m"]
+    assert len(starts) == 3
+    np.testing.assert_allclose(quality.station_from_m, starts, atol=1e-3)
+    np.testing.assert_allclose(quality.station_to_m[:-1], quality.station_from_m[1:])
+    assert quality.station_to_m[-1] == pytest.approx(stored.columns["station_m"][-1], abs=2.0)
+    assert np.all(np.isfinite(quality.sigma_lag5_lateral_mm)) and np.all(quality.sigma_lag5_lateral_mm > 0.0)
+    assert np.all(quality.sigma_lag150_vertical_mm > quality.sigma_lag5_vertical_mm)
+    # the in-memory table is the file's
+    np.testing.assert_allclose(1e3 * results.quality.sigma_lag150_lateral_m, quality.sigma_lag150_lateral_mm,
+                               atol=1e-3)
+
+
+def test_the_outage_section_is_the_weakest(processed):
+    project, _ = processed
+    stored = load_results(project.folder, SURVEY)
+    quality = stored.quality
+    first, last = outage_chainage(project, stored)
+    assert 1455.0 < first < 1465.0 and last - first > 100.0
+    outage = int(np.searchsorted(quality.station_from_m, 0.5 * (first + last)) - 1)
+    assert outage == 1 and quality.station_from_m[1] < first and last < quality.station_to_m[1]
+    assert quality.weakest_sections(3)[0] == outage
+    for figure in ("sigma_lateral_mm", "sigma_lag5_lateral_mm", "sigma_lag150_lateral_mm"):
+        assert quality.weakest(figure) == outage, figure
+    others = [k for k in range(len(quality)) if k != outage]
+    assert quality.sigma_lag5_lateral_mm[outage] > 1.1 * quality.sigma_lag5_lateral_mm[others].max()
+    summary = stored.summary["quality"]
+    assert summary["pass"] == "smoothed" and summary["sections"] == 3
+    assert summary["weakest"]["station_from_m"] == pytest.approx(quality.station_from_m[outage], abs=1e-3)
+    assert summary["weakest"]["sigma_lag5_lateral_mm"] == pytest.approx(quality.sigma_lag5_lateral_mm[outage], abs=1e-3)
+    assert summary["median"]["sigma_lag5_lateral_mm"] == pytest.approx(np.median(quality.sigma_lag5_lateral_mm),
+                                                                       abs=1e-3)
+
+
+def test_a_cached_rerun_reuses_the_covariance_analysis(processed, monkeypatch):
+    project, results = processed
+    before = (results.folder / QUALITY_FILE).read_text()
+    assert pipeline.quality_cache_file(results.folder.parent / ".cache" / "x.npy").name == "x.quality.npz"
+    assert list((results.folder.parent / ".cache").glob("fusion-*.quality.npz"))
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the covariance analysis ran again")
+
+    monkeypatch.setattr(pipeline, "epoch_quality", refuse)
+    again = process(project, SURVEY)
+    assert again.fusion_from_cache
+    assert (again.folder / QUALITY_FILE).read_text() == before
+
+
+def test_cancelling_the_covariance_analysis_caches_nothing(processed, tmp_path):
+    project, _ = processed
+    root = tmp_path / "project"
+    shutil.copytree(project.folder / "surveys" / SURVEY, root / "surveys" / SURVEY)
+    fresh = project_for_simulated_survey(root, root / "surveys" / SURVEY)
+    messages = []
+
+    def progress(fraction, message):
+        messages.append((fraction, message))
+
+    with pytest.raises(Cancelled):
+        process(fresh, SURVEY, progress=progress, cancel=lambda: bool(messages) and messages[-1][1].startswith("covariance: smoother"))
+    analysis = [f for f, m in messages if m.startswith("covariance")]
+    assert analysis and analysis == sorted(analysis)
+    assert not list((root / "results" / ".cache").glob("fusion-*"))  # neither the fusion nor its analysis
+    assert not (root / "results" / SURVEY).exists()
+
+
+def test_results_without_quality_file_load_with_none(processed, tmp_path):
+    project, _ = processed
+    copy = tmp_path / "project"
+    shutil.copytree(project.folder / "results" / SURVEY, copy / "results" / SURVEY)
+    (copy / "results" / SURVEY / QUALITY_FILE).unlink()
+    assert load_results(copy, SURVEY).quality is None
+
+
+@pytest.mark.skipif(shutil.which("pdftotext") is None, reason="poppler-utils (pdftotext) not installed")
+def test_the_pdf_shows_the_predicted_accuracy_with_the_outage_section_weakest(processed, tmp_path):
+    project, _ = processed
+    stored = load_results(project.folder, SURVEY)
+    path = write_pdf(project, stored, tmp_path / "report.pdf")
+    text = subprocess.run(["pdftotext", "-layout", str(path), "-"], capture_output=True, text=True,
+                          check=True).stdout
+    assert "Predicted accuracy per section" in text
+    station, labels = stored.columns["station_m"], stored.label
+    inside = np.flatnonzero((station >= stored.quality.station_from_m[1]) & (station < stored.quality.station_to_m[1]))
+    weakest = next(line for line in text.splitlines() if "weakest 1" in line)
+    assert labels[inside[0]] in weakest
+    assert f"{stored.quality.sigma_lag5_lateral_mm[1]:.2f}" in weakest
