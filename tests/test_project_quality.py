@@ -140,3 +140,33 @@ def test_the_pdf_shows_the_predicted_accuracy_with_the_outage_section_weakest(pr
     weakest = next(line for line in text.splitlines() if "weakest 1" in line)
     assert labels[inside[0]] in weakest
     assert f"{stored.quality.sigma_lag5_lateral_mm[1]:.2f}" in weakest
+
+
+def test_the_gui_track_view_shades_the_predicted_accuracy_widest_at_the_outage(processed, window):
+    """The band behind the track plots: +-3 sigma per section, the outage section the widest."""
+    import pyqtgraph as pg
+
+    from insrail.project.plotdata import BAND_SIGMAS
+
+    project, _ = processed
+    assert window.open_project(project.folder)
+    stored = window.results[SURVEY]
+    quality = stored.quality
+    outage = quality.weakest("sigma_lag5_lateral_mm")
+    plots = window.track.plots.plots
+    expected = {"lateral_deviation": quality.sigma_lateral_mm,
+                "check_short_wave_30m_5m": np.maximum(quality.sigma_lag5_lateral_mm, quality.sigma_lag5_vertical_mm),
+                "check_long_wave_300m_150m": np.maximum(quality.sigma_lag150_lateral_mm,
+                                                        quality.sigma_lag150_vertical_mm)}
+    for key, sigma_mm in expected.items():
+        fills = [item for item in plots[key].items if isinstance(item, pg.FillBetweenItem)]
+        assert len(fills) == 1, key
+        upper = fills[0].curves[0]
+        x, y = upper.getData()
+        np.testing.assert_allclose(x[::2], quality.station_from_m)
+        np.testing.assert_allclose(y[::2], BAND_SIGMAS * sigma_mm, rtol=1e-9)
+        assert "predicted" in plots[key].titleLabel.text
+    half_width = [item for item in plots["check_short_wave_30m_5m"].items
+                  if isinstance(item, pg.FillBetweenItem)][0].curves[0].getData()[1][::2]
+    assert int(np.argmax(half_width)) == outage
+    assert not any(isinstance(item, pg.FillBetweenItem) for item in plots["gauge"].items)

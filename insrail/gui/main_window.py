@@ -51,6 +51,7 @@ from insrail.project.plotdata import (
     chainage_plots,
     navigation_series,
     plan_data,
+    quality_bands,
     stored_ppk,
     survey_gnss,
 )
@@ -428,8 +429,9 @@ class MainWindow(QMainWindow):
         self.plan.set_data(plan_data(project, stored, trajectory, gnss))
         self.navigation.set_series(trajectory.time_s, navigation_series(trajectory, ellipsoid_of(project)))
         profile = load_tolerance_profile(project.resource(project.tolerance_profile))
-        self.track.set_results(stored.columns["station_m"], stored.number, stored.label, stored.columns,
-                               chainage_plots(stored.columns, profile), stored.exceedances)
+        plots = chainage_plots(stored.columns, profile)
+        self.track.set_results(stored.columns["station_m"], stored.number, stored.label, stored.columns, plots,
+                               stored.exceedances, quality_bands(plots, profile, stored.quality))
         self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
         self.status.setText(f"Showing survey {name}")
         self._enable_project_actions()

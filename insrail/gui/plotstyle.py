@@ -10,6 +10,9 @@ COLOURS = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#0
 LIMIT_PEN = pg.mkPen("#C00000", width=1, style=Qt.DashLine)
 ZERO_PEN = pg.mkPen("#C8C8C8", width=1)
 CROSSHAIR_PEN = pg.mkPen("#606060", width=1)
+# The survey's predicted accuracy (+-3 sigma per section) behind the curves.
+BAND_BRUSH = pg.mkBrush(110, 110, 110, 55)
+BAND_LEGEND_COLOUR = "#8a8a8a"
 
 
 def configure() -> None:
@@ -31,8 +34,10 @@ def make_fluid(item: pg.PlotItem) -> None:
     item.setClipToView(True)
 
 
-def titled(title: str, labels) -> str:
-    """A plot title naming its curves in their colours (a legend box would cover short plots)."""
+def titled(title: str, labels, band: str = "") -> str:
+    """A plot title naming its curves in their colours (a legend box would cover short plots) and,
+    if given, the shaded band."""
     keys = "&nbsp;&nbsp;".join(f"<span style='color:{COLOURS[i % len(COLOURS)]}'>━ {label}</span>"
                                for i, label in enumerate(labels))
-    return f"<b>{title}</b>&nbsp;&nbsp;&nbsp;{keys}"
+    shaded = f"&nbsp;&nbsp;<span style='color:{BAND_LEGEND_COLOUR}'>▮ {band}</span>" if band else ""
+    return f"<b>{title}</b>&nbsp;&nbsp;&nbsp;{keys}{shaded}"

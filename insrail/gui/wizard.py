@@ -29,7 +29,13 @@ from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
 from insrail.gui.importer import ImportWidget, shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, read_manifest
-from insrail.project import HEIGHT_MODELS, Project, ProjectError, project_from_settings, save_project
+from insrail.project import (
+    HEIGHT_MODELS,
+    Project,
+    ProjectError,
+    project_from_settings,
+    save_project,
+)
 from insrail.track.tolerance import DEFAULT_PROFILE, shipped_tolerance_profiles
 
 LEVER_ARMS = (("imu_to_antenna_m", "IMU → GNSS antenna"), ("imu_to_odometer_m", "IMU → odometer wheel contact"),

@@ -191,6 +191,43 @@ def chainage_plots(columns: Iterable[str], profile: ToleranceProfile) -> tuple[C
     return tuple(p for p in plots if all(column in columns for _, column in p.curves))
 
 
+#: The predicted-accuracy band of the track plots spans +- this many sigma.
+BAND_SIGMAS = 3.0
+
+
+@dataclass(frozen=True)
+class QualityBand:
+    """The survey's predicted accuracy drawn on one plot: +- ``BAND_SIGMAS`` sigma around zero per
+    200 m section, as a step curve (``station_m`` holds each section's start and end; ``half_width``
+    the band's half width there, in the plot's unit; 0 where a section has no figure)."""
+
+    station_m: np.ndarray
+    half_width: np.ndarray
+
+
+def quality_bands(plots: Iterable[ChainagePlot], profile: ToleranceProfile, quality) -> dict[str, QualityBand]:
+    """The bands of the plots that have a predicted accuracy (``quality``: StoredResults.quality,
+    None for results without one): the deviations take the absolute lateral / vertical position
+    sigma; the 30 m/5 m and 300 m/150 m checks the sigma of the 5 m and 150 m lag differences
+    behind them (the larger of lateral and vertical where a plot shows both)."""
+    if quality is None or not len(quality):
+        return {}
+    lag_of_pair = {5.0: "lag5", 150.0: "lag150"}
+    figures = {"lateral_deviation": ("sigma_lateral_mm",), "vertical_deviation": ("sigma_vertical_mm",)}
+    for check in profile.checks:
+        lag = lag_of_pair.get(check.pair_m) if check.kind == "differential_versine" else None
+        if lag is not None:
+            figures[f"check_{check.name}"] = tuple(f"sigma_{lag}_{d}_mm" for d in check.directions)
+    station = np.column_stack([quality.station_from_m, quality.station_to_m]).ravel()
+    bands = {}
+    for plot in plots:
+        if plot.key in figures and plot.unit == "mm":
+            sigma = np.max([getattr(quality, name) for name in figures[plot.key]], axis=0)
+            half = np.repeat(np.nan_to_num(BAND_SIGMAS * sigma, nan=0.0), 2)
+            bands[plot.key] = QualityBand(station, half)
+    return bands
+
+
 def exceedance_window(station_from_m: float, station_to_m: float,
                       margin_m: float = EXCEEDANCE_MARGIN_M) -> tuple[float, float]:
     """Chainage range [m] that shows an exceedance with some track either side."""
@@ -199,15 +236,18 @@ def exceedance_window(station_from_m: float, station_to_m: float,
 
 
 __all__ = [
+    "BAND_SIGMAS",
     "EXCEEDANCE_MARGIN_M",
     "ChainagePlot",
     "NavSeries",
     "PlanData",
     "PpkView",
+    "QualityBand",
     "chainage_plots",
     "exceedance_window",
     "navigation_series",
     "plan_data",
+    "quality_bands",
     "quality_epochs",
     "stored_ppk",
     "survey_gnss",

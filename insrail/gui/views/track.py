@@ -23,7 +23,12 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.gui import plotstyle
-from insrail.project.plotdata import ChainagePlot, exceedance_window
+from insrail.project.plotdata import (
+    BAND_SIGMAS,
+    ChainagePlot,
+    QualityBand,
+    exceedance_window,
+)
 from insrail.project.results import ExceedanceRow
 
 #: Checks whose plot starts hidden: each repeats what another plot shows (gauge, cant) or is a
@@ -58,7 +63,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self._mouse = pg.SignalProxy(self.scene().sigMouseMoved, rateLimit=60, slot=self._mouse_moved)
 
     def set_data(self, station_m: np.ndarray, columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
-                 visible: set[str]) -> None:
+                 visible: set[str], bands: Mapping[str, QualityBand] | None = None) -> None:
         self.clear()
         self.plots.clear()
         self._crosshairs.clear()
@@ -69,8 +74,14 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             plotstyle.make_fluid(item)
             # A zero line instead of a grid: pyqtgraph's grid triples the time per frame.
             item.addItem(pg.InfiniteLine(0.0, angle=0, pen=plotstyle.ZERO_PEN), ignoreBounds=True)
-            item.setTitle(plotstyle.titled(f"{spec.title} [{spec.unit}]", [label for label, _ in spec.curves]),
-                          size="8pt")
+            band = (bands or {}).get(spec.key)
+            item.setTitle(plotstyle.titled(f"{spec.title} [{spec.unit}]", [label for label, _ in spec.curves],
+                                           f"±{BAND_SIGMAS:g}σ predicted" if band is not None else ""), size="8pt")
+            if band is not None:
+                edges = [pg.PlotCurveItem(band.station_m, sign * band.half_width, pen=None) for sign in (1.0, -1.0)]
+                fill = pg.FillBetweenItem(*edges, brush=plotstyle.BAND_BRUSH)
+                fill.setZValue(-5)
+                item.addItem(fill, ignoreBounds=True)  # the data, not the band, set the view
             item.getAxis("left").setWidth(48)
             for index, (label, column) in enumerate(spec.curves):
                 item.plot(station_m, spec.scale * columns[column], pen=plotstyle.pen(index),
@@ -171,14 +182,17 @@ class TrackView(QWidget):
         self._specs: tuple[ChainagePlot, ...] = ()
         self._visible: set[str] = set()
         self._rows: tuple[ExceedanceRow, ...] = ()
+        self._bands: dict[str, QualityBand] = {}
         self.plots.cursorMoved.connect(self.show_values_at)
 
     def set_results(self, station_m: np.ndarray, number: np.ndarray, label: Sequence[str],
                     columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
-                    exceedances: Sequence[ExceedanceRow]) -> None:
-        """Plain arrays (one per sleeper, in chainage order) and the plots to draw from them."""
+                    exceedances: Sequence[ExceedanceRow], bands: Mapping[str, QualityBand] | None = None) -> None:
+        """Plain arrays (one per sleeper, in chainage order), the plots to draw from them and the
+        predicted-accuracy bands of some plots (by plot key)."""
         self._station, self._numbers, self._labels = np.asarray(station_m), np.asarray(number), tuple(label)
         self._columns, self._specs, self._rows = columns, tuple(plots), tuple(exceedances)
+        self._bands = dict(bands or {})
         self._visible = {p.key for p in plots if p.kind not in HIDDEN_KINDS}
         menu = self.choose_plots.menu()
         menu.clear()
@@ -198,7 +212,7 @@ class TrackView(QWidget):
             self.plots.set_x_range(*x_range)
 
     def _draw(self) -> None:
-        self.plots.set_data(self._station, self._columns, self._specs, self._visible)
+        self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands)
 
     def _fill_table(self) -> None:
         table = self.exceedances
