@@ -110,8 +110,9 @@ def test_curve_correction_in_rails_from_pose_follows_the_curve(recon):
     assert np.abs(expected).max() > 30e-6  # the 2000 m curve: 40 um
     # Curvature from the measured path carries the rail's own irregularity curvature (1 mm
     # lateral waves: ~1e-4 1/m over the 10 m base, ~10 um of correction; up to ~25 um at the
-    # 3 mm isolated bumps), and is exact on average on the circular arc.
-    assert np.abs(correction - expected).max() < 0.03 * MM
+    # 3 mm isolated bumps; the trolley play's few microradians of yaw per metre add a little), and
+    # is exact on average on the circular arc.
+    assert np.abs(correction - expected).max() < 0.035 * MM
     on_arc = np.abs(expected) > 0.999 * np.abs(expected).max()
     assert on_arc.sum() > 1000
     assert np.mean(correction[on_arc]) == pytest.approx(np.mean(expected[on_arc]), rel=0.05)

@@ -90,6 +90,15 @@ def test_numbering_is_exact_with_stops_speed_changes_and_errors(seed, spacing, m
     assert np.array_equal(result.pulse_accepted, number >= 0)
 
 
+def test_a_false_pulse_beside_a_sleeper_while_the_trolley_stands_is_the_one_rejected():
+    """Found by hypothesis (seed 479): a false pulse during a stop lands 45 mm before the next
+    sleeper; both fit that sleeper, the one at the expected station is kept."""
+    rng = np.random.default_rng(479)
+    times, t, station, number, detected = _pulses(rng, 1500, 0.6, 0.0, 0.0234375)
+    result = number_sleepers(times, t, station, 0.0, spacing_m=0.625, first_number=0)
+    assert np.array_equal(result.pulse_accepted, number >= 0)
+
+
 def test_numbering_survives_a_false_first_pulse():
     rng = np.random.default_rng(3)
     times, t, station, number, detected = _pulses(rng, 400, 0.625, 0.0, 0.0)

@@ -86,16 +86,30 @@ def _walk(stations: np.ndarray, anchor: int, spacing_m: float, tolerance_m: floa
     last = stations[anchor]
     regular_gaps: list[float] = []
     spacing = spacing_m
-    for i in range(anchor + 1, len(stations)):
+    i = anchor + 1
+    while i < len(stations):
         gap = stations[i] - last
         k = int(np.rint(gap / spacing))
-        if k < 1 or abs(gap - k * spacing) > tolerance_m * max(1.0, 0.5 * k):
+        window = tolerance_m * max(1.0, 0.5 * k)
+        if k < 1 or abs(gap - k * spacing) > window:
+            i += 1
             continue
-        accepted[i], steps[i], last = True, k, stations[i]
+        # Several pulses can fit the same sleeper (a false pulse beside it, e.g. while the trolley
+        # stands): the one closest to where the sleeper is expected is the sleeper's.
+        expected = last + k * spacing
+        best = i
+        for j in range(i + 1, len(stations)):
+            if stations[j] - expected > window:
+                break
+            if abs(stations[j] - expected) < abs(stations[best] - expected):
+                best = j
+        gap = stations[best] - last
+        accepted[best], steps[best], last = True, k, stations[best]
         if k == 1:
             regular_gaps.append(gap)
             if len(regular_gaps) >= SPACING_MEMORY:
                 spacing = float(np.median(regular_gaps[-SPACING_MEMORY:]))
+        i = best + 1
     return accepted, steps
 
 
