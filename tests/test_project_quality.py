@@ -170,3 +170,14 @@ def test_the_gui_track_view_shades_the_predicted_accuracy_widest_at_the_outage(p
                   if isinstance(item, pg.FillBetweenItem)][0].curves[0].getData()[1][::2]
     assert int(np.argmax(half_width)) == outage
     assert not any(isinstance(item, pg.FillBetweenItem) for item in plots["gauge"].items)
+
+
+def test_insrail_process_prints_the_predicted_accuracy(processed):
+    from insrail.cli.process import describe
+
+    project, _ = processed
+    stored = load_results(project.folder, SURVEY)
+    line = next(line for line in describe(stored) if line.startswith("  predicted accuracy (smoothed"))
+    weakest = stored.quality.weakest_sections(1)[0]
+    assert f"weakest {stored.quality.station_from_m[weakest]:.0f}.." in line
+    assert f"5 m lag {stored.quality.sigma_lag5_lateral_mm[weakest]:.2f}/" in line.split("weakest")[1]

@@ -34,6 +34,21 @@ def _line_fit_lines(line_fit: dict | None) -> list[str]:
              f"{line_fit['windows']} overlapping windows; fitted_alignment.csv/.xml usable as the design")]
 
 
+def _quality_lines(quality: dict | None) -> list[str]:
+    """The predicted accuracy per section (1 sigma of the 5 m and 150 m lag differences)."""
+    if quality is None:
+        return []
+    median, weakest = quality["median"], quality["weakest"]
+
+    def figures(values: dict) -> str:
+        return (f"5 m lag {values['sigma_lag5_lateral_mm']:.2f}/{values['sigma_lag5_vertical_mm']:.2f} mm, "
+                f"150 m lag {values['sigma_lag150_lateral_mm']:.2f}/{values['sigma_lag150_vertical_mm']:.2f} mm")
+
+    return [(f"  predicted accuracy ({quality['pass']}, 1 sigma lateral/vertical, {quality['sections']} sections): "
+             f"median {figures(median)}; weakest {weakest['station_from_m']:.0f}..{weakest['station_to_m']:.0f} m "
+             f"{figures(weakest)}")]
+
+
 def describe(results) -> list[str]:
     """Headline lines for one survey's results (shared with ``insrail demo``)."""
     s = results.summary
@@ -61,6 +76,7 @@ def describe(results) -> list[str]:
         (f"  track: {track['sleepers']} sleepers ({track['valid_sleepers']} valid), "
          f"stations {track['station_from_m']:.3f} .. {track['station_to_m']:.3f} m"),
         *_line_fit_lines(track.get("line_fit")),
+        *_quality_lines(s.get("quality")),
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
         (f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "
          f"max vertical {adjustment['max_vertical_mm']:.1f} mm, {adjustment['unresolved_sleepers']} sleepers unresolved"),
