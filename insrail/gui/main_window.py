@@ -267,8 +267,7 @@ class MainWindow(QMainWindow):
         try:
             project = load_project(path)
         except InputError as error:
-            self.log.error(str(error))
-            QMessageBox.warning(self, "Cannot open the project", str(error))
+            self._warn("Cannot open the project", str(error))
             return False
         self.set_project(project)
         return True
@@ -389,8 +388,12 @@ class MainWindow(QMainWindow):
                       f"{self.results[name].folder.resolve()}")
 
     def _failed(self, message: str) -> None:
+        self._warn(self.job_failure_title, message)
+
+    def _warn(self, title: str, message: str) -> None:
+        """An error the user must see: in the log and in a dialog."""
         self.log.error(message)
-        QMessageBox.warning(self, self.job_failure_title, message)
+        QMessageBox.warning(self, title, message)
 
     def _worker_finished(self) -> None:
         self.worker.deleteLater()
@@ -521,8 +524,7 @@ class MainWindow(QMainWindow):
         try:
             manifest = read_manifest(folder)
         except InputError as error:
-            self.log.error(str(error))
-            QMessageBox.warning(self, "GNSS post-processing failed", str(error))
+            self._warn("GNSS post-processing failed", str(error))
             return None
         cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
         worker = TaskWorker(f"survey {name}: GNSS", lambda progress, cancel: run_gnss_stage(
