@@ -90,6 +90,8 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     assert len(window.plan.curves["centreline"].getOriginalDataset()[0]) == len(stored)
     assert len(window.plan.curves["gnss"].getOriginalDataset()[0]) > 100
     assert window.navigation.items and all(i.listDataItems() for i in window.navigation.items.values())
+    residuals = next(s for s in window.navigation._series if s.key == "gnss_residuals")
+    assert len(residuals.time_s) > 100 and np.sqrt(np.mean(residuals.values**2)) < 20.0  # mm: PPK-level agreement
     assert window.repeatability.parameter.count() > 10 and window.repeatability.item.listDataItems()
     assert window.track.exceedances.rowCount() == len(stored.exceedances) > 0
 

@@ -6,9 +6,15 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from insrail.nav.earth import CGCS2000
+from insrail.io.types import GnssSolution
+from insrail.nav.earth import CGCS2000, radii
 from insrail.nav.trajectory import Trajectory
-from insrail.project.plotdata import chainage_plots, exceedance_window, navigation_series
+from insrail.project.plotdata import (
+    chainage_plots,
+    exceedance_window,
+    gnss_residuals,
+    navigation_series,
+)
 from insrail.track.tolerance import load_tolerance_profile
 
 COLUMNS = ["station_m", "gauge_mm", "cant_mm", "design_cant_mm", "lateral_deviation_left_mm",
@@ -56,3 +62,27 @@ def test_navigation_series_units_and_local_position():
     assert np.allclose(series["position_sigma"].values, 4.0)
     assert np.allclose(series["attitude"].values[0], [1.0, 2.0, 359.0])
     assert np.allclose(series["gyro_bias"].values, 1.0) and np.allclose(series["accel_bias"].values, 10.0)
+
+
+def test_gnss_residuals_take_the_lever_arm_in_the_trolley_frame():
+    """Heading east, antenna 0.5 m ahead and 1.5 m above the IMU: a GNSS fix exactly there has no
+    residual; one 10 mm further north and 4 mm lower shows (10, 0, 4) mm. Fixes outside the
+    trajectory's span are left out."""
+    n = 11
+    time = np.arange(n, dtype=float)
+    lat, lon, h = np.radians(30.0), np.radians(114.0), 20.0
+    zeros = np.zeros((n, 3))
+    rpy = np.tile([0.0, 0.0, np.pi / 2], (n, 1))
+    trajectory = Trajectory(time, np.full(n, lat), np.full(n, lon), np.full(n, h), zeros, rpy, zeros, zeros, zeros,
+                            zeros, zeros, zeros, zeros, np.zeros(n))
+    meridian, normal = radii(lat, CGCS2000)
+    fix_time = np.array([-1.0, 2.5, 7.0, 12.0])
+    north = np.array([0.0, 0.0, 0.010, 0.0])
+    east = np.full(4, 0.5)
+    up = np.array([1.5, 1.5, 1.5 - 0.004, 1.5])
+    gnss = GnssSolution(fix_time, lat + north / (meridian + h), lon + east / ((normal + h) * np.cos(lat)), h + up,
+                        np.full((4, 3), 0.006), np.ones(4), np.full(4, 12), np.full(4, np.nan))
+    residuals = gnss_residuals(trajectory, gnss, np.array([0.5, 0.0, -1.5]), CGCS2000)
+    assert residuals.time_s.tolist() == [2.5, 7.0] and residuals.unit == "mm"
+    np.testing.assert_allclose(residuals.values, [[0.0, 0.0, 0.0], [10.0, 0.0, 4.0]], atol=1e-4)
+    np.testing.assert_allclose(residuals.sigma, 6.0)

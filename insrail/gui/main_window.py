@@ -49,6 +49,7 @@ from insrail.project.pipeline import CACHE_FOLDER, ellipsoid_of
 from insrail.project.plotdata import (
     PpkView,
     chainage_plots,
+    gnss_residuals,
     navigation_series,
     plan_data,
     quality_bands,
@@ -430,7 +431,11 @@ class MainWindow(QMainWindow):
             self.log.warning(f"GNSS points not shown: {error}")
             gnss = None
         self.plan.set_data(plan_data(project, stored, trajectory, gnss))
-        self.navigation.set_series(trajectory.time_s, navigation_series(trajectory, ellipsoid_of(project)))
+        series = navigation_series(trajectory, ellipsoid_of(project))
+        if gnss is not None:
+            trolley = project.trolley() or read_manifest(project.resolve(project.survey(name).folder)).trolley
+            series += (gnss_residuals(trajectory, gnss, trolley.imu_to_antenna_m, ellipsoid_of(project)),)
+        self.navigation.set_series(trajectory.time_s, series)
         profile = load_tolerance_profile(project.resource(project.tolerance_profile))
         plots = chainage_plots(stored.columns, profile)
         self.track.set_results(stored.columns["station_m"], stored.number, stored.label, stored.columns, plots,

@@ -10,6 +10,7 @@ COLOURS = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#0
 LIMIT_PEN = pg.mkPen("#C00000", width=1, style=Qt.DashLine)
 ZERO_PEN = pg.mkPen("#C8C8C8", width=1)
 CROSSHAIR_PEN = pg.mkPen("#606060", width=1)
+INVISIBLE_PEN = pg.mkPen((0, 0, 0, 0))
 # The survey's predicted accuracy (+-3 sigma per section) behind the curves.
 BAND_BRUSH = pg.mkBrush(110, 110, 110, 55)
 BAND_LEGEND_COLOUR = "#8a8a8a"

@@ -28,6 +28,7 @@ from insrail.io.survey import read_manifest
 from insrail.io.tomlfile import read_toml
 from insrail.io.types import GnssSolution
 from insrail.nav.earth import Ellipsoid, radii
+from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.trajectory import Trajectory
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE
 from insrail.project.model import Project
@@ -88,7 +89,8 @@ def plan_data(project: Project, stored: StoredResults, trajectory: Trajectory,
 
 @dataclass(frozen=True)
 class NavSeries:
-    """One plot of the navigation view: ``values`` (n, k) in ``unit``; ``sigma`` the same shape or None."""
+    """One plot of the navigation view: ``values`` (n, k) in ``unit``; ``sigma`` the same shape or None;
+    ``time_s`` (n,) GPS seconds of week when the series has its own epochs (None: the trajectory's)."""
 
     key: str
     title: str
@@ -96,6 +98,7 @@ class NavSeries:
     labels: tuple[str, ...]
     values: np.ndarray
     sigma: np.ndarray | None
+    time_s: np.ndarray | None = None
 
 
 def navigation_series(trajectory: Trajectory, ellipsoid: Ellipsoid) -> tuple[NavSeries, ...]:
@@ -128,6 +131,30 @@ def navigation_series(trajectory: Trajectory, ellipsoid: Ellipsoid) -> tuple[Nav
         NavSeries("odometer_scale", "Odometer scale factor (estimated)", "ppm", ("odometer",),
                   1e6 * trajectory.odometer_scale[:, None], None),
     )
+
+
+def gnss_residuals(trajectory: Trajectory, gnss: GnssSolution, imu_to_antenna_m: np.ndarray,
+                   ellipsoid: Ellipsoid) -> NavSeries:
+    """GNSS position minus the fused antenna position (trajectory + C_b^n lever arm) at the GNSS
+    epochs inside the trajectory, north/east/down [mm]: how well the solution agrees with each
+    fix (a rejected or float epoch stands out), with the fix's own 1-sigma as the band."""
+    t = trajectory.time_s
+    inside = (gnss.time_s >= t[0]) & (gnss.time_s <= t[-1])
+    time = gnss.time_s[inside]
+
+    def at(values):
+        return np.interp(time, t, values)
+
+    lat, lon, h = at(trajectory.lat_rad), at(trajectory.lon_rad), at(trajectory.height_m)
+    c_bn = euler_to_dcm(at(trajectory.rpy_rad[:, 0]), at(trajectory.rpy_rad[:, 1]),
+                        at(np.unwrap(trajectory.rpy_rad[:, 2])))
+    antenna_ned = c_bn @ np.asarray(imu_to_antenna_m, dtype=float)
+    meridian, normal = radii(lat, ellipsoid)
+    difference = np.column_stack([(gnss.lat_rad[inside] - lat) * (meridian + h),
+                                  (gnss.lon_rad[inside] - lon) * (normal + h) * np.cos(lat),
+                                  -(gnss.height_m[inside] - h)]) - antenna_ned
+    return NavSeries("gnss_residuals", "GNSS minus fused antenna position", "mm", ("north", "east", "down"),
+                     1e3 * difference, 1e3 * gnss.sigma_ned_m[inside], time)
 
 
 # --------------------------------------------------------------------------- track view along chainage
@@ -245,6 +272,7 @@ __all__ = [
     "QualityBand",
     "chainage_plots",
     "exceedance_window",
+    "gnss_residuals",
     "navigation_series",
     "plan_data",
     "quality_bands",

@@ -57,15 +57,17 @@ class NavigationView(QWidget):
             item.setTitle(plotstyle.titled(title, s.labels), size="8pt")
             item.setLabel("left", s.unit)
             item.getAxis("left").setWidth(56)
+            time = self._time if s.time_s is None else s.time_s
             for k in range(len(s.labels)):
                 value = s.values[:, k]
                 if s.sigma is not None:
-                    below, above = (item.plot(self._time, value + sign * s.sigma[:, k], pen=None,
+                    # the band's edges are drawn (invisibly): a fill between hidden curves is empty
+                    below, above = (item.plot(time, value + sign * s.sigma[:, k], pen=plotstyle.INVISIBLE_PEN,
                                               autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL) for sign in (-1, 1))
                     colour = pg.mkColor(plotstyle.COLOURS[k % len(plotstyle.COLOURS)])
                     colour.setAlpha(70)
                     item.addItem(pg.FillBetweenItem(below, above, brush=colour))
-                item.plot(self._time, value, pen=plotstyle.pen(k), autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
+                item.plot(time, value, pen=plotstyle.pen(k), autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
             if row:
                 item.setXLink(self.items[shown[0].key])
             item.getAxis("bottom").setStyle(showValues=row == len(shown) - 1)
