@@ -58,16 +58,22 @@ class NavigationView(QWidget):
             item.setLabel("left", s.unit)
             item.getAxis("left").setWidth(56)
             time = self._time if s.time_s is None else s.time_s
+            # no line across a gap in the series' own epochs (a GNSS outage)
+            step = np.diff(time)
+            connect = (np.append(step <= 3.0 * np.median(step), False) if s.time_s is not None and len(time) > 2
+                       else "all")
             for k in range(len(s.labels)):
                 value = s.values[:, k]
                 if s.sigma is not None:
                     # the band's edges are drawn (invisibly): a fill between hidden curves is empty
                     below, above = (item.plot(time, value + sign * s.sigma[:, k], pen=plotstyle.INVISIBLE_PEN,
-                                              autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL) for sign in (-1, 1))
+                                              connect=connect, autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
+                                    for sign in (-1, 1))
                     colour = pg.mkColor(plotstyle.COLOURS[k % len(plotstyle.COLOURS)])
                     colour.setAlpha(70)
                     item.addItem(pg.FillBetweenItem(below, above, brush=colour))
-                item.plot(time, value, pen=plotstyle.pen(k), autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
+                item.plot(time, value, pen=plotstyle.pen(k), connect=connect,
+                          autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
             if row:
                 item.setXLink(self.items[shown[0].key])
             item.getAxis("bottom").setStyle(showValues=row == len(shown) - 1)
