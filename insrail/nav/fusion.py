@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 import tempfile
 from dataclasses import dataclass, field, replace
+from typing import Self
 
 import numpy as np
 from numba import njit
@@ -210,7 +211,7 @@ class SmootherStore:
         self.fill = 0
         self.count = 0
 
-    def __enter__(self) -> SmootherStore:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(self, *exc) -> None:

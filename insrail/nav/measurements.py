@@ -144,7 +144,7 @@ class _VehicleFrame:
     omega_ib_b: np.ndarray
 
     @classmethod
-    def at(cls, nav: NavSnapshot, c_vb: np.ndarray) -> "_VehicleFrame":
+    def at(cls, nav: NavSnapshot, c_vb: np.ndarray) -> _VehicleFrame:
         c_nb = nav.c_bn.T
         return cls(c_vb, c_vb @ c_nb, nav.omega_ib_b - c_nb @ nav.omega_in_n(), nav.omega_ib_b)
 
@@ -251,7 +251,7 @@ class PositionFix:
     name: str = "position_fix"
 
     @classmethod
-    def from_prism(cls, prism, lever_arm_m, to_geodetic) -> "PositionFix":
+    def from_prism(cls, prism, lever_arm_m, to_geodetic) -> PositionFix:
         """From total-station observations in the engineering frame; ``to_geodetic(east, north,
         normal_height) -> (lat, lon, h)`` is the project's CRS and height model."""
         lat, lon, h = to_geodetic(prism.east_m, prism.north_m, prism.height_m)

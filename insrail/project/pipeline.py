@@ -247,11 +247,11 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     store = SmootherStore() if project.fusion.smoother else None
     try:
         result = fuse(survey, project.fusion, profile, ellipsoid_of(project), position_fixes=fixes,
-                      covariance_store=store, progress=progress.sub(0.05, 0.9), cancel=cancel)
+                      covariance_store=store, progress=progress.sub(0.05, 0.87), cancel=cancel)
         check_cancel(cancel)
-        # about 10 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
+        # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
         quality = epoch_quality(survey, result, project.fusion, profile, ellipsoid_of(project),
-                                covariance_store=store, progress=progress.sub(0.9, 1.0), cancel=cancel)
+                                covariance_store=store, progress=progress.sub(0.87, 1.0), cancel=cancel)
     finally:
         if store is not None:
             store.close()

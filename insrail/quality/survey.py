@@ -42,7 +42,12 @@ from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import NavSnapshot
 from insrail.nav.rotation import euler_to_dcm
 from insrail.progress import CancelToken, ProgressFn
-from insrail.quality.covariance import CovarianceProfile, PassCovariance, analyse, analyse_recorded
+from insrail.quality.covariance import (
+    CovarianceProfile,
+    PassCovariance,
+    analyse,
+    analyse_recorded,
+)
 from insrail.quality.prediction import LONG_LAG_M, SHORT_LAG_M
 
 #: Below this speed [m/s] the direction of travel is carried over from the last motion.
