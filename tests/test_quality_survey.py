@@ -7,8 +7,8 @@ import pytest
 
 from insrail.io.survey import read_survey
 from insrail.nav.earth import CGCS2000
-from insrail.nav.fusion import FusionOptions, fuse
-from insrail.quality.survey import sections, survey_quality
+from insrail.nav.fusion import FusionOptions, SmootherStore, fuse
+from insrail.quality.survey import EpochQuality, epoch_quality, sections, survey_quality
 from insrail.sim.scenario import preset
 from insrail.sim.simulate import simulate
 
@@ -16,9 +16,9 @@ SECTION_M = 100.0
 
 
 @pytest.fixture(scope="module")
-def fused(tmp_path_factory):
+def recorded(tmp_path_factory):
     """400 m of the short scenario with a tactical IMU and a 120 s GNSS outage from 150 m
-    into the run (about 150-294 m at 1.2 m/s)."""
+    into the run (about 150-294 m at 1.2 m/s), fused with the filter's covariance record kept."""
     config = preset("short", imu_profile="tactical")
     config = replace(
         config,
@@ -29,7 +29,14 @@ def fused(tmp_path_factory):
     folder = tmp_path_factory.mktemp("quality") / "survey"
     simulate(config, 3, folder, imu_format="npy")
     survey = read_survey(folder)
-    result = fuse(survey, FusionOptions(), ellipsoid=CGCS2000)
+    with SmootherStore() as store:
+        yield survey, fuse(survey, FusionOptions(), ellipsoid=CGCS2000, covariance_store=store), store
+
+
+@pytest.fixture(scope="module")
+def fused(recorded):
+    """The survey, its fusion and the replay's per-section quality."""
+    survey, result, _ = recorded
     return survey, result, survey_quality(survey, result, ellipsoid=CGCS2000, section_m=SECTION_M)
 
 
@@ -43,6 +50,34 @@ def test_replay_reproduces_the_fusion_covariance(fused):
         # straight north-east bound start: compare the horizontal variance, which does not depend on heading
         horizontal = np.hypot(trajectory.sigma_pos_ned_m[k, 0], trajectory.sigma_pos_ned_m[k, 1])
         assert np.all(cov.sigma_lateral_m[:-1] <= horizontal * (1 + 2e-3))
+
+
+def test_the_fusions_record_gives_the_replays_figures(recorded, fused):
+    """Backward pass over the filter's own Phi, P-, P+ against the replay's: the same pairs, the
+    same figures up to the replay's linearisation (end-of-segment state, raw increments)."""
+    survey, result, store = recorded
+    replayed = EpochQuality.from_profile(fused[2].profile, smoothed=True)
+    messages = []
+    from_record = epoch_quality(survey, result, ellipsoid=CGCS2000, covariance_store=store,
+                                progress=lambda f, m: messages.append((f, m)))
+    assert from_record.smoothed
+    for name in ("time_s", "moving", "lag5_first_epoch", "lag5_second_epoch", "lag150_first_epoch",
+                 "lag150_second_epoch"):
+        np.testing.assert_array_equal(getattr(from_record, name), getattr(replayed, name), err_msg=name)
+    for name in ("sigma_lateral_m", "sigma_vertical_m", "lag5_sigma_lateral_m", "lag5_sigma_vertical_m",
+                 "lag150_sigma_lateral_m", "lag150_sigma_vertical_m"):
+        np.testing.assert_allclose(getattr(from_record, name), getattr(replayed, name), rtol=1e-3, err_msg=name)
+    fractions = [f for f, _ in messages]
+    assert any(m.startswith("covariance: smoother") for _, m in messages)
+    assert fractions == sorted(fractions) and fractions[-1] == 1.0
+
+
+def test_a_record_of_another_fusion_is_refused(recorded):
+    survey, result, store = recorded
+    with SmootherStore() as other, pytest.raises(ValueError, match="not this fusion's record"):
+        epoch_quality(survey, result, ellipsoid=CGCS2000, covariance_store=other)
+    with pytest.raises(ValueError, match="already holds"):
+        fuse(survey, covariance_store=store)
 
 
 def test_outage_section_is_the_weakest(fused):

@@ -112,3 +112,32 @@ def test_optimised_adjustment_reports_progress_and_can_be_cancelled():
     assert fractions[-1] == 1.0 and fractions == sorted(fractions)
     with pytest.raises(Cancelled):
         optimise_adjustment(geometry, profile, load_fastener_type(), cancel=lambda: True)
+
+
+def test_the_heaviest_channel_is_solved_first_and_the_order_changes_nothing(monkeypatch):
+    """With fewer threads than channels the channel with the most trouble starts first; the
+    amounts do not depend on the order the channels are solved in."""
+    from insrail.track import adjustment
+
+    profile = load_tolerance_profile()
+    quiet = random_walk_track(700, seed=8, sigma=0.05e-3)
+    rough = random_walk_track(700, seed=4)
+    vertical = quiet.vertical_deviation_m.copy()
+    vertical[:, 1] = rough.vertical_deviation_m[:, 1]  # only the right rail's vertical needs work
+    geometry = SleeperGeometry.from_arrays(quiet.station_m, quiet.lateral_deviation_m, vertical, quiet.gauge_m,
+                                           quiet.cant_m)
+    assert {(e.direction, e.rail) for e in differential_exceedances(geometry, profile)} == {("vertical", "right")}
+    parallel = optimise_adjustment(geometry, profile, load_fastener_type())
+    solved = []
+    channel = adjustment._optimise_channel
+
+    def recording(deviation, *args, **kwargs):
+        solved.append(deviation)
+        return channel(deviation, *args, **kwargs)
+
+    monkeypatch.setattr(adjustment, "_optimise_channel", recording)
+    monkeypatch.setattr(adjustment.os, "cpu_count", lambda: 1)  # one thread: channels run in submission order
+    serial = optimise_adjustment(geometry, profile, load_fastener_type())
+    assert len(solved) == 4 and np.array_equal(solved[0], vertical[:, 1])
+    for name in ("lateral_m", "vertical_m", "unresolved_lateral", "unresolved_vertical"):
+        np.testing.assert_array_equal(getattr(serial, name), getattr(parallel, name))

@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 import tempfile
 from dataclasses import dataclass, field, replace
+from typing import Self
 
 import numpy as np
 from numba import njit
@@ -190,8 +191,16 @@ def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out,
 # --------------------------------------------------------------------------- storage
 
 
-class _SmootherStore:
-    """Append-only, chunked, disk-backed store of per-segment records for the RTS pass."""
+class SmootherStore:
+    """Append-only, chunked, disk-backed record of a forward pass for the RTS pass: per update
+    epoch j = 1, 2, ... (record j - 1) Phi and Q's result P- of the segment ending at j, P+
+    after the updates at j and the update dx applied there. Read back last epoch first.
+
+    :func:`fuse` keeps its own for the smoother and closes it. A caller that wants the
+    covariances once the fusion is done (the covariance analysis of ``insrail.quality``
+    reads them instead of replaying the filter) passes one it owns to ``fuse`` and closes it
+    when done: ``with SmootherStore() as store: ...``.
+    """
 
     RECORD = 3 * N_STATES * N_STATES + N_STATES  # Phi, P-, P+, dx
 
@@ -201,6 +210,12 @@ class _SmootherStore:
         self.buffer = np.empty((chunk, self.RECORD))
         self.fill = 0
         self.count = 0
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
 
     def append(self, phi, p_minus, p_plus, dx):
         n = N_STATES * N_STATES
@@ -219,14 +234,19 @@ class _SmootherStore:
             self.file.write(self.buffer[: self.fill].tobytes())
             self.fill = 0
 
-    def reversed_chunks(self):
-        """Yield (first index, records) from the last chunk to the first."""
+    def reversed_records(self):
+        """(j, Phi_j, P-_j, P+_j, dx_j) for j = count, ..., 1: views into one chunk read from disk."""
         self.flush()
         size = self.RECORD * 8
+        nn = N_STATES * N_STATES
         for first in range(((self.count - 1) // self.chunk) * self.chunk, -1, -self.chunk):
             n = min(self.chunk, self.count - first)
             self.file.seek(first * size)
-            yield first, np.frombuffer(self.file.read(n * size), dtype=np.float64).reshape(n, self.RECORD)
+            chunk = np.frombuffer(self.file.read(n * size), dtype=np.float64).reshape(n, self.RECORD)
+            for r in range(n - 1, -1, -1):
+                rec = chunk[r]
+                yield (first + r + 1, rec[:nn].reshape(N_STATES, N_STATES), rec[nn : 2 * nn].reshape(N_STATES, N_STATES),
+                       rec[2 * nn : 3 * nn].reshape(N_STATES, N_STATES), rec[3 * nn :])
 
     def close(self):
         self.file.close()
@@ -389,6 +409,7 @@ def fuse(
     ellipsoid: earth.Ellipsoid = earth.WGS84,
     output_every: int = 1,
     position_fixes: PositionFix | None = None,
+    covariance_store: SmootherStore | None = None,
     progress: ProgressFn | None = None,
     cancel: CancelToken = None,
 ) -> FusionResult:
@@ -398,7 +419,12 @@ def fuse(
     position_fixes : known positions of a point on the trolley (total-station prism on CPIII
                      control), already transformed to geodetic coordinates by the caller,
                      who knows the project's engineering CRS (see :func:`prism_fixes`)
+    covariance_store : an empty :class:`SmootherStore` owned by the caller: the forward pass
+                     records into it (whether or not ``options.smoother``) and leaves it open, so
+                     the covariances can be analysed after the fusion without replaying it
     """
+    if covariance_store is not None and covariance_store.count:
+        raise ValueError(f"the covariance store already holds {covariance_store.count} records: pass an empty one")
     step = StepProgress(progress)
     profile = profile or load_imu_profile(survey.manifest.imu_profile)
     noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
@@ -469,7 +495,8 @@ def fuse(
     sigma_hist = np.empty((len(epochs), N_STATES))
     sensor_hist[0, :12], sensor_hist[0, 12] = sensor, odo_scale
     sigma_hist[0] = np.sqrt(np.diag(P))
-    store = _SmootherStore() if options.smoother else None
+    own_store = covariance_store is None and options.smoother
+    store = SmootherStore() if own_store else covariance_store
     earth_c = _kernels.earth_constants(ellipsoid)
     sums = np.zeros(16)
     gates = {m: chi2.ppf(options.gate_probability, m) for m in range(1, 7)}
@@ -531,12 +558,12 @@ def fuse(
 
         forward = _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, None, survey, ellipsoid, False, output_every)
         trajectory = forward
-        if store is not None:
+        if options.smoother:
             smooth_step = step.sub(0.8, 0.95)
             corrections, sigma_smooth = _rts(store, m_epochs, sigma_hist[0], cancel, smooth_step)
             trajectory = _trajectory(t, nav_store, epochs, sensor_hist, sigma_smooth, corrections, survey, ellipsoid, True, output_every)
     finally:
-        if store is not None:
+        if own_store:
             store.close()
     step(1.0, "fusion done")
     statistics = {name: s.summary() for name, s in stats.items()}
@@ -550,40 +577,31 @@ def fuse(
                               "alignment": start.method, "warnings": warnings, "gnss_quality": gnss_quality})
 
 
-def _rts(store: _SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):
+def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):
     """Backward RTS pass. Returns per update epoch j the correction pair
     (left: e_j relative to the stored post-update solution, right: e_j + dx_j relative
     to the pre-update solution) as an (m, 2, N) array, and the smoothed sigmas (m, N)."""
-    nn = N_STATES * N_STATES
     corrections = np.zeros((m, 2, N_STATES))
     sigma = np.zeros((m, N_STATES))
     e_next = np.zeros(N_STATES)
     P_s_next = None
     phi_next = p_minus_next = None
-    done = 0
-    for first, chunk in store.reversed_chunks():
-        check_cancel(cancel)
-        for r in range(len(chunk) - 1, -1, -1):
-            j = first + r + 1  # store record r describes update epoch j (segment j-1 -> j)
-            rec = chunk[r]
-            phi = rec[:nn].reshape(N_STATES, N_STATES)
-            p_minus = rec[nn : 2 * nn].reshape(N_STATES, N_STATES)
-            p_plus = rec[2 * nn : 3 * nn].reshape(N_STATES, N_STATES)
-            dx = rec[3 * nn :]
-            if P_s_next is None:  # last epoch: smoothed = filtered
-                e, P_s = np.zeros(N_STATES), p_plus
-            else:
-                A = np.linalg.solve(p_minus_next.T, (p_plus @ phi_next.T).T).T
-                e = A @ e_next
-                P_s = p_plus + A @ (P_s_next - p_minus_next) @ A.T
-            corrections[j, 0] = e
-            corrections[j, 1] = e + dx
-            sigma[j] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
-            # Prepare epoch j-1: its successor's quantities.
-            e_next = e + dx
-            P_s_next, phi_next, p_minus_next = P_s, phi, p_minus
-            done += 1
-        progress(done / m, "smoother")
+    for j, phi, p_minus, p_plus, dx in store.reversed_records():
+        if j % 2048 == 0:
+            check_cancel(cancel)
+            progress((m - j) / m, "smoother")
+        if P_s_next is None:  # last epoch: smoothed = filtered
+            e, P_s = np.zeros(N_STATES), p_plus
+        else:
+            A = np.linalg.solve(p_minus_next.T, (p_plus @ phi_next.T).T).T
+            e = A @ e_next
+            P_s = p_plus + A @ (P_s_next - p_minus_next) @ A.T
+        corrections[j, 0] = e
+        corrections[j, 1] = e + dx
+        sigma[j] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
+        # Prepare epoch j-1: its successor's quantities.
+        e_next = e + dx
+        P_s_next, phi_next, p_minus_next = P_s, phi, p_minus
     # epoch 0: before the first segment
     p0 = np.diag(sigma0**2)
     A = np.linalg.solve(p_minus_next.T, (p0 @ phi_next.T).T).T

@@ -16,7 +16,7 @@ import numpy as np
 
 from insrail.nav import earth
 from insrail.nav.error_model import ATT, BG, GNSS, N_STATES, ODO, POS, SG, VEL
-from insrail.nav.rotation import skew
+from insrail.nav.rotation import cross, skew
 
 
 @dataclass(frozen=True)
@@ -122,8 +122,8 @@ class GnssVelocity:
         c, lever = nav.c_bn, self.lever_arm_m
         w_in = nav.omega_in_n()
         lever_n = c @ lever
-        rotation_n = c @ np.cross(nav.omega_ib_b, lever)
-        z = nav.vel_ned + rotation_n - np.cross(w_in, lever_n) - self.vel_ned[i]
+        rotation_n = c @ cross(nav.omega_ib_b, lever)
+        z = nav.vel_ned + rotation_n - cross(w_in, lever_n) - self.vel_ned[i]
         H = _h(3)
         H[:, VEL : VEL + 3] = np.eye(3)
         H[:, ATT : ATT + 3] = skew(rotation_n) - skew(w_in) @ skew(lever_n)
@@ -133,19 +133,32 @@ class GnssVelocity:
         return z, H, np.diag(sigma**2)
 
 
-def _vehicle_velocity_rows(nav: NavSnapshot, c_vb: np.ndarray, lever: np.ndarray, vel_ned: np.ndarray):
-    """Velocity of the point at ``lever`` in the trolley frame v and its Jacobian (3 x 22):
-    v^v = C_b^v C_n^b v^n + C_b^v (omega_nb^b x l)   (thesis 2.119, 2.123-2.125)."""
-    c_nb = nav.c_bn.T
-    c_nv = c_vb @ c_nb
-    omega_nb = nav.omega_ib_b - c_nb @ nav.omega_in_n()
-    velocity = c_nv @ vel_ned + c_vb @ np.cross(omega_nb, lever)
-    H = _h(3)
-    H[:, VEL : VEL + 3] = c_nv
-    H[:, ATT : ATT + 3] = -c_nv @ skew(vel_ned)
-    H[:, BG : BG + 3] = -c_vb @ skew(lever)
-    H[:, SG : SG + 3] = -c_vb @ skew(lever) * nav.omega_ib_b
-    return velocity, H
+@dataclass(frozen=True)
+class _VehicleFrame:
+    """What the velocity of every point of the trolley in its frame v shares at one epoch:
+    C_n^v and the body rate relative to n, omega_nb^b."""
+
+    c_vb: np.ndarray
+    c_nv: np.ndarray
+    omega_nb_b: np.ndarray
+    omega_ib_b: np.ndarray
+
+    @classmethod
+    def at(cls, nav: NavSnapshot, c_vb: np.ndarray) -> _VehicleFrame:
+        c_nb = nav.c_bn.T
+        return cls(c_vb, c_vb @ c_nb, nav.omega_ib_b - c_nb @ nav.omega_in_n(), nav.omega_ib_b)
+
+    def velocity_rows(self, lever: np.ndarray, vel_ned: np.ndarray):
+        """Velocity of the point at ``lever`` in v and its Jacobian (3 x 22):
+        v^v = C_b^v C_n^b v^n + C_b^v (omega_nb^b x l)   (thesis 2.119, 2.123-2.125)."""
+        velocity = self.c_nv @ vel_ned + self.c_vb @ cross(self.omega_nb_b, lever)
+        lever_rows = -self.c_vb @ skew(lever)
+        H = _h(3)
+        H[:, VEL : VEL + 3] = self.c_nv
+        H[:, ATT : ATT + 3] = -self.c_nv @ skew(vel_ned)
+        H[:, BG : BG + 3] = lever_rows
+        H[:, SG : SG + 3] = lever_rows * self.omega_ib_b
+        return velocity, H
 
 
 @dataclass(frozen=True)
@@ -178,8 +191,9 @@ class OdometerNhc:
 
     def model(self, nav: NavSnapshot, i: int):
         rows, z, sig = [], [], []
+        frame = _VehicleFrame.at(nav, self.dcm_vehicle_from_body)
         if self.use_odometer:
-            v_mean, H_odo = _vehicle_velocity_rows(nav, self.dcm_vehicle_from_body, self.odometer_lever_arm_m, nav.mean_vel_ned)
+            v_mean, H_odo = frame.velocity_rows(self.odometer_lever_arm_m, nav.mean_vel_ned)
             corrected = self.speed_mps[i] / (1.0 + nav.odometer_scale)
             # odometer state = residual scale error s - s_hat: z = dv_x - v (s - s_hat)
             H_odo[0, ODO] = -corrected
@@ -187,7 +201,7 @@ class OdometerNhc:
             z.append(v_mean[0] - corrected)
             sig.append(self.sigma_speed_mps[i])
         if self.use_nhc:
-            v_ref, H_nhc = _vehicle_velocity_rows(nav, self.dcm_vehicle_from_body, self.nhc_lever_arm_m, nav.vel_ned)
+            v_ref, H_nhc = frame.velocity_rows(self.nhc_lever_arm_m, nav.vel_ned)
             rows.extend(H_nhc[1:3])
             z.extend(v_ref[1:3])
             sig.extend([self.sigma_nhc_mps] * 2)
@@ -237,7 +251,7 @@ class PositionFix:
     name: str = "position_fix"
 
     @classmethod
-    def from_prism(cls, prism, lever_arm_m, to_geodetic) -> "PositionFix":
+    def from_prism(cls, prism, lever_arm_m, to_geodetic) -> PositionFix:
         """From total-station observations in the engineering frame; ``to_geodetic(east, north,
         normal_height) -> (lat, lon, h)`` is the project's CRS and height model."""
         lat, lon, h = to_geodetic(prism.east_m, prism.north_m, prism.height_m)

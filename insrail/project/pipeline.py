@@ -13,7 +13,7 @@ Three stages are cached in ``<project>/results/.cache/``, each under a hash of w
   ellipsoid (and with prism fixes the geodesy placing them). A cached fusion reads no raw file.
   Beside it ``fusion-<key>.quality.npz``: the covariance analysis of the fusion's timeline
   (:func:`insrail.quality.epoch_quality`, per update epoch), computed right after the fusion
-  while its timeline and the survey are at hand. The per-section table in ``quality.csv`` is
+  while its timeline, the survey and (smoothed) the filter's own record of Phi, P-, P+ are at hand. The per-section table in ``quality.csv`` is
   formed from it on the reconstructed chainage (which depends on the track settings).
 * ``track-<key>.npz``        rails, chainage and sleepers: the fusion key plus CRS, height model,
   design alignment (contents) and stationing settings.
@@ -54,7 +54,7 @@ from insrail.io.survey import (
 )
 from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
 from insrail.nav.earth import Ellipsoid
-from insrail.nav.fusion import fuse
+from insrail.nav.fusion import SmootherStore, fuse
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.measurements import PositionFix
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
@@ -242,12 +242,19 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
     profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
-    result = fuse(survey, project.fusion, profile, ellipsoid_of(project), position_fixes=fixes,
-                  progress=progress.sub(0.05, 0.72), cancel=cancel)
-    check_cancel(cancel)
-    # about 40 % of the fusion's time (10 Hz covariance replay, forward and backward)
-    quality = epoch_quality(survey, result, project.fusion, profile, ellipsoid_of(project),
-                            progress=progress.sub(0.72, 1.0), cancel=cancel)
+    # The smoother's record of the filter (Phi, P-, P+ per update epoch, on disk) outlives the
+    # fusion so that the covariance analysis needs only its backward pass, not a replay.
+    store = SmootherStore() if project.fusion.smoother else None
+    try:
+        result = fuse(survey, project.fusion, profile, ellipsoid_of(project), position_fixes=fixes,
+                      covariance_store=store, progress=progress.sub(0.05, 0.87), cancel=cancel)
+        check_cancel(cancel)
+        # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
+        quality = epoch_quality(survey, result, project.fusion, profile, ellipsoid_of(project),
+                                covariance_store=store, progress=progress.sub(0.87, 1.0), cancel=cancel)
+    finally:
+        if store is not None:
+            store.close()
     cache.mkdir(parents=True, exist_ok=True)
     save_dataclass(quality_cache_file(path), quality)
     info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": len(survey.imu),

@@ -39,6 +39,8 @@ every e_k|N with k > j (a linear function of x_k and Y_N). Therefore
 The backward pass pushes D = P_k|N[:, pos] u_k^T from epoch k back to j with D <- A_i D.
 It reads Phi, P- and P+ of every epoch back from a disk record the forward pass wrote
 (as the fusion's own smoother does), so the models are evaluated once per epoch.
+``analyse_recorded`` runs the backward pass alone over the record the fusion itself wrote
+(``insrail.nav.fusion.SmootherStore``): no replay of the models at all.
 tests/test_quality_covariance.py checks both recursions against the exact covariance of
 the stacked (augmented) state of a small linear system.
 
@@ -50,8 +52,9 @@ that assumption against the simulator).
 
 from __future__ import annotations
 
+import itertools
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -115,6 +118,38 @@ def lag_pairs(station_m: np.ndarray, anchors: np.ndarray, lag_m: float) -> tuple
     return anchors[keep], k[keep]
 
 
+class _Plan:
+    """The lag pairs of an analysis and the projections that turn covariances into figures.
+    Pair p of lag l is two columns of the pushed matrix D: lateral, then vertical."""
+
+    def __init__(self, n: int, m: int, station_m, heading_rad, anchors, lags_m):
+        self.n = n
+        self.u_lat, self.u_ver, self.u_roll = projections(np.asarray(heading_rad, dtype=float))
+        self.pairs = [lag_pairs(station_m, np.asarray(anchors), lag) for lag in lags_m]
+        first = np.concatenate([j for j, _ in self.pairs]).astype(int)
+        second = np.concatenate([k for _, k in self.pairs]).astype(int)
+        self.n_pairs = len(first)
+        self.starts_at = _group(first, m)
+        self.ends_at = _group(second, m)
+
+    def project(self, P, i):
+        """Lateral and vertical position variance and roll variance at epoch i."""
+        pos = P[POS : POS + 3, POS : POS + 3]
+        att = P[ATT : ATT + 3, ATT : ATT + 3]
+        return self.u_lat[i] @ pos @ self.u_lat[i], self.u_ver[i] @ pos @ self.u_ver[i], self.u_roll[i] @ att @ self.u_roll[i]
+
+    def seeds(self, P, i, idx):
+        """Columns P[:, pos] u^T for lateral and vertical, interleaved per pair."""
+        cols = np.empty((self.n, 2 * len(idx)))
+        cols[:, 0::2] = (P[:, POS : POS + 3] @ self.u_lat[i])[:, None]
+        cols[:, 1::2] = (P[:, POS : POS + 3] @ self.u_ver[i])[:, None]
+        return cols
+
+    def read(self, D, i, idx_cols):
+        pos = D[POS : POS + 3]
+        return np.column_stack([self.u_lat[i] @ pos[:, idx_cols[0::2]], self.u_ver[i] @ pos[:, idx_cols[1::2]]])
+
+
 def analyse(
     P0: np.ndarray,
     segment: Callable[[int], Segment],
@@ -138,47 +173,23 @@ def analyse(
     """
     m = len(time_s)
     n = P0.shape[0]
-    u_lat, u_ver, u_roll = projections(np.asarray(heading_rad, dtype=float))
-    pairs = [lag_pairs(station_m, np.asarray(anchors), lag) for lag in lags_m]
+    plan = _Plan(n, m, station_m, heading_rad, anchors, lags_m)
     step = StepProgress(progress)
     forward_progress = step.sub(0.0, 0.7 if smoother else 1.0)
 
-    # Pair columns: pair p of lag l is one column for lateral, one for vertical.
-    first = np.concatenate([j for j, _ in pairs]).astype(int)
-    second = np.concatenate([k for _, k in pairs]).astype(int)
-    n_pairs = len(first)
-    starts_at = _group(first, m)
-    ends_at = _group(second, m)
-
     var_f = np.empty((m, 3))
-    cross_f = np.empty((n_pairs, 2))
+    cross_f = np.empty((plan.n_pairs, 2))
     # The backward pass needs Phi, P- and P+ of every epoch: written to disk as they come.
     record = _ReverseStore(3 * n * n) if smoother else None
-
-    def project(P, i):
-        pos = P[POS : POS + 3, POS : POS + 3]
-        att = P[ATT : ATT + 3, ATT : ATT + 3]
-        return u_lat[i] @ pos @ u_lat[i], u_ver[i] @ pos @ u_ver[i], u_roll[i] @ att @ u_roll[i]
-
-    def seeds(P, i, idx):
-        # columns P[:, pos] u^T for lateral and vertical, interleaved per pair
-        cols = np.empty((n, 2 * len(idx)))
-        cols[:, 0::2] = (P[:, POS : POS + 3] @ u_lat[i])[:, None]
-        cols[:, 1::2] = (P[:, POS : POS + 3] @ u_ver[i])[:, None]
-        return cols
-
-    def read(D, i, idx_cols):
-        pos = D[POS : POS + 3]
-        return np.column_stack([u_lat[i] @ pos[:, idx_cols[0::2]], u_ver[i] @ pos[:, idx_cols[1::2]]])
 
     try:
         active = _ActivePairs(n)
         P = P0.copy()
-        var_f[0] = project(P, 0)
+        var_f[0] = plan.project(P, 0)
         if record is not None:
             record.append(np.concatenate([np.eye(n).ravel(), P0.ravel(), P0.ravel()]))
         if forward_lags:
-            active.add(starts_at.get(0, ()), seeds(P, 0, starts_at.get(0, ())))
+            active.add(plan.starts_at.get(0, ()), plan.seeds(P, 0, plan.starts_at.get(0, ())))
         for j in range(1, m):
             if j % 2000 == 0:
                 check_cancel(cancel)
@@ -198,23 +209,22 @@ def analyse(
             P = 0.5 * (P + P.T)
             if record is not None:
                 record.append(np.concatenate([phi.ravel(), P_minus.ravel(), P.ravel()]))
-            var_f[j] = project(P, j)
+            var_f[j] = plan.project(P, j)
             if M is not None:
                 active.apply(M)
-                done = ends_at.get(j, ())
+                done = plan.ends_at.get(j, ())
                 if len(done):
-                    cross_f[done] = read(active.columns, j, active.take(done))
+                    cross_f[done] = plan.read(active.columns, j, active.take(done))
                     active.remove(done)
-                new = starts_at.get(j, ())
+                new = plan.starts_at.get(j, ())
                 if len(new):
-                    active.add(new, seeds(P, j, new))
+                    active.add(new, plan.seeds(P, j, new))
 
-        forward = _pass(var_f, cross_f, pairs if forward_lags else [], lags_m if forward_lags else [], station_m)
+        forward = _pass(var_f, cross_f, plan.pairs if forward_lags else [], lags_m if forward_lags else [], station_m)
         smoothed = None
         if record is not None:
-            var_s, cross_s = _smooth(record, m, n, project, seeds, read, starts_at, ends_at, n_pairs,
-                                     step.sub(0.7, 1.0), cancel)
-            smoothed = _pass(var_s, cross_s, pairs, lags_m, station_m)
+            var_s, cross_s = _smooth(plan, record.reversed_epochs(n), m, step.sub(0.7, 1.0), cancel)
+            smoothed = _pass(var_s, cross_s, plan.pairs, lags_m, station_m)
     finally:
         if record is not None:
             record.close()
@@ -222,39 +232,72 @@ def analyse(
     return CovarianceProfile(np.asarray(time_s), np.asarray(station_m), forward, smoothed)
 
 
-def _smooth(record, m, n, project, seeds, read, starts_at, ends_at, n_pairs, progress, cancel):
-    """The RTS backward pass over the recorded (Phi, P-, P+): smoothed variances and the
-    cross terms of every pair."""
+def analyse_recorded(
+    P0: np.ndarray,
+    records: Iterable[tuple[int, np.ndarray, np.ndarray, np.ndarray]],
+    time_s: np.ndarray,
+    station_m: np.ndarray,
+    heading_rad: np.ndarray,
+    anchors: np.ndarray,
+    lags_m: Sequence[float],
+    progress: ProgressFn | None = None,
+    cancel: CancelToken = None,
+) -> CovarianceProfile:
+    """The RTS smoother's figures from a forward pass recorded by the filter itself (the
+    fusion's :class:`insrail.nav.fusion.SmootherStore`) instead of a replay: only the
+    backward pass runs. ``records`` yields (j, Phi_j, P-_j, P+_j) for j = m-1 down to 1;
+    epoch 0 has the covariance P0. The forward figures (from the recorded P+) carry no lag
+    differences: those need the filter's gains, which the record does not hold."""
+    m = len(time_s)
+    n = P0.shape[0]
+    plan = _Plan(n, m, station_m, heading_rad, anchors, lags_m)
+    step = StepProgress(progress)
+    var_f = np.empty((m, 3))
+    epochs = itertools.chain(records, [(0, np.eye(n), P0, P0)])
+    var_s, cross_s = _smooth(plan, epochs, m, step, cancel, var_f)
+    step(1.0, "covariance analysis done")
+    forward = _pass(var_f, np.empty((0, 2)), [], [], station_m)
+    smoothed = _pass(var_s, cross_s, plan.pairs, lags_m, station_m)
+    return CovarianceProfile(np.asarray(time_s), np.asarray(station_m), forward, smoothed)
+
+
+def _smooth(plan: _Plan, epochs, m, progress, cancel, var_forward: np.ndarray | None = None):
+    """The RTS backward pass over (j, Phi_j, P-_j, P+_j), j = m-1 down to 0: smoothed variances
+    and the cross terms of every pair; ``var_forward`` (m, 3), when given, receives the
+    filtered variances of the same epochs."""
     var_s = np.empty((m, 3))
-    cross_s = np.empty((n_pairs, 2))
-    nn = n * n
-    active = _ActivePairs(n)
+    cross_s = np.empty((plan.n_pairs, 2))
+    active = _ActivePairs(plan.n)
     P_s = None
     phi_next = p_minus_next = None  # Phi and P- of the epoch after the current one
-    for first, chunk in record.reversed_chunks():
-        check_cancel(cancel)
-        progress((m - first) / m, "covariance: smoother")
-        for r in range(len(chunk) - 1, -1, -1):
-            j = first + r
-            phi = chunk[r, :nn].reshape(n, n)
-            p_minus = chunk[r, nn : 2 * nn].reshape(n, n)
-            p_plus = chunk[r, 2 * nn :].reshape(n, n)
-            if P_s is None:
-                P_s = p_plus.copy()
-            else:
-                A = np.linalg.solve(p_minus_next, phi_next @ p_plus).T  # P+ Phi^T (P-)^-1, P symmetric
-                P_s = p_plus + A @ (P_s - p_minus_next) @ A.T
-                P_s = 0.5 * (P_s + P_s.T)
-                active.apply(A)
-            var_s[j] = project(P_s, j)
-            done = starts_at.get(j, ())
-            if len(done):
-                cross_s[done] = read(active.columns, j, active.take(done))
-                active.remove(done)
-            new = ends_at.get(j, ())
-            if len(new):
-                active.add(new, seeds(P_s, j, new))
-            phi_next, p_minus_next = phi, p_minus
+    expected = m - 1
+    for j, phi, p_minus, p_plus in epochs:
+        if j != expected:
+            raise ValueError(f"the covariance record gives epoch {j} where epoch {expected} was due")
+        expected -= 1
+        if j % 1024 == 0:
+            check_cancel(cancel)
+            progress((m - j) / m, "covariance: smoother")
+        if P_s is None:
+            P_s = p_plus.copy()
+        else:
+            A = np.linalg.solve(p_minus_next, phi_next @ p_plus).T  # P+ Phi^T (P-)^-1, P symmetric
+            P_s = p_plus + A @ (P_s - p_minus_next) @ A.T
+            P_s = 0.5 * (P_s + P_s.T)
+            active.apply(A)
+        var_s[j] = plan.project(P_s, j)
+        if var_forward is not None:
+            var_forward[j] = plan.project(p_plus, j)
+        done = plan.starts_at.get(j, ())
+        if len(done):
+            cross_s[done] = plan.read(active.columns, j, active.take(done))
+            active.remove(done)
+        new = plan.ends_at.get(j, ())
+        if len(new):
+            active.add(new, plan.seeds(P_s, j, new))
+        phi_next, p_minus_next = phi, p_minus
+    if expected != -1:
+        raise ValueError(f"the covariance record ends at epoch {expected + 1}, not at epoch 0")
     return var_s, cross_s
 
 
@@ -328,6 +371,14 @@ class _ReverseStore:
     def _flush(self) -> None:
         self.file.write(self.buffer[: self.fill].tobytes())
         self.fill = 0
+
+    def reversed_epochs(self, n: int):
+        """(j, Phi_j, P-_j, P+_j) of rows [Phi, P-, P+] of n x n matrices, last row first."""
+        nn = n * n
+        for first, chunk in self.reversed_chunks():
+            for r in range(len(chunk) - 1, -1, -1):
+                row = chunk[r]
+                yield first + r, row[:nn].reshape(n, n), row[nn : 2 * nn].reshape(n, n), row[2 * nn :].reshape(n, n)
 
     def reversed_chunks(self):
         """(index of the first row, rows) from the last chunk to the first."""

@@ -14,7 +14,9 @@ a lag pair is assigned to the section holding its midpoint. Section figures are 
 over the moving update epochs (position) or pairs (lags) in the section.
 
 The processing pipeline splits the work: ``epoch_quality`` (the expensive covariance pass,
-cached with the fusion) keeps one pass's figures per update epoch and per lag pair;
+cached with the fusion; for the smoothed pass only the backward recursion over the fusion's
+own record of Phi, P- and P+ when given its ``SmootherStore``) keeps one pass's figures per
+update epoch and per lag pair;
 ``sections_along`` then forms the sections on any station measure given per epoch, e.g. the
 project's chainage, which is known only after the track reconstruction.
 """
@@ -35,12 +37,17 @@ from insrail.nav.error_model import (
     dynamics_matrix,
     noise_matrix,
 )
-from insrail.nav.fusion import FusionOptions, FusionResult
+from insrail.nav.fusion import FusionOptions, FusionResult, SmootherStore
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import NavSnapshot
 from insrail.nav.rotation import euler_to_dcm
 from insrail.progress import CancelToken, ProgressFn
-from insrail.quality.covariance import CovarianceProfile, PassCovariance, analyse
+from insrail.quality.covariance import (
+    CovarianceProfile,
+    PassCovariance,
+    analyse,
+    analyse_recorded,
+)
 from insrail.quality.prediction import LONG_LAG_M, SHORT_LAG_M
 
 #: Below this speed [m/s] the direction of travel is carried over from the last motion.
@@ -118,25 +125,37 @@ def survey_quality(
         raise ValueError(f"section length must be positive, got {section_m} m")
     smoothed = result.trajectory.smoothed if smoothed is None else smoothed
     cov = _covariance(survey, result, options, profile, ellipsoid, smoothed, True, station_offset_m,
-                      anchor_spacing_m, progress, cancel)
+                      anchor_spacing_m, None, progress, cancel)
     return sections(cov, smoothed, section_m)
 
 
 def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_lags, station_offset_m,
-                anchor_spacing_m, progress, cancel) -> CovarianceProfile:
-    """The covariance analysis along the fusion's timeline (stations: odometer distance)."""
+                anchor_spacing_m, store: SmootherStore | None, progress, cancel) -> CovarianceProfile:
+    """The covariance analysis along the fusion's timeline (stations: odometer distance):
+    with the fusion's ``store`` the smoother's backward pass over its record, else a replay."""
     timeline = result.timeline
     if timeline is None:
         raise ValueError("the fusion result carries no measurement timeline; fuse the survey again")
+    t = timeline.time_s
+    nav = result.forward  # the navigation state the filter linearised on, at the update epochs
+    k = np.clip(np.searchsorted(nav.time_s, t - 1e-6), 0, len(nav.time_s) - 1)
+    odo = survey.odometer
+    distance = np.maximum.accumulate(np.interp(t, odo.time_s, odo.distance_m))
+    station = distance - distance[0] + station_offset_m
+    heading = _travel_direction(nav.vel_ned_mps[k], nav.rpy_rad[k, 2])
+    anchors = np.unique(np.searchsorted(station, np.arange(station[0], station[-1], anchor_spacing_m)))
+    lags_m = (SHORT_LAG_M, LONG_LAG_M)
+    if store is not None and smoothed and not forward_lags:
+        if store.count != len(t) - 1:
+            raise ValueError(f"the covariance store holds {store.count} segments, the fusion's timeline "
+                             f"{len(t) - 1}: it is not this fusion's record")
+        records = ((j, phi, p_minus, p_plus) for j, phi, p_minus, p_plus, _ in store.reversed_records())
+        return analyse_recorded(timeline.initial_covariance, records, t, station, heading, anchors, lags_m,
+                                progress=progress, cancel=cancel)
     profile = profile or load_imu_profile(survey.manifest.imu_profile)
     noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
     gqg = noise_matrix(noise)
-    t = timeline.time_s
     m = len(t)
-
-    # The navigation state the filter linearised on: the forward solution at the update epochs.
-    nav = result.forward
-    k = np.clip(np.searchsorted(nav.time_s, t - 1e-6), 0, len(nav.time_s) - 1)
     lat, lon, h, vel = nav.lat_rad[k], nav.lon_rad[k], nav.height_m[k], nav.vel_ned_mps[k]
     c_bn = euler_to_dcm(nav.rpy_rad[k, 0], nav.rpy_rad[k, 1], nav.rpy_rad[k, 2])
     odometer_scale = nav.odometer_scale[k]
@@ -171,12 +190,7 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
         snap = snapshot(j)
         return phi, q, (meas.model(snap, i)[1:] for meas, i in applied_at.get(j, ()))
 
-    odo = survey.odometer
-    distance = np.maximum.accumulate(np.interp(t, odo.time_s, odo.distance_m))
-    station = distance - distance[0] + station_offset_m
-    heading = _travel_direction(vel, nav.rpy_rad[k, 2])
-    anchors = np.unique(np.searchsorted(station, np.arange(station[0], station[-1], anchor_spacing_m)))
-    return analyse(timeline.initial_covariance, segment, t, station, heading, anchors, (SHORT_LAG_M, LONG_LAG_M),
+    return analyse(timeline.initial_covariance, segment, t, station, heading, anchors, lags_m,
                    smoother=smoothed, forward_lags=forward_lags, progress=progress, cancel=cancel)
 
 
@@ -251,14 +265,21 @@ def epoch_quality(
     ellipsoid: earth.Ellipsoid = earth.WGS84,
     smoothed: bool | None = None,
     anchor_spacing_m: float = 1.0,
+    covariance_store: SmootherStore | None = None,
     progress: ProgressFn | None = None,
     cancel: CancelToken = None,
 ) -> EpochQuality:
     """The covariance analysis of a fused survey for the pass it delivered (or ``smoothed``),
-    kept per epoch. Only that pass's lag differences are computed."""
+    kept per epoch. Only that pass's lag differences are computed.
+
+    ``covariance_store``: the :class:`SmootherStore` the fusion recorded into (``fuse(...,
+    covariance_store=...)``). The smoothed analysis then runs only the backward pass over the
+    filter's own Phi, P- and P+ (a fraction of the replay's cost; the same figures to the
+    replay's linearisation differences, well under 1 %). The forward analysis, whose lag
+    differences need the gains, always replays."""
     smoothed = result.trajectory.smoothed if smoothed is None else smoothed
     cov = _covariance(survey, result, options, profile, ellipsoid, smoothed, not smoothed, 0.0, anchor_spacing_m,
-                      progress, cancel)
+                      covariance_store, progress, cancel)
     return EpochQuality.from_profile(cov, smoothed)
 
 

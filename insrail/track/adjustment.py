@@ -347,6 +347,13 @@ def _optimise_channel(deviation, limits, low, high, step, chunk_sleepers, progre
     return amounts, unresolved
 
 
+def _expected_work(deviation: np.ndarray, limits: list[ChordLimit]) -> int:
+    """Rough cost of optimising one channel, for scheduling: the sleepers of its first round's
+    windows times the checks they are solved for (each check adds its chord terms)."""
+    exceeded = [limit for limit, pairs in zip(limits, _exceeding_pairs(deviation, limits)) if pairs.size]
+    return len(exceeded) * sum(stop - start for start, stop in _trouble_windows(deviation, exceeded))
+
+
 def _exceeding_pairs(deviation: np.ndarray, limits: list[ChordLimit]) -> list[np.ndarray]:
     """First sleepers of the pairs exceeding each limit (any chord placement)."""
     return [
@@ -389,14 +396,20 @@ def optimise_adjustment(
         return _optimise_channel(deviations[direction][:, column], chord_limits(profile, direction), low, high,
                                  fastener.step_m, chunk_sleepers, channel_progress, cancel)
 
-    # The channels are independent and HiGHS releases the GIL while it solves: one thread each.
+    # The channels are independent and HiGHS releases the GIL while it solves: one thread each,
+    # the heaviest submitted first, so that with fewer cores than channels it does not start last.
+    def expected_work(index: int) -> int:
+        direction, column = channels[index]
+        return _expected_work(deviations[direction][:, column], chord_limits(profile, direction))
+
+    order = sorted(range(len(channels)), key=expected_work, reverse=True)
     with ThreadPoolExecutor(min(len(channels), os.cpu_count() or 1)) as pool:
-        futures = [pool.submit(solve, index) for index in range(len(channels))]
-        while not wait(futures, timeout=PROGRESS_INTERVAL_S).done.issuperset(futures):
+        futures = {index: pool.submit(solve, index) for index in order}
+        while not wait(futures.values(), timeout=PROGRESS_INTERVAL_S).done.issuperset(futures.values()):
             if progress is not None:
                 progress(float(done.mean()), "adjustment amounts")
-        for (direction, column), future in zip(channels, futures):
-            amounts[direction][:, column], flags[direction][:, column] = future.result()
+        for index, (direction, column) in enumerate(channels):
+            amounts[direction][:, column], flags[direction][:, column] = futures[index].result()
     if progress is not None:
         progress(1.0, "adjustment amounts")
     return Adjustment(amounts["lateral"], amounts["vertical"], flags["lateral"], flags["vertical"], fastener.name)
