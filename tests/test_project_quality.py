@@ -166,8 +166,8 @@ def test_the_gui_track_view_shades_the_predicted_accuracy_widest_at_the_outage(p
         np.testing.assert_allclose(x[::2], quality.station_from_m)
         np.testing.assert_allclose(y[::2], BAND_SIGMAS * sigma_mm, rtol=1e-9)
         assert "predicted" in plots[key].titleLabel.text
-    half_width = [item for item in plots["check_short_wave_30m_5m"].items
-                  if isinstance(item, pg.FillBetweenItem)][0].curves[0].getData()[1][::2]
+    half_width = next(item for item in plots["check_short_wave_30m_5m"].items
+                      if isinstance(item, pg.FillBetweenItem)).curves[0].getData()[1][::2]
     assert int(np.argmax(half_width)) == outage
     assert not any(isinstance(item, pg.FillBetweenItem) for item in plots["gauge"].items)
 
@@ -181,3 +181,19 @@ def test_insrail_process_prints_the_predicted_accuracy(processed):
     weakest = stored.quality.weakest_sections(1)[0]
     assert f"weakest {stored.quality.station_from_m[weakest]:.0f}.." in line
     assert f"5 m lag {stored.quality.sigma_lag5_lateral_mm[weakest]:.2f}/" in line.split("weakest")[1]
+
+
+def test_the_workbook_summary_gives_the_predicted_accuracy_per_section(processed, tmp_path):
+    from openpyxl import load_workbook
+
+    from insrail.report import write_workbook
+
+    project, _ = processed
+    stored = load_results(project.folder, SURVEY)
+    rows = [list(row) for row in load_workbook(write_workbook(project, stored, tmp_path / "q.xlsx"),
+                                               read_only=True)["Summary"].iter_rows(values_only=True)]
+    header = next(i for i, row in enumerate(rows) if "predicted 1σ 5 m lag lateral (mm)" in row)
+    column = rows[header].index("predicted 1σ 5 m lag lateral (mm)")
+    shown = [row[column] for row in rows[header + 1:header + 1 + len(stored.quality)]]
+    np.testing.assert_allclose(shown, stored.quality.sigma_lag5_lateral_mm, atol=1e-9)
+    assert rows[header].index("predicted 1σ 150 m lag vertical (mm)") == column + 3

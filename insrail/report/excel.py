@@ -374,6 +374,10 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     titles = (["from (m)", "to (m)", "from", "to", "sleepers", "valid", "exceedances starting"]
               + [f"max |{check.name}| ({columns[0].unit})" for check, columns in checks]
               + [f"SD {name.replace('_', ' ')} (mm)" for name in channels] + (["TQI (mm)"] if channels else []))
+    # The survey's predicted accuracy per section (quality.csv, same sections): where the measurement is weak.
+    predicted = content.results.quality
+    figures = PREDICTED_FIGURES if predicted is not None else ()
+    titles += [f"predicted 1σ {title} (mm)" for _, title in figures]
     sheet.header(titles, height=44)
     starts = np.array([e.station_from_m for e in content.results.exceedances])
     labels = content.column("label").values
@@ -381,12 +385,20 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
         match = np.flatnonzero(np.isclose(tqi_start, start, atol=1e-3)) if tqi_start.size else []
         tqi = ([quality[f"sd_{name}_mm"][match[0]] for name in channels] + [quality["tqi_mm"][match[0]]]
                if len(match) else [None] * (len(channels) + bool(channels)))
+        same = np.flatnonzero(np.isclose(predicted.station_from_m, start, atol=1e-3)) if figures else []
+        sigma = [float(getattr(predicted, name)[same[0]]) if len(same) else np.nan for name, _ in figures]
         sheet.append([sheet.cell(start, "0.000"), sheet.cell(end, "0.000"), sheet.cell(labels[rows[0]]),
                       sheet.cell(labels[rows[-1]]), sheet.cell(len(rows)), sheet.cell(int(content.valid[rows].sum())),
                       sheet.cell(int(np.count_nonzero((starts >= start) & (starts < end))) if starts.size else 0)]
                      + [sheet.cell(_largest_magnitude(columns, rows), columns[0].number_format) for _, columns in checks]
-                     + [sheet.cell(v if v is None or v >= 0 else None, "0.00") for v in tqi])
+                     + [sheet.cell(v if v is None or v >= 0 else None, "0.00") for v in tqi]
+                     + [sheet.cell(v if np.isfinite(v) else None, "0.00") for v in sigma])
     progress(1.0, "summary sheet")
+
+
+#: quality.csv columns shown per section in the summary sheet, with their titles.
+PREDICTED_FIGURES = (("sigma_lag5_lateral_mm", "5 m lag lateral"), ("sigma_lag5_vertical_mm", "5 m lag vertical"),
+                     ("sigma_lag150_lateral_mm", "150 m lag lateral"), ("sigma_lag150_vertical_mm", "150 m lag vertical"))
 
 
 def _largest_magnitude(columns: list[Column], rows: np.ndarray) -> float:
