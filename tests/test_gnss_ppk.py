@@ -2,43 +2,39 @@
 
 from __future__ import annotations
 
-import os
 import re
 from pathlib import Path
 
 import numpy as np
 import pytest
+from real_data import real_path
 
-from insrail.gnss import ApproximateBaseWarning, BasePosition, LongBaselineWarning, OptionError, convert_to_rinex, ppk
+from insrail.gnss import (
+    ApproximateBaseWarning,
+    BasePosition,
+    LongBaselineWarning,
+    OptionError,
+    convert_to_rinex,
+    ppk,
+)
 from insrail.gnss.rinex import read_obs_info
 from insrail.io.errors import InputError
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.nav.earth import dcm_ecef_from_ned, geodetic_to_ecef
 from insrail.progress import Cancelled
 
-REPO = Path(__file__).resolve().parent.parent
-REAL = REPO.parent / "shared" / "data" / "real"
 ROVER, BASE = "30400920.05o", "07590920.05o"
 NAV = ("07590920.05n", "30400920.05n")
 
 
-def _real_folder(name: str) -> Path:
-    folder = REAL / name
-    if not folder.is_dir():
-        if os.environ.get("CI"):
-            pytest.fail(f"shared real data missing in CI: {folder}")
-        pytest.skip(f"shared real data not present: {folder}")
-    return folder
-
-
 @pytest.fixture(scope="module")
 def geonet() -> Path:
-    return _real_folder("rinex_0759_3040")
+    return real_path("rinex_0759_3040")
 
 
 @pytest.fixture(scope="module")
 def walk() -> Path:
-    return _real_folder("walk_0827")
+    return real_path("walk_0827")
 
 
 def _run(geonet: Path, out: Path, **kwargs):

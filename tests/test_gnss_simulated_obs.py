@@ -1,10 +1,10 @@
 """The RINEX observation simulator: broadcast orbits against RTKLIB's, RINEX headers RTKLIB needs,
 and PPK of simulated rover/base files against the simulated truth."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
+from real_data import REAL
 
 from insrail.gnss import BasePosition, ppk
 from insrail.gnss.rinex import read_obs_info
@@ -18,7 +18,7 @@ from insrail.sim.gnss_obs import (
     simulate_gnss_observations,
 )
 
-DATA = Path("/work/shared/data/real/rinex_0759_3040")
+DATA = REAL / "rinex_0759_3040"
 NAV = DATA / "07590920.05n"
 WEEK = 1316  # 2005-04-02 is in GPS week 1316 (Saturday)
 START = 558000.0  # 11:00 GPST: eight satellites with ephemerides above 15 deg at the simulated line

@@ -8,12 +8,13 @@ from __future__ import annotations
 
 import shutil
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 pytest.importorskip("pytestqt")
+
+from real_data import REAL
 
 from insrail.io.survey import read_manifest
 from insrail.nav.fusion import FusionOptions
@@ -27,7 +28,7 @@ from insrail.sim.gnss_obs import convert_survey_to_raw_gnss
 from insrail.sim.scenario import preset
 from insrail.sim.simulate import simulate
 
-NAV = Path("/work/shared/data/real/rinex_0759_3040/07590920.05n")
+NAV = REAL / "rinex_0759_3040" / "07590920.05n"
 
 
 def table_rows(table) -> list[list[str]]:

@@ -2,26 +2,19 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
+from real_data import real_path
 
 from insrail.io import detect_format, read_any, read_imu_rates_csv, read_rtklib_pos
-
-REPO = Path(__file__).resolve().parent.parent
 
 
 @pytest.fixture(scope="session")
 def walk_0827() -> Path:
-    """The shared walk_0827 folder at <repo>/../shared; skipped locally if absent, an error in CI."""
-    folder = REPO.parent / "shared" / "data" / "real" / "walk_0827"
-    if not folder.is_dir():
-        if os.environ.get("CI"):
-            pytest.fail(f"shared real data missing in CI: {folder}")
-        pytest.skip(f"shared real data not present: {folder}")
-    return folder
+    """The shared walk_0827 folder; skipped locally if absent, an error in CI."""
+    return real_path("walk_0827")
 
 
 def test_rtklib_pos_walk(walk_0827):

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from real_data import REAL
 from track_truth import expected_deviations
 
 from insrail.cli.main import main
@@ -42,7 +43,7 @@ from insrail.sim.scenario import preset
 from insrail.sim.simulate import simulate
 from insrail.sim.truth import read_nav_truth, read_sleeper_truth
 
-NAV = Path("/work/shared/data/real/rinex_0759_3040/07590920.05n")
+NAV = REAL / "rinex_0759_3040" / "07590920.05n"
 
 
 def scenario():
@@ -230,7 +231,7 @@ def test_control_points_in_project_toml_are_validated_with_key_paths(raw_survey)
 def test_receiver_log_is_converted_once_and_its_navigation_used(raw_survey, tmp_path):
     root, _ = raw_survey
     log = tmp_path / "rover.dat"
-    log.write_bytes((Path("/work/shared/data/real/walk_0827") / "gnss_1730.ubx").read_bytes()[:200_000])
+    log.write_bytes((REAL / "walk_0827" / "gnss_1730.ubx").read_bytes()[:200_000])
     shutil.copy(root / "surveys" / "short" / "base.obs", tmp_path / "base.obs")
     manifest = read_manifest(root / "surveys" / "short")
     raw = RawGnss(base="base.obs", navigation=(), base_point="rinex-header", rover_log="rover.dat",

@@ -84,16 +84,24 @@ def describe(results) -> list[str]:
     ]
 
 
-def run(args: argparse.Namespace) -> int:
-    from insrail.project import load_project, process
-
-    project = load_project(args.project)
-    names = args.survey or [s.name for s in project.surveys]
+def chosen_surveys(project, requested: list[str] | None) -> list[str] | None:
+    """The surveys a command works on (``--survey``, default all); None after saying which are unknown."""
+    names = requested or [s.name for s in project.surveys]
     known = {s.name for s in project.surveys}
     unknown = [n for n in names if n not in known]
     if unknown:
         print(f"insrail: {project.path}: no survey named {', '.join(unknown)} (surveys: {', '.join(sorted(known))})",
               file=sys.stderr)
+        return None
+    return names
+
+
+def run(args: argparse.Namespace) -> int:
+    from insrail.project import load_project, process
+
+    project = load_project(args.project)
+    names = chosen_surveys(project, args.survey)
+    if names is None:
         return 1
     for name in names:
         bar = TerminalProgress(name)

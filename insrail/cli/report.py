@@ -49,15 +49,12 @@ def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> 
 
 
 def run(args: argparse.Namespace) -> int:
+    from insrail.cli.process import chosen_surveys
     from insrail.project import load_project
 
     project = load_project(args.project)
-    names = args.survey or [s.name for s in project.surveys]
-    known = {s.name for s in project.surveys}
-    unknown = [n for n in names if n not in known]
-    if unknown:
-        print(f"insrail: {project.path}: no survey named {', '.join(unknown)} (surveys: {', '.join(sorted(known))})",
-              file=sys.stderr)
+    names = chosen_surveys(project, args.survey)
+    if names is None:
         return 1
     explicit = args.xlsx is not None or args.pdf is not None
     if explicit and len(names) > 1:
