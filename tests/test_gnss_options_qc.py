@@ -114,12 +114,13 @@ def test_qc_counts_add_up(qualities):
 # --- CLI ---------------------------------------------------------------------------------------
 
 def test_cli_ppk(tmp_path, capsys):
-    from test_gnss_ppk import BASE, NAV, ROVER, _real_folder
+    from real_data import real_path
+    from test_gnss_ppk import BASE, NAV, ROVER
 
     from insrail.cli.main import main
     from insrail.io.rtklib import read_rtklib_pos
 
-    geonet = _real_folder("rinex_0759_3040")
+    geonet = real_path("rinex_0759_3040")
     out = tmp_path / "rover.pos"
     args = ["ppk", str(geonet / ROVER), "--base", str(geonet / BASE), "--nav", *(str(geonet / n) for n in NAV),
             "--out", str(out)]
@@ -136,7 +137,6 @@ def test_cli_ppk(tmp_path, capsys):
 
 def test_base_position_options():
     from insrail.gnss import BasePosition
-
     from insrail.nav.earth import geodetic_to_ecef
 
     # RTKLIB gets the antenna reference point (1.5 m above the mark) with a zero antenna delta.
