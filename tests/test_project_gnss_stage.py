@@ -110,7 +110,7 @@ def test_process_runs_ppk_and_matches_the_truth(processed):
     loo_m = 1e-3 * summary["heights"]["loo_rms_mm"]
     assert gnss["base"]["ellipsoidal_height_m"] == pytest.approx(truth["ellipsoidal_height_m"], abs=3 * loo_m)
     assert gnss["warnings"][0].startswith("control point CPII-BASE: height anomaly extrapolated")
-    assert any(line.startswith("  warning: control point CPII-BASE") for line in lines)
+    assert any(line.startswith("  warning: gnss: control point CPII-BASE") for line in lines)
     assert gnss["base"]["lat_deg"] == pytest.approx(truth["lat_deg"], abs=1e-9)
     # The fused trajectory agrees with the truth as in the demo (GNSS-limited, millimetres).
     trajectory = load_results(root, "short").trajectory()

@@ -343,3 +343,29 @@ def test_without_a_design_the_fitted_alignment_is_written_and_serves_as_a_design
     assert np.ptp(offset[np.isfinite(offset)]) < 0.05
     main(["process", str(project.folder)])  # restore the design results for the other tests
     capsys.readouterr()
+
+
+def test_a_bridged_imu_gap_reaches_the_summary_the_cli_and_the_pdf(short_nav_survey, tmp_path, capsys):
+    """A notice of the fusion (an IMU gap bridged) is in summary.toml, the `process` output and the
+    PDF's processing page (insrail.notices)."""
+    from insrail.io.survey import read_manifest
+    from insrail.notices import notices_of
+
+    survey = tmp_path / "surveys" / "short"
+    shutil.copytree(short_nav_survey, survey)
+    imu_file = survey / read_manifest(survey).files["imu"].path
+    records = np.load(imu_file)
+    at = len(records) // 2  # the trolley is moving mid-survey
+    np.save(imu_file, np.delete(records, np.s_[at : at + 20]))  # 0.1 s of samples lost
+    project = project_for_simulated_survey(tmp_path, survey)
+    assert main(["process", str(project.folder)]) == 0
+    out = capsys.readouterr().out
+    assert "warning: imu:" in out and "IMU gap of 0.105 s" in out
+    summary = tomllib.loads((project.folder / "results" / "short" / "summary.toml").read_text())
+    (notice,) = [n for n in notices_of(summary) if n.stage == "imu"]
+    assert "20 missing samples bridged" in notice.message and notice.file.endswith(imu_file.name)
+    pdf = tmp_path / "report.pdf"
+    assert main(["report", str(project.folder), "--pdf", str(pdf)]) == 0
+    import subprocess
+    text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    assert "IMU gap of 0.105 s" in text

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 from insrail.cli.progressbar import TerminalProgress
+from insrail.notices import notices_of
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -67,7 +68,6 @@ def describe(results) -> list[str]:
                       f"fix rate {100 * gnss['fix_rate']:.1f} % of {gnss['epochs']} epochs ({qualities}); "
                       f"fusion inflated {gnss['fusion_inflated_epochs']}, excluded {gnss['fusion_excluded_epochs']}; "
                       f"base {gnss['base']['point']}")]
-        gnss_lines += [f"  warning: {w}" for w in gnss["warnings"]]
     return [
         f"Survey {results.survey}: results in {results.folder.resolve()}",
         *gnss_lines,
@@ -76,6 +76,7 @@ def describe(results) -> list[str]:
         (f"  track: {track['sleepers']} sleepers ({track['valid_sleepers']} valid), "
          f"stations {track['station_from_m']:.3f} .. {track['station_to_m']:.3f} m"),
         *_line_fit_lines(track.get("line_fit")),
+        *(f"  warning: {notice.text()}" for notice in notices_of(s)),
         *_quality_lines(s.get("quality")),
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
         (f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "

@@ -29,6 +29,7 @@ from insrail.gui.settings import recent_projects, remember_project
 from insrail.gui.views.gnss import GnssView, input_rows
 from insrail.gui.views.navigation import NavigationView
 from insrail.gui.views.plan import PlanView
+from insrail.notices import notices_of
 from insrail.gui.views.repeatability import RepeatabilityView
 from insrail.gui.views.track import TrackView
 from insrail.gui.wizard import NewProjectWizard
@@ -383,8 +384,8 @@ class MainWindow(QMainWindow):
         if name == self.gnss.survey.currentText():
             self.show_gnss(name)
         summary = self.results[name].summary
-        for warning in summary.get("heights", {}).get("warnings", []):
-            self.log.warning(f"{name}: {warning}")
+        for notice in notices_of(summary):
+            self.log.warning(f"{name}: {notice.text()}")
         self.log.info(f"{name}: {summary['assessment']['exceedances']} exceedances, results in "
                       f"{self.results[name].folder.resolve()}")
 

@@ -58,6 +58,7 @@ from insrail.nav.fusion import SmootherStore, fuse
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.measurements import PositionFix
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
+from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.model import Project
@@ -109,7 +110,7 @@ from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 4
+CACHE_VERSION = 5
 
 
 @dataclass(frozen=True)
@@ -259,6 +260,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     save_dataclass(quality_cache_file(path), quality)
     info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": len(survey.imu),
             "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
+            "notices": [Notice("imu", w, file=str(survey.imu.source or "")).to_dict() for w in result.info["warnings"]],
             "gnss": gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])}
     save_trajectory(path, result.trajectory)
     with atomic_write(info_path, "wb") as handle:
@@ -383,6 +385,7 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     if gnss is not None:
         summary["ppk"] = gnss.summary(project.fusion.gnss_quality_policy)
         summary["files"].update(gnss=GNSS_POS_FILE, gnss_qc=GNSS_QC_FILE)
+    summary["notices"] = [n.to_dict() for n in _notices(fusion_info, height_warnings, summary.get("ppk"))]
     summary["track_quality"] = track_quality_section(geometry)
     line_fit_files = _line_fit_files(recon)
     if project.design is None:
@@ -443,6 +446,14 @@ def _line_fit_section(recon: TrackReconstruction) -> dict:
             "windows": 0 if recon.reference is None else len(recon.reference.windows)}
 
 
+def _notices(fusion_info: dict, height_warnings: list[str], ppk: dict | None) -> list[Notice]:
+    """Every stage's notices, in pipeline order (:mod:`insrail.notices`)."""
+    notices = [Notice("gnss", w) for w in (ppk or {}).get("warnings", [])]
+    notices += [Notice.from_dict(table) for table in fusion_info.get("notices", [])]
+    notices += [Notice("heights", w) for w in height_warnings]
+    return notices
+
+
 def _summary(project, name, manifest, fusion_info, track_cached, height_fit, height_warnings, table, assessment,
              adjustment, elapsed) -> dict:
     counts: dict[str, int] = {}
@@ -452,7 +463,7 @@ def _summary(project, name, manifest, fusion_info, track_cached, height_fit, hei
         "survey": {"name": name, "folder": project.survey(name).folder, "imu_epochs": fusion_info["imu_epochs"],
                    **({"gps_week": manifest.gps_week} if manifest.gps_week is not None else {}),
                    "processing_time_s": round(elapsed, 2)},
-        "fusion": {"prism_fixes": 0, **fusion_info},
+        "fusion": {"prism_fixes": 0, **{k: v for k, v in fusion_info.items() if k != "notices"}},
         "heights": ({"model": height_fit.model_name, "internal_rms_mm": 1e3 * height_fit.internal_rms_m,
                      "loo_rms_mm": 1e3 * height_fit.loo_rms_m if np.isfinite(height_fit.loo_rms_m) else -1.0,
                      "warnings": height_warnings}

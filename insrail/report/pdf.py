@@ -36,6 +36,7 @@ from reportlab.platypus import (
 )
 
 from insrail.io.atomic import atomic_write
+from insrail.notices import notices_of
 from insrail.nav.trajectory import Trajectory
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.compare import (
@@ -247,7 +248,7 @@ def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[F
             ("Heights", f"{heights.get('model', '-')} height-anomaly model"
                         + (f", benchmark RMS {heights['internal_rms_mm']:.1f} mm (leave-one-out "
                            f"{heights['loo_rms_mm']:.1f} mm)" if "internal_rms_mm" in heights else ""))]
-    rows += [("Height warning", w) for w in heights.get("warnings", [])]
+    rows += [("Warning", notice.text()) for notice in notices_of(s)]
     rows += [("Note", note) for note in content.notes]
     story: list[Flowable] = [Heading("Survey and processing"), Paragraph("Survey and processing", H1),
                              key_values(rows, widths=(45 * mm, 215 * mm))]
