@@ -1,0 +1,223 @@
+"""Display names: what every id a user can see is called on screen and on paper.
+
+The one table of human names for the GUI, the workbook and the PDF. Internal ids (tolerance
+check names such as ``short_wave_30m_5m``, sleepers.csv columns such as ``gauge_mm``, TQI
+channels, predicted-accuracy figures) never reach a user: a shell asks this module.
+
+* :func:`check_name` names a check of a tolerance profile. A check's id is free text in the
+  profile file, so the name is built from the check's definition (its kind and parameters):
+  a shipped id has its own wording (``short_wave_30m_5m`` -> "30 m / 5 m short wave"), any other
+  id the wording of its kind ("20 m versine"), always with the check's own lengths, so a copied
+  profile with a changed chord is never misnamed.
+* :func:`channel_name` one rail/direction channel of a check ("30 m / 5 m short wave, left rail,
+  lateral"); :func:`rail_direction` the part that tells the channels of one check apart.
+* :func:`column_name` a sleepers.csv column (the check channels ``check_*`` need the profile);
+  :func:`quantity_name` any other id shown (TQI channels, quality.csv figures, parameters).
+
+Units are those displayed at the reporting edge: lengths in mm or m, ratios (gauge change rates)
+in per mille (‰). A lookup of an id this module does not know raises :class:`UnknownName`, never
+returns the id: a new column or quantity gets its name here before it is shown.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Protocol
+
+FOOT_M = 0.3048
+PER_MILLE = "‰"
+
+
+class UnknownName(KeyError):
+    """An id without a display name (add it to this module's tables)."""
+
+    def __init__(self, key: str, what: str = "id"):
+        self.key = key
+        super().__init__(f"no display name for the {what} {key!r} (add it to insrail/names.py)")
+
+
+@dataclass(frozen=True)
+class Name:
+    """A display name and the unit its values are shown in ("" for none)."""
+
+    name: str
+    unit: str = ""
+
+    @property
+    def with_unit(self) -> str:
+        """"Gauge (mm)", or the bare name without a unit."""
+        return f"{self.name} ({self.unit})" if self.unit else self.name
+
+
+class CheckLike(Protocol):
+    """What naming needs of :class:`insrail.track.tolerance.Check`."""
+
+    name: str
+    kind: str
+    directions: tuple[str, ...]
+    chord_m: float | None
+    back_m: float | None
+    pair_m: float | None
+    base_m: float | None
+    band: str | None
+
+
+# --------------------------------------------------------------------------- checks
+
+#: Wording of each check kind; fields are the check's own (lengths in m, ``*_ft`` in feet).
+KIND_NAMES = {
+    "gauge_deviation": "Gauge deviation",
+    "gauge_change_rate": "Gauge change rate {base}",
+    "cross_level": "Cross level",
+    "twist": "Twist {base_m:g} m",
+    "versine": "{chord_m:g} m versine",
+    "differential_versine": "{chord_m:g} m / {pair_m:g} m differential versine",
+    "band_peak": "{band} band peak",
+}
+#: The shipped profiles' check ids, each with the kind it names and its wording.
+CHECK_NAMES = {
+    "gauge": ("gauge_deviation", "Gauge deviation"),
+    "gauge_change_rate": ("gauge_change_rate", "Gauge change rate {base}"),
+    "cross_level": ("cross_level", "Cross level"),
+    "twist_3m": ("twist", "Twist {base_m:g} m"),
+    "twist_6_25m": ("twist", "Twist {base_m:g} m"),
+    "twist_62ft": ("twist", "Twist {base_ft:g} ft"),
+    "versine_10m": ("versine", "{chord_m:g} m versine"),
+    "short_wave_30m_5m": ("differential_versine", "{chord_m:g} m / {pair_m:g} m short wave"),
+    "long_wave_300m_150m": ("differential_versine", "{chord_m:g} m / {pair_m:g} m long wave"),
+    "alignment_62ft": ("versine", "Alignment {chord_ft:g} ft chord"),
+    "profile_62ft": ("versine", "Profile {chord_ft:g} ft chord"),
+    "alignment_d1": ("band_peak", "Alignment {band}"),
+    "level_d1": ("band_peak", "Longitudinal level {band}"),
+}
+RAIL_NAMES = {"left": "left rail", "right": "right rail", "track": ""}
+DIRECTION_NAMES = {"lateral": "lateral", "vertical": "vertical", "": ""}
+
+
+def _fields(check: CheckLike) -> dict[str, object]:
+    def feet(value):
+        return round(value / FOOT_M, 1) if value is not None else None
+
+    base = "sleeper to sleeper" if check.base_m is None else f"{check.base_m:g} m"
+    return {"chord_m": check.chord_m, "pair_m": check.pair_m, "back_m": check.back_m, "base_m": check.base_m,
+            "chord_ft": feet(check.chord_m), "base_ft": feet(check.base_m), "band": check.band, "base": base}
+
+
+def check_name(check: CheckLike) -> str:
+    """The display name of a tolerance check (see the module docstring)."""
+    kind, wording = CHECK_NAMES.get(check.name, (None, None))
+    if kind != check.kind:
+        if check.kind not in KIND_NAMES:
+            raise UnknownName(check.kind, "check kind")
+        wording = KIND_NAMES[check.kind]
+    return wording.format(**_fields(check))
+
+
+def check_unit(kind: str) -> str:
+    """The unit a check's values and limits are displayed in."""
+    return PER_MILLE if kind.endswith("rate") else "mm"
+
+
+def rail_direction(rail: str, direction: str) -> str:
+    """"left rail, lateral", "right rail", "" (a track channel)."""
+    try:
+        parts = (RAIL_NAMES[rail], DIRECTION_NAMES[direction])
+    except KeyError as error:
+        raise UnknownName(error.args[0], "rail or direction") from None
+    return ", ".join(p for p in parts if p)
+
+
+def channel_name(check: CheckLike, rail: str, direction: str) -> str:
+    """One channel of a check: "30 m / 5 m short wave, left rail, lateral"; "Cross level"."""
+    detail = rail_direction(rail, direction)
+    return f"{check_name(check)}, {detail}" if detail else check_name(check)
+
+
+# --------------------------------------------------------------------------- sleepers.csv columns
+
+def _per_rail(pattern: str, name: str, unit: str) -> dict[str, Name]:
+    """``pattern`` with {direction} and {rail} -> Name for both directions and rails."""
+    return {pattern.format(direction=d, rail=r): Name(name.format(direction=d.capitalize(), rail=RAIL_NAMES[r]), unit)
+            for d in ("lateral", "vertical") for r in ("left", "right")}
+
+
+#: sleepers.csv columns that do not depend on the tolerance profile, and the derived columns of the reports.
+COLUMN_NAMES: dict[str, Name] = {
+    "number": Name("Sleeper number"),
+    "label": Name("Chainage"),
+    "station_m": Name("Station", "m"),
+    "time_s": Name("GPS time of week", "s"),
+    "detected": Name("Detected by the sleeper sensor"),
+    "valid": Name("Valid sleeper"),
+    "not_assessed": Name("Not assessed because"),
+    **{f"{rail}_{axis}_m": Name(f"{RAIL_NAMES[rail].capitalize()} {what}", "m")
+       for rail in ("left", "right") for axis, what in (("E", "easting"), ("N", "northing"), ("H", "height"))},
+    "gauge_mm": Name("Gauge", "mm"),
+    "cant_mm": Name("Cant", "mm"),
+    "design_cant_mm": Name("Design cant", "mm"),
+    "gauge_change_mm": Name("Gauge change to the previous sleeper", "mm"),
+    "gauge_change_rate_2_5m_ratio": Name("Gauge change rate 2.5 m", PER_MILLE),
+    "twist_3m_mm": Name("Twist 3 m", "mm"),
+    "guiding_rail_right": Name("Guiding rail"),
+    **_per_rail("{direction}_deviation_{rail}_mm", "{direction} deviation, {rail}", "mm"),
+    **_per_rail("adjust_{direction}_{rail}_mm", "{direction} adjustment, {rail}", "mm"),
+    **_per_rail("unresolved_{direction}_{rail}", "{direction} checks still failed after adjustment, {rail}", ""),
+    # derived in the reports (insrail.report.content)
+    "row": Name("Row"),
+    "gauge_deviation_mm": Name("Gauge deviation", "mm"),
+    "cross_level_mm": Name("Cross level", "mm"),
+    "guiding_rail": Name("Guiding rail"),
+    "unresolved": Name("Checks still failed after adjustment"),
+}
+
+_CHANNEL = re.compile(r"^(?:_(left|right))?(?:_(lateral|vertical))?_(mm|ratio)$")
+
+
+def column_name(key: str, checks: Iterable[CheckLike] = ()) -> Name:
+    """The display name of a sleepers.csv column; ``checks`` (a profile's checks) name the
+    ``check_<check>[_<rail>][_<direction>]_<unit>`` channel columns."""
+    if key in COLUMN_NAMES:
+        return COLUMN_NAMES[key]
+    if key.startswith("check_"):
+        # the longest check id first: "twist_3m" must not claim the columns of a check "twist_3m_design"
+        for check in sorted(checks, key=lambda c: -len(c.name)):
+            prefix = f"check_{check.name}"
+            match = _CHANNEL.match(key[len(prefix):]) if key.startswith(prefix) else None
+            if match:
+                rail, direction, _unit = match.groups()
+                return Name(channel_name(check, rail or "track", direction or ""), check_unit(check.kind))
+        raise UnknownName(key, "check column (is its check in the tolerance profile?)")
+    raise UnknownName(key, "column")
+
+
+# --------------------------------------------------------------------------- other quantities
+
+QUANTITY_NAMES: dict[str, Name] = {
+    # TQI channels (summary.toml [track_quality] channels, insrail.track.exceedance.track_quality)
+    "left_level": Name("Longitudinal level, left rail", "mm"),
+    "right_level": Name("Longitudinal level, right rail", "mm"),
+    "left_alignment": Name("Alignment, left rail", "mm"),
+    "right_alignment": Name("Alignment, right rail", "mm"),
+    "gauge": Name("Gauge", "mm"),
+    "cross_level": Name("Cross level", "mm"),
+    "twist": Name("Twist", "mm"),
+    "tqi": Name("Track quality index (TQI)", "mm"),
+    # predicted 1-sigma per section (quality.csv)
+    "sigma_lateral_mm": Name("Predicted 1σ, lateral position", "mm"),
+    "sigma_vertical_mm": Name("Predicted 1σ, vertical position", "mm"),
+    "sigma_lag5_lateral_mm": Name("Predicted 1σ, 5 m lag difference, lateral", "mm"),
+    "sigma_lag5_vertical_mm": Name("Predicted 1σ, 5 m lag difference, vertical", "mm"),
+    "sigma_lag150_lateral_mm": Name("Predicted 1σ, 150 m lag difference, lateral", "mm"),
+    "sigma_lag150_vertical_mm": Name("Predicted 1σ, 150 m lag difference, vertical", "mm"),
+}
+
+
+def quantity_name(key: str) -> Name:
+    """The display name of a quantity that is not a sleepers.csv column (TQI channel, quality figure)."""
+    try:
+        return QUANTITY_NAMES[key]
+    except KeyError:
+        raise UnknownName(key, "quantity") from None
+
