@@ -340,3 +340,26 @@ def test_whole_short_survey_from_rinex_matches_the_truth(tmp_path, capsys):
         assert np.nanmax(np.abs(measured - 1e3 * lateral[rows[close], side])) < 10
         measured = stored.columns[f"vertical_deviation_{rail}_mm"][close]
         assert np.nanmax(np.abs(measured - 1e3 * vertical[rows[close], side])) < 10
+
+
+HOSTILE = 'r";touch PWNED;".gz'
+
+
+def test_hostile_rinex_name_in_a_handed_over_project_runs_nothing(raw_survey, tmp_path, monkeypatch):
+    """A project someone hands over names its rover `r";touch PWNED;".gz` (a plain RINEX file):
+    `insrail process` and `insrail batch` post-process it and run no command."""
+    root, _ = raw_survey
+    copy = _copy_project(root, tmp_path / "handed_over")
+    folder = copy / "surveys" / "short"
+    (folder / "rover.obs").rename(folder / HOSTILE)
+    manifest = (folder / "survey.toml").read_text()
+    assert 'rover = "rover.obs"' in manifest
+    (folder / "survey.toml").write_text(manifest.replace('rover = "rover.obs"', "rover = 'r\";touch PWNED;\".gz'"))
+    monkeypatch.chdir(tmp_path)
+    assert main(["process", str(copy)]) == 0
+    assert not list(tmp_path.rglob("PWNED"))
+    for entry in (copy / "results" / ".cache").glob("ppk-*"):  # batch runs RTKLIB again, in its worker
+        entry.unlink()
+    assert main(["batch", str(copy), "--workers", "1"]) == 0
+    assert not list(tmp_path.rglob("PWNED"))
+    assert len(load_results(copy, "short").trajectory().time_s) > 0

@@ -3,18 +3,18 @@
 The format comes from the file extension (RTKLIB's own conventions) or is given by
 name. Output: ``<out_dir>/<log stem>.obs`` (all systems, all observation types and
 frequencies) and ``<log stem>.nav`` (mixed navigation) when the log holds ephemerides.
-Files are written under temporary names and renamed only when the conversion
-succeeded and produced observation epochs; a log RTKLIB cannot decode is an
-InputError naming it.
+RTKLIB reads the log and writes the RINEX in a private temporary folder under names
+insrail makes (:mod:`insrail.gnss.staging`); the results are moved to ``out_dir`` only
+when the conversion succeeded and produced observation epochs; a log RTKLIB cannot
+decode is an InputError naming it.
 """
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 from insrail.gnss.rinex import read_obs_info
+from insrail.gnss.staging import install_output, rtklib_workdir, stage_file
 from insrail.io.errors import InputError
 
 # format name -> (pyrtklib STRFMT constant name, file extensions)
@@ -83,27 +83,18 @@ def convert_to_rinex(log_path: str | Path, out_dir: str | Path, format: str | No
         raise InputError(log_path, None, f"unknown receiver format {format!r}: expected one of "
                          f"{', '.join(RECEIVER_FORMATS)}")
     targets = (out_dir / f"{log_path.stem}.obs", out_dir / f"{log_path.stem}.nav")
-    temporary = []
-    for target in targets:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=out_dir)
-        os.close(fd)
-        temporary.append(Path(tmp))
-    try:
-        slots = [str(p) for p in temporary] + [""] * (_OUTPUT_SLOTS - len(temporary))
-        status = pyrtklib.convrnx(getattr(pyrtklib, RECEIVER_FORMATS[name][0]), _rnxopt(), str(log_path), slots)
-        if status != 1 or not _has_records(temporary[0]):
+    with rtklib_workdir() as workdir:
+        log = stage_file(log_path, workdir, "receiver", RECEIVER_FORMATS[name][1][0])
+        produced = (workdir / "converted.obs", workdir / "converted.nav")
+        slots = [str(p) for p in produced] + [""] * (_OUTPUT_SLOTS - len(produced))
+        status = pyrtklib.convrnx(getattr(pyrtklib, RECEIVER_FORMATS[name][0]), _rnxopt(), str(log), slots)
+        if status != 1 or not _has_records(produced[0]):
             raise InputError(log_path, None, f"unreadable receiver log: RTKLIB decoded no observations as "
                              f"{name} (check the format)")
-        read_obs_info(temporary[0])  # the RINEX written must be one insrail reads back
+        read_obs_info(produced[0])  # the RINEX written must be one insrail reads back
         written = [targets[0]]
-        os.chmod(temporary[0], 0o644)
-        os.replace(temporary[0], targets[0])
-        if _has_records(temporary[1]):
-            os.chmod(temporary[1], 0o644)
-            os.replace(temporary[1], targets[1])
+        install_output(produced[0], targets[0])
+        if _has_records(produced[1]):
+            install_output(produced[1], targets[1])
             written.append(targets[1])
         return tuple(written)
-    finally:
-        for tmp in temporary:
-            if tmp.exists():
-                tmp.unlink()

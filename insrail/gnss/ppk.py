@@ -7,8 +7,12 @@ RTKLIB's ``postpos`` in a child process: RTKLIB keeps its options in static memo
 and cannot be interrupted, so a separate process keeps runs independent, lets the
 user cancel, and turns an RTKLIB crash into an error instead of a dead application.
 
+RTKLIB never sees a user's file name (it would run some through the shell): every
+input goes into a private temporary folder under a name insrail makes, decompressed in
+Python (:mod:`insrail.gnss.staging`); RTKLIB writes there too.
+
 The result is an RTKLIB .pos (GPST, latitude/longitude/ellipsoidal height, RTKLIB's
-header) written to a temporary file next to the destination and renamed onto it
+header) copied to a temporary file next to the destination and renamed onto it
 only when complete and loadable by :func:`insrail.io.rtklib.read_rtklib_pos`.
 """
 
@@ -18,7 +22,6 @@ import math
 import multiprocessing
 import os
 import queue
-import tempfile
 import time
 import warnings
 from collections.abc import Mapping, Sequence
@@ -30,6 +33,7 @@ import numpy as np
 from insrail.gnss.options import OptionError, apply_options, load_options, rtklib_option_table, same_value
 from insrail.gnss.qc import GnssQc, gnss_qc
 from insrail.gnss.rinex import RinexObsInfo, check_navigation, read_obs_info
+from insrail.gnss.staging import install_output, rtklib_workdir, stage_file
 from insrail.io.errors import InputError
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.timescale import calendar_to_week_seconds
@@ -160,18 +164,58 @@ def _run_postpos(options: dict[str, str], input_files: list[str], out_path: str,
         errors.put(f"{type(err).__name__}: {err}")
 
 
-def _check_inputs(rover_obs: Path, base_obs: Path, nav_files: Sequence[Path]) -> tuple[RinexObsInfo, RinexObsInfo]:
-    rover = read_obs_info(rover_obs)
-    base = read_obs_info(base_obs)
+def _as_user_file(original: Path, staged: Path, check):
+    """``check(staged)`` with any InputError naming the user's file instead of the staged copy."""
+    try:
+        info = check(staged)
+    except InputError as err:
+        raise InputError(original, err.line, err.message, unit=err.unit) from None
+    return None if info is None else replace(info, path=original)
+
+
+def _check_inputs(rover_obs: Path, base_obs: Path, nav_files: Sequence[Path],
+                  staged: Mapping[Path, Path]) -> tuple[RinexObsInfo, RinexObsInfo]:
+    rover = _as_user_file(rover_obs, staged[rover_obs], read_obs_info)
+    base = _as_user_file(base_obs, staged[base_obs], read_obs_info)
     if not nav_files:
         raise InputError(rover_obs, None, "no navigation data: give at least one RINEX navigation file")
     for path in nav_files:
-        check_navigation(path)
+        _as_user_file(path, staged[path], check_navigation)
     start, end = max(rover.first_s, base.first_s), min(rover.last_s, base.last_s)
     if start >= end:
         raise InputError(base_obs, None, "base and rover do not overlap in time: base "
                          f"{_span(base)}, rover {rover_obs.name} {_span(rover)}")
     return rover, base
+
+
+# RTKLIB options naming files: inputs are staged like the observations; outputs RTKLIB would
+# write wherever a (handed-over) configuration points are refused.
+_INPUT_FILE_OPTIONS = ("file-satantfile", "file-rcvantfile", "file-staposfile", "file-geoidfile", "file-ionofile",
+                       "file-dcbfile", "file-eopfile", "file-blqfile")
+_REFUSED_FILE_OPTIONS = ("file-tempdir", "file-geexefile", "file-solstatfile", "file-tracefile")
+
+
+def _stage_option_files(options: dict[str, str], workdir: Path) -> None:
+    for key in _REFUSED_FILE_OPTIONS:
+        if options.get(key, "").strip():
+            raise OptionError(f"{key} = {options[key]!r}: insrail does not let RTKLIB write files of its own; "
+                              "leave it empty")
+    for number, key in enumerate(_INPUT_FILE_OPTIONS, 1):
+        value = options.get(key, "").strip()
+        if value:
+            staged = stage_file(value, workdir, f"option{number}", ".dat")
+            options[key] = str(staged)
+
+
+def _stage_inputs(workdir: Path, rover_obs: Path, base_obs: Path, nav_paths: Sequence[Path],
+                  precise_files: Sequence[Path]) -> list[tuple[Path, Path]]:
+    """Every input under a safe name in ``workdir``: (user path, staged path) in RTKLIB's order."""
+    staged = [(rover_obs, stage_file(rover_obs, workdir, "rover", ".obs")),
+              (base_obs, stage_file(base_obs, workdir, "base", ".obs"))]
+    staged += [(path, stage_file(path, workdir, f"nav{number}", ".nav")) for number, path in enumerate(nav_paths, 1)]
+    staged += [(path, stage_file(path, workdir, f"precise{number}", ".dat"))
+               for number, path in enumerate(precise_files, 1)]
+    return staged
 
 
 def _span(info: RinexObsInfo) -> str:
@@ -200,13 +244,40 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
     report = StepProgress(progress)
     rover_obs, base_obs, out_pos = Path(rover_obs), Path(base_obs), Path(out_pos)
     nav_paths = [Path(p) for p in nav_files]
+    precise_paths = [Path(p) for p in precise_files]
+    if not out_pos.parent.is_dir():
+        raise InputError(out_pos, None, f"output folder {out_pos.parent} does not exist")
     report(0.0, "checking the input files")
-    rover, base = _check_inputs(rover_obs, base_obs, nav_paths)
-    for path in precise_files:
-        if not Path(path).is_file():
-            raise InputError(path, None, "file not found")
+    with rtklib_workdir() as workdir:
+        staged = _stage_inputs(workdir, rover_obs, base_obs, nav_paths, precise_paths)
+        rover, base = _check_inputs(rover_obs, base_obs, nav_paths, dict(staged))
+        options = load_options(config, options_overrides)
+        _stage_option_files(options, workdir)
+        options, notes, base_from_header, baseline_m = _base_options(options, rover, base, base_obs,
+                                                                       base_position)
+        produced = workdir / "solution.pos"
+        report(0.05, "RTKLIB post-processing")
+        _run_child(options, [str(p) for _, p in staged], str(produced), report.sub(0.05, 0.9), cancel,
+                   rover)
+        if same_value("pos1-soltype", options.get("pos1-soltype", "forward"), "backward", rtklib_option_table()):
+            _reverse_epochs(str(produced))
+        report(0.9, "reading the solution")
+        try:
+            solution = read_rtklib_pos(produced)
+        except InputError as err:
+            raise InputError(rover_obs, None, "RTKLIB produced no usable solution (check the navigation "
+                             f"files, the time span and the options): {err.message}") from None
+        install_output(produced, out_pos)
+    solution = replace(solution, source=out_pos)
+    qc = gnss_qc(solution)
+    report(1.0, f"fix rate {100 * qc.fix_rate:.1f} %")
+    return PpkResult(out_pos, solution, qc, options, rover, base, base_from_header, baseline_m, tuple(notes),
+                     time.monotonic() - started)
 
-    options = load_options(config, options_overrides)
+
+def _base_options(options: dict[str, str], rover: RinexObsInfo, base: RinexObsInfo, base_obs: Path,
+                  base_position: BasePosition | None) -> tuple[dict[str, str], list[str], bool, float | None]:
+    """The output and base options: (options, notes for the log, base from the header, baseline [m])."""
     table = rtklib_option_table()
     forced = {k: options[k] for k, v in FORCED_OUTPUT_OPTIONS.items()
               if k in options and not same_value(k, options[k], v, table)}
@@ -226,44 +297,16 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
         message = (f"base position from the RINEX header of {base_obs.name} (APPROX POSITION XYZ "
                    f"{base.approx_position_ecef_m}): approximate, metre level; every rover position "
                    "carries its error. Give the control point's coordinates for survey work.")
-        warnings.warn(message, ApproximateBaseWarning, stacklevel=2)
+        warnings.warn(message, ApproximateBaseWarning, stacklevel=3)
         notes.append(message)
     base_from_header = options.get("ant2-postype") in ("rinexhead", "4")
     baseline_m = _baseline_m(rover, base, base_position)
     if baseline_m is not None and baseline_m > MAX_SHORT_BASELINE_M:
         message = (f"baseline {baseline_m / 1e3:.1f} km is longer than the {MAX_SHORT_BASELINE_M / 1e3:.0f} km "
                    "of short-baseline PPK: expect slower fixing and larger errors; use a nearer base")
-        warnings.warn(message, LongBaselineWarning, stacklevel=2)
+        warnings.warn(message, LongBaselineWarning, stacklevel=3)
         notes.append(message)
-
-    if not out_pos.parent.is_dir():
-        raise InputError(out_pos, None, f"output folder {out_pos.parent} does not exist")
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{out_pos.name}.", suffix=".tmp", dir=out_pos.parent)
-    os.close(fd)
-    try:
-        report(0.05, "RTKLIB post-processing")
-        inputs = [str(rover_obs), str(base_obs)] + [str(p) for p in nav_paths] + [str(p) for p in precise_files]
-        _run_child(options, inputs, tmp_name, report.sub(0.05, 0.9), cancel, rover)
-        if same_value("pos1-soltype", options.get("pos1-soltype", "forward"), "backward", table):
-            _reverse_epochs(tmp_name)
-        report(0.9, "reading the solution")
-        try:
-            solution = read_rtklib_pos(tmp_name)
-        except InputError as err:
-            raise InputError(rover_obs, None, "RTKLIB produced no usable solution (check the navigation "
-                             f"files, the time span and the options): {err.message}") from None
-        with open(tmp_name, "rb") as handle:  # on disk before it replaces the destination
-            os.fsync(handle.fileno())
-        os.chmod(tmp_name, 0o644)
-        os.replace(tmp_name, out_pos)
-    finally:
-        if os.path.exists(tmp_name):
-            os.unlink(tmp_name)
-    solution = replace(solution, source=out_pos)
-    qc = gnss_qc(solution)
-    report(1.0, f"fix rate {100 * qc.fix_rate:.1f} %")
-    return PpkResult(out_pos, solution, qc, options, rover, base, base_from_header, baseline_m, tuple(notes),
-                     time.monotonic() - started)
+    return options, notes, base_from_header, baseline_m
 
 
 def _reverse_epochs(path: str) -> None:
