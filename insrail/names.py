@@ -62,16 +62,19 @@ class CheckLike(Protocol):
     pair_m: float | None
     base_m: float | None
     band: str | None
+    relative_to_design: bool
 
 
 # --------------------------------------------------------------------------- checks
 
-#: Wording of each check kind; fields are the check's own (lengths in m, ``*_ft`` in feet).
+#: Wording of each check kind; fields are the check's own (lengths in m, ``*_ft`` in feet). A twist of the
+#: cross level (measured - design cant, the designed ramp removed) is plain "Twist"; one of the measured
+#: cant says so.
 KIND_NAMES = {
     "gauge_deviation": "Gauge deviation",
     "gauge_change_rate": "Gauge change rate {base}",
     "cross_level": "Cross level",
-    "twist": "Twist {base_m:g} m",
+    "twist": "Twist {base_m:g} m{twist_of}",
     "versine": "{chord_m:g} m versine",
     "differential_versine": "{chord_m:g} m / {pair_m:g} m differential versine",
     "band_peak": "{band} band peak",
@@ -81,9 +84,9 @@ CHECK_NAMES = {
     "gauge": ("gauge_deviation", "Gauge deviation"),
     "gauge_change_rate": ("gauge_change_rate", "Gauge change rate {base}"),
     "cross_level": ("cross_level", "Cross level"),
-    "twist_3m": ("twist", "Twist {base_m:g} m"),
-    "twist_6_25m": ("twist", "Twist {base_m:g} m"),
-    "twist_62ft": ("twist", "Twist {base_ft:g} ft"),
+    "twist_3m": ("twist", "Twist {base_m:g} m{twist_of}"),
+    "twist_6_25m": ("twist", "Twist {base_m:g} m{twist_of}"),
+    "twist_62ft": ("twist", "Twist {base_ft:g} ft{twist_of}"),
     "versine_10m": ("versine", "{chord_m:g} m versine"),
     "short_wave_30m_5m": ("differential_versine", "{chord_m:g} m / {pair_m:g} m short wave"),
     "long_wave_300m_150m": ("differential_versine", "{chord_m:g} m / {pair_m:g} m long wave"),
@@ -102,7 +105,8 @@ def _fields(check: CheckLike) -> dict[str, object]:
 
     base = "sleeper to sleeper" if check.base_m is None else f"{check.base_m:g} m"
     return {"chord_m": check.chord_m, "pair_m": check.pair_m, "back_m": check.back_m, "base_m": check.base_m,
-            "chord_ft": feet(check.chord_m), "base_ft": feet(check.base_m), "band": check.band, "base": base}
+            "chord_ft": feet(check.chord_m), "base_ft": feet(check.base_m), "band": check.band, "base": base,
+            "twist_of": "" if check.relative_to_design else " of the measured cant"}
 
 
 def check_name(check: CheckLike) -> str:

@@ -65,7 +65,7 @@ def test_pages_hold_the_summary_charts_per_chainage_range_plan_and_exceedances(p
     assert len(ranges) == expected_groups
     assert ranges[0].startswith(results.label[0])
     assert any("Twist 3 m (mm)" in text for text in texts)
-    assert any("Differential versine, 300 m chord / 150 m pairs, vertical" in text for text in texts)
+    assert any("300 m / 150 m long wave, vertical" in text for text in texts)
     assert any("Plan view" in text.splitlines()[0] for text in texts)
     exceedance_pages = "\n".join(text for text in texts if "Exceedances" in text.splitlines()[0])
     for e in results.exceedances:

@@ -15,6 +15,9 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
     [track]              design (alignment CSV or LandXML), start_station_m (needed without a design),
                          first_sleeper_number, tolerance_profile, fastener
     [[surveys]]          name, folder (holding a survey.toml)
+    [report]             what the reports' first page states and how they print (:class:`ReportSettings`):
+                         client, line_section, track_name, operator, checked_by, approved_by, trolley,
+                         trolley_calibrated, imu, imu_calibrated (dates: 2026-03-14), paper = "A3" | "A4"
 
 Loading checks everything and raises :class:`ProjectError` listing every problem with its key
 path (``surveys[2].folder: not found: runs/x``). Nothing in the file is executed or unpickled.
@@ -23,8 +26,9 @@ Saving writes the whole file atomically (a crash leaves the previous file intact
 
 from __future__ import annotations
 
+import datetime
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -51,7 +55,9 @@ HEIGHT_MODELS = ("auto", "constant", "plane", "quadratic")
 FUSION_FLAGS = ("use_gnss_velocity", "use_odometer", "use_nhc", "use_zupt", "smoother")
 FUSION_NUMBERS = ("update_rate_hz", "gnss_sigma_scale", "gnss_sigma_floor_m", "gnss_correlated_tau_s",
                   "odometer_sigma_mps", "nhc_sigma_mps", "zupt_sigma_mps", "min_static_s")
-_TOP_LEVEL = ("project", "geodesy", "trolley", "processing", "track", "surveys")
+_TOP_LEVEL = ("project", "geodesy", "trolley", "processing", "track", "surveys", "report")
+#: Paper sizes of the workbook's printout (landscape).
+PAPER_SIZES = ("A3", "A4")
 _SURVEY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")  # used as a results folder name
 
 
@@ -79,6 +85,36 @@ class HeightSettings:
 
 
 @dataclass(frozen=True)
+class ReportSettings:
+    """The ``[report]`` table: who and what the reports name on their first page, and the paper.
+
+    Texts are as the client writes them ("" when not given: the report leaves a blank to fill in);
+    the instruments default to the IMU profile's name when ``imu`` is empty. Dates are calendar dates.
+    """
+
+    client: str = ""
+    line_section: str = ""  # e.g. "Wuhan - Xianning, K12 - K18"
+    track_name: str = ""  # the track surveyed as the railway names it, e.g. "down line"
+    operator: str = ""
+    checked_by: str = ""
+    approved_by: str = ""
+    trolley: str = ""  # make, model and serial number
+    trolley_calibrated: datetime.date | None = None
+    imu: str = ""
+    imu_calibrated: datetime.date | None = None
+    paper: str = "A3"  # the workbook's sheets, landscape
+
+    def to_settings(self) -> dict[str, Any]:
+        """The non-default entries (an untouched project writes no [report] table)."""
+        default = ReportSettings()
+        return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) != getattr(default, f.name)}
+
+
+_REPORT_DATES = ("trolley_calibrated", "imu_calibrated")
+_REPORT_TEXTS = tuple(f.name for f in fields(ReportSettings) if f.name not in _REPORT_DATES + ("paper",))
+
+
+@dataclass(frozen=True)
 class Project:
     folder: Path
     name: str
@@ -95,6 +131,7 @@ class Project:
     tolerance_profile: str = DEFAULT_PROFILE
     fastener: str = DEFAULT_FASTENER
     control_points: tuple[ControlPoint, ...] = ()
+    report: ReportSettings = field(default_factory=ReportSettings)
 
     @property
     def path(self) -> Path:
@@ -147,6 +184,8 @@ class Project:
         document["processing"] = processing
         document["track"] = track
         document["surveys"] = [{"name": s.name, "folder": s.folder} for s in self.surveys]
+        if self.report.to_settings():
+            document["report"] = self.report.to_settings()
         return document
 
 
@@ -232,13 +271,38 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     fastener = reader.loadable(track, "track.fastener", load_fastener_type, DEFAULT_FASTENER)
 
     surveys = _surveys(reader, document.get("surveys"))
+    report = _report(reader, reader.table(document, "report"))
     reader.raise_if_any(path or Path(folder) / PROJECT_FILE)
     return Project(
         folder=Path(folder), name=name, description=description, crs=crs, height=height, surveys=surveys,
         trolley_settings=trolley_settings, imu_profile=imu_profile, fusion=FusionOptions(**options),
         design=design, start_station_m=start_station, first_sleeper_number=first_number,
-        tolerance_profile=tolerance, fastener=fastener, control_points=control_points,
+        tolerance_profile=tolerance, fastener=fastener, control_points=control_points, report=report,
     )
+
+
+def _report(reader: _Reader, table: dict) -> ReportSettings:
+    reader.known(table, "report", tuple(f.name for f in fields(ReportSettings)))
+    values: dict[str, Any] = {key: reader.text(table, f"report.{key}", "") for key in _REPORT_TEXTS}
+    for key in _REPORT_DATES:
+        value = table.get(key)
+        if isinstance(value, str):
+            try:
+                value = datetime.date.fromisoformat(value)
+            except ValueError:
+                reader.add(f"report.{key}", f"expected a date like 2026-03-14, found {value!r}")
+                value = None
+        elif isinstance(value, datetime.datetime):
+            value = value.date()
+        elif value is not None and not isinstance(value, datetime.date):
+            reader.add(f"report.{key}", f"expected a date like 2026-03-14, found {value!r}")
+            value = None
+        values[key] = value
+    paper = table.get("paper", "A3")
+    if paper not in PAPER_SIZES:
+        reader.add("report.paper", f"expected one of {', '.join(PAPER_SIZES)}, found {paper!r}")
+        paper = "A3"
+    return ReportSettings(**values, paper=paper)
 
 
 def _height(reader: _Reader, table: dict) -> HeightSettings:
@@ -364,10 +428,12 @@ class _Reader:
 
 __all__ = [
     "HEIGHT_MODELS",
+    "PAPER_SIZES",
     "PROJECT_FILE",
     "HeightSettings",
     "Project",
     "ProjectError",
+    "ReportSettings",
     "SurveyEntry",
     "load_project",
     "project_from_settings",

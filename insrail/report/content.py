@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from insrail import __version__
+from insrail.names import channel_name, check_name, check_unit, column_name, rail_direction
 from insrail.project.model import Project
 from insrail.project.results import (
     GAUGE_CHANGE_BASE_M,
@@ -34,8 +35,6 @@ from insrail.track.tolerance import DIRECTIONS, Check, ToleranceProfile, load_to
 
 PER_MILLE = 1e3  # ratio -> ‰
 RAIL_KINDS = ("versine", "differential_versine", "band_peak")  # checks with one channel per rail and direction
-SHORT_TITLES = {("left", "lateral"): "L lateral", ("right", "lateral"): "R lateral",
-                ("left", "vertical"): "L vertical", ("right", "vertical"): "R vertical"}
 
 
 @dataclass(frozen=True)
@@ -57,6 +56,7 @@ class Column:
     limits: tuple[float, float] | None = None
     exceeding: np.ndarray | None = None
     check: str | None = None
+    name: str = ""  # the column's display name on its own (insrail.names), where ``title`` needs its group
 
 
 @dataclass(frozen=True)
@@ -153,29 +153,36 @@ def _exceeding(results: StoredResults, check: str, rail: str, direction: str) ->
     return mask
 
 
+def _lower_first(name: str) -> str:
+    """A display name as a column title under its group ("Gauge deviation" -> "gauge deviation")."""
+    return name[:1].lower() + name[1:] if name[1:2].islower() else name
+
+
+def _named(key: str, group: str, values: np.ndarray, number_format: str = "0.0", title: str | None = None,
+           **options) -> Column:
+    """A column of a stored (or report-derived) quantity, named by :mod:`insrail.names`."""
+    name = column_name(key)
+    return Column(key, group, title if title is not None else _lower_first(name.name), name.unit, values, number_format,
+                  name=name.name, **options)
+
+
 def _check_column(results: StoredResults, check: Check, rail: str, direction: str, group: str, title: str) -> Column:
     key = check_column(check.name, check.kind, rail, direction)
     rate = check.kind.endswith("rate")
     scale = PER_MILLE if rate else 1e3
-    return Column(key, group, title, "‰" if rate else "mm", (PER_MILLE if rate else 1.0) * results.columns[key],
+    return Column(key, group, title, check_unit(check.kind), (PER_MILLE if rate else 1.0) * results.columns[key],
                   "0.00" if rate else "0.0", limits=(scale * check.lower, scale * check.upper),
-                  exceeding=_exceeding(results, check.name, rail, direction), check=check.name)
+                  exceeding=_exceeding(results, check.name, rail, direction), check=check.name,
+                  name=channel_name(check, rail, direction))
 
 
 def _channels(results: StoredResults, check: Check, group: str) -> list[Column]:
+    """The columns of one check: one per rail and direction under the check's own group, or the one
+    track channel titled with the check's name (in ``group``)."""
     if check.kind in RAIL_KINDS:
-        return [_check_column(results, check, rail, direction, group, SHORT_TITLES[rail, direction])
+        return [_check_column(results, check, rail, direction, group, rail_direction(rail, direction))
                 for direction in DIRECTIONS if direction in check.directions for rail in RAILS]
-    return [_check_column(results, check, "track", "", group, _track_title(check))]
-
-
-def _track_title(check: Check) -> str:
-    """Title of a check with one channel for the track (gauge, cross-level, twist, gauge change rate)."""
-    if check.kind == "twist":
-        return f"twist {check.base_m:g} m"
-    if check.kind == "gauge_change_rate":
-        return f"gauge change rate {check.base_m:g} m" if check.base_m else "gauge change rate per sleeper"
-    return {"gauge_deviation": "gauge", "cross_level": "cross-level"}[check.kind]
+    return [_check_column(results, check, "track", "", group, _lower_first(check_name(check)))]
 
 
 def _find(profile: ToleranceProfile, used: set[str], kind: str, **parameters) -> Check | None:
@@ -188,60 +195,64 @@ def _find(profile: ToleranceProfile, used: set[str], kind: str, **parameters) ->
     return None
 
 
+#: Group titles of the sleeper table (a check with a channel per rail has its own group: its name).
+SLEEPER_GROUP = "Sleeper"
+DEVIATION_GROUP = "Deviation [measured - best]"
+PARAMETER_GROUP = "Track parameters"
+OTHER_CHECKS_GROUP = "Other checks of the tolerance profile"
+ADJUSTMENT_GROUP = "Adjustment (move the rail by)"
+
+
 def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[Column]:
     c = results.columns
     n = len(results)
     used: set[str] = set()
-    deviation = "Deviation [measured - best]"
     columns = [
-        Column("row", "Sleeper", "row", "", np.arange(1, n + 1), "0", 6),
-        Column("number", "Sleeper", "number", "", results.number, "0", 8),
-        Column("label", "Sleeper", "chainage", "", np.array(results.label, dtype=object), "@", 13),
-        Column("station_m", "Sleeper", "station", "m", c["station_m"], "0.000", 11),
+        _named("row", SLEEPER_GROUP, np.arange(1, n + 1), "0", width=6),
+        _named("number", SLEEPER_GROUP, results.number, "0", "number", width=8),
+        _named("label", SLEEPER_GROUP, np.array(results.label, dtype=object), "@", width=13),
+        _named("station_m", SLEEPER_GROUP, c["station_m"], "0.000", width=11),
     ]
     for direction in DIRECTIONS:
         for rail in RAILS:
-            columns.append(Column(f"{direction}_deviation_{rail}_mm", deviation, SHORT_TITLES[rail, direction], "mm",
-                                  c[f"{direction}_deviation_{rail}_mm"]))
+            key = f"{direction}_deviation_{rail}_mm"
+            columns.append(_named(key, DEVIATION_GROUP, c[key], title=rail_direction(rail, direction)))
     gauge = _find(profile, used, "gauge_deviation")
-    columns += (_channels(results, gauge, deviation) if gauge else
-                [Column("gauge_deviation_mm", deviation, "gauge", "mm", c["gauge_mm"] - 1e3 * profile.nominal_gauge_m)])
+    columns += (_channels(results, gauge, DEVIATION_GROUP) if gauge else
+                [_named("gauge_deviation_mm", DEVIATION_GROUP, c["gauge_mm"] - 1e3 * profile.nominal_gauge_m)])
     cross_level = _find(profile, used, "cross_level")
-    columns += (_channels(results, cross_level, deviation) if cross_level else
-                [Column("cross_level_mm", deviation, "cross-level", "mm", c["cant_mm"] - c["design_cant_mm"])])
-    parameters = "Track parameters"
-    columns += [Column("gauge_mm", parameters, "gauge", "mm", c["gauge_mm"], width=9),
-                Column("cant_mm", parameters, "cant", "mm", c["cant_mm"]),
-                Column("design_cant_mm", parameters, "design cant", "mm", c["design_cant_mm"]),
-                Column("gauge_change_mm", parameters, "gauge change to neighbour", "mm", c["gauge_change_mm"], width=11)]
+    columns += (_channels(results, cross_level, DEVIATION_GROUP) if cross_level else
+                [_named("cross_level_mm", DEVIATION_GROUP, c["cant_mm"] - c["design_cant_mm"])])
+    columns += [_named("gauge_mm", PARAMETER_GROUP, c["gauge_mm"], width=9),
+                _named("cant_mm", PARAMETER_GROUP, c["cant_mm"]),
+                _named("design_cant_mm", PARAMETER_GROUP, c["design_cant_mm"]),
+                _named("gauge_change_mm", PARAMETER_GROUP, c["gauge_change_mm"], width=11)]
     rate = _find(profile, used, "gauge_change_rate", base_m=GAUGE_CHANGE_BASE_M)
-    columns += (_channels(results, rate, parameters) if rate else
-                [Column("gauge_change_rate_2_5m_ratio", parameters, f"gauge change rate {GAUGE_CHANGE_BASE_M:g} m", "‰",
-                        PER_MILLE * c["gauge_change_rate_2_5m_ratio"], "0.00", 10)])
+    columns += (_channels(results, rate, PARAMETER_GROUP) if rate else
+                [_named("gauge_change_rate_2_5m_ratio", PARAMETER_GROUP, PER_MILLE * c["gauge_change_rate_2_5m_ratio"],
+                        "0.00", width=10)])
     twist = _find(profile, used, "twist", base_m=TWIST_BASE_M, relative_to_design=True)
-    columns += (_channels(results, twist, parameters) if twist else
-                [Column("twist_3m_mm", parameters, f"twist {TWIST_BASE_M:g} m", "mm", c["twist_3m_mm"])])
-    columns.append(Column("guiding_rail", parameters, "guiding rail", "",
-                          np.where(c["guiding_rail_right"] > 0, "R", "L").astype(object), "@", 7))
+    columns += (_channels(results, twist, PARAMETER_GROUP) if twist else
+                [_named("twist_3m_mm", PARAMETER_GROUP, c["twist_3m_mm"])])
+    columns.append(_named("guiding_rail", PARAMETER_GROUP,
+                          np.where(c["guiding_rail_right"] > 0, "R", "L").astype(object), "@", width=8))
     # the thesis's short- and long-wave columns first, then the profile's other checks in file order
-    for chord, pair, name in ((30.0, 5.0, "Short wave"), (300.0, 150.0, "Long wave")):
+    for chord, pair in ((30.0, 5.0), (300.0, 150.0)):
         check = _find(profile, used, "differential_versine", chord_m=chord, pair_m=pair)
         if check:
-            columns += _channels(results, check, f"{name} {chord:g} m chord / {pair:g} m pairs")
+            columns += _channels(results, check, check_name(check))
     for check in profile.checks:
         if check.name not in used:
-            columns += _channels(results, check, check_description(check))
-    adjustment = "Adjustment (move the rail by)"
+            columns += _channels(results, check, check_name(check) if check.kind in RAIL_KINDS else OTHER_CHECKS_GROUP)
     for direction in DIRECTIONS:
         for rail in RAILS:
-            columns.append(Column(f"adjust_{direction}_{rail}_mm", adjustment, SHORT_TITLES[rail, direction], "mm",
-                                  c[f"adjust_{direction}_{rail}_mm"], "0.0"))
+            key = f"adjust_{direction}_{rail}_mm"
+            columns.append(_named(key, ADJUSTMENT_GROUP, c[key], title=rail_direction(rail, direction)))
     unresolved = np.zeros(n, dtype=bool)
     for direction in DIRECTIONS:
         for rail in RAILS:
             unresolved |= c[f"unresolved_{direction}_{rail}"] > 0
-    columns.append(Column("unresolved", adjustment, "checks still failed", "", np.where(unresolved, "yes", "").astype(object),
-                          "@", 9))
+    columns.append(_named("unresolved", ADJUSTMENT_GROUP, np.where(unresolved, "yes", "").astype(object), "@", width=9))
     return columns
 
 
@@ -287,6 +298,37 @@ def sections(content: ReportContent, length_m: float) -> list[tuple[float, float
     index = np.floor((station - station[0]) / length_m).astype(int)
     return [(station[0] + k * length_m, station[0] + (k + 1) * length_m, np.flatnonzero(index == k))
             for k in range(index.max() + 1) if np.any(index == k)]
+
+
+#: Severity of an exceedance: how far its peak lies beyond the limit, as a share of the limit (the
+#: profiles have one limit per check; this grades the runs beyond it for the reader, largest first).
+SEVERITIES = (("severe", 1.0), ("major", 0.25), ("minor", 0.0))
+SEVERITY_RULE = "severity by how far the peak lies beyond the limit: minor up to 25 %, major 25 - 100 %, severe over 100 % of the limit"
+
+
+def excess_share(row: ExceedanceRow) -> float:
+    """How far the peak lies beyond the limit, as a share of the limit (inf for a limit of 0)."""
+    return abs(row.peak - row.limit) / abs(row.limit) if row.limit else np.inf
+
+
+def severity(row: ExceedanceRow) -> str:
+    share = excess_share(row)
+    return next(name for name, floor in SEVERITIES if share > floor or floor == 0.0)
+
+
+def exceedances_by_severity(content: ReportContent) -> list[tuple[str, list[ExceedanceRow]]]:
+    """(severity, its exceedances in chainage order), the most severe first; severities without one left out."""
+    groups = [(name, [e for e in content.results.exceedances if severity(e) == name]) for name, _ in SEVERITIES]
+    return [(name, sorted(rows, key=lambda e: e.station_from_m)) for name, rows in groups if rows]
+
+
+def exceedance_check(content: ReportContent, row: ExceedanceRow) -> str:
+    """The display name of an exceedance's channel ("30 m / 5 m short wave, left rail, lateral")."""
+    check = next((c for c in content.profile.checks if c.name == row.check), None)
+    if check is None:
+        raise ValueError(f"{content.results.folder}: exceedance of check {row.check!r}, which tolerance profile "
+                         f"{content.profile.name!r} does not hold: process the survey again before reporting")
+    return channel_name(check, row.rail, row.direction)
 
 
 def exceedance_display(row: ExceedanceRow) -> tuple[float, float, str]:

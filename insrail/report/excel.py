@@ -30,14 +30,19 @@ from openpyxl.utils import get_column_letter
 from openpyxl.worksheet.worksheet import Worksheet
 
 from insrail.io.atomic import atomic_write
+from insrail.names import check_name, quantity_name
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
 from insrail.report.content import (
+    SEVERITY_RULE,
     Column,
     ReportContent,
     check_description,
+    exceedance_check,
     exceedance_display,
+    exceedances_by_severity,
+    excess_share,
     limits_text,
     load_report_content,
     parameter_statistics,
@@ -52,13 +57,18 @@ TITLE_FONT = Font(bold=True, size=14)
 BOLD = Font(bold=True)
 RED_FONT = Font(color="9C0006")
 HEADER_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)
-GROUP_ALIGNMENT = Alignment(horizontal="left", vertical="center")  # a group title runs on over its columns
+GROUP_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)  # merged over its columns
 #: Columns (0-based) of label, value, label, value ... in the header blocks above the tables.
 BLOCK_ANCHORS = (0, 4, 12, 16, 24, 28)
 THIN = Side(style="thin", color="808080")
 HEADER_BORDER = Border(bottom=THIN)
+GROUP_BORDER = Border(left=THIN, right=THIN, top=THIN, bottom=THIN)
 SECTION_M = 200.0
-PAPER_A4, PAPER_A3 = "9", "8"  # OOXML paper size codes
+PAPER_CODES = {"A3": 8, "A4": 9}  # OOXML paper size codes
+#: Header text metrics at the default zoom: characters of the bold 11 pt header font per unit of column
+#: width (a unit is one digit of the body font; bold letters are wider), and the height of a text line [pt].
+BOLD_CHARACTER_WIDTH = 1.15
+LINE_HEIGHT_PT = 14.5
 
 
 class _Sheet:
@@ -81,6 +91,8 @@ class _Sheet:
         self._heights: dict[int, float] = {}
         self.table_xml: list[str] = []
         self.last_cell = "A1"
+        self.widths: list[float] | None = None
+        self._header_titles: dict[int, list[tuple[str, int]]] = {}  # row -> (title, columns it spans)
 
     def style_id(self, number_format: str | None = None, fill: PatternFill | None = None,
                  font: Font | None = None) -> int:
@@ -144,20 +156,59 @@ class _Sheet:
             row[anchors[2 * index + 1]] = value if isinstance(value, Cell) else self.cell(value)
         self.append(row)
 
-    def header(self, titles: list[str], height: float | None = None) -> int:
+    def header(self, titles: list[str]) -> int:
+        """A row of column titles; its height (and, before :meth:`start`, the column widths) fit the titles."""
         row = self.append([self.cell(t, font=BOLD, fill=HEADER_FILL, alignment=HEADER_ALIGNMENT, border=HEADER_BORDER)
                            for t in titles])
-        if height:
-            self._heights[row] = height
+        self._fit_header(row, [(title, 1) for title in titles])
         return row
 
-    def start(self, widths: list[float], freeze: str | None = None, paper_a3: bool = False) -> None:
-        """Fix the layout (column widths, frozen panes, printing) and write the rows held so far."""
+    def group_header(self, groups: list[str]) -> int:
+        """A row of group titles, one per column: each run of equal titles becomes one merged cell over its
+        columns (the other developers' columns get it by naming their group)."""
+        runs: list[tuple[str, int, int]] = []  # title, first and last column (1-based)
+        for index, group in enumerate(groups, start=1):
+            if runs and runs[-1][0] == group:
+                runs[-1] = (group, runs[-1][1], index)
+            else:
+                runs.append((group, index, index))
+        cells: list = [None] * len(groups)
+        for group, first, last in runs:
+            cells[first - 1] = self.cell(group, font=BOLD, fill=HEADER_FILL, alignment=GROUP_ALIGNMENT, border=GROUP_BORDER)
+        row = self.append(cells)
+        for _, first, last in runs:
+            if last > first:
+                self.sheet.merged_cells.add(f"{get_column_letter(first)}{row}:{get_column_letter(last)}{row}")
+        self._fit_header(row, [(group, last - first + 1) for group, first, last in runs])
+        return row
+
+    def _fit_header(self, row: int, titles: list[tuple[str, int]]) -> None:
+        self._header_titles[row] = titles
+        if self.widths is not None:  # a header below the table's layout: only its height can still fit
+            self._heights[row] = _header_height(titles, self.widths)
+            self.sheet.row_dimensions[row].height = self._heights[row]
+
+    def start(self, widths: list[float], freeze: str | None = None, paper: str = "A3",
+              page_header: tuple[str, str, str] = ("", "", "")) -> None:
+        """Fix the layout (column widths, frozen panes, printing) and write the rows held so far.
+
+        A column is widened where the longest word of a title above it would not fit (nothing in a
+        header is clipped or broken inside a word), and each header row is as high as its titles wrap."""
+        widths = list(widths)
+        for titles in self._header_titles.values():
+            column = 0
+            for title, span in titles:
+                if span == 1 and column < len(widths):
+                    widths[column] = max(widths[column], _longest_word(title) * BOLD_CHARACTER_WIDTH + 1.5)
+                column += span
+        self.widths = widths
+        for row, titles in self._header_titles.items():
+            self._heights[row] = _header_height(titles, widths)
         for index, width in enumerate(widths, start=1):
             self.sheet.column_dimensions[get_column_letter(index)].width = width
         if freeze:
             self.sheet.freeze_panes = freeze
-        _printable(self.sheet, paper_a3)
+        _printable(self.sheet, paper, page_header)
         pending, self._pending = self._pending or [], None
         for index, row in enumerate(pending, start=1):
             if index in self._heights:
@@ -169,6 +220,32 @@ class _Sheet:
         if self.rows > header_row:
             self.sheet.auto_filter.ref = f"A{header_row}:{get_column_letter(columns)}{self.rows}"
         self.sheet.print_title_rows = f"{first_header_row}:{header_row}"
+
+
+def _longest_word(text: str) -> int:
+    return max((len(word) for word in str(text).split()), default=0)
+
+
+def _wrapped_lines(text: str, width: float) -> int:
+    """Lines ``text`` wraps to in a cell ``width`` wide (word wrap as the spreadsheet does it)."""
+    characters = max(int((width - 1.0) / BOLD_CHARACTER_WIDTH), 1)
+    lines, used = 1, 0
+    for word in str(text).split():
+        if used and used + 1 + len(word) > characters:
+            lines, used = lines + 1, len(word)
+        else:
+            used += len(word) + (1 if used else 0)
+    return lines
+
+
+def _header_height(titles: list[tuple[str, int]], widths: list[float]) -> float:
+    """Height [pt] of a header row holding ``titles`` (title, columns spanned), left to right."""
+    lines, column = 1, 0
+    for title, span in titles:
+        width = sum(widths[column:column + span]) if column < len(widths) else 10.0
+        lines = max(lines, _wrapped_lines(title, width))
+        column += span
+    return LINE_HEIGHT_PT * lines + 4.0
 
 
 def _cells(letter: str, rows: list[str], values: list, styles: list[int]) -> list[str]:
@@ -213,13 +290,37 @@ def _cell_value(value):
     return value
 
 
-def _printable(sheet: Worksheet, paper_a3: bool = False) -> None:
+def _header_text(text: str) -> str:
+    """Text for a print header or footer ("&" starts a field code there)."""
+    return text.replace("&", "&&")
+
+
+def _printable(sheet: Worksheet, paper: str = "A3", page_header: tuple[str, str, str] = ("", "", "")) -> None:
+    """Landscape on the project's paper, one page wide; print header: project, survey, sheet; footer:
+    software and "page x of y"."""
     sheet.page_setup.orientation = "landscape"
-    sheet.page_setup.paperSize = PAPER_A3 if paper_a3 else PAPER_A4
+    sheet.page_setup.paperSize = PAPER_CODES[paper]
+    project, survey, software = page_header
+    sheet.HeaderFooter.oddHeader.left.text = _header_text(project)
+    sheet.HeaderFooter.oddHeader.center.text = _header_text(survey)
+    sheet.HeaderFooter.oddHeader.right.text = "&A"
+    sheet.HeaderFooter.oddFooter.left.text = _header_text(software)
+    sheet.HeaderFooter.oddFooter.right.text = "page &P of &N"
     sheet.page_setup.fitToWidth = 1
     sheet.page_setup.fitToHeight = 0  # as many pages as the rows need
     sheet.sheet_properties.pageSetUpPr.fitToPage = True
     sheet.print_options.gridLines = True
+
+
+def page_header(content: ReportContent) -> tuple[str, str, str]:
+    """What every printed page of the workbook names: project, survey and chainage, software."""
+    return (content.project.name, f"survey {content.survey} {survey_start(content)}, {content.chainage_range}",
+            content.software)
+
+
+def _start(sheet: _Sheet, content: ReportContent, widths: list[float], freeze: str | None = None) -> None:
+    """Lay out a sheet for the project's paper with the page header of the report."""
+    sheet.start(widths, freeze, content.project.report.paper, page_header(content))
 
 
 def _context(content: ReportContent) -> str:
@@ -238,7 +339,7 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     profile = content.profile
     sheet.pairs(("Tolerance profile", f"{profile.name}: {profile.description}"), ("Standard", profile.source),
                 ("Design", project.design or "fitted lines (no design alignment)"))
-    sheet.pairs(("Limits", "; ".join(f"{c.name} {limits_text(c)}" for c in profile.checks)),
+    sheet.pairs(("Limits", "; ".join(f"{check_name(c)} {limits_text(c)}" for c in profile.checks)),
                 ("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"), ("Software", content.software),
                 anchors=(0, 4, 24, 28, 32, 36))
 
@@ -251,14 +352,10 @@ def _sleeper_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
                 ("", sheet.cell("invalid sleeper", fill=INVALID_FILL)),
                 ("Signs", "deviations + right / + up; adjustment: move the rail by the amount, + right / + up"))
     columns = content.columns
-    groups, previous = [], None
-    for column in columns:
-        groups.append(column.group if column.group != previous else None)
-        previous = column.group
-    first_header = sheet.append([sheet.cell(g, font=BOLD, fill=HEADER_FILL, alignment=GROUP_ALIGNMENT) for g in groups])
+    first_header = sheet.group_header([column.group for column in columns])
     sheet.header([limits_text_for(column) for column in columns])
-    header = sheet.header([f"{c.title} ({c.unit})" if c.unit else c.title for c in columns], height=44)
-    sheet.start([c.width for c in columns], freeze=f"E{header + 1}", paper_a3=True)
+    header = sheet.header([f"{c.title} ({c.unit})" if c.unit else c.title for c in columns])
+    _start(sheet, content, [c.width for c in columns], freeze=f"E{header + 1}")
 
     # a style per column and state: plain, inside an exceedance run, invalid sleeper
     plain = [sheet.style_id(c.number_format) for c in columns]
@@ -304,8 +401,9 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
                              "(looking towards increasing chainage)", font=BOLD)])
     amounts = [content.column(key) for key in ADJUSTMENT_KEYS]
     titles = ["sleeper", "chainage", "station (m)"] + [f"{c.title} (mm)" for c in amounts] + ["checks still failed"]
-    header = sheet.header(titles, height=32)
-    sheet.start([9, 13, 11, 10, 10, 10, 10, 12], freeze=f"C{header + 1}")
+    sheet.group_header(["Sleeper"] * 3 + [c.group for c in amounts] + [""])
+    header = sheet.header(titles)
+    _start(sheet, content, [9, 13, 11, 10, 10, 10, 10, 12], freeze=f"C{header + 1}")
     moving = np.flatnonzero(np.any([np.nan_to_num(c.values) != 0 for c in amounts], axis=0))
     order = moving[np.argsort(content.station_m[moving], kind="stable")]
     columns = [content.column("number").values[order].tolist(), [str(v) for v in content.column("label").values[order]],
@@ -315,30 +413,34 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
         [sheet.style_id(font=RED_FONT)]
     sheet.table(list(zip(columns, styles)), cancel=cancel)
     progress(1.0, "adjustment sheet")
-    sheet.finish_table(header, header, len(titles))
+    sheet.finish_table(header, header - 1, len(titles))
 
 
 # --------------------------------------------------------------------------- exceedances
 
 def _exceedance_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    sheet.title("Exceedances")
+    sheet.title("Exceedances, the most severe first, each severity in chainage order")
     sheet.append([sheet.cell(_context(content))])
-    titles = ["no.", "check", "what", "rail", "direction", "from", "to", "from (m)", "to (m)", "length (m)", "peak",
-              "limit", "unit", "first sleeper", "last sleeper"]
-    header = sheet.header(titles, height=32)
-    sheet.start([6, 22, 34, 7, 9, 13, 13, 11, 11, 9, 8, 8, 6, 9, 9], freeze=f"B{header + 1}")
+    sheet.append([sheet.cell(SEVERITY_RULE[0].upper() + SEVERITY_RULE[1:])])
+    titles = ["no.", "severity", "check", "what", "from", "to", "from (m)", "to (m)", "length (m)", "peak", "limit",
+              "unit", "beyond the limit by (%)", "first sleeper", "last sleeper"]
+    header = sheet.header(titles)
+    _start(sheet, content, [6, 9, 40, 34, 13, 13, 11, 11, 9, 8, 8, 6, 10, 9, 9], freeze=f"D{header + 1}")
     checks = {c.name: c for c in content.profile.checks}
     label_of = dict(zip(content.results.number.tolist(), content.results.label))
-    for index, e in enumerate(content.results.exceedances, start=1):
-        peak, limit, unit = exceedance_display(e)
-        fmt = "0.000" if unit == "‰" else "0.00"  # enough to see the peak beyond the limit
-        what = check_description(checks[e.check]) if e.check in checks else e.kind
-        sheet.append([sheet.cell(index), sheet.cell(e.check), sheet.cell(what), sheet.cell(e.rail),
-                      sheet.cell(e.direction), sheet.cell(label_of.get(e.first_sleeper, "")),
-                      sheet.cell(label_of.get(e.last_sleeper, "")), sheet.cell(e.station_from_m, "0.000"),
-                      sheet.cell(e.station_to_m, "0.000"), sheet.cell(e.station_to_m - e.station_from_m, "0.000"),
-                      sheet.cell(peak, fmt), sheet.cell(limit, fmt), sheet.cell(unit), sheet.cell(e.first_sleeper),
-                      sheet.cell(e.last_sleeper)])
+    index = 0
+    for severity, rows in exceedances_by_severity(content):
+        for e in rows:
+            index += 1
+            peak, limit, unit = exceedance_display(e)
+            fmt = "0.000" if unit == "‰" else "0.00"  # enough to see the peak beyond the limit
+            sheet.append([sheet.cell(index), sheet.cell(severity, font=RED_FONT if severity == "severe" else None),
+                          sheet.cell(exceedance_check(content, e)), sheet.cell(check_description(checks[e.check])),
+                          sheet.cell(label_of.get(e.first_sleeper, "")), sheet.cell(label_of.get(e.last_sleeper, "")),
+                          sheet.cell(e.station_from_m, "0.000"), sheet.cell(e.station_to_m, "0.000"),
+                          sheet.cell(e.station_to_m - e.station_from_m, "0.000"), sheet.cell(peak, fmt),
+                          sheet.cell(limit, fmt), sheet.cell(unit), sheet.cell(100 * excess_share(e), "0"),
+                          sheet.cell(e.first_sleeper), sheet.cell(e.last_sleeper)])
     progress(1.0, "exceedance sheet")
     sheet.finish_table(header, header, len(titles))
 
@@ -349,13 +451,13 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     sheet.title("Summary")
     sheet.append([sheet.cell(_context(content))])
     sheet.append([sheet.cell("Statistics per parameter (valid sleepers)", font=BOLD)])
-    titles = ["group", "parameter", "unit", "limit", "valid sleepers", "minimum", "maximum", "mean", "standard deviation",
+    titles = ["parameter", "unit", "limit", "valid sleepers", "minimum", "maximum", "mean", "standard deviation",
               "sleepers beyond", "exceedances"]
-    sheet.header(titles, height=32)
-    sheet.start([30, 24, 6, 12, 9, 9, 9, 9, 10, 9, 11, 9, 9, 9, 9, 9])
+    sheet.header(titles)
+    _start(sheet, content, [44, 9, 12, 10, 10, 10, 10, 11, 10, 11, 10, 10, 10, 10, 10, 10])
     for s in parameter_statistics(content):
         fmt = s.column.number_format
-        sheet.append([sheet.cell(s.column.group), sheet.cell(s.column.title), sheet.cell(s.column.unit),
+        sheet.append([sheet.cell(s.column.name), sheet.cell(s.column.unit),
                       sheet.cell(limits_text_for(s.column)), sheet.cell(s.valid_count), sheet.cell(s.minimum, fmt),
                       sheet.cell(s.maximum, fmt), sheet.cell(s.mean, fmt), sheet.cell(s.standard_deviation, "0.00"),
                       sheet.cell(s.exceeding_sleepers if s.column.limits else None),
@@ -372,13 +474,13 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     checks = [(check, [c for c in content.columns if c.check == check.name]) for check in content.profile.checks]
     checks = [(check, columns) for check, columns in checks if columns]
     titles = (["from (m)", "to (m)", "from", "to", "sleepers", "valid", "exceedances starting"]
-              + [f"max |{check.name}| ({columns[0].unit})" for check, columns in checks]
-              + [f"SD {name.replace('_', ' ')} (mm)" for name in channels] + (["TQI (mm)"] if channels else []))
+              + [f"max |{check_name(check)}| ({columns[0].unit})" for check, columns in checks]
+              + [f"SD {quantity_name(name).name} (mm)" for name in channels] + (["TQI (mm)"] if channels else []))
     # The survey's predicted accuracy per section (quality.csv, same sections): where the measurement is weak.
     predicted = content.results.quality
     figures = PREDICTED_FIGURES if predicted is not None else ()
-    titles += [f"predicted 1σ {title} (mm)" for _, title in figures]
-    sheet.header(titles, height=44)
+    titles += [f"{quantity_name(name).name} (mm)" for name in figures]
+    sheet.header(titles)
     starts = np.array([e.station_from_m for e in content.results.exceedances])
     labels = content.column("label").values
     for start, end, rows in sections(content, section_m):
@@ -386,7 +488,7 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
         tqi = ([quality[f"sd_{name}_mm"][match[0]] for name in channels] + [quality["tqi_mm"][match[0]]]
                if len(match) else [None] * (len(channels) + bool(channels)))
         same = np.flatnonzero(np.isclose(predicted.station_from_m, start, atol=1e-3)) if figures else []
-        sigma = [float(getattr(predicted, name)[same[0]]) if len(same) else np.nan for name, _ in figures]
+        sigma = [float(getattr(predicted, name)[same[0]]) if len(same) else np.nan for name in figures]
         sheet.append([sheet.cell(start, "0.000"), sheet.cell(end, "0.000"), sheet.cell(labels[rows[0]]),
                       sheet.cell(labels[rows[-1]]), sheet.cell(len(rows)), sheet.cell(int(content.valid[rows].sum())),
                       sheet.cell(int(np.count_nonzero((starts >= start) & (starts < end))) if starts.size else 0)]
@@ -396,9 +498,9 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     progress(1.0, "summary sheet")
 
 
-#: quality.csv columns shown per section in the summary sheet, with their titles.
-PREDICTED_FIGURES = (("sigma_lag5_lateral_mm", "5 m lag lateral"), ("sigma_lag5_vertical_mm", "5 m lag vertical"),
-                     ("sigma_lag150_lateral_mm", "150 m lag lateral"), ("sigma_lag150_vertical_mm", "150 m lag vertical"))
+#: quality.csv columns shown per section in the summary sheet.
+PREDICTED_FIGURES = ("sigma_lag5_lateral_mm", "sigma_lag5_vertical_mm", "sigma_lag150_lateral_mm",
+                     "sigma_lag150_vertical_mm")
 
 
 def _largest_magnitude(columns: list[Column], rows: np.ndarray) -> float:
@@ -428,7 +530,7 @@ def _flatten(prefix: str, value, rows: list[tuple[str, object]]) -> None:
 
 def _log_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
     sheet.title("Processing log")
-    sheet.start([42, 90])
+    _start(sheet, content, [42, 90])
     now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     for label, value in (("Software", content.software), ("Report written", now),
                          ("Project file", str(content.project.path)), ("Results", str(content.results.folder)),
@@ -457,11 +559,13 @@ def _discard(workbook: Workbook) -> None:
             sheet._writer.cleanup()
 
 
+#: The sheets in workbook order (the Summary first: what a reader opens the file for), each with its
+#: share of the writing time.
 SHEETS: tuple[tuple[str, Callable, float], ...] = (
+    ("Summary", _summary_sheet, 0.04),
     ("Sleepers", _sleeper_sheet, 0.6),
     ("Adjustment", _adjustment_sheet, 0.04),
     ("Exceedances", _exceedance_sheet, 0.04),
-    ("Summary", _summary_sheet, 0.04),
     ("Processing log", _log_sheet, 0.01),
 )
 

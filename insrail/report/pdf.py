@@ -36,8 +36,9 @@ from reportlab.platypus import (
 )
 
 from insrail.io.atomic import atomic_write
-from insrail.notices import notices_of
+from insrail.names import check_name, rail_direction
 from insrail.nav.trajectory import Trajectory
+from insrail.notices import notices_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.compare import (
     BASE_PARAMETERS,
@@ -59,6 +60,8 @@ from insrail.report.charts import (
     strip_drawing,
 )
 from insrail.report.content import (
+    DEVIATION_GROUP,
+    OTHER_CHECKS_GROUP,
     RAIL_KINDS,
     ReportContent,
     check_description,
@@ -333,12 +336,14 @@ def _predicted_accuracy(content: ReportContent) -> list[Flowable]:
 
 
 def chart_specs(content: ReportContent) -> list[StripChart]:
-    """The quantities drawn along chainage, in the order of the sleeper table."""
+    """The quantities drawn along chainage, in the order of the sleeper table, titled with their display names."""
     c = {column.key: column for column in content.columns}
-    charts = [StripChart("Lateral deviation [measured - best]", "mm",
-                         (Series("left", c["lateral_deviation_left_mm"].values), Series("right", c["lateral_deviation_right_mm"].values))),
-              StripChart("Vertical deviation [measured - best]", "mm",
-                         (Series("left", c["vertical_deviation_left_mm"].values), Series("right", c["vertical_deviation_right_mm"].values)))]
+    charts = [StripChart(f"Lateral deviation {DEVIATION_GROUP.removeprefix('Deviation ')}", "mm",
+                         (Series("left rail", c["lateral_deviation_left_mm"].values),
+                          Series("right rail", c["lateral_deviation_right_mm"].values))),
+              StripChart(f"Vertical deviation {DEVIATION_GROUP.removeprefix('Deviation ')}", "mm",
+                         (Series("left rail", c["vertical_deviation_left_mm"].values),
+                          Series("right rail", c["vertical_deviation_right_mm"].values)))]
     profile_checks = {check.name: check for check in content.profile.checks}
     seen = set()
     for column in content.columns:
@@ -348,18 +353,22 @@ def chart_specs(content: ReportContent) -> list[StripChart]:
         seen.add(check.name)
         for direction in check.directions:
             shown = [c[check_column(check.name, check.kind, rail, direction)] for rail in RAILS]
-            charts.append(StripChart(f"{check_description(check).capitalize()}, {direction}", "mm",
-                                     tuple(Series(rail, col.values) for rail, col in zip(RAILS, shown)), column.limits,
-                                     shown[0].exceeding | shown[1].exceeding))
-    gauge = next(col for col in content.columns if col.group.startswith("Deviation") and col.title == "gauge")
-    charts.append(StripChart("Gauge deviation from nominal", "mm", (Series("gauge", gauge.values),), gauge.limits,
-                             gauge.exceeding))
+            charts.append(StripChart(f"{check_name(check)}, {direction}", "mm",
+                                     tuple(Series(rail_direction(rail, ""), col.values) for rail, col in zip(RAILS, shown)),
+                                     column.limits, shown[0].exceeding | shown[1].exceeding))
+
+    def kind(column) -> str | None:
+        return profile_checks[column.check].kind if column.check else None
+
+    gauge = next(col for col in content.columns if col.key == "gauge_deviation_mm" or kind(col) == "gauge_deviation")
+    charts.append(StripChart(gauge.name, "mm", (Series(gauge.name, gauge.values),), gauge.limits, gauge.exceeding))
     charts.append(StripChart("Cant", "mm", (Series("measured", c["cant_mm"].values), Series("design", c["design_cant_mm"].values))))
+    track_kinds = ("cross_level", "twist", "gauge_change_rate")
     for column in content.columns:
-        parameter = column.group == "Track parameters" and column.title.startswith(("twist", "gauge change rate"))
-        if parameter or (column.group.startswith("Deviation") and column.title == "cross-level"):
-            charts.append(StripChart(column.title.capitalize(), column.unit, (Series(column.title, column.values),),
-                                     column.limits, column.exceeding))
+        if column.key in ("cross_level_mm", "twist_3m_mm", "gauge_change_rate_2_5m_ratio") or kind(column) in track_kinds or (
+                column.group == OTHER_CHECKS_GROUP and kind(column) != "gauge_deviation"):
+            charts.append(StripChart(column.name, column.unit, (Series(column.name, column.values),), column.limits,
+                                     column.exceeding))
     return charts
 
 
