@@ -56,14 +56,14 @@ def row(scenario: str, config: str, name: str, errors, outages) -> str:
 def evaluate(folder: Path, config: str, scenario: str) -> list[str]:
     from insrail.io.survey import read_survey
     from insrail.nav.earth import CGCS2000
-    from insrail.nav.fusion import FusionOptions, fuse
+    from insrail.nav.fusion import FusionOptions, fuse_survey
     from insrail.sim.evaluation import trajectory_errors
     from insrail.sim.truth import read_nav_truth
 
     survey = read_survey(folder)
     truth = read_nav_truth(folder / "truth" / "nav.npy")
     outages = tomllib.loads((folder / "truth" / "errors.toml").read_text())["gnss_outages_s"]
-    result = fuse(survey, FusionOptions(**CONFIGS[config]), ellipsoid=CGCS2000)
+    result = fuse_survey(survey, FusionOptions(**CONFIGS[config]), ellipsoid=CGCS2000)
     rows = [row(scenario, config, "forward", trajectory_errors(result.forward, truth, CGCS2000), outages),
             row(scenario, config, "smoothed", trajectory_errors(result.trajectory, truth, CGCS2000), outages)]
     return rows
@@ -72,13 +72,13 @@ def evaluate(folder: Path, config: str, scenario: str) -> list[str]:
 def _long_child(folder: str, queue) -> None:
     from insrail.io.survey import read_survey
     from insrail.nav.earth import CGCS2000
-    from insrail.nav.fusion import FusionOptions, fuse
+    from insrail.nav.fusion import FusionOptions, fuse_survey
     from insrail.sim.evaluation import trajectory_errors
     from insrail.sim.truth import read_nav_truth
 
     survey = read_survey(folder)
     start = time.perf_counter()
-    result = fuse(survey, FusionOptions(), ellipsoid=CGCS2000)
+    result = fuse_survey(survey, FusionOptions(), ellipsoid=CGCS2000)
     elapsed = time.perf_counter() - start
     rss_gb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
     truth = read_nav_truth(Path(folder) / "truth" / "nav.npy")

@@ -33,7 +33,7 @@ def run_errors(workdir: Path, seed: int, imu: str, speed: float, options) -> Pat
     """Simulate and fuse one seed; cache the errors of both passes."""
     from insrail.io.survey import read_survey
     from insrail.nav.earth import CGCS2000
-    from insrail.nav.fusion import fuse
+    from insrail.nav.fusion import fuse_survey
     from insrail.sim.evaluation import trajectory_errors
     from insrail.sim.scenario import preset
     from insrail.sim.simulate import simulate
@@ -49,7 +49,7 @@ def run_errors(workdir: Path, seed: int, imu: str, speed: float, options) -> Pat
     folder = workdir / f"straight-{tag}-seed{seed}"
     simulate(config, seed, folder, imu_format="npy", overwrite=True)
     survey = read_survey(folder)
-    result = fuse(survey, options, ellipsoid=CGCS2000, output_every=4)
+    result = fuse_survey(survey, options, ellipsoid=CGCS2000, output_every=4)
     truth = read_nav_truth(folder / "truth" / "nav.npy")
     arrays = {}
     for name, trajectory in (("forward", result.forward), ("smoothed", result.trajectory)):

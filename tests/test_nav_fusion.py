@@ -12,7 +12,7 @@ import pytest
 
 from insrail.io.survey import read_survey
 from insrail.nav.earth import CGCS2000
-from insrail.nav.fusion import FusionOptions, fuse
+from insrail.nav.fusion import FusionOptions, fuse_survey
 from insrail.nav.imu_gaps import bridge_gaps
 from insrail.sim.evaluation import trajectory_errors
 from insrail.sim.truth import read_nav_truth
@@ -33,7 +33,7 @@ def fused(survey):
     lat = gnss.lat_rad.copy()
     lat[k] += 5.0 / 6.35e6
     bad = replace(survey, gnss=replace(gnss, lat_rad=lat))
-    return fuse(bad, FusionOptions(), ellipsoid=CGCS2000, output_every=2), float(gnss.time_s[k])
+    return fuse_survey(bad, FusionOptions(), ellipsoid=CGCS2000, output_every=2), float(gnss.time_s[k])
 
 
 def test_smoothed_solution_meets_the_accuracy_bars(short_nav_survey, fused):
@@ -73,7 +73,7 @@ def test_a_gnss_jump_is_rejected_and_listed(short_nav_survey, fused):
 def test_gnss_that_does_not_overlap_the_imu_is_a_clear_error(survey):
     shifted = replace(survey, gnss=replace(survey.gnss, time_s=survey.gnss.time_s + 2 * 86400.0))
     with pytest.raises(ValueError, match="no GNSS epoch lies within the IMU data"):
-        fuse(shifted)
+        fuse_survey(shifted)
 
 
 def test_short_imu_gaps_are_bridged_with_a_warning_and_long_ones_refused(survey):
@@ -138,8 +138,8 @@ def test_prism_fixes_on_cpiii_bound_the_error_in_a_gnss_outage(tunnel_survey):
     truth = read_nav_truth(folder / "truth" / "nav.npy")
     outage = tomllib.loads((folder / "truth" / "errors.toml").read_text())["gnss_outages_s"]
     options = FusionOptions(use_nhc=False)  # a weaker INS makes the fixes' effect plain
-    without = trajectory_errors(fuse(survey, options, ellipsoid=CGCS2000, output_every=4).trajectory, truth, CGCS2000)
-    result = fuse(survey, options, ellipsoid=CGCS2000, output_every=4, position_fixes=fixes)
+    without = trajectory_errors(fuse_survey(survey, options, ellipsoid=CGCS2000, output_every=4).trajectory, truth, CGCS2000)
+    result = fuse_survey(survey, options, ellipsoid=CGCS2000, output_every=4, position_fixes=fixes)
     with_fixes = trajectory_errors(result.trajectory, truth, CGCS2000)
     assert result.statistics["position_fix"]["used"] == 2
     assert max(with_fixes.max_in(outage)) < 0.5 * max(without.max_in(outage))
@@ -154,7 +154,7 @@ def test_a_survey_that_starts_moving_is_aligned_on_the_gnss_track(tmp_path):
     base = preset("short")
     config = replace(base, motion=replace(base.motion, static_start_s=5.0, end_station_m=1650.0, stops=((1450.0, 20.0),)))
     simulate(config, seed=2, out_dir=tmp_path / "moving", imu_format="npy")
-    result = fuse(read_survey(tmp_path / "moving"), ellipsoid=CGCS2000, output_every=4)
+    result = fuse_survey(read_survey(tmp_path / "moving"), ellipsoid=CGCS2000, output_every=4)
     assert result.info["alignment"] == "gnss-track"
     errors = trajectory_errors(result.trajectory, read_nav_truth(tmp_path / "moving" / "truth" / "nav.npy"), CGCS2000)
     assert np.all(np.rad2deg(errors.rms_attitude_rad()) < [0.004, 0.004, 0.01])

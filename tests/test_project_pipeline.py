@@ -278,8 +278,8 @@ def test_prism_observations_aid_the_fusion_as_position_fixes(processed, tmp_path
     class Stop(Exception):
         pass
 
-    def capture(survey_data, *args, position_fixes=None, **kwargs):
-        seen["fixes"] = position_fixes
+    def capture(imu, aiding, *args, **kwargs):
+        seen["fixes"] = next(m for m in aiding.measurements if m.name == "position_fix")
         raise Stop
 
     monkeypatch.setattr(pipeline, "fuse", capture)

@@ -7,7 +7,7 @@ import pytest
 
 from insrail.io.survey import read_survey
 from insrail.nav.earth import CGCS2000
-from insrail.nav.fusion import FusionOptions, SmootherStore, fuse
+from insrail.nav.fusion import FusionOptions, SmootherStore, fuse_survey
 from insrail.quality.survey import EpochQuality, epoch_quality, sections, survey_quality
 from insrail.sim.scenario import preset
 from insrail.sim.simulate import simulate
@@ -30,7 +30,7 @@ def recorded(tmp_path_factory):
     simulate(config, 3, folder, imu_format="npy")
     survey = read_survey(folder)
     with SmootherStore() as store:
-        yield survey, fuse(survey, FusionOptions(), ellipsoid=CGCS2000, covariance_store=store), store
+        yield survey, fuse_survey(survey, FusionOptions(), ellipsoid=CGCS2000, covariance_store=store), store
 
 
 @pytest.fixture(scope="module")
@@ -77,7 +77,7 @@ def test_a_record_of_another_fusion_is_refused(recorded):
     with SmootherStore() as other, pytest.raises(ValueError, match="not this fusion's record"):
         epoch_quality(survey, result, ellipsoid=CGCS2000, covariance_store=other)
     with pytest.raises(ValueError, match="already holds"):
-        fuse(survey, covariance_store=store)
+        fuse_survey(survey, covariance_store=store)
 
 
 def test_outage_section_is_the_weakest(fused):

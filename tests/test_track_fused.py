@@ -8,7 +8,7 @@ import pytest
 
 from insrail.io.survey import read_survey
 from insrail.nav.earth import CGCS2000
-from insrail.nav.fusion import fuse
+from insrail.nav.fusion import fuse_survey
 from insrail.track.alignment_csv import read_alignment_csv
 from insrail.track.sleeper_table import reconstruct_track
 from test_track_deviations import expected_deviations
@@ -22,7 +22,7 @@ SHORT_WAVE_SLEEPERS = 48
 @pytest.fixture(scope="module")
 def reconstructed(short_nav_survey):
     survey = read_survey(short_nav_survey)
-    trajectory = fuse(survey, ellipsoid=CGCS2000).trajectory
+    trajectory = fuse_survey(survey, ellipsoid=CGCS2000).trajectory
     recon = truth_reconstruction(short_nav_survey)
     result = reconstruct_track(trajectory, survey.manifest.trolley, survey.gauge, recon.to_engineering,
                                design=read_alignment_csv(short_nav_survey / "truth" / "design.csv"),

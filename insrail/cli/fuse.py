@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
     from insrail.io.atomic import atomic_write
     from insrail.io.survey import read_survey
     from insrail.nav import earth
-    from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, fuse
+    from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, aiding_for, fuse
     from insrail.nav.imu_profile import load_imu_profile
     from insrail.nav.trajectory import save_trajectory, write_kfgins_imu_errors, write_kfgins_nav, write_kfgins_std
 
@@ -55,7 +55,8 @@ def run(args: argparse.Namespace) -> int:
     profile = load_imu_profile(args.imu_profile or survey.manifest.imu_profile)
     every = max(int(round(survey.imu.rate_hz / args.rate)), 1) if args.rate > 0 else 1
     ellipsoid = earth.CGCS2000 if args.ellipsoid == "CGCS2000" else earth.WGS84
-    result = fuse(survey, options, profile, ellipsoid, output_every=every, progress=lambda f, m: bar(0.05 + 0.85 * f, m))
+    result = fuse(survey.imu, aiding_for(survey, options, profile), profile, options, ellipsoid, output_every=every,
+                  progress=lambda f, m: bar(0.05 + 0.85 * f, m))
     bar(0.9, "writing")
     args.out.mkdir(parents=True, exist_ok=True)
     traj = result.trajectory

@@ -40,9 +40,9 @@ import numpy as np
 from numba import njit
 from scipy.stats import chi2
 
-from insrail.io.survey import SurveyData
-from insrail.io.types import GnssSolution
-from insrail.nav import _kernels, earth
+from insrail.io.survey import SurveyData, TrolleyGeometry
+from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
+from insrail.nav import _kernels, earth, kalman
 from insrail.nav.alignment import coarse_alignment, detect_stops, track_alignment
 from insrail.nav.error_model import (
     ATT,
@@ -61,7 +61,15 @@ from insrail.nav.error_model import (
 )
 from insrail.nav.imu_gaps import bridge_gaps
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
-from insrail.nav.measurements import GnssPosition, GnssVelocity, NavSnapshot, OdometerNhc, PositionFix, Zupt
+from insrail.nav.measurements import (
+    GnssPosition,
+    GnssVelocity,
+    NavSnapshot,
+    OdometerNhc,
+    PositionFix,
+    Zupt,
+    schedule,
+)
 from insrail.nav.mechanization import euler_from_q_bn, lat_lon_from_q_ne, q_ne_from_lat_lon
 from insrail.nav.rotation import dcm_to_quat, euler_to_dcm, quat_multiply, quat_to_dcm, rotvec_to_quat
 from insrail.nav.trajectory import Trajectory
@@ -381,44 +389,91 @@ def initial_covariance(profile: ImuProfile, options: FusionOptions, sigma_pos_ne
     return np.diag(np.maximum(sig, 1e-12) ** 2)
 
 
-def odometer_speed_sigma(span_s, pulse_length_m: float, options: FusionOptions):
-    """1-sigma of the odometer's mean speed over segments of ``span_s`` seconds."""
-    # Quantisation: each interpolated distance is off by up to one pulse (uniform), so the
-    # difference of two has a standard deviation of pulse / sqrt(6).
-    return np.hypot(options.odometer_sigma_mps, pulse_length_m / (np.sqrt(6.0) * np.asarray(span_s)))
+@dataclass(frozen=True)
+class Aiding:
+    """What the filter is aided with: the aiding sources (``insrail.nav.measurements``), applied
+    at an update epoch in this order, and what the start of the filter needs besides them (the
+    GNSS solution for the initial position and the track heading, the odometer for stop
+    detection and the initial speed, the trolley's mounting and lever arms)."""
+
+    measurements: tuple
+    gnss: GnssSolution  # after the quality policy (``gnss_by_quality``)
+    odometer: OdometerData
+    trolley: TrolleyGeometry
+    gnss_quality: dict = field(default_factory=dict)  # per quality flag: epochs, sigma factor, used
 
 
-def _odometer_speeds(survey: SurveyData, times: np.ndarray, pulse_length_m: float, options: FusionOptions):
-    """Mean odometer speed over each segment ending at ``times[1:]`` and its sigma."""
-    odo = survey.odometer
-    d = np.interp(times, odo.time_s, odo.distance_m)
-    span = np.diff(times)
-    speed = np.diff(d) / span
-    sigma = odometer_speed_sigma(span, pulse_length_m, options)
-    valid = (times[:-1] >= odo.time_s[0]) & (times[1:] <= odo.time_s[-1])
-    return speed, sigma, valid
+def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: ImuProfile, gnss: GnssSolution,
+                   odometer: OdometerData, position_fixes: PositionFix | None = None) -> tuple:
+    """The aiding sources as ``options`` selects them, in the order the filter applies them at
+    an update epoch: GNSS positions (and velocities), total-station fixes, odometer/NHC, ZUPT.
+    The fusion and the accuracy prediction (``insrail.quality.prediction``) both build theirs here."""
+    sources: list = [GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
+                                  trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
+                                  options.gnss_correlated_sigma_ned_m)]
+    if options.use_gnss_velocity and gnss.vel_ned_mps is not None:
+        sources.append(GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m))
+    if position_fixes is not None:
+        sources.append(position_fixes)
+    if options.use_odometer or options.use_nhc:
+        sources.append(OdometerNhc.from_distance(
+            odometer.time_s, odometer.distance_m, euler_to_dcm(*trolley.mounting_rpy_rad), trolley.imu_to_odometer_m,
+            trolley.imu_to_reference_rail_m, options.odometer_sigma_mps, odometer.pulse_length_m or 0.001,
+            sigma_nhc_mps=options.nhc_sigma_mps, use_odometer=options.use_odometer, use_nhc=options.use_nhc))
+    if options.use_zupt:
+        sources.append(Zupt(np.zeros(0), options.zupt_sigma_mps, gyro_white_noise=max(profile.gyro_arw, 1e-7)))
+    return tuple(sources)
+
+
+def aiding_for(survey: SurveyData, options: FusionOptions, profile: ImuProfile,
+               position_fixes: PositionFix | None = None) -> Aiding:
+    """What a survey aids the filter with (:func:`aiding_sources`), its GNSS after the quality policy."""
+    gnss, gnss_quality = gnss_by_quality(survey.gnss, options.gnss_quality_policy)
+    trolley = survey.manifest.trolley
+    return Aiding(aiding_sources(options, trolley, profile, gnss, survey.odometer, position_fixes), gnss,
+                  survey.odometer, trolley, gnss_quality)
+
+
+def fuse_survey(survey: SurveyData, options: FusionOptions = FusionOptions(), profile: ImuProfile | None = None,
+                ellipsoid: earth.Ellipsoid = earth.WGS84, position_fixes: PositionFix | None = None,
+                **kwargs) -> FusionResult:
+    """:func:`fuse` with the aiding sources of a survey (:func:`aiding_for`) and its IMU profile."""
+    profile = profile or load_imu_profile(survey.manifest.imu_profile)
+    return fuse(survey.imu, aiding_for(survey, options, profile, position_fixes), profile, options, ellipsoid, **kwargs)
+
+
+def update_grid(imu_time_s: np.ndarray, k0: int, every: int, measurements) -> np.ndarray:
+    """The IMU epochs that end a filter segment: every ``every``-th from the start epoch
+    ``k0``, the epoch that closes each time-stamped observation, and the last epoch."""
+    closing = [np.zeros(0, dtype=int)]
+    for meas in measurements:
+        times = meas.closing_times_s()
+        inside = times[(times > imu_time_s[k0]) & (times <= imu_time_s[-1])]
+        closing.append(np.searchsorted(imu_time_s, inside))
+    n = len(imu_time_s)
+    return np.unique(np.concatenate([np.arange(k0, n, every), *closing, [n - 1]])).astype(int)
 
 
 # --------------------------------------------------------------------------- engine
 
 
 def fuse(
-    survey: SurveyData,
+    imu: ImuIncrements,
+    aiding: Aiding,
+    profile: ImuProfile,
     options: FusionOptions = FusionOptions(),
-    profile: ImuProfile | None = None,
     ellipsoid: earth.Ellipsoid = earth.WGS84,
     output_every: int = 1,
-    position_fixes: PositionFix | None = None,
     covariance_store: SmootherStore | None = None,
     progress: ProgressFn | None = None,
     cancel: CancelToken = None,
 ) -> FusionResult:
-    """Fuse one survey's IMU, GNSS, odometer (NHC, ZUPT) into a trajectory.
+    """Fuse IMU increments with a list of aiding sources into a trajectory.
 
+    aiding         : the sources and what the start needs (:func:`aiding_for` builds it from a
+                     survey; total-station fixes are a source like the others, geodetic
+                     positions of the prism the caller transformed with the project's CRS)
     output_every   : the trajectories hold every n-th IMU epoch (1: the full IMU rate)
-    position_fixes : known positions of a point on the trolley (total-station prism on CPIII
-                     control), already transformed to geodetic coordinates by the caller,
-                     who knows the project's engineering CRS (see :func:`prism_fixes`)
     covariance_store : an empty :class:`SmootherStore` owned by the caller: the forward pass
                      records into it (whether or not ``options.smoother``) and leaves it open, so
                      the covariances can be analysed after the fusion without replaying it
@@ -426,68 +481,40 @@ def fuse(
     if covariance_store is not None and covariance_store.count:
         raise ValueError(f"the covariance store already holds {covariance_store.count} records: pass an empty one")
     step = StepProgress(progress)
-    profile = profile or load_imu_profile(survey.manifest.imu_profile)
     noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
     gqg = noise_matrix(noise)
-    trolley = survey.manifest.trolley
+    trolley = aiding.trolley
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
-    imu, warnings = bridge_gaps(survey.imu, options.max_imu_gap_s)
+    imu, warnings = bridge_gaps(imu, options.max_imu_gap_s)
     n = len(imu)
     t = imu.time_s
     dt = np.empty(n)
     dt[1:] = np.diff(t)
     dt[0] = np.median(dt[1 : min(n, 1000)])
 
-    gnss, gnss_quality = gnss_by_quality(survey.gnss, options.gnss_quality_policy)
+    gnss = aiding.gnss
     gnss_idx = np.flatnonzero((gnss.time_s > t[0]) & (gnss.time_s <= t[-1]))
     if gnss_idx.size == 0:
         raise ValueError(
             f"{gnss.source or 'GNSS'}: no GNSS epoch lies within the IMU data "
             f"({t[0]:.3f} - {t[-1]:.3f} s of week); check the files and their time scales"
         )
-    stops = detect_stops(imu, survey.odometer)
-    start = _initial_state(imu, gnss, gnss_idx, stops, survey.odometer, c_vb, trolley.imu_to_antenna_m, options, ellipsoid)
+    stops = detect_stops(imu, aiding.odometer)
+    start = _initial_state(imu, gnss, gnss_idx, stops, aiding.odometer, c_vb, trolley.imu_to_antenna_m, options, ellipsoid)
     k0, nav = start.epoch, start.nav
     nav_store = np.empty((n, 12))
     nav_store[: k0 + 1] = nav[:12]
 
-    # --- measurements and the update schedule ----------------------------------------------
-    gnss_pos = GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
-                            trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
-                            options.gnss_correlated_sigma_ned_m)
-    timed = [gnss_pos]
-    if options.use_gnss_velocity and gnss.vel_ned_mps is not None:
-        timed.append(GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m))
-    if position_fixes is not None:
-        timed.append(position_fixes)
-    # Each time-stamped observation is applied at the IMU epoch that closes its interval.
-    observations_at: dict[int, list] = {}
-    for meas in timed:
-        inside = np.flatnonzero((meas.time_s > t[k0]) & (meas.time_s <= t[-1]))
-        for i, e in zip(inside, np.searchsorted(t, meas.time_s[inside])):
-            observations_at.setdefault(int(e), []).append((meas, int(i)))
     every = max(int(round(1.0 / (options.update_rate_hz * dt[0]))), 1)
-    epochs = np.unique(np.concatenate([np.arange(k0, n, every), list(observations_at), [n - 1]])).astype(int)
-
-    pulse = survey.odometer.pulse_length_m or 0.001
-    speed, speed_sigma, speed_valid = _odometer_speeds(survey, t[epochs], pulse, options)
-    odo_meas = OdometerNhc(
-        t[epochs[1:]], speed, c_vb, trolley.imu_to_odometer_m, trolley.imu_to_reference_rail_m, speed_sigma,
-        sigma_nhc_mps=options.nhc_sigma_mps, use_odometer=options.use_odometer, use_nhc=options.use_nhc,
-    )
-    zupt = Zupt(t, options.zupt_sigma_mps, gyro_white_noise=max(noise.arw, 1e-7))
-    stop_start = np.array([s[0] for s in stops])
-    stop_end = np.array([s[1] for s in stops])
-
-    def at_rest(time_s: float) -> bool:
-        j = np.searchsorted(stop_start, time_s) - 1
-        return j >= 0 and time_s <= stop_end[j]
+    epochs = update_grid(t, k0, every, aiding.measurements)
+    plan = schedule(t[epochs], aiding.measurements, stops)
+    sources = plan.measurements
 
     # --- forward pass ---------------------------------------------------------------------
     P = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
                            start.sigma_heading_rad)
     P_initial = P.copy()
-    applied: dict[str, list[tuple[int, int]]] = {}
+    accepted = np.zeros(len(plan.epoch), dtype=bool)
     sensor = np.zeros(12)
     gnss_error = np.zeros(3)
     odo_scale = 0.0
@@ -527,28 +554,19 @@ def fuse(
             x = np.zeros(N_STATES)
             gnss_error *= math.exp(-seg / options.gnss_correlated_tau_s)  # the estimate follows its model
 
-            batch = list(observations_at.get(int(epochs[j]), ()))
-            if (options.use_odometer or options.use_nhc) and speed_valid[j - 1]:
-                batch.append((odo_meas, j - 1))
-            if options.use_zupt and at_rest(snap.time_s) and at_rest(snap.time_s - seg):
-                batch.append((zupt, b - 1))
-            for meas, i in batch:
+            entries = plan.at(j)
+            for e in entries:
+                meas, i = sources[plan.source[e]], int(plan.observation[e])
                 z, H, R = meas.model(snap, i)
-                nu = z - H @ x
-                S = H @ P @ H.T + R
-                nis = float(nu @ np.linalg.solve(S, nu))
+                x, P, nu, nis, ok = kalman.gated_update(x, P, z, H, R, gates[len(z)])
                 st = stats.setdefault(meas.name, MeasurementStats())
-                if nis > gates[len(nu)]:
+                if not ok:
                     st.rejected += 1
-                    rejections.append(Rejection(float(meas.time_s[i]), meas.name, nis, gates[len(nu)], tuple(nu)))
+                    rejections.append(Rejection(float(meas.time_s[i]), meas.name, nis, gates[len(z)], tuple(nu)))
                     continue
                 st.add(nu, nis)
-                applied.setdefault(meas.name, []).append((j, i))
-                K = np.linalg.solve(S, H @ P).T
-                x = x + K @ nu
-                I_KH = np.eye(N_STATES) - K @ H
-                P = I_KH @ P @ I_KH.T + K @ R @ K.T
-            if batch:
+                accepted[e] = True
+            if len(entries):
                 odo_scale = _feedback(nav, x, sensor, gnss_error, odo_scale, ellipsoid)
             P = 0.5 * (P + P.T)
             if store is not None:
@@ -556,25 +574,29 @@ def fuse(
             sensor_hist[j, :12], sensor_hist[j, 12] = sensor, odo_scale
             sigma_hist[j] = np.sqrt(np.diag(P))
 
-        forward = _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, None, survey, ellipsoid, False, output_every)
+        forward = _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, None, imu.gps_week, ellipsoid, False,
+                              output_every)
         trajectory = forward
         if options.smoother:
             smooth_step = step.sub(0.8, 0.95)
             corrections, sigma_smooth = _rts(store, m_epochs, sigma_hist[0], cancel, smooth_step)
-            trajectory = _trajectory(t, nav_store, epochs, sensor_hist, sigma_smooth, corrections, survey, ellipsoid, True, output_every)
+            trajectory = _trajectory(t, nav_store, epochs, sensor_hist, sigma_smooth, corrections, imu.gps_week,
+                                     ellipsoid, True, output_every)
     finally:
         if own_store:
             store.close()
     step(1.0, "fusion done")
     statistics = {name: s.summary() for name, s in stats.items()}
-    timeline = UpdateTimeline(
-        time_s=t[epochs], measurements={m.name: m for m in (*timed, odo_meas, zupt)},
-        applied={name: np.array(pairs, dtype=int).reshape(-1, 2) for name, pairs in applied.items()},
-        initial_covariance=P_initial,
-    )
+    applied = {}
+    for k, meas in enumerate(sources):
+        mine = accepted & (plan.source == k)
+        if mine.any():
+            applied[meas.name] = np.column_stack([plan.epoch[mine], plan.observation[mine]]).astype(int)
+    timeline = UpdateTimeline(time_s=t[epochs], measurements={m.name: m for m in sources}, applied=applied,
+                              initial_covariance=P_initial)
     return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops), timeline=timeline,
                         info={"update_epochs": m_epochs, "alignment_rpy_rad": start.rpy_rad,
-                              "alignment": start.method, "warnings": warnings, "gnss_quality": gnss_quality})
+                              "alignment": start.method, "warnings": warnings, "gnss_quality": aiding.gnss_quality})
 
 
 def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):
@@ -593,9 +615,7 @@ def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, 
         if P_s_next is None:  # last epoch: smoothed = filtered
             e, P_s = np.zeros(N_STATES), p_plus
         else:
-            A = np.linalg.solve(p_minus_next.T, (p_plus @ phi_next.T).T).T
-            e = A @ e_next
-            P_s = p_plus + A @ (P_s_next - p_minus_next) @ A.T
+            e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, p_plus)
         corrections[j, 0] = e
         corrections[j, 1] = e + dx
         sigma[j] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
@@ -603,14 +623,13 @@ def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, 
         e_next = e + dx
         P_s_next, phi_next, p_minus_next = P_s, phi, p_minus
     # epoch 0: before the first segment
-    p0 = np.diag(sigma0**2)
-    A = np.linalg.solve(p_minus_next.T, (p0 @ phi_next.T).T).T
-    corrections[0, 0] = corrections[0, 1] = A @ e_next
-    sigma[0] = np.sqrt(np.maximum(np.diag(p0 + A @ (P_s_next - p_minus_next) @ A.T), 0.0))
+    e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, np.diag(sigma0**2))
+    corrections[0, 0] = corrections[0, 1] = e
+    sigma[0] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
     return corrections, sigma
 
 
-def _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, corrections, survey, ell, smoothed, output_every,
+def _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, corrections, gps_week, ell, smoothed, output_every,
                 chunk: int = 100_000):
     """Trajectory at every ``output_every``-th IMU epoch from the first update epoch on, the
     errors interpolated linearly between update epochs. Built in chunks so the temporaries
@@ -651,5 +670,5 @@ def _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, corrections, surv
         time_s=t[idx_all], lat_rad=lat_out, lon_rad=lon_out, height_m=h_out, vel_ned_mps=out["vel"], rpy_rad=out["rpy"],
         sigma_pos_ned_m=out["sp"], sigma_vel_ned_mps=out["sv"], sigma_rpy_rad=out["sa"],
         gyro_bias_radps=out["bg"], accel_bias_mps2=out["ba"], gyro_scale=out["sg"], accel_scale=out["sa_"],
-        odometer_scale=odo_out, smoothed=smoothed, gps_week=survey.imu.gps_week, ellipsoid_name=ell.name,
+        odometer_scale=odo_out, smoothed=smoothed, gps_week=gps_week, ellipsoid_name=ell.name,
     )

@@ -1,16 +1,35 @@
-"""Aiding measurements: each turns the INS state at an update epoch into (innovation, H, R).
+"""Aiding measurements: each aiding source one small model the filter loop runs over.
 
-Every class holds its data (times and values), and ``model(nav, i)`` returns, for its
-i-th observation, the innovation z = predicted - measured (m,), the Jacobian H (m, 22)
-with respect to the error state of ``insrail.nav.error_model`` and the noise
-covariance R (m, m). The filter never needs to know what a measurement is.
+Every class holds its data (times and values) and answers three questions, so the filter
+(``insrail.nav.fusion``) and the accuracy prediction (``insrail.quality.prediction``) never
+need to know what a measurement is:
+
+``closing_times_s()``
+    the times at which an update epoch must end because an observation was taken then
+    (time-stamped sources: GNSS, total-station fixes); empty for sources that follow the
+    filter's update grid (odometer/NHC, ZUPT).
+``scheduled(update_time_s, stops)``
+    when it applies: on the update epochs ``update_time_s`` (and with the stops, intervals
+    [start, end] of standstill), the pairs (j, i) "observation i is applied at update epoch
+    j", j >= 1, and the measurement bound to that grid (the odometer's mean speeds are formed
+    over the grid's segments). :func:`schedule` merges them into one schedule.
+``model(nav, i)``
+    for its i-th observation the innovation z = predicted - measured (m,), the Jacobian H
+    (m, 25) with respect to the error state of ``insrail.nav.error_model`` and the noise
+    covariance R (m, m). The filter gates z with a chi-square test on its m degrees of
+    freedom (``insrail.nav.kalman.gated_update``) and keeps the statistics per ``name``.
+
+The data are plain arrays and ``model`` is array-in, array-out, so that a compiled filter
+loop can evaluate the same models later.
 
 Lever arms are b-frame vectors from the IMU centre (thesis eqs. 2.106-2.125).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from typing import Protocol
 
 import numpy as np
 
@@ -75,8 +94,92 @@ def _position_rows(nav: NavSnapshot, time_s: float, lat: float, lon: float, h: f
     return predicted_ned - measured_ned, H
 
 
+class Measurement(Protocol):
+    """The interface every aiding source implements (see the module docstring)."""
+
+    name: str
+    time_s: np.ndarray
+
+    def closing_times_s(self) -> np.ndarray: ...
+
+    def scheduled(self, update_time_s: np.ndarray, stops: Sequence[tuple[float, float]]
+                  ) -> tuple[Measurement, np.ndarray, np.ndarray]: ...
+
+    def model(self, nav: NavSnapshot, i: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+
+
+_NO_TIMES = np.zeros(0)
+
+
+def _timed_pairs(time_s: np.ndarray, update_time_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A time-stamped observation is applied at the first update epoch at or after it;
+    observations at or before the first epoch, or after the last, are not applied."""
+    i = np.flatnonzero((time_s > update_time_s[0]) & (time_s <= update_time_s[-1]))
+    return np.searchsorted(update_time_s, time_s[i]).astype(np.int64), i.astype(np.int64)
+
+
+class _TimedSource:
+    """Scheduling of sources with time-stamped observations."""
+
+    def closing_times_s(self) -> np.ndarray:
+        return self.time_s
+
+    def scheduled(self, update_time_s, stops):
+        return (self, *_timed_pairs(self.time_s, update_time_s))
+
+
 @dataclass(frozen=True)
-class GnssPosition:
+class Schedule:
+    """Which observation of which source is applied at which update epoch, in the order the
+    filter applies them: by epoch, then by the sources' order in ``measurements``, then by
+    observation. Flat arrays, one entry per scheduled observation; the entries of epoch j
+    are ``first[j]:first[j + 1]``."""
+
+    time_s: np.ndarray  # (m,) update epochs
+    measurements: tuple  # the sources bound to the update grid
+    epoch: np.ndarray  # (k,) update-epoch index j
+    source: np.ndarray  # (k,) index into measurements
+    observation: np.ndarray  # (k,) observation index i of that source
+    first: np.ndarray  # (m + 1,)
+
+    def at(self, j: int) -> range:
+        """The entries scheduled at update epoch j."""
+        return range(int(self.first[j]), int(self.first[j + 1]))
+
+
+def schedule(update_time_s: np.ndarray, measurements: Sequence[Measurement],
+             stops: Sequence[tuple[float, float]] = ()) -> Schedule:
+    """The one schedule of a list of aiding sources on an update grid: the fusion's forward
+    pass and the accuracy prediction both apply exactly this."""
+    bound, epochs, sources, observations = [], [], [], []
+    for k, meas in enumerate(measurements):
+        meas, j, i = meas.scheduled(update_time_s, stops)
+        bound.append(meas)
+        epochs.append(j)
+        sources.append(np.full(len(j), k, dtype=np.int64))
+        observations.append(i)
+    epoch = np.concatenate(epochs) if epochs else np.zeros(0, dtype=np.int64)
+    source = np.concatenate(sources) if sources else np.zeros(0, dtype=np.int64)
+    observation = np.concatenate(observations) if observations else np.zeros(0, dtype=np.int64)
+    order = np.lexsort((observation, source, epoch))
+    epoch, source, observation = epoch[order], source[order], observation[order]
+    first = np.searchsorted(epoch, np.arange(len(update_time_s) + 1))
+    return Schedule(np.asarray(update_time_s), tuple(bound), epoch, source, observation, first)
+
+
+def at_rest(stops: Sequence[tuple[float, float]], time_s: np.ndarray) -> np.ndarray:
+    """Whether each time lies inside one of the stop intervals [start, end] (sorted)."""
+    time_s = np.asarray(time_s, dtype=float)
+    if not len(stops):
+        return np.zeros(time_s.shape, dtype=bool)
+    start = np.array([s[0] for s in stops])
+    end = np.array([s[1] for s in stops])
+    j = np.searchsorted(start, time_s) - 1
+    return (j >= 0) & (time_s <= end[np.maximum(j, 0)])
+
+
+@dataclass(frozen=True)
+class GnssPosition(_TimedSource):
     """GNSS antenna position (thesis 2.106-2.112) with a correlated error part.
 
     measured = true + g + white, g the Gauss-Markov error (states 22-24, estimate
@@ -107,7 +210,7 @@ class GnssPosition:
 
 
 @dataclass(frozen=True)
-class GnssVelocity:
+class GnssVelocity(_TimedSource):
     """GNSS (Doppler) velocity of the antenna (thesis 2.113-2.118)."""
 
     time_s: np.ndarray
@@ -161,6 +264,14 @@ class _VehicleFrame:
         return velocity, H
 
 
+def odometer_speed_sigma(span_s, pulse_length_m: float, sigma_mps: float):
+    """1-sigma of the odometer's mean speed over segments of ``span_s`` seconds: its white
+    speed noise and the pulse quantisation."""
+    # Each interpolated distance is off by up to one pulse (uniform), so the difference of
+    # two has a standard deviation of pulse / sqrt(6).
+    return np.hypot(sigma_mps, pulse_length_m / (np.sqrt(6.0) * np.asarray(span_s)))
+
+
 @dataclass(frozen=True)
 class OdometerNhc:
     """Odometer forward speed plus the non-holonomic constraint, in the trolley frame v.
@@ -188,6 +299,36 @@ class OdometerNhc:
     use_odometer: bool = True
     use_nhc: bool = True
     name: str = "odometer_nhc"
+    #: the odometer's record (cumulative distance [m] at times [s]) the mean speeds of a grid
+    #: are formed from by :meth:`scheduled`, its white speed noise and its pulse length
+    odometer_time_s: np.ndarray | None = None
+    odometer_distance_m: np.ndarray | None = None
+    sigma_odometer_mps: float = 0.001
+    pulse_length_m: float = 0.001
+
+    @classmethod
+    def from_distance(cls, time_s, distance_m, dcm_vehicle_from_body, odometer_lever_arm_m, nhc_lever_arm_m,
+                      sigma_odometer_mps: float, pulse_length_m: float, **kwargs) -> OdometerNhc:
+        """The source before it is bound to an update grid (``scheduled`` forms the speeds)."""
+        return cls(_NO_TIMES, _NO_TIMES, dcm_vehicle_from_body, odometer_lever_arm_m, nhc_lever_arm_m, _NO_TIMES,
+                   odometer_time_s=np.asarray(time_s), odometer_distance_m=np.asarray(distance_m),
+                   sigma_odometer_mps=sigma_odometer_mps, pulse_length_m=pulse_length_m, **kwargs)
+
+    def closing_times_s(self) -> np.ndarray:
+        return _NO_TIMES
+
+    def scheduled(self, update_time_s, stops):
+        """Applied at the end of every segment of the grid that the odometer record covers,
+        with the mean speed over the segment (observation i = j - 1 for the segment ending
+        at epoch j)."""
+        times = np.asarray(update_time_s)
+        d = np.interp(times, self.odometer_time_s, self.odometer_distance_m)
+        span = np.diff(times)
+        speed = np.diff(d) / span
+        sigma = odometer_speed_sigma(span, self.pulse_length_m, self.sigma_odometer_mps)
+        valid = (times[:-1] >= self.odometer_time_s[0]) & (times[1:] <= self.odometer_time_s[-1])
+        i = np.flatnonzero(valid).astype(np.int64)
+        return replace(self, time_s=times[1:], speed_mps=speed, sigma_speed_mps=sigma), i + 1, i
 
     def model(self, nav: NavSnapshot, i: int):
         rows, z, sig = [], [], []
@@ -222,6 +363,16 @@ class Zupt:
     gyro_white_noise: float = 1e-6  # rad/sqrt(s): the ZARU sigma is this / sqrt(segment)
     name: str = "zupt"
 
+    def closing_times_s(self) -> np.ndarray:
+        return _NO_TIMES
+
+    def scheduled(self, update_time_s, stops):
+        """Applied at the end of every segment that starts and ends inside a stop
+        (observation i = update epoch j)."""
+        rest = at_rest(stops, update_time_s)
+        j = np.flatnonzero(rest[1:] & rest[:-1]).astype(np.int64) + 1
+        return replace(self, time_s=np.asarray(update_time_s)), j, j
+
     def model(self, nav: NavSnapshot, i: int):
         H = _h(4)
         H[0:3, VEL : VEL + 3] = np.eye(3)
@@ -237,7 +388,7 @@ class Zupt:
 
 
 @dataclass(frozen=True)
-class PositionFix:
+class PositionFix(_TimedSource):
     """A known position of a point on the trolley (a total-station prism on CPIII control),
     given as geodetic coordinates after the engineering-frame observation has been
     transformed by the project's CRS and height model."""

@@ -54,7 +54,7 @@ from insrail.io.survey import (
 )
 from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
 from insrail.nav.earth import Ellipsoid
-from insrail.nav.fusion import SmootherStore, fuse
+from insrail.nav.fusion import SmootherStore, aiding_for, fuse
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.measurements import PositionFix
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
@@ -247,7 +247,8 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     # fusion so that the covariance analysis needs only its backward pass, not a replay.
     store = SmootherStore() if project.fusion.smoother else None
     try:
-        result = fuse(survey, project.fusion, profile, ellipsoid_of(project), position_fixes=fixes,
+        aiding = aiding_for(survey, project.fusion, profile, fixes)
+        result = fuse(survey.imu, aiding, profile, project.fusion, ellipsoid_of(project),
                       covariance_store=store, progress=progress.sub(0.05, 0.87), cancel=cancel)
         check_cancel(cancel)
         # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)

@@ -2,11 +2,12 @@
 
 ``predict`` lays out the run the way the simulator and the fusion see it (a static start
 for the alignment, straight level track at constant speed, optional stops and GNSS
-outages, a static end), builds every segment's Phi and Q with ``insrail.nav.error_model``
-and every update's H and R with the measurement classes of ``insrail.nav.measurements``
-at the rates and with the sigmas of ``FusionOptions``, exactly as ``insrail.nav.fusion``
-does, and hands the timeline to :func:`insrail.quality.covariance.analyse`. Prediction
-and fusion share their models, so they cannot drift apart.
+outages, a static end), builds every segment's Phi and Q with ``insrail.nav.error_model``,
+the aiding sources with the fusion's own builder (``insrail.nav.fusion.aiding_sources``:
+which aids, their sigmas) on the planned GNSS epochs, odometer record and stops, applies
+them by the fusion's own schedule (``insrail.nav.measurements.schedule``: when each applies)
+and hands the timeline to :func:`insrail.quality.covariance.analyse`. Prediction and fusion
+share their models and their schedule, so they cannot drift apart.
 
 Figures (``AccuracyFigures``, 1 sigma, metres): RMS over the moving part of the run of
 the lateral and vertical position error, the cant error (1.5 m times the roll error),
@@ -21,12 +22,13 @@ speed changes make heading and the accelerometer biases more observable.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import ClassVar
 
 import numpy as np
 
 from insrail.io.survey import TrolleyGeometry
+from insrail.io.types import GnssSolution, OdometerData
 from insrail.nav import earth
 from insrail.nav.error_model import (
     ErrorModelNoise,
@@ -34,9 +36,9 @@ from insrail.nav.error_model import (
     dynamics_matrix,
     noise_matrix,
 )
-from insrail.nav.fusion import FusionOptions, initial_covariance, odometer_speed_sigma
+from insrail.nav.fusion import FusionOptions, aiding_sources, initial_covariance
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
-from insrail.nav.measurements import GnssPosition, NavSnapshot, OdometerNhc, Zupt
+from insrail.nav.measurements import NavSnapshot, schedule
 from insrail.nav.rotation import euler_to_dcm
 from insrail.progress import CancelToken, ProgressFn
 from insrail.quality.covariance import CovarianceProfile, PassCovariance, analyse
@@ -178,6 +180,15 @@ def _plan(speed_mps, length_m, stops, static_start_s, static_end_s, ramp_s, dt) 
     return _Plan(np.arange(len(speed)) * dt, station, speed, np.concatenate(accels))
 
 
+def _stops(plan: _Plan) -> list[tuple[float, float]]:
+    """The plan's standstills as time intervals [start, end]: the runs of segments without
+    motion (segment j ends at epoch j)."""
+    still = np.concatenate([plan.speed_mps == 0.0, [False]])
+    edges = np.diff(still.astype(np.int8), prepend=0)
+    first, after = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    return [(float(plan.time_s[max(a - 1, 0)]), float(plan.time_s[b - 1])) for a, b in zip(first, after)]
+
+
 def _snapshot(lat, h, vel_ned, accel_ned, c_bn, dt, ell) -> NavSnapshot:
     """The INS state of a trolley on straight level track."""
     omega_in = earth.earth_rate_ned(lat, ell) + earth.transport_rate_ned(lat, h, vel_ned, ell)
@@ -244,45 +255,36 @@ def predict(
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
     c_bn = euler_to_dcm(0.0, 0.0, heading) @ c_vb
     file_sigma = gnss.file_sigma_ned_m(aiding)
-    gnss_model = GnssPosition(np.zeros(1), np.full(1, lat), np.zeros(1), np.full(1, h), file_sigma[None, :],
-                              trolley.imu_to_antenna_m, aiding.gnss_sigma_scale, aiding.gnss_sigma_floor_m,
-                              aiding.gnss_correlated_sigma_ned_m)
-    zupt = Zupt(np.zeros(1), aiding.zupt_sigma_mps, gyro_white_noise=max(noise.arw, 1e-7))
-
+    gnss_epochs = np.flatnonzero(has_gnss)
+    k = len(gnss_epochs)
+    planned_gnss = GnssSolution(plan.time_s[gnss_epochs], np.full(k, lat), np.zeros(k), np.full(k, h),
+                                np.tile(file_sigma, (k, 1)), np.ones(k, dtype=int), np.zeros(k, dtype=int),
+                                np.full(k, np.nan))
+    planned_odometer = OdometerData(plan.time_s, plan.station_m, odometer_pulse_m)
+    timeline = schedule(plan.time_s, aiding_sources(aiding, trolley, profile, planned_gnss, planned_odometer),
+                        _stops(plan))
     forward_ned = np.array([math.cos(heading), math.sin(heading), 0.0])
 
-    def models(speed, accel):
-        """(Phi, Q, H and R of GNSS, odometer/NHC and ZUPT) at one speed and acceleration."""
-        vel = speed * forward_ned
-        snap = _snapshot(lat, h, vel, accel * forward_ned, c_bn, dt, ellipsoid)
-        F = dynamics_matrix(lat, h, vel, c_bn, snap.f_b, snap.omega_ib_b, noise, ellipsoid)
-        phi, q = discretise(F, gqg, dt)
-        odometer = OdometerNhc(np.zeros(1), np.full(1, speed), c_vb, trolley.imu_to_odometer_m,
-                               trolley.imu_to_reference_rail_m, np.atleast_1d(odometer_speed_sigma(dt, odometer_pulse_m, aiding)),
-                               sigma_nhc_mps=aiding.nhc_sigma_mps, use_odometer=aiding.use_odometer,
-                               use_nhc=aiding.use_nhc)
-        gnss_hr = gnss_model.model(snap, 0)[1:]
-        odo_hr = odometer.model(snap, 0)[1:] if (aiding.use_odometer or aiding.use_nhc) else None
-        zupt_hr = zupt.model(snap, 0)[1:]
-        return phi, q, gnss_hr, odo_hr, zupt_hr
-
-    # straight track: the models depend on the speed and acceleration only (a few distinct pairs)
+    # straight track: Phi, Q and every source's (H, R) depend on the speed and acceleration only
+    # (a few distinct pairs); GNSS epochs lie on update epochs, so the lever's time term is zero
     cache = {}
 
     def segment(j):
         key = (plan.speed_mps[j], plan.accel_mps2[j])
         if key not in cache:
-            cache[key] = models(*key)
-        phi, q, gnss_hr, odo_hr, zupt_hr = cache[key]
-        at_rest = key[0] == 0.0
+            vel = key[0] * forward_ned
+            snap = replace(_snapshot(lat, h, vel, key[1] * forward_ned, c_bn, dt, ellipsoid), time_s=plan.time_s[j])
+            F = dynamics_matrix(lat, h, vel, c_bn, snap.f_b, snap.omega_ib_b, noise, ellipsoid)
+            cache[key] = (*discretise(F, gqg, dt), snap, {})
+        phi, q, snap, models = cache[key]
         updates = []
-        if has_gnss[j]:
-            updates.append(gnss_hr)
-        if odo_hr is not None:
-            updates.append(odo_hr)
-        # the fusion applies ZUPTs on segments spent at rest
-        if aiding.use_zupt and at_rest:
-            updates.append(zupt_hr)
+        for e in timeline.at(j):
+            source = int(timeline.source[e])
+            if source not in models:
+                meas = timeline.measurements[source]
+                models[source] = meas.model(replace(snap, time_s=meas.time_s[timeline.observation[e]]),
+                                            int(timeline.observation[e]))[1:]
+            updates.append(models[source])
         return phi, q, updates
 
     P0 = initial_covariance(profile, aiding, np.maximum(file_sigma, 0.005), 0.005, aiding.initial_sigma_level_rad,
