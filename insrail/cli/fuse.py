@@ -39,7 +39,12 @@ def run(args: argparse.Namespace) -> int:
     from insrail.nav import earth
     from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, aiding_for, fuse
     from insrail.nav.imu_profile import load_imu_profile
-    from insrail.nav.trajectory import save_trajectory, write_kfgins_imu_errors, write_kfgins_nav, write_kfgins_std
+    from insrail.nav.trajectory import (
+        save_trajectory,
+        write_kfgins_imu_errors,
+        write_kfgins_nav,
+        write_kfgins_std,
+    )
 
     options = FusionOptions(
         smoother=not args.no_smoother,

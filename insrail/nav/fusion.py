@@ -70,8 +70,18 @@ from insrail.nav.measurements import (
     Zupt,
     schedule,
 )
-from insrail.nav.mechanization import euler_from_q_bn, lat_lon_from_q_ne, q_ne_from_lat_lon
-from insrail.nav.rotation import dcm_to_quat, euler_to_dcm, quat_multiply, quat_to_dcm, rotvec_to_quat
+from insrail.nav.mechanization import (
+    euler_from_q_bn,
+    lat_lon_from_q_ne,
+    q_ne_from_lat_lon,
+)
+from insrail.nav.rotation import (
+    dcm_to_quat,
+    euler_to_dcm,
+    quat_multiply,
+    quat_to_dcm,
+    rotvec_to_quat,
+)
 from insrail.nav.trajectory import Trajectory
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 
