@@ -30,6 +30,11 @@ from insrail.project.plotdata import exceedance_window
 RAW_FILES = ("imu.npy", "gnss.pos", "odometer.txt", "gauge.txt", "sleepers.txt", "benchmarks.txt")
 
 
+def wait_views(window, qtbot) -> None:
+    """The results are read in a worker: wait until the views hold what was asked for."""
+    qtbot.waitUntil(lambda: window.loader is None, timeout=60_000)
+
+
 def link_tree(source, destination) -> None:
     shutil.copytree(source, destination, copy_function=os.link)
 
@@ -53,6 +58,9 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     project_folder = tmp_path / "project"
     # The same raw data, trolley and settings: the fusion cache of the shared demo applies.
     link_tree(demo_project / "results" / ".cache", project_folder / "results" / ".cache")
+    assert window.open_project(demo_project)  # another project's results are on screen first
+    wait_views(window, qtbot)
+    assert window.track.plots.plots
 
     wizard = window.new_project()
     wizard.name.setText("GUI test")
@@ -73,11 +81,16 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     assert window.project is not None and window.project.name == "GUI test"
     assert load_project(project_folder).surveys[0].folder == "../raw"
     assert str((project_folder / "project.toml").resolve()) in recent_projects(window.settings)
+    # Nothing of the previous project stays: the new one has no results yet and says so.
+    wait_views(window, qtbot)
+    assert_nothing_shown(window)
+    assert window.empty_state.isVisible() and window.empty_state.process_button.text() == "Process short"
 
     worker = window.process()
     assert worker is not None and not window.process_action.isEnabled()
     qtbot.waitUntil(lambda: window.worker is None, timeout=120_000)
     assert "short" in window.results
+    wait_views(window, qtbot)
     stored = window.results["short"]
     assert window.progress.isHidden() and "exceedances" in window.log.toPlainText()
 
@@ -87,13 +100,18 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     for item in track_plots.values():
         x, _ = item.listDataItems()[0].getOriginalDataset()
         assert len(x) == len(stored)
+    assert window.plan.stale and window.navigation.stale  # hidden tabs draw when shown
+    window.tabs.setCurrentWidget(window.plan)
     assert len(window.plan.curves["centreline"].getOriginalDataset()[0]) == len(stored)
     assert len(window.plan.curves["gnss"].getOriginalDataset()[0]) > 100
+    window.tabs.setCurrentWidget(window.navigation)
     assert window.navigation.items and all(i.listDataItems() for i in window.navigation.items.values())
+    window.tabs.setCurrentWidget(window.repeatability)
     residuals = next(s for s in window.navigation._series if s.key == "gnss_residuals")
     assert len(residuals.time_s) > 100 and np.sqrt(np.mean(residuals.values**2)) < 20.0  # mm: PPK-level agreement
     assert window.repeatability.parameter.count() > 10 and window.repeatability.item.listDataItems()
     assert window.track.exceedances.rowCount() == len(stored.exceedances) > 0
+    window.tabs.setCurrentWidget(window.track)
 
     # A click on an exceedance zooms every plot there; the table starts in chainage order.
     table = window.track.exceedances
@@ -111,10 +129,12 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     centre = 0.5 * (exceedance.station_from_m + exceedance.station_to_m)
     nearest = int(np.argmin(np.abs(stored.columns["station_m"] - centre)))
     assert f"sleeper {stored.number[nearest]} " in window.track.readout.text()
+    window.tabs.setCurrentWidget(window.plan)
     marked = window.plan.curves["marker"].getOriginalDataset()[0]
     assert len(marked) == exceedance.last_sleeper - exceedance.first_sleeper + 1  # ringed in the plan too
 
     # Sorted by peak, the top row is the largest exceedance, and a click still zooms to it.
+    window.tabs.setCurrentWidget(window.track)
     table.sortItems(5, Qt.DescendingOrder)
     qtbot.mouseClick(table.viewport(), Qt.LeftButton, pos=table.visualRect(table.model().index(0, 0)).center())
     largest = max(stored.exceedances, key=lambda e: abs(e.peak))
@@ -127,6 +147,39 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
         "Show results of short", "Process short again"]
 
 
+def assert_nothing_shown(window) -> None:
+    """No view holds any survey's data."""
+    assert not window.track.plots.plots and window.track.exceedances.rowCount() == 0
+    assert window.track.readout.text() == ""
+    assert window.plan.data is None and not window.plan.curves
+    assert not window.navigation._series and not window.navigation.items
+    assert not window.repeatability._runs
+    assert window.shown_survey is None and not window.export_pdf_action.isEnabled()
+
+
+def test_an_unprocessed_project_shows_nothing_of_the_previous_one(window, qtbot, demo_project, tmp_path):
+    assert window.open_project(demo_project)
+    wait_views(window, qtbot)
+    for view in (window.plan, window.navigation, window.repeatability, window.track):
+        window.tabs.setCurrentWidget(view)  # every view drawn with the demo's results
+    assert window.track.plots.plots and window.plan.curves and window.navigation.items
+    root = tmp_path / "unprocessed"
+    link_tree(demo_project / "surveys", root / "surveys")
+    shutil.copy(demo_project / "project.toml", root / "project.toml")
+    assert window.open_project(root)
+    wait_views(window, qtbot)
+    assert_nothing_shown(window)
+    for view in (window.plan, window.navigation, window.repeatability):
+        window.tabs.setCurrentWidget(view)
+    assert_nothing_shown(window)
+    assert window.empty_state.isVisible() and "short has no results yet" in window.empty_state.message.text()
+    assert window.windowTitle() == f"{window.project.name} — {root.resolve()} — insrail"
+    started = []
+    window.process = lambda surveys=None: started.append(surveys)
+    window.empty_state.process_button.click()  # the empty state offers Process
+    assert started == [["short"]]
+
+
 def test_cancel_stops_the_run_and_keeps_the_previous_results(window, qtbot, demo_project, tmp_path):
     root = tmp_path / "copy"
     link_tree(demo_project / "surveys", root / "surveys")
@@ -134,6 +187,7 @@ def test_cancel_stops_the_run_and_keeps_the_previous_results(window, qtbot, demo
     link_tree(demo_project / "results" / "short", root / "results" / "short")  # results without the fusion cache
     before = (root / "results" / "short" / "summary.toml").read_bytes()
     assert window.open_project(root)
+    wait_views(window, qtbot)
     assert window.track.exceedances.rowCount() > 0  # previous results shown
 
     window.process()
@@ -195,6 +249,8 @@ def test_repeatability_overlays_plain_arrays_of_several_runs(qtbot):
     runs = {f"run{k}": (station, {"gauge_mm": 1435.0 + 0.1 * k + np.sin(station), "time_s": station})
             for k in range(3)}
     view.set_runs(runs)
+    assert view.stale and not view.item.listDataItems()  # drawn when shown
+    view.show()
     assert [view.parameter.itemText(i) for i in range(view.parameter.count())] == ["gauge_mm"]
     curves = view.item.listDataItems()
     assert len(curves) == 3
@@ -289,6 +345,7 @@ def test_export_both_reports_and_open_their_folder(window, qtbot, demo_project, 
     root = processed_copy(demo_project, tmp_path / "copy")
     assert not window.export_pdf_action.isEnabled()  # no results yet
     assert window.open_project(root)
+    wait_views(window, qtbot)
     assert window.export_xlsx_action.isEnabled() and window.export_pdf_action.isEnabled()
     assert not window.tabs.isTabVisible(window.tabs.indexOf(window.gnss))  # no raw GNSS in the demo
     suggested = []
@@ -320,6 +377,7 @@ def test_export_both_reports_and_open_their_folder(window, qtbot, demo_project, 
 def test_cancel_an_export_writes_nothing(window, qtbot, demo_project, tmp_path):
     root = processed_copy(demo_project, tmp_path / "copy")
     assert window.open_project(root)
+    wait_views(window, qtbot)
     target = tmp_path / "out" / "report.pdf"
     target.parent.mkdir()
     assert window.export_report("pdf", target) is not None
@@ -333,6 +391,7 @@ def test_cancel_an_export_writes_nothing(window, qtbot, demo_project, tmp_path):
 def test_export_error_names_the_file_and_the_problem(window, qtbot, demo_project, tmp_path, monkeypatch):
     root = processed_copy(demo_project, tmp_path / "copy")
     assert window.open_project(root)
+    wait_views(window, qtbot)
     shown = []
     monkeypatch.setattr(QMessageBox, "warning", lambda parent, title, text: shown.append((title, text)))
     target = tmp_path / "no such folder" / "short"  # the suffix is added

@@ -10,8 +10,11 @@ from insrail.io.types import GnssSolution
 from insrail.nav.earth import CGCS2000, radii
 from insrail.nav.trajectory import Trajectory
 from insrail.project.plotdata import (
+    Envelope,
     chainage_plots,
+    envelopes,
     exceedance_window,
+    gap_breaks,
     gnss_residuals,
     navigation_series,
 )
@@ -86,3 +89,30 @@ def test_gnss_residuals_take_the_lever_arm_in_the_trolley_frame():
     assert residuals.time_s.tolist() == [2.5, 7.0] and residuals.unit == "mm"
     np.testing.assert_allclose(residuals.values, [[0.0, 0.0, 0.0], [10.0, 0.0, 4.0]], atol=1e-4)
     np.testing.assert_allclose(residuals.sigma, 6.0)
+
+
+@given(st.integers(3, 5000), st.integers(1, 400), st.floats(0.0, 1.0), st.floats(0.0, 1.0), st.integers(0, 2**31))
+def test_a_band_at_screen_resolution_covers_every_visible_sample(count, columns, a, b, seed):
+    rng = np.random.default_rng(seed)
+    x = np.cumsum(rng.uniform(0.1, 1.0, count))
+    low = rng.normal(size=count)
+    high = low + rng.uniform(0.0, 2.0, count)
+    envelope = Envelope.of(x, low, high)
+    x_from, x_to = sorted((x[0] + a * (x[-1] - x[0]), x[0] + b * (x[-1] - x[0])))
+    bx, blow, bhigh = envelope.visible(x_from, x_to, columns)
+    inside = (x >= x_from) & (x <= x_to)
+    if inside.any():
+        assert blow.min() <= low[inside].min() and bhigh.max() >= high[inside].max()
+        # reaches both edges to within a pixel column (points sit at the middle of their bins)
+        pixel = max((x_to - x_from) / columns, 1.0)
+        assert bx[0] <= x[inside][0] + pixel and bx[-1] >= x[inside][-1] - pixel
+    # one or two points per pixel column, unless every sample fits in 8 per column
+    assert len(bx) <= max(4 * columns + 4, 8 * columns + 2)
+    if inside.sum() > 64 * columns:
+        assert len(bx) <= 2 * columns + 4
+
+
+def test_a_band_has_no_fill_across_a_gap():
+    time = np.concatenate([np.arange(0.0, 100.0), np.arange(200.0, 300.0)])
+    parts = envelopes(time, -np.ones(200), np.ones(200), gap_breaks(time))
+    assert [(p.x[0], p.x[-1]) for p in parts] == [(0.0, 99.0), (200.0, 299.0)]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import time
 from pathlib import Path
 
 
@@ -24,6 +25,9 @@ def run(project: str | Path | None = None, argv: list[str] | None = None, screen
     if project is not None and not window.open_project(project):
         return 1
     if screenshot is not None:
+        while window.loader is not None:  # the results are read in a worker
+            app.processEvents()
+            time.sleep(0.01)
         app.processEvents()
         window.resize(1400, 900)
         app.processEvents()

@@ -17,12 +17,16 @@ from PySide6.QtWidgets import (
     QProgressBar,
     QPushButton,
     QTabWidget,
+    QVBoxLayout,
+    QWidget,
 )
 
 from insrail import __version__
 from insrail.gui import plotstyle
+from insrail.gui.empty import EmptyState
 from insrail.gui.explorer import ProjectExplorer, PropertiesPanel
 from insrail.gui.importer import ImportDialog
+from insrail.gui.loader import ResultsLoader
 from insrail.gui.logpanel import LogPanel
 from insrail.gui.plan_survey import PlanSurveyDialog
 from insrail.gui.settings import recent_projects, remember_project
@@ -46,20 +50,10 @@ from insrail.project import (
 )
 from insrail.project.gnss_stage import GnssStageResult, run_gnss_stage
 from insrail.project.model import project_from_settings
-from insrail.project.pipeline import CACHE_FOLDER, ellipsoid_of
-from insrail.project.plotdata import (
-    PpkView,
-    chainage_plots,
-    gnss_residuals,
-    navigation_series,
-    plan_data,
-    quality_bands,
-    stored_ppk,
-    survey_gnss,
-)
-from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, report_path
+from insrail.project.pipeline import CACHE_FOLDER
+from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
+from insrail.project.results import RESULTS_FOLDER, report_path
 from insrail.report import write_pdf, write_workbook
-from insrail.track.tolerance import load_tolerance_profile
 
 PROGRESS_STEPS = 1000
 #: kind -> (what it is, writer, file dialog filter)
@@ -82,6 +76,9 @@ class MainWindow(QMainWindow):
         self.wizard: NewProjectWizard | None = None
         self.plan_dialog: PlanSurveyDialog | None = None
         self.exported: Path | None = None
+        self.request = 0  # the number of the latest results load; answers to older ones are dropped
+        self.loader: ResultsLoader | None = None  # the load of the latest request while it runs
+        self._loaders: set[ResultsLoader] = set()  # every load still running (kept alive until it ends)
 
         self.plan = PlanView()
         self.navigation = NavigationView()
@@ -95,7 +92,15 @@ class MainWindow(QMainWindow):
                             (self.repeatability, "Repeatability"), (self.gnss, "GNSS")):
             self.tabs.addTab(view, title)
         self.tabs.setTabVisible(self.tabs.indexOf(self.gnss), False)  # for surveys with raw GNSS only
-        self.setCentralWidget(self.tabs)
+        self.empty_state = EmptyState()
+        self.empty_state.processRequested.connect(lambda name: self.process([name]))
+        central = QWidget()
+        central_layout = QVBoxLayout(central)
+        central_layout.setContentsMargins(0, 0, 0, 0)
+        central_layout.setSpacing(0)
+        central_layout.addWidget(self.empty_state)
+        central_layout.addWidget(self.tabs, 1)
+        self.setCentralWidget(central)
 
         self.explorer = ProjectExplorer()
         self.properties = PropertiesPanel()
@@ -235,8 +240,11 @@ class MainWindow(QMainWindow):
         self.cancel_action.setEnabled(busy)
 
     def _update_title(self) -> None:
-        name = self.project.name if self.project is not None else "no project"
-        self.setWindowTitle(f"{name}{' *' if self.modified else ''} — insrail")
+        if self.project is None:
+            self.setWindowTitle("no project — insrail")
+            return
+        self.setWindowTitle(f"{self.project.name}{' *' if self.modified else ''} — "
+                            f"{self.project.folder.resolve()} — insrail")
 
     # ------------------------------------------------------------------ projects
 
@@ -283,7 +291,9 @@ class MainWindow(QMainWindow):
         self.log.info(f"project {project.name}: {project.path.resolve()}")
         self.results.clear()
         self.shown_survey = None
-        self._load_all_results()
+        self._clear_views()
+        self.empty_state.show_loading(project.name)
+        self._request_views(None)
         raw_gnss = self._raw_gnss_surveys()
         self.tabs.setTabVisible(self.tabs.indexOf(self.gnss), bool(raw_gnss))
         self.gnss.set_surveys(raw_gnss)
@@ -413,37 +423,82 @@ class MainWindow(QMainWindow):
         except InputError as error:
             self.log.error(str(error))
 
-    def _load_all_results(self) -> None:
-        for entry in self.project.surveys:
-            if (self.project.folder / RESULTS_FOLDER / entry.name / SUMMARY_FILE).is_file():
-                self._load_results(entry.name)
-        if self.results:
-            self.show_results(next(iter(self.results)))
+    def _clear_views(self) -> None:
+        """Nothing of the previous project or survey stays on screen."""
+        self.track.clear_results()
+        self.plan.clear_data()
+        self.navigation.clear()
+        self.repeatability.set_runs({})
+
+    def _request_views(self, show: str | None) -> None:
+        """Read the results (those not yet read) and the views of survey ``show`` (None: the first
+        processed one) in a worker; the answers arrive in :meth:`_results_loaded`, :meth:`_track_ready`
+        and :meth:`_trajectory_ready`, and are dropped if another request came meanwhile."""
+        if self.loader is not None:
+            self.loader.cancel()
+        self.request += 1
+        loader = ResultsLoader(self.request, self.project, [s.name for s in self.project.surveys], show,
+                               self.results, self)
+        loader.resultsLoaded.connect(self._results_loaded)
+        loader.trackReady.connect(self._track_ready)
+        loader.trajectoryReady.connect(self._trajectory_ready)
+        loader.failed.connect(self._load_failed)
+        loader.finished.connect(lambda loader=loader: self._loader_finished(loader))
+        self.loader = loader
+        self._loaders.add(loader)
+        loader.start()
+
+    def _loader_finished(self, loader: ResultsLoader) -> None:
+        self._loaders.discard(loader)
+        if loader is self.loader:
+            self.loader = None
+        loader.deleteLater()
+
+    def _results_loaded(self, request: int, results: dict) -> None:
+        if request != self.request:
+            return
+        self.results = results
+        self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in results.items()})
+        show = self.loader.show if self.loader is not None else None
+        if show is None and not results:  # nothing processed yet: say so and offer Process
+            surveys = self.project.surveys
+            self.empty_state.show_unprocessed(surveys[0].name if surveys else None)
+        self._enable_project_actions()
+
+    def _track_ready(self, request: int, data: TrackData) -> None:
+        if request != self.request:
+            return
+        self.shown_survey = data.survey
+        self.empty_state.hide()
+        self.track.set_results(data.station_m, data.number, data.label, data.columns, data.plots,
+                               data.exceedances, data.bands)
+        self.status.setText(f"Showing survey {data.survey}")
+        self._enable_project_actions()
+
+    def _trajectory_ready(self, request: int, views: TrajectoryViews) -> None:
+        if request != self.request:
+            return
+        for warning in views.warnings:
+            self.log.warning(warning)
+        self.plan.set_data(views.plan)
+        self.navigation.set_series(views.time_s, views.series, views.bands)
+
+    def _load_failed(self, request: int, message: str) -> None:
+        if request == self.request:
+            self.log.error(message)
 
     def show_results(self, name: str) -> None:
-        """Fill every view with one survey's results (the repeatability view with all processed ones)."""
-        stored = self.results[name]
-        project = self.project
-        self.shown_survey = name
-        trajectory = stored.trajectory()
-        try:
-            gnss = survey_gnss(project, name)
-        except (InputError, KeyError) as error:
-            self.log.warning(f"GNSS points not shown: {error}")
-            gnss = None
-        self.plan.set_data(plan_data(project, stored, trajectory, gnss))
-        series = navigation_series(trajectory, ellipsoid_of(project))
-        if gnss is not None:
-            trolley = project.trolley() or read_manifest(project.resolve(project.survey(name).folder)).trolley
-            series += (gnss_residuals(trajectory, gnss, trolley.imu_to_antenna_m, ellipsoid_of(project)),)
-        self.navigation.set_series(trajectory.time_s, series)
-        profile = load_tolerance_profile(project.resource(project.tolerance_profile))
-        plots = chainage_plots(stored.columns, profile)
-        self.track.set_results(stored.columns["station_m"], stored.number, stored.label, stored.columns, plots,
-                               stored.exceedances, quality_bands(plots, profile, stored.quality))
-        self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
-        self.status.setText(f"Showing survey {name}")
-        self._enable_project_actions()
+        """Show one survey in every view (the repeatability view with all processed ones): the
+        previous survey's plots go at once, the new ones come from a worker; a survey without
+        results shows the empty state with Process."""
+        self.shown_survey = None
+        self._clear_views()
+        if name not in self.results:
+            self.empty_state.show_unprocessed(name)
+            self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
+            self._enable_project_actions()
+            return
+        self._request_views(name)
 
     def _mark_in_plan(self, first_sleeper: int, last_sleeper: int) -> None:
         number = self.results[self.shown_survey].number
@@ -573,6 +628,9 @@ class MainWindow(QMainWindow):
         if self.worker is not None:
             self.worker.cancel()
             self.worker.wait()
+        for loader in list(self._loaders):
+            loader.cancel()
+            loader.wait()
         if self.plan_dialog is not None:
             self.plan_dialog.close()
         if not self.maybe_save():

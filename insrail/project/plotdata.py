@@ -9,7 +9,12 @@ The desktop application only draws; every derived value it shows comes from here
   tolerance profile's limits in the same units;
 * :func:`exceedance_window`: the chainage range to show for one exceedance;
 * :func:`stored_ppk`, :func:`quality_epochs`: a PPK solution, its QC report and its epochs by quality
-  for the GNSS page.
+  for the GNSS page;
+* :func:`track_data`, :func:`trajectory_views`: everything the views of one survey draw, computed
+  off the GUI thread in two steps (the sleepers first: the track view paints before the large
+  trajectory file is read);
+* :class:`Envelope`: a band (1-sigma around a series) as min/max per pixel column at any zoom, from a
+  pyramid computed once, so a band over millions of epochs draws a few thousand points per frame.
 """
 
 from __future__ import annotations
@@ -31,9 +36,11 @@ from insrail.nav.earth import Ellipsoid, radii
 from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.trajectory import Trajectory
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE
+from insrail.io.errors import InputError
 from insrail.project.model import Project
-from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, StoredResults
-from insrail.track.tolerance import ToleranceProfile
+from insrail.project.pipeline import ellipsoid_of
+from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, ExceedanceRow, StoredResults
+from insrail.track.tolerance import ToleranceProfile, load_tolerance_profile
 
 #: Margin shown either side of an exceedance [m]: enough to see the 30 m chord around it.
 EXCEEDANCE_MARGIN_M = 20.0
@@ -262,23 +269,174 @@ def exceedance_window(station_from_m: float, station_to_m: float,
     return low - margin_m, high + margin_m
 
 
+# --------------------------------------------------------------------------- bands at screen resolution
+
+#: The coarsest bins the pyramid stores hold 2**FIRST_LEVEL samples; finer views slice the series
+#: itself (at most 2**FIRST_LEVEL samples per pixel column), so the pyramid costs a quarter of it.
+FIRST_LEVEL = 3
+
+
+@dataclass(frozen=True)
+class Envelope:
+    """A band ``low..high`` over ``x`` (sorted, one contiguous run: no gap inside) ready to be drawn at
+    screen resolution: :meth:`visible` returns, for a range of ``x`` and a number of pixel columns,
+    one or two points per column whose band covers every sample (min of ``low``, max of
+    ``high`` per bin). Level k of ``levels`` holds bins of 2**(FIRST_LEVEL + k) samples as
+    (x at the bin's middle, min low, max high)."""
+
+    x: np.ndarray
+    low: np.ndarray
+    high: np.ndarray
+    levels: tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]
+
+    @classmethod
+    def of(cls, x: np.ndarray, low: np.ndarray, high: np.ndarray) -> Envelope:
+        x, low, high = (np.asarray(a, dtype=float) for a in (x, low, high))
+        levels = []
+        bx, blow, bhigh = x, low, high
+        level = 0
+        while len(bx) > 2:
+            odd = len(bx) % 2
+            if odd:  # pair the last sample with itself
+                bx, blow, bhigh = (np.append(a, a[-1]) for a in (bx, blow, bhigh))
+            bx = 0.5 * (bx[0::2] + bx[1::2])
+            blow = np.fmin(blow[0::2], blow[1::2])
+            bhigh = np.fmax(bhigh[0::2], bhigh[1::2])
+            level += 1
+            if level >= FIRST_LEVEL:
+                levels.append((bx, blow, bhigh))
+        return cls(x, low, high, tuple(levels))
+
+    def visible(self, x_from: float, x_to: float, columns: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(x, low, high) covering ``x_from..x_to`` (one sample beyond each end, so the band reaches
+        the edges) with one or two points per pixel column of ``columns`` (more only when zoomed
+        in so far that every sample is returned)."""
+        first = max(int(np.searchsorted(self.x, x_from, side="left")) - 1, 0)
+        last = min(int(np.searchsorted(self.x, x_to, side="right")) + 1, len(self.x))
+        count = last - first
+        per_column = count / max(columns, 1)
+        if per_column <= 2 ** FIRST_LEVEL or not self.levels:
+            return self.x[first:last], self.low[first:last], self.high[first:last]
+        k = min(max(int(np.floor(np.log2(per_column))) - FIRST_LEVEL, 0), len(self.levels) - 1)
+        shift = FIRST_LEVEL + k
+        bx, blow, bhigh = self.levels[k]
+        start, stop = first >> shift, min((last >> shift) + 1, len(bx))
+        return bx[start:stop], blow[start:stop], bhigh[start:stop]
+
+
+def envelopes(x: np.ndarray, low: np.ndarray, high: np.ndarray, breaks: np.ndarray | None = None,
+              ) -> tuple[Envelope, ...]:
+    """One :class:`Envelope` per contiguous run of ``x``; ``breaks`` (bool, one per sample) marks the
+    last sample before a gap (a series drawn with no line across its gaps)."""
+    if breaks is None or not np.any(breaks[:-1]):
+        return (Envelope.of(x, low, high),)
+    ends = np.flatnonzero(breaks[:-1]) + 1
+    return tuple(Envelope.of(*parts) for parts in zip(np.split(x, ends), np.split(low, ends), np.split(high, ends))
+                 if len(parts[0]))
+
+
+def gap_breaks(time_s: np.ndarray) -> np.ndarray:
+    """True at the last epoch before a gap of more than 3 median steps (a GNSS outage): the
+    navigation view draws no line and no band across it."""
+    step = np.diff(time_s)
+    if len(step) < 2:
+        return np.zeros(len(time_s), bool)
+    return np.append(step > 3.0 * np.median(step), True)
+
+
+# --------------------------------------------------------------------------- one survey's views
+
+@dataclass(frozen=True)
+class TrackData:
+    """What the track view draws for one survey (arrays one per sleeper, in chainage order)."""
+
+    survey: str
+    station_m: np.ndarray
+    number: np.ndarray
+    label: tuple[str, ...]
+    columns: dict[str, np.ndarray]
+    plots: tuple[ChainagePlot, ...]
+    exceedances: tuple[ExceedanceRow, ...]
+    bands: dict[str, QualityBand]
+
+
+def track_data(project: Project, stored: StoredResults) -> TrackData:
+    profile = load_tolerance_profile(project.resource(project.tolerance_profile))
+    plots = chainage_plots(stored.columns, profile)
+    return TrackData(stored.survey, stored.columns["station_m"], stored.number, stored.label, stored.columns,
+                     plots, stored.exceedances, quality_bands(plots, profile, stored.quality))
+
+
+@dataclass(frozen=True)
+class TrajectoryViews:
+    """What the plan and navigation views draw for one survey; ``bands`` the navigation series'
+    1-sigma envelopes (by series key, one tuple of runs per component); ``warnings`` what could
+    not be shown and why."""
+
+    survey: str
+    plan: PlanData
+    time_s: np.ndarray
+    series: tuple[NavSeries, ...]
+    bands: dict[str, tuple[tuple[Envelope, ...], ...]]
+    warnings: tuple[str, ...] = ()
+
+
+def series_bands(time_s: np.ndarray, series: Iterable[NavSeries]) -> dict[str, tuple[tuple[Envelope, ...], ...]]:
+    """The 1-sigma envelope of every component of the series that have a sigma."""
+    bands = {}
+    for s in series:
+        if s.sigma is None:
+            continue
+        time = time_s if s.time_s is None else s.time_s
+        breaks = gap_breaks(time) if s.time_s is not None else None
+        bands[s.key] = tuple(envelopes(time, s.values[:, k] - s.sigma[:, k], s.values[:, k] + s.sigma[:, k], breaks)
+                             for k in range(s.values.shape[1]))
+    return bands
+
+
+def trajectory_views(project: Project, stored: StoredResults) -> TrajectoryViews:
+    """Reads the trajectory (the large file) and derives the plan and navigation series from it."""
+    trajectory = stored.trajectory()
+    warnings = []
+    try:
+        gnss = survey_gnss(project, stored.survey)
+    except (InputError, KeyError) as error:
+        warnings.append(f"GNSS points not shown: {error}")
+        gnss = None
+    ellipsoid = ellipsoid_of(project)
+    series = navigation_series(trajectory, ellipsoid)
+    if gnss is not None:
+        trolley = project.trolley() or read_manifest(project.resolve(project.survey(stored.survey).folder)).trolley
+        series += (gnss_residuals(trajectory, gnss, trolley.imu_to_antenna_m, ellipsoid),)
+    return TrajectoryViews(stored.survey, plan_data(project, stored, trajectory, gnss), trajectory.time_s, series,
+                           series_bands(trajectory.time_s, series), tuple(warnings))
+
+
 __all__ = [
     "BAND_SIGMAS",
+    "Envelope",
     "EXCEEDANCE_MARGIN_M",
     "ChainagePlot",
     "NavSeries",
     "PlanData",
     "PpkView",
     "QualityBand",
+    "TrackData",
+    "TrajectoryViews",
     "chainage_plots",
+    "envelopes",
     "exceedance_window",
+    "gap_breaks",
     "gnss_residuals",
     "navigation_series",
     "plan_data",
     "quality_bands",
     "quality_epochs",
     "stored_ppk",
+    "series_bands",
     "survey_gnss",
+    "track_data",
+    "trajectory_views",
 ]
 
 

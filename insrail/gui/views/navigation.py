@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pyqtgraph as pg
@@ -10,12 +10,16 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QHBoxLayout, QListWidget, QListWidgetItem, QWidget
 
 from insrail.gui import plotstyle
-from insrail.project.plotdata import NavSeries
+from insrail.gui.bands import EnvelopeItem
+from insrail.gui.lazy import DrawWhenShown
+from insrail.project.plotdata import Envelope, NavSeries, gap_breaks, series_bands
 
 DEFAULT_SERIES = ("position", "velocity", "attitude", "position_sigma")
 
 
-class NavigationView(QWidget):
+class NavigationView(DrawWhenShown, QWidget):
+    """Drawn when shown (a hidden tab costs nothing); the 1-sigma bands at screen resolution."""
+
     def __init__(self, parent=None):
         super().__init__(parent)
         self.choice = QListWidget()
@@ -28,10 +32,15 @@ class NavigationView(QWidget):
         layout.addWidget(self.plots, 1)
         self._time = np.zeros(0)
         self._series: tuple[NavSeries, ...] = ()
-        self.choice.itemChanged.connect(lambda _item: self._draw())
+        self._bands: dict[str, tuple[tuple[Envelope, ...], ...]] = {}
+        self.choice.itemChanged.connect(lambda _item: self.request_draw())
 
-    def set_series(self, time_s: np.ndarray, series: Sequence[NavSeries]) -> None:
+    def set_series(self, time_s: np.ndarray, series: Sequence[NavSeries],
+                   bands: Mapping[str, tuple[tuple[Envelope, ...], ...]] | None = None) -> None:
+        """The series to offer and their 1-sigma envelopes (:func:`series_bands`, computed here if not
+        given: the main window computes them in its loader thread)."""
         self._time, self._series = np.asarray(time_s), tuple(series)
+        self._bands = dict(bands) if bands is not None else series_bands(self._time, self._series)
         self.choice.blockSignals(True)
         self.choice.clear()
         for s in self._series:
@@ -40,7 +49,11 @@ class NavigationView(QWidget):
             entry.setCheckState(Qt.Checked if s.key in DEFAULT_SERIES else Qt.Unchecked)
             self.choice.addItem(entry)
         self.choice.blockSignals(False)
-        self._draw()
+        self.request_draw(now=not self._series)
+
+    def clear(self) -> None:
+        """Nothing shown (another project or a survey without results)."""
+        self.set_series(np.zeros(0), (), {})
 
     def shown(self) -> list[str]:
         return [self.choice.item(i).data(Qt.UserRole) for i in range(self.choice.count())
@@ -58,20 +71,17 @@ class NavigationView(QWidget):
             item.setLabel("left", s.unit)
             item.getAxis("left").setWidth(56)
             time = self._time if s.time_s is None else s.time_s
-            # no line across a gap in the series' own epochs (a GNSS outage)
-            step = np.diff(time)
-            connect = (np.append(step <= 3.0 * np.median(step), False) if s.time_s is not None and len(time) > 2
-                       else "all")
+            # no line (and no band) across a gap in the series' own epochs (a GNSS outage)
+            breaks = gap_breaks(time) if s.time_s is not None else None
+            connect = "all" if breaks is None else ~breaks
             for k in range(len(s.labels)):
-                value = s.values[:, k]
+                value = np.ascontiguousarray(s.values[:, k])  # pyqtgraph would copy a strided column per frame
                 if s.sigma is not None:
-                    # the band's edges are drawn (invisibly): a fill between hidden curves is empty
-                    below, above = (item.plot(time, value + sign * s.sigma[:, k], pen=plotstyle.INVISIBLE_PEN,
-                                              connect=connect, autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
-                                    for sign in (-1, 1))
                     colour = pg.mkColor(plotstyle.COLOURS[k % len(plotstyle.COLOURS)])
                     colour.setAlpha(70)
-                    item.addItem(pg.FillBetweenItem(below, above, brush=colour))
+                    band = EnvelopeItem(self._bands[s.key][k], colour)
+                    band.setZValue(-5)
+                    item.addItem(band)
                 item.plot(time, value, pen=plotstyle.pen(k), connect=connect,
                           autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
             if row:

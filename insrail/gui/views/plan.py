@@ -6,12 +6,14 @@ import numpy as np
 import pyqtgraph as pg
 
 from insrail.gui import plotstyle
+from insrail.gui.lazy import DrawWhenShown
 from insrail.project.plotdata import PlanData
 
 
-class PlanView(pg.PlotWidget):
+class PlanView(DrawWhenShown, pg.PlotWidget):
     """Coordinates are drawn relative to a whole-kilometre origin (named in the axis labels):
-    engineering eastings and northings of millions of metres lose precision in Qt's float painter."""
+    engineering eastings and northings of millions of metres lose precision in Qt's float painter.
+    Drawn when shown; sleepers marked meanwhile are ringed then."""
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -21,14 +23,28 @@ class PlanView(pg.PlotWidget):
         plotstyle.make_fluid(self.item)
         self.origin = np.zeros(2)
         self.curves: dict[str, pg.PlotDataItem] = {}
+        self.data: PlanData | None = None
+        self._marked = np.zeros(0, int)
 
-    def set_data(self, data: PlanData) -> None:
-        item = self.item
+    def set_data(self, data: PlanData | None) -> None:
+        """The survey to draw (None: nothing, another project or a survey without results)."""
+        self.data = data
+        self._marked = np.zeros(0, int)
+        self.request_draw(now=data is None)
+
+    def clear_data(self) -> None:
+        self.set_data(None)
+
+    def _draw(self) -> None:
+        item, data = self.item, self.data
         item.clear()
+        self.curves = {}
         if item.legend is not None:
             item.legend.clear()
         else:
             item.addLegend(offset=(10, 10), brush=(255, 255, 255, 200))
+        if data is None:
+            return
         self.origin = np.floor(data.trajectory_en_m[0] / 1000.0) * 1000.0
 
         def local(points: np.ndarray) -> np.ndarray:  # display offset only
@@ -54,11 +70,18 @@ class PlanView(pg.PlotWidget):
         item.setLabel("bottom", f"E − {self.origin[0]:.0f} m")
         item.setLabel("left", f"N − {self.origin[1]:.0f} m")
         item.autoRange()
+        if len(self._marked):
+            self._ring(self._marked)
 
     def mark_sleepers(self, rows: np.ndarray) -> None:
         """Ring the centreline at the given sleeper rows (an exceedance picked in the track view)."""
-        if not len(rows) or "centreline" not in self.curves:
+        if not len(rows):
             return
+        self._marked = np.asarray(rows)
+        if not self.stale and "centreline" in self.curves:
+            self._ring(self._marked)
+
+    def _ring(self, rows: np.ndarray) -> None:
         east, north = self.curves["centreline"].getOriginalDataset()
         if "marker" not in self.curves:
             self.curves["marker"] = self.item.plot([], [], pen=pg.mkPen("#C00000", width=6), symbol="o",

@@ -9,13 +9,14 @@ import pyqtgraph as pg
 from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QVBoxLayout, QWidget
 
 from insrail.gui import plotstyle
+from insrail.gui.lazy import DrawWhenShown
 
 #: Columns worth overlaying: values in mm or ratios (not coordinates, times, flags).
 _UNITS = ("_mm", "_ratio")
 
 
-class RepeatabilityView(QWidget):
-    """``set_runs({run name: (station_m, {column: values})})``: plain arrays per run."""
+class RepeatabilityView(DrawWhenShown, QWidget):
+    """``set_runs({run name: (station_m, {column: values})})``: plain arrays per run; drawn when shown."""
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -36,7 +37,7 @@ class RepeatabilityView(QWidget):
         layout.addLayout(top)
         layout.addWidget(self.plot, 1)
         self._runs: Mapping[str, tuple[np.ndarray, Mapping[str, np.ndarray]]] = {}
-        self.parameter.currentTextChanged.connect(self._draw)
+        self.parameter.currentTextChanged.connect(lambda _text: self.request_draw())
 
     def set_runs(self, runs: Mapping[str, tuple[np.ndarray, Mapping[str, np.ndarray]]]) -> None:
         self._runs = runs
@@ -53,7 +54,7 @@ class RepeatabilityView(QWidget):
             self.parameter.setCurrentText(current)
         self.note.setText(f"{len(runs)} run{'s' if len(runs) != 1 else ''}"
                           + ("" if len(runs) > 1 else ": process more surveys of this track to compare them"))
-        self._draw()
+        self.request_draw(now=not runs)
 
     def _draw(self) -> None:
         item = self.item

@@ -23,6 +23,7 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.gui import plotstyle
+from insrail.gui.lazy import DrawWhenShown
 from insrail.project.plotdata import (
     BAND_SIGMAS,
     ChainagePlot,
@@ -34,6 +35,7 @@ from insrail.project.results import ExceedanceRow
 #: Checks whose plot starts hidden: each repeats what another plot shows (gauge, cant) or is a
 #: shorter-chord version of one shown; the Plots menu brings them back.
 HIDDEN_KINDS = ("gauge_deviation", "gauge_change_rate", "versine", "cross_level")
+READOUT_HINT = "Move the mouse over the plots to read every value at a sleeper."
 EXCEEDANCE_COLUMNS = ("Check", "Rail", "Direction", "From [m]", "To [m]", "Peak", "Limit", "Unit", "Sleepers")
 
 
@@ -133,7 +135,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                 return
 
 
-class TrackView(QWidget):
+class TrackView(DrawWhenShown, QWidget):
     """The chainage plots, their read-out line and the exceedance table under them."""
 
     exceedanceSelected = Signal(int, int)  # first and last sleeper number of the exceedance shown
@@ -141,7 +143,7 @@ class TrackView(QWidget):
     def __init__(self, parent=None):
         super().__init__(parent)
         self.plots = ChainagePlots()
-        self.readout = QLabel("Move the mouse over the plots to read every value at a sleeper.")
+        self.readout = QLabel(READOUT_HINT)
         self.readout.setTextFormat(Qt.RichText)
         self.readout.setWordWrap(True)
         self.readout.setTextInteractionFlags(Qt.TextSelectableByMouse)
@@ -201,13 +203,18 @@ class TrackView(QWidget):
             action.setCheckable(True)
             action.setChecked(spec.key in self._visible)
             action.toggled.connect(lambda on, key=spec.key: self.set_plot_visible(key, on))
-        self._draw()
+        self.request_draw(now=not len(self._station))
         self._fill_table()
+        self.readout.setText(READOUT_HINT if len(self._station) else "")
+
+    def clear_results(self) -> None:
+        """Nothing shown: another project, or a survey without results."""
+        self.set_results(np.zeros(0), np.zeros(0, int), (), {}, (), ())
 
     def set_plot_visible(self, key: str, visible: bool) -> None:
         x_range = self.plots.x_range() if self.plots.plots else None
         (self._visible.add if visible else self._visible.discard)(key)
-        self._draw()
+        self.request_draw()
         if x_range is not None:
             self.plots.set_x_range(*x_range)
 

@@ -1,0 +1,70 @@
+"""Reading a survey's results for the views, off the GUI thread.
+
+Two steps, each a signal: the sleepers (small: the track view paints from them at once), then the
+trajectory (the large file: plan and navigation). Every load carries the number of the request it
+answers; the window ignores answers to requests it has replaced (another project or survey was
+chosen meanwhile), so a slow load can never show one project's results in another's window.
+"""
+
+from __future__ import annotations
+
+import threading
+import traceback
+
+from PySide6.QtCore import QThread, Signal
+
+from insrail.io.errors import InputError
+from insrail.project import Project, load_results
+from insrail.project.plotdata import track_data, trajectory_views
+from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+
+
+class ResultsLoader(QThread):
+    """Loads the results of every processed survey of ``project`` in ``surveys`` and the views of
+    ``show`` (None: the first survey that has results)."""
+
+    resultsLoaded = Signal(int, object)  # request, {survey: StoredResults}
+    trackReady = Signal(int, object)  # request, TrackData
+    trajectoryReady = Signal(int, object)  # request, TrajectoryViews
+    failed = Signal(int, str)  # request, what went wrong (as the core words it)
+
+    def __init__(self, request: int, project: Project, surveys, show: str | None, known=None, parent=None):
+        super().__init__(parent)
+        self.request, self.project, self.surveys, self.show = request, project, tuple(surveys), show
+        self.known = dict(known or {})  # results already read (a survey switch reads nothing again)
+        self._stop = threading.Event()
+
+    def cancel(self) -> None:
+        """The answer is no longer wanted: stop after the current step."""
+        self._stop.set()
+
+    def run(self) -> None:
+        try:
+            self._load()
+        except (InputError, ValueError, OSError) as error:
+            self.failed.emit(self.request, str(error))
+        except Exception as error:  # noqa: BLE001 (a defect: the window must survive it and say what happened)
+            traceback.print_exc()
+            self.failed.emit(self.request, f"internal error {type(error).__name__}: {error} "
+                                           "(details on the console; please report it)")
+
+    def _load(self) -> None:
+        project, results = self.project, {}
+        for name in self.surveys:  # in the project's order: the first processed one is shown
+            if name in self.known:
+                results[name] = self.known[name]
+            elif (project.folder / RESULTS_FOLDER / name / SUMMARY_FILE).is_file():
+                try:
+                    results[name] = load_results(project.folder, name)
+                except InputError as error:
+                    self.failed.emit(self.request, str(error))
+            if self._stop.is_set():
+                return
+        self.resultsLoaded.emit(self.request, results)
+        show = self.show if self.show is not None else next(iter(results), None)
+        if show not in results or self._stop.is_set():
+            return
+        self.trackReady.emit(self.request, track_data(project, results[show]))
+        if self._stop.is_set():
+            return
+        self.trajectoryReady.emit(self.request, trajectory_views(project, results[show]))
