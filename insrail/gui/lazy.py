@@ -21,7 +21,7 @@ class DrawWhenShown:
         self._stale = False
         self._draw()
 
-    def showEvent(self, event) -> None:  # noqa: N802 (Qt's name)
+    def showEvent(self, event) -> None:
         super().showEvent(event)
         if self._stale:
             self._draw_now()

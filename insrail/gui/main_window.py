@@ -33,13 +33,13 @@ from insrail.gui.settings import recent_projects, remember_project
 from insrail.gui.views.gnss import GnssView, input_rows
 from insrail.gui.views.navigation import NavigationView
 from insrail.gui.views.plan import PlanView
-from insrail.notices import notices_of
 from insrail.gui.views.repeatability import RepeatabilityView
 from insrail.gui.views.track import TrackView
 from insrail.gui.wizard import NewProjectWizard
 from insrail.gui.worker import CoreWorker, ProcessingWorker, TaskWorker
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
+from insrail.notices import notices_of
 from insrail.project import (
     Project,
     ProjectError,

@@ -27,6 +27,7 @@ import numpy as np
 
 from insrail.gnss.qc import QUALITY_NAMES
 from insrail.io.control import read_benchmarks
+from insrail.io.errors import InputError
 from insrail.io.formats import read_any
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.survey import read_manifest
@@ -36,10 +37,14 @@ from insrail.nav.earth import Ellipsoid, radii
 from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.trajectory import Trajectory
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE
-from insrail.io.errors import InputError
 from insrail.project.model import Project
 from insrail.project.pipeline import ellipsoid_of
-from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, ExceedanceRow, StoredResults
+from insrail.project.results import (
+    RESULTS_FOLDER,
+    SUMMARY_FILE,
+    ExceedanceRow,
+    StoredResults,
+)
 from insrail.track.tolerance import ToleranceProfile, load_tolerance_profile
 
 #: Margin shown either side of an exceedance [m]: enough to see the 30 m chord around it.
@@ -414,9 +419,9 @@ def trajectory_views(project: Project, stored: StoredResults) -> TrajectoryViews
 
 __all__ = [
     "BAND_SIGMAS",
-    "Envelope",
     "EXCEEDANCE_MARGIN_M",
     "ChainagePlot",
+    "Envelope",
     "NavSeries",
     "PlanData",
     "PpkView",
@@ -432,8 +437,8 @@ __all__ = [
     "plan_data",
     "quality_bands",
     "quality_epochs",
-    "stored_ppk",
     "series_bands",
+    "stored_ppk",
     "survey_gnss",
     "track_data",
     "trajectory_views",
