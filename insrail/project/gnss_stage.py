@@ -49,6 +49,7 @@ from insrail.nav.fusion import gnss_by_quality
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.control_points import resolve_control_point
 from insrail.project.model import Project
+from insrail.project.stagecache import intact, seal
 from insrail.resources import resource
 
 GNSS_POS_FILE = "gnss.pos"
@@ -61,7 +62,7 @@ PPK_CACHE_VERSION = 1
 class GnssStageResult:
     """The PPK solution of a survey and where it lies in the cache.
 
-    pos_file, qc_file : cached ``.pos`` and QC report (shared into the results by hard link)
+    pos_file, qc_file : cached ``.pos`` and QC report (copied into the results)
     pos_sha256        : hash of the .pos contents (part of the fusion's cache key)
     report            : the QC report's contents (also the ``gnss`` part of summary.toml)
     """
@@ -132,16 +133,24 @@ def _converted_log(cache: Path, folder: Path, raw: RawGnss) -> tuple[Path, tuple
     _hash_files(digest, folder, [raw.rover_log])
     digest.update(str(raw.rover_log_format).encode())
     target = cache / f"rinex-{digest.hexdigest()[:32]}"
+    if target.is_dir() and not intact("receiver log conversion", *_converted_files(target)):
+        shutil.rmtree(target, ignore_errors=True)
     if not target.is_dir():
         staging = Path(tempfile.mkdtemp(prefix=".rinex-", dir=cache))
         try:
-            convert_to_rinex(folder / raw.rover_log, staging, raw.rover_log_format)
+            seal(*convert_to_rinex(folder / raw.rover_log, staging, raw.rover_log_format))
             os.replace(staging, target)
         finally:
             shutil.rmtree(staging, ignore_errors=True)
     stem = Path(raw.rover_log).stem
     navigation = target / f"{stem}.nav"
     return target / f"{stem}.obs", (navigation,) if navigation.is_file() else ()
+
+
+def _converted_files(target: Path) -> list[Path]:
+    """The RINEX files of a cached conversion (an observation file at least: absent means damaged)."""
+    files = sorted(p for p in target.iterdir() if p.suffix in (".obs", ".nav"))
+    return files if any(p.suffix == ".obs" for p in files) else [target / "missing.obs"]
 
 
 def _ppk_key(folder: Path, raw: RawGnss, base: BasePosition | None) -> str:
@@ -171,7 +180,7 @@ def run_gnss_stage(project: Project, folder: Path, manifest: SurveyManifest, cac
     base, base_report = _base_position(project, folder, raw)
     key = _ppk_key(folder, raw, base)
     pos_file, qc_file = cache / f"ppk-{key}.pos", cache / f"ppk-{key}.toml"
-    from_cache = pos_file.is_file() and qc_file.is_file()
+    from_cache = intact("GNSS solution", pos_file, qc_file)
     if from_cache:
         step(1.0, "GNSS solution reused from the cache")
         report = tomllib.loads(qc_file.read_text(encoding="utf-8"))
@@ -202,6 +211,7 @@ def run_gnss_stage(project: Project, folder: Path, manifest: SurveyManifest, cac
         try:
             with atomic_write(qc_file, "wb") as handle:
                 tomli_w.dump(report, handle)
+            seal(pos_file, qc_file)
         except BaseException:
             pos_file.unlink(missing_ok=True)  # a .pos without its report is never taken for a cache entry
             raise

@@ -82,7 +82,15 @@ from insrail.project.results import (
     track_quality_section,
     write_results,
 )
-from insrail.project.stagecache import load_dataclass, save_dataclass
+from insrail.project.stagecache import (
+    cached_dataclass,
+    clean_leftovers,
+    collect_cache_notices,
+    intact,
+    load_dataclass,
+    save_dataclass,
+    seal,
+)
 from insrail.quality.survey import (
     EpochQuality,
     SectionQuality,
@@ -235,7 +243,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
     path = cache / f"fusion-{key}.npy"
     info_path = path.with_suffix(".toml")
-    if path.is_file() and info_path.is_file() and quality_cache_file(path).is_file():
+    if intact("fusion", path, info_path, quality_cache_file(path)):
         progress(1.0, "fusion reused from the cache")
         return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
     survey = read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel, gnss=gnss)
@@ -266,6 +274,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     save_trajectory(path, result.trajectory)
     with atomic_write(info_path, "wb") as handle:
         tomli_w.dump(info, handle)
+    seal(path, info_path)
     return FreshFusion(result.trajectory, survey.gauge, survey.sleepers), path, {"from_cache": False} | info
 
 
@@ -274,8 +283,9 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
                          cancel: CancelToken) -> tuple[TrackReconstruction, bool]:
     """Rails, chainage and sleepers (from the cache when nothing they depend on changed)."""
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"track-{key}.npz"
-    if path.is_file():
-        return load_dataclass(path, TrackReconstruction), True
+    cached = cached_dataclass("track reconstruction", path, TrackReconstruction)
+    if cached is not None:
+        return cached, True
 
     def to_engineering(lat, lon, h):
         east, north = project.crs.to_plane(lat, lon)
@@ -310,8 +320,9 @@ def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress, 
     for values in (geometry.lateral_deviation_m, geometry.vertical_deviation_m):
         digest.update(np.ascontiguousarray(values).tobytes())
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"adjustment-{digest.hexdigest()[:32]}.npz"
-    if path.is_file():
-        return load_dataclass(path, Adjustment)
+    cached = cached_dataclass("adjustment", path, Adjustment)
+    if cached is not None:
+        return cached
     adjustment = optimise_adjustment(geometry, profile, fastener, progress=progress, cancel=cancel)
     save_dataclass(path, adjustment)
     return adjustment
@@ -333,6 +344,15 @@ def fit_heights(project: Project) -> HeightAnomalyFit | None:
 def process(project: Project, survey_name: str, progress: ProgressFn | None = None,
             cancel: CancelToken = None) -> SurveyResults:
     """Process one survey of ``project`` end to end and write its result files (see the module docstring)."""
+    results = project.folder / RESULTS_FOLDER
+    for folder in (results / CACHE_FOLDER, results):  # what killed runs left behind
+        clean_leftovers(folder)
+    with collect_cache_notices() as cache_notices:
+        return _process_survey(project, survey_name, progress, cancel, cache_notices)
+
+
+def _process_survey(project: Project, survey_name: str, progress: ProgressFn | None, cancel: CancelToken,
+                    cache_notices: list[Notice]) -> SurveyResults:
     step = StepProgress(progress)
     started = time.monotonic()
     entry = project.survey(survey_name)
@@ -386,7 +406,8 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
     if gnss is not None:
         summary["ppk"] = gnss.summary(project.fusion.gnss_quality_policy)
         summary["files"].update(gnss=GNSS_POS_FILE, gnss_qc=GNSS_QC_FILE)
-    summary["notices"] = [n.to_dict() for n in _notices(fusion_info, height_warnings, summary.get("ppk"))]
+    summary["notices"] = [n.to_dict() for n in [*cache_notices, *_notices(fusion_info, height_warnings,
+                                                                            summary.get("ppk"))]]
     summary["track_quality"] = track_quality_section(geometry)
     line_fit_files = _line_fit_files(recon)
     if project.design is None:

@@ -11,16 +11,25 @@
   stations in m, sigmas in mm; empty where a section has no value); absent in results of older versions
 * ``summary.toml``     settings used, headline numbers, file list
 
-A result folder is assembled beside the old one and swapped in at the end (:func:`write_results`), so
-a cancelled or failed run leaves the previous results (or none) and never a mixture. Readers see the
-files exactly as a user opening them in a spreadsheet would: :func:`load_results` is the one way back.
+A result folder is assembled beside the old one (``.<survey>.XXXX.new``) and swapped in only when
+complete (:func:`write_results`), so a cancelled, failed or killed run leaves the previous results (or
+none) and never a mixture. The swap is one atomic exchange of the two folders where the system has it
+(Linux ``renameat2(RENAME_EXCHANGE)``): there is no moment without results. Elsewhere the old folder
+is renamed aside (``.<survey>.old-PID``) and the new one into place; a crash between the two renames
+is repaired by the next reader or run (:func:`recover_results` puts the old folder back), and staging
+and old folders left by killed runs are removed then. Result files are copies, never links into the
+cache. Readers see the files exactly as a user opening them in a spreadsheet would:
+:func:`load_results` is the one way back.
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import io
 import os
 import shutil
+import sys
 import tempfile
 import tomllib
 from dataclasses import dataclass
@@ -148,33 +157,86 @@ def exceedances_csv(assessment: Assessment) -> str:
 
 def write_results(results: Path, name: str, files: dict[str, str | bytes | Path],
                   cancel: CancelToken = None) -> Path:
-    """Write ``results/<name>/`` from ``files`` (file name -> text, bytes, or a file to share by hard
-    link) into a staging folder, then swap it for the previous results."""
+    """Write ``results/<name>/`` from ``files`` (file name -> text, bytes, or a file to copy) into a
+    staging folder, then swap it for the previous results (see the module docstring)."""
     results.mkdir(parents=True, exist_ok=True)
+    recover_results(results, name)
     final = results / name
     staging = Path(tempfile.mkdtemp(prefix=f".{name}.", suffix=".new", dir=results))
     try:
         for file_name, content in files.items():
             target = staging / file_name
             if isinstance(content, Path):
-                _link_or_copy(content, target)
+                shutil.copyfile(content, target)  # a copy: editing a result never changes the cache
             elif isinstance(content, bytes):
                 target.write_bytes(content)
             else:
                 target.write_text(content, encoding="utf-8")
         check_cancel(cancel)
+        for file in staging.iterdir():  # on disk before the swap makes them the results
+            with open(file, "rb") as handle:
+                os.fsync(handle.fileno())
         os.chmod(staging, 0o755)
-        old = None
-        if final.exists():
-            old = results / f".{name}.old-{os.getpid()}"
-            os.replace(final, old)
-        os.replace(staging, final)
+        old = _swap_in(staging, final, results / f".{name}.old-{os.getpid()}")
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)
         raise
     if old is not None:
         shutil.rmtree(old, ignore_errors=True)
     return final
+
+
+def _swap_in(staging: Path, final: Path, aside: Path) -> Path | None:
+    """Make ``staging`` the results folder ``final``; returns the folder now holding the old results."""
+    if not final.exists():
+        os.replace(staging, final)
+        return None
+    if _exchange(staging, final):
+        return staging
+    os.replace(final, aside)
+    os.replace(staging, final)  # a crash before this line: recover_results puts ``aside`` back
+    return aside
+
+
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two folders in one atomic step (Linux renameat2); False where the system cannot."""
+    if not sys.platform.startswith("linux"):
+        return False
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        renameat2 = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    renameat2.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    return renameat2(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0
+
+
+def recover_results(results: Path, name: str, clean: bool = True) -> None:
+    """Repair what a killed run left for survey ``name``: the previous results put back when a crash
+    came between the renames of the swap; with ``clean`` (a run writing results, not a reader who
+    might meet a run in progress) staging (``.new``) and old folders removed."""
+    final = results / name
+    if not results.is_dir():
+        return
+    olds = sorted(results.glob(f".{glob_escape(name)}.old-*"), key=lambda p: p.stat().st_mtime, reverse=True)
+    if not final.exists() and olds:
+        try:
+            os.replace(olds.pop(0), final)
+        except OSError:  # a read-only project: read the old folder where it is
+            return
+    if not clean:
+        return
+    for leftover in [*olds, *results.glob(f".{glob_escape(name)}.*.new")]:
+        shutil.rmtree(leftover, ignore_errors=True)
+
+
+def glob_escape(name: str) -> str:
+    """``name`` matched literally in a glob pattern."""
+    return "".join(f"[{c}]" if c in "*?[" else c for c in name)
 
 
 def track_quality_section(geometry: SleeperGeometry, section_m: float = TQI_SECTION_M) -> dict:
@@ -241,14 +303,6 @@ def quality_section(quality: SectionQuality) -> dict:
 
 def summary_toml(summary: dict) -> bytes:
     return tomli_w.dumps(summary).encode("utf-8")
-
-
-def _link_or_copy(source: Path, destination: Path) -> None:
-    """Share the cached trajectory (files are only ever replaced, never modified in place)."""
-    try:
-        os.link(source, destination)
-    except OSError:
-        shutil.copyfile(source, destination)
 
 
 # --------------------------------------------------------------------------- reading
@@ -327,6 +381,7 @@ class StoredResults:
 def load_results(project_folder: Path, survey: str) -> StoredResults:
     """Read ``<project_folder>/results/<survey>/``; a missing or damaged file raises InputError naming it."""
     folder = Path(project_folder) / RESULTS_FOLDER / survey
+    recover_results(folder.parent, survey, clean=False)
     summary_path = folder / SUMMARY_FILE
     if not summary_path.is_file():
         raise InputError(folder, None, f"no results for survey {survey!r}: process it first")

@@ -1,21 +1,140 @@
-"""Stage results cached as plain ``.npz`` files: a (nested) dataclass of numpy arrays, text and numbers.
+"""Stage results cached as plain ``.npz`` files, and the checksum every cache entry carries.
 
 Nested dataclass fields are stored under ``field.subfield``; text tuples as unicode arrays; no
-pickle anywhere, so a cache file is data, never code. Files are written atomically; one that
-cannot be read back raises InputError naming it.
+pickle anywhere, so a cache file is data, never code. Files are written atomically.
+
+Integrity: every file of the cache (``.npy``, ``.npz``, ``.toml``, ``.pos``) gets a sidecar
+``<file>.sha256`` written after it (:func:`seal`). A stage reuses an entry only when each of its
+files matches its checksum (:func:`intact`); a truncated, empty, bit-flipped or unsealed file
+(a run killed between the file and its checksum) is deleted and the stage recomputes it, with a
+notice (:func:`collect_cache_notices` gathers them for the survey's summary). Results are copies,
+never links into the cache, so editing a result file cannot change the cache.
+
+Leftovers of killed runs (``.*.tmp`` files, ``.rinex-*`` staging folders) untouched for
+:data:`LEFTOVER_AGE_S` are removed by :func:`clean_leftovers`: no write keeps a temporary file
+that long without touching it, so a younger one may belong to a run going on in parallel.
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import dataclasses
+import hashlib
+import shutil
+import time
 import typing
 import zipfile
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
+from insrail.notices import Notice
+
+CHECKSUM_SUFFIX = ".sha256"
+LEFTOVER_AGE_S = 15 * 60.0
+_notices: contextvars.ContextVar[list[Notice] | None] = contextvars.ContextVar("cache_notices", default=None)
+
+
+def _sidecar(path: Path) -> Path:
+    return path.with_name(path.name + CHECKSUM_SUFFIX)
+
+
+def _sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def seal(*paths: Path) -> None:
+    """Write the checksum of each (complete) cache file beside it."""
+    for path in paths:
+        with atomic_write(_sidecar(path), "w") as handle:
+            handle.write(f"{_sha256(path)}  {path.name}\n")
+
+
+def _damage(path: Path) -> str | None:
+    """What is wrong with a cache file ('' when it is absent, None when intact)."""
+    if not path.is_file():
+        return ""
+    try:
+        recorded = _sidecar(path).read_text(encoding="ascii").split()[0]
+    except (OSError, UnicodeDecodeError, IndexError):
+        return "it has no checksum (a run stopped while writing it, or an older insrail wrote it)"
+    if path.stat().st_size == 0:
+        return "it is empty"
+    if _sha256(path) != recorded:
+        return "its contents do not match its checksum (truncated or altered)"
+    return None
+
+
+def discard(*paths: Path) -> None:
+    """Remove cache files and their checksums."""
+    for path in paths:
+        for item in (path, _sidecar(path)):
+            item.unlink(missing_ok=True)
+
+
+def note_damaged(stage: str, path: Path, reason: str) -> None:
+    """Tell the survey's summary that a cache entry was recomputed."""
+    notice = Notice("cache", f"the cached {stage} {path.name} was damaged ({reason}): recomputed", file=str(path))
+    collected = _notices.get()
+    if collected is not None:
+        collected.append(notice)
+
+
+def intact(stage: str, *paths: Path) -> bool:
+    """True when every file of a cache entry exists and matches its checksum.
+
+    Absent (never computed): False, silently. Damaged: the whole entry is discarded, a notice
+    recorded, and False returned so that the stage recomputes it.
+    """
+    damage = [(path, _damage(path)) for path in paths]
+    if all(reason is None for _, reason in damage):
+        return True
+    if any(reason for _, reason in damage):
+        path, reason = next((p, r) for p, r in damage if r)
+        note_damaged(stage, path, reason)
+    discard(*paths)
+    return False
+
+
+@contextlib.contextmanager
+def collect_cache_notices() -> Iterator[list[Notice]]:
+    """Gather the notices of damaged cache entries recomputed inside the block."""
+    collected: list[Notice] = []
+    token = _notices.set(collected)
+    try:
+        yield collected
+    finally:
+        _notices.reset(token)
+
+
+def clean_leftovers(folder: Path, now: float | None = None) -> list[Path]:
+    """Remove temporary files and staging folders of killed runs in ``folder`` (see the module docstring)."""
+    now = time.time() if now is None else now
+    removed = []
+    if not folder.is_dir():
+        return removed
+    for item in folder.iterdir():
+        is_leftover = ((item.name.startswith(".") and item.name.endswith(".tmp") and item.is_file())
+                       or (item.name.startswith(".rinex-") and item.is_dir()))
+        try:
+            if not is_leftover or now - item.stat().st_mtime < LEFTOVER_AGE_S:
+                continue
+            if item.is_dir():
+                shutil.rmtree(item)
+            else:
+                item.unlink()
+        except OSError:  # gone meanwhile, or not ours to remove: left alone
+            continue
+        removed.append(item)
+    return removed
 
 
 def _flatten(value, prefix: str, out: dict[str, np.ndarray]) -> None:
@@ -39,6 +158,7 @@ def save_dataclass(path: Path, value) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_write(path, "wb") as handle:
         np.savez(handle, **arrays)
+    seal(path)
 
 
 def _build(cls, prefix: str, arrays) -> object:
@@ -68,5 +188,17 @@ def load_dataclass(path: Path, cls):
     try:
         with np.load(path, allow_pickle=False) as arrays:
             return _build(cls, "", {name: arrays[name] for name in arrays.files})
-    except (KeyError, ValueError, OSError, zipfile.BadZipFile) as error:
+    except (KeyError, ValueError, TypeError, OSError, EOFError, zipfile.BadZipFile) as error:
         raise InputError(path, None, f"damaged cache file ({error}): delete it to recompute") from None
+
+
+def cached_dataclass(stage: str, path: Path, cls):
+    """The cached ``cls`` at ``path``, or None when absent or damaged (then discarded, with a notice)."""
+    if not intact(stage, path):
+        return None
+    try:
+        return load_dataclass(path, cls)
+    except InputError as error:  # intact bytes of another layout (an older insrail)
+        note_damaged(stage, path, error.message.split(": delete")[0])
+        discard(path)
+        return None

@@ -1,0 +1,167 @@
+"""Faults around the results and the cache, end to end on a tiny simulated survey: a damaged cache
+entry is recomputed with a notice, results never share a file with the cache, a crash in the
+results swap leaves the previous results readable, leftovers of killed runs are cleaned."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import time
+import tomllib
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from insrail.cli.main import main
+from insrail.project import load_project, process
+from insrail.project import results as results_module
+from insrail.project.demo import project_for_simulated_survey
+from insrail.project.results import load_results
+from insrail.project.stagecache import LEFTOVER_AGE_S
+from insrail.sim.scenario import GnssSpec, preset
+from insrail.sim.simulate import simulate
+
+SURVEY = "tiny"
+
+
+def tiny_scenario():
+    short = preset("short")
+    return replace(short, name=SURVEY,
+                   motion=replace(short.motion, start_station_m=1100.0, end_station_m=1250.0, stops=(),
+                                  static_start_s=60.0, static_end_s=10.0),
+                   gnss=GnssSpec())
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory):
+    """A one-survey project processed once (the clean run the faults are compared with)."""
+    root = tmp_path_factory.mktemp("robust") / "clean"
+    simulate(tiny_scenario(), 1, root / "surveys" / SURVEY, imu_format="npy")
+    project = project_for_simulated_survey(root, root / "surveys" / SURVEY, name="tiny")
+    process(project, SURVEY)
+    return root
+
+
+def copy_of(tiny: Path, tmp_path: Path) -> Path:
+    target = tmp_path / "project"
+    shutil.copytree(tiny, target)
+    return target
+
+
+def cache_of(project: Path) -> Path:
+    return project / "results" / ".cache"
+
+
+def results_of(project: Path) -> Path:
+    return project / "results" / SURVEY
+
+
+def notices(project: Path) -> list[dict]:
+    return tomllib.loads((results_of(project) / "summary.toml").read_text())["notices"]
+
+
+def assert_same_results(project: Path, reference: Path) -> None:
+    """The same sleepers and exceedances (to the last printed digit: a recomputed stage may round
+    a micrometre differently)."""
+    ours, theirs = load_results(project, SURVEY), load_results(reference, SURVEY)
+    assert ours.number.tolist() == theirs.number.tolist()
+    for column, values in theirs.columns.items():
+        np.testing.assert_allclose(ours.columns[column], values, rtol=0, atol=1.5e-3, err_msg=column)
+    assert [(e.check, e.first_sleeper, e.last_sleeper) for e in ours.exceedances] == [
+        (e.check, e.first_sleeper, e.last_sleeper) for e in theirs.exceedances]
+
+
+def test_results_are_copies_not_links_into_the_cache(tiny, tmp_path):
+    project = copy_of(tiny, tmp_path)
+    process(load_project(project), SURVEY)
+    (cached,) = cache_of(project).glob("fusion-*.npy")
+    result = results_of(project) / "trajectory.npy"
+    assert os.stat(result).st_ino != os.stat(cached).st_ino and os.stat(cached).st_nlink == 1
+    records = np.load(result)
+    records["height_m"] += 1.0  # a user edits the result file in place
+    with open(result, "r+b") as handle:
+        np.save(handle, records)
+    again = process(load_project(project), SURVEY)
+    assert again.fusion_from_cache
+    heights = np.load(results_of(project) / "trajectory.npy")["height_m"]
+    assert np.array_equal(heights, np.load(results_of(tiny) / "trajectory.npy")["height_m"])
+
+
+def _truncate(path: Path) -> None:
+    path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+
+
+def _empty(path: Path) -> None:
+    path.write_bytes(b"")
+
+
+def _flip(path: Path) -> None:
+    data = bytearray(path.read_bytes())
+    data[len(data) * 2 // 3] ^= 0x10
+    path.write_bytes(bytes(data))
+
+
+@pytest.mark.parametrize(("pattern", "damage"), [
+    ("fusion-*[0-9a-f].npy", _truncate), ("fusion-*[0-9a-f].npy", _flip), ("fusion-*[0-9a-f].toml", _empty),
+    ("fusion-*.quality.npz", _flip), ("track-*[0-9a-f].npz", _truncate), ("adjustment-*[0-9a-f].npz", _empty),
+    ("adjustment-*[0-9a-f].npz", _flip)])
+def test_a_damaged_cache_entry_is_recomputed_with_a_notice(tiny, tmp_path, pattern, damage):
+    project = copy_of(tiny, tmp_path)
+    (entry,) = cache_of(project).glob(pattern)
+    damage(entry)
+    assert main(["process", str(project)]) == 0
+    (notice,) = [n for n in notices(project) if n["stage"] == "cache"]
+    assert entry.name in notice["message"] and "recomputed" in notice["message"]
+    assert_same_results(project, tiny)
+    process(load_project(project), SURVEY)  # the recomputed entry is sealed: no notice the next time
+    assert not [n for n in notices(project) if n["stage"] == "cache"]
+
+
+def test_a_crash_between_the_renames_leaves_the_previous_results_readable(tiny, tmp_path, monkeypatch, capsys):
+    project = copy_of(tiny, tmp_path)
+    before = (results_of(project) / "sleepers.csv").read_bytes()
+    monkeypatch.setattr(results_module, "_exchange", lambda a, b: False)  # a system without an atomic exchange
+    real_replace = os.replace
+
+    def crash_on_the_second_rename(source, target):
+        if Path(source).name.endswith(".new"):
+            raise KeyboardInterrupt("killed between the renames")
+        real_replace(source, target)
+
+    monkeypatch.setattr(results_module.os, "replace", crash_on_the_second_rename)
+    with pytest.raises(KeyboardInterrupt):
+        process(load_project(project), SURVEY)
+    monkeypatch.undo()
+    assert not results_of(project).exists()  # the window the old code had
+    assert load_results(project, SURVEY).summary["survey"]  # the previous results, put back by the reader
+    assert (results_of(project) / "sleepers.csv").read_bytes() == before
+    assert main(["report", str(project), "--xlsx", str(tmp_path / "r.xlsx"), "--pdf", str(tmp_path / "r.pdf")]) == 0
+
+
+def test_the_swap_exchanges_the_folders_and_leaves_nothing_behind(tiny, tmp_path):
+    project = copy_of(tiny, tmp_path)
+    process(load_project(project), SURVEY)
+    assert sorted(p.name for p in (project / "results").iterdir()) == [".cache", SURVEY]
+
+
+def test_leftovers_of_killed_runs_are_cleaned_by_the_next_run(tiny, tmp_path):
+    project = copy_of(tiny, tmp_path)
+    results = project / "results"
+    old = time.time() - LEFTOVER_AGE_S - 60
+    leftovers = [results / f".{SURVEY}.abcd.new", results / f".{SURVEY}.old-12345",
+                 cache_of(project) / ".rinex-xyz"]
+    for folder in leftovers:
+        folder.mkdir()
+        (folder / "part").write_text("half")
+    temporary = [cache_of(project) / ".fusion-1234.npy.abcd.tmp", results / ".repeatability.csv.x.tmp"]
+    for file in temporary:
+        file.write_text("half")
+    for item in [*leftovers, *temporary]:
+        os.utime(item, (old, old))
+    young = cache_of(project) / ".track-5678.npz.efgh.tmp"  # perhaps a run going on in parallel
+    young.write_text("being written")
+    process(load_project(project), SURVEY)
+    assert not [p for p in [*leftovers, *temporary] if p.exists()]
+    assert young.exists()
