@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from insrail.io.types import Gap, GaugeData
-from insrail.track.chainage import epoch_station_track, stations_along_path
+from insrail.track.chainage import stations_along_path
 from insrail.track.rails import gauge_at_times, gauge_curve_correction_m, rails_from_pose
 from track_truth import truth_reconstruction
 
@@ -65,13 +65,6 @@ def test_stations_increase_with_travel_when_the_trolley_faces_backwards(recon):
     a = stations_along_path(rails, 100.0).centre_m
     b = stations_along_path(flipped, 100.0).centre_m
     assert np.allclose(a, b, atol=1e-9)
-
-
-def test_epoch_station_track_refuses_reversed_stationing():
-    with pytest.raises(ValueError, match="against the stationing"):
-        epoch_station_track(np.arange(3.0), np.array([3.0, 2.0, 1.0]))
-    with pytest.raises(ValueError, match="fewer than two"):
-        epoch_station_track(np.arange(3.0), np.array([np.nan, 2.0, np.nan]))
 
 
 # ---------------------------------------------------------------- gauge

@@ -64,7 +64,7 @@ def truth_reconstruction(folder: Path) -> TruthReconstruction:
     config = preset(scenario["scenario"]["name"], imu_profile=scenario["scenario"]["imu_profile"])
     crs = EngineeringCRS.from_settings(config.geodetic.crs)
     # The simulator's first random stream builds the track: the same seed rebuilds it exactly.
-    track = true_track(config, np.random.default_rng(np.random.SeedSequence(scenario["seed"]).spawn(8)[0]))
+    track = true_track(config, np.random.default_rng(np.random.SeedSequence(scenario.get("track_seed", scenario["seed"])).spawn(9)[0]))
     nav = np.asarray(read_nav_truth(folder / "truth" / "nav.npy"))
     trajectory = trajectory_from_truth(nav, crs.ellipsoid)
     # The error-free gauge at the trolley's reference cross-section, as the simulated sensor sees it.

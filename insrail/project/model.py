@@ -12,8 +12,12 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
                          normal_height_m (insrail.project.control_points): e.g. the GNSS base's mark
     [trolley]            as in survey.toml; when absent each survey's own [trolley] is used
     [processing]         imu_profile (default: each survey's), a subset of FusionOptions
-    [track]              design (alignment CSV or LandXML), start_station_m (needed without a design),
-                         first_sleeper_number, tolerance_profile, fastener
+    [track]              design (alignment CSV or LandXML), start_station_m (needed without a design:
+                         the station where each survey starts), stationing_direction (without a
+                         design: "travel", the default, stations grow in each survey's direction of
+                         travel; or a grid azimuth in degrees towards which they grow, so that runs
+                         in both directions share one stationing), first_sleeper_number,
+                         tolerance_profile, fastener
     [[surveys]]          name, folder (holding a survey.toml)
     [report]             what the reports' first page states and how they print (:class:`ReportSettings`):
                          client, line_section, track_name, operator, checked_by, approved_by, trolley,
@@ -46,6 +50,7 @@ from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.project.control_points import ControlPoint, parse_control_points
 from insrail.track.adjustment import DEFAULT_FASTENER, load_fastener_type
+from insrail.track.chainage import WITH_TRAVEL
 from insrail.track.tolerance import DEFAULT_PROFILE, load_tolerance_profile
 
 PROJECT_FILE = "project.toml"
@@ -127,6 +132,7 @@ class Project:
     fusion: FusionOptions = field(default_factory=FusionOptions)
     design: str | None = None
     start_station_m: float | None = None
+    stationing_direction: str | float = WITH_TRAVEL
     first_sleeper_number: int = 1
     tolerance_profile: str = DEFAULT_PROFILE
     fastener: str = DEFAULT_FASTENER
@@ -173,6 +179,8 @@ class Project:
             track["design"] = self.design
         if self.start_station_m is not None:
             track["start_station_m"] = self.start_station_m
+        if self.stationing_direction != WITH_TRAVEL:
+            track["stationing_direction"] = self.stationing_direction
         document: dict[str, Any] = {
             "project": {"name": self.name, "description": self.description},
             "geodesy": {"crs": self.crs.to_settings(), "height": height},
@@ -257,13 +265,21 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
                 options[key] = value
 
     track = reader.table(document, "track")
-    reader.known(track, "track", ("design", "start_station_m", "first_sleeper_number", "tolerance_profile", "fastener"))
+    reader.known(track, "track", ("design", "start_station_m", "stationing_direction", "first_sleeper_number",
+                                  "tolerance_profile", "fastener"))
     design = reader.file(track, "track.design")
     if design is not None:
         _check_design(reader, design)
     start_station = reader.number(track, "track.start_station_m") if "start_station_m" in track else None
     if design is None and "design" not in track and "start_station_m" not in track:
         reader.add("track.start_station_m", "missing: without a design alignment the start station is needed")
+    stationing = track.get("stationing_direction", WITH_TRAVEL)
+    if stationing != WITH_TRAVEL:
+        if "stationing_direction" in track and reader.number(track, "track.stationing_direction") is None:
+            stationing = WITH_TRAVEL
+            reader.problems[-1] += f' or "{WITH_TRAVEL}"'
+        else:
+            stationing = float(stationing)
     first_number = track.get("first_sleeper_number", 1)
     if not isinstance(first_number, int) or isinstance(first_number, bool):
         reader.add("track.first_sleeper_number", f"expected a whole number, found {first_number!r}")
@@ -276,7 +292,8 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     return Project(
         folder=Path(folder), name=name, description=description, crs=crs, height=height, surveys=surveys,
         trolley_settings=trolley_settings, imu_profile=imu_profile, fusion=FusionOptions(**options),
-        design=design, start_station_m=start_station, first_sleeper_number=first_number,
+        design=design, start_station_m=start_station, stationing_direction=stationing,
+        first_sleeper_number=first_number,
         tolerance_profile=tolerance, fastener=fastener, control_points=control_points, report=report,
     )
 

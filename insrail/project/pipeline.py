@@ -208,7 +208,8 @@ def track_key(project: Project, fusion: str) -> str:
     the raw files, gauge and sleeper pulses included, and the trolley)."""
     digest = hashlib.sha256(fusion.encode())
     settings = {"version": CACHE_VERSION, "geodesy": _geodesy_settings(project),
-                "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number}
+                "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number,
+                "stationing_direction": project.stationing_direction}
     if project.design is not None:
         design = hashlib.sha256()
         _hash_file(design, project.resolve(project.design))
@@ -299,7 +300,8 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
     check_cancel(cancel)
     recon = reconstruct_track(fresh.trajectory, manifest.trolley, fresh.gauge, to_engineering, design=design,
                               pulses=fresh.pulses,
-                              start_station_m=project.start_station_m, first_number=project.first_sleeper_number)
+                              start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
+                              stationing=project.stationing_direction)
     if recon.fitted is None and recon.reference is None:  # a fitted line (element objects) is recomputed instead
         save_dataclass(path, recon)
     return recon, False

@@ -51,10 +51,10 @@ class TrajectoryErrors:
 
     def lag_difference_sigma_m(self, lag_m: float) -> tuple[float, float]:
         """1-sigma of e(s + lag) - e(s) for the lateral and the vertical error, sampled at
-        sleeper spacing along the travelled stations."""
-        s = self.station_m
+        sleeper spacing along the travelled stations (with or against the stationing)."""
+        s = self.station_m if self.station_m[-1] >= self.station_m[0] else -self.station_m
         grid = np.arange(s[self.moving][0] + 1.0, s[-1] - 1.0, SLEEPER_SPACING_M)
-        k = np.searchsorted(s, grid)  # first epoch reaching each station (stations never decrease)
+        k = np.searchsorted(s, grid)  # first epoch reaching each station (travelled stations never decrease)
         lag = int(round(lag_m / SLEEPER_SPACING_M))
         if len(k) <= lag:
             return float("nan"), float("nan")
@@ -83,5 +83,5 @@ def trajectory_errors(trajectory: Trajectory, truth: np.ndarray, ell: earth.Elli
         lateral_m=lateral,
         vertical_m=-down,
         rpy_rad=rpy,
-        moving=station > station[0] + 1.0,
+        moving=np.abs(station - station[0]) > 1.0,
     )

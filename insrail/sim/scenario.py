@@ -58,6 +58,12 @@ class IrregularitySpec:
 
 @dataclass(frozen=True)
 class MotionSpec:
+    """The trolley's run from ``start_station_m`` to ``end_station_m`` (stations increasing);
+    with ``reverse`` it runs the same stretch the other way, from ``end_station_m`` down to
+    ``start_station_m``, facing its direction of travel (its x axis against the stationing,
+    its reference rail the stationing's other rail). Stops, outages and prism fixes are
+    given by station either way."""
+
     start_station_m: float
     end_station_m: float
     cruise_speed_mps: float = 1.2
@@ -67,6 +73,7 @@ class MotionSpec:
     static_start_s: float = 300.0
     static_end_s: float = 60.0
     stops: tuple[tuple[float, float], ...] = ()  # (station, duration)
+    reverse: bool = False
 
 
 @dataclass(frozen=True)

@@ -114,8 +114,13 @@ def simulate(
     overwrite: bool = False,
     progress: ProgressFn | None = None,
     cancel: CancelToken = None,
+    track_seed: int | None = None,
 ) -> SimulationResult:
-    """Simulate ``config`` with random ``seed`` into the survey folder ``out_dir``."""
+    """Simulate ``config`` with random ``seed`` into the survey folder ``out_dir``.
+
+    ``track_seed`` (default: ``seed``) draws the track's irregularities alone: two runs over one
+    track with independent sensor noise (a repeat run, a return pass) share it and differ in ``seed``.
+    """
     out_dir = Path(out_dir)
     if out_dir.exists() and not overwrite and any(out_dir.iterdir()):
         raise FileExistsError(f"{out_dir} exists and is not empty (use overwrite=True / --force to replace it)")
@@ -127,6 +132,8 @@ def simulate(
     rng_track, rng_motion, rng_imu, rng_gnss, rng_odo, rng_sleeper, rng_misc, rng_noise, rng_play = (
         np.random.default_rng(s) for s in streams
     )
+    if track_seed is not None:
+        rng_track = np.random.default_rng(np.random.SeedSequence(track_seed).spawn(9)[0])
 
     # --- true track and trolley path -------------------------------------------------
     step(0.0, "building the track")
@@ -134,7 +141,12 @@ def simulate(
     crs = EngineeringCRS.from_settings(config.geodetic.crs)
     ell = earth.Ellipsoid(crs.ellipsoid, crs.semi_major_axis_m, 1.0 / crs.inverse_flattening_value)
     motion = config.motion
-    prism_stops = tuple((s, config.prism.duration_s) for s in config.prism.stations_m)
+    # The motion runs in a path coordinate growing with travel: the station itself, or for a
+    # reverse run the station mirrored about the stretch's middle (the map is its own inverse).
+    def path_of(station):
+        return motion.start_station_m + motion.end_station_m - np.asarray(station) if motion.reverse else np.asarray(station)
+
+    prism_stops = tuple((float(path_of(s)), config.prism.duration_s) for s in config.prism.stations_m)
     profile = walking_profile(
         rng_motion,
         config.start_time_s,
@@ -146,20 +158,22 @@ def simulate(
         motion.ramp_s,
         motion.static_start_s,
         motion.static_end_s,
-        stops=tuple(sorted(set(motion.stops) | set(prism_stops))),
+        stops=tuple(sorted({(float(path_of(s)), d) for s, d in motion.stops} | set(prism_stops))),
     )
     trolley = config.trolley
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
     margin = 5.0  # the trolley's points reach about a metre beyond the reference point
     grid = np.arange(motion.start_station_m - margin, motion.end_station_m + margin, config.station_grid_m)
-    sections = track.sections(grid)
-    rail = sections.rail(trolley.reference_rail)
+    sections = track.sections(path_of(grid))
+    # A trolley facing against the stationing has the stationing's right rail on its left.
+    other = {"left": "right", "right": "left"}
+    rail = sections.rail(other[trolley.reference_rail] if motion.reverse else trolley.reference_rail)
     lat, lon = crs.to_geodetic(rail[:, 0], rail[:, 1])
     h = rail[:, 2] + height_anomaly(config, rail[:, 0], rail[:, 1])
     kin = TrolleyKinematics(
         grid,
         earth.geodetic_to_ecef(lat, lon, h, ell),
-        sections.cross_slope_rad,
+        -sections.cross_slope_rad if motion.reverse else sections.cross_slope_rad,
         trolley.imu_to_reference_rail_m,
         c_vb,
         profile,
@@ -193,11 +207,12 @@ def simulate(
         truth["lat_rad"][sl], truth["lon_rad"][sl], truth["height_m"][sl] = la, lo, hh
         truth["vel_ned_mps"][sl] = v_ned
         truth["rpy_rad"][sl] = np.column_stack([roll, pitch, heading])
-        truth["station_m"][sl] = profile.evaluate(tt)[0]
+        truth["station_m"][sl] = path_of(profile.evaluate(tt)[0])
         imu_step(sl.stop / n, f"IMU {sl.stop}/{n} epochs")
     wheel[0] = 0.0
     wheel_distance = np.cumsum(wheel)  # true distance of the odometer wheel since the first epoch
     station_at_imu = truth["station_m"]
+    path_at_imu = path_of(station_at_imu)  # non-decreasing in time: invertible
 
     # --- GNSS ----------------------------------------------------------------------
     step(0.86, "GNSS")
@@ -205,7 +220,7 @@ def simulate(
     t_gnss = np.arange(np.ceil(t[0]), t[-1], 1.0 / gcfg.rate_hz)
     outage_intervals = []
     for start_station, duration in gcfg.outages:
-        t_out = float(_station_inverse(t, station_at_imu, np.array([start_station]))[0])
+        t_out = float(_station_inverse(t, path_at_imu, path_of(np.array([start_station])))[0])
         outage_intervals.append((t_out, t_out + duration))
     t_gnss = t_gnss[~sensors.in_intervals(t_gnss, outage_intervals)]
     ant_pos, ant_vel = kin.point_ecef(t_gnss, trolley.imu_to_antenna_m)
@@ -263,7 +278,7 @@ def simulate(
     first = motion.start_station_m + detector_ahead_m + 1.0
     nominal = np.arange(np.ceil(first / sc.spacing_m) * sc.spacing_m, motion.end_station_m + detector_ahead_m - 1.0, sc.spacing_m)
     sleeper_station = nominal + rng_sleeper.normal(0.0, sc.spacing_jitter_m, len(nominal))
-    pass_time = _station_inverse(t, station_at_imu, sleeper_station - detector_ahead_m)
+    pass_time = _station_inverse(t, path_at_imu, path_of(sleeper_station) - detector_ahead_m)
     pulse_times, detected, false_times = sensors.sleeper_pulse_times(
         rng_sleeper, pass_time, sc.missed_fraction, sc.false_fraction, sc.timing_jitter_s
     )
@@ -271,7 +286,7 @@ def simulate(
 
     prism = None
     if config.prism.stations_m:
-        times = _station_inverse(t, station_at_imu, np.array(config.prism.stations_m)) + 0.5 * config.prism.duration_s
+        times = _station_inverse(t, path_at_imu, path_of(np.array(config.prism.stations_m))) + 0.5 * config.prism.duration_s
         p_pos, _ = kin.point_ecef(times, trolley.imu_to_prism_m)
         p_lat, p_lon, p_h = earth.ecef_to_geodetic(p_pos, ell)
         p_e, p_n = crs.to_plane(p_lat, p_lon)
@@ -311,7 +326,7 @@ def simulate(
         )
         files["truth_errors"] = _write_error_truth(truth_dir, config, imu_errors, t, outage_intervals, false_times)
         files.update(_write_design(truth_dir, track.design))
-        files["scenario"] = _write_scenario(truth_dir / "scenario.toml", config, seed, crs)
+        files["scenario"] = _write_scenario(truth_dir / "scenario.toml", config, seed, crs, track_seed)
         if out_dir.exists():
             shutil.rmtree(out_dir)
         tmp.rename(out_dir)
@@ -436,8 +451,9 @@ def _plain(value):
     return value
 
 
-def _write_scenario(path: Path, config: ScenarioConfig, seed: int, crs) -> Path:
-    content = {"seed": seed, "insrail_version": __version__, "engineering_crs": crs.to_settings()}
+def _write_scenario(path: Path, config: ScenarioConfig, seed: int, crs, track_seed: int | None = None) -> Path:
+    content = {"seed": seed, "track_seed": seed if track_seed is None else track_seed,
+               "insrail_version": __version__, "engineering_crs": crs.to_settings()}
     content["scenario"] = _plain(asdict(config))
     path.write_text(tomli_w.dumps(content), encoding="utf-8")
     return path

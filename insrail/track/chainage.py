@@ -1,4 +1,14 @@
-"""Chainage (station) of the measured rail points.
+"""Chainage (station) of the measured rail points, and the trolley turned to the stationing.
+
+Direction of travel and facing: a survey may run with or against the stationing and the
+trolley may face either way. :func:`rails_from_pose` gives the rails in the trolley's own
+frame (its left and right, cant + when ITS left rail is higher); everything reported
+follows the stationing instead (see :mod:`insrail.track`). :func:`in_stationing_frame`
+turns the rail points over when the trolley's x axis points against the stationing
+(``facing`` -1): left and right rails (and which one is the reference) swap, the cant,
+cross slope and forward axis change sign. The facing comes from the design's tangent
+(:func:`facing_on_design`) or, without a design, from the project's stationing direction
+(:func:`facing_along_path`).
 
 With a design alignment every point gets the station of the foot of its perpendicular on
 the design's plan (:meth:`HorizontalAlignment.station_offset`): each rail and the centreline
@@ -11,11 +21,12 @@ given start station (thesis 5.3.2.1). The distance is accumulated as the project
 step on the trolley's forward axis, so position noise while the trolley stands still adds up
 to zero instead of growing like a random walk, and reversing decreases the station. The rail
 points get the centreline station plus their own along-track offset from the centreline.
+Which way the stations grow is the project's choice (:data:`WITH_TRAVEL` or a grid azimuth).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -50,12 +61,14 @@ def stations_on_design(rails: RailPoints, design: DesignAlignment) -> RailStatio
     return RailStations(centre, left, right, reference, offset, from_design=True)
 
 
-def stations_along_path(rails: RailPoints, start_station_m: float) -> RailStations:
-    """Stations as travelled plane distance along the centreline from ``start_station_m`` at the
-    first epoch, increasing in the direction of travel.
+#: Without a design the stations grow in the direction of travel unless an azimuth is given.
+WITH_TRAVEL = "travel"
 
-    The centreline of epochs without gauge is bridged by the reference rail's motion.
-    """
+
+def _along_path(rails: RailPoints) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(track points E, N; unit forward axes E, N; plane distance travelled along the trolley's
+    x axis since the first epoch). The centreline of epochs without gauge is bridged by the
+    reference rail's motion."""
     centre = rails.centre_enh_m[:, :2]
     reference = rails.reference_rail_enh_m[:, :2]
     track = np.where(np.isnan(centre), reference, centre)
@@ -63,9 +76,64 @@ def stations_along_path(rails: RailPoints, start_station_m: float) -> RailStatio
     forward = forward / np.linalg.norm(forward, axis=1)[:, None]
     mid_forward = 0.5 * (forward[1:] + forward[:-1])
     along_steps = np.einsum("ij,ij->i", np.diff(track, axis=0), mid_forward)
-    travelled = np.concatenate([[0.0], np.cumsum(along_steps)])
-    # Stations grow in the direction of travel, whichever way the trolley's x axis points.
-    direction = 1.0 if travelled[-1] >= 0.0 else -1.0
+    return track, forward, np.concatenate([[0.0], np.cumsum(along_steps)])
+
+
+def facing_along_path(rails: RailPoints, stationing: str | float = WITH_TRAVEL) -> float:
+    """+1 when the stations grow along the trolley's x axis, -1 when against it, for a track
+    without a design: ``stationing`` is :data:`WITH_TRAVEL` (stations grow in the direction of
+    travel) or the grid azimuth [deg] towards which they grow (within 90 degrees: the run's
+    overall direction from its first to its last point decides)."""
+    track, _, travelled = _along_path(rails)
+    along_x = 1.0 if travelled[-1] >= 0.0 else -1.0
+    if stationing == WITH_TRAVEL:
+        return along_x
+    azimuth = np.radians(float(stationing))
+    finite = np.flatnonzero(np.all(np.isfinite(track), axis=1))
+    if finite.size < 2:
+        raise ValueError("fewer than two epochs have a position: the stationing direction cannot be found")
+    travel = track[finite[-1]] - track[finite[0]]
+    with_travel = 1.0 if travel @ np.array([np.sin(azimuth), np.cos(azimuth)]) >= 0.0 else -1.0
+    return along_x * with_travel
+
+
+def facing_on_design(rails: RailPoints, design: DesignAlignment) -> float:
+    """+1 when the trolley's x axis points towards increasing design station, -1 against it
+    (the median over the epochs projecting on the design; +1 when none does)."""
+    h = design.horizontal
+    station, _ = h.station_offset(rails.reference_rail_enh_m[:, 0], rails.reference_rail_enh_m[:, 1])
+    on = np.isfinite(station)
+    if not on.any():
+        return 1.0
+    azimuth = h.azimuth_at(station[on])
+    cosine = rails.forward_enh[on, 0] * np.sin(azimuth) + rails.forward_enh[on, 1] * np.cos(azimuth)
+    return 1.0 if np.median(cosine) >= 0.0 else -1.0
+
+
+def in_stationing_frame(rails: RailPoints, facing: float) -> RailPoints:
+    """The rail points named by the stationing: unchanged for ``facing`` +1; for -1 (the trolley
+    faces against the stationing) its left rail is the stationing's right one, so the rails
+    (and the reference rail's name) swap and cant, cross slope and forward axis change sign."""
+    if facing > 0:
+        return rails
+    return replace(
+        rails,
+        reference_rail="right" if rails.reference_rail == "left" else "left",
+        left_rail_enh_m=rails.right_rail_enh_m,
+        right_rail_enh_m=rails.left_rail_enh_m,
+        forward_enh=-rails.forward_enh,
+        cross_slope_rad=-rails.cross_slope_rad,
+        cant_m=-rails.cant_m,
+    )
+
+
+def stations_along_path(rails: RailPoints, start_station_m: float, stationing: str | float = WITH_TRAVEL) -> RailStations:
+    """Stations as travelled plane distance along the centreline from ``start_station_m`` at the
+    first epoch, growing in the direction ``stationing`` names (see :func:`facing_along_path`):
+    a run against that direction gets decreasing stations.
+    """
+    track, forward, travelled = _along_path(rails)
+    direction = facing_along_path(rails, stationing)
     centre_station = start_station_m + direction * travelled
 
     def shifted(points: np.ndarray) -> np.ndarray:
@@ -79,16 +147,17 @@ def stations_along_path(rails: RailPoints, start_station_m: float) -> RailStatio
 
 
 def epoch_station_track(time_s: np.ndarray, station_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(time, station) of the epochs with a finite station, the station made non-decreasing.
+    """(time, station) of the epochs with a finite station, the station made monotonic in the
+    direction of travel (non-decreasing with the stationing, non-increasing against it).
 
     Sensor events (sleeper pulses, gauge readings) get their station by interpolating this in
-    time; the running maximum removes the sub-millimetre back-and-forth of a standing trolley
-    so that time <-> station stays invertible.
+    time; the running maximum (minimum) removes the sub-millimetre back-and-forth of a standing
+    trolley so that time <-> station stays invertible.
     """
     finite = np.isfinite(station_m)
     if finite.sum() < 2:
         raise ValueError("fewer than two epochs have a station: does the trajectory lie along the design?")
     t, s = np.asarray(time_s)[finite], np.asarray(station_m)[finite]
     if s[-1] < s[0]:
-        raise ValueError("the trolley runs against the stationing; reverse the alignment or the survey")
+        return t, np.minimum.accumulate(s)
     return t, np.maximum.accumulate(s)

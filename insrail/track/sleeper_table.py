@@ -16,7 +16,16 @@ from insrail.io.survey import TrolleyGeometry
 from insrail.io.types import GaugeData, SleeperPulses
 from insrail.nav.trajectory import Trajectory
 from insrail.track.alignment import DesignAlignment
-from insrail.track.chainage import RailStations, epoch_station_track, stations_along_path, stations_on_design
+from insrail.track.chainage import (
+    WITH_TRAVEL,
+    RailStations,
+    epoch_station_track,
+    facing_along_path,
+    facing_on_design,
+    in_stationing_frame,
+    stations_along_path,
+    stations_on_design,
+)
 from insrail.track.deviations import (
     CANT_BASE_M,
     NOMINAL_GAUGE_M,
@@ -79,6 +88,8 @@ def regular_sleepers(rails: RailPoints, stations: RailStations, spacing_m: float
     """A regular grid of "sleepers" every ``spacing_m`` over the stations the survey covers, for
     tracks without detector pulses; the grid starts at the first whole multiple of the spacing."""
     t, s = epoch_station_track(rails.time_s, stations.reference_m)
+    if s[-1] < s[0]:  # a run against the stationing
+        t, s = t[::-1], s[::-1]
     first, last = np.ceil(s[0] / spacing_m), np.floor(s[-1] / spacing_m)
     grid = np.arange(first, last + 1) * spacing_m
     times = np.interp(grid, s, t)
@@ -195,7 +206,7 @@ class TrackReconstruction:
     asked for but failed (then the deviations are NaN, as with line fitting off).
     """
 
-    rails: RailPoints
+    rails: RailPoints  # in the stationing's frame (chainage.in_stationing_frame)
     stations: RailStations
     sleepers: SleeperNumbering
     table: SleeperTable
@@ -220,22 +231,30 @@ def reconstruct_track(
     fit_line: bool = True,
     fit_window_m: float = DEFAULT_FIT_WINDOW_M,
     fit_overlap_m: float = DEFAULT_FIT_OVERLAP_M,
+    stationing: str | float = WITH_TRAVEL,
 ) -> TrackReconstruction:
-    """Rails from pose -> stations (on ``design``, else along the path from ``start_station_m``)
-    -> sleepers (numbered from ``pulses``, else a regular grid every ``spacing_m``) -> table.
+    """Rails from pose -> turned to the stationing -> stations (on ``design``, else along the
+    path from ``start_station_m``, growing as ``stationing`` says:
+    :func:`~insrail.track.chainage.facing_along_path`) -> sleepers (numbered from ``pulses``,
+    else a regular grid every ``spacing_m``) -> table. The run may go with or against the
+    stationing and the trolley face either way: rails, cant and numbers follow the stationing.
 
     Without a design and with ``fit_line`` the deviations are "measured - best": see
     :func:`deviations_from_fitted_line` (windows of ``fit_window_m`` overlapping by
     ``fit_overlap_m``)."""
     if design is None and start_station_m is None:
         raise ValueError("without a design alignment the start station (start_station_m) must be given")
-    rails = rails_from_pose(trajectory, trolley, gauge, to_engineering, beam_wheel_spacing_m)
-    stations = stations_on_design(rails, design) if design is not None else stations_along_path(rails, start_station_m)
+    trolley_rails = rails_from_pose(trajectory, trolley, gauge, to_engineering, beam_wheel_spacing_m)
+    facing = (facing_on_design(trolley_rails, design) if design is not None
+              else facing_along_path(trolley_rails, stationing))
+    rails = in_stationing_frame(trolley_rails, facing)
+    stations = (stations_on_design(rails, design) if design is not None
+                else stations_along_path(rails, start_station_m, stationing))
     if pulses is None:
         sleepers = regular_sleepers(rails, stations, spacing_m, first_number)
     else:
         t, s = epoch_station_track(rails.time_s, stations.reference_m)
-        sleepers = number_sleepers(pulses.time_s, t, s, sleeper_detector_ahead_m(trolley), spacing_m,
+        sleepers = number_sleepers(pulses.time_s, t, s, facing * sleeper_detector_ahead_m(trolley), spacing_m,
                                    first_number=first_number)
     table = build_sleeper_table(rails, stations, sleepers, design, window_m, design_gauge_m,
                                 trolley.rail_centre_spacing_m)

@@ -1,9 +1,11 @@
 """Sleeper numbering from the sleeper-detector pulses (thesis 5.2.2.5).
 
 Each pulse gets the station of the detector at its time: the trolley's reference-point
-station interpolated in time, plus the detector's along-track distance ahead of that point.
-Working in station rather than time makes the numbering indifferent to speed changes and
-stops. Pulses are then walked in order of station from an anchor (the first pulse followed by
+station interpolated in time, plus the detector's along-track distance ahead of that point
+(negative station-wise when the trolley faces against the stationing). Working in station
+rather than time makes the numbering indifferent to speed changes, stops and the direction
+of travel: numbers grow with the station, whichever way the trolley ran. Pulses are then
+walked in order of station from an anchor (the first pulse followed by
 two regular gaps) in both directions; each next pulse is compared with the last accepted
 one:
 
@@ -38,11 +40,11 @@ SPACING_MEMORY = 15
 class SleeperNumbering:
     """Numbered sleepers and what the repair did.
 
-    Per sleeper (length m, ordered by station): ``number``, ``station_m`` (of the detector's
-    sensing point over it), ``time_s`` (when the detector passed it), ``detected`` (False:
-    missed by the detector, inserted). Per pulse within the trajectory's time span (length p,
-    sorted by time): ``pulse_time_s``, ``pulse_station_m``, ``pulse_accepted`` (False: rejected
-    as false).
+    Per sleeper (length m, ordered by station, numbers growing with it): ``number``,
+    ``station_m`` (of the detector's sensing point over it), ``time_s`` (when the detector
+    passed it: decreasing for a run against the stationing), ``detected`` (False: missed by the
+    detector, inserted). Per pulse within the trajectory's time span (length p, sorted by
+    time): ``pulse_time_s``, ``pulse_station_m``, ``pulse_accepted`` (False: rejected as false).
     """
 
     number: np.ndarray
@@ -136,9 +138,11 @@ def number_sleepers(
     """Number the sleepers from detector pulse times (see the module docstring).
 
     ``epoch_time_s``/``epoch_station_m``: the trolley reference point's station over time
-    (non-decreasing, e.g. from :func:`insrail.track.chainage.epoch_station_track`);
-    ``detector_ahead_m``: along-track distance of the detector ahead of the reference point;
-    ``first_number``: the number given to the first sleeper found.
+    (monotonic in the direction of travel, e.g. from
+    :func:`insrail.track.chainage.epoch_station_track`); ``detector_ahead_m``: station offset
+    of the detector from the reference point (its along-track distance ahead of it, negated
+    when the trolley faces against the stationing); ``first_number``: the number given to the
+    sleeper of lowest station.
     """
     if not spacing_m > 0.0:
         raise ValueError(f"sleeper spacing must be positive, not {spacing_m!r}")
@@ -148,7 +152,12 @@ def number_sleepers(
     times = times[inside]
     if len(times) < 3:
         raise ValueError(f"{len(times)} sleeper pulses fall within the trajectory; at least 3 are needed")
-    stations = np.interp(times, epoch_time_s, epoch_station_m) + detector_ahead_m
+    pulse_stations = np.interp(times, epoch_time_s, epoch_station_m) + detector_ahead_m
+    # The walk runs in order of station: reversed time order for a run against the stationing.
+    against = epoch_station_m[-1] < epoch_station_m[0]
+    by_station = slice(None, None, -1) if against else slice(None)
+    stations = pulse_stations[by_station]
+    epoch_t, epoch_s = epoch_time_s[by_station], epoch_station_m[by_station]
 
     anchor = _anchor(stations, spacing_m, tolerance)
     fwd_accepted, fwd_steps = _walk(stations, anchor, spacing_m, tolerance)
@@ -164,13 +173,14 @@ def number_sleepers(
     numbers[anchor:] = np.cumsum(steps[anchor:])
     numbers[:anchor + 1] = -back_offsets
     good = np.flatnonzero(accepted)
-    numbers_good, stations_good, times_good = numbers[good] - numbers[good[0]] + first_number, stations[good], times[good]
+    numbers_good, stations_good = numbers[good] - numbers[good[0]] + first_number, stations[good]
+    times_good = times[by_station][good]
 
     # Insert the missed sleepers between consecutive accepted pulses, at equal station steps.
     all_numbers = np.arange(numbers_good[0], numbers_good[-1] + 1)
     detected = np.isin(all_numbers, numbers_good)
     all_stations = np.interp(all_numbers, numbers_good, stations_good)
-    all_times = np.interp(all_stations - detector_ahead_m, epoch_station_m, epoch_time_s)
+    all_times = np.interp(all_stations - detector_ahead_m, epoch_s, epoch_t)
     all_times[detected] = times_good
     return SleeperNumbering(
         number=all_numbers,
@@ -178,6 +188,6 @@ def number_sleepers(
         time_s=all_times,
         detected=detected,
         pulse_time_s=times,
-        pulse_station_m=stations,
-        pulse_accepted=accepted,
+        pulse_station_m=pulse_stations,
+        pulse_accepted=accepted[by_station],
     )
