@@ -153,3 +153,16 @@ def test_killed_save_leaves_the_previous_project_intact(tmp_path):
     assert child.returncode == -9
     assert path.read_bytes() == before
     assert load_project(tmp_path) == project
+
+
+def test_stationing_direction_without_a_design(tmp_path):
+    project = sample_project(make_folder(tmp_path), stationing_direction=212.5)
+    save_project(project)
+    assert load_project(tmp_path).stationing_direction == 212.5
+    assert tomllib.loads(project.path.read_text())["track"]["stationing_direction"] == 212.5
+    save_project(sample_project(tmp_path))
+    assert load_project(tmp_path).stationing_direction == "travel"
+    text = project.path.read_text().replace("[track]\n", '[track]\nstationing_direction = "uphill"\n')
+    project.path.write_text(text)
+    with pytest.raises(ProjectError, match=r"track.stationing_direction: expected a number, found 'uphill' or \"travel\""):
+        load_project(tmp_path)
