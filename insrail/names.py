@@ -78,6 +78,10 @@ KIND_NAMES = {
     "versine": "{chord_m:g} m versine",
     "differential_versine": "{chord_m:g} m / {pair_m:g} m differential versine",
     "band_peak": "{band} band peak",
+    "cant_change_rate": "Cant change rate {base}",
+    "deviation_change_rate": "Alignment and height change rate {base}",
+    "cant_deficiency": "Cant deficiency",
+    "cant_deficiency_rate": "Cant deficiency rate {base}",
 }
 #: The shipped profiles' check ids, each with the kind it names and its wording.
 CHECK_NAMES = {
@@ -119,9 +123,13 @@ def check_name(check: CheckLike) -> str:
     return wording.format(**_fields(check))
 
 
+#: Check kinds whose values are neither lengths nor ratios.
+_KIND_UNITS = {"cant_deficiency_rate": "mm/s"}
+
+
 def check_unit(kind: str) -> str:
     """The unit a check's values and limits are displayed in."""
-    return PER_MILLE if kind.endswith("rate") else "mm"
+    return _KIND_UNITS.get(kind) or (PER_MILLE if kind.endswith("rate") else "mm")
 
 
 def rail_direction(rail: str, direction: str) -> str:
@@ -165,6 +173,19 @@ COLUMN_NAMES: dict[str, Name] = {
     "gauge_change_rate_2_5m_ratio": Name("Gauge change rate 2.5 m", PER_MILLE),
     "twist_3m_mm": Name("Twist 3 m", "mm"),
     "guiding_rail_right": Name("Guiding rail"),
+    # the parameters of insrail.project.sleeper_parameters
+    **{f"centre_{axis}_m": Name(f"Centreline {what}", "m")
+       for axis, what in (("E", "easting"), ("N", "northing"), ("H", "height"))},
+    "roll_deg": Name("Roll", "°"),
+    "pitch_deg": Name("Pitch", "°"),
+    "heading_deg": Name("Heading", "°"),
+    "line_speed_kmh": Name("Line speed", "km/h"),
+    "curvature_per_km": Name("Curvature", "1/km"),
+    "cant_change_rate_ratio": Name("Cant change rate", PER_MILLE),
+    **{f"{word}_change_rate_{rail}_ratio": Name(f"{word.capitalize()} change rate, {RAIL_NAMES[rail]}", PER_MILLE)
+       for word in ("alignment", "height") for rail in ("left", "right")},
+    "cant_deficiency_mm": Name("Cant deficiency", "mm"),
+    "cant_deficiency_rate_mm_per_s": Name("Cant deficiency rate", "mm/s"),
     **_per_rail("{direction}_deviation_{rail}_mm", "{direction} deviation, {rail}", "mm"),
     **_per_rail("adjust_{direction}_{rail}_mm", "{direction} adjustment, {rail}", "mm"),
     **_per_rail("unresolved_{direction}_{rail}", "{direction} checks still failed after adjustment, {rail}", ""),
@@ -176,7 +197,7 @@ COLUMN_NAMES: dict[str, Name] = {
     "unresolved": Name("Checks still failed after adjustment"),
 }
 
-_CHANNEL = re.compile(r"^(?:_(left|right))?(?:_(lateral|vertical))?_(mm|ratio)$")
+_CHANNEL = re.compile(r"^(?:_(left|right))?(?:_(lateral|vertical))?_(mm|ratio|mm_per_s)$")
 
 
 def column_name(key: str, checks: Iterable[CheckLike] = ()) -> Name:

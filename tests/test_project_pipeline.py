@@ -17,6 +17,7 @@ from insrail.project.demo import project_for_simulated_survey
 from insrail.project.pipeline import fusion_key
 from insrail.sim.truth import read_sleeper_truth
 from insrail.track.exceedance import SleeperGeometry, assess
+from insrail.track.parameters import LineSpeed, rate_over_base
 from insrail.track.tolerance import load_tolerance_profile
 
 MM = 1e-3
@@ -369,3 +370,71 @@ def test_a_bridged_imu_gap_reaches_the_summary_the_cli_and_the_pdf(short_nav_sur
     import subprocess
     text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
     assert "IMU gap of 0.105 s" in text
+
+
+def test_line_speed_gives_the_cant_deficiency_and_the_rates_in_sleepers_csv(processed, capsys):
+    """Thesis §5.6 parameters end to end: with [track] line_speed_kmh the cant deficiency on the R 2000 m,
+    120 mm arc of the `short` design is 11.8 v^2/R - c at every sleeper; the rates and the attitude are
+    written; a profile checks them; without a line speed a deficiency check is a notice."""
+    project, first = processed
+    (project.folder / "speed.toml").write_text('''name = "speed"
+[checks.deficiency]
+kind = "cant_deficiency"
+max_abs_mm = 20.0
+[checks.cant_rate]
+kind = "cant_change_rate"
+base_m = 5.0
+max_abs_ratio = "1/400"
+[checks.height_rate]
+kind = "deviation_change_rate"
+base_m = 5.0
+directions = ["vertical"]
+max_abs_ratio = "1/1000"
+''')
+    speedy = replace(project, line_speeds=(LineSpeed(-np.inf, np.inf, 160.0),), tolerance_profile="speed.toml")
+    save_project(speedy)
+    try:
+        _check_speed_parameters(speedy, capsys)
+    finally:
+        save_project(project)
+        main(["process", str(project.folder)])  # restore the default results for the other tests
+        capsys.readouterr()
+
+
+def _check_speed_parameters(speedy, capsys):
+    from insrail.project.results import load_results
+
+    project = speedy
+    results = process(speedy, "short")
+    stored = load_results(project.folder, "short")
+    c = stored.columns
+    arc = (c["station_m"] > 1365.0) & (c["station_m"] < 1775.0) & (c["valid"] > 0)
+    assert arc.sum() > 600
+    np.testing.assert_allclose(c["curvature_per_km"][arc], 1e3 / 2000.0, atol=1e-9)
+    np.testing.assert_allclose(c["cant_deficiency_mm"][arc], 11.8 * 160**2 / 2000 - c["cant_mm"][arc], atol=0.03)
+    np.testing.assert_allclose(c["check_deficiency_mm"], c["cant_deficiency_mm"], equal_nan=True, atol=1e-3)
+    np.testing.assert_allclose(c["check_cant_rate_ratio"], c["cant_change_rate_ratio"], equal_nan=True, atol=1e-6)
+    # the rate of the stored cant over the profile's 5 m base; on the ramps about 120 mm / 120 m, on the
+    # arc about 0 (the simulated cross-level irregularities on top)
+    cant = np.where(valid := c["valid"] > 0, c["cant_mm"] * MM, np.nan)
+    np.testing.assert_allclose(c["cant_change_rate_ratio"], rate_over_base(c["station_m"], cant, 5.0), atol=2e-6,
+                               equal_nan=True)
+    ramp = (c["station_m"] > 1250.0) & (c["station_m"] < 1350.0) & valid
+    assert abs(np.median(c["cant_change_rate_ratio"][ramp]) - 1e-3) < 2e-4
+    assert abs(np.median(c["cant_change_rate_ratio"][arc])) < 2e-4
+    assert results.summary["track"]["parameters"]["cant_change_rate_base_m"] == 5.0
+    np.testing.assert_allclose(c["centre_E_m"][valid], 0.5 * (c["left_E_m"] + c["right_E_m"])[valid], atol=2e-4)
+    for name in ("roll_deg", "pitch_deg", "heading_deg", "alignment_change_rate_left_ratio",
+                 "height_change_rate_right_ratio", "cant_deficiency_rate_mm_per_s"):
+        assert np.isfinite(c[name][valid]).mean() > 0.95, name
+    # heading of the trolley on the first straight: the design azimuth 32 deg (less the grid convergence)
+    straight = valid & (c["station_m"] < 1230.0)
+    assert abs(np.median(c["heading_deg"][straight]) - 32.0) < 1.5
+    # the crews' workbook and the PDF carry the new columns and charts
+    assert main(["report", str(project.folder), "--survey", "short", "--xlsx", str(project.folder / "s.xlsx"),
+                 "--pdf", str(project.folder / "s.pdf")]) == 0
+    # a deficiency check without a line speed: the sleepers are not judged, and the user is told
+    silent = process(replace(speedy, line_speeds=()), "short")
+    notices = [n["message"] for n in silent.summary["notices"] if n["stage"] == "track"]
+    assert notices and "no line speed" in notices[0] and "deficiency" in notices[0]
+    assert not any(e.check == "deficiency" for e in silent.assessment.exceedances)

@@ -17,7 +17,8 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
                          design: "travel", the default, stations grow in each survey's direction of
                          travel; or a grid azimuth in degrees towards which they grow, so that runs
                          in both directions share one stationing), first_sleeper_number,
-                         tolerance_profile, fastener
+                         tolerance_profile, fastener, line_speed_kmh = 250 or a table of ranges
+                         [{from_m = 0, to_m = 4200, kmh = 250}, ...] (for the cant deficiency)
     [[surveys]]          name, folder (holding a survey.toml)
     [report]             what the reports' first page states and how they print (:class:`ReportSettings`):
                          client, line_section, track_name, operator, checked_by, approved_by, trolley,
@@ -51,6 +52,7 @@ from insrail.nav.imu_profile import load_imu_profile
 from insrail.project.control_points import ControlPoint, parse_control_points
 from insrail.track.adjustment import DEFAULT_FASTENER, load_fastener_type
 from insrail.track.chainage import WITH_TRAVEL
+from insrail.track.parameters import LineSpeed
 from insrail.track.tolerance import DEFAULT_PROFILE, load_tolerance_profile
 
 PROJECT_FILE = "project.toml"
@@ -138,6 +140,7 @@ class Project:
     fastener: str = DEFAULT_FASTENER
     control_points: tuple[ControlPoint, ...] = ()
     report: ReportSettings = field(default_factory=ReportSettings)
+    line_speeds: tuple[LineSpeed, ...] = ()  # one range from -inf to inf: a single line speed
 
     @property
     def path(self) -> Path:
@@ -181,6 +184,10 @@ class Project:
             track["start_station_m"] = self.start_station_m
         if self.stationing_direction != WITH_TRAVEL:
             track["stationing_direction"] = self.stationing_direction
+        if len(self.line_speeds) == 1 and not np.isfinite([self.line_speeds[0].from_m, self.line_speeds[0].to_m]).any():
+            track["line_speed_kmh"] = self.line_speeds[0].kmh
+        elif self.line_speeds:
+            track["line_speed_kmh"] = [{"from_m": r.from_m, "to_m": r.to_m, "kmh": r.kmh} for r in self.line_speeds]
         document: dict[str, Any] = {
             "project": {"name": self.name, "description": self.description},
             "geodesy": {"crs": self.crs.to_settings(), "height": height},
@@ -266,7 +273,8 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
 
     track = reader.table(document, "track")
     reader.known(track, "track", ("design", "start_station_m", "stationing_direction", "first_sleeper_number",
-                                  "tolerance_profile", "fastener"))
+                                  "tolerance_profile", "fastener", "line_speed_kmh"))
+    line_speeds = _line_speeds(reader, track.get("line_speed_kmh"))
     design = reader.file(track, "track.design")
     if design is not None:
         _check_design(reader, design)
@@ -295,6 +303,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
         design=design, start_station_m=start_station, stationing_direction=stationing,
         first_sleeper_number=first_number,
         tolerance_profile=tolerance, fastener=fastener, control_points=control_points, report=report,
+        line_speeds=line_speeds,
     )
 
 
@@ -320,6 +329,31 @@ def _report(reader: _Reader, table: dict) -> ReportSettings:
         reader.add("report.paper", f"expected one of {', '.join(PAPER_SIZES)}, found {paper!r}")
         paper = "A3"
     return ReportSettings(**values, paper=paper)
+
+
+def _line_speeds(reader: _Reader, value) -> tuple[LineSpeed, ...]:
+    """``[track] line_speed_kmh``: a number (everywhere) or a list of {from_m, to_m, kmh} ranges."""
+    key = "track.line_speed_kmh"
+    if value is None:
+        return ()
+    if not isinstance(value, list):
+        speed = reader.number({"line_speed_kmh": value}, key, positive=True)
+        return () if speed is None else (LineSpeed(-np.inf, np.inf, speed),)
+    ranges = []
+    for i, entry in enumerate(value):
+        where = f"{key}[{i}]"
+        if not isinstance(entry, dict) or set(entry) != {"from_m", "to_m", "kmh"}:
+            reader.add(where, f"expected a table {{from_m = ..., to_m = ..., kmh = ...}}, found {entry!r}")
+            continue
+        start, end = reader.number(entry, f"{where}.from_m"), reader.number(entry, f"{where}.to_m")
+        speed = reader.number(entry, f"{where}.kmh", positive=True)
+        if None in (start, end, speed):
+            continue
+        if not start < end:
+            reader.add(where, f"from_m ({start}) must be below to_m ({end})")
+            continue
+        ranges.append(LineSpeed(start, end, speed))
+    return tuple(ranges)
 
 
 def _height(reader: _Reader, table: dict) -> HeightSettings:

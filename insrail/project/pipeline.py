@@ -82,6 +82,14 @@ from insrail.project.results import (
     track_quality_section,
     write_results,
 )
+from insrail.project.sleeper_parameters import (
+    line_curvature_1pm,
+    parameter_bases,
+    parameter_columns,
+    parameters_section,
+    sleeper_attitude_rad,
+    speed_notices,
+)
 from insrail.project.stagecache import (
     cached_dataclass,
     clean_leftovers,
@@ -114,6 +122,7 @@ from insrail.track.sleeper_table import (
     TrackReconstruction,
     reconstruct_track,
 )
+from insrail.track.parameters import line_speed_mps
 from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
@@ -389,9 +398,13 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     measured = table.valid
     height_warnings = (height_fit.warnings_for(table.centre_enh_m[measured, 0], table.centre_enh_m[measured, 1])
                        if height_fit is not None else [])
+    line = read_design(project.resolve(project.design)) if project.design is not None else (
+        recon.fitted.alignment if recon.fitted is not None else None)
+    curvature = line_curvature_1pm(line, table.station_m)
+    speed = line_speed_mps(project.line_speeds, table.station_m) if project.line_speeds else None
     geometry = SleeperGeometry.from_arrays(table.station_m, table.lateral_deviation_m, table.vertical_deviation_m,
                                            table.gauge_m, table.cant_m, table.design_cant_m, valid=table.valid,
-                                           sleeper_number=table.number)
+                                           sleeper_number=table.number, curvature_1pm=curvature, line_speed_mps=speed)
     profile = load_tolerance_profile(project.resource(project.tolerance_profile))
     assessment = assess(geometry, profile)
     check_cancel(cancel)
@@ -408,8 +421,12 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     if gnss is not None:
         summary["ppk"] = gnss.summary(project.fusion.gnss_quality_policy)
         summary["files"].update(gnss=GNSS_POS_FILE, gnss_qc=GNSS_QC_FILE)
+    bases = parameter_bases(profile)
+    summary["track"]["parameters"] = parameters_section(
+        bases, project.line_speeds, "design" if project.design is not None else "fitted" if line is not None else "none")
     summary["notices"] = [n.to_dict() for n in [*cache_notices, *_notices(fusion_info, height_warnings,
-                                                                            summary.get("ppk"))]]
+                                                                            summary.get("ppk")),
+                                                *speed_notices(profile, table, curvature, speed)]]
     summary["track_quality"] = track_quality_section(geometry)
     line_fit_files = _line_fit_files(recon)
     if project.design is None:
@@ -420,7 +437,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     summary["quality"] = quality_section(quality)
     summary["files"]["quality"] = QUALITY_FILE
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
-        TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment),
+        TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment, parameter_columns(
+            table, sleeper_attitude_rad(trajectory_file, table.time_s), curvature, speed, bases)),
         QUALITY_FILE: quality_csv(quality),
         EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary),
         **line_fit_files, **(gnss.result_files() if gnss else {})}, cancel)

@@ -46,6 +46,11 @@ from insrail.track.adjustment import Adjustment
 from insrail.track.exceedance import Assessment, SleeperGeometry, track_quality
 from insrail.track.parameters import guiding_rail_is_right, track_parameters
 from insrail.track.sleeper_table import SleeperTable
+from insrail.track.tolerance import limit_unit
+
+#: A check kind's stored unit -> (column suffix, factor from SI, number format, exceedances.csv unit)
+_UNITS = {"ratio": ("_ratio", 1.0, "%.6f", "ratio"), "mm": ("_mm", 1e3, "%.3f", "mm"),
+          "mm_per_s": ("_mm_per_s", 1e3, "%.3f", "mm/s")}
 
 RESULTS_FOLDER = "results"
 TRAJECTORY_FILE = "trajectory.npy"
@@ -81,13 +86,14 @@ TQI_SECTION_M = 200.0
 def check_column(check: str, kind: str, rail: str, direction: str) -> str:
     """The sleepers.csv column of one channel of a check (``check_`` + check, rail, direction, unit)."""
     parts = [check] + [p for p in (rail, direction) if p and p != "track"]
-    return "check_" + "_".join(parts) + ("_ratio" if kind.endswith("rate") else "_mm")
+    return "check_" + "_".join(parts) + _UNITS[limit_unit(kind)][0]
 
 
 def _channel_column(channel) -> tuple[str, float, str]:
     """Column name, factor from SI, number format."""
     name = check_column(channel.check, channel.kind, channel.rail, channel.direction)
-    return (name, 1.0, "%.6f") if channel.kind.endswith("rate") else (name, 1e3, "%.3f")
+    _, factor, fmt, _ = _UNITS[limit_unit(channel.kind)]
+    return name, factor, fmt
 
 
 def _figure_5_7_columns(table: SleeperTable) -> dict[str, tuple[np.ndarray, str]]:
@@ -105,9 +111,10 @@ def _figure_5_7_columns(table: SleeperTable) -> dict[str, tuple[np.ndarray, str]
             "guiding_rail_right": (guiding_rail_is_right(table.design_cant_m), "%d")}
 
 
-def sleeper_columns(table: SleeperTable, assessment: Assessment,
-                    adjustment: Adjustment) -> dict[str, tuple[np.ndarray, str]]:
-    """The columns of sleepers.csv after number and label, in file order: name -> (values, format)."""
+def sleeper_columns(table: SleeperTable, assessment: Assessment, adjustment: Adjustment,
+                    extra: dict[str, tuple[np.ndarray, str]] | None = None) -> dict[str, tuple[np.ndarray, str]]:
+    """The columns of sleepers.csv after number and label, in file order: name -> (values, format);
+    ``extra`` (:func:`insrail.project.sleeper_parameters.parameter_columns`) after the thesis's columns."""
     columns: dict[str, tuple[np.ndarray, str]] = {
         "station_m": (table.station_m, "%.4f"), "time_s": (table.time_s, "%.4f"),
         "detected": (table.detected, "%d"), "valid": (table.valid, "%d"),
@@ -118,6 +125,7 @@ def sleeper_columns(table: SleeperTable, assessment: Assessment,
     columns |= {"gauge_mm": (1e3 * table.gauge_m, "%.3f"), "cant_mm": (1e3 * table.cant_m, "%.3f"),
                 "design_cant_mm": (1e3 * table.design_cant_m, "%.3f")}
     columns |= _figure_5_7_columns(table)
+    columns |= extra or {}
     for direction, deviation in (("lateral", table.lateral_deviation_m), ("vertical", table.vertical_deviation_m)):
         for side, rail in enumerate(("left", "right")):
             columns[f"{direction}_deviation_{rail}_mm"] = (1e3 * deviation[:, side], "%.3f")
@@ -132,9 +140,10 @@ def sleeper_columns(table: SleeperTable, assessment: Assessment,
     return columns
 
 
-def sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjustment) -> str:
+def sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjustment,
+                 extra: dict[str, tuple[np.ndarray, str]] | None = None) -> str:
     """number, label, then the columns of :func:`sleeper_columns`; NaN (not computable) as empty."""
-    columns = sleeper_columns(table, assessment, adjustment)
+    columns = sleeper_columns(table, assessment, adjustment, extra)
     header = ",".join(["number", "label", *columns]) + "\n"
     if not len(table):
         return header
@@ -147,11 +156,12 @@ def sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjust
 
 def exceedances_csv(assessment: Assessment) -> str:
     """One row per exceedance; lengths and values in mm, rates as ratios (the ``unit`` column says which)."""
-    rows = [",".join([e.check, e.kind, e.rail, e.direction, *(
-        ("ratio", f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", f"{e.peak:.6f}", f"{e.limit:.6f}")
-        if e.kind.endswith("rate") else
-        ("mm", f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", f"{1e3 * e.peak:.3f}", f"{1e3 * e.limit:.3f}")),
-        str(e.first_sleeper), str(e.last_sleeper)]) for e in assessment.exceedances]
+    def values(e) -> tuple[str, ...]:
+        _, factor, fmt, unit = _UNITS[limit_unit(e.kind)]
+        return unit, f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", fmt % (factor * e.peak), fmt % (factor * e.limit)
+
+    rows = [",".join([e.check, e.kind, e.rail, e.direction, *values(e), str(e.first_sleeper), str(e.last_sleeper)])
+            for e in assessment.exceedances]
     return "\n".join([",".join(EXCEEDANCE_HEADER), *rows]) + "\n"
 
 

@@ -31,10 +31,16 @@ from insrail.project.results import (
 )
 from insrail.track.adjustment import FastenerType, load_fastener_type
 from insrail.track.exceedance import RAILS
-from insrail.track.tolerance import DIRECTIONS, Check, ToleranceProfile, load_tolerance_profile
+from insrail.track.tolerance import DIRECTIONS, Check, ToleranceProfile, limit_unit, load_tolerance_profile
 
 PER_MILLE = 1e3  # ratio -> ‰
-RAIL_KINDS = ("versine", "differential_versine", "band_peak")  # checks with one channel per rail and direction
+#: checks with one channel per rail and direction
+RAIL_KINDS = ("versine", "differential_versine", "band_peak", "deviation_change_rate")
+
+
+def _display_scale(kind: str) -> tuple[float, str]:
+    """(factor from SI to the displayed unit, number format) of a check kind's values and limits."""
+    return (PER_MILLE, "0.00") if limit_unit(kind) == "ratio" else (1e3, "0.0")
 
 
 @dataclass(frozen=True)
@@ -97,7 +103,7 @@ class ReportContent:
 def limits_text(check: Check) -> str:
     """A check's limits as a reader writes them: ±2.0 mm, ±0.67 ‰, >= -5.0 and <= 35.0 mm (Helvetica
     in the PDF has ± and ‰ but no ≥)."""
-    scale, unit = (PER_MILLE, "‰") if check.kind.endswith("rate") else (1e3, "mm")
+    scale, unit = _display_scale(check.kind)[0], check_unit(check.kind)
     lower, upper = scale * check.lower, scale * check.upper
     digits = 2 if unit == "‰" else 1
     if np.isfinite(lower) and np.isfinite(upper) and np.isclose(-lower, upper):
@@ -119,7 +125,12 @@ def check_description(check: Check) -> str:
         return f"twist over {check.base_m:g} m" + (" (design cant ramp removed)" if check.relative_to_design else "")
     if kind == "gauge_change_rate":
         return "gauge change rate " + (f"over {check.base_m:g} m" if check.base_m else "sleeper to sleeper")
-    return {"gauge_deviation": "gauge deviation from nominal", "cross_level": "cross-level (measured - design cant)"}[kind]
+    if kind in ("cant_change_rate", "cant_deficiency_rate"):
+        return f"{kind.replace('_', ' ')} over {check.base_m:g} m"
+    if kind == "deviation_change_rate":
+        return f"alignment / height change rate over {check.base_m:g} m"
+    return {"gauge_deviation": "gauge deviation from nominal", "cross_level": "cross-level (measured - design cant)",
+            "cant_deficiency": "cant deficiency at line speed"}[kind]
 
 
 def load_report_content(project: Project, results: StoredResults) -> ReportContent:
@@ -168,10 +179,10 @@ def _named(key: str, group: str, values: np.ndarray, number_format: str = "0.0",
 
 def _check_column(results: StoredResults, check: Check, rail: str, direction: str, group: str, title: str) -> Column:
     key = check_column(check.name, check.kind, rail, direction)
-    rate = check.kind.endswith("rate")
-    scale = PER_MILLE if rate else 1e3
-    return Column(key, group, title, check_unit(check.kind), (PER_MILLE if rate else 1.0) * results.columns[key],
-                  "0.00" if rate else "0.0", limits=(scale * check.lower, scale * check.upper),
+    scale, number_format = _display_scale(check.kind)  # limits in SI; the stored values in the column's unit
+    stored = PER_MILLE if limit_unit(check.kind) == "ratio" else 1.0
+    return Column(key, group, title, check_unit(check.kind), stored * results.columns[key],
+                  number_format, limits=(scale * check.lower, scale * check.upper),
                   exceeding=_exceeding(results, check.name, rail, direction), check=check.name,
                   name=channel_name(check, rail, direction))
 
@@ -234,6 +245,7 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
     twist = _find(profile, used, "twist", base_m=TWIST_BASE_M, relative_to_design=True)
     columns += (_channels(results, twist, PARAMETER_GROUP) if twist else
                 [_named("twist_3m_mm", PARAMETER_GROUP, c["twist_3m_mm"])])
+    columns += _running_parameter_columns(results, profile, used)
     columns.append(_named("guiding_rail", PARAMETER_GROUP,
                           np.where(c["guiding_rail_right"] > 0, "R", "L").astype(object), "@", width=8))
     # the thesis's short- and long-wave columns first, then the profile's other checks in file order
@@ -253,6 +265,29 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
         for rail in RAILS:
             unresolved |= c[f"unresolved_{direction}_{rail}"] > 0
     columns.append(_named("unresolved", ADJUSTMENT_GROUP, np.where(unresolved, "yes", "").astype(object), "@", width=9))
+    return columns
+
+
+def _running_parameter_columns(results: StoredResults, profile: ToleranceProfile, used: set[str]) -> list[Column]:
+    """Cant change rate, cant deficiency and its rate: the profile's channel where it checks one on the
+    base sleepers.csv used, else the stored column; absent in results of older versions."""
+    c = results.columns
+    bases = results.summary.get("track", {}).get("parameters", {})
+    columns = []
+    for key, kind, base_key, factor, number_format in (
+            ("cant_change_rate_ratio", "cant_change_rate", "cant_change_rate_base_m", PER_MILLE, "0.00"),
+            ("cant_deficiency_mm", "cant_deficiency", None, 1.0, "0.0"),
+            ("cant_deficiency_rate_mm_per_s", "cant_deficiency_rate", "cant_deficiency_rate_base_m", 1.0, "0.0")):
+        if key not in c:
+            continue
+        base = bases.get(base_key) if base_key else None
+        check = (_find(profile, used, kind) if base_key is None
+                 else _find(profile, used, kind, base_m=float(base)) if base is not None else None)
+        if check:
+            columns += _channels(results, check, PARAMETER_GROUP)
+        elif np.isfinite(c[key]).any():  # no line speed: no cant deficiency column, not an empty one
+            title = _lower_first(column_name(key).name) + (f" {base:g} m" if base is not None else "")
+            columns.append(_named(key, PARAMETER_GROUP, factor * c[key], number_format, title, width=10))
     return columns
 
 
@@ -335,7 +370,7 @@ def exceedance_display(row: ExceedanceRow) -> tuple[float, float, str]:
     """(peak, limit, unit) of an exceedance as displayed (ratios in ‰)."""
     if row.unit == "ratio":
         return PER_MILLE * row.peak, PER_MILLE * row.limit, "‰"
-    return row.peak, row.limit, row.unit
+    return row.peak, row.limit, row.unit  # mm, mm/s
 
 
 GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "s")

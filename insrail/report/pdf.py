@@ -353,7 +353,7 @@ def chart_specs(content: ReportContent) -> list[StripChart]:
         seen.add(check.name)
         for direction in check.directions:
             shown = [c[check_column(check.name, check.kind, rail, direction)] for rail in RAILS]
-            charts.append(StripChart(f"{check_name(check)}, {direction}", "mm",
+            charts.append(StripChart(f"{check_name(check)}, {direction}", shown[0].unit,
                                      tuple(Series(rail_direction(rail, ""), col.values) for rail, col in zip(RAILS, shown)),
                                      column.limits, shown[0].exceeding | shown[1].exceeding))
 
@@ -363,9 +363,12 @@ def chart_specs(content: ReportContent) -> list[StripChart]:
     gauge = next(col for col in content.columns if col.key == "gauge_deviation_mm" or kind(col) == "gauge_deviation")
     charts.append(StripChart(gauge.name, "mm", (Series(gauge.name, gauge.values),), gauge.limits, gauge.exceeding))
     charts.append(StripChart("Cant", "mm", (Series("measured", c["cant_mm"].values), Series("design", c["design_cant_mm"].values))))
-    track_kinds = ("cross_level", "twist", "gauge_change_rate")
+    track_kinds = ("cross_level", "twist", "gauge_change_rate", "cant_change_rate", "cant_deficiency",
+                   "cant_deficiency_rate")
+    stored = ("cross_level_mm", "twist_3m_mm", "gauge_change_rate_2_5m_ratio", "cant_change_rate_ratio",
+              "cant_deficiency_mm", "cant_deficiency_rate_mm_per_s")
     for column in content.columns:
-        if column.key in ("cross_level_mm", "twist_3m_mm", "gauge_change_rate_2_5m_ratio") or kind(column) in track_kinds or (
+        if column.key in stored or kind(column) in track_kinds or (
                 column.group == OTHER_CHECKS_GROUP and kind(column) != "gauge_deviation"):
             charts.append(StripChart(column.name, column.unit, (Series(column.name, column.values),), column.limits,
                                      column.exceeding))

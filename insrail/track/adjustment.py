@@ -114,6 +114,8 @@ class Adjustment:
             cant_m=geometry.cant_m + self.vertical_m[:, 0] - self.vertical_m[:, 1],
             design_cant_m=geometry.design_cant_m,
             sleeper_number=geometry.sleeper_number,
+            curvature_1pm=geometry.curvature_1pm,
+            line_speed_mps=geometry.line_speed_mps,
         )
 
 

@@ -26,7 +26,13 @@ from insrail.track.irregularity import (
     section_statistics,
     versine,
 )
-from insrail.track.parameters import change_to_previous, difference_over_base
+from insrail.track.parameters import (
+    cant_deficiency_m,
+    cant_deficiency_rate_mps,
+    change_to_previous,
+    difference_over_base,
+    rate_over_base,
+)
 from insrail.track.tolerance import Check, ToleranceProfile
 
 RAILS = ("left", "right")
@@ -43,6 +49,9 @@ class SleeperGeometry:
     cant_m: np.ndarray  # + when the left rail is higher
     design_cant_m: np.ndarray
     sleeper_number: np.ndarray  # (n) int, as printed for the crews
+    # for the cant deficiency checks; None (unknown: those channels are NaN) without a line speed
+    curvature_1pm: np.ndarray | None = None  # + turning right, of the design (or fitted) line
+    line_speed_mps: np.ndarray | None = None
 
     @classmethod
     def from_arrays(
@@ -55,6 +64,8 @@ class SleeperGeometry:
         design_cant_m=None,
         valid=None,
         sleeper_number=None,
+        curvature_1pm=None,
+        line_speed_mps=None,
     ) -> SleeperGeometry:
         station = np.asarray(station_m, dtype=float)
         n = station.size
@@ -80,7 +91,19 @@ class SleeperGeometry:
         numbers = np.arange(1, n + 1) if sleeper_number is None else np.asarray(sleeper_number, dtype=int)
         if numbers.shape != (n,):
             raise ValueError(f"sleeper_number: expected one number per sleeper ({n}), found shape {numbers.shape}")
+        for name, raw in (("curvature_1pm", curvature_1pm), ("line_speed_mps", line_speed_mps)):
+            if raw is not None:
+                arrays[name] = np.array(raw, dtype=float)
+                if arrays[name].shape != (n,):
+                    raise ValueError(f"{name}: expected one value per sleeper ({n}), found {arrays[name].shape}")
         return cls(station_m=station, sleeper_number=numbers, **arrays)
+
+    def cant_deficiency_m(self) -> np.ndarray:
+        """Cant deficiency at line speed (:func:`insrail.track.parameters.cant_deficiency_m`); NaN
+        without a line speed or a curvature."""
+        if self.curvature_1pm is None or self.line_speed_mps is None:
+            return np.full(self.station_m.shape, np.nan)
+        return cant_deficiency_m(self.curvature_1pm, self.line_speed_mps, self.cant_m)
 
 
 @dataclass(frozen=True)
@@ -152,6 +175,12 @@ def _twist(geometry: SleeperGeometry, check: Check, nominal_gauge_m: float):
     return _track_signal(difference_over_base(geometry.station_m, cant, check.base_m))
 
 
+def _cant_deficiency_rate(geometry: SleeperGeometry, check: Check, nominal_gauge_m: float):
+    speed = geometry.line_speed_mps if geometry.line_speed_mps is not None else np.nan
+    return _track_signal(cant_deficiency_rate_mps(geometry.station_m, geometry.cant_deficiency_m(), speed,
+                                                  check.base_m))
+
+
 # kind -> function(geometry, check, nominal gauge) yielding (rail, direction, values) per channel
 SIGNALS = {
     "gauge_deviation": lambda g, check, nominal: _track_signal(g.gauge_m - nominal),
@@ -165,6 +194,12 @@ SIGNALS = {
         g, check, lambda d: differential_versine(g.station_m, d, check.chord_m, check.pair_m)
     ),
     "band_peak": lambda g, check, nominal: _rail_signals(g, check, lambda d: band_pass(g.station_m, d, check.band)),
+    "cant_change_rate": lambda g, check, nominal: _track_signal(rate_over_base(g.station_m, g.cant_m, check.base_m)),
+    "deviation_change_rate": lambda g, check, nominal: _rail_signals(
+        g, check, lambda d: rate_over_base(g.station_m, d, check.base_m)
+    ),
+    "cant_deficiency": lambda g, check, nominal: _track_signal(g.cant_deficiency_m()),
+    "cant_deficiency_rate": _cant_deficiency_rate,
 }
 
 

@@ -1,8 +1,18 @@
-"""Track parameters per sleeper: gauge deviation and change rate, cross-level, twist, cant change.
+"""Track parameters per sleeper: gauge deviation and change rate, cross-level, twist, cant change,
+alignment and height change rates, cant deficiency and its rate.
 
 Inputs are plain arrays at the sleepers (``station_m`` increasing; NaN marks an invalid
 sleeper). Cant is positive when the left rail is higher (see :mod:`insrail.track`); all
-values are in metres, rates are dimensionless (1/1500 = 0.000667).
+values are in metres, rates are dimensionless (1/1500 = 0.000667) except the cant deficiency
+rate [m/s]. Curvature is signed, positive turning right (:mod:`insrail.track.alignment`), so a
+right-hand curve wants the left rail higher: the equilibrium cant has the sign of the curvature.
+
+Cant deficiency (thesis §5.6 lists it with the change rates; EN 13803 defines it) at line
+speed v on a curve of radius R: the equilibrium cant e = b·v²/(g·R) on the cant base b
+(11.8·v²/R mm for v in km/h, R in m, b = 1.5 m, g = 9.81 m/s²) minus the cant applied on the
+curve's side, D = |e| − sign(κ)·c: positive when the track is under-canted for that speed,
+negative for cant excess. On straight track (κ = 0) D = −|c|. Its rate is the change of D a
+vehicle at line speed meets per second, dD/ds·v over a base.
 
 Quantities over a base length b (twist, gauge change rate) are anchored at a measured sleeper:
 the base ends at the sleeper, f(s) - f(s - b), or starts there, f(s + b) - f(s); the sleeper
@@ -24,6 +34,10 @@ from insrail.track.irregularity import (
 )
 
 NOMINAL_GAUGE_M = 1.435
+#: The gravity of railway cant formulas (11.8·v²/R with v in km/h: 1500 / (3.6² · 9.81) = 11.80).
+CANT_GRAVITY_MPS2 = 9.81
+#: The cant base of the 11.8 formula (rail centre spacing of standard gauge) [m].
+CANT_FORMULA_BASE_M = 1.5
 
 
 def difference_over_base(
@@ -96,6 +110,54 @@ def track_parameters(
         twist_base_m=float(twist_base_m),
         cant_change_rate=change_to_previous(station, cant)[1],
     )
+
+
+def rate_over_base(station_m: np.ndarray, values: np.ndarray, base_m: float,
+                   max_gap_m: float = DEFAULT_MAX_GAP_M) -> np.ndarray:
+    """Change rate of ``values`` over ``base_m`` (:func:`difference_over_base` / base; dimensionless
+    for lengths): the cant change rate from cant, the alignment / height change rate from a rail's
+    lateral / vertical deviation."""
+    return difference_over_base(station_m, values, base_m, max_gap_m) / base_m
+
+
+def equilibrium_cant_m(curvature_1pm: np.ndarray, speed_mps: np.ndarray,
+                       cant_base_m: float = CANT_FORMULA_BASE_M) -> np.ndarray:
+    """Signed cant that balances the centripetal acceleration v²κ: b·v²·κ/g (+ left rail higher)."""
+    return cant_base_m * np.asarray(speed_mps, dtype=float) ** 2 * np.asarray(curvature_1pm, dtype=float) \
+        / CANT_GRAVITY_MPS2
+
+
+def cant_deficiency_m(curvature_1pm: np.ndarray, speed_mps: np.ndarray, cant_m: np.ndarray,
+                      cant_base_m: float = CANT_FORMULA_BASE_M) -> np.ndarray:
+    """D = |e| − sign(κ)·c (see the module docstring); NaN where curvature, speed or cant is unknown."""
+    curvature = np.asarray(curvature_1pm, dtype=float)
+    cant = np.asarray(cant_m, dtype=float)
+    side = np.where(curvature != 0.0, np.sign(curvature), np.sign(cant))
+    return np.abs(equilibrium_cant_m(curvature, speed_mps, cant_base_m)) - side * cant
+
+
+def cant_deficiency_rate_mps(station_m: np.ndarray, deficiency_m: np.ndarray, speed_mps: np.ndarray,
+                             base_m: float, max_gap_m: float = DEFAULT_MAX_GAP_M) -> np.ndarray:
+    """Change of the cant deficiency per second at line speed: D's rate over ``base_m`` times v [m/s]."""
+    return rate_over_base(station_m, deficiency_m, base_m, max_gap_m) * np.asarray(speed_mps, dtype=float)
+
+
+@dataclass(frozen=True)
+class LineSpeed:
+    """The line speed over a range of stations (``from_m`` inclusive, ``to_m`` exclusive)."""
+
+    from_m: float
+    to_m: float
+    kmh: float
+
+
+def line_speed_mps(ranges: tuple[LineSpeed, ...], station_m: np.ndarray) -> np.ndarray:
+    """Line speed [m/s] at each station; NaN where no range covers it (later ranges win an overlap)."""
+    station = np.asarray(station_m, dtype=float)
+    speed = np.full(station.shape, np.nan)
+    for entry in ranges:
+        speed[(station >= entry.from_m) & (station < entry.to_m)] = entry.kmh / 3.6
+    return speed
 
 
 def guiding_rail_is_right(design_cant_m: np.ndarray) -> np.ndarray:

@@ -47,14 +47,29 @@ KINDS: dict[str, tuple[str, frozenset[str]]] = {
     "versine": ("mm", frozenset({"chord_m", "back_m", "directions"})),
     "differential_versine": ("mm", frozenset({"chord_m", "pair_m", "directions"})),
     "band_peak": ("mm", frozenset({"band", "directions"})),
+    "cant_change_rate": ("ratio", frozenset({"base_m"})),
+    "deviation_change_rate": ("ratio", frozenset({"base_m", "directions"})),  # alignment / height change rate
+    "cant_deficiency": ("mm", frozenset()),  # needs [track] line_speed_kmh in the project
+    "cant_deficiency_rate": ("mm_per_s", frozenset({"base_m"})),
 }
 REQUIRED = {
     "twist": ("base_m",),
     "versine": ("chord_m",),
     "differential_versine": ("chord_m", "pair_m"),
     "band_peak": ("band",),
+    "cant_change_rate": ("base_m",),
+    "deviation_change_rate": ("base_m",),
+    "cant_deficiency_rate": ("base_m",),
 }
-_SCALE = {"mm": 1e-3, "ratio": 1.0}
+#: Unit of a limit in the profile file -> factor to SI (m, ratio, m/s).
+_SCALE = {"mm": 1e-3, "ratio": 1.0, "mm_per_s": 1e-3}
+#: Kinds whose values need the project's line speed (and the curvature of the design or fitted line).
+SPEED_KINDS = ("cant_deficiency", "cant_deficiency_rate")
+
+
+def limit_unit(kind: str) -> str:
+    """The unit a check kind's values are reported in: "mm", "ratio" or "mm_per_s"."""
+    return KINDS[kind][0]
 
 
 class SettingsFileError(ValueError):
