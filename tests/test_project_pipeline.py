@@ -376,7 +376,7 @@ def test_line_speed_gives_the_cant_deficiency_and_the_rates_in_sleepers_csv(proc
     """Thesis §5.6 parameters end to end: with [track] line_speed_kmh the cant deficiency on the R 2000 m,
     120 mm arc of the `short` design is 11.8 v^2/R - c at every sleeper; the rates and the attitude are
     written; a profile checks them; without a line speed a deficiency check is a notice."""
-    project, first = processed
+    project, _ = processed
     (project.folder / "speed.toml").write_text('''name = "speed"
 [checks.deficiency]
 kind = "cant_deficiency"

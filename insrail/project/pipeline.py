@@ -117,12 +117,12 @@ from insrail.track.alignment_csv import format_alignment_csv, read_alignment_csv
 from insrail.track.exceedance import Assessment, SleeperGeometry, assess
 from insrail.track.landxml import format_landxml, read_landxml
 from insrail.track.linefit import element_table
+from insrail.track.parameters import line_speed_mps
 from insrail.track.sleeper_table import (
     SleeperTable,
     TrackReconstruction,
     reconstruct_track,
 )
-from insrail.track.parameters import line_speed_mps
 from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"

@@ -21,7 +21,6 @@ from insrail.track.parameters import (
     LineSpeed,
     cant_deficiency_m,
     cant_deficiency_rate_mps,
-    line_speed_mps,
     rate_over_base,
 )
 from insrail.track.sleeper_table import SleeperTable

@@ -31,7 +31,13 @@ from insrail.project.results import (
 )
 from insrail.track.adjustment import FastenerType, load_fastener_type
 from insrail.track.exceedance import RAILS
-from insrail.track.tolerance import DIRECTIONS, Check, ToleranceProfile, limit_unit, load_tolerance_profile
+from insrail.track.tolerance import (
+    DIRECTIONS,
+    Check,
+    ToleranceProfile,
+    limit_unit,
+    load_tolerance_profile,
+)
 
 PER_MILLE = 1e3  # ratio -> ‰
 #: checks with one channel per rail and direction
