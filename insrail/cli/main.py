@@ -16,6 +16,7 @@ COMMANDS = [
     ("demo", "insrail.cli.demo"),
     ("process", "insrail.cli.process"),
     ("report", "insrail.cli.report"),
+    ("export", "insrail.cli.export"),
     ("batch", "insrail.cli.batch"),
     ("compare", "insrail.cli.compare"),
     ("ppk", "insrail.cli.ppk"),

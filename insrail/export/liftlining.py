@@ -1,0 +1,133 @@
+"""The lift/lining table: per sleeper, how far to lift and line each rail onto its reference.
+
+Layout (``docs/formats.md``, "Lift/lining table")::
+
+    # insrail lift-lining 1
+    # project = demo
+    # survey = short
+    # reference = design alignment surveys/short/truth/design.csv
+    # crs = Transverse Mercator ...
+    # convention = mm; lift + up, lining + to the right looking towards increasing chainage; ...
+    number,chainage,station_m,valid,lift_left_mm,lift_right_mm,lining_left_mm,lining_right_mm,design_cant_mm
+    1,DK1+051.250,1051.2500,1,0.4,-0.2,1.1,0.9,0.0
+
+The amounts are the full corrections onto the reference, ``-deviation`` of each rail (the reference
+is the design alignment, with its gauge and cant, or without a design the best-fit line of the
+measured centreline, thesis eq. 5.24): a rail 1.2 mm too low gets a lift of +1.2. An empty cell is
+a sleeper without a measurement (``valid`` 0). Values are rounded to 0.1 mm, stations to 0.1 mm.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from insrail.io.errors import InputError
+
+MAGIC = "# insrail lift-lining 1"
+HEADER = ["number", "chainage", "station_m", "valid", "lift_left_mm", "lift_right_mm", "lining_left_mm",
+          "lining_right_mm", "design_cant_mm"]
+CONVENTION = ("mm; lift + up, lining + to the right looking towards increasing chainage; "
+              "amount = -deviation, moving the rail onto its reference; empty = not measured")
+
+
+@dataclass(frozen=True)
+class LiftLiningTable:
+    """A lift/lining table (amounts in mm as in the file; NaN where empty)."""
+
+    metadata: dict[str, str]  # the "# key = value" lines: project, survey, reference, crs, convention
+    number: np.ndarray
+    chainage: tuple[str, ...]
+    station_m: np.ndarray
+    valid: np.ndarray
+    lift_mm: np.ndarray  # (n, 2) [left, right], + up
+    lining_mm: np.ndarray  # (n, 2) [left, right], + right
+    design_cant_mm: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.number)
+
+
+def reference_text(project, results) -> str:
+    """What the amounts are taken against, from the results' summary."""
+    design = results.summary.get("track", {}).get("design", "")
+    if design:
+        return f"design alignment {design}"
+    return "best-fit line of the measured centreline (no design alignment; thesis eq. 5.24)"
+
+
+def lift_lining_table(project, results) -> LiftLiningTable:
+    """The table of a processed survey's stored results (:class:`~insrail.project.results.StoredResults`)."""
+    c = results.columns
+    valid = c["valid"] > 0
+
+    def amounts(direction: str) -> np.ndarray:
+        values = -np.column_stack([c[f"{direction}_deviation_left_mm"], c[f"{direction}_deviation_right_mm"]])
+        values[~valid] = np.nan
+        return values
+
+    metadata = {"project": project.name, "survey": results.survey, "reference": reference_text(project, results),
+                "crs": project.crs.describe(), "convention": CONVENTION}
+    return LiftLiningTable(metadata, np.asarray(results.number), tuple(results.label), c["station_m"], valid,
+                           amounts("vertical"), amounts("lateral"), c["design_cant_mm"])
+
+
+def _cell(value: float, digits: int) -> str:
+    return f"{value:.{digits}f}" if np.isfinite(value) else ""
+
+
+def format_table(table: LiftLiningTable) -> str:
+    """The file text of a table (see the module docstring)."""
+    lines = [MAGIC] + [f"# {key} = {' '.join(str(value).split())}" for key, value in table.metadata.items()]
+    lines.append(",".join(HEADER))
+    for i in range(len(table)):
+        label = table.chainage[i] or f"{table.station_m[i]:.4f}"
+        lines.append(",".join([str(int(table.number[i])), label, _cell(table.station_m[i], 4), str(int(table.valid[i])),
+                               *(_cell(v, 1) for v in (*table.lift_mm[i], *table.lining_mm[i])),
+                               _cell(table.design_cant_mm[i], 1)]))
+    return "\n".join(lines) + "\n"
+
+
+def format_lift_lining(project, results) -> str:
+    """``insrail export --format lift-lining``."""
+    return format_table(lift_lining_table(project, results))
+
+
+def read_lift_lining(path: str | Path) -> LiftLiningTable:
+    """Read a lift/lining table; InputError naming the file, the line and what was expected."""
+    path = Path(path)
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(path, None, f"cannot read the lift/lining table: {error}") from None
+    if not lines or lines[0] != MAGIC:
+        raise InputError(path, 1, f"expected the first line {MAGIC!r}")
+    metadata: dict[str, str] = {}
+    row = 1
+    while row < len(lines) and lines[row].startswith("#"):
+        key, equals, value = lines[row][1:].partition("=")
+        if not equals:
+            raise InputError(path, row + 1, "expected a comment line '# key = value'")
+        metadata[key.strip()] = value.strip()
+        row += 1
+    if row >= len(lines) or lines[row].split(",") != HEADER:
+        raise InputError(path, row + 1, f"expected the header {','.join(HEADER)}")
+    numbers, chainages, values = [], [], []
+    for line_number, line in enumerate(lines[row + 1:], start=row + 2):
+        fields = line.split(",")
+        if len(fields) != len(HEADER):
+            raise InputError(path, line_number, f"expected {len(HEADER)} fields ({','.join(HEADER)}), found {len(fields)}")
+        if fields[3] not in ("0", "1"):
+            raise InputError(path, line_number, f"valid: expected 0 or 1, found {fields[3]!r}")
+        try:
+            numbers.append(int(fields[0]))
+            values.append([float(cell) if cell else np.nan for cell in fields[2:]])
+        except ValueError:
+            raise InputError(path, line_number, "expected a whole sleeper number and numbers (or empty cells) "
+                                                "after the chainage") from None
+        chainages.append(fields[1])
+    data = np.array(values, dtype=float).reshape(-1, len(HEADER) - 2)
+    return LiftLiningTable(metadata, np.array(numbers, dtype=int), tuple(chainages), data[:, 0], data[:, 1] > 0,
+                           data[:, 2:4], data[:, 4:6], data[:, 6])
