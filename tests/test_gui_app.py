@@ -411,3 +411,27 @@ def test_about_shows_the_version_and_actions_have_shortcuts(window, monkeypatch)
     for action, keys in ((window.export_xlsx_action, "Ctrl+E"), (window.export_pdf_action, "Ctrl+Shift+E"),
                          (window.plan_survey_action, "Ctrl+Shift+P"), (window.ppk_action, "F6")):
         assert action.shortcut().toString() == keys and keys in action.toolTip()
+
+
+def test_views_come_back_as_they_were_left_per_project(qtbot, demo_project, tmp_path):
+    settings = tmp_path / "settings.ini"
+    first = MainWindow(QSettings(str(settings), QSettings.IniFormat))
+    qtbot.addWidget(first)
+    first.show()
+    assert first.open_project(demo_project)
+    wait_views(first, qtbot)
+    first.track.set_plot_visible("cant", False)
+    first.track.plots.set_x_range(1100.0, 1150.0)
+    first.tabs.setCurrentWidget(first.plan)
+    first.close()
+
+    second = MainWindow(QSettings(str(settings), QSettings.IniFormat))
+    qtbot.addWidget(second)
+    second.show()
+    assert second.open_project(demo_project)
+    wait_views(second, qtbot)
+    assert second.tabs.currentWidget() is second.plan
+    second.tabs.setCurrentWidget(second.track)
+    assert "cant" not in second.track.plots.plots and "gauge" in second.track.plots.plots
+    assert np.allclose(second.track.plots.x_range(), (1100.0, 1150.0), atol=1e-6)
+    second.close()

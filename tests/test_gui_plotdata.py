@@ -31,11 +31,13 @@ def test_chainage_plots_follow_the_profile_and_its_limits():
     assert set(plots) == {"lateral_deviation", "vertical_deviation", "check_gauge", "check_gauge_change_rate",
                           "check_short_wave_30m_5m", "check_twist_3m", "gauge", "cant"}
     short = plots["check_short_wave_30m_5m"]
-    assert short.curves == (("left lateral", "check_short_wave_30m_5m_left_lateral_mm"),
-                            ("right vertical", "check_short_wave_30m_5m_right_vertical_mm"))
+    assert short.title == "30 m / 5 m short wave"  # display names, never the profile's ids
+    assert short.curves == (("left rail, lateral", "check_short_wave_30m_5m_left_lateral_mm"),
+                            ("right rail, vertical", "check_short_wave_30m_5m_right_vertical_mm"))
     assert (short.lower, short.upper, short.unit) == (-2.0, 2.0, "mm")
     rate = plots["check_gauge_change_rate"]  # 'gauge' must not claim the gauge change rate's column
-    assert plots["check_gauge"].curves == (("gauge", "check_gauge_mm"),)
+    assert plots["check_gauge"].curves == (("", "check_gauge_mm"),)  # a track channel: the title names it
+    assert plots["check_gauge"].title == "Gauge deviation" and plots["gauge"].title == "Gauge"
     assert rate.unit == "‰" and np.isclose(rate.upper, 1000 / 1500) and rate.scale == 1e3
 
 

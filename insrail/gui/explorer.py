@@ -35,6 +35,7 @@ class ProjectExplorer(QTreeWidget):
 
     propertiesChanged = Signal(list)  # [(key, value)] of the selected item
     resultsActivated = Signal(str)  # a survey whose results should be shown
+    surveyActivated = Signal(str)  # a survey double-clicked: show it (its results, or that it has none)
     processRequested = Signal(str)  # a survey to process
 
     def __init__(self, parent=None):
@@ -101,6 +102,8 @@ class ProjectExplorer(QTreeWidget):
         kind, payload = item.data(0, ROLE)
         if kind == "results":
             self.resultsActivated.emit(payload)
+        elif kind == "survey":
+            self.surveyActivated.emit(payload)
 
     def _describe(self, item: QTreeWidgetItem | None) -> None:
         if item is None or self.project is None:

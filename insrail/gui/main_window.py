@@ -35,6 +35,7 @@ from insrail.gui.views.navigation import NavigationView
 from insrail.gui.views.plan import PlanView
 from insrail.gui.views.repeatability import RepeatabilityView
 from insrail.gui.views.track import TrackView
+from insrail.gui.viewstate import load_view_state, save_view_state
 from insrail.gui.wizard import NewProjectWizard
 from insrail.gui.worker import CoreWorker, ProcessingWorker, TaskWorker
 from insrail.io.errors import InputError
@@ -79,6 +80,7 @@ class MainWindow(QMainWindow):
         self.request = 0  # the number of the latest results load; answers to older ones are dropped
         self.loader: ResultsLoader | None = None  # the load of the latest request while it runs
         self._loaders: set[ResultsLoader] = set()  # every load still running (kept alive until it ends)
+        self._pending_view: dict | None = None  # view state to apply when its survey's track arrives
 
         self.plan = PlanView()
         self.navigation = NavigationView()
@@ -108,6 +110,7 @@ class MainWindow(QMainWindow):
         self.track.exceedanceSelected.connect(self._mark_in_plan)
         self.explorer.propertiesChanged.connect(self.properties.show_rows)
         self.explorer.resultsActivated.connect(self.show_results)
+        self.explorer.surveyActivated.connect(self.show_results)
         self.explorer.processRequested.connect(lambda name: self.process([name]))
         self._dock("explorer", "Project", self.explorer, Qt.LeftDockWidgetArea)
         self._dock("properties", "Properties", self.properties, Qt.LeftDockWidgetArea)
@@ -283,6 +286,7 @@ class MainWindow(QMainWindow):
         return True
 
     def set_project(self, project: Project, modified: bool = False) -> None:
+        self._remember_view()
         self.project = project
         self.modified = modified
         remember_project(self.settings, project.path)
@@ -293,7 +297,8 @@ class MainWindow(QMainWindow):
         self.shown_survey = None
         self._clear_views()
         self.empty_state.show_loading(project.name)
-        self._request_views(None)
+        self._pending_view = load_view_state(self.settings, project.path)
+        self._request_views(self._pending_view.get("survey") if self._pending_view else None)
         raw_gnss = self._raw_gnss_surveys()
         self.tabs.setTabVisible(self.tabs.indexOf(self.gnss), bool(raw_gnss))
         self.gnss.set_surveys(raw_gnss)
@@ -471,7 +476,12 @@ class MainWindow(QMainWindow):
         self.shown_survey = data.survey
         self.empty_state.hide()
         self.track.set_results(data.station_m, data.number, data.label, data.columns, data.plots,
-                               data.exceedances, data.bands)
+                               data.exceedances, data.bands, data.survey)
+        pending, self._pending_view = self._pending_view, None
+        if pending is not None and pending.get("survey") == data.survey:
+            self.track.restore_state(pending)
+            if isinstance(pending.get("tab"), int) and self.tabs.isTabVisible(pending["tab"]):
+                self.tabs.setCurrentIndex(pending["tab"])
         self.status.setText(f"Showing survey {data.survey}")
         self._enable_project_actions()
 
@@ -490,7 +500,9 @@ class MainWindow(QMainWindow):
     def show_results(self, name: str) -> None:
         """Show one survey in every view (the repeatability view with all processed ones): the
         previous survey's plots go at once, the new ones come from a worker; a survey without
-        results shows the empty state with Process."""
+        results shows the empty state with Process. The same survey again (processed once more)
+        keeps its chainage window, plots and tab."""
+        self._pending_view = self._view_state() if name == self.shown_survey else None
         self.shown_survey = None
         self._clear_views()
         if name not in self.results:
@@ -499,6 +511,17 @@ class MainWindow(QMainWindow):
             self._enable_project_actions()
             return
         self._request_views(name)
+
+    def _view_state(self) -> dict | None:
+        if self.shown_survey is None:
+            return None
+        return {"survey": self.shown_survey, "tab": self.tabs.currentIndex(), **self.track.view_state()}
+
+    def _remember_view(self) -> None:
+        """Keep the open project's view state for the next time it is opened."""
+        state = self._view_state()
+        if self.project is not None and state is not None:
+            save_view_state(self.settings, self.project.path, state)
 
     def _mark_in_plan(self, first_sleeper: int, last_sleeper: int) -> None:
         number = self.results[self.shown_survey].number
@@ -631,6 +654,7 @@ class MainWindow(QMainWindow):
         for loader in list(self._loaders):
             loader.cancel()
             loader.wait()
+        self._remember_view()
         if self.plan_dialog is not None:
             self.plan_dialog.close()
         if not self.maybe_save():

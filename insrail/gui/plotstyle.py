@@ -39,6 +39,6 @@ def titled(title: str, labels, band: str = "") -> str:
     """A plot title naming its curves in their colours (a legend box would cover short plots) and,
     if given, the shaded band."""
     keys = "&nbsp;&nbsp;".join(f"<span style='color:{COLOURS[i % len(COLOURS)]}'>━ {label}</span>"
-                               for i, label in enumerate(labels))
+                               for i, label in enumerate(labels) if label)  # one unnamed curve: the title names it
     shaded = f"&nbsp;&nbsp;<span style='color:{BAND_LEGEND_COLOUR}'>▮ {band}</span>" if band else ""
     return f"<b>{title}</b>&nbsp;&nbsp;&nbsp;{keys}{shaded}"

@@ -33,6 +33,7 @@ from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.survey import read_manifest
 from insrail.io.tomlfile import read_toml
 from insrail.io.types import GnssSolution
+from insrail.names import check_name, rail_direction
 from insrail.nav.earth import Ellipsoid, radii
 from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.trajectory import Trajectory
@@ -190,14 +191,15 @@ _CHANNEL = re.compile(r"^(?:_(left|right))?(?:_(lateral|vertical))?_(mm|ratio)$"
 
 
 def _channels(columns: list[str], check: str) -> list[tuple[str, str]]:
-    """(label, column) of the stored channels of one check, e.g. check_versine_10m_left_lateral_mm."""
+    """(label, column) of the stored channels of one check, e.g. check_versine_10m_left_lateral_mm;
+    the label names the rail and direction ("left rail, lateral"; "" for a track channel)."""
     found = []
     prefix = f"check_{check}"
     for column in columns:
         match = _CHANNEL.match(column[len(prefix):]) if column.startswith(prefix) else None
         if match:
             rail, direction, _unit = match.groups()
-            found.append((" ".join(p for p in (rail, direction) if p) or check.replace("_", " "), column))
+            found.append((rail_direction(rail or "track", direction or ""), column))
     return found
 
 
@@ -209,11 +211,12 @@ def chainage_plots(columns: Iterable[str], profile: ToleranceProfile) -> tuple[C
     """The plots of the track view for the columns of a sleepers.csv: deviations, one plot per
     check of the tolerance profile (with its limits), gauge and cant."""
     columns = list(columns)
+    rails = tuple(rail_direction(rail, "") for rail in ("left", "right"))
     plots = [
         ChainagePlot("lateral_deviation", "deviation", "Lateral deviation", "mm",
-                     (("left", "lateral_deviation_left_mm"), ("right", "lateral_deviation_right_mm"))),
+                     tuple(zip(rails, ("lateral_deviation_left_mm", "lateral_deviation_right_mm")))),
         ChainagePlot("vertical_deviation", "deviation", "Vertical deviation", "mm",
-                     (("left", "vertical_deviation_left_mm"), ("right", "vertical_deviation_right_mm"))),
+                     tuple(zip(rails, ("vertical_deviation_left_mm", "vertical_deviation_right_mm")))),
     ]
     for check in profile.checks:
         channels = _channels(columns, check.name)
@@ -222,10 +225,10 @@ def chainage_plots(columns: Iterable[str], profile: ToleranceProfile) -> tuple[C
         ratio = channels[0][1].endswith("_ratio")
         scale, unit = (1e3, "‰") if ratio else (1.0, "mm")
         limit_scale = 1e3  # limits are in metres or plain ratios; both show x 1000
-        plots.append(ChainagePlot(f"check_{check.name}", check.kind, check.name.replace("_", " "), unit,
+        plots.append(ChainagePlot(f"check_{check.name}", check.kind, check_name(check), unit,
                                   tuple(channels), scale, _limit(check.lower, limit_scale),
                                   _limit(check.upper, limit_scale)))
-    plots.append(ChainagePlot("gauge", "gauge", "Gauge", "mm", (("gauge", "gauge_mm"),)))
+    plots.append(ChainagePlot("gauge", "gauge", "Gauge", "mm", (("", "gauge_mm"),)))
     plots.append(ChainagePlot("cant", "cant", "Cant", "mm", (("measured", "cant_mm"), ("design", "design_cant_mm"))))
     return tuple(p for p in plots if all(column in columns for _, column in p.curves))
 
@@ -265,6 +268,61 @@ def quality_bands(plots: Iterable[ChainagePlot], profile: ToleranceProfile, qual
             half = np.repeat(np.nan_to_num(BAND_SIGMAS * sigma, nan=0.0), 2)
             bands[plot.key] = QualityBand(station, half)
     return bands
+
+
+def nearest_sleeper(station_m: np.ndarray, station: float) -> int:
+    """Row of the sleeper nearest to ``station`` [m] (``station_m`` sorted, not empty)."""
+    i = int(np.clip(np.searchsorted(station_m, station), 1, max(len(station_m) - 1, 1)))
+    return i - 1 if len(station_m) < 2 or abs(station_m[i - 1] - station) <= abs(station_m[i] - station) else i
+
+
+def plot_values(plot: ChainagePlot, columns: dict[str, np.ndarray], row: int) -> tuple[tuple[str, float], ...]:
+    """(label, value in the plot's unit) of each curve of ``plot`` at sleeper ``row``."""
+    return tuple((label, float(plot.scale * columns[column][row])) for label, column in plot.curves)
+
+
+_SLEEPER = re.compile(r"^(?:#|sleeper\s*|no\.?\s*)(\d+)$", re.IGNORECASE)
+_K_CHAINAGE = re.compile(r"^([A-Z]*)K(\d+)\+(\d+(?:\.\d*)?)$", re.IGNORECASE)
+
+
+def _k_value(text: str) -> tuple[str, float] | None:
+    match = _K_CHAINAGE.match(text.replace(" ", ""))
+    return None if match is None else (match.group(1).upper(), 1000.0 * int(match.group(2)) + float(match.group(3)))
+
+
+def locate(text: str, station_m: np.ndarray, number: np.ndarray, label) -> int | None:
+    """The sleeper row a surveyor means by ``text``: "#123" or "sleeper 123" (its number), a
+    K-chainage as printed on the sleepers ("K1+234.5", "DK12+300": the sleeper whose printed
+    chainage is nearest, so broken chainage is honoured), or a station in metres ("1234.5").
+    None when nothing matches (an unknown number, a chainage outside the survey, not a chainage)."""
+    text = text.strip()
+    if not text or not len(station_m):
+        return None
+    sleeper = _SLEEPER.match(text)
+    if sleeper is not None:
+        rows = np.flatnonzero(np.asarray(number) == int(sleeper.group(1)))
+        return int(rows[0]) if len(rows) else None
+    wanted = _k_value(text)
+    if wanted is not None:
+        prefix, value = wanted
+        printed = [_k_value(str(name)) for name in label]
+        candidates = [(abs(v - value), row) for row, k in enumerate(printed) if k is not None
+                      for p, v in (k,) if p == prefix or not prefix]
+        if not candidates:
+            return None
+        distance, row = min(candidates)
+        return row if distance <= _spacing(station_m) else None
+    try:
+        station = float(text)
+    except ValueError:
+        return None
+    row = nearest_sleeper(station_m, station)
+    return row if abs(station_m[row] - station) <= _spacing(station_m) else None
+
+
+def _spacing(station_m: np.ndarray) -> float:
+    """A sleeper spacing and a half (how far from a sleeper a chainage still means it)."""
+    return 1.5 * float(np.median(np.diff(station_m))) if len(station_m) > 1 else 1.0
 
 
 def exceedance_window(station_from_m: float, station_to_m: float,
@@ -433,8 +491,11 @@ __all__ = [
     "exceedance_window",
     "gap_breaks",
     "gnss_residuals",
+    "locate",
     "navigation_series",
+    "nearest_sleeper",
     "plan_data",
+    "plot_values",
     "quality_bands",
     "quality_epochs",
     "series_bands",

@@ -1,5 +1,10 @@
-"""Track view: plots stacked along chainage on one shared x axis, a crosshair read-out of every
-value at the sleeper under the cursor, and the exceedance table (a click zooms every plot there)."""
+"""Track view: plots stacked along chainage on one shared x axis (a scrollable stack: each plot
+keeps a readable height), a crosshair read-out of every value at the sleeper under the cursor
+with the rail and direction of each, a go-to field (sleeper number, K-chainage or station), a
+two-point measuring tool, and the exceedance table (a click zooms every plot there).
+
+Navigation: the wheel zooms along chainage only (the y axes fit what is visible), dragging pans
+along chainage, and neither can leave the surveyed chainage."""
 
 from __future__ import annotations
 
@@ -13,7 +18,9 @@ from PySide6.QtWidgets import (
     QHBoxLayout,
     QHeaderView,
     QLabel,
+    QLineEdit,
     QMenu,
+    QScrollArea,
     QSplitter,
     QTableWidget,
     QTableWidgetItem,
@@ -29,14 +36,26 @@ from insrail.project.plotdata import (
     ChainagePlot,
     QualityBand,
     exceedance_window,
+    locate,
+    nearest_sleeper,
+    plot_values,
 )
 from insrail.project.results import ExceedanceRow
 
-#: Checks whose plot starts hidden: each repeats what another plot shows (gauge, cant) or is a
-#: shorter-chord version of one shown; the Plots menu brings them back.
+#: Checks whose plot starts hidden unless they have exceedances: each repeats what another plot
+#: shows (gauge, cant) or is a shorter-chord version of one shown; the Plots menu brings them back.
 HIDDEN_KINDS = ("gauge_deviation", "gauge_change_rate", "versine", "cross_level")
-READOUT_HINT = "Move the mouse over the plots to read every value at a sleeper."
 EXCEEDANCE_COLUMNS = ("Check", "Rail", "Direction", "From [m]", "To [m]", "Peak", "Limit", "Unit", "Sleepers")
+READOUT_HINT = "Move the mouse over the plots to read every value at a sleeper."
+#: Each plot keeps at least this height [px]; more plots than fit scroll.
+MIN_PLOT_HEIGHT = 150
+#: Panning and zooming stop this far beyond the first and last sleeper [m].
+PAN_MARGIN_M = 10.0
+#: The narrowest window a zoom reaches [m] (a few sleepers).
+MIN_WINDOW_M = 2.0
+#: The window a go-to shows when the current one is wider [m].
+GOTO_WINDOW_M = 100.0
+MEASURE_PENS = (pg.mkPen("#7B3294", width=1, style=Qt.DashDotLine), pg.mkPen("#008837", width=1, style=Qt.DashDotLine))
 
 
 class SortableItem(QTableWidgetItem):
@@ -56,13 +75,16 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
     """Stacked plots along chainage sharing the x axis of the top one, with a crosshair."""
 
     cursorMoved = Signal(float)
+    clicked = Signal(str, float)  # plot key, station [m]
 
     def __init__(self, parent=None):
         super().__init__(parent)
         self.plots: dict[str, pg.PlotItem] = {}
         self._crosshairs: list[pg.InfiniteLine] = []
         self._regions: list[pg.LinearRegionItem] = []
+        self._measure_lines: list[tuple[pg.InfiniteLine, pg.InfiniteLine]] = []
         self._mouse = pg.SignalProxy(self.scene().sigMouseMoved, rateLimit=60, slot=self._mouse_moved)
+        self.scene().sigMouseClicked.connect(self._mouse_clicked)
 
     def set_data(self, station_m: np.ndarray, columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
                  visible: set[str], bands: Mapping[str, QualityBand] | None = None) -> None:
@@ -70,7 +92,9 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self.plots.clear()
         self._crosshairs.clear()
         self._regions.clear()
+        self._measure_lines.clear()
         shown = [p for p in plots if p.key in visible]
+        self.setMinimumHeight(MIN_PLOT_HEIGHT * len(shown))
         for row, spec in enumerate(shown):
             item = self.addPlot(row=row, col=0)
             plotstyle.make_fluid(item)
@@ -81,7 +105,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                                            f"±{BAND_SIGMAS:g}σ predicted" if band is not None else ""), size="8pt")
             if band is not None:
                 edges = [pg.PlotCurveItem(band.station_m, sign * band.half_width, pen=None) for sign in (1.0, -1.0)]
-                fill = pg.FillBetweenItem(*edges, brush=plotstyle.BAND_BRUSH)
+                fill = pg.FillBetweenItem(*edges, brush=plotstyle.BAND_BRUSH)  # a step per 200 m: a few points
                 fill.setZValue(-5)
                 item.addItem(fill, ignoreBounds=True)  # the data, not the band, set the view
             item.getAxis("left").setWidth(48)
@@ -97,15 +121,25 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             region.setZValue(-10)
             region.hide()
             item.addItem(region, ignoreBounds=True)
+            lines = tuple(pg.InfiniteLine(angle=90, pen=pen) for pen in MEASURE_PENS)
+            for line in lines:
+                line.hide()
+                item.addItem(line, ignoreBounds=True)
             self._crosshairs.append(crosshair)
             self._regions.append(region)
-            item.vb.setAutoVisible(y=True)  # y fits what is visible after a zoom along chainage
+            self._measure_lines.append(lines)
+            view = item.vb
+            view.setMouseEnabled(x=True, y=False)  # the wheel zooms along chainage; y fits what is visible
+            view.setAutoVisible(y=True)
+            if len(station_m):
+                low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
+                view.setLimits(xMin=low, xMax=high, minXRange=MIN_WINDOW_M, maxXRange=high - low)
             if row:
                 item.setXLink(next(iter(self.plots.values())))
-            is_bottom = row == len(shown) - 1
-            item.getAxis("bottom").setStyle(showValues=is_bottom)
-            if is_bottom:
-                item.setLabel("bottom", "chainage [m]")
+            if row == len(shown) - 1:
+                item.setLabel("bottom", "station [m]")
+            else:
+                item.hideAxis("bottom")  # one chainage axis under the stack (each axis costs a frame)
             self.plots[spec.key] = item
 
     def x_range(self) -> tuple[float, float]:
@@ -125,14 +159,32 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         for line in self._crosshairs:
             line.setPos(station)
 
-    def _mouse_moved(self, event) -> None:
-        position = event[0]
-        for item in self.plots.values():
+    def mark_measure(self, points: Sequence[float]) -> None:
+        """The measuring tool's points (none, one or two stations) as lines in every plot."""
+        for lines in self._measure_lines:
+            for k, line in enumerate(lines):
+                line.setVisible(k < len(points))
+                if k < len(points):
+                    line.setPos(points[k])
+
+    def _plot_at(self, position) -> tuple[str, float] | None:
+        for key, item in self.plots.items():
             if item.sceneBoundingRect().contains(position):
-                station = item.vb.mapSceneToView(position).x()
-                self.set_cursor(station)
-                self.cursorMoved.emit(station)
-                return
+                return key, item.vb.mapSceneToView(position).x()
+        return None
+
+    def _mouse_moved(self, event) -> None:
+        found = self._plot_at(event[0])
+        if found is not None:
+            self.set_cursor(found[1])
+            self.cursorMoved.emit(found[1])
+
+    def _mouse_clicked(self, event) -> None:
+        if event.button() != Qt.LeftButton:
+            return
+        found = self._plot_at(event.scenePos())
+        if found is not None:
+            self.clicked.emit(*found)
 
 
 class TrackView(DrawWhenShown, QWidget):
@@ -147,6 +199,22 @@ class TrackView(DrawWhenShown, QWidget):
         self.readout.setTextFormat(Qt.RichText)
         self.readout.setWordWrap(True)
         self.readout.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.goto = QLineEdit()
+        self.goto.setPlaceholderText("Go to: #sleeper, K1+234.5 or station")
+        self.goto.setToolTip("Go to a sleeper (#123), a chainage as printed on the sleepers (K1+234.5) or a "
+                             "station in metres; Enter")
+        self.goto.setMaximumWidth(260)
+        self.goto.returnPressed.connect(lambda: self.go_to(self.goto.text()))
+        self.measure_button = QToolButton(text="Measure")
+        self.measure_button.setCheckable(True)
+        self.measure_button.setToolTip("Measuring tool: click two points of a plot to read the chainage and "
+                                       "value differences between them")
+        self.measure_button.toggled.connect(self._measure_toggled)
+        self.measure_label = QLabel()
+        self.measure_label.setTextFormat(Qt.RichText)
+        self.measure_label.setWordWrap(True)
+        self.measure_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.measure_label.hide()
         self.choose_plots = QToolButton(text="Plots")
         self.choose_plots.setPopupMode(QToolButton.InstantPopup)
         self.choose_plots.setMenu(QMenu(self.choose_plots))
@@ -157,26 +225,35 @@ class TrackView(DrawWhenShown, QWidget):
         self.exceedances.verticalHeader().setVisible(False)
         self.exceedances.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeToContents)
         self.exceedances.horizontalHeader().setStretchLastSection(True)
+        self.exceedances.setMinimumHeight(6 * self.exceedances.verticalHeader().defaultSectionSize())
         self.exceedances.cellClicked.connect(lambda row, _column: self.zoom_to_exceedance(self._exceedance_at(row)))
         self.exceedances.currentCellChanged.connect(lambda row, *_: self.zoom_to_exceedance(self._exceedance_at(row)))
 
         top = QHBoxLayout()
         top.addWidget(self.readout, 1)
-        top.addWidget(self.choose_plots, 0, Qt.AlignTop)
+        for tool in (self.goto, self.measure_button, self.choose_plots):
+            top.addWidget(tool, 0, Qt.AlignTop)
+        self.scroll = QScrollArea()
+        self.scroll.setWidgetResizable(True)
+        self.scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarAlwaysOff)
+        self.scroll.setWidget(self.plots)
         upper = QWidget()
         upper_layout = QVBoxLayout(upper)
         upper_layout.setContentsMargins(0, 0, 0, 0)
         upper_layout.addLayout(top)
-        upper_layout.addWidget(self.plots, 1)
+        upper_layout.addWidget(self.measure_label)
+        upper_layout.addWidget(self.scroll, 1)
         splitter = QSplitter(Qt.Vertical)
         splitter.addWidget(upper)
         splitter.addWidget(self.exceedances)
-        splitter.setStretchFactor(0, 4)
+        splitter.setStretchFactor(0, 3)
         splitter.setStretchFactor(1, 1)
+        splitter.setChildrenCollapsible(False)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(2, 2, 2, 2)
         layout.addWidget(splitter)
 
+        self.survey = ""
         self._station = np.zeros(0)
         self._labels: tuple[str, ...] = ()
         self._numbers = np.zeros(0, int)
@@ -185,17 +262,42 @@ class TrackView(DrawWhenShown, QWidget):
         self._visible: set[str] = set()
         self._rows: tuple[ExceedanceRow, ...] = ()
         self._bands: dict[str, QualityBand] = {}
+        self._measured: list[tuple[str, float]] = []  # (plot key, station) of the measuring tool's points
+        self._pending_range: tuple[float, float] | None = None  # a range to apply once drawn
         self.plots.cursorMoved.connect(self.show_values_at)
+        self.plots.clicked.connect(self._plot_clicked)
 
     def set_results(self, station_m: np.ndarray, number: np.ndarray, label: Sequence[str],
                     columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
-                    exceedances: Sequence[ExceedanceRow], bands: Mapping[str, QualityBand] | None = None) -> None:
+                    exceedances: Sequence[ExceedanceRow], bands: Mapping[str, QualityBand] | None = None,
+                    survey: str = "") -> None:
         """Plain arrays (one per sleeper, in chainage order), the plots to draw from them and the
-        predicted-accuracy bands of some plots (by plot key)."""
+        predicted-accuracy bands of some plots (by plot key). The same ``survey`` again (processed
+        once more) keeps the chainage window and the plots shown."""
+        same = bool(survey) and survey == self.survey and bool(self._specs)
+        state = self.view_state() if same else None
+        self.survey = survey
         self._station, self._numbers, self._labels = np.asarray(station_m), np.asarray(number), tuple(label)
         self._columns, self._specs, self._rows = columns, tuple(plots), tuple(exceedances)
         self._bands = dict(bands or {})
-        self._visible = {p.key for p in plots if p.kind not in HIDDEN_KINDS}
+        failing = {f"check_{e.check}" for e in self._rows}
+        self._visible = {p.key for p in plots if p.kind not in HIDDEN_KINDS or p.key in failing}
+        self._measured = []
+        self.measure_label.clear()
+        self._pending_range = None
+        self._fill_plots_menu()
+        self.request_draw(now=not len(self._station))
+        self._fill_table()
+        self.readout.setText(READOUT_HINT if len(self._station) else "")
+        if state is not None:
+            self.restore_state(state)
+
+    def clear_results(self) -> None:
+        """Nothing shown: another project, or a survey without results."""
+        self.survey = ""
+        self.set_results(np.zeros(0), np.zeros(0, int), (), {}, (), ())
+
+    def _fill_plots_menu(self) -> None:
         menu = self.choose_plots.menu()
         menu.clear()
         for spec in self._specs:
@@ -203,23 +305,44 @@ class TrackView(DrawWhenShown, QWidget):
             action.setCheckable(True)
             action.setChecked(spec.key in self._visible)
             action.toggled.connect(lambda on, key=spec.key: self.set_plot_visible(key, on))
-        self.request_draw(now=not len(self._station))
-        self._fill_table()
-        self.readout.setText(READOUT_HINT if len(self._station) else "")
 
-    def clear_results(self) -> None:
-        """Nothing shown: another project, or a survey without results."""
-        self.set_results(np.zeros(0), np.zeros(0, int), (), {}, (), ())
+    # ------------------------------------------------------------------ view state
+
+    def view_state(self) -> dict:
+        """What the surveyor set up: the chainage window and the plots shown (kept across
+        reprocessing, and per project by the main window)."""
+        window = self._pending_range or (self.plots.x_range() if self.plots.plots and not self.stale else None)
+        return {"x_range": list(window) if window is not None else None, "visible": sorted(self._visible)}
+
+    def restore_state(self, state: Mapping) -> None:
+        visible = {key for key in state.get("visible") or () if any(s.key == key for s in self._specs)}
+        if visible and visible != self._visible:
+            self._visible = visible
+            self._fill_plots_menu()
+            self.request_draw()
+        window = state.get("x_range")
+        if window and len(self._station):
+            self._pending_range = (float(window[0]), float(window[1]))
+            if not self.stale:
+                self._apply_pending_range()
+
+    def _apply_pending_range(self) -> None:
+        if self._pending_range is not None and self.plots.plots:
+            self.plots.set_x_range(*self._pending_range)
+            self._pending_range = None
 
     def set_plot_visible(self, key: str, visible: bool) -> None:
-        x_range = self.plots.x_range() if self.plots.plots else None
+        if self.plots.plots and not self.stale and self._pending_range is None:
+            self._pending_range = self.plots.x_range()
         (self._visible.add if visible else self._visible.discard)(key)
         self.request_draw()
-        if x_range is not None:
-            self.plots.set_x_range(*x_range)
 
     def _draw(self) -> None:
         self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands)
+        self.plots.mark_measure([station for _, station in self._measured])
+        self._apply_pending_range()
+
+    # ------------------------------------------------------------------ exceedances
 
     def _fill_table(self) -> None:
         table = self.exceedances
@@ -257,15 +380,66 @@ class TrackView(DrawWhenShown, QWidget):
         self.show_values_at(centre)
         self.exceedanceSelected.emit(e.first_sleeper, e.last_sleeper)
 
+    # ------------------------------------------------------------------ reading values
+
+    def go_to(self, text: str) -> bool:
+        """Centre the plots on the sleeper ``text`` names (see :func:`insrail.project.plotdata.locate`);
+        False (and the field marked) when it names none."""
+        row = locate(text, self._station, self._numbers, self._labels)
+        if row is None:
+            self.goto.setStyleSheet("background: #FFE0E0;")
+            self.goto.setToolTip(f"{text!r} is no sleeper number, chainage or station of this survey")
+            return False
+        self.goto.setStyleSheet("")
+        station = float(self._station[row])
+        low, high = self.plots.x_range() if self.plots.plots else (station, station)
+        half = 0.5 * min(high - low, GOTO_WINDOW_M) if high > low else 0.5 * GOTO_WINDOW_M
+        self.plots.set_x_range(station - half, station + half)
+        self.plots.set_cursor(station)
+        self.show_values_at(station)
+        return True
+
     def show_values_at(self, station: float) -> None:
         if not len(self._station):
             return
-        i = int(np.clip(np.searchsorted(self._station, station), 1, len(self._station) - 1))
-        i -= abs(self._station[i - 1] - station) < abs(self._station[i] - station)
+        i = nearest_sleeper(self._station, station)
         parts = [f"<b>{self._labels[i]}</b> sleeper {self._numbers[i]} ({self._station[i]:.3f} m)"]
         for spec in self._specs:
             if spec.key not in self._visible:
                 continue
-            values = " / ".join(f"{spec.scale * self._columns[column][i]:+.2f}" for _, column in spec.curves)
-            parts.append(f"{spec.title}: {values} {spec.unit}")
+            values = ", ".join(f"{label} {value:+.2f}" if label else f"{value:+.2f}"
+                               for label, value in plot_values(spec, self._columns, i))
+            parts.append(f"<b>{spec.title}</b>: {values} {spec.unit}")
         self.readout.setText(" &nbsp;|&nbsp; ".join(parts))
+
+    def _measure_toggled(self, on: bool) -> None:
+        self._measured = []
+        self.plots.mark_measure([])
+        self.measure_label.setVisible(on)
+        self.measure_label.setText("Measuring: click the first point in a plot." if on else "")
+
+    def _plot_clicked(self, key: str, station: float) -> None:
+        if self.measure_button.isChecked():
+            self.measure(key, station)
+
+    def measure(self, key: str, station: float) -> None:
+        """One point of the measuring tool, in plot ``key`` at ``station``: the first, the second
+        (the differences are shown), or a new first after two."""
+        if not len(self._station):
+            return
+        if len(self._measured) == 2:
+            self._measured = []
+        self._measured.append((key, float(self._station[nearest_sleeper(self._station, station)])))
+        self.plots.mark_measure([s for _, s in self._measured])
+        if len(self._measured) == 1:
+            self.measure_label.setText("Measuring: click the second point.")
+            return
+        (_, a), (key, b) = self._measured
+        spec = next(s for s in self._specs if s.key == key)
+        first, second = (nearest_sleeper(self._station, s) for s in (a, b))
+        deltas = ", ".join(f"{label} Δ {vb - va:+.2f}" if label else f"Δ {vb - va:+.2f}"
+                           for (label, va), (_, vb) in zip(plot_values(spec, self._columns, first),
+                                                           plot_values(spec, self._columns, second)))
+        self.measure_label.setText(
+            f"Δ chainage <b>{b - a:+.3f} m</b> (sleeper {self._numbers[first]} {self._labels[first]} → "
+            f"{self._numbers[second]} {self._labels[second]}) &nbsp;|&nbsp; <b>{spec.title}</b>: {deltas} {spec.unit}")

@@ -1,0 +1,137 @@
+"""The track view on plain arrays (pytest-qt, offscreen): names, read-out, navigation, tools."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+pytest.importorskip("pytestqt")
+from PySide6.QtCore import QPoint, QPointF, Qt
+from PySide6.QtGui import QWheelEvent
+
+from insrail.gui.views.track import MIN_PLOT_HEIGHT, PAN_MARGIN_M, TrackView
+from insrail.project.plotdata import chainage_plots
+from insrail.project.results import ExceedanceRow
+from insrail.track.tolerance import load_tolerance_profile
+
+SLEEPERS = 800
+
+
+def columns():
+    station = 1000.0 + 0.625 * np.arange(SLEEPERS)
+    wave = np.sin(station / 7.0)
+    data = {"station_m": station, "gauge_mm": 1435.0 + 0.5 * wave, "cant_mm": 2.0 * wave,
+            "design_cant_mm": np.zeros(SLEEPERS), "check_versine_10m_left_lateral_mm": 0.3 * wave}
+    for direction in ("lateral", "vertical"):
+        data[f"{direction}_deviation_left_mm"] = 1.0 + wave
+        data[f"{direction}_deviation_right_mm"] = -1.0 - 2.0 * wave
+        for rail in ("left", "right"):
+            data[f"check_short_wave_30m_5m_{rail}_{direction}_mm"] = 0.1 * wave
+    return data
+
+
+@pytest.fixture
+def view(qtbot):
+    data = columns()
+    station = data["station_m"]
+    plots = chainage_plots(data, load_tolerance_profile("cn_hsr_ballastless"))
+    versine = ExceedanceRow("versine_10m", "versine", "left", "lateral", "mm", 1100.0, 1101.0, 2.5, 2.0, 161, 163)
+    widget = TrackView()
+    qtbot.addWidget(widget)
+    widget.resize(1366, 740)
+    widget.show()
+    labels = [f"K{int(s // 1000)}+{s % 1000:07.3f}" for s in station]
+    widget.set_results(station, np.arange(1, SLEEPERS + 1), labels, data, plots, (versine,), survey="run")
+    return widget
+
+
+def test_plots_have_human_names_and_a_readable_height(view):
+    titles = [spec.title for spec in view._specs]
+    assert "30 m / 5 m short wave" in titles and "10 m versine" in titles
+    assert not any("_" in title for title in titles)  # no profile ids on screen
+    # the 10 m versine starts shown because it has an exceedance
+    assert "check_versine_10m" in view.plots.plots
+    assert view.plots.minimumHeight() >= MIN_PLOT_HEIGHT * len(view.plots.plots)
+    assert view.scroll.verticalScrollBar().maximum() > 0  # more plots than fit: the stack scrolls
+    menu = [action.text() for action in view.choose_plots.menu().actions()]
+    assert len({name.lower() for name in menu}) == len(menu)  # never "gauge" and "Gauge"
+
+
+def test_the_cursor_readout_names_rail_and_direction_of_every_value(view):
+    view.show_values_at(1100.0)
+    text = view.readout.text()
+    row = int(np.argmin(np.abs(view._station - 1100.0)))
+    assert f"sleeper {row + 1} " in text
+    left, right = (view._columns[f"lateral_deviation_{rail}_mm"][row] for rail in ("left", "right"))
+    assert f"<b>Lateral deviation</b>: left rail {left:+.2f}, right rail {right:+.2f} mm" in text
+    wave = view._columns["check_short_wave_30m_5m_left_lateral_mm"][row]
+    assert f"left rail, lateral {wave:+.2f}" in text and f"right rail, vertical {wave:+.2f}" in text
+    gauge = view._columns["gauge_mm"][row]
+    assert f"<b>Gauge</b>: {gauge:+.2f} mm" in text
+
+
+def test_panning_stays_on_the_data_and_the_wheel_zooms_along_chainage_only(view, qtbot):
+    first = next(iter(view.plots.plots.values()))
+    station = view._station
+    view.plots.set_x_range(station[0] - 500.0, station[0] + 100.0)  # asked to show far before the start
+    low, high = view.plots.x_range()
+    assert low >= station[0] - PAN_MARGIN_M - 1e-6 and high <= station[-1] + PAN_MARGIN_M + 1e-6
+    view.plots.set_x_range(station[-1] - 50.0, station[-1] + 400.0)
+    assert view.plots.x_range()[1] <= station[-1] + PAN_MARGIN_M + 1e-6
+    first.vb.translateBy(x=1e4)  # a drag far past the end
+    assert view.plots.x_range()[1] <= station[-1] + PAN_MARGIN_M + 1e-6
+
+    view.plots.set_x_range(1100.0, 1200.0)
+    qtbot.waitUntil(lambda: np.allclose(view.plots.x_range(), (1100.0, 1200.0)))
+    y_before = first.vb.viewRange()[1]
+    centre = view.plots.mapFromScene(first.vb.mapViewToScene(QPointF(1150.0, 0.0)))
+    event = QWheelEvent(QPointF(centre), QPointF(view.plots.mapToGlobal(centre)), QPoint(0, 0), QPoint(0, 240),
+                        Qt.NoButton, Qt.NoModifier, Qt.NoScrollPhase, False)
+    view.plots.viewport().setFocus()
+    from PySide6.QtWidgets import QApplication
+    QApplication.sendEvent(view.plots.viewport(), event)
+    low, high = view.plots.x_range()
+    assert high - low < 100.0 - 1.0  # zoomed in along chainage
+    assert first.vb.state["mouseEnabled"] == [True, False]  # y follows the data, never the wheel
+    y_after = first.vb.viewRange()[1]
+    assert y_after[1] - y_after[0] <= (y_before[1] - y_before[0]) + 1e-9  # y fits the (narrower) visible data
+
+
+def test_go_to_a_sleeper_a_chainage_or_a_station(view):
+    assert view.go_to("#321")
+    assert abs(np.mean(view.plots.x_range()) - view._station[320]) < 1e-6
+    assert "sleeper 321 " in view.readout.text()
+    assert view.go_to("K1+250")
+    row = int(np.argmin(np.abs(view._station - 1250.0)))
+    assert f"sleeper {row + 1} " in view.readout.text()
+    assert view.go_to("1300.2")
+    assert not view.go_to("K9+000") and not view.go_to("#99999") and not view.go_to("north")
+    assert "background" in view.goto.styleSheet()  # the field says it found nothing
+    assert view.go_to("#1") and view.goto.styleSheet() == ""
+
+
+def test_measuring_tool_gives_chainage_and_value_differences(view):
+    view.measure_button.setChecked(True)
+    assert view.measure_label.isVisible()
+    view.measure("lateral_deviation", 1100.1)
+    assert "second point" in view.measure_label.text()
+    view.measure("lateral_deviation", 1112.6)
+    a, b = (int(np.argmin(np.abs(view._station - s))) for s in (1100.1, 1112.6))
+    text = view.measure_label.text()
+    assert f"Δ chainage <b>{view._station[b] - view._station[a]:+.3f} m</b>" in text
+    left = view._columns["lateral_deviation_left_mm"]
+    assert f"left rail Δ {left[b] - left[a]:+.2f}" in text
+    lines = view.plots._measure_lines[0]
+    assert all(line.isVisible() for line in lines) and lines[1].value() == view._station[b]
+    view.measure_button.setChecked(False)
+    assert not any(line.isVisible() for line in lines)
+
+
+def test_the_same_survey_again_keeps_window_and_plots(view):
+    view.plots.set_x_range(1200.0, 1260.0)
+    view.set_plot_visible("gauge", False)
+    data = {name: values for name, values in view._columns.items()}
+    view.set_results(view._station, view._numbers, view._labels, data, view._specs, view._rows, survey="run")
+    assert np.allclose(view.plots.x_range(), (1200.0, 1260.0)) and "gauge" not in view.plots.plots
+    view.set_results(view._station, view._numbers, view._labels, data, view._specs, view._rows, survey="other")
+    assert "gauge" in view.plots.plots  # another survey starts afresh
