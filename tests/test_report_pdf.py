@@ -1,6 +1,8 @@
 """The PDF survey report: it renders, holds what it promises page by page, and its charts
 keep every peak while drawing a fraction of the points."""
 
+import itertools
+import re
 import shutil
 import subprocess
 import threading
@@ -17,7 +19,17 @@ from reportlab.platypus import Paragraph
 from insrail.progress import Cancelled
 from insrail.report import write_pdf
 from insrail.report.charts import Series, StripChart, decimate_min_max, line_runs, strip_drawing
-from insrail.report.pdf import BODY, CHART_RANGE_M, Heading
+from insrail.report.content import load_report_content
+from insrail.report.pdf import (
+    BODY,
+    CHART_AREA_HEIGHT,
+    CHART_MIN_HEIGHT,
+    CHART_RANGE_M,
+    Heading,
+    chart_spans,
+    chart_specs,
+    pages_of_charts,
+)
 
 needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
                                    reason="poppler-utils (pdftotext, pdftoppm) not installed; .ci/run installs them")
@@ -58,18 +70,28 @@ def test_pages_hold_the_summary_charts_per_chainage_range_plan_and_exceedances(p
     for expected in ("GNSS outages", "1 longer than 3 s", "Position sigma, horizontal", "median 6.0 mm",
                      "Odometer scale error", "+1.50 per mille", "3 measurements rejected", "Track quality per 200 m"):
         assert expected in processing, expected
-    # charts: one page group per 500 m of station, the range in the page header
-    ranges = sorted({line.split("Charts ")[1].strip() for text in texts for line in text.splitlines() if "Charts DK" in line})
+    # charts: one page group per chainage span (spans of equal length covering the survey), the range in the
+    # page header, the axis in K-chainage
+    chart_pages = [text for text in texts if "Charts DK" in text.splitlines()[0]]
+    ranges = sorted({text.splitlines()[0].split("Charts ")[1].strip() for text in chart_pages})
     station = results.columns["station_m"]
-    expected_groups = len(np.unique(np.floor(station / CHART_RANGE_M)))
-    assert len(ranges) == expected_groups
+    spans = chart_spans(station[0], station[-1])
+    charts = chart_specs(load_report_content(project, results))
+    assert len(ranges) == len(spans) and len(chart_pages) == len(spans) * len(pages_of_charts(len(charts),
+                                                                                              CHART_AREA_HEIGHT))
     assert ranges[0].startswith(results.label[0])
+    assert all("chainage" in text and "DK1+100" in text for text in chart_pages[:2])
     assert any("Twist 3 m (mm)" in text for text in texts)
     assert any("300 m / 150 m long wave, vertical" in text for text in texts)
     assert any("Plan view" in text.splitlines()[0] for text in texts)
     exceedance_pages = "\n".join(text for text in texts if "Exceedances" in text.splitlines()[0])
     for e in results.exceedances:
         assert f"{e.first_sleeper} - {e.last_sleeper}" in exceedance_pages
+    # grouped by severity, the most severe first, channels by their display names
+    headings = [line.split(":")[0].strip() for line in exceedance_pages.splitlines()
+                if re.match(r"^\s*(Severe|Major|Minor): \d+\s*$", line)]
+    assert headings == [h for h in ("Severe", "Major", "Minor") if h in headings] and len(headings) >= 2
+    assert "30 m / 5 m short wave, left rail, lateral" in exceedance_pages and "short_wave" not in exceedance_pages
 
 
 @needs_poppler
@@ -163,3 +185,26 @@ def test_invalid_stretch_is_shaded(project):
     assert len(shaded) == 1
     width_m = shaded[0].width / (760.0 - 46.0 - 8.0) * 500.0
     assert width_m == pytest.approx(station[INVALID][-1] - station[INVALID][0] + 0.6, abs=0.05)
+
+
+def test_chart_spans_cover_the_survey_with_full_pages():
+    for first, last in ((1000.0, 1686.9), (1051.25, 2248.7), (0.0, 10_000.0), (20.0, 60.0), (1000.0, 1499.9)):
+        spans = chart_spans(first, last)
+        lengths = {round(b - a, 6) for a, b in spans}
+        assert len(lengths) == 1 and lengths.pop() <= CHART_RANGE_M
+        assert spans[0][0] <= first and spans[-1][1] >= last
+        assert all(a == pytest.approx(b) for (_, a), (b, _) in itertools.pairwise(spans))
+        # the last page is not a stub: the data reach well into it
+        assert (last - spans[-1][0]) / (spans[-1][1] - spans[-1][0]) > 0.5 or len(spans) == 1
+        fewest = int(np.ceil((last - spans[0][0]) / CHART_RANGE_M - 1e-9))
+        assert len(spans) in (max(fewest, 1), fewest + 1)  # one more only where rounding to 50 m needs it
+    assert len(chart_spans(0.0, 10_000.0)) == 20
+
+
+def test_charts_are_shared_out_evenly_over_as_few_pages_as_keep_them_readable():
+    height = 500.0
+    for count in range(1, 30):
+        layout = pages_of_charts(count, height)
+        assert sum(layout) == count and max(layout) - min(layout) <= 1
+        assert height / max(layout) >= CHART_MIN_HEIGHT  # never lower than the smallest readable chart
+        assert len(layout) == int(np.ceil(count / (height // CHART_MIN_HEIGHT)))

@@ -9,6 +9,7 @@ NaN (invalid sleepers) breaks a line instead of bridging it.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -118,9 +119,20 @@ def _value_range(chart: StripChart, window: np.ndarray) -> tuple[float, float]:
     return (0.0 if chart.include_zero and low == 0.0 else low - pad), high + pad
 
 
+#: (station from, station to, step) -> (station, label) of the x ticks, e.g. round K-chainage.
+Ticks = Callable[[float, float, float], list[tuple[float, str]]]
+
+
+def metre_ticks(station_from: float, station_to: float, step: float) -> list[tuple[float, str]]:
+    """Ticks in metres of station."""
+    return [(float(t), f"{t:.0f}") for t in np.arange(math.ceil(station_from / step) * step, station_to + 1e-9, step)]
+
+
 def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, station_from: float, station_to: float,
-                  width: float, height: float, label_axis: bool = True) -> Drawing:
-    """A chart of ``chart`` over [station_from, station_to] m; x labels in metres of station."""
+                  width: float, height: float, label_axis: bool = True, ticks: Ticks = metre_ticks,
+                  axis_title: str = "station (m)") -> Drawing:
+    """A chart of ``chart`` over [station_from, station_to] m; x ticks from ``ticks`` (metres of station by
+    default, or the survey's K-chainage), the axis titled ``axis_title`` at the left of the tick labels."""
     left, right, bottom, top = 46.0, 8.0, 14.0 if label_axis else 6.0, 14.0
     plot_w, plot_h = width - left - right, height - bottom - top
     drawing = Drawing(width, height)
@@ -151,11 +163,14 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
         drawing.add(Line(left, y, left + plot_w, y, strokeColor=GRID_COLOUR, strokeWidth=0.3))
         drawing.add(String(left - 3, y - 2.5, f"{tick:g}", fontName=FONT, fontSize=6.5, textAnchor="end"))
     x_step = nice_step(station_to - station_from, 10)
-    for tick in np.arange(math.ceil(station_from / x_step) * x_step, station_to + 1e-9, x_step):
+    for tick, label in ticks(station_from, station_to, x_step):
         x = float(px(tick))
         drawing.add(Line(x, bottom, x, bottom + plot_h, strokeColor=GRID_COLOUR, strokeWidth=0.3))
         if label_axis:
-            drawing.add(String(x, bottom - 9, f"{tick:.0f}", fontName=FONT, fontSize=6.5, textAnchor="middle"))
+            drawing.add(String(x, bottom - 9, label, fontName=FONT, fontSize=6.5, textAnchor="middle"))
+    if label_axis and axis_title:
+        drawing.add(String(left - 17, bottom - 9, axis_title, fontName=FONT, fontSize=6, textAnchor="end",
+                           fillColor=colors.HexColor("#555555")))
     if chart.limits is not None:
         for limit in chart.limits:
             if np.isfinite(limit) and low < limit < high:

@@ -15,7 +15,10 @@ never a re-evaluation of rounded numbers.
 
 from __future__ import annotations
 
+import math
+import re
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -31,6 +34,7 @@ from insrail.project.results import (
 )
 from insrail.track.adjustment import FastenerType, load_fastener_type
 from insrail.track.exceedance import RAILS
+from insrail.track.stationing import StationEquations
 from insrail.track.tolerance import (
     DIRECTIONS,
     Check,
@@ -99,11 +103,80 @@ class ReportContent:
             return "no sleepers"
         return f"{self.results.label[0]} – {self.results.label[-1]}"
 
+    @cached_property
+    def chainage(self) -> ChainageAxis:
+        """K-chainage of any station of this survey (chart axes)."""
+        return ChainageAxis.from_labels(self.station_m, self.results.label)
+
     def column(self, key: str) -> Column:
         for column in self.columns:
             if column.key == key:
                 return column
         raise KeyError(key)
+
+
+_PREFIX = re.compile(r"^\s*([^\d+\-]*)")
+
+
+@dataclass(frozen=True)
+class ChainageAxis:
+    """The chainage labels of a survey ("DK1+695.917") for any station, read from its sleepers' labels.
+
+    Between station equations the displayed chainage is the station plus a constant; each station takes
+    the offset of its nearest sleeper, so a chart tick is labelled as the sleeper table labels that
+    stretch. Labels that do not read as chainage (no design, another format) leave the axis in metres."""
+
+    station_m: np.ndarray
+    offset_m: np.ndarray  # displayed chainage - station, per sleeper
+    prefix: str | None  # None: the labels are not chainage; ticks in metres of station
+
+    @classmethod
+    def from_labels(cls, station_m: np.ndarray, labels: tuple[str, ...]) -> ChainageAxis:
+        station_m = np.asarray(station_m, dtype=float)
+        if not labels:
+            return cls(station_m, np.zeros(0), None)
+        prefix = _PREFIX.match(labels[0]).group(1).strip()
+        try:
+            reader = StationEquations(prefix=prefix)
+            displayed = np.array([reader.parse_label(label) for label in labels])
+        except ValueError:  # not chainage labels (or mixed prefixes): metres of station
+            return cls(station_m, np.zeros(len(labels)), None)
+        return cls(station_m, np.round(displayed - station_m, 3), prefix)
+
+    @property
+    def title(self) -> str:
+        return "chainage" if self.prefix is not None else "station m"
+
+    def _offset(self, station: float) -> float:
+        if not self.station_m.size:
+            return 0.0
+        index = int(np.clip(np.searchsorted(self.station_m, station), 1, self.station_m.size - 1)) \
+            if self.station_m.size > 1 else 0
+        if index and abs(self.station_m[index - 1] - station) <= abs(self.station_m[index] - station):
+            index -= 1
+        return float(self.offset_m[index])
+
+    def label(self, station: float) -> str:
+        """A tick label: "DK1+350" (whole metres), or the station in metres."""
+        if self.prefix is None:
+            return f"{station:.0f}"
+        return StationEquations(prefix=self.prefix).label(station + self._offset(station), decimals=0)
+
+    def ticks(self, station_from: float, station_to: float, step: float) -> list[tuple[float, str]]:
+        """(station, label) at round chainage every ``step`` metres within [station_from, station_to]: per
+        stretch of one offset, so ticks stay on round chainage across a station equation."""
+        inside = (self.station_m >= station_from) & (self.station_m <= station_to)
+        offsets = np.unique(self.offset_m[inside]) if inside.any() else np.array([self._offset(station_from)])
+        ticks = []
+        for offset in offsets:
+            stations = self.station_m[inside & (self.offset_m == offset)] if inside.any() else np.array([station_from,
+                                                                                                            station_to])
+            low = station_from if offset == offsets[0] else float(stations.min())
+            high = station_to if offset == offsets[-1] else float(stations.max())
+            first = math.ceil((low + offset) / step - 1e-9) * step
+            for displayed in np.arange(first, high + offset + 1e-9, step):
+                ticks.append((float(displayed - offset), self.label(float(displayed - offset))))
+        return ticks
 
 
 def limits_text(check: Check) -> str:

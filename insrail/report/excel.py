@@ -339,9 +339,10 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     profile = content.profile
     sheet.pairs(("Tolerance profile", f"{profile.name}: {profile.description}"), ("Standard", profile.source),
                 ("Design", project.design or "fitted lines (no design alignment)"))
-    sheet.pairs(("Limits", "; ".join(f"{check_name(c)} {limits_text(c)}" for c in profile.checks)),
-                ("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"), ("Software", content.software),
-                anchors=(0, 4, 24, 28, 32, 36))
+    sheet.pairs(("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"), ("Software", content.software),
+                ("Operator", content.project.report.operator or "not stated"))
+    # the limits run on over the empty cells of their row (kept within the table's width: it sets the print scale)
+    sheet.pairs(("Limits", "; ".join(f"{check_name(c)} {limits_text(c)}" for c in profile.checks)), anchors=(0, 4))
 
 
 # --------------------------------------------------------------------------- sleepers
@@ -349,8 +350,9 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
 def _sleeper_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
     _header_block(sheet, content, "Track geometry per sleeper")
     sheet.pairs(("Legend", sheet.cell("beyond a limit", fill=EXCEEDANCE_FILL)),
-                ("", sheet.cell("invalid sleeper", fill=INVALID_FILL)),
-                ("Signs", "deviations + right / + up; adjustment: move the rail by the amount, + right / + up"))
+                ("", sheet.cell("invalid sleeper", fill=INVALID_FILL)))
+    sheet.pairs(("Signs", "deviations + right / + up; adjustment: move the rail by the amount, + right / + up"),
+                anchors=(0, 4))
     columns = content.columns
     first_header = sheet.group_header([column.group for column in columns])
     sheet.header([limits_text_for(column) for column in columns])

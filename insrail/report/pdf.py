@@ -10,6 +10,8 @@ page carries the project and survey, its section or chainage range and "page i o
 from __future__ import annotations
 
 import datetime
+import itertools
+import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from xml.sax.saxutils import escape
@@ -27,6 +29,7 @@ from reportlab.platypus import (
     CondPageBreak,
     Flowable,
     Frame,
+    KeepInFrame,
     PageBreak,
     PageTemplate,
     Paragraph,
@@ -36,7 +39,10 @@ from reportlab.platypus import (
 )
 
 from insrail.io.atomic import atomic_write
-from insrail.names import check_name, rail_direction
+from insrail.io.errors import InputError
+from insrail.io.survey import read_manifest
+from insrail.names import check_name, quantity_name, rail_direction
+from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.trajectory import Trajectory
 from insrail.notices import notices_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
@@ -63,9 +69,14 @@ from insrail.report.content import (
     DEVIATION_GROUP,
     OTHER_CHECKS_GROUP,
     RAIL_KINDS,
+    SEVERITIES,
+    SEVERITY_RULE,
     ReportContent,
     check_description,
+    exceedance_check,
     exceedance_display,
+    exceedances_by_severity,
+    excess_share,
     limits_text,
     load_report_content,
     survey_start,
@@ -74,8 +85,10 @@ from insrail.track.exceedance import RAILS
 
 PAGE = landscape(A4)
 MARGIN = 14 * mm
-CHART_RANGE_M = 500.0
-CHARTS_PER_PAGE = 5
+CHART_RANGE_M = 500.0  # the longest chainage span of a chart page
+CHART_ROUND_M = 50.0  # chart spans start on and last a multiple of this
+CHART_MIN_HEIGHT = 24 * mm  # a chart is never drawn lower (pages hold as many as fit)
+CHART_AREA_HEIGHT = PAGE[1] - 2 * MARGIN - 4  # the charts of a page share this height
 CJK_FONT = "STSong-Light"  # an Adobe CID font every PDF viewer provides; Helvetica has no CJK glyphs
 #: A section added to the report: content -> flowables (e.g. repeatability of several runs), starting
 #: with a :class:`Heading` to name its pages in the page header; it ends with a page break.
@@ -85,8 +98,10 @@ _styles = getSampleStyleSheet()
 BODY = ParagraphStyle("body", parent=_styles["BodyText"], fontSize=9, leading=11.5)
 SMALL = ParagraphStyle("small", parent=BODY, fontSize=7.5, leading=9)
 H1 = ParagraphStyle("h1", parent=_styles["Heading1"], fontSize=16, spaceAfter=6)
+H1_COVER = ParagraphStyle("h1_cover", parent=H1, fontSize=14, spaceBefore=2, spaceAfter=0)
 H2 = ParagraphStyle("h2", parent=_styles["Heading2"], fontSize=12, spaceBefore=6, spaceAfter=3)
-TITLE = ParagraphStyle("title", parent=_styles["Title"], fontSize=26, leading=32, alignment=0)
+H3 = ParagraphStyle("h3", parent=_styles["Heading3"], fontSize=9.5, spaceBefore=5, spaceAfter=2)
+TITLE = ParagraphStyle("title", parent=_styles["Title"], fontSize=18, leading=21, alignment=0, spaceAfter=0)
 TABLE_STYLE = TableStyle([
     ("FONT", (0, 0), (-1, -1), "Helvetica", 8),
     ("FONT", (0, 0), (-1, 0), "Helvetica-Bold", 8),
@@ -106,11 +121,28 @@ KEY_VALUE_STYLE = TableStyle([
 ])
 
 
+def _helvetica_can_show(character: str) -> bool:
+    try:
+        character.encode("cp1252")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
 def text(value) -> str:
-    """Paragraph markup for any text: escaped, and in a CJK font when Helvetica cannot show it."""
-    value = escape(str(value))
-    font = _font_for(value)
-    return value if font == "Helvetica" else f'<font name="{font}">{value}</font>'
+    """Paragraph markup for any text: escaped, the runs Helvetica cannot show (Chinese, σ) in a CJK font
+    and the rest in the paragraph's own font."""
+    value = str(value)
+    runs = itertools.groupby(value, _helvetica_can_show)
+    parts = []
+    for shown, characters in runs:
+        run = escape("".join(characters))
+        if shown:
+            parts.append(run)
+        else:
+            _register_cjk()
+            parts.append(f'<font name="{CJK_FONT}">{run}</font>')
+    return "".join(parts)
 
 
 def _register_cjk() -> None:
@@ -174,30 +206,229 @@ def _fmt(value, digits: int = 1, unit: str = "") -> str:
 
 # --------------------------------------------------------------------------- pages
 
+def _not_stated(value) -> str:
+    return str(value) if value else "not stated"
+
+
+def _instrument(name: str, calibrated) -> str:
+    return f"{name}; calibrated {calibrated.isoformat()}" if calibrated else f"{name}; calibration date not stated"
+
+
+def _imu(content: ReportContent) -> str:
+    """The IMU as the project names it, else the error model the fusion used (from the project or survey.toml)."""
+    project = content.project
+    if project.report.imu:
+        return project.report.imu
+    name = project.imu_profile
+    if name is None:
+        try:
+            name = read_manifest(project.resolve(project.survey(content.survey).folder)).imu_profile
+        except (InputError, OSError, KeyError):
+            return "not stated (survey folder not readable)"
+    try:
+        profile = load_imu_profile(project.resource(name))
+        return f"not stated; error model {profile.name}: {profile.description}"
+    except (ValueError, OSError):
+        return f"not stated; error model {name}"
+
+
+def crs_text(crs) -> str:
+    """The engineering coordinate system with every parameter a client needs to check it."""
+    projection = (f"Transverse Mercator on {crs.ellipsoid} (a = {crs.semi_major_axis_m:.3f} m, "
+                  f"1/f = {crs.inverse_flattening_value:.9g}); central meridian {crs.central_meridian_deg:g}°, "
+                  f"latitude of origin {crs.latitude_of_origin_deg:g}°, scale factor {crs.scale_factor:.9g}, "
+                  f"false easting {crs.false_easting_m:.3f} m, false northing {crs.false_northing_m:.3f} m")
+    if crs.projection_height_m:
+        convention = ("in the scale factor, mean radius " f"{crs.mean_radius_m:.0f} m"
+                      if crs.projection_height_convention == "scale_factor" else "on the semi-major axis")
+        projection += f"; projection height {crs.projection_height_m:.3f} m ({convention})"
+    return (f"EPSG:{crs.epsg} {crs.pyproj_crs.name}: " if crs.epsg is not None else "") + projection
+
+
+def height_text(content: ReportContent) -> str:
+    """The height datum: normal heights from the fitted height anomaly, or ellipsoidal heights."""
+    project, heights = content.project, content.summary.get("heights", {})
+    ellipsoid = project.crs.ellipsoid
+    if project.height.benchmarks is None:
+        return f"ellipsoidal heights on {ellipsoid} (no benchmarks in the project: H = h)"
+    anomaly = project.height.anomaly
+    grid = getattr(anomaly, "geoid_grid", None)
+    text = (f"normal heights H = h - height anomaly, fitted ({heights.get('model', anomaly.model)}) on the benchmarks of "
+            f"{project.height.benchmarks}")
+    if grid:
+        text += f" over the geoid grid {grid} (remove-restore)"
+    if "internal_rms_mm" in heights:
+        text += f"; benchmark RMS {heights['internal_rms_mm']:.1f} mm"
+        if heights.get("loo_rms_mm", -1) >= 0:
+            text += f", leave-one-out {heights['loo_rms_mm']:.1f} mm"
+    return text
+
+
+def _direction_of_travel(content: ReportContent) -> str:
+    time = content.results.columns.get("time_s")
+    station = content.station_m
+    if time is None or station.size < 2 or not np.isfinite(time).any():
+        return "not recorded"
+    first, last = int(np.nanargmin(time)), int(np.nanargmax(time))
+    labels = content.results.label
+    towards = "increasing" if station[last] >= station[first] else "decreasing"
+    return f"towards {towards} chainage ({labels[first]} to {labels[last]})"
+
+
+def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
+    project, report, track = content.project, content.project.report, content.summary.get("track", {})
+    profile = content.profile
+    valid = track.get("valid_sleepers", int(content.valid.sum()))
+    length = float(content.station_m[-1] - content.station_m[0]) if content.station_m.size else 0.0
+    return [
+        ("Client", _not_stated(report.client)),
+        ("Line section", _not_stated(report.line_section or project.description)),
+        ("Track", _not_stated(report.track_name)),
+        ("Survey", f"{content.survey}, {survey_start(content) or 'date not recorded'}"),
+        ("Direction of travel", _direction_of_travel(content)),
+        ("Chainage", f"{content.chainage_range} ({length:.0f} m, "
+                     + f"{track.get('sleepers', len(content.results))} sleepers, {valid} valid)"),
+        ("Trolley", _instrument(_not_stated(report.trolley), report.trolley_calibrated)),
+        ("IMU", _instrument(_imu(content), report.imu_calibrated)),
+        ("Coordinate system", crs_text(project.crs)),
+        ("Height datum", height_text(content)),
+        ("Design", project.design or "none: fitted line types, deviations measured - best"),
+        ("Tolerance profile", f"{profile.description or profile.name} ({profile.name}); {profile.source}"),
+        ("Operator", _not_stated(report.operator)),
+    ]
+
+
+#: Channels listed by name in the first page's exceedance table (the rest are counted in one line).
+CONCLUSION_CHANNELS = 6
+
+
+def _exceedance_conclusion(content: ReportContent) -> list[Flowable]:
+    groups = exceedances_by_severity(content)
+    total = sum(len(rows) for _, rows in groups)
+    valid = int(content.valid.sum())
+    if not total:
+        return [Paragraph(f"<b>No sleeper is beyond a limit</b> of tolerance profile {text(content.profile.name)} "
+                          f"({valid} valid sleepers assessed).", BODY)]
+    severities = [name for name, _ in SEVERITIES]
+    counts: dict[str, dict[str, int]] = {}
+    for name, rows in groups:
+        for e in rows:
+            counts.setdefault(exceedance_check(content, e), dict.fromkeys(severities, 0))[name] += 1
+    ordered = sorted(counts.items(), key=lambda item: tuple(-item[1][name] for name in severities))
+    rows = [[channel, *(counts_[name] or "" for name in severities), sum(counts_.values())]
+            for channel, counts_ in ordered[:CONCLUSION_CHANNELS]]
+    if len(ordered) > CONCLUSION_CHANNELS:
+        rest = ordered[CONCLUSION_CHANNELS:]
+        rows.append([f"{len(rest)} more channels", *(sum(c[name] for _, c in rest) or "" for name in severities),
+                     sum(sum(c.values()) for _, c in rest)])
+    rows.append(["all channels", *(sum(len(r) for n, r in groups if n == name) for name in severities), total])
+    summary = ", ".join(f"{len(r)} {name}" for name, r in groups)
+    return [Paragraph(f"<b>{total} exceedance{'s' if total != 1 else ''}</b> (runs of sleepers beyond a limit) in "
+                      f"{valid} valid sleepers: {summary}.", BODY),
+            table(["channel", *severities, "all"], rows, [62 * mm, 15 * mm, 15 * mm, 15 * mm, 13 * mm]),
+            Paragraph(text(SEVERITY_RULE[0].upper() + SEVERITY_RULE[1:] + "."), SMALL)]
+
+
+def accuracy_rows(content: ReportContent) -> list[list[str]]:
+    """The predicted accuracy against the checks it bears on: the 30 m / 5 m and 300 m / 150 m differential
+    versines take the 1-sigma of the 5 m and 150 m lag differences (quality.csv); a check passes when 3 sigma of
+    its weakest section is within the limit (as ``insrail predict`` judges a plan)."""
+    quality = content.results.quality
+    if quality is None or not len(quality):
+        return []
+    lag_of_pair = {5.0: "lag5", 150.0: "lag150"}
+    rows = []
+    for check in content.profile.checks:
+        lag = lag_of_pair.get(check.pair_m) if check.kind == "differential_versine" else None
+        if lag is None:
+            continue
+        limit = 1e3 * min(abs(check.lower), abs(check.upper))
+        for direction in check.directions:
+            sigma = getattr(quality, f"sigma_{lag}_{direction}_mm")
+            if not np.isfinite(sigma).any():
+                continue
+            weakest = float(np.nanmax(sigma))
+            verdict = "within the limit" if 3 * weakest <= limit else "NOT within the limit"
+            rows.append([f"{check_name(check)}, {direction}", f"±{limit:.1f}", f"{np.nanmedian(sigma):.2f}",
+                         f"{3 * weakest:.2f}", verdict])
+    return rows
+
+
+def _accuracy_conclusion(content: ReportContent) -> list[Flowable]:
+    rows = accuracy_rows(content)
+    if not rows:
+        return [Paragraph("Predicted accuracy: not available for these results (processed by an older insrail, or "
+                          "no differential-versine check in the profile).", BODY)]
+    passes = "forward filter and RTS smoother" if content.results.quality.smoothed else "forward filter only"
+    return [table(["check", "limit (mm)", "1σ median (mm)", "3σ weakest (mm)", "predicted"], rows,
+                  [50 * mm, 17 * mm, 21 * mm, 22 * mm, 26 * mm]),
+            Paragraph(text(f"From the fusion's error model along this survey ({passes}), per 200 m section; a check "
+                           "is met when 3σ of its weakest section is within the limit."), SMALL)]
+
+
+def _adjustment_conclusion(content: ReportContent) -> str:
+    adjustment = content.summary.get("adjustment", {})
+    amounts = [content.column(key).values for key in ("adjust_lateral_left_mm", "adjust_lateral_right_mm",
+                                                        "adjust_vertical_left_mm", "adjust_vertical_right_mm")]
+    moving = int(np.count_nonzero(np.any([np.nan_to_num(a) != 0 for a in amounts], axis=0)))
+    fastener = content.fastener.description or content.fastener.name if content.fastener else adjustment.get("fastener", "")
+    unresolved = adjustment.get("unresolved_sleepers", 0)
+    return (f"{moving} sleepers to adjust ({fastener}); largest lateral {_fmt(adjustment.get('max_lateral_mm'), 1, 'mm')}, "
+            f"vertical {_fmt(adjustment.get('max_vertical_mm'), 1, 'mm')}; total movement "
+            f"{_fmt(adjustment.get('total_movement_mm'), 0, 'mm')}; "
+            + (f"<b>{unresolved} sleepers where the checks still fail after adjustment</b>." if unresolved
+               else "every check met after adjustment."))
+
+
+SIGN_OFF_STYLE = TableStyle([
+    ("FONT", (0, 0), (-1, -1), "Helvetica", 8.5),
+    ("FONT", (0, 0), (-1, 0), "Helvetica-Bold", 8.5),
+    ("FONT", (0, 0), (0, -1), "Helvetica-Bold", 8.5),
+    ("GRID", (0, 0), (-1, -1), 0.5, colors.black),
+    ("BACKGROUND", (0, 0), (-1, 0), colors.HexColor("#ddebf7")),
+    ("VALIGN", (0, 0), (-1, -1), "MIDDLE"),
+])
+
+
+def _sign_off(content: ReportContent) -> Table:
+    report = content.project.report
+    rows = [["", "name", "signature", "date"],
+            ["Surveyed and processed by", report.operator, "", ""],
+            ["Checked by", report.checked_by, "", ""],
+            ["Approved by", report.approved_by, "", ""]]
+    cells = [[_cell(v, BODY) if v else "" for v in row] for row in rows]
+    return Table(cells, colWidths=[55 * mm, 75 * mm, 85 * mm, 54 * mm], rowHeights=[5 * mm] + [9 * mm] * 3,
+                 style=SIGN_OFF_STYLE, hAlign="LEFT")
+
+
+def _notice_line(content: ReportContent) -> list[Flowable]:
+    notices = notices_of(content.summary)
+    if not notices:
+        return []
+    return [Paragraph(f"<b>{len(notices)} warning{'s' if len(notices) != 1 else ''} from processing</b> (see Survey and "
+                      f"processing): " + text("; ".join(n.text() for n in notices[:2])
+                                              + ("; ..." if len(notices) > 2 else "")), BODY)]
+
+
 def _cover(content: ReportContent, trajectory: Trajectory | None) -> list[Flowable]:
-    s = content.summary
-    assessment, adjustment, track = s.get("assessment", {}), s.get("adjustment", {}), s.get("track", {})
-    tqi = [v for v in s.get("track_quality", {}).get("tqi_mm", []) if v >= 0]
-    story: list[Flowable] = [Heading("Cover"), Spacer(1, 25 * mm), Paragraph("Track geometry survey report", TITLE),
-                             Paragraph(text(content.project.name), H1)]
-    if content.project.description:
-        story.append(Paragraph(text(content.project.description), BODY))
-    story += [Spacer(1, 10 * mm), key_values([
-        ("Survey", content.survey),
-        ("Survey start", survey_start(content) or "-"),
-        ("Chainage", f"{content.chainage_range} (stations {track.get('station_from_m', 0):.3f} - {track.get('station_to_m', 0):.3f} m)"),
-        ("Design", content.project.design or "fitted line types (no design alignment)"),
-        ("Sleepers", f"{track.get('sleepers', len(content.results))}, {track.get('valid_sleepers', int(content.valid.sum()))} valid"),
-        ("Tolerance profile", f"{content.profile.name}: {content.profile.description}"),
-        ("Exceedances", f"{assessment.get('exceedances', len(content.results.exceedances))} runs of sleepers beyond a limit"),
-        ("Adjustment", (f"{adjustment.get('fastener', '')}: largest lateral {_fmt(adjustment.get('max_lateral_mm'), 0, 'mm')}, "
-                       f"vertical {_fmt(adjustment.get('max_vertical_mm'), 0, 'mm')}, "
-                       f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")),
-        ("TQI", f"mean {np.mean(tqi):.2f} mm, largest {max(tqi):.2f} mm over {len(tqi)} sections of "
-                f"{s['track_quality'].get('section_m', 200):g} m" if tqi else "-"),
-        ("Report", f"{content.software}, {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC"),
-    ], widths=(40 * mm, 200 * mm)), PageBreak()]
-    return story
+    """The page a client signs off: what was surveyed with what, in which coordinate system and heights,
+    against which tolerances, the conclusion, and the signatures."""
+    project = content.project
+    title = [Paragraph("Track geometry survey report", TITLE),
+             Paragraph(text(project.name) + (f'<font size="10"> &nbsp; {text(project.description)}</font>'
+                                              if project.description else ""), H1_COVER)]
+    left = [Paragraph("Survey", H2), key_values(_survey_rows(content), widths=(32 * mm, 100 * mm))]
+    right = [Paragraph("Conclusion", H2), *_notice_line(content), *_exceedance_conclusion(content),
+             Paragraph("Predicted accuracy against the tolerances", H3), *_accuracy_conclusion(content),
+             Paragraph("Adjustment", H3), Paragraph(_adjustment_conclusion(content), BODY)]
+    columns = Table([[left, right]], colWidths=[136 * mm, PAGE[0] - 2 * MARGIN - 136 * mm],
+                    style=TableStyle([("VALIGN", (0, 0), (-1, -1), "TOP"), ("LEFTPADDING", (0, 0), (-1, -1), 0)]))
+    written = f"{content.software}, {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC"
+    page = [*title, columns, Spacer(1, 3 * mm), _sign_off(content),
+            Paragraph(text(f"Report written by {written} from the results of {content.results.folder.name}."), SMALL)]
+    # one page whatever it holds (long names, many channels): shrunk to fit rather than run over
+    return [Heading("Survey report"), KeepInFrame(PAGE[0] - 2 * MARGIN, PAGE[1] - 2 * MARGIN - 2, page, mode="shrink"),
+            PageBreak()]
 
 
 def _gnss_rows(gnss: dict) -> list[tuple[str, object]]:
@@ -259,8 +490,9 @@ def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[F
               Paragraph(text(f"{content.profile.name}: {content.profile.description}"), BODY)]
     counts = s.get("assessment", {}).get("by_check", {})
     story.append(table(["check", "what", "limit", "exceedances"],
-                       [[c.name, check_description(c), limits_text(c), counts.get(c.name, 0)] for c in content.profile.checks],
-                       [45 * mm, 110 * mm, 30 * mm, 25 * mm]))
+                       [[check_name(c), check_description(c), limits_text(c), counts.get(c.name, 0)]
+                        for c in content.profile.checks],
+                       [60 * mm, 110 * mm, 30 * mm, 25 * mm]))
     quality = s.get("track_quality", {})
     if quality.get("tqi_mm"):
         channels = quality["channels"]
@@ -272,7 +504,7 @@ def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[F
         story += [CondPageBreak(60 * mm),
                   Paragraph(f"Track quality per {quality['section_m']:g} m section (standard deviations, mm; level and "
                             f"alignment in the {quality.get('band', 'D1')} band)", H2),
-                  table(["section"] + [c.replace("_", " ") for c in channels] + ["TQI"], rows,
+                  table(["section"] + [quantity_name(c).name for c in channels] + ["TQI"], rows,
                         [45 * mm] + [24 * mm] * len(channels) + [22 * mm])]
     story += _predicted_accuracy(content)
     story.append(PageBreak())
@@ -314,8 +546,8 @@ def _predicted_accuracy(content: ReportContent) -> list[Flowable]:
                          include_zero=True))
     low, high = float(np.nanmin(stations)), float(np.nanmax(stations))
     width = PAGE[0] - 2 * MARGIN
-    drawings = [strip_drawing(chart, stations, np.ones(len(stations), dtype=bool), low, high, width, 42 * mm)
-                for chart in charts]
+    drawings = [strip_drawing(chart, stations, np.ones(len(stations), dtype=bool), low, high, width, 42 * mm,
+                              ticks=content.chainage.ticks, axis_title=content.chainage.title) for chart in charts]
     figures = ("sigma_lateral_mm", "sigma_vertical_mm", "sigma_lag5_lateral_mm", "sigma_lag5_vertical_mm",
                "sigma_lag150_lateral_mm", "sigma_lag150_vertical_mm")
     rows = [[f"weakest {rank}" if len(weakest) > 1 else "weakest",
@@ -375,29 +607,54 @@ def chart_specs(content: ReportContent) -> list[StripChart]:
     return charts
 
 
+def chart_spans(station_from: float, station_to: float, longest_m: float = CHART_RANGE_M,
+                round_m: float = CHART_ROUND_M) -> list[tuple[float, float]]:
+    """The chainage span of each chart page: as few spans of at most ``longest_m`` as cover the survey,
+    all of one length (a multiple of ``round_m``, from a round station), so the last page is as full as the first."""
+    start = math.floor(station_from / round_m) * round_m
+    length = max(station_to - start, round_m)
+    count = math.ceil(length / longest_m - 1e-9)
+    span = math.ceil(length / count / round_m - 1e-9) * round_m
+    while start + count * span < station_to:  # rounding up the span never leaves data out
+        count += 1
+    return [(start + k * span, start + (k + 1) * span) for k in range(count)]
+
+
+def pages_of_charts(count: int, height: float, smallest: float = CHART_MIN_HEIGHT) -> list[int]:
+    """How many charts each page of one span holds: as few pages as keep every chart at least ``smallest``
+    high, the charts shared out evenly (each page filled: its charts share the page's height)."""
+    per_page = max(int(height // smallest), 1)
+    pages = math.ceil(count / per_page)
+    return [count // pages + (1 if k < count % pages else 0) for k in range(pages)]
+
+
 def _charts(content: ReportContent, progress: StepProgress, cancel: CancelToken) -> list[Flowable]:
     station = content.station_m
     if not station.size:
         return []
     charts = chart_specs(content)
     width = PAGE[0] - 2 * MARGIN
-    height = (PAGE[1] - 2 * MARGIN - 24) / CHARTS_PER_PAGE - 2
+    available = CHART_AREA_HEIGHT
+    layout = pages_of_charts(len(charts), available)
     labels = content.column("label").values
+    axis = content.chainage
     story: list[Flowable] = []
-    starts = np.arange(np.floor(station[0] / CHART_RANGE_M) * CHART_RANGE_M, station[-1], CHART_RANGE_M)
-    for number, start in enumerate(starts):
+    spans = chart_spans(float(station[0]), float(station[-1]))
+    for number, (start, end) in enumerate(spans):
         check_cancel(cancel)
-        progress(number / len(starts), f"charts {start:.0f} m")
-        end = start + CHART_RANGE_M
+        progress(number / len(spans), f"charts {start:.0f} m")
         inside = np.flatnonzero((station >= start) & (station < end))
         if not inside.size:
             continue
         heading = f"Charts {labels[inside[0]]} - {labels[inside[-1]]}"
-        for first in range(0, len(charts), CHARTS_PER_PAGE):
+        first = 0
+        for on_page in layout:
             story.append(Heading(heading))
-            page = charts[first:first + CHARTS_PER_PAGE]
-            for chart in page:
-                story.append(strip_drawing(chart, station, content.valid, start, end, width, height))
+            height = available / on_page - 2
+            for chart in charts[first:first + on_page]:
+                story.append(strip_drawing(chart, station, content.valid, start, end, width, height,
+                                           ticks=axis.ticks, axis_title=axis.title))
+            first += on_page
             story.append(PageBreak())
     return story
 
@@ -422,23 +679,33 @@ def _plan(content: ReportContent) -> list[Flowable]:
             plan_drawing(east, north, content.station_m, width, height, marks, tuple(highlight)), PageBreak()]
 
 
+def _percent(value: float) -> str:
+    return f"{value:.0f} %" if value >= 1 else f"{value:.1f} %"
+
+
 def _exceedances(content: ReportContent) -> list[Flowable]:
+    """The exceedances grouped by severity (the most severe first), each group in chainage order."""
     story: list[Flowable] = [Heading("Exceedances"), Paragraph("Exceedances", H1)]
-    rows = content.results.exceedances
-    if not rows:
+    groups = exceedances_by_severity(content)
+    if not groups:
         return story + [Paragraph("No sleeper is beyond a limit of the tolerance profile.", BODY)]
+    story.append(Paragraph(text(SEVERITY_RULE[0].upper() + SEVERITY_RULE[1:] + "."), BODY))
     label_of = dict(zip(content.results.number.tolist(), content.results.label))
-    data = []
-    for index, e in enumerate(rows, start=1):
-        peak, limit, unit = exceedance_display(e)
-        digits = 3 if unit == "‰" else 2  # enough to see the peak beyond the limit
-        data.append([index, e.check, "" if e.rail == "track" else e.rail, e.direction,
-                     label_of.get(e.first_sleeper, ""), label_of.get(e.last_sleeper, ""),
-                     f"{e.station_to_m - e.station_from_m:.2f}", f"{peak:.{digits}f}", f"{limit:.{digits}f}",
-                     "per mille" if unit == "‰" else unit, f"{e.first_sleeper} - {e.last_sleeper}"])
-    widths = [12 * mm, 45 * mm, 15 * mm, 18 * mm, 30 * mm, 30 * mm, 18 * mm, 18 * mm, 18 * mm, 18 * mm, 28 * mm]
-    story.append(table(["no.", "check", "rail", "direction", "from", "to", "length (m)", "peak", "limit", "unit", "sleepers"],
-                       data, widths))
+    widths = [12 * mm, 78 * mm, 30 * mm, 30 * mm, 18 * mm, 18 * mm, 18 * mm, 16 * mm, 18 * mm, 28 * mm]
+    index = 0
+    for severity, rows in groups:
+        data = []
+        for e in rows:
+            index += 1
+            peak, limit, unit = exceedance_display(e)
+            digits = 3 if unit == "‰" else 2  # enough to see the peak beyond the limit
+            data.append([index, exceedance_check(content, e), label_of.get(e.first_sleeper, ""),
+                         label_of.get(e.last_sleeper, ""), f"{e.station_to_m - e.station_from_m:.2f}",
+                         f"{peak:.{digits}f}", f"{limit:.{digits}f}", "per mille" if unit == "‰" else unit,
+                         _percent(100 * excess_share(e)), f"{e.first_sleeper} - {e.last_sleeper}"])
+        story += [CondPageBreak(30 * mm), Paragraph(f"{severity.capitalize()}: {len(rows)}", H2),
+                  table(["no.", "check", "from", "to", "length (m)", "peak", "limit", "unit", "beyond by", "sleepers"],
+                        data, widths)]
     return story
 
 
@@ -480,7 +747,8 @@ def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Sec
             chart = StripChart(f"{name.removesuffix('_mm').replace('_', ' ').capitalize()}: run minus reference", "mm",
                                tuple(Series(run, values) for run, values in zip(stored.compared, differences)))
             story.append(strip_drawing(chart, station, np.isfinite(differences).any(axis=0), float(station[0]),
-                                       float(station[-1]), width, height))
+                                       float(station[-1]), width, height, ticks=content.chainage.ticks,
+                                       axis_title=content.chainage.title))
         return story
 
     return section
