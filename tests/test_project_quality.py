@@ -192,8 +192,8 @@ def test_the_workbook_summary_gives_the_predicted_accuracy_per_section(processed
     stored = load_results(project.folder, SURVEY)
     rows = [list(row) for row in load_workbook(write_workbook(project, stored, tmp_path / "q.xlsx"),
                                                read_only=True)["Summary"].iter_rows(values_only=True)]
-    header = next(i for i, row in enumerate(rows) if "predicted 1σ 5 m lag lateral (mm)" in row)
-    column = rows[header].index("predicted 1σ 5 m lag lateral (mm)")
+    header = next(i for i, row in enumerate(rows) if "Predicted 1σ, 5 m lag difference, lateral (mm)" in row)
+    column = rows[header].index("Predicted 1σ, 5 m lag difference, lateral (mm)")
     shown = [row[column] for row in rows[header + 1:header + 1 + len(stored.quality)]]
     np.testing.assert_allclose(shown, stored.quality.sigma_lag5_lateral_mm, atol=1e-9)
-    assert rows[header].index("predicted 1σ 150 m lag vertical (mm)") == column + 3
+    assert rows[header].index("Predicted 1σ, 150 m lag difference, vertical (mm)") == column + 3

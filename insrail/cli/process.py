@@ -99,6 +99,7 @@ def chosen_surveys(project, requested: list[str] | None) -> list[str] | None:
 
 def run(args: argparse.Namespace) -> int:
     from insrail.project import load_project, process
+    from insrail.report.stale import stale_report_lines
 
     project = load_project(args.project)
     names = chosen_surveys(project, args.survey)
@@ -114,4 +115,6 @@ def run(args: argparse.Namespace) -> int:
         elapsed = bar.done()
         print("\n".join(describe(results)))
         print(f"  processed in {elapsed:.1f} s")
+        for line in stale_report_lines(project.folder, name):  # the reports now describe results that are gone
+            print(line)
     return 0

@@ -1,10 +1,13 @@
 """Write the crews' Excel workbook and the PDF survey report of processed surveys.
 
 Reads PROJECT/project.toml and the results of `insrail process` in PROJECT/results/<survey>/.
-Without --xlsx or --pdf both reports go into that results folder (track_geometry_<survey>.xlsx
-and .pdf; processing the survey again replaces them with the results); with one or both options
-only the named files are written (then --survey must name one survey if the project has several).
-Exit code 0 when every report was written, 1 on missing results or bad input, 130 when cancelled.
+Without --xlsx or --pdf both reports go into PROJECT/reports/ (track_geometry_<survey>.xlsx and
+.pdf; processing the survey again leaves them there, and they are then older than the results:
+`insrail report` and `insrail process` say so); with one or both options only the named files are
+written (then --survey must name one survey if the project has several). --check writes nothing
+and lists the reports in PROJECT/reports/ older than their results.
+Exit code 0 when every report was written (with --check: none is out of date), 1 on missing
+results, bad input or (with --check) an out-of-date report, 130 when cancelled.
 """
 
 from __future__ import annotations
@@ -22,6 +25,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="survey to report (repeatable; default: every survey of the project)")
     p.add_argument("--xlsx", type=Path, metavar="FILE", help="write the Excel workbook to FILE")
     p.add_argument("--pdf", type=Path, metavar="FILE", help="write the PDF report to FILE")
+    p.add_argument("--check", action="store_true",
+                   help="write nothing; list the reports in PROJECT/reports/ older than their survey's results")
 
 
 def default_paths(project_folder: Path, survey: str) -> tuple[Path, Path]:
@@ -51,11 +56,14 @@ def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> 
 def run(args: argparse.Namespace) -> int:
     from insrail.cli.process import chosen_surveys
     from insrail.project import load_project
+    from insrail.report.stale import stale_report_lines
 
     project = load_project(args.project)
     names = chosen_surveys(project, args.survey)
     if names is None:
         return 1
+    if args.check:
+        return _check(project, names)
     explicit = args.xlsx is not None or args.pdf is not None
     if explicit and len(names) > 1:
         print(f"insrail: --xlsx/--pdf name one file: choose the survey with --survey ({', '.join(names)})", file=sys.stderr)
@@ -69,4 +77,26 @@ def run(args: argparse.Namespace) -> int:
             return 1
         for path in written:
             print(f"{name}: {path.resolve()}")
+        for line in stale_report_lines(project.folder, name, indent=f"{name}: "):  # a default report not rewritten
+            print(line, file=sys.stderr)
     return 0
+
+
+def _check(project, names: list[str]) -> int:
+    from insrail.project.results import report_path
+    from insrail.report.stale import REPORT_SUFFIXES, report_is_stale, results_written_s
+
+    out_of_date = 0
+    for name in names:
+        for suffix in REPORT_SUFFIXES:
+            path = report_path(project.folder, name, suffix)
+            if not path.exists():
+                state = "not written"
+            elif results_written_s(project.folder, name) is None:
+                state = "no results (process the survey)"
+            elif report_is_stale(path, project.folder, name):
+                state, out_of_date = "OLDER than the results: run insrail report", out_of_date + 1
+            else:
+                state = "up to date"
+            print(f"{name}: {path.relative_to(project.folder)}: {state}")
+    return 1 if out_of_date else 0
