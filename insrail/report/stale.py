@@ -49,6 +49,6 @@ def stale_report_lines(project_folder: Path | str, survey: str, indent: str = " 
     if not stale:
         return []
     names = ", ".join(str(path.relative_to(Path(project_folder))) for path in stale)
-    return [f"{indent}warning: {names} {'is' if len(stale) == 1 else 'are'} older than these results (written before "
-            f"the survey was processed again): run `insrail report` to bring {'it' if len(stale) == 1 else 'them'} "
-            "up to date"]
+    one = len(stale) == 1
+    return [(f"{indent}warning: {names} {'is' if one else 'are'} older than these results (written before the survey "
+             f"was processed again): run `insrail report` to bring {'it' if one else 'them'} up to date")]
