@@ -294,7 +294,7 @@ def test_a_reader_error_while_processing_is_reported_with_file_and_line(window, 
     assert not (root / "results" / "short").exists()
 
 
-def test_wizard_lists_the_project_problems_with_their_key_paths(window, demo_project, tmp_path):
+def test_wizard_lists_the_project_problems_in_words(window, demo_project, tmp_path):
     wizard = window.new_project()
     wizard.folder.setText(str(tmp_path / "p"))
     wizard.benchmarks.setText(str(tmp_path / "missing.txt"))
@@ -304,9 +304,82 @@ def test_wizard_lists_the_project_problems_with_their_key_paths(window, demo_pro
     wizard.survey.load_survey_folder(manifest.parent)
     assert wizard.survey.name.text() == "short" and wizard.survey.gps_week.value() == 2380
     assert not wizard.create_project()
-    assert "geodesy.height.benchmarks: file not found" in wizard.problems.text()
+    assert "Benchmarks file: file not found" in wizard.problems.text()
+    assert "geodesy." not in wizard.problems.text()  # words, not key paths
     assert window.project is None and not (tmp_path / "p" / "project.toml").exists()
     assert manifest.read_bytes() == before  # a rejected project writes nothing
+
+
+def pages_of(wizard):
+    return {wizard.page(i).title(): i for i in wizard.pageIds()}
+
+
+def test_wizard_checks_each_page_creates_the_folder_and_copies_the_raw_files(window, qtbot, demo_project, tmp_path):
+    assert window.open_project(demo_project)  # a recent project: its trolley is offered
+    wait_views(window, qtbot)
+    raw = tmp_path / "raw"
+    raw.mkdir()
+    for name in RAW_FILES:
+        os.link(demo_project / "surveys" / "short" / name, raw / name)
+    survey = demo_project / "surveys" / "short"
+    folder = tmp_path / "new" / "deeper"  # does not exist yet
+    wizard = window.new_project()
+    wizard.show()
+    pages = pages_of(wizard)
+    wizard.name.setText("Wizard test")
+    wizard.folder.setText(str(folder))
+    wizard.next()
+    assert folder.is_dir() and wizard.currentId() == pages["Coordinate system"]
+    assert "created the folder" in wizard.notes["folder"].text()
+    wizard.set_crs_settings(tomllib.loads((survey / "truth" / "scenario.toml").read_text())["engineering_crs"])
+    wizard.next()
+
+    wizard.benchmarks.setText(str(tmp_path / "missing.txt"))
+    wizard.next()  # checked as it is left: the problem beside its field
+    assert wizard.currentId() == pages["Benchmarks"]
+    note = wizard.notes["geodesy.height.benchmarks"]
+    assert note.isVisible() and note.text().startswith("file not found")
+    wizard.benchmarks.setText(str(raw / "benchmarks.txt"))
+    wizard.next()
+    assert wizard.currentId() == pages["Trolley geometry"] and not note.isVisible()
+
+    wizard.next()  # every lever arm at 0 m: named, and confirmed before going on
+    assert wizard.currentId() == pages["Trolley geometry"]
+    assert "IMU → GNSS antenna" in wizard.page_notes[3].text() and wizard.zero_arms_ok.isVisible()
+    assert wizard.notes["trolley.imu_to_odometer_m"].text() == "0 m: is this lever arm measured?"
+    assert wizard.earlier.isEnabled() and wizard.earlier.itemText(1) == str((demo_project / "project.toml").resolve())
+    wizard.earlier.activated.emit(1)  # the trolley of the earlier project
+    expected = read_manifest(survey).trolley
+    assert [box.value() for box in wizard.lever_arms["imu_to_antenna_m"]] == pytest.approx(expected.imu_to_antenna_m)
+    wizard.next()
+    assert wizard.currentId() == pages["Processing and assessment"]
+    wizard.design.setText(str(survey / "truth" / "design.csv"))
+    wizard.next()
+
+    wizard.survey.add_files([raw / name for name in RAW_FILES])
+    wizard.survey.name.setText("short")
+    assert f"raw-data folder {raw}" in wizard.raw_note.text()  # says where survey.toml would go
+    wizard.copy_raw.setChecked(True)
+    assert str(folder / "surveys" / "short") in wizard.raw_note.text()
+    wizard.button(QWizard.FinishButton).click()
+    assert wizard.problems.text() == ""
+    assert window.project is not None and window.project.name == "Wizard test"
+    assert sorted(p.name for p in raw.iterdir()) == sorted(RAW_FILES)  # the raw-data folder untouched
+    copied = folder / "surveys" / "short"
+    assert (copied / "survey.toml").is_file() and all((copied / name).is_file() for name in RAW_FILES)
+    assert load_project(folder).surveys[0].folder == "surveys/short"
+    wait_views(window, qtbot)
+    assert_nothing_shown(window)  # the previous project's results are gone
+
+
+def test_a_cancelled_wizard_removes_the_folder_it_created(window, tmp_path):
+    wizard = window.new_project()
+    folder = tmp_path / "not yet"
+    wizard.folder.setText(str(folder))
+    wizard.next()
+    assert folder.is_dir()
+    wizard.reject()
+    assert not folder.exists() and window.project is None
 
 
 def test_import_adds_a_survey_to_the_open_project(window, demo_project, tmp_path, monkeypatch):

@@ -4,6 +4,7 @@ as file, line and what is wrong; the result is a survey folder described by ``su
 from __future__ import annotations
 
 import os
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -284,8 +285,10 @@ class ImportWidget(QWidget):
         """The folder of the survey: the one holding all its files."""
         return Path(os.path.commonpath([str(p.resolve().parent) for p, _, _ in self.entries()]))
 
-    def write_survey(self, trolley: TrolleyGeometry | None) -> Path | None:
-        """Check the files and write ``survey.toml`` beside them; None (problems shown) if not possible."""
+    def write_survey(self, trolley: TrolleyGeometry | None, into: Path | None = None) -> Path | None:
+        """Check the files and write ``survey.toml`` beside them, or (``into``) copy them into that
+        folder (made if missing; their layout under the survey folder kept) and write it there, the
+        raw-data folder left untouched; None (problems shown) if not possible."""
         problems = self.check()
         if trolley is None:
             problems.append(Problem("", None, "no trolley geometry: enter it in the project"))
@@ -298,6 +301,15 @@ class ImportWidget(QWidget):
         folder = self.survey_folder()
         files = {role: SurveyFile(os.path.relpath(path.resolve(), folder).replace(os.sep, "/"), fmt)
                  for path, role, fmt in self.entries()}
+        if into is not None:
+            try:
+                for (path, _role, _fmt), file in zip(self.entries(), files.values()):
+                    (into / file.path).parent.mkdir(parents=True, exist_ok=True)
+                    shutil.copy2(path, into / file.path)
+            except OSError as error:
+                self._show_problems([Problem(str(path), None, f"cannot copy into {into}: {error.strerror or error}")])
+                return None
+            folder = into
         manifest = SurveyManifest(name=name, files=files, trolley=trolley, imu_profile=self.imu_profile.currentText(),
                                   gps_week=self.gps_week.value() or None)
         write_manifest(folder, manifest)

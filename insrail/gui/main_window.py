@@ -265,7 +265,7 @@ class MainWindow(QMainWindow):
         """Open the wizard (not modal: the window stays usable); the project opens when it finishes."""
         if not self.maybe_save():
             return None
-        self.wizard = NewProjectWizard(self)
+        self.wizard = NewProjectWizard(self, recent_projects(self.settings))
         self.wizard.accepted.connect(lambda: self.set_project(self.wizard.project))
         self.wizard.show()
         return self.wizard

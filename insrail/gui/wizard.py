@@ -1,6 +1,13 @@
 """New-project wizard: project folder, coordinate system, benchmarks, trolley geometry, IMU and
-tolerance profiles, then the first survey's raw files. The project is validated by the core
-(:func:`insrail.project.project_from_settings`); its problems are listed with their key paths."""
+tolerance profiles, then the first survey's raw files.
+
+Each page is checked as it is left, by the core's own validation of the whole project
+(:func:`insrail.project.project_from_settings`, the same as loading project.toml): the problems of
+the page's fields are shown beside each field, in the field's words. A project folder that does not
+exist is created when the first page is left (and removed again if the wizard is cancelled while it
+is still empty). Lever arms left at zero are named and must be confirmed. The raw files stay where
+they are (survey.toml is then written beside them, and the page says so) or are copied into the
+project's surveys folder, as the surveyor chooses."""
 
 from __future__ import annotations
 
@@ -10,6 +17,8 @@ from pathlib import Path
 import numpy as np
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import (
+    QButtonGroup,
+    QCheckBox,
     QComboBox,
     QDoubleSpinBox,
     QFileDialog,
@@ -19,6 +28,7 @@ from PySide6.QtWidgets import (
     QLabel,
     QLineEdit,
     QPushButton,
+    QRadioButton,
     QVBoxLayout,
     QWidget,
     QWizard,
@@ -26,6 +36,7 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
+from insrail.gui.fields import in_words, split_problem
 from insrail.gui.importer import ImportWidget, shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, read_manifest
@@ -33,15 +44,22 @@ from insrail.project import (
     HEIGHT_MODELS,
     Project,
     ProjectError,
+    load_project,
     project_from_settings,
     save_project,
 )
+from insrail.project.model import PROJECT_FILE
 from insrail.track.tolerance import DEFAULT_PROFILE, shipped_tolerance_profiles
 
 LEVER_ARMS = (("imu_to_antenna_m", "IMU → GNSS antenna"), ("imu_to_odometer_m", "IMU → odometer wheel contact"),
               ("imu_to_reference_rail_m", "IMU → reference rail gauge point"),
               ("imu_to_sleeper_detector_m", "IMU → sleeper detector"), ("imu_to_prism_m", "IMU → prism"))
 EACH_SURVEY = "(each survey's own)"
+#: Lever arms every project uses (the prism's only in tunnels with a total station).
+REQUIRED_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m")
+#: The project.toml keys each page edits (its problems are shown when it is left).
+PAGE_KEYS = (("project",), ("geodesy.crs",), ("geodesy.height",), ("trolley",), ("processing", "track"), ())
+NOTE_STYLE = "color: #C00000"
 
 
 def spin(low: float, high: float, decimals: int, value: float = 0.0, suffix: str = "") -> QDoubleSpinBox:
@@ -71,15 +89,40 @@ def file_row(edit: QLineEdit, caption: str, pattern: str, parent: QWidget) -> QW
     return row
 
 
-class NewProjectWizard(QWizard):
-    """After ``accept()`` ``project`` holds the saved project."""
+def note_label() -> QLabel:
+    note = QLabel()
+    note.setStyleSheet(NOTE_STYLE)
+    note.setWordWrap(True)
+    note.hide()
+    return note
 
-    def __init__(self, parent=None):
+
+class CheckedPage(QWizardPage):
+    """A page checked by its wizard when it is left."""
+
+    def __init__(self, wizard: NewProjectWizard, index: int):
+        super().__init__()
+        self._wizard, self.index = wizard, index
+
+    def validatePage(self) -> bool:
+        return self._wizard.check_page(self.index)
+
+
+class NewProjectWizard(QWizard):
+    """After ``accept()`` ``project`` holds the saved project. ``earlier_projects``: project files
+    whose trolley geometry the trolley page offers to copy (the recently opened ones)."""
+
+    def __init__(self, parent=None, earlier_projects=()):
         super().__init__(parent)
         self.setWindowTitle("New insrail project")
         self.setWizardStyle(QWizard.ClassicStyle)
-        self.resize(860, 640)
+        self.resize(900, 680)
         self.project: Project | None = None
+        self.notes: dict[str, QLabel] = {}  # key path -> the note beside its field
+        self.page_notes: list[QLabel] = []  # per page: problems without a field of their own
+        self.created_folder: Path | None = None  # a project folder this wizard created
+        self.earlier_projects = [str(p) for p in earlier_projects]
+        self.rejected.connect(self._remove_created_folder)
         self.addPage(self._project_page())
         self.addPage(self._crs_page())
         self.addPage(self._height_page())
@@ -89,12 +132,35 @@ class NewProjectWizard(QWizard):
 
     # ------------------------------------------------------------------ pages
 
-    def _page(self, title: str, subtitle: str) -> tuple[QWizardPage, QFormLayout]:
-        page = QWizardPage()
+    def _new_page(self, title: str, subtitle: str) -> CheckedPage:
+        page = CheckedPage(self, len(self.page_notes))
         page.setTitle(title)
         page.setSubTitle(subtitle)
+        self.page_notes.append(note_label())
+        return page
+
+    def _page(self, title: str, subtitle: str) -> tuple[QWizardPage, QFormLayout]:
+        page = self._new_page(title, subtitle)
         form = QFormLayout(page)
         return page, form
+
+    def _row(self, form: QFormLayout, label: str, field, key: str | None = None) -> None:
+        """A form row whose field has a note under it for the problems of ``key``."""
+        if key is None:
+            form.addRow(label, field)
+            return
+        box = QWidget()
+        layout = QVBoxLayout(box)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.setSpacing(1)
+        layout.addWidget(field) if isinstance(field, QWidget) else layout.addLayout(field)
+        self.notes[key] = note_label()
+        layout.addWidget(self.notes[key])
+        form.addRow(label, box)
+
+    def _end_page(self, page: QWizardPage, form: QFormLayout) -> QWizardPage:
+        form.addRow(self.page_notes[page.index])
+        return page
 
     def _project_page(self) -> QWizardPage:
         page, form = self._page("Project", "Where the project file (project.toml) and the results are kept.")
@@ -107,10 +173,10 @@ class NewProjectWizard(QWizard):
         row.addWidget(self.folder, 1)
         row.addWidget(browse)
         self.description = QLineEdit()
-        form.addRow("Name", self.name)
-        form.addRow("Folder", row)
-        form.addRow("Description", self.description)
-        return page
+        self._row(form, "Name", self.name, "project.name")
+        self._row(form, "Folder", row, "folder")
+        self._row(form, "Description", self.description, "project.description")
+        return self._end_page(page, form)
 
     def _crs_page(self) -> QWizardPage:
         page, form = self._page("Coordinate system", "The engineering (construction) coordinate system: a transverse "
@@ -125,13 +191,17 @@ class NewProjectWizard(QWizard):
         self.projection_height = spin(-1000, 9000, 3, 0.0, " m")
         self.convention = QComboBox()
         self.convention.addItems(list(PROJECTION_HEIGHT_CONVENTIONS))
-        for label, widget in (("Ellipsoid", self.ellipsoid), ("Central meridian", self.central_meridian),
-                              ("Latitude of origin", self.latitude_of_origin), ("Scale factor", self.scale_factor),
-                              ("False easting", self.false_easting), ("False northing", self.false_northing),
-                              ("Projection height", self.projection_height),
-                              ("Projection height applied as", self.convention)):
-            form.addRow(label, widget)
-        return page
+        for label, widget, key in (
+                ("Ellipsoid", self.ellipsoid, "ellipsoid"), ("Central meridian", self.central_meridian,
+                                                              "central_meridian_deg"),
+                ("Latitude of origin", self.latitude_of_origin, "latitude_of_origin_deg"),
+                ("Scale factor", self.scale_factor, "scale_factor"), ("False easting", self.false_easting,
+                                                                      "false_easting_m"),
+                ("False northing", self.false_northing, "false_northing_m"),
+                ("Projection height", self.projection_height, "projection_height_m"),
+                ("Projection height applied as", self.convention, "projection_height_convention")):
+            self._row(form, label, widget, f"geodesy.crs.{key}")
+        return self._end_page(page, form)
 
     def _height_page(self) -> QWizardPage:
         page, form = self._page("Benchmarks", "GNSS-levelling benchmarks (ellipsoidal and normal heights) fit the "
@@ -139,15 +209,14 @@ class NewProjectWizard(QWizard):
         self.benchmarks = QLineEdit()
         self.height_model = QComboBox()
         self.height_model.addItems(list(HEIGHT_MODELS))
-        form.addRow("Benchmarks file", file_row(self.benchmarks, "Benchmarks", "Text (*.txt *.csv);;All (*)", self))
-        form.addRow("Height-anomaly model", self.height_model)
-        return page
+        self._row(form, "Benchmarks file", file_row(self.benchmarks, "Benchmarks", "Text (*.txt *.csv);;All (*)", self),
+                  "geodesy.height.benchmarks")
+        self._row(form, "Height-anomaly model", self.height_model, "geodesy.height.model")
+        return self._end_page(page, form)
 
     def _trolley_page(self) -> QWizardPage:
-        page = QWizardPage()
-        page.setTitle("Trolley geometry")
-        page.setSubTitle("Lever arms from the IMU centre in the IMU body frame (forward, right, down), metres; "
-                         "mounting angles of the IMU in the trolley.")
+        page = self._new_page("Trolley geometry", "Lever arms from the IMU centre in the IMU body frame (forward, "
+                              "right, down), metres; mounting angles of the IMU in the trolley.")
         grid = QGridLayout()
         for column, axis in enumerate(("forward", "right", "down"), start=1):
             grid.addWidget(QLabel(axis), 0, column, Qt.AlignCenter)
@@ -157,6 +226,8 @@ class NewProjectWizard(QWizard):
             self.lever_arms[key] = tuple(spin(-10, 10, 4, suffix=" m") for _ in range(3))
             for column, box in enumerate(self.lever_arms[key], start=1):
                 grid.addWidget(box, row, column)
+            self.notes[f"trolley.{key}"] = note_label()
+            grid.addWidget(self.notes[f"trolley.{key}"], row, 4)
         mounting_row = len(LEVER_ARMS) + 1
         grid.addWidget(QLabel("Mounting roll, pitch, heading"), mounting_row, 0)
         self.mounting = tuple(spin(-180, 180, 4, suffix=" °") for _ in range(3))
@@ -167,13 +238,25 @@ class NewProjectWizard(QWizard):
         self.rail_spacing = spin(0.5, 3.0, 4, 1.5, " m")
         from_survey = QPushButton("Copy from a survey.toml…")
         from_survey.clicked.connect(self._browse_trolley)
+        self.earlier = QComboBox()
+        self.earlier.addItem("Copy the trolley of an earlier project…")
+        self.earlier.addItems(self.earlier_projects)
+        self.earlier.setEnabled(bool(self.earlier_projects))
+        self.earlier.activated.connect(self._copy_earlier_trolley)
+        self.zero_arms_ok = QCheckBox("These lever arms really are zero")
+        self.zero_arms_ok.hide()
         form = QFormLayout()
-        form.addRow("Reference rail", self.reference_rail)
-        form.addRow("Rail centre spacing (cant base)", self.rail_spacing)
+        self._row(form, "Reference rail", self.reference_rail, "trolley.reference_rail")
+        self._row(form, "Rail centre spacing (cant base)", self.rail_spacing, "trolley.rail_centre_spacing_m")
+        copy_row = QHBoxLayout()
+        copy_row.addWidget(self.earlier, 1)
+        copy_row.addWidget(from_survey)
         layout = QVBoxLayout(page)
         layout.addLayout(grid)
         layout.addLayout(form)
-        layout.addWidget(from_survey, 0, Qt.AlignLeft)
+        layout.addLayout(copy_row)
+        layout.addWidget(self.page_notes[page.index])
+        layout.addWidget(self.zero_arms_ok)
         layout.addStretch(1)
         return page
 
@@ -189,27 +272,53 @@ class NewProjectWizard(QWizard):
         self.tolerance_profile.setCurrentText(DEFAULT_PROFILE)
         self.fastener = QComboBox()
         self.fastener.addItems(shipped_names("fastener_types"))
-        form.addRow("IMU profile", self.imu_profile)
-        form.addRow("Design alignment", file_row(self.design, "Design alignment", "Alignment (*.csv *.xml);;All (*)",
-                                                 self))
-        form.addRow("Start station (without a design)", self.start_station)
-        form.addRow("Tolerance profile", self.tolerance_profile)
-        form.addRow("Fastener type", self.fastener)
-        return page
+        self._row(form, "IMU profile", self.imu_profile, "processing.imu_profile")
+        self._row(form, "Design alignment", file_row(self.design, "Design alignment",
+                                                     "Alignment (*.csv *.xml);;All (*)", self), "track.design")
+        self._row(form, "Start station (without a design)", self.start_station, "track.start_station_m")
+        self._row(form, "Tolerance profile", self.tolerance_profile, "track.tolerance_profile")
+        self._row(form, "Fastener type", self.fastener, "track.fastener")
+        return self._end_page(page, form)
 
     def _survey_page(self) -> QWizardPage:
-        page = SurveyPage(self)
-        page.setTitle("First survey")
-        page.setSubTitle("The raw files of one trolley run; formats are detected, check them before finishing.")
+        page = self._new_page("First survey", "The raw files of one trolley run; formats are detected, check "
+                              "them before finishing.")
         self.survey = ImportWidget()
-        self.problems = QLabel()
-        self.problems.setWordWrap(True)
-        self.problems.setStyleSheet("color: #C00000")
+        self.keep_raw = QRadioButton("Keep the raw files where they are")
+        self.copy_raw = QRadioButton("Copy the raw files into the project (surveys/<survey name>/); the raw-data "
+                                     "folder is left as it is")
+        self.keep_raw.setChecked(True)
+        choice = QButtonGroup(page)
+        for button in (self.keep_raw, self.copy_raw):
+            choice.addButton(button)
+            button.toggled.connect(self._describe_raw_choice)
+        self.raw_note = QLabel()
+        self.raw_note.setWordWrap(True)
+        self.survey.changed.connect(self._describe_raw_choice)
+        self.problems = self.page_notes[page.index]
         self.problems.setTextInteractionFlags(Qt.TextSelectableByMouse)
         layout = QVBoxLayout(page)
         layout.addWidget(self.survey, 1)
+        layout.addWidget(self.keep_raw)
+        layout.addWidget(self.copy_raw)
+        layout.addWidget(self.raw_note)
         layout.addWidget(self.problems)
+        self._describe_raw_choice()
         return page
+
+    def _describe_raw_choice(self, *_args) -> None:
+        """Say where survey.toml will be written: never into a raw-data folder unannounced."""
+        if not self.survey.entries():
+            self.raw_note.setText("")
+        elif self.copy_raw.isChecked():
+            self.raw_note.setText(f"The files and survey.toml go into {self.survey_target()}.")
+        else:
+            self.raw_note.setText(f"survey.toml (the description of the survey's files) will be written into the "
+                                  f"raw-data folder {self.survey.survey_folder()}.")
+
+    def survey_target(self) -> Path:
+        """Where the copied raw files go: <project>/surveys/<survey name>."""
+        return Path(self.folder.text().strip() or ".") / "surveys" / (self.survey.name.text().strip() or "survey")
 
     # ------------------------------------------------------------------ filling in
 
@@ -223,6 +332,20 @@ class NewProjectWizard(QWizard):
         self.false_northing.setValue(settings.get("false_northing_m", 0.0))
         self.projection_height.setValue(settings.get("projection_height_m", 0.0))
         self.convention.setCurrentText(settings.get("projection_height_convention", "scale_factor"))
+
+    def _copy_earlier_trolley(self, index: int) -> None:
+        if index <= 0:
+            return
+        path = Path(self.earlier.itemText(index))
+        self.earlier.setCurrentIndex(0)
+        try:
+            project = load_project(path)
+            trolley = project.trolley() or read_manifest(project.resolve(project.surveys[0].folder)).trolley
+        except (InputError, IndexError) as error:
+            self._show_page_note(3, [f"the trolley of {path} cannot be read: {error}"])
+            return
+        self.set_trolley(trolley)
+        self._show_page_note(3, [])
 
     def set_trolley(self, trolley: TrolleyGeometry) -> None:
         for key, boxes in self.lever_arms.items():
@@ -240,7 +363,7 @@ class NewProjectWizard(QWizard):
             try:
                 self.set_trolley(read_manifest(Path(path).parent).trolley)
             except InputError as error:
-                self.problems.setText(str(error))
+                self._show_page_note(3, [str(error)])
 
     # ------------------------------------------------------------------ the result
 
@@ -282,6 +405,108 @@ class NewProjectWizard(QWizard):
             "surveys": [{"name": survey_name, "folder": relative(str(survey_folder))}],
         }
 
+    # ------------------------------------------------------------------ checking each page
+
+    def _show_page_note(self, index: int, lines: list[str]) -> None:
+        note = self.page_notes[index]
+        note.setText("\n".join(lines))
+        note.setVisible(bool(lines))
+
+    def _show_problems(self, index: int, problems: list[str]) -> bool:
+        """Problems of page ``index`` beside their fields (the rest under the page); True if none."""
+        keys = PAGE_KEYS[index]
+        mine = [p for p in problems if not keys or any(split_problem(p)[0].startswith(k) for k in keys)]
+        for key, note in self.notes.items():
+            if index == len(PAGE_KEYS) - 1 or any(key.startswith(k) for k in keys) or (key == "folder" and index == 0):
+                note.hide()
+        rest = []
+        for problem in mine:
+            key, message = split_problem(problem)
+            note = self.notes.get(key)
+            if note is not None:
+                note.setText(message if not note.isVisible() else f"{note.text()}\n{message}")
+                note.show()
+            else:
+                rest.append(in_words(problem))
+        self._show_page_note(index, rest)
+        return not mine
+
+    def _problems(self, folder: Path) -> list[str]:
+        """Every problem the core finds in the project the pages describe (the survey not yet written)."""
+        survey = self.survey.name.text().strip() or "survey"
+        survey_folder = (self.survey_target() if self.copy_raw.isChecked() or not self.survey.entries()
+                         else self.survey.survey_folder())
+        try:
+            project_from_settings(self.settings(folder, survey, survey_folder), folder)
+        except ProjectError as error:
+            return list(error.problems)
+        return []
+
+    def check_page(self, index: int) -> bool:
+        """Called as page ``index`` is left: its problems beside their fields; False keeps it open."""
+        if index == 0:
+            return self._check_folder() and self._show_problems(0, self._problems(Path(self.folder.text().strip())))
+        if index == 3 and not self._check_lever_arms():
+            return False
+        if index == len(PAGE_KEYS) - 1:
+            return self.create_project()
+        return self._show_problems(index, self._problems(Path(self.folder.text().strip())))
+
+    def _check_folder(self) -> bool:
+        """The project folder: chosen, not holding a project yet; created if missing (and said so)."""
+        note = self.notes["folder"]
+        text = self.folder.text().strip()
+        folder = Path(text)
+        problem = None
+        if not text:
+            problem = "choose the folder for the project file and its results"
+        elif folder.exists() and not folder.is_dir():
+            problem = f"{folder} is a file, not a folder"
+        elif (folder / PROJECT_FILE).exists():
+            problem = f"a project already exists in {folder}: open it, or choose another folder"
+        if problem is None and not folder.exists():
+            try:
+                folder.mkdir(parents=True)
+            except OSError as error:
+                problem = f"cannot create the folder: {error.strerror or error}"
+            else:
+                self.created_folder = folder
+                note.setStyleSheet("")
+                note.setText(f"created the folder {folder.resolve()}")
+                note.show()
+                return True
+        note.setStyleSheet(NOTE_STYLE)
+        note.setText(problem or "")
+        note.setVisible(problem is not None)
+        return problem is None
+
+    def _check_lever_arms(self) -> bool:
+        """Lever arms left at 0 m: named, and the page stays until the surveyor confirms them."""
+        zero = [key for key in REQUIRED_ARMS if not any(box.value() for box in self.lever_arms[key])]
+        for key in REQUIRED_ARMS:
+            note = self.notes[f"trolley.{key}"]
+            note.setText("0 m: is this lever arm measured?" if key in zero else "")
+            note.setVisible(key in zero)
+        if not zero:
+            self.zero_arms_ok.hide()
+            return True
+        self.zero_arms_ok.show()
+        if self.zero_arms_ok.isChecked():
+            return True
+        labels = dict(LEVER_ARMS)
+        self._show_page_note(3, ["Lever arms at 0 m: " + ", ".join(labels[k] for k in zero) + ". A trolley's sensors "
+                                 "are never all at the IMU centre: enter the measured lever arms, copy them from an "
+                                 "earlier project, or confirm below that they really are zero."])
+        return False
+
+    def _remove_created_folder(self) -> None:
+        """Cancelled: the folder this wizard created goes again if nothing was put in it."""
+        if self.created_folder is not None and self.project is None:
+            try:
+                self.created_folder.rmdir()
+            except OSError:  # not empty: something else put files there; leave it
+                pass
+
     def create_project(self) -> bool:
         """Write the survey's survey.toml and the project file; False (problems shown) if not possible.
 
@@ -295,31 +520,26 @@ class NewProjectWizard(QWizard):
             self.problems.setText("Add the raw files of the first survey.")
             return False
         folder = Path(folder_text)
-        survey_folder = self.survey.survey_folder()
+        copy = self.copy_raw.isChecked()
+        survey_folder = self.survey_target() if copy else self.survey.survey_folder()
         document = self.settings(folder, self.survey.name.text().strip(), survey_folder)
-        not_yet_written = f"surveys[0].folder: no {MANIFEST_NAME} in"
+        # the survey folder is described (or made) only once the project is known to be good
+        not_yet_written = ("surveys[0].folder: not found", f"surveys[0].folder: no {MANIFEST_NAME} in") if copy else (
+            f"surveys[0].folder: no {MANIFEST_NAME} in",)
         try:
             project_from_settings(document, folder)
         except ProjectError as error:
-            blocking = [p for p in error.problems if not p.startswith(not_yet_written)]
+            blocking = [in_words(p) for p in error.problems if not p.startswith(not_yet_written)]
             if blocking:
                 self.problems.setText("The project has problems; go back and correct them:\n" + "\n".join(blocking))
                 return False
-        if self.survey.write_survey(self.trolley()) is None:
+        if copy and survey_folder.exists() and any(survey_folder.iterdir()):
+            self.problems.setText(f"{survey_folder} is not empty: choose another survey name.")
+            return False
+        if self.survey.write_survey(self.trolley(), into=survey_folder if copy else None) is None:
             self.problems.setText("The survey's files have problems (listed above).")
             return False
         folder.mkdir(parents=True, exist_ok=True)
         self.project = project_from_settings(document, folder)
         save_project(self.project)
         return True
-
-
-class SurveyPage(QWizardPage):
-    """The last page: Finish creates the project, or stays with the problems listed."""
-
-    def __init__(self, wizard: NewProjectWizard):
-        super().__init__()
-        self._wizard = wizard
-
-    def validatePage(self) -> bool:
-        return self._wizard.create_project()
