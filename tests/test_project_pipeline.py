@@ -438,3 +438,54 @@ def _check_speed_parameters(speedy, capsys):
     notices = [n["message"] for n in silent.summary["notices"] if n["stage"] == "track"]
     assert notices and "no line speed" in notices[0] and "deficiency" in notices[0]
     assert not any(e.check == "deficiency" for e in silent.assessment.exceedances)
+
+
+def test_local_control_puts_every_output_coordinate_in_the_local_grid(processed, capsys):
+    """[geodesy.local] end to end: a known 4-parameter transformation given by five common points; the
+    sleepers' coordinates come out transformed (to 0.1 mm), the geometry is the same, the residuals are in
+    the summary and the PDF, the exports carry the local coordinates."""
+    import math
+
+    from insrail.geodesy.similarity import Similarity2D
+    from insrail.project.local_control import LocalControl, LocalPoint
+    from insrail.project.results import load_results
+
+    project, with_design = processed
+    undesigned = replace(project, design=None, start_station_m=float(with_design.table.station_m[0]))
+    plain = process(undesigned, "short")
+    plain_columns = load_results(project.folder, "short").columns
+    truth = Similarity2D(-510_000.0, -3_372_000.0, math.radians(2.5), 1.0 + 20e-6)
+    rows = np.flatnonzero(plain.table.valid)[np.linspace(0, plain.table.valid.sum() - 1, 5).astype(int)]
+    points = tuple(LocalPoint(f"CP3-{i}", tuple(plain.table.left_rail_enh_m[r] + [15.0, -8.0, 0.0]),
+                              (*truth.apply((plain.table.left_rail_enh_m[r] + [15.0, -8.0, 0.0])[:2]),
+                               plain.table.left_rail_enh_m[r, 2] - 0.25))
+                   for i, r in enumerate(rows))
+    local = replace(undesigned, local_control=LocalControl("4-parameter", points))
+    save_project(local)
+    try:
+        results = process(load_project(project.folder), "short")
+        c = load_results(project.folder, "short").columns
+        valid = c["valid"] > 0
+        for rail in ("left", "right", "centre"):
+            expected = truth.apply(np.column_stack([plain_columns[f"{rail}_E_m"], plain_columns[f"{rail}_N_m"]]))
+            np.testing.assert_allclose(c[f"{rail}_E_m"][valid], expected[valid, 0], atol=1.5e-4)
+            np.testing.assert_allclose(c[f"{rail}_N_m"][valid], expected[valid, 1], atol=1.5e-4)
+            np.testing.assert_allclose(c[f"{rail}_H_m"][valid], plain_columns[f"{rail}_H_m"][valid] - 0.25, atol=1.5e-4)
+        np.testing.assert_allclose(c["gauge_mm"], plain_columns["gauge_mm"], atol=2e-3, equal_nan=True)
+        summary = results.summary["local_control"]
+        assert summary["model"] == "4-parameter" and summary["points"] == 5 and summary["rms_mm"] < 0.01
+        assert summary["parameters"]["scale_ppm"] == pytest.approx(20.0, abs=1e-3)
+        assert [r["name"] for r in summary["residuals"]] == [p.name for p in points]
+        assert main(["report", str(project.folder), "--pdf", str(project.folder / "local.pdf")]) == 0
+        import subprocess
+
+        text = subprocess.run(["pdftotext", str(project.folder / "local.pdf"), "-"], capture_output=True,
+                              text=True, check=True).stdout
+        assert "Local control" in text and "CP3-4" in text
+        assert main(["export", str(project.folder), "--format", "csv", "--out", str(project.folder / "p.csv")]) == 0
+        exported = np.genfromtxt(project.folder / "p.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+        np.testing.assert_allclose(exported["left_E_m"][valid], c["left_E_m"][valid], atol=6e-5)
+    finally:
+        save_project(project)
+        main(["process", str(project.folder)])  # restore the design results for the other tests
+        capsys.readouterr()

@@ -10,6 +10,9 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
                          Without benchmarks heights stay ellipsoidal (H = h).
     [geodesy.control_points.<name>]  lat_deg, lon_deg, ellipsoidal_height_m, or east_m, north_m,
                          normal_height_m (insrail.project.control_points): e.g. the GNSS base's mark
+    [geodesy.local]      model = "4-parameter" | "7-parameter", [geodesy.local.points.<name>] common points in
+                         the engineering CRS and the railway's local grid (insrail.project.local_control): every
+                         output coordinate (and the design) in the local grid
     [trolley]            as in survey.toml; when absent each survey's own [trolley] is used
     [processing]         imu_profile (default: each survey's), a subset of FusionOptions
     [track]              design (alignment CSV or LandXML), start_station_m (needed without a design:
@@ -50,6 +53,7 @@ from insrail.io.tomlfile import read_toml
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.project.control_points import ControlPoint, parse_control_points
+from insrail.project.local_control import LocalControl, parse_local_control
 from insrail.track.adjustment import DEFAULT_FASTENER, load_fastener_type
 from insrail.track.chainage import WITH_TRAVEL
 from insrail.track.parameters import LineSpeed
@@ -140,6 +144,7 @@ class Project:
     fastener: str = DEFAULT_FASTENER
     control_points: tuple[ControlPoint, ...] = ()
     report: ReportSettings = field(default_factory=ReportSettings)
+    local_control: LocalControl | None = None
     line_speeds: tuple[LineSpeed, ...] = ()  # one range from -inf to inf: a single line speed
 
     @property
@@ -194,6 +199,8 @@ class Project:
         }
         if self.control_points:
             document["geodesy"]["control_points"] = {p.name: p.to_settings() for p in self.control_points}
+        if self.local_control is not None:
+            document["geodesy"]["local"] = self.local_control.to_settings()
         if self.trolley_settings is not None:
             document["trolley"] = self.trolley_settings
         document["processing"] = processing
@@ -235,7 +242,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     description = reader.text(meta, "project.description", "")
 
     geodesy = reader.table(document, "geodesy")
-    reader.known(geodesy, "geodesy", ("crs", "height", "control_points"))
+    reader.known(geodesy, "geodesy", ("crs", "height", "control_points", "local"))
     crs = None
     if "crs" not in geodesy:
         reader.add("geodesy.crs", "missing table (the engineering coordinate system)")
@@ -246,6 +253,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
             reader.problems.extend(err.problems)
     height = _height(reader, reader.table(geodesy, "height", "geodesy.height"))
     control_points = parse_control_points(geodesy.get("control_points", {}), "geodesy.control_points", reader.problems)
+    local_control = parse_local_control(geodesy.get("local"), "geodesy.local", reader.problems)
 
     trolley_settings = document.get("trolley")
     if trolley_settings is not None:
@@ -303,7 +311,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
         design=design, start_station_m=start_station, stationing_direction=stationing,
         first_sleeper_number=first_number,
         tolerance_profile=tolerance, fastener=fastener, control_points=control_points, report=report,
-        line_speeds=line_speeds,
+        line_speeds=line_speeds, local_control=local_control,
     )
 
 

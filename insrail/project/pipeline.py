@@ -61,6 +61,7 @@ from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
+from insrail.project.local_control import LocalFit, fit_local
 from insrail.project.model import Project
 from insrail.project.results import (
     EXCEEDANCES_FILE,
@@ -219,6 +220,8 @@ def track_key(project: Project, fusion: str) -> str:
     settings = {"version": CACHE_VERSION, "geodesy": _geodesy_settings(project),
                 "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number,
                 "stationing_direction": project.stationing_direction}
+    if project.local_control is not None:
+        settings["local_control"] = project.local_control.to_settings()
     if project.design is not None:
         design = hashlib.sha256()
         _hash_file(design, project.resolve(project.design))
@@ -290,8 +293,9 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
 
 def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Path, fresh: FreshFusion | None,
                          trajectory_file: Path, key: str, height_fit: HeightAnomalyFit | None,
-                         cancel: CancelToken) -> tuple[TrackReconstruction, bool]:
-    """Rails, chainage and sleepers (from the cache when nothing they depend on changed)."""
+                         cancel: CancelToken, local: LocalFit | None = None) -> tuple[TrackReconstruction, bool]:
+    """Rails, chainage and sleepers (from the cache when nothing they depend on changed); with local
+    control every coordinate from here on is in the local grid."""
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"track-{key}.npz"
     cached = cached_dataclass("track reconstruction", path, TrackReconstruction)
     if cached is not None:
@@ -300,7 +304,7 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
     def to_engineering(lat, lon, h):
         east, north = project.crs.to_plane(lat, lon)
         zeta = height_fit.zeta_m(east, north) if height_fit is not None else 0.0
-        return east, north, h - zeta
+        return (east, north, h - zeta) if local is None else local.apply(east, north, h - zeta)
 
     if fresh is None:
         fresh = FreshFusion(load_trajectory(trajectory_file, gps_week=manifest.gps_week),
@@ -389,15 +393,18 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     check_cancel(cancel)
 
     step(0.82, "rails, chainage and sleepers")
+    local = fit_local(project.local_control) if project.local_control is not None else None
     recon, track_cached = _reconstructed_track(project, manifest, folder, fresh, trajectory_file,
-                                               track_key(project, key), height_fit, cancel)
+                                               track_key(project, key), height_fit, cancel, local)
     del fresh
     check_cancel(cancel)
     step(0.88, "irregularities and exceedances")
     table = recon.table
     measured = table.valid
-    height_warnings = (height_fit.warnings_for(table.centre_enh_m[measured, 0], table.centre_enh_m[measured, 1])
-                       if height_fit is not None else [])
+    centre = table.centre_enh_m[measured]
+    if local is not None:  # the height model lives in the engineering CRS
+        centre = np.column_stack(local.to_engineering(*centre.T))
+    height_warnings = height_fit.warnings_for(centre[:, 0], centre[:, 1]) if height_fit is not None else []
     line = read_design(project.resolve(project.design)) if project.design is not None else (
         recon.fitted.alignment if recon.fitted is not None else None)
     curvature = line_curvature_1pm(line, table.station_m)
@@ -426,7 +433,10 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         bases, project.line_speeds, "design" if project.design is not None else "fitted" if line is not None else "none")
     summary["notices"] = [n.to_dict() for n in [*cache_notices, *_notices(fusion_info, height_warnings,
                                                                             summary.get("ppk")),
+                                                *(local.notices() if local is not None else []),
                                                 *speed_notices(profile, table, curvature, speed)]]
+    if local is not None:
+        summary["local_control"] = local.summary()
     summary["track_quality"] = track_quality_section(geometry)
     line_fit_files = _line_fit_files(recon)
     if project.design is None:

@@ -482,10 +482,12 @@ def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[F
             ("Heights", f"{heights.get('model', '-')} height-anomaly model"
                         + (f", benchmark RMS {heights['internal_rms_mm']:.1f} mm (leave-one-out "
                            f"{heights['loo_rms_mm']:.1f} mm)" if "internal_rms_mm" in heights else ""))]
+    rows += _local_control_rows(s.get("local_control"))
     rows += [("Warning", notice.text()) for notice in notices_of(s)]
     rows += [("Note", note) for note in content.notes]
     story: list[Flowable] = [Heading("Survey and processing"), Paragraph("Survey and processing", H1),
                              key_values(rows, widths=(45 * mm, 215 * mm))]
+    story += _local_control_table(s.get("local_control"))
     story += [Paragraph("Tolerance profile", H2),
               Paragraph(text(f"{content.profile.name}: {content.profile.description}"), BODY)]
     counts = s.get("assessment", {}).get("by_check", {})
@@ -509,6 +511,30 @@ def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[F
     story += _predicted_accuracy(content)
     story.append(PageBreak())
     return story
+
+
+def _local_control_rows(local: dict | None) -> list[tuple[str, object]]:
+    """The local-control transformation in one line (summary.toml [local_control])."""
+    if not local:
+        return []
+    p = local["parameters"]
+    what = (f"rotation {p['rotation_deg']:.6f}°, scale {p['scale_ppm']:+.2f} ppm, height shift {p['height_shift_m']:+.4f} m"
+            if local["model"] == "4-parameter" else
+            f"rotations {p['rx_arcsec']:.2f}\" {p['ry_arcsec']:.2f}\" {p['rz_arcsec']:.2f}\", scale {p['scale_ppm']:+.2f} ppm")
+    line = (f"{local['model']} transformation on {local['points']} common points: {what}; residual RMS "
+            f"{local['rms_mm']:.1f} mm, leave-one-out RMS {_fmt(local.get('loo_rms_mm'), 1)} mm; every coordinate "
+            "in this report is in the local grid")
+    return [("Local control", line)]
+
+
+def _local_control_table(local: dict | None) -> list[Flowable]:
+    if not local:
+        return []
+    rows = [[r["name"], *(_fmt(r.get(k), 1) for k in (
+        "east_mm", "north_mm", "height_mm", "loo_east_mm", "loo_north_mm", "loo_height_mm"))] for r in local["residuals"]]
+    return [Paragraph("Local control: residuals of the common points (observed - transformed, mm)", H2),
+            table(["point", "east", "north", "height", "leave-one-out east", "north", "height"], rows,
+                  [45 * mm] + [30 * mm] * 6)]
 
 
 def _section_label(content: ReportContent, start_m: float, end_m: float) -> str:
