@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 from PySide6.QtCore import QSettings, Qt, QTimer, QUrl
-from PySide6.QtGui import QAction, QDesktopServices, QKeySequence
+from PySide6.QtGui import QAction, QDesktopServices, QKeySequence, QUndoGroup
 from PySide6.QtWidgets import (
     QDockWidget,
     QFileDialog,
@@ -30,6 +30,7 @@ from insrail.gui.loader import ResultsLoader
 from insrail.gui.logpanel import LogPanel
 from insrail.gui.plan_survey import PlanSurveyDialog
 from insrail.gui.settings import recent_projects, remember_project
+from insrail.gui.settings_editor import SettingsEditor
 from insrail.gui.views.gnss import GnssView, input_rows
 from insrail.gui.views.navigation import NavigationView
 from insrail.gui.views.plan import PlanView
@@ -76,6 +77,8 @@ class MainWindow(QMainWindow):
         self.results: dict[str, StoredResults] = {}
         self.wizard: NewProjectWizard | None = None
         self.plan_dialog: PlanSurveyDialog | None = None
+        self.settings_editor: SettingsEditor | None = None
+        self.undo_group = QUndoGroup(self)  # the Edit menu's Undo/Redo: the settings editor's steps
         self.exported: Path | None = None
         self.request = 0  # the number of the latest results load; answers to older ones are dropped
         self.loader: ResultsLoader | None = None  # the load of the latest request while it runs
@@ -200,6 +203,7 @@ class MainWindow(QMainWindow):
         export_menu.addAction(self.export_pdf_action)
         file_menu.addSeparator()
         file_menu.addAction(self.quit_action)
+        self._make_edit_menu()
         run_menu = self.menuBar().addMenu("&Run")
         run_menu.addAction(self.process_action)
         run_menu.addAction(self.ppk_action)
@@ -225,6 +229,39 @@ class MainWindow(QMainWindow):
         self._fill_recent()
         self._enable_project_actions()
 
+    def _make_edit_menu(self) -> None:
+        self.settings_action = self._action("Project &settings…", self.edit_settings, "Ctrl+,",
+                                            "Edit the project's settings (coordinate system, trolley, processing, "
+                                            "assessment)")
+        self.undo_action = self.undo_group.createUndoAction(self, "&Undo")
+        self.undo_action.setShortcut(QKeySequence.Undo)
+        self.redo_action = self.undo_group.createRedoAction(self, "&Redo")
+        self.redo_action.setShortcut(QKeySequence.Redo)
+        edit_menu = self.menuBar().addMenu("&Edit")
+        for action in (self.undo_action, self.redo_action):
+            edit_menu.addAction(action)
+        edit_menu.addSeparator()
+        edit_menu.addAction(self.settings_action)
+
+    def edit_settings(self) -> SettingsEditor | None:
+        """The settings editor of the open project (not modal; one at a time)."""
+        if self.project is None:
+            return None
+        if self.settings_editor is None or self.settings_editor.project.path != self.project.path:
+            if self.settings_editor is not None:
+                self.settings_editor.close()
+            self.settings_editor = SettingsEditor(self.project, self)
+            self.undo_group.addStack(self.settings_editor.undo_stack)
+            self.settings_editor.saved.connect(self._settings_saved)
+        self.undo_group.setActiveStack(self.settings_editor.undo_stack)
+        self.settings_editor.show()
+        self.settings_editor.raise_()
+        return self.settings_editor
+
+    def _settings_saved(self, project: Project) -> None:
+        self.log.info(f"settings saved to {project.path.resolve()}; {self.settings_editor.rerun.text()}")
+        self.set_project(project, modified=self.modified)  # the editor stays open on the saved project
+
     def _fill_recent(self) -> None:
         self.recent_menu.clear()
         for path in recent_projects(self.settings):
@@ -235,6 +272,7 @@ class MainWindow(QMainWindow):
         has_project, busy = self.project is not None, self.worker is not None
         for action in (self.save_action, self.import_action, self.process_action):
             action.setEnabled(has_project and not busy)
+        self.settings_action.setEnabled(has_project)
         for action in (self.export_xlsx_action, self.export_pdf_action):
             action.setEnabled(self.shown_survey in self.results and not busy)
         self.ppk_action.setEnabled(has_project and bool(self.gnss.survey.currentText()) and not busy)
@@ -287,6 +325,10 @@ class MainWindow(QMainWindow):
 
     def set_project(self, project: Project, modified: bool = False) -> None:
         self._remember_view()
+        if self.settings_editor is not None and self.settings_editor.project.path != project.path:
+            self.settings_editor.close()  # another project's settings must not stay open
+            self.undo_group.removeStack(self.settings_editor.undo_stack)
+            self.settings_editor = None
         self.project = project
         self.modified = modified
         remember_project(self.settings, project.path)
@@ -657,6 +699,8 @@ class MainWindow(QMainWindow):
         self._remember_view()
         if self.plan_dialog is not None:
             self.plan_dialog.close()
+        if self.settings_editor is not None:
+            self.settings_editor.close()
         if not self.maybe_save():
             event.ignore()
             return

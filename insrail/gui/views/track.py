@@ -223,7 +223,6 @@ class TrackView(DrawWhenShown, QWidget):
         self.exceedances.setSelectionBehavior(QAbstractItemView.SelectRows)
         self.exceedances.setEditTriggers(QAbstractItemView.NoEditTriggers)
         self.exceedances.verticalHeader().setVisible(False)
-        self.exceedances.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeToContents)
         self.exceedances.horizontalHeader().setStretchLastSection(True)
         self.exceedances.setMinimumHeight(6 * self.exceedances.verticalHeader().defaultSectionSize())
         self.exceedances.cellClicked.connect(lambda row, _column: self.zoom_to_exceedance(self._exceedance_at(row)))
@@ -346,7 +345,10 @@ class TrackView(DrawWhenShown, QWidget):
 
     def _fill_table(self) -> None:
         table = self.exceedances
+        header = table.horizontalHeader()
         table.setSortingEnabled(False)
+        table.setUpdatesEnabled(False)
+        header.setSectionResizeMode(QHeaderView.Interactive)  # sized once below, not after every cell
         table.setRowCount(len(self._rows))
         for row, e in enumerate(self._rows):
             digits = 3 if e.unit == "mm" else 6
@@ -360,8 +362,10 @@ class TrackView(DrawWhenShown, QWidget):
                 if key is not None:
                     item.setTextAlignment(Qt.AlignRight | Qt.AlignVCenter)
                 table.setItem(row, column, item)
-        table.horizontalHeader().setSortIndicator(3, Qt.AscendingOrder)  # along the track, as walked
+        header.setSortIndicator(3, Qt.AscendingOrder)  # along the track, as walked
         table.setSortingEnabled(True)
+        table.resizeColumnsToContents()
+        table.setUpdatesEnabled(True)
 
     def _exceedance_at(self, table_row: int) -> int:
         item = self.exceedances.item(table_row, 0)

@@ -1,0 +1,445 @@
+"""Project settings editor: the project.toml of the open project as a form.
+
+Every edit is one undoable step (QUndoStack; the main window's Edit menu carries Undo and Redo);
+after every edit the whole document is checked by the core exactly as loading checks it
+(:func:`insrail.project.project_from_settings`) and each problem is shown beside its field in the
+field's words; Save writes project.toml atomically (:func:`insrail.project.save_project`) only
+when there is none. The form says which processing stages the changes will run again (the stage
+cache keys of :mod:`insrail.project.pipeline` hold the same settings).
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from PySide6.QtCore import Signal
+from PySide6.QtGui import QUndoCommand, QUndoStack
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QDialog,
+    QDialogButtonBox,
+    QDoubleSpinBox,
+    QFormLayout,
+    QHBoxLayout,
+    QLabel,
+    QLineEdit,
+    QPushButton,
+    QScrollArea,
+    QSpinBox,
+    QTabWidget,
+    QVBoxLayout,
+    QWidget,
+)
+
+from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
+from insrail.gui.fields import field_label, split_problem
+from insrail.gui.importer import shipped_names
+from insrail.io.errors import InputError
+from insrail.io.survey import read_manifest
+from insrail.project import (
+    HEIGHT_MODELS,
+    Project,
+    ProjectError,
+    project_from_settings,
+    save_project,
+)
+from insrail.project.model import FUSION_FLAGS, FUSION_NUMBERS
+from insrail.track.tolerance import shipped_tolerance_profiles
+
+NOTE_STYLE = "color: #C00000"
+EACH_SURVEY = "(each survey's own)"
+#: The processing stages in their order; a change reruns the first stage it feeds and all after it.
+STAGES = ("fusion", "track reconstruction", "assessment", "adjustment")
+#: Key path prefix -> the first stage that reads it (none: only the reports change).
+FIRST_STAGE = (("trolley", "fusion"), ("processing", "fusion"), ("geodesy", "track reconstruction"),
+               ("track.design", "track reconstruction"), ("track.start_station_m", "track reconstruction"),
+               ("track.first_sleeper_number", "track reconstruction"),
+               ("track.stationing_direction", "track reconstruction"), ("track.line_speed_kmh", "assessment"),
+               ("track.tolerance_profile", "assessment"), ("track.fastener", "adjustment"))
+
+
+def stages_to_rerun(changed_keys) -> tuple[str, ...]:
+    """The stages the changed settings make run again (the earlier ones come from the cache)."""
+    first = len(STAGES)
+    for key in changed_keys:
+        for prefix, stage in FIRST_STAGE:
+            if key == prefix or key.startswith(prefix + "."):
+                first = min(first, STAGES.index(stage))
+    return STAGES[first:]
+
+
+@dataclass(frozen=True)
+class Field:
+    """One editable setting: ``key`` its project.toml key path, ``kind`` text, file, number, int,
+    bool, choice or vector (3 numbers); ``optional`` removes the key when left empty."""
+
+    tab: str
+    key: str
+    kind: str
+    choices: Callable[[], list[str]] | tuple[str, ...] = ()
+    decimals: int = 3
+    suffix: str = ""
+    optional: bool = False
+
+
+_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m",
+         "imu_to_prism_m")
+FIELDS = (
+    Field("Project", "project.name", "text"),
+    Field("Project", "project.description", "text"),
+    Field("Coordinate system", "geodesy.crs.ellipsoid", "choice", tuple(ELLIPSOIDS)),
+    Field("Coordinate system", "geodesy.crs.central_meridian_deg", "number", decimals=6, suffix=" °"),
+    Field("Coordinate system", "geodesy.crs.latitude_of_origin_deg", "number", decimals=6, suffix=" °"),
+    Field("Coordinate system", "geodesy.crs.scale_factor", "number", decimals=9),
+    Field("Coordinate system", "geodesy.crs.false_easting_m", "number", suffix=" m"),
+    Field("Coordinate system", "geodesy.crs.false_northing_m", "number", suffix=" m"),
+    Field("Coordinate system", "geodesy.crs.projection_height_m", "number", suffix=" m"),
+    Field("Coordinate system", "geodesy.crs.projection_height_convention", "choice",
+          tuple(PROJECTION_HEIGHT_CONVENTIONS)),
+    Field("Heights", "geodesy.height.benchmarks", "file", optional=True),
+    Field("Heights", "geodesy.height.model", "choice", tuple(HEIGHT_MODELS)),
+    *(Field("Trolley", f"trolley.{arm}", "vector", decimals=4, suffix=" m") for arm in _ARMS),
+    Field("Trolley", "trolley.mounting_rpy_deg", "vector", decimals=4, suffix=" °"),
+    Field("Trolley", "trolley.reference_rail", "choice", ("left", "right")),
+    Field("Trolley", "trolley.rail_centre_spacing_m", "number", decimals=4, suffix=" m"),
+    Field("Processing", "processing.imu_profile", "choice", lambda: shipped_names("imu_profiles"), optional=True),
+    *(Field("Processing", f"processing.{flag}", "bool") for flag in FUSION_FLAGS),
+    *(Field("Processing", f"processing.{number}", "number", decimals=6) for number in FUSION_NUMBERS),
+    Field("Track", "track.design", "file", optional=True),
+    Field("Track", "track.start_station_m", "number", optional=True),
+    Field("Track", "track.first_sleeper_number", "int"),
+    Field("Track", "track.tolerance_profile", "choice", shipped_tolerance_profiles),
+    Field("Track", "track.fastener", "choice", lambda: shipped_names("fastener_types")),
+)
+_MISSING = object()
+
+
+def get_value(document: dict, key: str):
+    node = document
+    for part in key.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return _MISSING
+        node = node[part]
+    return node
+
+
+def set_value(document: dict, key: str, value) -> None:
+    """Set (or with ``_MISSING`` remove) a key path of the document."""
+    *parents, last = key.split(".")
+    node = document
+    for part in parents:
+        node = node.setdefault(part, {})
+    if value is _MISSING:
+        node.pop(last, None)
+    else:
+        node[last] = value
+
+
+def changed_keys(before: dict, after: dict) -> list[str]:
+    return [f.key for f in FIELDS if get_value(before, f.key) != get_value(after, f.key)]
+
+
+class SetSetting(QUndoCommand):
+    """One edit of one setting; consecutive edits of the same field merge into one step."""
+
+    def __init__(self, editor: SettingsEditor, key: str, before, after):
+        super().__init__(f"{field_label(key)}")
+        self.editor, self.key, self.before, self.after = editor, key, before, after
+
+    def id(self) -> int:
+        return 1
+
+    def mergeWith(self, other) -> bool:
+        if other.key != self.key:
+            return False
+        self.after = other.after
+        return True
+
+    def redo(self) -> None:
+        self.editor.apply(self.key, self.after)
+
+    def undo(self) -> None:
+        self.editor.apply(self.key, self.before)
+
+
+class SettingsEditor(QDialog):
+    """Edit the open project's settings; ``saved(Project)`` after Save wrote project.toml."""
+
+    saved = Signal(object)
+
+    def __init__(self, project: Project, parent=None):
+        super().__init__(parent)
+        self.setWindowTitle(f"Project settings — {project.name}")
+        self.resize(760, 640)
+        self.project = project
+        self.original = project.to_settings()
+        self.document = copy.deepcopy(self.original)
+        self.undo_stack = QUndoStack(self)
+        self.editors: dict[str, object] = {}
+        self.notes: dict[str, QLabel] = {}
+        self._applying = False
+        self.tabs = QTabWidget()
+        forms: dict[str, QFormLayout] = {}
+        for spec in FIELDS:
+            if spec.tab not in forms:
+                page = QWidget()
+                forms[spec.tab] = QFormLayout(page)
+                scroll = QScrollArea()
+                scroll.setWidgetResizable(True)
+                scroll.setWidget(page)
+                self.tabs.addTab(scroll, spec.tab)
+            self._add_field(forms[spec.tab], spec)
+        self.no_trolley = QLabel("Each survey brings its own trolley geometry (its survey.toml).")
+        self.own_trolley = QPushButton("Use one trolley for the whole project (the first survey's)")
+        self.own_trolley.clicked.connect(self.use_project_trolley)
+        forms["Trolley"].insertRow(0, self.no_trolley)
+        forms["Trolley"].insertRow(1, self.own_trolley)
+        self.general = QLabel()  # problems without a field of their own
+        self.general.setStyleSheet(NOTE_STYLE)
+        self.general.setWordWrap(True)
+        self.rerun = QLabel()
+        self.rerun.setWordWrap(True)
+        self.buttons = QDialogButtonBox(QDialogButtonBox.Save | QDialogButtonBox.Close)
+        self.save_button = self.buttons.button(QDialogButtonBox.Save)
+        self.save_button.clicked.connect(self.save)
+        self.buttons.rejected.connect(self.close)
+        undo, redo = QPushButton("Undo"), QPushButton("Redo")
+        undo.clicked.connect(self.undo_stack.undo)
+        redo.clicked.connect(self.undo_stack.redo)
+        self.undo_stack.canUndoChanged.connect(undo.setEnabled)
+        self.undo_stack.canRedoChanged.connect(redo.setEnabled)
+        undo.setEnabled(False)
+        redo.setEnabled(False)
+        row = QHBoxLayout()
+        row.addWidget(undo)
+        row.addWidget(redo)
+        row.addStretch(1)
+        row.addWidget(self.buttons)
+        layout = QVBoxLayout(self)
+        layout.addWidget(self.tabs, 1)
+        layout.addWidget(self.general)
+        layout.addWidget(self.rerun)
+        layout.addLayout(row)
+        for key in self.editors:
+            self._show(key)
+        self.problems: list[str] = []
+        self.check()
+
+    # ------------------------------------------------------------------ the form
+
+    def _add_field(self, form: QFormLayout, spec: Field) -> None:
+        kind = spec.kind
+        if kind in ("text", "file"):
+            widget = QLineEdit()
+            widget.setPlaceholderText("none" if spec.optional else "")
+            widget.editingFinished.connect(lambda key=spec.key: self._edited(key))
+        elif kind == "number":
+            widget = QDoubleSpinBox()
+            widget.setRange(-1e9, 1e9)
+            widget.setDecimals(spec.decimals)
+            widget.setSuffix(spec.suffix)
+            widget.valueChanged.connect(lambda _v, key=spec.key: self._edited(key))
+        elif kind == "int":
+            widget = QSpinBox()
+            widget.setRange(-10**9, 10**9)
+            widget.valueChanged.connect(lambda _v, key=spec.key: self._edited(key))
+        elif kind == "bool":
+            widget = QCheckBox()
+            widget.toggled.connect(lambda _on, key=spec.key: self._edited(key))
+        elif kind == "choice":
+            widget = QComboBox()
+            choices = spec.choices() if callable(spec.choices) else list(spec.choices)
+            widget.addItems(([EACH_SURVEY] if spec.optional else []) + choices)
+            widget.setEditable(spec.key in ("track.tolerance_profile", "track.fastener", "processing.imu_profile"))
+            widget.currentTextChanged.connect(lambda _t, key=spec.key: self._edited(key))
+        else:  # a vector of three numbers
+            widget = QWidget()
+            row = QHBoxLayout(widget)
+            row.setContentsMargins(0, 0, 0, 0)
+            widget.boxes = []
+            for _ in range(3):
+                box = QDoubleSpinBox()
+                box.setRange(-1e4, 1e4)
+                box.setDecimals(spec.decimals)
+                box.setSuffix(spec.suffix)
+                box.valueChanged.connect(lambda _v, key=spec.key: self._edited(key))
+                row.addWidget(box)
+                widget.boxes.append(box)
+        note = QLabel()
+        note.setStyleSheet(NOTE_STYLE)
+        note.setWordWrap(True)
+        note.hide()
+        box = QWidget()
+        column = QVBoxLayout(box)
+        column.setContentsMargins(0, 0, 0, 0)
+        column.setSpacing(1)
+        column.addWidget(widget)
+        column.addWidget(note)
+        label = field_label(spec.key)
+        form.addRow(label.split(": ")[-1] if ": " in label else label, box)
+        self.editors[spec.key] = (spec, widget)
+        self.notes[spec.key] = note
+
+    def _read(self, key: str):
+        """The value the field holds, as the document stores it (``_MISSING``: left empty)."""
+        spec, widget = self.editors[key]
+        if spec.kind in ("text", "file"):
+            text = widget.text().strip()
+            return _MISSING if spec.optional and not text else text
+        if spec.kind in ("number", "int"):
+            if spec.optional and widget.specialValueText() and widget.value() == widget.minimum():
+                return _MISSING
+            return widget.value()
+        if spec.kind == "bool":
+            return widget.isChecked()
+        if spec.kind == "choice":
+            text = widget.currentText()
+            return _MISSING if spec.optional and text == EACH_SURVEY else text
+        return [box.value() for box in widget.boxes]
+
+    def _show(self, key: str) -> None:
+        """Put the document's value into the field (signals blocked: not an edit)."""
+        spec, widget = self.editors[key]
+        value = get_value(self.document, key)
+        present = value is not _MISSING
+        widgets = widget.boxes if spec.kind == "vector" else [widget]
+        for w in widgets:
+            w.blockSignals(True)
+        if spec.kind in ("text", "file"):
+            widget.setText(str(value) if present else "")
+        elif spec.kind in ("number", "int"):
+            if spec.optional:
+                widget.setSpecialValueText("none")
+            widget.setValue(value if present else widget.minimum())
+        elif spec.kind == "bool":
+            widget.setChecked(bool(value) if present else False)
+        elif spec.kind == "choice":
+            text = str(value) if present else (EACH_SURVEY if spec.optional else "")
+            if widget.findText(text) < 0:
+                widget.addItem(text)
+            widget.setCurrentText(text)
+        else:
+            for box, v in zip(widget.boxes, value if present else (0.0, 0.0, 0.0)):
+                box.setValue(float(v))
+        for w in widgets:
+            w.blockSignals(False)
+        if key.startswith("trolley."):
+            has_trolley = "trolley" in self.document
+            for w in widgets:
+                w.setEnabled(has_trolley)
+
+    def _edited(self, key: str) -> None:
+        if self._applying:
+            return
+        before, after = get_value(self.document, key), self._read(key)
+        if before == after:
+            return
+        self.undo_stack.push(SetSetting(self, key, before, after))
+
+    def apply(self, key: str, value) -> None:
+        """Set one setting (from the undo stack: an edit, its undo or its redo)."""
+        self._applying = True
+        try:
+            set_value(self.document, key, copy.deepcopy(value))
+            for shown in self.editors:  # the field, or every field of a table set at once
+                if shown == key or shown.startswith(key + "."):
+                    self._show(shown)
+        finally:
+            self._applying = False
+        self.check()
+
+    def set_field(self, key: str, value) -> None:
+        """Edit one field as a surveyor would (tests and scripts): the widget changes, the edit is an
+        undoable step."""
+        spec, widget = self.editors[key]
+        if spec.kind in ("text", "file"):
+            widget.setText(str(value))
+            widget.editingFinished.emit()
+        elif spec.kind in ("number", "int"):
+            widget.setValue(value)
+        elif spec.kind == "bool":
+            widget.setChecked(bool(value))
+        elif spec.kind == "choice":
+            if widget.findText(str(value)) < 0:
+                widget.addItem(str(value))
+            widget.setCurrentText(str(value))
+        else:
+            for box, v in zip(widget.boxes, value):
+                box.setValue(float(v))
+
+    def use_project_trolley(self) -> None:
+        """Give the project its own [trolley] table, starting from the first survey's geometry."""
+        try:
+            trolley = read_manifest(self.project.resolve(self.project.surveys[0].folder)).trolley
+        except (InputError, IndexError) as error:
+            self.general.setText(f"The first survey's trolley geometry cannot be read: {error}")
+            return
+        self.undo_stack.beginMacro("Trolley for the whole project")
+        table = {arm: [float(v) for v in getattr(trolley, arm)] for arm in _ARMS}
+        table.update(reference_rail=trolley.reference_rail, rail_centre_spacing_m=trolley.rail_centre_spacing_m,
+                     mounting_rpy_deg=[float(v) for v in np.degrees(trolley.mounting_rpy_rad)])
+        self.undo_stack.push(SetSetting(self, "trolley", _MISSING, table))
+        self.undo_stack.endMacro()
+
+    # ------------------------------------------------------------------ checking and saving
+
+    def check(self) -> list[str]:
+        """The core's problems with the document, shown beside their fields; what will rerun."""
+        try:
+            project_from_settings(self.document, self.project.folder, self.project.path)
+            self.problems = []
+        except ProjectError as error:
+            self.problems = list(error.problems)
+        for note in self.notes.values():
+            note.hide()
+            note.clear()
+        rest = []
+        for problem in self.problems:
+            key, message = split_problem(problem)
+            note = self.notes.get(key)
+            if note is None:
+                rest.append(f"{field_label(key)}: {message}" if key else message)
+                continue
+            note.setText(f"{note.text()}\n{message}" if note.text() else message)
+            note.show()
+        self.general.setText("\n".join(rest))
+        has_trolley = "trolley" in self.document
+        self.no_trolley.setVisible(not has_trolley)
+        self.own_trolley.setVisible(not has_trolley)
+        changed = changed_keys(self.original, self.document)
+        if "trolley" in self.document and "trolley" not in self.original:
+            changed.append("trolley")
+        stages = stages_to_rerun(changed)
+        if not changed:
+            self.rerun.setText("")
+        elif stages:
+            self.rerun.setText(f"Changed: {', '.join(sorted({field_label(k) for k in changed}))}. Processing again "
+                               f"will run: {', '.join(stages)}" + ("" if stages[0] == STAGES[0] else
+                                                                    " (the earlier stages from the cache)") + ".")
+        else:
+            self.rerun.setText(f"Changed: {', '.join(sorted({field_label(k) for k in changed}))}. Nothing is "
+                               "processed again; the reports show the change when written again.")
+        self.save_button.setEnabled(bool(changed) and not self.problems)
+        self.setWindowModified(bool(changed))
+        return self.problems
+
+    def save(self) -> bool:
+        """Write project.toml (atomically) when the settings have no problem."""
+        if self.check():
+            return False
+        project = project_from_settings(self.document, self.project.folder, self.project.path)
+        try:
+            save_project(project)
+        except OSError as error:
+            self.general.setText(f"Cannot write {self.project.path}: {error.strerror or error}")
+            return False
+        self.project, self.original = project, copy.deepcopy(self.document)
+        self.undo_stack.setClean()
+        self.check()
+        self.saved.emit(project)
+        return True
+
