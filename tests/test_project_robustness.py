@@ -165,3 +165,109 @@ def test_leftovers_of_killed_runs_are_cleaned_by_the_next_run(tiny, tmp_path):
     process(load_project(project), SURVEY)
     assert not [p for p in [*leftovers, *temporary] if p.exists()]
     assert young.exists()
+
+
+# --------------------------------------------------------------------------- plausibility, end to end
+
+def rewrite_numbers(path: Path, column: int, change) -> None:
+    """Apply ``change`` to one whitespace-separated numeric column of a text file (comments kept)."""
+    lines = []
+    for line in path.read_text().splitlines():
+        if line.startswith(("#", "%")) or not line.strip():
+            lines.append(line)
+            continue
+        fields = line.split()
+        fields[column] = repr(change(float(fields[column])))
+        lines.append(" ".join(fields))
+    path.write_text("\n".join(lines) + "\n")
+
+
+def survey_folder(project: Path) -> Path:
+    return project / "surveys" / SURVEY
+
+
+def _swap_benchmark_heights(project: Path) -> None:
+    path = survey_folder(project) / "benchmarks.txt"
+    lines = [line if line.startswith("#") else " ".join([*line.split()[:3], line.split()[4], line.split()[3]])
+             for line in path.read_text().splitlines()]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def _edit_manifest(old: str, new: str):
+    def edit(project: Path) -> None:
+        path = survey_folder(project) / "survey.toml"
+        text = path.read_text()
+        assert old in text
+        path.write_text(text.replace(old, new))
+    return edit
+
+
+FAULTS = {
+    "benchmarks with h and H swapped": (_swap_benchmark_heights, "benchmarks.txt", "h and H are swapped"),
+    "GNSS in UTC read as GPST": (lambda p: rewrite_numbers(survey_folder(p) / "gnss.pos", 1, lambda t: t - 18.0),
+                                 "gnss.pos", "GNSS times in UTC read as GPST"),
+    "odometer distance in mm": (lambda p: rewrite_numbers(survey_folder(p) / "odometer.txt", 1, lambda d: 1e3 * d),
+                                "odometer.txt", "a distance in millimetres"),
+    "gauge x10": (lambda p: rewrite_numbers(survey_folder(p) / "gauge.txt", 1, lambda g: 10 * g),
+                  "gauge.txt", "median gauge 14"),
+    "lever arms in mm": (_edit_manifest("imu_to_antenna_m = [\n    0.02,\n    0.18,\n    -1.35,\n]",
+                                        "imu_to_antenna_m = [20.0, 180.0, -1350.0]"),
+                         "survey.toml", "trolley.imu_to_antenna_m"),
+    "rail_centre_spacing_m = 1500": (_edit_manifest("rail_centre_spacing_m = 1.5", "rail_centre_spacing_m = 1500"),
+                                     "survey.toml", "millimetres given as metres"),
+    "sleeper file shifted 137 s": (lambda p: rewrite_numbers(survey_folder(p) / "sleepers.txt", 0,
+                                                             lambda t: t + 137.0),
+                                   "sleepers.txt", "sleeper pulses lie one sleeper spacing"),
+}
+
+
+@pytest.mark.parametrize("fault", FAULTS)
+def test_an_implausible_input_is_refused_naming_the_file(tiny, tmp_path, capsys, fault):
+    project = copy_of(tiny, tmp_path)
+    before = (results_of(project) / "sleepers.csv").read_bytes()
+    edit, file_name, cause = FAULTS[fault]
+    edit(project)
+    capsys.readouterr()
+    assert main(["process", str(project)]) == 1
+    error = capsys.readouterr().err
+    assert file_name in error and cause in error, error
+    assert "Traceback" not in error
+    assert (results_of(project) / "sleepers.csv").read_bytes() == before  # the previous results stay
+
+
+def test_a_gauge_outlier_is_removed_and_listed(tiny, tmp_path, capsys):
+    project = copy_of(tiny, tmp_path)
+    path = survey_folder(project) / "gauge.txt"
+    lines = path.read_text().splitlines()
+    row = next(i for i, line in enumerate(lines) if not line.startswith("#")) + 400
+    time_s = lines[row].split()[0]
+    lines[row] = f"{time_s} 99999.0"
+    path.write_text("\n".join(lines) + "\n")
+    assert main(["process", str(project)]) == 0
+    out = capsys.readouterr().out
+    assert "gauge.txt" in out and "99999.0 mm" in out and "removed as outliers" in out
+    (notice,) = [n for n in notices(project) if n["stage"] == "gauge"]
+    assert notice["file"].endswith("gauge.txt")
+    ours = load_results(project, SURVEY)
+    assert np.nanmax(ours.columns["gauge_mm"]) < 1450  # no 99999 mm reached a sleeper
+    assert_same_results(project, tiny)
+
+
+def test_on_a_clean_survey_the_checks_change_nothing_and_say_nothing(tiny, tmp_path, monkeypatch):
+    from insrail.project import pipeline
+
+    unchecked = copy_of(tiny, tmp_path / "unchecked")
+    for entry in cache_of(unchecked).iterdir():  # fused again: the checks run on the raw files
+        entry.unlink()
+    monkeypatch.setattr(pipeline, "check_survey", lambda survey, nominal: (survey, []))
+    monkeypatch.setattr(pipeline, "check_trolley", lambda *args: None)
+    monkeypatch.setattr(pipeline, "check_benchmarks", lambda *args: None)
+    process(load_project(unchecked), SURVEY)
+    monkeypatch.undo()
+    checked = copy_of(tiny, tmp_path / "checked")
+    for entry in cache_of(checked).iterdir():
+        entry.unlink()
+    process(load_project(checked), SURVEY)
+    assert notices(checked) == notices(unchecked) == []
+    for name in ("sleepers.csv", "exceedances.csv", "trajectory.npy", "quality.csv"):
+        assert (results_of(checked) / name).read_bytes() == (results_of(unchecked) / name).read_bytes()

@@ -63,6 +63,16 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
 from insrail.project.model import Project
+from insrail.project.plausibility import (
+    check_benchmarks,
+    check_survey,
+    check_trolley,
+    clean_gauge,
+    describe,
+    installed_geoid,
+    nominal_gauge_m,
+    trolley_source,
+)
 from insrail.project.results import (
     EXCEEDANCES_FILE,
     FITTED_ALIGNMENT_CSV,
@@ -260,7 +270,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
         progress(1.0, "fusion reused from the cache")
         return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
     survey = read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel, gnss=gnss)
-    survey = replace(survey, manifest=manifest)
+    survey, checked = check_survey(replace(survey, manifest=manifest), nominal_gauge_m(project))
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
     profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
@@ -282,7 +292,8 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     save_dataclass(quality_cache_file(path), quality)
     info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": len(survey.imu),
             "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
-            "notices": [Notice("imu", w, file=str(survey.imu.source or "")).to_dict() for w in result.info["warnings"]],
+            "notices": [*(n.to_dict() for n in checked),
+                        *(Notice("imu", w, file=str(survey.imu.source or "")).to_dict() for w in result.info["warnings"])],
             "gnss": gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])}
     save_trajectory(path, result.trajectory)
     with atomic_write(info_path, "wb") as handle:
@@ -307,8 +318,10 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
         return (east, north, h - zeta) if local is None else local.apply(east, north, h - zeta)
 
     if fresh is None:
-        fresh = FreshFusion(load_trajectory(trajectory_file, gps_week=manifest.gps_week),
-                            _read_role(folder, manifest, "gauge"), _read_role(folder, manifest, "sleepers"))
+        gauge, _ = clean_gauge(_read_role(folder, manifest, "gauge"), nominal_gauge_m(project),  # as the fusion did
+                               describe(folder / manifest.files["gauge"].path, manifest.files["gauge"].format))
+        fresh = FreshFusion(load_trajectory(trajectory_file, gps_week=manifest.gps_week), gauge,
+                            _read_role(folder, manifest, "sleepers"))
     design = read_design(project.resolve(project.design)) if project.design is not None else None
     check_cancel(cancel)
     recon = reconstruct_track(fresh.trajectory, manifest.trolley, fresh.gauge, to_engineering, design=design,
@@ -348,6 +361,7 @@ def fit_heights(project: Project) -> HeightAnomalyFit | None:
     if project.height.benchmarks is None:
         return None
     benchmarks = read_benchmarks(project.resolve(project.height.benchmarks))
+    check_benchmarks(benchmarks, installed_geoid())
     east, north = project.crs.to_plane(benchmarks.lat_rad, benchmarks.lon_rad)
     anomaly = project.height.anomaly
     if anomaly.geoid_grid not in (None, "egm96"):  # a grid file named relative to the project
@@ -380,6 +394,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     trolley = project.trolley()
     if trolley is not None:
         manifest = replace(manifest, trolley=trolley)
+    check_trolley(manifest.trolley, trolley_source(project.path, folder, trolley is not None), nominal_gauge_m(project))
     if "gauge" not in manifest.files:
         raise InputError(folder / MANIFEST_NAME, None,
                          "files.gauge: missing; the track reconstruction needs the gauge record")

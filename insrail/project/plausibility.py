@@ -1,0 +1,354 @@
+"""Plausibility of a survey's inputs, checked with the physics before anything is fused.
+
+Each reader checks its own file's syntax; what a file *means* can only be judged against the other
+sensors and against the Earth. A wrong unit or time scale otherwise gives a result that looks
+normal (the worst defect this product can have), so each check below either raises an
+:class:`~insrail.io.errors.InputError` naming the file, its unit and the likely cause, or returns
+:class:`~insrail.notices.Notice` objects; on a clean survey none of them says anything or changes
+anything (tests/test_project_robustness.py).
+
+* benchmarks: the height anomaly ζ = h − H of every benchmark within ±:data:`MAX_HEIGHT_ANOMALY_M`
+  (the geoid's range on Earth), consistent between benchmarks (within :data:`MAX_ANOMALY_SPREAD_M`
+  of their median) and, where the EGM96 grid is installed, within :data:`MAX_EGM96_OFFSET_M` of it
+  (h and H swapped gives −ζ: 25 m off on the demo);
+* trolley: lever arms at most :data:`MAX_LEVER_ARM_M` (millimetres written as metres), the
+  rail-centre spacing (cant base) the nominal gauge plus one rail head (:data:`RAIL_HEAD_BAND_M`);
+* gauge record: its median within :data:`MAX_GAUGE_OFFSET_M` of the nominal gauge (a file in
+  another unit); single readings further than that from the median are removed and listed;
+* odometer against GNSS: the distance scale over :data:`SCALE_WINDOW_S` windows within
+  :data:`MAX_SCALE_ERROR` of 1 (a distance in mm, a wrong pulse length), the speeds agreeing;
+* time offset: the odometer's speed cross-correlated with the GNSS speed; an offset of
+  :data:`MAX_TIME_OFFSET_S` or more is refused (18 s: GNSS in UTC read as GPST), a smaller but
+  clear one is a notice;
+* sleeper pulses: consecutive pulses one sleeper spacing apart along the odometer distance
+  (a sleeper file on another time scale lands pulses in the stops).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from insrail.io.errors import InputError
+from insrail.io.formats import FORMATS
+from insrail.io.survey import MANIFEST_NAME, SurveyData, TrolleyGeometry
+from insrail.io.types import (
+    Benchmarks,
+    GaugeData,
+    GnssSolution,
+    OdometerData,
+    SleeperPulses,
+)
+from insrail.nav.earth import geodetic_to_ecef
+from insrail.notices import Notice
+
+MAX_HEIGHT_ANOMALY_M = 150.0
+MAX_ANOMALY_SPREAD_M = 5.0
+MAX_EGM96_OFFSET_M = 10.0
+MAX_LEVER_ARM_M = 5.0
+RAIL_HEAD_BAND_M = (0.03, 0.12)
+MAX_GAUGE_OFFSET_M = 0.05
+MAX_GAUGE_OUTLIER_SHARE = 0.01
+SCALE_WINDOW_S = 10.0
+MIN_WINDOW_TRAVEL_M = 3.0
+MAX_SCALE_ERROR = 0.05
+MAX_SPEED_DISAGREEMENT_SHARE = 0.2
+MAX_TIME_OFFSET_S = 0.5
+NOTICE_TIME_OFFSET_S = 0.2
+TIME_SEARCH_S = 60.0
+MIN_SLEEPER_MATCH = 0.8
+SLEEPER_SEARCH_S = 300.0
+GPS_MINUS_UTC_S = range(10, 19)  # 1995 .. today (18 s since 2017)
+
+
+def describe(path: Path | None, format_name: str | None) -> str:
+    """``odometer.txt (odometer cumulative distance [m])``: the file and what insrail read it as."""
+    name = path.name if path is not None else "?"
+    fmt = FORMATS.get(format_name) if format_name else None
+    return f"{name} ({fmt.description})" if fmt is not None else name
+
+
+def _read_as(label: str) -> str:
+    """The start of a message about the file itself (its name is already in front): its unit."""
+    _, _, what = label.partition(" (")
+    return f"read as {what[:-1]}: " if what else ""
+
+
+def nominal_gauge_m(project) -> float:
+    """The nominal gauge of the project's tolerance profile [m]."""
+    from insrail.track.tolerance import load_tolerance_profile
+
+    return load_tolerance_profile(project.resource(project.tolerance_profile)).nominal_gauge_m
+
+
+def installed_geoid():
+    """EGM96 where its grid is installed (Debian proj-data), else None (the checks then use the sane range)."""
+    from insrail.geodesy.errors import GeodesyError
+    from insrail.geodesy.geoid import GeoidGrid
+
+    try:
+        return GeoidGrid.egm96()
+    except (GeodesyError, OSError):
+        return None
+
+
+# --------------------------------------------------------------------------- heights
+
+def check_benchmarks(benchmarks: Benchmarks, geoid=None) -> None:
+    """InputError naming the benchmark file for a height anomaly that cannot be one."""
+    if not len(benchmarks):
+        return
+    path = benchmarks.source or Path("benchmarks")
+    zeta = benchmarks.height_anomaly_m
+    columns = "columns id lat lon h H: h ellipsoidal, H normal height, metres"
+    worst = int(np.argmax(np.abs(zeta)))
+    if abs(zeta[worst]) > MAX_HEIGHT_ANOMALY_M:
+        raise InputError(path, None, f"benchmark {benchmarks.point_id[worst]}: height anomaly h - H = "
+                         f"{zeta[worst]:.3f} m, beyond the ±{MAX_HEIGHT_ANOMALY_M:.0f} m of the geoid anywhere on "
+                         f"Earth ({columns}): a height in another unit or datum?")
+    median = float(np.median(zeta))
+    off = np.abs(zeta - median)
+    if len(zeta) >= 3 and off.max() > MAX_ANOMALY_SPREAD_M:
+        bad = int(np.argmax(off))
+        raise InputError(path, None, f"benchmark {benchmarks.point_id[bad]}: height anomaly h - H = {zeta[bad]:.3f} m "
+                         f"against {median:.3f} m at the others ({columns}): h and H swapped on its line, or a typo?")
+    if geoid is None:
+        return
+    undulation = np.asarray(geoid.undulation_m(benchmarks.lat_rad, benchmarks.lon_rad), dtype=float)
+    offset = float(np.median(zeta - undulation))
+    if abs(offset) > MAX_EGM96_OFFSET_M:
+        swapped = abs(float(np.median(-zeta - undulation))) <= MAX_EGM96_OFFSET_M
+        cause = ("h and H are swapped (the file's columns are id lat lon h H)" if swapped else
+                 "heights in another datum or unit, or H is not a normal height")
+        raise InputError(path, None, f"height anomaly h - H = {median:.3f} m at the benchmarks, but the geoid "
+                         f"(EGM96) lies at {float(np.median(undulation)):.3f} m there, {offset:+.1f} m apart "
+                         f"(local height datums differ from EGM96 by a few metres at most): likely {cause}")
+
+
+# --------------------------------------------------------------------------- trolley
+
+_LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m", "imu_to_sleeper_detector_m",
+               "imu_to_reference_rail_m")
+
+
+def check_trolley(trolley: TrolleyGeometry, source: Path, nominal_gauge_m: float) -> None:
+    """InputError naming the file of the ``[trolley]`` table for geometry no trolley has."""
+    for name in _LEVER_ARMS:
+        arm = np.asarray(getattr(trolley, name), dtype=float)
+        if not np.all(np.isfinite(arm)) or np.max(np.abs(arm)) > MAX_LEVER_ARM_M:
+            raise InputError(source, None, f"trolley.{name} = {arm.tolist()} m: a lever arm on a trolley is at most "
+                             f"{MAX_LEVER_ARM_M:g} m (b frame, metres): millimetres given as metres?")
+    low, high = (nominal_gauge_m + band for band in RAIL_HEAD_BAND_M)
+    spacing = float(trolley.rail_centre_spacing_m)
+    if not low <= spacing <= high:
+        raise InputError(source, None, f"trolley.rail_centre_spacing_m = {spacing:g} m: the distance between the "
+                         f"rail centres (the cant base) is the gauge plus one rail head, {low:.3f} .. {high:.3f} m "
+                         f"for the {1e3 * nominal_gauge_m:.0f} mm gauge of the tolerance profile"
+                         + (": millimetres given as metres?" if spacing > 100 * high else ""))
+
+
+# --------------------------------------------------------------------------- gauge
+
+def clean_gauge(gauge: GaugeData | None, nominal_gauge_m: float, label: str) -> tuple[GaugeData | None, list[Notice]]:
+    """The gauge record without its outliers (listed in a notice); InputError for a record in another unit."""
+    if gauge is None or not len(gauge.gauge_m):
+        return gauge, []
+    path = gauge.source or Path(label)
+    values = np.asarray(gauge.gauge_m, dtype=float)
+    finite = np.isfinite(values)
+    median = float(np.median(values[finite])) if finite.any() else float("nan")
+    if not abs(median - nominal_gauge_m) <= MAX_GAUGE_OFFSET_M:
+        ratio = median / nominal_gauge_m
+        hint = f" (x{ratio:.3g} the nominal: another unit?)" if np.isfinite(ratio) and (ratio > 2 or ratio < 0.5) else ""
+        raise InputError(path, None, f"{_read_as(label)}median gauge {1e3 * median:.1f} mm against the nominal "
+                         f"{1e3 * nominal_gauge_m:.0f} mm of the tolerance profile{hint}; the file must hold the "
+                         "gauge in mm")
+    outlier = ~finite | (np.abs(values - median) > MAX_GAUGE_OFFSET_M)
+    if not outlier.any():
+        return gauge, []
+    if outlier.mean() > MAX_GAUGE_OUTLIER_SHARE:
+        raise InputError(path, None, f"{_read_as(label)}{int(outlier.sum())} of {len(values)} readings lie more than "
+                         f"{1e3 * MAX_GAUGE_OFFSET_M:.0f} mm from the median {1e3 * median:.1f} mm: a faulty gauge "
+                         "sensor; repair or remove the record")
+    listed = ", ".join(f"{t:.3f} s: {1e3 * v:.1f} mm" for t, v in zip(gauge.time_s[outlier][:5], values[outlier][:5]))
+    more = f" and {int(outlier.sum()) - 5} more" if outlier.sum() > 5 else ""
+    notice = Notice("gauge", f"{label}: {int(outlier.sum())} gauge reading(s) more than {1e3 * MAX_GAUGE_OFFSET_M:.0f} "
+                    f"mm from the median {1e3 * median:.1f} mm removed as outliers ({listed}{more})",
+                    file=str(path), time_s=float(gauge.time_s[outlier][0]))
+    keep = ~outlier
+    return replace(gauge, time_s=gauge.time_s[keep], gauge_m=values[keep]), [notice]
+
+
+# --------------------------------------------------------------------------- odometer, time, sleepers
+
+def _gnss_track(gnss: GnssSolution) -> tuple[np.ndarray, np.ndarray]:
+    """GNSS epochs and ECEF positions, the fixed ones when there are enough."""
+    keep = np.isfinite(gnss.lat_rad) & np.isfinite(gnss.lon_rad) & np.isfinite(gnss.height_m)
+    fixed = keep & (gnss.quality == 1)
+    if fixed.sum() >= 30:
+        keep = fixed
+    xyz = geodetic_to_ecef(gnss.lat_rad[keep], gnss.lon_rad[keep], gnss.height_m[keep])
+    return gnss.time_s[keep], xyz
+
+
+def _distance_at(odometer: OdometerData, times: np.ndarray) -> np.ndarray:
+    return np.interp(times, odometer.time_s, odometer.distance_m, left=np.nan, right=np.nan)
+
+
+def check_odometer(odometer: OdometerData, gnss: GnssSolution, odometer_label: str, gnss_label: str) -> list[Notice]:
+    """InputError when the odometer's distance scale or speed disagrees with GNSS."""
+    time_s, xyz = _gnss_track(gnss)
+    if len(time_s) < 3 or len(odometer.time_s) < 3:
+        return []
+    step = max(1, int(round(SCALE_WINDOW_S / max(float(np.median(np.diff(time_s))), 1e-3))))
+    start, end = np.arange(len(time_s) - step), np.arange(step, len(time_s))
+    duration = time_s[end] - time_s[start]
+    gnss_travel = np.linalg.norm(xyz[end] - xyz[start], axis=1)
+    odo_travel = np.abs(_distance_at(odometer, time_s[end]) - _distance_at(odometer, time_s[start]))
+    usable = ((duration <= 1.5 * SCALE_WINDOW_S) & (gnss_travel > MIN_WINDOW_TRAVEL_M) & np.isfinite(odo_travel))
+    if usable.sum() < 10:
+        return []
+    scale = float(np.sum(odo_travel[usable]) / np.sum(gnss_travel[usable]))
+    path = odometer.source or Path(odometer_label)
+    if abs(scale - 1.0) > MAX_SCALE_ERROR:
+        if 700 < scale < 1400:
+            cause = "a distance in millimetres"
+        elif odometer.pulse_length_m is not None:
+            cause = f"a wrong pulse length (pulse_length_m = {odometer.pulse_length_m:g} m)"
+        else:
+            cause = "a distance in another unit, or a wrong calibration"
+        raise InputError(path, None, f"{_read_as(odometer_label)}the odometer travels {scale:.4g} m per metre of GNSS "
+                         f"({gnss_label}) over {int(usable.sum())} windows of {SCALE_WINDOW_S:g} s; expected 1 within "
+                         f"{100 * MAX_SCALE_ERROR:.0f} %: likely {cause}")
+    ratio = odo_travel[usable] / gnss_travel[usable]
+    disagree = float(np.mean(np.abs(ratio / scale - 1.0) > 0.1))
+    if disagree > MAX_SPEED_DISAGREEMENT_SHARE:
+        raise InputError(path, None, f"{_read_as(odometer_label)}the odometer's speed disagrees with the GNSS speed "
+                         f"({gnss_label}) by more than 10 % in {100 * disagree:.0f} % of the moving windows: a slipping "
+                         "wheel, a wrong time scale or another survey's file")
+    return []
+
+
+def estimate_time_offset(odometer: OdometerData, gnss: GnssSolution) -> tuple[float, float, float] | None:
+    """(offset [s], correlation at the offset, correlation at 0): the odometer's speed at t + offset
+    best matches the GNSS speed at t. None when the speed profile has too little variation to tell."""
+    time_s, xyz = _gnss_track(gnss)
+    if len(time_s) < 30 or len(odometer.time_s) < 30:
+        return None
+    dt = np.diff(time_s)
+    regular = dt <= 1.5 * np.median(dt)
+    gnss_speed = np.linalg.norm(np.diff(xyz, axis=0), axis=1)[regular] / dt[regular]
+    t0, t1 = time_s[:-1][regular], time_s[1:][regular]
+    if len(gnss_speed) < 30 or np.std(gnss_speed) < 0.05:
+        return None
+
+    def correlation(offsets: np.ndarray) -> np.ndarray:
+        out = np.full(len(offsets), -1.0)
+        for i, offset in enumerate(offsets):
+            speed = np.abs(_distance_at(odometer, t1 + offset) - _distance_at(odometer, t0 + offset)) / (t1 - t0)
+            both = np.isfinite(speed)
+            if both.sum() >= 0.5 * len(speed) and np.std(speed[both]) > 0:
+                out[i] = np.corrcoef(speed[both], gnss_speed[both])[0, 1]
+        return out
+
+    coarse = np.arange(-TIME_SEARCH_S, TIME_SEARCH_S + 0.5, 0.5)
+    values = correlation(coarse)
+    best = float(coarse[int(np.argmax(values))])
+    fine = np.arange(best - 0.6, best + 0.61, 0.05)
+    fine_values = correlation(fine)
+    at_zero = float(correlation(np.array([0.0]))[0])
+    return float(fine[int(np.argmax(fine_values))]), float(fine_values.max()), at_zero
+
+
+def check_time_offset(odometer: OdometerData, gnss: GnssSolution, odometer_label: str,
+                      gnss_label: str) -> list[Notice]:
+    """InputError for GNSS and odometer on different time scales; a notice for a small clear offset."""
+    found = estimate_time_offset(odometer, gnss)
+    if found is None:
+        return []
+    offset, best, at_zero = found
+    if best < 0.8 or best - at_zero < 0.01 or abs(offset) < NOTICE_TIME_OFFSET_S:
+        return []  # no clear peak away from zero: the time scales agree (or cannot be told apart)
+    path = gnss.source or Path(gnss_label)
+    where = "behind" if offset > 0 else "ahead of"
+    if abs(offset) >= MAX_TIME_OFFSET_S:
+        if round(abs(offset)) in GPS_MINUS_UTC_S and abs(abs(offset) - round(abs(offset))) < 0.3:
+            cause = (f"{round(abs(offset))} s is GPS - UTC (leap seconds): GNSS times in UTC read as GPST (an RTKLIB "
+                     ".pos written in UTC, or without its header)")
+        else:
+            cause = "the receivers' clocks are not synchronised, or a file of another survey"
+        raise InputError(path, None, f"{_read_as(gnss_label)}the GNSS time tags run {abs(offset):.2f} s {where} the odometer's "
+                         f"({odometer_label}; speed profiles cross-correlated, r = {best:.3f} there, {at_zero:.3f} "
+                         f"without the offset); all files must be in GPS time: likely {cause}")
+    return [Notice("time", f"{gnss_label}: the GNSS time tags run {abs(offset):.2f} s {where} the odometer's "
+                   f"({odometer_label}; speed profiles cross-correlated): check the time synchronisation",
+                   file=str(path))]
+
+
+def _sleeper_match(pulses: np.ndarray, odometer: OdometerData, offset: float) -> tuple[float, float]:
+    steps = np.diff(_distance_at(odometer, pulses + offset))
+    steps = np.abs(steps[np.isfinite(steps)])
+    if len(steps) < 10:
+        return 0.0, float("nan")
+    spacing = float(np.median(steps))
+    if spacing <= 0:
+        return 0.0, spacing
+    return float(np.mean(np.abs(steps - spacing) < 0.25 * spacing)), spacing
+
+
+def check_sleepers(pulses: SleeperPulses | None, odometer: OdometerData, sleepers_label: str,
+                   odometer_label: str) -> list[Notice]:
+    """InputError when the sleeper pulses do not lie one spacing apart along the odometer distance."""
+    if pulses is None or len(pulses.time_s) < 20:
+        return []
+    match, spacing = _sleeper_match(pulses.time_s, odometer, 0.0)
+    offsets = np.arange(-SLEEPER_SEARCH_S, SLEEPER_SEARCH_S + 0.5, 0.5)
+    scores = [_sleeper_match(pulses.time_s, odometer, o)[0] for o in offsets]
+    best = int(np.argmax(scores))
+    clearly_shifted = abs(offsets[best]) > 1.0 and scores[best] - match > 0.1
+    if match >= MIN_SLEEPER_MATCH and not clearly_shifted:
+        return []
+    hint = (f"; shifted by {offsets[best]:+.1f} s they would match ({100 * scores[best]:.0f} %): a file on another "
+            "time scale" if scores[best] >= MIN_SLEEPER_MATCH else
+            ": a file of another survey, or a detector that misses or doubles pulses")
+    path = pulses.source or Path(sleepers_label)
+    raise InputError(path, None, f"{_read_as(sleepers_label)}only {100 * match:.0f} % of consecutive sleeper pulses lie one "
+                     f"sleeper spacing ({spacing:.3f} m, the median) apart along the odometer distance "
+                     f"({odometer_label}); expected at least {100 * MIN_SLEEPER_MATCH:.0f} % and no better match "
+                     f"at another time{hint}")
+
+
+# --------------------------------------------------------------------------- one entry per place
+
+def check_setup(trolley: TrolleyGeometry, trolley_source: Path, benchmarks: Benchmarks | None,
+                nominal_gauge_m: float, geoid=None) -> None:
+    """The checks of what does not depend on the recorded data (run on every processing)."""
+    check_trolley(trolley, trolley_source, nominal_gauge_m)
+    if benchmarks is not None:
+        check_benchmarks(benchmarks, geoid)
+
+
+def check_survey(survey: SurveyData, nominal_gauge_m: float) -> tuple[SurveyData, list[Notice]]:
+    """The recorded data checked against each other: the survey with the gauge outliers removed,
+    and the notices; InputError naming the file for data that would give a wrong result."""
+    manifest = survey.manifest
+
+    def label(role: str, data) -> str:
+        entry = manifest.files.get(role)
+        return describe(getattr(data, "source", None) or (Path(entry.path) if entry else None),
+                        entry.format if entry else None)
+
+    odometer_label, gnss_label = label("odometer", survey.odometer), label("gnss", survey.gnss)
+    notices = check_time_offset(survey.odometer, survey.gnss, odometer_label, gnss_label)
+    notices += check_odometer(survey.odometer, survey.gnss, odometer_label, gnss_label)
+    notices += check_sleepers(survey.sleepers, survey.odometer, label("sleepers", survey.sleepers), odometer_label)
+    gauge, gauge_notices = clean_gauge(survey.gauge, nominal_gauge_m, label("gauge", survey.gauge))
+    return replace(survey, gauge=gauge), notices + gauge_notices
+
+
+def trolley_source(project_file: Path, survey_folder: Path, project_has_trolley: bool) -> Path:
+    """The file whose ``[trolley]`` table applies: the project's when it has one, else survey.toml."""
+    return project_file if project_has_trolley else survey_folder / MANIFEST_NAME
+
