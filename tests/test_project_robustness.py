@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from insrail.cli.main import main
+from insrail.io.errors import InputError
 from insrail.project import load_project, process
 from insrail.project import results as results_module
 from insrail.project.demo import project_for_simulated_survey
@@ -271,3 +272,129 @@ def test_on_a_clean_survey_the_checks_change_nothing_and_say_nothing(tiny, tmp_p
     assert notices(checked) == notices(unchecked) == []
     for name in ("sleepers.csv", "exceedances.csv", "trajectory.npy", "quality.csv"):
         assert (results_of(checked) / name).read_bytes() == (results_of(unchecked) / name).read_bytes()
+
+
+# --------------------------------------------------------------------------- faults of the machine and the command line
+
+def _raise(error_number: int, text: str):
+    def fail(*args, **kwargs):
+        folder = kwargs.get("dir") or (args[2] if len(args) > 2 else None)
+        raise OSError(error_number, text, str(folder))
+    return fail
+
+
+def test_a_read_only_project_is_named_and_its_results_kept(tiny, tmp_path, monkeypatch, capsys):
+    import errno
+    import tempfile
+
+    project = copy_of(tiny, tmp_path)
+    before = (results_of(project) / "sleepers.csv").read_bytes()
+    monkeypatch.setattr(tempfile, "mkdtemp", _raise(errno.EROFS, "Read-only file system"))
+    monkeypatch.setattr(tempfile, "mkstemp", _raise(errno.EROFS, "Read-only file system"))
+    assert main(["process", str(project)]) == 1
+    error = capsys.readouterr().err
+    assert f"{project / 'results'}: Read-only file system (a read-only file system: work on a copy" in error
+    assert "Traceback" not in error
+    assert (results_of(project) / "sleepers.csv").read_bytes() == before
+
+
+def test_a_full_disk_in_the_smoothers_temporary_file_is_named(tiny, tmp_path, monkeypatch, capsys):
+    import errno
+
+    from insrail.nav import fusion
+
+    project = copy_of(tiny, tmp_path)
+    before = (results_of(project) / "sleepers.csv").read_bytes()
+    for entry in cache_of(project).iterdir():  # the fusion runs again
+        entry.unlink()
+
+    class FullDisk:
+        def write(self, data):
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+        def close(self):
+            pass
+
+    monkeypatch.setattr(fusion.tempfile, "TemporaryFile", lambda **kwargs: FullDisk())
+    assert main(["process", str(project)]) == 1
+    error = capsys.readouterr().err
+    assert "(the smoother's temporary file): No space left on device (the disk is full" in error, error
+    assert (results_of(project) / "sleepers.csv").read_bytes() == before
+    assert not list(cache_of(project).glob("fusion-*"))  # nothing half-written taken for a cache entry
+
+
+def test_a_full_disk_while_writing_the_results_keeps_the_previous_ones(tiny, tmp_path, monkeypatch, capsys):
+    import errno
+
+    project = copy_of(tiny, tmp_path)
+    before = (results_of(project) / "sleepers.csv").read_bytes()
+    monkeypatch.setattr(results_module.shutil, "copyfile", _raise(errno.ENOSPC, "No space left on device"))
+    assert main(["process", str(project)]) == 1
+    assert "No space left on device (the disk is full" in capsys.readouterr().err
+    assert (results_of(project) / "sleepers.csv").read_bytes() == before
+    assert sorted(p.name for p in (project / "results").iterdir()) == [".cache", SURVEY]  # no staging left
+
+
+@pytest.mark.parametrize(("arguments", "message"), [
+    (["--speed", "-1"], "argument --speed: -1: expected more than 0"),
+    (["--speed", "nan"], "argument --speed: nan: expected more than 0"),
+    (["--length", "0"], "argument --length: 0: expected more than 0"),
+    (["--imu", "nosuch"], "argument --imu: IMU profile not found: nosuch (shipped profiles: nav"),
+])
+def test_predict_refuses_bad_values_with_a_usage_message(arguments, message, capsys):
+    with pytest.raises(SystemExit) as leave:
+        main(["predict", *arguments])
+    assert leave.value.code == 2
+    error = capsys.readouterr().err
+    assert message in error and "Traceback" not in error
+
+
+def test_report_to_a_missing_folder_fails_before_building(tiny, tmp_path, monkeypatch, capsys):
+    from insrail import report
+
+    def never(*args, **kwargs):
+        raise AssertionError("the report was built")
+
+    monkeypatch.setattr(report, "write_workbook", never)
+    monkeypatch.setattr(report, "write_pdf", never)
+    assert main(["report", str(tiny), "--xlsx", "/nonexistent/x.xlsx"]) == 1
+    assert "insrail: --xlsx /nonexistent/x.xlsx: the folder /nonexistent does not exist" in capsys.readouterr().err
+
+
+def test_a_design_nested_100000_deep_is_an_error_not_a_recursion(tiny, tmp_path, capsys):
+    project = copy_of(tiny, tmp_path)
+    deep = project / "deep.xml"
+    deep.write_text('<?xml version="1.0"?>\n<LandXML>\n' + "<a>" * 100_000 + "</a>" * 100_000 + "</LandXML>\n")
+    text = (project / "project.toml").read_text()
+    (project / "project.toml").write_text(text.replace('design = "surveys/tiny/truth/design.csv"', 'design = "deep.xml"'))
+    assert 'design = "deep.xml"' in (project / "project.toml").read_text()
+    assert main(["process", str(project)]) == 1
+    error = capsys.readouterr().err
+    assert "deep.xml, line 3: elements nested more than 200 deep" in error and "Recursion" not in error
+
+
+def test_an_internal_error_is_one_line_without_a_traceback(tiny, tmp_path, monkeypatch, capsys):
+    from insrail.project import pipeline
+
+    def defect(*args, **kwargs):
+        raise ZeroDivisionError("division by zero")
+
+    monkeypatch.setattr(pipeline, "assess", defect)
+    project = copy_of(tiny, tmp_path)
+    assert main(["process", str(project)]) == 3
+    error = capsys.readouterr().err
+    assert "insrail: internal error: ZeroDivisionError: division by zero" in error and "Traceback" not in error
+
+
+def test_a_nan_base_position_in_the_rinex_header_names_the_base_file(tmp_path):
+    from insrail.gnss.rinex import read_obs_info
+
+    from real_data import real_path
+
+    text = (real_path("rinex_0759_3040") / "07590920.05o").read_text()
+    lines = text.splitlines()
+    row = next(i for i, line in enumerate(lines) if line[60:].strip() == "APPROX POSITION XYZ")
+    lines[row] = f"{'nan':>14}{'nan':>14}{'nan':>14}{'':18}APPROX POSITION XYZ"
+    (tmp_path / "base.obs").write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=rf"base\.obs, line {row + 1}: APPROX POSITION XYZ: non-finite value"):
+        read_obs_info(tmp_path / "base.obs")

@@ -229,3 +229,10 @@ def test_direction_in_another_convention_falls_back_to_coordinates(tmp_path):
     assert 1e-9 < difference < 1e-6  # the coordinates, rounded to 0.1 mm, give the direction
     with pytest.raises(LandXMLError, match="attribute 'dir' is not a number"):
         read_landxml(mutated(tmp_path, 'dir="300.0"', 'dir="NNW"'))
+
+
+def test_a_file_nested_100000_deep_is_refused_naming_the_line(tmp_path):
+    path = tmp_path / "deep.xml"
+    path.write_text('<?xml version="1.0"?>\n<LandXML>\n' + "<a>\n" * 100_000 + "</a>\n" * 100_000 + "</LandXML>\n")
+    with pytest.raises(InputError, match=r"deep\.xml, line 202: elements nested more than 200 deep"):
+        read_landxml(path)

@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import errno
+import os
 import sys
+import traceback
 
 from insrail import __version__
 from insrail.io.errors import InputError
@@ -56,6 +59,40 @@ def main(argv: list[str] | None = None) -> int:
     except (FileExistsError, FileNotFoundError) as err:
         print(f"insrail: {err}", file=sys.stderr)
         return 1
+    except OSError as err:  # a read-only folder, a full disk, a share gone away
+        print(f"insrail: {describe_os_error(err)}", file=sys.stderr)
+        return 1
+    except ValueError as err:  # settings, profiles and values refused by the core, which names them
+        print(f"insrail: {err}", file=sys.stderr)
+        return 1
     except (Cancelled, KeyboardInterrupt):
         print("insrail: cancelled", file=sys.stderr)
         return 130
+    except MemoryError:
+        print("insrail: out of memory: close other programs, or process the survey on a larger machine",
+              file=sys.stderr)
+        return 1
+    except Exception as err:  # a defect: one line for the user, the traceback on request
+        print(f"insrail: internal error: {type(err).__name__}: {err}. Results written before are unchanged; "
+              f"run again with {DEBUG_VARIABLE}=1 for the details and report them.", file=sys.stderr)
+        if os.environ.get(DEBUG_VARIABLE):
+            traceback.print_exc()
+        return 3
+
+
+#: Environment variable that makes an internal error print its traceback.
+DEBUG_VARIABLE = "INSRAIL_DEBUG"
+_OS_ERROR_HINTS = {
+    errno.ENOSPC: "the disk is full: free some space and run again (nothing half-written was kept)",
+    errno.EDQUOT: "the disk quota is used up: free some space and run again (nothing half-written was kept)",
+    errno.EROFS: "a read-only file system: work on a copy of the project in a writable folder",
+    errno.EACCES: "no permission to write there: work on a copy of the project, or ask for write access",
+    errno.EPERM: "no permission to write there: work on a copy of the project, or ask for write access",
+}
+
+
+def describe_os_error(err: OSError) -> str:
+    """``PATH: No space left on device (the disk is full: ...)``: the path first, then what to do."""
+    where = f"{err.filename}: " if err.filename else ""
+    hint = _OS_ERROR_HINTS.get(err.errno)
+    return f"{where}{err.strerror or err}" + (f" ({hint})" if hint else "")

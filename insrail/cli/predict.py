@@ -11,18 +11,46 @@ gnss_sigma m, speed m/s).
 from __future__ import annotations
 
 import argparse
+import math
 
 from insrail.cli.progressbar import TerminalProgress
 from insrail.quality.tables import SWEEP_VALUES
 
 
+def _number(low: float, high: float, low_included: bool = False):
+    """An argparse type: a finite number in (low, high] (or [low, high])."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number, found {text!r}") from None
+        above = value >= low if low_included else value > low
+        if not (math.isfinite(value) and above and value <= high):
+            bound = "at least" if low_included else "more than"
+            raise argparse.ArgumentTypeError(f"{text}: expected {bound} {low:g} and at most {high:g}")
+        return value
+    return parse
+
+
+def _imu_profile(text: str) -> str:
+    """An argparse type: a shipped IMU profile's name or an existing .toml file."""
+    from insrail.nav.imu_profile import load_imu_profile
+
+    try:
+        load_imu_profile(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+    return text
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--imu", default="nav", help="IMU profile name or .toml (default: nav)")
-    p.add_argument("--gnss-sigma", type=float, nargs=2, metavar=("H", "V"), default=(0.010, 0.020),
+    p.add_argument("--imu", default="nav", type=_imu_profile, help="IMU profile name or .toml (default: nav)")
+    p.add_argument("--gnss-sigma", type=_number(0.0, 100.0), nargs=2, metavar=("H", "V"), default=(0.010, 0.020),
                    help="white GNSS sigma horizontal and vertical [m] (default 0.010 0.020)")
-    p.add_argument("--speed", type=float, default=1.0, help="trolley speed [m/s] (default 1)")
-    p.add_argument("--length", type=float, default=1000.0, help="track length [m] (default 1000)")
-    p.add_argument("--outage", type=float, default=0.0, help="a GNSS outage of this many seconds mid-run")
+    p.add_argument("--speed", type=_number(0.0, 100.0), default=1.0, help="trolley speed [m/s] (default 1)")
+    p.add_argument("--length", type=_number(0.0, 1e6), default=1000.0, help="track length [m] (default 1000)")
+    p.add_argument("--outage", type=_number(0.0, 1e6, low_included=True), default=0.0,
+                   help="a GNSS outage of this many seconds mid-run")
     p.add_argument("--no-nhc", action="store_true", help="without the non-holonomic constraint")
     p.add_argument("--sweep", choices=sorted(SWEEP_VALUES), help="vary one parameter from the baseline")
     p.add_argument("--values", type=float, nargs="+", help="values of the swept parameter (default: a typical range)")

@@ -13,6 +13,7 @@ results, bad input or (with --check) an out-of-date report, 130 when cancelled.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -53,6 +54,20 @@ def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> 
     return written
 
 
+def _unwritable(path: Path | None) -> str | None:
+    """Why a report cannot be written at ``path`` (None when it can, or when no path is given)."""
+    if path is None:
+        return None
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        return f"the folder {folder} does not exist"
+    if path.is_dir():
+        return "is a folder: give a file name"
+    if not os.access(folder, os.W_OK | os.X_OK):
+        return f"no permission to write in {folder}"
+    return None
+
+
 def run(args: argparse.Namespace) -> int:
     from insrail.cli.process import chosen_surveys
     from insrail.project import load_project
@@ -65,6 +80,11 @@ def run(args: argparse.Namespace) -> int:
     if args.check:
         return _check(project, names)
     explicit = args.xlsx is not None or args.pdf is not None
+    for option, path in (("--xlsx", args.xlsx), ("--pdf", args.pdf)):
+        problem = _unwritable(path)
+        if problem:  # said before building anything
+            print(f"insrail: {option} {path}: {problem}", file=sys.stderr)
+            return 1
     if explicit and len(names) > 1:
         print(f"insrail: --xlsx/--pdf name one file: choose the survey with --survey ({', '.join(names)})", file=sys.stderr)
         return 1

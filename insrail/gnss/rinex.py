@@ -8,6 +8,7 @@ error instead of an empty RTKLIB output. Times are GPS seconds since 1980-01-06.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -85,13 +86,17 @@ def read_obs_info(path: str | Path) -> RinexObsInfo:
     for number, line in enumerate(header, 1):
         label = line[60:].strip()
         try:
+            xyz = (0.0, 0.0, 0.0)
             if label == "APPROX POSITION XYZ":
                 xyz = tuple(float(line[i:i + 14]) for i in (0, 14, 28))
                 approx = xyz if any(xyz) else None
             elif label == "ANTENNA: DELTA H/E/N":
-                delta = tuple(float(line[i:i + 14]) for i in (0, 14, 28))
+                xyz = delta = tuple(float(line[i:i + 14]) for i in (0, 14, 28))
         except ValueError:
             raise InputError(path, number, f"unreadable {label}: expected three F14.4 numbers") from None
+        if not all(map(math.isfinite, xyz)):
+            raise InputError(path, number, f"{label}: non-finite value {line[:42].strip()!r}: expected three "
+                             "F14.4 numbers in metres")
     pattern = _EPOCH_RINEX3 if version >= 3 else _EPOCH_RINEX2
     tags = pattern.findall(body)
     if not tags:

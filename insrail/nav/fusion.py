@@ -249,7 +249,11 @@ class SmootherStore:
 
     def flush(self):
         if self.fill:
-            self.file.write(self.buffer[: self.fill].tobytes())
+            try:
+                self.file.write(self.buffer[: self.fill].tobytes())
+            except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
+                raise OSError(err.errno, err.strerror,
+                              f"{tempfile.gettempdir()} (the smoother's temporary file)") from None
             self.fill = 0
 
     def reversed_records(self):

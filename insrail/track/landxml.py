@@ -71,6 +71,10 @@ def _local(tag: str) -> str:
     return tag.rsplit("}", 1)[-1]
 
 
+#: Deepest element nesting accepted (LandXML 1.2 alignments nest about 8 deep).
+MAX_DEPTH = 200
+
+
 class _Document:
     """A parsed file that knows every element's line and path."""
 
@@ -80,13 +84,22 @@ class _Document:
         self.paths: dict[int, str] = {}
         builder = ET.TreeBuilder()
         parser = expat.ParserCreate(namespace_separator="}")
+        depth = [0]
 
         def start(tag, attributes):
+            depth[0] += 1
+            if depth[0] > MAX_DEPTH:  # a LandXML alignment is about 8 deep; the tree walks below recurse
+                raise InputError(path, parser.CurrentLineNumber, f"elements nested more than {MAX_DEPTH} deep: "
+                                 "not a LandXML alignment file")
             element = builder.start(_local(tag), {_local(k): v for k, v in attributes.items()})
             self.lines[id(element)] = parser.CurrentLineNumber  # ids stay unique: the tree holds every element
 
+        def end(tag):
+            depth[0] -= 1
+            builder.end(_local(tag))
+
         parser.StartElementHandler = start
-        parser.EndElementHandler = lambda tag: builder.end(_local(tag))
+        parser.EndElementHandler = end
         parser.CharacterDataHandler = builder.data
         try:
             with open(path, "rb") as stream:
