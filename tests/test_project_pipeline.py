@@ -489,3 +489,77 @@ def test_local_control_puts_every_output_coordinate_in_the_local_grid(processed,
         save_project(project)
         main(["process", str(project.folder)])  # restore the design results for the other tests
         capsys.readouterr()
+
+
+def test_events_take_turnouts_and_level_crossings_out_of_the_assessment(processed, tmp_path, monkeypatch, capsys):
+    """A turnout and a level crossing in the survey's event file (one in time), a bridge in the project's:
+    no exceedances inside them, their sleepers listed as not assessed; events in the summary, the CLI,
+    the workbook and the PDF; fusion and track from the cache; a bad event line named."""
+    import openpyxl
+
+    from insrail.io.survey import SurveyFile, read_manifest, write_manifest
+    from insrail.project.results import load_results
+    from insrail.report import write_pdf, write_workbook
+
+    project, first = processed
+    shutil.copytree(project.folder, tmp_path / "p", ignore=shutil.ignore_patterns("reports"))
+    folder = tmp_path / "p"
+    survey = folder / "surveys" / "short"
+    # the level crossing where the first run found exceedances, given by the time the trolley passed it
+    crossing = next(e for e in first.assessment.exceedances if e.station_from_m > 1700.0)
+    table = first.table
+    at = np.interp([crossing.station_from_m - 3.0, crossing.station_to_m + 3.0], table.station_m, table.time_s)
+    (survey / "events.txt").write_text(
+        "kind, from, to, unit, profile, text\n"
+        "turnout, 1240.0, 1310.0, station_m, , W12 No. 18\n"
+        f"level_crossing, {at[0]:.3f}, {at[1]:.3f}, time_s, , LC 3\n")
+    manifest = read_manifest(survey)
+    write_manifest(survey, replace(manifest, files={**manifest.files, "events": SurveyFile("events.txt", "events")}))
+    (folder / "line_events.txt").write_text("bridge, 1500.0, 1540.0, station_m, , Xiaohe bridge\n")
+    with_events = replace(load_project(folder), events="line_events.txt")
+    save_project(with_events)
+
+    def not_again(*args, **kwargs):
+        raise AssertionError("events must not rerun the fusion or the track reconstruction")
+
+    for stage in ("fuse", "reconstruct_track"):
+        monkeypatch.setattr(pipeline, stage, not_again)
+    results = process(load_project(folder), "short")
+    inside = [(1240.0, 1310.0), (crossing.station_from_m - 3.0, crossing.station_to_m + 3.0)]
+    before = [e for e in first.assessment.exceedances if any(e.station_to_m >= a and e.station_from_m <= b for a, b in inside)]
+    assert len(before) >= 2  # the plain-track assessment flagged both places
+    assert not [e for e in results.assessment.exceedances
+                if any(e.station_to_m >= a - 0.1 and e.station_from_m <= b + 0.1 for a, b in inside)]
+    stored = load_results(folder, "short")
+    turnout = (stored.columns["station_m"] >= 1240.0) & (stored.columns["station_m"] <= 1310.0)
+    assert turnout.sum() > 100 and np.all(stored.columns["valid"][turnout] == 0)
+    assert {stored.not_assessed[i] for i in np.flatnonzero(turnout)} == {"turnout W12 No. 18"}
+    assert "level crossing LC 3" in stored.not_assessed and stored.not_assessed[0] == ""
+    summary = results.summary
+    assert [e["kind"] for e in summary["events"]] == ["turnout", "bridge", "level_crossing"]
+    assert summary["events"][1]["not_assessed"] is False and summary["events"][1]["source"] == "line_events.txt, line 1"
+    assert summary["assessment"]["not_assessed_sleepers"] == int(sum(e["sleepers"] for e in summary["events"]
+                                                                     if e["not_assessed"]))
+    assert main(["process", str(folder)]) == 0
+    out = capsys.readouterr().out
+    assert "level crossing LC 3" in out and "sleepers: not assessed (events.txt, line 3)" in out
+    write_workbook(with_events, stored, tmp_path / "report.xlsx")
+    cells = {str(c.value) for sheet in openpyxl.load_workbook(tmp_path / "report.xlsx").worksheets
+             for row in sheet.iter_rows() for c in row if c.value is not None}
+    assert {"turnout W12 No. 18", "level crossing LC 3", "Xiaohe bridge", "marked only"} <= cells
+    write_pdf(with_events, stored, tmp_path / "report.pdf")
+    assert b"Events and stretches not assessed" in _pdf_text(tmp_path / "report.pdf")
+
+    # a bad line, and an event outside the survey: named with the file and line, nothing written
+    (survey / "events.txt").write_text("turnout, 1240.0, 1310.0, station_m, , W12\nlevel_crossing, 1, 2, km, , LC\n")
+    assert main(["process", str(folder)]) == 1
+    assert "events.txt, line 2: unit: expected one of station_m" in capsys.readouterr().err
+    (survey / "events.txt").write_text("no_assess, 10.0, 20.0, time_s, , before the survey\n")
+    assert main(["process", str(folder)]) == 1
+    assert "events.txt, line 1: time 10.000..20.000 s lies outside the survey's time" in capsys.readouterr().err
+
+
+def _pdf_text(path):
+    import subprocess
+
+    return subprocess.run(["pdftotext", str(path), "-"], capture_output=True, check=True).stdout

@@ -7,18 +7,21 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from track_truth import truth_reconstruction
 
 from insrail.io.track_sensors import read_sleeper_times
 from insrail.sim.scenario import preset
 from insrail.sim.simulate import simulate
-from insrail.track.alignment_csv import read_alignment_csv
-from insrail.track.chainage import epoch_station_track, facing_on_design, stations_along_path
+from insrail.track.chainage import (
+    epoch_station_track,
+    facing_on_design,
+    stations_along_path,
+)
 from insrail.track.errors import DesignError
 from insrail.track.reversed_design import reversed_design
 from insrail.track.sleeper_table import reconstruct_track
 from insrail.track.sleepers import number_sleepers
 from insrail.track.stationing import StationEquation, StationEquations
-from track_truth import truth_reconstruction
 
 MM = 1e-3
 
@@ -137,7 +140,7 @@ def test_reversed_design_is_the_same_line():
 
 
 def test_epoch_station_track_follows_either_direction():
-    t, s = epoch_station_track(np.arange(5.0), np.array([5.0, 4.0, 4.0001, 3.0, 1.0]))
+    _, s = epoch_station_track(np.arange(5.0), np.array([5.0, 4.0, 4.0001, 3.0, 1.0]))
     assert np.array_equal(s, [5.0, 4.0, 4.0, 3.0, 1.0])
     with pytest.raises(ValueError, match="fewer than two"):
         epoch_station_track(np.arange(3.0), np.array([np.nan, 2.0, np.nan]))

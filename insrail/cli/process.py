@@ -76,6 +76,7 @@ def describe(results) -> list[str]:
         (f"  track: {track['sleepers']} sleepers ({track['valid_sleepers']} valid), "
          f"stations {track['station_from_m']:.3f} .. {track['station_to_m']:.3f} m"),
         *_line_fit_lines(track.get("line_fit")),
+        *_event_lines(s.get("events", []), assessment.get("not_assessed_sleepers", 0)),
         *(f"  warning: {notice.text()}" for notice in notices_of(s)),
         *_quality_lines(s.get("quality")),
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
@@ -83,6 +84,21 @@ def describe(results) -> list[str]:
          f"max vertical {adjustment['max_vertical_mm']:.1f} mm, {adjustment['unresolved_sleepers']} sleepers unresolved"),
         "  files: " + ", ".join(dict.fromkeys([*s["files"].values(), "summary.toml"])),
     ]
+
+
+def _event_lines(events: list[dict], not_assessed: int) -> list[str]:
+    """The survey's events: which are not assessed, how many sleepers that takes out of the assessment."""
+    if not events:
+        return []
+    from insrail.track.events import KIND_NAMES
+
+    lines = [f"  events: {len(events)}, {not_assessed} sleepers not assessed with the track's profile"]
+    for e in events:
+        what = ("not assessed" if e["not_assessed"] else
+                f"assessed with {e['profile']}: {e.get('exceedances', 0)} exceedances" if e["profile"] else "marked")
+        lines.append(f"    {KIND_NAMES[e['kind']]} {e['text']} {e['station_from_m']:.3f} .. {e['station_to_m']:.3f} m, "
+                     f"{e['sleepers']} sleepers: {what} ({e['source']})")
+    return lines
 
 
 def chosen_surveys(project, requested: list[str] | None) -> list[str] | None:

@@ -518,7 +518,7 @@ class MainWindow(QMainWindow):
         self.shown_survey = data.survey
         self.empty_state.hide()
         self.track.set_results(data.station_m, data.number, data.label, data.columns, data.plots,
-                               data.exceedances, data.bands, data.survey)
+                               data.exceedances, data.bands, data.survey, data.events)
         pending, self._pending_view = self._pending_view, None
         if pending is not None and pending.get("survey") == data.survey:
             self.track.restore_state(pending)

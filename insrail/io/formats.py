@@ -15,7 +15,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from insrail.io import control, gnss, imu, odometer, rtklib, track_sensors
+from insrail.io import control, events, gnss, imu, odometer, rtklib, track_sensors
 from insrail.io.errors import InputError
 from insrail.io.textparse import COMMENT_MARKERS, header_value, is_number, split_fields, strip_comment
 from insrail.io.types import (
@@ -72,6 +72,8 @@ FORMATS: dict[str, FileFormat] = {f.name: f for f in (
                "total-station prism positions on CPIII, engineering frame"),
     FileFormat("benchmarks", control.read_benchmarks, control.write_benchmarks, Benchmarks,
                "GNSS-levelling benchmarks (h and H)"),
+    FileFormat("events", events.read_events, events.write_events, events.EventList,
+               "track events: turnouts, level crossings, bridges, joints, stretches not to assess"),
 )}
 
 

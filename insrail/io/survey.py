@@ -21,6 +21,7 @@ import tomli_w
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError, ManifestError
+from insrail.io.events import EventList
 from insrail.io.formats import FORMATS
 from insrail.io.survey_gnss import RawGnss, parse_raw_gnss
 from insrail.io.tomlfile import read_toml
@@ -46,7 +47,7 @@ class TrolleyGeometry:
     imu_to_sleeper_detector_m : to the sleeper detector's sensing point
     imu_to_reference_rail_m   : to the top-of-rail point above the gauge face of the
                                 reference rail, the rail the trolley's fixed wheels run on
-    reference_rail            : "left" or "right" (seen in the direction of travel)
+    reference_rail            : "left" or "right" of the trolley (seen along its x axis; results follow the stationing)
     mounting_rpy_rad          : roll, pitch, heading of b relative to the trolley frame v,
                                 C_b^v = euler_to_dcm(*mounting_rpy_rad)
     rail_centre_spacing_m     : base of the cant definition, cant = base * sin(roll) (1.5 m)
@@ -75,7 +76,7 @@ class SurveyFile:
 class SurveyManifest:
     """Contents of ``survey.toml``.
 
-    files maps a role (``imu gnss odometer gauge sleepers prism benchmarks``) to a
+    files maps a role (``imu gnss odometer gauge sleepers prism benchmarks events``) to a
     :class:`SurveyFile`; imu, gnss and odometer are required, the rest optional, except
     that ``raw_gnss`` (the ``[gnss_raw]`` table) replaces the gnss role.
     """
@@ -102,6 +103,7 @@ class SurveyData:
     sleepers: SleeperPulses | None = None
     prism: PrismObservations | None = None
     benchmarks: Benchmarks | None = None
+    events: EventList | None = None
 
 
 # --- survey.toml ------------------------------------------------------------------------------
@@ -115,6 +117,7 @@ ROLE_TYPES: dict[str, type] = {
     "sleepers": SleeperPulses,
     "prism": PrismObservations,
     "benchmarks": Benchmarks,
+    "events": EventList,
 }
 REQUIRED_ROLES = ("imu", "gnss", "odometer")
 _LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m",

@@ -19,9 +19,10 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
                          the station where each survey starts), stationing_direction (without a
                          design: "travel", the default, stations grow in each survey's direction of
                          travel; or a grid azimuth in degrees towards which they grow, so that runs
-                         in both directions share one stationing), first_sleeper_number,
-                         tolerance_profile, fastener, line_speed_kmh = 250 or a table of ranges
-                         [{from_m = 0, to_m = 4200, kmh = 250}, ...] (for the cant deficiency)
+                         in both directions share one stationing), events (an event file in
+                         chainage for every survey: turnouts, level crossings, ..., docs/formats.md),
+                         first_sleeper_number, tolerance_profile, fastener, line_speed_kmh = 250 or a
+                         table of ranges [{from_m = 0, to_m = 4200, kmh = 250}, ...] (for the cant deficiency)
     [[surveys]]          name, folder (holding a survey.toml)
     [report]             what the reports' first page states and how they print (:class:`ReportSettings`):
                          client, line_section, track_name, operator, checked_by, approved_by, trolley,
@@ -48,6 +49,7 @@ from insrail.geodesy.errors import SettingsError
 from insrail.geodesy.height_anomaly import HeightAnomalySettings
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
+from insrail.io.events import read_events
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, parse_trolley
 from insrail.io.tomlfile import read_toml
 from insrail.nav.fusion import FusionOptions
@@ -139,6 +141,7 @@ class Project:
     design: str | None = None
     start_station_m: float | None = None
     stationing_direction: str | float = WITH_TRAVEL
+    events: str | None = None
     first_sleeper_number: int = 1
     tolerance_profile: str = DEFAULT_PROFILE
     fastener: str = DEFAULT_FASTENER
@@ -193,6 +196,8 @@ class Project:
             track["line_speed_kmh"] = self.line_speeds[0].kmh
         elif self.line_speeds:
             track["line_speed_kmh"] = [{"from_m": r.from_m, "to_m": r.to_m, "kmh": r.kmh} for r in self.line_speeds]
+        if self.events is not None:
+            track["events"] = self.events
         document: dict[str, Any] = {
             "project": {"name": self.name, "description": self.description},
             "geodesy": {"crs": self.crs.to_settings(), "height": height},
@@ -280,9 +285,12 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
                 options[key] = value
 
     track = reader.table(document, "track")
-    reader.known(track, "track", ("design", "start_station_m", "stationing_direction", "first_sleeper_number",
-                                  "tolerance_profile", "fastener", "line_speed_kmh"))
+    reader.known(track, "track", ("design", "start_station_m", "stationing_direction", "events",
+                                  "first_sleeper_number", "tolerance_profile", "fastener", "line_speed_kmh"))
     line_speeds = _line_speeds(reader, track.get("line_speed_kmh"))
+    events = reader.file(track, "track.events")
+    if events is not None:
+        _check_events(reader, events)
     design = reader.file(track, "track.design")
     if design is not None:
         _check_design(reader, design)
@@ -308,7 +316,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     return Project(
         folder=Path(folder), name=name, description=description, crs=crs, height=height, surveys=surveys,
         trolley_settings=trolley_settings, imu_profile=imu_profile, fusion=FusionOptions(**options),
-        design=design, start_station_m=start_station, stationing_direction=stationing,
+        design=design, start_station_m=start_station, stationing_direction=stationing, events=events,
         first_sleeper_number=first_number,
         tolerance_profile=tolerance, fastener=fastener, control_points=control_points, report=report,
         line_speeds=line_speeds, local_control=local_control,
@@ -387,6 +395,19 @@ def _check_design(reader: _Reader, design: str) -> None:
         read_design(reader.folder / design)
     except (InputError, ValueError) as err:
         reader.add("track.design", str(err))
+
+
+def _check_events(reader: _Reader, events: str) -> None:
+    """A project's event file: readable, in chainage (times and odometer readings belong to one survey)."""
+    try:
+        listed = read_events(reader.folder / events)
+    except InputError as err:
+        reader.add("track.events", str(err))
+        return
+    for event in listed.events:
+        if event.unit != "station_m":
+            reader.add("track.events", f"{events}, line {event.line}: a project's events are in chainage (station_m); "
+                       f"an event in {event.unit} belongs in its survey's event file")
 
 
 def _surveys(reader: _Reader, table) -> tuple[SurveyEntry, ...]:

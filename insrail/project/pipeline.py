@@ -110,6 +110,14 @@ from insrail.project.stagecache import (
     save_dataclass,
     seal,
 )
+from insrail.project.track_events import (
+    EVENTS_ROLE,
+    TURNOUT_EXCEEDANCES_FILE,
+    apply_events,
+    assess_turnouts,
+    events_section,
+    survey_events,
+)
 from insrail.quality.survey import (
     EpochQuality,
     SectionQuality,
@@ -208,7 +216,8 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
     aid the fusion, the geodesy that places them; ``gnss_sha256``: the hash of a GNSS solution
     computed by the GNSS stage (PPK)."""
     digest = hashlib.sha256(gnss_sha256.encode())
-    for role in sorted(manifest.files):
+    fused = {role: entry for role, entry in manifest.files.items() if role != EVENTS_ROLE}  # events: assessment only
+    for role in sorted(fused):
         digest.update(role.encode())
         _hash_file(digest, folder / manifest.files[role].path)
     trolley = {k: np.asarray(v).tolist() if not isinstance(v, str) else v
@@ -216,7 +225,7 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
     profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
     settings = {"version": CACHE_VERSION, "gps_week": manifest.gps_week, "trolley": trolley, "imu_profile": repr(profile),
                 "fusion": repr(project.fusion), "ellipsoid": repr(ellipsoid_of(project)),
-                "files": {r: asdict(f) for r, f in manifest.files.items()}}
+                "files": {r: asdict(f) for r, f in fused.items()}}
     if "prism" in manifest.files:
         settings["prism_geodesy"] = _geodesy_settings(project)
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
@@ -414,8 +423,10 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     del fresh
     check_cancel(cancel)
     step(0.88, "irregularities and exceedances")
+    measured = recon.table.valid
+    events = survey_events(project, manifest, folder, recon)
+    recon = apply_events(recon, events)
     table = recon.table
-    measured = table.valid
     centre = table.centre_enh_m[measured]
     if local is not None:  # the height model lives in the engineering CRS
         centre = np.column_stack(local.to_engineering(*centre.T))
@@ -429,6 +440,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                            sleeper_number=table.number, curvature_1pm=curvature, line_speed_mps=speed)
     profile = load_tolerance_profile(project.resource(project.tolerance_profile))
     assessment = assess(geometry, profile)
+    in_turnouts, turnout_counts = assess_turnouts(project, geometry, measured, events)
     check_cancel(cancel)
     step(0.9, "adjustment amounts")
     adjustment = _adjustment(project, geometry, profile, step.sub(0.9, 0.97), cancel)
@@ -453,6 +465,12 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     if local is not None:
         summary["local_control"] = local.summary()
     summary["track_quality"] = track_quality_section(geometry)
+    summary["events"] = events_section(events, table.station_m, turnout_counts)
+    event_files = {}
+    if turnout_counts:  # turnouts assessed with their own profiles
+        event_files[TURNOUT_EXCEEDANCES_FILE] = exceedances_csv(replace(assessment, exceedances=in_turnouts))
+        summary["files"]["turnout_exceedances"] = TURNOUT_EXCEEDANCES_FILE
+    summary["assessment"]["not_assessed_sleepers"] = int((measured & ~table.valid).sum())
     line_fit_files = _line_fit_files(recon)
     if project.design is None:
         summary["track"]["line_fit"] = _line_fit_section(recon)
@@ -466,7 +484,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
             table, sleeper_attitude_rad(trajectory_file, table.time_s), curvature, speed, bases)),
         QUALITY_FILE: quality_csv(quality),
         EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary),
-        **line_fit_files, **(gnss.result_files() if gnss else {})}, cancel)
+        **line_fit_files, **event_files, **(gnss.result_files() if gnss else {})}, cancel)
     step(1.0, "done")
     return SurveyResults(entry.name, results_folder, manifest.gps_week, height_fit, recon, assessment, adjustment,
                          fusion_info["from_cache"], summary, quality)

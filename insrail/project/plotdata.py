@@ -46,6 +46,7 @@ from insrail.project.results import (
     ExceedanceRow,
     StoredResults,
 )
+from insrail.track.events import KIND_NAMES
 from insrail.track.tolerance import ToleranceProfile, load_tolerance_profile
 
 #: Margin shown either side of an exceedance [m]: enough to see the 30 m chord around it.
@@ -410,6 +411,22 @@ def gap_breaks(time_s: np.ndarray) -> np.ndarray:
 # --------------------------------------------------------------------------- one survey's views
 
 @dataclass(frozen=True)
+class EventSpan:
+    """An event of the survey drawn along the chainage plots (a point event has from = to)."""
+
+    station_from_m: float
+    station_to_m: float
+    name: str  # "turnout W12", "level crossing LC 3"
+    not_assessed: bool  # its sleepers are left out of the assessment (greyed)
+
+
+def event_spans(summary: dict) -> tuple[EventSpan, ...]:
+    """The events processing placed on the chainage (summary.toml's ``[[events]]``)."""
+    return tuple(EventSpan(e["station_from_m"], e["station_to_m"], f"{KIND_NAMES[e['kind']]} {e['text']}".strip(),
+                           bool(e["not_assessed"])) for e in summary.get("events", []))
+
+
+@dataclass(frozen=True)
 class TrackData:
     """What the track view draws for one survey (arrays one per sleeper, in chainage order)."""
 
@@ -421,13 +438,15 @@ class TrackData:
     plots: tuple[ChainagePlot, ...]
     exceedances: tuple[ExceedanceRow, ...]
     bands: dict[str, QualityBand]
+    events: tuple[EventSpan, ...] = ()
 
 
 def track_data(project: Project, stored: StoredResults) -> TrackData:
     profile = load_tolerance_profile(project.resource(project.tolerance_profile))
     plots = chainage_plots(stored.columns, profile)
     return TrackData(stored.survey, stored.columns["station_m"], stored.number, stored.label, stored.columns,
-                     plots, stored.exceedances, quality_bands(plots, profile, stored.quality))
+                     plots, stored.exceedances, quality_bands(plots, profile, stored.quality),
+                     event_spans(stored.summary))
 
 
 @dataclass(frozen=True)

@@ -24,6 +24,7 @@ cache. Readers see the files exactly as a user opening them in a spreadsheet wou
 
 from __future__ import annotations
 
+import csv
 import ctypes
 import ctypes.util
 import io
@@ -54,6 +55,8 @@ _UNITS = {"ratio": ("_ratio", 1.0, "%.6f", "ratio"), "mm": ("_mm", 1e3, "%.3f", 
 
 RESULTS_FOLDER = "results"
 TRAJECTORY_FILE = "trajectory.npy"
+#: The sleepers.csv text column of reasons a measured sleeper is not assessed (joined by "; ").
+NOT_ASSESSED_COLUMN = "not_assessed"
 SLEEPERS_FILE = "sleepers.csv"
 EXCEEDANCES_FILE = "exceedances.csv"
 SUMMARY_FILE = "summary.toml"
@@ -142,16 +145,26 @@ def sleeper_columns(table: SleeperTable, assessment: Assessment, adjustment: Adj
 
 def sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjustment,
                  extra: dict[str, tuple[np.ndarray, str]] | None = None) -> str:
-    """number, label, then the columns of :func:`sleeper_columns`; NaN (not computable) as empty."""
+    """number, label, then the columns of :func:`sleeper_columns`, then ``not_assessed`` (why a
+    measured sleeper is left out of the assessment, reasons joined by "; ", quoted as CSV when
+    they hold a comma); NaN (not computable) as empty."""
     columns = sleeper_columns(table, assessment, adjustment, extra)
-    header = ",".join(["number", "label", *columns]) + "\n"
+    header = ",".join(["number", "label", *columns, NOT_ASSESSED_COLUMN]) + "\n"
     if not len(table):
         return header
     block = io.StringIO()
     numeric = np.column_stack([np.asarray(values, dtype=float) for values, _ in columns.values()])
     np.savetxt(block, numeric, fmt=[fmt for _, fmt in columns.values()], delimiter=",")
     lines = block.getvalue().replace("nan", "").splitlines()
-    return header + "".join(f"{n},{label},{line}\n" for n, label, line in zip(table.number, table.label, lines))
+    reasons = table.not_assessed or ("",) * len(table)
+    return header + "".join(f"{n},{label},{line},{_csv_text(reason)}\n"
+                            for n, label, line, reason in zip(table.number, table.label, lines, reasons))
+
+
+def _csv_text(text: str) -> str:
+    if not any(c in text for c in ',"\n'):
+        return text
+    return '"' + text.replace("\n", " ").replace('"', '""') + '"'
 
 
 def exceedances_csv(assessment: Assessment) -> str:
@@ -379,6 +392,7 @@ class StoredResults:
     columns: dict[str, np.ndarray]  # sleepers.csv columns after number and label; NaN where empty
     exceedances: tuple[ExceedanceRow, ...]
     quality: StoredQuality | None = None  # None: results written before quality.csv existed
+    not_assessed: tuple[str, ...] = ()  # per sleeper, why it is not assessed ("" when it is); () none stored
 
     def __len__(self) -> int:
         return len(self.number)
@@ -399,12 +413,12 @@ def load_results(project_folder: Path, survey: str) -> StoredResults:
         summary = tomllib.loads(summary_path.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
         raise InputError(summary_path, None, f"not a valid summary file ({error})") from None
-    number, label, columns = _read_sleepers(folder / SLEEPERS_FILE)
+    number, label, columns, not_assessed = _read_sleepers(folder / SLEEPERS_FILE)
     quality_path = folder / QUALITY_FILE
     quality = (_read_quality(quality_path, summary.get("quality", {}).get("pass", "smoothed") == "smoothed")
                if quality_path.is_file() else None)
     return StoredResults(survey, folder, summary, number, label, columns,
-                         _read_exceedances(folder / EXCEEDANCES_FILE), quality)
+                         _read_exceedances(folder / EXCEEDANCES_FILE), quality, not_assessed)
 
 
 def report_path(project_folder: Path, survey: str, suffix: str) -> Path:
@@ -422,26 +436,34 @@ def _lines(path: Path) -> list[str]:
         raise InputError(path, None, "result file missing: process the survey again") from None
 
 
-def _read_sleepers(path: Path) -> tuple[np.ndarray, tuple[str, ...], dict[str, np.ndarray]]:
+def _read_sleepers(path: Path) -> tuple[np.ndarray, tuple[str, ...], dict[str, np.ndarray], tuple[str, ...]]:
     lines = _lines(path)
     if not lines or not lines[0].startswith("number,label,"):
         raise InputError(path, 1, "expected the header 'number,label,...' of an insrail sleeper table")
     names = lines[0].split(",")[2:]
-    rows = [line.split(",") for line in lines[1:]]
+    texts = names[-1:] == [NOT_ASSESSED_COLUMN]
+    if texts:  # a quoted text column: the csv module splits these lines
+        names = names[:-1]
+        rows = list(csv.reader(lines[1:]))
+    else:
+        rows = [line.split(",") for line in lines[1:]]
+    width = len(names) + 2 + texts
     for line_number, row in enumerate(rows, start=2):
-        if len(row) != len(names) + 2:
-            raise InputError(path, line_number, f"expected {len(names) + 2} fields, found {len(row)}")
+        if len(row) != width:
+            raise InputError(path, line_number, f"expected {width} fields, found {len(row)}")
     if not rows:
-        return np.zeros(0, int), (), {name: np.zeros(0) for name in names}
-    cells = np.array([row[2:] for row in rows])
+        return np.zeros(0, int), (), {name: np.zeros(0) for name in names}, ()
+    cells = np.array([row[2:len(names) + 2] for row in rows])
     cells[cells == ""] = "nan"
     try:
         values = cells.astype(float)
         number = np.array([row[0] for row in rows]).astype(int)
     except ValueError:
-        bad = next(i for i, row in enumerate(rows) if not _numeric(row))
+        bad = next(i for i, row in enumerate(rows) if not _numeric(row[:len(names) + 2]))
         raise InputError(path, bad + 2, "expected numbers in every column but the label") from None
-    return number, tuple(row[1] for row in rows), {name: values[:, i] for i, name in enumerate(names)}
+    not_assessed = tuple(row[-1] for row in rows) if texts else ()
+    return (number, tuple(row[1] for row in rows), {name: values[:, i] for i, name in enumerate(names)},
+            not_assessed)
 
 
 def _numeric(row: list[str]) -> bool:

@@ -19,6 +19,7 @@ from reportlab.lib import colors
 SERIES_COLOURS = (colors.HexColor("#1f4e9c"), colors.HexColor("#d9641e"), colors.HexColor("#2b8a3e"))
 LIMIT_COLOUR = colors.HexColor("#c0141e")
 INVALID_COLOUR = colors.HexColor("#e3e3e3")
+EVENT_COLOUR = colors.HexColor("#7b5ea7")
 OUTAGE_COLOUR = colors.HexColor("#f0a030")
 WEAK_COLOUR = colors.HexColor("#fde2c4")
 GRID_COLOUR = colors.HexColor("#d0d0d0")
@@ -94,6 +95,7 @@ class StripChart:
     exceeding: np.ndarray | None = None
     bands: tuple[Band, ...] = ()
     include_zero: bool = False  # the value axis starts at zero (sigmas, magnitudes)
+    events: tuple[Band, ...] = ()  # turnouts, level crossings, joints ...: marked along the top edge, named
 
 
 def section_steps(station_from_m: np.ndarray, station_to_m: np.ndarray, *values: np.ndarray):
@@ -157,6 +159,14 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
     for run in _runs(window[chart.exceeding[window]] if chart.exceeding is not None else np.zeros(0, dtype=int)):
         x0, x1 = px(station_m[run[0]] - 0.3), px(station_m[run[-1]] + 0.3)
         drawing.add(Rect(float(x0), bottom, float(max(x1 - x0, 1.0)), 3.0, fillColor=LIMIT_COLOUR, strokeColor=None))
+    for event in chart.events:
+        if event.station_to_m < station_from or event.station_from_m > station_to:
+            continue
+        x0, x1 = (float(np.clip(px(s), left, left + plot_w)) for s in (event.station_from_m, event.station_to_m))
+        drawing.add(Rect(x0, bottom + plot_h - 3.0, max(x1 - x0, 1.0), 3.0, fillColor=event.colour, strokeColor=None))
+        drawing.add(Line(x0, bottom, x0, bottom + plot_h, strokeColor=event.colour, strokeWidth=0.3))
+        drawing.add(String(x0 + 1.5, bottom + plot_h - 9.0, event.name, fontName=FONT, fontSize=5.5,
+                           fillColor=event.colour))
     step = nice_step(high - low, 5)
     for tick in np.arange(math.ceil(low / step) * step, high, step):
         y = float(py(tick))

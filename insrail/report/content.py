@@ -23,7 +23,13 @@ from functools import cached_property
 import numpy as np
 
 from insrail import __version__
-from insrail.names import channel_name, check_name, check_unit, column_name, rail_direction
+from insrail.names import (
+    channel_name,
+    check_name,
+    check_unit,
+    column_name,
+    rail_direction,
+)
 from insrail.project.model import Project
 from insrail.project.results import (
     GAUGE_CHANGE_BASE_M,
@@ -33,6 +39,7 @@ from insrail.project.results import (
     check_column,
 )
 from insrail.track.adjustment import FastenerType, load_fastener_type
+from insrail.track.events import KIND_NAMES
 from insrail.track.exceedance import RAILS
 from insrail.track.stationing import StationEquations
 from insrail.track.tolerance import (
@@ -76,6 +83,31 @@ class Column:
 
 
 @dataclass(frozen=True)
+class EventRow:
+    """One event of summary.toml's ``[[events]]`` as the reports show it."""
+
+    kind: str  # display name ("level crossing")
+    station_from_m: float
+    station_to_m: float
+    text: str
+    assessment: str  # "not assessed", "assessed with <profile>: N exceedances", "marked"
+    sleepers: int
+    source: str
+
+    @classmethod
+    def of(cls, row: dict) -> EventRow:
+        assessment = ("not assessed" if row["not_assessed"] else
+                      f"assessed with {row['profile']}: {row.get('exceedances', 0)} exceedances" if row["profile"]
+                      else "marked only")
+        return cls(KIND_NAMES[row["kind"]], row["station_from_m"], row["station_to_m"], row["text"], assessment,
+                   row["sleepers"], row["source"])
+
+    @property
+    def name(self) -> str:
+        return f"{self.kind} {self.text}".strip()
+
+
+@dataclass(frozen=True)
 class ReportContent:
     """Everything the workbook and the PDF present, in display units."""
 
@@ -107,6 +139,10 @@ class ReportContent:
     def chainage(self) -> ChainageAxis:
         """K-chainage of any station of this survey (chart axes)."""
         return ChainageAxis.from_labels(self.station_m, self.results.label)
+    @property
+    def events(self) -> tuple[EventRow, ...]:
+        """The survey's events (turnouts, level crossings, ...) as the processing placed them."""
+        return tuple(EventRow.of(row) for row in self.summary.get("events", []))
 
     def column(self, key: str) -> Column:
         for column in self.columns:
@@ -302,6 +338,7 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
         _named("number", SLEEPER_GROUP, results.number, "0", "number", width=8),
         _named("label", SLEEPER_GROUP, np.array(results.label, dtype=object), "@", width=13),
         _named("station_m", SLEEPER_GROUP, c["station_m"], "0.000", width=11),
+        _named("not_assessed", SLEEPER_GROUP, np.array(results.not_assessed or ("",) * n, dtype=object), "@", width=18),
     ]
     for direction in DIRECTIONS:
         for rail in RAILS:

@@ -445,6 +445,23 @@ def _exceedance_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
                           sheet.cell(e.first_sleeper), sheet.cell(e.last_sleeper)])
     progress(1.0, "exceedance sheet")
     sheet.finish_table(header, header, len(titles))
+    _events_table(sheet, content)
+
+
+def _events_table(sheet: _Sheet, content: ReportContent) -> None:
+    """The survey's events below the exceedances: the stretches not assessed (greyed in the sleeper
+    sheet, never counted as exceedances) and the ones only marked."""
+    if not content.events:
+        return
+    not_assessed = content.summary.get("assessment", {}).get("not_assessed_sleepers", 0)
+    sheet.append([])
+    sheet.append([sheet.cell(f"Events: {not_assessed} measured sleepers not assessed with the tolerance profile",
+                             font=BOLD)])
+    sheet.header(["no.", "event", "text", "from (m)", "to (m)", "sleepers", "assessment", "written in"])
+    for index, e in enumerate(content.events, start=1):
+        sheet.append([sheet.cell(index), sheet.cell(e.kind), sheet.cell(e.text), sheet.cell(e.station_from_m, "0.000"),
+                      sheet.cell(e.station_to_m, "0.000"), sheet.cell(e.sleepers), sheet.cell(e.assessment),
+                      sheet.cell(e.source)])
 
 
 # --------------------------------------------------------------------------- summary

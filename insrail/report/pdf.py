@@ -13,6 +13,7 @@ import datetime
 import itertools
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 from xml.sax.saxutils import escape
 
@@ -54,6 +55,7 @@ from insrail.project.compare import (
 from insrail.project.model import Project
 from insrail.project.results import SUMMARY_FILE, StoredResults, check_column
 from insrail.report.charts import (
+    EVENT_COLOUR,
     LIMIT_COLOUR,
     OUTAGE_COLOUR,
     WEAK_COLOUR,
@@ -658,7 +660,8 @@ def _charts(content: ReportContent, progress: StepProgress, cancel: CancelToken)
     station = content.station_m
     if not station.size:
         return []
-    charts = chart_specs(content)
+    marks = tuple(Band(e.station_from_m, e.station_to_m, EVENT_COLOUR, e.name) for e in content.events)
+    charts = [replace(chart, events=marks) for chart in chart_specs(content)]
     width = PAGE[0] - 2 * MARGIN
     available = CHART_AREA_HEIGHT
     layout = pages_of_charts(len(charts), available)
@@ -709,12 +712,26 @@ def _percent(value: float) -> str:
     return f"{value:.0f} %" if value >= 1 else f"{value:.1f} %"
 
 
+def _events(content: ReportContent) -> list[Flowable]:
+    """The survey's events: which stretches were not assessed (their sleepers greyed), which only marked."""
+    if not content.events:
+        return []
+    not_assessed = content.summary.get("assessment", {}).get("not_assessed_sleepers", 0)
+    rows = [[e.kind, text(e.text), f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", e.sleepers, e.assessment,
+             text(e.source)] for e in content.events]
+    return [Paragraph("Events and stretches not assessed", H2),
+            Paragraph(f"{not_assessed} measured sleepers lie in events not assessed with the tolerance profile "
+                      "(greyed in the charts and the workbook, never counted as exceedances).", BODY),
+            table(["event", "text", "from (m)", "to (m)", "sleepers", "assessment", "written in"], rows,
+                  [28 * mm, 55 * mm, 22 * mm, 22 * mm, 16 * mm, 60 * mm, 45 * mm])]
+
+
 def _exceedances(content: ReportContent) -> list[Flowable]:
     """The exceedances grouped by severity (the most severe first), each group in chainage order."""
     story: list[Flowable] = [Heading("Exceedances"), Paragraph("Exceedances", H1)]
     groups = exceedances_by_severity(content)
     if not groups:
-        return story + [Paragraph("No sleeper is beyond a limit of the tolerance profile.", BODY)]
+        return story + [Paragraph("No sleeper is beyond a limit of the tolerance profile.", BODY)] + _events(content)
     story.append(Paragraph(text(SEVERITY_RULE[0].upper() + SEVERITY_RULE[1:] + "."), BODY))
     label_of = dict(zip(content.results.number.tolist(), content.results.label))
     widths = [12 * mm, 78 * mm, 30 * mm, 30 * mm, 18 * mm, 18 * mm, 18 * mm, 16 * mm, 18 * mm, 28 * mm]
@@ -732,7 +749,7 @@ def _exceedances(content: ReportContent) -> list[Flowable]:
         story += [CondPageBreak(30 * mm), Paragraph(f"{severity.capitalize()}: {len(rows)}", H2),
                   table(["no.", "check", "from", "to", "length (m)", "peak", "limit", "unit", "beyond by", "sleepers"],
                         data, widths)]
-    return story
+    return story + _events(content)
 
 
 def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Section:

@@ -14,7 +14,13 @@ import math
 
 import numpy as np
 
-from insrail.track.alignment import Arc, Clothoid, DesignAlignment, HorizontalAlignment, Line
+from insrail.track.alignment import (
+    Arc,
+    Clothoid,
+    DesignAlignment,
+    HorizontalAlignment,
+    Line,
+)
 from insrail.track.errors import DesignError
 from insrail.track.profile import PVI, CantTable, VerticalProfile
 

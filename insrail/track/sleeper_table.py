@@ -38,8 +38,16 @@ from insrail.track.linefit_windows import DEFAULT_OVERLAP_M as DEFAULT_FIT_OVERL
 from insrail.track.linefit_windows import DEFAULT_WINDOW_M as DEFAULT_FIT_WINDOW_M
 from insrail.track.linefit_windows import WindowedReference, fit_windows
 from insrail.track.rails import RailPoints, ToEngineering, rails_from_pose
-from insrail.track.resample import DEFAULT_WINDOW_M, interpolate_in_station, sliding_window_fit
-from insrail.track.sleepers import SleeperNumbering, number_sleepers, sleeper_detector_ahead_m
+from insrail.track.resample import (
+    DEFAULT_WINDOW_M,
+    interpolate_in_station,
+    sliding_window_fit,
+)
+from insrail.track.sleepers import (
+    SleeperNumbering,
+    number_sleepers,
+    sleeper_detector_ahead_m,
+)
 
 
 @dataclass(frozen=True)
@@ -59,7 +67,9 @@ class SleeperTable:
     vertical_deviation_m  (n, 2) + = rail ABOVE its design (or fitted) position
     sigma_pos_ned_m   (n, 3) 1-sigma of the trajectory's position at ``time_s``
     sigma_roll_rad    1-sigma of the roll at ``time_s``
-    valid             every quantity above is finite
+    valid             every quantity above is finite and the sleeper is to be assessed
+    not_assessed      per sleeper, why it is left out of the assessment although measured (events
+                      such as a turnout or a level crossing, reasons joined by "; "); () for none
     """
 
     number: np.ndarray
@@ -78,6 +88,7 @@ class SleeperTable:
     sigma_pos_ned_m: np.ndarray
     sigma_roll_rad: np.ndarray
     valid: np.ndarray
+    not_assessed: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return len(self.number)

@@ -34,6 +34,7 @@ from insrail.gui.lazy import DrawWhenShown
 from insrail.project.plotdata import (
     BAND_SIGMAS,
     ChainagePlot,
+    EventSpan,
     QualityBand,
     exceedance_window,
     locate,
@@ -71,6 +72,30 @@ class SortableItem(QTableWidgetItem):
         return self.text() < other.text()
 
 
+#: Events along the chainage plots: not assessed (their sleepers greyed in the reports) or only marked.
+EVENT_NOT_ASSESSED_BRUSH = pg.mkBrush(123, 94, 167, 45)
+EVENT_BRUSH = pg.mkBrush(123, 94, 167, 18)
+EVENT_PEN = pg.mkPen("#7b5ea7", width=1, style=Qt.DotLine)
+EVENT_TEXT = "#7b5ea7"
+
+
+def _add_events(item: pg.PlotItem, events: Sequence[EventSpan], named: bool) -> None:
+    """Event spans behind the curves (a point event as a line); their names on the top plot."""
+    for event in events:
+        brush = EVENT_NOT_ASSESSED_BRUSH if event.not_assessed else EVENT_BRUSH
+        if event.station_to_m > event.station_from_m:
+            span = pg.LinearRegionItem((event.station_from_m, event.station_to_m), movable=False, brush=brush,
+                                       pen=pg.mkPen(None))
+        else:
+            span = pg.InfiniteLine(event.station_from_m, angle=90, pen=EVENT_PEN)
+        span.setZValue(-8)
+        item.addItem(span, ignoreBounds=True)
+        if named:
+            text = pg.TextItem(event.name, color=EVENT_TEXT, anchor=(0, 0))
+            text.setPos(event.station_from_m, 0.0)
+            item.addItem(text, ignoreBounds=True)
+
+
 class ChainagePlots(pg.GraphicsLayoutWidget):
     """Stacked plots along chainage sharing the x axis of the top one, with a crosshair."""
 
@@ -87,7 +112,8 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self.scene().sigMouseClicked.connect(self._mouse_clicked)
 
     def set_data(self, station_m: np.ndarray, columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
-                 visible: set[str], bands: Mapping[str, QualityBand] | None = None) -> None:
+                 visible: set[str], bands: Mapping[str, QualityBand] | None = None,
+                 events: Sequence[EventSpan] = ()) -> None:
         self.clear()
         self.plots.clear()
         self._crosshairs.clear()
@@ -128,6 +154,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             self._crosshairs.append(crosshair)
             self._regions.append(region)
             self._measure_lines.append(lines)
+            _add_events(item, events, named=not row)
             view = item.vb
             view.setMouseEnabled(x=True, y=False)  # the wheel zooms along chainage; y fits what is visible
             view.setAutoVisible(y=True)
@@ -263,22 +290,24 @@ class TrackView(DrawWhenShown, QWidget):
         self._bands: dict[str, QualityBand] = {}
         self._measured: list[tuple[str, float]] = []  # (plot key, station) of the measuring tool's points
         self._pending_range: tuple[float, float] | None = None  # a range to apply once drawn
+        self._events: tuple[EventSpan, ...] = ()
         self.plots.cursorMoved.connect(self.show_values_at)
         self.plots.clicked.connect(self._plot_clicked)
 
     def set_results(self, station_m: np.ndarray, number: np.ndarray, label: Sequence[str],
                     columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
                     exceedances: Sequence[ExceedanceRow], bands: Mapping[str, QualityBand] | None = None,
-                    survey: str = "") -> None:
-        """Plain arrays (one per sleeper, in chainage order), the plots to draw from them and the
-        predicted-accuracy bands of some plots (by plot key). The same ``survey`` again (processed
-        once more) keeps the chainage window and the plots shown."""
+                    survey: str = "", events: Sequence[EventSpan] = ()) -> None:
+        """Plain arrays (one per sleeper, in chainage order), the plots to draw from them, the
+        predicted-accuracy bands of some plots (by plot key) and the survey's events. The same
+        ``survey`` again (processed once more) keeps the chainage window and the plots shown."""
         same = bool(survey) and survey == self.survey and bool(self._specs)
         state = self.view_state() if same else None
         self.survey = survey
         self._station, self._numbers, self._labels = np.asarray(station_m), np.asarray(number), tuple(label)
         self._columns, self._specs, self._rows = columns, tuple(plots), tuple(exceedances)
         self._bands = dict(bands or {})
+        self._events = tuple(events)
         failing = {f"check_{e.check}" for e in self._rows}
         self._visible = {p.key for p in plots if p.kind not in HIDDEN_KINDS or p.key in failing}
         self._measured = []
@@ -337,7 +366,7 @@ class TrackView(DrawWhenShown, QWidget):
         self.request_draw()
 
     def _draw(self) -> None:
-        self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands)
+        self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands, self._events)
         self.plots.mark_measure([station for _, station in self._measured])
         self._apply_pending_range()
 
