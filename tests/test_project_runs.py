@@ -215,3 +215,34 @@ def test_cancelling_a_batch_drops_the_surveys_not_started(tiny_projects, tmp_pat
     assert "FAILED" in messages[0]
     assert not (good[-1] / "results" / "tiny").exists()  # never started
 
+
+
+def test_dask_batch_over_tls_with_the_security_settings_of_a_config_file(tiny_projects, tmp_path, capsys):
+    """A scheduler that requires TLS: the batch connects with the certificates named in a Dask
+    YAML configuration file (insrail batch --security FILE); a missing certificate is named."""
+    import shutil as _shutil
+
+    from distributed import LocalCluster
+    from distributed.security import Security
+
+    if _shutil.which("openssl") is None:
+        pytest.skip("openssl is needed to make a test certificate")
+    key, cert = tmp_path / "key.pem", tmp_path / "cert.pem"
+    subprocess.run(["openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-keyout", str(key), "-out", str(cert),
+                    "-days", "1", "-subj", "/CN=localhost"], check=True, capture_output=True)
+    config = tmp_path / "dask-tls.yaml"
+    config.write_text("distributed:\n  comm:\n    require-encryption: true\n    tls:\n"
+                      f"      ca-file: {cert}\n      client:\n        cert: {cert}\n        key: {key}\n")
+    cluster_security = Security(tls_ca_file=str(cert), tls_scheduler_cert=str(cert), tls_scheduler_key=str(key),
+                                tls_worker_cert=str(cert), tls_worker_key=str(key), tls_client_cert=str(cert),
+                                tls_client_key=str(key), require_encryption=True)
+    (copy,) = fresh_copies(tiny_projects[:1], tmp_path)
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None,
+                      protocol="tls://", security=cluster_security) as cluster:
+        assert cluster.scheduler_address.startswith("tls://")
+        code = main(["batch", str(copy), "--scheduler", cluster.scheduler_address, "--security", str(config)])
+    assert code == 0, capsys.readouterr()
+    assert (copy / "results" / "tiny" / "sleepers.csv").is_file()
+    config.write_text(config.read_text().replace(str(key), str(tmp_path / "nokey.pem")))
+    assert main(["batch", str(copy), "--scheduler", "tls://127.0.0.1:1", "--security", str(config)]) == 1
+    assert "dask-tls.yaml: distributed.comm.tls.client.key: file not found" in capsys.readouterr().err

@@ -4,7 +4,9 @@ Each survey runs as `insrail process` would (same cache, same result files) in i
 with --workers N local processes (default: one per core; a 10 km survey needs about 2 GB per
 worker), or, with --scheduler ADDRESS (e.g. tcp://10.0.0.5:8786), on that Dask distributed
 cluster (pip install insrail[cluster]; the workers must see the project folders under the same
-paths). A failed survey is reported and the others go on. Exit code 0 when every survey was
+paths). A Dask scheduler runs whatever its clients send: keep it on a trusted network, or use
+TLS (a tls:// address and --security FILE, a Dask YAML configuration with the
+distributed.comm.tls settings; see insrail.project.batch). A failed survey is reported and the others go on. Exit code 0 when every survey was
 processed, 1 when some failed, 2 on bad usage, 130 when cancelled (Ctrl-C).
 """
 
@@ -21,7 +23,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("projects", type=Path, nargs="+", metavar="PROJECT",
                    help="project folder (with project.toml) or project .toml file")
     p.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: one per core)")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address; the cluster runs the surveys")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address; the cluster runs the surveys "
+                   "(on a trusted network only, or tls:// with --security)")
+    p.add_argument("--security", type=Path, metavar="FILE",
+                   help="Dask YAML configuration with the TLS settings (distributed.comm.tls: ca-file, "
+                   "client cert and key; require-encryption)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -34,6 +40,14 @@ def run(args: argparse.Namespace) -> int:
         print("insrail batch: --workers is for local processing; the Dask cluster has its own workers",
               file=sys.stderr)
         return 2
+    if args.security is not None and args.scheduler is None:
+        print("insrail batch: --security is for a Dask scheduler (--scheduler)", file=sys.stderr)
+        return 2
+    security = None
+    if args.security is not None:
+        from insrail.project.batch import dask_security
+
+        security = dask_security(args.security)
     bar = TerminalProgress("batch")
 
     def progress(fraction: float, message: str) -> None:
@@ -43,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
             bar(fraction, message)
 
     try:
-        outcomes = run_batch(args.projects, workers=args.workers, scheduler=args.scheduler, progress=progress)
+        outcomes = run_batch(args.projects, workers=args.workers, scheduler=args.scheduler, progress=progress,
+                             security=security)
     except RuntimeError as error:  # no Dask installed
         print(f"insrail batch: {error}", file=sys.stderr)
         return 2

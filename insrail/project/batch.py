@@ -9,6 +9,13 @@ survey). With a Dask scheduler address the tasks are submitted to that cluster
 (``pip install insrail[cluster]``); its workers must see the project folders under the same
 paths (a shared file system).
 
+Security: a Dask scheduler runs whatever its clients submit, and its workers unpickle what they
+receive. Anyone who can reach a plain ``tcp://`` scheduler can run code on every worker, with
+access to every project folder they see. Run the scheduler on a trusted network only, or with
+TLS: a ``tls://`` address and Dask's security settings (``distributed.comm.tls.*``, with
+``distributed.comm.require-encryption: true``) from a Dask configuration file given as
+``security`` (:func:`dask_security`), as ``distributed.security.Security`` reads them.
+
 Cancelling (the ``cancel`` token, or Ctrl-C in the CLI) stops scheduling: tasks not started are
 dropped, running ones are left to finish (or are interrupted by the same Ctrl-C, which leaves
 their previous results in place), and :class:`insrail.progress.Cancelled` is raised.
@@ -83,11 +90,50 @@ def run_task(task: BatchTask) -> BatchOutcome:
     return BatchOutcome(task.project_file, task.survey, True, str(results.folder), time.monotonic() - started)
 
 
+def dask_security(config_file: str | Path):
+    """``distributed.security.Security`` from a Dask YAML configuration file (the format of
+    ``~/.config/dask/distributed.yaml``): its ``distributed.comm.tls`` keys (``ca-file``,
+    ``client.cert``, ``client.key``; a path or the PEM text) and ``distributed.comm.require-encryption``.
+    InputError naming the file for a file that cannot be read or names a missing certificate."""
+    import dask.config
+    import yaml
+    from distributed.security import Security
+
+    path = Path(config_file)
+    try:
+        document = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except OSError as err:
+        raise InputError(path, None, f"cannot read the Dask security settings: {err.strerror}") from None
+    except yaml.YAMLError as err:
+        raise InputError(path, None, f"not a Dask YAML configuration file: {err}") from None
+    if not isinstance(document, dict) or not isinstance(document.get("distributed", {}).get("comm"), dict):
+        raise InputError(path, None, "expected Dask settings under distributed.comm (tls: ca-file, client: cert, "
+                         "key; require-encryption)")
+    tls = document["distributed"]["comm"].get("tls", {}) or {}
+    for key, value in (("ca-file", tls.get("ca-file")), ("client.cert", (tls.get("client") or {}).get("cert")),
+                       ("client.key", (tls.get("client") or {}).get("key"))):
+        if isinstance(value, str) and "-----BEGIN" not in value and not Path(value).expanduser().is_file():
+            raise InputError(path, None, f"distributed.comm.tls.{key}: file not found: {value}")
+    with dask.config.set(_dotted(document)):  # key by key: Dask's other defaults stay
+        return Security()
+
+
+def _dotted(document: dict, prefix: str = "") -> dict:
+    """``{"a": {"b": 1}}`` -> ``{"a.b": 1}``."""
+    flat = {}
+    for key, value in document.items():
+        name = f"{prefix}{key}"
+        flat.update(_dotted(value, name + ".") if isinstance(value, dict) else {name: value})
+    return flat
+
+
 def run_batch(projects: list[str | Path], workers: int | None = None, scheduler: str | None = None,
-              progress: ProgressFn | None = None, cancel: CancelToken = None) -> list[BatchOutcome]:
+              progress: ProgressFn | None = None, cancel: CancelToken = None,
+              security=None) -> list[BatchOutcome]:
     """Process every survey of ``projects`` (folders or project.toml files) with ``workers``
     local processes (default: one per core), or on the Dask cluster at ``scheduler`` (its
-    workers decide the parallelism); outcomes in task order, projects that failed to load first. ``progress`` gets one call per finished task
+    workers decide the parallelism; ``security``: a ``distributed.security.Security``, see
+    :func:`dask_security`); outcomes in task order, projects that failed to load first. ``progress`` gets one call per finished task
     with the fraction done and ``"<project>/<survey>: done in 12.3 s"`` or ``"...: FAILED: why"``."""
     tasks, outcomes = batch_tasks(projects)
     total = len(tasks) + len(outcomes)
@@ -102,7 +148,7 @@ def run_batch(projects: list[str | Path], workers: int | None = None, scheduler:
         outcomes.remove(failed)
         report(failed)
     if tasks and scheduler is not None:
-        _run_on_dask(tasks, scheduler, report, cancel)
+        _run_on_dask(tasks, scheduler, report, cancel, security)
     elif tasks:
         _run_locally(tasks, workers, report, cancel)
     order = {(t.project_file, t.survey): i for i, t in enumerate(tasks)}
@@ -143,13 +189,13 @@ def _run_locally(tasks, workers, report, cancel) -> None:
             raise
 
 
-def _run_on_dask(tasks, scheduler, report, cancel) -> None:
+def _run_on_dask(tasks, scheduler, report, cancel, security=None) -> None:
     try:
         from distributed import Client
         from distributed import wait as dask_wait
     except ImportError:
         raise RuntimeError("a Dask scheduler needs the 'distributed' package: pip install insrail[cluster]") from None
-    with Client(scheduler, timeout="10s") as client:
+    with Client(scheduler, timeout="10s", security=security) as client:
         pending = {client.submit(run_task, task, pure=False): task for task in tasks}
         try:
             while pending:
