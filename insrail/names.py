@@ -191,6 +191,7 @@ COLUMN_NAMES: dict[str, Name] = {
     **_per_rail("unresolved_{direction}_{rail}", "{direction} checks still failed after adjustment, {rail}", ""),
     # derived in the reports (insrail.report.content)
     "row": Name("Row"),
+    "runs": Name("Runs"),
     "gauge_deviation_mm": Name("Gauge deviation", "mm"),
     "cross_level_mm": Name("Cross level", "mm"),
     "guiding_rail": Name("Guiding rail"),

@@ -20,6 +20,7 @@ FORMAT_NAMES = ("lift-lining", "dxf", "landxml", "csv")
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("project", type=Path, help="project folder (with project.toml) or project .toml file")
     p.add_argument("--survey", metavar="NAME", help="the survey to export (needed when the project has several)")
+    p.add_argument("--section", metavar="NAME", help="a joined line section instead (insrail section)")
     p.add_argument("--format", required=True, choices=FORMAT_NAMES, help="what to write")
     p.add_argument("--out", type=Path, metavar="FILE", help="the file to write (default: in PROJECT/reports/)")
 
@@ -31,7 +32,14 @@ def run(args: argparse.Namespace) -> int:
     from insrail.project.results import load_results
 
     project = load_project(args.project)
-    names = chosen_surveys(project, [args.survey] if args.survey else None)
+    if args.section:
+        if args.section not in {s.name for s in project.sections}:
+            print(f"insrail: {project.path}: no section named {args.section} (sections: "
+                  f"{', '.join(s.name for s in project.sections) or 'none'})", file=sys.stderr)
+            return 1
+        names = [args.section]
+    else:
+        names = chosen_surveys(project, [args.survey] if args.survey else None)
     if names is None:
         return 1
     if len(names) > 1:

@@ -20,6 +20,7 @@ COMMANDS = [
     ("process", "insrail.cli.process"),
     ("report", "insrail.cli.report"),
     ("export", "insrail.cli.export"),
+    ("section", "insrail.cli.section"),
     ("batch", "insrail.cli.batch"),
     ("compare", "insrail.cli.compare"),
     ("ppk", "insrail.cli.ppk"),

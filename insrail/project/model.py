@@ -24,6 +24,8 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
                          first_sleeper_number, tolerance_profile, fastener, line_speed_kmh = 250 or a
                          table of ranges [{from_m = 0, to_m = 4200, kmh = 250}, ...] (for the cant deficiency)
     [[surveys]]          name, folder (holding a survey.toml)
+    [[sections]]         name, surveys = ["run1", "run2"], from_m, to_m (optional), overlap = "best" | "mean":
+                         a line section joined from several runs (insrail.project.section)
     [report]             what the reports' first page states and how they print (:class:`ReportSettings`):
                          client, line_section, track_name, operator, checked_by, approved_by, trolley,
                          trolley_calibrated, imu, imu_calibrated (dates: 2026-03-14), paper = "A3" | "A4"
@@ -68,7 +70,9 @@ HEIGHT_MODELS = ("auto", "constant", "plane", "quadratic")
 FUSION_FLAGS = ("use_gnss_velocity", "use_odometer", "use_nhc", "use_zupt", "smoother")
 FUSION_NUMBERS = ("update_rate_hz", "gnss_sigma_scale", "gnss_sigma_floor_m", "gnss_correlated_tau_s",
                   "odometer_sigma_mps", "nhc_sigma_mps", "zupt_sigma_mps", "min_static_s")
-_TOP_LEVEL = ("project", "geodesy", "trolley", "processing", "track", "surveys", "report")
+_TOP_LEVEL = ("project", "geodesy", "trolley", "processing", "track", "surveys", "sections", "report")
+#: How a line section joins its runs where they overlap (insrail.project.section).
+OVERLAP_RULES = ("best", "mean")
 #: Paper sizes of the workbook's printout (landscape).
 PAPER_SIZES = ("A3", "A4")
 _SURVEY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")  # used as a results folder name
@@ -87,6 +91,22 @@ class ProjectError(InputError):
 class SurveyEntry:
     name: str
     folder: str  # relative to the project folder
+
+
+@dataclass(frozen=True)
+class SectionEntry:
+    """A line section: one result joined from several surveys on the stationing (insrail.project.section)."""
+
+    name: str
+    surveys: tuple[str, ...]
+    from_m: float | None = None  # the section's station range (None: what the surveys cover)
+    to_m: float | None = None
+    overlap: str = "best"  # "best": the run with the better predicted accuracy; "mean": weighted mean
+
+    def to_settings(self) -> dict[str, Any]:
+        entry: dict[str, Any] = {"name": self.name, "surveys": list(self.surveys), "overlap": self.overlap}
+        entry |= {k: getattr(self, k) for k in ("from_m", "to_m") if getattr(self, k) is not None}
+        return entry
 
 
 @dataclass(frozen=True)
@@ -148,6 +168,7 @@ class Project:
     control_points: tuple[ControlPoint, ...] = ()
     report: ReportSettings = field(default_factory=ReportSettings)
     local_control: LocalControl | None = None
+    sections: tuple[SectionEntry, ...] = ()
     line_speeds: tuple[LineSpeed, ...] = ()  # one range from -inf to inf: a single line speed
 
     @property
@@ -166,6 +187,13 @@ class Project:
             if entry.name == name:
                 return entry
         raise KeyError(f"{self.path}: no survey named {name!r} (surveys: {', '.join(s.name for s in self.surveys)})")
+
+    def section(self, name: str) -> SectionEntry:
+        for entry in self.sections:
+            if entry.name == name:
+                return entry
+        raise KeyError(f"{self.path}: no section named {name!r} (sections: "
+                       f"{', '.join(s.name for s in self.sections) or 'none'})")
 
     def control_point(self, name: str) -> ControlPoint | None:
         return next((p for p in self.control_points if p.name == name), None)
@@ -211,6 +239,8 @@ class Project:
         document["processing"] = processing
         document["track"] = track
         document["surveys"] = [{"name": s.name, "folder": s.folder} for s in self.surveys]
+        if self.sections:
+            document["sections"] = [s.to_settings() for s in self.sections]
         if self.report.to_settings():
             document["report"] = self.report.to_settings()
         return document
@@ -311,6 +341,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     fastener = reader.loadable(track, "track.fastener", load_fastener_type, DEFAULT_FASTENER)
 
     surveys = _surveys(reader, document.get("surveys"))
+    sections = _sections(reader, document.get("sections", []), surveys)
     report = _report(reader, reader.table(document, "report"))
     reader.raise_if_any(path or Path(folder) / PROJECT_FILE)
     return Project(
@@ -319,8 +350,57 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
         design=design, start_station_m=start_station, stationing_direction=stationing, events=events,
         first_sleeper_number=first_number,
         tolerance_profile=tolerance, fastener=fastener, control_points=control_points, report=report,
-        line_speeds=line_speeds, local_control=local_control,
+        line_speeds=line_speeds, local_control=local_control, sections=sections,
     )
+
+
+def _sections(reader: _Reader, table, surveys: tuple[SurveyEntry, ...]) -> tuple[SectionEntry, ...]:
+    """``[[sections]]``: name, surveys (of this project), optional from_m/to_m, overlap = "best" | "mean"."""
+    if not isinstance(table, list):
+        reader.add("sections", "expected [[sections]] entries with name and surveys")
+        return ()
+    known = {s.name for s in surveys}
+    entries, seen = [], set()
+    for i, entry in enumerate(table):
+        key = f"sections[{i}]"
+        if not isinstance(entry, dict):
+            reader.add(key, "expected a table with name and surveys")
+            continue
+        reader.known(entry, key, ("name", "surveys", "from_m", "to_m", "overlap"))
+        name, runs = entry.get("name"), entry.get("surveys")
+        ok = True
+        if not isinstance(name, str) or not _SURVEY_NAME.match(name):
+            reader.add(f"{key}.name", f"expected a name of letters, digits, '.', '_' or '-', found {name!r}")
+            ok = False
+        elif name in known or name in seen:
+            reader.add(f"{key}.name", f"{name!r} is already the name of a {'survey' if name in known else 'section'} "
+                                      "(both name a results folder)")
+            ok = False
+        seen.add(name)
+        if not isinstance(runs, list) or not runs or not all(isinstance(r, str) for r in runs):
+            reader.add(f"{key}.surveys", "expected a list of the project's survey names")
+            ok = False
+        else:
+            for run in runs:
+                if run not in known:
+                    reader.add(f"{key}.surveys", f"no survey named {run!r} (surveys: {', '.join(sorted(known))})")
+                    ok = False
+            if len(set(runs)) != len(runs):
+                reader.add(f"{key}.surveys", "a survey is named twice")
+                ok = False
+        bounds = {k: reader.number(entry, f"{key}.{k}") for k in ("from_m", "to_m") if k in entry}
+        if None in bounds.values():
+            ok = False
+        elif len(bounds) == 2 and not bounds["from_m"] < bounds["to_m"]:
+            reader.add(key, f"from_m ({bounds['from_m']}) must be below to_m ({bounds['to_m']})")
+            ok = False
+        overlap = entry.get("overlap", "best")
+        if overlap not in OVERLAP_RULES:
+            reader.add(f"{key}.overlap", f"expected one of {', '.join(OVERLAP_RULES)}, found {overlap!r}")
+            ok = False
+        if ok:
+            entries.append(SectionEntry(name, tuple(runs), bounds.get("from_m"), bounds.get("to_m"), overlap))
+    return tuple(entries)
 
 
 def _report(reader: _Reader, table: dict) -> ReportSettings:

@@ -132,6 +132,13 @@ def sleeper_columns(table: SleeperTable, assessment: Assessment, adjustment: Adj
     for direction, deviation in (("lateral", table.lateral_deviation_m), ("vertical", table.vertical_deviation_m)):
         for side, rail in enumerate(("left", "right")):
             columns[f"{direction}_deviation_{rail}_mm"] = (1e3 * deviation[:, side], "%.3f")
+    columns |= sleeper_check_columns(assessment, adjustment)
+    return columns
+
+
+def sleeper_check_columns(assessment: Assessment, adjustment: Adjustment) -> dict[str, tuple[np.ndarray, str]]:
+    """The check channels of the tolerance profile and the adjustment amounts (sleepers.csv's last columns)."""
+    columns: dict[str, tuple[np.ndarray, str]] = {}
     for channel in assessment.channels:
         name, factor, fmt = _channel_column(channel)
         columns[name] = (factor * channel.values, fmt)
@@ -148,17 +155,24 @@ def sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjust
     """number, label, then the columns of :func:`sleeper_columns`, then ``not_assessed`` (why a
     measured sleeper is left out of the assessment, reasons joined by "; ", quoted as CSV when
     they hold a comma); NaN (not computable) as empty."""
-    columns = sleeper_columns(table, assessment, adjustment, extra)
+    return columns_csv(table.number, table.label, sleeper_columns(table, assessment, adjustment, extra),
+                       table.not_assessed)
+
+
+def columns_csv(number: np.ndarray, label: tuple[str, ...], columns: dict[str, tuple[np.ndarray, str]],
+                not_assessed: tuple[str, ...] = ()) -> str:
+    """A sleeper table as sleepers.csv: number, label, then ``columns`` (name -> (values, format)), then
+    ``not_assessed`` (() for none); NaN as empty."""
     header = ",".join(["number", "label", *columns, NOT_ASSESSED_COLUMN]) + "\n"
-    if not len(table):
+    if not len(number):
         return header
     block = io.StringIO()
     numeric = np.column_stack([np.asarray(values, dtype=float) for values, _ in columns.values()])
     np.savetxt(block, numeric, fmt=[fmt for _, fmt in columns.values()], delimiter=",")
     lines = block.getvalue().replace("nan", "").splitlines()
-    reasons = table.not_assessed or ("",) * len(table)
-    return header + "".join(f"{n},{label},{line},{_csv_text(reason)}\n"
-                            for n, label, line, reason in zip(table.number, table.label, lines, reasons))
+    reasons = not_assessed or ("",) * len(number)
+    return header + "".join(f"{n},{lbl},{line},{_csv_text(reason)}\n"
+                            for n, lbl, line, reason in zip(number, label, lines, reasons))
 
 
 def _csv_text(text: str) -> str:

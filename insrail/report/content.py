@@ -340,6 +340,10 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
         _named("station_m", SLEEPER_GROUP, c["station_m"], "0.000", width=11),
         _named("not_assessed", SLEEPER_GROUP, np.array(results.not_assessed or ("",) * n, dtype=object), "@", width=18),
     ]
+    sources = [k for k in c if k.startswith("source_")]  # a joined line section (insrail.project.section)
+    if sources:
+        runs = [" + ".join(k.removeprefix("source_") for k in sources if c[k][i] > 0) for i in range(n)]
+        columns.append(_named("runs", SLEEPER_GROUP, np.array(runs, dtype=object), "@", width=14))
     for direction in DIRECTIONS:
         for rail in RAILS:
             key = f"{direction}_deviation_{rail}_mm"

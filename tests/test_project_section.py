@@ -1,0 +1,196 @@
+"""Line sections: two overlapping runs of one track joined into one result on the stationing
+(continuous numbering, each row's source, the overlap's differences), its workbook and PDF."""
+
+import subprocess
+import tomllib
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from report_support import synthetic_table
+
+from insrail.cli.main import main
+from insrail.project.model import (
+    ProjectError,
+    SectionEntry,
+    SurveyEntry,
+    project_from_settings,
+    save_project,
+)
+from insrail.project.results import (
+    EXCEEDANCES_FILE,
+    QUALITY_HEADER,
+    RESULTS_FOLDER,
+    SLEEPERS_FILE,
+    SUMMARY_FILE,
+    exceedances_csv,
+    load_results,
+    sleepers_csv,
+    summary_toml,
+    write_results,
+)
+from insrail.track.adjustment import load_fastener_type, optimise_adjustment
+from insrail.track.exceedance import SleeperGeometry, assess
+from insrail.track.tolerance import load_tolerance_profile
+
+NOISE_M = 0.05e-3  # run-to-run noise of the deviations
+SIGMA_LAG5_MM = {"run1": 0.10, "run2": 0.20}  # run1 predicted better
+
+
+def write_run(root, name, table, rows, rng, lag5_mm):
+    sub = replace(table, **{k: getattr(table, k)[rows] for k in (
+        "number", "station_m", "time_s", "detected", "centre_enh_m", "left_rail_enh_m", "right_rail_enh_m",
+        "gauge_m", "cant_m", "design_cant_m", "lateral_deviation_m", "vertical_deviation_m", "sigma_pos_ned_m",
+        "sigma_roll_rad", "valid")}, label=tuple(np.array(table.label, dtype=object)[rows]))
+    sub = replace(sub, number=np.arange(1, len(sub.station_m) + 1),  # each run numbers from 1
+                  lateral_deviation_m=sub.lateral_deviation_m + rng.normal(0, NOISE_M, sub.lateral_deviation_m.shape),
+                  vertical_deviation_m=sub.vertical_deviation_m + rng.normal(0, NOISE_M, sub.vertical_deviation_m.shape))
+    profile = load_tolerance_profile("cn_hsr_ballastless")
+    geometry = SleeperGeometry.from_arrays(sub.station_m, sub.lateral_deviation_m, sub.vertical_deviation_m, sub.gauge_m,
+                                           sub.cant_m, sub.design_cant_m, valid=sub.valid, sleeper_number=sub.number)
+    assessment = assess(geometry, profile)
+    adjustment = optimise_adjustment(geometry, profile, load_fastener_type("wj8"))
+    summary = {"survey": {"name": name, "folder": f"surveys/{name}", "imu_epochs": 1000, "gps_week": 2380},
+               "heights": {"model": "none (ellipsoidal heights)"},
+               "track": {"design": "", "sleepers": len(sub.station_m)},
+               "assessment": {"tolerance_profile": profile.name, "exceedances": len(assessment.exceedances),
+                              "by_check": {}},
+               "quality": {"pass": "smoothed"}, "notices": [{"stage": "imu", "message": f"{name}: a notice"}]}
+    start = np.arange(sub.station_m[0], sub.station_m[-1], 200.0)
+    quality = "\n".join([",".join(QUALITY_HEADER)] + [
+        f"{s:.3f},{s + 200:.3f},3.000,3.000,{lag5_mm:.3f},{lag5_mm:.3f},1.000,1.000" for s in start]) + "\n"
+    write_results(root / RESULTS_FOLDER, name, {
+        SLEEPERS_FILE: sleepers_csv(sub, assessment, adjustment), EXCEEDANCES_FILE: exceedances_csv(assessment),
+        "quality.csv": quality, SUMMARY_FILE: summary_toml(summary)})
+    (root / "surveys" / name).mkdir(parents=True, exist_ok=True)
+    (root / "surveys" / name / "survey.toml").touch()
+
+
+@pytest.fixture(scope="module")
+def project(tmp_path_factory):
+    from report_support import CRS
+
+    from insrail.geodesy.crs import EngineeringCRS
+    from insrail.project.model import HeightSettings, Project
+
+    root = tmp_path_factory.mktemp("section")
+    table = synthetic_table(1100)
+    rng = np.random.default_rng(8)
+    write_run(root, "run2", table, slice(500, 1100), rng, SIGMA_LAG5_MM["run2"])  # 312 m of overlap: rows 500-799
+    write_run(root, "run1", table, slice(0, 800), rng, SIGMA_LAG5_MM["run1"])
+    project = Project(folder=root, name="Line", crs=EngineeringCRS.from_settings(CRS, "geodesy.crs"),
+                      height=HeightSettings(), surveys=(SurveyEntry("run1", "surveys/run1"),
+                                                        SurveyEntry("run2", "surveys/run2")),
+                      start_station_m=1000.0, sections=(SectionEntry("km1", ("run2", "run1")),))
+    save_project(project)
+    return project, table
+
+
+def test_the_joined_table_is_each_runs_outside_the_overlap_and_numbered_continuously(project, capsys):
+    project, table = project
+    assert main(["section", str(project.folder)]) == 0
+    out = capsys.readouterr().out
+    assert "section km1: 1100 sleepers from run1, run2" in out and "overlap run1/run2" in out
+    joined = load_results(project.folder, "km1")
+    run1, run2 = load_results(project.folder, "run1"), load_results(project.folder, "run2")
+    c = joined.columns
+    np.testing.assert_array_equal(joined.number, np.arange(1, 1101))
+    np.testing.assert_allclose(c["station_m"], table.station_m, atol=5e-5)
+    # outside the overlap the rows are the runs' own; in it run1 (better predicted) is taken
+    for name in ("lateral_deviation_left_mm", "vertical_deviation_right_mm", "gauge_mm", "left_E_m"):
+        np.testing.assert_array_equal(c[name][:800], run1.columns[name], err_msg=name)
+        np.testing.assert_array_equal(c[name][800:], run2.columns[name][300:], err_msg=name)
+    np.testing.assert_array_equal(c["source_run1"], np.r_[np.ones(800), np.zeros(300)])
+    np.testing.assert_array_equal(c["source_run2"], np.r_[np.zeros(800), np.ones(300)])
+    summary = tomllib.loads((joined.folder / "summary.toml").read_text())
+    (overlap,) = summary["section"]["overlaps"]
+    assert overlap["runs"] == ["run1", "run2"] and overlap["sleepers"] > 250
+    deviation = overlap["parameters"]["lateral_deviation_left_mm"]
+    assert deviation["std_mm"] == pytest.approx(np.sqrt(2) * NOISE_M * 1e3, rel=0.25)  # the noise of two runs
+    assert deviation["predicted_sigma_mm"] == pytest.approx(np.hypot(3.0, 3.0), abs=1e-4) and not deviation["exceeds"]
+    short_wave = overlap["parameters"]["check_short_wave_30m_5m_left_lateral_mm"]
+    assert short_wave["std_mm"] < 0.3 and not short_wave["exceeds"]
+    assert not [n for n in summary["notices"] if n["stage"] == "section"]
+    assert {"run1: a notice", "run2: a notice"} <= {n["message"] for n in summary["notices"]}
+    # one workbook and one PDF, the PDF with the section page
+    pdf = project.folder / "reports" / "track_geometry_km1.pdf"
+    assert pdf.is_file() and (project.folder / "reports" / "track_geometry_km1.xlsx").is_file()
+    text = subprocess.run(["pdftotext", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    assert "Line section: joined runs" in text and "Overlap run2 - run1" in text
+    # the exports take the section like a survey
+    assert main(["export", str(project.folder), "--section", "km1", "--format", "lift-lining",
+                 "--out", str(project.folder / "km1.csv")]) == 0
+    assert len((project.folder / "km1.csv").read_text().splitlines()) == 7 + 1100
+
+
+def test_weighted_mean_in_the_overlap(project, capsys):
+    project, _ = project
+    mean = replace(project, sections=(SectionEntry("km1m", ("run1", "run2"), overlap="mean"),))
+    save_project(mean)
+    try:
+        assert main(["section", str(project.folder), "--no-reports"]) == 0
+        capsys.readouterr()
+        c = load_results(project.folder, "km1m").columns
+        run1, run2 = load_results(project.folder, "run1").columns, load_results(project.folder, "run2").columns
+        share = 0.1**-2 / (0.1**-2 + 0.2**-2)  # weights 1/sigma^2 of the 5 m lag figures
+        both = slice(500, 800)
+        np.testing.assert_allclose(c["source_run1"][both], share)
+        expected = share * run1["lateral_deviation_left_mm"][both] + (1 - share) * run2["lateral_deviation_left_mm"][:300]
+        np.testing.assert_allclose(c["lateral_deviation_left_mm"][both], expected, atol=1e-3)
+        np.testing.assert_array_equal(c["source_run1"][:500], 1.0)
+    finally:
+        save_project(project)
+
+
+def test_runs_that_disagree_are_a_notice(project, tmp_path, capsys):
+    project, _ = project
+    shifted = tmp_path / "p"
+    import shutil
+
+    shutil.copytree(project.folder, shifted)
+    # both runs claim 0.01 mm accuracy of position: their 0.07 mm difference is then beyond belief
+    for run in ("run1", "run2"):
+        path = shifted / "results" / run / "quality.csv"
+        lines = path.read_text().splitlines()
+        path.write_text("\n".join([lines[0]] + [",".join(line.split(",")[:2] + ["0.010", "0.010"] + line.split(",")[4:])
+                                                for line in lines[1:]]) + "\n")
+    assert main(["section", str(shifted), "--no-reports"]) == 0
+    out = capsys.readouterr().out
+    assert "warning: runs run1 and run2 differ by" in out and "lateral_deviation_left_mm" in out
+    summary = load_results(shifted, "km1").summary
+    assert any(n["stage"] == "section" and "more than 3 x the predicted 0.01 mm" in n["message"]
+               for n in summary["notices"])
+
+
+def test_section_settings_are_checked(tmp_path):
+    for name in ("a", "b"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "survey.toml").touch()
+    base = {"geodesy": {"crs": {"central_meridian_deg": 117.0}}, "track": {"start_station_m": 0.0},
+            "surveys": [{"name": "a", "folder": "a"}, {"name": "b", "folder": "b"}]}
+    ok = project_from_settings(base | {"sections": [{"name": "s", "surveys": ["a", "b"], "from_m": 0.0, "to_m": 9.0}]},
+                               tmp_path)
+    assert ok.sections == (SectionEntry("s", ("a", "b"), 0.0, 9.0, "best"),)
+    assert project_from_settings(ok.to_settings(), tmp_path).sections == ok.sections
+    with pytest.raises(ProjectError) as error:
+        project_from_settings(base | {"sections": [{"name": "a", "surveys": ["a"]},
+                                                   {"name": "t", "surveys": ["a", "c"], "overlap": "avg"},
+                                                   {"name": "u", "surveys": ["a"], "from_m": 5.0, "to_m": 1.0}]}, tmp_path)
+    text = str(error.value)
+    assert "sections[0].name: 'a' is already the name of a survey" in text
+    assert "sections[1].surveys: no survey named 'c'" in text and "sections[1].overlap: expected one of best, mean" in text
+    assert "sections[2]: from_m (5.0) must be below to_m (1.0)" in text
+
+
+def test_a_section_of_unprocessed_surveys_fails_clearly(project, tmp_path, capsys):
+    project, _ = project
+    bare = tmp_path / "bare"
+    for name in ("run1", "run2"):
+        (bare / "surveys" / name).mkdir(parents=True)
+        (bare / "surveys" / name / "survey.toml").touch()
+    save_project(replace(project, folder=bare))
+    assert main(["section", str(bare)]) == 1
+    err = capsys.readouterr().err
+    assert "no results for survey" in err and "Traceback" not in err
+    assert main(["section", str(bare), "--section", "nope"]) == 1
+    assert "no section named nope" in capsys.readouterr().err
