@@ -216,6 +216,8 @@ FAULTS = {
                          "survey.toml", "trolley.imu_to_antenna_m"),
     "rail_centre_spacing_m = 1500": (_edit_manifest("rail_centre_spacing_m = 1.5", "rail_centre_spacing_m = 1500"),
                                      "survey.toml", "millimetres given as metres"),
+    "reversed odometer": (lambda p: rewrite_numbers(survey_folder(p) / "odometer.txt", 1, lambda d: -d),
+                          "odometer.txt", "the odometer counts backwards"),
     "sleeper file shifted 137 s": (lambda p: rewrite_numbers(survey_folder(p) / "sleepers.txt", 0,
                                                              lambda t: t + 137.0),
                                    "sleepers.txt", "sleeper pulses lie one sleeper spacing"),

@@ -20,6 +20,9 @@ anything (tests/test_project_robustness.py).
 * time offset: the odometer's speed cross-correlated with the GNSS speed; an offset of
   :data:`MAX_TIME_OFFSET_S` or more is refused (18 s: GNSS in UTC read as GPST), a smaller but
   clear one is a notice;
+* odometer direction: at each start from rest the forward (b-frame x) velocity the IMU gains and the
+  odometer's signed speed must have the same sign (a trolley facing backwards has both negative;
+  an odometer counting backwards only one);
 * sleeper pulses: consecutive pulses one sleeper spacing apart along the odometer distance
   (a sleeper file on another time scale lands pulses in the stops).
 """
@@ -58,6 +61,8 @@ MAX_SPEED_DISAGREEMENT_SHARE = 0.2
 MAX_TIME_OFFSET_S = 0.5
 NOTICE_TIME_OFFSET_S = 0.2
 TIME_SEARCH_S = 60.0
+STATIC_BEFORE_START_S = 3.0
+START_WINDOW_S = 3.0
 MIN_SLEEPER_MATCH = 0.8
 SLEEPER_SEARCH_S = 300.0
 GPS_MINUS_UTC_S = range(10, 19)  # 1995 .. today (18 s since 2017)
@@ -287,6 +292,38 @@ def check_time_offset(odometer: OdometerData, gnss: GnssSolution, odometer_label
                    file=str(path))]
 
 
+def check_odometer_direction(imu: ImuIncrements, odometer: OdometerData, odometer_label: str) -> list[Notice]:
+    """InputError when the odometer counts backwards against the IMU's forward axis at the starts from rest."""
+    t, d = odometer.time_s, odometer.distance_m
+    if len(t) < 10 or len(imu.time_s) < 10:
+        return []
+    step = max(float(np.median(np.diff(t))), 1e-3)
+    moving = np.abs(np.gradient(d, t)) > 0.05
+    starts = np.flatnonzero(moving[1:] & ~moving[:-1]) + 1
+    forward = np.cumsum(imu.dvel_mps[:, 0])
+    votes = []
+    for start in starts:
+        t0 = float(t[start])
+        rest = (t >= t0 - STATIC_BEFORE_START_S) & (t < t0 - step)
+        if rest.sum() < STATIC_BEFORE_START_S / step * 0.8 or moving[rest].any():
+            continue  # not a start from rest
+        a, b, c = np.searchsorted(imu.time_s, [t0 - STATIC_BEFORE_START_S, t0 - 0.5, t0 + START_WINDOW_S])
+        if c >= len(imu.time_s) or b - a < 10:
+            continue
+        static_rate = (forward[b] - forward[a]) / (imu.time_s[b] - imu.time_s[a])  # gravity along x, biases
+        gained = forward[c] - forward[b] - static_rate * (imu.time_s[c] - imu.time_s[b])
+        odometer_speed = float(np.interp(t0 + START_WINDOW_S, t, np.gradient(d, t)))
+        if abs(gained) > 0.1 and abs(odometer_speed) > 0.1:
+            votes.append(np.sign(gained) == np.sign(odometer_speed))
+    if len(votes) and not any(votes):
+        path = odometer.source or Path(odometer_label)
+        raise InputError(path, None, f"{_read_as(odometer_label)}the odometer counts backwards: at {len(votes)} "
+                         "start(s) from rest the IMU moved forwards along its x axis while the distance decreased "
+                         "(a reversed odometer, or the sign of its counts); the distance must grow as the trolley "
+                         "moves along the IMU's x axis")
+    return []
+
+
 def _sleeper_match(pulses: np.ndarray, odometer: OdometerData, offset: float) -> tuple[float, float]:
     steps = np.diff(_distance_at(odometer, pulses + offset))
     steps = np.abs(steps[np.isfinite(steps)])
@@ -343,6 +380,7 @@ def check_survey(survey: SurveyData, nominal_gauge_m: float) -> tuple[SurveyData
     odometer_label, gnss_label = label("odometer", survey.odometer), label("gnss", survey.gnss)
     notices = check_time_offset(survey.odometer, survey.gnss, odometer_label, gnss_label)
     notices += check_odometer(survey.odometer, survey.gnss, odometer_label, gnss_label)
+    notices += check_odometer_direction(survey.imu, survey.odometer, odometer_label)
     notices += check_sleepers(survey.sleepers, survey.odometer, label("sleepers", survey.sleepers), odometer_label)
     gauge, gauge_notices = clean_gauge(survey.gauge, nominal_gauge_m, label("gauge", survey.gauge))
     return replace(survey, gauge=gauge), notices + gauge_notices
