@@ -142,7 +142,7 @@ def test_the_pdf_shows_the_predicted_accuracy_with_the_outage_section_weakest(pr
     assert f"{stored.quality.sigma_lag5_lateral_mm[1]:.2f}" in weakest
 
 
-def test_the_gui_track_view_shades_the_predicted_accuracy_widest_at_the_outage(processed, window):
+def test_the_gui_track_view_shades_the_predicted_accuracy_widest_at_the_outage(processed, window, qtbot):
     """The band behind the track plots: +-3 sigma per section, the outage section the widest."""
     import pyqtgraph as pg
 
@@ -150,6 +150,7 @@ def test_the_gui_track_view_shades_the_predicted_accuracy_widest_at_the_outage(p
 
     project, _ = processed
     assert window.open_project(project.folder)
+    qtbot.waitUntil(lambda: window.loader is None, timeout=60_000)  # results are read in a worker
     stored = window.results[SURVEY]
     quality = stored.quality
     outage = quality.weakest("sigma_lag5_lateral_mm")
