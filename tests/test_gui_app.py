@@ -508,3 +508,29 @@ def test_views_come_back_as_they_were_left_per_project(qtbot, demo_project, tmp_
     assert "cant" not in second.track.plots.plots and "gauge" in second.track.plots.plots
     assert np.allclose(second.track.plots.x_range(), (1100.0, 1150.0), atol=1e-6)
     second.close()
+
+
+def test_export_for_machines_and_cad_from_the_file_menu(window, qtbot, demo_project, tmp_path, monkeypatch):
+    """File > Export > DXF drawing / Lift/lining table: the same files as `insrail export`."""
+    import ezdxf
+
+    from insrail.export.liftlining import read_lift_lining
+
+    root = processed_copy(demo_project, tmp_path / "copy")
+    assert not any(a.isEnabled() for a in window.export_file_actions)  # nothing shown yet
+    assert window.open_project(root)
+    wait_views(window, qtbot)
+    texts = [a.text() for a in window.export_file_actions]
+    assert texts == ["&Lift/lining table…", "&DXF drawing…", "Measured lines as &LandXML…", "Sleeper &coordinates…"]
+    assert all(a.isEnabled() for a in window.export_file_actions)
+    suggested = []
+    monkeypatch.setattr(QFileDialog, "getSaveFileName", lambda parent, title, path, filter: (
+        suggested.append(path) or path, filter))
+    window.export_file_actions[1].trigger()
+    qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    drawing = root / "reports" / "short.dxf"
+    assert suggested == [str(drawing)] and window.status.text() == f"Written {drawing.name} in {drawing.parent.resolve()}"
+    assert len(ezdxf.readfile(drawing).modelspace().query('LINE[layer=="INSRAIL_SLEEPERS"]')) > 1000
+    window.export_file_actions[0].trigger()
+    qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    assert len(read_lift_lining(root / "reports" / "short_lift_lining.csv")) > 1000

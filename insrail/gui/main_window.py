@@ -25,6 +25,7 @@ from insrail import __version__
 from insrail.gui import plotstyle
 from insrail.gui.empty import EmptyState
 from insrail.gui.explorer import ProjectExplorer, PropertiesPanel
+from insrail.gui.export_files import make_export_actions
 from insrail.gui.importer import ImportDialog
 from insrail.gui.loader import ResultsLoader
 from insrail.gui.logpanel import LogPanel
@@ -187,6 +188,7 @@ class MainWindow(QMainWindow):
         self.export_pdf_action = self._action("&PDF report…", lambda: self.export_report("pdf"), "Ctrl+Shift+E",
                                               "Export the PDF survey report of the survey shown")
         self.export_pdf_action.setIconText("Export PDF")
+        self.export_file_actions = make_export_actions(self)  # lift/lining, DXF, LandXML, coordinates
         self.plan_survey_action = self._action("&Plan survey…", self.plan_survey, "Ctrl+Shift+P",
                                                "Predict the accuracy of a planned survey (IMU, GNSS, speed, aiding)")
         self.quit_action = self._action("&Quit", self.close, QKeySequence.Quit)
@@ -201,6 +203,8 @@ class MainWindow(QMainWindow):
         export_menu = file_menu.addMenu("&Export")
         export_menu.addAction(self.export_xlsx_action)
         export_menu.addAction(self.export_pdf_action)
+        export_menu.addSeparator()
+        export_menu.addActions(self.export_file_actions)
         file_menu.addSeparator()
         file_menu.addAction(self.quit_action)
         self._make_edit_menu()
@@ -273,7 +277,7 @@ class MainWindow(QMainWindow):
         for action in (self.save_action, self.import_action, self.process_action):
             action.setEnabled(has_project and not busy)
         self.settings_action.setEnabled(has_project)
-        for action in (self.export_xlsx_action, self.export_pdf_action):
+        for action in (self.export_xlsx_action, self.export_pdf_action, *self.export_file_actions):
             action.setEnabled(self.shown_survey in self.results and not busy)
         self.ppk_action.setEnabled(has_project and bool(self.gnss.survey.currentText()) and not busy)
         for action in (self.new_action, self.open_action):
