@@ -164,6 +164,7 @@ COLUMN_NAMES: dict[str, Name] = {
     "detected": Name("Detected by the sleeper sensor"),
     "valid": Name("Valid sleeper"),
     "not_assessed": Name("Not assessed because"),
+    "chain_zone": Name("Broken-chainage zone"),
     **{f"{rail}_{axis}_m": Name(f"{RAIL_NAMES[rail].capitalize()} {what}", "m")
        for rail in ("left", "right") for axis, what in (("E", "easting"), ("N", "northing"), ("H", "height"))},
     "gauge_mm": Name("Gauge", "mm"),

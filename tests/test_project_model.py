@@ -166,3 +166,20 @@ def test_stationing_direction_without_a_design(tmp_path):
     project.path.write_text(text)
     with pytest.raises(ProjectError, match=r"track.stationing_direction: expected a number, found 'uphill' or \"travel\""):
         load_project(tmp_path)
+
+
+def test_sleeper_anchor(tmp_path):
+    from insrail.track.sleepers import SleeperAnchor
+
+    project = sample_project(make_folder(tmp_path), sleeper_anchor=SleeperAnchor(1234, station_m=1500.0))
+    save_project(project)
+    assert load_project(tmp_path).sleeper_anchor == SleeperAnchor(1234, station_m=1500.0)
+    text = project.path.read_text()
+    assert "[track.sleeper_anchor]" in text or "sleeper_anchor = {" in text
+    for bad, message in (('{ number = 1.5, station_m = 1.0 }', "track.sleeper_anchor.number: expected a whole number"),
+                         ('{ number = 3 }', "give exactly one of station_m"),
+                         ('{ number = 3, station_m = 1.0, time_s = 2.0 }', "give exactly one of station_m")):
+        save_project(sample_project(tmp_path))
+        project.path.write_text(project.path.read_text().replace("[track]\n", f"[track]\nsleeper_anchor = {bad}\n"))
+        with pytest.raises(ProjectError, match=message):
+            load_project(tmp_path)

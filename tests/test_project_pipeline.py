@@ -496,6 +496,7 @@ def test_events_take_turnouts_and_level_crossings_out_of_the_assessment(processe
     from insrail.io.survey import SurveyFile, read_manifest, write_manifest
     from insrail.project.results import load_results
     from insrail.report import write_pdf, write_workbook
+    from insrail.track.sleepers import SleeperAnchor
 
     project, first = processed
     shutil.copytree(project.folder, tmp_path / "p", ignore=shutil.ignore_patterns("reports"))
@@ -536,15 +537,31 @@ def test_events_take_turnouts_and_level_crossings_out_of_the_assessment(processe
     assert summary["events"][1]["not_assessed"] is False and summary["events"][1]["source"] == "line_events.txt, line 1"
     assert summary["assessment"]["not_assessed_sleepers"] == int(sum(e["sleepers"] for e in summary["events"]
                                                                      if e["not_assessed"]))
+    # the detector's repair and the broken-chainage zone (no station equations: 0) in sleepers.csv
+    pulses = summary["track"]["sleeper_pulses"]
+    assert pulses["missed_inserted"] == int((stored.columns["detected"] == 0).sum()) > 5
+    assert pulses["false_rejected"] > 3 and np.all(stored.columns["chain_zone"] == 0)
     assert main(["process", str(folder)]) == 0
     out = capsys.readouterr().out
     assert "level crossing LC 3" in out and "sleepers: not assessed (events.txt, line 3)" in out
+    assert f"{pulses['missed_inserted']} missed sleepers inserted" in out
     write_workbook(with_events, stored, tmp_path / "report.xlsx")
     cells = {str(c.value) for sheet in openpyxl.load_workbook(tmp_path / "report.xlsx").worksheets
              for row in sheet.iter_rows() for c in row if c.value is not None}
     assert {"turnout W12 No. 18", "level crossing LC 3", "Xiaohe bridge", "marked only"} <= cells
     write_pdf(with_events, stored, tmp_path / "report.pdf")
     assert b"Events and stretches not assessed" in _pdf_text(tmp_path / "report.pdf")
+
+    # a field number anchored at a chainage; one at no sleeper of the survey is named
+    monkeypatch.undo()
+    station = float(stored.columns["station_m"][500])
+    save_project(replace(with_events, sleeper_anchor=SleeperAnchor(3001, station_m=station)))
+    anchored = process(load_project(folder), "short").table
+    assert anchored.number[500] == 3001 and np.all(np.diff(anchored.number) == 1)
+    save_project(replace(with_events, sleeper_anchor=SleeperAnchor(3001, station_m=9000.0)))
+    assert main(["process", str(folder)]) == 1
+    assert "track.sleeper_anchor: no sleeper of this survey at station 9000.000 m" in capsys.readouterr().err
+    save_project(with_events)
 
     # a bad line, and an event outside the survey: named with the file and line, nothing written
     (survey / "events.txt").write_text("turnout, 1240.0, 1310.0, station_m, , W12\nlevel_crossing, 1, 2, km, , LC\n")

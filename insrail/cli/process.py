@@ -75,6 +75,7 @@ def describe(results) -> list[str]:
          f"{s['fusion']['rejections']} measurements rejected{prism_text}; {height_line}"),
         (f"  track: {track['sleepers']} sleepers ({track['valid_sleepers']} valid), "
          f"stations {track['station_from_m']:.3f} .. {track['station_to_m']:.3f} m"),
+        *_pulse_lines(track.get("sleeper_pulses")),
         *_line_fit_lines(track.get("line_fit")),
         *_event_lines(s.get("events", []), assessment.get("not_assessed_sleepers", 0)),
         *(f"  warning: {notice.text()}" for notice in notices_of(s)),
@@ -84,6 +85,16 @@ def describe(results) -> list[str]:
          f"max vertical {adjustment['max_vertical_mm']:.1f} mm, {adjustment['unresolved_sleepers']} sleepers unresolved"),
         "  files: " + ", ".join(dict.fromkeys([*s["files"].values(), "summary.toml"])),
     ]
+
+
+def _pulse_lines(pulses: dict | None) -> list[str]:
+    """How the sleeper numbering repaired the detector's pulses (thesis 5.2.2.5)."""
+    if not pulses:
+        return []
+    if not pulses["pulses"]:
+        return ["  sleepers: no detector pulses, a regular grid"]
+    return [f"  sleeper detector: {pulses['pulses']} pulses, {pulses['missed_inserted']} missed sleepers inserted, "
+            f"{pulses['false_rejected']} false pulses rejected"]
 
 
 def _event_lines(events: list[dict], not_assessed: int) -> list[str]:

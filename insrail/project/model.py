@@ -21,7 +21,9 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
                          travel; or a grid azimuth in degrees towards which they grow, so that runs
                          in both directions share one stationing), events (an event file in
                          chainage for every survey: turnouts, level crossings, ..., docs/formats.md),
-                         first_sleeper_number, tolerance_profile, fastener, line_speed_kmh = 250 or a
+                         first_sleeper_number, sleeper_anchor = {number = 1234, station_m = 1500.0}
+                         (or time_s: the field number of the sleeper there; replaces first_sleeper_number),
+                         tolerance_profile, fastener, line_speed_kmh = 250 or a
                          table of ranges [{from_m = 0, to_m = 4200, kmh = 250}, ...] (for the cant deficiency)
     [[surveys]]          name, folder (holding a survey.toml)
     [[sections]]         name, surveys = ["run1", "run2"], from_m, to_m (optional), overlap = "best" | "mean":
@@ -39,7 +41,7 @@ from __future__ import annotations
 
 import datetime
 import re
-from dataclasses import dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -61,6 +63,7 @@ from insrail.project.local_control import LocalControl, parse_local_control
 from insrail.track.adjustment import DEFAULT_FASTENER, load_fastener_type
 from insrail.track.chainage import WITH_TRAVEL
 from insrail.track.parameters import LineSpeed
+from insrail.track.sleepers import SleeperAnchor
 from insrail.track.tolerance import DEFAULT_PROFILE, load_tolerance_profile
 
 PROJECT_FILE = "project.toml"
@@ -163,6 +166,7 @@ class Project:
     stationing_direction: str | float = WITH_TRAVEL
     events: str | None = None
     first_sleeper_number: int = 1
+    sleeper_anchor: SleeperAnchor | None = None
     tolerance_profile: str = DEFAULT_PROFILE
     fastener: str = DEFAULT_FASTENER
     control_points: tuple[ControlPoint, ...] = ()
@@ -226,6 +230,8 @@ class Project:
             track["line_speed_kmh"] = [{"from_m": r.from_m, "to_m": r.to_m, "kmh": r.kmh} for r in self.line_speeds]
         if self.events is not None:
             track["events"] = self.events
+        if self.sleeper_anchor is not None:
+            track["sleeper_anchor"] = {k: v for k, v in asdict(self.sleeper_anchor).items() if v is not None}
         document: dict[str, Any] = {
             "project": {"name": self.name, "description": self.description},
             "geodesy": {"crs": self.crs.to_settings(), "height": height},
@@ -316,11 +322,12 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
 
     track = reader.table(document, "track")
     reader.known(track, "track", ("design", "start_station_m", "stationing_direction", "events",
-                                  "first_sleeper_number", "tolerance_profile", "fastener", "line_speed_kmh"))
+                                  "first_sleeper_number", "sleeper_anchor", "tolerance_profile", "fastener", "line_speed_kmh"))
     line_speeds = _line_speeds(reader, track.get("line_speed_kmh"))
     events = reader.file(track, "track.events")
     if events is not None:
         _check_events(reader, events)
+    anchor = _sleeper_anchor(reader, track.get("sleeper_anchor"))
     design = reader.file(track, "track.design")
     if design is not None:
         _check_design(reader, design)
@@ -348,6 +355,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
         folder=Path(folder), name=name, description=description, crs=crs, height=height, surveys=surveys,
         trolley_settings=trolley_settings, imu_profile=imu_profile, fusion=FusionOptions(**options),
         design=design, start_station_m=start_station, stationing_direction=stationing, events=events,
+        sleeper_anchor=anchor,
         first_sleeper_number=first_number,
         tolerance_profile=tolerance, fastener=fastener, control_points=control_points, report=report,
         line_speeds=line_speeds, local_control=local_control, sections=sections,
@@ -475,6 +483,27 @@ def _check_design(reader: _Reader, design: str) -> None:
         read_design(reader.folder / design)
     except (InputError, ValueError) as err:
         reader.add("track.design", str(err))
+
+
+def _sleeper_anchor(reader: _Reader, table) -> SleeperAnchor | None:
+    """``[track] sleeper_anchor = {number = 1234, station_m = 1500.0}`` (or ``time_s``)."""
+    if table is None:
+        return None
+    key = "track.sleeper_anchor"
+    if not isinstance(table, dict):
+        reader.add(key, f"expected a table {{number = ..., station_m = ...}} or {{number = ..., time_s = ...}}, found {table!r}")
+        return None
+    reader.known(table, key, ("number", "station_m", "time_s"))
+    number = table.get("number")
+    if not isinstance(number, int) or isinstance(number, bool):
+        reader.add(f"{key}.number", f"expected a whole number, found {number!r}")
+        return None
+    given = [name for name in ("station_m", "time_s") if name in table]
+    if len(given) != 1:
+        reader.add(key, "give exactly one of station_m (chainage) or time_s (GPS seconds of week)")
+        return None
+    value = reader.number(table, f"{key}.{given[0]}")
+    return None if value is None else SleeperAnchor(number, **{given[0]: value})
 
 
 def _check_events(reader: _Reader, events: str) -> None:

@@ -142,6 +142,7 @@ from insrail.track.sleeper_table import (
     TrackReconstruction,
     reconstruct_track,
 )
+from insrail.track.sleepers import AnchorError
 from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
@@ -238,7 +239,7 @@ def track_key(project: Project, fusion: str) -> str:
     digest = hashlib.sha256(fusion.encode())
     settings = {"version": CACHE_VERSION, "geodesy": _geodesy_settings(project),
                 "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number,
-                "stationing_direction": project.stationing_direction}
+                "stationing_direction": project.stationing_direction, "sleeper_anchor": repr(project.sleeper_anchor)}
     if project.local_control is not None:
         settings["local_control"] = project.local_control.to_settings()
     if project.design is not None:
@@ -333,10 +334,13 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
                             _read_role(folder, manifest, "sleepers"))
     design = read_design(project.resolve(project.design)) if project.design is not None else None
     check_cancel(cancel)
-    recon = reconstruct_track(fresh.trajectory, manifest.trolley, fresh.gauge, to_engineering, design=design,
-                              pulses=fresh.pulses,
-                              start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
-                              stationing=project.stationing_direction)
+    try:
+        recon = reconstruct_track(fresh.trajectory, manifest.trolley, fresh.gauge, to_engineering, design=design,
+                                  pulses=fresh.pulses,
+                                  start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
+                                  stationing=project.stationing_direction, anchor=project.sleeper_anchor)
+    except AnchorError as error:
+        raise InputError(project.path, None, f"track.sleeper_anchor: {error}") from None
     if recon.fitted is None and recon.reference is None:  # a fitted line (element objects) is recomputed instead
         save_dataclass(path, recon)
     return recon, False
@@ -466,6 +470,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         summary["local_control"] = local.summary()
     summary["track_quality"] = track_quality_section(geometry)
     summary["events"] = events_section(events, table.station_m, turnout_counts)
+    summary["track"]["sleeper_pulses"] = recon.sleepers.repair_counts()
     event_files = {}
     if turnout_counts:  # turnouts assessed with their own profiles
         event_files[TURNOUT_EXCEEDANCES_FILE] = exceedances_csv(replace(assessment, exceedances=in_turnouts))

@@ -121,6 +121,7 @@ def sleeper_columns(table: SleeperTable, assessment: Assessment, adjustment: Adj
     columns: dict[str, tuple[np.ndarray, str]] = {
         "station_m": (table.station_m, "%.4f"), "time_s": (table.time_s, "%.4f"),
         "detected": (table.detected, "%d"), "valid": (table.valid, "%d"),
+        "chain_zone": (np.zeros(len(table), int) if table.chain_zone is None else table.chain_zone, "%d"),
     }
     for rail, points in (("left", table.left_rail_enh_m), ("right", table.right_rail_enh_m)):
         for axis, values in zip("ENH", points.T):

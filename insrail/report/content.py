@@ -215,6 +215,17 @@ class ChainageAxis:
         return ticks
 
 
+def sleeper_repair_text(summary: dict) -> str:
+    """How the numbering repaired the sleeper detector's pulses, in words ("" for results without the figures)."""
+    pulses = summary.get("track", {}).get("sleeper_pulses")
+    if not pulses:
+        return ""
+    if not pulses["pulses"]:
+        return "no detector pulses: a regular grid"
+    return (f"{pulses['pulses']} pulses: {pulses['missed_inserted']} missed sleepers inserted, "
+            f"{pulses['false_rejected']} false pulses rejected")
+
+
 def limits_text(check: Check) -> str:
     """A check's limits as a reader writes them: ±2.0 mm, ±0.67 ‰, >= -5.0 and <= 35.0 mm (Helvetica
     in the PDF has ± and ‰ but no ≥)."""
@@ -338,6 +349,7 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
         _named("number", SLEEPER_GROUP, results.number, "0", "number", width=8),
         _named("label", SLEEPER_GROUP, np.array(results.label, dtype=object), "@", width=13),
         _named("station_m", SLEEPER_GROUP, c["station_m"], "0.000", width=11),
+        *([_named("chain_zone", SLEEPER_GROUP, c["chain_zone"], "0", width=8)] if "chain_zone" in c else []),
         _named("not_assessed", SLEEPER_GROUP, np.array(results.not_assessed or ("",) * n, dtype=object), "@", width=18),
     ]
     sources = [k for k in c if k.startswith("source_")]  # a joined line section (insrail.project.section)

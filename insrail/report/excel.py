@@ -47,6 +47,7 @@ from insrail.report.content import (
     load_report_content,
     parameter_statistics,
     sections,
+    sleeper_repair_text,
     survey_start,
 )
 
@@ -334,6 +335,8 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     track = summary.get("track", {})
     sheet.title(title)
     sleepers = f"{track.get('sleepers', len(content.results))} ({track.get('valid_sleepers', int(content.valid.sum()))} valid)"
+    if repair := sleeper_repair_text(summary):
+        sleepers += f"; {repair}"
     sheet.pairs(("Project", project.name), ("Line", project.description or project.name), ("Survey", content.survey))
     sheet.pairs(("Chainage", content.chainage_range), ("Sleepers", sleepers), ("Survey start", survey_start(content)))
     profile = content.profile

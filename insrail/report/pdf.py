@@ -81,6 +81,7 @@ from insrail.report.content import (
     excess_share,
     limits_text,
     load_report_content,
+    sleeper_repair_text,
     survey_start,
 )
 from insrail.track.exceedance import RAILS
@@ -484,6 +485,7 @@ def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[F
             ("Heights", f"{heights.get('model', '-')} height-anomaly model"
                         + (f", benchmark RMS {heights['internal_rms_mm']:.1f} mm (leave-one-out "
                            f"{heights['loo_rms_mm']:.1f} mm)" if "internal_rms_mm" in heights else ""))]
+    rows += [("Sleeper detector", repair)] if (repair := sleeper_repair_text(s)) else []
     rows += _local_control_rows(s.get("local_control"))
     rows += [("Warning", notice.text()) for notice in notices_of(s)]
     rows += [("Note", note) for note in content.notes]

@@ -44,7 +44,9 @@ from insrail.track.resample import (
     sliding_window_fit,
 )
 from insrail.track.sleepers import (
+    SleeperAnchor,
     SleeperNumbering,
+    anchor_numbering,
     number_sleepers,
     sleeper_detector_ahead_m,
 )
@@ -70,6 +72,8 @@ class SleeperTable:
     valid             every quantity above is finite and the sleeper is to be assessed
     not_assessed      per sleeper, why it is left out of the assessment although measured (events
                       such as a turnout or a level crossing, reasons joined by "; "); () for none
+    chain_zone        broken-chainage zone (断链属性, thesis Fig. 5-7): the number of station equations
+                      passed at the sleeper (0 before the first; None: 0 everywhere)
     """
 
     number: np.ndarray
@@ -89,6 +93,7 @@ class SleeperTable:
     sigma_roll_rad: np.ndarray
     valid: np.ndarray
     not_assessed: tuple[str, ...] = ()
+    chain_zone: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.number)
@@ -141,10 +146,12 @@ def build_sleeper_table(
         lateral, vertical = rail_deviations(design, left, right, design_gauge_m, cant_base_m)
         design_cant = design_cant_m(design, at)
         labels = tuple(design.station_equations.label(at)) if n else ()
+        zone = design.station_equations.zone_at(at) if design.station_equations.equations else None
     else:
         lateral = vertical = np.full((n, 2), np.nan)
         design_cant = np.zeros(n)
         labels = ("",) * n
+        zone = None
     sigma_pos = np.column_stack([np.interp(sleepers.time_s, rails.time_s, rails.sigma_pos_ned_m[:, i]) for i in range(3)])
     sigma_roll = np.interp(sleepers.time_s, rails.time_s, rails.sigma_roll_rad)
     valid = (np.all(np.isfinite(left), axis=1) & np.all(np.isfinite(right), axis=1) & np.isfinite(gauge)
@@ -170,6 +177,7 @@ def build_sleeper_table(
         sigma_pos_ned_m=sigma_pos,
         sigma_roll_rad=sigma_roll,
         valid=valid,
+        chain_zone=zone,
     )
 
 
@@ -243,11 +251,13 @@ def reconstruct_track(
     fit_window_m: float = DEFAULT_FIT_WINDOW_M,
     fit_overlap_m: float = DEFAULT_FIT_OVERLAP_M,
     stationing: str | float = WITH_TRAVEL,
+    anchor: SleeperAnchor | None = None,
 ) -> TrackReconstruction:
     """Rails from pose -> turned to the stationing -> stations (on ``design``, else along the
     path from ``start_station_m``, growing as ``stationing`` says:
     :func:`~insrail.track.chainage.facing_along_path`) -> sleepers (numbered from ``pulses``,
-    else a regular grid every ``spacing_m``) -> table. The run may go with or against the
+    else a regular grid every ``spacing_m``; from ``first_number`` at the lowest station, or as
+    ``anchor`` places a field number) -> table. The run may go with or against the
     stationing and the trolley face either way: rails, cant and numbers follow the stationing.
 
     Without a design and with ``fit_line`` the deviations are "measured - best": see
@@ -267,6 +277,8 @@ def reconstruct_track(
         t, s = epoch_station_track(rails.time_s, stations.reference_m)
         sleepers = number_sleepers(pulses.time_s, t, s, facing * sleeper_detector_ahead_m(trolley), spacing_m,
                                    first_number=first_number)
+    if anchor is not None:
+        sleepers = anchor_numbering(sleepers, anchor, spacing_m)
     table = build_sleeper_table(rails, stations, sleepers, design, window_m, design_gauge_m,
                                 trolley.rail_centre_spacing_m)
     if design is not None or not fit_line:

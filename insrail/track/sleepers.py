@@ -25,7 +25,7 @@ the station noise of a fused trajectory over a few sleepers (millimetres).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -62,6 +62,14 @@ class SleeperNumbering:
     @property
     def false_pulse_times_s(self) -> np.ndarray:
         return self.pulse_time_s[~self.pulse_accepted]
+
+    def repair_counts(self) -> dict[str, int]:
+        """What the repair did, for the summary: pulses used, missed sleepers inserted, false pulses
+        rejected (a regular grid without pulses: pulses 0 and nothing repaired)."""
+        if not len(self.pulse_time_s):
+            return {"pulses": 0, "missed_inserted": 0, "false_rejected": 0}
+        return {"pulses": len(self.pulse_time_s), "missed_inserted": len(self.missed_numbers),
+                "false_rejected": int((~self.pulse_accepted).sum())}
 
     def summary(self) -> str:
         return (f"{len(self.number)} sleepers numbered {self.number[0]}..{self.number[-1]} "
@@ -191,3 +199,42 @@ def number_sleepers(
         pulse_station_m=pulse_stations,
         pulse_accepted=accepted[by_station],
     )
+
+
+class AnchorError(ValueError):
+    """The sleeper anchor lies at no sleeper of the survey."""
+
+
+@dataclass(frozen=True)
+class SleeperAnchor:
+    """A field sleeper number at a known place: the sleeper at ``station_m`` (its detector station),
+    or the one the detector passed at ``time_s`` (GPS seconds of week), is number ``number``."""
+
+    number: int
+    station_m: float | None = None
+    time_s: float | None = None
+
+    def __post_init__(self):
+        if (self.station_m is None) == (self.time_s is None):
+            raise ValueError("a sleeper anchor gives exactly one of station_m or time_s")
+
+
+def anchor_numbering(numbering: SleeperNumbering, anchor: SleeperAnchor, spacing_m: float = 0.625) -> SleeperNumbering:
+    """The numbering shifted so that the anchor's sleeper carries the anchor's number (numbers still
+    grow with the station). Raises ValueError when no sleeper of the survey lies within half a
+    spacing of the anchor's station (or of the detector's station at its time): AnchorError."""
+    if anchor.station_m is not None:
+        distance = np.abs(numbering.station_m - anchor.station_m)
+        where = f"station {anchor.station_m:.3f} m"
+    else:  # the detector's station at that time, between the sleepers it passed
+        order = np.argsort(numbering.time_s)
+        at = np.interp(anchor.time_s, numbering.time_s[order], numbering.station_m[order])
+        distance = np.abs(numbering.station_m - at)
+        where = f"time {anchor.time_s:.3f} s"
+    row = int(np.argmin(distance))
+    inside = numbering.time_s.min() <= anchor.time_s <= numbering.time_s.max() if anchor.time_s is not None else True
+    if not inside or distance[row] > 0.5 * spacing_m:
+        raise AnchorError(f"no sleeper of this survey at {where} (sleepers "
+                         f"{numbering.station_m[0]:.3f} .. {numbering.station_m[-1]:.3f} m, "
+                         f"times {numbering.time_s.min():.3f} .. {numbering.time_s.max():.3f} s)")
+    return replace(numbering, number=numbering.number + (anchor.number - int(numbering.number[row])))
