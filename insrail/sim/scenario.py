@@ -337,7 +337,26 @@ def straight_scenario() -> ScenarioConfig:
     )
 
 
-PRESETS = {"short": short_scenario, "straight": straight_scenario, "long": long_scenario, "long-outage": lambda: long_scenario(True)}
+def tunnel_scenario() -> ScenarioConfig:
+    """2.5 km of the `long` line with a 1.5 km tunnel: no GNSS from station 20 700 m to the far portal
+    (about 22 200 m), total-station fixes of the prism (1 mm) every 60 m inside, as on CPIII pairs every
+    60 m (seed 001's workflow), each at a 20 s stop."""
+    design = _long_design()
+    fixes = tuple(float(s) for s in np.arange(20760.0, 22200.0, 60.0))
+    return ScenarioConfig(
+        name="tunnel",
+        design=design,
+        motion=MotionSpec(start_station_m=20050.0, end_station_m=22550.0),
+        irregularities=IrregularitySpec(
+            lateral_bumps=_bumps(31, 20100.0, 22500.0, 4, 3.0e-3),
+            vertical_bumps=_bumps(32, 20100.0, 22500.0, 4, 3.0e-3),
+        ),
+        gnss=GnssSpec(outages=((20700.0, 1860.0),)),
+        prism=PrismSpec(stations_m=fixes, sigma_m=0.001, duration_s=20.0),
+    )
+
+
+PRESETS = {"short": short_scenario, "tunnel": tunnel_scenario, "straight": straight_scenario, "long": long_scenario, "long-outage": lambda: long_scenario(True)}
 
 
 def preset(name: str, **overrides) -> ScenarioConfig:
