@@ -1,15 +1,21 @@
-"""Screenshots of the main views and tools into docs/gui_*.png (the window at 1400 x 900, offscreen).
+"""Screenshots of every view of the desktop application in a real X window, into docs/.
 
-    QT_QPA_PLATFORM=offscreen python benchmarks/gui_screenshots.py PROJECT_FOLDER [RAW_GNSS_PROJECT_FOLDER]
+    xvfb-run -s "-screen 0 1366x768x24" python benchmarks/gui_screenshots.py PROJECT [RAW_GNSS_PROJECT]
+    xvfb-run -s "-screen 0 1920x1080x24" python benchmarks/gui_screenshots.py PROJECT [RAW_GNSS_PROJECT]
 
-The docs/ pictures show the demo project with a second simulated run (seed 2) added as survey
-`short2`, so that the repeatability view has two runs to overlay; the export picture writes the
-PDF report into the project's results. With a second project whose survey holds raw GNSS
-observations (``[gnss_raw]``), the GNSS page is post-processed and shown too.
+The window fills the X screen; each picture is taken from the X server with ImageMagick's
+``import -window root`` (what a surveyor sees, not Qt's offscreen rendering) and named after the
+view and the screen size: ``docs/gui_<view>_<width>x<height>.png``. The docs/ pictures show the
+demo project with a second simulated run (seed 2) added as survey `short2`, so that the
+repeatability view has two runs to overlay. With a second project whose survey holds raw GNSS
+observations (``[gnss_raw]``), the GNSS page is post-processed and shown too. Without X
+(``QT_QPA_PLATFORM=offscreen``) the window grabs itself instead.
 """
 
 from __future__ import annotations
 
+import shutil
+import subprocess
 import sys
 import tempfile
 import time
@@ -23,10 +29,11 @@ from insrail.gui.main_window import MainWindow
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 
 
-def settle(app, seconds: float = 0.3) -> None:
+def settle(app, seconds: float = 0.4) -> None:
     end = time.monotonic() + seconds
     while time.monotonic() < end:
         app.processEvents()
+        time.sleep(0.01)
 
 
 def wait(app, busy) -> None:
@@ -36,49 +43,96 @@ def wait(app, busy) -> None:
     settle(app)
 
 
-def save(widget, name: str) -> None:
-    path = DOCS / f"gui_{name}.png"
-    widget.grab().save(str(path))
-    print(f"{path}: {path.stat().st_size / 1e3:.0f} kB")
+class Camera:
+    def __init__(self, app, size: tuple[int, int]):
+        self.app, self.size = app, size
+        self.x_server = app.platformName() == "xcb" and shutil.which("import") is not None
+
+    def save(self, widget, name: str) -> Path:
+        path = DOCS / f"gui_{name}_{self.size[0]}x{self.size[1]}.png"
+        settle(self.app)
+        if self.x_server:
+            subprocess.run(["import", "-window", "root", str(path)], check=True)
+        else:
+            widget.grab().save(str(path))
+        print(f"{path}: {path.stat().st_size / 1e3:.0f} kB")
+        return path
+
+
+def place(widget, size: tuple[int, int], fill: bool = True) -> None:
+    """Fill the screen (there is no window manager under Xvfb to maximise it), or centre a dialog."""
+    if fill:
+        widget.setGeometry(0, 0, *size)
+    else:
+        widget.move(max((size[0] - widget.width()) // 2, 0), max((size[1] - widget.height()) // 2, 0))
 
 
 def main(project: str, raw_gnss_project: str | None = None) -> None:
     app = QApplication.instance() or QApplication([])
+    screen = app.primaryScreen().size()
+    size = (screen.width(), screen.height())
+    camera = Camera(app, size)
     with tempfile.TemporaryDirectory() as settings_folder:
         window = MainWindow(QSettings(str(Path(settings_folder) / "s.ini"), QSettings.IniFormat))
-        window.resize(1400, 900)
         window.show()
+        place(window, size)
+        camera.save(window, "empty")  # no project open: what the window says
         window.open_project(project)
-        shots = {"track": window.track, "plan": window.plan, "navigation": window.navigation,
-                 "repeatability": window.repeatability}
-        for name, view in shots.items():
+        wait(app, lambda: window.loader is not None)
+        for name, view in (("track", window.track), ("plan", window.plan), ("navigation", window.navigation),
+                           ("repeatability", window.repeatability)):
             window.tabs.setCurrentWidget(view)
             if name == "track":
                 window.track.exceedances.selectRow(4)  # the fifth along the track
-            settle(app)
-            save(window, name)
+            camera.save(window, name)
 
         window.tabs.setCurrentWidget(window.track)
-        window.export_report("pdf", window.results[window.shown_survey].folder / "track_geometry_short.pdf")
+        track = window.track
+        track.go_to("#300")
+        track.measure_button.setChecked(True)
+        track.measure("lateral_deviation", track._station[290])
+        track.measure("lateral_deviation", track._station[330])
+        track.show_values_at(track._station[310])
+        track.plots.set_cursor(track._station[310])
+        camera.save(window, "track_measure")
+        track.measure_button.setChecked(False)
+
+        editor = window.edit_settings()
+        place(editor, size, fill=False)
+        editor.tabs.setCurrentIndex(editor.tabs.count() - 1)  # the track tab: design, tolerances, fastener
+        editor.set_field("track.tolerance_profile", "cn_conventional_160")
+        camera.save(editor, "settings")
+        editor.undo_stack.undo()
+        editor.close()
+
+        wizard = window.new_project()
+        place(wizard, size, fill=False)
+        wizard.name.setText("New line section")
+        wizard.folder.setText(str(Path(settings_folder) / "new project"))
+        while wizard.currentPage().title() != "Trolley geometry":
+            wizard.next()
+        wizard.next()  # every lever arm still 0 m: the page says so and waits for a confirmation
+        camera.save(wizard, "wizard")
+        wizard.reject()
+
+        window.export_report("pdf", Path(settings_folder) / "report.pdf")
         wait(app, lambda: window.worker is not None)
-        save(window, "export")
+        camera.save(window, "export")
 
         dialog = window.plan_survey()
+        place(dialog, size, fill=False)
         dialog.outage.setValue(60.0)
         dialog.run()
         wait(app, lambda: dialog.worker is not None)
-        save(dialog, "plan_survey")
-        dialog.sweep.setCurrentText("gyro_bias")
-        dialog.run()
-        wait(app, lambda: dialog.worker is not None)
-        save(dialog, "plan_survey_sweep")
+        camera.save(dialog, "plan_survey")
         dialog.close()
 
         if raw_gnss_project is not None:
             window.open_project(raw_gnss_project)
+            wait(app, lambda: window.loader is not None)
             window.post_process_gnss()
             wait(app, lambda: window.worker is not None)
-            save(window, "gnss")
+            camera.save(window, "gnss")
         window.modified = False
         window.close()
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import QMenu, QTreeWidget, QTreeWidgetItem
 
+from insrail.gui.fields import field_label, split_problem
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, read_manifest
 from insrail.io.tomlfile import read_toml
@@ -113,7 +114,7 @@ class ProjectExplorer(QTreeWidget):
         project = self.project
         if kind == "project":
             rows = [("folder", str(project.folder.resolve())), ("coordinate system", project.crs.describe())]
-            rows += flatten(project.to_settings())
+            rows += [(field_label(split_problem(f"{key}: ")[0]), value) for key, value in flatten(project.to_settings())]
         elif kind == "survey":
             folder = project.resolve(project.survey(payload).folder)
             rows = [("folder", str(folder.resolve()))]

@@ -18,6 +18,9 @@ from insrail.project import Project, load_results
 from insrail.project.plotdata import track_data, trajectory_views
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
 
+#: The longest the trajectory waits for the track view to be drawn [s].
+TRACK_DRAW_WAIT_S = 10.0
+
 
 class ResultsLoader(QThread):
     """Loads the results of every processed survey of ``project`` in ``surveys`` and the views of
@@ -33,10 +36,12 @@ class ResultsLoader(QThread):
         self.request, self.project, self.surveys, self.show = request, project, tuple(surveys), show
         self.known = dict(known or {})  # results already read (a survey switch reads nothing again)
         self._stop = threading.Event()
+        self.track_drawn = threading.Event()  # set by the window once the track view is on screen
 
     def cancel(self) -> None:
         """The answer is no longer wanted: stop after the current step."""
         self._stop.set()
+        self.track_drawn.set()
 
     def run(self) -> None:
         try:
@@ -65,6 +70,8 @@ class ResultsLoader(QThread):
         if show not in results or self._stop.is_set():
             return
         self.trackReady.emit(self.request, track_data(project, results[show]))
+        # Reading the trajectory holds the interpreter for seconds: not while the track view draws.
+        self.track_drawn.wait(TRACK_DRAW_WAIT_S)
         if self._stop.is_set():
             return
         self.trajectoryReady.emit(self.request, trajectory_views(project, results[show]))

@@ -530,6 +530,8 @@ class MainWindow(QMainWindow):
                 self.tabs.setCurrentIndex(pending["tab"])
         self.status.setText(f"Showing survey {data.survey}")
         self._enable_project_actions()
+        if self.loader is not None:  # the trajectory is read once the track view is painted
+            QTimer.singleShot(0, self.loader.track_drawn.set)
 
     def _trajectory_ready(self, request: int, views: TrajectoryViews) -> None:
         if request != self.request:

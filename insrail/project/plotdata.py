@@ -49,6 +49,8 @@ from insrail.project.results import (
 from insrail.track.events import KIND_NAMES
 from insrail.track.tolerance import ToleranceProfile, load_tolerance_profile
 
+#: The plan view's trajectory keeps at most this many epochs (a 10 km survey: one per 0.2 m).
+PLAN_POINTS = 50_000
 #: Margin shown either side of an exceedance [m]: enough to see the 30 m chord around it.
 EXCEEDANCE_MARGIN_M = 20.0
 
@@ -79,15 +81,19 @@ def survey_gnss(project: Project, survey: str) -> GnssSolution:
 
 def plan_data(project: Project, stored: StoredResults, trajectory: Trajectory,
               gnss: GnssSolution | None) -> PlanData:
-    east, north = project.crs.to_plane(trajectory.lat_rad, trajectory.lon_rad)
+    """Everything in the plane; the trajectory thinned to at most ``PLAN_POINTS`` epochs (a line
+    in the plane cannot be thinned per pixel column as a time series can, and 2 million epochs
+    would cost seconds per frame)."""
+    step = max(1, -(-len(trajectory.time_s) // PLAN_POINTS))
+    time_s = trajectory.time_s[::step]
+    east, north = project.crs.to_plane(trajectory.lat_rad[::step], trajectory.lon_rad[::step])
     track = np.column_stack([east, north])
     columns = stored.columns
     centre = np.column_stack([0.5 * (columns["left_E_m"] + columns["right_E_m"]),
                               0.5 * (columns["left_N_m"] + columns["right_N_m"])])
     if gnss is not None and len(gnss.time_s):
         gnss_en = np.column_stack(project.crs.to_plane(gnss.lat_rad, gnss.lon_rad))
-        outages = tuple(track[(trajectory.time_s >= gap.start_s) & (trajectory.time_s <= gap.end_s)]
-                        for gap in gnss.gaps)
+        outages = tuple(track[(time_s >= gap.start_s) & (time_s <= gap.end_s)] for gap in gnss.gaps)
     else:
         gnss_en, outages = np.zeros((0, 2)), ()
     if project.height.benchmarks is not None:

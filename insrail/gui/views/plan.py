@@ -20,7 +20,7 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
         self.item = self.getPlotItem()
         self.item.setAspectLocked(True)
         self.item.showGrid(x=True, y=True, alpha=0.25)
-        plotstyle.make_fluid(self.item)
+        # no clip-to-view or downsampling: both assume x sorted, a line in the plane is not (the core thins it)
         self.origin = np.zeros(2)
         self.curves: dict[str, pg.PlotDataItem] = {}
         self.data: PlanData | None = None
@@ -51,7 +51,7 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
             return points - self.origin
 
         self.curves = {
-            "trajectory": item.plot(*local(data.trajectory_en_m).T, pen=pg.mkPen("#A0A0A0", width=3),
+            "trajectory": item.plot(*local(data.trajectory_en_m).T, pen=pg.mkPen("#A0A0A0", width=1),
                                     name="trajectory (IMU)"),
             "gnss": item.plot(*local(data.gnss_en_m).T, pen=None, symbol="o", symbolSize=5,
                               symbolPen=None, symbolBrush=plotstyle.COLOURS[2], name="GNSS"),

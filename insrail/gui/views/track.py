@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QHBoxLayout,
@@ -251,7 +251,8 @@ class TrackView(DrawWhenShown, QWidget):
         self.exceedances.setEditTriggers(QAbstractItemView.NoEditTriggers)
         self.exceedances.verticalHeader().setVisible(False)
         self.exceedances.horizontalHeader().setStretchLastSection(True)
-        self.exceedances.setMinimumHeight(6 * self.exceedances.verticalHeader().defaultSectionSize())
+        self.exceedances.verticalHeader().setDefaultSectionSize(self.fontMetrics().height() + 6)
+        self.exceedances.setMinimumHeight(5 * self.exceedances.verticalHeader().defaultSectionSize())
         self.exceedances.cellClicked.connect(lambda row, _column: self.zoom_to_exceedance(self._exceedance_at(row)))
         self.exceedances.currentCellChanged.connect(lambda row, *_: self.zoom_to_exceedance(self._exceedance_at(row)))
 
@@ -272,8 +273,9 @@ class TrackView(DrawWhenShown, QWidget):
         splitter = QSplitter(Qt.Vertical)
         splitter.addWidget(upper)
         splitter.addWidget(self.exceedances)
-        splitter.setStretchFactor(0, 3)
+        splitter.setStretchFactor(0, 4)
         splitter.setStretchFactor(1, 1)
+        splitter.setSizes([4000, 1000])
         splitter.setChildrenCollapsible(False)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(2, 2, 2, 2)
@@ -315,7 +317,8 @@ class TrackView(DrawWhenShown, QWidget):
         self._pending_range = None
         self._fill_plots_menu()
         self.request_draw(now=not len(self._station))
-        self._fill_table()
+        self.exceedances.setRowCount(0)
+        QTimer.singleShot(0, self._fill_table)  # after the plots are on screen (a long survey: thousands)
         self.readout.setText(READOUT_HINT if len(self._station) else "")
         if state is not None:
             self.restore_state(state)
@@ -379,9 +382,11 @@ class TrackView(DrawWhenShown, QWidget):
         table.setUpdatesEnabled(False)
         header.setSectionResizeMode(QHeaderView.Interactive)  # sized once below, not after every cell
         table.setRowCount(len(self._rows))
+        titles = {spec.key: spec.title for spec in self._specs}  # display names, never the profile's ids
         for row, e in enumerate(self._rows):
             digits = 3 if e.unit == "mm" else 6
-            cells = ((e.check, None), (e.rail, None), (e.direction, None),
+            cells = ((titles.get(f"check_{e.check}", e.kind.replace("_", " ")), None), (e.rail, None),
+                     (e.direction, None),
                      (f"{e.station_from_m:.3f}", e.station_from_m), (f"{e.station_to_m:.3f}", e.station_to_m),
                      (f"{e.peak:.{digits}f}", abs(e.peak)), (f"{e.limit:.{digits}f}", abs(e.limit)), (e.unit, None),
                      (f"{e.first_sleeper}–{e.last_sleeper}", e.first_sleeper))
