@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -252,3 +253,53 @@ def test_detect_format_of_foreign_files(tmp_path):
         read_any(tmp_path / "gauge.txt", speed=3)
     with pytest.raises(InputError, match="file not found"):
         read_any(tmp_path / "absent.txt")
+
+
+def test_gnss_and_odometer_are_optional_roles(tmp_path):
+    """A tunnel survey (prism fixes, no GNSS) and a survey without an odometer read; their lever
+    arms are then not required, and a survey with no position source at all is refused."""
+    files = make_survey_files(tmp_path)
+    del files["gnss"], files["odometer"]
+    manifest = make_manifest(files)
+    trolley = replace(manifest.trolley, imu_to_antenna_m=np.full(3, np.nan), imu_to_odometer_m=np.full(3, np.nan))
+    write_manifest(tmp_path, replace(manifest, trolley=trolley))  # lever arms not given are left out
+    assert "imu_to_antenna_m" not in (tmp_path / "survey.toml").read_text()
+    data = read_survey(tmp_path)
+    assert data.gnss is None and data.odometer is None and len(data.prism) == 2
+    assert not np.isfinite(data.manifest.trolley.imu_to_antenna_m).any()
+
+    del files["prism"]
+    write_manifest(tmp_path, make_manifest(files))
+    with pytest.raises(ManifestError, match="files: no position source: give a GNSS solution"):
+        read_manifest(tmp_path)
+
+
+def test_antenna_lever_arm_is_required_with_gnss(tmp_path):
+    manifest = make_manifest(make_survey_files(tmp_path))
+    write_manifest(tmp_path, replace(manifest, trolley=replace(manifest.trolley, imu_to_antenna_m=np.full(3, np.nan))))
+    with pytest.raises(ManifestError, match=r"trolley.imu_to_antenna_m: missing \(required with files.gnss"):
+        read_manifest(tmp_path)
+
+
+def test_relative_imu_profile_is_resolved_from_the_survey_folder(tmp_path, monkeypatch):
+    from insrail.nav.imu_profile import load_imu_profile
+    from insrail.resources import resource
+
+    folder = tmp_path / "survey"
+    folder.mkdir()
+    (folder / "profiles").mkdir()
+    (folder / "profiles" / "my_unit.toml").write_text(
+        resource("imu_profiles", "tactical.toml").read_text().replace('name = "tactical"', 'name = "my unit"'))
+    manifest = replace(make_manifest(make_survey_files(folder)), imu_profile="profiles/my_unit.toml")
+    write_manifest(folder, manifest)
+    monkeypatch.chdir(tmp_path)  # elsewhere than the survey folder
+    read = read_manifest("survey")
+    assert Path(read.imu_profile) == (folder / "profiles" / "my_unit.toml").resolve()
+    assert load_imu_profile(read.imu_profile).name == "my unit"
+    write_manifest(folder, read)  # written back relative to the folder
+    assert 'imu_profile = "profiles/my_unit.toml"' in (folder / "survey.toml").read_text()
+
+    (folder / "profiles" / "my_unit.toml").unlink()
+    with pytest.raises(ManifestError, match=r"survey.imu_profile: file not found: profiles/my_unit.toml \(a .toml "
+                                            r"path is relative to the survey folder"):
+        read_manifest(folder)

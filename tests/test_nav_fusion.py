@@ -76,7 +76,7 @@ def test_gnss_that_does_not_overlap_the_imu_is_a_clear_error(survey):
         fuse_survey(shifted)
 
 
-def test_short_imu_gaps_are_bridged_with_a_warning_and_long_ones_refused(survey):
+def test_imu_gaps_are_bridged_with_a_warning_and_too_long_ones_refused(survey):
     imu = survey.imu
     keep = np.ones(len(imu), dtype=bool)
     keep[100_000:100_012] = False  # 12 samples (60 ms) lost by the logger
@@ -86,8 +86,8 @@ def test_short_imu_gaps_are_bridged_with_a_warning_and_long_ones_refused(survey)
     assert len(warnings) == 1 and "0.065 s" in warnings[0] and "12 missing samples" in warnings[0]
     # Interpolated rates are close to the lost ones (the trolley moves smoothly).
     assert np.abs(bridged.dvel_mps[100_000:100_012] - imu.dvel_mps[100_000:100_012]).max() < 1e-4
-    keep[200_000:200_400] = False  # 2 s
-    with pytest.raises(ValueError, match=r"IMU data gap of 2\.005 s after t = .* cannot be bridged"):
+    keep[200_000:201_200] = False  # 6 s
+    with pytest.raises(ValueError, match=r"IMU data gap of 6\.005 s after t = .* cannot be bridged"):
         bridge_gaps(replace(imu, time_s=imu.time_s[keep], dtheta_rad=imu.dtheta_rad[keep], dvel_mps=imu.dvel_mps[keep]))
 
 
@@ -155,7 +155,7 @@ def test_a_survey_that_starts_moving_is_aligned_on_the_gnss_track(tmp_path):
     config = replace(base, motion=replace(base.motion, static_start_s=5.0, end_station_m=1650.0, stops=((1450.0, 20.0),)))
     simulate(config, seed=2, out_dir=tmp_path / "moving", imu_format="npy")
     result = fuse_survey(read_survey(tmp_path / "moving"), ellipsoid=CGCS2000, output_every=4)
-    assert result.info["alignment"] == "gnss-track"
+    assert result.info["alignment"] == "track"
     errors = trajectory_errors(result.trajectory, read_nav_truth(tmp_path / "moving" / "truth" / "nav.npy"), CGCS2000)
     assert np.all(np.rad2deg(errors.rms_attitude_rad()) < [0.004, 0.004, 0.01])
     assert errors.rms_horizontal_m() < 0.012
@@ -177,3 +177,47 @@ def test_gnss_quality_policy_inflates_float_and_excludes_single(survey):
     assert len(kept) == len(gnss) - 10
     assert np.allclose(kept.sigma_ned_m[100:150], 3.0 * gnss.sigma_ned_m[100:150])
     assert not np.isin(gnss.time_s[300:310], kept.time_s).any()
+
+
+def _first_seconds(survey, seconds):
+    imu = survey.imu
+    keep = imu.time_s < imu.time_s[0] + seconds
+    return replace(survey, imu=replace(imu, time_s=imu.time_s[keep], dtheta_rad=imu.dtheta_rad[keep],
+                                       dvel_mps=imu.dvel_mps[keep]))
+
+
+def test_a_survey_without_odometer_fuses_on_gnss_nhc_and_zupt(short_nav_survey, survey):
+    """Roles imu + gnss (the first 700 s: 5 min static start, a stop, no GNSS outage): stops come
+    from the IMU and the GNSS alone, and the result says where its along-track scale comes from."""
+    truth = read_nav_truth(short_nav_survey / "truth" / "nav.npy")
+    result = fuse_survey(replace(_first_seconds(survey, 700.0), odometer=None), ellipsoid=CGCS2000, output_every=4)
+    assert result.info["alignment"] == "static" and len(result.stops) == 2
+    assert result.statistics["zupt"]["used"] > 2000 and result.statistics["zupt"]["rejected"] == 0
+    assert result.statistics["gnss_position"]["rejected"] == 0
+    assert any("no odometer" in n.message and "GNSS positions only" in n.message for n in result.info["notices"])
+    errors = trajectory_errors(result.trajectory, truth, CGCS2000)
+    assert errors.rms_horizontal_m() < 0.008 and errors.rms_vertical_m() < 0.008
+    assert max(errors.lag_difference_sigma_m(5.0)) < 0.3e-3
+
+
+def test_a_survey_without_gnss_starts_from_the_prism_fixes(short_nav_survey, survey):
+    """No GNSS (a tunnel): a total-station fix during the static start and one every 60 m give the
+    position; the nav-grade unit gyrocompasses; the odometer and NHC carry between the fixes."""
+    from insrail.nav.measurements import PositionFix
+
+    truth = read_nav_truth(short_nav_survey / "truth" / "nav.npy")
+    station = truth["station_m"]
+    rows = np.unique(np.concatenate([[np.searchsorted(truth["time_s"], truth["time_s"][0] + 20.0)],
+                                     np.searchsorted(station, np.arange(station[0] + 60.0, station[-1], 60.0))]))
+    rows = rows[truth["time_s"][rows] < truth["time_s"][0] + 700.0]
+    fixes = PositionFix(truth["time_s"][rows], truth["lat_rad"][rows], truth["lon_rad"][rows], truth["height_m"][rows],
+                        np.full(len(rows), 0.001), np.zeros(3))
+    result = fuse_survey(replace(_first_seconds(survey, 700.0), gnss=None), ellipsoid=CGCS2000, output_every=4,
+                  position_fixes=fixes)
+    assert result.info["alignment"] == "static" and "gnss_position" not in result.statistics
+    assert result.statistics["position_fix"]["used"] == len(rows) - 1  # the first one starts the filter
+    errors = trajectory_errors(result.trajectory, truth, CGCS2000)
+    assert errors.rms_horizontal_m() < 0.004 and errors.rms_vertical_m() < 0.003
+    assert max(errors.lag_difference_sigma_m(5.0)) < 0.3e-3
+    with pytest.raises(ValueError, match="neither GNSS nor total-station prism fixes"):
+        fuse_survey(replace(survey, gnss=None))

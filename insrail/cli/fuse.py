@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from dataclasses import asdict
 from pathlib import Path
 
@@ -26,7 +27,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--imu-profile", help="IMU error profile name or .toml (default: the survey's)")
     p.add_argument("--rate", type=float, default=0.0, help="output rate [Hz] (default: the IMU rate)")
     p.add_argument("--ellipsoid", choices=("WGS84", "CGCS2000"), default="CGCS2000")
-    p.add_argument("--heading", type=float, help="initial heading of the IMU [deg] instead of gyrocompassing")
+    p.add_argument("--heading", type=float,
+                   help="initial heading of the IMU [deg]: skips the gyrocompass and sets the start velocity's direction")
+    p.add_argument("--heading-sigma", type=float, default=0.1,
+                   help="1-sigma of the --heading [deg] (default 0.1)")
     p.add_argument("--gnss-sigma-scale", type=float, default=1.0, help="factor on the GNSS file's sigmas (default 1)")
     p.add_argument("--gnss-sigma-floor", type=float, default=2.0, help="smallest GNSS sigma used [mm] (default 2)")
 
@@ -35,6 +39,7 @@ def run(args: argparse.Namespace) -> int:
     import tomli_w
 
     from insrail.io.atomic import atomic_write
+    from insrail.io.errors import InputError
     from insrail.io.survey import read_survey
     from insrail.nav import earth
     from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, aiding_for, fuse
@@ -52,16 +57,24 @@ def run(args: argparse.Namespace) -> int:
         use_odometer=not args.gnss_only,
         use_zupt=not args.gnss_only,
         initial_heading_rad=None if args.heading is None else math.radians(args.heading),
+        initial_sigma_heading_rad=math.radians(args.heading_sigma),
         gnss_sigma_scale=args.gnss_sigma_scale,
         gnss_sigma_floor_m=args.gnss_sigma_floor / 1000.0,
     )
     bar = TerminalProgress("fuse")
     survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m))
-    profile = load_imu_profile(args.imu_profile or survey.manifest.imu_profile)
     every = max(int(round(survey.imu.rate_hz / args.rate)), 1) if args.rate > 0 else 1
     ellipsoid = earth.CGCS2000 if args.ellipsoid == "CGCS2000" else earth.WGS84
-    result = fuse(survey.imu, aiding_for(survey, options, profile), profile, options, ellipsoid, output_every=every,
-                  progress=lambda f, m: bar(0.05 + 0.85 * f, m))
+    try:
+        profile = load_imu_profile(args.imu_profile or survey.manifest.imu_profile)
+        result = fuse(survey.imu, aiding_for(survey, options, profile), profile, options, ellipsoid,
+                      output_every=every, progress=lambda f, m: bar(0.05 + 0.85 * f, m))
+    except InputError:
+        raise
+    except ValueError as err:  # profile, start-up, screening, filter: the message says what to do
+        bar.done()
+        print(f"insrail fuse: survey {survey.manifest.name} ({args.survey}): {err}", file=sys.stderr)
+        return 1
     bar(0.9, "writing")
     args.out.mkdir(parents=True, exist_ok=True)
     traj = result.trajectory
@@ -80,6 +93,16 @@ def run(args: argparse.Namespace) -> int:
         "odometer_scale_ppm": float(traj.odometer_scale[-1] * 1e6),
         "stops_s": [list(s) for s in result.stops],
         "warnings": result.info["warnings"],
+        "notices": [n.to_dict() for n in result.info["notices"]],
+        "alignment": result.info["alignment"],
+        "imu_outliers_removed": [
+            {"time_s": o.time_s, "record": o.index + 1, "quantity": o.quantity, "axis": o.axis, "reason": o.reason,
+             "value": o.value if math.isfinite(o.value) else str(o.value), "neighbours_median": o.reference}
+            for o in result.info["imu_outliers"] if math.isfinite(o.reference)
+        ] + [{"time_s": o.time_s, "record": o.index + 1, "quantity": o.quantity, "axis": o.axis, "reason": o.reason,
+              "value": str(o.value)} for o in result.info["imu_outliers"] if not math.isfinite(o.reference)],
+        "imu_gaps_bridged_s": [[g.start_s, g.end_s] for g in result.info["imu_gaps"]],
+        "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
         "gnss_quality": {k: {kk: vv for kk, vv in v.items() if vv is not None} for k, v in result.info["gnss_quality"].items()},
         "measurements": result.statistics,
         "rejected": [
@@ -91,8 +114,8 @@ def run(args: argparse.Namespace) -> int:
     with atomic_write(args.out / "fusion_log.toml") as stream:
         stream.write(tomli_w.dumps(log))
     elapsed = bar.done()
-    for warning in result.info["warnings"]:
-        print(f"warning: {warning}")
+    for notice in result.info["notices"]:
+        print(f"{'warning' if notice.severity == 'warning' else 'note'}: {notice.text()}")
     kind = "smoothed" if options.smoother else "forward"
     print(f"Fused {len(survey.imu):,} IMU epochs in {elapsed:.1f} s ({kind}); {len(result.rejections)} measurements rejected")
     for quality, c in result.info["gnss_quality"].items():

@@ -36,6 +36,7 @@ from insrail.io.errors import InputError
 from insrail.io.formats import FORMATS, detect_format, read_any
 from insrail.io.survey import (
     MANIFEST_NAME,
+    POSITION_ROLES,
     REQUIRED_ROLES,
     ROLE_TYPES,
     SurveyFile,
@@ -244,6 +245,9 @@ class ImportWidget(QWidget):
             if role not in roles:
                 required = ", ".join(REQUIRED_ROLES)
                 problems.append(Problem("", None, f"no file has the role {role} (required: {required})"))
+        if not any(role in roles for role in POSITION_ROLES):
+            problems.append(Problem("", None, "no file gives the position: give a GNSS solution (gnss) or "
+                                    "total-station prism fixes (prism)"))
         weeks = set()
         for row, (path, role, name) in enumerate(self.entries()):
             status = "ok"

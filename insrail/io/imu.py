@@ -22,7 +22,7 @@ from insrail.io.textparse import (
     write_numeric_table,
 )
 from insrail.io.timescale import unix_gpst_to_week_seconds
-from insrail.io.types import ImuIncrements
+from insrail.io.types import GAP_FACTOR, ImuIncrements
 
 STANDARD_GRAVITY_MPS2 = 9.80665
 KFGINS_IMU_COLUMNS = ("t", "dtheta_x", "dtheta_y", "dtheta_z", "dvel_x", "dvel_y", "dvel_z")
@@ -156,7 +156,9 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
     axes relative to the body FRD axes, ``C_s^b = Rz(yaw) Ry(pitch) Rx(roll)``, so
     ``f^b = C_s^b f^s``. Each output increment is the trapezoidal integral of the
     rates over the interval between consecutive samples, stamped at its end; the
-    output has one sample fewer than the file.
+    output has one sample fewer than the file. Across a dropout (an interval longer than
+    1.5 x the median) the record after it holds the median interval at its own rates, so that
+    the gap is bridged once, by the fusion (:mod:`insrail.nav.imu_gaps`).
     """
     path = Path(path)
     _choice(path, "time_scale", time_scale, TIME_SCALES)
@@ -189,11 +191,20 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
                                          degrees=True).as_matrix()
     specific_force = table.values[:, list(accel_columns)] * ACCEL_UNITS[accel_unit] @ sensor_to_body.T
     angular_rate = table.values[:, list(gyro_columns)] * GYRO_UNITS[gyro_unit] @ sensor_to_body.T
-    interval = np.diff(time_s)[:, None]
+    interval = np.diff(time_s)
+    dtheta = 0.5 * (angular_rate[1:] + angular_rate[:-1]) * interval[:, None]
+    dvel = 0.5 * (specific_force[1:] + specific_force[:-1]) * interval[:, None]
+    # Across a dropout the rates are not integrated: the record after it holds one nominal
+    # interval at its own rates, as every IMU reader's gap contract says, and the fusion's
+    # bridge_gaps fills the gap once (integrating here too would count the motion twice).
+    nominal = float(np.median(interval))
+    dropout = interval > GAP_FACTOR * nominal
+    dtheta[dropout] = angular_rate[1:][dropout] * nominal
+    dvel[dropout] = specific_force[1:][dropout] * nominal
     return ImuIncrements(
         time_s=time_s[1:].copy(),
-        dtheta_rad=0.5 * (angular_rate[1:] + angular_rate[:-1]) * interval,
-        dvel_mps=0.5 * (specific_force[1:] + specific_force[:-1]) * interval,
+        dtheta_rad=dtheta,
+        dvel_mps=dvel,
         gps_week=gps_week,
         gaps=find_gaps(time_s),
         source=path,

@@ -77,8 +77,10 @@ class SurveyManifest:
     """Contents of ``survey.toml``.
 
     files maps a role (``imu gnss odometer gauge sleepers prism benchmarks events``) to a
-    :class:`SurveyFile`; imu, gnss and odometer are required, the rest optional, except
-    that ``raw_gnss`` (the ``[gnss_raw]`` table) replaces the gnss role.
+    :class:`SurveyFile`. Only imu is required; the survey also needs a source of position: a
+    GNSS solution (gnss), raw GNSS observations (``raw_gnss``, the ``[gnss_raw]`` table, which
+    replaces the gnss role) or total-station prism fixes (prism, a survey in a tunnel). Without
+    an odometer the along-track scale comes from the position source alone.
     """
 
     name: str
@@ -97,8 +99,8 @@ class SurveyData:
     manifest: SurveyManifest
     folder: Path
     imu: ImuIncrements
-    gnss: GnssSolution
-    odometer: OdometerData
+    gnss: GnssSolution | None = None  # None: a survey without GNSS (prism fixes only)
+    odometer: OdometerData | None = None  # None: no odometer (along-track scale from the positions)
     gauge: GaugeData | None = None
     sleepers: SleeperPulses | None = None
     prism: PrismObservations | None = None
@@ -119,12 +121,15 @@ ROLE_TYPES: dict[str, type] = {
     "benchmarks": Benchmarks,
     "events": EventList,
 }
-REQUIRED_ROLES = ("imu", "gnss", "odometer")
+REQUIRED_ROLES = ("imu",)
+#: roles of which a survey needs at least one (``[gnss_raw]`` counts as gnss): where the trolley is
+POSITION_ROLES = ("gnss", "prism")
 _LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m",
                "imu_to_sleeper_detector_m", "imu_to_reference_rail_m")
 # A lever arm is required only when the data that uses it is in the survey; one not
 # given is NaN so that any use of it shows up instead of passing for a zero offset.
-_LEVER_ARM_NEEDED_BY = {"imu_to_prism_m": "prism", "imu_to_sleeper_detector_m": "sleepers"}
+_LEVER_ARM_NEEDED_BY = {"imu_to_antenna_m": "gnss", "imu_to_odometer_m": "odometer", "imu_to_prism_m": "prism",
+                        "imu_to_sleeper_detector_m": "sleepers"}
 _SURVEY_KEYS = ("name", "gps_week", "imu_profile", "description")
 _TROLLEY_KEYS = _LEVER_ARMS + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m")
 
@@ -163,16 +168,17 @@ def _option_problem(hint, value) -> str | None:
 def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = False) -> dict[str, SurveyFile]:
     files: dict[str, SurveyFile] = {}
     if not isinstance(table, dict):
-        problems.append("files: missing table [files.<role>] (roles imu, gnss, odometer are required)")
+        problems.append("files: missing table [files.<role>] (the imu role is required)")
         return files
     for role in REQUIRED_ROLES:
-        if role == "gnss" and raw_gnss:
-            if role in table:
-                problems.append("files.gnss: give either a GNSS solution [files.gnss] or raw observations "
-                                "[gnss_raw], not both")
-        elif role not in table:
-            problems.append(f"files.{role}: missing (required role"
-                            + (", or raw observations in [gnss_raw])" if role == "gnss" else ")"))
+        if role not in table:
+            problems.append(f"files.{role}: missing (required role)")
+    if raw_gnss and "gnss" in table:
+        problems.append("files.gnss: give either a GNSS solution [files.gnss] or raw observations "
+                        "[gnss_raw], not both")
+    if not raw_gnss and not any(role in table for role in POSITION_ROLES):
+        problems.append("files: no position source: give a GNSS solution [files.gnss], raw GNSS observations "
+                        "[gnss_raw] or total-station prism fixes [files.prism]")
     for role, entry in table.items():
         key = f"files.{role}"
         if role not in ROLE_TYPES:
@@ -280,11 +286,20 @@ def read_manifest(folder: str | Path) -> SurveyManifest:
             problems.append(f"survey.{key}: expected text, found {survey[key]!r}")
     raw_gnss = parse_raw_gnss(folder, document["gnss_raw"], problems) if "gnss_raw" in document else None
     files = _parse_files(folder, document.get("files"), problems, raw_gnss="gnss_raw" in document)
-    trolley = parse_trolley(document.get("trolley"), set(files), problems)
+    roles = set(files) | ({"gnss"} if "gnss_raw" in document else set())
+    trolley = parse_trolley(document.get("trolley"), roles, problems)
+    imu_profile = survey.get("imu_profile", "nav")
+    if isinstance(imu_profile, str) and imu_profile.endswith(".toml"):
+        # a profile file of the survey's own: relative to the survey folder, wherever the user runs from
+        resolved = (folder / imu_profile).resolve()
+        if not resolved.is_file():
+            problems.append(f"survey.imu_profile: file not found: {imu_profile} (a .toml path is relative to the "
+                            "survey folder; or name a shipped profile)")
+        imu_profile = str(resolved)
     if problems:
         raise ManifestError(path, problems)
     return SurveyManifest(name=name, files=files, trolley=trolley,
-                          imu_profile=survey.get("imu_profile", "nav"), gps_week=gps_week,
+                          imu_profile=imu_profile, gps_week=gps_week,
                           description=survey.get("description", ""), raw_gnss=raw_gnss)
 
 
@@ -311,6 +326,12 @@ def manifest_to_toml(manifest: SurveyManifest) -> str:
 def write_manifest(folder: str | Path, manifest: SurveyManifest) -> Path:
     """Write ``<folder>/survey.toml`` atomically; returns its path."""
     path = Path(folder) / MANIFEST_NAME
+    profile = Path(manifest.imu_profile)
+    if profile.suffix == ".toml" and profile.is_absolute():  # kept relative to the folder it lies in
+        try:
+            manifest = dataclasses.replace(manifest, imu_profile=profile.relative_to(Path(folder).resolve()).as_posix())
+        except ValueError:
+            pass
     text = manifest_to_toml(manifest)
     with atomic_write(path) as handle:
         handle.write(text)

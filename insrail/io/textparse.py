@@ -30,11 +30,9 @@ import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
-from insrail.io.types import Gap
+from insrail.io.types import GAP_FACTOR, Gap
 
 COMMENT_MARKERS = ("#", "%")
-GAP_FACTOR = 1.5
-"""An interval longer than GAP_FACTOR x the median interval is reported as a Gap."""
 
 _WRITE_CHUNK_ROWS = 20_000
 # latin-1 decodes any byte: numbers are ASCII, and a comment in another 8-bit

@@ -13,6 +13,10 @@ from pathlib import Path
 import numpy as np
 
 
+GAP_FACTOR = 1.5
+"""An interval longer than GAP_FACTOR x the median interval is reported as a Gap."""
+
+
 @dataclass(frozen=True)
 class Gap:
     """A gap in a time series longer than the tolerance: from ``start_s`` to ``end_s``."""
@@ -33,7 +37,9 @@ class ImuIncrements:
     dtheta_rad : (n, 3) integral of the body angular rate omega_ib^b [rad], FRD
     dvel_mps   : (n, 3) integral of the specific force f^b [m/s], FRD
     gaps       : intervals where consecutive samples are further apart than 1.5
-                 nominal sample intervals
+                 nominal sample intervals (``GAP_FACTOR``); the sample after a gap holds
+                 the increments of one nominal interval, not of the whole gap (every
+                 reader keeps this; ``insrail.nav.imu_gaps`` bridges the gap once)
     """
 
     time_s: np.ndarray

@@ -4,8 +4,10 @@ Static coarse alignment (thesis 5.3.1.1): levelling from the mean specific force
 gyrocompassing from the mean angular rate. With a navigation-grade gyro (0.01 deg/h) and
 a few minutes at rest the heading comes out to about 0.05 deg; the filter refines it.
 
-Stops are found where the odometer does not move and the IMU is quiet; the ZUPT
-measurement and the static alignment use them.
+Stops are found where the IMU is quiet (thresholds from the IMU profile's noise, never below
+what a pushed trolley shows) and the odometer, or without one the positions, do not move; the
+ZUPT measurement and the static alignment use them. Which start-up a survey gets (static,
+track, given heading): :mod:`insrail.nav.startup`.
 """
 
 from __future__ import annotations
@@ -16,14 +18,10 @@ from insrail.io.types import ImuIncrements, OdometerData
 from insrail.nav import earth
 
 
-def coarse_alignment(imu: ImuIncrements, start: int, stop: int, lat: float, ell: earth.Ellipsoid = earth.WGS84):
-    """(roll, pitch, heading) [rad] of b from the IMU samples ``start:stop`` at rest.
-
-    The level frame l is b rotated back by roll and pitch (C_b^l = Ry(pitch) Rx(roll)); in
-    it the earth rate is (w cos(lat) cos(heading), -w cos(lat) sin(heading), -w sin(lat)).
-    Raises ValueError when the samples do not look static (gravity missing or the mean
-    horizontal earth rate implausible), e.g. an alignment window that includes motion.
-    """
+def static_levelling(imu: ImuIncrements, start: int, stop: int):
+    """(roll, pitch [rad], mean specific force f^b [m/s^2], mean angular rate w^b [rad/s]) of
+    the IMU samples ``start:stop`` at rest. Raises ValueError when the samples do not look
+    static (the mean specific force is not gravity)."""
     if stop - start < 10:
         raise ValueError("static alignment needs at least 10 IMU samples at rest")
     span = imu.time_s[stop - 1] - imu.time_s[start] + (imu.time_s[start] - imu.time_s[start - 1] if start > 0 else 0.0)
@@ -31,9 +29,22 @@ def coarse_alignment(imu: ImuIncrements, start: int, stop: int, lat: float, ell:
     w = imu.dtheta_rad[start:stop].sum(axis=0) / span
     g = np.linalg.norm(f)
     if not 9.7 < g < 9.9:
-        raise ValueError(f"static alignment: mean specific force {g:.4f} m/s^2 is not gravity; is the trolley at rest?")
+        raise ValueError(f"static alignment: mean specific force {g:.4f} m/s^2 over "
+                         f"{imu.time_s[start]:.3f}-{imu.time_s[stop - 1]:.3f} s is not gravity; "
+                         "is the trolley at rest, or are the accelerometers in another unit?")
     roll = np.arctan2(-f[1], -f[2])
     pitch = np.arctan2(f[0], np.hypot(f[1], f[2]))
+    return float(roll), float(pitch), f, w
+
+
+def gyrocompass(roll: float, pitch: float, w: np.ndarray, lat: float, ell: earth.Ellipsoid = earth.WGS84) -> float:
+    """Heading [rad] of b from the mean angular rate ``w`` at rest, levelled by roll and pitch.
+
+    The level frame l is b rotated back by roll and pitch (C_b^l = Ry(pitch) Rx(roll)); in
+    it the earth rate is (w cos(lat) cos(heading), -w cos(lat) sin(heading), -w sin(lat)).
+    Raises ValueError when the horizontal earth rate is implausible (the gyros cannot
+    resolve it, or the trolley moved).
+    """
     cr, sr, cp, sp = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch)
     w_level = np.array(
         [cp * w[0] + sp * sr * w[1] + sp * cr * w[2], cr * w[1] - sr * w[2], -sp * w[0] + cp * sr * w[1] + cp * cr * w[2]]
@@ -43,42 +54,109 @@ def coarse_alignment(imu: ImuIncrements, start: int, stop: int, lat: float, ell:
     if not 0.5 * expected < horizontal < 1.5 * expected:
         raise ValueError(
             f"static alignment: horizontal earth rate {horizontal:.3e} rad/s, expected {expected:.3e}; "
-            "the gyros cannot find north (tactical-grade IMU or motion) - give the initial heading instead"
+            "the gyros cannot find north (tactical-grade or MEMS IMU, or motion)"
         )
-    heading = np.arctan2(-w_level[1], w_level[0])
-    return float(roll), float(pitch), float(heading)
+    return float(np.arctan2(-w_level[1], w_level[0]))
+
+
+def coarse_alignment(imu: ImuIncrements, start: int, stop: int, lat: float, ell: earth.Ellipsoid = earth.WGS84):
+    """(roll, pitch, heading) [rad] of b from the IMU samples ``start:stop`` at rest: levelling
+    (:func:`static_levelling`), then gyrocompassing (:func:`gyrocompass`); either raises
+    ValueError when it cannot."""
+    roll, pitch, _, w = static_levelling(imu, start, stop)
+    return roll, pitch, gyrocompass(roll, pitch, w, lat, ell)
+
+
+def gyrocompass_sigma_rad(gyro_bias_radps: float, gyro_arw: float, duration_s: float, lat: float,
+                          ell: earth.Ellipsoid = earth.WGS84) -> float:
+    """1-sigma of a gyrocompass heading over ``duration_s`` at rest: the gyro bias and the angle
+    random walk averaged over the stop, against the horizontal earth rate (pi when the error
+    reaches the earth rate itself: no north at all)."""
+    error = np.hypot(gyro_bias_radps, gyro_arw / np.sqrt(max(duration_s, 1e-3)))
+    ratio = error / (ell.omega * np.cos(lat))
+    return float(np.arctan(ratio)) if ratio < 0.5 else float(np.pi)
+
+
+#: a pushed trolley rocks by far more than this [rad/s, m/s^2] (the floor of the stop thresholds)
+STOP_GYRO_STD_FLOOR_RADPS = 2e-4
+STOP_ACCEL_STD_FLOOR_MPS2 = 2e-3
+#: the stop thresholds in units of the IMU's own noise per sample (a stop must not be missed
+#: because a MEMS unit is noisier than the floor)
+STOP_NOISE_FACTOR = 5.0
+
+
+#: the specific force is averaged over blocks of this length [s] before its spread is taken
+ACCEL_BLOCK_S = 0.05
+
+
+def stop_thresholds(gyro_arw: float, accel_vrw: float, rate_hz: float) -> tuple[float, float]:
+    """(gyro [rad/s], accelerometer [m/s^2]) standard deviation over the detection window below
+    which the IMU counts as quiet: the larger of the trolley's floor and
+    ``STOP_NOISE_FACTOR`` x the profile's white noise (ARW x sqrt(rate) per gyro sample, VRW /
+    sqrt(ACCEL_BLOCK_S) per accelerometer block)."""
+    return (max(STOP_GYRO_STD_FLOOR_RADPS, STOP_NOISE_FACTOR * gyro_arw * np.sqrt(rate_hz)),
+            max(STOP_ACCEL_STD_FLOOR_MPS2, STOP_NOISE_FACTOR * accel_vrw / np.sqrt(ACCEL_BLOCK_S)))
+
+
+def _moving_std(values: np.ndarray, n_win: int) -> np.ndarray:
+    kernel = np.ones(n_win) / n_win
+    mean = np.convolve(values, kernel, mode="same")
+    return np.sqrt(np.maximum(np.convolve(values**2, kernel, mode="same") - mean**2, 0.0))
 
 
 def detect_stops(
     imu: ImuIncrements,
-    odometer: OdometerData,
+    odometer: OdometerData | None,
     window_s: float = 1.0,
     max_speed_mps: float = 0.002,
-    max_gyro_std_radps: float = 2e-4,
+    max_gyro_std_radps: float = STOP_GYRO_STD_FLOOR_RADPS,
     min_duration_s: float = 2.0,
+    max_accel_std_mps2: float | None = None,
+    positions: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> list[tuple[float, float]]:
     """Intervals [start, end] [s] where the trolley stands still.
 
-    Still = the odometer moved less than ``max_speed_mps * window_s`` within the window
-    around a sample AND the gyro rate's standard deviation over the window is below
-    ``max_gyro_std_radps`` (a pushed trolley rocks by far more). Intervals shorter than
-    ``min_duration_s`` are dropped; the ends are pulled in by half a window so no moving
-    sample is declared still.
+    Still = the IMU is quiet (the gyro rate's standard deviation over the window around a
+    sample below ``max_gyro_std_radps``: a pushed trolley rocks by far more; with
+    ``max_accel_std_mps2`` also the specific force vector's, whose direction changes as soon as
+    the trolley accelerates) AND, with an odometer, it moved less than
+    ``max_speed_mps * window_s`` within the window. Without an odometer ``positions`` (time [s],
+    horizontal local positions (n, 2) [m], their 1-sigma (n,) [m]), when given, must not move
+    by more than three times their noise over the window either; the IMU decides alone where
+    there are none. Intervals shorter than ``min_duration_s`` are dropped; the ends are pulled in
+    by half a window so no moving sample is declared still. The thresholds of an IMU class:
+    :func:`stop_thresholds`.
     """
-    dt = np.median(np.diff(imu.time_s))
-    n_win = max(int(round(window_s / dt)), 2)
+    step = np.diff(imu.time_s)
+    nominal = np.median(step)
+    dt = np.concatenate([[nominal], step])  # a logger's jitter must not pass for motion
+    n_win = max(int(round(window_s / nominal)), 2)
     rate = np.linalg.norm(imu.dtheta_rad, axis=1) / dt
-    kernel = np.ones(n_win) / n_win
-    mean = np.convolve(rate, kernel, mode="same")
-    var = np.maximum(np.convolve(rate**2, kernel, mode="same") - mean**2, 0.0)
-    quiet = np.sqrt(var) < max_gyro_std_radps
+    still = _moving_std(rate, n_win) < max_gyro_std_radps
+    if max_accel_std_mps2 is not None:
+        # Per axis (a gentle start changes the direction of f, not |f|), over blocks of
+        # ACCEL_BLOCK_S: a logger's time stamps rounded to the millisecond make single-sample
+        # rates jump by 10 % of gravity.
+        m = max(int(round(ACCEL_BLOCK_S / nominal)), 1)
+        kernel = np.ones(m)
+        span = np.convolve(dt, kernel, mode="same")
+        spread = np.sqrt(sum(_moving_std(np.convolve(imu.dvel_mps[:, a], kernel, mode="same") / span, n_win) ** 2
+                             for a in range(3)))
+        still &= spread < max_accel_std_mps2
 
     half = 0.5 * window_s
-    d_ahead = np.interp(imu.time_s + half, odometer.time_s, odometer.distance_m)
-    d_behind = np.interp(imu.time_s - half, odometer.time_s, odometer.distance_m)
-    not_moving = np.abs(d_ahead - d_behind) < max_speed_mps * window_s
-    inside = (imu.time_s - half >= odometer.time_s[0]) & (imu.time_s + half <= odometer.time_s[-1])
-    still = quiet & not_moving & inside
+    if odometer is not None:
+        d_ahead = np.interp(imu.time_s + half, odometer.time_s, odometer.distance_m)
+        d_behind = np.interp(imu.time_s - half, odometer.time_s, odometer.distance_m)
+        still &= np.abs(d_ahead - d_behind) < max_speed_mps * window_s
+        still &= (imu.time_s - half >= odometer.time_s[0]) & (imu.time_s + half <= odometer.time_s[-1])
+    elif positions is not None and len(positions[0]) > 1:
+        t_pos, ne, sigma = positions
+        ahead = np.column_stack([np.interp(imu.time_s + half, t_pos, ne[:, a]) for a in range(2)])
+        behind = np.column_stack([np.interp(imu.time_s - half, t_pos, ne[:, a]) for a in range(2)])
+        noise = np.interp(imu.time_s, t_pos, sigma)
+        covered = (imu.time_s - half >= t_pos[0]) & (imu.time_s + half <= t_pos[-1])
+        still &= ~covered | (np.hypot(*(ahead - behind).T) < 3.0 * np.sqrt(2.0) * noise + max_speed_mps * window_s)
 
     edges = np.diff(still.astype(np.int8), prepend=0, append=0)
     starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
@@ -88,41 +166,3 @@ def detect_stops(
         if t1 - t0 >= min_duration_s:
             intervals.append((float(t0), float(t1)))
     return intervals
-
-
-def track_alignment(
-    imu: ImuIncrements,
-    gnss_time_s: np.ndarray,
-    gnss_ned_m: np.ndarray,
-    odometer: OdometerData,
-    min_speed_mps: float = 0.2,
-    min_distance_m: float = 10.0,
-):
-    """Initial attitude for a survey that starts moving: (GNSS epoch index, roll, pitch,
-    heading) of the trolley frame.
-
-    Heading and pitch are the direction of the GNSS track over the first
-    ``min_distance_m`` of motion (10 m with 1 cm GNSS noise: about 0.1 deg); roll comes
-    from the mean specific force over the same stretch (a walking trolley accelerates by
-    a few cm/s^2: a few hundredths of a degree). ``gnss_ned_m`` are GNSS positions as
-    local NED metres. Raises ValueError when the survey never moves far enough.
-    """
-    d_ahead = np.interp(gnss_time_s + 0.5, odometer.time_s, odometer.distance_m)
-    d_behind = np.interp(gnss_time_s - 0.5, odometer.time_s, odometer.distance_m)
-    moving = np.flatnonzero(np.abs(d_ahead - d_behind) > min_speed_mps)
-    if moving.size == 0:
-        raise ValueError("track alignment: the trolley never moves faster than "
-                         f"{min_speed_mps} m/s (by the odometer)")
-    i0 = int(moving[0])
-    travelled = np.hypot(*(gnss_ned_m[i0:, :2] - gnss_ned_m[i0, :2]).T)
-    far = np.flatnonzero(travelled >= min_distance_m)
-    if far.size == 0:
-        raise ValueError(f"track alignment: the GNSS track never leaves a {min_distance_m:.0f} m circle")
-    i1 = i0 + int(far[0])
-    d = gnss_ned_m[i1] - gnss_ned_m[i0]
-    heading = np.arctan2(d[1], d[0])
-    pitch = np.arctan2(-d[2], np.hypot(d[0], d[1]))
-    k0, k1 = np.searchsorted(imu.time_s, gnss_time_s[[i0, i1]])
-    f = imu.dvel_mps[k0:k1].sum(axis=0)
-    roll = np.arctan2(-f[1], -f[2])
-    return i0, float(roll), float(pitch), float(heading)

@@ -43,7 +43,7 @@ from scipy.stats import chi2
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth, kalman
-from insrail.nav.alignment import coarse_alignment, detect_stops, track_alignment
+from insrail.nav.alignment import detect_stops, stop_thresholds
 from insrail.nav.error_model import (
     ATT,
     BG,
@@ -61,6 +61,7 @@ from insrail.nav.error_model import (
 )
 from insrail.nav.imu_gaps import bridge_gaps
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
+from insrail.nav.imu_screening import screen_imu
 from insrail.nav.measurements import (
     GnssPosition,
     GnssVelocity,
@@ -76,13 +77,14 @@ from insrail.nav.mechanization import (
     q_ne_from_lat_lon,
 )
 from insrail.nav.rotation import (
-    dcm_to_quat,
     euler_to_dcm,
     quat_multiply,
     quat_to_dcm,
     rotvec_to_quat,
 )
+from insrail.nav.startup import PositionTrack, initial_state
 from insrail.nav.trajectory import Trajectory
+from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 
 
@@ -115,7 +117,7 @@ class FusionOptions:
     initial_sigma_level_rad: float = math.radians(0.01)
     initial_sigma_odometer_scale: float = 0.01
     min_static_s: float = 30.0
-    max_imu_gap_s: float = 1.0  # longer IMU gaps are refused, shorter ones bridged with a warning
+    max_imu_gap_s: float = 5.0  # longer IMU gaps are refused, shorter ones bridged with a warning
 
 
 @dataclass(frozen=True)
@@ -277,15 +279,6 @@ class SmootherStore:
 # --------------------------------------------------------------------------- helpers
 
 
-def _nav_from(lat, lon, h, vel, c_bn) -> np.ndarray:
-    nav = np.zeros(_kernels.NAV_SIZE)
-    nav[0:4] = q_ne_from_lat_lon(lat, lon)
-    nav[4] = h
-    nav[5:8] = vel
-    nav[8:12] = dcm_to_quat(c_bn)
-    return nav
-
-
 def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, gnss_error: np.ndarray, odo_scale: float, ell) -> float:
     """Apply the error estimate dx to the navigation vector, the sensor and GNSS error
     estimates (in place); returns the new odometer scale estimate."""
@@ -303,59 +296,6 @@ def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, gnss_error: n
     sensor += dx[BG : SA + 3]
     gnss_error += dx[GNSS : GNSS + 3]
     return odo_scale + dx[ODO]
-
-
-@dataclass(frozen=True)
-class _Start:
-    """Initial state of the filter: IMU epoch, navigation vector and its 1-sigma."""
-
-    epoch: int
-    nav: np.ndarray
-    method: str
-    rpy_rad: tuple[float, float, float]
-    sigma_pos_ned_m: np.ndarray
-    sigma_vel_mps: float
-    sigma_level_rad: float
-    sigma_heading_rad: float
-
-
-def _initial_state(imu, gnss, gnss_idx, stops, odometer, c_vb, antenna_lever_m, options: FusionOptions, ell) -> _Start:
-    """Static coarse alignment when the survey starts at rest long enough, otherwise the
-    attitude of the GNSS track (heading overridden by ``options.initial_heading_rad``)."""
-    t = imu.time_s
-    static = stops[0] if stops and stops[0][0] <= t[0] + 5.0 else None
-    if static is not None and static[1] - static[0] >= options.min_static_s:
-        i0 = int(gnss_idx[0])
-        lat0 = gnss.lat_rad[i0]
-        roll, pitch, heading = coarse_alignment(imu, 1, int(np.searchsorted(t, static[1])), lat0, ell)
-        method, vel = "static", np.zeros(3)
-        sigma_vel, sigma_level, sigma_heading = 0.005, options.initial_sigma_level_rad, options.initial_sigma_heading_rad
-        mounting = np.eye(3)  # the static alignment gives the attitude of b itself
-    else:
-        lat_ref, lon_ref, h_ref = gnss.lat_rad[gnss_idx[0]], gnss.lon_rad[gnss_idx[0]], gnss.height_m[gnss_idx[0]]
-        r_m, r_n = earth.radii(lat_ref, ell)
-        ned = np.column_stack([(gnss.lat_rad[gnss_idx] - lat_ref) * (r_m + h_ref),
-                               (gnss.lon_rad[gnss_idx] - lon_ref) * (r_n + h_ref) * np.cos(lat_ref),
-                               -(gnss.height_m[gnss_idx] - h_ref)])
-        j0, roll, pitch, heading = track_alignment(imu, gnss.time_s[gnss_idx], ned, odometer)
-        i0 = int(gnss_idx[j0])
-        window = gnss.time_s[i0] + np.array([-0.5, 0.5])
-        speed = float(np.diff(np.interp(window, odometer.time_s, odometer.distance_m))[0])
-        method = "gnss-track"
-        vel = speed * np.array([np.cos(heading) * np.cos(pitch), np.sin(heading) * np.cos(pitch), -np.sin(pitch)])
-        sigma_vel, sigma_level, sigma_heading = 0.05, np.radians(0.5), np.radians(0.3)
-        mounting = c_vb  # the track gives the attitude of the trolley frame v
-    if options.initial_heading_rad is not None:
-        heading, sigma_heading = options.initial_heading_rad, options.initial_sigma_heading_rad
-    c_bn = euler_to_dcm(roll, pitch, heading) @ mounting
-    lat0, lon0, h0 = gnss.lat_rad[i0], gnss.lon_rad[i0], gnss.height_m[i0]
-    d_lat, d_lon, d_h = earth.ned_to_geodetic_delta(c_bn @ antenna_lever_m, lat0, h0, ell)
-    nav = _nav_from(lat0 - d_lat, lon0 - d_lon, h0 - d_h, vel, c_bn)
-    return _Start(
-        epoch=int(np.searchsorted(t, gnss.time_s[i0])), nav=nav, method=method, rpy_rad=(roll, pitch, heading),
-        sigma_pos_ned_m=np.maximum(gnss.sigma_ned_m[i0], 0.005), sigma_vel_mps=sigma_vel,
-        sigma_level_rad=sigma_level, sigma_heading_rad=sigma_heading,
-    )
 
 
 QUALITY_NAMES = {0: "unknown", 1: "fix", 2: "float", 3: "sbas", 4: "dgps", 5: "single", 6: "ppp"}
@@ -411,29 +351,38 @@ class Aiding:
     detection and the initial speed, the trolley's mounting and lever arms)."""
 
     measurements: tuple
-    gnss: GnssSolution  # after the quality policy (``gnss_by_quality``)
-    odometer: OdometerData
+    gnss: GnssSolution | None  # after the quality policy (``gnss_by_quality``); None: no GNSS (prism fixes)
+    odometer: OdometerData | None  # None: no odometer (NHC alone, stops from the IMU and the positions)
     trolley: TrolleyGeometry
     gnss_quality: dict = field(default_factory=dict)  # per quality flag: epochs, sigma factor, used
 
 
-def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: ImuProfile, gnss: GnssSolution,
-                   odometer: OdometerData, position_fixes: PositionFix | None = None) -> tuple:
+_ALL_TIME_S = np.array([-1e12, 1e12])
+
+
+def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: ImuProfile, gnss: GnssSolution | None,
+                   odometer: OdometerData | None, position_fixes: PositionFix | None = None) -> tuple:
     """The aiding sources as ``options`` selects them, in the order the filter applies them at
     an update epoch: GNSS positions (and velocities), total-station fixes, odometer/NHC, ZUPT.
     The fusion and the accuracy prediction (``insrail.quality.prediction``) both build theirs here."""
-    sources: list = [GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
-                                  trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
-                                  options.gnss_correlated_sigma_ned_m)]
-    if options.use_gnss_velocity and gnss.vel_ned_mps is not None:
+    sources: list = []
+    if gnss is not None:
+        sources.append(GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
+                                    trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
+                                    options.gnss_correlated_sigma_ned_m))
+    if gnss is not None and options.use_gnss_velocity and gnss.vel_ned_mps is not None:
         sources.append(GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m))
     if position_fixes is not None:
         sources.append(position_fixes)
-    if options.use_odometer or options.use_nhc:
+    use_odometer = options.use_odometer and odometer is not None
+    if use_odometer or options.use_nhc:
+        # without an odometer the NHC rows alone, on a record that covers all time (its speeds unused)
+        odo_t, odo_d = (odometer.time_s, odometer.distance_m) if odometer is not None else (_ALL_TIME_S, np.zeros(2))
         sources.append(OdometerNhc.from_distance(
-            odometer.time_s, odometer.distance_m, euler_to_dcm(*trolley.mounting_rpy_rad), trolley.imu_to_odometer_m,
-            trolley.imu_to_reference_rail_m, options.odometer_sigma_mps, odometer.pulse_length_m or 0.001,
-            sigma_nhc_mps=options.nhc_sigma_mps, use_odometer=options.use_odometer, use_nhc=options.use_nhc))
+            odo_t, odo_d, euler_to_dcm(*trolley.mounting_rpy_rad), trolley.imu_to_odometer_m,
+            trolley.imu_to_reference_rail_m, options.odometer_sigma_mps,
+            (odometer.pulse_length_m if odometer is not None else None) or 0.001,
+            sigma_nhc_mps=options.nhc_sigma_mps, use_odometer=use_odometer, use_nhc=options.use_nhc))
     if options.use_zupt:
         sources.append(Zupt(np.zeros(0), options.zupt_sigma_mps, gyro_white_noise=max(profile.gyro_arw, 1e-7)))
     return tuple(sources)
@@ -442,7 +391,7 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
 def aiding_for(survey: SurveyData, options: FusionOptions, profile: ImuProfile,
                position_fixes: PositionFix | None = None) -> Aiding:
     """What a survey aids the filter with (:func:`aiding_sources`), its GNSS after the quality policy."""
-    gnss, gnss_quality = gnss_by_quality(survey.gnss, options.gnss_quality_policy)
+    gnss, gnss_quality = (None, {}) if survey.gnss is None else gnss_by_quality(survey.gnss, options.gnss_quality_policy)
     trolley = survey.manifest.trolley
     return Aiding(aiding_sources(options, trolley, profile, gnss, survey.odometer, position_fixes), gnss,
                   survey.odometer, trolley, gnss_quality)
@@ -499,7 +448,12 @@ def fuse(
     gqg = noise_matrix(noise)
     trolley = aiding.trolley
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
+    source_file = str(imu.source or "")
+    imu, outliers, notices = screen_imu(imu, profile)
     imu, warnings = bridge_gaps(imu, options.max_imu_gap_s)
+    removed = np.array([o.time_s for o in outliers])
+    notices += [Notice("imu", w, file=source_file, time_s=gap.start_s) for gap, w in zip(imu.gaps, warnings)
+                if not np.any((removed > gap.start_s) & (removed < gap.end_s))]  # a removed record says so itself
     n = len(imu)
     t = imu.time_s
     dt = np.empty(n)
@@ -507,14 +461,30 @@ def fuse(
     dt[0] = np.median(dt[1 : min(n, 1000)])
 
     gnss = aiding.gnss
-    gnss_idx = np.flatnonzero((gnss.time_s > t[0]) & (gnss.time_s <= t[-1]))
-    if gnss_idx.size == 0:
+    fixes = next((m for m in aiding.measurements if isinstance(m, PositionFix)), None)
+    if aiding.odometer is None:
+        notices.append(Notice("fusion", "no odometer in the survey: the along-track scale comes from the "
+                              f"{'GNSS positions' if gnss is not None else 'prism fixes'} only", severity="info"))
+    if gnss is not None:
+        track = PositionTrack.from_gnss(gnss, trolley.imu_to_antenna_m).within(t[0], t[-1])
+    elif fixes is not None:
+        track = PositionTrack.from_fixes(fixes).within(t[0], t[-1])
+    else:
+        raise ValueError("the survey has neither GNSS nor total-station prism fixes: nothing gives its position")
+    if len(track) == 0:
+        where = gnss.source if gnss is not None and gnss.source else track.source
         raise ValueError(
-            f"{gnss.source or 'GNSS'}: no GNSS epoch lies within the IMU data "
+            f"{where}: no {track.source} epoch lies within the IMU data "
             f"({t[0]:.3f} - {t[-1]:.3f} s of week); check the files and their time scales"
         )
-    stops = detect_stops(imu, aiding.odometer)
-    start = _initial_state(imu, gnss, gnss_idx, stops, aiding.odometer, c_vb, trolley.imu_to_antenna_m, options, ellipsoid)
+    gyro_quiet, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, 1.0 / dt[0])
+    positions = None
+    if aiding.odometer is None and gnss is not None:
+        positions = (track.time_s, track.local_ned(ellipsoid)[:, :2], track.horizontal_sigma_m())
+    stops = detect_stops(imu, aiding.odometer, max_gyro_std_radps=gyro_quiet, positions=positions,
+                         max_accel_std_mps2=None if aiding.odometer is not None else accel_quiet)
+    start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid)
+    notices.extend(start.notices)
     k0, nav = start.epoch, start.nav
     nav_store = np.empty((n, 12))
     nav_store[: k0 + 1] = nav[:12]
@@ -610,7 +580,9 @@ def fuse(
                               initial_covariance=P_initial)
     return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops), timeline=timeline,
                         info={"update_epochs": m_epochs, "alignment_rpy_rad": start.rpy_rad,
-                              "alignment": start.method, "warnings": warnings, "gnss_quality": aiding.gnss_quality})
+                              "alignment": start.method, "warnings": [n.message for n in notices if n.severity == "warning"],
+                              "notices": notices, "gnss_quality": aiding.gnss_quality,
+                              "imu_outliers": outliers, "imu_gaps": imu.gaps})
 
 
 def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):

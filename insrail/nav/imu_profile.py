@@ -3,7 +3,10 @@
 A profile is a TOML file (``resources/imu_profiles/<name>.toml``, or any file the user
 copies and edits) in the units of data sheets: deg/sqrt(h), deg/h, m/s/sqrt(h), mGal,
 ppm, seconds. :class:`ImuProfile` holds the same values in SI. The simulator draws
-its sensor errors from a profile; the fusion filter takes its process noise from one.
+its sensor errors from a profile; the fusion filter takes its process noise from one, the
+start-up its gyrocompass accuracy and stop thresholds, and the sensor-level screening
+(``insrail.nav.imu_screening``) the optional ``[range]`` table: the measurement range and the
+largest change between neighbouring records (g, deg/s; defaults :data:`DEFAULT_RANGE`).
 """
 
 from __future__ import annotations
@@ -26,7 +29,9 @@ class ImuProfile:
     Gyro: angle random walk [rad/sqrt(s)], turn-on bias [rad/s] (1 sigma, constant over
     a run), Gauss-Markov in-run bias sigma [rad/s] and correlation time [s], scale
     factor [-] (1 sigma) and the correlation time the filter assumes for it. Accel:
-    velocity random walk [m/s/sqrt(s)], biases [m/s^2], scale factor [-].
+    velocity random walk [m/s/sqrt(s)], biases [m/s^2], scale factor [-]. Envelope: the
+    measurement range per axis and the largest change between neighbouring records a trolley
+    gives [m/s^2, rad/s]; records outside it are outliers.
     """
 
     name: str
@@ -44,6 +49,10 @@ class ImuProfile:
     accel_bias_gm_tau_s: float
     accel_scale_factor: float
     accel_scale_factor_tau_s: float
+    specific_force_range_mps2: float = 20.0 * 9.80665
+    rate_range_radps: float = 400.0 * _DEG
+    specific_force_jump_mps2: float = 2.0 * 9.80665
+    rate_jump_radps: float = 50.0 * _DEG
 
 
 _FIELDS = {
@@ -61,6 +70,17 @@ _FIELDS = {
     ("accel", "scale_factor_ppm"): ("accel_scale_factor", 1e-6),
     ("accel", "scale_factor_gm_tau_s"): ("accel_scale_factor_tau_s", 1.0),
 }
+
+
+_G = 9.80665
+#: [range] keys: (attribute, factor to SI, default in the file's unit)
+_RANGE_FIELDS = {
+    "specific_force_g": ("specific_force_range_mps2", _G, 20.0),
+    "rate_deg_per_s": ("rate_range_radps", _DEG, 400.0),
+    "specific_force_jump_g": ("specific_force_jump_mps2", _G, 2.0),
+    "rate_jump_deg_per_s": ("rate_jump_radps", _DEG, 50.0),
+}
+DEFAULT_RANGE = {key: default for key, (_, _, default) in _RANGE_FIELDS.items()}
 
 
 def load_imu_profile(name_or_path: str | Path) -> ImuProfile:
@@ -86,6 +106,19 @@ def load_imu_profile(name_or_path: str | Path) -> ImuProfile:
             problems.append(f"{section}.{key}: expected a non-negative number, found {raw!r}")
         elif key.endswith("tau_s") and raw <= 0:
             problems.append(f"{section}.{key}: a correlation time must be positive")
+        else:
+            values[attr] = float(raw) * factor
+    envelope = data.get("range", {})
+    if not isinstance(envelope, dict):
+        problems.append("range: expected a table [range]")
+        envelope = {}
+    for key in envelope:
+        if key not in _RANGE_FIELDS:
+            problems.append(f"range.{key}: unknown key (expected {', '.join(_RANGE_FIELDS)})")
+    for key, (attr, factor, default) in _RANGE_FIELDS.items():
+        raw = envelope.get(key, default)
+        if not isinstance(raw, (int, float)) or isinstance(raw, bool) or not math.isfinite(raw) or raw <= 0:
+            problems.append(f"range.{key}: expected a positive number, found {raw!r}")
         else:
             values[attr] = float(raw) * factor
     rate = data.get("rate_hz", 200.0)

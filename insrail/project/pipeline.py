@@ -147,7 +147,7 @@ from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 5
+CACHE_VERSION = 6  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles
 
 
 @dataclass(frozen=True)
@@ -302,9 +302,11 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     save_dataclass(quality_cache_file(path), quality)
     info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": len(survey.imu),
             "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
-            "notices": [*(n.to_dict() for n in checked),
-                        *(Notice("imu", w, file=str(survey.imu.source or "")).to_dict() for w in result.info["warnings"])],
-            "gnss": gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])}
+            "notices": [*(n.to_dict() for n in checked), *(n.to_dict() for n in result.info["notices"])],
+            "alignment": result.info["alignment"],
+            "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)"}
+    if survey.gnss is not None:
+        info["gnss"] = gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])
     save_trajectory(path, result.trajectory)
     with atomic_write(info_path, "wb") as handle:
         tomli_w.dump(info, handle)

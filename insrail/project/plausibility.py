@@ -378,10 +378,13 @@ def check_survey(survey: SurveyData, nominal_gauge_m: float) -> tuple[SurveyData
                         entry.format if entry else None)
 
     odometer_label, gnss_label = label("odometer", survey.odometer), label("gnss", survey.gnss)
-    notices = check_time_offset(survey.odometer, survey.gnss, odometer_label, gnss_label)
-    notices += check_odometer(survey.odometer, survey.gnss, odometer_label, gnss_label)
-    notices += check_odometer_direction(survey.imu, survey.odometer, odometer_label)
-    notices += check_sleepers(survey.sleepers, survey.odometer, label("sleepers", survey.sleepers), odometer_label)
+    notices = []
+    if survey.odometer is not None and survey.gnss is not None:  # both roles are optional
+        notices += check_time_offset(survey.odometer, survey.gnss, odometer_label, gnss_label)
+        notices += check_odometer(survey.odometer, survey.gnss, odometer_label, gnss_label)
+    if survey.odometer is not None:
+        notices += check_odometer_direction(survey.imu, survey.odometer, odometer_label)
+        notices += check_sleepers(survey.sleepers, survey.odometer, label("sleepers", survey.sleepers), odometer_label)
     gauge, gauge_notices = clean_gauge(survey.gauge, nominal_gauge_m, label("gauge", survey.gauge))
     return replace(survey, gauge=gauge), notices + gauge_notices
 

@@ -139,8 +139,7 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
     t = timeline.time_s
     nav = result.forward  # the navigation state the filter linearised on, at the update epochs
     k = np.clip(np.searchsorted(nav.time_s, t - 1e-6), 0, len(nav.time_s) - 1)
-    odo = survey.odometer
-    distance = np.maximum.accumulate(np.interp(t, odo.time_s, odo.distance_m))
+    distance = _travelled_m(survey.odometer, t, nav, k)
     station = distance - distance[0] + station_offset_m
     heading = _travel_direction(nav.vel_ned_mps[k], nav.rpy_rad[k, 2])
     anchors = np.unique(np.searchsorted(station, np.arange(station[0], station[-1], anchor_spacing_m)))
@@ -192,6 +191,15 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
 
     return analyse(timeline.initial_covariance, segment, t, station, heading, anchors, lags_m,
                    smoother=smoothed, forward_lags=forward_lags, progress=progress, cancel=cancel)
+
+
+def _travelled_m(odometer, t: np.ndarray, nav, k: np.ndarray) -> np.ndarray:
+    """Distance travelled at the update epochs ``t``: the odometer's, or without one the fused
+    horizontal speed integrated (never decreasing)."""
+    if odometer is not None:
+        return np.maximum.accumulate(np.interp(t, odometer.time_s, odometer.distance_m))
+    speed = np.hypot(nav.vel_ned_mps[k, 0], nav.vel_ned_mps[k, 1])
+    return np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(t))])
 
 
 def _travel_direction(vel_ned: np.ndarray, heading_rad: np.ndarray) -> np.ndarray:

@@ -1,0 +1,223 @@
+"""Fusion integrity at its inputs: sensor-level screening, gaps bridged once, start-up for every IMU class.
+
+Synthetic data (fast); the simulator cases with the truth are in test_nav_fusion.py and the figures
+in benchmarks/imu_integrity.py.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from insrail.io.imu import read_imu_rates_csv
+from insrail.io.types import ImuIncrements
+from insrail.nav.alignment import detect_stops, gyrocompass_sigma_rad, stop_thresholds
+from insrail.nav.imu_gaps import bridge_gaps
+from insrail.nav.imu_profile import load_imu_profile
+from insrail.nav.imu_screening import screen_imu
+from insrail.nav.startup import track_heading
+
+RATE_HZ = 200.0
+T0 = 230400.0
+
+
+def walking_imu(seconds: float = 20.0, rng_seed: int = 3) -> ImuIncrements:
+    """A trolley's increments: gravity, a slow sway and sensor noise, at 200 Hz."""
+    rng = np.random.default_rng(rng_seed)
+    n = int(seconds * RATE_HZ)
+    t = T0 + np.arange(1, n + 1) / RATE_HZ
+    f = np.column_stack([0.05 * np.sin(0.7 * t), 0.08 * np.sin(1.3 * t), np.full(n, -9.79)]) + rng.normal(0, 0.01, (n, 3))
+    w = np.column_stack([0.01 * np.sin(2.1 * t), 0.01 * np.cos(1.7 * t), 0.002 * np.ones(n)]) + rng.normal(0, 1e-4, (n, 3))
+    return ImuIncrements(t, w / RATE_HZ, f / RATE_HZ, source="imu.txt")
+
+
+# --------------------------------------------------------------------------- screening
+
+
+@pytest.mark.parametrize("value, reason", [(0.5, "spike"), (1.0, "beyond range"), (1e300, "beyond range"),
+                                           (np.nan, "not finite"), (np.inf, "not finite")])
+def test_a_corrupt_record_is_removed_listed_and_bridged(value, reason):
+    imu = walking_imu()
+    dvel = imu.dvel_mps.copy()
+    k = 1234
+    dvel[k, 0] = dvel[k, 0] + value if value < 2.0 else value  # +0.5 m/s in 5 ms: 10 g; +1 m/s beyond 20 g
+    bad = ImuIncrements(imu.time_s, imu.dtheta_rad, dvel, source=imu.source)
+    screened, outliers, notices = screen_imu(bad, load_imu_profile("nav"))
+    assert [o.index for o in outliers] == [k] and outliers[0].reason == reason
+    assert outliers[0].quantity == "specific force" and outliers[0].axis == "x"
+    assert len(screened) == len(imu) - 1
+    assert len(notices) == 1 and f"record {k + 1} at t = {imu.time_s[k]:.4f} s removed as an outlier" in notices[0].message
+    assert notices[0].time_s == pytest.approx(imu.time_s[k]) and notices[0].message.startswith("imu.txt: ")
+    bridged, warnings = bridge_gaps(screened)
+    assert len(bridged) == len(imu) and np.allclose(bridged.time_s, imu.time_s)
+    # the bridged record is the mean of its neighbours: within the sway and noise of the true one
+    assert abs(bridged.dvel_mps[k, 0] - imu.dvel_mps[k, 0]) < 5 * 0.01 / RATE_HZ
+    assert len(warnings) == 1
+
+
+def test_clean_motion_and_steps_are_not_outliers():
+    imu = walking_imu()
+    dvel = imu.dvel_mps.copy()
+    dvel[2000:, 0] += 5.0 / RATE_HZ  # a step of 0.5 g (a real change, kept on both sides)
+    screened, outliers, notices = screen_imu(ImuIncrements(imu.time_s, imu.dtheta_rad, dvel), load_imu_profile("nav"))
+    assert outliers == () and notices == [] and len(screened) == len(imu)
+
+
+def test_a_file_far_outside_the_envelope_is_an_error_naming_it():
+    imu = walking_imu()
+    wrong_unit = ImuIncrements(imu.time_s, imu.dtheta_rad * 100.0, imu.dvel_mps, source=imu.source)  # deg as rad
+    noisy = wrong_unit.dtheta_rad.copy()
+    noisy[::10] *= 400.0
+    with pytest.raises(ValueError, match=r"imu.txt: \d+ of 4000 records .* not a few corrupt records but a wrong unit"):
+        screen_imu(ImuIncrements(imu.time_s, noisy, imu.dvel_mps, source=imu.source), load_imu_profile("nav"))
+
+
+def test_many_outliers_are_summed_up_after_the_first_ten():
+    imu = walking_imu()
+    dvel = imu.dvel_mps.copy()
+    dvel[100:3700:200, 2] += 1.0  # 18 records
+    _, outliers, notices = screen_imu(ImuIncrements(imu.time_s, imu.dtheta_rad, dvel), load_imu_profile("nav"))
+    assert len(outliers) == 18 and len(notices) == 11
+    assert "8 more IMU records removed as outliers" in notices[-1].message
+
+
+# --------------------------------------------------------------------------- gaps
+
+
+def test_gaps_are_bridged_evenly_and_long_ones_refused():
+    imu = walking_imu()
+    keep = np.ones(len(imu), dtype=bool)
+    keep[1000:1400] = False  # 2 s
+    holed = ImuIncrements(imu.time_s[keep], imu.dtheta_rad[keep], imu.dvel_mps[keep], source=imu.source)
+    bridged, warnings = bridge_gaps(holed)
+    assert np.allclose(bridged.time_s, imu.time_s) and len(bridged.gaps) == 1
+    assert "IMU gap of 2.005 s" in warnings[0] and "rests on the aiding" in warnings[0]
+    # what the interpolation misses: the noise of its two end records over 400 records
+    assert bridged.dvel_mps[:, 2].sum() == pytest.approx(imu.dvel_mps[:, 2].sum(), abs=400 * 3 * 0.01 / RATE_HZ)
+    keep[2000:3300] = False  # 6.5 s
+    with pytest.raises(ValueError, match=r"imu.txt: IMU data gap of 6\.505 s after t = .* cannot be bridged"):
+        bridge_gaps(ImuIncrements(imu.time_s[keep], imu.dtheta_rad[keep], imu.dvel_mps[keep], source=imu.source))
+
+
+def test_an_uneven_gap_keeps_the_rates():
+    """A gap of 2.5 nominal intervals: one record inserted at 1.25 intervals, rates kept."""
+    t = T0 + np.concatenate([np.arange(10), 11.5 + np.arange(10)]) * 0.005
+    f = np.tile([0.0, 0.0, -9.8], (len(t), 1))
+    bridged, _ = bridge_gaps(ImuIncrements(t, np.zeros((len(t), 3)), f * 0.005))
+    dt = np.diff(bridged.time_s)
+    assert len(bridged) == len(t) + 1
+    np.testing.assert_allclose(bridged.dvel_mps[1:, 2] / dt, -9.8)
+
+
+def test_rates_csv_dropout_is_bridged_once(tmp_path):
+    """The rates reader does not integrate across a dropout; bridge_gaps fills it: the velocity
+    increments at rest add up to g x time with or without the dropout (they counted it twice)."""
+    t = T0 + np.arange(2001) / RATE_HZ
+    rows = np.column_stack([t, np.zeros_like(t), np.zeros_like(t), np.full_like(t, -9.79), np.zeros((len(t), 3))])
+    np.savetxt(tmp_path / "clean.csv", rows, delimiter=",", fmt="%.6f")
+    keep = (t < t[0] + 4.0) | (t >= t[0] + 5.0)
+    np.savetxt(tmp_path / "holed.csv", rows[keep], delimiter=",", fmt="%.6f")
+    clean = read_imu_rates_csv(tmp_path / "clean.csv")
+    holed = read_imu_rates_csv(tmp_path / "holed.csv")
+    assert len(holed.gaps) == 1
+    assert holed.dvel_mps[:, 2].max() == pytest.approx(-9.79 / RATE_HZ)  # no record spans the dropout
+    bridged, warnings = bridge_gaps(holed)
+    assert len(warnings) == 1 and len(bridged) == len(clean)
+    assert bridged.dvel_mps[:, 2].sum() == pytest.approx(clean.dvel_mps[:, 2].sum(), rel=1e-9)
+
+
+# --------------------------------------------------------------------------- start-up
+
+
+def test_gyrocompass_accuracy_follows_the_profile():
+    lat = math.radians(40.0)
+    sigma = {}
+    for name in ("nav", "tactical_fog", "tactical", "mems"):
+        p = load_imu_profile(name)
+        sigma[name] = gyrocompass_sigma_rad(math.hypot(p.gyro_bias_turn_on, p.gyro_bias_gm_sigma), p.gyro_arw, 300.0, lat)
+    assert math.degrees(sigma["nav"]) < 0.1
+    assert math.degrees(sigma["tactical_fog"]) > 5.0 and math.degrees(sigma["tactical"]) > 3.0
+    assert sigma["mems"] == math.pi  # no north at all
+
+
+def test_stop_thresholds_come_from_the_profile_noise():
+    nav = load_imu_profile("nav")
+    mems = load_imu_profile("mems")
+    assert stop_thresholds(nav.gyro_arw, nav.accel_vrw, 200.0)[0] == pytest.approx(2e-4)  # the trolley floor
+    gyro, accel = stop_thresholds(mems.gyro_arw, mems.accel_vrw, 200.0)
+    assert gyro > 5 * mems.gyro_arw * math.sqrt(200.0) * 0.99 and gyro > 2e-3
+    # A MEMS unit at rest (its own noise) is found still without an odometer.
+    rng = np.random.default_rng(1)
+    n = 4000
+    t = T0 + np.arange(1, n + 1) / RATE_HZ
+    w = rng.normal(0.0, mems.gyro_arw * math.sqrt(RATE_HZ), (n, 3))
+    f = np.array([0.0, 0.0, -9.79]) + rng.normal(0.0, mems.accel_vrw * math.sqrt(RATE_HZ), (n, 3))
+    # sets off after 10 s: a pushed trolley accelerates and rocks
+    f[2000:, 0] += np.minimum(np.linspace(0.0, 1.0, n - 2000), 0.2) + rng.normal(0.0, 0.05, n - 2000)
+    w[2000:] += rng.normal(0.0, 0.01, (n - 2000, 3))
+    imu = ImuIncrements(t, w / RATE_HZ, f / RATE_HZ)
+    assert detect_stops(imu, None) == []  # the navigation-grade limit never fires on a MEMS unit
+    stops = detect_stops(imu, None, max_gyro_std_radps=gyro, max_accel_std_mps2=accel)
+    assert len(stops) == 1 and stops[0][0] <= t[0] + 1.0 and t[0] + 8.0 < stops[0][1] <= t[0] + 10.0
+
+
+@pytest.mark.parametrize("radius_m", [30.0, 300.0, np.inf])
+def test_track_heading_on_a_curve_has_an_honest_sigma(radius_m):
+    rng = np.random.default_rng(int(radius_m) if np.isfinite(radius_m) else 0)
+    s = np.arange(0.0, 100.0, 0.25)  # 1 m/s at 4 Hz
+    start_heading = math.radians(30.0)
+    if np.isfinite(radius_m):
+        psi = start_heading + s / radius_m
+        north = radius_m * (np.sin(psi) - math.sin(start_heading))
+        east = radius_m * (math.cos(start_heading) - np.cos(psi))
+    else:
+        north, east = s * math.cos(start_heading), s * math.sin(start_heading)
+    errors = []
+    for _ in range(40):
+        ned = np.column_stack([north, east, np.zeros_like(s)]) + rng.normal(0.0, 0.01, (len(s), 3))
+        result = track_heading(ned, np.full(len(s), 0.01), 0)
+        errors.append((result.heading_rad - start_heading) / result.sigma_heading_rad)
+        assert math.degrees(result.sigma_heading_rad) < 2.0
+    assert np.sqrt(np.mean(np.square(errors))) < 1.5  # the 1-sigma is not optimistic
+
+
+def test_profiles_ship_for_every_class_and_the_range_table_is_checked(tmp_path):
+    mems = load_imu_profile("mems")
+    assert mems.specific_force_range_mps2 == pytest.approx(8 * 9.80665)
+    assert load_imu_profile("tactical_fog").gyro_arw < load_imu_profile("tactical").gyro_arw
+    text = (tmp_path / "x.toml")
+    from insrail.resources import resource
+
+    text.write_text(resource("imu_profiles", "nav.toml").read_text().replace("rate_deg_per_s = 400.0",
+                                                                              "rate_deg_per_s = -1\nspeed = 3"))
+    with pytest.raises(ValueError, match=r"range.speed: unknown key[\s\S]*range.rate_deg_per_s: expected a positive"):
+        load_imu_profile(text)
+
+
+# --------------------------------------------------------------------------- failures reach the user as messages
+
+
+def test_cli_fuse_says_what_to_do_when_the_start_fails(tmp_path, capsys):
+    """10 s at rest (too short to gyrocompass) that never moves: no traceback, a message naming the
+    survey and what to give; the same survey with a 6 s IMU dropout names the file and the time."""
+    from test_io_survey import make_manifest, make_survey_files
+
+    from insrail.cli.main import main
+    from insrail.io.imu import read_imu_kfgins, write_imu_kfgins
+    from insrail.io.survey import write_manifest
+
+    write_manifest(tmp_path, make_manifest(make_survey_files(tmp_path)))
+    assert main(["fuse", str(tmp_path), "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err
+    assert "insrail fuse: survey Line 3 down track" in err and "give the initial heading (--heading)" in err
+    assert "Traceback" not in err and not (tmp_path / "out" / "trajectory.npy").exists()
+
+    imu = read_imu_kfgins(tmp_path / "imu.txt")
+    keep = (imu.time_s < imu.time_s[0] + 2.0) | (imu.time_s > imu.time_s[0] + 8.0)
+    write_imu_kfgins(tmp_path / "imu.txt", ImuIncrements(imu.time_s[keep], imu.dtheta_rad[keep], imu.dvel_mps[keep],
+                                                          gps_week=imu.gps_week))
+    assert main(["fuse", str(tmp_path), "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err
+    assert "imu.txt: IMU data gap of 6.0" in err and "cannot be bridged - split the survey there" in err
