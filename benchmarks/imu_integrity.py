@@ -156,7 +156,7 @@ imu_to_reference_rail_m = [0.0, 0.0, 0.0]
 
 def walk(workdir: Path, options: list[str]) -> None:
     from insrail.cli.main import main
-    from insrail.io.gnss import read_rtklib_pos
+    from insrail.io import read_rtklib_pos
     from insrail.nav.earth import WGS84, radii
     from insrail.nav.trajectory import load_trajectory
 

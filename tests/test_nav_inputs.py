@@ -221,3 +221,26 @@ def test_cli_fuse_says_what_to_do_when_the_start_fails(tmp_path, capsys):
     assert main(["fuse", str(tmp_path), "--out", str(tmp_path / "out")]) == 1
     err = capsys.readouterr().err
     assert "imu.txt: IMU data gap of 6.0" in err and "cannot be bridged - split the survey there" in err
+
+
+def test_a_bridged_gap_tells_the_filter_what_the_interpolation_may_miss():
+    """The interpolation's error on the stretches beside a gap stands for the gap's: the sway the
+    logger lost is of that size, and the filter gets it as process noise on the gap's segment."""
+    from insrail.nav.error_model import ATT, POS, VEL
+    from insrail.nav.imu_gaps import bridge_uncertainty, bridged_process_noise
+
+    imu = walking_imu(seconds=40.0)
+    keep = (imu.time_s <= imu.time_s[0] + 20.0) | (imu.time_s > imu.time_s[0] + 22.0)
+    bridged, _ = bridge_gaps(ImuIncrements(imu.time_s[keep], imu.dtheta_rad[keep], imu.dvel_mps[keep]))
+    [(gap, sigma_theta, sigma_vel)] = bridge_uncertainty(bridged)
+    missed_vel = np.abs((bridged.dvel_mps - imu.dvel_mps).sum(axis=0))
+    assert gap.duration_s == pytest.approx(2.005)
+    assert np.max(sigma_vel) > 0.3 * np.max(missed_vel) and np.max(sigma_vel) < 10 * np.max(missed_vel)
+    epochs = np.arange(0, len(bridged), 20)  # a 10 Hz update grid
+    extra = bridged_process_noise(bridged, epochs)
+    [(j, q)] = extra.items()
+    k_end = int(np.searchsorted(bridged.time_s, gap.end_s))
+    assert epochs[j - 1] < k_end <= epochs[j]
+    assert q[ATT, ATT] == pytest.approx(np.max(sigma_theta) ** 2) and q[VEL, VEL] == pytest.approx(np.max(sigma_vel) ** 2)
+    assert q[POS, POS] == pytest.approx(np.max(sigma_vel) ** 2 * (0.5 * gap.duration_s) ** 2)
+    assert bridged_process_noise(walking_imu(), epochs) == {}

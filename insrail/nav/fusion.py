@@ -59,7 +59,7 @@ from insrail.nav.error_model import (
     initial_sensor_sigmas,
     noise_matrix,
 )
-from insrail.nav.imu_gaps import bridge_gaps
+from insrail.nav.imu_gaps import bridge_gaps, bridged_process_noise
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.imu_screening import screen_imu
 from insrail.nav.measurements import (
@@ -492,6 +492,7 @@ def fuse(
     every = max(int(round(1.0 / (options.update_rate_hz * dt[0]))), 1)
     epochs = update_grid(t, k0, every, aiding.measurements)
     plan = schedule(t[epochs], aiding.measurements, stops)
+    bridged_q = bridged_process_noise(imu, epochs)
     sources = plan.measurements
 
     # --- forward pass ---------------------------------------------------------------------
@@ -533,6 +534,7 @@ def fuse(
             )
             F = dynamics_matrix(snap.lat, snap.h, snap.vel_ned, snap.c_bn, sums[6:9] / seg, sums[3:6] / seg, noise, ellipsoid)
             phi, q = discretise(F, gqg, seg)
+            q = q + bridged_q.get(j, 0.0)  # the motion an IMU gap's interpolation may have missed
             P_minus = phi @ P @ phi.T + q
             P = P_minus.copy()
             x = np.zeros(N_STATES)

@@ -74,3 +74,56 @@ def bridge_gaps(imu: ImuIncrements, max_gap_s: float = 5.0, long_gap_s: float = 
         gaps=tuple(Gap(float(t[k]), float(t[k + 1])) for k in gap_at),
     )
     return bridged, warnings
+
+
+#: stretches of a gap's length either side whose interpolation error stands for the gap's
+NEIGHBOUR_STRETCHES = 4
+
+
+def bridge_uncertainty(imu: ImuIncrements) -> list[tuple[Gap, np.ndarray, np.ndarray]]:
+    """Per bridged gap of ``imu`` (its ``gaps``, after :func:`bridge_gaps`): the 1-sigma [rad, m/s]
+    of the angle and velocity increment the interpolation misses over the gap, the largest axis,
+    estimated from what the same interpolation misses on ``NEIGHBOUR_STRETCHES`` stretches of the
+    gap's length before and after it (the trolley's rocking does not stop for a dropout). The
+    filter adds it to its process noise over the gap, so its 1-sigma stays honest there."""
+    t = imu.time_s
+    out = []
+    for gap in imu.gaps:
+        length = gap.end_s - gap.start_s
+        missed_theta, missed_vel = [], []
+        for side in (-1, 1):
+            for m in range(NEIGHBOUR_STRETCHES):
+                a = gap.start_s - (m + 1) * length if side < 0 else gap.end_s + m * length
+                i0, i1 = np.searchsorted(t, [a, a + length])
+                if i0 < 1 or i1 >= len(t) or i1 - i0 < 2:
+                    continue
+                span = t[i1] - t[i0]
+                for values, missed in ((imu.dtheta_rad, missed_theta), (imu.dvel_mps, missed_vel)):
+                    rate_a, rate_b = values[i0] / (t[i0] - t[i0 - 1]), values[i1] / (t[i1] - t[i1 - 1])
+                    missed.append(values[i0 + 1 : i1 + 1].sum(axis=0) - 0.5 * (rate_a + rate_b) * span)
+        if not missed_theta:
+            continue
+        out.append((gap, np.sqrt(np.mean(np.square(missed_theta), axis=0)),
+                    np.sqrt(np.mean(np.square(missed_vel), axis=0))))
+    return out
+
+
+def bridged_process_noise(imu: ImuIncrements, update_epochs: np.ndarray) -> dict[int, np.ndarray]:
+    """Extra process noise (N x N, the error state of ``insrail.nav.error_model``) per filter
+    segment j that ends a bridged gap of ``imu`` (segment j: IMU epochs update_epochs[j-1]+1 ..
+    update_epochs[j]): attitude and velocity the variance of :func:`bridge_uncertainty`'s largest
+    axis (isotropic, the body axes turn), position that velocity over half the gap."""
+    from insrail.nav.error_model import ATT, N_STATES, POS, VEL
+
+    extra: dict[int, np.ndarray] = {}
+    for gap, sigma_theta, sigma_vel in bridge_uncertainty(imu):
+        k = int(np.searchsorted(imu.time_s, gap.end_s - 1e-9))
+        j = int(np.searchsorted(update_epochs, k))
+        if not 0 < j < len(update_epochs):
+            continue
+        q = extra.setdefault(j, np.zeros((N_STATES, N_STATES)))
+        att, vel = float(np.max(sigma_theta)) ** 2, float(np.max(sigma_vel)) ** 2
+        pos = vel * (0.5 * (gap.end_s - gap.start_s)) ** 2
+        for first, variance in ((ATT, att), (VEL, vel), (POS, pos)):
+            q[first : first + 3, first : first + 3] += variance * np.eye(3)
+    return extra
