@@ -343,8 +343,8 @@ def test_without_a_design_the_fitted_alignment_is_written_and_serves_as_a_design
 
 
 def test_a_bridged_imu_gap_reaches_the_summary_the_cli_and_the_pdf(short_nav_survey, tmp_path, capsys):
-    """A notice of the fusion (an IMU gap bridged) is in summary.toml, the `process` output and the
-    PDF's processing page (insrail.notices)."""
+    """Notices of the fusion (an IMU gap bridged, a corrupt record removed) are in summary.toml, the
+    `process` output and the PDF's processing page (insrail.notices)."""
     from insrail.io.survey import read_manifest
     from insrail.notices import notices_of
 
@@ -353,19 +353,24 @@ def test_a_bridged_imu_gap_reaches_the_summary_the_cli_and_the_pdf(short_nav_sur
     imu_file = survey / read_manifest(survey).files["imu"].path
     records = np.load(imu_file)
     at = len(records) // 2  # the trolley is moving mid-survey
+    records["dvel_mps"][at + 2000, 0] += 1.0  # a logger's bit flip 10 s later: +1 m/s in one 5 ms increment
+    bad_time = float(records["time_s"][at + 2000])
     np.save(imu_file, np.delete(records, np.s_[at : at + 20]))  # 0.1 s of samples lost
     project = project_for_simulated_survey(tmp_path, survey)
     assert main(["process", str(project.folder)]) == 0
     out = capsys.readouterr().out
     assert "warning: imu:" in out and "IMU gap of 0.105 s" in out
+    assert f"at t = {bad_time:.4f} s removed as an outlier" in out
     summary = tomllib.loads((project.folder / "results" / "short" / "summary.toml").read_text())
-    (notice,) = [n for n in notices_of(summary) if n.stage == "imu"]
-    assert "20 missing samples bridged" in notice.message and notice.file.endswith(imu_file.name)
+    outlier, gap = [n for n in notices_of(summary) if n.stage == "imu"]  # screening comes first
+    assert "20 missing samples bridged" in gap.message and gap.file.endswith(imu_file.name)
+    assert outlier.time_s == pytest.approx(bad_time) and "specific force x" in outlier.message
+    assert summary["fusion"]["rejections"] < 5  # the record did not throw the filter off
     pdf = tmp_path / "report.pdf"
     assert main(["report", str(project.folder), "--pdf", str(pdf)]) == 0
     import subprocess
     text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
-    assert "IMU gap of 0.105 s" in text
+    assert "IMU gap of 0.105 s" in text and "removed as an outlier" in text
 
 
 def test_line_speed_gives_the_cant_deficiency_and_the_rates_in_sleepers_csv(processed, capsys):

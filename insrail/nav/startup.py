@@ -36,7 +36,14 @@ from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth
 from insrail.nav.alignment import gyrocompass, gyrocompass_sigma_rad, static_levelling
 from insrail.nav.mechanization import q_ne_from_lat_lon
-from insrail.nav.rotation import dcm_to_euler, dcm_to_quat, euler_to_dcm, quat_multiply, quat_to_dcm, rotvec_to_quat
+from insrail.nav.rotation import (
+    dcm_to_euler,
+    dcm_to_quat,
+    euler_to_dcm,
+    quat_multiply,
+    quat_to_dcm,
+    rotvec_to_quat,
+)
 from insrail.notices import Notice
 
 #: chord lengths [m] tried for the track heading
