@@ -298,6 +298,9 @@ def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, gnss_error: n
     return odo_scale + dx[ODO]
 
 
+#: without an odometer, a gap of the positions longer than this [s] leaves the along-track position unaided
+UNAIDED_OUTAGE_S = 10.0
+
 QUALITY_NAMES = {0: "unknown", 1: "fix", 2: "float", 3: "sbas", 4: "dgps", 5: "single", 6: "ppp"}
 
 
@@ -477,6 +480,13 @@ def fuse(
             f"{where}: no {track.source} epoch lies within the IMU data "
             f"({t[0]:.3f} - {t[-1]:.3f} s of week); check the files and their time scales"
         )
+    if aiding.odometer is None and gnss is not None and len(track) > 1:
+        outage = np.flatnonzero(np.diff(track.time_s) > UNAIDED_OUTAGE_S)
+        for i in outage:
+            notices.append(Notice(
+                "fusion", f"no odometer: across the {track.source} outage of {track.time_s[i + 1] - track.time_s[i]:.0f} s "
+                f"after t = {track.time_s[i]:.1f} s the along-track position rests on the IMU alone",
+                time_s=float(track.time_s[i])))
     gyro_quiet, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, 1.0 / dt[0])
     positions = None
     if aiding.odometer is None and gnss is not None:
