@@ -162,8 +162,8 @@ def test_repeat_runs_agree_within_the_fusion_accuracy_and_a_shifted_run_shows(ti
     pdf = write_pdf(load_project(tmp_path), load_results(tmp_path, "run3"), tmp_path / "run3.pdf")
     text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
     assert "Repeatability of repeat runs" in text and "run3 - run1" in text
-    assert "Lateral deviation left: run minus reference" in text
-    row = next(line for line in text.splitlines() if line.strip().startswith("lateral deviation left")
+    assert "Lateral deviation, left rail: run minus reference" in text
+    row = next(line for line in text.splitlines() if line.strip().startswith("Lateral deviation, left rail")
                and "run3 - run1" in line)
     max_abs = stored.statistics["lateral_deviation_left"]["run3"]["max_abs_mm"]
     assert f"{max_abs:.2f}" in row.split()

@@ -163,6 +163,16 @@ def test_headers_fit_and_every_page_is_headed_and_numbered(project, workbook):
     tallest = max(_wrapped_lines(cell.value, sheet.column_dimensions[cell.column_letter].width)
                   for cell in sheet[header] if cell.value)
     assert tallest >= 3 and sheet.row_dimensions[header].height >= tallest * LINE_HEIGHT_PT
+    # a header row below a sheet's first table (the Summary's per-section table) is fitted too
+    summary = sheets["Summary"]
+    below = next(row[0].row for row in summary.iter_rows() if row[0].value == "from (m)")
+    lines = max(_wrapped_lines(cell.value, summary.column_dimensions[cell.column_letter].width)
+                for cell in summary[below] if cell.value)
+    assert lines >= 3 and summary.row_dimensions[below].height >= lines * LINE_HEIGHT_PT
+    for cell in summary[below]:
+        if cell.value:
+            width = summary.column_dimensions[cell.column_letter].width
+            assert max(len(word) for word in cell.value.split()) * BOLD_CHARACTER_WIDTH <= width, cell.value
 
 
 def test_the_paper_is_the_projects(project, tmp_path):

@@ -94,6 +94,7 @@ class _Sheet:
         self.last_cell = "A1"
         self.widths: list[float] | None = None
         self._header_titles: dict[int, list[tuple[str, int]]] = {}  # row -> (title, columns it spans)
+        self._later_titles: list[list[tuple[str, int]]] = []  # headers to come below the layout
 
     def style_id(self, number_format: str | None = None, fill: PatternFill | None = None,
                  font: Font | None = None) -> int:
@@ -159,10 +160,13 @@ class _Sheet:
 
     def header(self, titles: list[str]) -> int:
         """A row of column titles; its height (and, before :meth:`start`, the column widths) fit the titles."""
-        row = self.append([self.cell(t, font=BOLD, fill=HEADER_FILL, alignment=HEADER_ALIGNMENT, border=HEADER_BORDER)
-                           for t in titles])
-        self._fit_header(row, [(title, 1) for title in titles])
-        return row
+        self._fit_header(self.rows + 1, [(title, 1) for title in titles])
+        return self.append([self.cell(t, font=BOLD, fill=HEADER_FILL, alignment=HEADER_ALIGNMENT, border=HEADER_BORDER)
+                            for t in titles])
+
+    def header_below(self, titles: list[str]) -> None:
+        """Widen the columns (at :meth:`start`) for a header row that will be appended below the layout."""
+        self._later_titles.append([(title, 1) for title in titles])
 
     def group_header(self, groups: list[str]) -> int:
         """A row of group titles, one per column: each run of equal titles becomes one merged cell over its
@@ -176,14 +180,15 @@ class _Sheet:
         cells: list = [None] * len(groups)
         for group, first, last in runs:
             cells[first - 1] = self.cell(group, font=BOLD, fill=HEADER_FILL, alignment=GROUP_ALIGNMENT, border=GROUP_BORDER)
+        self._fit_header(self.rows + 1, [(group, last - first + 1) for group, first, last in runs])
         row = self.append(cells)
         for _, first, last in runs:
             if last > first:
                 self.sheet.merged_cells.add(f"{get_column_letter(first)}{row}:{get_column_letter(last)}{row}")
-        self._fit_header(row, [(group, last - first + 1) for group, first, last in runs])
         return row
 
     def _fit_header(self, row: int, titles: list[tuple[str, int]]) -> None:
+        """Record a header row's titles (before it is appended: a streamed row's height goes out with it)."""
         self._header_titles[row] = titles
         if self.widths is not None:  # a header below the table's layout: only its height can still fit
             self._heights[row] = _header_height(titles, self.widths)
@@ -196,7 +201,7 @@ class _Sheet:
         A column is widened where the longest word of a title above it would not fit (nothing in a
         header is clipped or broken inside a word), and each header row is as high as its titles wrap."""
         widths = list(widths)
-        for titles in self._header_titles.values():
+        for titles in [*self._header_titles.values(), *self._later_titles]:
             column = 0
             for title, span in titles:
                 if span == 1 and column < len(widths):
@@ -476,7 +481,20 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     titles = ["parameter", "unit", "limit", "valid sleepers", "minimum", "maximum", "mean", "standard deviation",
               "sleepers beyond", "exceedances"]
     sheet.header(titles)
-    _start(sheet, content, [44, 9, 12, 10, 10, 10, 10, 11, 10, 11, 10, 10, 10, 10, 10, 10])
+    quality = content.summary.get("track_quality", {})
+    channels = list(quality.get("channels", []))
+    checks = [(check, [c for c in content.columns if c.check == check.name]) for check in content.profile.checks]
+    checks = [(check, columns) for check, columns in checks if columns]
+    # The survey's predicted accuracy per section (quality.csv, same sections): where the measurement is weak.
+    predicted = content.results.quality
+    figures = PREDICTED_FIGURES if predicted is not None else ()
+    section_titles = (["from (m)", "to (m)", "from", "to", "sleepers", "valid", "exceedances starting"]
+                      + [f"max |{check_name(check)}| ({columns[0].unit})" for check, columns in checks]
+                      + [f"SD {quantity_name(name).name} (mm)" for name in channels] + (["TQI (mm)"] if channels else [])
+                      + [f"{quantity_name(name).name} (mm)" for name in figures])
+    sheet.header_below(section_titles)
+    widths = [44, 9, 12, 10, 10, 10, 10, 11, 10, 11]
+    _start(sheet, content, widths + [10] * max(len(section_titles) - len(widths), 0))
     for s in parameter_statistics(content):
         fmt = s.column.number_format
         sheet.append([sheet.cell(s.column.name), sheet.cell(s.column.unit),
@@ -486,23 +504,12 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
                       sheet.cell(s.exceedances if s.column.limits else None)])
     progress(0.5, "summary: parameters")
     sheet.append([])
-    quality = content.summary.get("track_quality", {})
-    channels = list(quality.get("channels", []))
     tqi_start = np.asarray(quality.get("start_m", []), dtype=float)
     section_m = float(quality.get("section_m", SECTION_M))
     sheet.append([sheet.cell(f"Per {section_m:g} m section: the largest magnitude of every check of the profile "
                              f"(over its rails and directions), the standard deviations of the TQI channels "
                              f"({quality.get('band', 'D1')} band for level and alignment) and their sum, the TQI", font=BOLD)])
-    checks = [(check, [c for c in content.columns if c.check == check.name]) for check in content.profile.checks]
-    checks = [(check, columns) for check, columns in checks if columns]
-    titles = (["from (m)", "to (m)", "from", "to", "sleepers", "valid", "exceedances starting"]
-              + [f"max |{check_name(check)}| ({columns[0].unit})" for check, columns in checks]
-              + [f"SD {quantity_name(name).name} (mm)" for name in channels] + (["TQI (mm)"] if channels else []))
-    # The survey's predicted accuracy per section (quality.csv, same sections): where the measurement is weak.
-    predicted = content.results.quality
-    figures = PREDICTED_FIGURES if predicted is not None else ()
-    titles += [f"{quantity_name(name).name} (mm)" for name in figures]
-    sheet.header(titles)
+    sheet.header(section_titles)
     starts = np.array([e.station_from_m for e in content.results.exceedances])
     labels = content.column("label").values
     for start, end, rows in sections(content, section_m):

@@ -42,7 +42,7 @@ from reportlab.platypus import (
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.names import check_name, quantity_name, rail_direction
+from insrail.names import UnknownName, check_name, column_name, quantity_name, rail_direction
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.trajectory import Trajectory
 from insrail.notices import notices_of
@@ -754,6 +754,14 @@ def _exceedances(content: ReportContent) -> list[Flowable]:
     return story + _events(content)
 
 
+def _compared_name(content: ReportContent, column: str) -> str:
+    """The display name of a compared sleepers.csv column."""
+    try:
+        return column_name(column, content.profile.checks).name
+    except UnknownName:  # a check of the profile the runs were compared with, no longer in the project's
+        return f"{column} (a check no longer in tolerance profile {content.profile.name})"
+
+
 def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Section:
     """Repeat runs compared by chainage (thesis §5.4.2): statistics per parameter and run, and the
     differences along chainage of the deviations, gauge and cant."""
@@ -773,7 +781,7 @@ def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Sec
                 stats = entry[run]
                 if not stats["count"]:  # e.g. a 300 m chord on a run shorter than 300 m
                     continue
-                rows.append([parameter.replace("_", " "), f"{run} - {stored.reference}", stats["count"],
+                rows.append([_compared_name(content, parameter + "_mm"), f"{run} - {stored.reference}", stats["count"],
                              *(f"{stats[key]:.2f}" for key in ("mean_mm", "std_mm", "rms_mm", "p95_abs_mm", "max_abs_mm")),
                              f"{entry['single_run_std_mm']:.2f}"])
         story += [Spacer(1, 4), table(["parameter", "runs", "sleepers", "mean (mm)", "std (mm)", "RMS (mm)",
@@ -789,7 +797,7 @@ def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Sec
         story.append(Heading("Repeatability"))
         for name in shown:
             differences = stored.difference_mm[name]
-            chart = StripChart(f"{name.removesuffix('_mm').replace('_', ' ').capitalize()}: run minus reference", "mm",
+            chart = StripChart(f"{_compared_name(content, name)}: run minus reference", "mm",
                                tuple(Series(run, values) for run, values in zip(stored.compared, differences)))
             story.append(strip_drawing(chart, station, np.isfinite(differences).any(axis=0), float(station[0]),
                                        float(station[-1]), width, height, ticks=content.chainage.ticks,
