@@ -89,8 +89,8 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     worker = window.process()
     assert worker is not None and not window.process_action.isEnabled()
     qtbot.waitUntil(lambda: window.worker is None, timeout=120_000)
+    wait_views(window, qtbot)  # the new results are read in a worker: the window never waits for them
     assert "short" in window.results
-    wait_views(window, qtbot)
     stored = window.results["short"]
     assert window.progress.isHidden() and "exceedances" in window.log.toPlainText()
 

@@ -42,20 +42,20 @@ from insrail.gui.wizard import NewProjectWizard
 from insrail.gui.worker import CoreWorker, ProcessingWorker, TaskWorker
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
+from insrail.io.tomlfile import read_toml
 from insrail.notices import notices_of
 from insrail.project import (
     Project,
     ProjectError,
     StoredResults,
     load_project,
-    load_results,
     save_project,
 )
 from insrail.project.gnss_stage import GnssStageResult, run_gnss_stage
 from insrail.project.model import project_from_settings
 from insrail.project.pipeline import CACHE_FOLDER
 from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
-from insrail.project.results import RESULTS_FOLDER, report_path
+from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, report_path
 from insrail.report import write_pdf, write_workbook
 
 PROGRESS_STEPS = 1000
@@ -440,15 +440,16 @@ class MainWindow(QMainWindow):
 
     def _survey_done(self, name: str) -> None:
         self.explorer.set_project(self.project)
-        self._load_results(name)
+        self.results.pop(name, None)  # processed again: the loader reads the new results
         self.show_results(name)
         if name == self.gnss.survey.currentText():
             self.show_gnss(name)
-        summary = self.results[name].summary
+        folder = self.project.folder / RESULTS_FOLDER / name
+        summary = read_toml(folder / SUMMARY_FILE)
         for notice in notices_of(summary):
             self.log.warning(f"{name}: {notice.text()}")
         self.log.info(f"{name}: {summary['assessment']['exceedances']} exceedances, results in "
-                      f"{self.results[name].folder.resolve()}")
+                      f"{folder.resolve()}")
 
     def _failed(self, message: str) -> None:
         self._warn(self.job_failure_title, message)
@@ -467,12 +468,6 @@ class MainWindow(QMainWindow):
         self._enable_project_actions()
 
     # ------------------------------------------------------------------ results
-
-    def _load_results(self, name: str) -> None:
-        try:
-            self.results[name] = load_results(self.project.folder, name)
-        except InputError as error:
-            self.log.error(str(error))
 
     def _clear_views(self) -> None:
         """Nothing of the previous project or survey stays on screen."""
@@ -553,7 +548,7 @@ class MainWindow(QMainWindow):
         self._pending_view = self._view_state() if name == self.shown_survey else None
         self.shown_survey = None
         self._clear_views()
-        if name not in self.results:
+        if name not in self.results and not (self.project.folder / RESULTS_FOLDER / name / SUMMARY_FILE).is_file():
             self.empty_state.show_unprocessed(name)
             self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
             self._enable_project_actions()
