@@ -244,3 +244,23 @@ def test_a_bridged_gap_tells_the_filter_what_the_interpolation_may_miss():
     assert q[ATT, ATT] == pytest.approx(np.max(sigma_theta) ** 2) and q[VEL, VEL] == pytest.approx(np.max(sigma_vel) ** 2)
     assert q[POS, POS] == pytest.approx(np.max(sigma_vel) ** 2 * (0.5 * gap.duration_s) ** 2)
     assert bridged_process_noise(walking_imu(), epochs) == {}
+
+
+def test_sleepers_around_a_long_bridged_gap_are_not_assessed():
+    from dataclasses import replace as replaced
+
+    from report_support import START_TIME_S, synthetic_table
+
+    from insrail.project.gap_sleepers import MARGIN_M, flag_gap_sleepers
+
+    table = synthetic_table()
+    table = replaced(table, not_assessed=("turnout",) + ("",) * (len(table) - 1))
+    gap = [START_TIME_S + 100.0, START_TIME_S + 102.0]  # 1 m/s: stations 100 to 102 m from the start
+    flagged = flag_gap_sleepers(table, [gap, [START_TIME_S + 300.0, START_TIME_S + 300.1]])  # 0.1 s: kept
+    s0, s1 = np.interp(gap, table.time_s, table.station_m)
+    near = (table.station_m >= s0 - MARGIN_M) & (table.station_m <= s1 + MARGIN_M)
+    assert near.sum() >= 18 and not flagged.valid[near].any()
+    assert (flagged.valid[~near] == table.valid[~near]).all()
+    assert all(flagged.not_assessed[k] == "IMU gap of 2.00 s bridged" for k in np.flatnonzero(near))
+    assert flagged.not_assessed[0] == "turnout" and flagged.not_assessed[np.flatnonzero(~near)[-1]] == ""
+    assert flag_gap_sleepers(table, []) is table

@@ -60,6 +60,7 @@ from insrail.nav.measurements import PositionFix
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
 from insrail.project.model import Project
@@ -304,7 +305,8 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
             "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
             "notices": [*(n.to_dict() for n in checked), *(n.to_dict() for n in result.info["notices"])],
             "alignment": result.info["alignment"],
-            "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)"}
+            "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
+            "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]]}
     if survey.gnss is not None:
         info["gnss"] = gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])
     save_trajectory(path, result.trajectory)
@@ -432,6 +434,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     measured = recon.table.valid
     events = survey_events(project, manifest, folder, recon)
     recon = apply_events(recon, events)
+    recon = replace(recon, table=flag_gap_sleepers(recon.table, fusion_info.get("imu_gaps_s", [])))
     table = recon.table
     centre = table.centre_enh_m[measured]
     if local is not None:  # the height model lives in the engineering CRS
