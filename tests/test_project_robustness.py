@@ -330,9 +330,13 @@ def test_a_full_disk_while_writing_the_results_keeps_the_previous_ones(tiny, tmp
 
     project = copy_of(tiny, tmp_path)
     before = (results_of(project) / "sleepers.csv").read_bytes()
-    monkeypatch.setattr(results_module.shutil, "copyfile", _raise(errno.ENOSPC, "No space left on device"))
+    def full(*args, **kwargs):  # as the system says it: no file name
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(results_module.shutil, "copyfile", full)
     assert main(["process", str(project)]) == 1
-    assert "No space left on device (the disk is full" in capsys.readouterr().err
+    error = capsys.readouterr().err
+    assert f"{results_of(project) / 'trajectory.npy'}: No space left on device (the disk is full" in error, error
     assert (results_of(project) / "sleepers.csv").read_bytes() == before
     assert sorted(p.name for p in (project / "results").iterdir()) == [".cache", SURVEY]  # no staging left
 

@@ -37,6 +37,12 @@ def atomic_write(path: str | Path, mode: str = "w", *, encoding: str | None = "u
             handle.flush()
             os.fsync(handle.fileno())
         os.replace(tmp_name, path)
+    except OSError as err:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp_name)
+        if err.filename:
+            raise
+        raise OSError(err.errno, err.strerror, str(path)) from None  # a full disk names no file: this one
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp_name)

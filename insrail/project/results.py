@@ -204,12 +204,17 @@ def write_results(results: Path, name: str, files: dict[str, str | bytes | Path]
     try:
         for file_name, content in files.items():
             target = staging / file_name
-            if isinstance(content, Path):
-                shutil.copyfile(content, target)  # a copy: editing a result never changes the cache
-            elif isinstance(content, bytes):
-                target.write_bytes(content)
-            else:
-                target.write_text(content, encoding="utf-8")
+            try:
+                if isinstance(content, Path):
+                    shutil.copyfile(content, target)  # a copy: editing a result never changes the cache
+                elif isinstance(content, bytes):
+                    target.write_bytes(content)
+                else:
+                    target.write_text(content, encoding="utf-8")
+            except OSError as err:  # a full disk names no file: name the one being written
+                if err.filename:
+                    raise
+                raise OSError(err.errno, err.strerror, str(final / file_name)) from None
         check_cancel(cancel)
         for file in staging.iterdir():  # on disk before the swap makes them the results
             with open(file, "rb") as handle:
