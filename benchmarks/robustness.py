@@ -385,8 +385,8 @@ def gnss_cases(workdir: Path) -> list[Outcome]:
     outcome = classify('insrail ppk with a rover named r";touch PWNED;".gz', result, verified=not pwned)
     if pwned:
         outcome = Outcome(outcome.case, "WRONG-EXIT-0", "PWNED was created: a command ran")
-    elif outcome.kind == "recovered":
-        outcome.detail = "processed; no command ran (PWNED absent)"
+    elif outcome.kind in ("recovered", "warning"):
+        outcome.detail = "processed, no command ran (PWNED absent); " + outcome.detail
     outcomes.append(outcome)
 
     folder = workdir / "cases" / "nan-base"
