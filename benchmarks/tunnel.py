@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import shutil
 import tempfile
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -92,7 +93,11 @@ def _cpiii(design, stations_m: np.ndarray) -> tuple[list[str], np.ndarray]:
 
 
 def _observe(station: np.ndarray, orientation: float, targets: np.ndarray, rng, names):
-    from insrail.geodesy.free_station import EARTH_RADIUS_M, REFRACTION_K, PolarObservations
+    from insrail.geodesy.free_station import (
+        EARTH_RADIUS_M,
+        REFRACTION_K,
+        PolarObservations,
+    )
 
     delta = targets - station
     d = np.hypot(delta[:, 0], delta[:, 1])
@@ -146,8 +151,6 @@ def main() -> None:
     work = args.workdir or Path(tempfile.mkdtemp(prefix="insrail-tunnel-"))
     work.mkdir(parents=True, exist_ok=True)
     survey = _survey(work)
-    import tomllib
-
     outage = tomllib.loads((survey / "truth" / "errors.toml").read_text())["gnss_outages_s"][0]
     nav = np.load(survey / "truth" / "nav.npy")
     tunnel = tuple(np.interp(outage, nav["time_s"], nav["station_m"]) + np.array([60.0, -10.0]))  # after the first fix
