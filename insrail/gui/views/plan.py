@@ -19,7 +19,7 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
         super().__init__(parent)
         self.item = self.getPlotItem()
         self.item.setAspectLocked(True)
-        self.item.showGrid(x=True, y=True, alpha=0.25)
+        # no grid: pyqtgraph's grid cost 3x the time of a frame over a 10 km survey (46 -> 15 ms CPU)
         # no clip-to-view or downsampling: both assume x sorted, a line in the plane is not (the core thins it)
         self.origin = np.zeros(2)
         self.curves: dict[str, pg.PlotDataItem] = {}

@@ -26,7 +26,7 @@ class RepeatabilityView(DrawWhenShown, QWidget):
         self.plot = pg.PlotWidget()
         self.item = self.plot.getPlotItem()
         plotstyle.make_fluid(self.item)
-        self.item.showGrid(x=True, y=True, alpha=0.25)
+        # no grid: pyqtgraph's grid triples the time of a frame
         self.item.setLabel("bottom", "chainage [m]")
         top = QHBoxLayout()
         top.addWidget(QLabel("Parameter:"))
