@@ -35,7 +35,8 @@ def test_nested_dataclass_round_trip(tmp_path):
 
 def test_adjustment_round_trip_and_damaged_file(tmp_path):
     flags = np.zeros((3, 2), bool)
-    adjustment = Adjustment(np.full((3, 2), 1e-3), np.zeros((3, 2)), flags, flags | True, "wj8")
+    adjustment = Adjustment(np.full((3, 2), 1e-3), np.zeros((3, 2)), flags, flags | True, "wj8",
+                            flags.astype(np.uint8), flags.astype(np.uint8) | 2)
     save_dataclass(tmp_path / "a.npz", adjustment)
     back = load_dataclass(tmp_path / "a.npz", Adjustment)
     assert back.fastener == "wj8" and back.unresolved_vertical.all() and back.total_movement_m == pytest.approx(6e-3)

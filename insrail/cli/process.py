@@ -83,6 +83,7 @@ def describe(results) -> list[str]:
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
         (f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "
          f"max vertical {adjustment['max_vertical_mm']:.1f} mm, {adjustment['unresolved_sleepers']} sleepers unresolved"),
+        *after_adjustment_lines(adjustment),
         "  files: " + ", ".join(dict.fromkeys([*s["files"].values(), "summary.toml"])),
     ]
 
@@ -110,6 +111,19 @@ def _event_lines(events: list[dict], not_assessed: int) -> list[str]:
         lines.append(f"    {KIND_NAMES[e['kind']]} {e['text']} {e['station_from_m']:.3f} .. {e['station_to_m']:.3f} m, "
                      f"{e['sleepers']} sleepers: {what} ({e['source']})")
     return lines
+
+
+def after_adjustment_lines(adjustment: dict) -> list[str]:
+    """The re-assessment of the adjusted geometry (results of older versions have none)."""
+    after = adjustment.get("after")
+    if after is None:
+        return []
+    by_check = ", ".join(f"{name} {count}" for name, count in after["by_check"].items()) or "none"
+    reasons = ", ".join(f"{name.replace('_', ' ')} {count}" for name, count in adjustment["unresolved_reasons"].items()
+                        if count)
+    return [f"  after adjustment: {after['exceedances']} exceedances ({by_check}), {after['new_exceedances']} new; "
+            f"{adjustment['sleepers_to_work_on']} sleepers to work on"
+            + (f"; still failing: {reasons}" if reasons else "")]
 
 
 def chosen_surveys(project, requested: list[str] | None) -> list[str] | None:

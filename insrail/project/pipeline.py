@@ -85,6 +85,7 @@ from insrail.project.results import (
     SUMMARY_FILE,
     TQI_SECTION_M,
     TRAJECTORY_FILE,
+    adjustment_section,
     exceedances_csv,
     gnss_section,
     quality_csv,
@@ -126,11 +127,12 @@ from insrail.quality.survey import (
     sections_along,
 )
 from insrail.track.adjustment import (
-    DIRECTIONS,
+    DEFAULT_STRATEGY,
     Adjustment,
-    chord_limits,
     load_fastener_type,
-    optimise_adjustment,
+    optimise_amounts,
+    programme_settings,
+    reassess,
 )
 from insrail.track.alignment import DesignAlignment
 from insrail.track.alignment_csv import format_alignment_csv, read_alignment_csv
@@ -356,21 +358,28 @@ def _read_role(folder: Path, manifest: SurveyManifest, role: str):
     return None if entry is None else FORMATS[entry.format].read(folder / entry.path, **entry.options)
 
 
-def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress, cancel) -> Adjustment:
-    """The optimised adjustment, from the cache when the deviations, the tolerance profile's
-    differential-versine limits and the fastener are those of an earlier run."""
+def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress,
+                cancel) -> tuple[Assessment, Adjustment]:
+    """The optimised adjustment and the assessment of the geometry it leaves (every check of the
+    profile; sleepers still failing flagged with the reason). The amounts come from the cache
+    when the geometry, the checks the optimisation holds, the fastener and the strategy are those
+    of an earlier run."""
     fastener = load_fastener_type(project.resource(project.fastener))
-    digest = hashlib.sha256(json.dumps({"version": CACHE_VERSION, "fastener": repr(fastener), "limits": {
-        direction: [repr(limit) for limit in chord_limits(profile, direction)] for direction in DIRECTIONS}}).encode())
-    for values in (geometry.lateral_deviation_m, geometry.vertical_deviation_m):
+    digest = hashlib.sha256(json.dumps({"version": CACHE_VERSION, "fastener": repr(fastener),
+                                        "programme": programme_settings(profile)}).encode())
+    for values in (geometry.lateral_deviation_m, geometry.vertical_deviation_m, geometry.gauge_m, geometry.cant_m,
+                   geometry.design_cant_m, geometry.station_m):
         digest.update(np.ascontiguousarray(values).tobytes())
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"adjustment-{digest.hexdigest()[:32]}.npz"
     cached = cached_dataclass("adjustment", path, Adjustment)
     if cached is not None:
-        return cached
-    adjustment = optimise_adjustment(geometry, profile, fastener, progress=progress, cancel=cancel)
-    save_dataclass(path, adjustment)
-    return adjustment
+        lateral, vertical = cached.lateral_m, cached.vertical_m
+    else:
+        lateral, vertical = optimise_amounts(geometry, profile, fastener, progress=progress, cancel=cancel)
+    after, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
+    if cached is None:
+        save_dataclass(path, adjustment)
+    return after, adjustment
 
 
 def fit_heights(project: Project) -> HeightAnomalyFit | None:
@@ -452,13 +461,13 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     in_turnouts, turnout_counts = assess_turnouts(project, geometry, measured, events)
     check_cancel(cancel)
     step(0.9, "adjustment amounts")
-    adjustment = _adjustment(project, geometry, profile, step.sub(0.9, 0.97), cancel)
+    after_adjustment, adjustment = _adjustment(project, geometry, profile, step.sub(0.9, 0.97), cancel)
     check_cancel(cancel)
 
     step(0.97, "writing results")
     gnss_summary = fusion_info.pop("gnss", None)  # cached with the fusion: the GNSS file is not re-read
     summary = _summary(project, entry.name, manifest, fusion_info, track_cached, height_fit, height_warnings, table,
-                       assessment, adjustment, time.monotonic() - started)
+                       assessment, adjustment, after_adjustment, time.monotonic() - started)
     if gnss_summary is not None:
         summary["gnss"] = gnss_summary
     if gnss is not None:
@@ -550,7 +559,7 @@ def _notices(fusion_info: dict, height_warnings: list[str], ppk: dict | None) ->
 
 
 def _summary(project, name, manifest, fusion_info, track_cached, height_fit, height_warnings, table, assessment,
-             adjustment, elapsed) -> dict:
+             adjustment, after_adjustment, elapsed) -> dict:
     counts: dict[str, int] = {}
     for e in assessment.exceedances:
         counts[e.check] = counts.get(e.check, 0) + 1
@@ -568,11 +577,7 @@ def _summary(project, name, manifest, fusion_info, track_cached, height_fit, hei
                   "station_to_m": float(table.station_m[-1]) if len(table) else 0.0},
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),
                        "by_check": counts},
-        "adjustment": {"fastener": adjustment.fastener, "total_movement_mm": 1e3 * adjustment.total_movement_m,
-                       "max_lateral_mm": 1e3 * float(np.abs(adjustment.lateral_m).max(initial=0.0)),
-                       "max_vertical_mm": 1e3 * float(np.abs(adjustment.vertical_m).max(initial=0.0)),
-                       "unresolved_sleepers": int(np.any(adjustment.unresolved_lateral | adjustment.unresolved_vertical,
-                                                         axis=1).sum())},
+        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, DEFAULT_STRATEGY),
         "files": {"trajectory": TRAJECTORY_FILE, "sleepers": SLEEPERS_FILE, "exceedances": EXCEEDANCES_FILE},
     }
     return summary

@@ -57,6 +57,8 @@ RESULTS_FOLDER = "results"
 TRAJECTORY_FILE = "trajectory.npy"
 #: The sleepers.csv text column of reasons a measured sleeper is not assessed (joined by "; ").
 NOT_ASSESSED_COLUMN = "not_assessed"
+#: The sleepers.csv text column (after ``not_assessed``) of why a check still fails after the adjustment.
+ADJUSTMENT_NOTE_COLUMN = "adjustment_note"
 SLEEPERS_FILE = "sleepers.csv"
 EXCEEDANCES_FILE = "exceedances.csv"
 SUMMARY_FILE = "summary.toml"
@@ -155,16 +157,18 @@ def sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjust
                  extra: dict[str, tuple[np.ndarray, str]] | None = None) -> str:
     """number, label, then the columns of :func:`sleeper_columns`, then ``not_assessed`` (why a
     measured sleeper is left out of the assessment, reasons joined by "; ", quoted as CSV when
-    they hold a comma); NaN (not computable) as empty."""
+    they hold a comma), then ``adjustment_note`` (why a check still fails at the sleeper after the
+    adjustment, :meth:`Adjustment.reasons`); NaN (not computable) as empty."""
     return columns_csv(table.number, table.label, sleeper_columns(table, assessment, adjustment, extra),
-                       table.not_assessed)
+                       table.not_assessed, tuple(adjustment.reasons()))
 
 
 def columns_csv(number: np.ndarray, label: tuple[str, ...], columns: dict[str, tuple[np.ndarray, str]],
-                not_assessed: tuple[str, ...] = ()) -> str:
+                not_assessed: tuple[str, ...] = (), notes: tuple[str, ...] | None = None) -> str:
     """A sleeper table as sleepers.csv: number, label, then ``columns`` (name -> (values, format)), then
-    ``not_assessed`` (() for none); NaN as empty."""
-    header = ",".join(["number", "label", *columns, NOT_ASSESSED_COLUMN]) + "\n"
+    ``not_assessed`` (() for none) and, when ``notes`` are given, ``adjustment_note``; NaN as empty."""
+    texts = [NOT_ASSESSED_COLUMN] + ([ADJUSTMENT_NOTE_COLUMN] if notes is not None else [])
+    header = ",".join(["number", "label", *columns, *texts]) + "\n"
     if not len(number):
         return header
     block = io.StringIO()
@@ -172,14 +176,54 @@ def columns_csv(number: np.ndarray, label: tuple[str, ...], columns: dict[str, t
     np.savetxt(block, numeric, fmt=[fmt for _, fmt in columns.values()], delimiter=",")
     lines = block.getvalue().replace("nan", "").splitlines()
     reasons = not_assessed or ("",) * len(number)
-    return header + "".join(f"{n},{lbl},{line},{_csv_text(reason)}\n"
-                            for n, lbl, line, reason in zip(number, label, lines, reasons))
+    if notes is None:
+        return header + "".join(f"{n},{lbl},{line},{_csv_text(reason)}\n"
+                                for n, lbl, line, reason in zip(number, label, lines, reasons))
+    return header + "".join(f"{n},{lbl},{line},{_csv_text(reason)},{_csv_text(note)}\n"
+                            for n, lbl, line, reason, note in zip(number, label, lines, reasons, notes))
 
 
 def _csv_text(text: str) -> str:
     if not any(c in text for c in ',"\n'):
         return text
     return '"' + text.replace("\n", " ").replace('"', '""') + '"'
+
+
+def adjustment_section(adjustment: Adjustment, before: Assessment, after: Assessment, strategy: str) -> dict:
+    """summary.toml's ``[adjustment]``: the amounts' headline numbers and the re-assessment of the
+    adjusted geometry, per check: exceedance runs before and after, and how many of the after
+    runs lie where that check channel did not fail before (``new``)."""
+    from insrail.track.adjustment import REASONS
+
+    moved = np.any(np.abs(adjustment.lateral_m) > 1e-9, axis=1) | np.any(np.abs(adjustment.vertical_m) > 1e-9, axis=1)
+    failing = np.any(adjustment.unresolved_lateral | adjustment.unresolved_vertical, axis=1)
+    failed_before: dict[tuple, np.ndarray] = {}
+    for e in before.exceedances:
+        key = (e.check, e.rail, e.direction)
+        failed_before.setdefault(key, np.zeros(adjustment.lateral_m.shape[0], bool))[e.first_index:e.last_index + 1] = True
+    by_check_before: dict[str, int] = {}
+    by_check_after: dict[str, int] = {}
+    new: dict[str, int] = {}
+    for e in before.exceedances:
+        by_check_before[e.check] = by_check_before.get(e.check, 0) + 1
+    for e in after.exceedances:
+        by_check_after[e.check] = by_check_after.get(e.check, 0) + 1
+        mask = failed_before.get((e.check, e.rail, e.direction))
+        if mask is None or not mask[e.first_index:e.last_index + 1].any():
+            new[e.check] = new.get(e.check, 0) + 1
+    reasons = {}
+    for bit, text in REASONS.items():
+        count = int(np.any((adjustment.reason_lateral & bit) | (adjustment.reason_vertical & bit), axis=1).sum())
+        reasons[text.replace(" ", "_")] = count
+    return {"fastener": adjustment.fastener, "strategy": strategy,
+            "total_movement_mm": round(1e3 * adjustment.total_movement_m, 1),
+            "max_lateral_mm": 1e3 * float(np.abs(adjustment.lateral_m).max(initial=0.0)),
+            "max_vertical_mm": 1e3 * float(np.abs(adjustment.vertical_m).max(initial=0.0)),
+            "sleepers_to_work_on": int(moved.sum()),
+            "unresolved_sleepers": int(failing.sum()),
+            "unresolved_reasons": reasons,
+            "after": {"exceedances": len(after.exceedances), "new_exceedances": sum(new.values()),
+                      "by_check_before": by_check_before, "by_check": by_check_after, "new_by_check": new}}
 
 
 def exceedances_csv(assessment: Assessment) -> str:
@@ -413,6 +457,7 @@ class StoredResults:
     exceedances: tuple[ExceedanceRow, ...]
     quality: StoredQuality | None = None  # None: results written before quality.csv existed
     not_assessed: tuple[str, ...] = ()  # per sleeper, why it is not assessed ("" when it is); () none stored
+    adjustment_notes: tuple[str, ...] = ()  # per sleeper, why a check still fails after the adjustment
 
     def __len__(self) -> int:
         return len(self.number)
@@ -433,12 +478,12 @@ def load_results(project_folder: Path, survey: str) -> StoredResults:
         summary = tomllib.loads(summary_path.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
         raise InputError(summary_path, None, f"not a valid summary file ({error})") from None
-    number, label, columns, not_assessed = _read_sleepers(folder / SLEEPERS_FILE)
+    number, label, columns, not_assessed, notes = _read_sleepers(folder / SLEEPERS_FILE)
     quality_path = folder / QUALITY_FILE
     quality = (_read_quality(quality_path, summary.get("quality", {}).get("pass", "smoothed") == "smoothed")
                if quality_path.is_file() else None)
     return StoredResults(survey, folder, summary, number, label, columns,
-                         _read_exceedances(folder / EXCEEDANCES_FILE), quality, not_assessed)
+                         _read_exceedances(folder / EXCEEDANCES_FILE), quality, not_assessed, notes)
 
 
 def report_path(project_folder: Path, survey: str, suffix: str) -> Path:
@@ -456,14 +501,19 @@ def _lines(path: Path) -> list[str]:
         raise InputError(path, None, "result file missing: process the survey again") from None
 
 
-def _read_sleepers(path: Path) -> tuple[np.ndarray, tuple[str, ...], dict[str, np.ndarray], tuple[str, ...]]:
+def _read_sleepers(path: Path) -> tuple[np.ndarray, tuple[str, ...], dict[str, np.ndarray], tuple[str, ...],
+                                         tuple[str, ...]]:
     lines = _lines(path)
     if not lines or not lines[0].startswith("number,label,"):
         raise InputError(path, 1, "expected the header 'number,label,...' of an insrail sleeper table")
     names = lines[0].split(",")[2:]
-    texts = names[-1:] == [NOT_ASSESSED_COLUMN]
-    if texts:  # a quoted text column: the csv module splits these lines
-        names = names[:-1]
+    texts = 0  # trailing text columns (results of older versions have fewer)
+    for text_names in ([NOT_ASSESSED_COLUMN, ADJUSTMENT_NOTE_COLUMN], [NOT_ASSESSED_COLUMN]):
+        if names[-len(text_names):] == text_names:
+            texts = len(text_names)
+            break
+    if texts:  # quoted text columns: the csv module splits these lines
+        names = names[:-texts]
         rows = list(csv.reader(lines[1:]))
     else:
         rows = [line.split(",") for line in lines[1:]]
@@ -481,9 +531,10 @@ def _read_sleepers(path: Path) -> tuple[np.ndarray, tuple[str, ...], dict[str, n
     except ValueError:
         bad = next(i for i, row in enumerate(rows) if not _numeric(row[:len(names) + 2]))
         raise InputError(path, bad + 2, "expected numbers in every column but the label") from None
-    not_assessed = tuple(row[-1] for row in rows) if texts else ()
+    not_assessed = tuple(row[len(names) + 2] for row in rows) if texts else ()
+    notes = tuple(row[len(names) + 3] for row in rows) if texts > 1 else ()
     return (number, tuple(row[1] for row in rows), {name: values[:, i] for i, name in enumerate(names)},
-            not_assessed)
+            not_assessed, notes)
 
 
 def _numeric(row: list[str]) -> bool:

@@ -2,20 +2,29 @@
 
 An adjustment ``a`` is the movement of one rail at one sleeper, in the deviation's sign
 convention (lateral + right, vertical + up, metres): after the adjustment the deviation is
-``d + a``. Amounts are whole fastener steps (1 mm for WJ-8) inside the fastener's range, which
-is taken relative to the as-built state.
+``d + a``, the gauge changes by ``a_right - a_left`` (lateral) and the cant by
+``a_left - a_right`` (vertical). Amounts are whole fastener steps (1 mm for WJ-8) inside the
+fastener's range, which is taken relative to the as-built state.
 
-Two strategies:
+Two ways to compute them:
 
 * :func:`correct_to_line`: each sleeper is moved back to the design (or fitted) line, rounded
   to the step and clipped to the range (what the thesis's InsRail prints).
-* :func:`optimise_adjustment`: the least total movement (sum of |a|) that keeps every
-  differential-versine check (30 m / 5 m, 300 m / 150 m, every chord placement) inside its
-  limit and every amount inside the fastener range; a linear programme (HiGHS) per rail and
-  direction, rounded to whole steps. Sleepers whose checks are still not met are flagged.
+* :func:`optimise_adjustment`: per direction, both rails together (a linear programme, HiGHS;
+  :mod:`insrail.track.adjustment_programme`): the least movement that brings every chord check
+  of each rail (10 m versine, 30 m / 5 m and 300 m / 150 m differential versines, every chord
+  placement) inside its limit, never pushes gauge, gauge change rate, cross-level or twist out
+  of the profile's limits where they were inside (and brings them in where it can), keeps every
+  amount in the fastener's range, in whole steps. ``strategy="guiding_rail_first"`` is the
+  crews' practice: the guiding rail (outer rail of a curve, left on straights) is lined and the
+  low rail (inner rail, left on straights) levelled, the other rail follows through gauge and
+  cross-level.
 
-Both work on sleeper indices: a chord of 30 m is 48 sleeper spacings, as in thesis eq. (2.2),
-so the sleepers are assumed evenly spaced (the assessment re-checks the result on stations).
+:func:`reassess` applies the amounts, assesses the result against every check of the profile
+and flags each sleeper that still fails, with the reason (:data:`REASONS`).
+
+The chord checks work on sleeper indices (a 30 m chord is 48 sleeper spacings, thesis eq.
+(2.2)), so the sleepers are assumed evenly spaced there; the re-assessment checks on stations.
 """
 
 from __future__ import annotations
@@ -27,20 +36,47 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy import sparse
-from scipy.optimize import Bounds, LinearConstraint, milp
 
 from insrail.progress import CancelToken, ProgressFn, check_cancel
 from insrail.resources import resources_dir
-from insrail.track.exceedance import RAILS, SleeperGeometry
-from insrail.track.irregularity import SLEEPER_SPACING_M, differential_versine_grid
+from insrail.track.adjustment_programme import (
+    DirectionProblem,
+    RailCheck,
+    rail_checks,
+    repair_rounding,
+    round_amounts,
+    solve_window,
+    track_rows,
+)
+from insrail.track.exceedance import RAILS, Assessment, SleeperGeometry, assess
+from insrail.track.irregularity import BANDS_M, SLEEPER_SPACING_M
+from insrail.track.parameters import guiding_rail_is_right
 from insrail.track.tolerance import SettingsFileError, ToleranceProfile, read_number
 
 DIRECTIONS = ("lateral", "vertical")
 DEFAULT_FASTENER = "wj8"
-VIOLATION_PENALTY = 1000.0  # cost of 1 step of residual exceedance against 1 step of movement
-#: Rounds of "solve the windows, check the whole line again" (a round that changes nothing ends it).
+#: How the optimisation shares the movement between the rails (project setting ``[track] adjustment_strategy``).
+STRATEGIES = {
+    "least_movement": "least total movement of both rails",
+    "guiding_rail_first": "move the guiding rail for line and the low rail for level; the other rail follows "
+                          "(only the gauge / cross-level change it needs counts)",
+}
+DEFAULT_STRATEGY = "least_movement"
+#: Bumped when the programme's amounts for the same input change (joins the pipeline's cache key).
+PROGRAMME_VERSION = 2
+#: Why a sleeper still fails a check after the adjustment (bits of Adjustment.reason_*).
+RANGE_EXHAUSTED = 1
+CONFLICTING_CHECKS = 2
+NOT_OPTIMISED = 4
+REASONS = {RANGE_EXHAUSTED: "fastener range exhausted", CONFLICTING_CHECKS: "conflicting checks",
+           NOT_OPTIMISED: "check not held by the optimisation"}
+#: Rounds of "solve the windows, check the whole line again" (a round with no new exceedance ends it).
 MAX_SWEEPS = 4
+#: Free sleepers per programme (a longer window is solved in chunks, each looking one chunk ahead).
+#: Measured on the short demo: 320 gives 20 % more movement in more time than 960.
+CHUNK_SLEEPERS = 960
+#: Free sleepers around an exceeding value, in reaches of its check.
+WINDOW_PAD = 2
 #: How often [s] the progress of the channels (solved in parallel threads) is reported.
 PROGRESS_INTERVAL_S = 0.2
 
@@ -90,14 +126,28 @@ def load_fastener_type(name_or_path: str | Path = DEFAULT_FASTENER) -> FastenerT
 
 @dataclass(frozen=True)
 class Adjustment:
-    """Amounts [m] per sleeper (n, 2) [left, right]; ``unresolved_*`` flags sleepers where the
-    target (the line, or the checks) cannot be reached within the fastener range."""
+    """Amounts [m] per sleeper (n, 2) [left, right]; ``unresolved_*`` flags the sleeper-rails
+    that still fail a check after the adjustment, ``reason_*`` says why (bits of
+    :data:`REASONS`: the fastener range is used up there, or the checks conflict)."""
 
     lateral_m: np.ndarray
     vertical_m: np.ndarray
     unresolved_lateral: np.ndarray  # (n, 2) bool
     unresolved_vertical: np.ndarray  # (n, 2) bool
     fastener: str
+    reason_lateral: np.ndarray  # (n, 2) uint8, bits of REASONS
+    reason_vertical: np.ndarray
+
+    def reasons(self) -> list[str]:
+        """Per sleeper, why a check still fails there ("" where none), e.g. "lateral left: fastener
+        range exhausted"."""
+        texts = [[] for _ in range(self.lateral_m.shape[0])]
+        for direction, codes in (("lateral", self.reason_lateral), ("vertical", self.reason_vertical)):
+            for column, rail in enumerate(RAILS):
+                for index in np.flatnonzero(codes[:, column]):
+                    why = " + ".join(text for bit, text in REASONS.items() if codes[index, column] & bit)
+                    texts[index].append(f"{direction} {rail}: {why}")
+        return ["; ".join(t) for t in texts]
 
     @property
     def total_movement_m(self) -> float:
@@ -132,286 +182,255 @@ def correct_to_line(geometry: SleeperGeometry, fastener: FastenerType) -> Adjust
         wanted = np.where(np.isfinite(deviation), -deviation, 0.0)
         amounts[direction] = _round_to_step(wanted, fastener.step_m, low, high)
         unresolved[direction] = np.abs(wanted - amounts[direction]) > 0.5 * fastener.step_m + 1e-12
-    return Adjustment(amounts["lateral"], amounts["vertical"], unresolved["lateral"], unresolved["vertical"], fastener.name)
+    return Adjustment(amounts["lateral"], amounts["vertical"], unresolved["lateral"], unresolved["vertical"], fastener.name,
+                      unresolved["lateral"].astype(np.uint8) * RANGE_EXHAUSTED,
+                      unresolved["vertical"].astype(np.uint8) * RANGE_EXHAUSTED)
+
+
+def reference_rail_is_right(design_cant_m: np.ndarray, direction: str) -> np.ndarray:
+    """The rail that leads the adjustment per sleeper, True where it is the right rail: for line
+    the guiding rail (the outer, higher rail of a curve; left on straights), for level the low
+    rail (the inner rail of a curve; left on straights). [U] the crews' handbook rule, as for
+    :func:`insrail.track.parameters.guiding_rail_is_right`."""
+    if direction == "lateral":
+        return guiding_rail_is_right(design_cant_m)
+    return np.asarray(design_cant_m, dtype=float) > 0.0  # left rail higher: the right one is low
+
+
+def _trouble_windows(n: int, trouble: np.ndarray, pad: np.ndarray, merge: int) -> list[tuple[int, int]]:
+    """Sleeper ranges [start, stop) worth moving: around each sleeper of ``trouble`` (an exceeding
+    value) ``pad`` sleepers on either side (the reach of its check: every amount that changes the
+    value), merged where they come closer than ``merge``."""
+    if not trouble.size:
+        return []
+    starts, stops = np.clip(trouble - WINDOW_PAD * pad, 0, n), np.clip(trouble + WINDOW_PAD * pad + 1, 0, n)
+    order = np.argsort(starts)
+    windows: list[list[int]] = []
+    for start, stop in zip(starts[order], stops[order]):
+        if windows and start <= windows[-1][1] + merge:
+            windows[-1][1] = max(windows[-1][1], stop)
+        else:
+            windows.append([int(start), int(stop)])
+    return [(a, b) for a, b in windows]
 
 
 @dataclass(frozen=True)
-class ChordLimit:
-    """A differential-versine check in sleeper steps: chord m, pair p, |value| <= limit_m."""
+class _State:
+    """Where the current amounts leave one direction: per chord check and rail the values [m]
+    and exceeding sleepers, and the exceeding track rows' sleepers."""
 
-    chord_steps: int
-    pair_steps: int
-    limit_m: float
-
-
-def chord_limits(profile: ToleranceProfile, direction: str, spacing_m: float = SLEEPER_SPACING_M) -> list[ChordLimit]:
-    """The profile's differential-versine checks that apply to ``direction``, in sleeper steps."""
-    limits = []
-    for check in profile.checks:
-        if check.kind == "differential_versine" and direction in check.directions:
-            limits.append(
-                ChordLimit(round(check.chord_m / spacing_m), round(check.pair_m / spacing_m), min(-check.lower, check.upper))
-            )
-    return limits
+    values: dict  # (check index, rail) -> values
+    trouble: np.ndarray  # sleepers of exceeding values (any check)
+    pad: np.ndarray  # reach of the check of each trouble sleeper
 
 
-def _window_rows(n_chords: int, block: int):
-    """Prefix/suffix running-extreme structure over blocks of ``block`` chord starts.
+def _state(problem: DirectionProblem, amounts: np.ndarray, checks: list[RailCheck]) -> _State:
+    current = problem.step_m * (problem.deviation + amounts)
+    values, trouble, pad = {}, [], []
+    for index, check in enumerate(checks):
+        for rail in (0, 1):
+            values[index, rail] = check.values(current[:, rail])
+            with np.errstate(invalid="ignore"):
+                sleepers = np.flatnonzero(np.abs(values[index, rail]) > check.limit_m + 1e-9)
+            trouble.append(sleepers)
+            pad.append(np.full(sleepers.size, check.reach_steps))
+    rows = problem.rows
+    if rows.size:
+        bad = np.flatnonzero(rows.exceeding(amounts))
+        sleepers = np.unique(np.concatenate([rows.first[bad], rows.last[bad]]))
+        trouble.append(sleepers)
+        pad.append(np.full(sleepers.size, 8))
+    return _State(values, np.concatenate(trouble), np.concatenate(pad))
 
-    Returns (previous index for the prefix chain, next index for the suffix chain), -1 at
-    block boundaries. A window of ``block`` consecutive starts is the suffix of one block
-    plus the prefix of the next, so its maximum is bounded by two running variables.
+
+#: A chord check joins a window's programme when its value comes within this many fastener steps
+#: of the limit somewhere the window's amounts reach. 0: only where it is exceeded (a check the
+#: moves break elsewhere is new trouble for the next round; holding the 300 m chord everywhere
+#: would make every programme several times larger).
+NEAR_LIMIT_STEPS = 0.0
+
+
+def _window_checks(state: _State, checks: list[RailCheck], start: int, stop: int, step: float) -> list[RailCheck]:
+    chosen = []
+    for index, check in enumerate(checks):
+        lo, hi = max(0, start - check.reach_steps), stop + check.reach_steps
+        for rail in (0, 1):
+            values = state.values[index, rail][lo:hi]
+            with np.errstate(invalid="ignore"):
+                if np.any(np.abs(values) > check.limit_m - NEAR_LIMIT_STEPS * step):
+                    chosen.append(check)
+                    break
+    return chosen
+
+
+def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], chunk_sleepers: int, progress=None,
+                        cancel=None) -> np.ndarray:
+    """Amounts [steps] (n, 2) of one direction.
+
+    Only the sleepers near exceedances are moved (one check's reach around each exceeding value),
+    by a linear programme over the window plus one reach of fixed sleepers on either side,
+    holding the track rows and the chord checks that come near their limit there (the others,
+    typically the long 300 m / 150 m chord, would triple the programme's size for constraints
+    that are inactive). A window longer than ``chunk_sleepers`` is solved in consecutive chunks,
+    each starting from the amounts of the one before (small programmes solve much faster than one
+    large one). Each solution is rounded to whole steps and the rounding repaired where it broke a
+    hard track row. The line is then checked again: windows around exceedances that the previous
+    round did not already try are solved again, until there are none.
     """
-    index = np.arange(n_chords)
-    previous = np.where(index % block == 0, -1, index - 1)
-    following = np.where((index % block == block - 1) | (index == n_chords - 1), -1, index + 1)
-    return previous, following
-
-
-def _chord_terms(start: np.ndarray, m: int, r: float, n: int, sign: float) -> list:
-    """sign * (S(a) - S0) = sign * r (a[j+m] - a[j]) as (column, coefficient) pairs, a = a+ - a-
-    with a+ in columns 0..n-1 and a- in n..2n-1."""
-    return [(start + m, sign * r), (start + m + n, -sign * r), (start, -sign * r), (start + n, sign * r)]
-
-
-def _channel_programme(
-    deviation: np.ndarray, limits: list[ChordLimit], low: float, high: float, step: float, fixed_steps: np.ndarray
-):
-    """min sum |a| s.t. every sliding check of deviation + a within its limit (up to a penalised
-    slack), low <= a <= high, a = ``fixed_steps`` where that is finite. Linear programme.
-
-    Variables (in steps): a+ (n), a- (n), and per check the running maxima/minima of the chord
-    term S over prefixes (P) and suffixes (Q) of blocks: Pmax, Qmax, Pmin, Qmin (n - m each).
-    """
-    n = deviation.size
-    valid = np.isfinite(deviation)
-    d = np.where(valid, deviation, 0.0) / step  # work in steps: integer amounts
-    rows, cols, vals, upper = [], [], [], []
-    row = 0
-
-    def add(entries, bound):
-        nonlocal row
-        for column, coefficient in entries:
-            rows.append(np.broadcast_to(row + np.arange(bound.size), bound.shape))
-            cols.append(column)
-            vals.append(np.broadcast_to(coefficient, bound.shape))
-        upper.append(bound)
-        row += bound.size
-
-    variables = 2 * n
-    slack_columns = []
-    for limit in limits:
-        m, p = limit.chord_steps, limit.pair_steps
-        # Rounding each amount to a whole step moves a check value D + S by at most
-        # (1 + p/m) steps, so the programme keeps that margin and the rounded amounts still pass.
-        bound = limit.limit_m / step - (1.0 + p / m)
-        if bound <= 0:
-            raise ValueError(
-                f"a {limit.limit_m * 1e3:g} mm limit on a {m}/{p}-sleeper check leaves no room for "
-                f"{step * 1e3:g} mm fastener steps"
-            )
-        n_chords = n - m
-        if n_chords <= 0:
-            continue
-        r = p / m
-        pmax, qmax, pmin, qmin = (variables + k * n_chords + np.arange(n_chords) for k in range(4))
-        variables += 4 * n_chords
-        ok = np.flatnonzero(valid[:n_chords] & valid[m:])
-        s0 = r * (d[ok + m] - d[ok])
-        for running in (pmax, qmax):  # S_j <= running maximum
-            add(_chord_terms(ok, m, r, n, 1.0) + [(running[ok], -1.0)], -s0)
-        for running in (pmin, qmin):  # S_j >= running minimum
-            add(_chord_terms(ok, m, r, n, -1.0) + [(running[ok], 1.0)], s0)
-        previous, following = _window_rows(n_chords, m - p + 1)
-        chained = np.flatnonzero(previous >= 0)
-        add([(pmax[previous[chained]], 1.0), (pmax[chained], -1.0)], np.zeros(chained.size))
-        add([(pmin[chained], 1.0), (pmin[previous[chained]], -1.0)], np.zeros(chained.size))
-        chained = np.flatnonzero(following >= 0)
-        add([(qmax[following[chained]], 1.0), (qmax[chained], -1.0)], np.zeros(chained.size))
-        add([(qmin[chained], 1.0), (qmin[following[chained]], -1.0)], np.zeros(chained.size))
-        # Every pair (k, k + p) against the chords starting at max(0, k-w) .. min(k, n_chords-1).
-        k = np.arange(n - p)
-        k = k[valid[k] & valid[k + p]]
-        first = np.maximum(k - (m - p), 0)
-        last = np.minimum(k, n_chords - 1)
-        keep = first <= last
-        k, first, last = k[keep], first[keep], last[keep]
-        block = m - p + 1
-        same = first // block == last // block
-        d0 = d[k] - d[k + p]
-        slack = variables + np.arange(k.size)  # how far pair k still exceeds: penalised, flagged
-        variables += k.size
-        slack_columns.append(slack)
-        pair = [(k, 1.0), (k + n, -1.0), (k + p, -1.0), (k + p + n, 1.0)]
-        for selector, hi_column, lo_column in (
-            (~same | (first % block == 0), pmax[last], pmin[last]),
-            (~same | (first % block != 0), qmax[first], qmin[first]),
-        ):
-            # D(a) + max S <= limit + slack  and  -(D(a) + min S) <= limit + slack
-            add([(c[selector], v) for c, v in pair] + [(hi_column[selector], 1.0), (slack[selector], -1.0)], bound - d0[selector])
-            add([(c[selector], -v) for c, v in pair] + [(lo_column[selector], -1.0), (slack[selector], -1.0)], bound + d0[selector])
-    a_low, a_high = np.ceil(low / step - 1e-9), np.floor(high / step + 1e-9)
-    lower = np.full(variables, -np.inf)
-    upper_bounds = np.full(variables, np.inf)
-    lower[: 2 * n] = 0.0
-    upper_bounds[:n] = np.where(valid, a_high, 0.0)
-    upper_bounds[n : 2 * n] = np.where(valid, -a_low, 0.0)
-    fixed = np.flatnonzero(np.isfinite(fixed_steps))
-    lower[fixed] = upper_bounds[fixed] = np.maximum(fixed_steps[fixed], 0.0)
-    lower[fixed + n] = upper_bounds[fixed + n] = np.maximum(-fixed_steps[fixed], 0.0)
-    cost = np.zeros(variables)
-    cost[: 2 * n] = 1.0
-    for slack in slack_columns:
-        lower[slack] = 0.0
-        cost[slack] = VIOLATION_PENALTY
-    matrix = sparse.csr_array((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(row, variables))
-    return cost, matrix, np.concatenate(upper), Bounds(lower, upper_bounds)
-
-
-def _trouble_windows(deviation: np.ndarray, limits: list[ChordLimit]) -> list[tuple[int, int]]:
-    """Sleeper ranges [start, stop) worth moving: around every exceeding pair, the sleepers of
-    every chord placement holding it plus half a chord of room, merged where their LP ranges
-    (one chord beyond each end) would overlap."""
-    n = deviation.size
-    starts, stops = [], []
-    for limit, pairs in zip(limits, _exceeding_pairs(deviation, limits)):
-        m, p = limit.chord_steps, limit.pair_steps
-        starts.append(pairs - (m - p) - 2 * m)
-        stops.append(pairs + m + 2 * m + 1)
-    if not starts:
-        return []
-    starts, stops = np.clip(np.concatenate(starts), 0, n), np.clip(np.concatenate(stops), 0, n)
-    order = np.argsort(starts)
-    reach = max(limit.chord_steps for limit in limits)
-    windows: list[list[int]] = []
-    for start, stop in zip(starts[order], stops[order]):
-        if windows and start <= windows[-1][1] + 2 * reach:
-            windows[-1][1] = max(windows[-1][1], stop)
-        else:
-            windows.append([start, stop])
-    return [(int(a), int(b)) for a, b in windows]
-
-
-def _solve_window(deviation, amounts, start, stop, limits, low, high, step) -> np.ndarray:
-    """Amounts [steps] of sleepers start..stop-1 by the LP; the sleepers one chord beyond each
-    end keep ``amounts``, so every chord placement touching a free sleeper is in the programme."""
-    reach = max(limit.chord_steps for limit in limits)
-    lo, hi = max(0, start - reach), min(deviation.size, stop + reach)
-    fixed = amounts[lo:hi].copy()
-    fixed[start - lo : stop - lo] = np.nan
-    cost, matrix, upper, bounds = _channel_programme(deviation[lo:hi], limits, low, high, step, fixed)
-    result = milp(cost, constraints=LinearConstraint(matrix, -np.inf, upper), bounds=bounds)
-    if result.x is None:
-        raise RuntimeError(f"adjustment optimisation failed: {result.message}")
-    piece = hi - lo
-    return np.round(result.x[start - lo : stop - lo] - result.x[piece + start - lo : piece + stop - lo])
-
-
-def _optimise_channel(deviation, limits, low, high, step, chunk_sleepers, progress=None, cancel=None):
-    """(amounts [m], unresolved flags) for one rail and direction.
-
-    Only the sleepers near exceedances are moved (:func:`_trouble_windows`), by a linear
-    programme over the window plus one chord of fixed sleepers on either side, holding only the
-    checks that are exceeded (the others, typically the long 300 m / 150 m chord, would triple
-    the programme's size for constraints that are inactive). A window longer than
-    ``chunk_sleepers`` is solved in consecutive chunks, each starting from the amounts of the
-    one before (the greedy hand-over costs some optimality; the cost grows linearly with the
-    length of line). The continuous solution is rounded to whole steps. The line is then
-    checked again against every limit; a check the moves broke joins the programme and the
-    windows are solved again, until nothing changes. Sleepers of every pair that still
-    exceeds its limit are flagged.
-    """
-    n = deviation.size
-    amounts = np.zeros(n)
-    active: list[ChordLimit] = []
+    n = problem.deviation.shape[0]
+    amounts = np.zeros((n, 2))
+    tried = np.zeros(n, bool)  # exceeding sleepers a round already worked on
     for _ in range(MAX_SWEEPS):
-        current = deviation + step * amounts
-        exceeded = [limit for limit, pairs in zip(limits, _exceeding_pairs(current, limits)) if pairs.size]
-        active += [limit for limit in exceeded if limit not in active]
-        windows = _trouble_windows(current, exceeded)
-        pieces = [(a, min(a + chunk_sleepers, stop)) for start, stop in windows
-                  for a in range(start, stop, chunk_sleepers)]
-        changed = False
+        state = _state(problem, amounts, checks)
+        fresh = ~tried[state.trouble]
+        windows = _trouble_windows(n, state.trouble[fresh], state.pad[fresh], merge=16)
+        if not windows:
+            break
+        tried[state.trouble] = True
+        pieces = [(a, min(a + chunk_sleepers, stop)) for start, stop in windows for a in range(start, stop, chunk_sleepers)]
+        window_stop = [stop for start, stop in windows for _ in range(start, stop, chunk_sleepers)]
         for index, (start, stop) in enumerate(pieces):
             check_cancel(cancel)
             if progress is not None:
                 progress(index / len(pieces), "adjustment amounts")
-            solved = _solve_window(deviation, amounts, start, stop, active, low, high, step)
-            changed |= not np.array_equal(solved, amounts[start:stop])
-            amounts[start:stop] = solved
-        if not changed:
-            break
-    amounts = amounts * step
-    unresolved = np.zeros(n, bool)
-    for limit, exceeding in zip(limits, _exceeding_pairs(deviation + amounts, limits)):
-        unresolved[exceeding] = True
-        unresolved[exceeding + limit.pair_steps] = True
-    return amounts, unresolved
+            # look one chunk ahead (a receding horizon) so the chunk's end is not held by zeros
+            ahead = stop if stop == window_stop[index] else min(window_stop[index], stop + chunk_sleepers)
+            continuous = solve_window(problem, amounts, start, ahead,
+                                      _window_checks(state, checks, start, ahead, problem.step_m))[: stop - start]
+            target = amounts.copy()
+            target[start:stop] = continuous
+            amounts[start:stop] = round_amounts(continuous, problem.low, problem.high, problem.valid[start:stop])
+            amounts = repair_rounding(problem, amounts, target)
+    return amounts
 
 
-def _expected_work(deviation: np.ndarray, limits: list[ChordLimit]) -> int:
-    """Rough cost of optimising one channel, for scheduling: the sleepers of its first round's
-    windows times the checks they are solved for (each check adds its chord terms)."""
-    exceeded = [limit for limit, pairs in zip(limits, _exceeding_pairs(deviation, limits)) if pairs.size]
-    return len(exceeded) * sum(stop - start for start, stop in _trouble_windows(deviation, exceeded))
+def direction_problem(geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, direction: str,
+                      strategy: str = DEFAULT_STRATEGY) -> DirectionProblem:
+    deviation = geometry.lateral_deviation_m if direction == "lateral" else geometry.vertical_deviation_m
+    valid = np.all(np.isfinite(deviation), axis=1)
+    if direction == "lateral":
+        valid &= np.isfinite(geometry.gauge_m)
+    else:
+        valid &= np.isfinite(geometry.cant_m)
+    low, high = fastener.range_m(direction)
+    step = fastener.step_m
+    if strategy not in STRATEGIES:
+        raise ValueError(f"adjustment strategy {strategy!r}: expected one of {', '.join(STRATEGIES)}")
+    reference = reference_rail_is_right(geometry.design_cant_m, direction) if strategy == "guiding_rail_first" else None
+    return DirectionProblem(np.where(valid[:, None], deviation, np.nan) / step, valid,
+                            track_rows(geometry, profile, direction, step),
+                            float(np.ceil(low / step - 1e-9)), float(np.floor(high / step + 1e-9)), step, reference)
 
 
-def _exceeding_pairs(deviation: np.ndarray, limits: list[ChordLimit]) -> list[np.ndarray]:
-    """First sleepers of the pairs exceeding each limit (any chord placement)."""
-    return [
-        np.flatnonzero(np.abs(differential_versine_grid(deviation, limit.chord_steps, limit.pair_steps)) > limit.limit_m + 1e-9)
-        for limit in limits
-    ]
+def optimise_amounts(
+    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, chunk_sleepers: int = CHUNK_SLEEPERS,
+    strategy: str = DEFAULT_STRATEGY, progress: ProgressFn | None = None, cancel: CancelToken = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(lateral, vertical) amounts [m] (n, 2) of :func:`optimise_adjustment`, not yet re-assessed.
 
+    The two directions are independent and HiGHS releases the GIL while it solves: one thread
+    each, the heavier submitted first; ``progress`` is called from the calling thread, ``cancel``
+    is checked before every programme is solved (see :mod:`insrail.progress`)."""
+    problems = {d: direction_problem(geometry, profile, fastener, d, strategy) for d in DIRECTIONS}
+    checks = {d: rail_checks(profile, d) for d in DIRECTIONS}
+    done = {d: 0.0 for d in DIRECTIONS}
 
-def _passes(deviation: np.ndarray, limits: list[ChordLimit]) -> bool:
-    return not any(pairs.size for pairs in _exceeding_pairs(deviation, limits))
+    def solve(direction: str) -> np.ndarray:
+        def direction_progress(fraction: float, message: str) -> None:
+            done[direction] = max(done[direction], fraction)  # a second round starts again from 0
+
+        return _optimise_direction(problems[direction], checks[direction], chunk_sleepers, direction_progress, cancel)
+
+    def expected_work(direction: str) -> int:
+        state = _state(problems[direction], np.zeros(problems[direction].deviation.shape), checks[direction])
+        return int(state.pad.sum())
+
+    order = sorted(DIRECTIONS, key=expected_work, reverse=True)
+    with ThreadPoolExecutor(min(len(order), os.cpu_count() or 1)) as pool:
+        futures = {direction: pool.submit(solve, direction) for direction in order}
+        while not wait(futures.values(), timeout=PROGRESS_INTERVAL_S).done.issuperset(futures.values()):
+            if progress is not None:
+                progress(float(np.mean(list(done.values()))), "adjustment amounts")
+        steps = {direction: futures[direction].result() for direction in DIRECTIONS}
+    if progress is not None:
+        progress(1.0, "adjustment amounts")
+    return steps["lateral"] * fastener.step_m, steps["vertical"] * fastener.step_m
 
 
 def optimise_adjustment(
-    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, chunk_sleepers: int = 960,
-    progress: ProgressFn | None = None, cancel: CancelToken = None,
+    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, chunk_sleepers: int = CHUNK_SLEEPERS,
+    progress: ProgressFn | None = None, cancel: CancelToken = None, strategy: str = DEFAULT_STRATEGY,
 ) -> Adjustment:
-    """Least total movement that satisfies every differential-versine check of ``profile``
-    (every chord placement and point pair) within the fastener range, per rail and direction.
+    """The optimised amounts (:func:`optimise_amounts`) with the sleepers that still fail a check
+    flagged by :func:`reassess`."""
+    lateral, vertical = optimise_amounts(geometry, profile, fastener, chunk_sleepers, strategy, progress, cancel)
+    return reassess(geometry, lateral, vertical, profile, fastener)[1]
 
-    Where no amount within range satisfies a check, the excess is minimised (penalised
-    VIOLATION_PENALTY times a unit of movement). Sleepers of pairs that still exceed after
-    rounding to whole steps are flagged unresolved. Invalid sleepers are not moved and their
-    pairs are not checked. Gauge and cross-level are not constraints here (the rails are
-    optimised independently); re-assess the adjusted geometry to see them. The four channels
-    (rail x direction) are solved in parallel threads; ``progress`` is called from the calling
-    thread, ``cancel`` is checked before every programme is solved (see :mod:`insrail.progress`).
-    """
-    amounts = {direction: np.zeros((geometry.station_m.size, 2)) for direction in DIRECTIONS}
-    flags = {direction: np.zeros((geometry.station_m.size, 2), bool) for direction in DIRECTIONS}
-    deviations = {"lateral": geometry.lateral_deviation_m, "vertical": geometry.vertical_deviation_m}
-    channels = [(direction, column) for direction in DIRECTIONS for column in range(len(RAILS))]
-    done = np.zeros(len(channels))  # per channel, written by its thread, reported by this one
 
-    def solve(index: int):
-        def channel_progress(fraction: float, message: str) -> None:
-            done[index] = max(done[index], fraction)  # a second round starts again from 0
+def _reach_steps(check, spacing_m: float = SLEEPER_SPACING_M) -> int:
+    """How far [sleepers] from a failing value an amount changes it."""
+    if check.kind in ("versine", "differential_versine"):
+        return int(np.ceil(check.chord_m / spacing_m))
+    if check.kind in ("twist", "gauge_change_rate"):
+        return int(np.ceil((check.base_m or spacing_m) / spacing_m)) + 1
+    if check.kind == "band_peak":
+        return int(np.ceil(BANDS_M[check.band][1] / spacing_m / 2)) if isinstance(check.band, str) else 0
+    return 0
 
-        direction, column = channels[index]
+
+def reassess(geometry: SleeperGeometry, lateral_m: np.ndarray, vertical_m: np.ndarray, profile: ToleranceProfile,
+             fastener: FastenerType) -> tuple[Assessment, Adjustment]:
+    """The assessment of the adjusted geometry (every check of ``profile``) and the adjustment
+    with every sleeper-rail of a remaining exceedance run flagged. The reason is "fastener range
+    exhausted" where an amount within the check's reach sits at the end of the range, "check not
+    held by the optimisation" for a check the programme does not model (band-passed peaks, chords
+    of a fraction of a sleeper), otherwise "conflicting checks" (holding this check would break
+    another one, or the rounding to whole steps)."""
+    n = geometry.station_m.size
+    unresolved = {d: np.zeros((n, 2), bool) for d in DIRECTIONS}
+    reasons = {d: np.zeros((n, 2), np.uint8) for d in DIRECTIONS}
+    amounts = {"lateral": lateral_m, "vertical": vertical_m}
+    at_end = {}
+    for direction in DIRECTIONS:
         low, high = fastener.range_m(direction)
-        return _optimise_channel(deviations[direction][:, column], chord_limits(profile, direction), low, high,
-                                 fastener.step_m, chunk_sleepers, channel_progress, cancel)
+        step = fastener.step_m
+        low, high = np.ceil(low / step - 1e-9) * step, np.floor(high / step + 1e-9) * step
+        at_end[direction] = (amounts[direction] <= low + 1e-9) | (amounts[direction] >= high - 1e-9)
+    provisional = Adjustment(lateral_m, vertical_m, unresolved["lateral"], unresolved["vertical"], fastener.name,
+                             reasons["lateral"], reasons["vertical"])
+    after = assess(provisional.apply(geometry), profile)
+    checks = {c.name: c for c in profile.checks}
+    held = {d: rail_checks(profile, d) for d in DIRECTIONS}
+    for e in after.exceedances:
+        check = checks[e.check]
+        if check.kind in ("gauge_deviation", "gauge_change_rate"):
+            targets = [("lateral", 0), ("lateral", 1)]
+        elif check.kind in ("cross_level", "twist"):
+            targets = [("vertical", 0), ("vertical", 1)]
+        else:
+            targets = [(e.direction, RAILS.index(e.rail))]
+        reach = _reach_steps(check)
+        near = slice(max(0, e.first_index - reach), e.last_index + reach + 1)
+        modelled = check.kind not in ("versine", "differential_versine", "band_peak") or any(
+            h.limit_m == min(-check.lower, check.upper) and h.reach_steps == reach for h in held[targets[0][0]])
+        for direction, column in targets:
+            run = slice(e.first_index, e.last_index + 1)
+            unresolved[direction][run, column] = True
+            if not modelled:
+                code = NOT_OPTIMISED
+            elif at_end[direction][near, column].any() or (len(targets) == 2 and at_end[direction][near].any()):
+                code = RANGE_EXHAUSTED
+            else:
+                code = CONFLICTING_CHECKS
+            reasons[direction][run, column] |= code
+    adjustment = Adjustment(lateral_m, vertical_m, unresolved["lateral"], unresolved["vertical"], fastener.name,
+                            reasons["lateral"], reasons["vertical"])
+    return after, adjustment
 
-    # The channels are independent and HiGHS releases the GIL while it solves: one thread each,
-    # the heaviest submitted first, so that with fewer cores than channels it does not start last.
-    def expected_work(index: int) -> int:
-        direction, column = channels[index]
-        return _expected_work(deviations[direction][:, column], chord_limits(profile, direction))
 
-    order = sorted(range(len(channels)), key=expected_work, reverse=True)
-    with ThreadPoolExecutor(min(len(channels), os.cpu_count() or 1)) as pool:
-        futures = {index: pool.submit(solve, index) for index in order}
-        while not wait(futures.values(), timeout=PROGRESS_INTERVAL_S).done.issuperset(futures.values()):
-            if progress is not None:
-                progress(float(done.mean()), "adjustment amounts")
-        for index, (direction, column) in enumerate(channels):
-            amounts[direction][:, column], flags[direction][:, column] = futures[index].result()
-    if progress is not None:
-        progress(1.0, "adjustment amounts")
-    return Adjustment(amounts["lateral"], amounts["vertical"], flags["lateral"], flags["vertical"], fastener.name)
+def programme_settings(profile: ToleranceProfile) -> dict:
+    """What the optimised amounts depend on in a profile (for a cache key): the checks the
+    programme holds, with their limits."""
+    kinds = ("differential_versine", "versine", "gauge_deviation", "gauge_change_rate", "cross_level", "twist")
+    return {"version": PROGRAMME_VERSION, "nominal_gauge_m": profile.nominal_gauge_m,
+            "checks": [repr(c) for c in profile.checks if c.kind in kinds]}
