@@ -114,14 +114,13 @@ def test_changing_the_tolerance_profile_reuses_the_fusion(processed, monkeypatch
     def not_again(*args, **kwargs):
         raise AssertionError("a cached stage ran again or a raw file was read")
 
-    for stage in ("fuse", "read_survey", "reconstruct_track", "optimise_adjustment"):
+    for stage in ("fuse", "read_survey", "reconstruct_track", "optimise_amounts"):
         monkeypatch.setattr(pipeline, stage, not_again)
-    # The surveyor widens the 10 m versine limit in a copy of the default profile: a new
-    # assessment, everything else (the adjustment too: same differential-versine limits) cached.
+    # The surveyor adds a band-passed check to a copy of the default profile: a new assessment,
+    # everything else (the adjustment too: the checks it holds are unchanged) cached.
     default = (resources_dir() / "tolerance_profiles" / "cn_hsr_ballastless.toml").read_text()
-    edited = default.replace('chord_m = 10.0\ndirections = ["lateral", "vertical"]\nmax_abs_mm = 2.0',
-                             'chord_m = 10.0\ndirections = ["lateral", "vertical"]\nmax_abs_mm = 4.0')
-    assert edited != default
+    edited = default + '\n[checks.d1_peak]\nkind = "band_peak"\nband = "D1"\nmax_abs_mm = 0.5\n'
+
     (project.folder / "edited.toml").write_text(edited)
     save_project(replace(project, tolerance_profile="edited.toml"))
     try:
@@ -132,15 +131,16 @@ def test_changing_the_tolerance_profile_reuses_the_fusion(processed, monkeypatch
     assert again.fusion_from_cache and not first.fusion_from_cache
     assert again.summary["track"]["from_cache"] and not first.summary["track"]["from_cache"]
     assert tomllib.loads((again.folder / "summary.toml").read_text())["fusion"]["from_cache"] is True
-    versine = [sum(e.check == "versine_10m" for e in r.assessment.exceedances) for r in (first, again)]
-    assert versine[0] > versine[1]
+    assert not any(e.check == "d1_peak" for e in first.assessment.exceedances)
+    assert any(e.check == "d1_peak" for e in again.assessment.exceedances)
     np.testing.assert_array_equal(again.adjustment.lateral_m, first.adjustment.lateral_m)
     np.testing.assert_array_equal(again.trajectory.lat_rad, first.trajectory.lat_rad)
 
     monkeypatch.undo()
     other = process(replace(project, tolerance_profile="cn_conventional_160"), "short")  # no 30/5 checks
-    assert other.assessment.profile != first.assessment.profile and other.adjustment.total_movement_m == 0
-    monkeypatch.setattr(pipeline, "optimise_adjustment", not_again)
+    assert other.assessment.profile != first.assessment.profile
+    assert other.adjustment.total_movement_m < first.adjustment.total_movement_m
+    monkeypatch.setattr(pipeline, "optimise_amounts", not_again)
     back = process(project, "short")  # the original profile: its adjustment comes from the cache
     assert (back.folder / "sleepers.csv").read_bytes() == first_sleepers
 
