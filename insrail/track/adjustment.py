@@ -64,6 +64,8 @@ STRATEGIES = {
 DEFAULT_STRATEGY = "least_movement"
 #: Bumped when the programme's amounts for the same input change (joins the pipeline's cache key).
 PROGRAMME_VERSION = 2
+#: Track-level checks the programme holds (:func:`insrail.track.adjustment_programme.track_rows`).
+TRACK_KINDS = ("gauge_deviation", "gauge_change_rate", "cross_level", "twist")
 #: Why a sleeper still fails a check after the adjustment (bits of Adjustment.reason_*).
 RANGE_EXHAUSTED = 1
 CONFLICTING_CHECKS = 2
@@ -405,14 +407,17 @@ def reassess(geometry: SleeperGeometry, lateral_m: np.ndarray, vertical_m: np.nd
         check = checks[e.check]
         if check.kind in ("gauge_deviation", "gauge_change_rate"):
             targets = [("lateral", 0), ("lateral", 1)]
-        elif check.kind in ("cross_level", "twist"):
-            targets = [("vertical", 0), ("vertical", 1)]
-        else:
+        elif e.rail in RAILS and e.direction in DIRECTIONS:
             targets = [(e.direction, RAILS.index(e.rail))]
+        else:  # cross-level, twist, cant change rate and deficiency: the level of both rails
+            targets = [("vertical", 0), ("vertical", 1)]
         reach = _reach_steps(check)
         near = slice(max(0, e.first_index - reach), e.last_index + reach + 1)
-        modelled = check.kind not in ("versine", "differential_versine", "band_peak") or any(
-            h.limit_m == min(-check.lower, check.upper) and h.reach_steps == reach for h in held[targets[0][0]])
+        if check.kind in ("versine", "differential_versine"):
+            modelled = any(h.limit_m == min(-check.lower, check.upper) and h.reach_steps == reach
+                           for h in held[targets[0][0]])
+        else:
+            modelled = check.kind in TRACK_KINDS
         for direction, column in targets:
             run = slice(e.first_index, e.last_index + 1)
             unresolved[direction][run, column] = True
@@ -431,6 +436,6 @@ def reassess(geometry: SleeperGeometry, lateral_m: np.ndarray, vertical_m: np.nd
 def programme_settings(profile: ToleranceProfile) -> dict:
     """What the optimised amounts depend on in a profile (for a cache key): the checks the
     programme holds, with their limits."""
-    kinds = ("differential_versine", "versine", "gauge_deviation", "gauge_change_rate", "cross_level", "twist")
+    kinds = ("differential_versine", "versine", *TRACK_KINDS)
     return {"version": PROGRAMME_VERSION, "nominal_gauge_m": profile.nominal_gauge_m,
             "checks": [repr(c) for c in profile.checks if c.kind in kinds]}
