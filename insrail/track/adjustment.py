@@ -242,7 +242,7 @@ def _state(problem: DirectionProblem, amounts: np.ndarray, checks: list[RailChec
         sleepers = np.unique(np.concatenate([rows.first[bad], rows.last[bad]]))
         trouble.append(sleepers)
         pad.append(np.full(sleepers.size, 8))
-    return _State(values, np.concatenate(trouble), np.concatenate(pad))
+    return _State(values, np.concatenate([np.zeros(0, int), *trouble]), np.concatenate([np.zeros(0, int), *pad]))
 
 
 #: A chord check joins a window's programme when its value comes within this many fastener steps
