@@ -207,6 +207,8 @@ def column_name(key: str, checks: Iterable[CheckLike] = ()) -> Name:
     ``check_<check>[_<rail>][_<direction>]_<unit>`` channel columns."""
     if key in COLUMN_NAMES:
         return COLUMN_NAMES[key]
+    if key.startswith("source_"):  # a joined line section: the run's weight in the row (insrail.project.section)
+        return Name(f"Share of run {key.removeprefix('source_')}")
     if key.startswith("check_"):
         # the longest check id first: "twist_3m" must not claim the columns of a check "twist_3m_design"
         for check in sorted(checks, key=lambda c: -len(c.name)):

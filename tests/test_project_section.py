@@ -194,3 +194,41 @@ def test_a_section_of_unprocessed_surveys_fails_clearly(project, tmp_path, capsy
     assert "no results for survey" in err and "Traceback" not in err
     assert main(["section", str(bare), "--section", "nope"]) == 1
     assert "no section named nope" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_two_simulated_runs_of_one_track_joined(tmp_path, capsys):
+    """End to end on the simulator: the `short` preset cut into two runs with 200 m of overlap over one
+    track (same track seed, own noise seeds), processed and joined (benchmarks/section_join.py does the
+    `long` preset with 500 m)."""
+    from insrail.project import load_project, process
+    from insrail.project.demo import project_for_simulated_survey
+    from insrail.sim.scenario import preset
+    from insrail.sim.simulate import simulate
+
+    for name, start, end, seed in (("run1", 1050.0, 1750.0, 1), ("run2", 1550.0, 2250.0, 2)):
+        config = preset("short")
+        stops = tuple(s for s in config.motion.stops if start + 50 < s[0] < end - 50)
+        outages = tuple(o for o in config.gnss.outages if start < o[0] < end - 200)
+        config = replace(config, motion=replace(config.motion, start_station_m=start, end_station_m=end, stops=stops),
+                         gnss=replace(config.gnss, outages=outages))
+        simulate(config, seed=seed, out_dir=tmp_path / "surveys" / name, imu_format="npy", track_seed=5)
+    project = project_for_simulated_survey(tmp_path, tmp_path / "surveys" / "run1")
+    project = replace(project, surveys=(SurveyEntry("run1", "surveys/run1"), SurveyEntry("run2", "surveys/run2")),
+                      sections=(SectionEntry("line", ("run1", "run2")),))
+    save_project(project)
+    project = load_project(tmp_path)
+    for name in ("run1", "run2"):
+        process(project, name)
+    assert main(["section", str(tmp_path)]) == 0
+    capsys.readouterr()
+    joined = load_results(tmp_path, "line")
+    np.testing.assert_array_equal(np.diff(joined.number), 1)
+    (overlap,) = joined.summary["section"]["overlaps"]
+    assert overlap["to_m"] - overlap["from_m"] > 150
+    for name, values in overlap["parameters"].items():
+        if "30m_5m" in name:
+            assert values["std_mm"] <= 0.3, name
+    run1 = load_results(tmp_path, "run1")
+    alone = joined.columns["station_m"] < overlap["from_m"] - 1.0
+    np.testing.assert_array_equal(joined.columns["gauge_mm"][alone], run1.columns["gauge_mm"][:alone.sum()])
