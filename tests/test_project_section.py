@@ -209,9 +209,8 @@ def test_two_simulated_runs_of_one_track_joined(tmp_path, capsys):
     for name, start, end, seed in (("run1", 1050.0, 1750.0, 1), ("run2", 1550.0, 2250.0, 2)):
         config = preset("short")
         stops = tuple(s for s in config.motion.stops if start + 50 < s[0] < end - 50)
-        outages = tuple(o for o in config.gnss.outages if start < o[0] < end - 200)
         config = replace(config, motion=replace(config.motion, start_station_m=start, end_station_m=end, stops=stops),
-                         gnss=replace(config.gnss, outages=outages))
+                         gnss=replace(config.gnss, outages=()))  # the preset's outage would fall in one run's overlap
         simulate(config, seed=seed, out_dir=tmp_path / "surveys" / name, imu_format="npy", track_seed=5)
     project = project_for_simulated_survey(tmp_path, tmp_path / "surveys" / "run1")
     project = replace(project, surveys=(SurveyEntry("run1", "surveys/run1"), SurveyEntry("run2", "surveys/run2")),
