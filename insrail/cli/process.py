@@ -78,7 +78,7 @@ def describe(results) -> list[str]:
         *_pulse_lines(track.get("sleeper_pulses")),
         *_line_fit_lines(track.get("line_fit")),
         *_event_lines(s.get("events", []), assessment.get("not_assessed_sleepers", 0)),
-        *(f"  warning: {notice.text()}" for notice in notices_of(s)),
+        *(f"  {'warning' if notice.severity == 'warning' else 'note'}: {notice.text()}" for notice in notices_of(s)),
         *_quality_lines(s.get("quality")),
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
         (f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "

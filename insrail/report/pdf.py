@@ -487,7 +487,7 @@ def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[F
                            f"{heights['loo_rms_mm']:.1f} mm)" if "internal_rms_mm" in heights else ""))]
     rows += [("Sleeper detector", repair)] if (repair := sleeper_repair_text(s)) else []
     rows += _local_control_rows(s.get("local_control"))
-    rows += [("Warning", notice.text()) for notice in notices_of(s)]
+    rows += [("Warning" if notice.severity == "warning" else "Note", notice.text()) for notice in notices_of(s)]
     rows += [("Note", note) for note in content.notes]
     story: list[Flowable] = [Heading("Survey and processing"), Paragraph("Survey and processing", H1),
                              key_values(rows, widths=(45 * mm, 215 * mm))]
