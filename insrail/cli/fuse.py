@@ -78,12 +78,14 @@ def run(args: argparse.Namespace) -> int:
     bar(0.9, "writing")
     args.out.mkdir(parents=True, exist_ok=True)
     traj = result.trajectory
-    save_trajectory(args.out / "trajectory.npy", traj)
-    if options.smoother:
-        save_trajectory(args.out / "forward_trajectory.npy", result.forward)
-    write_kfgins_nav(args.out / "trajectory.nav", traj)
-    write_kfgins_std(args.out / "trajectory_std.txt", traj)
-    write_kfgins_imu_errors(args.out / "imu_errors.txt", traj)
+    verdict = result.integrity
+    if verdict.trusted:  # an untrustworthy solution is not written where a user would take it
+        save_trajectory(args.out / "trajectory.npy", traj)
+        if options.smoother:
+            save_trajectory(args.out / "forward_trajectory.npy", result.forward)
+        write_kfgins_nav(args.out / "trajectory.nav", traj)
+        write_kfgins_std(args.out / "trajectory_std.txt", traj)
+        write_kfgins_imu_errors(args.out / "imu_errors.txt", traj)
     log = {
         "survey": str(args.survey.resolve()),
         "imu_profile": profile.name,
@@ -105,6 +107,10 @@ def run(args: argparse.Namespace) -> int:
         "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
         "gnss_quality": {k: {kk: vv for kk, vv in v.items() if vv is not None} for k, v in result.info["gnss_quality"].items()},
         "measurements": result.statistics,
+        "resets": [{"time_s": r.time_s, "source": r.source, "rejected_s": r.rejected_s, "rejected": r.rejected,
+                    "also_rejected": list(r.also_rejected), "states": list(r.states), "sigma": list(r.sigma)}
+                   for r in result.resets],
+        "integrity": verdict.to_dict(),
         "rejected": [
             {"time_s": r.time_s, "measurement": r.measurement, "test_statistic": r.test_statistic,
              "threshold": r.threshold, "innovation": list(r.innovation)}
@@ -122,7 +128,13 @@ def run(args: argparse.Namespace) -> int:
         how = f"used, sigma x {c['sigma_factor']:g}" if c["used"] else "excluded"
         print(f"  GNSS {quality:8s} {c['epochs']:7d} epochs ({how})")
     for name, st in result.statistics.items():
-        print(f"  {name:14s} used {st['used']:7d}  rejected {st['rejected']:4d}  mean NIS {st['mean_nis']:.2f}")
+        print(f"  {name:14s} used {st['used']:7d}  rejected {st['rejected']:4d}  mean NIS {st['mean_nis']:.2f} "
+              f"({st['mean_nis_per_dof']:.2f} x its degrees of freedom)")
+    print(f"  integrity: {verdict.summary()}")
+    if not verdict.trusted:
+        print(f"insrail: survey {args.survey}: {verdict.failure()}; only fusion_log.toml was written",
+              file=sys.stderr)
+        return 1
     print(f"  odometer scale {traj.odometer_scale[-1] * 1e6:+.0f} ppm; final 1-sigma N/E/D "
           + "/".join(f"{1e3 * s:.1f}" for s in traj.sigma_pos_ned_m[-1]) + " mm")
     print(f"Results: {args.out.resolve()}")

@@ -42,7 +42,7 @@ from scipy.stats import chi2
 
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
-from insrail.nav import _kernels, earth, kalman
+from insrail.nav import _kernels, earth, integrity, kalman
 from insrail.nav.alignment import detect_stops, stop_thresholds
 from insrail.nav.error_model import (
     ATT,
@@ -62,6 +62,7 @@ from insrail.nav.error_model import (
 from insrail.nav.imu_gaps import bridge_gaps, bridged_process_noise
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.imu_screening import screen_imu
+from insrail.nav.integrity import FusionIntegrity, InnovationRecord
 from insrail.nav.measurements import (
     GnssPosition,
     GnssVelocity,
@@ -118,6 +119,22 @@ class FusionOptions:
     initial_sigma_odometer_scale: float = 0.01
     min_static_s: float = 30.0
     max_imu_gap_s: float = 5.0  # longer IMU gaps are refused, shorter ones bridged with a warning
+    #: Gating that cannot lock out: an aiding source rejected without a break for this long means
+    #: the filter is wrong, not the sensor: the filter is reset (``FilterReset``). Longer than a
+    #: GNSS false fix lasts (a wrong ambiguity fix of 10-20 cm for some seconds) so that one is
+    #: rejected, not followed; the shorter limit applies while another source is rejected too
+    #: (every sensor disagreeing with the filter: an IMU fault, a lost filter).
+    reset_after_s: float = 20.0
+    reset_after_s_all_rejected: float = 2.0
+    #: the limit for observations that doubt themselves (GNSS float, DGPS): a float stretch is
+    #: rejected for as long as it disagrees, the filter reset only after this long
+    reset_after_s_doubtful: float = 120.0
+    #: what the reset widens at least to: position (or twice the largest rejected position
+    #: innovation), velocity (or that position over the time rejected), level and heading
+    reset_sigma_position_m: float = 0.5
+    reset_sigma_velocity_mps: float = 0.1
+    reset_sigma_level_rad: float = math.radians(0.2)
+    reset_sigma_heading_rad: float = math.radians(10.0)
 
 
 @dataclass(frozen=True)
@@ -129,22 +146,117 @@ class Rejection:
     innovation: tuple[float, ...]
 
 
+@dataclass(frozen=True)
+class FilterReset:
+    """The filter was reset at ``time_s``: ``source`` had been rejected without a break for
+    ``rejected_s`` seconds (``rejected`` observations), with ``also_rejected`` rejected at the same
+    time; the variances of ``states`` were raised to ``sigma`` (SI, same order)."""
+
+    time_s: float
+    source: str
+    rejected_s: float
+    rejected: int
+    first_rejected_s: float  # the time of the run's first rejection: the solution is suspect from then on
+    also_rejected: tuple[str, ...]
+    states: tuple[str, ...]
+    sigma: tuple[float, ...]
+
+    def message(self) -> str:
+        others = f" (and {', '.join(self.also_rejected)})" if self.also_rejected else ""
+        return (f"filter reset at t = {self.time_s:.1f} s: {self.source}{others} rejected for {self.rejected_s:.1f} s "
+                f"({self.rejected} in a row); {', '.join(self.states)} uncertainty widened and the measurements re-admitted")
+
+
+class _RejectionRuns:
+    """Per aiding source the current run of consecutive rejections (NaN start: none), and the
+    decision that a run means the filter, not the sensor, is wrong. Plain arrays, one slot per source."""
+
+    def __init__(self, sources, options: FusionOptions):
+        k = len(sources)
+        self.sources, self.options = sources, options
+        self.start = np.full(k, np.nan)
+        self.first_trusted = np.full(k, np.nan)  # the run's first rejection of a trusted observation
+        self.last = np.full(k, np.nan)
+        self.count = np.zeros(k, dtype=np.int64)
+        self.peak = np.zeros((k, 3))  # largest |position innovation| per NED axis in the run
+        self.resets_in_a_row = np.zeros(k, dtype=np.int64)  # resets that did not bring the source back
+
+    def accepted(self, k: int) -> None:
+        self.start[k] = np.nan
+        self.first_trusted[k] = np.nan
+        self.count[k] = 0
+        self.peak[k] = 0.0
+        self.resets_in_a_row[k] = 0
+
+    def rejected(self, k: int, i: int, time_s: float, nu: np.ndarray) -> FilterReset | None:
+        """Record the rejection of observation i of source k; a reset when the run has lasted too long."""
+        if np.isnan(self.start[k]):
+            self.start[k] = time_s
+        trusted = getattr(self.sources[k], "trusted", None)
+        if np.isnan(self.first_trusted[k]) and (trusted is None or trusted[i]):
+            self.first_trusted[k] = time_s
+        self.last[k] = time_s
+        self.count[k] += 1
+        if self.sources[k].position_innovation:
+            self.peak[k] = np.maximum(self.peak[k], np.abs(nu[:3]))
+        others = [o for o in range(len(self.sources))
+                  if o != k and not np.isnan(self.start[o]) and time_s - self.last[o] <= 1.0]
+        o = self.options
+        trusted_for = time_s - self.first_trusted[k]  # NaN: no trusted observation rejected
+        if not (trusted_for >= (o.reset_after_s_all_rejected if others else o.reset_after_s)
+                or time_s - self.start[k] >= o.reset_after_s_doubtful):
+            return None
+        return self._reset(k, time_s, others)
+
+    def _reset(self, k: int, time_s: float, others: list[int]) -> FilterReset:
+        o = self.options
+        involved = [k, *others]
+        widen = 10.0 ** min(self.resets_in_a_row[k], 3)  # a reset that did not help is followed by a wider one
+        names = {name for i in involved for name in self.sources[i].resets}
+        peak = np.max(self.peak[involved], axis=0)
+        duration = max(time_s - np.nanmin(self.start[involved]), 1.0)
+        sigma_pos = np.maximum(2.0 * peak, o.reset_sigma_position_m)
+        sigma_vel = widen * np.maximum(sigma_pos / duration if "position" in names else 0.0, o.reset_sigma_velocity_mps)
+        sigma_pos = widen * sigma_pos
+        # attitude: widened no further (beyond some degrees the error model's small angles fail)
+        sigma_att = np.array([o.reset_sigma_level_rad, o.reset_sigma_level_rad, o.reset_sigma_heading_rad])
+        states, sigma, labels = [], [], []
+        for label, first, values in (("position", POS, sigma_pos), ("velocity", VEL, sigma_vel), ("attitude", ATT, sigma_att)):
+            if label in names:
+                states.extend(range(first, first + 3))
+                sigma.extend(np.broadcast_to(values, 3).tolist())
+                labels.append(label)
+        reset = FilterReset(float(time_s), self.sources[k].name, float(time_s - self.start[k]), int(self.count[k]),
+                            float(np.nanmin(self.start[involved])),
+                            tuple(self.sources[i].name for i in others), tuple(labels), tuple(sigma))
+        for i in involved:
+            resets = self.resets_in_a_row[i]
+            self.accepted(i)
+            self.resets_in_a_row[i] = resets + 1
+        return reset
+
+
 @dataclass
 class MeasurementStats:
     used: int = 0
     rejected: int = 0
     sum_sq: np.ndarray | None = None  # per innovation component
     sum_nis: float = 0.0
+    sum_dof: int = 0
 
     def add(self, z, nis):
         self.used += 1
         self.sum_sq = z**2 if self.sum_sq is None else self.sum_sq + z**2
         self.sum_nis += nis
+        self.sum_dof += len(z)
 
     def summary(self) -> dict:
+        """Counts, innovation RMS per component, the mean NIS of the used observations and that
+        mean over their degrees of freedom (1 when the stated 1-sigma fits the innovations)."""
         rms = (np.sqrt(self.sum_sq / self.used).tolist() if self.used else [])
         return {"used": self.used, "rejected": self.rejected, "innovation_rms": rms,
-                "mean_nis": self.sum_nis / self.used if self.used else float("nan")}
+                "mean_nis": self.sum_nis / self.used if self.used else float("nan"),
+                "mean_nis_per_dof": self.sum_nis / self.sum_dof if self.sum_dof else float("nan")}
 
 
 @dataclass(frozen=True)
@@ -169,6 +281,9 @@ class FusionResult:
     stops: tuple[tuple[float, float], ...]
     info: dict = field(default_factory=dict)
     timeline: UpdateTimeline | None = None
+    resets: tuple[FilterReset, ...] = ()
+    innovations: InnovationRecord | None = None
+    integrity: FusionIntegrity | None = None
 
 
 # --------------------------------------------------------------------------- kernel
@@ -302,6 +417,8 @@ def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, gnss_error: n
 UNAIDED_OUTAGE_S = 10.0
 
 QUALITY_NAMES = {0: "unknown", 1: "fix", 2: "float", 3: "sbas", 4: "dgps", 5: "single", 6: "ppp"}
+#: GNSS solutions that claim their full accuracy (unknown: a format without flags)
+TRUSTED_QUALITY = (0, 1, 6)
 
 
 def gnss_by_quality(gnss: GnssSolution, policy) -> tuple[GnssSolution, dict[str, dict]]:
@@ -372,7 +489,8 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
     if gnss is not None:
         sources.append(GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
                                     trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
-                                    options.gnss_correlated_sigma_ned_m))
+                                    options.gnss_correlated_sigma_ned_m,
+                                    trusted=np.isin(gnss.quality, TRUSTED_QUALITY)))
     if gnss is not None and options.use_gnss_velocity and gnss.vel_ned_mps is not None:
         sources.append(GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m))
     if position_fixes is not None:
@@ -510,6 +628,11 @@ def fuse(
                            start.sigma_heading_rad)
     P_initial = P.copy()
     accepted = np.zeros(len(plan.epoch), dtype=bool)
+    innovation_nis = np.full(len(plan.epoch), np.nan)
+    innovation_dof = np.zeros(len(plan.epoch), dtype=np.int64)
+    runs = _RejectionRuns(sources, options)
+    resets: list[FilterReset] = []
+    pending_reset = None
     sensor = np.zeros(12)
     gnss_error = np.zeros(3)
     odo_scale = 0.0
@@ -546,6 +669,9 @@ def fuse(
             phi, q = discretise(F, gqg, seg)
             q = q + bridged_q.get(j, 0.0)  # the motion an IMU gap's interpolation may have missed
             P_minus = phi @ P @ phi.T + q
+            if pending_reset is not None:  # a burst of process noise on this segment
+                P_minus = kalman.inflate(P_minus, np.array(pending_reset[0]), np.array(pending_reset[1]))
+                pending_reset = None
             P = P_minus.copy()
             x = np.zeros(N_STATES)
             gnss_error *= math.exp(-seg / options.gnss_correlated_tau_s)  # the estimate follows its model
@@ -556,11 +682,18 @@ def fuse(
                 z, H, R = meas.model(snap, i)
                 x, P, nu, nis, ok = kalman.gated_update(x, P, z, H, R, gates[len(z)])
                 st = stats.setdefault(meas.name, MeasurementStats())
+                innovation_nis[e], innovation_dof[e] = nis, len(z)
                 if not ok:
                     st.rejected += 1
                     rejections.append(Rejection(float(meas.time_s[i]), meas.name, nis, gates[len(z)], tuple(nu)))
+                    reset = runs.rejected(int(plan.source[e]), i, float(meas.time_s[i]), nu)
+                    if reset is not None:
+                        resets.append(reset)
+                        pending_reset = ([s for label, first in (("position", POS), ("velocity", VEL), ("attitude", ATT))
+                                          if label in reset.states for s in range(first, first + 3)], reset.sigma)
                     continue
                 st.add(nu, nis)
+                runs.accepted(int(plan.source[e]))
                 accepted[e] = True
             if len(entries):
                 odo_scale = _feedback(nav, x, sensor, gnss_error, odo_scale, ellipsoid)
@@ -590,11 +723,38 @@ def fuse(
             applied[meas.name] = np.column_stack([plan.epoch[mine], plan.observation[mine]]).astype(int)
     timeline = UpdateTimeline(time_s=t[epochs], measurements={m.name: m for m in sources}, applied=applied,
                               initial_covariance=P_initial)
+    obs_time = np.empty(len(plan.epoch))
+    obs_trusted = np.ones(len(plan.epoch), dtype=bool)
+    for k, meas in enumerate(sources):
+        mine = plan.source == k
+        obs_time[mine] = meas.time_s[plan.observation[mine]]
+        if getattr(meas, "trusted", None) is not None:
+            obs_trusted[mine] = meas.trusted[plan.observation[mine]]
+    innovations = InnovationRecord(tuple(m.name for m in sources), obs_time, plan.source.copy(), innovation_nis,
+                                   innovation_dof, accepted, obs_trusted)
+    lat_e, lon_e = lat_lon_from_q_ne(nav_store[epochs, 0:4])
+    r_m, r_n = earth.radii(lat_e[0], ellipsoid)
+    station = integrity.travelled_m((lat_e - lat_e[0]) * r_m, (lon_e - lon_e[0]) * r_n * math.cos(lat_e[0]))
+    verdict = integrity.assess(innovations, t[epochs], station, resets)
+    notices += integrity_notices(resets, verdict)
     return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops), timeline=timeline,
+                        resets=tuple(resets), innovations=innovations, integrity=verdict,
                         info={"update_epochs": m_epochs, "alignment_rpy_rad": start.rpy_rad,
                               "alignment": start.method, "warnings": [n.message for n in notices if n.severity == "warning"],
                               "notices": notices, "gnss_quality": aiding.gnss_quality,
                               "imu_outliers": outliers, "imu_gaps": imu.gaps})
+
+
+def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
+    """Every filter reset and every section whose solution is inconsistent with its 1-sigma (its
+    sleepers are not assessed): notices with their times."""
+    notices = [Notice("fusion", reset.message(), time_s=reset.time_s) for reset in resets]
+    notices += [Notice("fusion", f"not valid from t = {verdict.time_from_s[k]:.1f} s to {verdict.time_to_s[k]:.1f} s "
+                                 f"(travelled {verdict.station_from_m[k]:.0f}-{verdict.station_to_m[k]:.0f} m): "
+                                 f"{verdict.reasons[k]}; its sleepers are not assessed",
+                       time_s=float(verdict.time_from_s[k]))
+                for k in np.flatnonzero(~verdict.valid)]
+    return notices
 
 
 def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):

@@ -35,14 +35,11 @@ def gated_update(x: np.ndarray, P: np.ndarray, z: np.ndarray, H: np.ndarray, R: 
 
 
 def inflate(P: np.ndarray, states: np.ndarray, sigma_floor: np.ndarray) -> np.ndarray:
-    """The filter reset: the variances of ``states`` raised to at least ``sigma_floor``**2
-    and their correlations with every other state removed (what the filter believed about
-    them is what has proved wrong). Returns a new P."""
+    """The filter reset: the variances of ``states`` raised to at least ``sigma_floor``**2 by
+    adding to the diagonal (a burst of process noise: the correlations shrink, P stays
+    positive and the RTS smoother stays consistent across the reset). Returns a new P."""
     P = P.copy()
-    keep = np.diag(P)[states]
-    P[states, :] = 0.0
-    P[:, states] = 0.0
-    P[states, states] = np.maximum(keep, np.square(sigma_floor))
+    P[states, states] += np.maximum(np.square(sigma_floor) - P[states, states], 0.0)
     return P
 
 

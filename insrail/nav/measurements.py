@@ -19,6 +19,12 @@ need to know what a measurement is:
     covariance R (m, m). The filter gates z with a chi-square test on its m degrees of
     freedom (``insrail.nav.kalman.gated_update``) and keeps the statistics per ``name``.
 
+``resets``
+    what a filter reset widens when this source has been rejected for too long (the filter,
+    not the sensor, is then taken to be wrong): some of "position", "velocity", "attitude";
+    ``position_innovation`` says the innovation's first three components are NED metres of
+    position (the reset then widens the position by the size of the rejected innovations).
+
 The data are plain arrays and ``model`` is array-in, array-out, so that a compiled filter
 loop can evaluate the same models later.
 
@@ -29,7 +35,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
-from typing import Protocol
+from typing import ClassVar, Protocol
 
 import numpy as np
 
@@ -99,6 +105,8 @@ class Measurement(Protocol):
 
     name: str
     time_s: np.ndarray
+    resets: ClassVar[tuple[str, ...]]
+    position_innovation: ClassVar[bool]
 
     def closing_times_s(self) -> np.ndarray: ...
 
@@ -199,6 +207,11 @@ class GnssPosition(_TimedSource):
     sigma_floor_m: float = 0.002
     correlated_sigma_ned_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
     name: str = "gnss_position"
+    #: per epoch whether the solution claims its full accuracy (a fixed or flagless solution, not
+    #: float or DGPS): only a run of rejected trusted epochs quickly means the filter is wrong
+    trusted: np.ndarray | None = None
+    resets: ClassVar[tuple[str, ...]] = ("position", "velocity", "attitude")
+    position_innovation: ClassVar[bool] = True
 
     def model(self, nav: NavSnapshot, i: int):
         z, H = _position_rows(nav, self.time_s[i], self.lat[i], self.lon[i], self.h[i], self.lever_arm_m)
@@ -219,6 +232,8 @@ class GnssVelocity(_TimedSource):
     lever_arm_m: np.ndarray
     sigma_floor_mps: float = 0.002
     name: str = "gnss_velocity"
+    resets: ClassVar[tuple[str, ...]] = ("velocity", "attitude")
+    position_innovation: ClassVar[bool] = False
 
     def model(self, nav: NavSnapshot, i: int):
         # v_ant = v + C (omega_nb^b x l) = v + C (omega_ib^b x l) - (omega_in^n x) C l
@@ -299,6 +314,8 @@ class OdometerNhc:
     use_odometer: bool = True
     use_nhc: bool = True
     name: str = "odometer_nhc"
+    resets: ClassVar[tuple[str, ...]] = ("velocity", "attitude")
+    position_innovation: ClassVar[bool] = False
     #: the odometer's record (cumulative distance [m] at times [s]) the mean speeds of a grid
     #: are formed from by :meth:`scheduled`, its white speed noise and its pulse length
     odometer_time_s: np.ndarray | None = None
@@ -362,6 +379,8 @@ class Zupt:
     sigma_velocity_mps: float = 0.001
     gyro_white_noise: float = 1e-6  # rad/sqrt(s): the ZARU sigma is this / sqrt(segment)
     name: str = "zupt"
+    resets: ClassVar[tuple[str, ...]] = ("velocity",)
+    position_innovation: ClassVar[bool] = False
 
     def closing_times_s(self) -> np.ndarray:
         return _NO_TIMES
@@ -400,6 +419,8 @@ class PositionFix(_TimedSource):
     sigma_m: np.ndarray
     lever_arm_m: np.ndarray
     name: str = "position_fix"
+    resets: ClassVar[tuple[str, ...]] = ("position", "velocity", "attitude")
+    position_innovation: ClassVar[bool] = True
 
     @classmethod
     def from_prism(cls, prism, lever_arm_m, to_geodetic) -> PositionFix:

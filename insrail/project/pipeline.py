@@ -55,6 +55,7 @@ from insrail.io.survey import (
 from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
 from insrail.nav.earth import Ellipsoid
 from insrail.nav.fusion import SmootherStore, aiding_for, fuse
+from insrail.nav.integrity import UntrustedSolution
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.measurements import PositionFix
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
@@ -103,6 +104,7 @@ from insrail.project.sleeper_parameters import (
     sleeper_attitude_rad,
     speed_notices,
 )
+from insrail.project.sleeper_integrity import flag_sleepers
 from insrail.project.stagecache import (
     cached_dataclass,
     clean_leftovers,
@@ -150,7 +152,7 @@ from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 6  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles
+CACHE_VERSION = 7  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity
 
 
 @dataclass(frozen=True)
@@ -295,6 +297,8 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
         result = fuse(survey.imu, aiding, profile, project.fusion, ellipsoid_of(project),
                       covariance_store=store, progress=progress.sub(0.05, 0.87), cancel=cancel)
         check_cancel(cancel)
+        if not result.integrity.trusted:
+            raise UntrustedSolution(result.integrity.failure())
         # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
         quality = epoch_quality(survey, result, project.fusion, profile, ellipsoid_of(project),
                                 covariance_store=store, progress=progress.sub(0.87, 1.0), cancel=cancel)
@@ -307,6 +311,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
             "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
             "notices": [*(n.to_dict() for n in checked), *(n.to_dict() for n in result.info["notices"])],
             "alignment": result.info["alignment"],
+            "resets": len(result.resets), "integrity": result.integrity.to_dict(),
             "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
             "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]]}
     if survey.gnss is not None:
@@ -441,6 +446,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     check_cancel(cancel)
     step(0.88, "irregularities and exceedances")
     measured = recon.table.valid
+    recon = replace(recon, table=flag_sleepers(recon.table, fusion_info.get("integrity")))
     events = survey_events(project, manifest, folder, recon)
     recon = apply_events(recon, events)
     recon = replace(recon, table=flag_gap_sleepers(recon.table, fusion_info.get("imu_gaps_s", [])))

@@ -1,0 +1,183 @@
+"""Integrity of a fused solution: is it as good as its stated 1-sigma, and where is it not?
+
+The forward filter tests every observation of every aiding source against its predicted
+innovation covariance (the normalised innovation squared, NIS, chi-square with the
+observation's degrees of freedom when the filter's 1-sigma is right). This module turns
+that record into a verdict per section of track and for the whole survey:
+
+- per aiding source and per section (200 m of travelled distance by default) the number of
+  observations, the share rejected by the gate and the mean NIS per degree of freedom of the
+  used ones (1 when the stated 1-sigma fits; 4 means the residuals are twice their 1-sigma);
+- a section is **not valid** when, for any source with at least ``MIN_OBSERVATIONS`` there,
+  more than ``MAX_REJECTED_SHARE`` of its trusted observations were rejected (a GNSS float
+  stretch rejected is the receiver's fault, not the solution's) or the mean NIS per degree of
+  freedom of the used ones exceeds ``MAX_NIS_PER_DOF``;
+- each filter reset (``insrail.nav.fusion.FilterReset``) makes the time from the run's first
+  rejection to ``RESET_SETTLE_S`` after the reset suspect: the solution was wrong there, or
+  converging again;
+- a survey whose not-valid sections cover more than ``MOSTLY`` of its travelled length cannot
+  be trusted: :class:`UntrustedSolution` says which sources and sections, and why.
+
+Sleepers passed inside a not-valid section or a suspect interval are flagged and not assessed
+(``insrail.project.pipeline``). Sections are cut on the forward solution's travelled distance,
+so the verdict does not depend on the odometer.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+MIN_OBSERVATIONS = 5
+MAX_REJECTED_SHARE = 0.2
+MAX_NIS_PER_DOF = 4.0
+RESET_SETTLE_S = 10.0
+MOSTLY = 0.5
+SECTION_M = 200.0
+
+
+class UntrustedSolution(ValueError):
+    """The fused solution is inconsistent with its own 1-sigma over most of the survey."""
+
+
+@dataclass(frozen=True)
+class InnovationRecord:
+    """Every observation the forward filter gated, in the order it did: the observation's time,
+    its source (index into ``names``), NIS, degrees of freedom, whether it was used and whether it
+    claimed its full accuracy (a GNSS float solution does not: its rejection is its own fault)."""
+
+    names: tuple[str, ...]
+    time_s: np.ndarray
+    source: np.ndarray
+    nis: np.ndarray
+    dof: np.ndarray
+    accepted: np.ndarray
+    trusted: np.ndarray
+
+
+@dataclass(frozen=True)
+class FusionIntegrity:
+    """The verdict per section and for the survey. Per section k and source s: ``count[k, s]``
+    trusted observations, ``rejected_share[k, s]`` of them rejected, ``nis_per_dof[k, s]`` the mean NIS
+    per degree of freedom of the used ones (NaN without any). ``suspect_s``: (start, end, why) of
+    the filter resets."""
+
+    names: tuple[str, ...]
+    station_from_m: np.ndarray
+    station_to_m: np.ndarray
+    time_from_s: np.ndarray
+    time_to_s: np.ndarray
+    count: np.ndarray
+    rejected_share: np.ndarray
+    nis_per_dof: np.ndarray
+    valid: np.ndarray
+    reasons: tuple[str, ...]
+    suspect_s: tuple[tuple[float, float, str], ...]
+    invalid_share: float  # of the travelled length
+
+    @property
+    def trusted(self) -> bool:
+        return not self.invalid_share > MOSTLY
+
+    def not_valid_intervals(self) -> list[tuple[float, float, str]]:
+        """(start, end, why) in seconds of week: the not-valid sections and the suspect intervals."""
+        out = [(float(self.time_from_s[k]), float(self.time_to_s[k]),
+                f"fusion inconsistent in section {self.station_from_m[k]:.0f}-{self.station_to_m[k]:.0f} m: "
+                f"{self.reasons[k]}") for k in np.flatnonzero(~self.valid)]
+        return out + list(self.suspect_s)
+
+    def summary(self) -> str:
+        bad = int(np.sum(~self.valid))
+        text = (f"{len(self.valid) - bad} of {len(self.valid)} sections of {SECTION_M:.0f} m consistent with their "
+                f"1-sigma")
+        if bad:
+            text += f"; not valid: {100 * self.invalid_share:.0f} % of the length"
+        if self.suspect_s:
+            text += f"; {len(self.suspect_s)} filter reset(s)"
+        return text
+
+    def failure(self) -> str:
+        """Why the survey cannot be trusted (for :class:`UntrustedSolution`)."""
+        worst = []
+        for s, name in enumerate(self.names):
+            counted = self.count[:, s] > 0
+            if not counted.any():
+                continue
+            rejected = np.nansum(self.rejected_share[counted, s] * self.count[counted, s]) / self.count[counted, s].sum()
+            with np.errstate(invalid="ignore"):
+                nis = np.nanmedian(self.nis_per_dof[counted, s]) if np.isfinite(self.nis_per_dof[counted, s]).any() \
+                    else math.nan
+            worst.append(f"{name} {100 * rejected:.0f} % rejected, NIS {nis:.1f} x its degrees of freedom")
+        return (f"the fused solution is inconsistent with its own 1-sigma over {100 * self.invalid_share:.0f} % of "
+                f"the survey ({int(np.sum(~self.valid))} of {len(self.valid)} sections): " + "; ".join(worst)
+                + ". Check the lever arms and mounting angles in survey.toml, the IMU profile and the GNSS "
+                  "solution's time scale and sigmas")
+
+    def to_dict(self) -> dict:
+        """For fusion_log.toml and summary.toml (no NaN: TOML readers choke on it)."""
+        def clean(x):
+            return [round(float(v), 3) if np.isfinite(v) else -1.0 for v in x]
+
+        return {"trusted": self.trusted, "invalid_share": round(self.invalid_share, 4), "summary": self.summary(),
+                "sources": list(self.names),
+                "not_valid": [{"station_from_m": round(float(self.station_from_m[k]), 1),
+                               "station_to_m": round(float(self.station_to_m[k]), 1),
+                               "time_from_s": round(float(self.time_from_s[k]), 3),
+                               "time_to_s": round(float(self.time_to_s[k]), 3), "reason": self.reasons[k],
+                               "nis_per_dof": clean(self.nis_per_dof[k]),
+                               "rejected_share": clean(self.rejected_share[k])}
+                              for k in np.flatnonzero(~self.valid)],
+                "suspect": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": why}
+                            for a, b, why in self.suspect_s]}
+
+
+def travelled_m(north_m: np.ndarray, east_m: np.ndarray) -> np.ndarray:
+    """Cumulative horizontal distance along a sequence of positions [m]."""
+    return np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(north_m), np.diff(east_m)))])
+
+
+def assess(record: InnovationRecord, time_s: np.ndarray, station_m: np.ndarray, resets=(),
+           section_m: float = SECTION_M) -> FusionIntegrity:
+    """The integrity of a forward pass whose update epochs ``time_s`` lie at ``station_m``
+    (non-decreasing travelled distance) with the observations in ``record``."""
+    length = float(station_m[-1] - station_m[0])
+    n = max(int(math.floor(length / section_m + 0.75)), 1)  # the last section takes the remainder
+    edges = station_m[0] + section_m * np.arange(n + 1)
+    edges[-1] = station_m[-1]
+    epoch_section = np.clip(np.searchsorted(edges, station_m, side="right") - 1, 0, n - 1)
+    obs_station = np.interp(record.time_s, time_s, station_m)
+    obs_section = np.clip(np.searchsorted(edges, obs_station, side="right") - 1, 0, n - 1)
+    n_src = len(record.names)
+    count = np.zeros((n, n_src))
+    rejected = np.zeros((n, n_src))
+    nis_sum = np.zeros((n, n_src))
+    dof_sum = np.zeros((n, n_src))
+    gated = np.isfinite(record.nis) & record.trusted
+    np.add.at(count, (obs_section[gated], record.source[gated]), 1.0)
+    bad = gated & ~record.accepted
+    np.add.at(rejected, (obs_section[bad], record.source[bad]), 1.0)
+    good = np.isfinite(record.nis) & record.accepted
+    np.add.at(nis_sum, (obs_section[good], record.source[good]), record.nis[good])
+    np.add.at(dof_sum, (obs_section[good], record.source[good]), record.dof[good])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        share = np.where(count > 0, rejected / np.maximum(count, 1.0), np.nan)
+        nis_per_dof = np.where(dof_sum > 0, nis_sum / np.maximum(dof_sum, 1.0), np.nan)
+    enough = count >= MIN_OBSERVATIONS
+    too_many_rejected = enough & (share > MAX_REJECTED_SHARE)
+    too_large = enough & (nis_per_dof > MAX_NIS_PER_DOF)
+    reasons = []
+    for k in range(n):
+        why = [f"{record.names[s]} {100 * share[k, s]:.0f} % rejected" for s in np.flatnonzero(too_many_rejected[k])]
+        why += [f"{record.names[s]} residuals {math.sqrt(nis_per_dof[k, s]):.1f} x their 1-sigma"
+                for s in np.flatnonzero(too_large[k] & ~too_many_rejected[k])]
+        reasons.append(", ".join(why))
+    valid = ~(too_many_rejected | too_large).any(axis=1)
+    time_from = np.array([time_s[epoch_section == k].min() if np.any(epoch_section == k) else np.nan for k in range(n)])
+    time_to = np.array([time_s[epoch_section == k].max() if np.any(epoch_section == k) else np.nan for k in range(n)])
+    widths = np.diff(edges)
+    invalid_share = float(widths[~valid].sum() / widths.sum()) if widths.sum() > 0 else float(np.mean(~valid))
+    suspect = tuple((reset.first_rejected_s, reset.time_s + RESET_SETTLE_S, reset.message()) for reset in resets)
+    return FusionIntegrity(record.names, edges[:-1].copy(), edges[1:].copy(), time_from, time_to, count, share,
+                           nis_per_dof, valid, tuple(reasons), suspect, invalid_share)

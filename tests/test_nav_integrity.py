@@ -1,0 +1,187 @@
+"""Fusion integrity: GNSS faults are rejected and listed without hurting the solution, a filter
+started wrong resets itself (logged) instead of locking out, and a survey whose solution cannot be
+trusted fails loudly in `insrail fuse`, `insrail process` and `insrail batch`, or has its sleepers
+flagged where the solution is suspect.
+
+Figures: benchmarks/integrity.py prints them for every scenario.
+"""
+
+import math
+import tomllib
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from insrail.io.survey import read_manifest, read_survey, write_manifest
+from insrail.nav import integrity
+from insrail.nav.earth import CGCS2000
+from insrail.nav.fusion import FusionOptions, fuse_survey
+from insrail.sim import gnss_faults
+from insrail.sim.evaluation import trajectory_errors
+from insrail.sim.truth import read_nav_truth
+
+# benchmarks/fusion.py, short seed 1, all aids, smoothed: 5 m lag 1-sigma 0.241 / 0.227 mm
+CLEAN_LAG5_M = (0.241e-3, 0.227e-3)
+
+
+@pytest.fixture(scope="module")
+def survey(short_nav_survey):
+    return read_survey(short_nav_survey)
+
+
+@pytest.fixture(scope="module")
+def truth(short_nav_survey):
+    return read_nav_truth(short_nav_survey / "truth" / "nav.npy")
+
+
+def test_gnss_faults_are_rejected_and_listed_and_the_short_wave_accuracy_is_unchanged(survey, truth):
+    t0 = survey.gnss.time_s[0]
+    false_start, float_start = t0 + 950.0, t0 + 1100.0
+    outlier_times = [t0 + 450.0, t0 + 700.0, t0 + 1250.0]
+    gnss = gnss_faults.false_fix(survey.gnss, false_start, 10.0, (0.12, 0.10, 0.05))  # 16 cm, flagged fix
+    gnss = gnss_faults.float_stretch(gnss, float_start, 60.0, 0.25)
+    gnss = gnss_faults.outliers(gnss, outlier_times, [(2.0, 0.0, 0.0), (0.0, -0.5, 0.0), (0.3, 0.3, -3.0)])
+    result = fuse_survey(replace(survey, gnss=gnss), FusionOptions(), ellipsoid=CGCS2000, output_every=2)
+    rejected = np.array([r.time_s for r in result.rejections if r.measurement == "gnss_position"])
+    false_epochs = survey.gnss.time_s[(survey.gnss.time_s >= false_start) & (survey.gnss.time_s < false_start + 10.0)]
+    assert np.isin(false_epochs, rejected).all() and len(false_epochs) == 10
+    assert all(np.abs(rejected - t).min() < 0.01 for t in outlier_times)
+    in_float = (rejected >= float_start) & (rejected < float_start + 60.0)
+    assert in_float.sum() >= 40  # a float stretch a quarter metre off: most of it refused
+    assert len(rejected) == 10 + 3 + in_float.sum()  # and nothing else
+    assert result.resets == ()  # a false fix is not followed: the filter was right
+    errors = trajectory_errors(result.trajectory, truth, CGCS2000)
+    lat5, ver5 = errors.lag_difference_sigma_m(5.0)
+    assert lat5 < 1.1 * CLEAN_LAG5_M[0] and ver5 < 1.1 * CLEAN_LAG5_M[1]
+    assert errors.rms_horizontal_m() < 0.010
+    # the rejected float epochs are the receiver's fault: no section is flagged for them
+    assert result.integrity.trusted and result.integrity.valid.all()
+
+
+def test_a_filter_started_wrong_resets_itself_and_recovers(survey, truth):
+    first = survey.gnss.time_s[0]
+    gnss = gnss_faults.outliers(survey.gnss, [first], [(0.8, 0.6, 0.0)])  # the start's fix 1 m off
+    heading = float(truth["rpy_rad"][int(np.searchsorted(truth["time_s"], first)), 2]) + math.radians(5.0)
+    result = fuse_survey(replace(survey, gnss=gnss), FusionOptions(initial_heading_rad=heading), ellipsoid=CGCS2000,
+                         output_every=4)
+    assert len(result.resets) >= 1
+    reset = result.resets[0]
+    assert reset.source == "gnss_position" and "position" in reset.states
+    assert reset.time_s - first < 30.0 and "filter reset at t =" in reset.message()
+    errors = trajectory_errors(result.trajectory, truth, CGCS2000)
+    moving_since = errors.time_s[errors.moving][0]
+    after = errors.time_s >= moving_since + 60.0
+    assert np.hypot(errors.ned_m[after, 0], errors.ned_m[after, 1]).max() < 0.03
+    lat5, ver5 = errors.lag_difference_sigma_m(5.0)
+    assert lat5 < 1.1 * CLEAN_LAG5_M[0] and ver5 < 1.1 * CLEAN_LAG5_M[1]
+    assert result.integrity.trusted
+
+
+def _record(names, time_s, source, nis, dof, accepted):
+    return integrity.InnovationRecord(tuple(names), np.asarray(time_s, float), np.asarray(source), np.asarray(nis, float),
+                                      np.asarray(dof), np.asarray(accepted, bool), np.ones(len(time_s), bool))
+
+
+def test_sections_inconsistent_with_their_sigma_are_not_valid_and_most_of_them_fail_the_survey():
+    time_s = np.arange(0.0, 1000.0, 1.0)  # 1 m/s: five 200 m sections
+    station = time_s.copy()
+    nis = np.full(len(time_s), 3.0)
+    accepted = np.ones(len(time_s), bool)
+    nis[200:400] = 20.0  # residuals 2.6x their sigma in section 1
+    accepted[450:500] = False  # a quarter of section 2 rejected
+    verdict = integrity.assess(_record(["gnss_position"], time_s, np.zeros(1000, int), nis, np.full(1000, 3),
+                                       accepted), time_s, station)
+    assert verdict.valid.tolist() == [True, False, False, True, True]
+    assert "residuals" in verdict.reasons[1] and "25 % rejected" in verdict.reasons[2]
+    assert verdict.trusted and verdict.invalid_share == pytest.approx(0.4, abs=0.01)
+    intervals = verdict.not_valid_intervals()
+    assert [(a, b) for a, b, _ in intervals] == [(200.0, 399.0), (400.0, 599.0)]
+    nis[:] = 30.0
+    untrusted = integrity.assess(_record(["gnss_position"], time_s, np.zeros(1000, int), nis, np.full(1000, 3), accepted),
+                                 time_s, station)
+    assert not untrusted.trusted and "inconsistent with its own 1-sigma over 100 %" in untrusted.failure()
+    assert "gnss_position" in untrusted.failure() and "lever arms" in untrusted.failure()
+
+
+# --------------------------------------------------------------------------- end to end
+
+
+@pytest.fixture(scope="module")
+def small_projects(tmp_path_factory):
+    """A 300 m survey (60 s static start) in two one-survey projects: with its antenna lever arm given
+    in millimetres (a survey that cannot be trusted), and with a 40 s GNSS false fix of 1 m while
+    walking (the filter is reset twice: onto the false fix, and back)."""
+    import shutil
+
+    from insrail.io.rtklib import write_rtklib_pos
+    from insrail.project.demo import project_for_simulated_survey
+    from insrail.sim.scenario import preset
+    from insrail.sim.simulate import simulate
+
+    base = preset("short")
+    config = replace(base, motion=replace(base.motion, end_station_m=1350.0, static_start_s=60.0, static_end_s=20.0,
+                                          stops=()), gnss=replace(base.gnss, outages=()))
+    root = tmp_path_factory.mktemp("integrity")
+    simulated = root / "simulated"
+    simulate(config, seed=3, out_dir=simulated, imu_format="npy")
+
+    lever = root / "bad" / "surveys" / "lever_mm"
+    shutil.copytree(simulated, lever)
+    manifest = read_manifest(lever)
+    trolley = replace(manifest.trolley, imu_to_antenna_m=np.asarray(manifest.trolley.imu_to_antenna_m) * 1000.0)
+    write_manifest(lever, replace(manifest, trolley=trolley))
+    bad = project_for_simulated_survey(root / "bad", lever, name="bad")
+
+    faulty = root / "false_fix" / "surveys" / "false_fix"
+    shutil.copytree(simulated, faulty)
+    gnss = read_survey(faulty).gnss
+    gnss = gnss_faults.false_fix(gnss, gnss.time_s[0] + 150.0, 40.0, (1.0, 0.0, 0.0))
+    write_rtklib_pos(faulty / read_manifest(faulty).files["gnss"].path, gnss)
+    false_fix = project_for_simulated_survey(root / "false_fix", faulty, name="false_fix")
+    return bad, lever, false_fix
+
+
+def test_cli_fuse_refuses_a_survey_whose_solution_cannot_be_trusted(small_projects, tmp_path, capsys):
+    from insrail.cli.main import main
+
+    _, lever, _ = small_projects
+    assert main(["fuse", str(lever), "--out", str(tmp_path)]) == 1
+    captured = capsys.readouterr()
+    assert f"survey {lever}" in captured.err and "inconsistent with its own 1-sigma" in captured.err
+    assert "gnss_position" in captured.err
+    assert not (tmp_path / "trajectory.npy").exists()  # nothing a user could take for a result
+    log = tomllib.loads((tmp_path / "fusion_log.toml").read_text())
+    assert log["integrity"]["trusted"] is False and log["resets"]
+
+
+def test_process_and_batch_fail_on_it_naming_the_survey(small_projects, capsys):
+    from insrail.cli.main import main
+
+    bad, _, _ = small_projects
+    assert main(["process", str(bad.folder)]) == 1
+    err = capsys.readouterr().err
+    assert "survey lever_mm" in err and "inconsistent with its own 1-sigma" in err
+    assert not (bad.folder / "results" / "lever_mm" / "sleepers.csv").exists()
+    assert main(["batch", str(bad.folder), "--workers", "1"]) == 1
+    out = capsys.readouterr()
+    text = out.out + out.err
+    assert "lever_mm" in text and "inconsistent with its own 1-sigma" in text
+
+
+def test_sleepers_where_the_filter_was_reset_are_flagged_and_not_assessed(small_projects):
+    from insrail.project import process
+    from insrail.project.results import load_results
+
+    _, _, project = small_projects
+    results = process(project, "false_fix")
+    stored = load_results(project.folder, "false_fix")
+    reasons = np.array(stored.not_assessed)
+    flagged = reasons != ""
+    assert flagged.any() and all("filter reset" in r for r in reasons[flagged])
+    assert not stored.columns["valid"][flagged].any()
+    assert stored.columns["valid"][~flagged].mean() > 0.9
+    assert results.summary["fusion"]["resets"] >= 1
+    assert any("filter reset" in n["message"] for n in results.summary["notices"])
+    for e in results.assessment.exceedances:  # none where the solution was suspect
+        assert not np.any((stored.number[flagged] >= e.first_sleeper) & (stored.number[flagged] <= e.last_sleeper))
