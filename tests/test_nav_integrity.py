@@ -109,9 +109,9 @@ def test_sections_inconsistent_with_their_sigma_are_not_valid_and_most_of_them_f
 
 @pytest.fixture(scope="module")
 def small_projects(tmp_path_factory):
-    """A 300 m survey (60 s static start) in two one-survey projects: with its antenna lever arm given
-    in millimetres (a survey that cannot be trusted), and with a 40 s GNSS false fix of 1 m while
-    walking (the filter is reset twice: onto the false fix, and back)."""
+    """A 300 m survey (60 s static start) in one-survey projects: with its antenna lever arm given
+    in millimetres, with the IMU's mounting 180 deg off (surveys that cannot be trusted), and with a
+    40 s GNSS false fix of 1 m while walking (the filter is reset: onto the false fix, and back)."""
     import shutil
 
     from insrail.io.rtklib import write_rtklib_pos
@@ -133,19 +133,26 @@ def small_projects(tmp_path_factory):
     write_manifest(lever, replace(manifest, trolley=trolley))
     bad = project_for_simulated_survey(root / "bad", lever, name="bad")
 
+    backwards = root / "backwards" / "surveys" / "backwards"  # the IMU mounted backwards, survey.toml says 0 deg
+    shutil.copytree(simulated, backwards)
+    manifest = read_manifest(backwards)
+    mounting = np.asarray(manifest.trolley.mounting_rpy_rad) + np.array([0.0, 0.0, math.pi])
+    write_manifest(backwards, replace(manifest, trolley=replace(manifest.trolley, mounting_rpy_rad=mounting)))
+    wrong = project_for_simulated_survey(root / "backwards", backwards, name="backwards")
+
     faulty = root / "false_fix" / "surveys" / "false_fix"
     shutil.copytree(simulated, faulty)
     gnss = read_survey(faulty).gnss
     gnss = gnss_faults.false_fix(gnss, gnss.time_s[0] + 150.0, 40.0, (1.0, 0.0, 0.0))
     write_rtklib_pos(faulty / read_manifest(faulty).files["gnss"].path, gnss)
     false_fix = project_for_simulated_survey(root / "false_fix", faulty, name="false_fix")
-    return bad, lever, false_fix
+    return bad, lever, false_fix, wrong
 
 
 def test_cli_fuse_refuses_a_survey_whose_solution_cannot_be_trusted(small_projects, tmp_path, capsys):
     from insrail.cli.main import main
 
-    _, lever, _ = small_projects
+    _, lever, _, _ = small_projects
     assert main(["fuse", str(lever), "--out", str(tmp_path)]) == 1
     captured = capsys.readouterr()
     assert f"survey {lever}" in captured.err and "inconsistent with its own 1-sigma" in captured.err
@@ -158,22 +165,25 @@ def test_cli_fuse_refuses_a_survey_whose_solution_cannot_be_trusted(small_projec
 def test_process_and_batch_fail_on_it_naming_the_survey(small_projects, capsys):
     from insrail.cli.main import main
 
-    bad, _, _ = small_projects
-    assert main(["process", str(bad.folder)]) == 1
+    bad, _, _, wrong = small_projects
+    assert main(["process", str(bad.folder)]) == 1  # refused before the fusion by the plausibility checks
     err = capsys.readouterr().err
-    assert "survey lever_mm" in err and "inconsistent with its own 1-sigma" in err
-    assert not (bad.folder / "results" / "lever_mm" / "sleepers.csv").exists()
-    assert main(["batch", str(bad.folder), "--workers", "1"]) == 1
+    assert "survey lever_mm" in err and "millimetres given as metres" in err
+    assert main(["process", str(wrong.folder)]) == 1  # plausible numbers, but the filter cannot fit them
+    err = capsys.readouterr().err
+    assert "survey backwards" in err and "inconsistent with its own 1-sigma" in err and "odometer_nhc" in err
+    assert not (wrong.folder / "results" / "backwards" / "sleepers.csv").exists()
+    assert main(["batch", str(wrong.folder), "--workers", "1"]) == 1
     out = capsys.readouterr()
     text = out.out + out.err
-    assert "lever_mm" in text and "inconsistent with its own 1-sigma" in text
+    assert "backwards" in text and "inconsistent with its own 1-sigma" in text
 
 
 def test_sleepers_where_the_filter_was_reset_are_flagged_and_not_assessed(small_projects):
     from insrail.project import process
     from insrail.project.results import load_results
 
-    _, _, project = small_projects
+    _, _, project, _ = small_projects
     results = process(project, "false_fix")
     stored = load_results(project.folder, "false_fix")
     reasons = np.array(stored.not_assessed)

@@ -84,8 +84,8 @@ class FusionIntegrity:
     def not_valid_intervals(self) -> list[tuple[float, float, str]]:
         """(start, end, why) in seconds of week: the not-valid sections and the suspect intervals."""
         out = [(float(self.time_from_s[k]), float(self.time_to_s[k]),
-                f"fusion inconsistent in section {self.station_from_m[k]:.0f}-{self.station_to_m[k]:.0f} m: "
-                f"{self.reasons[k]}") for k in np.flatnonzero(~self.valid)]
+                (f"fusion inconsistent in section {self.station_from_m[k]:.0f}-{self.station_to_m[k]:.0f} m: "
+                 f"{self.reasons[k]}")) for k in np.flatnonzero(~self.valid)]
         return out + list(self.suspect_s)
 
     def summary(self) -> str:
