@@ -55,8 +55,8 @@ from insrail.io.survey import (
 from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
 from insrail.nav.earth import Ellipsoid
 from insrail.nav.fusion import SmootherStore, aiding_for, fuse
-from insrail.nav.integrity import UntrustedSolution
 from insrail.nav.imu_profile import load_imu_profile
+from insrail.nav.integrity import UntrustedSolution
 from insrail.nav.measurements import PositionFix
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
 from insrail.notices import Notice
@@ -96,6 +96,7 @@ from insrail.project.results import (
     track_quality_section,
     write_results,
 )
+from insrail.project.sleeper_integrity import flag_sleepers
 from insrail.project.sleeper_parameters import (
     line_curvature_1pm,
     parameter_bases,
@@ -104,7 +105,6 @@ from insrail.project.sleeper_parameters import (
     sleeper_attitude_rad,
     speed_notices,
 )
-from insrail.project.sleeper_integrity import flag_sleepers
 from insrail.project.stagecache import (
     cached_dataclass,
     clean_leftovers,
