@@ -64,7 +64,12 @@ def main() -> None:
     args = parser.parse_args()
 
     from insrail.project import load_project
-    from insrail.track.adjustment import REASONS, load_fastener_type, optimise_amounts, reassess
+    from insrail.track.adjustment import (
+        REASONS,
+        load_fastener_type,
+        optimise_amounts,
+        reassess,
+    )
     from insrail.track.exceedance import assess
     from insrail.track.tolerance import load_tolerance_profile
 

@@ -18,7 +18,12 @@ from insrail.progress import Cancelled
 from insrail.project.results import check_column
 from insrail.report import write_workbook
 from insrail.report.content import SEVERITIES, load_report_content
-from insrail.report.excel import BOLD_CHARACTER_WIDTH, LINE_HEIGHT_PT, PAPER_CODES, _wrapped_lines
+from insrail.report.excel import (
+    BOLD_CHARACTER_WIDTH,
+    LINE_HEIGHT_PT,
+    PAPER_CODES,
+    _wrapped_lines,
+)
 
 RED, GREY = "00FFC7CE", "00D9D9D9"
 
@@ -202,6 +207,10 @@ def test_adjustment_sheet_lists_the_sleepers_to_move_in_chainage_order(project, 
     assert [r[0] for r in rows] == results.number[moving].tolist()
     assert [r[2] for r in rows] == sorted(r[2] for r in rows)
     assert [r[3:7] for r in rows] == amounts[moving].tolist()
+    # the re-assessment of the adjusted geometry above the table, honestly per check
+    above = [row[0].value for row in sheet.iter_rows(max_row=header - 1) if row and isinstance(row[0].value, str)]
+    after = results.summary["adjustment"]["after"]
+    assert any(text.startswith(f"After adjustment: {after['exceedances']} exceedances") for text in above)
 
 
 def test_exceedance_and_summary_sheets(project, workbook):

@@ -396,8 +396,26 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
     for direction in DIRECTIONS:
         for rail in RAILS:
             unresolved |= c[f"unresolved_{direction}_{rail}"] > 0
-    columns.append(_named("unresolved", ADJUSTMENT_GROUP, np.where(unresolved, "yes", "").astype(object), "@", width=9))
+    notes = results.adjustment_notes  # why: fastener range exhausted, conflicting checks (older results: none)
+    flag = (np.array([note or ("yes" if u else "") for note, u in zip(notes, unresolved)], dtype=object) if notes
+            else np.where(unresolved, "yes", "").astype(object))
+    columns.append(_named("unresolved", ADJUSTMENT_GROUP, flag, "@", width=9))
     return columns
+
+
+def after_adjustment_text(summary: dict) -> str:
+    """The re-assessment of the adjusted geometry in one sentence ("" for results of older versions)."""
+    adjustment = summary.get("adjustment", {})
+    after = adjustment.get("after")
+    if after is None:
+        return ""
+    by_check = ", ".join(f"{name} {count}" for name, count in after.get("by_check", {}).items())
+    reasons = ", ".join(f"{name.replace('_', ' ')}: {count}" for name, count in
+                        adjustment.get("unresolved_reasons", {}).items() if count)
+    before = sum(after.get("by_check_before", {}).values())
+    return (f"After adjustment: {after['exceedances']} exceedances (before {before})"
+            + (f" ({by_check})" if by_check else "") + f", {after.get('new_exceedances', 0)} new"
+            + (f"; sleepers still failing: {reasons}" if reasons else ""))
 
 
 def _running_parameter_columns(results: StoredResults, profile: ToleranceProfile, used: set[str]) -> list[Column]:

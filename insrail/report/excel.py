@@ -38,6 +38,7 @@ from insrail.report.content import (
     SEVERITY_RULE,
     Column,
     ReportContent,
+    after_adjustment_text,
     check_description,
     exceedance_check,
     exceedance_display,
@@ -407,13 +408,16 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
             else adjustment.get("fastener", ""))
     sheet.append([sheet.cell(f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm; "
                              f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")])
+    after = after_adjustment_text(content.summary)
+    if after:
+        sheet.append([sheet.cell(after)])
     sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it "
                              "(looking towards increasing chainage)", font=BOLD)])
     amounts = [content.column(key) for key in ADJUSTMENT_KEYS]
     titles = ["sleeper", "chainage", "station (m)"] + [f"{c.title} (mm)" for c in amounts] + ["checks still failed"]
     sheet.group_header(["Sleeper"] * 3 + [c.group for c in amounts] + [""])
     header = sheet.header(titles)
-    _start(sheet, content, [9, 13, 11, 10, 10, 10, 10, 12], freeze=f"C{header + 1}")
+    _start(sheet, content, [9, 13, 11, 10, 10, 10, 10, 40], freeze=f"C{header + 1}")
     moving = np.flatnonzero(np.any([np.nan_to_num(c.values) != 0 for c in amounts], axis=0))
     order = moving[np.argsort(content.station_m[moving], kind="stable")]
     columns = [content.column("number").values[order].tolist(), [str(v) for v in content.column("label").values[order]],

@@ -27,7 +27,11 @@ from scipy import sparse
 from scipy.optimize import Bounds, LinearConstraint, milp
 
 from insrail.track.exceedance import SleeperGeometry
-from insrail.track.irregularity import DEFAULT_MAX_GAP_M, SLEEPER_SPACING_M, interpolate_valid
+from insrail.track.irregularity import (
+    DEFAULT_MAX_GAP_M,
+    SLEEPER_SPACING_M,
+    interpolate_valid,
+)
 from insrail.track.tolerance import ToleranceProfile
 
 VIOLATION_PENALTY = 1000.0  # cost of 1 step of residual exceedance against 1 step of movement
