@@ -409,12 +409,11 @@ def after_adjustment_text(summary: dict) -> str:
     after = adjustment.get("after")
     if after is None:
         return ""
-    by_check = ", ".join(f"{name} {count}" for name, count in after.get("by_check", {}).items())
     reasons = ", ".join(f"{name.replace('_', ' ')}: {count}" for name, count in
                         adjustment.get("unresolved_reasons", {}).items() if count)
     before = sum(after.get("by_check_before", {}).values())
-    return (f"After adjustment: {after['exceedances']} exceedances (before {before})"
-            + (f" ({by_check})" if by_check else "") + f", {after.get('new_exceedances', 0)} new"
+    return (f"After adjustment: {after['exceedances']} exceedances (before {before}), "
+            f"{after.get('new_exceedances', 0)} where the track passed before"
             + (f"; sleepers still failing: {reasons}" if reasons else ""))
 
 

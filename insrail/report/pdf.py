@@ -42,13 +42,7 @@ from reportlab.platypus import (
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.names import (
-    UnknownName,
-    check_name,
-    column_name,
-    quantity_name,
-    rail_direction,
-)
+from insrail.names import UnknownName, check_name, column_name, quantity_name, rail_direction
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.trajectory import Trajectory
 from insrail.notices import notices_of
@@ -80,7 +74,6 @@ from insrail.report.content import (
     SEVERITIES,
     SEVERITY_RULE,
     ReportContent,
-    after_adjustment_text,
     check_description,
     exceedance_check,
     exceedance_display,
@@ -387,8 +380,7 @@ def _adjustment_conclusion(content: ReportContent) -> str:
             f"vertical {_fmt(adjustment.get('max_vertical_mm'), 1, 'mm')}; total movement "
             f"{_fmt(adjustment.get('total_movement_mm'), 0, 'mm')}; "
             + (f"<b>{unresolved} sleepers where the checks still fail after adjustment</b>." if unresolved
-               else "every check met after adjustment.")
-            + (f" {after_adjustment_text(content.summary)}." if after_adjustment_text(content.summary) else ""))
+               else "every check met after adjustment."))
 
 
 SIGN_OFF_STYLE = TableStyle([
