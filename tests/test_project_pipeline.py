@@ -581,3 +581,19 @@ def _pdf_text(path):
     import subprocess
 
     return subprocess.run(["pdftotext", str(path), "-"], capture_output=True, check=True).stdout
+
+
+def test_a_project_trolley_without_the_antenna_lever_arm_is_refused_for_a_gnss_survey(short_nav_survey, tmp_path,
+                                                                                    capsys):
+    """The project's [trolley] is checked against the data of the survey it serves: a lever arm
+    the survey needs but the project leaves out is an error, not a NaN offset in the fusion."""
+    survey = tmp_path / "surveys" / "short"
+    shutil.copytree(short_nav_survey, survey)
+    project = project_for_simulated_survey(tmp_path, survey)
+    settings = tomllib.loads((survey / "survey.toml").read_text())["trolley"]  # the survey's trolley, moved up
+    del settings["imu_to_antenna_m"]
+    save_project(replace(project, trolley_settings=settings))
+    assert main(["process", str(project.folder)]) == 1
+    err = capsys.readouterr().err
+    assert "project.toml" in err and "trolley.imu_to_antenna_m: missing (required with files.gnss" in err
+    assert "Traceback" not in err

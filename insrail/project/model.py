@@ -202,11 +202,20 @@ class Project:
     def control_point(self, name: str) -> ControlPoint | None:
         return next((p for p in self.control_points if p.name == name), None)
 
-    def trolley(self) -> TrolleyGeometry | None:
-        """The project's trolley geometry, or None when each survey brings its own."""
+    def trolley(self, roles: set[str] | None = None) -> TrolleyGeometry | None:
+        """The project's trolley geometry, or None when each survey brings its own.
+
+        ``roles``: the file roles of the survey it is used for; a lever arm that survey's data
+        need but the project's ``[trolley]`` leaves out is then an error (``InputError`` naming
+        project.toml), never a NaN offset reaching the fusion. Without roles only what every
+        survey needs is required."""
         if self.trolley_settings is None:
             return None
-        return parse_trolley(self.trolley_settings, {"sleepers"}, [])
+        problems: list[str] = []
+        trolley = parse_trolley(self.trolley_settings, {"sleepers"} if roles is None else roles, problems)
+        if roles is not None and problems:
+            raise InputError(self.path, None, "; ".join(problems))
+        return trolley
 
     def to_settings(self) -> dict[str, Any]:
         """The TOML document as plain data; ``load_project`` of it gives an equal project."""

@@ -422,7 +422,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     if manifest.raw_gnss is not None:
         gnss = run_gnss_stage(project, folder, manifest, project.folder / RESULTS_FOLDER / CACHE_FOLDER,
                               step.sub(0.0, 0.04), cancel)
-    trolley = project.trolley()
+    trolley = project.trolley(set(manifest.files) | ({"gnss"} if manifest.raw_gnss is not None else set()))
     if trolley is not None:
         manifest = replace(manifest, trolley=trolley)
     check_trolley(manifest.trolley, trolley_source(project.path, folder, trolley is not None), nominal_gauge_m(project))
