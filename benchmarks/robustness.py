@@ -150,14 +150,17 @@ def edit_text(path: Path, old: str, new: str) -> None:
     path.write_text(text.replace(old, new))
 
 
-def same_results(project: Path, base: Path, atol_mm: float = 1.5e-3) -> bool:
-    """The same sleepers with the same values (to the last printed digit unless ``atol_mm``)."""
+def same_results(project: Path, base: Path, atol_mm: float = 1.5e-3, whole_steps: bool = True) -> bool:
+    """The same sleepers with the same values (to the last printed digit unless ``atol_mm``).
+    ``whole_steps=False``: the adjustment amounts (whole fastener steps) are not compared — a
+    repaired input that moves a deviation by micrometres may flip one rounding to the next step."""
     from insrail.project.results import load_results
 
     ours, theirs = load_results(project, SURVEY), load_results(base, SURVEY)
     if ours.number.tolist() != theirs.number.tolist():
         return False
-    return all(np.allclose(ours.columns[c], v, rtol=0, atol=atol_mm, equal_nan=True) for c, v in theirs.columns.items())
+    return all(np.allclose(ours.columns[c], v, rtol=0, atol=atol_mm, equal_nan=True) for c, v in theirs.columns.items()
+               if whole_steps or not c.startswith("adjust_"))
 
 
 def flagged_sleepers(project: Path) -> int:
@@ -241,7 +244,11 @@ def input_cases(base: Path, workdir: Path) -> list[Outcome]:
         else:
             edit(project)
         result = run_cli(["process", str(project)])
-        outcomes.append(classify(case, result, verified=None if result[0] else same_results(project, base)))
+        if case == "one IMU value 1e300":  # removed and bridged: the geometry within hundredths of a mm
+            verified = None if result[0] else same_results(project, base, atol_mm=0.05, whole_steps=False)
+        else:
+            verified = None if result[0] else same_results(project, base)
+        outcomes.append(classify(case, result, verified=verified))
     case = "one gauge value 99999"
     project = copy_of(base, workdir, case)
     one_gauge_outlier(project)
