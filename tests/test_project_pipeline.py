@@ -180,6 +180,8 @@ def test_cli_process(processed, capsys):
     assert main(["process", str(project.folder), "--survey", "short"]) == 0
     out = capsys.readouterr().out
     assert "Survey short: results in" in out and "reused from the cache" in out
+    counts = next(line for line in out.splitlines() if line.startswith("  cn_hsr_ballastless:"))
+    assert "30 m / 5 m short wave" in counts and "short_wave_30m_5m" not in counts  # display names, not ids
     assert main(["process", str(project.folder), "--survey", "nope"]) == 1
     assert "no survey named nope" in capsys.readouterr().err
 

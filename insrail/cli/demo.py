@@ -47,7 +47,7 @@ def truth_comparison(table, truth) -> dict[str, float]:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from insrail.cli.process import describe
+    from insrail.cli.process import describe, profile_checks
     from insrail.cli.report import default_paths, write_reports
     from insrail.project import process
     from insrail.project.demo import project_for_simulated_survey
@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     print(f"Project file: {project.path.resolve()}")
     results = process(project, "short", progress=lambda f, m: bar(0.25 + 0.75 * f, m))
     elapsed = bar.done()
-    print("\n".join(describe(results)))
+    print("\n".join(describe(results, profile_checks(project))))
     for path in write_reports(project, "short", *default_paths(project.folder, "short")):
         print(f"Report: {path.resolve()}")
 

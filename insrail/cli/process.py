@@ -50,14 +50,25 @@ def _quality_lines(quality: dict | None) -> list[str]:
              f"{figures(weakest)}")]
 
 
-def describe(results) -> list[str]:
-    """Headline lines for one survey's results (shared with ``insrail demo``)."""
+def check_counts(by_check: dict[str, int], checks=()) -> str:
+    """``by_check`` of a summary in words: each check by its display name (``checks``: the
+    tolerance profile's, see :func:`insrail.names.check_name`), its id only when the profile
+    no longer has it."""
+    from insrail.names import check_name
+
+    names = {check.name: check_name(check) for check in checks}
+    return ", ".join(f"{names.get(check, check)} {count}" for check, count in by_check.items()) or "none"
+
+
+def describe(results, checks=()) -> list[str]:
+    """Headline lines for one survey's results (shared with ``insrail demo``); ``checks``: the
+    project's tolerance-profile checks, which name the exceedance counts."""
     s = results.summary
     track, assessment, adjustment = s["track"], s["assessment"], s["adjustment"]
     heights = s["heights"]
     height_line = (f"height anomaly: {heights['model']} model, benchmark RMS {heights['internal_rms_mm']:.1f} mm"
                    if "internal_rms_mm" in heights else f"heights: {heights['model']}")
-    by_check = ", ".join(f"{name} {count}" for name, count in assessment["by_check"].items()) or "none"
+    by_check = check_counts(assessment["by_check"], checks)
     prism = s["fusion"].get("prism_fixes", 0)
     prism_text = f", {prism} total-station prism fixes on CPIII points" if prism else ""
     gnss_lines = []
@@ -83,7 +94,7 @@ def describe(results) -> list[str]:
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
         (f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "
          f"max vertical {adjustment['max_vertical_mm']:.1f} mm, {adjustment['unresolved_sleepers']} sleepers unresolved"),
-        *after_adjustment_lines(adjustment),
+        *after_adjustment_lines(adjustment, checks),
         "  files: " + ", ".join(dict.fromkeys([*s["files"].values(), "summary.toml"])),
     ]
 
@@ -94,8 +105,8 @@ def _pulse_lines(pulses: dict | None) -> list[str]:
         return []
     if not pulses["pulses"]:
         return ["  sleepers: no detector pulses, a regular grid"]
-    return [f"  sleeper detector: {pulses['pulses']} pulses, {pulses['missed_inserted']} missed sleepers inserted, "
-            f"{pulses['false_rejected']} false pulses rejected"]
+    return [(f"  sleeper detector: {pulses['pulses']} pulses, {pulses['missed_inserted']} missed sleepers inserted, "
+             f"{pulses['false_rejected']} false pulses rejected")]
 
 
 def _event_lines(events: list[dict], not_assessed: int) -> list[str]:
@@ -113,12 +124,12 @@ def _event_lines(events: list[dict], not_assessed: int) -> list[str]:
     return lines
 
 
-def after_adjustment_lines(adjustment: dict) -> list[str]:
+def after_adjustment_lines(adjustment: dict, checks=()) -> list[str]:
     """The re-assessment of the adjusted geometry (results of older versions have none)."""
     after = adjustment.get("after")
     if after is None:
         return []
-    by_check = ", ".join(f"{name} {count}" for name, count in after["by_check"].items()) or "none"
+    by_check = check_counts(after["by_check"], checks)
     reasons = ", ".join(f"{name.replace('_', ' ')} {count}" for name, count in adjustment["unresolved_reasons"].items()
                         if count)
     return [f"  after adjustment: {after['exceedances']} exceedances ({by_check}), {after['new_exceedances']} new; "
@@ -138,6 +149,13 @@ def chosen_surveys(project, requested: list[str] | None) -> list[str] | None:
     return names
 
 
+def profile_checks(project) -> tuple:
+    """The checks of the project's tolerance profile (they name what the output counts)."""
+    from insrail.track.tolerance import load_tolerance_profile
+
+    return load_tolerance_profile(project.resource(project.tolerance_profile)).checks
+
+
 def run(args: argparse.Namespace) -> int:
     from insrail.project import load_project, process
     from insrail.report.stale import stale_report_lines
@@ -154,7 +172,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"insrail: survey {name}: {err}", file=sys.stderr)
             return 1
         elapsed = bar.done()
-        print("\n".join(describe(results)))
+        print("\n".join(describe(results, profile_checks(project))))
         print(f"  processed in {elapsed:.1f} s")
         for line in stale_report_lines(project.folder, name):  # the reports now describe results that are gone
             print(line)
