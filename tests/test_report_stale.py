@@ -70,7 +70,7 @@ def test_insrail_process_says_the_reports_are_now_out_of_date(project, capsys, m
         return load_results(project_.folder, name)
 
     monkeypatch.setattr(insrail.project, "process", process_again)
-    monkeypatch.setattr(process_cli, "describe", lambda results: [f"Survey {results.survey}"])
+    monkeypatch.setattr(process_cli, "describe", lambda results, checks=(): [f"Survey {results.survey}"])
     assert main(["process", str(project.folder)]) == 0
     out = capsys.readouterr().out
     assert "warning: reports/track_geometry_run1.xlsx, reports/track_geometry_run1.pdf are older than these results" \
