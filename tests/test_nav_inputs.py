@@ -16,7 +16,7 @@ from insrail.io.types import ImuIncrements
 from insrail.nav.alignment import detect_stops, gyrocompass_sigma_rad, stop_thresholds
 from insrail.nav.imu_gaps import bridge_gaps
 from insrail.nav.imu_profile import load_imu_profile
-from insrail.nav.imu_screening import screen_imu
+from insrail.nav.imu_screening import ImuUnitError, screen_imu
 from insrail.nav.startup import track_heading
 
 RATE_HZ = 200.0
@@ -72,6 +72,52 @@ def test_a_file_far_outside_the_envelope_is_an_error_naming_it():
     noisy[::10] *= 400.0
     with pytest.raises(ValueError, match=r"imu.txt: \d+ of 4000 records .* not a few corrupt records but a wrong unit"):
         screen_imu(ImuIncrements(imu.time_s, noisy, imu.dvel_mps, source=imu.source), load_imu_profile("nav"))
+
+
+def resting_then_walking_imu(profile: str, seconds_at_rest: float = 10.0, rng_seed: int = 5) -> ImuIncrements:
+    """A trolley at rest (gravity, the earth rate and a bias of the profile's size, the profile's
+    noise) for ``seconds_at_rest``, then walking (:func:`walking_imu`)."""
+    p = load_imu_profile(profile)
+    rng = np.random.default_rng(rng_seed)
+    n = int(seconds_at_rest * RATE_HZ)
+    lat = math.radians(30.0)
+    earth = 7.292115e-5 * np.array([math.cos(lat), 0.0, -math.sin(lat)])
+    bias = rng.normal(0.0, max(p.gyro_bias_turn_on, 1e-12), 3)
+    w = earth + bias + rng.normal(0.0, p.gyro_arw * math.sqrt(RATE_HZ), (n, 3))
+    f = np.array([0.0, 0.0, -9.79]) + rng.normal(0.0, p.accel_vrw * math.sqrt(RATE_HZ), (n, 3))
+    walk = walking_imu(rng_seed=rng_seed)
+    t = T0 - seconds_at_rest + np.arange(n) / RATE_HZ
+    return ImuIncrements(np.concatenate([t, walk.time_s]), np.vstack([w / RATE_HZ, walk.dtheta_rad]),
+                         np.vstack([f / RATE_HZ, walk.dvel_mps]), source="imu.npy")
+
+
+UNIT_FAULTS = {  # what the logger wrote: (change of the file, what the message must say)
+    "degrees": (lambda th, dv: (np.degrees(th), dv), "angle increments look like degrees, not radians"),
+    "deg/s": (lambda th, dv: (np.degrees(th) * RATE_HZ, dv), "angular rates in deg/s, not angle increments"),
+    "angle sums": (lambda th, dv: (np.cumsum(th, axis=0), dv), "running sums of the angle increments"),
+    "g": (lambda th, dv: (th, dv / 9.80665), "velocity increments look like velocity increments in g*s"),
+    "specific force": (lambda th, dv: (th, dv * RATE_HZ), "specific force in m/s^2 (rates), not velocity increments"),
+    "velocity sums": (lambda th, dv: (th, np.cumsum(dv, axis=0)), "running sums of the velocity increments"),
+    "mm/s": (lambda th, dv: (th, 1e3 * dv), "velocity increments in mm/s"),
+}
+
+
+@pytest.mark.parametrize("profile", ["nav", "tactical_fog", "mems"])
+@pytest.mark.parametrize("fault", UNIT_FAULTS)
+def test_an_imu_file_in_another_unit_is_named_with_its_likely_unit(profile, fault):
+    imu = resting_then_walking_imu(profile)
+    screen_imu(imu, load_imu_profile(profile))  # the clean file passes, in any profile
+    change, says = UNIT_FAULTS[fault]
+    dtheta, dvel = change(imu.dtheta_rad, imu.dvel_mps)
+    with pytest.raises(ImuUnitError, match="^imu.npy: ") as error:
+        screen_imu(ImuIncrements(imu.time_s, dtheta, dvel, source=imu.source), load_imu_profile(profile))
+    assert says in str(error.value)
+
+
+def test_without_a_rest_the_gyro_unit_is_not_judged_and_motion_is_not_mistaken_for_it():
+    imu = walking_imu()  # turning at up to 0.01 rad/s all the time: no rest, no verdict on the gyro
+    screen_imu(imu, load_imu_profile("nav"))
+    screen_imu(ImuIncrements(imu.time_s, np.degrees(imu.dtheta_rad), imu.dvel_mps), load_imu_profile("nav"))
 
 
 def test_many_outliers_are_summed_up_after_the_first_ten():

@@ -194,6 +194,13 @@ def _swap_benchmark_heights(project: Path) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
+def _edit_imu(project: Path, field: str, change) -> None:
+    path = survey_folder(project) / "imu.npy"
+    records = np.load(path)
+    records[field] = change(records[field])
+    np.save(path, records)
+
+
 def _edit_manifest(old: str, new: str):
     def edit(project: Path) -> None:
         path = survey_folder(project) / "survey.toml"
@@ -221,6 +228,10 @@ FAULTS = {
     "sleeper file shifted 137 s": (lambda p: rewrite_numbers(survey_folder(p) / "sleepers.txt", 0,
                                                              lambda t: t + 137.0),
                                    "sleepers.txt", "sleeper pulses lie one sleeper spacing"),
+    "IMU angle increments in degrees": (lambda p: _edit_imu(p, "dtheta_rad", np.degrees), "imu.npy",
+                                        "angle increments look like degrees, not radians"),
+    "IMU velocity increments in g": (lambda p: _edit_imu(p, "dvel_mps", lambda dv: dv / 9.80665), "imu.npy",
+                                     "velocity increments look like velocity increments in g*s"),
 }
 
 

@@ -20,10 +20,19 @@ A record is an outlier when, in the IMU profile's envelope (``[range]`` of the p
 Every removed record is listed with its time and size. More than ``max_fraction`` of the
 records out of the envelope is no longer a few corrupt records but a wrong file, unit or profile:
 that is an error naming the file.
+
+Before that, the units are checked with the physics (:func:`check_units`): the median specific
+force (of 50 ms means) is about gravity (a trolley's or a walker's accelerations average out), and at
+rest (seconds where the accelerometers are as quiet as the profile's noise allows) the angular
+rate is the earth rate plus at most the profile's gyro bias. A file off by a unit's factor is an
+error naming the file and the likely unit ("delta-theta looks like degrees, not radians": 57.3 x;
+velocity increments in g, in mm/s or ft/s; specific force or rates instead of increments; running
+sums instead of increments), not a fusion that ends "inconsistent over 100 % of the survey".
 """
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass, replace
 
@@ -31,6 +40,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from insrail.io.types import GAP_FACTOR, ImuIncrements
+from insrail.nav.alignment import stop_thresholds
 from insrail.nav.imu_profile import ImuProfile
 from insrail.notices import Notice
 
@@ -72,6 +82,7 @@ def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.
     source = str(imu.source or "")
     if n < 3:
         return imu, (), []
+    check_units(imu, profile)
     step = np.diff(imu.time_s)
     nominal = float(np.median(step))
     # a record after a dropout holds one nominal interval (the ImuIncrements gap contract)
@@ -144,3 +155,136 @@ def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.
 
 def _show(quantity: str, value: float) -> str:
     return f"{value / 9.80665:g} g" if quantity == "specific force" else f"{np.degrees(value):g} deg/s"
+
+
+# --------------------------------------------------------------------------- units
+
+#: gravity on the ellipsoid lies within 9.78-9.83 m/s^2; a second's mean specific force of a
+#: trolley or a walker within this share of it
+GRAVITY_MPS2 = 9.80665
+GRAVITY_TOLERANCE = 0.1
+#: at rest, |mean rate| may exceed the earth rate by this many 1-sigma of the gyro bias and noise
+REST_RATE_SIGMAS = 5.0
+#: seconds at rest needed before the gyro's unit is judged there
+MIN_REST_S = 5.0
+_EARTH_RATE_RADPS = 7.292115e-5
+_BLOCK_S = 1.0
+_SUB_BLOCK_S = 0.05
+
+
+class ImuUnitError(ValueError):
+    """An IMU file whose increments are off by a unit's factor (the message names the file and the unit)."""
+
+
+def _unit_guesses(quantity: str, rate_hz: float) -> list[tuple[str, float | None]]:
+    """(what the file would hold, factor the file's values are too large by; None: running sums)."""
+    if quantity == "specific force":
+        return [("running sums of the velocity increments, not the increments", None),
+                ("velocity increments in g*s (the accelerometers in g), not m/s", 1.0 / GRAVITY_MPS2),
+                ("velocity increments in mm/s, not m/s", 1000.0),
+                ("velocity increments in ft/s, not m/s", 1.0 / 0.3048),
+                (f"specific force in m/s^2 (rates), not velocity increments in m/s over each {1e3 / rate_hz:g} ms record",
+                 rate_hz),
+                (f"specific force in g (rates), not velocity increments in m/s over each {1e3 / rate_hz:g} ms record",
+                 rate_hz / GRAVITY_MPS2)]
+    degrees = 180.0 / np.pi
+    return [("running sums of the angle increments (angles), not the increments", None),
+            ("degrees, not radians", degrees),
+            (f"angular rates in rad/s, not angle increments over each {1e3 / rate_hz:g} ms record", rate_hz),
+            (f"angular rates in deg/s, not angle increments in rad over each {1e3 / rate_hz:g} ms record",
+             rate_hz * degrees)]
+
+
+def _block_means(values: np.ndarray, dt: np.ndarray, per_block: int) -> np.ndarray:
+    """(blocks, 3) mean rate over consecutive blocks of ``per_block`` records."""
+    m = (len(dt) // per_block) * per_block
+    return values[:m].reshape(-1, per_block, 3).sum(axis=1) / dt[:m].reshape(-1, per_block).sum(axis=1)[:, None]
+
+
+def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
+    """Raise :class:`ImuUnitError` naming the file when the increments are off by a unit's factor
+    (see the module docstring); say nothing on a plausible file, or where it cannot be judged
+    (less than two seconds of data; no rest for the gyro)."""
+    n = len(imu)
+    step = np.diff(imu.time_s)
+    nominal = float(np.median(step)) if n > 1 else 0.0
+    if not nominal > 0.0 or n * nominal < 2.0 * _BLOCK_S:
+        return
+    rate_hz = 1.0 / nominal
+    dt = np.concatenate([[nominal], np.where(step > GAP_FACTOR * nominal, nominal, step)])
+    per_block = max(int(round(_BLOCK_S / nominal)), 2)
+    source = str(imu.source or "the IMU file")
+
+    def judged(quantity: str, increments: np.ndarray, plausible, measured: str, expected: str,
+               sums_possible=lambda increments: True) -> None:
+        if plausible(increments):
+            return
+        for meaning, factor in _unit_guesses(quantity, rate_hz):
+            if factor is None:
+                if not sums_possible(increments):
+                    continue
+                candidate = np.diff(increments, axis=0, prepend=increments[:1] * 0.0)
+            else:
+                candidate = increments / factor
+            if plausible(candidate):
+                raise ImuUnitError(
+                    f"{source}: the {'velocity' if quantity == 'specific force' else 'angle'} increments look like "
+                    f"{meaning} ({expected}; the file gives {measured}); check the file's units (survey.toml "
+                    "[files.imu]: format, accel_unit, gyro_unit) or the logger's export")
+        raise ImuUnitError(f"{source}: {expected}; the file gives {measured}: not an IMU record in the units "
+                           "insrail reads (m/s and rad per record); check the file's format and units in survey.toml")
+
+    with np.errstate(invalid="ignore", over="ignore"):
+        finite = np.isfinite(imu.dvel_mps).all(axis=1) & np.isfinite(imu.dtheta_rad).all(axis=1)
+        if finite.sum() < 0.99 * n:
+            return  # a record's screening says what is wrong with it
+        dvel = np.where(finite[:, None], imu.dvel_mps, 0.0)
+        dtheta = np.where(finite[:, None], imu.dtheta_rad, 0.0)
+
+        def gravity_of(increments):  # over 50 ms: a few corrupt records move the median by nothing
+            sub_blocks = max(int(round(_SUB_BLOCK_S / nominal)), 1)
+            return float(np.median(np.linalg.norm(_block_means(increments, dt, sub_blocks), axis=1)))
+
+        def gravity_plausible(increments):
+            return abs(gravity_of(increments) / GRAVITY_MPS2 - 1.0) <= GRAVITY_TOLERANCE
+
+        judged("specific force", dvel, gravity_plausible, f"{gravity_of(dvel):.4g} m/s^2",
+               f"the specific force averaged over 50 ms should be about gravity, {GRAVITY_MPS2:.2f} m/s^2")
+
+        # seconds at rest: the accelerometers' spread (of 50 ms means, as the stop detection) at their noise
+        _, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, rate_hz)
+        sub = max(int(round(_SUB_BLOCK_S / nominal)), 1)
+        subs = max(per_block // sub, 2)
+        per_block_rest = sub * subs
+        f_sub = _block_means(dvel, dt, sub)
+        m = (len(f_sub) // subs) * subs
+        spread = np.linalg.norm(f_sub[:m].reshape(-1, subs, 3).std(axis=1), axis=1)
+        f_mean = f_sub[:m].reshape(-1, subs, 3).mean(axis=1)
+        rest = (spread < accel_quiet) & (np.abs(np.linalg.norm(f_mean, axis=1) / GRAVITY_MPS2 - 1.0) < 0.02)
+        if rest.any():  # and the gyro as quiet as in the quietest of them, whatever its unit (slow sways pass the
+            # accelerometers' test)
+            g_blocks = dtheta[: len(rest) * sub * subs].reshape(len(rest), sub * subs, 3)
+            g_spread = np.linalg.norm(g_blocks.std(axis=1), axis=1)
+            rest &= g_spread <= 4.0 * np.min(g_spread[rest])
+        if rest.sum() * per_block_rest * nominal < MIN_REST_S:
+            return
+        bias = math.hypot(profile.gyro_bias_turn_on, profile.gyro_bias_gm_sigma)
+        noise = profile.gyro_arw / math.sqrt(per_block_rest * nominal)
+        limit = _EARTH_RATE_RADPS + REST_RATE_SIGMAS * math.sqrt(3.0) * math.hypot(bias, noise)
+
+        def rest_rate(increments):
+            return float(np.median(np.linalg.norm(_block_means(increments, dt, per_block_rest)[rest], axis=1)))
+
+        def wanders_at_rest(increments):
+            """Running sums at rest wander far more within a second than they change from record to
+            record; increments at rest (in any unit) are a constant plus white noise: the record-to-
+            record change is sqrt(2) x their spread about the block's mean."""
+            blocks = increments[: len(rest) * per_block_rest].reshape(len(rest), per_block_rest, 3)[rest]
+            spread = np.std(blocks - blocks.mean(axis=1, keepdims=True))
+            return bool(np.std(np.diff(blocks, axis=1)) < 0.5 * spread)
+
+        # the telescoping sum of differences is small over any second: only wandering values can be sums
+        judged("angular rate", dtheta, lambda increments: rest_rate(increments) <= limit, f"{rest_rate(dtheta):.4g} rad/s",
+               f"at rest ({rest.sum() * per_block_rest * nominal:.0f} s where the accelerometers are quiet) the angular "
+               f"rate should be the earth rate plus the {profile.name} profile's gyro bias, at most {limit:.3g} rad/s",
+               sums_possible=wanders_at_rest)
