@@ -212,7 +212,8 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
         return
     rate_hz = 1.0 / nominal
     dt = np.concatenate([[nominal], np.where(step > GAP_FACTOR * nominal, nominal, step)])
-    per_block = max(int(round(_BLOCK_S / nominal)), 2)
+    per_block = max(round(_BLOCK_S / nominal), 2)
+    sub = max(round(_SUB_BLOCK_S / nominal), 1)
     source = str(imu.source or "the IMU file")
 
     def judged(quantity: str, increments: np.ndarray, plausible, measured: str, expected: str,
@@ -242,8 +243,7 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
         dtheta = np.where(finite[:, None], imu.dtheta_rad, 0.0)
 
         def gravity_of(increments):  # over 50 ms: a few corrupt records move the median by nothing
-            sub_blocks = max(int(round(_SUB_BLOCK_S / nominal)), 1)
-            return float(np.median(np.linalg.norm(_block_means(increments, dt, sub_blocks), axis=1)))
+            return float(np.median(np.linalg.norm(_block_means(increments, dt, sub), axis=1)))
 
         def gravity_plausible(increments):
             return abs(gravity_of(increments) / GRAVITY_MPS2 - 1.0) <= GRAVITY_TOLERANCE
@@ -253,7 +253,6 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
 
         # seconds at rest: the accelerometers' spread (of 50 ms means, as the stop detection) at their noise
         _, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, rate_hz)
-        sub = max(int(round(_SUB_BLOCK_S / nominal)), 1)
         subs = max(per_block // sub, 2)
         per_block_rest = sub * subs
         f_sub = _block_means(dvel, dt, sub)
