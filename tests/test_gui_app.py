@@ -110,18 +110,19 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     residuals = next(s for s in window.navigation._series if s.key == "gnss_residuals")
     assert len(residuals.time_s) > 100 and np.sqrt(np.mean(residuals.values**2)) < 20.0  # mm: PPK-level agreement
     assert window.repeatability.parameter.count() > 10 and window.repeatability.item.listDataItems()
-    assert window.track.exceedances.rowCount() == len(stored.exceedances) > 0
+    assert window.track.exceedances.model().rowCount() == len(stored.exceedances) > 0
     window.tabs.setCurrentWidget(window.track)
 
     # A click on an exceedance zooms every plot there; the table starts in chainage order.
     table = window.track.exceedances
-    shown_from = [float(table.item(r, 3).text()) for r in range(table.rowCount())]
+    model = table.model()
+    shown_from = [float(model.index(r, 3).data()) for r in range(model.rowCount())]
     assert shown_from == sorted(shown_from)
-    row = table.rowCount() // 2
+    row = model.rowCount() // 2
     table.scrollTo(table.model().index(row, 0))
     qtbot.mouseClick(table.viewport(), Qt.LeftButton, pos=table.visualRect(table.model().index(row, 0)).center())
-    exceedance = stored.exceedances[table.item(row, 0).data(Qt.UserRole)]
-    assert f"{exceedance.station_from_m:.3f}" == table.item(row, 3).text()
+    exceedance = stored.exceedances[model.index(row, 0).data(Qt.UserRole)]
+    assert f"{exceedance.station_from_m:.3f}" == model.index(row, 3).data()
     expected = exceedance_window(exceedance.station_from_m, exceedance.station_to_m)
     # Linked plots follow the first one through the laid-out geometry: let the layout settle.
     qtbot.waitUntil(lambda: all(np.allclose(item.vb.viewRange()[0], expected, atol=1e-6)
@@ -135,7 +136,7 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
 
     # Sorted by peak, the top row is the largest exceedance, and a click still zooms to it.
     window.tabs.setCurrentWidget(window.track)
-    table.sortItems(5, Qt.DescendingOrder)
+    table.sortByColumn(5, Qt.DescendingOrder)
     qtbot.mouseClick(table.viewport(), Qt.LeftButton, pos=table.visualRect(table.model().index(0, 0)).center())
     largest = max(stored.exceedances, key=lambda e: abs(e.peak))
     expected = exceedance_window(largest.station_from_m, largest.station_to_m)
@@ -149,7 +150,7 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
 
 def assert_nothing_shown(window) -> None:
     """No view holds any survey's data."""
-    assert not window.track.plots.plots and window.track.exceedances.rowCount() == 0
+    assert not window.track.plots.plots and window.track.exceedances.model().rowCount() == 0
     assert window.track.readout.text() == ""
     assert window.plan.data is None and not window.plan.curves
     assert not window.navigation._series and not window.navigation.items
@@ -188,7 +189,7 @@ def test_cancel_stops_the_run_and_keeps_the_previous_results(window, qtbot, demo
     before = (root / "results" / "short" / "summary.toml").read_bytes()
     assert window.open_project(root)
     wait_views(window, qtbot)
-    assert window.track.exceedances.rowCount() > 0  # previous results shown
+    assert window.track.exceedances.model().rowCount() > 0  # previous results shown
 
     window.process()
     qtbot.waitUntil(lambda: window.progress.value() > 60, timeout=30_000)  # inside the fusion

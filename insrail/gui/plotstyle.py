@@ -33,6 +33,8 @@ def make_fluid(item: pg.PlotItem) -> None:
     """Large data stays interactive: draw only what is visible, peak-preserving downsampling."""
     item.setDownsampling(auto=True, mode="peak")
     item.setClipToView(True)
+    for side in ("left", "bottom", "right", "top"):  # no automatic "(x1000)" scaling: it also re-renders the label every frame
+        item.getAxis(side).enableAutoSIPrefix(False)
 
 
 def titled(title: str, labels, band: str = "") -> str:

@@ -42,6 +42,7 @@ import tomli_w
 from insrail.io.errors import InputError
 from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.progress import CancelToken, check_cancel
+from insrail.project import table_cache
 from insrail.quality.survey import SectionQuality, weakness
 from insrail.track.adjustment import Adjustment
 from insrail.track.exceedance import Assessment, SleeperGeometry, track_quality
@@ -501,8 +502,20 @@ def _lines(path: Path) -> list[str]:
         raise InputError(path, None, "result file missing: process the survey again") from None
 
 
-def _read_sleepers(path: Path) -> tuple[np.ndarray, tuple[str, ...], dict[str, np.ndarray], tuple[str, ...],
-                                         tuple[str, ...]]:
+def _read_sleepers(path: Path) -> table_cache.SleeperTableParse:
+    """The sleeper table, from the user's cache of parsed tables when this very file was parsed before."""
+    try:
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise InputError(path, None, "result file missing: process the survey again") from None
+    table = table_cache.load(data)
+    if table is None:
+        table = _parse_sleepers(path)
+        table_cache.store(data, table)
+    return table
+
+
+def _parse_sleepers(path: Path) -> table_cache.SleeperTableParse:
     lines = _lines(path)
     if not lines or not lines[0].startswith("number,label,"):
         raise InputError(path, 1, "expected the header 'number,label,...' of an insrail sleeper table")
@@ -522,7 +535,7 @@ def _read_sleepers(path: Path) -> tuple[np.ndarray, tuple[str, ...], dict[str, n
         if len(row) != width:
             raise InputError(path, line_number, f"expected {width} fields, found {len(row)}")
     if not rows:
-        return np.zeros(0, int), (), {name: np.zeros(0) for name in names}, ()
+        return np.zeros(0, int), (), {name: np.zeros(0) for name in names}, (), ()
     cells = np.array([row[2:len(names) + 2] for row in rows])
     cells[cells == ""] = "nan"
     try:

@@ -4,10 +4,50 @@ from __future__ import annotations
 
 import numpy as np
 import pyqtgraph as pg
+from PySide6.QtCore import QRectF, Qt
 
 from insrail.gui import plotstyle
 from insrail.gui.lazy import DrawWhenShown
 from insrail.project.plotdata import PlanData
+
+#: The GNSS fixes' dots [px].
+GNSS_DOT_PX = 5
+
+
+class PointsItem(pg.GraphicsObject):
+    """Many points of one colour as dots of a fixed size in pixels, painted in one QPainter call.
+    pyqtgraph's scatter item rebuilds a symbol per point whenever the zoom changes: with the GNSS
+    fixes of a 10 km survey (9 000) that was 100-150 ms of CPU per zoom frame."""
+
+    def __init__(self, x: np.ndarray, y: np.ndarray, colour: str, size_px: float):
+        super().__init__()
+        self._x, self._y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        self._points = pg.functions.arrayToQPolygonF(self._x, self._y)
+        self._pen = pg.mkPen(colour, width=size_px)
+        self._pen.setCosmetic(True)  # the width in pixels, whatever the zoom
+        self._pen.setCapStyle(Qt.RoundCap)
+        finite = np.isfinite(self._x) & np.isfinite(self._y)
+        if finite.any():
+            x, y = self._x[finite], self._y[finite]
+            self._bounds = QRectF(x.min(), y.min(), x.max() - x.min(), y.max() - y.min())
+        else:
+            self._bounds = QRectF()
+
+    def getOriginalDataset(self) -> tuple[np.ndarray, np.ndarray]:
+        return self._x, self._y
+
+    def dataBounds(self, axis: int, frac: float = 1.0, orthoRange=None):
+        if self._bounds.isNull():
+            return None, None
+        return ((self._bounds.left(), self._bounds.right()) if axis == 0
+                else (self._bounds.top(), self._bounds.bottom()))
+
+    def boundingRect(self) -> QRectF:
+        return self._bounds
+
+    def paint(self, painter, *_args) -> None:
+        painter.setPen(self._pen)
+        painter.drawPoints(self._points)
 
 
 class PlanView(DrawWhenShown, pg.PlotWidget):
@@ -50,13 +90,14 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
         def local(points: np.ndarray) -> np.ndarray:  # display offset only
             return points - self.origin
 
-        self.curves = {
-            "trajectory": item.plot(*local(data.trajectory_en_m).T, pen=pg.mkPen("#A0A0A0", width=1),
-                                    name="trajectory (IMU)"),
-            "gnss": item.plot(*local(data.gnss_en_m).T, pen=None, symbol="o", symbolSize=5,
-                              symbolPen=None, symbolBrush=plotstyle.COLOURS[2], name="GNSS"),
-            "centreline": item.plot(*local(data.centreline_en_m).T, pen=plotstyle.pen(0, 2), name="centreline"),
-        }
+        self.curves = {"trajectory": item.plot(*local(data.trajectory_en_m).T, pen=pg.mkPen("#A0A0A0", width=1),
+                                               name="trajectory (IMU)"),
+                       "gnss": PointsItem(*local(data.gnss_en_m).T, plotstyle.COLOURS[2], GNSS_DOT_PX)}
+        item.addItem(self.curves["gnss"])
+        item.legend.addItem(pg.PlotDataItem([], [], pen=None, symbol="o", symbolSize=GNSS_DOT_PX, symbolPen=None,
+                                            symbolBrush=plotstyle.COLOURS[2]), "GNSS")
+        self.curves["centreline"] = item.plot(*local(data.centreline_en_m).T, pen=plotstyle.pen(0, 2),
+                                              name="centreline")
         for index, outage in enumerate(data.outages_en_m):
             self.curves[f"outage{index}"] = item.plot(*local(outage).T, pen=pg.mkPen("#C00000", width=4),
                                                       name="GNSS outage" if index == 0 else None)

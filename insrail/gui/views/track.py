@@ -12,18 +12,16 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Qt, QTimer, Signal
+from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QHBoxLayout,
-    QHeaderView,
     QLabel,
     QLineEdit,
     QMenu,
     QScrollArea,
     QSplitter,
-    QTableWidget,
-    QTableWidgetItem,
+    QTableView,
     QToolButton,
     QVBoxLayout,
     QWidget,
@@ -31,6 +29,7 @@ from PySide6.QtWidgets import (
 
 from insrail.gui import plotstyle
 from insrail.gui.lazy import DrawWhenShown
+from insrail.gui.views.exceedances import START_COLUMN, ExceedanceModel
 from insrail.project.plotdata import (
     BAND_SIGMAS,
     ChainagePlot,
@@ -46,7 +45,6 @@ from insrail.project.results import ExceedanceRow
 #: Checks whose plot starts hidden unless they have exceedances: each repeats what another plot
 #: shows (gauge, cant) or is a shorter-chord version of one shown; the Plots menu brings them back.
 HIDDEN_KINDS = ("gauge_deviation", "gauge_change_rate", "versine", "cross_level")
-EXCEEDANCE_COLUMNS = ("Check", "Rail", "Direction", "From [m]", "To [m]", "Peak", "Limit", "Unit", "Sleepers")
 READOUT_HINT = "Move the mouse over the plots to read every value at a sleeper."
 #: Each plot keeps at least this height [px]; more plots than fit scroll.
 MIN_PLOT_HEIGHT = 150
@@ -57,19 +55,6 @@ MIN_WINDOW_M = 2.0
 #: The window a go-to shows when the current one is wider [m].
 GOTO_WINDOW_M = 100.0
 MEASURE_PENS = (pg.mkPen("#7B3294", width=1, style=Qt.DashDotLine), pg.mkPen("#008837", width=1, style=Qt.DashDotLine))
-
-
-class SortableItem(QTableWidgetItem):
-    """A cell that sorts by a number (peaks by magnitude) when it has one, else by its text."""
-
-    def __init__(self, text: str, key: float | None):
-        super().__init__(text)
-        self.key = key
-
-    def __lt__(self, other) -> bool:
-        if self.key is not None and getattr(other, "key", None) is not None:
-            return self.key < other.key
-        return self.text() < other.text()
 
 
 #: Events along the chainage plots: not assessed (their sleepers greyed in the reports) or only marked.
@@ -108,22 +93,25 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self._crosshairs: list[pg.InfiniteLine] = []
         self._regions: list[pg.LinearRegionItem] = []
         self._measure_lines: list[tuple[pg.InfiniteLine, pg.InfiniteLine]] = []
+        # Every plot item made so far, in row order: the next survey's plots reuse them (making a
+        # pyqtgraph plot costs tens of ms: most of a project switch); those not needed leave the layout.
+        self._pool: list[pg.PlotItem] = []
+        self._laid_out = 0  # how many of the pool are in the layout (the first ones)
         self._mouse = pg.SignalProxy(self.scene().sigMouseMoved, rateLimit=60, slot=self._mouse_moved)
         self.scene().sigMouseClicked.connect(self._mouse_clicked)
 
     def set_data(self, station_m: np.ndarray, columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
                  visible: set[str], bands: Mapping[str, QualityBand] | None = None,
                  events: Sequence[EventSpan] = ()) -> None:
-        self.clear()
         self.plots.clear()
         self._crosshairs.clear()
         self._regions.clear()
         self._measure_lines.clear()
         shown = [p for p in plots if p.key in visible]
+        self._lay_out(len(shown))
         self.setMinimumHeight(MIN_PLOT_HEIGHT * len(shown))
         for row, spec in enumerate(shown):
-            item = self.addPlot(row=row, col=0)
-            plotstyle.make_fluid(item)
+            item = self._pool[row]
             # A zero line instead of a grid: pyqtgraph's grid triples the time per frame.
             item.addItem(pg.InfiniteLine(0.0, angle=0, pen=plotstyle.ZERO_PEN), ignoreBounds=True)
             band = (bands or {}).get(spec.key)
@@ -134,7 +122,6 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                 fill = pg.FillBetweenItem(*edges, brush=plotstyle.BAND_BRUSH)  # a step per 200 m: a few points
                 fill.setZValue(-5)
                 item.addItem(fill, ignoreBounds=True)  # the data, not the band, set the view
-            item.getAxis("left").setWidth(48)
             for index, (label, column) in enumerate(spec.curves):
                 item.plot(station_m, spec.scale * columns[column], pen=plotstyle.pen(index),
                           autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
@@ -156,18 +143,35 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             self._measure_lines.append(lines)
             _add_events(item, events, named=not row)
             view = item.vb
-            view.setMouseEnabled(x=True, y=False)  # the wheel zooms along chainage; y fits what is visible
-            view.setAutoVisible(y=True)
             if len(station_m):
                 low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
                 view.setLimits(xMin=low, xMax=high, minXRange=MIN_WINDOW_M, maxXRange=high - low)
-            if row:
-                item.setXLink(next(iter(self.plots.values())))
+            view.enableAutoRange(x=True, y=True)  # a reused plot: fit this survey, not the previous one's window
             if row == len(shown) - 1:
+                item.showAxis("bottom")
                 item.setLabel("bottom", "station [m]")
             else:
                 item.hideAxis("bottom")  # one chainage axis under the stack (each axis costs a frame)
             self.plots[spec.key] = item
+
+    def _lay_out(self, count: int) -> None:
+        """The first ``count`` plot items of the pool in the layout, emptied; the others out of it."""
+        while len(self._pool) < count:
+            item = pg.PlotItem()
+            plotstyle.make_fluid(item)
+            item.getAxis("left").setWidth(48)
+            item.vb.setMouseEnabled(x=True, y=False)  # the wheel zooms along chainage; y fits what is visible
+            item.vb.setAutoVisible(y=True)
+            if self._pool:
+                item.setXLink(self._pool[0])
+            self._pool.append(item)
+        for item in self._pool:
+            item.clear()  # the previous survey's curves and lines
+        for item in self._pool[count:self._laid_out]:
+            self.removeItem(item)
+        for row in range(self._laid_out, count):
+            self.addItem(self._pool[row], row=row, col=0)
+        self._laid_out = count
 
     def x_range(self) -> tuple[float, float]:
         first = next(iter(self.plots.values()))
@@ -245,16 +249,21 @@ class TrackView(DrawWhenShown, QWidget):
         self.choose_plots = QToolButton(text="Plots")
         self.choose_plots.setPopupMode(QToolButton.InstantPopup)
         self.choose_plots.setMenu(QMenu(self.choose_plots))
-        self.exceedances = QTableWidget(0, len(EXCEEDANCE_COLUMNS))
-        self.exceedances.setHorizontalHeaderLabels(EXCEEDANCE_COLUMNS)
+        self.exceedance_model = ExceedanceModel(self)
+        self.exceedances = QTableView()
+        self.exceedances.setModel(self.exceedance_model)
+        self.exceedances.setSortingEnabled(True)
+        self.exceedances.horizontalHeader().setSortIndicator(START_COLUMN, Qt.AscendingOrder)
         self.exceedances.setSelectionBehavior(QAbstractItemView.SelectRows)
+        self.exceedances.setSelectionMode(QAbstractItemView.SingleSelection)
         self.exceedances.setEditTriggers(QAbstractItemView.NoEditTriggers)
         self.exceedances.verticalHeader().setVisible(False)
         self.exceedances.horizontalHeader().setStretchLastSection(True)
         self.exceedances.verticalHeader().setDefaultSectionSize(self.fontMetrics().height() + 6)
         self.exceedances.setMinimumHeight(5 * self.exceedances.verticalHeader().defaultSectionSize())
-        self.exceedances.cellClicked.connect(lambda row, _column: self.zoom_to_exceedance(self._exceedance_at(row)))
-        self.exceedances.currentCellChanged.connect(lambda row, *_: self.zoom_to_exceedance(self._exceedance_at(row)))
+        self.exceedances.clicked.connect(lambda index: self.zoom_to_exceedance(self._exceedance_at(index.row())))
+        self.exceedances.selectionModel().currentRowChanged.connect(
+            lambda index, _previous: self.zoom_to_exceedance(self._exceedance_at(index.row())))
 
         top = QHBoxLayout()
         top.addWidget(self.readout, 1)
@@ -317,8 +326,7 @@ class TrackView(DrawWhenShown, QWidget):
         self._pending_range = None
         self._fill_plots_menu()
         self.request_draw(now=not len(self._station))
-        self.exceedances.setRowCount(0)
-        QTimer.singleShot(0, self._fill_table)  # after the plots are on screen (a long survey: thousands)
+        self._fill_table()
         self.readout.setText(READOUT_HINT if len(self._station) else "")
         if state is not None:
             self.restore_state(state)
@@ -376,34 +384,16 @@ class TrackView(DrawWhenShown, QWidget):
     # ------------------------------------------------------------------ exceedances
 
     def _fill_table(self) -> None:
-        table = self.exceedances
-        header = table.horizontalHeader()
-        table.setSortingEnabled(False)
-        table.setUpdatesEnabled(False)
-        header.setSectionResizeMode(QHeaderView.Interactive)  # sized once below, not after every cell
-        table.setRowCount(len(self._rows))
-        titles = {spec.key: spec.title for spec in self._specs}  # display names, never the profile's ids
-        for row, e in enumerate(self._rows):
-            digits = 3 if e.unit == "mm" else 6
-            cells = ((titles.get(f"check_{e.check}", e.kind.replace("_", " ")), None), (e.rail, None),
-                     (e.direction, None),
-                     (f"{e.station_from_m:.3f}", e.station_from_m), (f"{e.station_to_m:.3f}", e.station_to_m),
-                     (f"{e.peak:.{digits}f}", abs(e.peak)), (f"{e.limit:.{digits}f}", abs(e.limit)), (e.unit, None),
-                     (f"{e.first_sleeper}–{e.last_sleeper}", e.first_sleeper))
-            for column, (text, key) in enumerate(cells):
-                item = SortableItem(text, key)
-                item.setData(Qt.UserRole, row)  # the exceedance's index, whatever the sort order
-                if key is not None:
-                    item.setTextAlignment(Qt.AlignRight | Qt.AlignVCenter)
-                table.setItem(row, column, item)
-        header.setSortIndicator(3, Qt.AscendingOrder)  # along the track, as walked
-        table.setSortingEnabled(True)
-        table.resizeColumnsToContents()
-        table.setUpdatesEnabled(True)
+        titles = {spec.key.removeprefix("check_"): spec.title for spec in self._specs}  # display names, not ids
+        self.exceedance_model.set_rows(self._rows, titles)
+        header = self.exceedances.horizontalHeader()
+        self.exceedance_model.sort(header.sortIndicatorSection(), header.sortIndicatorOrder())
+        metrics, padding = self.exceedances.fontMetrics(), 3 * self.exceedances.fontMetrics().averageCharWidth()
+        for column, width in enumerate(self.exceedance_model.column_widths(metrics.horizontalAdvance)):
+            header.resizeSection(column, width + padding)  # + room for the sort indicator
 
     def _exceedance_at(self, table_row: int) -> int:
-        item = self.exceedances.item(table_row, 0)
-        return -1 if item is None else int(item.data(Qt.UserRole))
+        return self.exceedance_model.exceedance_at(table_row)
 
     def zoom_to_exceedance(self, index: int) -> None:
         """Zoom every plot to exceedance ``index`` (in the order of the results, not of the table)."""
