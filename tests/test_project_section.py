@@ -110,6 +110,11 @@ def test_the_joined_table_is_each_runs_outside_the_overlap_and_numbered_continuo
     assert deviation["predicted_sigma_mm"] == pytest.approx(np.hypot(3.0, 3.0), abs=1e-4) and not deviation["exceeds"]
     short_wave = overlap["parameters"]["check_short_wave_30m_5m_left_lateral_mm"]
     assert short_wave["std_mm"] < 0.3 and not short_wave["exceeds"]
+    # the worst-over-placements checks by magnitude, not within a chord of the overlap's ends (where one
+    # run's value is the worst of fewer placements); the 312 m overlap is too short for the 300 m chord
+    assert short_wave["compared"] == "magnitude" and overlap["parameters"]["gauge_mm"]["compared"] == "signed"
+    assert short_wave["count"] == pytest.approx(overlap["sleepers"] - 2 * 30 / 0.625, abs=2)
+    assert "check_long_wave_300m_150m_left_lateral_mm" not in overlap["parameters"]
     assert not [n for n in summary["notices"] if n["stage"] == "section"]
     assert {"run1: a notice", "run2: a notice"} <= {n["message"] for n in summary["notices"]}
     # one workbook and one PDF, the PDF with the section page

@@ -8,7 +8,11 @@ the reference). Invalid sleepers take no part.
 * ``repeatability.csv``  one row per reference sleeper: ``station_m``, ``label``, then per
   parameter and compared run ``<run>_minus_<reference>_<parameter>`` (mm; empty where not comparable)
 * ``repeatability.toml`` per parameter and run: count, mean, std, RMS, 95th percentile and
-  maximum of |difference| in mm, and the single-run repeatability (pooled std / sqrt 2)
+  maximum of |difference| in mm, and the single-run repeatability (pooled std / sqrt 2); per
+  parameter ``compared`` = "signed" or "magnitude": the differential-versine checks (30 m/5 m,
+  300 m/150 m) are compared by |value|, because the sign of their worst value over the chord
+  placements flips between runs wherever two placements tie, and only where both runs reach a
+  chord length either side (:mod:`insrail.track.repeatability`)
 """
 
 from __future__ import annotations
@@ -28,6 +32,10 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import RESULTS_FOLDER, load_results
 from insrail.track.repeatability import Repeatability, repeatability
+from insrail.track.tolerance import load_tolerance_profile
+
+#: Check kinds whose value per sleeper is the signed worst over several chord placements.
+WORST_OVER_PLACEMENTS = frozenset({"differential_versine"})
 
 REPEATABILITY_FILE = "repeatability.csv"
 REPEATABILITY_SUMMARY = "repeatability.toml"
@@ -41,6 +49,16 @@ def compared_parameters(columns) -> list[str]:
     return [c for c in BASE_PARAMETERS if c in columns] + [c for c in columns if c.startswith("check_") and c.endswith("_mm")]
 
 
+def worst_over_placements(project: Project, columns) -> dict[str, float]:
+    """The check columns whose value is the worst over chord placements (the project's differential
+    versines, 30 m/5 m and 300 m/150 m), each with its chord length [m]: compared by magnitude where
+    both runs are complete a chord length either side (:mod:`insrail.track.repeatability`)."""
+    profile = load_tolerance_profile(project.resource(project.tolerance_profile))
+    chords = {f"check_{check.name}_": float(check.chord_m) for check in profile.checks
+              if check.kind in WORST_OVER_PLACEMENTS}
+    return {c: chord for c in compared_parameters(columns) for prefix, chord in chords.items() if c.startswith(prefix)}
+
+
 def compare_surveys(project: Project, names: list[str] | None = None, progress: ProgressFn | None = None,
                     cancel: CancelToken = None) -> tuple[Repeatability, Path]:
     """Compare the processed surveys ``names`` (default: every survey of the project, the first
@@ -50,7 +68,7 @@ def compare_surveys(project: Project, names: list[str] | None = None, progress: 
     if len(names) < 2:
         raise ValueError(f"{project.path}: comparing runs needs at least two surveys, got {', '.join(names) or 'none'}")
     step = StepProgress(progress)
-    runs, labels = {}, ()
+    runs, labels, placements = {}, (), {}
     for index, name in enumerate(names):
         check_cancel(cancel)
         step(index / len(names), f"reading the results of {name}")
@@ -61,8 +79,9 @@ def compare_surveys(project: Project, names: list[str] | None = None, progress: 
                       {column: 1e-3 * stored.columns[column][valid] for column in compared_parameters(stored.columns)})
         if index == 0:
             labels = tuple(label for label, ok in zip(stored.label, valid) if ok)
+            placements = worst_over_placements(project, stored.columns)
     step(0.9, "comparing")
-    result = repeatability(runs)
+    result = repeatability(runs, placements_m=placements)
     folder = project.folder / RESULTS_FOLDER
     with atomic_write(folder / REPEATABILITY_FILE) as handle:
         handle.write(_csv(result, labels))
@@ -92,7 +111,7 @@ def _mm(value: float) -> float:
 def _summary(result: Repeatability) -> dict:
     parameters = {}
     for p in result.parameters:
-        entry: dict = {"single_run_std_mm": _mm(p.single_run_std)}
+        entry: dict = {"single_run_std_mm": _mm(p.single_run_std), "compared": "magnitude" if p.by_magnitude else "signed"}
         for k, run in enumerate(result.compared):
             entry[run] = {"count": int(p.count[k]), "mean_mm": _mm(p.mean[k]), "std_mm": _mm(p.std[k]),
                           "rms_mm": _mm(p.rms[k]), "p95_abs_mm": _mm(p.p95_abs[k]), "max_abs_mm": _mm(p.max_abs[k])}

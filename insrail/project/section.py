@@ -24,7 +24,10 @@ The overlap's run-to-run differences are computed as ``insrail compare`` compute
 (:func:`insrail.track.repeatability.repeatability`) and written to summary.toml
 ``[[section.overlaps]]``; a parameter whose RMS difference exceeds 3× the predicted σ of a
 difference of two runs (√(σa² + σb²) of quality.csv's figure for it: position for the deviations,
-5 m lag for 30 m / 5 m, 150 m lag for 300 m / 150 m) is a notice.
+5 m lag for 30 m / 5 m, 150 m lag for 300 m / 150 m) is a notice. The differential-versine checks
+are compared by magnitude and not within a chord of the overlap's ends, where one run's value is the
+worst of fewer chord placements (:mod:`insrail.track.repeatability`); a check the overlap is too
+short for (the 300 m chord in a 500 m overlap) is left out.
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ import tomli_w
 from insrail.io.errors import InputError
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project.compare import worst_over_placements
 from insrail.project.model import Project
 from insrail.project.results import (
     EXCEEDANCES_FILE,
@@ -189,8 +193,11 @@ def _median_figure(quality: StoredQuality | None, figure: str, start: float, end
     return float(np.median(values)) if values.size else math.nan
 
 
-def overlap_differences(a: StoredResults, b: StoredResults) -> dict | None:
-    """The run-to-run differences of two runs where both have valid sleepers (None without an overlap)."""
+def overlap_differences(a: StoredResults, b: StoredResults, placements_m: dict[str, float] | None = None) -> dict | None:
+    """The run-to-run differences of two runs where both have valid sleepers (None without an overlap);
+    ``placements_m``: the worst-over-placements checks and their chords, compared by magnitude and not
+    within a chord of the overlap's ends, where one run's values are the worst of fewer placements
+    (:mod:`insrail.track.repeatability`, :func:`insrail.project.compare.worst_over_placements`)."""
     from insrail.project.compare import compared_parameters
 
     runs, bounds = {}, []
@@ -204,10 +211,13 @@ def overlap_differences(a: StoredResults, b: StoredResults) -> dict | None:
         c = run.columns
         keep = (c["valid"] > 0) & (c["station_m"] >= start) & (c["station_m"] <= end)
         runs[run.survey] = (c["station_m"][keep], {p: 1e-3 * c[p][keep] for p in compared_parameters(c)})
-    result = repeatability(runs)
+    result = repeatability(runs, placements_m=placements_m)
     parameters = {}
     for p in result.parameters:
-        entry = {"count": int(p.count[0]), "mean_mm": round(1e3 * float(p.mean[0]), 4),
+        if not p.count[0]:  # not comparable here (a 300 m chord in a shorter overlap): left out
+            continue
+        entry = {"compared": "magnitude" if p.by_magnitude else "signed",
+                 "count": int(p.count[0]), "mean_mm": round(1e3 * float(p.mean[0]), 4),
                  "std_mm": round(1e3 * float(p.std[0]), 4), "rms_mm": round(1e3 * float(p.rms[0]), 4),
                  "max_abs_mm": round(1e3 * float(p.max_abs[0]), 4)}
         figure = _predicted_figure(p.name)
@@ -287,7 +297,9 @@ def join_section(project: Project, name: str, progress: ProgressFn | None = None
     if not len(table.label):
         raise ValueError(f"section {name}: no sleeper of {', '.join(names)} lies between {window[0]} and {window[1]} m")
     step(0.4, "overlaps")
-    overlaps = tuple(o for o in (overlap_differences(a, b) for i, a in enumerate(runs) for b in runs[i + 1:]) if o)
+    placements = worst_over_placements(project, runs[0].columns)
+    overlaps = tuple(o for o in (overlap_differences(a, b, placements) for i, a in enumerate(runs) for b in runs[i + 1:])
+                     if o)
     check_cancel(cancel)
 
     step(0.5, "assessment on the joined table")

@@ -771,7 +771,9 @@ def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Sec
             f"{stored.station_m.size} valid sleepers of the reference compared by chainage (each run interpolated "
             "onto the reference stations, never across a gap of more than two sleepers). A run minus the reference "
             "carries the noise of both: the repeatability of one run is the pooled standard deviation / &radic;2. "
-            "A mean away from zero is a systematic shift between runs, not noise.", BODY)]
+            "A mean away from zero is a systematic shift between runs, not noise. Checks marked <i>by magnitude</i> "
+            "(the differential versines) are compared by their absolute value: their worst value over the chord "
+            "placements changes sign between runs wherever two placements of opposite sign nearly tie.", BODY)]
         if stored.written_s < results_written_s:
             story.append(Paragraph("<b>Note:</b> this comparison was made before the current results of this survey "
                                    "were written; run <i>insrail compare</i> again to bring it up to date.", BODY))
@@ -781,7 +783,9 @@ def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Sec
                 stats = entry[run]
                 if not stats["count"]:  # e.g. a 300 m chord on a run shorter than 300 m
                     continue
-                rows.append([_compared_name(content, parameter + "_mm"), f"{run} - {stored.reference}", stats["count"],
+                shown_name = _compared_name(content, parameter + "_mm") + (
+                    " (by magnitude)" if entry.get("compared") == "magnitude" else "")
+                rows.append([shown_name, f"{run} - {stored.reference}", stats["count"],
                              *(f"{stats[key]:.2f}" for key in ("mean_mm", "std_mm", "rms_mm", "p95_abs_mm", "max_abs_mm")),
                              f"{entry['single_run_std_mm']:.2f}"])
         story += [Spacer(1, 4), table(["parameter", "runs", "sleepers", "mean (mm)", "std (mm)", "RMS (mm)",

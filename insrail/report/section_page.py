@@ -19,9 +19,12 @@ def section_page(content: ReportContent) -> list[Flowable]:
                              Paragraph(text(f"Runs {', '.join(section['surveys'])}, joined on the stationing; in the "
                                             f"overlaps each sleeper {'takes the run with the better predicted accuracy' if section['overlap'] == 'best' else 'is the weighted mean of the runs (weights 1/sigma^2)'}. "
                                             "Sleepers are numbered continuously; the sleeper table's source columns say "
-                                            "which run each row came from."), BODY)]
+                                            "which run each row came from. Differential versines are compared by "
+                                            "magnitude (the sign of their worst value over the chord placements flips "
+                                            "where two placements tie) and not within a chord of an overlap's ends."), BODY)]
     for overlap in section.get("overlaps", []):
-        rows = [[name.removesuffix("_mm").replace("_", " "), v["count"], f"{v['mean_mm']:.2f}", f"{v['std_mm']:.2f}",
+        rows = [[name.removesuffix("_mm").replace("_", " ") + (" (by magnitude)" if v.get("compared") == "magnitude" else ""),
+                 v["count"], f"{v['mean_mm']:.2f}", f"{v['std_mm']:.2f}",
                  f"{v['rms_mm']:.2f}", f"{v['max_abs_mm']:.2f}",
                  f"{v['predicted_sigma_mm']:.2f}" if "predicted_sigma_mm" in v else "-",
                  "yes" if v.get("exceeds") else ""] for name, v in overlap["parameters"].items()]
