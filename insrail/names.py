@@ -13,6 +13,8 @@ channels, predicted-accuracy figures) never reach a user: a shell asks this modu
   lateral"); :func:`rail_direction` the part that tells the channels of one check apart.
 * :func:`column_name` a sleepers.csv column (the check channels ``check_*`` need the profile);
   :func:`quantity_name` any other id shown (TQI channels, quality.csv figures, parameters).
+* :func:`setting_name` a project.toml setting by its key path (the forms' labels, the properties
+  panel, a problem of the project file in words).
 
 Units are those displayed at the reporting edge: lengths in mm or m, ratios (gauge change rates)
 in per mille (‰). A lookup of an id this module does not know raises :class:`UnknownName`, never
@@ -250,3 +252,89 @@ def quantity_name(key: str) -> Name:
     except KeyError:
         raise UnknownName(key, "quantity") from None
 
+
+# --------------------------------------------------------------------------- project settings
+
+#: project.toml key path -> its display name (the label of its field in the wizard and the settings editor, the
+#: properties panel, and the problems of a project file in words).
+SETTING_NAMES = {
+    "project.name": "Project name",
+    "project.description": "Description",
+    "geodesy.crs": "Coordinate system",
+    "geodesy.crs.ellipsoid": "Ellipsoid",
+    "geodesy.crs.central_meridian_deg": "Central meridian",
+    "geodesy.crs.latitude_of_origin_deg": "Latitude of origin",
+    "geodesy.crs.scale_factor": "Scale factor",
+    "geodesy.crs.false_easting_m": "False easting",
+    "geodesy.crs.false_northing_m": "False northing",
+    "geodesy.crs.projection_height_m": "Projection height",
+    "geodesy.crs.projection_height_convention": "Projection height applied as",
+    "geodesy.crs.mean_radius_m": "Mean earth radius",
+    "geodesy.height.benchmarks": "Benchmarks file",
+    "geodesy.height.model": "Height-anomaly model",
+    "geodesy.height.geoid_grid": "Geoid grid",
+    "trolley": "Trolley geometry",
+    "trolley.imu_to_antenna_m": "IMU → GNSS antenna",
+    "trolley.imu_to_odometer_m": "IMU → odometer wheel contact",
+    "trolley.imu_to_reference_rail_m": "IMU → reference rail gauge point",
+    "trolley.imu_to_sleeper_detector_m": "IMU → sleeper detector",
+    "trolley.imu_to_prism_m": "IMU → prism",
+    "trolley.mounting_rpy_deg": "Mounting roll, pitch, heading",
+    "trolley.reference_rail": "Reference rail",
+    "trolley.rail_centre_spacing_m": "Rail centre spacing",
+    "processing": "Processing",
+    "processing.imu_profile": "IMU profile",
+    "processing.use_gnss_velocity": "Use the GNSS velocity",
+    "processing.use_odometer": "Use the odometer",
+    "processing.use_nhc": "Non-holonomic constraints (NHC)",
+    "processing.use_zupt": "Zero-velocity updates at stops (ZUPT)",
+    "processing.smoother": "RTS smoother",
+    "processing.update_rate_hz": "Filter update rate (Hz)",
+    "processing.gnss_sigma_scale": "GNSS sigma scale",
+    "processing.gnss_sigma_floor_m": "GNSS sigma floor (m)",
+    "processing.gnss_correlated_tau_s": "GNSS error correlation time (s)",
+    "processing.odometer_sigma_mps": "Odometer sigma (m/s)",
+    "processing.nhc_sigma_mps": "NHC sigma (m/s)",
+    "processing.zupt_sigma_mps": "ZUPT sigma (m/s)",
+    "processing.min_static_s": "Shortest stop for a ZUPT (s)",
+    "track": "Track",
+    "geodesy": "Geodesy",
+    "geodesy.control_points": "Control points",
+    "report": "Report",
+    "report.client": "Client",
+    "report.line_section": "Line section",
+    "report.track_name": "Track (as the railway names it)",
+    "report.operator": "Operator",
+    "report.checked_by": "Checked by",
+    "report.approved_by": "Approved by",
+    "report.trolley": "Trolley (make, model, serial number)",
+    "report.trolley_calibrated": "Trolley calibrated on",
+    "report.imu": "IMU (make, model, serial number)",
+    "report.imu_calibrated": "IMU calibrated on",
+    "report.paper": "Paper (landscape)",
+    "track.design": "Design alignment",
+    "track.start_station_m": "Start station",
+    "track.first_sleeper_number": "First sleeper number",
+    "track.tolerance_profile": "Tolerance profile",
+    "track.fastener": "Fastener type",
+    "track.events": "Track events file",
+    "track.stationing_direction": "Stationing direction",
+    "track.sleeper_anchor": "Sleeper number anchor",
+    "track.line_speed_kmh": "Line speed (km/h)",
+    "surveys": "Surveys",
+    "surveys.name": "Survey name",
+    "surveys.folder": "Survey folder",
+}
+
+
+def setting_name(key: str) -> str:
+    """The words for a key path: its own label, else the nearest enclosing one's with the rest
+    in words ("processing.use_nhc" -> "Processing: use nhc")."""
+    if key in SETTING_NAMES:
+        return SETTING_NAMES[key]
+    parts = key.split(".")
+    for cut in range(len(parts) - 1, 0, -1):
+        head = ".".join(parts[:cut])
+        if head in SETTING_NAMES:
+            return f"{SETTING_NAMES[head]}: {' '.join(parts[cut:]).replace('_', ' ')}"
+    return key.replace(".", ": ").replace("_", " ").capitalize()

@@ -448,6 +448,41 @@ def test_export_both_reports_and_open_their_folder(window, qtbot, demo_project, 
     assert f"written {report.resolve()}" in window.log.toPlainText()
 
 
+def test_reports_older_than_the_results_are_marked_and_written_again_in_one_click(window, qtbot, demo_project,
+                                                                                   tmp_path):
+    root = processed_copy(demo_project, tmp_path / "copy")
+    assert window.open_project(root)
+    wait_views(window, qtbot)
+    assert window.stale_banner.isHidden()  # no report written yet: nothing out of date
+    reports = [root / "reports" / f"track_geometry_short.{kind}" for kind in ("xlsx", "pdf")]
+    reports[0].parent.mkdir()
+    for kind, path in zip(("xlsx", "pdf"), reports):
+        window.export_report(kind, path)
+        qtbot.waitUntil(lambda: window.worker is None, timeout=120_000)
+    assert window.stale_banner.isHidden()
+    results_item = window.explorer.findItems("Results", Qt.MatchRecursive)[0].child(0)
+    assert [results_item.child(k).text(0) for k in range(results_item.childCount())] == [p.name for p in reports]
+
+    # The survey was processed again since (its summary, written last, is newer than the reports).
+    summary = root / "results" / "short" / "summary.toml"
+    for path in reports:
+        os.utime(path, (summary.stat().st_mtime - 60, summary.stat().st_mtime - 60))
+    assert window.open_project(root)
+    wait_views(window, qtbot)
+    assert window.stale_banner.isVisible()
+    assert "track_geometry_short.xlsx and track_geometry_short.pdf of survey short" in window.stale_banner.message.text()
+    results_item = window.explorer.findItems("Results", Qt.MatchRecursive)[0].child(0)
+    assert all(results_item.child(k).text(0).startswith("⚠") for k in range(results_item.childCount()))
+    assert "Write the out-of-date reports of short again" in [t for t, _ in window.explorer.context_actions(results_item)]
+
+    window.stale_banner.rewrite_button.click()  # one click: both written again at their places
+    qtbot.waitUntil(lambda: window.worker is None, timeout=120_000)
+    assert all(path.stat().st_mtime >= summary.stat().st_mtime for path in reports)
+    assert window.stale_banner.isHidden()
+    results_item = window.explorer.findItems("Results", Qt.MatchRecursive)[0].child(0)
+    assert [results_item.child(k).text(0) for k in range(results_item.childCount())] == [p.name for p in reports]
+
+
 def test_cancel_an_export_writes_nothing(window, qtbot, demo_project, tmp_path):
     root = processed_copy(demo_project, tmp_path / "copy")
     assert window.open_project(root)

@@ -86,3 +86,33 @@ def test_which_stages_a_setting_reruns():
     assert stages_to_rerun(["track.fastener"]) == ("adjustment",)
     assert stages_to_rerun(["geodesy.crs.scale_factor", "track.fastener"])[0] == "track reconstruction"
     assert stages_to_rerun(["trolley.imu_to_antenna_m"])[0] == "fusion"
+
+
+def test_report_fields_are_edited_checked_and_saved(window, small_project, tmp_path):
+    """The first page's names and dates, and the paper, in the settings editor: a bad date is named
+    beside its field; Save writes them; the paper's default leaves no key in project.toml."""
+    import datetime
+
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    assert [editor.tabs.tabText(k) for k in range(editor.tabs.count())][-1] == "Report"
+    assert editor.editors["report.paper"][1].currentText() == "A3"  # the default shown, not a blank
+    editor.set_field("report.client", "Wuhan Railway Bureau")
+    editor.set_field("report.operator", "L. Wang")
+    editor.set_field("report.imu_calibrated", "2026-13-01")
+    note = editor.notes["report.imu_calibrated"]
+    assert not note.isHidden() and "expected a date like 2026-03-14" in note.text()
+    assert not editor.save_button.isEnabled()
+    editor.set_field("report.imu_calibrated", "2026-03-14")
+    assert note.isHidden() and "Nothing is processed again" in editor.rerun.text()
+    editor.set_field("report.paper", "A4")
+    window.undo_action.trigger()  # the paper back to A3
+    assert editor.editors["report.paper"][1].currentText() == "A3"
+    assert editor.save()
+    report = load_project(root).report
+    assert (report.client, report.operator, report.imu_calibrated, report.paper) == (
+        "Wuhan Railway Bureau", "L. Wang", datetime.date(2026, 3, 14), "A3")
+    assert "paper" not in (root / "project.toml").read_text(encoding="utf-8")
+    editor.set_field("report.paper", "A4")
+    assert editor.save() and load_project(root).report.paper == "A4"

@@ -6,23 +6,31 @@ from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QFrame, QHBoxLayout, QLabel, QPushButton
 
 
-class EmptyState(QFrame):
+class Banner(QFrame):
+    """A coloured strip over the views: a message and the button that helps."""
+
+    def __init__(self, name: str, background: str, parent=None):
+        super().__init__(parent)
+        self.setObjectName(name)
+        self.setFrameShape(QFrame.StyledPanel)
+        self.setStyleSheet(f"#{name} {{ background: {background}; }}")
+        self.message = QLabel()
+        self.message.setWordWrap(True)
+        self.button = QPushButton()
+        layout = QHBoxLayout(self)
+        layout.addWidget(self.message, 1)
+        layout.addWidget(self.button)
+
+
+class EmptyState(Banner):
     """"No results for survey X yet" with a Process button, or "no project open"."""
 
     processRequested = Signal(str)
 
     def __init__(self, parent=None):
-        super().__init__(parent)
-        self.setObjectName("empty_state")
-        self.setFrameShape(QFrame.StyledPanel)
-        self.setStyleSheet("#empty_state { background: #FFF8E1; }")
-        self.message = QLabel()
-        self.message.setWordWrap(True)
-        self.process_button = QPushButton()
+        super().__init__("empty_state", "#FFF8E1", parent)
+        self.process_button = self.button
         self.process_button.clicked.connect(lambda: self.processRequested.emit(self.survey))
-        layout = QHBoxLayout(self)
-        layout.addWidget(self.message, 1)
-        layout.addWidget(self.process_button)
         self.survey = ""
         self.show_no_project()
 
@@ -51,4 +59,33 @@ class EmptyState(QFrame):
                                  "stay empty until it is processed.")
             self.process_button.setText(f"Process {survey}")
             self.process_button.show()
+        self.show()
+
+
+class StaleReportsBanner(Banner):
+    """"The reports of survey X are older than its results" with a button writing them again
+    (:mod:`insrail.report.stale` decides what is stale); hidden while every report is current."""
+
+    rewriteRequested = Signal()
+
+    def __init__(self, parent=None):
+        super().__init__("stale_reports", "#FDE7E7", parent)
+        self.rewrite_button = self.button
+        self.rewrite_button.setToolTip("Write the out-of-date reports again, at their places, from the current "
+                                       "results")
+        self.rewrite_button.clicked.connect(self.rewriteRequested)
+        self.stale: list[str] = []
+        self.hide()
+
+    def show_stale(self, survey: str | None, names: list[str]) -> None:
+        """The out-of-date report files of the survey shown ([]: the banner goes)."""
+        self.stale = list(names)
+        if not names:
+            self.hide()
+            return
+        one = len(names) == 1
+        self.message.setText(f"⚠ The report{'' if one else 's'} {' and '.join(names)} of survey {survey} "
+                             f"{'was' if one else 'were'} written before the survey was processed again: "
+                             f"{'it describes' if one else 'they describe'} results that no longer exist.")
+        self.rewrite_button.setText(f"Write {'it' if one else 'them'} again")
         self.show()

@@ -5,12 +5,14 @@ from __future__ import annotations
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import QMenu, QTreeWidget, QTreeWidgetItem
 
-from insrail.gui.fields import field_label, split_problem
+from insrail.gui.fields import split_problem
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, read_manifest
 from insrail.io.tomlfile import read_toml
+from insrail.names import setting_name
 from insrail.project import Project
-from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, report_path
+from insrail.report.stale import REPORT_SUFFIXES, report_is_stale
 
 ROLE = Qt.UserRole
 
@@ -32,12 +34,14 @@ def flatten(settings: dict, prefix: str = "") -> list[tuple[str, str]]:
 
 class ProjectExplorer(QTreeWidget):
     """Items carry (kind, payload): ("project", None), ("survey", name), ("file", (survey, role)),
-    ("gnss_raw", survey), ("results", name)."""
+    ("gnss_raw", survey), ("results", name), ("report", (survey, path)); a report older than its
+    survey's results is marked ⚠."""
 
     propertiesChanged = Signal(list)  # [(key, value)] of the selected item
     resultsActivated = Signal(str)  # a survey whose results should be shown
     surveyActivated = Signal(str)  # a survey double-clicked: show it (its results, or that it has none)
     processRequested = Signal(str)  # a survey to process
+    rewriteRequested = Signal(str)  # a survey whose out-of-date reports should be written again
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -71,9 +75,41 @@ class ProjectExplorer(QTreeWidget):
                     if name is not None:
                         self._item(survey, f"gnss_raw: {name}", ("gnss_raw", entry.name))
             if (project.folder / RESULTS_FOLDER / entry.name / SUMMARY_FILE).is_file():
-                self._item(results, entry.name, ("results", entry.name))
+                self._add_reports(self._item(results, entry.name, ("results", entry.name)))
         self.expandAll()
         self.setCurrentItem(root)
+
+    def _add_reports(self, results: QTreeWidgetItem) -> None:
+        """The survey's reports at their default places under its results item, the stale ones marked."""
+        survey = results.data(0, ROLE)[1]
+        for suffix in REPORT_SUFFIXES:
+            path = report_path(self.project.folder, survey, suffix)
+            if not path.is_file():
+                continue
+            stale = report_is_stale(path, self.project.folder, survey)
+            item = self._item(results, f"⚠ {path.name} (older than the results)" if stale else path.name,
+                              ("report", (survey, path)))
+            item.setToolTip(0, "written before the survey was processed again: it describes results that no longer "
+                               "exist" if stale else f"written from the current results: {path.resolve()}")
+
+    def mark_reports(self) -> None:
+        """List and mark the reports again (written, or made out of date by processing)."""
+        if self.project is None:
+            return
+        group = next((self.topLevelItem(0).child(k) for k in range(self.topLevelItem(0).childCount())
+                      if self.topLevelItem(0).child(k).text(0) == "Results"), None)
+        if group is None:
+            return
+        known = {group.child(k).data(0, ROLE)[1] for k in range(group.childCount())}
+        for entry in self.project.surveys:  # results of a survey processed since the tree was made
+            if entry.name not in known and (self.project.folder / RESULTS_FOLDER / entry.name / SUMMARY_FILE).is_file():
+                self._item(group, entry.name, ("results", entry.name))
+        for k in range(group.childCount()):
+            results = group.child(k)
+            for child in [results.child(j) for j in range(results.childCount())]:
+                results.removeChild(child)
+            self._add_reports(results)
+            results.setExpanded(True)
 
     def _item(self, parent, text: str, data) -> QTreeWidgetItem:
         item = QTreeWidgetItem(parent, [text])
@@ -86,8 +122,15 @@ class ProjectExplorer(QTreeWidget):
         if kind == "survey":
             return [(f"Process {payload}", lambda: self.processRequested.emit(payload))]
         if kind == "results":
-            return [(f"Show results of {payload}", lambda: self.resultsActivated.emit(payload)),
-                    (f"Process {payload} again", lambda: self.processRequested.emit(payload))]
+            actions = [(f"Show results of {payload}", lambda: self.resultsActivated.emit(payload)),
+                       (f"Process {payload} again", lambda: self.processRequested.emit(payload))]
+            stale = [item.child(k) for k in range(item.childCount()) if item.child(k).text(0).startswith("⚠")]
+            if stale:
+                actions.append((f"Write the out-of-date reports of {payload} again",
+                                lambda: self.rewriteRequested.emit(payload)))
+            return actions
+        if kind == "report" and item.text(0).startswith("⚠"):
+            return [("Write the out-of-date reports again", lambda: self.rewriteRequested.emit(payload[0]))]
         return []
 
     def _context_menu(self, position) -> None:
@@ -114,7 +157,7 @@ class ProjectExplorer(QTreeWidget):
         project = self.project
         if kind == "project":
             rows = [("folder", str(project.folder.resolve())), ("coordinate system", project.crs.describe())]
-            rows += [(field_label(split_problem(f"{key}: ")[0]), value) for key, value in flatten(project.to_settings())]
+            rows += [(setting_name(split_problem(f"{key}: ")[0]), value) for key, value in flatten(project.to_settings())]
         elif kind == "survey":
             folder = project.resolve(project.survey(payload).folder)
             rows = [("folder", str(folder.resolve()))]
@@ -136,6 +179,12 @@ class ProjectExplorer(QTreeWidget):
         elif kind == "results":
             summary = project.folder / RESULTS_FOLDER / payload / SUMMARY_FILE
             rows = [("folder", str(summary.parent.resolve()))] + flatten(read_toml(summary))
+        elif kind == "report":
+            survey, path = payload
+            stale = report_is_stale(path, project.folder, survey)
+            rows = [("file", str(path.resolve())),
+                    ("state", "older than the results: written before the survey was processed again" if stale
+                     else "written from the current results")]
         elif kind == "error":
             rows = [("problem", payload)]
         else:

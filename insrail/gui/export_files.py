@@ -1,17 +1,27 @@
-"""File > Export of the files for the machines and CAD (insrail.export): lift/lining table, DXF,
-LandXML lines, coordinates. One action per format; each asks for a file (the default name in the
-project's reports folder) and writes it in a worker, like the reports."""
+"""File > Export: the reports (Excel workbook, PDF) and the files for the machines and CAD
+(insrail.export: lift/lining table, DXF, LandXML lines, coordinates), and writing a survey's
+reports again when they are older than its results. Each export asks for a file (the default
+name in the project's reports folder) and writes it in a worker, with the window's progress and
+Cancel; the window is the :class:`insrail.gui.main_window.MainWindow`."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QFileDialog
 
 from insrail.export import default_export_path, export_formats, write_export
+from insrail.progress import CancelToken, ProgressFn, StepProgress
+from insrail.project.results import report_path
+from insrail.report import write_pdf, write_workbook
+from insrail.report.stale import stale_reports
 
-#: format -> (menu text, file filter)
+#: report kind (its suffix) -> (what it is, writer, file dialog filter)
+REPORTS = {"xlsx": ("Excel workbook", write_workbook, "Excel workbook (*.xlsx)"),
+           "pdf": ("PDF report", write_pdf, "PDF report (*.pdf)")}
+#: export format -> (menu text, file filter)
 MENU = {"lift-lining": ("&Lift/lining table…", "Lift/lining table (*.csv)"),
         "dxf": ("&DXF drawing…", "DXF drawing (*.dxf)"),
         "landxml": ("Measured lines as &LandXML…", "LandXML (*.xml)"),
@@ -29,34 +39,88 @@ def make_export_actions(window) -> list[QAction]:
     return actions
 
 
-def export_file(window, format_name: str, path: str | Path | None = None):
-    """Write one export of the shown survey in a worker; without ``path`` a file dialog asks."""
+def _ready(window) -> bool:
+    return window.project is not None and window.shown_survey in window.results and window.worker is None
+
+
+def _chosen_path(window, what: str, default: Path, file_filter: str, suffix: str, path) -> Path | None:
+    """``path``, or the file the user picks (the dialog starts at ``default``), ending in ``.suffix``."""
+    if path is None:
+        default.parent.mkdir(exist_ok=True)  # the dialog opens in the project's reports folder
+        path, _ = QFileDialog.getSaveFileName(window, f"Export the {what.lower()} of {window.shown_survey}",
+                                              str(default), file_filter)
+        if not path:
+            return None
+    path = Path(path)
+    return path if path.suffix.lower() == f".{suffix}" else path.with_name(f"{path.name}.{suffix}")
+
+
+def _start_writing(window, subject: str, message: str, write: Callable[[ProgressFn, CancelToken], Path]):
+    """Run ``write`` in a worker; a file system error is worded about the file the user chose."""
     from insrail.gui.worker import TaskWorker
 
-    if window.project is None or window.shown_survey not in window.results or window.worker is not None:
+    def task(progress, cancel) -> Path:
+        try:
+            return write(progress, cancel)
+        except OSError as error:
+            raise OSError(f"cannot write the file: {error.strerror or error}") from error
+
+    worker = TaskWorker(subject, task, window)
+    worker.succeeded.connect(window._exported)
+    worker.cancelled.connect(window._export_cancelled)
+    return window._start(worker, message, "Export failed")
+
+
+def export_report(window, kind: str, path: str | Path | None = None):
+    """Write the shown survey's Excel workbook (``kind`` "xlsx") or PDF report ("pdf")."""
+    if not _ready(window):
+        return None
+    survey, stored, project = window.shown_survey, window.results[window.shown_survey], window.project
+    what, writer, file_filter = REPORTS[kind]
+    path = _chosen_path(window, what, report_path(project.folder, survey, kind), file_filter, kind, path)
+    if path is None:
+        return None
+    return _start_writing(window, f"{what} {path}", f"exporting the {what.lower()} of {survey} to {path}",
+                          lambda progress, cancel: writer(project, stored, path, progress, cancel))
+
+
+def export_file(window, format_name: str, path: str | Path | None = None):
+    """Write one export (lift/lining, DXF, LandXML, coordinates) of the shown survey."""
+    if not _ready(window):
         return None
     survey, stored, project = window.shown_survey, window.results[window.shown_survey], window.project
     text, file_filter = MENU[format_name]
     what = text.replace("&", "").removesuffix("…")
-    if path is None:
-        default = default_export_path(project.folder, survey, format_name)
-        default.parent.mkdir(exist_ok=True)
-        path, _ = QFileDialog.getSaveFileName(window, f"Export the {what.lower()} of {survey}", str(default), file_filter)
-        if not path:
-            return None
-    path = Path(path)
     suffix = export_formats()[format_name].suffix.rsplit(".", 1)[1]
-    if path.suffix.lower() != f".{suffix}":
-        path = path.with_name(f"{path.name}.{suffix}")
+    path = _chosen_path(window, what, default_export_path(project.folder, survey, format_name), file_filter, suffix,
+                        path)
+    if path is None:
+        return None
 
-    def export(progress, cancel) -> Path:
+    def write(progress, _cancel) -> Path:
         progress(0.0, f"writing {path.name}")
-        try:
-            return write_export(project, stored, format_name, path)
-        except OSError as error:  # the file system's words, about the file the user chose
-            raise OSError(f"cannot write the file: {error.strerror or error}") from error
+        return write_export(project, stored, format_name, path)
 
-    worker = TaskWorker(f"{what} {path}", export, window)
-    worker.succeeded.connect(window._exported)
-    worker.cancelled.connect(window._export_cancelled)
-    return window._start(worker, f"exporting the {what.lower()} of {survey} to {path}", "Export failed")
+    return _start_writing(window, f"{what} {path}", f"exporting the {what.lower()} of {survey} to {path}", write)
+
+
+def rewrite_stale_reports(window, survey: str | None = None):
+    """Write again, at their places, the reports of ``survey`` (None: the one shown) that are older
+    than its results."""
+    survey = survey or window.shown_survey
+    if window.project is None or survey not in window.results or window.worker is not None:
+        return None
+    stored, project = window.results[survey], window.project
+    stale = stale_reports(project.folder, survey)
+    if not stale:
+        return None
+
+    def write(progress, cancel) -> Path:
+        step = StepProgress(progress)
+        for k, path in enumerate(stale):
+            REPORTS[path.suffix.lstrip(".").lower()][1](project, stored, path, step.sub(k / len(stale),
+                                                                                        (k + 1) / len(stale)), cancel)
+        return stale[-1]
+
+    names = ", ".join(path.name for path in stale)
+    return _start_writing(window, f"reports of {survey}", f"writing {names} again from the results of {survey}", write)

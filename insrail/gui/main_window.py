@@ -22,8 +22,8 @@ from PySide6.QtWidgets import (
 )
 
 from insrail import __version__
-from insrail.gui import plotstyle
-from insrail.gui.empty import EmptyState
+from insrail.gui import export_files, plotstyle
+from insrail.gui.empty import EmptyState, StaleReportsBanner
 from insrail.gui.explorer import ProjectExplorer, PropertiesPanel
 from insrail.gui.export_files import make_export_actions
 from insrail.gui.importer import ImportDialog
@@ -55,13 +55,10 @@ from insrail.project.gnss_stage import GnssStageResult, run_gnss_stage
 from insrail.project.model import project_from_settings
 from insrail.project.pipeline import CACHE_FOLDER
 from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
-from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, report_path
-from insrail.report import write_pdf, write_workbook
+from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+from insrail.report.stale import stale_reports
 
 PROGRESS_STEPS = 1000
-#: kind -> (what it is, writer, file dialog filter)
-REPORTS = {"xlsx": ("Excel workbook", write_workbook, "Excel workbook (*.xlsx)"),
-           "pdf": ("PDF report", write_pdf, "PDF report (*.pdf)")}
 
 
 class MainWindow(QMainWindow):
@@ -100,11 +97,14 @@ class MainWindow(QMainWindow):
         self.tabs.setTabVisible(self.tabs.indexOf(self.gnss), False)  # for surveys with raw GNSS only
         self.empty_state = EmptyState()
         self.empty_state.processRequested.connect(lambda name: self.process([name]))
+        self.stale_banner = StaleReportsBanner()
+        self.stale_banner.rewriteRequested.connect(lambda: self.rewrite_reports())
         central = QWidget()
         central_layout = QVBoxLayout(central)
         central_layout.setContentsMargins(0, 0, 0, 0)
         central_layout.setSpacing(0)
         central_layout.addWidget(self.empty_state)
+        central_layout.addWidget(self.stale_banner)
         central_layout.addWidget(self.tabs, 1)
         self.setCentralWidget(central)
 
@@ -116,6 +116,7 @@ class MainWindow(QMainWindow):
         self.explorer.resultsActivated.connect(self.show_results)
         self.explorer.surveyActivated.connect(self.show_results)
         self.explorer.processRequested.connect(lambda name: self.process([name]))
+        self.explorer.rewriteRequested.connect(self.rewrite_reports)
         self._dock("explorer", "Project", self.explorer, Qt.LeftDockWidgetArea)
         self._dock("properties", "Properties", self.properties, Qt.LeftDockWidgetArea)
         self._dock("log", "Log", self.log, Qt.BottomDockWidgetArea)
@@ -448,6 +449,9 @@ class MainWindow(QMainWindow):
         summary = read_toml(folder / SUMMARY_FILE)
         for notice in notices_of(summary):
             self.log.warning(f"{name}: {notice.text()}")
+        for path in stale_reports(self.project.folder, name):
+            self.log.warning(f"{name}: {path.name} is older than these results: the banner over the views "
+                             "writes it again")
         self.log.info(f"{name}: {summary['assessment']['exceedances']} exceedances, results in "
                       f"{folder.resolve()}")
 
@@ -466,11 +470,14 @@ class MainWindow(QMainWindow):
         self.cancel_button.hide()
         self.status.setText(self.done_message)
         self._enable_project_actions()
+        self._show_stale_reports()  # written again, or made out of date by processing
+        self.explorer.mark_reports()
 
     # ------------------------------------------------------------------ results
 
     def _clear_views(self) -> None:
         """Nothing of the previous project or survey stays on screen."""
+        self.stale_banner.show_stale(None, [])
         self.track.clear_results()
         self.plan.clear_data()
         self.navigation.clear()
@@ -524,6 +531,7 @@ class MainWindow(QMainWindow):
             if isinstance(pending.get("tab"), int) and self.tabs.isTabVisible(pending["tab"]):
                 self.tabs.setCurrentIndex(pending["tab"])
         self.status.setText(f"Showing survey {data.survey}")
+        self._show_stale_reports()
         self._enable_project_actions()
         if self.loader is not None:  # the trajectory is read once the track view is painted
             QTimer.singleShot(0, self.loader.track_drawn.set)
@@ -575,31 +583,18 @@ class MainWindow(QMainWindow):
     def export_report(self, kind: str, path: str | Path | None = None) -> TaskWorker | None:
         """Write the shown survey's Excel workbook (``kind`` "xlsx") or PDF report ("pdf") in a worker;
         without ``path`` a file dialog asks, starting at the default name in the project's reports folder."""
-        if self.project is None or self.shown_survey not in self.results or self.worker is not None:
-            return None
-        survey, stored, project = self.shown_survey, self.results[self.shown_survey], self.project
-        what, writer, file_filter = REPORTS[kind]
-        if path is None:
-            default = report_path(project.folder, survey, kind)
-            default.parent.mkdir(exist_ok=True)  # the dialog opens in the project's reports folder
-            path, _ = QFileDialog.getSaveFileName(self, f"Export the {what.lower()} of {survey}", str(default),
-                                                  file_filter)
-            if not path:
-                return None
-        path = Path(path)
-        if path.suffix.lower() != f".{kind}":
-            path = path.with_name(f"{path.name}.{kind}")
+        return export_files.export_report(self, kind, path)
 
-        def export(progress, cancel) -> Path:
-            try:
-                return writer(project, stored, path, progress, cancel)
-            except OSError as error:  # the file system's words, about the file the user chose
-                raise OSError(f"cannot write the file: {error.strerror or error}") from error
+    def rewrite_reports(self, survey: str | None = None) -> TaskWorker | None:
+        """Write the reports of ``survey`` (None: the one shown) again where they are older than its
+        results (one click)."""
+        return export_files.rewrite_stale_reports(self, survey)
 
-        worker = TaskWorker(f"{what} {path}", export, self)
-        worker.succeeded.connect(self._exported)
-        worker.cancelled.connect(self._export_cancelled)
-        return self._start(worker, f"exporting the {what.lower()} of {survey} to {path}", "Export failed")
+    def _show_stale_reports(self) -> None:
+        """The banner over the views and the explorer name the shown survey's out-of-date reports."""
+        survey = self.shown_survey
+        stale = stale_reports(self.project.folder, survey) if self.project is not None and survey else []
+        self.stale_banner.show_stale(survey, [path.name for path in stale])
 
     def _exported(self, path: Path) -> None:
         self.exported = path

@@ -20,7 +20,6 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDialog,
     QDialogButtonBox,
-    QDoubleSpinBox,
     QFormLayout,
     QGroupBox,
     QHBoxLayout,
@@ -37,6 +36,7 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.gui import plotstyle
+from insrail.gui.forms import spin_box
 from insrail.gui.importer import shipped_names
 from insrail.gui.worker import TaskWorker
 from insrail.nav.fusion import FusionOptions
@@ -87,16 +87,6 @@ class PlanInputs:
                      length_m=self.length_m, outages=self.outages, progress=progress, cancel=cancel)
 
 
-def _spin(low: float, high: float, value: float, decimals: int, suffix: str, step: float) -> QDoubleSpinBox:
-    box = QDoubleSpinBox()
-    box.setRange(low, high)
-    box.setDecimals(decimals)
-    box.setSingleStep(step)
-    box.setSuffix(f" {suffix}")
-    box.setValue(value)
-    return box
-
-
 def _cell(text: str, align=Qt.AlignRight | Qt.AlignVCenter) -> QTableWidgetItem:
     item = QTableWidgetItem(text)
     item.setTextAlignment(align)
@@ -124,14 +114,14 @@ class PlanSurveyDialog(QDialog):
         self.imu.addItems(shipped_names("imu_profiles"))
         self.imu.setCurrentText("nav")
         self.imu.setToolTip("IMU profile from resources/imu_profiles (bias, random walks)")
-        self.gnss_horizontal = _spin(0.5, 500.0, 10.0, 1, "mm", 1.0)
-        self.gnss_vertical = _spin(0.5, 500.0, 20.0, 1, "mm", 1.0)
+        self.gnss_horizontal = spin_box(0.5, 500.0, 1, 10.0, " mm", 1.0)
+        self.gnss_vertical = spin_box(0.5, 500.0, 1, 20.0, " mm", 1.0)
         for box in (self.gnss_horizontal, self.gnss_vertical):
             box.setToolTip("white (epoch-to-epoch) GNSS sigma; the fusion adds its correlated part")
-        self.speed = _spin(0.05, 20.0, 1.0, 2, "m/s", 0.25)
-        self.length = _spin(200.0, 100_000.0, 1000.0, 0, "m", 100.0)
+        self.speed = spin_box(0.05, 20.0, 2, 1.0, " m/s", 0.25)
+        self.length = spin_box(200.0, 100_000.0, 0, 1000.0, " m", 100.0)
         self.length.setToolTip("track length after a 300 s static alignment (about 1.5 s of computing per km)")
-        self.outage = _spin(0.0, 3600.0, 0.0, 0, "s", 10.0)
+        self.outage = spin_box(0.0, 3600.0, 0, 0.0, " s", 10.0)
         self.outage.setSpecialValueText("none")
         self.outage.setToolTip("a GNSS outage of this duration in the middle of the run")
         self.smoothed = QComboBox()

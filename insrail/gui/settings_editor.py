@@ -11,6 +11,7 @@ cache keys of :mod:`insrail.project.pipeline` hold the same settings).
 from __future__ import annotations
 
 import copy
+import datetime
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -22,7 +23,6 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDialog,
     QDialogButtonBox,
-    QDoubleSpinBox,
     QFormLayout,
     QHBoxLayout,
     QLabel,
@@ -36,10 +36,12 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
-from insrail.gui.fields import field_label, split_problem
+from insrail.gui.fields import split_problem
+from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
+from insrail.names import setting_name
 from insrail.project import (
     HEIGHT_MODELS,
     Project,
@@ -47,10 +49,14 @@ from insrail.project import (
     project_from_settings,
     save_project,
 )
-from insrail.project.model import FUSION_FLAGS, FUSION_NUMBERS
+from insrail.project.model import (
+    FUSION_FLAGS,
+    FUSION_NUMBERS,
+    PAPER_SIZES,
+    ReportSettings,
+)
 from insrail.track.tolerance import shipped_tolerance_profiles
 
-NOTE_STYLE = "color: #C00000"
 EACH_SURVEY = "(each survey's own)"
 #: The processing stages in their order; a change reruns the first stage it feeds and all after it.
 STAGES = ("fusion", "track reconstruction", "assessment", "adjustment")
@@ -74,8 +80,9 @@ def stages_to_rerun(changed_keys) -> tuple[str, ...]:
 
 @dataclass(frozen=True)
 class Field:
-    """One editable setting: ``key`` its project.toml key path, ``kind`` text, file, number, int,
-    bool, choice or vector (3 numbers); ``optional`` removes the key when left empty."""
+    """One editable setting: ``key`` its project.toml key path, ``kind`` text, file, date, number,
+    int, bool, choice or vector (3 numbers); ``optional`` removes the key when left empty, as does
+    choosing ``default`` (the value the core takes when the key is absent)."""
 
     tab: str
     key: str
@@ -84,6 +91,7 @@ class Field:
     decimals: int = 3
     suffix: str = ""
     optional: bool = False
+    default: str | None = None
 
 
 _ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m",
@@ -114,6 +122,12 @@ FIELDS = (
     Field("Track", "track.first_sleeper_number", "int"),
     Field("Track", "track.tolerance_profile", "choice", shipped_tolerance_profiles),
     Field("Track", "track.fastener", "choice", lambda: shipped_names("fastener_types")),
+    *(Field("Report", f"report.{name}", "text", optional=True)
+      for name in ("client", "line_section", "track_name", "operator", "checked_by", "approved_by", "trolley")),
+    Field("Report", "report.trolley_calibrated", "date", optional=True),
+    Field("Report", "report.imu", "text", optional=True),
+    Field("Report", "report.imu_calibrated", "date", optional=True),
+    Field("Report", "report.paper", "choice", PAPER_SIZES, default=ReportSettings().paper),
 )
 _MISSING = object()
 
@@ -147,7 +161,7 @@ class SetSetting(QUndoCommand):
     """One edit of one setting; consecutive edits of the same field merge into one step."""
 
     def __init__(self, editor: SettingsEditor, key: str, before, after):
-        super().__init__(f"{field_label(key)}")
+        super().__init__(f"{setting_name(key)}")
         self.editor, self.key, self.before, self.after = editor, key, before, after
 
     def id(self) -> int:
@@ -233,15 +247,12 @@ class SettingsEditor(QDialog):
 
     def _add_field(self, form: QFormLayout, spec: Field) -> None:
         kind = spec.kind
-        if kind in ("text", "file"):
+        if kind in ("text", "file", "date"):
             widget = QLineEdit()
-            widget.setPlaceholderText("none" if spec.optional else "")
+            widget.setPlaceholderText("YYYY-MM-DD" if kind == "date" else "none" if spec.optional else "")
             widget.editingFinished.connect(lambda key=spec.key: self._edited(key))
         elif kind == "number":
-            widget = QDoubleSpinBox()
-            widget.setRange(-1e9, 1e9)
-            widget.setDecimals(spec.decimals)
-            widget.setSuffix(spec.suffix)
+            widget = spin_box(-1e9, 1e9, spec.decimals, suffix=spec.suffix)
             widget.valueChanged.connect(lambda _v, key=spec.key: self._edited(key))
         elif kind == "int":
             widget = QSpinBox()
@@ -262,10 +273,7 @@ class SettingsEditor(QDialog):
             row.setContentsMargins(0, 0, 0, 0)
             widget.boxes = []
             for _ in range(3):
-                box = QDoubleSpinBox()
-                box.setRange(-1e4, 1e4)
-                box.setDecimals(spec.decimals)
-                box.setSuffix(spec.suffix)
+                box = spin_box(-1e4, 1e4, spec.decimals, suffix=spec.suffix)
                 box.valueChanged.connect(lambda _v, key=spec.key: self._edited(key))
                 row.addWidget(box)
                 widget.boxes.append(box)
@@ -279,7 +287,7 @@ class SettingsEditor(QDialog):
         column.setSpacing(1)
         column.addWidget(widget)
         column.addWidget(note)
-        label = field_label(spec.key)
+        label = setting_name(spec.key)
         form.addRow(label.split(": ")[-1] if ": " in label else label, box)
         self.editors[spec.key] = (spec, widget)
         self.notes[spec.key] = note
@@ -287,9 +295,16 @@ class SettingsEditor(QDialog):
     def _read(self, key: str):
         """The value the field holds, as the document stores it (``_MISSING``: left empty)."""
         spec, widget = self.editors[key]
-        if spec.kind in ("text", "file"):
+        if spec.kind in ("text", "file", "date"):
             text = widget.text().strip()
-            return _MISSING if spec.optional and not text else text
+            if spec.optional and not text:
+                return _MISSING
+            if spec.kind == "date":
+                try:
+                    return datetime.date.fromisoformat(text)
+                except ValueError:
+                    return text  # the core's check says what is wrong with it, beside the field
+            return text
         if spec.kind in ("number", "int"):
             if spec.optional and widget.specialValueText() and widget.value() == widget.minimum():
                 return _MISSING
@@ -298,7 +313,7 @@ class SettingsEditor(QDialog):
             return widget.isChecked()
         if spec.kind == "choice":
             text = widget.currentText()
-            return _MISSING if spec.optional and text == EACH_SURVEY else text
+            return _MISSING if (spec.optional and text == EACH_SURVEY) or text == spec.default else text
         return [box.value() for box in widget.boxes]
 
     def _show(self, key: str) -> None:
@@ -309,7 +324,7 @@ class SettingsEditor(QDialog):
         widgets = widget.boxes if spec.kind == "vector" else [widget]
         for w in widgets:
             w.blockSignals(True)
-        if spec.kind in ("text", "file"):
+        if spec.kind in ("text", "file", "date"):
             widget.setText(str(value) if present else "")
         elif spec.kind in ("number", "int"):
             if spec.optional:
@@ -318,7 +333,7 @@ class SettingsEditor(QDialog):
         elif spec.kind == "bool":
             widget.setChecked(bool(value) if present else False)
         elif spec.kind == "choice":
-            text = str(value) if present else (EACH_SURVEY if spec.optional else "")
+            text = str(value) if present else (EACH_SURVEY if spec.optional else spec.default or "")
             if widget.findText(text) < 0:
                 widget.addItem(text)
             widget.setCurrentText(text)
@@ -344,7 +359,8 @@ class SettingsEditor(QDialog):
         """Set one setting (from the undo stack: an edit, its undo or its redo)."""
         self._applying = True
         try:
-            set_value(self.document, key, copy.deepcopy(value))
+            # (a copy of _MISSING would no longer be _MISSING)
+            set_value(self.document, key, value if value is _MISSING else copy.deepcopy(value))
             for shown in self.editors:  # the field, or every field of a table set at once
                 if shown == key or shown.startswith(key + "."):
                     self._show(shown)
@@ -356,7 +372,7 @@ class SettingsEditor(QDialog):
         """Edit one field as a surveyor would (tests and scripts): the widget changes, the edit is an
         undoable step."""
         spec, widget = self.editors[key]
-        if spec.kind in ("text", "file"):
+        if spec.kind in ("text", "file", "date"):
             widget.setText(str(value))
             widget.editingFinished.emit()
         elif spec.kind in ("number", "int"):
@@ -402,7 +418,7 @@ class SettingsEditor(QDialog):
             key, message = split_problem(problem)
             note = self.notes.get(key)
             if note is None:
-                rest.append(f"{field_label(key)}: {message}" if key else message)
+                rest.append(f"{setting_name(key)}: {message}" if key else message)
                 continue
             note.setText(f"{note.text()}\n{message}" if note.text() else message)
             note.show()
@@ -417,11 +433,11 @@ class SettingsEditor(QDialog):
         if not changed:
             self.rerun.setText("")
         elif stages:
-            self.rerun.setText(f"Changed: {', '.join(sorted({field_label(k) for k in changed}))}. Processing again "
+            self.rerun.setText(f"Changed: {', '.join(sorted({setting_name(k) for k in changed}))}. Processing again "
                                f"will run: {', '.join(stages)}" + ("" if stages[0] == STAGES[0] else
                                                                     " (the earlier stages from the cache)") + ".")
         else:
-            self.rerun.setText(f"Changed: {', '.join(sorted({field_label(k) for k in changed}))}. Nothing is "
+            self.rerun.setText(f"Changed: {', '.join(sorted({setting_name(k) for k in changed}))}. Nothing is "
                                "processed again; the reports show the change when written again.")
         self.save_button.setEnabled(bool(changed) and not self.problems)
         self.setWindowModified(bool(changed))

@@ -37,6 +37,7 @@ from PySide6.QtWidgets import (
 
 from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
 from insrail.gui.fields import in_words, split_problem
+from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import ImportWidget, shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, read_manifest
@@ -59,16 +60,6 @@ EACH_SURVEY = "(each survey's own)"
 REQUIRED_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m")
 #: The project.toml keys each page edits (its problems are shown when it is left).
 PAGE_KEYS = (("project",), ("geodesy.crs",), ("geodesy.height",), ("trolley",), ("processing", "track"), ())
-NOTE_STYLE = "color: #C00000"
-
-
-def spin(low: float, high: float, decimals: int, value: float = 0.0, suffix: str = "") -> QDoubleSpinBox:
-    box = QDoubleSpinBox()
-    box.setRange(low, high)
-    box.setDecimals(decimals)
-    box.setValue(value)
-    box.setSuffix(suffix)
-    return box
 
 
 def file_row(edit: QLineEdit, caption: str, pattern: str, parent: QWidget) -> QWidget:
@@ -183,12 +174,12 @@ class NewProjectWizard(QWizard):
                                 "Mercator projection on the chosen ellipsoid, reduced to the projection height.")
         self.ellipsoid = QComboBox()
         self.ellipsoid.addItems(list(ELLIPSOIDS))
-        self.central_meridian = spin(-180, 180, 6, 114.0, " °")
-        self.latitude_of_origin = spin(-90, 90, 6, 0.0, " °")
-        self.scale_factor = spin(0.99, 1.01, 9, 1.0)
-        self.false_easting = spin(-1e7, 1e8, 3, 500000.0, " m")
-        self.false_northing = spin(-2e7, 2e7, 3, 0.0, " m")
-        self.projection_height = spin(-1000, 9000, 3, 0.0, " m")
+        self.central_meridian = spin_box(-180, 180, 6, 114.0, " °")
+        self.latitude_of_origin = spin_box(-90, 90, 6, 0.0, " °")
+        self.scale_factor = spin_box(0.99, 1.01, 9, 1.0)
+        self.false_easting = spin_box(-1e7, 1e8, 3, 500000.0, " m")
+        self.false_northing = spin_box(-2e7, 2e7, 3, 0.0, " m")
+        self.projection_height = spin_box(-1000, 9000, 3, 0.0, " m")
         self.convention = QComboBox()
         self.convention.addItems(list(PROJECTION_HEIGHT_CONVENTIONS))
         for label, widget, key in (
@@ -223,19 +214,19 @@ class NewProjectWizard(QWizard):
         self.lever_arms: dict[str, tuple[QDoubleSpinBox, ...]] = {}
         for row, (key, label) in enumerate(LEVER_ARMS, start=1):
             grid.addWidget(QLabel(label), row, 0)
-            self.lever_arms[key] = tuple(spin(-10, 10, 4, suffix=" m") for _ in range(3))
+            self.lever_arms[key] = tuple(spin_box(-10, 10, 4, suffix=" m") for _ in range(3))
             for column, box in enumerate(self.lever_arms[key], start=1):
                 grid.addWidget(box, row, column)
             self.notes[f"trolley.{key}"] = note_label()
             grid.addWidget(self.notes[f"trolley.{key}"], row, 4)
         mounting_row = len(LEVER_ARMS) + 1
         grid.addWidget(QLabel("Mounting roll, pitch, heading"), mounting_row, 0)
-        self.mounting = tuple(spin(-180, 180, 4, suffix=" °") for _ in range(3))
+        self.mounting = tuple(spin_box(-180, 180, 4, suffix=" °") for _ in range(3))
         for column, box in enumerate(self.mounting, start=1):
             grid.addWidget(box, mounting_row, column)
         self.reference_rail = QComboBox()
         self.reference_rail.addItems(["left", "right"])
-        self.rail_spacing = spin(0.5, 3.0, 4, 1.5, " m")
+        self.rail_spacing = spin_box(0.5, 3.0, 4, 1.5, " m")
         from_survey = QPushButton("Copy from a survey.toml…")
         from_survey.clicked.connect(self._browse_trolley)
         self.earlier = QComboBox()
@@ -266,7 +257,7 @@ class NewProjectWizard(QWizard):
         self.imu_profile = QComboBox()
         self.imu_profile.addItems([EACH_SURVEY, *shipped_names("imu_profiles")])
         self.design = QLineEdit()
-        self.start_station = spin(-1e7, 1e8, 3, 0.0, " m")
+        self.start_station = spin_box(-1e7, 1e8, 3, 0.0, " m")
         self.tolerance_profile = QComboBox()
         self.tolerance_profile.addItems(shipped_tolerance_profiles())
         self.tolerance_profile.setCurrentText(DEFAULT_PROFILE)
