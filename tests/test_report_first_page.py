@@ -15,6 +15,7 @@ from report_support import processed_project, stored
 from insrail.project.model import ReportSettings
 from insrail.project.results import QUALITY_FILE, QUALITY_HEADER, load_results
 from insrail.report import write_pdf
+from insrail.report.pdf import PAGES
 
 pytestmark = pytest.mark.skipif(shutil.which("pdftotext") is None,
                                 reason="poppler-utils (pdftotext) not installed; .ci/run installs it")
@@ -32,8 +33,12 @@ def first_page(path, crop: tuple[int, int, int, int] | None = None) -> str:
                           check=True).stdout
 
 
-#: The right half of the landscape A4 first page: the conclusion (the survey block is on the left).
-CONCLUSION_AREA = (420, 0, 430, 595)  # the right column starts near x = 425 pt
+def conclusion_area(paper: str) -> tuple[int, int, int, int]:
+    """The right part of the landscape first page: the conclusion (the survey block is on the left;
+    the right column starts near x = 425 pt on A4, the page is the A4 one enlarged on A3)."""
+    width, height = PAGES[paper]
+    left = round(420 * width / PAGES["A4"][0])
+    return left, 0, int(width) - left, int(height)
 
 
 def one_line(text: str) -> str:
@@ -63,8 +68,8 @@ def page(report):
 
 
 @pytest.fixture(scope="module")
-def conclusion(report):
-    return one_line(first_page(report, CONCLUSION_AREA))
+def conclusion(report, project):
+    return one_line(first_page(report, conclusion_area(project.report.paper)))
 
 
 def test_the_first_page_states_the_coordinate_system_and_heights(page):

@@ -18,14 +18,21 @@ from reportlab.platypus import Paragraph
 
 from insrail.progress import Cancelled
 from insrail.report import write_pdf
-from insrail.report.charts import Series, StripChart, decimate_min_max, line_runs, strip_drawing
+from insrail.report.charts import (
+    Series,
+    StripChart,
+    decimate_min_max,
+    line_runs,
+    strip_drawing,
+)
 from insrail.report.content import load_report_content
 from insrail.report.pdf import (
     BODY,
-    CHART_AREA_HEIGHT,
     CHART_MIN_HEIGHT,
     CHART_RANGE_M,
+    PAGES,
     Heading,
+    chart_area_height,
     chart_spans,
     chart_specs,
     pages_of_charts,
@@ -77,8 +84,8 @@ def test_pages_hold_the_summary_charts_per_chainage_range_plan_and_exceedances(p
     station = results.columns["station_m"]
     spans = chart_spans(station[0], station[-1])
     charts = chart_specs(load_report_content(project, results))
-    assert len(ranges) == len(spans) and len(chart_pages) == len(spans) * len(pages_of_charts(len(charts),
-                                                                                              CHART_AREA_HEIGHT))
+    assert len(ranges) == len(spans) and len(chart_pages) == len(spans) * len(pages_of_charts(
+        len(charts), chart_area_height(PAGES[project.report.paper])))
     assert ranges[0].startswith(results.label[0])
     assert all("chainage" in text and "DK1+100" in text for text in chart_pages[:2])
     assert any("Twist 3 m (mm)" in text for text in texts)
@@ -208,3 +215,19 @@ def test_charts_are_shared_out_evenly_over_as_few_pages_as_keep_them_readable():
         assert sum(layout) == count and max(layout) - min(layout) <= 1
         assert height / max(layout) >= CHART_MIN_HEIGHT  # never lower than the smallest readable chart
         assert len(layout) == int(np.ceil(count / (height // CHART_MIN_HEIGHT)))
+
+
+@needs_poppler
+def test_every_page_is_landscape_on_the_projects_paper(project, report, tmp_path):
+    """[report] paper chooses the PDF's paper as it does the workbook's (A3 by default)."""
+    from dataclasses import replace
+
+    def page_sizes(path):
+        info = subprocess.run(["pdfinfo", "-f", "1", "-l", "9999", str(path)], capture_output=True, text=True,
+                              check=True).stdout
+        return {tuple(round(float(v)) for v in re.search(r"size:\s+([\d.]+) x ([\d.]+)", line).groups())
+                for line in info.splitlines() if re.match(r"Page\s+\d+ size:", line)}
+
+    assert project.report.paper == "A3" and page_sizes(report) == {(1191, 842)}
+    a4 = write_pdf(replace(project, report=replace(project.report, paper="A4")), stored(project), tmp_path / "a4.pdf")
+    assert page_sizes(a4) == {(842, 595)}

@@ -1,4 +1,5 @@
-"""The PDF survey report (reportlab platypus, A4 landscape, vector charts).
+"""The PDF survey report (reportlab platypus, landscape on the project's paper, ``[report] paper``
+A3 or A4 as the workbook, vector charts).
 
 Order: cover; survey and processing summary (data spans, GNSS availability and outages, fusion
 quality, heights, assessment, TQI per section, predicted accuracy per section); charts along chainage, one range of
@@ -19,7 +20,7 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 from reportlab.lib import colors
-from reportlab.lib.pagesizes import A4, landscape
+from reportlab.lib.pagesizes import A3, A4, landscape
 from reportlab.lib.styles import ParagraphStyle, getSampleStyleSheet
 from reportlab.lib.units import mm
 from reportlab.pdfbase import pdfmetrics
@@ -86,13 +87,23 @@ from insrail.report.content import (
 )
 from insrail.track.exceedance import RAILS
 
-PAGE = landscape(A4)
+#: [report] paper -> the page (landscape), width and height in points
+PAGES = {"A3": landscape(A3), "A4": landscape(A4)}
 MARGIN = 14 * mm
 CHART_RANGE_M = 500.0  # the longest chainage span of a chart page
 CHART_ROUND_M = 50.0  # chart spans start on and last a multiple of this
 CHART_MIN_HEIGHT = 24 * mm  # a chart is never drawn lower (pages hold as many as fit)
-CHART_AREA_HEIGHT = PAGE[1] - 2 * MARGIN - 4  # the charts of a page share this height
 CJK_FONT = "STSong-Light"  # an Adobe CID font every PDF viewer provides; Helvetica has no CJK glyphs
+def page_size(content: ReportContent) -> tuple[float, float]:
+    """The report's page (width, height) in points: the project's paper, landscape."""
+    return PAGES[content.project.report.paper]
+
+
+def chart_area_height(page: tuple[float, float]) -> float:
+    """The height the charts of a page share."""
+    return page[1] - 2 * MARGIN - 4
+
+
 #: A section added to the report: content -> flowables (e.g. repeatability of several runs), starting
 #: with a :class:`Heading` to name its pages in the page header; it ends with a page break.
 Section = Callable[[ReportContent], list[Flowable]]
@@ -181,6 +192,26 @@ class Heading(Flowable):
         self.canv._insrail_heading = self.heading
 
 
+class Scaled(Flowable):
+    """``child`` laid out on a page ``scale`` times smaller and drawn enlarged (the first page on A3
+    is the A4 one, scaled by √2: a client signs the same page on either paper)."""
+
+    def __init__(self, child: Flowable, scale: float):
+        super().__init__()
+        self.child, self.scale = child, scale
+
+    def wrap(self, available_width, available_height):
+        width, height = self.child.wrapOn(self.canv, available_width / self.scale, available_height / self.scale)
+        self.width, self.height = width * self.scale, height * self.scale
+        return self.width, self.height
+
+    def draw(self):
+        self.canv.saveState()
+        self.canv.scale(self.scale, self.scale)
+        self.child.drawOn(self.canv, 0, 0)
+        self.canv.restoreState()
+
+
 class NumberedCanvas(Canvas):
     """Writes "page i of n" once the number of pages is known."""
 
@@ -196,7 +227,8 @@ class NumberedCanvas(Canvas):
         for state in self._pages:
             self.__dict__.update(state)
             self.setFont("Helvetica", 8)
-            self.drawRightString(PAGE[0] - MARGIN, MARGIN - 16, f"page {self._pageNumber} of {len(self._pages)}")
+            self.drawRightString(self._pagesize[0] - MARGIN, MARGIN - 16,
+                                 f"page {self._pageNumber} of {len(self._pages)}")
             super().showPage()
         super().save()
 
@@ -424,13 +456,15 @@ def _cover(content: ReportContent, trajectory: Trajectory | None) -> list[Flowab
     right = [Paragraph("Conclusion", H2), *_notice_line(content), *_exceedance_conclusion(content),
              Paragraph("Predicted accuracy against the tolerances", H3), *_accuracy_conclusion(content),
              Paragraph("Adjustment", H3), Paragraph(_adjustment_conclusion(content), BODY)]
-    columns = Table([[left, right]], colWidths=[136 * mm, PAGE[0] - 2 * MARGIN - 136 * mm],
+    page_width, page_height = PAGES["A4"]  # laid out on A4, enlarged on A3
+    columns = Table([[left, right]], colWidths=[136 * mm, page_width - 2 * MARGIN - 136 * mm],
                     style=TableStyle([("VALIGN", (0, 0), (-1, -1), "TOP"), ("LEFTPADDING", (0, 0), (-1, -1), 0)]))
     written = f"{content.software}, {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC"
     page = [*title, columns, Spacer(1, 3 * mm), _sign_off(content),
             Paragraph(text(f"Report written by {written} from the results of {content.results.folder.name}."), SMALL)]
     # one page whatever it holds (long names, many channels): shrunk to fit rather than run over
-    return [Heading("Survey report"), KeepInFrame(PAGE[0] - 2 * MARGIN, PAGE[1] - 2 * MARGIN - 2, page, mode="shrink"),
+    fitted = KeepInFrame(page_width - 2 * MARGIN, page_height - 2 * MARGIN - 2, page, mode="shrink")
+    return [Heading("Survey report"), Scaled(fitted, (page_size(content)[0] - 2 * MARGIN) / (page_width - 2 * MARGIN)),
             PageBreak()]
 
 
@@ -575,7 +609,7 @@ def _predicted_accuracy(content: ReportContent) -> list[Flowable]:
                          (Series("lateral", lag150_lat), Series("vertical", lag150_ver)), bands=band,
                          include_zero=True))
     low, high = float(np.nanmin(stations)), float(np.nanmax(stations))
-    width = PAGE[0] - 2 * MARGIN
+    width = page_size(content)[0] - 2 * MARGIN
     drawings = [strip_drawing(chart, stations, np.ones(len(stations), dtype=bool), low, high, width, 42 * mm,
                               ticks=content.chainage.ticks, axis_title=content.chainage.title) for chart in charts]
     figures = ("sigma_lateral_mm", "sigma_vertical_mm", "sigma_lag5_lateral_mm", "sigma_lag5_vertical_mm",
@@ -664,8 +698,9 @@ def _charts(content: ReportContent, progress: StepProgress, cancel: CancelToken)
         return []
     marks = tuple(Band(e.station_from_m, e.station_to_m, EVENT_COLOUR, e.name) for e in content.events)
     charts = [replace(chart, events=marks) for chart in chart_specs(content)]
-    width = PAGE[0] - 2 * MARGIN
-    available = CHART_AREA_HEIGHT
+    page = page_size(content)
+    width = page[0] - 2 * MARGIN
+    available = chart_area_height(page)
     layout = pages_of_charts(len(charts), available)
     labels = content.column("label").values
     axis = content.chainage
@@ -705,7 +740,8 @@ def _plan(content: ReportContent) -> list[Flowable]:
         for a, b in outages:
             during |= (time >= a) & (time <= b)
         highlight.append((during, OUTAGE_COLOUR, "GNSS outage"))
-    width, height = PAGE[0] - 2 * MARGIN, PAGE[1] - 2 * MARGIN - 40
+    page = page_size(content)
+    width, height = page[0] - 2 * MARGIN, page[1] - 2 * MARGIN - 40
     return [Heading("Plan view"), Paragraph("Plan view (engineering coordinates, stations in m)", H2),
             plan_drawing(east, north, content.station_m, width, height, marks, tuple(highlight)), PageBreak()]
 
@@ -796,8 +832,9 @@ def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Sec
         station = stored.station_m
         if not station.size or not shown:
             return story
-        width = PAGE[0] - 2 * MARGIN
-        height = (PAGE[1] - 2 * MARGIN - 24) / len(shown) - 2
+        page = page_size(content)
+        width = page[0] - 2 * MARGIN
+        height = (page[1] - 2 * MARGIN - 24) / len(shown) - 2
         story.append(Heading("Repeatability"))
         for name in shown:
             differences = stored.difference_mm[name]
@@ -816,12 +853,13 @@ def _on_page(canvas: Canvas, doc) -> None:
     canvas.saveState()
     canvas.setFont("Helvetica", 8)
     canvas.setStrokeColor(colors.grey)
-    top = PAGE[1] - MARGIN + 6
-    canvas.line(MARGIN, top - 3, PAGE[0] - MARGIN, top - 3)
+    page_width, page_height = doc.pagesize
+    top = page_height - MARGIN + 6
+    canvas.line(MARGIN, top - 3, page_width - MARGIN, top - 3)
     canvas.setFont(_font_for(doc.report_title), 8)
     canvas.drawString(MARGIN, top, doc.report_title)
     canvas.setFont("Helvetica-Bold", 8)
-    canvas.drawRightString(PAGE[0] - MARGIN, top, getattr(canvas, "_insrail_heading", ""))
+    canvas.drawRightString(page_width - MARGIN, top, getattr(canvas, "_insrail_heading", ""))
     canvas.setFont(_font_for(doc.report_footer), 8)
     canvas.drawString(MARGIN, MARGIN - 16, doc.report_footer)
     canvas.restoreState()
@@ -879,12 +917,13 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     check_cancel(cancel)
     step(0.5, "laying out the pages")
     with atomic_write(path, "wb") as handle:
-        doc = BaseDocTemplate(handle, pagesize=PAGE, leftMargin=MARGIN, rightMargin=MARGIN, topMargin=MARGIN,
+        page = page_size(content)
+        doc = BaseDocTemplate(handle, pagesize=page, leftMargin=MARGIN, rightMargin=MARGIN, topMargin=MARGIN,
                               bottomMargin=MARGIN, title=f"{project.name} - {results.survey}: track geometry survey report",
                               author=content.software, creator=content.software)
         doc.report_title = f"{project.name} - survey {results.survey} - {content.profile.name}"
         doc.report_footer = f"{content.software}; results {results.folder.name}"
-        frame = Frame(MARGIN, MARGIN, PAGE[0] - 2 * MARGIN, PAGE[1] - 2 * MARGIN, leftPadding=0, rightPadding=0,
+        frame = Frame(MARGIN, MARGIN, page[0] - 2 * MARGIN, page[1] - 2 * MARGIN, leftPadding=0, rightPadding=0,
                       topPadding=0, bottomPadding=0)
         doc.addPageTemplates([PageTemplate("page", frames=[frame], onPageEnd=_on_page)])
         doc.setProgressCallBack(_layout_progress(step.sub(0.5, 0.98), cancel))
