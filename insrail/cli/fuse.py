@@ -42,8 +42,9 @@ def run(args: argparse.Namespace) -> int:
     from insrail.io.errors import InputError
     from insrail.io.survey import read_survey
     from insrail.nav import earth
-    from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, aiding_for, fuse
+    from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, aiding_for
     from insrail.nav.imu_profile import load_imu_profile
+    from insrail.nav.self_calibration import fuse_consistent
     from insrail.nav.trajectory import (
         save_trajectory,
         write_kfgins_imu_errors,
@@ -67,8 +68,10 @@ def run(args: argparse.Namespace) -> int:
     ellipsoid = earth.CGCS2000 if args.ellipsoid == "CGCS2000" else earth.WGS84
     try:
         profile = load_imu_profile(args.imu_profile or survey.manifest.imu_profile)
-        result = fuse(survey.imu, aiding_for(survey, options, profile), profile, options, ellipsoid,
-                      output_every=every, progress=lambda f, m: bar(0.05 + 0.85 * f, m))
+        # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
+        result, options, _, _ = fuse_consistent(survey.imu, lambda o: aiding_for(survey, o, profile), profile, options,
+                                                ellipsoid, output_every=every,
+                                                progress=lambda f, m: bar(0.05 + 0.85 * f, m))
     except InputError:
         raise
     except ValueError as err:  # profile, start-up, screening, filter: the message says what to do
@@ -111,6 +114,7 @@ def run(args: argparse.Namespace) -> int:
                     "also_rejected": list(r.also_rejected), "states": list(r.states), "sigma": list(r.sigma)}
                    for r in result.resets],
         "integrity": verdict.to_dict(),
+        "calibration": result.info["calibration"],
         "rejected": [
             {"time_s": r.time_s, "measurement": r.measurement, "test_statistic": r.test_statistic,
              "threshold": r.threshold, "innovation": list(r.innovation)}

@@ -112,8 +112,8 @@ class FusionIntegrity:
             worst.append(f"{name} {100 * rejected:.0f} % rejected, NIS {nis:.1f} x its degrees of freedom")
         return (f"the fused solution is inconsistent with its own 1-sigma over {100 * self.invalid_share:.0f} % of "
                 f"the survey ({int(np.sum(~self.valid))} of {len(self.valid)} sections): " + "; ".join(worst)
-                + ". Check the lever arms and mounting angles in survey.toml, the IMU profile and the GNSS "
-                  "solution's time scale and sigmas")
+                + ". Check the lever arms and mounting angles in survey.toml, the IMU profile (a MEMS unit carried "
+                  "by hand or shaken: mems_handheld) and the GNSS solution's time scale and sigmas")
 
     def to_dict(self) -> dict:
         """For fusion_log.toml and summary.toml (no NaN: TOML readers choke on it)."""

@@ -58,6 +58,7 @@ from insrail.nav.fusion import SmootherStore, aiding_for, fuse
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.integrity import UntrustedSolution
 from insrail.nav.measurements import PositionFix
+from insrail.nav.self_calibration import fuse_consistent
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
@@ -291,16 +292,17 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
     # The smoother's record of the filter (Phi, P-, P+ per update epoch, on disk) outlives the
     # fusion so that the covariance analysis needs only its backward pass, not a replay.
-    store = SmootherStore() if project.fusion.smoother else None
-    try:
-        aiding = aiding_for(survey, project.fusion, profile, fixes)
-        result = fuse(survey.imu, aiding, profile, project.fusion, ellipsoid_of(project),
-                      covariance_store=store, progress=progress.sub(0.05, 0.87), cancel=cancel)
+    store = None
+    try:  # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
+        result, options, store, _ = fuse_consistent(
+            survey.imu, lambda options: aiding_for(survey, options, profile, fixes), profile, project.fusion,
+            ellipsoid_of(project), new_store=SmootherStore if project.fusion.smoother else None, fuse=fuse,
+            progress=progress.sub(0.05, 0.87), cancel=cancel)
         check_cancel(cancel)
         if not result.integrity.trusted:
             raise UntrustedSolution(result.integrity.failure())
         # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
-        quality = epoch_quality(survey, result, project.fusion, profile, ellipsoid_of(project),
+        quality = epoch_quality(survey, result, options, profile, ellipsoid_of(project),
                                 covariance_store=store, progress=progress.sub(0.87, 1.0), cancel=cancel)
     finally:
         if store is not None:
@@ -312,6 +314,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
             "notices": [*(n.to_dict() for n in checked), *(n.to_dict() for n in result.info["notices"])],
             "alignment": result.info["alignment"],
             "resets": len(result.resets), "integrity": result.integrity.to_dict(),
+            "calibration": result.info["calibration"],
             "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
             "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]]}
     if survey.gnss is not None:

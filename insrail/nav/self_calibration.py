@@ -1,0 +1,152 @@
+"""Fusion passes until the filter's stated 1-sigma is consistent with its aiding.
+
+Two things a survey's files or its set-up may state wrongly, and which the first pass of the
+filter measures (its normalised innovations, ``insrail.nav.integrity``):
+
+* **the non-holonomic constraint** (the trolley neither slides sideways nor lifts off the rails)
+  holds for a rail vehicle, not for a hand-held device or a vehicle that slides. Without an
+  odometer the NHC is the only velocity aid besides GNSS, and where it does not hold the filter
+  fights it: more than :data:`NHC_MAX_REJECTED` of its rows rejected. The survey is then fused
+  again without it (a notice says so). With an odometer a failing NHC means a wrong lever arm or
+  mounting, which the integrity verdict reports; it is not switched off.
+* **the GNSS file's sigmas**: a receiver's own RTK sigmas are often optimistic by a factor of 2-3
+  (a hand-held u-blox: 1 cm stated, 3 cm found). When more than :data:`GNSS_MAX_REJECTED` of the
+  fixed (trusted) GNSS positions are rejected, or their mean NIS per degree of freedom exceeds
+  :data:`GNSS_MAX_NIS_PER_DOF`, *and* the bulk of them disagrees too (the median NIS per degree of
+  freedom over its chi-square median above :data:`GNSS_MIN_ROBUST_NIS`: not a false fix of some
+  seconds, whose rejection is right), the sigmas are scaled by the factor their innovations show (the
+  square root of that median ratio, between
+  :data:`MIN_STEP` and :data:`MAX_STEP` per pass: a pass whose filter was lost or reset overstates
+  the GNSS noise, so the iteration is damped) and the survey fused again, up to
+  :data:`MAX_PASSES` passes, the scale at most :data:`MAX_GNSS_SCALE`. The notice names the factor.
+
+A survey the first pass finds consistent is fused once: clean surveys pay nothing and their
+figures do not change. A short fault (a false fix of seconds, single outliers) stays below the
+thresholds and is rejected, not absorbed into the sigmas. Scaling the sigmas only ever makes the
+stated 1-sigma larger, never smaller.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.stats import chi2
+
+from insrail.notices import Notice
+
+NHC_SOURCE = "odometer_nhc"
+GNSS_SOURCE = "gnss_position"
+NHC_MAX_REJECTED = 0.2
+GNSS_MAX_REJECTED = 0.05
+GNSS_MAX_NIS_PER_DOF = 2.0
+GNSS_MIN_ROBUST_NIS = 1.5
+MAX_PASSES = 4
+MAX_GNSS_SCALE = 10.0
+MIN_STEP = 1.4
+MAX_STEP = 2.0
+
+
+@dataclass(frozen=True)
+class SourceConsistency:
+    """One aiding source over a pass: trusted observations gated, the share rejected, the mean NIS
+    per degree of freedom of the used ones and the robust (median-based) one of all of them."""
+
+    observations: int
+    rejected_share: float
+    nis_per_dof: float
+    robust_nis_per_dof: float
+
+
+def consistency(result, name: str) -> SourceConsistency | None:
+    """The statistics of source ``name`` in a fusion result (None when the source did not run)."""
+    record = result.innovations
+    if record is None or name not in record.names:
+        return None
+    mine = (record.source == record.names.index(name)) & np.isfinite(record.nis) & record.trusted
+    if not mine.any():
+        return None
+    nis, dof, accepted = record.nis[mine], record.dof[mine].astype(float), record.accepted[mine]
+    used = accepted.any()
+    mean = float(nis[accepted].sum() / dof[accepted].sum()) if used else math.inf
+    # the median NIS per dof over its chi-square median: 1 when the stated sigmas fit
+    robust = float(np.median(nis / dof) / np.median(chi2.median(dof) / dof))
+    return SourceConsistency(int(mine.sum()), float(1.0 - accepted.mean()), mean, robust)
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """What the passes changed: ``passes`` run, the NHC dropped, the GNSS sigma scale used."""
+
+    passes: int
+    nhc_dropped: bool
+    gnss_sigma_scale: float
+    notices: tuple[Notice, ...]
+
+    def to_dict(self) -> dict:
+        return {"passes": self.passes, "nhc_dropped": self.nhc_dropped,
+                "gnss_sigma_scale": round(self.gnss_sigma_scale, 3)}
+
+
+def fuse_consistent(imu, build_aiding, profile, options, ellipsoid, new_store=None, fuse=None, **kwargs):
+    """:func:`insrail.nav.fusion.fuse` until consistent (see the module docstring).
+
+    ``build_aiding(options)``: the :class:`~insrail.nav.fusion.Aiding` for the options of a pass
+    (``aiding_for(survey, options, profile)``); ``new_store()``: an empty
+    :class:`~insrail.nav.fusion.SmootherStore` for each pass, or None. Returns (the result, the
+    options of the pass it came from, its store or None, the :class:`Calibration`); the stores of
+    the passes left behind are closed, the returned one is the caller's to close. The calibration's
+    notices are also appended to the result's ``info["notices"]`` (and ``info["warnings"]``)."""
+    if fuse is None:
+        from insrail.nav.fusion import fuse
+    notices: list[Notice] = []
+    nhc_dropped = False
+    result = store = None
+    for passes in range(1, MAX_PASSES + 1):
+        if store is not None:
+            store.close()
+        store = new_store() if new_store is not None else None
+        aiding = build_aiding(options)
+        try:
+            result = fuse(imu, aiding, profile, options, ellipsoid, covariance_store=store, **kwargs)
+        except BaseException:
+            if store is not None:
+                store.close()
+            raise
+        changed = _next_options(result, aiding, options, notices)
+        if changed is None or passes == MAX_PASSES:
+            break
+        nhc_dropped |= options.use_nhc and not changed.use_nhc
+        options = changed
+    calibration = Calibration(passes, nhc_dropped, options.gnss_sigma_scale, tuple(notices))
+    result.info["notices"] = [*result.info.get("notices", []), *notices]
+    result.info["warnings"] = [*result.info.get("warnings", []), *(n.message for n in notices)]
+    result.info["calibration"] = calibration.to_dict()
+    return result, options, store, calibration
+
+
+def _next_options(result, aiding, options, notices: list[Notice]):
+    """The options of the next pass, or None when this one is consistent."""
+    nhc = consistency(result, NHC_SOURCE)
+    if aiding.odometer is None and options.use_nhc and nhc is not None and nhc.rejected_share > NHC_MAX_REJECTED:
+        notices.append(Notice(
+            "fusion", f"the non-holonomic constraint does not hold: {100 * nhc.rejected_share:.0f} % of its "
+            f"{nhc.observations} rows rejected, with no odometer to blame (a hand-held device, or a vehicle that "
+            "slides); fused again without it (insrail fuse --no-nhc does so from the start)"))
+        return replace(options, use_nhc=False)
+    gnss = consistency(result, GNSS_SOURCE)
+    if gnss is None or (gnss.rejected_share <= GNSS_MAX_REJECTED and gnss.nis_per_dof <= GNSS_MAX_NIS_PER_DOF):
+        return None
+    if gnss.robust_nis_per_dof <= GNSS_MIN_ROBUST_NIS:  # a few far off (a fault), the rest as stated
+        return None
+    if options.gnss_sigma_scale >= MAX_GNSS_SCALE:
+        return None
+    step = min(max(math.sqrt(gnss.robust_nis_per_dof), MIN_STEP), MAX_STEP, MAX_GNSS_SCALE / options.gnss_sigma_scale)
+    scale = options.gnss_sigma_scale * step
+    notices.append(Notice(
+        "fusion", f"the GNSS positions disagree with their stated sigmas: {100 * gnss.rejected_share:.0f} % of "
+        f"{gnss.observations} fixes rejected, NIS {gnss.nis_per_dof:.2f} x its degrees of freedom (median "
+        f"{gnss.robust_nis_per_dof:.2f}); fused again with the file's sigmas x {scale:.2f} (calibrated from the "
+        "innovations; --gnss-sigma-scale sets a factor from the start)"))
+    return replace(options, gnss_sigma_scale=scale)
