@@ -1,84 +1,258 @@
-"""End-to-end pipeline time and peak memory: the demo project for the `short` and `long` surveys.
+"""End-to-end pipeline time and memory per stage: the demo projects of the `short` and `long` surveys.
 
-    python benchmarks/pipeline.py [--workdir DIR] [--skip-long]
+    python benchmarks/pipeline.py [--workdir DIR] [--skip-long] [--only long] [--reuse]
 
-For each scenario: simulates the survey into a demo project (in its own process), then, in a
-fresh process, processes it (fusion, coordinates, track, assessment, adjustment) and processes
-it again after the surveyor edited the tolerance profile (a copy of the default with a band-passed
-D1 check added: fusion, track and adjustment from the cache, a new assessment and result files). Prints both wall times, their ratio and the processing process's peak memory.
-Targets (issue 7): `long` <= 90 s wall and <= 2 GB; the rerun >= 10x faster.
+For each scenario: simulates the survey into a demo project (its own process; with --reuse an
+existing project in --workdir is taken as it is, its results removed), then runs, each in a fresh
+process as the commands would:
+
+1. ``process``: `insrail process` on the fresh project (fusion, coordinates, track, assessment,
+   adjustment, result files);
+2. ``report``:  `insrail report` (the workbook and the PDF);
+3. ``rerun``:   `insrail process` again after the surveyor edited the tolerance profile (a copy of
+   the default with a band-passed D1 check added: fusion, track and adjustment from the cache, a
+   new assessment and result files).
+
+Per stage (the pipeline's progress steps; "start-up" is the interpreter and the imports) it prints
+the wall time, the CPU time (user + system) and the stage's own peak resident memory (the
+kernel's high-water mark is reset at each stage: /proc/self/clear_refs). Per step it prints the
+whole process's wall, CPU and peak RSS (getrusage of the child), i.e. what `/usr/bin/time -v`
+says of the command. On a loaded machine the CPU time is the figure to compare.
+
+Bars (issue 24): `long` process + report <= 60 s wall and <= 1.5 GB peak RSS; the rerun <= 5 s.
+With --keep-outputs DIR the sleepers.csv of every step is copied there (to compare two versions).
 """
 
 from __future__ import annotations
 
 import argparse
-import multiprocessing as mp
+import json
+import os
 import resource
+import shutil
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
 
+#: The pipeline's progress messages that begin a stage, and the stage's name in the table.
+STAGES = {
+    "height model": "height model",
+    "fusion reused from the cache": "fusion",
+    "rails, chainage and sleepers": "track reconstruction",
+    "irregularities and exceedances": "assessment",
+    "adjustment amounts": "adjustment",
+    "writing results": "result files",
+    "done": None,
+}
+EDITED_PROFILE = "edited-tolerances.toml"
 
-def simulate_project(name: str, workdir: str, queue) -> None:
+
+class StageClock:
+    """Wall, CPU and peak RSS per stage, switched by :meth:`enter`."""
+
+    def __init__(self, started_wall: float):
+        self.rows: list[dict] = []
+        self.stage: str | None = None
+        self.wall = started_wall
+        self.cpu = 0.0  # the process's CPU time so far is charged to the first stage
+        self.enter("start-up")
+
+    @staticmethod
+    def _cpu() -> float:
+        usage = resource.getrusage(resource.RUSAGE_SELF)
+        return usage.ru_utime + usage.ru_stime
+
+    @staticmethod
+    def _peak_mb() -> float:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024
+        return float("nan")
+
+    @staticmethod
+    def _reset_peak() -> None:
+        try:
+            with open("/proc/self/clear_refs", "w", encoding="ascii") as handle:
+                handle.write("5")  # resets VmHWM to the current RSS
+        except OSError:
+            pass
+
+    def enter(self, stage: str | None) -> None:
+        if stage == self.stage:
+            return
+        now, cpu = time.time(), self._cpu()
+        if self.stage is not None:
+            self.rows.append({"stage": self.stage, "wall_s": now - self.wall, "cpu_s": cpu - self.cpu,
+                              "peak_mb": self._peak_mb()})
+        self._reset_peak()
+        self.stage, self.wall, self.cpu = stage, now, cpu
+
+    def progress(self, fraction: float, message: str) -> None:
+        if message in STAGES:
+            self.enter(STAGES[message])
+        elif message.startswith("covariance"):
+            self.enter("covariance analysis")
+        elif self.stage in ("height model", "start-up"):
+            self.enter("fusion")
+
+    def merged(self) -> list[dict]:
+        """Rows of the same stage added up (a stage may be entered twice), in first-seen order."""
+        out: dict[str, dict] = {}
+        for row in self.rows:
+            item = out.setdefault(row["stage"], {"stage": row["stage"], "wall_s": 0.0, "cpu_s": 0.0, "peak_mb": 0.0})
+            item["wall_s"] += row["wall_s"]
+            item["cpu_s"] += row["cpu_s"]
+            item["peak_mb"] = max(item["peak_mb"], row["peak_mb"])
+        return list(out.values())
+
+
+# --------------------------------------------------------------------------- the child steps
+
+def step_simulate(name: str, root: Path) -> dict:
     from insrail.project.demo import project_for_simulated_survey
     from insrail.sim.scenario import preset
     from insrail.sim.simulate import simulate
 
-    root = Path(workdir) / name
     survey = root / "surveys" / name
-    start = time.perf_counter()
     simulate(preset(name), seed=1, out_dir=survey, overwrite=True, imu_format="npy")
     project_for_simulated_survey(root, survey, name=f"benchmark {name}")
-    queue.put(time.perf_counter() - start)
+    return {}
 
 
-def process_project(name: str, workdir: str, queue) -> None:
+def step_process(name: str, root: Path, clock: StageClock, edited: bool) -> dict:
     from dataclasses import replace
 
     from insrail.project import load_project, process
+
+    project = load_project(root)
+    if edited:
+        project = replace(project, tolerance_profile=EDITED_PROFILE)
+    results = process(project, name, progress=clock.progress)
+    clock.enter(None)
+    return {"sleepers": len(results.table), "exceedances": len(results.assessment.exceedances),
+            "fusion_from_cache": results.fusion_from_cache}
+
+
+def step_report(name: str, root: Path, clock: StageClock) -> dict:
+    from insrail.project import load_project
+    from insrail.project.results import load_results
+    from insrail.report import write_pdf, write_workbook
+
+    project = load_project(root)
+    out = root / "reports"
+    out.mkdir(exist_ok=True)
+    clock.enter("read results")
+    results = load_results(project.folder, name)
+    clock.enter("workbook")
+    write_workbook(project, results, out / f"track_geometry_{name}.xlsx")
+    clock.enter("pdf")
+    write_pdf(project, results, out / f"track_geometry_{name}.pdf")
+    clock.enter(None)
+    return {}
+
+
+def child_main(argv: list[str]) -> None:
+    step, name, root, started = argv[0], argv[1], Path(argv[2]), float(argv[3])
+    clock = StageClock(started)
+    if step == "simulate":
+        info = step_simulate(name, root)
+        clock.enter(None)
+    elif step in ("process", "rerun"):
+        info = step_process(name, root, clock, edited=step == "rerun")
+    else:
+        info = step_report(name, root, clock)
+    print("BENCHMARK " + json.dumps({"stages": clock.merged(), **info}), flush=True)
+
+
+def run_child(step: str, name: str, root: Path) -> dict:
+    """One step in a fresh interpreter; its stages and its own wall, CPU and peak RSS."""
+    started = time.time()
+    child = subprocess.Popen([sys.executable, __file__, "--child", step, name, str(root), repr(started)],
+                             stdout=subprocess.PIPE, text=True)
+    out = child.stdout.read()
+    _, status, usage = os.wait4(child.pid, 0)
+    wall = time.time() - started
+    child.returncode = os.waitstatus_to_exitcode(status)
+    if child.returncode != 0:
+        raise SystemExit(f"{step} of {name} failed (exit code {child.returncode})")
+    line = next(item for item in out.splitlines() if item.startswith("BENCHMARK "))
+    report = json.loads(line[len("BENCHMARK "):])
+    # the stages reset the kernel's high-water mark, which is also what getrusage reports: the
+    # process's peak is the largest of its stages' peaks
+    peak_mb = max([usage.ru_maxrss / 1024, *(row["peak_mb"] for row in report["stages"])])
+    report.update(wall_s=wall, cpu_s=usage.ru_utime + usage.ru_stime, peak_mb=peak_mb)
+    return report
+
+
+def edit_tolerances(root: Path) -> None:
+    """The surveyor's edit: the default profile with a check the adjustment does not hold (a
+    changed chord or gauge limit would re-optimise the amounts)."""
+    from insrail.project import load_project
     from insrail.resources import resources_dir
 
-    project = load_project(Path(workdir) / name)
+    project = load_project(root)
     default = (resources_dir() / "tolerance_profiles" / f"{project.tolerance_profile}.toml").read_text(encoding="utf-8")
-    # a check the adjustment does not hold (a changed chord or gauge limit re-optimises the amounts)
     edited = default + '\n[checks.d1_peak]\nkind = "band_peak"\nband = "D1"\nmax_abs_mm = 0.5\n'
-    (project.folder / "edited-tolerances.toml").write_text(edited, encoding="utf-8")
-    start = time.perf_counter()
-    results = process(project, name)
-    first = time.perf_counter() - start
-    start = time.perf_counter()
-    process(replace(project, tolerance_profile="edited-tolerances.toml"), name)
-    second = time.perf_counter() - start
-    peak_gb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024**2  # kB on Linux
-    queue.put((first, second, peak_gb, len(results.table), len(results.assessment.exceedances)))
+    (root / EDITED_PROFILE).write_text(edited, encoding="utf-8")
 
 
-def in_child(context, target, *args):
-    """Run ``target`` in a fresh process (its peak memory is its own) and return what it reports."""
-    queue = context.Queue()
-    child = context.Process(target=target, args=(*args, queue))
-    child.start()
-    value = queue.get()
-    child.join()
-    return value
+def print_step(name: str, step: str, report: dict) -> None:
+    print(f"\n{name} {step}: {report['wall_s']:.1f} s wall, {report['cpu_s']:.1f} s CPU, "
+          f"peak RSS {report['peak_mb']:.0f} MB" + (f", {report['sleepers']} sleepers, {report['exceedances']} exceedances"
+                                                    if "sleepers" in report else ""))
+    print(f"  {'stage':<22} {'wall s':>8} {'CPU s':>8} {'peak MB':>8}")
+    for row in report["stages"]:
+        print(f"  {row['stage']:<22} {row['wall_s']:>8.2f} {row['cpu_s']:>8.2f} {row['peak_mb']:>8.0f}")
 
 
-def main() -> None:
+def main() -> int:
+    if len(sys.argv) > 1 and sys.argv[1] == "--child":
+        child_main(sys.argv[2:])
+        return 0
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--workdir", type=Path, help="where to put the projects (default: a temporary folder)")
+    parser.add_argument("--workdir", type=Path, help="where the projects are (default: a temporary folder)")
     parser.add_argument("--skip-long", action="store_true", help="only the short survey")
+    parser.add_argument("--only", choices=("short", "long"), help="one scenario")
+    parser.add_argument("--reuse", action="store_true",
+                        help="take a project already simulated in --workdir (its results and cache removed)")
+    parser.add_argument("--keep-outputs", type=Path, metavar="DIR", help="copy each step's sleepers.csv to DIR")
     args = parser.parse_args()
-    scenarios = ["short"] if args.skip_long else ["short", "long"]
+    scenarios = [args.only] if args.only else ["short"] if args.skip_long else ["short", "long"]
+    failed = False
     with tempfile.TemporaryDirectory() as tmp:
-        workdir = str(args.workdir or tmp)
-        print(f"{'scenario':<9} {'simulate s':>10} {'process s':>10} {'rerun s':>8} {'ratio':>6} {'peak GB':>8} "
-              f"{'sleepers':>9} {'exceed.':>8}")
-        context = mp.get_context("spawn")
+        workdir = args.workdir or Path(tmp)
         for name in scenarios:
-            simulated = in_child(context, simulate_project, name, workdir)
-            first, second, peak_gb, sleepers, exceedances = in_child(context, process_project, name, workdir)
-            print(f"{name:<9} {simulated:>10.1f} {first:>10.1f} {second:>8.2f} {first / second:>6.0f} {peak_gb:>8.2f} "
-                  f"{sleepers:>9d} {exceedances:>8d}")
+            root = workdir / name
+            if not (args.reuse and (root / "project.toml").is_file()):
+                simulated = run_child("simulate", name, root)
+                print(f"{name}: simulated in {simulated['wall_s']:.1f} s")
+            shutil.rmtree(root / "results", ignore_errors=True)
+            shutil.rmtree(root / "reports", ignore_errors=True)
+            edit_tolerances(root)
+            totals = {}
+            for step in ("process", "report", "rerun"):
+                report = run_child(step, name, root)
+                totals[step] = report
+                print_step(name, step, report)
+                if args.keep_outputs and step != "report":
+                    args.keep_outputs.mkdir(parents=True, exist_ok=True)
+                    shutil.copy(root / "results" / name / "sleepers.csv", args.keep_outputs / f"{name}-{step}-sleepers.csv")
+            wall = totals["process"]["wall_s"] + totals["report"]["wall_s"]
+            cpu = totals["process"]["cpu_s"] + totals["report"]["cpu_s"]
+            peak = max(totals["process"]["peak_mb"], totals["report"]["peak_mb"])
+            rerun = totals["rerun"]
+            print(f"\n{name}: process + report {wall:.1f} s wall, {cpu:.1f} s CPU, peak RSS {peak:.0f} MB; "
+                  f"rerun after a tolerance edit {rerun['wall_s']:.1f} s wall, {rerun['cpu_s']:.1f} s CPU")
+            if name == "long":
+                bars = [("process + report wall <= 60 s", wall <= 60.0), ("peak RSS <= 1.5 GB", peak <= 1500.0),
+                        ("rerun wall <= 5 s", rerun["wall_s"] <= 5.0)]
+                print("  " + "; ".join(f"{what}: {'met' if ok else 'NOT met'}" for what, ok in bars))
+                failed |= not all(ok for _, ok in bars)
+    return 1 if failed else 0
+
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
