@@ -58,6 +58,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from insrail.nav.error_model import ATT, POS
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
@@ -261,44 +262,148 @@ def analyse_recorded(
     return CovarianceProfile(np.asarray(time_s), np.asarray(station_m), forward, smoothed)
 
 
-def _smooth(plan: _Plan, epochs, m, progress, cancel, var_forward: np.ndarray | None = None):
+def _smooth(plan: _Plan, epochs, m, progress, cancel, var_forward: np.ndarray | None = None,
+            chunk: int = 1024):
     """The RTS backward pass over (j, Phi_j, P-_j, P+_j), j = m-1 down to 0: smoothed variances
     and the cross terms of every pair; ``var_forward`` (m, 3), when given, receives the
-    filtered variances of the same epochs."""
+    filtered variances of the same epochs.
+
+    The epochs are taken ``chunk`` at a time: the gains A_j of a chunk in one batched solve,
+    then the recursion itself (P_s, the pushed columns, the pairs starting and ending at each
+    epoch) in the compiled :func:`_backward_chunk`, so no Python runs per epoch."""
+    n = plan.n
     var_s = np.empty((m, 3))
     cross_s = np.empty((plan.n_pairs, 2))
-    active = _ActivePairs(plan.n)
-    P_s = None
-    phi_next = p_minus_next = None  # Phi and P- of the epoch after the current one
+    var_f = var_forward if var_forward is not None else np.empty((m, 3))
+    state = _BackwardState(n, plan.n_pairs)
+    starts_ptr, starts_idx = _csr(np.concatenate([j for j, _ in plan.pairs]).astype(np.int64), m)
+    ends_ptr, ends_idx = _csr(np.concatenate([k for _, k in plan.pairs]).astype(np.int64), m)
+    u = np.stack([plan.u_lat, plan.u_ver, plan.u_roll])  # (3, m, 3)
     expected = m - 1
-    for j, phi, p_minus, p_plus in epochs:
-        if j != expected:
-            raise ValueError(f"the covariance record gives epoch {j} where epoch {expected} was due")
-        expected -= 1
-        if j % 1024 == 0:
-            check_cancel(cancel)
-            progress((m - j) / m, "covariance: smoother")
-        if P_s is None:
-            P_s = p_plus.copy()
-        else:
-            A = np.linalg.solve(p_minus_next, phi_next @ p_plus).T  # P+ Phi^T (P-)^-1, P symmetric
-            P_s = p_plus + A @ (P_s - p_minus_next) @ A.T
-            P_s = 0.5 * (P_s + P_s.T)
-            active.apply(A)
-        var_s[j] = plan.project(P_s, j)
-        if var_forward is not None:
-            var_forward[j] = plan.project(p_plus, j)
-        done = plan.starts_at.get(j, ())
-        if len(done):
-            cross_s[done] = plan.read(active.columns, j, active.take(done))
-            active.remove(done)
-        new = plan.ends_at.get(j, ())
-        if len(new):
-            active.add(new, plan.seeds(P_s, j, new))
-        phi_next, p_minus_next = phi, p_minus
+    carry = None  # (Phi, P-) of the epoch after the chunk's first one
+    for block in _chunks(epochs, chunk):
+        js = np.array([item[0] for item in block], dtype=np.int64)
+        due = np.arange(expected, expected - len(js), -1)
+        if np.any(js != due):
+            i = int(np.flatnonzero(js != due)[0])
+            raise ValueError(f"the covariance record gives epoch {js[i]} where epoch {due[i]} was due")
+        expected -= len(js)
+        check_cancel(cancel)
+        progress((m - 1 - expected) / m, "covariance: smoother")
+        phi = np.array([item[1] for item in block])
+        p_minus = np.array([item[2] for item in block])
+        p_plus = np.array([item[3] for item in block])
+        # Phi and P- of epoch j + 1 beside epoch j: the previous record (the chunk before for the first)
+        phi_next, p_minus_next = np.empty_like(phi), np.empty_like(p_minus)
+        phi_next[1:], p_minus_next[1:] = phi[:-1], p_minus[:-1]
+        first = 0
+        if carry is not None:
+            phi_next[0], p_minus_next[0] = carry
+        else:  # the last epoch: its smoothed covariance is the filtered one
+            phi_next[0], p_minus_next[0] = np.eye(n), np.eye(n)
+            first = 1
+        carry = (phi[-1].copy(), p_minus[-1].copy())
+        gains = np.linalg.solve(p_minus_next, phi_next @ p_plus).transpose(0, 2, 1)  # P+ Phi^T (P-)^-1
+        _backward_chunk(js, gains, p_minus_next, p_plus, first, u, POS, ATT, starts_ptr, starts_idx, ends_ptr,
+                        ends_idx, state.P_s, state.columns, state.slot_of, state.pair_of_slot, state.active,
+                        var_s, var_f, cross_s)
     if expected != -1:
         raise ValueError(f"the covariance record ends at epoch {expected + 1}, not at epoch 0")
     return var_s, cross_s
+
+
+def _chunks(items, size: int):
+    """Lists of up to ``size`` consecutive items (a record may be a view into its producer's
+    buffer: the caller stacks them into arrays of its own before the next block)."""
+    block = []
+    for item in items:
+        block.append(item)
+        if len(block) == size:
+            yield block
+            block = []
+    if block:
+        yield block
+
+
+def _csr(epochs: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs by epoch: the pairs of epoch e are ``index[pointer[e]:pointer[e + 1]]`` (stable order)."""
+    order = np.argsort(epochs, kind="stable").astype(np.int64)
+    pointer = np.searchsorted(epochs[order], np.arange(m + 1)).astype(np.int64)
+    return pointer, order
+
+
+class _BackwardState:
+    """What the backward recursion carries from one chunk to the next: the smoothed covariance
+    and the pushed columns of the active pairs (row 2 s lateral, 2 s + 1 vertical of slot s)."""
+
+    def __init__(self, n: int, n_pairs: int):
+        self.P_s = np.zeros((n, n))
+        self.columns = np.zeros((2 * max(n_pairs, 1), n))
+        self.slot_of = np.full(max(n_pairs, 1), -1, dtype=np.int64)
+        self.pair_of_slot = np.full(max(n_pairs, 1), -1, dtype=np.int64)
+        self.active = np.zeros(1, dtype=np.int64)
+
+
+@njit(cache=True)
+def _project(out, P, u, j, pos, att):  # pragma: no cover - compiled
+    """out[j] = lateral and vertical position variance and roll variance of P at epoch j."""
+    for r in range(3):
+        block = pos if r < 2 else att
+        total = 0.0
+        for p in range(3):
+            for q in range(3):
+                total += u[r, j, p] * P[block + p, block + q] * u[r, j, q]
+        out[j, r] = total
+
+
+@njit(cache=True)
+def _backward_chunk(js, gains, p_minus_next, p_plus, first, u, pos, att, starts_ptr, starts_idx, ends_ptr, ends_idx,
+                    P_s, columns, slot_of, pair_of_slot, active, var_s, var_f, cross_s):  # pragma: no cover - compiled
+    """The RTS recursion over one chunk of epochs (see :func:`_smooth`); ``first`` = 1 when the
+    chunk starts with the last epoch of the survey (P_s = P+ there)."""
+    n = P_s.shape[0]
+    for e in range(len(js)):
+        j = js[e]
+        if e < first:
+            P_s[:, :] = p_plus[e]
+        else:
+            a = np.ascontiguousarray(gains[e])
+            x = np.ascontiguousarray(P_s - p_minus_next[e])
+            smoothed = p_plus[e] + (a @ x) @ a.T
+            P_s[:, :] = 0.5 * (smoothed + smoothed.T)
+            k = 2 * active[0]
+            if k:
+                columns[:k] = columns[:k] @ a.T  # each row d^T A^T = (A d)^T
+        _project(var_s, P_s, u, j, pos, att)
+        _project(var_f, p_plus[e], u, j, pos, att)
+        for t in range(starts_ptr[j], starts_ptr[j + 1]):  # pairs whose first epoch is j: read and drop
+            pair = starts_idx[t]
+            slot = slot_of[pair]
+            for r in range(2):
+                total = 0.0
+                for p in range(3):
+                    total += u[r, j, p] * columns[2 * slot + r, pos + p]
+                cross_s[pair, r] = total
+            last = active[0] - 1
+            if slot != last:
+                columns[2 * slot] = columns[2 * last]
+                columns[2 * slot + 1] = columns[2 * last + 1]
+                moved = pair_of_slot[last]
+                slot_of[moved] = slot
+                pair_of_slot[slot] = moved
+            active[0] = last
+        for t in range(ends_ptr[j], ends_ptr[j + 1]):  # pairs whose second epoch is j: seeded with P_s[:, pos] u^T
+            pair = ends_idx[t]
+            slot = active[0]
+            active[0] = slot + 1
+            slot_of[pair] = slot
+            pair_of_slot[slot] = pair
+            for r in range(2):
+                for i in range(n):
+                    total = 0.0
+                    for p in range(3):
+                        total += P_s[i, pos + p] * u[r, j, p]
+                    columns[2 * slot + r, i] = total
 
 
 def _group(epochs: np.ndarray, m: int) -> dict[int, np.ndarray]:
