@@ -16,6 +16,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 from xml.sax.saxutils import escape
 
 import numpy as np
@@ -486,14 +487,19 @@ def _gnss_rows(gnss: dict) -> list[tuple[str, object]]:
     ]
 
 
+#: The trajectory's fields the report states (read alone: the whole file is large).
+TRAJECTORY_FIELDS = ("time_s", "sigma_pos_ned_m", "odometer_scale")
+
+
 def _trajectory_rows(trajectory: Trajectory | None, smoother: bool) -> list[tuple[str, object]]:
-    if trajectory is None or not len(trajectory):
+    """``trajectory``: a Trajectory or the :data:`TRAJECTORY_FIELDS` of one (a namespace)."""
+    if trajectory is None or not len(trajectory.time_s):
         return [("Trajectory", "not available")]
     sigma = trajectory.sigma_pos_ned_m
     horizontal = 1e3 * np.hypot(sigma[:, 0], sigma[:, 1])
     vertical = 1e3 * sigma[:, 2]
     rows = [
-        ("Trajectory", (f"{len(trajectory)} epochs, {trajectory.time_s[0]:.1f} - {trajectory.time_s[-1]:.1f} s of week "
+        ("Trajectory", (f"{len(trajectory.time_s)} epochs, {trajectory.time_s[0]:.1f} - {trajectory.time_s[-1]:.1f} s of week "
                        f"({trajectory.time_s[-1] - trajectory.time_s[0]:.0f} s), "
                        f"{'forward filter and RTS smoother' if smoother else 'forward filter only'}")),
         ("Position sigma, horizontal", (f"median {np.median(horizontal):.1f} mm, 95 % {np.percentile(horizontal, 95):.1f} mm, "
@@ -901,7 +907,7 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     content = load_report_content(project, results)
     step(0.02, "reading the trajectory")
     try:
-        trajectory = results.trajectory()
+        trajectory = SimpleNamespace(**results.trajectory_fields(*TRAJECTORY_FIELDS))
     except (OSError, ValueError):  # the report still stands without the trajectory's statistics
         trajectory = None
     check_cancel(cancel)
