@@ -23,6 +23,7 @@ from insrail.track.chainage import (
     facing_along_path,
     facing_on_design,
     in_stationing_frame,
+    reference_stations_on_design,
     stations_along_path,
     stations_on_design,
 )
@@ -266,10 +267,12 @@ def reconstruct_track(
     if design is None and start_station_m is None:
         raise ValueError("without a design alignment the start station (start_station_m) must be given")
     trolley_rails = rails_from_pose(trajectory, trolley, gauge, to_engineering, beam_wheel_spacing_m)
-    facing = (facing_on_design(trolley_rails, design) if design is not None
+    # the reference rail's points are the same in both namings of the rails: projected once
+    reference = reference_stations_on_design(trolley_rails, design) if design is not None else None
+    facing = (facing_on_design(trolley_rails, design, reference) if design is not None
               else facing_along_path(trolley_rails, stationing))
     rails = in_stationing_frame(trolley_rails, facing)
-    stations = (stations_on_design(rails, design) if design is not None
+    stations = (stations_on_design(rails, design, reference) if design is not None
                 else stations_along_path(rails, start_station_m, stationing))
     if pulses is None:
         sleepers = regular_sleepers(rails, stations, spacing_m, first_number)
