@@ -344,6 +344,55 @@ def test_without_a_design_the_fitted_alignment_is_written_and_serves_as_a_design
     capsys.readouterr()
 
 
+def test_without_a_design_the_line_fit_is_cached_with_the_track(processed, monkeypatch):
+    """A survey without a design: the rerun after a tolerance edit fits no line again and writes the same
+    fitted alignment, line-fit summary and sleepers.csv as the run that fitted it; a change of the track
+    stage's input (the start station) fits again, and a damaged cache entry of the fit is recomputed."""
+    from insrail.resources import resources_dir
+
+    project, with_design = processed
+    for entry in (project.folder / "results" / ".cache").glob("track-*"):
+        entry.unlink()
+    # the track from the cached fusion is that of the fusion just computed (same ellipsoid), to the bit
+    again = process(project, "short")
+    assert again.fusion_from_cache and not with_design.fusion_from_cache and not again.summary["track"]["from_cache"]
+    for name in ("lateral_deviation_m", "vertical_deviation_m", "gauge_m", "cant_m", "left_rail_enh_m", "station_m"):
+        np.testing.assert_array_equal(getattr(again.table, name), getattr(with_design.table, name))
+    undesigned = replace(project, design=None, start_station_m=float(with_design.table.station_m[0]))
+    designed_entries = set((project.folder / "results" / ".cache").glob("track-*.extras.npz"))
+    fitted = process(undesigned, "short")
+    assert not fitted.summary["track"]["from_cache"] and fitted.reconstruction.fitted is not None
+    files = ("sleepers.csv", "fitted_alignment.csv", "fitted_alignment.xml", "line_fit.txt")
+    first = {name: (fitted.folder / name).read_bytes() for name in files}
+    line_files = sorted(set((project.folder / "results" / ".cache").glob("track-*.extras.npz")) - designed_entries)
+    assert len(line_files) == 1
+
+    calls = []
+    real = pipeline.reconstruct_track
+    monkeypatch.setattr(pipeline, "reconstruct_track", lambda *a, **k: calls.append(1) or real(*a, **k))
+    default = (resources_dir() / "tolerance_profiles" / "cn_hsr_ballastless.toml").read_text()
+    (project.folder / "edited.toml").write_text(default + '\n[checks.d1_peak]\nkind = "band_peak"\nband = "D1"\nmax_abs_mm = 0.5\n')
+    edited = process(replace(undesigned, tolerance_profile="edited.toml"), "short")
+    assert not calls and edited.summary["track"]["from_cache"]
+    assert edited.summary["track"]["line_fit"] == fitted.summary["track"]["line_fit"]
+    assert edited.summary["track"]["parameters"] == fitted.summary["track"]["parameters"]
+    for name in files[1:]:
+        assert (edited.folder / name).read_bytes() == first[name]
+    again = process(undesigned, "short")  # back to the profile of the first run: byte for byte its results
+    assert not calls and all((again.folder / name).read_bytes() == first[name] for name in files)
+
+    moved = process(replace(undesigned, start_station_m=undesigned.start_station_m + 10.0), "short")
+    assert len(calls) == 1 and not moved.summary["track"]["from_cache"]
+    np.testing.assert_allclose(moved.table.station_m, fitted.table.station_m + 10.0, atol=1e-9)
+
+    line_files[0].write_bytes(line_files[0].read_bytes()[:-20])  # truncated
+    damaged = process(undesigned, "short")
+    assert len(calls) == 2 and not damaged.summary["track"]["from_cache"]
+    assert any(n["stage"] == "cache" and line_files[0].name in n["message"] for n in damaged.summary["notices"])
+    undated = [name for name in files if not name.endswith(".xml")]  # the LandXML file states when it was written
+    assert all((damaged.folder / name).read_bytes() == first[name] for name in undated)
+
+
 def test_a_bridged_imu_gap_reaches_the_summary_the_cli_and_the_pdf(short_nav_survey, tmp_path, capsys):
     """Notices of the fusion (an IMU gap bridged, a corrupt record removed) are in summary.toml, the
     `process` output and the PDF's processing page (insrail.notices)."""

@@ -16,7 +16,10 @@ Three stages are cached in ``<project>/results/.cache/``, each under a hash of w
   while its timeline, the survey and (smoothed) the filter's own record of Phi, P-, P+ are at hand. The per-section table in ``quality.csv`` is
   formed from it on the reconstructed chainage (which depends on the track settings).
 * ``track-<key>.npz``        rails, chainage and sleepers: the fusion key plus CRS, height model,
-  design alignment (contents) and stationing settings.
+  design alignment (contents) and stationing settings. Beside it ``track-<key>.extras.npz``
+  (:class:`TrackExtras`): the fused attitude at every sleeper and, without a design, what the
+  line-type fit gave the results (the fitted alignment's files, its summary section and the
+  curvature at every sleeper), so a rerun neither reads the trajectory nor fits a line again.
 * ``adjustment-<key>.npz``   the deviations, the differential-versine limits and the fastener.
 
 Changing only the tolerance profile therefore recomputes the assessment (and the adjustment
@@ -182,6 +185,49 @@ class SurveyResults:
 
 
 @dataclass(frozen=True)
+class FittedLine:
+    """What the results take from the line-type fit of a survey without a design (the fit itself,
+    element objects, is not kept in the stage cache): the fitted alignment as CSV and LandXML and
+    the fit's report (empty when there is no fit), summary.toml's ``[track.line_fit]`` (JSON) and
+    the fitted line's curvature at each sleeper of the table (None without a fit)."""
+
+    alignment_csv: str
+    alignment_landxml: str
+    report: str
+    section_json: str
+    curvature_1pm: np.ndarray | None = None
+
+    @classmethod
+    def of(cls, recon: TrackReconstruction) -> FittedLine:
+        if recon.fitted is None:
+            return cls("", "", "", json.dumps(_line_fit_section(recon)))
+        alignment = recon.fitted.alignment
+        return cls(format_alignment_csv(alignment), format_landxml([alignment]), recon.fitted.report() + "\n",
+                   json.dumps(_line_fit_section(recon)), line_curvature_1pm(alignment, recon.table.station_m))
+
+    def files(self) -> dict[str, str]:
+        """The result files of the fit: usable as the design of a later survey (CSV element table and
+        LandXML 1.2), and the fit's residual and element report; none without a fit."""
+        if not self.alignment_csv:
+            return {}
+        return {FITTED_ALIGNMENT_CSV: self.alignment_csv, FITTED_ALIGNMENT_XML: self.alignment_landxml,
+                LINE_FIT_REPORT: self.report}
+
+    def section(self) -> dict:
+        return json.loads(self.section_json)
+
+
+@dataclass(frozen=True)
+class TrackExtras:
+    """What the results take from the track stage beyond the reconstruction, cached with it: the
+    fused attitude (roll, pitch, heading [rad]) at every sleeper of the table and, without a
+    design, the line-type fit."""
+
+    attitude_rad: np.ndarray
+    line: FittedLine | None = None
+
+
+@dataclass(frozen=True)
 class FreshFusion:
     """What the track reconstruction needs from a fusion just computed (the 200 Hz IMU data and
     the fusion's covariances are dropped here: they dominate the memory of a long survey)."""
@@ -328,13 +374,18 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
 
 def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Path, fresh: FreshFusion | None,
                          trajectory_file: Path, key: str, height_fit: HeightAnomalyFit | None,
-                         cancel: CancelToken, local: LocalFit | None = None) -> tuple[TrackReconstruction, bool]:
-    """Rails, chainage and sleepers (from the cache when nothing they depend on changed); with local
-    control every coordinate from here on is in the local grid."""
+                         cancel: CancelToken, local: LocalFit | None = None
+                         ) -> tuple[TrackReconstruction, TrackExtras, bool]:
+    """Rails, chainage and sleepers and their :class:`TrackExtras` (from the cache when nothing
+    they depend on changed; a reconstruction from the cache carries no ``fitted`` and
+    ``reference`` objects, only their :class:`FittedLine`); with local control every coordinate
+    from here on is in the local grid."""
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"track-{key}.npz"
+    extras_path = path.with_suffix(".extras.npz")
     cached = cached_dataclass("track reconstruction", path, TrackReconstruction)
-    if cached is not None:
-        return cached, True
+    extras = cached_dataclass("track reconstruction", extras_path, TrackExtras) if cached is not None else None
+    if extras is not None and (extras.line is not None or project.design is not None):
+        return cached, extras, True
 
     def to_engineering(lat, lon, h):
         east, north = project.crs.to_plane(lat, lon)
@@ -344,8 +395,11 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
     if fresh is None:
         gauge, _ = clean_gauge(_read_role(folder, manifest, "gauge"), nominal_gauge_m(project),  # as the fusion did
                                describe(folder / manifest.files["gauge"].path, manifest.files["gauge"].format))
-        fresh = FreshFusion(load_trajectory(trajectory_file, gps_week=manifest.gps_week), gauge,
-                            _read_role(folder, manifest, "sleepers"))
+        # the file does not say on which ellipsoid the fusion ran: the project's (the rails of a fusion
+        # from the cache would otherwise differ from those of the same fusion just computed)
+        trajectory = replace(load_trajectory(trajectory_file, gps_week=manifest.gps_week),
+                             ellipsoid_name=ellipsoid_of(project).name)
+        fresh = FreshFusion(trajectory, gauge, _read_role(folder, manifest, "sleepers"))
     design = read_design(project.resolve(project.design)) if project.design is not None else None
     check_cancel(cancel)
     try:
@@ -355,9 +409,11 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
                                   stationing=project.stationing_direction, anchor=project.sleeper_anchor)
     except AnchorError as error:
         raise InputError(project.path, None, f"track.sleeper_anchor: {error}") from None
-    if recon.fitted is None and recon.reference is None:  # a fitted line (element objects) is recomputed instead
-        save_dataclass(path, recon)
-    return recon, False
+    extras = TrackExtras(sleeper_attitude_rad(fresh.trajectory.time_s, fresh.trajectory.rpy_rad, recon.table.time_s),
+                         FittedLine.of(recon) if project.design is None else None)
+    save_dataclass(extras_path, extras)
+    save_dataclass(path, replace(recon, fitted=None, reference=None))
+    return recon, extras, False
 
 
 def _read_role(folder: Path, manifest: SurveyManifest, role: str):
@@ -443,8 +499,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
 
     step(0.82, "rails, chainage and sleepers")
     local = fit_local(project.local_control) if project.local_control is not None else None
-    recon, track_cached = _reconstructed_track(project, manifest, folder, fresh, trajectory_file,
-                                               track_key(project, key), height_fit, cancel, local)
+    recon, extras, track_cached = _reconstructed_track(project, manifest, folder, fresh, trajectory_file,
+                                                            track_key(project, key), height_fit, cancel, local)
     del fresh
     check_cancel(cancel)
     step(0.88, "irregularities and exceedances")
@@ -458,9 +514,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     if local is not None:  # the height model lives in the engineering CRS
         centre = np.column_stack(local.to_engineering(*centre.T))
     height_warnings = height_fit.warnings_for(centre[:, 0], centre[:, 1]) if height_fit is not None else []
-    line = read_design(project.resolve(project.design)) if project.design is not None else (
-        recon.fitted.alignment if recon.fitted is not None else None)
-    curvature = line_curvature_1pm(line, table.station_m)
+    curvature = (line_curvature_1pm(read_design(project.resolve(project.design)), table.station_m)
+                 if project.design is not None else extras.line.curvature_1pm)
     speed = line_speed_mps(project.line_speeds, table.station_m) if project.line_speeds else None
     geometry = SleeperGeometry.from_arrays(table.station_m, table.lateral_deviation_m, table.vertical_deviation_m,
                                            table.gauge_m, table.cant_m, table.design_cant_m, valid=table.valid,
@@ -484,7 +539,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         summary["files"].update(gnss=GNSS_POS_FILE, gnss_qc=GNSS_QC_FILE)
     bases = parameter_bases(profile)
     summary["track"]["parameters"] = parameters_section(
-        bases, project.line_speeds, "design" if project.design is not None else "fitted" if line is not None else "none")
+        bases, project.line_speeds, "design" if project.design is not None else "fitted" if curvature is not None else "none")
     summary["notices"] = [n.to_dict() for n in [*cache_notices, *_notices(fusion_info, height_warnings,
                                                                             summary.get("ppk")),
                                                 *(local.notices() if local is not None else []),
@@ -499,9 +554,9 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         event_files[TURNOUT_EXCEEDANCES_FILE] = exceedances_csv(replace(assessment, exceedances=in_turnouts))
         summary["files"]["turnout_exceedances"] = TURNOUT_EXCEEDANCES_FILE
     summary["assessment"]["not_assessed_sleepers"] = int((measured & ~table.valid).sum())
-    line_fit_files = _line_fit_files(recon)
-    if project.design is None:
-        summary["track"]["line_fit"] = _line_fit_section(recon)
+    line_fit_files = extras.line.files() if extras.line is not None else {}
+    if extras.line is not None:
+        summary["track"]["line_fit"] = extras.line.section()
         summary["files"].update(dict(zip(("fitted_alignment_csv", "fitted_alignment_landxml", "line_fit_report"),
                                           line_fit_files)))
     quality = _section_quality(trajectory_file, recon)
@@ -509,7 +564,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     summary["files"]["quality"] = QUALITY_FILE
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment, parameter_columns(
-            table, sleeper_attitude_rad(trajectory_file, table.time_s), curvature, speed, bases)),
+            table, extras.attitude_rad, curvature, speed, bases)),
         QUALITY_FILE: quality_csv(quality),
         EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary),
         **line_fit_files, **event_files, **(gnss.result_files() if gnss else {})}, cancel)
@@ -535,16 +590,6 @@ def _section_quality(trajectory_file: Path, recon: TrackReconstruction) -> Secti
 
 
 # --------------------------------------------------------------------------- result files
-
-def _line_fit_files(recon: TrackReconstruction) -> dict[str, str]:
-    """Without a design: the fitted alignment, usable as the design of a later survey (CSV element
-    table and LandXML 1.2), and the fit's residual and element report."""
-    if recon.fitted is None:
-        return {}
-    alignment = recon.fitted.alignment
-    return {FITTED_ALIGNMENT_CSV: format_alignment_csv(alignment), FITTED_ALIGNMENT_XML: format_landxml([alignment]),
-            LINE_FIT_REPORT: recon.fitted.report() + "\n"}
-
 
 def _line_fit_section(recon: TrackReconstruction) -> dict:
     """summary.toml's ``[track.line_fit]``: the fitted elements and residuals, or why there is no fit."""

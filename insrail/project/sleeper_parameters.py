@@ -11,8 +11,6 @@ attitude (roll, pitch, heading from true north; frames of :mod:`insrail.nav`) at
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from insrail.notices import Notice
@@ -54,12 +52,11 @@ def line_curvature_1pm(alignment: DesignAlignment | None, station_m: np.ndarray)
     return curvature
 
 
-def sleeper_attitude_rad(trajectory_file: Path, time_s: np.ndarray) -> np.ndarray:
-    """(n, 3) roll, pitch, heading [rad, heading in [0, 2 pi)] of the fused trajectory at ``time_s``,
-    read through a memory map (only the time and attitude columns are touched)."""
-    records = np.load(trajectory_file, mmap_mode="r", allow_pickle=False)
-    time = np.asarray(records["time_s"])
-    rpy = np.asarray(records["rpy_rad"])
+def sleeper_attitude_rad(trajectory_time_s: np.ndarray, trajectory_rpy_rad: np.ndarray,
+                         time_s: np.ndarray) -> np.ndarray:
+    """(n, 3) roll, pitch, heading [rad, heading in [0, 2 pi)] of the fused trajectory (its time
+    and roll, pitch, heading per epoch) at ``time_s``; NaN outside the trajectory."""
+    time, rpy = np.asarray(trajectory_time_s), np.asarray(trajectory_rpy_rad)
     at = np.asarray(time_s, dtype=float)
     out = np.full((at.size, 3), np.nan)
     if time.size < 2 or not at.size:

@@ -166,6 +166,9 @@ def _build(cls, prefix: str, arrays) -> object:
     values = {}
     for field in dataclasses.fields(cls):
         kind = hints[field.name]
+        optional = [arg for arg in typing.get_args(kind) if arg is not type(None)]
+        if len(optional) == 1 and len(typing.get_args(kind)) == 2:  # X | None, saved as an X
+            kind = optional[0]
         name = f"{prefix}{field.name}"
         if name not in arrays and not any(key.startswith(name + ".") for key in arrays):
             values[field.name] = None  # saved as None (see _flatten)
