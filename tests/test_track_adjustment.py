@@ -54,7 +54,7 @@ def test_optimised_adjustment_passes_every_check_with_less_movement():
     fastener = load_fastener_type()
     geometry = consistent_track(500, seed=4, differential=0.1e-3)
     assert len(differential_exceedances(geometry, profile)) > 10
-    optimised = optimise_adjustment(geometry, profile, fastener, chunk_sleepers=960)
+    optimised = optimise_adjustment(geometry, profile, fastener)
     to_line = correct_to_line(geometry, fastener)
     assert differential_exceedances(optimised.apply(geometry), profile) == []
     assert not optimised.unresolved_lateral.any() and not optimised.unresolved_vertical.any()

@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from insrail.progress import CancelToken, ProgressFn, check_cancel
+from insrail.progress import CancelToken, ProgressFn
 from insrail.resources import resources_dir
 from insrail.track.adjustment_programme import (
     DirectionProblem,
@@ -45,7 +45,7 @@ from insrail.track.adjustment_programme import (
     rail_checks,
     repair_rounding,
     round_amounts,
-    solve_window,
+    solve_free,
     track_rows,
 )
 from insrail.track.exceedance import RAILS, Assessment, SleeperGeometry, assess
@@ -63,7 +63,7 @@ STRATEGIES = {
 }
 DEFAULT_STRATEGY = "least_movement"
 #: Bumped when the programme's amounts for the same input change (joins the pipeline's cache key).
-PROGRAMME_VERSION = 2
+PROGRAMME_VERSION = 3
 #: Track-level checks the programme holds (:func:`insrail.track.adjustment_programme.track_rows`).
 TRACK_KINDS = ("gauge_deviation", "gauge_change_rate", "cross_level", "twist")
 #: Why a sleeper still fails a check after the adjustment (bits of Adjustment.reason_*).
@@ -74,9 +74,6 @@ REASONS = {RANGE_EXHAUSTED: "fastener range exhausted", CONFLICTING_CHECKS: "con
            NOT_OPTIMISED: "check not held by the optimisation"}
 #: Rounds of "solve the windows, check the whole line again" (a round with no new exceedance ends it).
 MAX_SWEEPS = 4
-#: Free sleepers per programme (a longer window is solved in chunks, each looking one chunk ahead).
-#: Measured on the short demo: 320 gives 20 % more movement in more time than 960.
-CHUNK_SLEEPERS = 960
 #: Free sleepers around an exceeding value, in reaches of its check.
 WINDOW_PAD = 2
 #: How often [s] the progress of the channels (solved in parallel threads) is reported.
@@ -245,64 +242,43 @@ def _state(problem: DirectionProblem, amounts: np.ndarray, checks: list[RailChec
     return _State(values, np.concatenate([np.zeros(0, int), *trouble]), np.concatenate([np.zeros(0, int), *pad]))
 
 
-#: A chord check joins a window's programme when its value comes within this many fastener steps
-#: of the limit somewhere the window's amounts reach. 0: only where it is exceeded (a check the
-#: moves break elsewhere is new trouble for the next round; holding the 300 m chord everywhere
-#: would make every programme several times larger).
-NEAR_LIMIT_STEPS = 0.0
+def _sweep_progress(progress, sweep: int):
+    """The first round takes most of the work (0..0.9), the rounds after it share the rest."""
+    if progress is None:
+        return None
+    if sweep == 0:
+        return lambda fraction, message: progress(0.9 * fraction, message)
+    return lambda fraction, message: progress(0.9 + 0.1 * (sweep - 1 + fraction) / (MAX_SWEEPS - 1), message)
 
 
-def _window_checks(state: _State, checks: list[RailCheck], start: int, stop: int, step: float) -> list[RailCheck]:
-    chosen = []
-    for index, check in enumerate(checks):
-        lo, hi = max(0, start - check.reach_steps), stop + check.reach_steps
-        for rail in (0, 1):
-            values = state.values[index, rail][lo:hi]
-            with np.errstate(invalid="ignore"):
-                if np.any(np.abs(values) > check.limit_m - NEAR_LIMIT_STEPS * step):
-                    chosen.append(check)
-                    break
-    return chosen
-
-
-def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], chunk_sleepers: int, progress=None,
-                        cancel=None) -> np.ndarray:
+def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], progress=None, cancel=None) -> np.ndarray:
     """Amounts [steps] (n, 2) of one direction.
 
-    Only the sleepers near exceedances are moved (one check's reach around each exceeding value),
-    by a linear programme over the window plus one reach of fixed sleepers on either side,
-    holding the track rows and the chord checks that come near their limit there (the others,
-    typically the long 300 m / 150 m chord, would triple the programme's size for constraints
-    that are inactive). A window longer than ``chunk_sleepers`` is solved in consecutive chunks,
-    each starting from the amounts of the one before (small programmes solve much faster than one
-    large one). Each solution is rounded to whole steps and the rounding repaired where it broke a
-    hard track row. The line is then checked again: windows around exceedances that the previous
-    round did not already try are solved again, until there are none.
+    Only the sleepers near exceedances are moved (two reaches of the check around each
+    exceeding value), by one linear programme over all of them
+    (:func:`insrail.track.adjustment_programme.solve_free`: every chord check of both rails and
+    every track row held, the rows entering as they are found violated). The solution is
+    rounded to whole steps and the rounding repaired where it broke a hard track row. The line
+    is then checked again: windows around exceedances that the previous round did not already
+    try are solved again, until there are none.
     """
     n = problem.deviation.shape[0]
     amounts = np.zeros((n, 2))
     tried = np.zeros(n, bool)  # exceeding sleepers a round already worked on
-    for _ in range(MAX_SWEEPS):
+    for sweep in range(MAX_SWEEPS):
         state = _state(problem, amounts, checks)
         fresh = ~tried[state.trouble]
         windows = _trouble_windows(n, state.trouble[fresh], state.pad[fresh], merge=16)
         if not windows:
             break
         tried[state.trouble] = True
-        pieces = [(a, min(a + chunk_sleepers, stop)) for start, stop in windows for a in range(start, stop, chunk_sleepers)]
-        window_stop = [stop for start, stop in windows for _ in range(start, stop, chunk_sleepers)]
-        for index, (start, stop) in enumerate(pieces):
-            check_cancel(cancel)
-            if progress is not None:
-                progress(index / len(pieces), "adjustment amounts")
-            # look one chunk ahead (a receding horizon) so the chunk's end is not held by zeros
-            ahead = stop if stop == window_stop[index] else min(window_stop[index], stop + chunk_sleepers)
-            continuous = solve_window(problem, amounts, start, ahead,
-                                      _window_checks(state, checks, start, ahead, problem.step_m))[: stop - start]
-            target = amounts.copy()
-            target[start:stop] = continuous
-            amounts[start:stop] = round_amounts(continuous, problem.low, problem.high, problem.valid[start:stop])
-            amounts = repair_rounding(problem, amounts, target)
+        free = np.zeros(n, bool)
+        for start, stop in windows:
+            free[start:stop] = True
+        free &= problem.valid
+        continuous = solve_free(problem, amounts, free, checks, _sweep_progress(progress, sweep), cancel)
+        amounts = np.where(free[:, None], round_amounts(continuous, problem.low, problem.high, problem.valid), amounts)
+        amounts = repair_rounding(problem, amounts, continuous)
     return amounts
 
 
@@ -325,8 +301,8 @@ def direction_problem(geometry: SleeperGeometry, profile: ToleranceProfile, fast
 
 
 def optimise_amounts(
-    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, chunk_sleepers: int = CHUNK_SLEEPERS,
-    strategy: str = DEFAULT_STRATEGY, progress: ProgressFn | None = None, cancel: CancelToken = None,
+    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, strategy: str = DEFAULT_STRATEGY,
+    progress: ProgressFn | None = None, cancel: CancelToken = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(lateral, vertical) amounts [m] (n, 2) of :func:`optimise_adjustment`, not yet re-assessed.
 
@@ -341,7 +317,7 @@ def optimise_amounts(
         def direction_progress(fraction: float, message: str) -> None:
             done[direction] = max(done[direction], fraction)  # a second round starts again from 0
 
-        return _optimise_direction(problems[direction], checks[direction], chunk_sleepers, direction_progress, cancel)
+        return _optimise_direction(problems[direction], checks[direction], direction_progress, cancel)
 
     def expected_work(direction: str) -> int:
         state = _state(problems[direction], np.zeros(problems[direction].deviation.shape), checks[direction])
@@ -360,12 +336,12 @@ def optimise_amounts(
 
 
 def optimise_adjustment(
-    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, chunk_sleepers: int = CHUNK_SLEEPERS,
-    progress: ProgressFn | None = None, cancel: CancelToken = None, strategy: str = DEFAULT_STRATEGY,
+    geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, progress: ProgressFn | None = None,
+    cancel: CancelToken = None, strategy: str = DEFAULT_STRATEGY,
 ) -> Adjustment:
     """The optimised amounts (:func:`optimise_amounts`) with the sleepers that still fail a check
     flagged by :func:`reassess`."""
-    lateral, vertical = optimise_amounts(geometry, profile, fastener, chunk_sleepers, strategy, progress, cancel)
+    lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress, cancel)
     return reassess(geometry, lateral, vertical, profile, fastener)[1]
 
 

@@ -6,8 +6,8 @@ rail-major, ``left 0..n-1, right n..2n-1``. Two kinds of constraints:
 * **Rail checks** (:class:`RailCheck`): the 10 m versine and the sliding differential versines
   (30 m / 5 m, 300 m / 150 m, every chord placement) of each rail, on sleeper indices as in
   thesis eq. (2.2). Soft: an excess that no amount in range removes is penalised and later
-  flagged. The programme keeps a margin for the rounding to whole steps, so the rounded amounts
-  pass wherever the continuous ones do.
+  flagged. Each row keeps a margin for the rounding to whole steps (half a step times the
+  weight of every free amount in it), so the rounded amounts pass wherever the continuous ones do.
 * **Track rows** (:class:`TrackRows`): gauge and gauge change rate (lateral), cross-level and
   twist (vertical) as the profile defines them, on the sleepers' own stations with the same
   interpolation over the base as the assessment. A row is *hard* where the input lies inside its
@@ -16,16 +16,23 @@ rail-major, ``left 0..n-1, right n..2n-1``. Two kinds of constraints:
   steps; :func:`repair_rounding` then picks the neighbouring whole steps that hold every hard row
   (a small integer programme around the broken rows; at worst it leaves those sleepers unmoved,
   which holds them by construction).
+
+Written out, the rows number hundreds per sleeper (every chord placement of the 300 m chord);
+:func:`solve_free` adds them as the solution violates them (constraint generation, HiGHS dual
+simplex restarting from its last basis), and a few per sleeper ever enter the programme.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import highspy._core as highspy_core
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 from scipy import sparse
 from scipy.optimize import Bounds, LinearConstraint, milp
 
+from insrail.progress import check_cancel
 from insrail.track.exceedance import SleeperGeometry
 from insrail.track.irregularity import (
     DEFAULT_MAX_GAP_M,
@@ -245,132 +252,11 @@ def track_rows(geometry: SleeperGeometry, profile: ToleranceProfile, direction: 
     return collector.build()
 
 
-# --------------------------------------------------------------------------- the window programme
-
-class _Programme:
-    """Variables and rows of one window's linear programme, assembled as sparse triplets."""
-
-    def __init__(self):
-        self.variables = 0
-        self.cost: list[np.ndarray] = []
-        self.var_lower: list[np.ndarray] = []
-        self.var_upper: list[np.ndarray] = []
-        self.rows, self.cols, self.vals, self.lower, self.upper = [], [], [], [], []
-        self.count = 0
-
-    def add_variables(self, count: int, lower, upper, cost) -> np.ndarray:
-        index = self.variables + np.arange(count)
-        self.variables += count
-        self.var_lower.append(np.broadcast_to(np.asarray(lower, float), (count,)))
-        self.var_upper.append(np.broadcast_to(np.asarray(upper, float), (count,)))
-        self.cost.append(np.broadcast_to(np.asarray(cost, float), (count,)))
-        return index
-
-    def add_rows(self, terms, lower, upper) -> None:
-        """Rows lower <= sum(coefficient * x[column]) <= upper; ``terms`` (columns, coefficients) per row."""
-        lower = np.asarray(lower, float)
-        upper = np.broadcast_to(np.asarray(upper, float), lower.shape)
-        size = lower.size
-        if not size:
-            return
-        index = self.count + np.arange(size)
-        for column, coefficient in terms:
-            self.rows.append(index)
-            self.cols.append(np.broadcast_to(column, (size,)))
-            self.vals.append(np.broadcast_to(np.asarray(coefficient, float), (size,)))
-        self.lower.append(lower)
-        self.upper.append(upper)
-        self.count += size
-
-    def solve(self) -> np.ndarray:
-        matrix = sparse.csr_array((np.concatenate(self.vals), (np.concatenate(self.rows), np.concatenate(self.cols))),
-                                  shape=(self.count, self.variables))
-        result = milp(np.concatenate(self.cost), constraints=LinearConstraint(matrix, np.concatenate(self.lower),
-                                                                                 np.concatenate(self.upper)),
-                      bounds=Bounds(np.concatenate(self.var_lower), np.concatenate(self.var_upper)))
-        if result.x is None:
-            raise RuntimeError(f"adjustment optimisation failed: {result.message}")
-        return result.x
-
-
-def _differential_rows(lp: _Programme, amount, d: np.ndarray, valid: np.ndarray, check: RailCheck, step: float) -> None:
-    """Every chord placement and point pair of one differential-versine check on one rail.
-
-    For a chord starting at j, r(k) - r(k+p) = D(k) + S(j) with D(k) = d(k) - d(k+p) and
-    S(j) = p/m (d(j+m) - d(j)); the pair's worst value over the chords holding it is reached at
-    the largest or smallest S of a window of m - p + 1 starts, which running maxima/minima over
-    prefixes and suffixes of blocks of that width bound with two variables each.
-    """
-    n = d.size
-    m, p = check.first_steps, check.second_steps
-    n_chords = n - m
-    if n_chords <= 0:
-        return
-    # Rounding each amount to a whole step moves D + S by at most (1 + p/m) steps: kept as a margin.
-    bound = check.limit_m / step - (1.0 + p / m)
-    if bound <= 0:
-        raise ValueError(f"a {check.limit_m * 1e3:g} mm limit on a {m}/{p}-sleeper check leaves no room for "
-                         f"{step * 1e3:g} mm fastener steps")
-    r = p / m
-    pmax, qmax, pmin, qmin = (lp.add_variables(n_chords, -np.inf, np.inf, 0.0) for _ in range(4))
-    ok = np.flatnonzero(valid[:n_chords] & valid[m:])
-    s0 = r * (d[ok + m] - d[ok])
-    chord = amount(ok + m, r) + amount(ok, -r)
-    for running in (pmax, qmax):  # S_j <= running maximum
-        lp.add_rows(chord + [(running[ok], -1.0)], np.full(ok.size, -np.inf), -s0)
-    for running in (pmin, qmin):  # S_j >= running minimum
-        lp.add_rows(chord + [(running[ok], -1.0)], -s0, np.full(ok.size, np.inf))
-    block = m - p + 1
-    index = np.arange(n_chords)
-    previous = np.where(index % block == 0, -1, index - 1)
-    following = np.where((index % block == block - 1) | (index == n_chords - 1), -1, index + 1)
-    for chain, top, bottom in ((previous, pmax, pmin), (following, qmax, qmin)):
-        linked = np.flatnonzero(chain >= 0)
-        zeros = np.zeros(linked.size)
-        lp.add_rows([(top[chain[linked]], 1.0), (top[linked], -1.0)], np.full(linked.size, -np.inf), zeros)
-        lp.add_rows([(bottom[linked], 1.0), (bottom[chain[linked]], -1.0)], np.full(linked.size, -np.inf), zeros)
-    k = np.arange(n - p)
-    k = k[valid[k] & valid[k + p]]
-    first = np.maximum(k - (m - p), 0)
-    last = np.minimum(k, n_chords - 1)
-    keep = first <= last
-    k, first, last = k[keep], first[keep], last[keep]
-    same = first // block == last // block
-    d0 = d[k] - d[k + p]
-    slack = lp.add_variables(k.size, 0.0, np.inf, VIOLATION_PENALTY)  # how far pair k still exceeds
-    pair = amount(k, 1.0) + amount(k + p, -1.0)
-    for selector, high, low in ((~same | (first % block == 0), pmax[last], pmin[last]),
-                                (~same | (first % block != 0), qmax[first], qmin[first])):
-        terms = [(c[selector], np.broadcast_to(v, k.shape)[selector]) for c, v in pair]
-        count = int(selector.sum())
-        # D(a) + max S <= bound + slack  and  D(a) + min S >= -bound - slack
-        lp.add_rows(terms + [(high[selector], 1.0), (slack[selector], -1.0)], np.full(count, -np.inf),
-                    bound - d0[selector])
-        lp.add_rows(terms + [(low[selector], 1.0), (slack[selector], 1.0)], -bound - d0[selector],
-                    np.full(count, np.inf))
-
-
-def _versine_rows(lp: _Programme, amount, d: np.ndarray, valid: np.ndarray, check: RailCheck, step: float) -> None:
-    """The versine at every sleeper whose chord ends are valid: d(k) - [b d(k-a) + a d(k+b)]/(a+b)."""
-    a, b = check.first_steps, check.second_steps
-    n = d.size
-    # rounding moves the versine by at most 1/2 (1 + b/(a+b) + a/(a+b)) = 1 step
-    bound = check.limit_m / step - 1.0
-    if bound <= 0 or n <= a + b:
-        return
-    k = np.arange(a, n - b)
-    k = k[valid[k] & valid[k - a] & valid[k + b]]
-    wa, wb = a / (a + b), b / (a + b)
-    v0 = d[k] - wb * d[k - a] - wa * d[k + b]
-    slack = lp.add_variables(k.size, 0.0, np.inf, VIOLATION_PENALTY)
-    terms = amount(k, 1.0) + amount(k - a, -wb) + amount(k + b, -wa)
-    lp.add_rows(terms + [(slack, -1.0)], np.full(k.size, -np.inf), bound - v0)
-    lp.add_rows(terms + [(slack, 1.0)], -bound - v0, np.full(k.size, np.inf))
-
+# --------------------------------------------------------------------------- the programme
 
 @dataclass(frozen=True)
 class DirectionProblem:
-    """Everything about one direction that does not change between windows (amounts in steps)."""
+    """Everything about one direction the programme needs (amounts in steps)."""
 
     deviation: np.ndarray  # (N, 2) steps, NaN where invalid
     valid: np.ndarray  # (N,) bool
@@ -381,74 +267,295 @@ class DirectionProblem:
     reference_right: np.ndarray | None  # (N,) bool: the rail that leads (guiding-rail-first practice), else None
 
 
-def solve_window(problem: DirectionProblem, amounts: np.ndarray, start: int, stop: int, checks: list[RailCheck]) -> np.ndarray:
-    """Continuous amounts [steps] (stop - start, 2) of sleepers start..stop-1 of both rails. The
-    sleepers one reach beyond each end keep ``amounts`` (so every chord placement and track row
-    touching a free sleeper is in the programme)."""
-    total = problem.deviation.shape[0]
-    reach = max([c.reach_steps for c in checks] + [8])
-    lo, hi = max(0, start - reach), min(total, stop + reach)
-    n = hi - lo
-    valid = problem.valid[lo:hi]
-    free = np.zeros(n, bool)
-    free[start - lo: stop - lo] = True
-    free &= valid
-    lp = _Programme()
-    fixed = np.where(valid[:, None], amounts[lo:hi], 0.0)  # (n, 2)
-    guiding = problem.reference_right is not None
-    plus, minus = [], []
-    for rail in (0, 1):
-        if guiding:
-            leads = problem.reference_right[lo:hi] == bool(rail)
+@dataclass(frozen=True)
+class _Rows:
+    """Candidate rows: value = offset + sum(coefficients * amount[columns]) inside [lower, upper]
+    (steps; columns rail-major over 2N). ``soft`` rows may exceed at a cost; ``rounded`` rows
+    keep a margin for the rounding of their free amounts; ``key`` names the row within its family."""
+
+    key: np.ndarray
+    columns: np.ndarray  # (R, w)
+    coefficients: np.ndarray  # (R, w)
+    offset: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    soft: np.ndarray
+    rounded: np.ndarray
+
+    def take(self, selection: np.ndarray) -> _Rows:
+        return _Rows(*(getattr(self, f)[selection] for f in
+                       ("key", "columns", "coefficients", "offset", "lower", "upper", "soft", "rounded")))
+
+
+def _one_sided(key_base: np.ndarray, side_high: np.ndarray, limit: float, columns, coefficients, offset) -> _Rows:
+    """Soft one-sided chord rows: value <= limit where ``side_high``, value >= -limit elsewhere."""
+    size = key_base.size
+    return _Rows(2 * key_base + side_high, columns, np.broadcast_to(coefficients, columns.shape), offset,
+                 np.where(side_high, -np.inf, -limit), np.where(side_high, limit, np.inf), np.ones(size, bool),
+                 np.ones(size, bool))
+
+
+class _ChordRows:
+    """The rows of one chord check on one rail that the current amounts violate.
+
+    A differential versine (chord m, pair p) has a row per point pair k and chord start i
+    (i = k - (m - p) .. k, thesis eq. (2.2)): D(k) + S(i) with D(k) = x(k) - x(k+p) and
+    S(i) = p/m (x(i+m) - x(i)) of x = deviation + amount. Of all chords holding a pair only the
+    worst one (largest or smallest S, margin included) is proposed: the next round proposes the
+    next one if the programme made it worse. A versine (back a, ahead b) has one row per sleeper.
+    """
+
+    def __init__(self, family: int, check: RailCheck, rail: int, deviation: np.ndarray, valid: np.ndarray, step: float):
+        self.family, self.check, self.rail = family, check, rail
+        self.n = deviation.shape[0]
+        self.d = np.where(valid, deviation[:, rail], np.nan)
+        self.limit = check.limit_m / step
+        if check.kind == "differential_versine" and self.limit <= 1.0 + check.second_steps / check.first_steps:
+            m, p = check.first_steps, check.second_steps
+            raise ValueError(f"a {check.limit_m * 1e3:g} mm limit on a {m}/{p}-sleeper check leaves no room for "
+                             f"{step * 1e3:g} mm fastener steps")
+
+    def violated(self, amounts: np.ndarray, half: np.ndarray) -> _Rows | None:
+        """Rows whose value, widened by the rounding of their free amounts (``half``: 0.5 on free
+        sleepers, 0 elsewhere), leaves the limit."""
+        if self.check.kind == "differential_versine":
+            return self._differential(amounts, half)
+        return self._versine(amounts, half)
+
+    def _differential(self, amounts, half):
+        n, m, p = self.n, self.check.first_steps, self.check.second_steps
+        if n <= m:
+            return None
+        x = self.d + amounts[:, self.rail]
+        r = p / m
+        slope, slope_margin = np.full(n, np.nan), np.zeros(n)
+        slope[: n - m] = r * (x[m:] - x[: n - m])
+        slope_margin[: n - m] = r * (half[m:] + half[: n - m])
+        pair, pair_margin = np.full(n, np.nan), np.zeros(n)
+        pair[: n - p] = x[: n - p] - x[p:]
+        pair_margin[: n - p] = half[: n - p] + half[p:]
+        chord_ok = np.isfinite(slope)
+        width = m - p + 1
+        found = []
+        for high in (True, False):
+            sign = 1.0 if high else -1.0
+            widened = np.where(chord_ok, sign * (slope + slope_margin * sign), -np.inf)
+            start = _trailing_argmax(widened, width)
+            ok = (start >= 0) & np.isfinite(pair)
+            ok[ok] &= chord_ok[start[ok]]
+            value = np.full(n, -np.inf)
+            value[ok] = sign * pair[ok] + pair_margin[ok] + widened[start[ok]]
+            bad = np.flatnonzero(value > self.limit + TOLERANCE)
+            found.append((bad, start[bad], np.full(bad.size, high)))
+        ks, starts, sides = (np.concatenate(parts) for parts in zip(*found))
+        if not ks.size:
+            return None
+        columns = np.column_stack([ks, ks + p, starts, starts + m]) + self.rail * n
+        offset = self.d[ks] - self.d[ks + p] + r * (self.d[starts + m] - self.d[starts])
+        return _one_sided(ks * n + starts, sides, self.limit, columns,
+                          np.array([1.0, -1.0, -r, r]), offset)
+
+    def _versine(self, amounts, half):
+        a, b, n = self.check.first_steps, self.check.second_steps, self.n
+        if self.limit <= 1.0 or n <= a + b:  # no room for the rounding (as before: not held)
+            return None
+        x = self.d + amounts[:, self.rail]
+        wa, wb = a / (a + b), b / (a + b)
+        k = np.arange(a, n - b)
+        margin = half[k] + wb * half[k - a] + wa * half[k + b]
+        with np.errstate(invalid="ignore"):
+            value = x[k] - wb * x[k - a] - wa * x[k + b]
+            high, low = value + margin > self.limit + TOLERANCE, value - margin < -self.limit - TOLERANCE
+        bad = high | low
+        if not bad.any():
+            return None
+        k = k[bad]
+        columns = np.column_stack([k, k - a, k + b]) + self.rail * n
+        offset = self.d[k] - wb * self.d[k - a] - wa * self.d[k + b]
+        return _one_sided(k, high[bad], self.limit, columns, np.array([1.0, -wb, -wa]), offset)
+
+
+def _trailing_argmax(values: np.ndarray, width: int) -> np.ndarray:
+    """Index of the largest of values[k - width + 1 .. k] for every k (-inf marks excluded entries)."""
+    padded = np.concatenate([np.full(width - 1, -np.inf), values])
+    return np.arange(values.size) - (width - 1) + sliding_window_view(padded, width).argmax(axis=1)
+
+
+class _TrackRowFamily:
+    """The track rows (:class:`TrackRows`) the current amounts put outside their limits; a soft
+    row (already exceeding in the input) is proposed one side at a time, with its own cost."""
+
+    def __init__(self, family: int, rows: TrackRows):
+        self.family, self.rows = family, rows
+        matrix = rows.matrix.tocsr()
+        counts = np.diff(matrix.indptr)
+        width = int(counts.max()) if counts.size else 0
+        self.columns = np.zeros((matrix.shape[0], width), np.int64)
+        self.coefficients = np.zeros((matrix.shape[0], width))
+        row = np.repeat(np.arange(matrix.shape[0]), counts)
+        position = np.arange(matrix.nnz) - np.repeat(matrix.indptr[:-1], counts)
+        self.columns[row, position] = matrix.indices
+        self.coefficients[row, position] = matrix.data
+
+    def violated(self, amounts: np.ndarray, half: np.ndarray) -> _Rows | None:
+        rows = self.rows
+        if not rows.size:
+            return None
+        values = rows.values(amounts)
+        high = values > rows.upper + 1e-7
+        bad = np.flatnonzero(high | (values < rows.lower - 1e-7))
+        if not bad.size:
+            return None
+        soft, side = ~rows.hard[bad], high[bad]
+        return _Rows(bad * 2 + (soft & side), self.columns[bad], self.coefficients[bad],
+                     rows.value0[bad], np.where(soft & side, -np.inf, rows.lower[bad]),
+                     np.where(soft & ~side, np.inf, rows.upper[bad]), soft, np.zeros(bad.size, bool))
+
+
+#: HiGHS options of the programme: dual simplex (rows are added to a solved programme and it is
+#: solved again from the last basis); no presolve, which would throw that basis away.
+HIGHS_OPTIONS = {"output_flag": False, "solver": "simplex", "simplex_strategy": 1, "presolve": "off",
+                 "simplex_dual_edge_weight_strategy": 0, "threads": 1}
+MAX_ROUNDS = 200
+
+
+class _Programme:
+    """The linear programme of the free sleepers of one direction in HiGHS: per free sleeper and
+    rail an amount ``plus - minus`` (both >= 0, within the fastener's range, costing the
+    movement), per soft row a slack (its excess, costing :data:`VIOLATION_PENALTY`), rows added
+    as they are found violated."""
+
+    def __init__(self, problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray):
+        # the bare solver: highspy.Highs (a wrapper of it) prints a banner on stdout when created
+        self.highs = highspy_core._Highs()
+        for key, value in HIGHS_OPTIONS.items():
+            self.highs.setOptionValue(key, value)
+        self.infinity = highspy_core.kHighsInf
+        self.optimal = highspy_core.HighsModelStatus.kOptimal
+        n = free.size
+        self.free_column = np.concatenate([free, free])
+        columns = np.flatnonzero(self.free_column)
+        self.columns, self.count = columns, columns.size
+        self.variable = np.full(2 * n, -1)
+        self.variable[columns] = np.arange(self.count)
+        self.fixed = amounts.T.reshape(-1).copy()
+        self.fixed[columns] = 0.0
+        self.amounts = amounts
+        self.variables = 0
+        count = self.count
+        if problem.reference_right is not None:
+            leads = np.concatenate([~problem.reference_right, problem.reference_right])[columns]
             cost = np.where(leads, 1.0, FOLLOWER_COST)
         else:
-            cost = 1.0
-        up = np.where(free, problem.high, np.maximum(fixed[:, rail], 0.0))
-        down = np.where(free, -problem.low, np.maximum(-fixed[:, rail], 0.0))
-        plus.append(lp.add_variables(n, np.where(free, 0.0, up), up, cost))
-        minus.append(lp.add_variables(n, np.where(free, 0.0, down), down, cost))
+            cost = np.ones(count)
+        self._add_variables(np.concatenate([cost, cost]), np.zeros(2 * count),
+                            np.concatenate([np.full(count, problem.high), np.full(count, -problem.low)]))
+        if problem.reference_right is not None:  # |right - left|, the change of gauge or cross-level the follower takes
+            sleepers = np.flatnonzero(free)
+            size = sleepers.size
+            up = self._add_variables(np.ones(size), np.zeros(size), np.full(size, np.inf))
+            down = self._add_variables(np.ones(size), np.zeros(size), np.full(size, np.inf))
+            left, right = self.variable[sleepers], self.variable[n + sleepers]
+            index = np.column_stack([right, right + count, left, left + count, up, down])
+            values = np.broadcast_to([1.0, -1.0, -1.0, 1.0, -1.0, 1.0], index.shape)
+            self._add_rows(index, values, np.zeros(size), np.zeros(size))
 
-    def amount_of(rail: int, offset: int = 0):
-        def amount(index, coefficient):
-            return [(plus[rail][index + offset], coefficient), (minus[rail][index + offset], -np.asarray(coefficient, float))]
-        return amount
+    def _add_variables(self, cost, lower, upper) -> np.ndarray:
+        size = cost.size
+        index = self.variables + np.arange(size)
+        if size:
+            self.highs.addVars(size, np.clip(lower, -self.infinity, self.infinity),
+                               np.clip(upper, -self.infinity, self.infinity))
+            self.highs.changeColsCost(size, index.astype(np.int32), np.asarray(cost, float))
+        self.variables += size
+        return index
 
-    if guiding:  # |right - left|: the change of gauge or cross-level the following rail takes
-        up = lp.add_variables(n, 0.0, np.inf, 1.0)
-        down = lp.add_variables(n, 0.0, np.inf, 1.0)
-        index = np.arange(n)
-        lp.add_rows(amount_of(1)(index, 1.0) + amount_of(0)(index, -1.0) + [(up, -1.0), (down, 1.0)],
-                    np.zeros(n), np.zeros(n))
-    for check in checks:
-        # each check only over the placements that can touch a free sleeper
-        c_lo, c_hi = max(lo, start - check.reach_steps), min(hi, stop + check.reach_steps)
-        builder = _differential_rows if check.kind == "differential_versine" else _versine_rows
-        for rail in (0, 1):
-            d = np.where(problem.valid[c_lo:c_hi], problem.deviation[c_lo:c_hi, rail], 0.0)
-            builder(lp, amount_of(rail, c_lo - lo), d, problem.valid[c_lo:c_hi], check, problem.step_m)
-    rows = problem.rows
-    touching = np.flatnonzero((rows.first >= lo) & (rows.last < hi) & (rows.last >= start) & (rows.first < stop))
-    if touching.size:
-        sub = rows.matrix[touching].tocoo()
-        rail, sleeper = sub.col // total, sub.col % total - lo
-        row_plus = np.where(rail == 0, plus[0][sleeper], plus[1][sleeper])
-        row_minus = np.where(rail == 0, minus[0][sleeper], minus[1][sleeper])
-        v0, lower, upper = rows.value0[touching], rows.lower[touching], rows.upper[touching]
-        soft = ~rows.hard[touching]
-        slack = lp.add_variables(touching.size, 0.0, np.where(soft, np.inf, 0.0), VIOLATION_PENALTY)
-        # value - slack <= upper and value + slack >= lower; the slack (the excess, paid) is 0 on hard rows
-        for sign, row_lower, row_upper in ((-1.0, np.full(touching.size, -np.inf), upper - v0),
-                                           (1.0, lower - v0, np.full(touching.size, np.inf))):
-            base = lp.count
-            lp.rows += [base + sub.row, base + sub.row, base + np.arange(touching.size)]
-            lp.cols += [row_plus, row_minus, slack]
-            lp.vals += [sub.data, -sub.data, np.full(touching.size, sign)]
-            lp.lower.append(row_lower)
-            lp.upper.append(row_upper)
-            lp.count += touching.size
-    x = lp.solve()
-    solved = np.column_stack([x[plus[r]] - x[minus[r]] for r in (0, 1)])
-    return solved[start - lo: stop - lo]
+    def _add_rows(self, index: np.ndarray, values: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
+        """Rows over (R, w) variable indices (-1: none); duplicates within a row are summed."""
+        keep = index >= 0
+        row = np.broadcast_to(np.arange(index.shape[0])[:, None], index.shape)[keep]
+        matrix = sparse.csr_array((np.asarray(values)[keep], (row, index[keep])), shape=(index.shape[0], self.variables))
+        matrix.sum_duplicates()
+        status = self.highs.addRows(index.shape[0], np.clip(lower, -self.infinity, self.infinity),
+                                    np.clip(upper, -self.infinity, self.infinity), matrix.nnz,
+                                    matrix.indptr[:-1].astype(np.int32), matrix.indices.astype(np.int32), matrix.data)
+        if status != type(status).kOk:
+            raise RuntimeError(f"adjustment optimisation: HiGHS refused rows ({status})")
+
+    def add(self, rows: _Rows) -> None:
+        coefficients = np.asarray(rows.coefficients)
+        on_free = self.free_column[rows.columns] & (coefficients != 0)
+        constant = rows.offset + (coefficients * self.fixed[rows.columns]).sum(axis=1)
+        margin = np.where(rows.rounded, 0.5 * (np.abs(coefficients) * on_free).sum(axis=1), 0.0)
+        lower, upper = rows.lower - constant + margin, rows.upper - constant - margin
+        slack = np.full(rows.key.size, -1)
+        soft = np.flatnonzero(rows.soft)
+        slack[soft] = self._add_variables(np.full(soft.size, VIOLATION_PENALTY), np.zeros(soft.size),
+                                          np.full(soft.size, np.inf))
+        variable = np.where(on_free, self.variable[rows.columns], -1)
+        # a soft row is one-sided: value - slack <= upper, or value + slack >= lower
+        sign = np.where(np.isfinite(upper), -1.0, 1.0)
+        index = np.concatenate([variable, np.where(on_free, variable + self.count, -1), slack[:, None]], axis=1)
+        values = np.concatenate([coefficients, -coefficients, sign[:, None]], axis=1)
+        self._add_rows(index, values, lower, upper)
+
+    def solve(self) -> np.ndarray:
+        """The amounts [steps] (N, 2): the programme's on free sleepers, the given ones elsewhere."""
+        self.highs.run()
+        if self.highs.getModelStatus() != self.optimal:
+            raise RuntimeError("adjustment optimisation failed: "
+                               f"{self.highs.modelStatusToString(self.highs.getModelStatus())}")
+        x = np.asarray(self.highs.getSolution().col_value)
+        flat = self.amounts.T.reshape(-1).copy()
+        flat[self.columns] = x[: self.count] - x[self.count: 2 * self.count]
+        return flat.reshape(2, -1).T
+
+
+def solve_free(problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray, checks: list[RailCheck],
+               progress=None, cancel=None) -> np.ndarray:
+    """Continuous amounts [steps] (N, 2): the ``free`` sleepers' least movement holding every
+    chord check of both rails and every track row; the other sleepers keep ``amounts``.
+
+    Constraint generation: the programme starts with the rows the current amounts violate and
+    is solved; rows the solution violates are added and it is solved again from the last basis,
+    until none is violated. Of the hundreds of thousands of rows (every chord placement of every
+    check, every track row) a few per sleeper ever enter the programme. Rows of chord checks keep
+    a margin of half a step per free amount they hold, so that the rounding to whole steps never
+    takes them past their limit; ``cancel`` is checked between rounds."""
+    free = free & problem.valid
+    if not free.any():
+        return amounts.copy()
+    families = [_ChordRows(index, check, rail, problem.deviation, problem.valid, problem.step_m)
+                for index, (check, rail) in enumerate((c, r) for c in checks for r in (0, 1))]
+    families.append(_TrackRowFamily(len(families), problem.rows))
+    programme = _Programme(problem, amounts, free)
+    free_column = programme.free_column
+    half = np.where(free, 0.5, 0.0)
+    known = np.zeros(0, np.int64)
+    current = amounts
+    first = None
+    for _ in range(MAX_ROUNDS):
+        check_cancel(cancel)
+        added = 0
+        for family in families:
+            rows = family.violated(current, half)
+            if rows is None:
+                continue
+            key = rows.key * len(families) + family.family  # unique over the families
+            fresh = (free_column[rows.columns] & (np.asarray(rows.coefficients) != 0)).any(axis=1)
+            fresh &= ~np.isin(key, known)
+            if fresh.any():
+                new = rows.take(np.flatnonzero(fresh))
+                known = np.concatenate([known, key[fresh]])
+                programme.add(new)
+                added += new.key.size
+        if not added:
+            return current
+        first = first or added
+        if progress is not None:
+            progress(max(0.0, 1.0 - added / first), "adjustment amounts")
+        current = programme.solve()
+    raise RuntimeError("adjustment optimisation: the rows did not settle")
 
 
 def round_amounts(continuous: np.ndarray, low: float, high: float, valid: np.ndarray) -> np.ndarray:

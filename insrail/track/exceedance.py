@@ -36,6 +36,8 @@ from insrail.track.parameters import (
 from insrail.track.tolerance import Check, ToleranceProfile
 
 RAILS = ("left", "right")
+#: How far beyond a limit [the check's unit] a value must lie to exceed it (floating-point noise).
+LIMIT_TOLERANCE = 1e-12
 
 
 @dataclass(frozen=True)
@@ -207,7 +209,8 @@ def exceedance_runs(values: np.ndarray, lower: float, upper: float) -> list[tupl
     """(first, last, peak index) of every run of consecutive entries outside [lower, upper]."""
     with np.errstate(invalid="ignore"):
         excess = np.fmax(values - upper, lower - values)
-    outside = excess > 0
+    # a value on the limit is inside: the rounding noise of e.g. 1.435 m + 1 mm - 1.435 m is not an excess
+    outside = excess > LIMIT_TOLERANCE
     edges = np.flatnonzero(np.diff(np.concatenate([[0], outside.astype(np.int8), [0]])))
     runs = []
     for first, stop in zip(edges[::2], edges[1::2]):  # one iteration per run, not per sleeper
