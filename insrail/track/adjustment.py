@@ -251,14 +251,22 @@ def _sweep_progress(progress, sweep: int):
     return lambda fraction, message: progress(0.9 + 0.1 * (sweep - 1 + fraction) / (MAX_SWEEPS - 1), message)
 
 
+def _share(progress, done: int, size: int, total: int):
+    """Progress of one window of ``size`` sleepers after ``done`` of ``total``."""
+    if progress is None:
+        return None
+    return lambda fraction, message: progress((done + fraction * size) / total, message)
+
+
 def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], progress=None, cancel=None) -> np.ndarray:
     """Amounts [steps] (n, 2) of one direction.
 
     Only the sleepers near exceedances are moved (two reaches of the check around each
-    exceeding value), by one linear programme over all of them
+    exceeding value), window after window, each by a linear programme
     (:func:`insrail.track.adjustment_programme.solve_free`: every chord check of both rails and
-    every track row held, the rows entering as they are found violated). The solution is
-    rounded to whole steps and the rounding repaired where it broke a hard track row. The line
+    every track row held, the rows entering as they are found violated; the windows solved
+    before are held where their rows reach into the next one). Each solution is rounded to whole
+    steps and the rounding repaired where it broke a hard track row. The line
     is then checked again: windows around exceedances that the previous round did not already
     try are solved again, until there are none.
     """
@@ -272,13 +280,18 @@ def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], prog
         if not windows:
             break
         tried[state.trouble] = True
-        free = np.zeros(n, bool)
+        sweep_progress = _sweep_progress(progress, sweep)
+        total = sum(stop - start for start, stop in windows)
+        done = 0
         for start, stop in windows:
-            free[start:stop] = True
-        free &= problem.valid
-        continuous = solve_free(problem, amounts, free, checks, _sweep_progress(progress, sweep), cancel)
-        amounts = np.where(free[:, None], round_amounts(continuous, problem.low, problem.high, problem.valid), amounts)
-        amounts = repair_rounding(problem, amounts, continuous)
+            free = np.zeros(n, bool)
+            free[start:stop] = problem.valid[start:stop]
+            continuous = solve_free(problem, amounts, free, checks, _share(sweep_progress, done, stop - start, total),
+                                    cancel)
+            amounts = np.where(free[:, None], round_amounts(continuous, problem.low, problem.high, problem.valid),
+                               amounts)
+            amounts = repair_rounding(problem, amounts, continuous)
+            done += stop - start
     return amounts
 
 

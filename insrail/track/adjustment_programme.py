@@ -287,14 +287,6 @@ class _Rows:
                        ("key", "columns", "coefficients", "offset", "lower", "upper", "soft", "rounded")))
 
 
-def _one_sided(key_base: np.ndarray, side_high: np.ndarray, limit: float, columns, coefficients, offset) -> _Rows:
-    """Soft one-sided chord rows: value <= limit where ``side_high``, value >= -limit elsewhere."""
-    size = key_base.size
-    return _Rows(2 * key_base + side_high, columns, np.broadcast_to(coefficients, columns.shape), offset,
-                 np.where(side_high, -np.inf, -limit), np.where(side_high, limit, np.inf), np.ones(size, bool),
-                 np.ones(size, bool))
-
-
 class _ChordRows:
     """The rows of one chord check on one rail that the current amounts violate.
 
@@ -315,18 +307,34 @@ class _ChordRows:
             raise ValueError(f"a {check.limit_m * 1e3:g} mm limit on a {m}/{p}-sleeper check leaves no room for "
                              f"{step * 1e3:g} mm fastener steps")
 
-    def violated(self, amounts: np.ndarray, half: np.ndarray) -> _Rows | None:
-        """Rows whose value, widened by the rounding of their free amounts (``half``: 0.5 on free
-        sleepers, 0 elsewhere), leaves the limit."""
-        if self.check.kind == "differential_versine":
-            return self._differential(amounts, half)
-        return self._versine(amounts, half)
+    @property
+    def reach_steps(self) -> int:
+        return self.check.reach_steps
 
-    def _differential(self, amounts, half):
-        n, m, p = self.n, self.check.first_steps, self.check.second_steps
+    def violated(self, amounts: np.ndarray, half: np.ndarray, span: tuple[int, int]) -> _Rows | None:
+        """Rows within sleepers span[0]..span[1]-1 whose value, widened by the rounding of their
+        free amounts (``half``: 0.5 on free sleepers, 0 elsewhere), leaves the limit."""
+        lo, hi = span
+        d = self.d[lo:hi]
+        x = d + amounts[lo:hi, self.rail]
+        if self.check.kind == "differential_versine":
+            rows = self._differential(d, x, half[lo:hi])
+        else:
+            rows = self._versine(d, x, half[lo:hi])
+        if rows is None:
+            return None
+        k, second, offset, coefficients, high = rows
+        columns = np.column_stack(k) + lo + self.rail * self.n
+        key = (k[0] + lo) * self.n + second + lo
+        return _Rows(2 * key + high, columns, np.broadcast_to(coefficients, columns.shape), offset,
+                     np.where(high, -np.inf, -self.limit), np.where(high, self.limit, np.inf),
+                     np.ones(high.size, bool), np.ones(high.size, bool))
+
+    def _differential(self, d, x, half):
+        """(columns' sleepers, chord start, offset, coefficients, upper side) of the violated rows."""
+        n, m, p = x.size, self.check.first_steps, self.check.second_steps
         if n <= m:
             return None
-        x = self.d + amounts[:, self.rail]
         r = p / m
         slope, slope_margin = np.full(n, np.nan), np.zeros(n)
         slope[: n - m] = r * (x[m:] - x[: n - m])
@@ -339,7 +347,7 @@ class _ChordRows:
         found = []
         for high in (True, False):
             sign = 1.0 if high else -1.0
-            widened = np.where(chord_ok, sign * (slope + slope_margin * sign), -np.inf)
+            widened = np.where(chord_ok, sign * slope + slope_margin, -np.inf)
             start = _trailing_argmax(widened, width)
             ok = (start >= 0) & np.isfinite(pair)
             ok[ok] &= chord_ok[start[ok]]
@@ -347,19 +355,16 @@ class _ChordRows:
             value[ok] = sign * pair[ok] + pair_margin[ok] + widened[start[ok]]
             bad = np.flatnonzero(value > self.limit + TOLERANCE)
             found.append((bad, start[bad], np.full(bad.size, high)))
-        ks, starts, sides = (np.concatenate(parts) for parts in zip(*found))
-        if not ks.size:
+        k, i, high = (np.concatenate(parts) for parts in zip(*found))
+        if not k.size:
             return None
-        columns = np.column_stack([ks, ks + p, starts, starts + m]) + self.rail * n
-        offset = self.d[ks] - self.d[ks + p] + r * (self.d[starts + m] - self.d[starts])
-        return _one_sided(ks * n + starts, sides, self.limit, columns,
-                          np.array([1.0, -1.0, -r, r]), offset)
+        offset = d[k] - d[k + p] + r * (d[i + m] - d[i])
+        return (k, k + p, i, i + m), i, offset, np.array([1.0, -1.0, -r, r]), high
 
-    def _versine(self, amounts, half):
-        a, b, n = self.check.first_steps, self.check.second_steps, self.n
-        if self.limit <= 1.0 or n <= a + b:  # no room for the rounding (as before: not held)
+    def _versine(self, d, x, half):
+        a, b, n = self.check.first_steps, self.check.second_steps, x.size
+        if self.limit <= 1.0 or n <= a + b:  # no room for the rounding: not held (as the assessment shows)
             return None
-        x = self.d + amounts[:, self.rail]
         wa, wb = a / (a + b), b / (a + b)
         k = np.arange(a, n - b)
         margin = half[k] + wb * half[k - a] + wa * half[k + b]
@@ -370,9 +375,8 @@ class _ChordRows:
         if not bad.any():
             return None
         k = k[bad]
-        columns = np.column_stack([k, k - a, k + b]) + self.rail * n
-        offset = self.d[k] - wb * self.d[k - a] - wa * self.d[k + b]
-        return _one_sided(k, high[bad], self.limit, columns, np.array([1.0, -wb, -wa]), offset)
+        offset = d[k] - wb * d[k - a] - wa * d[k + b]
+        return (k, k - a, k + b), np.zeros(k.size, int), offset, np.array([1.0, -wb, -wa]), high[bad]
 
 
 def _trailing_argmax(values: np.ndarray, width: int) -> np.ndarray:
@@ -397,13 +401,16 @@ class _TrackRowFamily:
         self.columns[row, position] = matrix.indices
         self.coefficients[row, position] = matrix.data
 
-    def violated(self, amounts: np.ndarray, half: np.ndarray) -> _Rows | None:
+    reach_steps = 0  # rows are chosen by the sleepers they touch
+
+    def violated(self, amounts: np.ndarray, half: np.ndarray, span: tuple[int, int]) -> _Rows | None:
         rows = self.rows
         if not rows.size:
             return None
         values = rows.values(amounts)
         high = values > rows.upper + 1e-7
-        bad = np.flatnonzero(high | (values < rows.lower - 1e-7))
+        inside = (rows.last >= span[0]) & (rows.first < span[1])
+        bad = np.flatnonzero(inside & (high | (values < rows.lower - 1e-7)))
         if not bad.size:
             return None
         soft, side = ~rows.hard[bad], high[bad]
@@ -534,11 +541,14 @@ def solve_free(problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray,
     known = np.zeros(0, np.int64)
     current = amounts
     first = None
+    sleepers = np.flatnonzero(free)
     for _ in range(MAX_ROUNDS):
         check_cancel(cancel)
         added = 0
         for family in families:
-            rows = family.violated(current, half)
+            # the rows that hold a free sleeper lie within one reach of the free ones
+            span = (max(0, sleepers[0] - family.reach_steps), min(free.size, sleepers[-1] + family.reach_steps + 1))
+            rows = family.violated(current, half, span)
             if rows is None:
                 continue
             key = rows.key * len(families) + family.family  # unique over the families
