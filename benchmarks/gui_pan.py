@@ -1,6 +1,6 @@
 """The desktop application on a large project: first paint, pan/zoom frame times, project switch.
 
-    xvfb-run -s "-screen 0 1920x1080x24" python benchmarks/gui_pan.py PROJECT [OTHER_PROJECT]
+    xvfb-run -s "-screen 0 1920x1080x24" python benchmarks/gui_pan.py PROJECT [OTHER_PROJECT] [--cold]
 
 Run it in a real X window (Xvfb), not only offscreen: the budgets are about what a surveyor sees.
 PROJECT is a processed project, e.g. the `long` (10 km) demo project made by benchmarks/pipeline.py
@@ -12,6 +12,10 @@ or by `insrail demo` with the long preset. The main window (1400 x 900) is shown
 * frames: the track, navigation and plan views panned and zoomed programmatically (a frame is
   setXRange + processEvents + repaint), in windows from 200 m (or 60 s) to the whole survey;
 * project switch: opening OTHER_PROJECT (default: PROJECT again) until its track view is painted.
+
+A sleeper table parsed once is kept in the user's cache (insrail.project.table_cache); the figures
+say whether each open found it there. ``--cold`` runs with an empty cache folder: the first open of
+a project after processing it outside the desktop application (the table parsed on that open).
 
 Budgets (issue 21): first paint <= 2 s, every frame <= 50 ms, project switch <= 2 s. Wall-clock
 figures grow with the machine's load (printed); each frame's CPU time is printed beside it.
@@ -76,7 +80,23 @@ def report(name: str, measured: tuple[np.ndarray, np.ndarray]) -> float:
     return float(np.percentile(cpu, 95))
 
 
-def main(project: str, other: str | None = None) -> int:
+def table_state(project_folder: str) -> str:
+    """Whether the first processed survey's sleeper table is in the user's cache (the open reads it there)."""
+    from insrail.project import load_project, table_cache
+    from insrail.project.results import RESULTS_FOLDER, SLEEPERS_FILE
+
+    project = load_project(project_folder)
+    for entry in project.surveys:
+        path = project.folder / RESULTS_FOLDER / entry.name / SLEEPERS_FILE
+        if path.is_file():
+            return ("sleeper table from the user's cache" if table_cache.load(path.read_bytes()) is not None
+                    else "sleeper table parsed on this open")
+    return "no results"
+
+
+def main(project: str, other: str | None = None, cold: bool = False) -> int:
+    if cold:  # an empty cache folder: every sleeper table is parsed when its project opens
+        os.environ["XDG_CACHE_HOME"] = tempfile.mkdtemp(prefix="insrail-cold-cache-")
     from insrail.gui.main_window import MainWindow
 
     app = QApplication.instance() or QApplication([])
@@ -87,6 +107,7 @@ def main(project: str, other: str | None = None) -> int:
         window.resize(1400, 900)
         window.show()
         app.processEvents()
+        state = table_state(project)
         began, began_cpu = time.perf_counter(), time.process_time()
         window.open_project(project)
         opened = time.perf_counter() - began
@@ -98,7 +119,7 @@ def main(project: str, other: str | None = None) -> int:
         print(f"{window.project.name}: {len(station)} sleepers over {station[-1] - station[0]:.0f} m, "
               f"{len(track.plots.plots)} plots")
         print(f"first paint {first_paint:.2f} s after the window appeared ({first_paint_cpu:.2f} s CPU of all "
-              f"threads; longest unanswered gap {max(opened, longest):.2f} s)")
+              f"threads; longest unanswered gap {max(opened, longest):.2f} s; {state})")
         while window.loader is not None:  # the trajectory: plan and navigation
             app.processEvents()
             time.sleep(0.001)
@@ -134,12 +155,14 @@ def main(project: str, other: str | None = None) -> int:
 
         window.tabs.setCurrentWidget(window.track)
         app.processEvents()
+        state = table_state(other or project)
         began, began_cpu = time.perf_counter(), time.process_time()
         window.open_project(other or project)
         shown, _ = until_shown(app, window)
         switch = time.perf_counter() - began
         switch_cpu = time.process_time() - began_cpu
-        print(f"project switch to {window.project.name}: {switch:.2f} s to its track view ({switch_cpu:.2f} s CPU)")
+        print(f"project switch to {window.project.name}: {switch:.2f} s to its track view ({switch_cpu:.2f} s CPU; "
+              f"{state})")
         while window.loader is not None:
             app.processEvents()
             time.sleep(0.001)
@@ -155,4 +178,5 @@ def main(project: str, other: str | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(*sys.argv[1:3]))
+    arguments = [a for a in sys.argv[1:] if a != "--cold"]
+    sys.exit(main(*arguments[:2], cold="--cold" in sys.argv[1:]))

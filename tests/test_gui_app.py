@@ -19,6 +19,7 @@ from PySide6.QtCore import QSettings, Qt, QUrl
 from PySide6.QtGui import QDesktopServices
 from PySide6.QtWidgets import QFileDialog, QMessageBox, QWizard
 
+from insrail.gui.bands import EnvelopeLine
 from insrail.gui.importer import ImportWidget
 from insrail.gui.main_window import MainWindow
 from insrail.gui.settings import recent_projects
@@ -105,7 +106,8 @@ def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_pro
     assert len(window.plan.curves["centreline"].getOriginalDataset()[0]) == len(stored)
     assert len(window.plan.curves["gnss"].getOriginalDataset()[0]) > 100
     window.tabs.setCurrentWidget(window.navigation)
-    assert window.navigation.items and all(i.listDataItems() for i in window.navigation.items.values())
+    assert window.navigation.items and all(any(isinstance(curve, EnvelopeLine) for curve in i.items)
+                                           for i in window.navigation.items.values())
     window.tabs.setCurrentWidget(window.repeatability)
     residuals = next(s for s in window.navigation._series if s.key == "gnss_residuals")
     assert len(residuals.time_s) > 100 and np.sqrt(np.mean(residuals.values**2)) < 20.0  # mm: PPK-level agreement

@@ -135,3 +135,32 @@ def test_the_same_survey_again_keeps_window_and_plots(view):
     assert np.allclose(view.plots.x_range(), (1200.0, 1260.0)) and "gauge" not in view.plots.plots
     view.set_results(view._station, view._numbers, view._labels, data, view._specs, view._rows, survey="other")
     assert "gauge" in view.plots.plots  # another survey starts afresh
+
+
+def test_navigation_curves_draw_a_few_points_per_pixel_column_and_keep_a_spike(qtbot):
+    """A series of a million epochs costs a frame what its plot's width costs; its one-sample spike
+    still shows (min and max per pixel column), and no line runs across a gap in its own epochs."""
+    from insrail.gui.bands import EnvelopeLine
+    from insrail.gui.views.navigation import NavigationView
+    from insrail.project.plotdata import NavSeries
+
+    time = np.arange(1_000_000) * 0.005
+    values = np.sin(time / 50.0)[:, None].copy()
+    values[612_345, 0] = 7.0  # one epoch
+    gnss_time = np.concatenate([np.arange(0.0, 1000.0), np.arange(2000.0, 5000.0)])
+    series = (NavSeries("position", "Position", "m", ("north",), values, None),
+              NavSeries("gnss_residuals", "GNSS residuals", "mm", ("north",), np.zeros((4000, 1)), None, gnss_time))
+    view = NavigationView()
+    qtbot.addWidget(view)
+    view.resize(1000, 600)
+    view.show()
+    view.set_series(time, series)
+    for entry in range(view.choice.count()):
+        view.choice.item(entry).setCheckState(Qt.Checked)
+    qtbot.waitUntil(lambda: len(view.items) == 2)
+    line = next(c for c in view.items["position"].items if isinstance(c, EnvelopeLine))
+    width = int(line.getViewBox().width())
+    assert 0 < line.drawn_points <= 4 * width + 8
+    assert line.boundingRect().bottom() >= 7.0 or line.boundingRect().top() >= 7.0  # the spike's column kept
+    gaps = next(c for c in view.items["gnss_residuals"].items if isinstance(c, EnvelopeLine))
+    assert [(p.x[0], p.x[-1]) for p in gaps.parts] == [(0.0, 999.0), (2000.0, 4999.0)]

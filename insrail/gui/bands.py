@@ -1,4 +1,4 @@
-"""A shaded band (1-sigma around a curve) drawn at screen resolution.
+"""A shaded band (1-sigma around a curve), or a curve, drawn at screen resolution.
 
 pyqtgraph's FillBetweenItem builds one polygon over every sample of both edges on each change: over
 the 280 905 epochs of a 1.2 km survey it held the GUI thread for most of a minute. This item asks
@@ -59,14 +59,17 @@ class EnvelopeItem(pg.GraphicsObject):
             x, low, high = x[keep], low[keep], high[keep]
             if len(x) < 2:
                 continue
-            outline = pg.arrayToQPath(np.concatenate([x, x[::-1]]), np.concatenate([high, low[::-1]]))
-            outline.closeSubpath()
-            path.addPath(outline)
+            path.addPath(self._outline(x, low, high))
             points += 2 * len(x)
         self.prepareGeometryChange()
         self.path = path
         self.drawn_points = points
         self.update()
+
+    def _outline(self, x: np.ndarray, low: np.ndarray, high: np.ndarray) -> QPainterPath:
+        outline = pg.arrayToQPath(np.concatenate([x, x[::-1]]), np.concatenate([high, low[::-1]]))
+        outline.closeSubpath()
+        return outline
 
     def boundingRect(self) -> QRectF:
         return self.path.boundingRect()
@@ -93,3 +96,21 @@ class EnvelopeItem(pg.GraphicsObject):
         if not finite:
             return None, None
         return float(np.nanmin(lows)), float(np.nanmax(highs))
+
+
+class EnvelopeLine(EnvelopeItem):
+    """A curve (an envelope of ``low == high``: the series itself) drawn through the min and the max
+    of each pixel column, as pyqtgraph's peak downsampling would, but from the core's pyramid: the
+    cost of a frame follows the plot's width, not the survey's millions of epochs."""
+
+    def __init__(self, parts: Sequence[Envelope], pen):
+        super().__init__(parts, (0, 0, 0, 0))
+        self.pen = pg.mkPen(pen)
+
+    def _outline(self, x: np.ndarray, low: np.ndarray, high: np.ndarray) -> QPainterPath:
+        return pg.arrayToQPath(np.repeat(x, 2), np.column_stack([low, high]).ravel())
+
+    def paint(self, painter, *_args) -> None:
+        painter.setPen(self.pen)
+        painter.setBrush(Qt.NoBrush)
+        painter.drawPath(self.path)

@@ -542,7 +542,7 @@ class MainWindow(QMainWindow):
         for warning in views.warnings:
             self.log.warning(warning)
         self.plan.set_data(views.plan)
-        self.navigation.set_series(views.time_s, views.series, views.bands)
+        self.navigation.set_series(views.time_s, views.series, views.bands, views.lines)
 
     def _load_failed(self, request: int, message: str) -> None:
         if request == self.request:

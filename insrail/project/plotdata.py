@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -458,8 +458,8 @@ def track_data(project: Project, stored: StoredResults) -> TrackData:
 @dataclass(frozen=True)
 class TrajectoryViews:
     """What the plan and navigation views draw for one survey; ``bands`` the navigation series'
-    1-sigma envelopes (by series key, one tuple of runs per component); ``warnings`` what could
-    not be shown and why."""
+    1-sigma envelopes (by series key, one tuple of runs per component), ``lines`` the series
+    themselves as envelopes (drawn at screen resolution); ``warnings`` what could not be shown and why."""
 
     survey: str
     plan: PlanData
@@ -467,19 +467,29 @@ class TrajectoryViews:
     series: tuple[NavSeries, ...]
     bands: dict[str, tuple[tuple[Envelope, ...], ...]]
     warnings: tuple[str, ...] = ()
+    lines: dict[str, tuple[tuple[Envelope, ...], ...]] = field(default_factory=dict)
 
 
 def series_bands(time_s: np.ndarray, series: Iterable[NavSeries]) -> dict[str, tuple[tuple[Envelope, ...], ...]]:
     """The 1-sigma envelope of every component of the series that have a sigma."""
-    bands = {}
+    return _series_envelopes(time_s, [s for s in series if s.sigma is not None],
+                             lambda s, k: (s.values[:, k] - s.sigma[:, k], s.values[:, k] + s.sigma[:, k]))
+
+
+def series_lines(time_s: np.ndarray, series: Iterable[NavSeries]) -> dict[str, tuple[tuple[Envelope, ...], ...]]:
+    """Every component of every series as an envelope of itself: the curve drawn at screen resolution."""
+    return _series_envelopes(time_s, series, lambda s, k: (s.values[:, k], s.values[:, k]))
+
+
+def _series_envelopes(time_s: np.ndarray, series: Iterable[NavSeries], low_high) -> dict[str, tuple[tuple[Envelope, ...], ...]]:
+    """Per series key, per component, the envelopes of ``low_high(series, component)`` (no run across a
+    gap in a series' own epochs)."""
+    found = {}
     for s in series:
-        if s.sigma is None:
-            continue
         time = time_s if s.time_s is None else s.time_s
         breaks = gap_breaks(time) if s.time_s is not None else None
-        bands[s.key] = tuple(envelopes(time, s.values[:, k] - s.sigma[:, k], s.values[:, k] + s.sigma[:, k], breaks)
-                             for k in range(s.values.shape[1]))
-    return bands
+        found[s.key] = tuple(envelopes(time, *low_high(s, k), breaks) for k in range(s.values.shape[1]))
+    return found
 
 
 def trajectory_views(project: Project, stored: StoredResults) -> TrajectoryViews:
@@ -497,7 +507,8 @@ def trajectory_views(project: Project, stored: StoredResults) -> TrajectoryViews
         trolley = project.trolley() or read_manifest(project.resolve(project.survey(stored.survey).folder)).trolley
         series += (gnss_residuals(trajectory, gnss, trolley.imu_to_antenna_m, ellipsoid),)
     return TrajectoryViews(stored.survey, plan_data(project, stored, trajectory, gnss), trajectory.time_s, series,
-                           series_bands(trajectory.time_s, series), tuple(warnings))
+                           series_bands(trajectory.time_s, series), tuple(warnings),
+                           series_lines(trajectory.time_s, series))
 
 
 __all__ = [
@@ -524,6 +535,7 @@ __all__ = [
     "quality_bands",
     "quality_epochs",
     "series_bands",
+    "series_lines",
     "stored_ppk",
     "survey_gnss",
     "track_data",

@@ -10,15 +10,21 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QHBoxLayout, QListWidget, QListWidgetItem, QWidget
 
 from insrail.gui import plotstyle
-from insrail.gui.bands import EnvelopeItem
+from insrail.gui.bands import EnvelopeItem, EnvelopeLine
 from insrail.gui.lazy import DrawWhenShown
-from insrail.project.plotdata import Envelope, NavSeries, gap_breaks, series_bands
+from insrail.project.plotdata import (
+    Envelope,
+    NavSeries,
+    series_bands,
+    series_lines,
+)
 
 DEFAULT_SERIES = ("position", "velocity", "attitude", "position_sigma")
 
 
 class NavigationView(DrawWhenShown, QWidget):
-    """Drawn when shown (a hidden tab costs nothing); the 1-sigma bands at screen resolution."""
+    """Drawn when shown (a hidden tab costs nothing); the curves and their 1-sigma bands at screen
+    resolution (a frame draws a few points per pixel column, not the survey's epochs)."""
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -33,14 +39,18 @@ class NavigationView(DrawWhenShown, QWidget):
         self._time = np.zeros(0)
         self._series: tuple[NavSeries, ...] = ()
         self._bands: dict[str, tuple[tuple[Envelope, ...], ...]] = {}
+        self._lines: dict[str, tuple[tuple[Envelope, ...], ...]] = {}
         self.choice.itemChanged.connect(lambda _item: self.request_draw())
 
     def set_series(self, time_s: np.ndarray, series: Sequence[NavSeries],
-                   bands: Mapping[str, tuple[tuple[Envelope, ...], ...]] | None = None) -> None:
-        """The series to offer and their 1-sigma envelopes (:func:`series_bands`, computed here if not
-        given: the main window computes them in its loader thread)."""
+                   bands: Mapping[str, tuple[tuple[Envelope, ...], ...]] | None = None,
+                   lines: Mapping[str, tuple[tuple[Envelope, ...], ...]] | None = None) -> None:
+        """The series to offer, their 1-sigma envelopes (:func:`series_bands`) and the series as
+        envelopes (:func:`series_lines`), computed here if not given: the main window computes them
+        in its loader thread."""
         self._time, self._series = np.asarray(time_s), tuple(series)
         self._bands = dict(bands) if bands is not None else series_bands(self._time, self._series)
+        self._lines = dict(lines) if lines is not None else series_lines(self._time, self._series)
         self.choice.blockSignals(True)
         self.choice.clear()
         for s in self._series:
@@ -53,7 +63,7 @@ class NavigationView(DrawWhenShown, QWidget):
 
     def clear(self) -> None:
         """Nothing shown (another project or a survey without results)."""
-        self.set_series(np.zeros(0), (), {})
+        self.set_series(np.zeros(0), (), {}, {})
 
     def shown(self) -> list[str]:
         return [self.choice.item(i).data(Qt.UserRole) for i in range(self.choice.count())
@@ -70,20 +80,15 @@ class NavigationView(DrawWhenShown, QWidget):
             item.setTitle(plotstyle.titled(title, s.labels), size="8pt")
             item.setLabel("left", s.unit)
             item.getAxis("left").setWidth(56)
-            time = self._time if s.time_s is None else s.time_s
-            # no line (and no band) across a gap in the series' own epochs (a GNSS outage)
-            breaks = gap_breaks(time) if s.time_s is not None else None
-            connect = "all" if breaks is None else ~breaks
             for k in range(len(s.labels)):
-                value = np.ascontiguousarray(s.values[:, k])  # pyqtgraph would copy a strided column per frame
                 if s.sigma is not None:
                     colour = pg.mkColor(plotstyle.COLOURS[k % len(plotstyle.COLOURS)])
                     colour.setAlpha(70)
                     band = EnvelopeItem(self._bands[s.key][k], colour)
                     band.setZValue(-5)
                     item.addItem(band)
-                item.plot(time, value, pen=plotstyle.pen(k), connect=connect,
-                          autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
+                # no line (and no band) across a gap in the series' own epochs (a GNSS outage): one envelope a run
+                item.addItem(EnvelopeLine(self._lines[s.key][k], plotstyle.pen(k)))
             if row:
                 item.setXLink(self.items[shown[0].key])
             item.getAxis("bottom").setStyle(showValues=row == len(shown) - 1)
