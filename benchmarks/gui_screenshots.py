@@ -25,6 +25,7 @@ from PySide6.QtCore import QSettings
 from PySide6.QtWidgets import QApplication
 
 from insrail.gui.main_window import MainWindow
+from insrail.project.results import report_path
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 
@@ -99,10 +100,19 @@ def main(project: str, raw_gnss_project: str | None = None) -> None:
 
         editor = window.edit_settings()
         place(editor, size, fill=False)
-        editor.tabs.setCurrentIndex(editor.tabs.count() - 1)  # the track tab: design, tolerances, fastener
+        tabs = [editor.tabs.tabText(k) for k in range(editor.tabs.count())]
+        editor.tabs.setCurrentIndex(tabs.index("Track"))  # design, tolerances, fastener
         editor.set_field("track.tolerance_profile", "cn_conventional_160")
         camera.save(editor, "settings")
         editor.undo_stack.undo()
+        editor.tabs.setCurrentIndex(tabs.index("Report"))  # who and what the first page names, the paper
+        for key, value in (("report.client", "China Railway Wuhan Group"), ("report.operator", "Li Wei"),
+                           ("report.trolley", "GRP 5000 no. 117"), ("report.trolley_calibrated", "2026-03-14"),
+                           ("report.imu_calibrated", "2026-13-02")):
+            editor.set_field(key, value)
+        camera.save(editor, "settings_report")
+        while editor.undo_stack.canUndo():
+            editor.undo_stack.undo()
         editor.close()
 
         wizard = window.new_project()
@@ -118,6 +128,17 @@ def main(project: str, raw_gnss_project: str | None = None) -> None:
         window.export_report("pdf", Path(settings_folder) / "report.pdf")
         wait(app, lambda: window.worker is not None)
         camera.save(window, "export")
+
+        # Reports written, then the survey processed again: they are marked out of date, one click rewrites them.
+        shown = window.shown_survey
+        report_path(window.project.folder, shown, "pdf").parent.mkdir(exist_ok=True)
+        for kind in ("xlsx", "pdf"):
+            window.export_report(kind, report_path(window.project.folder, shown, kind))
+            wait(app, lambda: window.worker is not None)
+        window.process([shown])
+        wait(app, lambda: window.worker is not None or window.loader is not None)
+        window.tabs.setCurrentWidget(window.track)
+        camera.save(window, "stale_reports")
 
         dialog = window.plan_survey()
         place(dialog, size, fill=False)

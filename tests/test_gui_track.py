@@ -164,3 +164,32 @@ def test_navigation_curves_draw_a_few_points_per_pixel_column_and_keep_a_spike(q
     assert line.boundingRect().bottom() >= 7.0 or line.boundingRect().top() >= 7.0  # the spike's column kept
     gaps = next(c for c in view.items["gnss_residuals"].items if isinstance(c, EnvelopeLine))
     assert [(p.x[0], p.x[-1]) for p in gaps.parts] == [(0.0, 999.0), (2000.0, 4999.0)]
+
+
+def test_the_exceedance_model_sorts_by_magnitude_and_keeps_the_selection(qtbot):
+    """Thousands of rows, nothing built per cell: the model formats what is shown, sorts peaks by magnitude,
+    keeps the selected exceedance selected through a sort, and names checks by their display names."""
+    from PySide6.QtWidgets import QTableView
+
+    from insrail.gui.views.exceedances import ExceedanceModel
+
+    rows = [ExceedanceRow("short_wave_30m_5m", "differential_versine", "left", "lateral", "mm", 10.0 * k,
+                          10.0 * k + 2.0, (-1) ** k * (2.0 + k % 7), 2.0, 3 * k, 3 * k + 2) for k in range(5000)]
+    rows.append(ExceedanceRow("gauge_change_rate", "gauge_change_rate", "track", "", "ratio", 5.0, 6.0, 0.0015,
+                              0.001, 9, 10))
+    model = ExceedanceModel()
+    model.set_rows(rows, {"short_wave_30m_5m": "30 m / 5 m short wave"})
+    view = QTableView()
+    qtbot.addWidget(view)
+    view.setModel(model)
+    assert model.rowCount() == 5001 and model.index(0, 3).data() == "0.000"  # along the track first
+    assert model.index(0, 0).data() == "30 m / 5 m short wave" and model.index(0, 1).data() == "left rail"
+    ratio = model.row_of(5000)
+    assert [model.index(ratio, c).data() for c in (5, 6, 7)] == ["1.500", "1.000", "‰"]  # per mille, not a ratio
+    view.selectRow(model.row_of(4321))
+    model.sort(5, Qt.DescendingOrder)
+    peaks = [abs(rows[model.exceedance_at(r)].peak) for r in range(model.rowCount())]
+    assert peaks == sorted(peaks, reverse=True)
+    assert model.exceedance_at(view.selectionModel().selectedRows()[0].row()) == 4321  # the selection followed
+    widths = model.column_widths(len)
+    assert widths[0] >= len("30 m / 5 m short wave") and widths[8] >= len("Sleepers")

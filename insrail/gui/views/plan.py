@@ -94,8 +94,8 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
                                                name="trajectory (IMU)"),
                        "gnss": PointsItem(*local(data.gnss_en_m).T, plotstyle.COLOURS[2], GNSS_DOT_PX)}
         item.addItem(self.curves["gnss"])
-        item.legend.addItem(pg.PlotDataItem([], [], pen=None, symbol="o", symbolSize=GNSS_DOT_PX, symbolPen=None,
-                                            symbolBrush=plotstyle.COLOURS[2]), "GNSS")
+        item.legend.addItem(pg.ScatterPlotItem(symbol="o", size=GNSS_DOT_PX, pen=None, brush=plotstyle.COLOURS[2]),
+                            "GNSS")  # the legend's sample only
         self.curves["centreline"] = item.plot(*local(data.centreline_en_m).T, pen=plotstyle.pen(0, 2),
                                               name="centreline")
         for index, outage in enumerate(data.outages_en_m):
