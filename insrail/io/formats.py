@@ -15,17 +15,19 @@ from typing import Any, Callable
 
 import numpy as np
 
-from insrail.io import control, events, gnss, imu, odometer, rtklib, track_sensors
+from insrail.io import control, events, gnss, imu, odometer, rtklib, total_station, track_sensors
 from insrail.io.errors import InputError
 from insrail.io.textparse import COMMENT_MARKERS, header_value, is_number, split_fields, strip_comment
 from insrail.io.types import (
     Benchmarks,
+    ControlPoints,
     GaugeData,
     GnssSolution,
     ImuIncrements,
     OdometerData,
     PrismObservations,
     SleeperPulses,
+    TotalStationObservations,
 )
 
 
@@ -70,6 +72,10 @@ FORMATS: dict[str, FileFormat] = {f.name: f for f in (
                SleeperPulses, "sleeper detector pulse times"),
     FileFormat("prism-enu", control.read_prism_enu, control.write_prism_enu, PrismObservations,
                "total-station prism positions on CPIII, engineering frame"),
+    FileFormat("total-station-polar", total_station.read_total_station_polar, total_station.write_total_station_polar,
+               TotalStationObservations, "raw total-station pointings (Hz, V, slope distance) of free stations"),
+    FileFormat("cpiii-enh", total_station.read_cpiii_enh, total_station.write_cpiii_enh, ControlPoints,
+               "CPIII point coordinates, engineering frame"),
     FileFormat("benchmarks", control.read_benchmarks, control.write_benchmarks, Benchmarks,
                "GNSS-levelling benchmarks (h and H)"),
     FileFormat("events", events.read_events, events.write_events, events.EventList,

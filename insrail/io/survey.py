@@ -27,12 +27,14 @@ from insrail.io.survey_gnss import RawGnss, parse_raw_gnss
 from insrail.io.tomlfile import read_toml
 from insrail.io.types import (
     Benchmarks,
+    ControlPoints,
     GaugeData,
     GnssSolution,
     ImuIncrements,
     OdometerData,
     PrismObservations,
     SleeperPulses,
+    TotalStationObservations,
 )
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 
@@ -76,11 +78,12 @@ class SurveyFile:
 class SurveyManifest:
     """Contents of ``survey.toml``.
 
-    files maps a role (``imu gnss odometer gauge sleepers prism benchmarks events``) to a
-    :class:`SurveyFile`. Only imu is required; the survey also needs a source of position: a
-    GNSS solution (gnss), raw GNSS observations (``raw_gnss``, the ``[gnss_raw]`` table, which
-    replaces the gnss role) or total-station prism fixes (prism, a survey in a tunnel). Without
-    an odometer the along-track scale comes from the position source alone.
+    files maps a role (``imu gnss odometer gauge sleepers prism total_station cpiii benchmarks
+    events``) to a :class:`SurveyFile`. Only imu is required; the survey also needs a source of
+    position: a GNSS solution (gnss), raw GNSS observations (``raw_gnss``, the ``[gnss_raw]``
+    table, which replaces the gnss role) or total-station prism fixes (prism, a survey in a
+    tunnel; or total_station, the raw pointings of free stations, with cpiii, the points they are
+    resected on). Without an odometer the along-track scale comes from the position source alone.
     """
 
     name: str
@@ -104,6 +107,8 @@ class SurveyData:
     gauge: GaugeData | None = None
     sleepers: SleeperPulses | None = None
     prism: PrismObservations | None = None
+    total_station: TotalStationObservations | None = None  # raw pointings (with cpiii): placed as prism fixes
+    cpiii: ControlPoints | None = None
     benchmarks: Benchmarks | None = None
     events: EventList | None = None
 
@@ -118,18 +123,20 @@ ROLE_TYPES: dict[str, type] = {
     "gauge": GaugeData,
     "sleepers": SleeperPulses,
     "prism": PrismObservations,
+    "total_station": TotalStationObservations,
+    "cpiii": ControlPoints,
     "benchmarks": Benchmarks,
     "events": EventList,
 }
 REQUIRED_ROLES = ("imu",)
 #: roles of which a survey needs at least one (``[gnss_raw]`` counts as gnss): where the trolley is
-POSITION_ROLES = ("gnss", "prism")
+POSITION_ROLES = ("gnss", "prism", "total_station")
 _LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m",
                "imu_to_sleeper_detector_m", "imu_to_reference_rail_m")
 # A lever arm is required only when the data that uses it is in the survey; one not
 # given is NaN so that any use of it shows up instead of passing for a zero offset.
-_LEVER_ARM_NEEDED_BY = {"imu_to_antenna_m": "gnss", "imu_to_odometer_m": "odometer", "imu_to_prism_m": "prism",
-                        "imu_to_sleeper_detector_m": "sleepers"}
+_LEVER_ARM_NEEDED_BY = {"imu_to_antenna_m": ("gnss",), "imu_to_odometer_m": ("odometer",),
+                        "imu_to_prism_m": ("prism", "total_station"), "imu_to_sleeper_detector_m": ("sleepers",)}
 _SURVEY_KEYS = ("name", "gps_week", "imu_profile", "description")
 _TROLLEY_KEYS = _LEVER_ARMS + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m")
 
@@ -178,7 +185,13 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
                         "[gnss_raw], not both")
     if not raw_gnss and not any(role in table for role in POSITION_ROLES):
         problems.append("files: no position source: give a GNSS solution [files.gnss], raw GNSS observations "
-                        "[gnss_raw] or total-station prism fixes [files.prism]")
+                        "[gnss_raw], total-station prism fixes [files.prism] or raw total-station observations "
+                        "[files.total_station]")
+    if ("total_station" in table) != ("cpiii" in table):
+        problems.append("files.total_station: the raw total-station observations need the CPIII points they are "
+                        "resected on [files.cpiii], and the CPIII points are used only with them"
+                        if "total_station" in table else
+                        "files.cpiii: CPIII points are used with raw total-station observations [files.total_station]")
     for role, entry in table.items():
         key = f"files.{role}"
         if role not in ROLE_TYPES:
@@ -227,8 +240,9 @@ def parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometr
     for key in _LEVER_ARMS:
         needed = _LEVER_ARM_NEEDED_BY.get(key)
         if key not in table:
-            if needed is None or needed in roles:
-                reason = "required" if needed is None else f"required with files.{needed}"
+            users = [role for role in needed or () if role in roles]
+            if needed is None or users:
+                reason = "required" if needed is None else f"required with files.{users[0]}"
                 problems.append(f"trolley.{key}: missing ({reason}; 3 numbers [m], IMU body frame FRD)")
             arms[key] = np.full(3, np.nan)
             continue
@@ -396,7 +410,7 @@ def read_survey(folder: str | Path, progress: ProgressFn | None = None,
 
     problems: list[str] = []
     loaded = {role: _with_week(data, role, manifest.gps_week, problems) for role, data in loaded.items()}
-    for role in ("gnss", "odometer", "gauge", "sleepers", "prism"):
+    for role in ("gnss", "odometer", "gauge", "sleepers", "prism", "total_station"):
         if role in loaded:
             _check_time_overlap(loaded["imu"], loaded[role], role, problems)
     if problems:

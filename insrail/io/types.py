@@ -156,6 +156,45 @@ class PrismObservations:
 
 
 @dataclass(frozen=True)
+class TotalStationObservations:
+    """Raw pointings of free total stations (:mod:`insrail.io.total_station`), one row each.
+
+    setup    : (n,) str, the set-up a pointing belongs to
+    target   : (n,) str, a CPIII point id, or "prism" for the trolley's prism
+    time_s   : (n,) time of the pointing [s of GPS week]
+    hz_rad   : (n,) horizontal direction, clockwise from the circle's zero [rad]
+    zenith_rad, slope_m : (n,) zenith angle [rad], slope distance [m]
+    line     : (n,) the line of the file each row came from (for messages)
+    """
+
+    setup: np.ndarray
+    target: np.ndarray
+    time_s: np.ndarray
+    hz_rad: np.ndarray
+    zenith_rad: np.ndarray
+    slope_m: np.ndarray
+    line: np.ndarray
+    source: Path | None = None
+
+    def __len__(self) -> int:
+        return len(self.time_s)
+
+
+@dataclass(frozen=True)
+class ControlPoints:
+    """CPIII points in the engineering frame: id, easting, northing [m], normal height [m]."""
+
+    point_id: np.ndarray
+    east_m: np.ndarray
+    north_m: np.ndarray
+    height_m: np.ndarray
+    source: Path | None = None
+
+    def __len__(self) -> int:
+        return len(self.point_id)
+
+
+@dataclass(frozen=True)
 class Benchmarks:
     """GNSS-levelling benchmarks: ellipsoidal height h and normal height H at the same point."""
 

@@ -118,6 +118,7 @@ from insrail.project.stagecache import (
     save_dataclass,
     seal,
 )
+from insrail.project.total_station import with_total_station_fixes
 from insrail.project.track_events import (
     EVENTS_ROLE,
     TURNOUT_EXCEEDANCES_FILE,
@@ -279,7 +280,7 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
     settings = {"version": CACHE_VERSION, "gps_week": manifest.gps_week, "trolley": trolley, "imu_profile": repr(profile),
                 "fusion": repr(project.fusion), "ellipsoid": repr(ellipsoid_of(project)),
                 "files": {r: asdict(f) for r, f in fused.items()}}
-    if "prism" in manifest.files:
+    if "prism" in manifest.files or "total_station" in manifest.files:
         settings["prism_geodesy"] = _geodesy_settings(project)
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
@@ -331,8 +332,10 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     if intact("fusion", path, info_path, quality_cache_file(path)):
         progress(1.0, "fusion reused from the cache")
         return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
-    survey = read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel, gnss=gnss)
+    survey, placed = with_total_station_fixes(read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel,
+                                                          gnss=gnss))
     survey, checked = check_survey(replace(survey, manifest=manifest), nominal_gauge_m(project))
+    checked = [*placed, *checked]
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
     profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))

@@ -1,0 +1,105 @@
+"""Raw total-station observations of a survey (``[files.total_station]`` with ``[files.cpiii]``) as
+prism fixes: every set-up resected on its CPIII points, the prism pointings placed from it.
+
+Per set-up (:mod:`insrail.geodesy.free_station`): the station's plan position, height and circle
+orientation from its CPIII pointings (at least three), each point checked by leave-one-out; a
+point whose residual exceeds the tolerance (2 mm) is named in a notice and left out, one at a time
+while three remain. A set-up that cannot be resected (fewer than three known points, or points
+that disagree with no majority) is an error naming the file and the set-up's first line. Each
+prism pointing then becomes a prism fix (time, E, N, H; ``point_id`` the set-up), with the
+standard deviation
+
+    sigma = max(MIN_SIGMA_M, hypot(station residual RMS (plan or height, the larger),
+                                   ANGLE_SIGMA_RAD * horizontal distance, DISTANCE_SIGMA_M))
+
+the set-up's own fit on the CPIII points plus the pointing's precision at its distance. The fixes
+join the survey's ``[files.prism]`` fixes, if it has any, in time order.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from insrail.geodesy.free_station import DEFAULT_TOLERANCE_M, PolarObservations, resect
+from insrail.io.errors import InputError
+from insrail.io.survey import SurveyData
+from insrail.io.total_station import PRISM_TARGET
+from insrail.io.types import ControlPoints, PrismObservations, TotalStationObservations
+from insrail.notices import Notice
+
+ANGLE_SIGMA_RAD = 0.3e-3 * math.pi / 200.0  # 0.3 mgon (1"): the pointing of a precise total station
+DISTANCE_SIGMA_M = 0.0006
+MIN_SIGMA_M = 0.0005
+
+
+def _polar(observations: TotalStationObservations, rows: np.ndarray) -> PolarObservations:
+    return PolarObservations(tuple(observations.target[rows]), observations.hz_rad[rows],
+                             observations.zenith_rad[rows], observations.slope_m[rows])
+
+
+def prism_fixes_from_observations(observations: TotalStationObservations, points: ControlPoints,
+                                  tolerance_m: float = DEFAULT_TOLERANCE_M) -> tuple[PrismObservations, list[Notice]]:
+    """The prism fixes of every set-up (module docstring) and the notices of CPIII points left out."""
+    source = observations.source or "total-station observations"
+    known = {str(p): k for k, p in enumerate(points.point_id)}
+    coordinates = np.column_stack([points.east_m, points.north_m, points.height_m])
+    order = list(dict.fromkeys(observations.setup))
+    fixes, sigma, setup_of_fix, notices = [], [], [], []
+    for setup in order:
+        rows = np.flatnonzero(observations.setup == setup)
+        line = int(observations.line[rows[0]])
+        on_points = rows[observations.target[rows] != PRISM_TARGET]
+        on_prism = rows[observations.target[rows] == PRISM_TARGET]
+        unknown = [str(t) for t in observations.target[on_points] if str(t) not in known]
+        if unknown:
+            row = on_points[[str(t) for t in observations.target[on_points]].index(unknown[0])]
+            raise InputError(source, int(observations.line[row]), f"set-up {setup}: CPIII point {unknown[0]} is not "
+                             f"in the CPIII file {points.source or ''}".rstrip())
+        try:
+            station = resect(_polar(observations, on_points),
+                             coordinates[[known[str(t)] for t in observations.target[on_points]]], tolerance_m)
+        except ValueError as error:
+            raise InputError(source, line, f"set-up {setup}: {error}") from None
+        for point in station.points:
+            if not point.used:
+                notices.append(Notice("total station", (
+                    f"set-up {setup} (line {line}): CPIII point {point.name} does not fit (leave-one-out residual "
+                    f"{1e3 * point.left_out_residual_plan_m:.1f} mm in plan, {1e3 * point.left_out_residual_height_m:.1f} "
+                    f"mm in height, tolerance {1e3 * tolerance_m:.1f} mm): left out; check its coordinates"),
+                    file=str(source), time_s=float(observations.time_s[rows[0]])))
+        if not on_prism.size:
+            continue
+        placed = station.place(_polar(observations, on_prism))
+        distance = observations.slope_m[on_prism] * np.sin(observations.zenith_rad[on_prism])
+        fit = max(station.rms_plan_m, station.rms_height_m)
+        sigma.append(np.maximum(MIN_SIGMA_M, np.sqrt(fit**2 + (ANGLE_SIGMA_RAD * distance) ** 2 + DISTANCE_SIGMA_M**2)))
+        fixes.append(np.column_stack([observations.time_s[on_prism], placed]))
+        setup_of_fix += [setup] * on_prism.size
+    if not fixes:
+        raise InputError(source, None, "no prism pointing (target 'prism'): the observations fix no trolley position")
+    table = np.concatenate(fixes)
+    sigma = np.concatenate(sigma)
+    order_in_time = np.argsort(table[:, 0], kind="stable")
+    table, sigma = table[order_in_time], sigma[order_in_time]
+    return PrismObservations(time_s=table[:, 0], east_m=table[:, 1], north_m=table[:, 2], height_m=table[:, 3],
+                             sigma_m=sigma, point_id=np.array(setup_of_fix)[order_in_time], source=observations.source), notices
+
+
+def with_total_station_fixes(survey: SurveyData) -> tuple[SurveyData, list[Notice]]:
+    """The survey with its raw total-station observations placed as prism fixes (joined with its own
+    prism fixes); unchanged without observations."""
+    if survey.total_station is None or survey.cpiii is None:
+        return survey, []
+    fixes, notices = prism_fixes_from_observations(survey.total_station, survey.cpiii)
+    if survey.prism is not None and len(survey.prism):
+        own = survey.prism
+        ids = own.point_id if len(own.point_id) else np.full(len(own), "")
+        merged = {name: np.concatenate([getattr(own, name), getattr(fixes, name)])
+                  for name in ("time_s", "east_m", "north_m", "height_m", "sigma_m")}
+        merged["point_id"] = np.concatenate([ids.astype(str), fixes.point_id.astype(str)])
+        order = np.argsort(merged["time_s"], kind="stable")
+        fixes = PrismObservations(**{k: v[order] for k, v in merged.items()}, source=own.source)
+    return replace(survey, prism=fixes), notices
