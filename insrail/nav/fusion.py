@@ -482,6 +482,7 @@ class Aiding:
     odometer: OdometerData | None  # None: no odometer (NHC alone, stops from the IMU and the positions)
     trolley: TrolleyGeometry
     gnss_quality: dict = field(default_factory=dict)  # per quality flag: epochs, sigma factor, used
+    design_azimuth: object = None  # the design's azimuth at a position, for the start (insrail.nav.startup)
 
 
 _ALL_TIME_S = np.array([-1e12, 1e12])
@@ -618,7 +619,7 @@ def fuse(
         positions = (track.time_s, track.local_ned(ellipsoid)[:, :2], track.horizontal_sigma_m())
     stops = detect_stops(imu, aiding.odometer, max_gyro_std_radps=gyro_quiet, positions=positions,
                          max_accel_std_mps2=None if aiding.odometer is not None else accel_quiet)
-    start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid)
+    start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid, aiding.design_azimuth)
     notices.extend(start.notices)
     k0, nav = start.epoch, start.nav
     nav_store = np.empty((n, 12))

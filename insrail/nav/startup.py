@@ -9,7 +9,14 @@ One start for every IMU class (thesis 5.3.1.1 for the static case):
   MEMS units; the stop's ZUPT/ZARU hold the heading until then);
 * **moving start**: the attitude of the track over its first metres, the velocity along it;
 * a heading given by the user (``FusionOptions.initial_heading_rad``) replaces both and skips
-  the gyrocompass; at a moving start it also sets the direction of the initial velocity.
+  the gyrocompass; at a moving start it also sets the direction of the initial velocity;
+* with a **design alignment** (``design``: the track's azimuth at a position, from the project's
+  design and CRS) the track's local azimuth at the start point is a heading candidate for a unit
+  that cannot gyrocompass (:func:`finds_north`; the caller passes no design for one that can): the design says the line, the track chord which way along it
+  the trolley faces (the candidate is used only when it agrees with the chord within three times
+  their combined 1-sigma, else a notice says why not). Its 1-sigma: the trolley's yaw on the rails
+  and the track's departure from its design (:data:`DESIGN_TRACK_SIGMA_RAD`), and the design's
+  curvature times the start position's along-track 1-sigma.
 
 The position track is the GNSS antenna's solution or, without GNSS (a tunnel), the total-station
 prism fixes. Its heading at the start point is the direction of a chord from there, corrected
@@ -59,6 +66,65 @@ MAX_GYROCOMPASS_SIGMA_RAD = math.radians(0.5)
 MIN_RADIUS_M = 150.0
 #: the smallest 1-sigma [m] of the start position
 MIN_START_SIGMA_M = 0.005
+
+
+#: 1-sigma [rad] of a trolley's heading against its design's local azimuth: its yaw between the
+#: rails (a few mm of play over its length) and the track's departure from the design (mm per m)
+DESIGN_TRACK_SIGMA_RAD = math.radians(0.1)
+#: farther [m] from the design than this, the trolley is not on that line
+DESIGN_MAX_OFFSET_M = 5.0
+
+
+@dataclass(frozen=True)
+class DesignAzimuth:
+    """The design's local azimuth at the start: ``heading_rad`` (true north, towards increasing
+    stationing), its ``sigma_rad``, the station and offset of the start point."""
+
+    heading_rad: float
+    sigma_rad: float
+    station_m: float
+    offset_m: float
+
+
+def finds_north(profile, static_s: float) -> bool:
+    """Whether the profile's gyros gyrocompass to :data:`MAX_GYROCOMPASS_SIGMA_RAD` over a stop of
+    ``static_s`` (at the equator, where it is easiest): such a unit never needs the design's azimuth."""
+    bias = math.hypot(profile.gyro_bias_turn_on, profile.gyro_bias_gm_sigma)
+    return gyrocompass_sigma_rad(bias, profile.gyro_arw, static_s, 0.0) <= MAX_GYROCOMPASS_SIGMA_RAD
+
+
+def design_heading(design, lat_rad: float, lon_rad: float, sigma_along_m: float) -> DesignAzimuth | None:
+    """The design candidate at a position (None without a design, or off it). ``design(lat, lon)``
+    returns (true azimuth [rad] towards increasing stationing, curvature [1/m], station [m], offset
+    [m]) or None where the position has no foot on the design."""
+    if design is None:
+        return None
+    found = design(float(lat_rad), float(lon_rad))
+    if found is None:
+        return None
+    azimuth, curvature, station, offset = (float(v) for v in found)
+    if not (math.isfinite(azimuth) and abs(offset) <= DESIGN_MAX_OFFSET_M):
+        return None
+    return DesignAzimuth(azimuth, math.hypot(DESIGN_TRACK_SIGMA_RAD, curvature * sigma_along_m), station, offset)
+
+
+def _on_design(candidate: DesignAzimuth, heading_rad: float, sigma_rad: float, what: str, notices: list,
+               time_s: float) -> tuple[float, float] | None:
+    """(heading, 1-sigma) of the design candidate turned to the direction of ``heading_rad`` (the
+    track chord's, of 1-sigma ``sigma_rad``), when it agrees with it and is the better; None otherwise
+    (a notice when it disagrees)."""
+    turned = candidate.heading_rad + (math.pi if abs(_wrap(heading_rad - candidate.heading_rad)) > math.pi / 2 else 0.0)
+    apart = abs(float(_wrap(heading_rad - turned)))
+    limit = 3.0 * math.hypot(sigma_rad, candidate.sigma_rad)
+    if apart > limit:
+        notices.append(Notice("fusion", f"the design's azimuth at the start (station {candidate.station_m:.1f} m, "
+                              f"{candidate.offset_m:+.2f} m off it) is {math.degrees(apart):.2f} deg from the {what}, "
+                              f"more than 3 x their 1-sigma ({math.degrees(limit):.2f} deg): not used for the start",
+                              time_s=time_s))
+        return None
+    if candidate.sigma_rad >= sigma_rad:
+        return None
+    return float(_wrap(turned)), candidate.sigma_rad
 
 
 @dataclass(frozen=True)
@@ -256,7 +322,8 @@ class Start:
 
     epoch: int
     nav: np.ndarray
-    method: str  # "static" (levelling + gyrocompass), "static+track", "static+given", "track", "given"
+    method: str  # "static" (levelling + gyrocompass), "static+track", "static+design", "static+given", "track",
+    # "design", "matched", "given"
     rpy_rad: tuple[float, float, float]
     sigma_pos_ned_m: np.ndarray
     sigma_vel_mps: float
@@ -270,9 +337,10 @@ class StartupError(ValueError):
 
 
 def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: OdometerData | None, c_vb: np.ndarray,
-                  profile, options, ell: earth.Ellipsoid) -> Start:
+                  profile, options, ell: earth.Ellipsoid, design=None) -> Start:
     """The filter's start (see the module docstring). ``track``: the positions inside the IMU
-    span; ``options``: :class:`insrail.nav.fusion.FusionOptions`. Raises :class:`StartupError`."""
+    span; ``options``: :class:`insrail.nav.fusion.FusionOptions`; ``design``: see
+    :func:`design_heading`. Raises :class:`StartupError`."""
     t = imu.time_s
     ned = track.local_ned(ell)
     sigma_h = track.horizontal_sigma_m()
@@ -288,7 +356,7 @@ def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: Odo
             method, heading, sigma_heading = "static+given", given, options.initial_sigma_heading_rad
         else:
             method, heading, sigma_heading = _static_heading(imu, track, ned, sigma_h, static, roll, pitch, w,
-                                                             odometer, c_vb, profile, options, ell, notices)
+                                                             odometer, c_vb, profile, options, ell, notices, design)
     else:
         i0 = first_motion(track, ned, -math.inf, odometer)
         if i0 is None:
@@ -316,11 +384,18 @@ def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: Odo
                                   time_s=float(track.time_s[i0]), severity="info"))
         else:
             method, heading, sigma_heading = "track", direction.heading_rad, direction.sigma_heading_rad
+            candidate = design_heading(design, track.lat_rad[i0], track.lon_rad[i0], float(sigma_h[i0]))
+            on_design = None if candidate is None else _on_design(
+                candidate, heading, sigma_heading, f"{track.source} track's chord", notices, float(track.time_s[i0]))
+            if on_design is not None:
+                method, (heading, sigma_heading) = "design", on_design
             roll, pitch = _moving_levelling(imu, track, ned, i0, heading, c_vb)
+            where = (f"the design's azimuth at station {candidate.station_m:.1f} m, the direction from the "
+                     f"{track.source} track" if on_design is not None else
+                     f"the {track.source} track over {direction.chord_m:g} m chords")
             notices.append(Notice("fusion", f"moving start: initial heading {math.degrees(heading) % 360:.2f} deg from "
-                                  f"the {track.source} track over {direction.chord_m:g} m chords (1-sigma "
-                                  f"{math.degrees(sigma_heading):.2f} deg)", time_s=float(track.time_s[i0]),
-                                  severity="info"))
+                                  f"{where} (1-sigma {math.degrees(sigma_heading):.2f} deg)",
+                                  time_s=float(track.time_s[i0]), severity="info"))
         t_start = float(track.time_s[i0])
         if odometer is not None:  # a trolley on rails: the odometer's speed along the travel direction
             speed = _speed_at(track, ned, i0, odometer)
@@ -376,7 +451,8 @@ def _moving_levelling(imu, track, ned, i0, heading_v, c_vb) -> tuple[float, floa
     return roll, pitch
 
 
-def _static_heading(imu, track, ned, sigma_h, static, roll, pitch, w, odometer, c_vb, profile, options, ell, notices):
+def _static_heading(imu, track, ned, sigma_h, static, roll, pitch, w, odometer, c_vb, profile, options, ell, notices,
+                    design=None):
     """(method, heading of b, 1-sigma) at a static start: gyrocompass or the track of the first motion."""
     lat = float(track.lat_rad[0])
     gyro_bias = math.hypot(profile.gyro_bias_turn_on, profile.gyro_bias_gm_sigma)
@@ -403,17 +479,24 @@ def _static_heading(imu, track, ned, sigma_h, static, roll, pitch, w, odometer, 
             "(the trolley never moves far enough); give the initial heading (--heading)")
     # The track's direction is that of the trolley frame v, forward or backward.
     backward = _sets_off_backwards(imu, track, ned, moving, roll, pitch, c_vb, ell)
-    heading_v = direction.heading_rad + (math.pi if backward else 0.0)
+    heading_v, sigma_v, source = direction.heading_rad + (math.pi if backward else 0.0), direction.sigma_heading_rad, ""
+    candidate = design_heading(design, track.lat_rad[0], track.lon_rad[0], float(sigma_h[0]))
+    on_design = None if candidate is None else _on_design(
+        candidate, heading_v, sigma_v, f"{track.source} track of the first motion", notices, float(track.time_s[moving]))
+    if on_design is not None and not (compass is not None and sigma_compass <= on_design[1]):
+        (heading_v, sigma_v), source = on_design, f"the design's azimuth at station {candidate.station_m:.1f} m, "
     # heading of b: the mounting rotates b against v about (nearly) the vertical
     c_bn = euler_to_dcm(0.0, 0.0, heading_v) @ c_vb
     heading_b = float(np.arctan2(c_bn[1, 0], c_bn[0, 0]))
     reason = why or f"gyrocompass 1-sigma {math.degrees(sigma_compass):.1f} deg with the {profile.name} profile"
+    where = (f"{source}the direction from the {track.source} track of the first motion" if source else
+             f"the {track.source} track of the first motion over {direction.chord_m:g} m chords")
     notices.append(Notice(
-        "fusion", f"static start: heading {math.degrees(heading_b) % 360:.2f} deg from the {track.source} track of the "
-        f"first motion over {direction.chord_m:g} m chords (1-sigma {math.degrees(direction.sigma_heading_rad):.2f} deg), "
+        "fusion", f"static start: heading {math.degrees(heading_b) % 360:.2f} deg from {where} (1-sigma "
+        f"{math.degrees(sigma_v):.2f} deg), "
         f"not by gyrocompassing ({reason})" + ("; the trolley set off backwards" if backward else ""),
         time_s=float(track.time_s[moving]), severity="info"))
-    return "static+track", heading_b, direction.sigma_heading_rad
+    return ("static+design" if source else "static+track"), heading_b, sigma_v
 
 
 def _sets_off_backwards(imu, track, ned, moving, roll, pitch, c_vb, ell) -> bool:

@@ -65,6 +65,7 @@ from insrail.nav.self_calibration import fuse_consistent
 from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project.design_heading import design_azimuth_for, uses_design
 from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
@@ -282,6 +283,10 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
                 "files": {r: asdict(f) for r, f in fused.items()}}
     if "prism" in manifest.files or "total_station" in manifest.files:
         settings["prism_geodesy"] = _geodesy_settings(project)
+    if uses_design(project, profile):  # its azimuth may give the start heading
+        design = hashlib.sha256()
+        _hash_file(design, project.resolve(project.design))
+        settings["design"] = [design.hexdigest(), _geodesy_settings(project)["crs"]]
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
 
@@ -343,9 +348,11 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     # fusion so that the covariance analysis needs only its backward pass, not a replay.
     store = None
     try:  # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
+        design = design_azimuth_for(project, read_design(project.resolve(project.design)) if project.design else None,
+                                    profile)
         result, options, store, _ = fuse_consistent(
-            survey.imu, lambda options: aiding_for(survey, options, profile, fixes), profile, project.fusion,
-            ellipsoid_of(project), new_store=SmootherStore if project.fusion.smoother else None, fuse=fuse,
+            survey.imu, lambda options: replace(aiding_for(survey, options, profile, fixes), design_azimuth=design),
+            profile, project.fusion, ellipsoid_of(project), new_store=SmootherStore if project.fusion.smoother else None, fuse=fuse,
             progress=progress.sub(0.05, 0.87), cancel=cancel)
         check_cancel(cancel)
         if not result.integrity.trusted:

@@ -1,0 +1,44 @@
+"""The design alignment's azimuth at a position, for the fusion's start (``insrail.nav.startup``).
+
+The fusion knows geodetic positions and true north; the design lives on the project's plane
+(grid north). A position is projected with the project's CRS, located on the design (station,
+offset) and the design's tangent there turned from grid to true north by the meridian convergence
+(true azimuth = grid azimuth + gamma, ``insrail.geodesy.crs``). With local control the design is on
+the local grid, whose rotation against the CRS is fitted only after the fusion: no design azimuth
+then (the start uses the track alone); nor for an IMU that gyrocompasses, which needs none (so the
+design is an input of the fusion, and of its cache key, only where it can change the start).
+"""
+
+from __future__ import annotations
+
+import math
+
+from insrail.nav.startup import finds_north
+
+
+def uses_design(project, profile) -> bool:
+    """Whether the fusion of a survey with ``profile`` may take its start heading from the project's
+    design (then the design is one of the fusion's inputs): a design, no local control, and an IMU
+    that cannot gyrocompass."""
+    return (project.design is not None and project.local_control is None
+            and not finds_north(profile, project.fusion.min_static_s))
+
+
+def design_azimuth_for(project, design, profile):
+    """``design_azimuth(lat, lon) -> (true azimuth [rad], curvature [1/m], station [m], offset [m])``
+    or None off the design; None where :func:`uses_design` says no."""
+    if design is None or not uses_design(project, profile):
+        return None
+    crs, plan = project.crs, design.horizontal
+
+    def design_azimuth(lat_rad: float, lon_rad: float):
+        east, north = crs.to_plane(lat_rad, lon_rad)
+        station, offset = plan.station_offset(float(east), float(north))
+        station, offset = float(station), float(offset)
+        if not math.isfinite(station):
+            return None
+        grid = float(plan.azimuth_at(station))
+        gamma = float(crs.meridian_convergence_rad(lat_rad, lon_rad))
+        return grid + gamma, float(plan.curvature_at(station)), station, offset
+
+    return design_azimuth
