@@ -113,3 +113,22 @@ def test_result_without_timeline_is_refused(fused):
     survey, result, _ = fused
     with pytest.raises(ValueError, match="no measurement timeline"):
         survey_quality(survey, replace(result, timeline=None))
+
+
+def test_the_replay_widens_p_where_the_filter_was_reset(recorded):
+    """A 1 m false fix for 40 s while moving resets the filter (its position, velocity and attitude
+    variances raised); the forward replay knows the reset: its sigmas are the filter's own after it."""
+    from insrail.sim import gnss_faults
+
+    survey, _, _ = recorded
+    gnss = gnss_faults.false_fix(survey.gnss, survey.gnss.time_s[0] + 100.0, 40.0, (1.0, 0.0, 0.0))
+    faulty = replace(survey, gnss=gnss)
+    result = fuse_survey(faulty, FusionOptions(smoother=False), ellipsoid=CGCS2000)
+    assert result.resets
+    quality = survey_quality(faulty, result, FusionOptions(smoother=False), ellipsoid=CGCS2000,
+                             section_m=SECTION_M, smoothed=False)
+    t = result.timeline.time_s
+    k = np.searchsorted(result.forward.time_s, t[:-1] - 1e-6)
+    after = t[:-1] >= result.resets[0].time_s
+    np.testing.assert_allclose(quality.profile.forward.sigma_vertical_m[:-1][after],
+                               result.forward.sigma_pos_ned_m[k, 2][after], rtol=2e-3)

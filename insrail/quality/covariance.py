@@ -61,10 +61,13 @@ import numpy as np
 from numba import njit
 
 from insrail.nav.error_model import ATT, POS
+from insrail.nav.kalman import inflate
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 
 #: One segment of the timeline: (Phi, Q, [(H, R), ...]) from the previous update epoch to this one.
 Segment = tuple[np.ndarray, np.ndarray, Sequence[tuple[np.ndarray, np.ndarray]]]
+#: a segment may carry a fourth element, a filter reset on it: (states, 1-sigma floor) as
+#: ``insrail.nav.kalman.inflate`` applies it to P- (the replay then widens P where the filter did)
 
 
 @dataclass(frozen=True)
@@ -195,8 +198,10 @@ def analyse(
             if j % 2000 == 0:
                 check_cancel(cancel)
                 forward_progress(j / m, "covariance: forward filter")
-            phi, q, updates = segment(j)
+            phi, q, updates, *reset = segment(j)
             P_minus = phi @ P @ phi.T + q
+            if reset:
+                P_minus = inflate(P_minus, *reset[0])
             P = P_minus
             M = phi if forward_lags else None
             for H, R in updates:

@@ -2,8 +2,8 @@
 
 ``survey_quality`` replays what the forward filter of ``insrail.nav.fusion`` did (its
 ``FusionResult.timeline``: the update epochs and every measurement it applied, rejected
-ones left out; the GNSS gaps, stops with their ZUPTs, odometer and NHC) in covariance-only
-form: Phi and Q of every segment from ``insrail.nav.error_model`` linearised on the forward
+ones left out; the GNSS gaps, stops with their ZUPTs, odometer and NHC; its filter resets,
+which widen P where the filter widened it) in covariance-only form: Phi and Q of every segment from ``insrail.nav.error_model`` linearised on the forward
 trajectory, H and R from the fusion's own measurement objects. It then summarises the
 forward or smoothed covariances per section of track (200 m by default): the 1-sigma
 lateral and vertical position error and the 1-sigma of the 5 m and 150 m lag differences,
@@ -32,6 +32,9 @@ import numpy as np
 from insrail.io.survey import SurveyData
 from insrail.nav import earth
 from insrail.nav.error_model import (
+    ATT,
+    POS,
+    VEL,
     ErrorModelNoise,
     discretise,
     dynamics_matrix,
@@ -183,14 +186,34 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
                            mean_omega_ib_b=omega_b[j], segment_s=float(seg[j]), odometer_scale=float(odometer_scale[j]),
                            ellipsoid=ellipsoid)
 
+    resets = reset_segments(result)
+
     def segment(j):
         F = dynamics_matrix(lat[j], h[j], vel[j], c_bn[j], f_b[j], omega_b[j], noise, ellipsoid)
         phi, q = discretise(F, gqg, seg[j])
         snap = snapshot(j)
-        return phi, q, (meas.model(snap, i)[1:] for meas, i in applied_at.get(j, ()))
+        updates = (meas.model(snap, i)[1:] for meas, i in applied_at.get(j, ()))
+        return (phi, q, updates, resets[j]) if j in resets else (phi, q, updates)
 
     return analyse(timeline.initial_covariance, segment, t, station, heading, anchors, lags_m,
                    smoother=smoothed, forward_lags=forward_lags, progress=progress, cancel=cancel)
+
+
+_RESET_BLOCKS = {"position": POS, "velocity": VEL, "attitude": ATT}
+
+
+def reset_segments(result: FusionResult) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+    """Per update epoch j, the filter reset the fusion applied to the P- of segment j (states, 1-sigma
+    floor): the one decided at the update epoch of the rejected observation that ended the run, applied
+    to the next segment (``insrail.nav.fusion``)."""
+    t = result.timeline.time_s
+    out = {}
+    for reset in result.resets:
+        j = int(np.searchsorted(t, reset.time_s - 1e-6)) + 1
+        if 0 < j < len(t):
+            states = np.concatenate([np.arange(_RESET_BLOCKS[label], _RESET_BLOCKS[label] + 3) for label in reset.states])
+            out[j] = (states, np.asarray(reset.sigma, dtype=float))
+    return out
 
 
 def _travelled_m(odometer, t: np.ndarray, nav, k: np.ndarray) -> np.ndarray:
