@@ -97,6 +97,22 @@ def test_panning_stays_on_the_data_and_the_wheel_zooms_along_chainage_only(view,
     assert y_after[1] - y_after[0] <= (y_before[1] - y_before[0]) + 1e-9  # y fits the (narrower) visible data
 
 
+def test_each_plot_fits_its_height_to_what_is_visible_and_to_its_limits(view, qtbot):
+    """A narrow window shows its own values full height (not the survey's extremes), limits included."""
+    view.plots.set_x_range(1010.0, 1012.0)  # the wave rises from about +0.9 to +1.0 here
+    station = view._station
+    shown = (station >= 1010.0 - 0.7) & (station <= 1012.0 + 0.7)
+    for spec in view._specs:
+        if spec.key not in view.plots.plots:
+            continue
+        bottom, top = view.plots.plots[spec.key].vb.viewRange()[1]
+        values = np.concatenate([spec.scale * view._columns[column][shown] for _, column in spec.curves])
+        limits = [limit for limit in (spec.lower, spec.upper) if limit is not None]
+        wanted = np.concatenate([values, limits])
+        assert bottom <= wanted.min() and top >= wanted.max(), spec.key
+        assert top - bottom <= 1.2 * np.ptp(wanted) + 1e-6, spec.key  # a margin, not the whole survey's range
+
+
 def test_go_to_a_sleeper_a_chainage_or_a_station(view):
     assert view.go_to("#321")
     assert abs(np.mean(view.plots.x_range()) - view._station[320]) < 1e-6

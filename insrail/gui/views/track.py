@@ -97,6 +97,8 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         # pyqtgraph plot costs tens of ms: most of a project switch); those not needed leave the layout.
         self._pool: list[pg.PlotItem] = []
         self._laid_out = 0  # how many of the pool are in the layout (the first ones)
+        self._station = np.zeros(0)
+        self._fits: list[tuple[pg.ViewBox, list[np.ndarray], list[float]]] = []  # per plot: curves, limits
         self._mouse = pg.SignalProxy(self.scene().sigMouseMoved, rateLimit=60, slot=self._mouse_moved)
         self.scene().sigMouseClicked.connect(self._mouse_clicked)
 
@@ -108,6 +110,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self._regions.clear()
         self._measure_lines.clear()
         shown = [p for p in plots if p.key in visible]
+        self._station, self._fits = np.asarray(station_m), []
         self._lay_out(len(shown))
         self.setMinimumHeight(MIN_PLOT_HEIGHT * len(shown))
         for row, spec in enumerate(shown):
@@ -122,12 +125,13 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                 fill = pg.FillBetweenItem(*edges, brush=plotstyle.BAND_BRUSH)  # a step per 200 m: a few points
                 fill.setZValue(-5)
                 item.addItem(fill, ignoreBounds=True)  # the data, not the band, set the view
-            for index, (label, column) in enumerate(spec.curves):
-                item.plot(station_m, spec.scale * columns[column], pen=plotstyle.pen(index),
-                          autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
-            for limit in (spec.lower, spec.upper):
-                if limit is not None:
-                    item.addItem(pg.InfiniteLine(limit, angle=0, pen=plotstyle.LIMIT_PEN))
+            curves = [spec.scale * columns[column] for _, column in spec.curves]
+            for index, values in enumerate(curves):
+                item.plot(station_m, values, pen=plotstyle.pen(index), autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
+            limits = [limit for limit in (spec.lower, spec.upper) if limit is not None]
+            for limit in limits:
+                item.addItem(pg.InfiniteLine(limit, angle=0, pen=plotstyle.LIMIT_PEN), ignoreBounds=True)
+            self._fits.append((item.vb, curves, limits))
             crosshair = pg.InfiniteLine(angle=90, pen=plotstyle.CROSSHAIR_PEN)
             item.addItem(crosshair, ignoreBounds=True)
             region = pg.LinearRegionItem(movable=False, brush=(255, 200, 0, 60), pen=pg.mkPen(None))
@@ -146,13 +150,33 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             if len(station_m):
                 low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
                 view.setLimits(xMin=low, xMax=high, minXRange=MIN_WINDOW_M, maxXRange=high - low)
-            view.enableAutoRange(x=True, y=True)  # a reused plot: fit this survey, not the previous one's window
+            view.enableAutoRange(x=True, y=False)  # a reused plot: this survey, not the previous one's window
             if row == len(shown) - 1:
                 item.showAxis("bottom")
                 item.setLabel("bottom", "station [m]")
             else:
                 item.hideAxis("bottom")  # one chainage axis under the stack (each axis costs a frame)
             self.plots[spec.key] = item
+        self._fit_y()
+
+    def _fit_y(self, *_args) -> None:
+        """Each plot's y range fitted to what is visible along chainage and to its limits, from one
+        slice of the sorted stations per plot: pyqtgraph's own fit (auto-visible) searched every
+        curve's bounds several times per frame, a third of the CPU of a pan frame."""
+        if not self._fits or not len(self._station):
+            return
+        low, high = self._pool[0].vb.viewRange()[0]
+        first = max(int(np.searchsorted(self._station, low, side="left")) - 1, 0)
+        last = int(np.searchsorted(self._station, high, side="right")) + 1
+        for view, curves, limits in self._fits:
+            shown = [part[np.isfinite(part)] for part in (values[first:last] for values in curves)]
+            extremes = [float(v) for part in shown if part.size for v in (part.min(), part.max())] + limits
+            if not extremes:
+                continue
+            bottom, top = min(extremes), max(extremes)
+            if top - bottom < 1e-9:
+                bottom, top = bottom - 0.5, top + 0.5
+            view.setYRange(bottom, top, padding=0.05)
 
     def _lay_out(self, count: int) -> None:
         """The first ``count`` plot items of the pool in the layout, emptied; the others out of it."""
@@ -161,9 +185,10 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             plotstyle.make_fluid(item)
             item.getAxis("left").setWidth(48)
             item.vb.setMouseEnabled(x=True, y=False)  # the wheel zooms along chainage; y fits what is visible
-            item.vb.setAutoVisible(y=True)
             if self._pool:
                 item.setXLink(self._pool[0])
+            else:
+                item.vb.sigXRangeChanged.connect(self._fit_y)
             self._pool.append(item)
         for item in self._pool:
             item.clear()  # the previous survey's curves and lines
