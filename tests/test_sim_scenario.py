@@ -114,3 +114,23 @@ def test_cli_version_and_simulate(tmp_path, capsys):
     assert (tmp_path / "s" / "survey.toml").is_file() and (tmp_path / "s" / "truth" / "nav.npy").is_file()
     # A second run into the same folder needs --force.
     assert main(["simulate", "--preset", "short", "--out", str(tmp_path / "s")]) == 1
+
+
+def test_prism_fixes_at_the_run_ends_are_taken_during_the_static_start_and_end(tmp_path):
+    """The `tunnel-no-gnss` preset starts and ends at a fix: those come from the static start and end."""
+    from insrail.io.control import read_prism_enu
+
+    config = preset("tunnel-no-gnss")
+    assert config.prism.stations_m[0] == config.motion.start_station_m
+    assert config.prism.stations_m[-1] == config.motion.end_station_m
+    tiny = _tiny(config)
+    tiny = replace(tiny, motion=replace(tiny.motion, static_start_s=30.0, static_end_s=30.0),
+                   prism=replace(config.prism, stations_m=(tiny.motion.start_station_m, tiny.motion.start_station_m + 20.0,
+                                                           tiny.motion.end_station_m)))
+    simulate(tiny, 1, tmp_path / "s", imu_format="npy")
+    prism = read_prism_enu(tmp_path / "s" / "prism.txt")
+    truth = np.load(tmp_path / "s" / "truth" / "nav.npy")
+    station = np.interp(prism.time_s, truth["time_s"], truth["station_m"])
+    assert len(prism) == 3 and prism.time_s[0] - truth["time_s"][0] == pytest.approx(10.0, abs=0.01)
+    np.testing.assert_allclose(station - station[0], [0.0, 20.0, 40.0], atol=0.3)  # the reference point, not the prism
+    assert truth["time_s"][-1] - prism.time_s[-1] > 15.0  # inside the 30 s static end

@@ -115,7 +115,8 @@ class SleeperSpec:
 
 @dataclass(frozen=True)
 class PrismSpec:
-    """Total-station fixes of the trolley's prism, taken at stops (stations listed)."""
+    """Total-station fixes of the trolley's prism, taken at stops (stations listed); a station at the
+    run's first or last station is taken during its static start or end."""
 
     stations_m: tuple[float, ...] = ()
     sigma_m: float = 0.001
@@ -356,7 +357,20 @@ def tunnel_scenario() -> ScenarioConfig:
     )
 
 
-PRESETS = {"short": short_scenario, "tunnel": tunnel_scenario, "straight": straight_scenario, "long": long_scenario, "long-outage": lambda: long_scenario(True)}
+def tunnel_no_gnss_scenario() -> ScenarioConfig:
+    """1.5 km inside the `tunnel` preset's tunnel, with no GNSS at all: the run starts and ends at a
+    prism fix (taken during the static start and at the end), 1 mm fixes every 60 m between. The
+    simulator writes a GNSS file with nothing in it but its outage; drop the gnss role from
+    survey.toml to process it as a survey without GNSS (``benchmarks/tunnel.py``)."""
+    tunnel = tunnel_scenario()
+    fixes = tuple(float(s) for s in np.arange(20720.0, 22221.0, 60.0))
+    return replace(tunnel, name="tunnel-no-gnss",
+                   motion=replace(tunnel.motion, start_station_m=20720.0, end_station_m=22220.0),
+                   gnss=replace(tunnel.gnss, outages=((20720.0, 1.0e5),)),
+                   prism=replace(tunnel.prism, stations_m=fixes))
+
+
+PRESETS = {"short": short_scenario, "tunnel": tunnel_scenario, "tunnel-no-gnss": tunnel_no_gnss_scenario, "straight": straight_scenario, "long": long_scenario, "long-outage": lambda: long_scenario(True)}
 
 
 def preset(name: str, **overrides) -> ScenarioConfig:

@@ -146,7 +146,10 @@ def simulate(
     def path_of(station):
         return motion.start_station_m + motion.end_station_m - np.asarray(station) if motion.reverse else np.asarray(station)
 
-    prism_stops = tuple((float(path_of(s)), config.prism.duration_s) for s in config.prism.stations_m)
+    # a fix at the run's first or last station is taken during its static start or end: no stop of its own
+    ends = (motion.start_station_m, motion.end_station_m)
+    prism_stops = tuple((float(path_of(s)), config.prism.duration_s) for s in config.prism.stations_m
+                        if min(abs(float(path_of(s)) - end) for end in ends) > 1e-6)
     profile = walking_profile(
         rng_motion,
         config.start_time_s,
