@@ -49,8 +49,9 @@ def _process(root: Path, survey: Path, name: str):
     from insrail.project.demo import project_for_simulated_survey
 
     target = root / "surveys" / name
-    if not target.exists():
-        shutil.copytree(survey, target)
+    if target.exists():  # the survey as given now (the project's cache keeps the fusion of unchanged files)
+        shutil.rmtree(target)
+    shutil.copytree(survey, target)
     return process(project_for_simulated_survey(root, target, name=name), name), target
 
 
