@@ -20,7 +20,8 @@ whole process's wall, CPU and peak RSS (getrusage of the child), i.e. what `/usr
 says of the command. On a loaded machine the CPU time is the figure to compare.
 
 Bars (issue 24): `long` process + report <= 60 s wall and <= 1.5 GB peak RSS; the rerun <= 5 s.
-With --keep-outputs DIR the sleepers.csv of every step is copied there (to compare two versions).
+With --keep-outputs DIR the sleepers.csv and quality.csv of every step are copied there (to compare two
+versions of insrail on the same project).
 """
 
 from __future__ import annotations
@@ -239,7 +240,8 @@ def main() -> int:
                 print_step(name, step, report)
                 if args.keep_outputs and step != "report":
                     args.keep_outputs.mkdir(parents=True, exist_ok=True)
-                    shutil.copy(root / "results" / name / "sleepers.csv", args.keep_outputs / f"{name}-{step}-sleepers.csv")
+                    for kept in ("sleepers.csv", "quality.csv"):
+                        shutil.copy(root / "results" / name / kept, args.keep_outputs / f"{name}-{step}-{kept}")
             wall = totals["process"]["wall_s"] + totals["report"]["wall_s"]
             cpu = totals["process"]["cpu_s"] + totals["report"]["cpu_s"]
             peak = max(totals["process"]["peak_mb"], totals["report"]["peak_mb"])

@@ -62,3 +62,22 @@ def test_interpolation_in_station_averages_a_standing_trolley():
     out = interpolate_in_station(stations, values, np.array([-1.0, 0.5, 1.0, 1.5, 3.0]))
     assert np.isnan(out[[0, 4]]).all()
     assert out[1:4].tolist() == [2.0, 3.0, 4.0]
+
+
+def test_the_fit_in_chunks_of_stations_is_the_fit_in_one_pass(monkeypatch):
+    """Memory is bounded by fitting a chunk of output stations at a time: each window's sums are
+    formed as in one pass, so the results are the same to the bit."""
+    from insrail.track import resample
+
+    rng = np.random.default_rng(4)
+    station = np.sort(rng.uniform(0.0, 400.0, 60_000))
+    station[::97] = np.nan
+    values = np.column_stack([np.sin(station / 7.0), np.cos(station / 3.0)]) + 1e-4 * rng.standard_normal((60_000, 2))
+    values[::131, 1] = np.nan
+    at = np.arange(-1.0, 401.0, 0.625)
+    monkeypatch.setattr(resample, "FIT_CHUNK_STATIONS", 10 * len(at))
+    whole = resample.sliding_window_fit(station, values, at)
+    monkeypatch.setattr(resample, "FIT_CHUNK_STATIONS", 37)
+    chunked = resample.sliding_window_fit(station, values, at)
+    assert np.isnan(whole).any() and np.isfinite(whole).sum() > 1000
+    np.testing.assert_array_equal(chunked, whole)

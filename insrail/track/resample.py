@@ -32,6 +32,39 @@ def window_pairs(sorted_station_m: np.ndarray, at_station_m: np.ndarray, half_wi
     return window, point, counts
 
 
+#: Output stations fitted at a time by :func:`sliding_window_fit` (bounds its memory).
+FIT_CHUNK_STATIONS = 2000
+
+
+def _fit_windows(s_sorted: np.ndarray, v_sorted: np.ndarray, at: np.ndarray, half: float, degree: int) -> np.ndarray:
+    """The local fits of :func:`sliding_window_fit` at stations ``at`` from the sorted points."""
+    window, point, counts = window_pairs(s_sorted, at, half)
+    m, n_terms = len(at), degree + 1
+    # Scaled, centred abscissa in [-1, 1] keeps the normal equations well conditioned.
+    u = (s_sorted[point] - at[window]) / half
+    powers = u[:, None] ** np.arange(2 * degree + 1)
+    moments = np.stack([np.bincount(window, powers[:, p], minlength=m) for p in range(2 * degree + 1)], axis=1)
+    normal = moments[:, np.add.outer(np.arange(n_terms), np.arange(n_terms))]
+    rhs = np.stack(
+        [np.stack([np.bincount(window, powers[:, p] * v_sorted[point, c], minlength=m) for p in range(n_terms)], axis=1)
+         for c in range(v_sorted.shape[1])],
+        axis=2,
+    )
+    u_min = np.full(m, np.inf)
+    u_max = np.full(m, -np.inf)
+    np.minimum.at(u_min, window, u)
+    np.maximum.at(u_max, window, u)
+    ok = (counts >= degree + 2) & (u_min < 0.0) & (u_max > 0.0)
+    result = np.full((m, v_sorted.shape[1]), np.nan)
+    if ok.any():
+        normal_ok = normal[ok]
+        well_posed = np.linalg.cond(normal_ok) < 1e12
+        solved = np.linalg.solve(normal_ok[well_posed], rhs[ok][well_posed])
+        rows = np.flatnonzero(ok)[well_posed]
+        result[rows] = solved[:, 0, :]
+    return result
+
+
 def sliding_window_fit(
     station_m: np.ndarray,
     values: np.ndarray,
@@ -60,30 +93,12 @@ def sliding_window_fit(
     v_sorted = values2[keep][order]
 
     half = 0.5 * window_m
-    window, point, counts = window_pairs(s_sorted, at, half)
-    m, n_terms = len(at), degree + 1
-    # Scaled, centred abscissa in [-1, 1] keeps the normal equations well conditioned.
-    u = (s_sorted[point] - at[window]) / half
-    powers = u[:, None] ** np.arange(2 * degree + 1)
-    moments = np.stack([np.bincount(window, powers[:, p], minlength=m) for p in range(2 * degree + 1)], axis=1)
-    normal = moments[:, np.add.outer(np.arange(n_terms), np.arange(n_terms))]
-    rhs = np.stack(
-        [np.stack([np.bincount(window, powers[:, p] * v_sorted[point, c], minlength=m) for p in range(n_terms)], axis=1)
-         for c in range(values2.shape[1])],
-        axis=2,
-    )
-    u_min = np.full(m, np.inf)
-    u_max = np.full(m, -np.inf)
-    np.minimum.at(u_min, window, u)
-    np.maximum.at(u_max, window, u)
-    ok = (counts >= degree + 2) & (u_min < 0.0) & (u_max > 0.0)
-    result = np.full((m, values2.shape[1]), np.nan)
-    if ok.any():
-        normal_ok = normal[ok]
-        well_posed = np.linalg.cond(normal_ok) < 1e12
-        solved = np.linalg.solve(normal_ok[well_posed], rhs[ok][well_posed])
-        rows = np.flatnonzero(ok)[well_posed]
-        result[rows] = solved[:, 0, :]
+    result = np.full((len(at), values2.shape[1]), np.nan)
+    # a bounded number of output stations at a time: the (window, point) pairs of 10 km at 200 Hz
+    # would take hundreds of MB; each window's sums are formed exactly as in one pass
+    for first in range(0, len(at), FIT_CHUNK_STATIONS):
+        part = slice(first, first + FIT_CHUNK_STATIONS)
+        result[part] = _fit_windows(s_sorted, v_sorted, at[part], half, degree)
     return result[:, 0] if flat else result
 
 
