@@ -95,7 +95,8 @@ def test_cli_fuse_writes_the_results(short_nav_survey, tmp_path, capsys):
     from insrail.cli.main import main
     from insrail.nav.trajectory import load_trajectory
 
-    assert main(["fuse", str(short_nav_survey), "--out", str(tmp_path), "--gnss-only", "--no-smoother", "--rate", "10"]) == 0
+    assert main(["fuse", str(short_nav_survey), "--out", str(tmp_path), "--gnss-only", "--no-smoother", "--rate", "10",
+                 "--text"]) == 0
     out = capsys.readouterr().out
     assert "Fused" in out and "gnss_position" in out and "odometer_nhc" not in out
     traj = load_trajectory(tmp_path / "trajectory.npy")
@@ -104,6 +105,23 @@ def test_cli_fuse_writes_the_results(short_nav_survey, tmp_path, capsys):
     assert log["options"]["use_nhc"] is False and "gnss_position" in log["measurements"]
     nav_lines = (tmp_path / "trajectory.nav").read_text().splitlines()
     assert len(nav_lines) == len(traj) + 2 and len(nav_lines[2].split()) == 11
+
+
+def test_cli_fuse_streams_the_trajectory_and_writes_text_and_forward_only_when_asked(short_nav_survey, survey, tmp_path):
+    from insrail.cli.main import main
+    from insrail.nav.trajectory import load_trajectory
+
+    assert main(["fuse", str(short_nav_survey), "--out", str(tmp_path), "--rate", "20", "--forward"]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["forward_trajectory.npy", "fusion_log.toml", "trajectory.npy"]
+    streamed = load_trajectory(tmp_path / "trajectory.npy")
+    forward = load_trajectory(tmp_path / "forward_trajectory.npy", smoothed=False)
+    in_memory = fuse_survey(survey, FusionOptions(), ellipsoid=CGCS2000, output_every=10)
+    assert len(streamed) == len(in_memory.trajectory) == len(forward)
+    for name in ("time_s", "lat_rad", "height_m", "rpy_rad", "sigma_pos_ned_m", "odometer_scale"):
+        np.testing.assert_array_equal(getattr(streamed, name), getattr(in_memory.trajectory, name))
+    assert np.abs(forward.height_m - streamed.height_m).max() > 1e-4  # the forward solution, not a copy
+    # without --forward the forward solution is kept at the update epochs only
+    assert len(in_memory.forward) == in_memory.info["update_epochs"]
 
 
 @pytest.fixture(scope="module")

@@ -1,10 +1,11 @@
 """Fuse a survey's IMU, GNSS and odometer into a trajectory (EKF + RTS smoother).
 
 Reads the survey folder (survey.toml and its raw files), runs the GNSS/INS/odometer
-filter with NHC and ZUPT and the smoother, and writes into OUT:
-trajectory.npy (every field, SI), trajectory.nav (KF-GINS layout), trajectory_std.txt,
-imu_errors.txt, and fusion_log.toml (measurement statistics, every rejected measurement
-with its time and size, stops, alignment, options).
+filter with NHC and ZUPT and the smoother, and writes into OUT: trajectory.npy (every
+field, SI; streamed to disk as it is made) and fusion_log.toml (measurement statistics,
+every rejected measurement with its time and size, stops, alignment, options); with
+--forward also forward_trajectory.npy, with --text the KF-GINS text files trajectory.nav,
+trajectory_std.txt and imu_errors.txt (of every written trajectory).
 """
 
 from __future__ import annotations
@@ -33,6 +34,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="1-sigma of the --heading [deg] (default 0.1)")
     p.add_argument("--gnss-sigma-scale", type=float, default=1.0, help="factor on the GNSS file's sigmas (default 1)")
     p.add_argument("--gnss-sigma-floor", type=float, default=2.0, help="smallest GNSS sigma used [mm] (default 2)")
+    p.add_argument("--forward", action="store_true",
+                   help="also write the forward filter's solution (forward_trajectory.npy) beside the smoothed one")
+    p.add_argument("--text", action="store_true",
+                   help="also write the KF-GINS text files (trajectory.nav, trajectory_std.txt, imu_errors.txt)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -45,12 +50,7 @@ def run(args: argparse.Namespace) -> int:
     from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, aiding_for
     from insrail.nav.imu_profile import load_imu_profile
     from insrail.nav.self_calibration import fuse_consistent
-    from insrail.nav.trajectory import (
-        save_trajectory,
-        write_kfgins_imu_errors,
-        write_kfgins_nav,
-        write_kfgins_std,
-    )
+    from insrail.nav.trajectory import write_kfgins_imu_errors, write_kfgins_nav, write_kfgins_std
 
     options = FusionOptions(
         smoother=not args.no_smoother,
@@ -66,29 +66,42 @@ def run(args: argparse.Namespace) -> int:
     survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m))
     every = max(int(round(survey.imu.rate_hz / args.rate)), 1) if args.rate > 0 else 1
     ellipsoid = earth.CGCS2000 if args.ellipsoid == "CGCS2000" else earth.WGS84
+    args.out.mkdir(parents=True, exist_ok=True)
+    # Streamed under staging names; an untrustworthy solution is not put where a user would take it.
+    staged = {"trajectory.npy": args.out / ".trajectory.fusing.npy"}
+    if args.forward and options.smoother:
+        staged["forward_trajectory.npy"] = args.out / ".forward_trajectory.fusing.npy"
     try:
         profile = load_imu_profile(args.imu_profile or survey.manifest.imu_profile)
         # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
         result, options, _, _ = fuse_consistent(survey.imu, lambda o: aiding_for(survey, o, profile), profile, options,
                                                 ellipsoid, output_every=every,
-                                                progress=lambda f, m: bar(0.05 + 0.85 * f, m))
-    except InputError:
-        raise
-    except ValueError as err:  # profile, start-up, screening, filter: the message says what to do
+                                                progress=lambda f, m: bar(0.05 + 0.85 * f, m),
+                                                trajectory_file=staged["trajectory.npy"],
+                                                forward_file=staged.get("forward_trajectory.npy"))
+    except BaseException as err:
+        for path in staged.values():
+            path.unlink(missing_ok=True)
+        if isinstance(err, InputError) or not isinstance(err, ValueError):
+            raise
+        # profile, start-up, screening, filter: the message says what to do
         bar.done()
         print(f"insrail fuse: survey {survey.manifest.name} ({args.survey}): {err}", file=sys.stderr)
         return 1
     bar(0.9, "writing")
-    args.out.mkdir(parents=True, exist_ok=True)
     traj = result.trajectory
     verdict = result.integrity
-    if verdict.trusted:  # an untrustworthy solution is not written where a user would take it
-        save_trajectory(args.out / "trajectory.npy", traj)
-        if options.smoother:
-            save_trajectory(args.out / "forward_trajectory.npy", result.forward)
+    for name, path in staged.items():
+        if verdict.trusted:
+            path.replace(args.out / name)
+        else:
+            path.unlink(missing_ok=True)
+    if verdict.trusted and args.text:
         write_kfgins_nav(args.out / "trajectory.nav", traj)
         write_kfgins_std(args.out / "trajectory_std.txt", traj)
         write_kfgins_imu_errors(args.out / "imu_errors.txt", traj)
+        if "forward_trajectory.npy" in staged:
+            write_kfgins_nav(args.out / "forward_trajectory.nav", result.forward)
     log = {
         "survey": str(args.survey.resolve()),
         "imu_profile": profile.name,

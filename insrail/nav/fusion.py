@@ -3,26 +3,33 @@
 Forward pass
     The IMU epochs are cut into segments at update epochs: a fixed grid (``update_rate_hz``,
     10 Hz by default, where odometer/NHC and ZUPT are applied) plus the epoch that closes
-    each GNSS observation. A compiled kernel (numba) runs the strapdown over a segment with
-    the increments compensated by the current sensor-error estimates and accumulates the
-    mean velocity and rates over it; Python then propagates the covariance over the whole
-    segment in one step (Phi to second order, trapezoidal Q) and applies the segment's
-    measurements one after the other, each gated by a chi-square test on its innovation.
-    After the updates the error state is fed back into the navigation solution and the
-    sensor-error estimates and reset to zero (thesis Fig. 5-8). No Python code runs per
-    200 Hz epoch.
+    each GNSS observation. One compiled loop (numba, ``_forward_kernel``) runs per segment
+    the strapdown with the increments compensated by the current sensor-error estimates
+    (accumulating the mean velocity and rates over it), propagates the covariance over the
+    whole segment in one step (Phi to second order, trapezoidal Q, on Phi's block structure:
+    rows 0-8 dense, the sensor and GNSS Gauss-Markov rows diagonal), and applies the
+    segment's measurements one after the other - each source's compiled model
+    (``insrail.nav.measurements``, "compiled form"), each gated by a chi-square test on its
+    innovation (``insrail.nav.kalman``). After the updates the error state is fed back into
+    the navigation solution and the sensor-error estimates and reset to zero (thesis
+    Fig. 5-8). Python runs only at events: a rejected observation (the rejection runs and
+    the decision to reset the filter, :class:`_RejectionRuns`), the first acceptance after
+    one, full output buffers and progress every 2000 segments.
 
 Smoother
-    Rauch-Tung-Striebel over the segments (thesis 2.93-2.95). With closed-loop resets the
-    forward estimate of the error is zero after every update, so the smoothed error of the
-    stored solution obeys e_j = A_j (e_{j+1} + dx_{j+1}) with A_j = P+_j Phi_{j+1}^T
-    (P-_{j+1})^-1 and dx_{j+1} the update applied at j+1 (ins-filter digest 6.2).
+    Rauch-Tung-Striebel over the segments (thesis 2.93-2.95), compiled, chunk by chunk. With
+    closed-loop resets the forward estimate of the error is zero after every update, so the
+    smoothed error of the stored solution obeys e_j = A_j (e_{j+1} + dx_{j+1}) with A_j =
+    P+_j Phi_{j+1}^T (P-_{j+1})^-1 and dx_{j+1} the update applied at j+1 (ins-filter digest
+    6.2). The corrections are kept at the filter rate and interpolated to the IMU rate while
+    the trajectory is written.
 
-Memory stays bounded: what the backward pass needs per segment (Phi, P-, P+, dx: 1474
-doubles, 12 kB) goes to a temporary file in chunks and is read back chunk by chunk in
-reverse, so a 10 km survey (90 000 segments, about 1 GB) never holds more than one chunk
-of covariances in RAM. The navigation solution itself (12 doubles per IMU epoch) stays
-in memory.
+Memory stays bounded: what the backward pass needs per segment (Phi, P-, P+, dx packed: 916
+doubles, 7.3 kB) goes to a temporary file in chunks and is read back chunk by chunk in
+reverse; the forward solution at the IMU rate (12 doubles per epoch) goes to another
+temporary file; the trajectory is built from both in chunks and, with ``trajectory_file``,
+written to disk as it is made. What stays in memory is at the filter rate (sensor
+estimates, sigmas, corrections: about 0.6 kB per update epoch).
 
 Error-state conventions: see ``insrail.nav.error_model``. Navigation errors are computed
 minus true (subtracted on feedback); sensor-error states are the residual errors not yet
@@ -34,6 +41,8 @@ from __future__ import annotations
 import math
 import tempfile
 from dataclasses import dataclass, field, replace
+from functools import partial
+from pathlib import Path
 from typing import Self
 
 import numpy as np
@@ -43,19 +52,20 @@ from scipy.stats import chi2
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth, integrity, kalman
+from insrail.nav import measurements as meas
 from insrail.nav.alignment import detect_stops, stop_thresholds
 from insrail.nav.error_model import (
     ATT,
+    BA,
     BG,
     GNSS,
     N_STATES,
     ODO,
     POS,
     SA,
+    SG,
     VEL,
     ErrorModelNoise,
-    discretise,
-    dynamics_matrix,
     initial_sensor_sigmas,
     noise_matrix,
 )
@@ -66,25 +76,21 @@ from insrail.nav.integrity import FusionIntegrity, InnovationRecord
 from insrail.nav.measurements import (
     GnssPosition,
     GnssVelocity,
-    NavSnapshot,
     OdometerNhc,
     PositionFix,
     Zupt,
     schedule,
 )
-from insrail.nav.mechanization import (
-    euler_from_q_bn,
-    lat_lon_from_q_ne,
-    q_ne_from_lat_lon,
-)
-from insrail.nav.rotation import (
-    euler_to_dcm,
-    quat_multiply,
-    quat_to_dcm,
-    rotvec_to_quat,
-)
+from insrail.nav.mechanization import euler_from_q_bn, lat_lon_from_q_ne
+from insrail.nav.rotation import euler_to_dcm, quat_multiply, rotvec_to_quat
 from insrail.nav.startup import PositionTrack, initial_state
-from insrail.nav.trajectory import Trajectory
+from insrail.nav.trajectory import (
+    TRAJECTORY_DTYPE,
+    Trajectory,
+    TrajectoryWriter,
+    load_trajectory,
+    trajectory_from_records,
+)
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 
@@ -195,6 +201,10 @@ class _RejectionRuns:
         self.peak[k] = 0.0
         self.resets_in_a_row[k] = 0
 
+    def pending(self, k: int) -> bool:
+        """Whether the next accepted observation of source k has something to clear."""
+        return bool(not np.isnan(self.start[k]) or self.resets_in_a_row[k] > 0)
+
     def rejected(self, k: int, i: int, time_s: float, nu: np.ndarray) -> FilterReset | None:
         """Record the rejection of observation i of source k; a reset when the run has lasted too long."""
         if np.isnan(self.start[k]):
@@ -282,7 +292,7 @@ class UpdateTimeline:
 @dataclass(frozen=True)
 class FusionResult:
     trajectory: Trajectory  # smoothed when options.smoother, else the forward solution
-    forward: Trajectory
+    forward: Trajectory  # at the update epochs unless fuse() was asked for it in full
     rejections: tuple[Rejection, ...]
     statistics: dict
     stops: tuple[tuple[float, float], ...]
@@ -294,13 +304,28 @@ class FusionResult:
 
 
 # --------------------------------------------------------------------------- kernel
+#
+# The forward filter is one compiled loop over the update epochs (``_forward_kernel``). Its
+# state lives in a :class:`_FilterState` of plain arrays, so the loop can stop and resume
+# anywhere: it returns to Python only at *events* - an observation rejected by its gate (the
+# rejection-run bookkeeping and the reset decision of :class:`_RejectionRuns` stay in Python,
+# the same code for every engine), the first observation accepted after such a run, a full
+# output buffer, and every PROGRESS_SEGMENTS segments for progress and cancel.
+
+N_NAV = 9  # rows of Phi that are not diagonal: position, velocity, attitude errors
+RECORD_SIZE = N_NAV * N_STATES + (N_STATES - N_NAV) + N_STATES * (N_STATES + 1) + N_STATES
+PROGRESS_SEGMENTS = 2000
+EVENT_DONE, EVENT_REJECTED, EVENT_ACCEPTED, EVENT_FLUSH, EVENT_PROGRESS = 0, 1, 2, 3, 4
+_UPPER = np.triu_indices(N_STATES)
+
+compiled = njit(cache=True, error_model="numpy")
 
 
-@njit(cache=True)
-def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out, sums):
+@compiled
+def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out, base, sums):
     """Strapdown over epochs start..stop-1 with compensated increments.
 
-    sensor = [bg(3), ba(3), sg(3), sa(3)] (estimates); out[k] receives nav after epoch k;
+    sensor = [bg(3), ba(3), sg(3), sa(3)] (estimates); out[k - base] receives nav after epoch k;
     sums = [sum v dt (3), sum dtheta_c (3), sum dvel_c (3), total dt, last dtheta_c (3),
     last dvel_c (3)].
     """
@@ -319,7 +344,7 @@ def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out,
             dv[a] = (dvel[k, a] - sensor[3 + a] * dt[k]) / (1.0 + sensor[9 + a])
         _kernels.strapdown_step(nav, th_prev, dv_prev, th, dv, dt[k], earth_c, nav)
         for a in range(12):
-            out[k, a] = nav[a]
+            out[k - base, a] = nav[a]
         for a in range(3):
             sums[a] += nav[_kernels.NAV_VEL + a] * dt[k]
             sums[3 + a] += th[a]
@@ -330,13 +355,310 @@ def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out,
         sums[13 + a] = dv[a]
 
 
+@compiled
+def dynamics_rows(ctx, f_b, omega_ib_b, earth_c, top):
+    """Rows 0-8 (position, velocity, attitude) of ``error_model.dynamics_matrix`` at the
+    compiled snapshot ``ctx`` into top (9 x N); its other rows are the diagonal of the
+    Gauss-Markov sensor and GNSS states (``_FilterState.decay``)."""
+    lat, h = ctx[meas.CTX_LAT], ctx[meas.CTX_H]
+    vn, ve, vd = ctx[meas.CTX_VEL], ctx[meas.CTX_VEL + 1], ctx[meas.CTX_VEL + 2]
+    sl, cl = math.sin(lat), math.cos(lat)
+    tl = sl / cl
+    r_m, r_n = _kernels.radii(sl, earth_c)
+    rm, rn = r_m + h, r_n + h
+    w = earth_c[_kernels.EARTH_OMEGA]
+    sec2 = 1.0 / (cl * cl)
+    g = _kernels.normal_gravity(sl, r_n, h, earth_c)
+    c = ctx[meas.CTX_C_BN : meas.CTX_C_BN + 9]
+    f_n = (c[0] * f_b[0] + c[1] * f_b[1] + c[2] * f_b[2], c[3] * f_b[0] + c[4] * f_b[1] + c[5] * f_b[2],
+           c[6] * f_b[0] + c[7] * f_b[1] + c[8] * f_b[2])
+    top[:] = 0.0
+    top[0, 0], top[0, 2] = -vd / rm, vn / rm
+    top[1, 0], top[1, 1], top[1, 2] = ve * tl / rn, -(vd + vn * tl) / rn, ve / rn
+    for a in range(3):
+        top[a, 3 + a] = 1.0
+    top[3, 0] = -(2 * ve * w * cl / rm + ve * ve * sec2 / (rm * rn))
+    top[3, 2] = vn * vd / (rm * rm) - ve * ve * tl / (rn * rn)
+    top[4, 0] = 2 * w * (vn * cl - vd * sl) / rm + vn * ve * sec2 / (rm * rn)
+    top[4, 2] = (ve * vd + vn * ve * tl) / (rn * rn)
+    top[5, 0] = 2 * w * ve * sl / rm
+    top[5, 2] = -(ve * ve / (rn * rn) + vn * vn / (rm * rm) - 2 * g / (math.sqrt(r_m * r_n) + h))
+    top[3, 3], top[3, 4], top[3, 5] = vd / rm, -2 * (w * sl + ve * tl / rn), vn / rm
+    top[4, 3], top[4, 4], top[4, 5] = 2 * w * sl + ve * tl / rn, (vd + vn * tl) / rn, 2 * w * cl + ve / rn
+    top[5, 3], top[5, 4] = -2 * vn / rm, -2 * (w * cl + ve / rn)
+    # skew(f_n)
+    top[3, 7], top[3, 8] = -f_n[2], f_n[1]
+    top[4, 6], top[4, 8] = f_n[2], -f_n[0]
+    top[5, 6], top[5, 7] = -f_n[1], f_n[0]
+    top[6, 0], top[6, 2] = -w * sl / rm, ve / (rn * rn)
+    top[7, 2] = -vn / (rm * rm)
+    top[8, 0], top[8, 2] = -(w * cl / rm + ve * sec2 / (rn * rm)), -ve * tl / (rn * rn)
+    top[6, 4], top[7, 3], top[8, 4] = 1.0 / rn, -1.0 / rm, -tl / rn
+    w_in = (w * cl + ve / rn, -vn / rm, -w * sl - ve * tl / rn)
+    top[6, 7], top[6, 8] = w_in[2], -w_in[1]
+    top[7, 6], top[7, 8] = -w_in[2], w_in[0]
+    top[8, 6], top[8, 7] = w_in[1], -w_in[0]
+    for a in range(3):
+        for b in range(3):
+            top[3 + a, BA + b] = c[3 * a + b]
+            top[3 + a, SA + b] = c[3 * a + b] * f_b[b]
+            top[6 + a, BG + b] = -c[3 * a + b]
+            top[6 + a, SG + b] = -c[3 * a + b] * omega_ib_b[b]
+
+
+@compiled
+def _transition(top_f, decay, gqg, seg, phi_top, phi_diag, P, P_minus):
+    """Phi = I + F dt + (F dt)^2 / 2 (rows 0-8 dense in phi_top, the rest diagonal in
+    phi_diag) and P- = Phi P Phi^T + (Phi G Q G^T Phi^T + G Q G^T) dt / 2 with the diagonal
+    G Q G^T ``gqg`` (error_model.discretise on the block structure). P- is filled from its
+    upper triangle, exactly symmetric."""
+    n = P.shape[0]
+    for i in range(N_NAV, n):
+        d = decay[i] * seg
+        phi_diag[i] = 1.0 + d + 0.5 * d * d
+    for i in range(N_NAV):
+        for j in range(n):
+            s = 0.0
+            for k in range(N_NAV):
+                s += top_f[i, k] * top_f[k, j]
+            s *= seg * seg
+            if j >= N_NAV:
+                s += top_f[i, j] * seg * decay[j] * seg
+            phi_top[i, j] = top_f[i, j] * seg + 0.5 * s
+        phi_top[i, i] += 1.0
+    # M = Phi P
+    M = np.empty((n, n))
+    for i in range(N_NAV):
+        for c in range(n):
+            M[i, c] = 0.0
+        for k in range(n):
+            f = phi_top[i, k]
+            if f != 0.0:
+                for c in range(n):
+                    M[i, c] += f * P[k, c]
+    for i in range(N_NAV, n):
+        for c in range(n):
+            M[i, c] = phi_diag[i] * P[i, c]
+    for i in range(n):
+        for j in range(i, n):
+            if j < N_NAV:
+                s = 0.0
+                q = 0.0
+                for k in range(n):
+                    s += M[i, k] * phi_top[j, k]
+                    q += phi_top[i, k] * gqg[k] * phi_top[j, k]  # i <= j < N_NAV
+            else:
+                s = M[i, j] * phi_diag[j]
+                q = (phi_top[i, j] if i < N_NAV else (phi_diag[i] if i == j else 0.0)) * gqg[j] * phi_diag[j]
+            if i == j:
+                q += gqg[i]
+            P_minus[i, j] = s + 0.5 * q * seg
+            P_minus[j, i] = P_minus[i, j]
+
+
+@compiled
+def _feedback(nav, dx, sensor, gnss_error, odo, earth_c):
+    """Apply the error estimate dx to the navigation vector, the sensor, GNSS and odometer
+    error estimates (in place)."""
+    lat, lon = _kernels.lat_lon(nav[0:4])
+    h = nav[4]
+    r_m, r_n = _kernels.radii(math.sin(lat), earth_c)
+    lat -= dx[POS] / (r_m + h)
+    lon -= dx[POS + 1] / ((r_n + h) * math.cos(lat))
+    a = -0.25 * math.pi - 0.5 * lat
+    ca, sa = math.cos(a), math.sin(a)
+    co, so = math.cos(0.5 * lon), math.sin(0.5 * lon)
+    nav[0], nav[1], nav[2], nav[3] = ca * co, -sa * so, sa * co, ca * so
+    nav[4] = h + dx[POS + 2]
+    for k in range(3):
+        nav[5 + k] -= dx[VEL + k]
+    # C_b^n <- (I + phi x) C_b^n: rotate the computed attitude back by phi in the n-frame.
+    q = _kernels.quat_normalize(_kernels.quat_mul(_kernels.rotvec_quat(dx[ATT], dx[ATT + 1], dx[ATT + 2]),
+                                                  (nav[8], nav[9], nav[10], nav[11])))
+    nav[8], nav[9], nav[10], nav[11] = q[0], q[1], q[2], q[3]
+    for k in range(12):
+        sensor[k] += dx[BG + k]
+    for k in range(3):
+        gnss_error[k] += dx[GNSS + k]
+    odo[0] += dx[ODO]
+
+
+@compiled
+def _pack_record(phi_top, phi_diag, P_minus, P, x, out):
+    """One smoother record (RECORD_SIZE): Phi's dense rows and diagonal, P- and P+ (upper
+    triangles, row by row) and the update dx."""
+    n = P.shape[0]
+    r = 0
+    for i in range(N_NAV):
+        for j in range(n):
+            out[r] = phi_top[i, j]
+            r += 1
+    for i in range(N_NAV, n):
+        out[r] = phi_diag[i]
+        r += 1
+    for M in (P_minus, P):
+        for i in range(n):
+            for j in range(i, n):
+                out[r] = M[i, j]
+                r += 1
+    for i in range(n):
+        out[r] = x[i]
+        r += 1
+
+
+@compiled
+def _unpack_record(rec, phi, P_minus, P, dx):
+    n = P.shape[0]
+    r = 0
+    phi[:] = 0.0
+    for i in range(N_NAV):
+        for j in range(n):
+            phi[i, j] = rec[r]
+            r += 1
+    for i in range(N_NAV, n):
+        phi[i, i] = rec[r]
+        r += 1
+    for M in (P_minus, P):
+        for i in range(n):
+            for j in range(i, n):
+                M[i, j] = rec[r]
+                M[j, i] = rec[r]
+                r += 1
+    for i in range(n):
+        dx[i] = rec[r]
+        r += 1
+
+
+@compiled
+def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, phi_diag, ctx, sums, pending,
+                    dtheta, dvel, dt, t, epochs, earth_c, decay, gqg, gnss_decay_tau, gap_j, gap_q,
+                    first, source, observation, kinds, params, rows, row_first, gates,
+                    nav_buf, nav_base, rec_buf, rec_fill, record, sensor_hist, sigma_hist,
+                    nis_out, dof_out, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu):
+    """Run the forward filter from pos = [segment j, entry e, phase] (phase 0: segment j not
+    yet propagated) until an event; returns (event, entry) and leaves pos where to resume.
+    nav_base[0]: the IMU epoch of nav_buf's first row; rec_fill[0]: records in rec_buf."""
+    n = x.shape[0]
+    m_epochs = epochs.shape[0]
+    z = np.zeros(meas.MAX_ROWS)
+    H = np.zeros((meas.MAX_ROWS, n))
+    R = np.zeros((meas.MAX_ROWS, meas.MAX_ROWS))
+    r = np.zeros(meas.MAX_ROWS)
+    top_f = np.zeros((N_NAV, n))
+    f_b = np.empty(3)
+    w_b = np.empty(3)
+    while pos[0] < m_epochs:
+        j = pos[0]
+        if pos[2] == 0:
+            a, b = epochs[j - 1] + 1, epochs[j] + 1
+            if b - nav_base[0] > nav_buf.shape[0] or (record and rec_fill[0] == rec_buf.shape[0]):
+                return EVENT_FLUSH, -1
+            if j % PROGRESS_SEGMENTS == 0 and pos[1] != -2:
+                pos[1] = -2  # reported; the next call goes on
+                return EVENT_PROGRESS, -1
+            _propagate_segment(nav, dtheta, dvel, dt, a, b, sensor, earth_c, nav_buf, nav_base[0], sums)
+            seg = sums[9]
+            meas.fill_context(ctx, nav, sums, dt[b - 1], odo[0], gnss_error, t[b - 1], earth_c)
+            for k in range(3):
+                f_b[k] = sums[6 + k] / seg
+                w_b[k] = sums[3 + k] / seg
+            dynamics_rows(ctx, f_b, w_b, earth_c, top_f)
+            _transition(top_f, decay, gqg, seg, phi_top, phi_diag, P, P_minus)
+            for g in range(gap_j.shape[0]):  # the motion an IMU gap's interpolation may have missed
+                if gap_j[g] == j:
+                    for k in range(n):
+                        for c in range(n):
+                            P_minus[k, c] += gap_q[g, k, c]
+            if pending[0] != 0.0:  # a reset: a burst of process noise on this segment
+                kalman.inflate_in_place(P_minus, pending[1:])
+                pending[0] = 0.0
+            P[:, :] = P_minus
+            x[:] = 0.0
+            decay_gnss = math.exp(-seg / gnss_decay_tau)  # the estimate follows its model
+            for k in range(3):
+                gnss_error[k] *= decay_gnss
+            pos[1] = first[j]
+            pos[2] = 1
+        while pos[1] < first[j + 1]:
+            e = pos[1]
+            pos[1] = e + 1
+            k = source[e]
+            m = meas.evaluate(kinds[k], ctx, params[k], rows[row_first[k] + observation[e]], z, H, r)
+            for a in range(m):
+                for c in range(m):
+                    R[a, c] = r[a] if a == c else 0.0
+            nis, ok = kalman.update_in_place(x, P, z, H, R, m, gates[m], event_nu)
+            nis_out[e] = nis
+            dof_out[e] = m
+            if not ok:
+                return EVENT_REJECTED, e
+            used[k] += 1
+            for a in range(m):
+                sum_sq[k, a] += event_nu[a] * event_nu[a]
+            sum_nis[k] += nis
+            sum_dof[k] += m
+            accepted[e] = True
+            if watched[k]:
+                return EVENT_ACCEPTED, e
+        if first[j + 1] > first[j]:
+            _feedback(nav, x, sensor, gnss_error, odo, earth_c)
+        for a in range(n):
+            for c in range(a + 1, n):
+                s = 0.5 * (P[a, c] + P[c, a])
+                P[a, c] = s
+                P[c, a] = s
+        if record:
+            _pack_record(phi_top, phi_diag, P_minus, P, x, rec_buf[rec_fill[0]])
+            rec_fill[0] += 1
+        for k in range(12):
+            sensor_hist[j, k] = sensor[k]
+        sensor_hist[j, 12] = odo[0]
+        for k in range(n):
+            sigma_hist[j, k] = math.sqrt(P[k, k])
+        pos[0] = j + 1
+        pos[1] = 0
+        pos[2] = 0
+    return EVENT_DONE, -1
+
+
+@compiled
+def _rts_chunk(records, first_record, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma):
+    """The backward RTS pass over one chunk of smoother records (record r: epoch
+    first_record + r + 1), last record first. state[0] = 1 once an epoch has been smoothed
+    (the last epoch: smoothed = filtered); (e_next, P_s_next, phi_next, p_minus_next) carry
+    the successor epoch's quantities from chunk to chunk."""
+    n = e_next.shape[0]
+    phi = np.empty((n, n))
+    p_minus = np.empty((n, n))
+    p_plus = np.empty((n, n))
+    dx = np.empty(n)
+    for r in range(records.shape[0] - 1, -1, -1):
+        j = first_record + r + 1
+        _unpack_record(records[r], phi, p_minus, p_plus, dx)
+        if state[0] == 0.0:
+            e = np.zeros(n)
+            P_s = p_plus.copy()
+            state[0] = 1.0
+        else:
+            e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, p_plus)
+        for k in range(n):
+            corrections[j, 0, k] = e[k]
+            corrections[j, 1, k] = e[k] + dx[k]
+            sigma[j, k] = math.sqrt(max(P_s[k, k], 0.0))
+            e_next[k] = e[k] + dx[k]
+        P_s_next[:, :] = P_s
+        phi_next[:, :] = phi
+        p_minus_next[:, :] = p_minus
+
+
 # --------------------------------------------------------------------------- storage
 
 
 class SmootherStore:
     """Append-only, chunked, disk-backed record of a forward pass for the RTS pass: per update
     epoch j = 1, 2, ... (record j - 1) Phi and Q's result P- of the segment ending at j, P+
-    after the updates at j and the update dx applied there. Read back last epoch first.
+    after the updates at j and the update dx applied there, packed (``_pack_record``: Phi's
+    dense rows and diagonal, upper triangles: 916 doubles, 7.3 kB). Read back last epoch first.
 
     :func:`fuse` keeps its own for the smoother and closes it. A caller that wants the
     covariances once the fusion is done (the covariance analysis of ``insrail.quality``
@@ -344,13 +666,11 @@ class SmootherStore:
     when done: ``with SmootherStore() as store: ...``.
     """
 
-    RECORD = 3 * N_STATES * N_STATES + N_STATES  # Phi, P-, P+, dx
+    RECORD = RECORD_SIZE
 
     def __init__(self, chunk: int = 2048):
         self.file = tempfile.TemporaryFile(prefix="insrail-rts-")
         self.chunk = chunk
-        self.buffer = np.empty((chunk, self.RECORD))
-        self.fill = 0
         self.count = 0
 
     def __enter__(self) -> Self:
@@ -359,65 +679,87 @@ class SmootherStore:
     def __exit__(self, *exc) -> None:
         self.close()
 
-    def append(self, phi, p_minus, p_plus, dx):
-        n = N_STATES * N_STATES
-        row = self.buffer[self.fill]
-        row[:n] = phi.ravel()
-        row[n : 2 * n] = p_minus.ravel()
-        row[2 * n : 3 * n] = p_plus.ravel()
-        row[3 * n :] = dx
-        self.fill += 1
-        self.count += 1
-        if self.fill == self.chunk:
-            self.flush()
+    def append_records(self, records: np.ndarray) -> None:
+        """Append packed records (k, RECORD)."""
+        try:
+            self.file.write(np.ascontiguousarray(records, dtype=np.float64).tobytes())
+        except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
+            raise OSError(err.errno, err.strerror,
+                          f"{tempfile.gettempdir()} (the smoother's temporary file)") from None
+        self.count += len(records)
 
-    def flush(self):
-        if self.fill:
-            try:
-                self.file.write(self.buffer[: self.fill].tobytes())
-            except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
-                raise OSError(err.errno, err.strerror,
-                              f"{tempfile.gettempdir()} (the smoother's temporary file)") from None
-            self.fill = 0
-
-    def reversed_records(self):
-        """(j, Phi_j, P-_j, P+_j, dx_j) for j = count, ..., 1: views into one chunk read from disk."""
-        self.flush()
+    def reversed_chunks(self):
+        """(index of the chunk's first record, records (k, RECORD)) from the last chunk to the first."""
+        self.file.flush()
         size = self.RECORD * 8
-        nn = N_STATES * N_STATES
         for first in range(((self.count - 1) // self.chunk) * self.chunk, -1, -self.chunk):
             n = min(self.chunk, self.count - first)
             self.file.seek(first * size)
-            chunk = np.frombuffer(self.file.read(n * size), dtype=np.float64).reshape(n, self.RECORD)
-            for r in range(n - 1, -1, -1):
-                rec = chunk[r]
-                yield (first + r + 1, rec[:nn].reshape(N_STATES, N_STATES), rec[nn : 2 * nn].reshape(N_STATES, N_STATES),
-                       rec[2 * nn : 3 * nn].reshape(N_STATES, N_STATES), rec[3 * nn :])
+            yield first, np.frombuffer(self.file.read(n * size), dtype=np.float64).reshape(n, self.RECORD)
+
+    def reversed_records(self):
+        """(j, Phi_j, P-_j, P+_j, dx_j) for j = count, ..., 1, unpacked."""
+        for first, chunk in self.reversed_chunks():
+            for r in range(len(chunk) - 1, -1, -1):
+                phi, p_minus, p_plus, dx = (np.empty((N_STATES, N_STATES)), np.empty((N_STATES, N_STATES)),
+                                            np.empty((N_STATES, N_STATES)), np.empty(N_STATES))
+                _unpack_record(chunk[r], phi, p_minus, p_plus, dx)
+                yield first + r + 1, phi, p_minus, p_plus, dx
 
     def close(self):
         self.file.close()
 
 
+class _EpochFile:
+    """The forward pass's navigation vectors (12 doubles) at the IMU rate, from one IMU epoch on,
+    in a temporary file: appended in chunks, read back by ranges, never all in memory."""
+
+    WIDTH = 12
+
+    def __init__(self, first_epoch: int):
+        self.file = tempfile.TemporaryFile(prefix="insrail-nav-")
+        self.first_epoch = first_epoch
+        self.count = 0
+
+    def append(self, rows: np.ndarray) -> None:
+        try:
+            self.file.write(np.ascontiguousarray(rows[:, : self.WIDTH]).tobytes())
+        except OSError as err:
+            raise OSError(err.errno, err.strerror, f"{tempfile.gettempdir()} (the fusion's temporary file)") from None
+        self.count += len(rows)
+
+    def read(self, start_epoch: int, stop_epoch: int) -> np.ndarray:
+        """Rows of IMU epochs start_epoch .. stop_epoch - 1."""
+        self.file.flush()
+        size = self.WIDTH * 8
+        self.file.seek((start_epoch - self.first_epoch) * size)
+        data = self.file.read((stop_epoch - start_epoch) * size)
+        return np.frombuffer(data, dtype=np.float64).reshape(-1, self.WIDTH)
+
+    def close(self):
+        self.file.close()
+
+
+@dataclass
+class _FilterState:
+    """Everything the compiled forward loop carries from one call to the next."""
+
+    nav: np.ndarray
+    sensor: np.ndarray = field(default_factory=lambda: np.zeros(12))
+    gnss_error: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    odo: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    x: np.ndarray = field(default_factory=lambda: np.zeros(N_STATES))
+    P: np.ndarray = field(default_factory=lambda: np.zeros((N_STATES, N_STATES)))
+    P_minus: np.ndarray = field(default_factory=lambda: np.zeros((N_STATES, N_STATES)))
+    phi_top: np.ndarray = field(default_factory=lambda: np.zeros((N_NAV, N_STATES)))
+    phi_diag: np.ndarray = field(default_factory=lambda: np.ones(N_STATES))
+    ctx: np.ndarray = field(default_factory=lambda: np.zeros(meas.CTX_SIZE))
+    sums: np.ndarray = field(default_factory=lambda: np.zeros(16))
+    pending: np.ndarray = field(default_factory=lambda: np.zeros(N_STATES + 1))  # [flag, sigma floors (NaN: keep)]
+    pos: np.ndarray = field(default_factory=lambda: np.array([1, 0, 0], dtype=np.int64))
+
+
 # --------------------------------------------------------------------------- helpers
-
-
-def _feedback(nav: np.ndarray, dx: np.ndarray, sensor: np.ndarray, gnss_error: np.ndarray, odo_scale: float, ell) -> float:
-    """Apply the error estimate dx to the navigation vector, the sensor and GNSS error
-    estimates (in place); returns the new odometer scale estimate."""
-    lat, lon = lat_lon_from_q_ne(nav[0:4])
-    h = nav[4]
-    r_m, r_n = earth.radii(lat, ell)
-    lat -= dx[POS] / (r_m + h)
-    lon -= dx[POS + 1] / ((r_n + h) * np.cos(lat))
-    nav[0:4] = q_ne_from_lat_lon(lat, lon)
-    nav[4] = h + dx[POS + 2]
-    nav[5:8] -= dx[VEL : VEL + 3]
-    # C_b^n <- (I + phi x) C_b^n: rotate the computed attitude back by phi in the n-frame.
-    q = quat_multiply(rotvec_to_quat(dx[ATT : ATT + 3]), nav[8:12])
-    nav[8:12] = q / np.linalg.norm(q)
-    sensor += dx[BG : SA + 3]
-    gnss_error += dx[GNSS : GNSS + 3]
-    return odo_scale + dx[ODO]
 
 
 #: without an odometer, a gap of the positions longer than this [s] leaves the along-track position unaided
@@ -549,30 +891,28 @@ def update_grid(imu_time_s: np.ndarray, k0: int, every: int, measurements) -> np
 # --------------------------------------------------------------------------- engine
 
 
-def fuse(
-    imu: ImuIncrements,
-    aiding: Aiding,
-    profile: ImuProfile,
-    options: FusionOptions = FusionOptions(),
-    ellipsoid: earth.Ellipsoid = earth.WGS84,
-    output_every: int = 1,
-    covariance_store: SmootherStore | None = None,
-    progress: ProgressFn | None = None,
-    cancel: CancelToken = None,
-) -> FusionResult:
-    """Fuse IMU increments with a list of aiding sources into a trajectory.
+@dataclass(frozen=True)
+class _Setup:
+    """What the forward pass starts from (:func:`_prepare`): the screened, bridged IMU data,
+    the start, the update grid, the schedule and the noise."""
 
-    aiding         : the sources and what the start needs (:func:`aiding_for` builds it from a
-                     survey; total-station fixes are a source like the others, geodetic
-                     positions of the prism the caller transformed with the project's CRS)
-    output_every   : the trajectories hold every n-th IMU epoch (1: the full IMU rate)
-    covariance_store : an empty :class:`SmootherStore` owned by the caller: the forward pass
-                     records into it (whether or not ``options.smoother``) and leaves it open, so
-                     the covariances can be analysed after the fusion without replaying it
-    """
-    if covariance_store is not None and covariance_store.count:
-        raise ValueError(f"the covariance store already holds {covariance_store.count} records: pass an empty one")
-    step = StepProgress(progress)
+    imu: ImuIncrements
+    dt: np.ndarray
+    outliers: list
+    notices: list
+    stops: list
+    start: object  # insrail.nav.startup's initial state
+    epochs: np.ndarray
+    plan: object  # insrail.nav.measurements.Schedule
+    bridged_q: dict
+    P0: np.ndarray
+    noise: ErrorModelNoise
+    gqg: np.ndarray
+    gates: np.ndarray  # chi-square gate per number of rows
+
+
+def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: FusionOptions,
+             ellipsoid: earth.Ellipsoid) -> _Setup:
     noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
     gqg = noise_matrix(noise)
     trolley = aiding.trolley
@@ -621,136 +961,255 @@ def fuse(
                          max_accel_std_mps2=None if aiding.odometer is not None else accel_quiet)
     start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid, aiding.design_azimuth)
     notices.extend(start.notices)
-    k0, nav = start.epoch, start.nav
-    nav_store = np.empty((n, 12))
-    nav_store[: k0 + 1] = nav[:12]
-
     every = max(int(round(1.0 / (options.update_rate_hz * dt[0]))), 1)
-    epochs = update_grid(t, k0, every, aiding.measurements)
+    epochs = update_grid(t, start.epoch, every, aiding.measurements)
     plan = schedule(t[epochs], aiding.measurements, stops)
-    bridged_q = bridged_process_noise(imu, epochs)
-    sources = plan.measurements
+    P0 = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
+                            start.sigma_heading_rad)
+    gates = np.array([np.inf] + [chi2.ppf(options.gate_probability, m) for m in range(1, meas.MAX_ROWS + 1)])
+    return _Setup(imu, dt, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
+                  noise, gqg, gates)
 
-    # --- forward pass ---------------------------------------------------------------------
-    P = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
-                           start.sigma_heading_rad)
-    P_initial = P.copy()
-    accepted = np.zeros(len(plan.epoch), dtype=bool)
-    innovation_nis = np.full(len(plan.epoch), np.nan)
-    innovation_dof = np.zeros(len(plan.epoch), dtype=np.int64)
+
+@dataclass
+class _ForwardPass:
+    """What the forward pass leaves at the filter rate (the IMU-rate solution is in ``nav``)."""
+
+    nav: _EpochFile
+    sensor_hist: np.ndarray  # (m, 13): sensor estimates and odometer scale after epoch j
+    sigma_hist: np.ndarray  # (m, N)
+    nis: np.ndarray  # per schedule entry
+    dof: np.ndarray
+    accepted: np.ndarray
+    statistics: dict
+    rejections: list
+    resets: list
+
+
+def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, store: SmootherStore | None,
+             progress, cancel, nav_chunk: int = 65536) -> _ForwardPass:
+    """The forward filter: the compiled loop, with Python at its events (module docstring)."""
+    plan, epochs, imu = setup.plan, setup.epochs, setup.imu
+    sources = plan.measurements
+    models = [s.compiled() for s in sources]
+    kinds = np.array([c.kind for c in models], dtype=np.int64)
+    params = np.array([c.params for c in models]).reshape(len(models), meas.MODEL_PARAMS)
+    row_first = np.cumsum([0] + [len(c.rows) for c in models])[:-1].astype(np.int64)
+    rows = np.concatenate([c.rows for c in models] + [np.zeros((0, meas.MODEL_WIDTH))])
+    gqg = np.diag(setup.gqg).copy()
+    if np.count_nonzero(setup.gqg - np.diag(gqg)):
+        raise AssertionError("the compiled filter takes a diagonal G Q G^T (insrail.nav.error_model.noise_matrix)")
+    decay = np.zeros(N_STATES)
+    noise = setup.noise
+    for first, tau in ((BG, noise.gyro_bias_tau_s), (BA, noise.accel_bias_tau_s), (SG, noise.gyro_scale_tau_s),
+                       (SA, noise.accel_scale_tau_s), (GNSS, noise.gnss_tau_s)):
+        decay[first : first + 3] = -1.0 / tau
+    gap_j = np.array(sorted(setup.bridged_q), dtype=np.int64)
+    gap_q = np.array([setup.bridged_q[j] for j in gap_j]).reshape(len(gap_j), N_STATES, N_STATES)
+
+    m_epochs = len(epochs)
+    n_entries = len(plan.epoch)
+    k0 = int(epochs[0])
+    state = _FilterState(nav=np.array(setup.start.nav, dtype=float))
+    state.P[:] = setup.P0
+    nav_file = _EpochFile(k0)
+    nav_buf = np.empty((nav_chunk, 12))
+    nav_buf[0] = state.nav[:12]
+    nav_base = np.array([k0 + 1], dtype=np.int64)
+    nav_file.append(nav_buf[:1])
+    rec_buf = np.empty((store.chunk if store is not None else 1, RECORD_SIZE))
+    rec_fill = np.zeros(1, dtype=np.int64)
+    sensor_hist = np.empty((m_epochs, 13))
+    sigma_hist = np.empty((m_epochs, N_STATES))
+    sensor_hist[0] = 0.0
+    sigma_hist[0] = np.sqrt(np.diag(setup.P0))
+    nis = np.full(n_entries, np.nan)
+    dof = np.zeros(n_entries, dtype=np.int64)
+    accepted = np.zeros(n_entries, dtype=bool)
+    k_src = len(sources)
+    used = np.zeros(k_src, dtype=np.int64)
+    rejected = np.zeros(k_src, dtype=np.int64)
+    sum_sq = np.zeros((k_src, meas.MAX_ROWS))
+    sum_nis = np.zeros(k_src)
+    sum_dof = np.zeros(k_src, dtype=np.int64)
+    watched = np.zeros(k_src, dtype=bool)
+    event_nu = np.zeros(meas.MAX_ROWS)
     runs = _RejectionRuns(sources, options)
+    rejections: list[Rejection] = []
     resets: list[FilterReset] = []
-    pending_reset = None
-    sensor = np.zeros(12)
-    gnss_error = np.zeros(3)
-    odo_scale = 0.0
-    sensor_hist = np.empty((len(epochs), 13))
-    sigma_hist = np.empty((len(epochs), N_STATES))
-    sensor_hist[0, :12], sensor_hist[0, 12] = sensor, odo_scale
-    sigma_hist[0] = np.sqrt(np.diag(P))
+    t = imu.time_s
+    dtheta = np.ascontiguousarray(imu.dtheta_rad, dtype=float)
+    dvel = np.ascontiguousarray(imu.dvel_mps, dtype=float)
+    gnss_tau = float(options.gnss_correlated_tau_s)
+    if m_epochs > 1 and np.max(np.diff(epochs)) > nav_chunk:
+        nav_chunk = int(np.max(np.diff(epochs)))
+        nav_buf = np.empty((nav_chunk, 12))
+    while True:
+        event, e = _forward_kernel(
+            state.pos, state.nav, state.sensor, state.gnss_error, state.odo, state.x, state.P, state.P_minus,
+            state.phi_top, state.phi_diag, state.ctx, state.sums, state.pending,
+            dtheta, dvel, setup.dt, t, epochs, _EARTH.get(ellipsoid), decay, gqg, gnss_tau, gap_j, gap_q,
+            plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
+            nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist,
+            nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu)
+        if event == EVENT_DONE:
+            break
+        if event in (EVENT_FLUSH, EVENT_PROGRESS):
+            if event == EVENT_PROGRESS:
+                check_cancel(cancel)
+                j = int(state.pos[0])
+                progress(j / m_epochs, f"forward filter {t[epochs[j]] - t[epochs[0]]:.0f} s")
+            upto = int(epochs[state.pos[0] - 1]) + 1 if state.pos[0] < m_epochs else int(epochs[-1]) + 1
+            nav_file.append(nav_buf[: upto - nav_base[0]])
+            nav_base[0] = upto
+            if store is not None and rec_fill[0]:
+                store.append_records(rec_buf[: rec_fill[0]])
+                rec_fill[0] = 0
+            continue
+        k, i = int(plan.source[e]), int(plan.observation[e])
+        source = sources[k]
+        if event == EVENT_REJECTED:
+            m = int(dof[e])
+            rejected[k] += 1
+            time_s = float(source.time_s[i])
+            rejections.append(Rejection(time_s, source.name, float(nis[e]), float(setup.gates[m]),
+                                        tuple(event_nu[:m].tolist())))
+            reset = runs.rejected(k, i, time_s, event_nu[:m].copy())
+            if reset is not None:
+                resets.append(reset)
+                state.pending[:] = np.nan
+                state.pending[0] = 1.0
+                for label, first in (("position", POS), ("velocity", VEL), ("attitude", ATT)):
+                    if label in reset.states:
+                        at = reset.states.index(label)
+                        state.pending[1 + first : 1 + first + 3] = reset.sigma[3 * at : 3 * at + 3]
+        else:
+            runs.accepted(k)
+        watched[:] = [runs.pending(s) for s in range(k_src)]
+    nav_file.append(nav_buf[: int(epochs[-1]) + 1 - nav_base[0]])
+    if store is not None and rec_fill[0]:
+        store.append_records(rec_buf[: rec_fill[0]])
+    statistics = {}
+    for k in dict.fromkeys(plan.source.tolist()):  # the sources in the order they first applied
+        dof_k = int(dof[plan.source == k].max()) if used[k] + rejected[k] else 0
+        statistics[sources[k].name] = MeasurementStats(
+            int(used[k]), int(rejected[k]), sum_sq[k, :dof_k].copy() if used[k] else None, float(sum_nis[k]),
+            int(sum_dof[k])).summary()
+    return _ForwardPass(nav_file, sensor_hist, sigma_hist, nis, dof, accepted, statistics, rejections, resets)
+
+
+class _EarthConstants:
+    """The kernels' earth vector per ellipsoid, made once."""
+
+    def __init__(self):
+        self.cache = {}
+
+    def get(self, ell: earth.Ellipsoid) -> np.ndarray:
+        if ell not in self.cache:
+            self.cache[ell] = _kernels.earth_constants(ell)
+        return self.cache[ell]
+
+
+_EARTH = _EarthConstants()
+
+
+def fuse(
+    imu: ImuIncrements,
+    aiding: Aiding,
+    profile: ImuProfile,
+    options: FusionOptions = FusionOptions(),
+    ellipsoid: earth.Ellipsoid = earth.WGS84,
+    output_every: int = 1,
+    covariance_store: SmootherStore | None = None,
+    progress: ProgressFn | None = None,
+    cancel: CancelToken = None,
+    trajectory_file: Path | None = None,
+    forward_file: Path | None = None,
+    full_forward: bool = False,
+) -> FusionResult:
+    """Fuse IMU increments with a list of aiding sources into a trajectory.
+
+    aiding         : the sources and what the start needs (:func:`aiding_for` builds it from a
+                     survey; total-station fixes are a source like the others, geodetic
+                     positions of the prism the caller transformed with the project's CRS)
+    output_every   : the trajectory holds every n-th IMU epoch (1: the full IMU rate)
+    covariance_store : an empty :class:`SmootherStore` owned by the caller: the forward pass
+                     records into it (whether or not ``options.smoother``) and leaves it open, so
+                     the covariances can be analysed after the fusion without replaying it
+    trajectory_file : stream the trajectory into this ``trajectory.npy`` (written in chunks,
+                     atomically); ``result.trajectory`` is then a read-only memory map of it.
+                     Without one it is built in memory.
+    forward_file, full_forward : the forward solution at every ``output_every``-th epoch, streamed
+                     into ``forward_file`` or held in memory; by default ``result.forward`` holds it
+                     at the update epochs only (what the covariance analysis linearises on)
+    """
+    if covariance_store is not None and covariance_store.count:
+        raise ValueError(f"the covariance store already holds {covariance_store.count} records: pass an empty one")
+    step = StepProgress(progress)
+    setup = _prepare(imu, aiding, profile, options, ellipsoid)
+    imu, epochs, t = setup.imu, setup.epochs, setup.imu.time_s
+    plan, notices = setup.plan, setup.notices
+    sources = plan.measurements
+    m_epochs = len(epochs)
     own_store = covariance_store is None and options.smoother
     store = SmootherStore() if own_store else covariance_store
-    earth_c = _kernels.earth_constants(ellipsoid)
-    sums = np.zeros(16)
-    gates = {m: chi2.ppf(options.gate_probability, m) for m in range(1, 7)}
-    stats: dict[str, MeasurementStats] = {}
-    rejections: list[Rejection] = []
-    forward_step = step.sub(0.0, 0.8 if options.smoother else 0.95)
-    m_epochs = len(epochs)
-
+    forward_pass = None
     try:
-        for j in range(1, m_epochs):
-            if j % 2000 == 0:
-                check_cancel(cancel)
-                forward_step(j / m_epochs, f"forward filter {t[epochs[j]] - t[epochs[0]]:.0f} s")
-            a, b = epochs[j - 1] + 1, epochs[j] + 1
-            _propagate_segment(nav, imu.dtheta_rad, imu.dvel_mps, dt, a, b, sensor, earth_c, nav_store, sums)
-            seg = sums[9]
-            lat, lon = lat_lon_from_q_ne(nav[0:4])
-            snap = NavSnapshot(
-                time_s=t[b - 1], lat=float(lat), lon=float(lon), h=float(nav[4]), vel_ned=nav[5:8].copy(),
-                c_bn=quat_to_dcm(nav[8:12]), omega_ib_b=sums[10:13] / dt[b - 1], f_b=sums[13:16] / dt[b - 1],
-                mean_vel_ned=sums[0:3] / seg, mean_omega_ib_b=sums[3:6] / seg, segment_s=seg,
-                odometer_scale=odo_scale, ellipsoid=ellipsoid, gnss_error_ned_m=gnss_error.copy(),
-            )
-            F = dynamics_matrix(snap.lat, snap.h, snap.vel_ned, snap.c_bn, sums[6:9] / seg, sums[3:6] / seg, noise, ellipsoid)
-            phi, q = discretise(F, gqg, seg)
-            q = q + bridged_q.get(j, 0.0)  # the motion an IMU gap's interpolation may have missed
-            P_minus = phi @ P @ phi.T + q
-            if pending_reset is not None:  # a burst of process noise on this segment
-                P_minus = kalman.inflate(P_minus, np.array(pending_reset[0]), np.array(pending_reset[1]))
-                pending_reset = None
-            P = P_minus.copy()
-            x = np.zeros(N_STATES)
-            gnss_error *= math.exp(-seg / options.gnss_correlated_tau_s)  # the estimate follows its model
-
-            entries = plan.at(j)
-            for e in entries:
-                meas, i = sources[plan.source[e]], int(plan.observation[e])
-                z, H, R = meas.model(snap, i)
-                x, P, nu, nis, ok = kalman.gated_update(x, P, z, H, R, gates[len(z)])
-                st = stats.setdefault(meas.name, MeasurementStats())
-                innovation_nis[e], innovation_dof[e] = nis, len(z)
-                if not ok:
-                    st.rejected += 1
-                    rejections.append(Rejection(float(meas.time_s[i]), meas.name, nis, gates[len(z)], tuple(nu)))
-                    reset = runs.rejected(int(plan.source[e]), i, float(meas.time_s[i]), nu)
-                    if reset is not None:
-                        resets.append(reset)
-                        pending_reset = ([s for label, first in (("position", POS), ("velocity", VEL), ("attitude", ATT))
-                                          if label in reset.states for s in range(first, first + 3)], reset.sigma)
-                    continue
-                st.add(nu, nis)
-                runs.accepted(int(plan.source[e]))
-                accepted[e] = True
-            if len(entries):
-                odo_scale = _feedback(nav, x, sensor, gnss_error, odo_scale, ellipsoid)
-            P = 0.5 * (P + P.T)
-            if store is not None:
-                store.append(phi, P_minus, P, x)
-            sensor_hist[j, :12], sensor_hist[j, 12] = sensor, odo_scale
-            sigma_hist[j] = np.sqrt(np.diag(P))
-
-        forward = _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, None, imu.gps_week, ellipsoid, False,
-                              output_every)
-        trajectory = forward
+        forward_pass = _forward(setup, options, ellipsoid, store, step.sub(0.0, 0.8 if options.smoother else 0.9),
+                                cancel)
+        build = partial(_trajectory, t, forward_pass.nav, epochs, forward_pass.sensor_hist, gps_week=imu.gps_week,
+                        ell=ellipsoid, cancel=cancel)
+        forward = at_updates = build(forward_pass.sigma_hist, None, smoothed=False, indices=epochs)
+        if forward_file is not None or full_forward:
+            forward = build(forward_pass.sigma_hist, None, smoothed=False, output_every=output_every, path=forward_file)
+        trajectory = None
         if options.smoother:
-            smooth_step = step.sub(0.8, 0.95)
-            corrections, sigma_smooth = _rts(store, m_epochs, sigma_hist[0], cancel, smooth_step)
-            trajectory = _trajectory(t, nav_store, epochs, sensor_hist, sigma_smooth, corrections, imu.gps_week,
-                                     ellipsoid, True, output_every)
+            check_cancel(cancel)
+            corrections, sigma_smooth = _rts(store, m_epochs, forward_pass.sigma_hist[0], cancel, step.sub(0.8, 0.9))
+            trajectory = build(sigma_smooth, corrections, smoothed=True, output_every=output_every,
+                               path=trajectory_file, progress=step.sub(0.9, 1.0))
+        elif forward_file is not None and trajectory_file is None:
+            trajectory = forward
+        else:
+            trajectory = build(forward_pass.sigma_hist, None, smoothed=False, output_every=output_every,
+                               path=trajectory_file, progress=step.sub(0.9, 1.0))
     finally:
         if own_store:
             store.close()
+        if forward_pass is not None:
+            forward_pass.nav.close()
     step(1.0, "fusion done")
-    statistics = {name: s.summary() for name, s in stats.items()}
+    accepted = forward_pass.accepted
     applied = {}
-    for k, meas in enumerate(sources):
+    for k, source in enumerate(sources):
         mine = accepted & (plan.source == k)
         if mine.any():
-            applied[meas.name] = np.column_stack([plan.epoch[mine], plan.observation[mine]]).astype(int)
+            applied[source.name] = np.column_stack([plan.epoch[mine], plan.observation[mine]]).astype(int)
     timeline = UpdateTimeline(time_s=t[epochs], measurements={m.name: m for m in sources}, applied=applied,
-                              initial_covariance=P_initial)
+                              initial_covariance=setup.P0)
     obs_time = np.empty(len(plan.epoch))
     obs_trusted = np.ones(len(plan.epoch), dtype=bool)
-    for k, meas in enumerate(sources):
+    for k, source in enumerate(sources):
         mine = plan.source == k
-        obs_time[mine] = meas.time_s[plan.observation[mine]]
-        if getattr(meas, "trusted", None) is not None:
-            obs_trusted[mine] = meas.trusted[plan.observation[mine]]
-    innovations = InnovationRecord(tuple(m.name for m in sources), obs_time, plan.source.copy(), innovation_nis,
-                                   innovation_dof, accepted, obs_trusted)
-    lat_e, lon_e = lat_lon_from_q_ne(nav_store[epochs, 0:4])
+        obs_time[mine] = source.time_s[plan.observation[mine]]
+        if getattr(source, "trusted", None) is not None:
+            obs_trusted[mine] = source.trusted[plan.observation[mine]]
+    innovations = InnovationRecord(tuple(m.name for m in sources), obs_time, plan.source.copy(), forward_pass.nis,
+                                   forward_pass.dof, accepted, obs_trusted)
+    lat_e, lon_e = at_updates.lat_rad, at_updates.lon_rad
     r_m, r_n = earth.radii(lat_e[0], ellipsoid)
     station = integrity.travelled_m((lat_e - lat_e[0]) * r_m, (lon_e - lon_e[0]) * r_n * math.cos(lat_e[0]))
+    resets = forward_pass.resets
     verdict = integrity.assess(innovations, t[epochs], station, resets)
     notices += integrity_notices(resets, verdict)
-    return FusionResult(trajectory, forward, tuple(rejections), statistics, tuple(stops), timeline=timeline,
-                        resets=tuple(resets), innovations=innovations, integrity=verdict,
+    start = setup.start
+    return FusionResult(trajectory, forward, tuple(forward_pass.rejections), forward_pass.statistics,
+                        tuple(setup.stops), timeline=timeline, resets=tuple(resets), innovations=innovations,
+                        integrity=verdict,
                         info={"update_epochs": m_epochs, "alignment_rpy_rad": start.rpy_rad,
                               "alignment": start.method, "warnings": [n.message for n in notices if n.severity == "warning"],
                               "notices": notices, "gnss_quality": aiding.gnss_quality,
-                              "imu_outliers": outliers, "imu_gaps": imu.gaps})
+                              "imu_outliers": setup.outliers, "imu_gaps": imu.gaps})
 
 
 def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
@@ -766,75 +1225,94 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
 
 
 def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):
-    """Backward RTS pass. Returns per update epoch j the correction pair
-    (left: e_j relative to the stored post-update solution, right: e_j + dx_j relative
-    to the pre-update solution) as an (m, 2, N) array, and the smoothed sigmas (m, N)."""
+    """Backward RTS pass (compiled, chunk by chunk from the store). Returns per update epoch j
+    the correction pair (left: e_j relative to the stored post-update solution, right:
+    e_j + dx_j relative to the pre-update solution) as an (m, 2, N) array, and the smoothed
+    sigmas (m, N): filter-rate arrays."""
     corrections = np.zeros((m, 2, N_STATES))
     sigma = np.zeros((m, N_STATES))
+    state = np.zeros(1)
     e_next = np.zeros(N_STATES)
-    P_s_next = None
-    phi_next = p_minus_next = None
-    for j, phi, p_minus, p_plus, dx in store.reversed_records():
-        if j % 2048 == 0:
-            check_cancel(cancel)
-            progress((m - j) / m, "smoother")
-        if P_s_next is None:  # last epoch: smoothed = filtered
-            e, P_s = np.zeros(N_STATES), p_plus
-        else:
-            e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, p_plus)
-        corrections[j, 0] = e
-        corrections[j, 1] = e + dx
-        sigma[j] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
-        # Prepare epoch j-1: its successor's quantities.
-        e_next = e + dx
-        P_s_next, phi_next, p_minus_next = P_s, phi, p_minus
+    P_s_next, phi_next, p_minus_next = (np.zeros((N_STATES, N_STATES)) for _ in range(3))
+    for first, chunk in store.reversed_chunks():
+        check_cancel(cancel)
+        progress((m - first) / m, "smoother")
+        _rts_chunk(chunk, first, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma)
     # epoch 0: before the first segment
-    e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, np.diag(sigma0**2))
+    if state[0]:
+        e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, np.diag(sigma0**2))
+    else:
+        e, P_s = np.zeros(N_STATES), np.diag(sigma0**2)
     corrections[0, 0] = corrections[0, 1] = e
     sigma[0] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
     return corrections, sigma
 
 
-def _trajectory(t, nav_store, epochs, sensor_hist, sigma_hist, corrections, gps_week, ell, smoothed, output_every,
-                chunk: int = 100_000):
-    """Trajectory at every ``output_every``-th IMU epoch from the first update epoch on, the
-    errors interpolated linearly between update epochs. Built in chunks so the temporaries
-    of a 10 km survey stay small."""
-    idx_all = np.arange(epochs[0], epochs[-1] + 1, output_every)
+def _trajectory(t, nav_file: _EpochFile, epochs, sensor_hist, sigma_hist, corrections, gps_week, ell, smoothed,
+                output_every: int = 1, indices: np.ndarray | None = None, path: Path | None = None,
+                progress=None, cancel: CancelToken = None, chunk: int = 100_000) -> Trajectory:
+    """Trajectory at every ``output_every``-th IMU epoch from the first update epoch on (or at
+    ``indices``), the errors interpolated linearly between update epochs. Built in chunks
+    from the IMU-rate record of the forward pass; with ``path`` each chunk is written to that
+    ``trajectory.npy`` as it is made and the result is a memory map of the file."""
+    idx_all = np.arange(epochs[0], epochs[-1] + 1, output_every) if indices is None else np.asarray(indices)
     n = len(idx_all)
-    out = {name: np.empty((n, 3)) for name in ("vel", "rpy", "sp", "sv", "sa", "bg", "ba", "sg", "sa_")}
-    lat_out, lon_out, h_out, odo_out = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    for c0 in range(0, n, chunk):
-        idx = idx_all[c0 : c0 + chunk]
-        sl = slice(c0, c0 + len(idx))
-        # Segment j covers epochs (epochs[j-1], epochs[j]]; w is the position inside it.
-        seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, len(epochs) - 1)
-        left, right = epochs[seg - 1], epochs[seg]
-        w = ((t[idx] - t[left]) / (t[right] - t[left]))[:, None]
-        nav = nav_store[idx]
-        lat, lon = lat_lon_from_q_ne(nav[:, 0:4])
-        h, vel, q_bn = nav[:, 4], nav[:, 5:8], nav[:, 8:12]
-        sensors = sensor_hist[seg - 1].copy()  # the estimates used while propagating the segment
-        if corrections is not None:
-            c = (1.0 - w) * corrections[seg - 1, 0] + w * corrections[seg, 1]
-            r_m, r_n = earth.radii(lat, ell)
-            lat = lat - c[:, POS] / (r_m + h)
-            lon = lon - c[:, POS + 1] / ((r_n + h) * np.cos(lat))
-            h = h + c[:, POS + 2]
-            vel = vel - c[:, VEL : VEL + 3]
-            q_bn = quat_multiply(rotvec_to_quat(c[:, ATT : ATT + 3]), q_bn)
-            sensors[:, :12] += c[:, BG : SA + 3]
-            sensors[:, 12] += c[:, ODO]
-        sig = (1.0 - w) * sigma_hist[seg - 1] + w * sigma_hist[seg]
-        lat_out[sl], lon_out[sl], h_out[sl] = lat, lon, h
-        out["vel"][sl] = vel
-        out["rpy"][sl] = np.column_stack(euler_from_q_bn(q_bn))
-        out["sp"][sl], out["sv"][sl], out["sa"][sl] = sig[:, POS : POS + 3], sig[:, VEL : VEL + 3], sig[:, ATT : ATT + 3]
-        out["bg"][sl], out["ba"][sl], out["sg"][sl], out["sa_"][sl] = (sensors[:, 0:3], sensors[:, 3:6], sensors[:, 6:9], sensors[:, 9:12])
-        odo_out[sl] = sensors[:, 12]
-    return Trajectory(
-        time_s=t[idx_all], lat_rad=lat_out, lon_rad=lon_out, height_m=h_out, vel_ned_mps=out["vel"], rpy_rad=out["rpy"],
-        sigma_pos_ned_m=out["sp"], sigma_vel_ned_mps=out["sv"], sigma_rpy_rad=out["sa"],
-        gyro_bias_radps=out["bg"], accel_bias_mps2=out["ba"], gyro_scale=out["sg"], accel_scale=out["sa_"],
-        odometer_scale=odo_out, smoothed=smoothed, gps_week=gps_week, ellipsoid_name=ell.name,
-    )
+    writer = TrajectoryWriter(path, n) if path is not None else None
+    records = None if writer is not None else np.empty(n, dtype=TRAJECTORY_DTYPE)
+    # chunks of at most ``chunk`` IMU epochs of the record, whatever the output rate
+    cuts = np.searchsorted(idx_all, np.arange(idx_all[0], idx_all[-1] + chunk, chunk)) if n else np.zeros(1, int)
+    try:
+        for c0, c1 in zip(cuts[:-1], cuts[1:]):
+            if c1 == c0:
+                continue
+            if progress is not None:
+                check_cancel(cancel)
+                progress(c0 / n, "trajectory")
+            idx = idx_all[c0:c1]
+            rows = nav_file.read(int(idx[0]), int(idx[-1]) + 1)[idx - idx[0]]
+            block = _trajectory_block(t, rows, idx, epochs, sensor_hist, sigma_hist, corrections, ell)
+            if writer is not None:
+                writer.write(block)
+            else:
+                records[c0:c1] = block
+        if writer is not None:
+            writer.commit()
+    finally:
+        if writer is not None:
+            writer.discard()
+    if writer is not None:
+        return load_trajectory(path, smoothed=smoothed, gps_week=gps_week, mmap=True)
+    return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week, ellipsoid_name=ell.name)
+
+
+def _trajectory_block(t, nav, idx, epochs, sensor_hist, sigma_hist, corrections, ell) -> np.ndarray:
+    """TRAJECTORY_DTYPE records of IMU epochs ``idx`` from their forward navigation vectors ``nav``."""
+    # Segment j covers epochs (epochs[j-1], epochs[j]]; w is the position inside it.
+    seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, len(epochs) - 1) if len(epochs) > 1 \
+        else np.zeros(len(idx), dtype=int)
+    left, right = epochs[np.maximum(seg - 1, 0)], epochs[seg]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        w = np.nan_to_num((t[idx] - t[left]) / (t[right] - t[left]), nan=1.0)[:, None]
+    lat, lon = lat_lon_from_q_ne(nav[:, 0:4])
+    h, vel, q_bn = nav[:, 4], nav[:, 5:8], nav[:, 8:12]
+    sensors = sensor_hist[np.maximum(seg - 1, 0)].copy()  # the estimates used while propagating the segment
+    if corrections is not None:
+        c = (1.0 - w) * corrections[np.maximum(seg - 1, 0), 0] + w * corrections[seg, 1]
+        r_m, r_n = earth.radii(lat, ell)
+        lat = lat - c[:, POS] / (r_m + h)
+        lon = lon - c[:, POS + 1] / ((r_n + h) * np.cos(lat))
+        h = h + c[:, POS + 2]
+        vel = vel - c[:, VEL : VEL + 3]
+        q_bn = quat_multiply(rotvec_to_quat(c[:, ATT : ATT + 3]), q_bn)
+        sensors[:, :12] += c[:, BG : SA + 3]
+        sensors[:, 12] += c[:, ODO]
+    sig = (1.0 - w) * sigma_hist[np.maximum(seg - 1, 0)] + w * sigma_hist[seg]
+    out = np.empty(len(idx), dtype=TRAJECTORY_DTYPE)
+    out["time_s"], out["lat_rad"], out["lon_rad"], out["height_m"] = t[idx], lat, lon, h
+    out["vel_ned_mps"] = vel
+    out["rpy_rad"] = np.column_stack(euler_from_q_bn(q_bn))
+    out["sigma_pos_ned_m"], out["sigma_vel_ned_mps"] = sig[:, POS : POS + 3], sig[:, VEL : VEL + 3]
+    out["sigma_rpy_rad"] = sig[:, ATT : ATT + 3]
+    out["gyro_bias_radps"], out["accel_bias_mps2"] = sensors[:, 0:3], sensors[:, 3:6]
+    out["gyro_scale"], out["accel_scale"], out["odometer_scale"] = sensors[:, 6:9], sensors[:, 9:12], sensors[:, 12]
+    return out

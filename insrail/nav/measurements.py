@@ -25,21 +25,25 @@ need to know what a measurement is:
     ``position_innovation`` says the innovation's first three components are NED metres of
     position (the reset then widens the position by the size of the rejected innovations).
 
-The data are plain arrays and ``model`` is array-in, array-out, so that a compiled filter
-loop can evaluate the same models later.
+``compiled()``
+    the same model for the compiled filter loop: a model kind, its parameters and one row of
+    numbers per observation, evaluated by that kind's compiled twin of ``model`` (see
+    "compiled form" below).
 
 Lever arms are b-frame vectors from the IMU centre (thesis eqs. 2.106-2.125).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from typing import ClassVar, Protocol
 
 import numpy as np
+from numba import njit
 
-from insrail.nav import earth
+from insrail.nav import _kernels, earth
 from insrail.nav.error_model import ATT, BG, GNSS, N_STATES, ODO, POS, SG, VEL
 from insrail.nav.rotation import cross, skew
 
@@ -114,6 +118,8 @@ class Measurement(Protocol):
                   ) -> tuple[Measurement, np.ndarray, np.ndarray]: ...
 
     def model(self, nav: NavSnapshot, i: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
+
+    def compiled(self) -> CompiledModel: ...
 
 
 _NO_TIMES = np.zeros(0)
@@ -221,6 +227,10 @@ class GnssPosition(_TimedSource):
         variance = np.square(self.sigma_scale * self.sigma_ned_m[i]) - np.square(self.correlated_sigma_ned_m)
         return z, H, np.diag(np.maximum(variance, self.sigma_floor_m**2))
 
+    def compiled(self) -> CompiledModel:
+        variance = np.square(self.sigma_scale * np.asarray(self.sigma_ned_m)) - np.square(self.correlated_sigma_ned_m)
+        return _position_compiled(self, np.maximum(variance, self.sigma_floor_m**2), True)
+
 
 @dataclass(frozen=True)
 class GnssVelocity(_TimedSource):
@@ -249,6 +259,11 @@ class GnssVelocity(_TimedSource):
         H[:, SG : SG + 3] = -c @ skew(lever) * nav.omega_ib_b
         sigma = np.maximum(self.sigma_ned_mps[i], self.sigma_floor_mps)
         return z, H, np.diag(sigma**2)
+
+    def compiled(self) -> CompiledModel:
+        sigma = np.maximum(np.asarray(self.sigma_ned_mps, float), self.sigma_floor_mps)
+        return _compiled(MODEL_GNSS_VELOCITY, np.asarray(self.lever_arm_m, float),
+                         [self.time_s, *np.asarray(self.vel_ned, float).T, *np.square(sigma).T])
 
 
 @dataclass(frozen=True)
@@ -365,6 +380,13 @@ class OdometerNhc:
             sig.extend([self.sigma_nhc_mps] * 2)
         return np.array(z), np.array(rows).reshape(len(z), N_STATES), np.diag(np.square(sig))
 
+    def compiled(self) -> CompiledModel:
+        return _compiled(MODEL_ODOMETER_NHC,
+                         [*np.asarray(self.dcm_vehicle_from_body, float).ravel(),
+                          *np.asarray(self.odometer_lever_arm_m, float), *np.asarray(self.nhc_lever_arm_m, float),
+                          self.sigma_nhc_mps, float(self.use_odometer), float(self.use_nhc)],
+                         [self.time_s, self.speed_mps, np.square(self.sigma_speed_mps)])
+
 
 @dataclass(frozen=True)
 class Zupt:
@@ -405,6 +427,9 @@ class Zupt:
         R = np.diag([self.sigma_velocity_mps**2] * 3 + [sigma_rate**2])
         return z, H, R
 
+    def compiled(self) -> CompiledModel:
+        return _compiled(MODEL_ZUPT, [self.sigma_velocity_mps, self.gyro_white_noise], [self.time_s])
+
 
 @dataclass(frozen=True)
 class PositionFix(_TimedSource):
@@ -432,3 +457,269 @@ class PositionFix(_TimedSource):
     def model(self, nav: NavSnapshot, i: int):
         z, H = _position_rows(nav, self.time_s[i], self.lat[i], self.lon[i], self.h[i], self.lever_arm_m)
         return z, H, np.eye(3) * self.sigma_m[i] ** 2
+
+    def compiled(self) -> CompiledModel:
+        variance = np.repeat(np.square(np.asarray(self.sigma_m, float))[:, None], 3, axis=1)
+        return _position_compiled(self, variance, False)
+
+
+# --------------------------------------------------------------------------- compiled form
+#
+# The filter loop of ``insrail.nav.fusion`` is compiled (numba): it cannot call the methods
+# above per update. Each model kind therefore has a compiled twin below, fed by arrays the
+# Python side prepares once per survey (:meth:`compiled` of each source: a kind, a few
+# parameters, one row of numbers per observation), and evaluated on the compiled form of
+# the :class:`NavSnapshot`, the context vector ``ctx`` (layout CTX_*). Every twin writes
+# the innovation z, the rows of H and the diagonal of R (the models' noises are independent
+# per row) into preallocated arrays and returns the number of rows; :func:`evaluate`
+# dispatches on the kind. The Python methods stay the definition (the covariance analysis
+# uses them); tests/test_nav_measurements.py holds the twins to them.
+
+compiled_model = njit(cache=True, error_model="numpy")
+
+CTX_TIME, CTX_LAT, CTX_LON, CTX_H = 0, 1, 2, 3
+CTX_VEL = 4  # (3)
+CTX_C_BN = 7  # (9) row-major
+CTX_OMEGA_IB = 16  # (3) last epoch's compensated rate
+CTX_F_B = 19  # (3) last epoch's compensated specific force
+CTX_MEAN_VEL = 22  # (3)
+CTX_MEAN_OMEGA = 25  # (3)
+CTX_SEGMENT = 28
+CTX_ODO_SCALE = 29
+CTX_GNSS_ERROR = 30  # (3)
+CTX_RM_H, CTX_RN_H = 33, 34  # radii plus height
+CTX_OMEGA_IN = 35  # (3) omega_in^n
+CTX_EARTH_RATE = 38  # (3) omega_ie^n
+CTX_SIZE = 41
+
+MAX_ROWS = 6
+MODEL_PARAMS = 20
+MODEL_WIDTH = 8
+
+MODEL_POSITION, MODEL_GNSS_VELOCITY, MODEL_ODOMETER_NHC, MODEL_ZUPT = 0, 1, 2, 3
+
+
+@dataclass(frozen=True)
+class CompiledModel:
+    """A source in the compiled filter's terms: its kind (MODEL_*), parameters (MODEL_PARAMS)
+    and one row (MODEL_WIDTH) per observation."""
+
+    kind: int
+    params: np.ndarray
+    rows: np.ndarray
+
+
+def _compiled(kind: int, params, columns) -> CompiledModel:
+    p = np.zeros(MODEL_PARAMS)
+    p[: len(params)] = params
+    n = max((len(c) for c in columns), default=0)
+    rows = np.zeros((n, MODEL_WIDTH))
+    for k, c in enumerate(columns):
+        rows[:, k] = c
+    return CompiledModel(kind, p, rows)
+
+
+def _position_compiled(self, variance: np.ndarray, correlated: bool) -> CompiledModel:
+    return _compiled(MODEL_POSITION, [*np.asarray(self.lever_arm_m, float), float(correlated)],
+                     [self.time_s, self.lat, self.lon, self.h, *np.asarray(variance, float).T])
+
+
+@compiled_model
+def fill_context(ctx, nav, sums, dt_last, odo_scale, gnss_error, time_s, earth):
+    """The compiled :class:`NavSnapshot` at an update epoch, from the navigation vector and the
+    segment's sums of ``insrail.nav.fusion``'s strapdown (layout there)."""
+    q = nav[_kernels.NAV_Q_BN : _kernels.NAV_Q_BN + 4]
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    c = ctx[CTX_C_BN : CTX_C_BN + 9]
+    c[0] = q0 * q0 + q1 * q1 - q2 * q2 - q3 * q3
+    c[1] = 2.0 * (q1 * q2 - q0 * q3)
+    c[2] = 2.0 * (q1 * q3 + q0 * q2)
+    c[3] = 2.0 * (q1 * q2 + q0 * q3)
+    c[4] = q0 * q0 - q1 * q1 + q2 * q2 - q3 * q3
+    c[5] = 2.0 * (q2 * q3 - q0 * q1)
+    c[6] = 2.0 * (q1 * q3 - q0 * q2)
+    c[7] = 2.0 * (q2 * q3 + q0 * q1)
+    c[8] = q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
+    lat, lon = _kernels.lat_lon(nav[_kernels.NAV_Q_NE : _kernels.NAV_Q_NE + 4])
+    h = nav[_kernels.NAV_H]
+    ctx[CTX_TIME], ctx[CTX_LAT], ctx[CTX_LON], ctx[CTX_H] = time_s, lat, lon, h
+    seg = sums[9]
+    for a in range(3):
+        ctx[CTX_VEL + a] = nav[_kernels.NAV_VEL + a]
+        ctx[CTX_OMEGA_IB + a] = sums[10 + a] / dt_last
+        ctx[CTX_F_B + a] = sums[13 + a] / dt_last
+        ctx[CTX_MEAN_VEL + a] = sums[a] / seg
+        ctx[CTX_MEAN_OMEGA + a] = sums[3 + a] / seg
+        ctx[CTX_GNSS_ERROR + a] = gnss_error[a]
+    ctx[CTX_SEGMENT] = seg
+    ctx[CTX_ODO_SCALE] = odo_scale
+    sl, cl = math.sin(lat), math.cos(lat)
+    r_m, r_n = _kernels.radii(sl, earth)
+    ctx[CTX_RM_H], ctx[CTX_RN_H] = r_m + h, r_n + h
+    w = earth[_kernels.EARTH_OMEGA]
+    vn, ve = ctx[CTX_VEL], ctx[CTX_VEL + 1]
+    ctx[CTX_EARTH_RATE], ctx[CTX_EARTH_RATE + 1], ctx[CTX_EARTH_RATE + 2] = w * cl, 0.0, -w * sl
+    ctx[CTX_OMEGA_IN] = w * cl + ve / (r_n + h)
+    ctx[CTX_OMEGA_IN + 1] = -vn / (r_m + h)
+    ctx[CTX_OMEGA_IN + 2] = -w * sl - ve * math.tan(lat) / (r_n + h)
+
+
+@compiled_model
+def _mat_vec(ctx, first, v):
+    """C v for the row-major 3 x 3 matrix at ctx[first:first + 9]."""
+    return (ctx[first] * v[0] + ctx[first + 1] * v[1] + ctx[first + 2] * v[2],
+            ctx[first + 3] * v[0] + ctx[first + 4] * v[1] + ctx[first + 5] * v[2],
+            ctx[first + 6] * v[0] + ctx[first + 7] * v[1] + ctx[first + 8] * v[2])
+
+
+@compiled_model
+def _put_skew(H, row, col, v):
+    """H[row:row + 3, col:col + 3] = skew(v)."""
+    H[row, col + 1], H[row, col + 2] = -v[2], v[1]
+    H[row + 1, col], H[row + 1, col + 2] = v[2], -v[0]
+    H[row + 2, col], H[row + 2, col + 1] = -v[1], v[0]
+
+
+@compiled_model
+def _position_model(ctx, params, obs, z, H, r):
+    """GnssPosition (params[3] = 1: with the correlated error states) and PositionFix."""
+    lever = (params[0], params[1], params[2])
+    lever_n = _mat_vec(ctx, CTX_C_BN, lever)
+    dt = obs[0] - ctx[CTX_TIME]
+    measured = ((obs[1] - ctx[CTX_LAT]) * ctx[CTX_RM_H], (obs[2] - ctx[CTX_LON]) * ctx[CTX_RN_H] * math.cos(ctx[CTX_LAT]),
+                -(obs[3] - ctx[CTX_H]))
+    correlated = params[3] != 0.0
+    for a in range(3):
+        z[a] = lever_n[a] + ctx[CTX_VEL + a] * dt - measured[a]
+        H[a, POS + a] = 1.0
+        H[a, VEL + a] = dt
+        if correlated:
+            z[a] += ctx[CTX_GNSS_ERROR + a]
+            H[a, GNSS + a] = -1.0
+        r[a] = obs[4 + a]
+    _put_skew(H, 0, ATT, lever_n)
+    return 3
+
+
+@compiled_model
+def _gnss_velocity_model(ctx, params, obs, z, H, r):
+    lever = (params[0], params[1], params[2])
+    w = (ctx[CTX_OMEGA_IB], ctx[CTX_OMEGA_IB + 1], ctx[CTX_OMEGA_IB + 2])
+    w_in = (ctx[CTX_OMEGA_IN], ctx[CTX_OMEGA_IN + 1], ctx[CTX_OMEGA_IN + 2])
+    lever_n = _mat_vec(ctx, CTX_C_BN, lever)
+    rotation_n = _mat_vec(ctx, CTX_C_BN, _kernels.cross(w, lever))
+    transport = _kernels.cross(w_in, lever_n)
+    for a in range(3):
+        z[a] = ctx[CTX_VEL + a] + rotation_n[a] - transport[a] - obs[1 + a]
+        H[a, VEL + a] = 1.0
+        r[a] = obs[4 + a]
+    # ATT: skew(rotation_n) - skew(w_in) skew(lever_n) = skew(rotation_n) - (lever_n w_in^T - (w_in . lever_n) I)
+    _put_skew(H, 0, ATT, rotation_n)
+    dot = w_in[0] * lever_n[0] + w_in[1] * lever_n[1] + w_in[2] * lever_n[2]
+    for a in range(3):
+        for b in range(3):
+            H[a, ATT + b] -= lever_n[a] * w_in[b] - (dot if a == b else 0.0)
+    # BG: -C skew(l); SG: the same with column b scaled by omega_b
+    for a in range(3):
+        c0, c1, c2 = ctx[CTX_C_BN + 3 * a], ctx[CTX_C_BN + 3 * a + 1], ctx[CTX_C_BN + 3 * a + 2]
+        # row a of -C skew(l)
+        m0 = -(c1 * lever[2] - c2 * lever[1])
+        m1 = -(c2 * lever[0] - c0 * lever[2])
+        m2 = -(c0 * lever[1] - c1 * lever[0])
+        H[a, BG], H[a, BG + 1], H[a, BG + 2] = m0, m1, m2
+        H[a, SG], H[a, SG + 1], H[a, SG + 2] = m0 * w[0], m1 * w[1], m2 * w[2]
+    return 3
+
+
+@compiled_model
+def _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, vel, axis, H, row):
+    """Row ``axis`` of _VehicleFrame.velocity_rows: the velocity component and its Jacobian into H[row]."""
+    c_vb = params[0:9]
+    wl = _kernels.cross(omega_nb, lever)
+    v = 0.0
+    for b in range(3):
+        v += c_nv[3 * axis + b] * vel[b] + c_vb[3 * axis + b] * wl[b]
+        H[row, VEL + b] = c_nv[3 * axis + b]
+    # ATT: -(c_nv skew(vel))[axis]; row of M skew(u) is (m1 u2 - m2 u1, m2 u0 - m0 u2, m0 u1 - m1 u0)
+    m0, m1, m2 = c_nv[3 * axis], c_nv[3 * axis + 1], c_nv[3 * axis + 2]
+    H[row, ATT] = -(m1 * vel[2] - m2 * vel[1])
+    H[row, ATT + 1] = -(m2 * vel[0] - m0 * vel[2])
+    H[row, ATT + 2] = -(m0 * vel[1] - m1 * vel[0])
+    m0, m1, m2 = c_vb[3 * axis], c_vb[3 * axis + 1], c_vb[3 * axis + 2]
+    l0 = -(m1 * lever[2] - m2 * lever[1])
+    l1 = -(m2 * lever[0] - m0 * lever[2])
+    l2 = -(m0 * lever[1] - m1 * lever[0])
+    H[row, BG], H[row, BG + 1], H[row, BG + 2] = l0, l1, l2
+    H[row, SG] = l0 * ctx[CTX_OMEGA_IB]
+    H[row, SG + 1] = l1 * ctx[CTX_OMEGA_IB + 1]
+    H[row, SG + 2] = l2 * ctx[CTX_OMEGA_IB + 2]
+    return v
+
+
+@compiled_model
+def _odometer_nhc_model(ctx, params, obs, z, H, r):
+    c_vb = params[0:9]
+    # C_n^v = C_b^v C_n^b = c_vb c_bn^T; omega_nb^b = omega_ib^b - C_n^b omega_in^n
+    c_nv = np.empty(9)
+    for a in range(3):
+        for b in range(3):
+            c_nv[3 * a + b] = (c_vb[3 * a] * ctx[CTX_C_BN + 3 * b] + c_vb[3 * a + 1] * ctx[CTX_C_BN + 3 * b + 1]
+                               + c_vb[3 * a + 2] * ctx[CTX_C_BN + 3 * b + 2])
+    omega_nb = (ctx[CTX_OMEGA_IB] - (ctx[CTX_C_BN] * ctx[CTX_OMEGA_IN] + ctx[CTX_C_BN + 3] * ctx[CTX_OMEGA_IN + 1]
+                                     + ctx[CTX_C_BN + 6] * ctx[CTX_OMEGA_IN + 2]),
+                ctx[CTX_OMEGA_IB + 1] - (ctx[CTX_C_BN + 1] * ctx[CTX_OMEGA_IN] + ctx[CTX_C_BN + 4] * ctx[CTX_OMEGA_IN + 1]
+                                         + ctx[CTX_C_BN + 7] * ctx[CTX_OMEGA_IN + 2]),
+                ctx[CTX_OMEGA_IB + 2] - (ctx[CTX_C_BN + 2] * ctx[CTX_OMEGA_IN] + ctx[CTX_C_BN + 5] * ctx[CTX_OMEGA_IN + 1]
+                                         + ctx[CTX_C_BN + 8] * ctx[CTX_OMEGA_IN + 2]))
+    m = 0
+    if params[16] != 0.0:
+        lever = (params[9], params[10], params[11])
+        mean_vel = (ctx[CTX_MEAN_VEL], ctx[CTX_MEAN_VEL + 1], ctx[CTX_MEAN_VEL + 2])
+        v = _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, mean_vel, 0, H, 0)
+        corrected = obs[1] / (1.0 + ctx[CTX_ODO_SCALE])
+        H[0, ODO] = -corrected
+        z[0] = v - corrected
+        r[0] = obs[2]
+        m = 1
+    if params[17] != 0.0:
+        lever = (params[12], params[13], params[14])
+        vel = (ctx[CTX_VEL], ctx[CTX_VEL + 1], ctx[CTX_VEL + 2])
+        for axis in (1, 2):
+            z[m] = _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, vel, axis, H, m)
+            r[m] = params[15] * params[15]
+            m += 1
+    return m
+
+
+@compiled_model
+def _zupt_model(ctx, params, obs, z, H, r):
+    w = (ctx[CTX_MEAN_OMEGA], ctx[CTX_MEAN_OMEGA + 1], ctx[CTX_MEAN_OMEGA + 2])
+    rate_n = _mat_vec(ctx, CTX_C_BN, w)
+    for a in range(3):
+        z[a] = ctx[CTX_VEL + a]
+        H[a, VEL + a] = 1.0
+        r[a] = params[0] * params[0]
+    z[3] = rate_n[2] - ctx[CTX_EARTH_RATE + 2]
+    H[3, ATT], H[3, ATT + 1] = -rate_n[1], rate_n[0]
+    for b in range(3):
+        H[3, BG + b] = ctx[CTX_C_BN + 6 + b]
+        H[3, SG + b] = ctx[CTX_C_BN + 6 + b] * w[b]
+    sigma_rate = params[1] / math.sqrt(max(ctx[CTX_SEGMENT], 1e-3))
+    r[3] = sigma_rate * sigma_rate
+    return 4
+
+
+@compiled_model
+def evaluate(kind, ctx, params, obs, z, H, r):
+    """(z, H, diag R) of one observation ``obs`` (its row) of a source of ``kind`` into z, H
+    (rows cleared first) and r; returns the number of rows."""
+    H[:] = 0.0
+    if kind == MODEL_POSITION:
+        return _position_model(ctx, params, obs, z, H, r)
+    if kind == MODEL_GNSS_VELOCITY:
+        return _gnss_velocity_model(ctx, params, obs, z, H, r)
+    if kind == MODEL_ODOMETER_NHC:
+        return _odometer_nhc_model(ctx, params, obs, z, H, r)
+    if kind == MODEL_ZUPT:
+        return _zupt_model(ctx, params, obs, z, H, r)
+    return -1

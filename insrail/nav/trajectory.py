@@ -52,38 +52,109 @@ TRAJECTORY_DTYPE = np.dtype(
 )
 
 
+#: records per block when a trajectory is written or converted to text
+CHUNK_RECORDS = 100_000
+
+
+def trajectory_from_records(records: np.ndarray, **kwargs) -> Trajectory:
+    """A :class:`Trajectory` whose arrays are views of TRAJECTORY_DTYPE ``records`` (no copy)."""
+    return Trajectory(**{name: records[name] for name in TRAJECTORY_DTYPE.names}, **kwargs)
+
+
+class TrajectoryWriter:
+    """Writes ``trajectory.npy`` (``n`` TRAJECTORY_DTYPE records) block by block as they are made,
+    under a temporary name: :meth:`commit` puts it in place, :meth:`discard` (after a failure, or
+    after commit: then a no-op) removes what was written. The file reads like any ``np.save``d one."""
+
+    def __init__(self, path, n: int):
+        from pathlib import Path
+
+        self.path = Path(path)
+        self.tmp = self.path.with_name(f".{self.path.name}.partial")
+        self.n, self.written = n, 0
+        self.handle = open(self.tmp, "wb")
+        np.lib.format.write_array_header_1_0(self.handle, {"descr": np.lib.format.dtype_to_descr(TRAJECTORY_DTYPE),
+                                                           "fortran_order": False, "shape": (n,)})
+
+    def write(self, block: np.ndarray) -> None:
+        if block.dtype != TRAJECTORY_DTYPE or self.written + len(block) > self.n:
+            raise ValueError(f"{self.path}: expected at most {self.n - self.written} more trajectory records")
+        self.handle.write(np.ascontiguousarray(block).tobytes())
+        self.written += len(block)
+
+    def commit(self) -> None:
+        import os
+
+        if self.written != self.n:
+            raise ValueError(f"{self.path}: {self.written} of {self.n} trajectory records written")
+        self.handle.flush()
+        os.fsync(self.handle.fileno())
+        self.handle.close()
+        os.replace(self.tmp, self.path)
+
+    def discard(self) -> None:
+        if not self.handle.closed:
+            self.handle.close()
+        self.tmp.unlink(missing_ok=True)
+
+
 def save_trajectory(path, trajectory: Trajectory) -> None:
-    """Write ``trajectory.npy`` (TRAJECTORY_DTYPE records), atomically."""
-    from insrail.io.atomic import atomic_write
+    """Write ``trajectory.npy`` (TRAJECTORY_DTYPE records), atomically, in blocks."""
+    writer = TrajectoryWriter(path, len(trajectory))
+    try:
+        for first in range(0, len(trajectory), CHUNK_RECORDS):
+            part = slice(first, first + CHUNK_RECORDS)
+            block = np.empty(len(trajectory.time_s[part]), dtype=TRAJECTORY_DTYPE)
+            for name in TRAJECTORY_DTYPE.names:
+                block[name] = getattr(trajectory, name)[part]
+            writer.write(block)
+        writer.commit()
+    finally:
+        writer.discard()
 
-    records = np.empty(len(trajectory), dtype=TRAJECTORY_DTYPE)
-    for name in TRAJECTORY_DTYPE.names:
-        records[name] = getattr(trajectory, name)
-    with atomic_write(path, "wb") as handle:
-        np.save(handle, records, allow_pickle=False)
 
-
-def load_trajectory(path, smoothed: bool = True, gps_week: int | None = None) -> Trajectory:
-    """Read a ``trajectory.npy`` written by :func:`save_trajectory`."""
-    records = np.load(path, allow_pickle=False)
+def load_trajectory(path, smoothed: bool = True, gps_week: int | None = None, mmap: bool = False) -> Trajectory:
+    """Read a ``trajectory.npy`` written by :func:`save_trajectory`; ``mmap``: its arrays are
+    read-only views of the file mapped into memory (read as they are used), not copies."""
+    records = np.load(path, allow_pickle=False, mmap_mode="r" if mmap else None)
     if records.dtype != TRAJECTORY_DTYPE:
         raise ValueError(f"{path}: not an insrail trajectory file (record layout {records.dtype})")
+    if mmap:
+        return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week)
     return Trajectory(**{name: np.ascontiguousarray(records[name]) for name in TRAJECTORY_DTYPE.names},
                       smoothed=smoothed, gps_week=gps_week)
+
+
+def _write_text_table(path, trajectory: Trajectory, columns, formats: list[str], header: list[str]) -> None:
+    """A whitespace-separated table with '#' header lines, atomically, CHUNK_RECORDS rows at a
+    time: ``columns(part)`` gives the columns of the rows of slice ``part`` of the trajectory,
+    so a long survey's text never sits in memory whole."""
+    from insrail.io.atomic import atomic_write
+
+    row_format = " ".join(formats) + "\n"
+    with atomic_write(path) as handle:
+        for line in header:
+            handle.write(f"# {line}\n")
+        for first in range(0, len(trajectory), CHUNK_RECORDS):
+            part = slice(first, first + CHUNK_RECORDS)
+            block = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns(part)])
+            handle.write((row_format * len(block)) % tuple(block.ravel().tolist()))
 
 
 def write_kfgins_nav(path, trajectory: Trajectory) -> None:
     """KF-GINS navigation result (11 columns: week, sow, lat, lon [deg], h [m], vN vE vD [m/s],
     roll pitch yaw [deg]); yaw in [0, 360)."""
-    from insrail.io.textparse import write_numeric_table
-
     deg = np.rad2deg
-    week = np.full(len(trajectory), trajectory.gps_week or 0, dtype=float)
-    yaw = np.mod(deg(trajectory.rpy_rad[:, 2]), 360.0)
-    write_numeric_table(
-        path,
-        [week, trajectory.time_s, deg(trajectory.lat_rad), deg(trajectory.lon_rad), trajectory.height_m,
-         *trajectory.vel_ned_mps.T, deg(trajectory.rpy_rad[:, 0]), deg(trajectory.rpy_rad[:, 1]), yaw],
+    week = float(trajectory.gps_week or 0)
+    t = trajectory
+
+    def columns(part):
+        rpy = np.asarray(t.rpy_rad[part])
+        return [np.full(len(rpy), week), t.time_s[part], deg(t.lat_rad[part]), deg(t.lon_rad[part]), t.height_m[part],
+                *np.asarray(t.vel_ned_mps[part]).T, deg(rpy[:, 0]), deg(rpy[:, 1]), np.mod(deg(rpy[:, 2]), 360.0)]
+
+    _write_text_table(
+        path, trajectory, columns,
         ["%.0f", "%.6f", "%.11f", "%.11f", "%.5f", "%.6f", "%.6f", "%.6f", "%.7f", "%.7f", "%.7f"],
         ["format: kfgins-nav (insrail trajectory of the IMU centre)",
          "columns: week sow[s] lat[deg] lon[deg] h[m, ellipsoidal] vN vE vD[m/s] roll pitch yaw[deg]"],
@@ -93,11 +164,11 @@ def write_kfgins_nav(path, trajectory: Trajectory) -> None:
 def write_kfgins_std(path, trajectory: Trajectory) -> None:
     """1-sigma of the trajectory, KF-GINS STD layout restricted to position, velocity, attitude:
     sow, sigma N E D [m], sigma vN vE vD [m/s], sigma roll pitch yaw [deg]."""
-    from insrail.io.textparse import write_numeric_table
-
-    write_numeric_table(
-        path,
-        [trajectory.time_s, *trajectory.sigma_pos_ned_m.T, *trajectory.sigma_vel_ned_mps.T, *np.rad2deg(trajectory.sigma_rpy_rad).T],
+    t = trajectory
+    _write_text_table(
+        path, trajectory,
+        lambda part: [t.time_s[part], *np.asarray(t.sigma_pos_ned_m[part]).T, *np.asarray(t.sigma_vel_ned_mps[part]).T,
+                      *np.rad2deg(t.sigma_rpy_rad[part]).T],
         ["%.6f"] + ["%.6f"] * 6 + ["%.7f"] * 3,
         ["format: kfgins-std (1-sigma)", "columns: sow[s] sN sE sD[m] svN svE svD[m/s] sroll spitch syaw[deg]"],
     )
@@ -106,12 +177,12 @@ def write_kfgins_std(path, trajectory: Trajectory) -> None:
 def write_kfgins_imu_errors(path, trajectory: Trajectory) -> None:
     """Estimated sensor errors, KF-GINS IMU_ERR layout plus the odometer scale: sow, gyro bias
     [deg/h] x3, accel bias [mGal] x3, gyro scale [ppm] x3, accel scale [ppm] x3, odometer scale [ppm]."""
-    from insrail.io.textparse import write_numeric_table
-
-    write_numeric_table(
-        path,
-        [trajectory.time_s, *(np.rad2deg(trajectory.gyro_bias_radps) * 3600.0).T, *(trajectory.accel_bias_mps2 * 1e5).T,
-         *(trajectory.gyro_scale * 1e6).T, *(trajectory.accel_scale * 1e6).T, trajectory.odometer_scale * 1e6],
+    t = trajectory
+    _write_text_table(
+        path, trajectory,
+        lambda part: [t.time_s[part], *(np.rad2deg(t.gyro_bias_radps[part]) * 3600.0).T,
+                      *(np.asarray(t.accel_bias_mps2[part]) * 1e5).T, *(np.asarray(t.gyro_scale[part]) * 1e6).T,
+                      *(np.asarray(t.accel_scale[part]) * 1e6).T, np.asarray(t.odometer_scale[part]) * 1e6],
         ["%.6f"] + ["%.5f"] * 13,
         ["format: kfgins-imu-err (estimated sensor errors)",
          "columns: sow[s] bgx bgy bgz[deg/h] bax bay baz[mGal] sgx sgy sgz[ppm] sax say saz[ppm] odometer_scale[ppm]"],
