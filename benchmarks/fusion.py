@@ -5,8 +5,10 @@
 For each seed: simulates the `short` survey (nav-grade IMU, GNSS white 10/20 mm + GM 5/10 mm,
 a 120 s outage), fuses it with GNSS + odometer + NHC + ZUPT (forward and smoothed), without
 NHC, and with GNSS only, and prints the errors against the truth. Then fuses the `long`
-survey with its 700 s GNSS outage in a separate process and prints the outage error, the
-throughput and the peak memory of that process. After each configuration: the mean NIS per
+survey with its 700 s GNSS outage in a separate process (the trajectory streamed to a file, as
+`insrail fuse` does) and prints the outage error, the throughput (IMU epochs/s, wall and CPU) and
+the peak memory of that process; last, the first-call cost of the compiled kernels (an empty
+numba cache) on `short`. After each configuration: the mean NIS per
 aiding source over its degrees of freedom, the filter resets and the integrity verdict.
 """
 
@@ -14,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import multiprocessing as mp
+import os
 import resource
 import tempfile
 import time
@@ -64,7 +67,7 @@ def evaluate(folder: Path, config: str, scenario: str) -> list[str]:
     survey = read_survey(folder)
     truth = read_nav_truth(folder / "truth" / "nav.npy")
     outages = tomllib.loads((folder / "truth" / "errors.toml").read_text())["gnss_outages_s"]
-    result = fuse_survey(survey, FusionOptions(**CONFIGS[config]), ellipsoid=CGCS2000)
+    result = fuse_survey(survey, FusionOptions(**CONFIGS[config]), ellipsoid=CGCS2000, full_forward=True)
     rows = [row(scenario, config, "forward", trajectory_errors(result.forward, truth, CGCS2000), outages),
             row(scenario, config, "smoothed", trajectory_errors(result.trajectory, truth, CGCS2000), outages),
             nis_line(result)]
@@ -82,6 +85,8 @@ def nis_line(result) -> str:
 
 
 def _long_child(folder: str, queue) -> None:
+    """Fuse the long survey as `insrail fuse` does (the trajectory streamed to a file, the forward
+    solution streamed too for its error row): wall and CPU time of fuse() alone, peak RSS."""
     from insrail.io.survey import read_survey
     from insrail.nav.earth import CGCS2000
     from insrail.nav.fusion import FusionOptions, fuse_survey
@@ -89,15 +94,55 @@ def _long_child(folder: str, queue) -> None:
     from insrail.sim.truth import read_nav_truth
 
     survey = read_survey(folder)
-    start = time.perf_counter()
-    result = fuse_survey(survey, FusionOptions(), ellipsoid=CGCS2000)
-    elapsed = time.perf_counter() - start
-    rss_gb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
-    truth = read_nav_truth(Path(folder) / "truth" / "nav.npy")
-    outages = tomllib.loads((Path(folder) / "truth" / "errors.toml").read_text())["gnss_outages_s"]
-    lines = [row("long-outage", "full", name, trajectory_errors(traj, truth, CGCS2000), outages)
-             for name, traj in (("forward", result.forward), ("smoothed", result.trajectory))] + [nis_line(result)]
-    queue.put((lines, len(survey.imu), elapsed, rss_gb))
+    with tempfile.TemporaryDirectory(prefix="insrail-fusion-long-") as out:
+        start, cpu = time.perf_counter(), time.process_time()
+        result = fuse_survey(survey, FusionOptions(), ellipsoid=CGCS2000, trajectory_file=Path(out) / "trajectory.npy",
+                             forward_file=Path(out) / "forward.npy")
+        elapsed, cpu = time.perf_counter() - start, time.process_time() - cpu
+        rss_gb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
+        truth = read_nav_truth(Path(folder) / "truth" / "nav.npy")
+        outages = tomllib.loads((Path(folder) / "truth" / "errors.toml").read_text())["gnss_outages_s"]
+        lines = [row("long-outage", "full", name, trajectory_errors(traj, truth, CGCS2000), outages)
+                 for name, traj in (("forward", result.forward), ("smoothed", result.trajectory))] + [nis_line(result)]
+    queue.put((lines, len(survey.imu), elapsed, cpu, rss_gb))
+
+
+def _first_call_child(folder: str, queue) -> None:
+    """One fusion of ``folder`` in a fresh process: wall and CPU time of fuse()."""
+    from insrail.io.survey import read_survey
+    from insrail.nav.earth import CGCS2000
+    from insrail.nav.fusion import FusionOptions, fuse_survey
+
+    survey = read_survey(folder)
+    start, cpu = time.perf_counter(), time.process_time()
+    fuse_survey(survey, FusionOptions(), ellipsoid=CGCS2000)
+    queue.put((time.perf_counter() - start, time.process_time() - cpu))
+
+
+def first_call_cost(folder: Path) -> str:
+    """A fusion with an empty kernel cache (NUMBA_CACHE_DIR, inherited by the child) and the same
+    fusion once the cache is filled."""
+    ctx = mp.get_context("spawn")
+    times = []
+    previous = os.environ.get("NUMBA_CACHE_DIR")
+    with tempfile.TemporaryDirectory(prefix="insrail-numba-") as cache:
+        os.environ["NUMBA_CACHE_DIR"] = cache
+        try:
+            for _ in range(2):
+                queue = ctx.Queue()
+                child = ctx.Process(target=_first_call_child, args=(str(folder), queue))
+                child.start()
+                times.append(queue.get())
+                child.join()
+        finally:
+            if previous is None:
+                os.environ.pop("NUMBA_CACHE_DIR", None)
+            else:
+                os.environ["NUMBA_CACHE_DIR"] = previous
+    (cold_wall, cold_cpu), (warm_wall, warm_cpu) = times
+    return (f"first call with an empty numba cache: fuse() of {folder.name} {cold_wall:.1f} s wall / {cold_cpu:.1f} s "
+            f"CPU; with the cache {warm_wall:.1f} s / {warm_cpu:.1f} s: compiling costs {cold_cpu - warm_cpu:.1f} s CPU, "
+            f"once per machine and version")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -122,12 +167,14 @@ def main(argv: list[str] | None = None) -> None:
             queue = ctx.Queue()
             child = ctx.Process(target=_long_child, args=(str(folder), queue))
             child.start()
-            lines, epochs, elapsed, rss_gb = queue.get()
+            lines, epochs, elapsed, cpu, rss_gb = queue.get()
             child.join()
             for line in lines:
                 print(line)
-            print(f"\nlong-outage: {epochs:,} IMU epochs fused and smoothed in {elapsed:.1f} s "
-                  f"({epochs / elapsed / 1e3:.0f} k epochs/s), peak RSS of the fusing process {rss_gb:.2f} GB")
+            print(f"\nlong-outage: {epochs:,} IMU epochs fused and smoothed in {elapsed:.1f} s wall, {cpu:.1f} s CPU "
+                  f"({epochs / elapsed / 1e3:.0f} k epochs/s wall, {epochs / cpu / 1e3:.0f} k epochs/s CPU), "
+                  f"peak RSS of the fusing process {rss_gb:.2f} GB")
+        print(first_call_cost(survey_dir(workdir, "short", args.seeds[0])))
         print("\nlat5/ver5, lat150/ver150: 1-sigma of the difference of the lateral/vertical position error "
               "between points 5 m / 150 m apart; out H/V: largest error inside GNSS outages.")
 

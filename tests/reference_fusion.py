@@ -12,9 +12,24 @@ from dataclasses import dataclass
 import numpy as np
 
 from insrail.nav import earth, fusion
-from insrail.nav.error_model import ATT, BG, GNSS, N_STATES, ODO, POS, SA, VEL, discretise, dynamics_matrix
+from insrail.nav.error_model import (
+    ATT,
+    BG,
+    GNSS,
+    N_STATES,
+    ODO,
+    POS,
+    SA,
+    VEL,
+    discretise,
+    dynamics_matrix,
+)
 from insrail.nav.measurements import NavSnapshot
-from insrail.nav.mechanization import euler_from_q_bn, lat_lon_from_q_ne, q_ne_from_lat_lon
+from insrail.nav.mechanization import (
+    euler_from_q_bn,
+    lat_lon_from_q_ne,
+    q_ne_from_lat_lon,
+)
 from insrail.nav.rotation import quat_multiply, quat_to_dcm, rotvec_to_quat
 
 

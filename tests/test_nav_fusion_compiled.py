@@ -14,7 +14,13 @@ from insrail.io.survey import read_survey
 from insrail.nav import fusion
 from insrail.nav import measurements as meas
 from insrail.nav.earth import CGCS2000
-from insrail.nav.error_model import N_STATES, ErrorModelNoise, discretise, dynamics_matrix, noise_matrix
+from insrail.nav.error_model import (
+    N_STATES,
+    ErrorModelNoise,
+    discretise,
+    dynamics_matrix,
+    noise_matrix,
+)
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.mechanization import q_ne_from_lat_lon
 from insrail.nav.rotation import dcm_to_quat, euler_to_dcm

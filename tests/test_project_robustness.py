@@ -311,7 +311,7 @@ def test_a_read_only_project_is_named_and_its_results_kept(tiny, tmp_path, monke
     assert (results_of(project) / "sleepers.csv").read_bytes() == before
 
 
-def test_a_full_disk_in_the_smoothers_temporary_file_is_named(tiny, tmp_path, monkeypatch, capsys):
+def test_a_full_disk_in_the_fusions_temporary_file_is_named(tiny, tmp_path, monkeypatch, capsys):
     import errno
 
     from insrail.nav import fusion
@@ -331,7 +331,8 @@ def test_a_full_disk_in_the_smoothers_temporary_file_is_named(tiny, tmp_path, mo
     monkeypatch.setattr(fusion.tempfile, "TemporaryFile", lambda **kwargs: FullDisk())
     assert main(["process", str(project)]) == 1
     error = capsys.readouterr().err
-    assert "(the smoother's temporary file): No space left on device (the disk is full" in error, error
+    # the forward pass's record at the IMU rate is the first temporary file the fusion writes
+    assert "(the fusion's temporary file): No space left on device (the disk is full" in error, error
     assert (results_of(project) / "sleepers.csv").read_bytes() == before
     assert not list(cache_of(project).glob("fusion-*"))  # nothing half-written taken for a cache entry
 

@@ -38,6 +38,7 @@ compensated (added to the estimates on feedback).
 
 from __future__ import annotations
 
+import itertools
 import math
 import tempfile
 from dataclasses import dataclass, field, replace
@@ -47,7 +48,7 @@ from typing import Self
 
 import numpy as np
 from numba import njit
-from scipy.stats import chi2
+from scipy.special import chdtri
 
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
@@ -880,8 +881,8 @@ def update_grid(imu_time_s: np.ndarray, k0: int, every: int, measurements) -> np
     """The IMU epochs that end a filter segment: every ``every``-th from the start epoch
     ``k0``, the epoch that closes each time-stamped observation, and the last epoch."""
     closing = [np.zeros(0, dtype=int)]
-    for meas in measurements:
-        times = meas.closing_times_s()
+    for source in measurements:
+        times = source.closing_times_s()
         inside = times[(times > imu_time_s[k0]) & (times <= imu_time_s[-1])]
         closing.append(np.searchsorted(imu_time_s, inside))
     n = len(imu_time_s)
@@ -966,16 +967,16 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     plan = schedule(t[epochs], aiding.measurements, stops)
     P0 = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
                             start.sigma_heading_rad)
-    gates = np.array([np.inf] + [chi2.ppf(options.gate_probability, m) for m in range(1, meas.MAX_ROWS + 1)])
+    # chi-square quantile of the gate probability per degree of freedom (scipy.special: no scipy.stats import)
+    gates = np.array([np.inf] + [chdtri(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
     return _Setup(imu, dt, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
                   noise, gqg, gates)
 
 
 @dataclass
 class _ForwardPass:
-    """What the forward pass leaves at the filter rate (the IMU-rate solution is in ``nav``)."""
+    """What the forward pass leaves at the filter rate."""
 
-    nav: _EpochFile
     sensor_hist: np.ndarray  # (m, 13): sensor estimates and odometer scale after epoch j
     sigma_hist: np.ndarray  # (m, N)
     nis: np.ndarray  # per schedule entry
@@ -987,8 +988,9 @@ class _ForwardPass:
 
 
 def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, store: SmootherStore | None,
-             progress, cancel, nav_chunk: int = 65536) -> _ForwardPass:
-    """The forward filter: the compiled loop, with Python at its events (module docstring)."""
+             nav_file: _EpochFile, progress, cancel, nav_chunk: int = 65536) -> _ForwardPass:
+    """The forward filter: the compiled loop, with Python at its events (module docstring);
+    the IMU-rate solution goes to ``nav_file`` (opened at the first update epoch)."""
     plan, epochs, imu = setup.plan, setup.epochs, setup.imu
     sources = plan.measurements
     models = [s.compiled() for s in sources]
@@ -1012,7 +1014,6 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     k0 = int(epochs[0])
     state = _FilterState(nav=np.array(setup.start.nav, dtype=float))
     state.P[:] = setup.P0
-    nav_file = _EpochFile(k0)
     nav_buf = np.empty((nav_chunk, 12))
     nav_buf[0] = state.nav[:12]
     nav_base = np.array([k0 + 1], dtype=np.int64)
@@ -1041,6 +1042,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     dtheta = np.ascontiguousarray(imu.dtheta_rad, dtype=float)
     dvel = np.ascontiguousarray(imu.dvel_mps, dtype=float)
     gnss_tau = float(options.gnss_correlated_tau_s)
+    earth_c = _kernels.earth_constants(ellipsoid)
     if m_epochs > 1 and np.max(np.diff(epochs)) > nav_chunk:
         nav_chunk = int(np.max(np.diff(epochs)))
         nav_buf = np.empty((nav_chunk, 12))
@@ -1048,7 +1050,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
         event, e = _forward_kernel(
             state.pos, state.nav, state.sensor, state.gnss_error, state.odo, state.x, state.P, state.P_minus,
             state.phi_top, state.phi_diag, state.ctx, state.sums, state.pending,
-            dtheta, dvel, setup.dt, t, epochs, _EARTH.get(ellipsoid), decay, gqg, gnss_tau, gap_j, gap_q,
+            dtheta, dvel, setup.dt, t, epochs, earth_c, decay, gqg, gnss_tau, gap_j, gap_q,
             plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
             nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist,
             nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu)
@@ -1095,22 +1097,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
         statistics[sources[k].name] = MeasurementStats(
             int(used[k]), int(rejected[k]), sum_sq[k, :dof_k].copy() if used[k] else None, float(sum_nis[k]),
             int(sum_dof[k])).summary()
-    return _ForwardPass(nav_file, sensor_hist, sigma_hist, nis, dof, accepted, statistics, rejections, resets)
-
-
-class _EarthConstants:
-    """The kernels' earth vector per ellipsoid, made once."""
-
-    def __init__(self):
-        self.cache = {}
-
-    def get(self, ell: earth.Ellipsoid) -> np.ndarray:
-        if ell not in self.cache:
-            self.cache[ell] = _kernels.earth_constants(ell)
-        return self.cache[ell]
-
-
-_EARTH = _EarthConstants()
+    return _ForwardPass(sensor_hist, sigma_hist, nis, dof, accepted, statistics, rejections, resets)
 
 
 def fuse(
@@ -1153,11 +1140,11 @@ def fuse(
     m_epochs = len(epochs)
     own_store = covariance_store is None and options.smoother
     store = SmootherStore() if own_store else covariance_store
-    forward_pass = None
+    nav_file = _EpochFile(int(epochs[0]))
     try:
-        forward_pass = _forward(setup, options, ellipsoid, store, step.sub(0.0, 0.8 if options.smoother else 0.9),
-                                cancel)
-        build = partial(_trajectory, t, forward_pass.nav, epochs, forward_pass.sensor_hist, gps_week=imu.gps_week,
+        forward_pass = _forward(setup, options, ellipsoid, store, nav_file,
+                                step.sub(0.0, 0.8 if options.smoother else 0.9), cancel)
+        build = partial(_trajectory, t, nav_file, epochs, forward_pass.sensor_hist, gps_week=imu.gps_week,
                         ell=ellipsoid, cancel=cancel)
         forward = at_updates = build(forward_pass.sigma_hist, None, smoothed=False, indices=epochs)
         if forward_file is not None or full_forward:
@@ -1176,8 +1163,7 @@ def fuse(
     finally:
         if own_store:
             store.close()
-        if forward_pass is not None:
-            forward_pass.nav.close()
+        nav_file.close()
     step(1.0, "fusion done")
     accepted = forward_pass.accepted
     applied = {}
@@ -1262,7 +1248,7 @@ def _trajectory(t, nav_file: _EpochFile, epochs, sensor_hist, sigma_hist, correc
     # chunks of at most ``chunk`` IMU epochs of the record, whatever the output rate
     cuts = np.searchsorted(idx_all, np.arange(idx_all[0], idx_all[-1] + chunk, chunk)) if n else np.zeros(1, int)
     try:
-        for c0, c1 in zip(cuts[:-1], cuts[1:]):
+        for c0, c1 in itertools.pairwise(cuts):
             if c1 == c0:
                 continue
             if progress is not None:
@@ -1288,31 +1274,46 @@ def _trajectory(t, nav_file: _EpochFile, epochs, sensor_hist, sigma_hist, correc
 def _trajectory_block(t, nav, idx, epochs, sensor_hist, sigma_hist, corrections, ell) -> np.ndarray:
     """TRAJECTORY_DTYPE records of IMU epochs ``idx`` from their forward navigation vectors ``nav``."""
     # Segment j covers epochs (epochs[j-1], epochs[j]]; w is the position inside it.
-    seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, len(epochs) - 1) if len(epochs) > 1 \
-        else np.zeros(len(idx), dtype=int)
-    left, right = epochs[np.maximum(seg - 1, 0)], epochs[seg]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        w = np.nan_to_num((t[idx] - t[left]) / (t[right] - t[left]), nan=1.0)[:, None]
-    lat, lon = lat_lon_from_q_ne(nav[:, 0:4])
-    h, vel, q_bn = nav[:, 4], nav[:, 5:8], nav[:, 8:12]
-    sensors = sensor_hist[np.maximum(seg - 1, 0)].copy()  # the estimates used while propagating the segment
-    if corrections is not None:
-        c = (1.0 - w) * corrections[np.maximum(seg - 1, 0), 0] + w * corrections[seg, 1]
-        r_m, r_n = earth.radii(lat, ell)
-        lat = lat - c[:, POS] / (r_m + h)
-        lon = lon - c[:, POS + 1] / ((r_n + h) * np.cos(lat))
-        h = h + c[:, POS + 2]
-        vel = vel - c[:, VEL : VEL + 3]
-        q_bn = quat_multiply(rotvec_to_quat(c[:, ATT : ATT + 3]), q_bn)
-        sensors[:, :12] += c[:, BG : SA + 3]
-        sensors[:, 12] += c[:, ODO]
-    sig = (1.0 - w) * sigma_hist[np.maximum(seg - 1, 0)] + w * sigma_hist[seg]
-    out = np.empty(len(idx), dtype=TRAJECTORY_DTYPE)
-    out["time_s"], out["lat_rad"], out["lon_rad"], out["height_m"] = t[idx], lat, lon, h
-    out["vel_ned_mps"] = vel
-    out["rpy_rad"] = np.column_stack(euler_from_q_bn(q_bn))
-    out["sigma_pos_ned_m"], out["sigma_vel_ned_mps"] = sig[:, POS : POS + 3], sig[:, VEL : VEL + 3]
-    out["sigma_rpy_rad"] = sig[:, ATT : ATT + 3]
-    out["gyro_bias_radps"], out["accel_bias_mps2"] = sensors[:, 0:3], sensors[:, 3:6]
-    out["gyro_scale"], out["accel_scale"], out["odometer_scale"] = sensors[:, 6:9], sensors[:, 9:12], sensors[:, 12]
-    return out
+    seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, max(len(epochs) - 1, 1))
+    out = np.empty((len(idx), TRAJECTORY_DTYPE.itemsize // 8))
+    _trajectory_rows(t, np.ascontiguousarray(nav), idx, seg, epochs, sensor_hist, sigma_hist,
+                     np.zeros((1, 2, N_STATES)) if corrections is None else corrections, corrections is not None,
+                     _kernels.earth_constants(ell), out)
+    return out.view(TRAJECTORY_DTYPE).reshape(len(idx))
+
+
+@compiled
+def _trajectory_rows(t, nav, idx, seg, epochs, sensor_hist, sigma_hist, corrections, corrected, earth_c, out):
+    """The rows of :func:`_trajectory_block` (TRAJECTORY_DTYPE's fields in order, 32 doubles): the
+    forward solution at IMU epoch idx[i] (row i of nav), corrected by the smoothed error
+    interpolated linearly inside its segment seg[i], with the sensor estimates used while
+    propagating that segment and the interpolated sigmas."""
+    n = N_STATES
+    c = np.zeros(n)
+    for i in range(idx.shape[0]):
+        j = seg[i]
+        left, right = epochs[j - 1], epochs[j]
+        span = t[right] - t[left]
+        w = (t[idx[i]] - t[left]) / span if span > 0.0 else 1.0
+        lat, lon = _kernels.lat_lon(nav[i, 0:4])
+        h = nav[i, 4]
+        vel = (nav[i, 5], nav[i, 6], nav[i, 7])
+        q_bn = (nav[i, 8], nav[i, 9], nav[i, 10], nav[i, 11])
+        if corrected:
+            for k in range(n):
+                c[k] = (1.0 - w) * corrections[j - 1, 0, k] + w * corrections[j, 1, k]
+            r_m, r_n = _kernels.radii(math.sin(lat), earth_c)
+            lat = lat - c[POS] / (r_m + h)
+            lon = lon - c[POS + 1] / ((r_n + h) * math.cos(lat))
+            h = h + c[POS + 2]
+            vel = (vel[0] - c[VEL], vel[1] - c[VEL + 1], vel[2] - c[VEL + 2])
+            q_bn = _kernels.quat_mul(_kernels.rotvec_quat(c[ATT], c[ATT + 1], c[ATT + 2]), q_bn)
+        row = out[i]
+        row[0], row[1], row[2], row[3] = t[idx[i]], lat, lon, h
+        row[4], row[5], row[6] = vel[0], vel[1], vel[2]
+        row[7], row[8], row[9] = _kernels.euler(q_bn)
+        for k in range(9):  # sigma of position, velocity, attitude
+            row[10 + k] = (1.0 - w) * sigma_hist[j - 1, POS + k] + w * sigma_hist[j, POS + k]
+        for k in range(12):  # gyro/accel biases and scale factors
+            row[19 + k] = sensor_hist[j - 1, k] + c[BG + k]
+        row[31] = sensor_hist[j - 1, 12] + c[ODO]

@@ -21,7 +21,7 @@ import numpy as np
 from insrail.io.types import ImuIncrements
 from insrail.nav import _kernels
 from insrail.nav.earth import WGS84, Ellipsoid
-from insrail.nav.rotation import euler_to_dcm, dcm_to_quat
+from insrail.nav.rotation import dcm_to_quat, euler_to_dcm
 from insrail.progress import CancelToken, ProgressFn, check_cancel
 
 #: Epochs per call of the compiled loop; progress and cancel are served between calls.

@@ -62,7 +62,7 @@ from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.integrity import UntrustedSolution
 from insrail.nav.measurements import PositionFix
 from insrail.nav.self_calibration import fuse_consistent
-from insrail.nav.trajectory import Trajectory, load_trajectory, save_trajectory
+from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.design_heading import design_azimuth_for, uses_design
@@ -347,15 +347,18 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     # The smoother's record of the filter (Phi, P-, P+ per update epoch, on disk) outlives the
     # fusion so that the covariance analysis needs only its backward pass, not a replay.
     store = None
+    cache.mkdir(parents=True, exist_ok=True)
     try:  # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
         design = design_azimuth_for(project, read_design(project.resolve(project.design)) if project.design else None,
                                     profile)
+        # the trajectory is streamed into the cache as the smoother makes it (sealed below)
         result, options, store, _ = fuse_consistent(
             survey.imu, lambda options: replace(aiding_for(survey, options, profile, fixes), design_azimuth=design),
             profile, project.fusion, ellipsoid_of(project), new_store=SmootherStore if project.fusion.smoother else None, fuse=fuse,
-            progress=progress.sub(0.05, 0.87), cancel=cancel)
+            progress=progress.sub(0.05, 0.87), cancel=cancel, trajectory_file=path)
         check_cancel(cancel)
         if not result.integrity.trusted:
+            path.unlink(missing_ok=True)
             raise UntrustedSolution(result.integrity.failure())
         # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
         quality = epoch_quality(survey, result, options, profile, ellipsoid_of(project),
@@ -363,7 +366,6 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     finally:
         if store is not None:
             store.close()
-    cache.mkdir(parents=True, exist_ok=True)
     save_dataclass(quality_cache_file(path), quality)
     info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": len(survey.imu),
             "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
@@ -375,7 +377,6 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
             "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]]}
     if survey.gnss is not None:
         info["gnss"] = gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])
-    save_trajectory(path, result.trajectory)
     with atomic_write(info_path, "wb") as handle:
         tomli_w.dump(info, handle)
     seal(path, info_path)
