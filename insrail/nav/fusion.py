@@ -1267,7 +1267,7 @@ def _trajectory(t, nav_file: _EpochFile, epochs, sensor_hist, sigma_hist, correc
         if writer is not None:
             writer.discard()
     if writer is not None:
-        return load_trajectory(path, smoothed=smoothed, gps_week=gps_week, mmap=True)
+        return replace(load_trajectory(path, smoothed=smoothed, gps_week=gps_week, mmap=True), ellipsoid_name=ell.name)
     return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week, ellipsoid_name=ell.name)
 
 

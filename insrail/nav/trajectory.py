@@ -116,13 +116,22 @@ def save_trajectory(path, trajectory: Trajectory) -> None:
 def load_trajectory(path, smoothed: bool = True, gps_week: int | None = None, mmap: bool = False) -> Trajectory:
     """Read a ``trajectory.npy`` written by :func:`save_trajectory`; ``mmap``: its arrays are
     read-only views of the file mapped into memory (read as they are used), not copies."""
-    records = np.load(path, allow_pickle=False, mmap_mode="r" if mmap else None)
+    records = np.load(path, allow_pickle=False, mmap_mode="r")
     if records.dtype != TRAJECTORY_DTYPE:
         raise ValueError(f"{path}: not an insrail trajectory file (record layout {records.dtype})")
     if mmap:
         return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week)
-    return Trajectory(**{name: np.ascontiguousarray(records[name]) for name in TRAJECTORY_DTYPE.names},
-                      smoothed=smoothed, gps_week=gps_week)
+    # contiguous arrays per field, read a block of records at a time (never the file twice in memory)
+    n, offset = len(records), records.offset
+    del records
+    fields = {name: np.empty((n, *TRAJECTORY_DTYPE[name].shape)) for name in TRAJECTORY_DTYPE.names}
+    with open(path, "rb") as handle:
+        handle.seek(offset)
+        for first in range(0, n, CHUNK_RECORDS):
+            block = np.fromfile(handle, dtype=TRAJECTORY_DTYPE, count=min(CHUNK_RECORDS, n - first))
+            for name, values in fields.items():
+                values[first : first + len(block)] = block[name]
+    return Trajectory(**fields, smoothed=smoothed, gps_week=gps_week)
 
 
 def _write_text_table(path, trajectory: Trajectory, columns, formats: list[str], header: list[str]) -> None:

@@ -380,7 +380,10 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     with atomic_write(info_path, "wb") as handle:
         tomli_w.dump(info, handle)
     seal(path, info_path)
-    return FreshFusion(result.trajectory, survey.gauge, survey.sleepers), path, {"from_cache": False} | info
+    # read back as a cached fusion is (contiguous arrays: the track is then the same to the bit)
+    trajectory = replace(load_trajectory(path, gps_week=manifest.gps_week), ellipsoid_name=ellipsoid_of(project).name)
+    fresh = FreshFusion(trajectory, survey.gauge, survey.sleepers)
+    return fresh, path, {"from_cache": False} | info
 
 
 def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Path, fresh: FreshFusion | None,
