@@ -49,7 +49,7 @@ def run_errors(workdir: Path, seed: int, imu: str, speed: float, options) -> Pat
     folder = workdir / f"straight-{tag}-seed{seed}"
     simulate(config, seed, folder, imu_format="npy", overwrite=True)
     survey = read_survey(folder)
-    result = fuse_survey(survey, options, ellipsoid=CGCS2000, output_every=4)
+    result = fuse_survey(survey, options, ellipsoid=CGCS2000, output_every=4, full_forward=True)
     truth = read_nav_truth(folder / "truth" / "nav.npy")
     arrays = {}
     for name, trajectory in (("forward", result.forward), ("smoothed", result.trajectory)):
