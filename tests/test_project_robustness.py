@@ -346,6 +346,7 @@ def test_a_full_disk_while_writing_the_results_keeps_the_previous_ones(tiny, tmp
         raise OSError(errno.ENOSPC, "No space left on device")
 
     monkeypatch.setattr(results_module.shutil, "copyfile", full)
+    monkeypatch.setattr(results_module.os, "link", full)  # not the previous results' copy linked: copied
     assert main(["process", str(project)]) == 1
     error = capsys.readouterr().err
     assert f"{results_of(project) / 'trajectory.npy'}: No space left on device (the disk is full" in error, error
