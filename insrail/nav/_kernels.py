@@ -351,3 +351,31 @@ def integrate_span(nav, dtheta, dvel, dt, earth, start, stop, output_every, done
             h[row] = nav[NAV_H]
             for i in range(3):
                 vel[row, i] = nav[NAV_VEL + i]
+
+
+def drop_stale_cache(dispatchers, dependencies) -> None:
+    """Numba checks a cached kernel only against its own source file: a kernel that calls compiled
+    functions of other modules (the filter loop calls the measurement models, the Kalman update and
+    the strapdown) would keep running their old code after they changed. Called once at import by
+    such a module, this removes the module's cache entries that are older than any of
+    ``dependencies`` (module files), so they are compiled again."""
+    import os
+    from pathlib import Path
+
+    try:
+        newest = max(os.stat(path).st_mtime for path in dependencies)
+    except OSError:  # no source files (a frozen bundle): nothing changes there
+        return
+    for dispatcher in dispatchers:
+        cache = getattr(dispatcher, "_cache", None)
+        index = getattr(getattr(cache, "_cache_file", None), "_index_path", None)
+        if index is None:
+            continue
+        index = Path(index)
+        try:
+            stale = index.stat().st_mtime < newest
+        except OSError:  # not cached yet
+            continue
+        if stale:
+            for entry in index.parent.glob(index.name.removesuffix(".nbi") + ".*"):
+                entry.unlink(missing_ok=True)

@@ -1317,3 +1317,10 @@ def _trajectory_rows(t, nav, idx, seg, epochs, sensor_hist, sigma_hist, correcti
         for k in range(12):  # gyro/accel biases and scale factors
             row[19 + k] = sensor_hist[j - 1, k] + c[BG + k]
         row[31] = sensor_hist[j - 1, 12] + c[ODO]
+
+
+# These kernels run compiled code of other modules (the measurement models, the Kalman update, the
+# strapdown): their cache entries go when those modules change (numba checks only this file).
+_kernels.drop_stale_cache((_propagate_segment, dynamics_rows, _transition, _feedback, _pack_record, _unpack_record,
+                           _forward_kernel, _rts_chunk, _trajectory_rows),
+                          (meas.__file__, kalman.__file__, _kernels.__file__))

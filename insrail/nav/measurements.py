@@ -723,3 +723,8 @@ def evaluate(kind, ctx, params, obs, z, H, r):
     if kind == MODEL_ZUPT:
         return _zupt_model(ctx, params, obs, z, H, r)
     return -1
+
+
+# The twins call the strapdown's helpers: their cache entries go when those change (see _kernels).
+_kernels.drop_stale_cache((fill_context, _mat_vec, _put_skew, _position_model, _gnss_velocity_model,
+                           _vehicle_velocity_row, _odometer_nhc_model, _zupt_model, evaluate), (_kernels.__file__,))
