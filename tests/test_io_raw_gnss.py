@@ -76,7 +76,8 @@ def test_a_survey_without_gnss_names_both_ways(tmp_path):
     text = (tmp_path / "survey.toml").read_text().replace("[gnss_raw]\n", "")
     (tmp_path / "survey.toml").write_text(text)
     with pytest.raises(ManifestError, match=r"files: no position source: give a GNSS solution \[files.gnss\], raw "
-                                            r"GNSS observations \[gnss_raw\] or total-station prism fixes"):
+                                            r"GNSS observations \[gnss_raw\], total-station prism fixes \[files.prism\] or raw "
+                                            r"total-station observations \[files.total_station\]"):
         read_manifest(tmp_path)
 
 
