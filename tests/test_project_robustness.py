@@ -358,7 +358,7 @@ def test_a_full_disk_while_writing_the_results_keeps_the_previous_ones(tiny, tmp
     (["--speed", "-1"], "argument --speed: -1: expected more than 0"),
     (["--speed", "nan"], "argument --speed: nan: expected more than 0"),
     (["--length", "0"], "argument --length: 0: expected more than 0"),
-    (["--imu", "nosuch"], "argument --imu: IMU profile not found: nosuch (shipped profiles: mems, nav"),
+    (["--imu", "nosuch"], "argument --imu: IMU profile not found: nosuch (shipped profiles: mems, mems_handheld, nav"),
 ])
 def test_predict_refuses_bad_values_with_a_usage_message(arguments, message, capsys):
     with pytest.raises(SystemExit) as leave:
