@@ -71,3 +71,30 @@ def test_only_the_newest_entries_are_kept(tmp_path, cache, monkeypatch):
     for k in range(4):
         results._read_sleepers(_table(tmp_path / f"s{k}.csv", gauge=(1435.0 + k, 1435.0, 1435.0)))
     assert len(list(cache.glob("*.npz"))) == 2
+
+
+def test_the_fast_reading_gives_what_reading_cell_by_cell_gives(tmp_path, cache, monkeypatch):
+    """Quoted reasons, empty cells (NaN), signs and exponents: numpy's parser over the whole table
+    and the row-by-row reading agree to the bit; a short row still names its line."""
+    path = tmp_path / "sleepers.csv"
+    path.write_text(columns_csv(np.array([7, 8, 9, 10]), ("K0+000.000", "K0+000.600", "K0+001.200", "K0+001.800"),
+                                {"station_m": (np.array([0.0, 0.6, 1.2, 1.8]), "%.4f"),
+                                 "gauge_mm": (np.array([-0.0, np.nan, 1.5e-7, -1436.123]), "%.6g"),
+                                 "valid": (np.array([1, 0, 1, 1]), "%d")},
+                                ("", 'turnout, "W12"', "", "joint; bridge"), ("", "", "fastener range, exhausted", "")),
+                    encoding="utf-8")
+    fast = results._parse_sleepers(path)
+    monkeypatch.setattr(results, "_regular_rows", lambda *_args: None)
+    slow = results._parse_sleepers(path)
+    assert fast[0].tolist() == slow[0].tolist() == [7, 8, 9, 10] and fast[1] == slow[1]
+    for name in slow[2]:
+        np.testing.assert_array_equal(fast[2][name], slow[2][name])
+        assert fast[2][name].tobytes() == slow[2][name].tobytes()  # -0.0 stays -0.0
+    assert fast[3] == slow[3] == ("", 'turnout, "W12"', "", "joint; bridge")
+    assert fast[4] == slow[4] == ("", "", "fastener range, exhausted", "")
+    monkeypatch.undo()
+    lines = path.read_text(encoding="utf-8").splitlines()
+    lines[3] = lines[3].replace(",1.5e-07", "", 1)
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    with pytest.raises(results.InputError, match="sleepers.csv.*line 4.*expected"):
+        results._parse_sleepers(path)

@@ -29,10 +29,12 @@ import ctypes
 import ctypes.util
 import io
 import os
+import re
 import shutil
 import sys
 import tempfile
 import tomllib
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -570,8 +572,14 @@ def _parse_sleepers(path: Path) -> table_cache.SleeperTableParse:
         if names[-len(text_names):] == text_names:
             texts = len(text_names)
             break
-    if texts:  # quoted text columns: the csv module splits these lines
+    if texts:
         names = names[:-texts]
+    fast = _regular_rows(lines[1:], len(names), texts)
+    if fast is not None:
+        number, labels, values, not_assessed, notes = fast
+        return number, labels, {name: values[:, i] for i, name in enumerate(names)}, not_assessed, notes
+    # A file that is not as written (or holds a mistake): row by row, naming the line at fault.
+    if texts:  # quoted text columns: the csv module splits these lines
         rows = list(csv.reader(lines[1:]))
     else:
         rows = [line.split(",") for line in lines[1:]]
@@ -593,6 +601,50 @@ def _parse_sleepers(path: Path) -> table_cache.SleeperTableParse:
     notes = tuple(row[len(names) + 3] for row in rows) if texts > 1 else ()
     return (number, tuple(row[1] for row in rows), {name: values[:, i] for i, name in enumerate(names)},
             not_assessed, notes)
+
+
+_EMPTY_CELL = re.compile(r"(?<![^,])(?![^,])")  # between two commas, or a comma and an end: an empty cell
+
+
+def _regular_rows(body: list[str], count: int, texts: int):
+    """(number, labels, values (rows x count), not_assessed, notes) of sleepers.csv lines as the pipeline
+    writes them, with numpy's own number parser over all cells at once (a 10 km table: a third of
+    the time of parsing cell by cell); None at the first thing out of the ordinary (the caller's row
+    by row reading then names the line)."""
+    if not body or count < 1:
+        return None
+    heads, tails = [], []
+    for line in body:
+        if '"' in line:  # a quoted text cell (a reason holding a comma)
+            row = next(csv.reader([line]))
+            if len(row) != count + 2 + texts:
+                return None
+            heads.append(",".join(row[:count + 2]))
+            tails.append(row[count + 2:])
+        elif texts:
+            head, *tail = line.rsplit(",", texts)
+            heads.append(head)
+            tails.append(tail)
+        else:
+            heads.append(line)
+    parts = [head.split(",", 2) for head in heads]
+    if any(len(p) != 3 or p[2].count(",") != count - 1 for p in parts):
+        return None
+    try:
+        number = np.array([int(p[0]) for p in parts])
+    except ValueError:
+        return None
+    with warnings.catch_warnings(record=True) as caught:  # older numpy warns of a cell that is no number
+        warnings.simplefilter("always")
+        try:
+            values = np.fromstring(_EMPTY_CELL.sub("nan", ",".join(p[2] for p in parts)), sep=",")
+        except ValueError:  # a cell that is no number
+            return None
+    if caught or values.size != len(parts) * count:
+        return None
+    not_assessed = tuple(tail[0] for tail in tails) if texts else ()
+    notes = tuple(tail[1] for tail in tails) if texts > 1 else ()
+    return number, tuple(p[1] for p in parts), values.reshape(len(parts), count), not_assessed, notes
 
 
 def _numeric(row: list[str]) -> bool:
