@@ -218,7 +218,9 @@ def test_a_survey_without_odometer_fuses_on_gnss_nhc_and_zupt(short_nav_survey, 
     assert any("no odometer" in n.message and "GNSS positions only" in n.message for n in result.info["notices"])
     errors = trajectory_errors(result.trajectory, truth, CGCS2000)
     assert errors.rms_horizontal_m() < 0.008 and errors.rms_vertical_m() < 0.008
-    assert max(errors.lag_difference_sigma_m(5.0)) < 0.3e-3
+    # the NHC without an odometer at 2 mm/s (fusion.NHC_SIGMA_WITHOUT_ODOMETER_MPS: an outage's along-track
+    # sigma honest) costs a tenth of a millimetre here (0.40 / 0.34 mm; at the odometer's 0.45 mm/s < 0.3 mm)
+    assert max(errors.lag_difference_sigma_m(5.0)) < 0.45e-3
 
 
 def test_a_survey_without_gnss_starts_from_the_prism_fixes(short_nav_survey, survey):

@@ -829,6 +829,15 @@ class Aiding:
 
 
 _ALL_TIME_S = np.array([-1e12, 1e12])
+#: The NHC's 1-sigma without an odometer. Its rows at 10 Hz see the trolley's play, which is
+#: correlated over seconds; with an odometer pinning the along-track velocity that does no harm,
+#: without one the filter, taking them as independent, pulls its along-track velocity and
+#: accelerometer bias along: on the simulator's `short` without odometer the 120 s outage drifted
+#: 4.7 m along the track against a stated 0.45 m (0.45 mm/s; 1 mm/s: 4.7 x its sigma too); at 2 mm/s
+#: 0.37 m against 0.24 m and 16 mm laterally instead of 127 mm, the price 0.40 / 0.34 mm instead of
+#: < 0.3 mm in the 5 m lag difference where GNSS is there (5 mm/s: 0.18 m, 0.65 mm);
+#: tests/test_nav_integrity.py, tests/test_nav_fusion.py.
+NHC_SIGMA_WITHOUT_ODOMETER_MPS = 0.002
 
 
 def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: ImuProfile, gnss: GnssSolution | None,
@@ -854,7 +863,9 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
             odo_t, odo_d, euler_to_dcm(*trolley.mounting_rpy_rad), trolley.imu_to_odometer_m,
             trolley.imu_to_reference_rail_m, options.odometer_sigma_mps,
             (odometer.pulse_length_m if odometer is not None else None) or 0.001,
-            sigma_nhc_mps=options.nhc_sigma_mps, use_odometer=use_odometer, use_nhc=options.use_nhc))
+            sigma_nhc_mps=options.nhc_sigma_mps if use_odometer else max(options.nhc_sigma_mps,
+                                                                          NHC_SIGMA_WITHOUT_ODOMETER_MPS),
+            use_odometer=use_odometer, use_nhc=options.use_nhc))
     if options.use_zupt:
         sources.append(Zupt(np.zeros(0), options.zupt_sigma_mps, gyro_white_noise=max(profile.gyro_arw, 1e-7)))
     return tuple(sources)
