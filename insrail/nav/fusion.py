@@ -82,8 +82,7 @@ from insrail.nav.measurements import (
     Zupt,
     schedule,
 )
-from insrail.nav.mechanization import euler_from_q_bn, lat_lon_from_q_ne
-from insrail.nav.rotation import euler_to_dcm, quat_multiply, rotvec_to_quat
+from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.startup import PositionTrack, initial_state
 from insrail.nav.trajectory import (
     TRAJECTORY_DTYPE,
