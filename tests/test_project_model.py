@@ -182,3 +182,23 @@ def test_sleeper_anchor(tmp_path):
         project.path.write_text(project.path.read_text().replace("[track]\n", f"[track]\nsleeper_anchor = {bad}\n"))
         with pytest.raises(ProjectError, match=message):
             load_project(tmp_path)
+
+
+def test_adjustment_strategy(tmp_path):
+    from insrail.project.model import AdjustmentSettings
+
+    make_folder(tmp_path)
+    path = save_project(sample_project(tmp_path))
+    assert "adjustment" not in tomllib.loads(path.read_text())  # an untouched project writes no table
+    assert load_project(tmp_path).adjustment.strategy == "least_movement"
+    guided = sample_project(tmp_path, adjustment=AdjustmentSettings("guiding_rail_first"))
+    save_project(guided)
+    assert tomllib.loads(path.read_text())["adjustment"] == {"strategy": "guiding_rail_first"}
+    assert load_project(tmp_path) == guided
+    text = path.read_text().replace('strategy = "guiding_rail_first"', 'strategy = "lowest_rail"\nthreshold = 2')
+    path.write_text(text)
+    with pytest.raises(ProjectError) as info:
+        load_project(tmp_path)
+    message = str(info.value)
+    assert "adjustment.strategy: expected 'least_movement' or 'guiding_rail_first', found 'lowest_rail'" in message
+    assert "adjustment.threshold: unknown key" in message

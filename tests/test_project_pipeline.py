@@ -145,6 +145,28 @@ def test_changing_the_tolerance_profile_reuses_the_fusion(processed, monkeypatch
     assert (back.folder / "sleepers.csv").read_bytes() == first_sleepers
 
 
+def test_the_projects_adjustment_strategy_reaches_the_amounts_and_the_summary(processed, monkeypatch):
+    from insrail.project.model import AdjustmentSettings
+
+    project, first = processed
+    strategies = []
+    optimise = pipeline.optimise_amounts
+
+    def recording(geometry, profile, fastener, strategy, **kwargs):
+        strategies.append(strategy)
+        return optimise(geometry, profile, fastener, strategy, **kwargs)
+
+    monkeypatch.setattr(pipeline, "optimise_amounts", recording)
+    guided = process(replace(project, adjustment=AdjustmentSettings("guiding_rail_first")), "short")
+    assert strategies == ["guiding_rail_first"]  # not the default's amounts from the cache
+    assert first.summary["adjustment"]["strategy"] == "least_movement"
+    assert tomllib.loads((guided.folder / "summary.toml").read_text())["adjustment"]["strategy"] == "guiding_rail_first"
+    assert not np.array_equal(guided.adjustment.lateral_m, first.adjustment.lateral_m)
+    back = process(project, "short")  # the default strategy again: its amounts from the cache
+    assert strategies == ["guiding_rail_first"]
+    np.testing.assert_array_equal(back.adjustment.lateral_m, first.adjustment.lateral_m)
+
+
 def test_fusion_key_follows_what_the_fusion_depends_on(processed):
     from insrail.io.survey import read_manifest
 

@@ -25,6 +25,8 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
                          (or time_s: the field number of the sleeper there; replaces first_sleeper_number),
                          tolerance_profile, fastener, line_speed_kmh = 250 or a
                          table of ranges [{from_m = 0, to_m = 4200, kmh = 250}, ...] (for the cant deficiency)
+    [adjustment]         how the fastener adjustment amounts are computed (:class:`AdjustmentSettings`):
+                         strategy = "least_movement" (default) | "guiding_rail_first"
     [[surveys]]          name, folder (holding a survey.toml)
     [[sections]]         name, surveys = ["run1", "run2"], from_m, to_m (optional), overlap = "best" | "mean":
                          a line section joined from several runs (insrail.project.section)
@@ -60,7 +62,12 @@ from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.project.control_points import ControlPoint, parse_control_points
 from insrail.project.local_control import LocalControl, parse_local_control
-from insrail.track.adjustment import DEFAULT_FASTENER, load_fastener_type
+from insrail.track.adjustment import (
+    DEFAULT_FASTENER,
+    DEFAULT_STRATEGY,
+    STRATEGIES,
+    load_fastener_type,
+)
 from insrail.track.chainage import WITH_TRAVEL
 from insrail.track.parameters import LineSpeed
 from insrail.track.sleepers import SleeperAnchor
@@ -73,7 +80,7 @@ HEIGHT_MODELS = ("auto", "constant", "plane", "quadratic")
 FUSION_FLAGS = ("use_gnss_velocity", "use_odometer", "use_nhc", "use_zupt", "smoother")
 FUSION_NUMBERS = ("update_rate_hz", "gnss_sigma_scale", "gnss_sigma_floor_m", "gnss_correlated_tau_s",
                   "odometer_sigma_mps", "nhc_sigma_mps", "zupt_sigma_mps", "min_static_s")
-_TOP_LEVEL = ("project", "geodesy", "trolley", "processing", "track", "surveys", "sections", "report")
+_TOP_LEVEL = ("project", "geodesy", "trolley", "processing", "track", "adjustment", "surveys", "sections", "report")
 #: How a line section joins its runs where they overlap (insrail.project.section).
 OVERLAP_RULES = ("best", "mean")
 #: Paper sizes of the workbook's printout (landscape).
@@ -147,6 +154,19 @@ class ReportSettings:
 
 
 _REPORT_DATES = ("trolley_calibrated", "imu_calibrated")
+
+
+@dataclass(frozen=True)
+class AdjustmentSettings:
+    """The ``[adjustment]`` table: how the optimisation shares the movement between the rails
+    (:data:`insrail.track.adjustment.STRATEGIES`)."""
+
+    strategy: str = DEFAULT_STRATEGY
+
+    def to_settings(self) -> dict[str, Any]:
+        """The non-default entries (an untouched project writes no [adjustment] table)."""
+        default = AdjustmentSettings()
+        return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) != getattr(default, f.name)}
 _REPORT_TEXTS = tuple(f.name for f in fields(ReportSettings) if f.name not in _REPORT_DATES + ("paper",))
 
 
@@ -171,6 +191,7 @@ class Project:
     fastener: str = DEFAULT_FASTENER
     control_points: tuple[ControlPoint, ...] = ()
     report: ReportSettings = field(default_factory=ReportSettings)
+    adjustment: AdjustmentSettings = field(default_factory=AdjustmentSettings)
     local_control: LocalControl | None = None
     sections: tuple[SectionEntry, ...] = ()
     line_speeds: tuple[LineSpeed, ...] = ()  # one range from -inf to inf: a single line speed
@@ -253,6 +274,8 @@ class Project:
             document["trolley"] = self.trolley_settings
         document["processing"] = processing
         document["track"] = track
+        if self.adjustment.to_settings():
+            document["adjustment"] = self.adjustment.to_settings()
         document["surveys"] = [{"name": s.name, "folder": s.folder} for s in self.surveys]
         if self.sections:
             document["sections"] = [s.to_settings() for s in self.sections]
@@ -359,6 +382,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     surveys = _surveys(reader, document.get("surveys"))
     sections = _sections(reader, document.get("sections", []), surveys)
     report = _report(reader, reader.table(document, "report"))
+    adjustment = _adjustment(reader, reader.table(document, "adjustment"))
     reader.raise_if_any(path or Path(folder) / PROJECT_FILE)
     return Project(
         folder=Path(folder), name=name, description=description, crs=crs, height=height, surveys=surveys,
@@ -367,7 +391,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
         sleeper_anchor=anchor,
         first_sleeper_number=first_number,
         tolerance_profile=tolerance, fastener=fastener, control_points=control_points, report=report,
-        line_speeds=line_speeds, local_control=local_control, sections=sections,
+        line_speeds=line_speeds, local_control=local_control, sections=sections, adjustment=adjustment,
     )
 
 
@@ -418,6 +442,15 @@ def _sections(reader: _Reader, table, surveys: tuple[SurveyEntry, ...]) -> tuple
         if ok:
             entries.append(SectionEntry(name, tuple(runs), bounds.get("from_m"), bounds.get("to_m"), overlap))
     return tuple(entries)
+
+
+def _adjustment(reader: _Reader, table: dict) -> AdjustmentSettings:
+    reader.known(table, "adjustment", tuple(f.name for f in fields(AdjustmentSettings)))
+    strategy = table.get("strategy", DEFAULT_STRATEGY)
+    if strategy not in STRATEGIES:
+        reader.add("adjustment.strategy", f"expected {' or '.join(repr(s) for s in STRATEGIES)}, found {strategy!r}")
+        strategy = DEFAULT_STRATEGY
+    return AdjustmentSettings(strategy=strategy)
 
 
 def _report(reader: _Reader, table: dict) -> ReportSettings:

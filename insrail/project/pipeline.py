@@ -135,7 +135,6 @@ from insrail.quality.survey import (
     sections_along,
 )
 from insrail.track.adjustment import (
-    DEFAULT_STRATEGY,
     Adjustment,
     load_fastener_type,
     optimise_amounts,
@@ -443,7 +442,8 @@ def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress,
     when the geometry, the checks the optimisation holds, the fastener and the strategy are those
     of an earlier run."""
     fastener = load_fastener_type(project.resource(project.fastener))
-    digest = hashlib.sha256(json.dumps({"version": CACHE_VERSION, "fastener": repr(fastener),
+    strategy = project.adjustment.strategy
+    digest = hashlib.sha256(json.dumps({"version": CACHE_VERSION, "fastener": repr(fastener), "strategy": strategy,
                                         "programme": programme_settings(profile)}).encode())
     for values in (geometry.lateral_deviation_m, geometry.vertical_deviation_m, geometry.gauge_m, geometry.cant_m,
                    geometry.design_cant_m, geometry.station_m):
@@ -453,7 +453,7 @@ def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress,
     if cached is not None:
         lateral, vertical = cached.lateral_m, cached.vertical_m
     else:
-        lateral, vertical = optimise_amounts(geometry, profile, fastener, progress=progress, cancel=cancel)
+        lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=progress, cancel=cancel)
     after, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
     if cached is None:
         save_dataclass(path, adjustment)
@@ -645,7 +645,7 @@ def _summary(project, name, manifest, fusion_info, track_cached, height_fit, hei
                   "station_to_m": float(table.station_m[-1]) if len(table) else 0.0},
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),
                        "by_check": counts},
-        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, DEFAULT_STRATEGY),
+        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, project.adjustment.strategy),
         "files": {"trajectory": TRAJECTORY_FILE, "sleepers": SLEEPERS_FILE, "exceedances": EXCEEDANCES_FILE},
     }
     return summary

@@ -319,7 +319,8 @@ def join_section(project: Project, name: str, progress: ProgressFn | None = None
     check_cancel(cancel)
     step(0.6, "adjustment amounts")
     fastener = load_fastener_type(project.resource(project.fastener))
-    adjustment = optimise_adjustment(geometry, profile, fastener, progress=step.sub(0.6, 0.95), cancel=cancel)
+    adjustment = optimise_adjustment(geometry, profile, fastener, progress=step.sub(0.6, 0.95), cancel=cancel,
+                                     strategy=project.adjustment.strategy)
     columns = {k: (v, _format(k)) for k, v in c.items()}
     columns |= sleeper_check_columns(assessment, adjustment)
     columns |= {f"source_{run}": (table.weights[run], "%.6f") for run in names}

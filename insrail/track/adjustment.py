@@ -55,7 +55,7 @@ from insrail.track.tolerance import SettingsFileError, ToleranceProfile, read_nu
 
 DIRECTIONS = ("lateral", "vertical")
 DEFAULT_FASTENER = "wj8"
-#: How the optimisation shares the movement between the rails (project setting ``[track] adjustment_strategy``).
+#: How the optimisation shares the movement between the rails (project setting ``[adjustment] strategy``).
 STRATEGIES = {
     "least_movement": "least total movement of both rails",
     "guiding_rail_first": "move the guiding rail for line and the low rail for level; the other rail follows "
