@@ -124,6 +124,9 @@ def test_the_conclusion_summarises_the_adjustment(project, conclusion):
     unresolved = results.summary["adjustment"]["unresolved_sleepers"]  # the re-assessment's honest count
     assert ("every check met after adjustment" if unresolved == 0 else
             f"{unresolved} sleepers where the checks still fail after adjustment") in page
+    after = results.summary["adjustment"]["after"]  # the re-assessment per channel, in one sentence
+    assert f"After adjustment: {after['exceedances']} exceedances (before " in page
+    assert f"{after['new_exceedances']} where the track passed before" in page
 
 
 def test_without_report_settings_the_blanks_say_so_and_the_imu_model_is_named(project, tmp_path):

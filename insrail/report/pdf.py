@@ -76,6 +76,7 @@ from insrail.report.content import (
     SEVERITIES,
     SEVERITY_RULE,
     ReportContent,
+    after_adjustment_text,
     check_description,
     exceedance_check,
     exceedance_display,
@@ -413,7 +414,8 @@ def _adjustment_conclusion(content: ReportContent) -> str:
             f"vertical {_fmt(adjustment.get('max_vertical_mm'), 1, 'mm')}; total movement "
             f"{_fmt(adjustment.get('total_movement_mm'), 0, 'mm')}; "
             + (f"<b>{unresolved} sleepers where the checks still fail after adjustment</b>." if unresolved
-               else "every check met after adjustment."))
+               else "every check met after adjustment.")
+            + (f" {escape(after)}." if (after := after_adjustment_text(content.summary)) else ""))
 
 
 SIGN_OFF_STYLE = TableStyle([
