@@ -117,11 +117,18 @@ def test_the_joined_table_is_each_runs_outside_the_overlap_and_numbered_continuo
     assert "check_long_wave_300m_150m_left_lateral_mm" not in overlap["parameters"]
     assert not [n for n in summary["notices"] if n["stage"] == "section"]
     assert {"run1: a notice", "run2: a notice"} <= {n["message"] for n in summary["notices"]}
+    # the joined table's adjustment re-assessed as a survey's is
+    adjustment = summary["adjustment"]
+    assert adjustment["strategy"] == "least_movement" and adjustment["sleepers_to_work_on"] > 0
+    assert adjustment["after"]["by_check_before"] == summary["assessment"]["by_check"]
+    assert adjustment["after"]["new_exceedances"] == 0 and adjustment["after"]["exceedances"] < sum(
+        summary["assessment"]["by_check"].values())
     # one workbook and one PDF, the PDF with the section page
     pdf = project.folder / "reports" / "track_geometry_km1.pdf"
     assert pdf.is_file() and (project.folder / "reports" / "track_geometry_km1.xlsx").is_file()
     text = subprocess.run(["pdftotext", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
     assert "Line section: joined runs" in text and "Overlap run2 - run1" in text
+    assert "After adjustment: " in " ".join(text.split())
     # the exports take the section like a survey
     assert main(["export", str(project.folder), "--section", "km1", "--format", "lift-lining",
                  "--out", str(project.folder / "km1.csv")]) == 0

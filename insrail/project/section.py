@@ -54,6 +54,7 @@ from insrail.project.results import (
     SUMMARY_FILE,
     StoredQuality,
     StoredResults,
+    adjustment_section,
     columns_csv,
     exceedances_csv,
     load_results,
@@ -61,7 +62,7 @@ from insrail.project.results import (
     track_quality_section,
     write_results,
 )
-from insrail.track.adjustment import load_fastener_type, optimise_adjustment
+from insrail.track.adjustment import load_fastener_type, optimise_amounts, reassess
 from insrail.track.exceedance import SleeperGeometry, assess
 from insrail.track.repeatability import repeatability
 from insrail.track.tolerance import load_tolerance_profile
@@ -319,8 +320,10 @@ def join_section(project: Project, name: str, progress: ProgressFn | None = None
     check_cancel(cancel)
     step(0.6, "adjustment amounts")
     fastener = load_fastener_type(project.resource(project.fastener))
-    adjustment = optimise_adjustment(geometry, profile, fastener, progress=step.sub(0.6, 0.95), cancel=cancel,
-                                     strategy=project.adjustment.strategy)
+    strategy = project.adjustment.strategy
+    lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=step.sub(0.6, 0.95),
+                                         cancel=cancel)
+    after_adjustment, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
     columns = {k: (v, _format(k)) for k, v in c.items()}
     columns |= sleeper_check_columns(assessment, adjustment)
     columns |= {f"source_{run}": (table.weights[run], "%.6f") for run in names}
@@ -354,11 +357,7 @@ def join_section(project: Project, name: str, progress: ProgressFn | None = None
                   **({"parameters": first["track"]["parameters"]} if "parameters" in first.get("track", {}) else {})},
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),
                        "by_check": counts},
-        "adjustment": {"fastener": adjustment.fastener, "total_movement_mm": 1e3 * adjustment.total_movement_m,
-                       "max_lateral_mm": 1e3 * float(np.abs(adjustment.lateral_m).max(initial=0.0)),
-                       "max_vertical_mm": 1e3 * float(np.abs(adjustment.vertical_m).max(initial=0.0)),
-                       "unresolved_sleepers": int(np.any(adjustment.unresolved_lateral | adjustment.unresolved_vertical,
-                                                         axis=1).sum())},
+        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, strategy),
         "track_quality": track_quality_section(geometry),
         "notices": [n.to_dict() for n in notices],
         "files": {"sleepers": SLEEPERS_FILE, "exceedances": EXCEEDANCES_FILE, "quality": QUALITY_FILE},
