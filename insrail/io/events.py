@@ -105,11 +105,65 @@ def read_events(path: str | Path) -> EventList:
     return EventList(tuple(events), str(path))
 
 
+#: Kinds that cover a stretch of track (``to`` beyond ``from``); the others may be a point.
+EXTENT_KINDS = ("turnout", "level_crossing", "bridge", "no_assess")
+
+
+def _row(e: Event) -> str:
+    end = "" if e.end == e.start and e.kind in ("joint", "note") else repr(e.end)
+    return ", ".join([e.kind, repr(e.start), end, e.unit, e.profile, e.text])
+
+
 def write_events(path: str | Path, events: EventList) -> None:
     """Write ``events`` in the format :func:`read_events` reads (atomically)."""
-    rows = ["# insrail events", ", ".join(HEADER)]
-    for e in events.events:
-        end = "" if e.end == e.start and e.kind in ("joint", "note") else repr(e.end)
-        rows.append(", ".join([e.kind, repr(e.start), end, e.unit, e.profile, e.text]))
+    rows = ["# insrail events", ", ".join(HEADER)] + [_row(e) for e in events.events]
     with atomic_write(Path(path)) as handle:
         handle.write("\n".join(rows) + "\n")
+
+
+def event_problems(event: Event) -> dict[str, str]:
+    """What is wrong with ``event`` before it is written, by field (``kind``, ``from``, ``to``, ``unit``,
+    ``profile``, ``text``); {} when :func:`read_events` will read it back as it is."""
+    problems: dict[str, str] = {}
+    if event.kind not in EVENT_KINDS:
+        problems["kind"] = f"expected one of {', '.join(EVENT_KINDS)}, found {event.kind!r}"
+    if event.unit not in UNITS:
+        problems["unit"] = f"expected one of {', '.join(UNITS)}, found {event.unit!r}"
+    for name, value in (("from", event.start), ("to", event.end)):
+        if not math.isfinite(value):
+            problems[name] = f"expected a finite number, found {value!r}"
+    if "from" not in problems and "to" not in problems:
+        if event.end < event.start:
+            problems["to"] = f"{event.end:g} is before from ({event.start:g}): give the smaller value first"
+        elif event.end == event.start and event.kind in EXTENT_KINDS:
+            problems["to"] = "a stretch of track: to must be beyond from"
+    if event.profile and event.kind != "turnout":
+        problems["profile"] = f"only a turnout is assessed with a profile of its own, not a {event.kind}"
+    for name, value in (("profile", event.profile), ("text", event.text)):
+        if "\n" in value or "\r" in value:
+            problems[name] = "one line only: a line break would end the event"
+    if "," in event.profile:
+        problems["profile"] = "a profile name holds no comma"
+    if event.text.lstrip().startswith("#"):
+        problems["text"] = "may not start with # (it would make the line a comment)"
+    return problems
+
+
+def append_event(path: str | Path, event: Event) -> EventList:
+    """Add ``event`` at the end of the event file ``path`` (created with a header when it does not
+    exist), keeping every line already there (comments too); written atomically. The file must read
+    as it is first; ValueError (naming the fields) for an event :func:`event_problems` refuses.
+    Returns the events as read back."""
+    path = Path(path)
+    problems = event_problems(event)
+    if problems:
+        raise ValueError("; ".join(f"{name}: {message}" for name, message in problems.items()))
+    if path.exists():
+        read_events(path)  # a broken file is reported, never extended
+        text = path.read_text(encoding="utf-8")
+        text = text if not text or text.endswith("\n") else text + "\n"
+    else:
+        text = "# insrail events\n" + ", ".join(HEADER) + "\n"
+    with atomic_write(path) as handle:
+        handle.write(text + _row(event) + "\n")
+    return read_events(path)
