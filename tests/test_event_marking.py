@@ -10,7 +10,11 @@ import pytest
 from insrail.io.errors import InputError
 from insrail.io.events import Event, append_event, event_problems, read_events
 from insrail.project import load_project, save_project
-from insrail.project.event_marking import DEFAULT_EVENTS_FILE, mark_event, results_older_than_events
+from insrail.project.event_marking import (
+    DEFAULT_EVENTS_FILE,
+    mark_event,
+    results_older_than_events,
+)
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
 from tests.test_project_model import make_folder, sample_project
 

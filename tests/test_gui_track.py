@@ -8,11 +8,17 @@ import pytest
 pytest.importorskip("pytestqt")
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QWheelEvent
+from PySide6.QtWidgets import QDialog, QDialogButtonBox
 
+from insrail.gui.event_dialog import EventDialog
 from insrail.gui.views.track import MIN_PLOT_HEIGHT, PAN_MARGIN_M, TrackView
+from insrail.io.events import read_events
+from insrail.project import load_project, save_project
+from insrail.project.event_marking import DEFAULT_EVENTS_FILE
 from insrail.project.plotdata import chainage_plots
 from insrail.project.results import ExceedanceRow
 from insrail.track.tolerance import load_tolerance_profile
+from tests.test_project_model import make_folder, sample_project
 
 SLEEPERS = 800
 
@@ -141,6 +147,42 @@ def test_measuring_tool_gives_chainage_and_value_differences(view):
     assert all(line.isVisible() for line in lines) and lines[1].value() == view._station[b]
     view.measure_button.setChecked(False)
     assert not any(line.isVisible() for line in lines)
+
+
+def test_a_measured_span_is_marked_as_a_turnout_in_the_project_event_file(view, qtbot, tmp_path):
+    view.measure_button.setChecked(True)
+    view.measure("lateral_deviation", 1112.6)
+    assert not view.mark_event_button.isVisible()  # one point is no span
+    view.measure("lateral_deviation", 1100.1)  # the second point before the first: the span is sorted
+    assert view.mark_event_button.isVisible()
+    low, high = (float(view._station[int(np.argmin(np.abs(view._station - s)))]) for s in (1100.1, 1112.6))
+    with qtbot.waitSignal(view.markEventRequested) as requested:
+        qtbot.mouseClick(view.mark_event_button, Qt.LeftButton)
+    assert requested.args == [low, high]
+
+    project = sample_project(make_folder(tmp_path))
+    save_project(project)
+    dialog = EventDialog(project, *requested.args)
+    qtbot.addWidget(dialog)
+    kinds = [dialog.kind.itemText(k) for k in range(dialog.kind.count())]
+    assert "Level crossing" in kinds and not any("_" in kind for kind in kinds)  # display names, no ids
+    assert (float(dialog.start.text()), float(dialog.end.text())) == pytest.approx((low, high), abs=1e-3)
+    dialog.set_kind("turnout")
+    mark = dialog.buttons.button(QDialogButtonBox.Ok)
+    dialog.end.setText("1090")  # before from: said beside the field, Mark disabled
+    assert not mark.isEnabled() and dialog.problems["to"].isVisibleTo(dialog)
+    assert "before from" in dialog.problems["to"].text()
+    dialog.end.setText("12o0")
+    assert not mark.isEnabled() and "station in metres" in dialog.problems["to"].text()
+    dialog.end.setText(f"{high + 20.0:.3f}")  # the turnout's extent, edited
+    dialog.text.setText("W12 No. 18, right-hand")
+    assert mark.isEnabled() and not dialog.problems["to"].isVisibleTo(dialog)
+    qtbot.mouseClick(mark, Qt.LeftButton)
+    assert dialog.result() == QDialog.Accepted
+    assert load_project(tmp_path).events == DEFAULT_EVENTS_FILE  # the project names its new event file
+    [event] = read_events(tmp_path / DEFAULT_EVENTS_FILE).events
+    assert (event.kind, event.unit, event.text) == ("turnout", "station_m", "W12 No. 18, right-hand")
+    assert (event.start, event.end) == pytest.approx((low, high + 20.0), abs=1e-3)
 
 
 def test_the_same_survey_again_keeps_window_and_plots(view):

@@ -89,3 +89,28 @@ class StaleReportsBanner(Banner):
                              f"{'it describes' if one else 'they describe'} results that no longer exist.")
         self.rewrite_button.setText(f"Write {'it' if one else 'them'} again")
         self.show()
+
+
+class ResultsOlderThanEventsBanner(Banner):
+    """"Survey X was processed before the event file changed" with Process
+    (:func:`insrail.project.event_marking.results_older_than_events` decides); hidden otherwise."""
+
+    processRequested = Signal(str)
+
+    def __init__(self, parent=None):
+        super().__init__("results_older_than_events", "#FFF8E1", parent)
+        self.process_button = self.button
+        self.process_button.clicked.connect(lambda: self.processRequested.emit(self.survey))
+        self.survey = ""
+        self.hide()
+
+    def show_older(self, survey: str | None, events_file: str = "") -> None:
+        """The survey shown, when its results are older than ``events_file`` (None: the banner goes)."""
+        self.survey = survey or ""
+        if not survey:
+            self.hide()
+            return
+        self.message.setText(f"⚠ Survey {survey} was processed before its events ({events_file}) changed: its "
+                             "results, plots and exceedances do not show them yet. Process it again.")
+        self.process_button.setText(f"Process {survey}")
+        self.show()

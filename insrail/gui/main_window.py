@@ -23,7 +23,12 @@ from PySide6.QtWidgets import (
 
 from insrail import __version__
 from insrail.gui import export_files, plotstyle
-from insrail.gui.empty import EmptyState, StaleReportsBanner
+from insrail.gui.empty import (
+    EmptyState,
+    ResultsOlderThanEventsBanner,
+    StaleReportsBanner,
+)
+from insrail.gui.event_dialog import EventDialog
 from insrail.gui.explorer import ProjectExplorer, PropertiesPanel
 from insrail.gui.export_files import make_export_actions
 from insrail.gui.importer import ImportDialog
@@ -51,12 +56,14 @@ from insrail.project import (
     load_project,
     save_project,
 )
+from insrail.project.event_marking import results_older_than_events
 from insrail.project.gnss_stage import GnssStageResult, run_gnss_stage
 from insrail.project.model import project_from_settings
 from insrail.project.pipeline import CACHE_FOLDER
 from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
 from insrail.report.stale import stale_reports
+from insrail.track.events import KIND_NAMES
 
 PROGRESS_STEPS = 1000
 
@@ -99,12 +106,16 @@ class MainWindow(QMainWindow):
         self.empty_state.processRequested.connect(lambda name: self.process([name]))
         self.stale_banner = StaleReportsBanner()
         self.stale_banner.rewriteRequested.connect(lambda: self.rewrite_reports())
+        self.events_banner = ResultsOlderThanEventsBanner()
+        self.events_banner.processRequested.connect(lambda name: self.process([name]))
+        self.track.markEventRequested.connect(self.mark_event)
         central = QWidget()
         central_layout = QVBoxLayout(central)
         central_layout.setContentsMargins(0, 0, 0, 0)
         central_layout.setSpacing(0)
         central_layout.addWidget(self.empty_state)
         central_layout.addWidget(self.stale_banner)
+        central_layout.addWidget(self.events_banner)
         central_layout.addWidget(self.tabs, 1)
         self.setCentralWidget(central)
 
@@ -595,6 +606,24 @@ class MainWindow(QMainWindow):
         survey = self.shown_survey
         stale = stale_reports(self.project.folder, survey) if self.project is not None and survey else []
         self.stale_banner.show_stale(survey, [path.name for path in stale])
+        older = self.project is not None and bool(survey) and results_older_than_events(self.project, survey)
+        self.events_banner.show_older(survey if older else None, self.project.events if older else "")
+
+    def mark_event(self, from_m: float, to_m: float) -> EventDialog | None:
+        """The track view's measured span as a track event of the project (the dialog asks what it is)."""
+        if self.project is None:
+            return None
+        dialog = EventDialog(self.project, from_m, to_m, self)
+        dialog.accepted.connect(lambda: self._event_marked(dialog))
+        dialog.open()
+        return dialog
+
+    def _event_marked(self, dialog: EventDialog) -> None:
+        self.project = dialog.project
+        event = dialog.events.events[-1]
+        self.log.info(f"{KIND_NAMES[event.kind]} {event.start:.3f}–{event.end:.3f} m marked in "
+                      f"{self.project.resolve(self.project.events).resolve()}; processing again assesses with it")
+        self._show_stale_reports()
 
     def _exported(self, path: Path) -> None:
         self.exported = path

@@ -11,7 +11,6 @@ again places the new event.
 from __future__ import annotations
 
 from dataclasses import replace
-from pathlib import Path
 
 from insrail.io.events import Event, EventList, append_event
 from insrail.project.model import Project, load_project, save_project

@@ -1,7 +1,8 @@
 """Track view: plots stacked along chainage on one shared x axis (a scrollable stack: each plot
 keeps a readable height), a crosshair read-out of every value at the sleeper under the cursor
 with the rail and direction of each, a go-to field (sleeper number, K-chainage or station), a
-two-point measuring tool, and the exceedance table (a click zooms every plot there).
+two-point measuring tool (its span can be marked as a track event: turnout, level crossing, ...),
+and the exceedance table (a click zooms every plot there).
 
 Navigation: the wheel zooms along chainage only (the y axes fit what is visible), dragging pans
 along chainage, and neither can leave the surveyed chainage."""
@@ -247,6 +248,7 @@ class TrackView(DrawWhenShown, QWidget):
     """The chainage plots, their read-out line and the exceedance table under them."""
 
     exceedanceSelected = Signal(int, int)  # first and last sleeper number of the exceedance shown
+    markEventRequested = Signal(float, float)  # the measured span's stations [m], smaller first
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -271,6 +273,12 @@ class TrackView(DrawWhenShown, QWidget):
         self.measure_label.setWordWrap(True)
         self.measure_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
         self.measure_label.hide()
+        self.mark_event_button = QToolButton(text="Mark as track event…")
+        self.mark_event_button.setToolTip("Mark the span between the two measured points as a turnout, level "
+                                          "crossing, bridge, joint, stretch not to assess or note in the "
+                                          "project's event file")
+        self.mark_event_button.clicked.connect(self.request_mark_event)
+        self.mark_event_button.hide()
         self.choose_plots = QToolButton(text="Plots")
         self.choose_plots.setPopupMode(QToolButton.InstantPopup)
         self.choose_plots.setMenu(QMenu(self.choose_plots))
@@ -292,7 +300,7 @@ class TrackView(DrawWhenShown, QWidget):
 
         top = QHBoxLayout()
         top.addWidget(self.readout, 1)
-        for tool in (self.goto, self.measure_button, self.choose_plots):
+        for tool in (self.goto, self.measure_button, self.mark_event_button, self.choose_plots):
             top.addWidget(tool, 0, Qt.AlignTop)
         self.scroll = QScrollArea()
         self.scroll.setWidgetResizable(True)
@@ -348,6 +356,7 @@ class TrackView(DrawWhenShown, QWidget):
         self._visible = {p.key for p in plots if p.kind not in HIDDEN_KINDS or p.key in failing}
         self._measured = []
         self.measure_label.clear()
+        self.mark_event_button.hide()
         self._pending_range = None
         self._fill_plots_menu()
         self.request_draw(now=not len(self._station))
@@ -468,6 +477,7 @@ class TrackView(DrawWhenShown, QWidget):
     def _measure_toggled(self, on: bool) -> None:
         self._measured = []
         self.plots.mark_measure([])
+        self.mark_event_button.hide()
         self.measure_label.setVisible(on)
         self.measure_label.setText("Measuring: click the first point in a plot." if on else "")
 
@@ -484,6 +494,7 @@ class TrackView(DrawWhenShown, QWidget):
             self._measured = []
         self._measured.append((key, float(self._station[nearest_sleeper(self._station, station)])))
         self.plots.mark_measure([s for _, s in self._measured])
+        self.mark_event_button.setVisible(len(self._measured) == 2)
         if len(self._measured) == 1:
             self.measure_label.setText("Measuring: click the second point.")
             return
@@ -496,3 +507,15 @@ class TrackView(DrawWhenShown, QWidget):
         self.measure_label.setText(
             f"Δ chainage <b>{b - a:+.3f} m</b> (sleeper {self._numbers[first]} {self._labels[first]} → "
             f"{self._numbers[second]} {self._labels[second]}) &nbsp;|&nbsp; <b>{spec.title}</b>: {deltas} {spec.unit}")
+
+    def measured_span(self) -> tuple[float, float] | None:
+        """The stations of the measuring tool's two points, smaller first; None before two are set."""
+        if len(self._measured) != 2:
+            return None
+        low, high = sorted(station for _, station in self._measured)
+        return low, high
+
+    def request_mark_event(self) -> None:
+        span = self.measured_span()
+        if span is not None:
+            self.markEventRequested.emit(*span)
