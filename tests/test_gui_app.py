@@ -17,12 +17,14 @@ import pytest
 pytest.importorskip("pytestqt")
 from PySide6.QtCore import QSettings, Qt, QUrl
 from PySide6.QtGui import QDesktopServices
-from PySide6.QtWidgets import QFileDialog, QMessageBox, QWizard
+from PySide6.QtWidgets import QDialogButtonBox, QFileDialog, QMessageBox, QWizard
 
 from insrail.gui.bands import EnvelopeLine
+from insrail.gui.event_dialog import EventDialog
 from insrail.gui.importer import ImportWidget
 from insrail.gui.main_window import MainWindow
 from insrail.gui.settings import recent_projects
+from insrail.io.events import read_events
 from insrail.io.survey import read_manifest
 from insrail.project import load_project, process
 from insrail.project.demo import project_for_simulated_survey
@@ -415,6 +417,47 @@ def processed_copy(demo_project, root):
     shutil.copy(demo_project / "project.toml", root / "project.toml")
     link_tree(demo_project / "results" / "short", root / "results" / "short")
     return root
+
+
+def test_a_turnout_marked_on_the_track_plot_is_placed_and_assessed_after_processing_again(window, qtbot, demo_project,
+                                                                                           tmp_path):
+    root = processed_copy(demo_project, tmp_path / "copy")
+    link_tree(demo_project / "results" / ".cache", root / "results" / ".cache")  # only the assessment reruns
+    assert window.open_project(root)
+    wait_views(window, qtbot)
+    window.tabs.setCurrentWidget(window.track)
+    track = window.track
+    assert window.project.events is None and not track._events and window.events_banner.isHidden()
+    track.measure_button.setChecked(True)
+    station = track._station
+    low, high = float(station[100]), float(station[180])
+    for point in (high, low):
+        track.measure(track._specs[0].key, point)
+    track.mark_event_button.click()
+    dialog = window.findChild(EventDialog)
+    assert dialog.isVisible() and float(dialog.start.text()) == pytest.approx(low, abs=1e-3)
+    dialog.set_kind("turnout")
+    dialog.text.setText("W12")
+    dialog.buttons.button(QDialogButtonBox.Ok).click()
+    assert read_project_events(root) == [("turnout", pytest.approx(low, abs=1e-3), pytest.approx(high, abs=1e-3), "W12")]
+    assert tomllib.loads((root / "project.toml").read_text())["track"]["events"] == "events.txt"
+    # The results are now older than their events: said over the views, with Process.
+    assert window.events_banner.isVisible() and "short" in window.events_banner.message.text()
+    assert track._events == ()  # nothing drawn that processing has not placed
+
+    window.events_banner.process_button.click()
+    qtbot.waitUntil(lambda: window.worker is None, timeout=600_000)
+    wait_views(window, qtbot)
+    assert window.events_banner.isHidden()
+    [span] = window.track._events
+    assert span.name == "turnout W12" and span.not_assessed
+    assert (span.station_from_m, span.station_to_m) == pytest.approx((low, high), abs=1e-3)
+    summary = tomllib.loads((root / "results" / "short" / "summary.toml").read_text())
+    assert summary["assessment"]["not_assessed_sleepers"] > 0
+
+
+def read_project_events(root):
+    return [(e.kind, e.start, e.end, e.text) for e in read_events(root / "events.txt").events]
 
 
 def test_export_both_reports_and_open_their_folder(window, qtbot, demo_project, tmp_path, monkeypatch):
