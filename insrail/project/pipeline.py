@@ -357,11 +357,13 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
             progress=progress.sub(0.05, 0.87), cancel=cancel, trajectory_file=path)
         check_cancel(cancel)
         if not result.integrity.trusted:
-            path.unlink(missing_ok=True)
             raise UntrustedSolution(result.integrity.failure())
         # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
         quality = epoch_quality(survey, result, options, profile, ellipsoid_of(project),
                                 covariance_store=store, progress=progress.sub(0.87, 1.0), cancel=cancel)
+    except BaseException:  # untrusted, cancelled or failed once the streamed trajectory is complete: no unsealed entry left
+        path.unlink(missing_ok=True)
+        raise
     finally:
         if store is not None:
             store.close()
