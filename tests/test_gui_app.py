@@ -429,10 +429,19 @@ def test_a_turnout_marked_on_the_track_plot_is_placed_and_assessed_after_process
     track = window.track
     assert window.project.events is None and not track._events and window.events_banner.isHidden()
     track.measure_button.setChecked(True)
-    station = track._station
-    low, high = float(station[100]), float(station[180])
+
+    def inside(rows):
+        return [e for e in rows if low <= min(e.station_from_m, e.station_to_m)
+                and max(e.station_from_m, e.station_to_m) <= high]
+
+    first = track._rows[0]  # a turnout over an exceedance: not assessed there once processed again
+    low = min(first.station_from_m, first.station_to_m) - 3.0
+    high = max(first.station_from_m, first.station_to_m) + 3.0
+    assert inside(track._rows)
     for point in (high, low):
         track.measure(track._specs[0].key, point)
+    low, high = track.measured_span()  # the sleepers nearest to the clicks
+    editor = window.edit_settings()  # open on the settings as they were: saving it must keep the new file
     track.mark_event_button.click()
     dialog = window.findChild(EventDialog)
     assert dialog.isVisible() and float(dialog.start.text()) == pytest.approx(low, abs=1e-3)
@@ -444,6 +453,7 @@ def test_a_turnout_marked_on_the_track_plot_is_placed_and_assessed_after_process
     # The results are now older than their events: said over the views, with Process.
     assert window.events_banner.isVisible() and "short" in window.events_banner.message.text()
     assert track._events == ()  # nothing drawn that processing has not placed
+    assert editor.document["track"]["events"] == "events.txt" and not editor.save_button.isEnabled()
 
     window.events_banner.process_button.click()
     qtbot.waitUntil(lambda: window.worker is None, timeout=600_000)
@@ -454,6 +464,7 @@ def test_a_turnout_marked_on_the_track_plot_is_placed_and_assessed_after_process
     assert (span.station_from_m, span.station_to_m) == pytest.approx((low, high), abs=1e-3)
     summary = tomllib.loads((root / "results" / "short" / "summary.toml").read_text())
     assert summary["assessment"]["not_assessed_sleepers"] > 0
+    assert window.track._rows and not inside(window.track._rows)
 
 
 def read_project_events(root):

@@ -620,6 +620,8 @@ class MainWindow(QMainWindow):
 
     def _event_marked(self, dialog: EventDialog) -> None:
         self.project = dialog.project
+        if self.settings_editor is not None:
+            self.settings_editor.adopt_saved("track.events", self.project.events)
         event = dialog.events.events[-1]
         self.log.info(f"{KIND_NAMES[event.kind]} {event.start:.3f}–{event.end:.3f} m marked in "
                       f"{self.project.resolve(self.project.events).resolve()}; processing again assesses with it")

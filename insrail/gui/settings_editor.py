@@ -368,6 +368,12 @@ class SettingsEditor(QDialog):
             self._applying = False
         self.check()
 
+    def adopt_saved(self, key: str, value) -> None:
+        """A setting written to project.toml outside the editor (the track view's event marking names
+        the new event file): taken as saved, so that saving the editor keeps it."""
+        set_value(self.original, key, copy.deepcopy(value))
+        self.apply(key, value)
+
     def set_field(self, key: str, value) -> None:
         """Edit one field as a surveyor would (tests and scripts): the widget changes, the edit is an
         undoable step."""
