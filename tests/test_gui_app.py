@@ -454,14 +454,26 @@ def test_a_turnout_marked_on_the_track_plot_is_placed_and_assessed_after_process
     assert window.events_banner.isVisible() and "short" in window.events_banner.message.text()
     assert track._events == ()  # nothing drawn that processing has not placed
     assert editor.document["track"]["events"] == "events.txt" and not editor.save_button.isEnabled()
+    # A level crossing further on: appended to the file the project now names.
+    crossing = [float(track._station[-200]), float(track._station[-180])]
+    for point in crossing:
+        track.measure(track._specs[0].key, point)
+    track.mark_event_button.click()
+    dialog = [d for d in window.findChildren(EventDialog) if d.isVisible()][-1]
+    dialog.set_kind("level_crossing")
+    dialog.text.setText("LC 3")
+    dialog.buttons.button(QDialogButtonBox.Ok).click()
+    assert [e[0] for e in read_project_events(root)] == ["turnout", "level_crossing"]
 
     window.events_banner.process_button.click()
     qtbot.waitUntil(lambda: window.worker is None, timeout=600_000)
     wait_views(window, qtbot)
     assert window.events_banner.isHidden()
-    [span] = window.track._events
+    span, level_crossing = sorted(window.track._events, key=lambda e: e.station_from_m)
     assert span.name == "turnout W12" and span.not_assessed
     assert (span.station_from_m, span.station_to_m) == pytest.approx((low, high), abs=1e-3)
+    assert level_crossing.name == "level crossing LC 3" and level_crossing.not_assessed
+    assert (level_crossing.station_from_m, level_crossing.station_to_m) == pytest.approx(crossing, abs=1e-3)
     summary = tomllib.loads((root / "results" / "short" / "summary.toml").read_text())
     assert summary["assessment"]["not_assessed_sleepers"] > 0
     assert window.track._rows and not inside(window.track._rows)
