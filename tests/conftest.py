@@ -14,27 +14,33 @@ if os.environ.get("CI"):
 # Test helpers (reference implementations) live beside the tests.
 sys.path.insert(0, str(Path(__file__).parent))
 
+import shared_build  # noqa: E402 (a test helper beside the tests)
 
-@pytest.fixture(scope="session")
-def short_perfect_survey(tmp_path_factory):
-    """The `short` scenario with an error-free IMU, simulated once per session."""
-    from insrail.sim.scenario import preset
-    from insrail.sim.simulate import simulate
 
-    out = tmp_path_factory.mktemp("sim") / "short-perfect"
-    simulate(preset("short", imu_profile="perfect"), seed=7, out_dir=out)
-    return out
+@pytest.fixture(scope="session", autouse=True)
+def _shared_run_folder(tmp_path_factory):
+    """Where inputs made once per run for every xdist worker are kept (`shared_build`)."""
+    shared_build.RUN_FOLDER = shared_build.run_folder(tmp_path_factory)
 
 
 @pytest.fixture(scope="session")
-def short_nav_survey(tmp_path_factory):
-    """The benchmark `short` scenario (navigation-grade IMU, seed 1), simulated once per session."""
+def short_perfect_survey():
+    """The `short` scenario with an error-free IMU, simulated once per test run (read-only)."""
     from insrail.sim.scenario import preset
     from insrail.sim.simulate import simulate
 
-    out = tmp_path_factory.mktemp("sim") / "short-nav"
-    simulate(preset("short"), seed=1, out_dir=out, imu_format="npy")
-    return out
+    return shared_build.built_once("short-perfect", lambda out: simulate(preset("short", imu_profile="perfect"),
+                                                                         seed=7, out_dir=out))
+
+
+@pytest.fixture(scope="session")
+def short_nav_survey():
+    """The benchmark `short` scenario (navigation-grade IMU, seed 1), simulated once per test run (read-only)."""
+    from insrail.sim.scenario import preset
+    from insrail.sim.simulate import simulate
+
+    return shared_build.built_once("short-nav", lambda out: simulate(preset("short"), seed=1, out_dir=out,
+                                                                     imu_format="npy"))
 
 
 @pytest.fixture

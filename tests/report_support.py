@@ -12,6 +12,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+from shared_build import computed_once
 
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, save_trajectory
@@ -31,8 +32,8 @@ from insrail.project.results import (
     track_quality_section,
     write_results,
 )
-from insrail.track.adjustment import load_fastener_type, optimise_adjustment, reassess
-from insrail.track.exceedance import SleeperGeometry, assess
+from insrail.track.adjustment import Adjustment, load_fastener_type, optimise_adjustment, reassess
+from insrail.track.exceedance import Assessment, SleeperGeometry, assess
 from insrail.track.sleeper_table import SleeperTable
 from insrail.track.stationing import StationEquations
 from insrail.track.tolerance import load_tolerance_profile
@@ -95,6 +96,14 @@ def synthetic_trajectory(start_s: float, end_s: float) -> Trajectory:
     return Trajectory(**fields, smoothed=True, gps_week=2380)
 
 
+def _assessed(geometry: SleeperGeometry, profile) -> tuple[Assessment, Assessment, Adjustment]:
+    """The assessment, the adjusted assessment and the adjustment (seconds of HiGHS: made once per
+    test run, `shared_build`, the table being the same for every caller)."""
+    adjustment = optimise_adjustment(geometry, profile, load_fastener_type("wj8"))
+    after, adjustment = reassess(geometry, adjustment.lateral_m, adjustment.vertical_m, profile, load_fastener_type("wj8"))
+    return assess(geometry, profile), after, adjustment
+
+
 def processed_project(root: Path, profile_name: str = "cn_hsr_ballastless", n: int = 1100) -> Project:
     """``root`` as a project folder holding the results of survey ``run1``."""
     table = synthetic_table(n)
@@ -102,9 +111,8 @@ def processed_project(root: Path, profile_name: str = "cn_hsr_ballastless", n: i
     geometry = SleeperGeometry.from_arrays(table.station_m, table.lateral_deviation_m, table.vertical_deviation_m,
                                            table.gauge_m, table.cant_m, table.design_cant_m, valid=table.valid,
                                            sleeper_number=table.number)
-    assessment = assess(geometry, profile)
-    adjustment = optimise_adjustment(geometry, profile, load_fastener_type("wj8"))
-    after, adjustment = reassess(geometry, adjustment.lateral_m, adjustment.vertical_m, profile, load_fastener_type("wj8"))
+    assessment, after, adjustment = computed_once(f"synthetic-assessment-{profile_name}-{n}",
+                                                  lambda: _assessed(geometry, profile))
     start, end = float(table.time_s[0]) - 30.0, float(table.time_s[-1]) + 30.0
     gnss_time = np.arange(start, end, 1.0)
     gnss_time = gnss_time[(gnss_time < start + 400) | (gnss_time > start + 460)]  # a 60 s outage
