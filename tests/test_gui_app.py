@@ -13,6 +13,7 @@ import tomllib
 import numpy as np
 import openpyxl
 import pytest
+from shared_build import built_once
 
 pytest.importorskip("pytestqt")
 from PySide6.QtCore import QSettings, Qt, QUrl
@@ -43,13 +44,14 @@ def link_tree(source, destination) -> None:
 
 
 @pytest.fixture(scope="session")
-def demo_project(short_nav_survey, tmp_path_factory):
-    """The demo project around the simulated `short` survey, processed once."""
-    root = tmp_path_factory.mktemp("gui-demo")
-    link_tree(short_nav_survey, root / "surveys" / "short")
-    project = project_for_simulated_survey(root, root / "surveys" / "short")
-    process(project, "short")
-    return root
+def demo_project(short_nav_survey):
+    """The demo project around the simulated `short` survey, processed once per test run (read-only)."""
+
+    def build(root):
+        link_tree(short_nav_survey, root / "surveys" / "short")
+        process(project_for_simulated_survey(root, root / "surveys" / "short"), "short")
+
+    return built_once("gui-demo", build)
 
 
 def test_wizard_import_process_views_and_exceedance_zoom(window, qtbot, demo_project, tmp_path):
