@@ -17,7 +17,11 @@ Per stage (the pipeline's progress steps; "start-up" is the interpreter and the 
 the wall time, the CPU time (user + system) and the stage's own peak resident memory (the
 kernel's high-water mark is reset at each stage: /proc/self/clear_refs). Per step it prints the
 whole process's wall, CPU and peak RSS (getrusage of the child), i.e. what `/usr/bin/time -v`
-says of the command. On a loaded machine the CPU time is the figure to compare.
+says of the command. On a loaded machine the CPU time is the figure to compare. The "numba s"
+column is the wall time spent compiling numba kernels in the stage (numba's "numba:compile"
+events: a kernel whose on-disk cache is missing or stale, e.g. the first run after an install or
+after a change to the engine; once per install, not per survey): the first `long` run after such
+a change pays some 30 s there, which is not the pipeline's own cost.
 
 Bars (issue 24): `long` process + report <= 60 s wall and <= 1.5 GB peak RSS; the rerun <= 5 s.
 With --keep-outputs DIR the sleepers.csv and quality.csv of every step are copied there (to compare two
@@ -50,14 +54,49 @@ STAGES = {
 EDITED_PROFILE = "edited-tolerances.toml"
 
 
+class CompileTimer:
+    """Wall time of numba's top-level "numba:compile" events (cache misses only: a kernel loaded
+    from its on-disk cache raises none). Registered once numba is imported (by the code under
+    test, never by the benchmark itself)."""
+
+    def __init__(self):
+        self.total_s = 0.0
+        self.depth = 0
+        self.registered = False
+        self.began = 0.0
+
+    def register_if_loaded(self) -> None:
+        if self.registered or "numba" not in sys.modules:
+            return
+        from numba.core import event
+
+        timer = self
+
+        class Listener(event.Listener):
+            def on_start(self, _event):
+                if timer.depth == 0:
+                    timer.began = time.perf_counter()
+                timer.depth += 1
+
+            def on_end(self, _event):
+                timer.depth -= 1
+                if timer.depth == 0:
+                    timer.total_s += time.perf_counter() - timer.began
+
+        event.register("numba:compile", Listener())
+        self.registered = True
+
+
 class StageClock:
-    """Wall, CPU and peak RSS per stage, switched by :meth:`enter`."""
+    """Wall, CPU, peak RSS and numba compile time per stage, switched by :meth:`enter`."""
 
     def __init__(self, started_wall: float):
         self.rows: list[dict] = []
         self.stage: str | None = None
         self.wall = started_wall
         self.cpu = 0.0  # the process's CPU time so far is charged to the first stage
+        self.compiles = CompileTimer()
+        self.compiled_s = 0.0
         self.enter("start-up")
 
     @staticmethod
@@ -85,11 +124,12 @@ class StageClock:
         if stage == self.stage:
             return
         now, cpu = time.time(), self._cpu()
+        self.compiles.register_if_loaded()
         if self.stage is not None:
             self.rows.append({"stage": self.stage, "wall_s": now - self.wall, "cpu_s": cpu - self.cpu,
-                              "peak_mb": self._peak_mb()})
+                              "peak_mb": self._peak_mb(), "numba_s": self.compiles.total_s - self.compiled_s})
         self._reset_peak()
-        self.stage, self.wall, self.cpu = stage, now, cpu
+        self.stage, self.wall, self.cpu, self.compiled_s = stage, now, cpu, self.compiles.total_s
 
     def progress(self, fraction: float, message: str) -> None:
         if message in STAGES:
@@ -103,9 +143,10 @@ class StageClock:
         """Rows of the same stage added up (a stage may be entered twice), in first-seen order."""
         out: dict[str, dict] = {}
         for row in self.rows:
-            item = out.setdefault(row["stage"], {"stage": row["stage"], "wall_s": 0.0, "cpu_s": 0.0, "peak_mb": 0.0})
-            item["wall_s"] += row["wall_s"]
-            item["cpu_s"] += row["cpu_s"]
+            item = out.setdefault(row["stage"], {"stage": row["stage"], "wall_s": 0.0, "cpu_s": 0.0, "peak_mb": 0.0,
+                                                 "numba_s": 0.0})
+            for key in ("wall_s", "cpu_s", "numba_s"):
+                item[key] += row[key]
             item["peak_mb"] = max(item["peak_mb"], row["peak_mb"])
         return list(out.values())
 
@@ -204,9 +245,10 @@ def print_step(name: str, step: str, report: dict) -> None:
     print(f"\n{name} {step}: {report['wall_s']:.1f} s wall, {report['cpu_s']:.1f} s CPU, "
           f"peak RSS {report['peak_mb']:.0f} MB" + (f", {report['sleepers']} sleepers, {report['exceedances']} exceedances"
                                                     if "sleepers" in report else ""))
-    print(f"  {'stage':<22} {'wall s':>8} {'CPU s':>8} {'peak MB':>8}")
+    print(f"  {'stage':<22} {'wall s':>8} {'CPU s':>8} {'peak MB':>8} {'numba s':>8}")
     for row in report["stages"]:
-        print(f"  {row['stage']:<22} {row['wall_s']:>8.2f} {row['cpu_s']:>8.2f} {row['peak_mb']:>8.0f}")
+        print(f"  {row['stage']:<22} {row['wall_s']:>8.2f} {row['cpu_s']:>8.2f} {row['peak_mb']:>8.0f} "
+              f"{row['numba_s']:>8.2f}")
 
 
 def main() -> int:

@@ -55,3 +55,28 @@ def test_trajectory_fields_are_those_of_the_whole_file(tmp_path):
     np.save(tmp_path / "plain.npy", np.zeros(10))
     with pytest.raises(ValueError, match="not an insrail trajectory"):
         read_trajectory_fields(tmp_path / "plain.npy", ("time_s",))
+    with pytest.raises(ValueError, match="not an insrail trajectory"):
+        load_trajectory(tmp_path / "plain.npy")
+
+
+def test_a_trajectory_read_for_its_pose_holds_nan_elsewhere(tmp_path):
+    """``load_trajectory(..., only=POSE_FIELDS)`` (the track reconstruction's read): those fields
+    as in the whole file, every other one NaN, read-only and without memory of its own."""
+    from insrail.track.rails import POSE_FIELDS
+
+    records = np.zeros(1234, dtype=TRAJECTORY_DTYPE)
+    rng = np.random.default_rng(5)
+    for name in TRAJECTORY_DTYPE.names:
+        records[name] = rng.standard_normal(records[name].shape)
+    np.save(tmp_path / "trajectory.npy", records)
+    whole = load_trajectory(tmp_path / "trajectory.npy")
+    pose = load_trajectory(tmp_path / "trajectory.npy", only=POSE_FIELDS)
+    for name in TRAJECTORY_DTYPE.names:
+        values = getattr(pose, name)
+        assert values.shape == getattr(whole, name).shape
+        if name in POSE_FIELDS:
+            np.testing.assert_array_equal(values, getattr(whole, name))
+        else:
+            assert np.isnan(values).all() and not values.flags.writeable and values.strides[0] == 0
+    with pytest.raises(ValueError, match="not trajectory fields: speed"):
+        load_trajectory(tmp_path / "trajectory.npy", only=("time_s", "speed"))

@@ -164,6 +164,43 @@ def test_station_offset_of_20000_points():
     assert np.max(np.abs(station - s)) < 1e-6 and np.max(np.abs(offset - o)) < 1e-6
 
 
+def test_compiled_state_is_the_alignments_own():
+    """The projection's compiled state (insrail.track._projection) is _state's, point by point."""
+    from insrail.track._projection import knot_state
+    from insrail.track.alignment import _GL_FRACTIONS, _GL_WEIGHTS
+
+    knots = ALIGNMENT._knots
+    stations = np.linspace(990.0, 2250.0, 2001)  # the end elements extrapolated too
+    expected = np.column_stack(ALIGNMENT._state(stations))
+    got = np.array([knot_state(knots.station_m, knots.east_m, knots.north_m, knots.azimuth_rad, knots.curvature,
+                               knots.curvature_rate, _GL_FRACTIONS, _GL_WEIGHTS, s) for s in stations])
+    np.testing.assert_allclose(got, expected, rtol=0.0, atol=1e-9)
+
+
+def test_points_along_the_track_project_as_scattered_ones():
+    """A survey's points, in order and 1 cm apart, start from their neighbour's station (warm
+    start); across a gap of NaN, a jump and the ends they start afresh: the same stations as
+    the same points in random order, each started from the nearest sample."""
+    rng = np.random.default_rng(3)
+    s = np.concatenate([np.arange(995.0, 1600.0, 0.01), np.arange(1900.0, 2245.0, 0.01)])  # a 300 m jump
+    o = 0.7 + 0.003 * rng.standard_normal(len(s))
+    east, north = ALIGNMENT.point_at(np.clip(s, 1000.0, 2240.0), o)
+    east = east + np.where(s < 1000.0, s - 1000.0, 0.0) * math.sin(START_AZIMUTH)  # behind the start: no foot
+    north = north + np.where(s < 1000.0, s - 1000.0, 0.0) * math.cos(START_AZIMUTH)
+    east[20_000:20_500] = np.nan  # a gap
+    station, offset = ALIGNMENT.station_offset(east, north)
+    order = rng.permutation(len(s))
+    scattered = np.full_like(station, np.nan), np.full_like(offset, np.nan)
+    scattered[0][order], scattered[1][order] = ALIGNMENT.station_offset(east[order], north[order])
+    np.testing.assert_array_equal(np.isnan(station), np.isnan(scattered[0]))
+    assert np.isnan(station[s < 1000.0 - 1e-3]).all() and np.isnan(station[20_000:20_500]).all()
+    inside = (s >= 1000.0) & (s <= 2240.0) & np.isfinite(east)
+    assert np.isfinite(station[inside]).all()
+    np.testing.assert_allclose(station[inside], s[inside], atol=1e-6)
+    np.testing.assert_allclose(station, scattered[0], atol=1e-9)
+    np.testing.assert_allclose(offset, scattered[1], atol=1e-9)
+
+
 def test_evaluation_outside_the_alignment_raises():
     with pytest.raises(ValueError, match="outside the horizontal alignment"):
         ALIGNMENT.point_at([1500.0, 2250.0])

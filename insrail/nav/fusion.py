@@ -530,6 +530,13 @@ def _unpack_record(rec, phi, P_minus, P, dx):
 
 
 @compiled
+def _unpack_records(records, phi, P_minus, P, dx):
+    """:func:`_unpack_record` of each row of ``records`` into row r of the outputs."""
+    for r in range(records.shape[0]):
+        _unpack_record(records[r], phi[r], P_minus[r], P[r], dx[r])
+
+
+@compiled
 def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, phi_diag, ctx, sums, pending,
                     dtheta, dvel, dt, t, epochs, earth_c, decay, gqg, gnss_decay_tau, gap_j, gap_q,
                     first, source, observation, kinds, params, rows, row_first, gates,
@@ -697,14 +704,15 @@ class SmootherStore:
             self.file.seek(first * size)
             yield first, np.frombuffer(self.file.read(n * size), dtype=np.float64).reshape(n, self.RECORD)
 
-    def reversed_records(self):
-        """(j, Phi_j, P-_j, P+_j, dx_j) for j = count, ..., 1, unpacked."""
+    def reversed_blocks(self):
+        """Blocks (j, Phi_j, P-_j, P+_j, dx_j) for j = count, ..., 1, unpacked (compiled) into
+        arrays (k,), (k, N, N) x 3 and (k, N), a chunk at a time, j decreasing."""
         for first, chunk in self.reversed_chunks():
-            for r in range(len(chunk) - 1, -1, -1):
-                phi, p_minus, p_plus, dx = (np.empty((N_STATES, N_STATES)), np.empty((N_STATES, N_STATES)),
-                                            np.empty((N_STATES, N_STATES)), np.empty(N_STATES))
-                _unpack_record(chunk[r], phi, p_minus, p_plus, dx)
-                yield first + r + 1, phi, p_minus, p_plus, dx
+            k = len(chunk)
+            phi, p_minus, p_plus = (np.empty((k, N_STATES, N_STATES)) for _ in range(3))
+            dx = np.empty((k, N_STATES))
+            _unpack_records(chunk[::-1], phi, p_minus, p_plus, dx)
+            yield np.arange(first + k, first, -1), phi, p_minus, p_plus, dx
 
     def close(self):
         self.file.close()
@@ -1332,5 +1340,5 @@ def _trajectory_rows(t, nav, idx, seg, epochs, sensor_hist, sigma_hist, correcti
 # These kernels run compiled code of other modules (the measurement models, the Kalman update, the
 # strapdown): their cache entries go when those modules change (numba checks only this file).
 _kernels.drop_stale_cache((_propagate_segment, dynamics_rows, _transition, _feedback, _pack_record, _unpack_record,
-                           _forward_kernel, _rts_chunk, _trajectory_rows),
+                           _unpack_records, _forward_kernel, _rts_chunk, _trajectory_rows),
                           (meas.__file__, kalman.__file__, _kernels.__file__))

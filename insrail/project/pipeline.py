@@ -15,7 +15,8 @@ Three stages are cached in ``<project>/results/.cache/``, each under a hash of w
   (:func:`insrail.quality.epoch_quality`, per update epoch), computed right after the fusion
   while its timeline, the survey and (smoothed) the filter's own record of Phi, P-, P+ are at hand. The per-section table in ``quality.csv`` is
   formed from it on the reconstructed chainage (which depends on the track settings).
-* ``track-<key>.npz``        rails, chainage and sleepers: the fusion key plus CRS, height model,
+* ``track-<key>.npz``        the sleepers and the epochs' stations (not the rails: what the later
+  stages take from them, :class:`~insrail.track.sleeper_table.EpochStations`): the fusion key plus CRS, height model,
   design alignment (contents) and stationing settings. Beside it ``track-<key>.extras.npz``
   (:class:`TrackExtras`): the fused attitude at every sleeper and, without a design, what the
   line-type fit gave the results (the fitted alignment's files, its summary section and the
@@ -147,6 +148,7 @@ from insrail.track.exceedance import Assessment, SleeperGeometry, assess
 from insrail.track.landxml import format_landxml, read_landxml
 from insrail.track.linefit import element_table
 from insrail.track.parameters import line_speed_mps
+from insrail.track.rails import POSE_FIELDS
 from insrail.track.sleeper_table import (
     SleeperTable,
     TrackReconstruction,
@@ -158,6 +160,9 @@ from insrail.track.tolerance import load_tolerance_profile
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
 CACHE_VERSION = 7  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity
+#: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
+#: entry 52 MB instead of 370 MB, read back in a rerun).
+TRACK_CACHE_LAYOUT = 2
 
 
 @dataclass(frozen=True)
@@ -231,7 +236,8 @@ class TrackExtras:
 @dataclass(frozen=True)
 class FreshFusion:
     """What the track reconstruction needs from a fusion just computed (the 200 Hz IMU data and
-    the fusion's covariances are dropped here: they dominate the memory of a long survey)."""
+    the fusion's covariances are dropped here: they dominate the memory of a long survey; the
+    trajectory holds its ``POSE_FIELDS`` only)."""
 
     trajectory: Trajectory
     gauge: GaugeData
@@ -294,7 +300,7 @@ def track_key(project: Project, fusion: str) -> str:
     """Hash of everything the track reconstruction depends on beyond the fusion (whose key holds
     the raw files, gauge and sleeper pulses included, and the trolley)."""
     digest = hashlib.sha256(fusion.encode())
-    settings = {"version": CACHE_VERSION, "geodesy": _geodesy_settings(project),
+    settings = {"version": CACHE_VERSION, "layout": TRACK_CACHE_LAYOUT, "geodesy": _geodesy_settings(project),
                 "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number,
                 "stationing_direction": project.stationing_direction, "sleeper_anchor": repr(project.sleeper_anchor)}
     if project.local_control is not None:
@@ -382,7 +388,8 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
         tomli_w.dump(info, handle)
     seal(path, info_path)
     # read back as a cached fusion is (contiguous arrays: the track is then the same to the bit)
-    trajectory = replace(load_trajectory(path, gps_week=manifest.gps_week), ellipsoid_name=ellipsoid_of(project).name)
+    trajectory = replace(load_trajectory(path, gps_week=manifest.gps_week, only=POSE_FIELDS),
+                         ellipsoid_name=ellipsoid_of(project).name)
     fresh = FreshFusion(trajectory, survey.gauge, survey.sleepers)
     return fresh, path, {"from_cache": False} | info
 
@@ -412,7 +419,7 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
                                describe(folder / manifest.files["gauge"].path, manifest.files["gauge"].format))
         # the file does not say on which ellipsoid the fusion ran: the project's (the rails of a fusion
         # from the cache would otherwise differ from those of the same fusion just computed)
-        trajectory = replace(load_trajectory(trajectory_file, gps_week=manifest.gps_week),
+        trajectory = replace(load_trajectory(trajectory_file, gps_week=manifest.gps_week, only=POSE_FIELDS),
                              ellipsoid_name=ellipsoid_of(project).name)
         fresh = FreshFusion(trajectory, gauge, _read_role(folder, manifest, "sleepers"))
     design = read_design(project.resolve(project.design)) if project.design is not None else None
@@ -427,7 +434,7 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
     extras = TrackExtras(sleeper_attitude_rad(fresh.trajectory.time_s, fresh.trajectory.rpy_rad, recon.table.time_s),
                          FittedLine.of(recon) if project.design is None else None)
     save_dataclass(extras_path, extras)
-    save_dataclass(path, replace(recon, fitted=None, reference=None))
+    save_dataclass(path, replace(recon, rails=None, stations=None, fitted=None, reference=None))
     return recon, extras, False
 
 
@@ -594,12 +601,12 @@ def _section_quality(trajectory_file: Path, recon: TrackReconstruction) -> Secti
     of the reconstructed centreline at its time (the reference rail's where the centreline has
     none); sections of TQI_SECTION_M start at the first sleeper, like the ``[track_quality]`` ones."""
     epochs = load_dataclass(quality_cache_file(trajectory_file), EpochQuality)
-    stations = recon.stations
+    stations = recon.epochs
     chainage = np.where(np.isfinite(stations.centre_m), stations.centre_m, stations.reference_m)
     known = np.isfinite(chainage)
     if not known.any():
         raise InputError(trajectory_file, None, "no epoch of the reconstructed track has a chainage")
-    at_epochs = np.interp(epochs.time_s, recon.rails.time_s[known], chainage[known])
+    at_epochs = np.interp(epochs.time_s, stations.time_s[known], chainage[known])
     table = recon.table
     start = float(table.station_m[0]) if len(table) else float(np.min(chainage[known]))
     return sections_along(epochs, at_epochs, start, TQI_SECTION_M)

@@ -42,7 +42,7 @@ import numpy as np
 import tomli_w
 
 from insrail.io.errors import InputError
-from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, load_trajectory
+from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, load_trajectory, read_trajectory_fields
 from insrail.progress import CancelToken, check_cancel
 from insrail.project import table_cache
 from insrail.quality.survey import SectionQuality, weakness
@@ -488,31 +488,6 @@ class StoredResults:
     def trajectory_fields(self, *names: str) -> dict[str, np.ndarray]:
         """Some fields of the fused trajectory (:func:`read_trajectory_fields`)."""
         return read_trajectory_fields(self.folder / TRAJECTORY_FILE, names)
-
-
-#: Records read at a time by :func:`read_trajectory_fields` (about 20 MB).
-FIELD_CHUNK_RECORDS = 100_000
-
-
-def read_trajectory_fields(path: Path, names, chunk: int = FIELD_CHUNK_RECORDS) -> dict[str, np.ndarray]:
-    """The named fields of a ``trajectory.npy`` (e.g. ``sigma_pos_ned_m``), read a chunk of
-    records at a time with plain reads: neither the whole file (0.2 kB per epoch, 0.4 GB for
-    10 km) nor a memory map of it ever counts towards the process's memory."""
-    with open(path, "rb") as handle:
-        version = np.lib.format.read_magic(handle)
-        read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
-        shape, fortran, dtype = read_header(handle)
-        if dtype != TRAJECTORY_DTYPE or fortran or len(shape) != 1:
-            raise ValueError(f"{path}: not an insrail trajectory file (record layout {dtype})")
-        total = shape[0]
-        out = {name: np.empty((total, *TRAJECTORY_DTYPE[name].shape)) for name in names}
-        for start in range(0, total, chunk):
-            records = np.fromfile(handle, dtype=TRAJECTORY_DTYPE, count=min(chunk, total - start))
-            if len(records) != min(chunk, total - start):
-                raise ValueError(f"{path}: the file ends after {start + len(records)} of its {total} records")
-            for name in names:
-                out[name][start : start + len(records)] = records[name]
-    return out
 
 
 def load_results(project_folder: Path, survey: str) -> StoredResults:

@@ -19,7 +19,6 @@ from insrail.io.events import EventList, read_events
 from insrail.io.formats import FORMATS
 from insrail.io.survey import SurveyManifest
 from insrail.project.model import Project
-from insrail.track.chainage import epoch_station_track
 from insrail.track.events import (
     TrackEvent,
     inside,
@@ -47,7 +46,7 @@ def survey_events(project: Project, manifest: SurveyManifest, folder: Path,
         lists.append(read_events(project.resolve(project.events)))
     if not any(len(events) for events in lists):
         return ()
-    time_s, station_m = epoch_station_track(recon.rails.time_s, recon.stations.reference_m)
+    time_s, station_m = recon.epochs.track()
     odometer = None
     if any(e.unit == "odometer_m" for events in lists for e in events.events) and "odometer" in manifest.files:
         entry = manifest.files["odometer"]

@@ -229,7 +229,7 @@ def analyse(
         forward = _pass(var_f, cross_f, plan.pairs if forward_lags else [], lags_m if forward_lags else [], station_m)
         smoothed = None
         if record is not None:
-            var_s, cross_s = _smooth(plan, record.reversed_epochs(n), m, step.sub(0.7, 1.0), cancel)
+            var_s, cross_s = _smooth(plan, record.reversed_blocks(n), m, step.sub(0.7, 1.0), cancel)
             smoothed = _pass(var_s, cross_s, plan.pairs, lags_m, station_m)
     finally:
         if record is not None:
@@ -240,7 +240,7 @@ def analyse(
 
 def analyse_recorded(
     P0: np.ndarray,
-    records: Iterable[tuple[int, np.ndarray, np.ndarray, np.ndarray]],
+    blocks: Iterable[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]],
     time_s: np.ndarray,
     station_m: np.ndarray,
     heading_rad: np.ndarray,
@@ -251,7 +251,8 @@ def analyse_recorded(
 ) -> CovarianceProfile:
     """The RTS smoother's figures from a forward pass recorded by the filter itself (the
     fusion's :class:`insrail.nav.fusion.SmootherStore`) instead of a replay: only the
-    backward pass runs. ``records`` yields (j, Phi_j, P-_j, P+_j) for j = m-1 down to 1;
+    backward pass runs. ``blocks`` yields consecutive blocks (j, Phi_j, P-_j, P+_j) as arrays
+    (k,), (k, n, n) x 3, j decreasing, from m-1 down to 1 (``SmootherStore.reversed_blocks``);
     epoch 0 has the covariance P0. The forward figures (from the recorded P+) carry no lag
     differences: those need the filter's gains, which the record does not hold."""
     m = len(time_s)
@@ -259,23 +260,23 @@ def analyse_recorded(
     plan = _Plan(n, m, station_m, heading_rad, anchors, lags_m)
     step = StepProgress(progress)
     var_f = np.empty((m, 3))
-    epochs = itertools.chain(records, [(0, np.eye(n), P0, P0)])
-    var_s, cross_s = _smooth(plan, epochs, m, step, cancel, var_f)
+    last = (np.zeros(1, dtype=np.int64), np.eye(n)[None], P0[None], P0[None])
+    var_s, cross_s = _smooth(plan, itertools.chain(blocks, [last]), m, step, cancel, var_f)
     step(1.0, "covariance analysis done")
     forward = _pass(var_f, np.empty((0, 2)), [], [], station_m)
     smoothed = _pass(var_s, cross_s, plan.pairs, lags_m, station_m)
     return CovarianceProfile(np.asarray(time_s), np.asarray(station_m), forward, smoothed)
 
 
-def _smooth(plan: _Plan, epochs, m, progress, cancel, var_forward: np.ndarray | None = None,
-            chunk: int = 1024):
-    """The RTS backward pass over (j, Phi_j, P-_j, P+_j), j = m-1 down to 0: smoothed variances
-    and the cross terms of every pair; ``var_forward`` (m, 3), when given, receives the
-    filtered variances of the same epochs.
+def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | None = None):
+    """The RTS backward pass over blocks of consecutive epochs (j, Phi_j, P-_j, P+_j) as arrays
+    ((k,), (k, n, n) x 3), j decreasing from m-1 down to 0: smoothed variances and the cross terms
+    of every pair; ``var_forward`` (m, 3), when given, receives the filtered variances of the
+    same epochs.
 
-    The epochs are taken ``chunk`` at a time: the gains A_j of a chunk in one batched solve,
-    then the recursion itself (P_s, the pushed columns, the pairs starting and ending at each
-    epoch) in the compiled :func:`_backward_chunk`, so no Python runs per epoch."""
+    Per block: the gains A_j in one batched solve, then the recursion itself (P_s, the pushed
+    columns, the pairs starting and ending at each epoch) in the compiled
+    :func:`_backward_chunk`, so no Python runs per epoch."""
     n = plan.n
     var_s = np.empty((m, 3))
     cross_s = np.empty((plan.n_pairs, 2))
@@ -286,8 +287,8 @@ def _smooth(plan: _Plan, epochs, m, progress, cancel, var_forward: np.ndarray | 
     u = np.stack([plan.u_lat, plan.u_ver, plan.u_roll])  # (3, m, 3)
     expected = m - 1
     carry = None  # (Phi, P-) of the epoch after the chunk's first one
-    for block in _chunks(epochs, chunk):
-        js = np.array([item[0] for item in block], dtype=np.int64)
+    for js, phi, p_minus, p_plus in blocks:
+        js = np.asarray(js, dtype=np.int64)
         due = np.arange(expected, expected - len(js), -1)
         if np.any(js != due):
             i = int(np.flatnonzero(js != due)[0])
@@ -295,9 +296,6 @@ def _smooth(plan: _Plan, epochs, m, progress, cancel, var_forward: np.ndarray | 
         expected -= len(js)
         check_cancel(cancel)
         progress((m - 1 - expected) / m, "covariance: smoother")
-        phi = np.array([item[1] for item in block])
-        p_minus = np.array([item[2] for item in block])
-        p_plus = np.array([item[3] for item in block])
         # Phi and P- of epoch j + 1 beside epoch j: the previous record (the chunk before for the first)
         phi_next, p_minus_next = np.empty_like(phi), np.empty_like(p_minus)
         phi_next[1:], p_minus_next[1:] = phi[:-1], p_minus[:-1]
@@ -315,19 +313,6 @@ def _smooth(plan: _Plan, epochs, m, progress, cancel, var_forward: np.ndarray | 
     if expected != -1:
         raise ValueError(f"the covariance record ends at epoch {expected + 1}, not at epoch 0")
     return var_s, cross_s
-
-
-def _chunks(items, size: int):
-    """Lists of up to ``size`` consecutive items (a record may be a view into its producer's
-    buffer: the caller stacks them into arrays of its own before the next block)."""
-    block = []
-    for item in items:
-        block.append(item)
-        if len(block) == size:
-            yield block
-            block = []
-    if block:
-        yield block
 
 
 def _csr(epochs: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
@@ -482,13 +467,14 @@ class _ReverseStore:
         self.file.write(self.buffer[: self.fill].tobytes())
         self.fill = 0
 
-    def reversed_epochs(self, n: int):
-        """(j, Phi_j, P-_j, P+_j) of rows [Phi, P-, P+] of n x n matrices, last row first."""
+    def reversed_blocks(self, n: int):
+        """Blocks (j, Phi_j, P-_j, P+_j) of rows [Phi, P-, P+] of n x n matrices, j decreasing
+        (arrays (k,) and (k, n, n) x 3), the last row first."""
         nn = n * n
         for first, chunk in self.reversed_chunks():
-            for r in range(len(chunk) - 1, -1, -1):
-                row = chunk[r]
-                yield first + r, row[:nn].reshape(n, n), row[nn : 2 * nn].reshape(n, n), row[2 * nn :].reshape(n, n)
+            rows = chunk[::-1]
+            yield (np.arange(first + len(chunk) - 1, first - 1, -1), rows[:, :nn].reshape(-1, n, n),
+                   rows[:, nn : 2 * nn].reshape(-1, n, n), rows[:, 2 * nn :].reshape(-1, n, n))
 
     def reversed_chunks(self):
         """(index of the first row, rows) from the last chunk to the first."""

@@ -151,8 +151,8 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
         if store.count != len(t) - 1:
             raise ValueError(f"the covariance store holds {store.count} segments, the fusion's timeline "
                              f"{len(t) - 1}: it is not this fusion's record")
-        records = ((j, phi, p_minus, p_plus) for j, phi, p_minus, p_plus, _ in store.reversed_records())
-        return analyse_recorded(timeline.initial_covariance, records, t, station, heading, anchors, lags_m,
+        blocks = ((j, phi, p_minus, p_plus) for j, phi, p_minus, p_plus, _ in store.reversed_blocks())
+        return analyse_recorded(timeline.initial_covariance, blocks, t, station, heading, anchors, lags_m,
                                 progress=progress, cancel=cancel)
     profile = profile or load_imu_profile(survey.manifest.imu_profile)
     noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)

@@ -439,41 +439,24 @@ class HorizontalAlignment:
         """
         east, north = np.broadcast_arrays(np.asarray(east_m, dtype=float), np.asarray(north_m, dtype=float))
         shape = east.shape
-        east, north = east.ravel(), north.ravel()
+        east, north = np.ascontiguousarray(east.ravel()), np.ascontiguousarray(north.ravel())
         station = np.full(east.shape, np.nan)
         offset = np.full(east.shape, np.nan)
-        valid = np.flatnonzero(np.isfinite(east) & np.isfinite(north))
-        if valid.size:
-            tree, sample_stations, spacing = self._projection_index
-            _, nearest = tree.query(np.column_stack((east[valid], north[valid])))
-            s = sample_stations[nearest]
-            pe, pn = east[valid], north[valid]
-            max_step = max(spacing, 10.0)
-            active = np.arange(valid.size)
-            converged = np.zeros(valid.size, dtype=bool)
-            for _ in range(_NEWTON_MAX_ITERATIONS):
-                ce, cn, az, k = self._state(s[active])
-                de, dn = pe[active] - ce, pn[active] - cn
-                along = de * np.sin(az) + dn * np.cos(az)
-                across = de * np.cos(az) - dn * np.sin(az)
-                # d(along)/ds = -(1 - k * across): Newton on the tangential component
-                step = np.clip(along / (1.0 - k * across), -max_step, max_step)
-                s[active] += step
-                done = np.abs(step) < _NEWTON_TOLERANCE_M
-                converged[active[done]] = True
-                active = active[~done]
-                if active.size == 0:
-                    break
-            ce, cn, az, k = self._state(s)
-            across = (pe - ce) * np.cos(az) - (pn - cn) * np.sin(az)
-            inside = (
-                converged
-                & (s >= self.start_station_m - _STATION_TOLERANCE_M)
-                & (s <= self.end_station_m + _STATION_TOLERANCE_M)
-                & (1.0 - k * across > 0.0)
-            )
-            station[valid[inside]] = s[inside]
-            offset[valid[inside]] = across[inside]
+        from insrail.track._projection import project_points  # compiled: imported when first needed
+
+        tree, sample_stations, spacing = self._projection_index
+        knots = self._knots
+        curve = (knots.station_m, knots.east_m, knots.north_m, knots.azimuth_rad, knots.curvature, knots.curvature_rate,
+                 _GL_FRACTIONS, _GL_WEIGHTS, sample_stations, tree.data[:, 0].copy(), tree.data[:, 1].copy())
+        limits = (max(spacing, 10.0), self.start_station_m - _STATION_TOLERANCE_M,
+                  self.end_station_m + _STATION_TOLERANCE_M, _NEWTON_MAX_ITERATIONS, _NEWTON_TOLERANCE_M)
+        previous = np.zeros(4)
+        first, cold_sample = 0, -1
+        # each point starts from the sample nearest to it: walked to from the one before it, or
+        # (the first point, one after a gap or a jump) looked up in the index
+        while (first := project_points(*curve, east, north, first, cold_sample, *limits, station, offset,
+                                       previous)) >= 0:
+            cold_sample = int(tree.query((east[first], north[first]))[1])
         return station.reshape(shape), offset.reshape(shape)
 
 

@@ -38,6 +38,11 @@ ToEngineering = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray,
 
 _ELLIPSOIDS = {ell.name: ell for ell in (earth.WGS84, earth.CGCS2000)}
 
+#: The fields of the trajectory the rails are made of (:func:`rails_from_pose`; the sleepers'
+#: attitude takes ``rpy_rad`` too): a long survey's trajectory is read with just these
+#: (``insrail.nav.trajectory.load_trajectory(..., only=POSE_FIELDS)``).
+POSE_FIELDS = ("time_s", "lat_rad", "lon_rad", "height_m", "rpy_rad", "sigma_pos_ned_m", "sigma_rpy_rad")
+
 #: Epochs converted at a time: bounds the memory of the per-epoch rotation matrices.
 CHUNK_EPOCHS = 200_000
 

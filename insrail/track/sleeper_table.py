@@ -217,6 +217,24 @@ def deviations_from_fitted_line(
 
 
 @dataclass(frozen=True)
+class EpochStations:
+    """Per trajectory epoch, what places things on the chainage once the rails are built: the
+    time and the stations of the reference rail and the centreline (NaN where none)."""
+
+    time_s: np.ndarray
+    reference_m: np.ndarray
+    centre_m: np.ndarray
+
+    @classmethod
+    def of(cls, rails: RailPoints, stations: RailStations) -> EpochStations:
+        return cls(rails.time_s, stations.reference_m, stations.centre_m)
+
+    def track(self) -> tuple[np.ndarray, np.ndarray]:
+        """(time, station) made invertible (:func:`~insrail.track.chainage.epoch_station_track`)."""
+        return epoch_station_track(self.time_s, self.reference_m)
+
+
+@dataclass(frozen=True)
 class TrackReconstruction:
     """Everything the reconstruction produced, for reports and diagnostics.
 
@@ -224,12 +242,15 @@ class TrackReconstruction:
     alignment to export as CSV / LandXML), ``reference`` the windowed best-fit line the
     deviations were taken from; ``line_fit_error`` says why they are None when the fit was
     asked for but failed (then the deviations are NaN, as with line fitting off).
+    ``rails`` and ``stations`` (25 doubles per epoch) are None in a reconstruction kept for
+    later (the pipeline's stage cache): ``epochs`` holds what the later stages take from them.
     """
 
-    rails: RailPoints  # in the stationing's frame (chainage.in_stationing_frame)
-    stations: RailStations
     sleepers: SleeperNumbering
     table: SleeperTable
+    epochs: EpochStations
+    rails: RailPoints | None = None  # in the stationing's frame (chainage.in_stationing_frame)
+    stations: RailStations | None = None
     fitted: AlignmentFit | None = None
     reference: WindowedReference | None = None
     line_fit_error: str = ""
@@ -284,11 +305,12 @@ def reconstruct_track(
         sleepers = anchor_numbering(sleepers, anchor, spacing_m)
     table = build_sleeper_table(rails, stations, sleepers, design, window_m, design_gauge_m,
                                 trolley.rail_centre_spacing_m)
+    dense = {"epochs": EpochStations.of(rails, stations), "rails": rails, "stations": stations}
     if design is not None or not fit_line:
-        return TrackReconstruction(rails, stations, sleepers, table)
+        return TrackReconstruction(sleepers, table, **dense)
     try:
         table, fitted, reference = deviations_from_fitted_line(table, fit_window_m, fit_overlap_m, design_gauge_m,
                                                                trolley.rail_centre_spacing_m)
     except LineFitError as error:
-        return TrackReconstruction(rails, stations, sleepers, table, line_fit_error=str(error))
-    return TrackReconstruction(rails, stations, sleepers, table, fitted, reference)
+        return TrackReconstruction(sleepers, table, **dense, line_fit_error=str(error))
+    return TrackReconstruction(sleepers, table, **dense, fitted=fitted, reference=reference)
