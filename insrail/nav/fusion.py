@@ -54,7 +54,7 @@ from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth, integrity, kalman
 from insrail.nav import measurements as meas
-from insrail.nav.alignment import detect_stops, stop_thresholds
+from insrail.nav.alignment import detect_stops, stop_motion_sigma, stop_thresholds
 from insrail.nav.error_model import (
     ATT,
     BA,
@@ -121,10 +121,12 @@ class FusionOptions:
     # 0.1 mm/s/sqrt(Hz), i.e. 0.3 mm/s at 10 Hz; tighter than 0.45 mm/s the solution follows the play.
     odometer_sigma_mps: float = 0.0005  # plus the pulse quantisation over the segment
     nhc_sigma_mps: float = 0.00045
-    # A standing trolley: kept at 1 mm/s for real ones (an operator's touch), so on the simulator,
-    # whose trolley stands perfectly still, the ZUPT's mean NIS per dof is 0.25 (its velocity rows
-    # see 0.02-0.08 mm/s); tightening it does not change that much (0.4 at 0.01 mm/s).
-    zupt_sigma_mps: float = 0.001
+    # The ZUPT's velocity noise where the platform shows no motion beyond the accelerometers' noise;
+    # a stop where they show more (an operator's touch, a hand) adds that motion's velocity
+    # (``alignment.stop_motion_sigma``). Between two 10 Hz ZUPTs of a still trolley the INS velocity
+    # errs only by the random walk's vrw sqrt(0.1 s) (4 um/s for `nav`): 1 mm/s (as before) gave
+    # NIS/dof 0.25 on the simulator, its velocity rows 0.005 (docs/fusion.md).
+    zupt_sigma_mps: float = 2e-6
     gate_probability: float = 0.9999
     initial_heading_rad: float | None = None  # None: gyrocompassing in the static start
     initial_sigma_heading_rad: float = math.radians(0.1)
@@ -974,7 +976,10 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     notices.extend(start.notices)
     every = max(int(round(1.0 / (options.update_rate_hz * dt[0]))), 1)
     epochs = update_grid(t, start.epoch, every, aiding.measurements)
-    plan = schedule(t[epochs], aiding.measurements, stops)
+    motion = (np.array([s[0] for s in stops]), np.array([s[1] for s in stops]),
+              stop_motion_sigma(imu, stops, profile.accel_vrw))
+    plan = schedule(t[epochs], [replace(m, stop_motion=motion) if isinstance(m, Zupt) else m
+                                for m in aiding.measurements], stops)
     P0 = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
                             start.sigma_heading_rad)
     # chi-square quantile of the gate probability per degree of freedom (scipy.special: no scipy.stats import)
