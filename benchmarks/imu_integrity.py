@@ -158,6 +158,17 @@ imu_to_reference_rail_m = [0.0, 0.0, 0.0]
 # rejection), -0.05 m does not (1.25, 18 rejected), none in between (1.06, 9 rejected).
 
 
+def walk_survey(folder: Path, profile: str, real: Path) -> Path:
+    """The real walk as a survey folder (also tests/test_nav_self_calibration.py's): its two files
+    linked from ``real``, its survey.toml (WALK_MANIFEST) with ``profile``."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name in ("imu_1730_sf.csv", "gnss_1730_sf.pos"):
+        if not (folder / name).exists():
+            (folder / name).symlink_to(real / name)
+    (folder / "survey.toml").write_text(WALK_MANIFEST.format(profile=profile))
+    return folder
+
+
 def walk(workdir: Path, profile: str, options: list[str]) -> None:
     """The real walk through `insrail fuse` as a user runs it; the share of fixes used and the smoothed
     antenna position against the fixes per axis, in units of the file's sigmas and of those the fusion
@@ -172,12 +183,7 @@ def walk(workdir: Path, profile: str, options: list[str]) -> None:
     real = Path(__file__).resolve().parents[2] / "shared" / "data" / "real" / "walk_0827"
     if not real.is_dir():
         real = Path("/work/shared/data/real/walk_0827")
-    folder, out = workdir / "walk_0827", workdir / f"walk_0827_fused_{profile}"
-    folder.mkdir(parents=True, exist_ok=True)
-    for name in ("imu_1730_sf.csv", "gnss_1730_sf.pos"):
-        if not (folder / name).exists():
-            (folder / name).symlink_to(real / name)
-    (folder / "survey.toml").write_text(WALK_MANIFEST.format(profile=profile))
+    folder, out = walk_survey(workdir / "walk_0827", profile, real), workdir / f"walk_0827_fused_{profile}"
     printed = io.StringIO()
     with contextlib.redirect_stdout(printed), contextlib.redirect_stderr(printed):
         code = main(["fuse", str(folder), "--out", str(out), "--ellipsoid", "WGS84", *options])

@@ -12,7 +12,7 @@ scenario is fused (smoothed) and compared with the truth and with the clean run:
 - ``gnss-faults``: all three together;
 - ``start-off``: the filter started 5 deg off in heading (as a wrong ``--heading``) from a first
   GNSS fix 1 m off (static start), and ``start-off-moving`` the same on a survey that starts
-  on the move (track alignment);
+  on the move (track alignment), ``start-off-moving-45`` there 45 deg off;
 - ``lever-mm``: the antenna lever arm given in millimetres (a survey that cannot be trusted).
 
 Printed per scenario: RMS position error, the 1-sigma of the 5 m lag difference of the lateral
@@ -79,13 +79,16 @@ def scenarios():
             faults += more
         return survey, {}, faults
 
-    def start_off(survey, truth):
+    def start_off(survey, truth, degrees=5.0):
         # The first fix (where the start takes its position) 1 m off, the heading 5 deg off.
         first = survey.gnss.time_s[0]
         gnss = gnss_faults.outliers(survey.gnss, [first], [(0.8, 0.6, 0.0)])
         k = int(np.searchsorted(truth["time_s"], first))
-        heading = float(truth["rpy_rad"][k, 2]) + math.radians(5.0)
+        heading = float(truth["rpy_rad"][k, 2]) + math.radians(degrees)
         return replace(survey, gnss=gnss), {"initial_heading_rad": heading}, []
+
+    def start_off_45(survey, truth):
+        return start_off(survey, truth, 45.0)
 
     def lever_mm(survey, truth):
         trolley = survey.manifest.trolley
@@ -94,7 +97,8 @@ def scenarios():
 
     return {"clean": (False, clean), "false-fix": (False, false_fix), "float": (False, float_stretch),
             "outliers": (False, outliers), "gnss-faults": (False, all_gnss), "start-off": (False, start_off),
-            "clean-moving": (True, clean), "start-off-moving": (True, start_off), "lever-mm": (False, lever_mm)}
+            "clean-moving": (True, clean), "start-off-moving": (True, start_off),
+            "start-off-moving-45": (True, start_off_45), "lever-mm": (False, lever_mm)}
 
 
 def recovery_s(errors, clean_rms_m: float, resets) -> float:

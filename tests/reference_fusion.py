@@ -96,7 +96,7 @@ def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1) -> R
     P = setup.P0.copy()
     accepted = np.zeros(len(plan.epoch), dtype=bool)
     nis_all = np.full(len(plan.epoch), np.nan)
-    runs = fusion._RejectionRuns(sources, options)
+    runs = fusion._RejectionRuns(sources, options, np.sqrt(np.diag(setup.P0)))
     resets, rejections, stats = [], [], {}
     pending_reset = None
     sensor, gnss_error, odo_scale = np.zeros(12), np.zeros(3), 0.0
@@ -125,7 +125,7 @@ def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1) -> R
         q = q + setup.bridged_q.get(j, 0.0)
         P_minus = phi @ P @ phi.T + q
         if pending_reset is not None:
-            P_minus = inflate(P_minus, np.array(pending_reset[0]), np.array(pending_reset[1]))
+            P_minus = inflate(P_minus, *pending_reset)
             pending_reset = None
         P = P_minus.copy()
         x = np.zeros(N_STATES)
@@ -143,9 +143,10 @@ def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1) -> R
                 rejections.append(fusion.Rejection(float(meas.time_s[i]), meas.name, nis, gate, tuple(nu)))
                 reset = runs.rejected(int(plan.source[e]), i, float(meas.time_s[i]), nu)
                 if reset is not None:
+                    reset = fusion.realign_at_reset(reset, nav, setup, options, ellipsoid)
                     resets.append(reset)
-                    pending_reset = ([s for label, first in (("position", POS), ("velocity", VEL), ("attitude", ATT))
-                                      if label in reset.states for s in range(first, first + 3)], reset.sigma)
+                    floors = reset.floors()
+                    pending_reset = (np.flatnonzero(~np.isnan(floors)), floors[~np.isnan(floors)])
                 continue
             st.add(nu, nis)
             runs.accepted(int(plan.source[e]))

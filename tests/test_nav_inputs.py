@@ -13,7 +13,7 @@ import pytest
 
 from insrail.io.imu import read_imu_rates_csv
 from insrail.io.types import ImuIncrements
-from insrail.nav.alignment import detect_stops, gyrocompass_sigma_rad, stop_thresholds
+from insrail.nav.alignment import detect_stops, gyrocompass_sigma_rad, stop_motion_sigma, stop_thresholds
 from insrail.nav.imu_gaps import bridge_gaps
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.imu_screening import ImuUnitError, screen_imu
@@ -207,6 +207,27 @@ def test_stop_thresholds_come_from_the_profile_noise():
     assert detect_stops(imu, None) == []  # the navigation-grade limit never fires on a MEMS unit
     stops = detect_stops(imu, None, max_gyro_std_radps=gyro, max_accel_std_mps2=accel)
     assert len(stops) == 1 and stops[0][0] <= t[0] + 1.0 and t[0] + 8.0 < stops[0][1] <= t[0] + 10.0
+
+
+@pytest.mark.parametrize("rocking_mps", [0.0, 1e-4, 1e-3])
+def test_a_stops_zupt_noise_is_the_motion_its_accelerometers_show_beyond_their_noise(rocking_mps):
+    """A platform standing perfectly still (the accelerometers' white noise and an in-run bias
+    drifting by twice its 1-sigma over the stop) shows no motion; one rocking at 0.5 Hz with a velocity
+    amplitude of 0.1 or 1 mm/s shows its velocity's standard deviation (amplitude / sqrt 2)."""
+    nav = load_imu_profile("nav")
+    rng = np.random.default_rng(7)
+    n = int(60 * RATE_HZ)
+    t = T0 + np.arange(1, n + 1) / RATE_HZ
+    f = np.array([0.0, 0.0, -9.79]) + rng.normal(0.0, nav.accel_vrw * math.sqrt(RATE_HZ), (n, 3))
+    f[:, 0] += np.linspace(0.0, 2.0 * nav.accel_bias_gm_sigma, n)  # the bias drifting
+    f[:, 1] += rocking_mps * 2.0 * math.pi * 0.5 * np.cos(2.0 * math.pi * 0.5 * (t - T0))
+    imu = ImuIncrements(t, np.zeros((n, 3)), f / RATE_HZ)
+    sigma = stop_motion_sigma(imu, [(t[10], t[-10]), (t[0], t[5])], nav.accel_vrw)
+    assert sigma[1] == 0.0  # too short to tell
+    if rocking_mps == 0.0:
+        assert sigma[0] == 0.0
+    else:
+        assert sigma[0] == pytest.approx(rocking_mps / math.sqrt(2.0), rel=0.1)
 
 
 @pytest.mark.parametrize("radius_m", [30.0, 300.0, np.inf])

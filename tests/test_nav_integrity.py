@@ -69,6 +69,9 @@ def test_a_filter_started_wrong_resets_itself_and_recovers(survey, truth):
     reset = result.resets[0]
     assert reset.source == "gnss_position" and "position" in reset.states
     assert reset.time_s - first < 30.0 and "filter reset at t =" in reset.message()
+    # the lost filter turned to the track's heading, the states it dragged along widened
+    assert abs(math.degrees(reset.heading_turned_rad) + 5.0) < 1.5 and "re-aligned to the track" in reset.message()
+    assert {"sensor errors", "odometer scale"} <= set(reset.states)
     errors = trajectory_errors(result.trajectory, truth, CGCS2000)
     moving_since = errors.time_s[errors.moving][0]
     after = errors.time_s >= moving_since + 60.0
@@ -76,6 +79,51 @@ def test_a_filter_started_wrong_resets_itself_and_recovers(survey, truth):
     lat5, ver5 = errors.lag_difference_sigma_m(5.0)
     assert lat5 < 1.1 * CLEAN_LAG5_M[0] and ver5 < 1.1 * CLEAN_LAG5_M[1]
     assert result.integrity.trusted
+
+
+@pytest.mark.parametrize("off_deg, backwards", [(45.0, False), (-120.0, False), (20.0, True)])
+def test_a_reset_turns_a_lost_heading_to_the_tracks(off_deg, backwards):
+    """A straight track heading 30 deg at 1 m/s with 1 cm fixes; the filter's trolley heading off by
+    ``off_deg`` (its x axis against the travel direction when ``backwards``): the reset turns it
+    onto the track's line, forwards or backwards whichever is nearer (beyond 90 deg a lost heading
+    is taken for a trolley pushed backwards), with the chord's 1-sigma, and the velocity with it;
+    within three sigma of the track it is left alone."""
+    from types import SimpleNamespace
+
+    from insrail.nav import _kernels
+    from insrail.nav.fusion import FilterReset, realign_at_reset
+    from insrail.nav.rotation import euler_to_dcm, quat_to_dcm
+    from insrail.nav.startup import PositionTrack
+
+    psi = math.radians(30.0)
+    s = np.arange(0.0, 60.0)
+    lat0, lon0, r = 0.5, 2.0, 6.4e6
+    rng = np.random.default_rng(5)
+    north, east = s * math.cos(psi) + rng.normal(0, 0.01, s.size), s * math.sin(psi) + rng.normal(0, 0.01, s.size)
+    track = PositionTrack(230400.0 + s, lat0 + north / r, lon0 + east / (r * math.cos(lat0)), np.zeros(s.size),
+                          np.full((s.size, 3), 0.01), np.zeros(3), "GNSS")
+    heading = psi + math.radians(off_deg) + (math.pi if backwards else 0.0)
+    nav = np.zeros(12)
+    nav[_kernels.NAV_Q_BN : _kernels.NAV_Q_BN + 4] = _kernels.rotvec_quat(0.0, 0.0, heading)
+    nav[_kernels.NAV_VEL : _kernels.NAV_VEL + 2] = math.cos(heading), math.sin(heading)
+    setup = SimpleNamespace(heading_track=track, c_vb=euler_to_dcm(0.0, 0.0, 0.0))
+    reset = FilterReset(230410.0, "gnss_position", 20.0, 21, 230390.0, (), ("position", "velocity", "attitude"),
+                        (0.5,) * 3 + (0.1,) * 3 + (0.0035, 0.0035, 0.17))
+    turned = realign_at_reset(reset, nav, setup, FusionOptions(), CGCS2000)
+    wrapped = (off_deg + 180.0) % 360.0 - 180.0
+    expect = -wrapped if abs(wrapped) <= 90.0 else -((wrapped + 360.0) % 360.0 - 180.0)
+    assert math.degrees(turned.heading_turned_rad) == pytest.approx(expect, abs=0.5)
+    assert turned.sigma[8] < math.radians(0.5) and turned.floors()[8] == turned.sigma[8]
+    forward = quat_to_dcm(nav[_kernels.NAV_Q_BN : _kernels.NAV_Q_BN + 4])[:, 0]  # on the track's line, either way
+    assert math.degrees(abs((math.atan2(forward[1], forward[0]) - psi + 0.5 * math.pi) % math.pi - 0.5 * math.pi)) < 0.5
+    velocity_turn = math.atan2(nav[_kernels.NAV_VEL + 1], nav[_kernels.NAV_VEL]) - heading - turned.heading_turned_rad
+    assert abs((velocity_turn + math.pi) % (2 * math.pi) - math.pi) < 1e-9
+    # a filter that is right is not turned, nor one whose axes the NHC does not tie to the track (hand-held)
+    assert realign_at_reset(reset, nav.copy(), setup, FusionOptions(), CGCS2000) == reset
+    lost = nav.copy()
+    lost[_kernels.NAV_Q_BN : _kernels.NAV_Q_BN + 4] = _kernels.rotvec_quat(0.0, 0.0, heading)
+    assert realign_at_reset(reset, lost, SimpleNamespace(heading_track=None, c_vb=setup.c_vb), FusionOptions(),
+                            CGCS2000) == reset
 
 
 def _record(names, time_s, source, nis, dof, accepted):

@@ -6,11 +6,13 @@ hand-held walk through `insrail fuse`."""
 from __future__ import annotations
 
 import itertools
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import pytest
 from real_data import real_path
 
 from insrail.nav.fusion import FusionOptions
@@ -19,9 +21,15 @@ from insrail.nav.self_calibration import MAX_GNSS_SCALE, MAX_STEP, fuse_consiste
 
 
 @dataclass
+class FakeIntegrity:
+    inconsistent: str = ""
+
+
+@dataclass
 class FakeResult:
     innovations: InnovationRecord
     info: dict = field(default_factory=dict)
+    integrity: FakeIntegrity = field(default_factory=FakeIntegrity)
 
 
 @dataclass
@@ -113,9 +121,14 @@ def test_a_few_rejected_fixes_are_not_absorbed_into_the_sigmas():
     assert calibration.passes == 1 and used.gnss_sigma_scale == 1.0
 
 
-def test_the_scale_is_bounded():
-    _, used, _, calibration, passes, _ = run(1000.0, 0.0)
+def test_the_scale_is_bounded_and_a_survey_still_inconsistent_after_the_last_pass_is_said_to_be():
+    result, used, _, calibration, passes, _ = run(1000.0, 0.0)
     assert used.gnss_sigma_scale <= MAX_GNSS_SCALE and len(passes) == calibration.passes <= 4
+    assert "after 4 passes" in result.integrity.inconsistent and "still rejected" in result.integrity.inconsistent
+    # no notice claims a pass that was not run
+    said = [float(x) for w in result.info["warnings"] for x in re.findall(r"sigmas x ([0-9.]+) \(calibrated", w)]
+    assert len(said) == calibration.passes - 1 and max(said) == pytest.approx(used.gnss_sigma_scale, abs=0.01)
+    assert run(1.0, 0.0)[0].integrity.inconsistent == ""
 
 
 # --------------------------------------------------------------------------- the real hand-held walk
@@ -124,17 +137,13 @@ BENCHMARK = Path(__file__).resolve().parents[1] / "benchmarks" / "imu_integrity.
 
 
 def walk_folder(folder: Path, profile: str) -> Path:
-    """The real walk as benchmarks/imu_integrity.py describes it (its survey.toml), with ``profile``."""
+    """The real walk as benchmarks/imu_integrity.py builds it (its survey.toml), with ``profile``."""
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("imu_integrity", BENCHMARK)
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
-    folder.mkdir()
-    for name in ("imu_1730_sf.csv", "gnss_1730_sf.pos"):
-        (folder / name).symlink_to(real_path("walk_0827") / name)
-    (folder / "survey.toml").write_text(bench.WALK_MANIFEST.format(profile=profile))
-    return folder
+    return bench.walk_survey(folder, profile, real_path("walk_0827"))
 
 
 def test_the_real_handheld_walk_fuses_consistently_as_a_user_runs_it(tmp_path, capsys):

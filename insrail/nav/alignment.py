@@ -98,6 +98,47 @@ def stop_thresholds(gyro_arw: float, accel_vrw: float, rate_hz: float) -> tuple[
             max(STOP_ACCEL_STD_FLOOR_MPS2, STOP_NOISE_FACTOR * accel_vrw / np.sqrt(ACCEL_BLOCK_S)))
 
 
+#: The slowest rocking of a standing platform [Hz] the ZUPT's noise allows for: motion of acceleration
+#: std a gives velocities of a / (2 pi f) at frequency f (an operator leaning on the handle, a hand's
+#: sway); faster vibration moves the platform less for the same acceleration.
+STOP_ROCKING_HZ = 0.5
+STOP_MOTION_CHUNK_S = 5.0
+
+
+def stop_motion_sigma(imu: ImuIncrements, stops, accel_vrw: float) -> np.ndarray:
+    """Per stop [start, end] the 1-sigma velocity [m/s] of the motion the accelerometers show there
+    beyond their white noise (``accel_vrw`` [m/s/sqrt(s)]): the noise of the zero-velocity update.
+
+    The specific force is formed over blocks of ACCEL_BLOCK_S (a logger's jittering time stamps
+    would otherwise pass for motion); per axis its variance over the stop, less the noise's
+    variance over a block and less three times that variance's sampling spread (a perfectly still
+    platform then shows none in 99.9 % of its axes), is the motion's; its acceleration std over
+    2 pi STOP_ROCKING_HZ is the velocity. The variance is taken about the mean of each
+    STOP_MOTION_CHUNK_S, so the in-run bias drifting over a long stop does not pass for motion.
+    """
+    step = np.diff(imu.time_s)
+    nominal = float(np.median(step)) if len(step) else 1.0
+    m = max(int(round(ACCEL_BLOCK_S / nominal)), 1)
+    sigma = np.zeros(len(stops))
+    for k, (t0, t1) in enumerate(stops):
+        a, b = np.searchsorted(imu.time_s, [t0, t1])
+        b = min(b, len(imu.time_s) - 1)
+        blocks = (b - a) // m
+        dv = imu.dvel_mps[a + 1 : a + 1 + blocks * m].reshape(blocks, m, 3).sum(axis=1)
+        span = (imu.time_s[a + m : a + 1 + blocks * m : m] - imu.time_s[a : a + blocks * m : m])[:, None]
+        f = dv / span
+        chunk = np.arange(blocks) // max(int(round(STOP_MOTION_CHUNK_S / ACCEL_BLOCK_S)), 1)
+        counts = np.bincount(chunk)
+        f -= np.stack([np.bincount(chunk, f[:, a]) for a in range(3)], axis=1)[chunk] / counts[chunk, None]
+        dof = blocks - len(counts)
+        if dof < 2:
+            continue
+        noise = accel_vrw**2 / float(np.median(span))
+        excess = np.sum(f**2, axis=0) / dof - noise * (1.0 + 3.0 * np.sqrt(2.0 / dof))
+        sigma[k] = np.sqrt(np.sum(np.maximum(excess, 0.0))) / (2.0 * np.pi * STOP_ROCKING_HZ)
+    return sigma
+
+
 def _moving_std(values: np.ndarray, n_win: int) -> np.ndarray:
     kernel = np.ones(n_win) / n_win
     mean = np.convolve(values, kernel, mode="same")

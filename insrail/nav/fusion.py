@@ -54,7 +54,7 @@ from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth, integrity, kalman
 from insrail.nav import measurements as meas
-from insrail.nav.alignment import detect_stops, stop_thresholds
+from insrail.nav.alignment import detect_stops, stop_motion_sigma, stop_thresholds
 from insrail.nav.error_model import (
     ATT,
     BA,
@@ -83,7 +83,7 @@ from insrail.nav.measurements import (
     schedule,
 )
 from insrail.nav.rotation import euler_to_dcm
-from insrail.nav.startup import PositionTrack, initial_state
+from insrail.nav.startup import PositionTrack, heading_at_reset, initial_state
 from insrail.nav.trajectory import (
     TRAJECTORY_DTYPE,
     Trajectory,
@@ -121,10 +121,12 @@ class FusionOptions:
     # 0.1 mm/s/sqrt(Hz), i.e. 0.3 mm/s at 10 Hz; tighter than 0.45 mm/s the solution follows the play.
     odometer_sigma_mps: float = 0.0005  # plus the pulse quantisation over the segment
     nhc_sigma_mps: float = 0.00045
-    # A standing trolley: kept at 1 mm/s for real ones (an operator's touch), so on the simulator,
-    # whose trolley stands perfectly still, the ZUPT's mean NIS per dof is 0.25 (its velocity rows
-    # see 0.02-0.08 mm/s); tightening it does not change that much (0.4 at 0.01 mm/s).
-    zupt_sigma_mps: float = 0.001
+    # The ZUPT's velocity noise where the platform shows no motion beyond the accelerometers' noise;
+    # a stop where they show more (an operator's touch, a hand) adds that motion's velocity
+    # (``alignment.stop_motion_sigma``). Between two 10 Hz ZUPTs of a still trolley the INS velocity
+    # errs only by the random walk's vrw sqrt(0.1 s) (4 um/s for `nav`): 1 mm/s (as before) gave
+    # NIS/dof 0.25 on the simulator, its velocity rows 0.005 (docs/fusion.md).
+    zupt_sigma_mps: float = 2e-6
     gate_probability: float = 0.9999
     initial_heading_rad: float | None = None  # None: gyrocompassing in the static start
     initial_sigma_heading_rad: float = math.radians(0.1)
@@ -159,11 +161,18 @@ class Rejection:
     innovation: tuple[float, ...]
 
 
+#: what a filter reset can widen: label, first error state, number of states (FilterReset.sigma's order)
+RESET_STATES = (("position", POS, 3), ("velocity", VEL, 3), ("attitude", ATT, 3), ("sensor errors", BG, 12),
+                ("odometer scale", ODO, 1), ("GNSS error", GNSS, 3))
+
+
 @dataclass(frozen=True)
 class FilterReset:
     """The filter was reset at ``time_s``: ``source`` had been rejected without a break for
     ``rejected_s`` seconds (``rejected`` observations), with ``also_rejected`` rejected at the same
-    time; the variances of ``states`` were raised to ``sigma`` (SI, same order)."""
+    time; the variances of ``states`` (labels of RESET_STATES) were raised to ``sigma`` (SI, in
+    RESET_STATES's order); the attitude and velocity turned by ``heading_turned_rad`` about the
+    vertical to the track's heading (:func:`realign_at_reset`)."""
 
     time_s: float
     source: str
@@ -173,20 +182,35 @@ class FilterReset:
     also_rejected: tuple[str, ...]
     states: tuple[str, ...]
     sigma: tuple[float, ...]
+    heading_turned_rad: float = 0.0
 
     def message(self) -> str:
         others = f" (and {', '.join(self.also_rejected)})" if self.also_rejected else ""
+        turned = (f"; heading re-aligned to the track by {math.degrees(self.heading_turned_rad):+.1f} deg"
+                  if self.heading_turned_rad else "")
         return (f"filter reset at t = {self.time_s:.1f} s: {self.source}{others} rejected for {self.rejected_s:.1f} s "
-                f"({self.rejected} in a row); {', '.join(self.states)} uncertainty widened and the measurements re-admitted")
+                f"({self.rejected} in a row){turned}; {', '.join(self.states)} uncertainty widened and the measurements "
+                "re-admitted")
+
+    def floors(self) -> np.ndarray:
+        """Per error state the 1-sigma its variance is raised to (NaN: left as it is)."""
+        floor = np.full(N_STATES, np.nan)
+        at = 0
+        for label, first, count in RESET_STATES:
+            if label in self.states:
+                floor[first : first + count] = self.sigma[at : at + count]
+                at += count
+        return floor
 
 
 class _RejectionRuns:
     """Per aiding source the current run of consecutive rejections (NaN start: none), and the
     decision that a run means the filter, not the sensor, is wrong. Plain arrays, one slot per source."""
 
-    def __init__(self, sources, options: FusionOptions):
+    def __init__(self, sources, options: FusionOptions, initial_sigma: np.ndarray):
         k = len(sources)
         self.sources, self.options = sources, options
+        self.initial_sigma = initial_sigma  # the filter's start 1-sigma: what a lost filter's sensor states go back to
         self.start = np.full(k, np.nan)
         self.first_trusted = np.full(k, np.nan)  # the run's first rejection of a trusted observation
         self.last = np.full(k, np.nan)
@@ -235,13 +259,16 @@ class _RejectionRuns:
         sigma_pos = np.maximum(2.0 * peak, o.reset_sigma_position_m)
         sigma_vel = widen * np.maximum(sigma_pos / duration if "position" in names else 0.0, o.reset_sigma_velocity_mps)
         sigma_pos = widen * sigma_pos
-        # attitude: widened no further (beyond some degrees the error model's small angles fail)
+        # attitude: widened no further (beyond some degrees the error model's small angles fail: a larger
+        # heading error is turned away by realign_at_reset)
         sigma_att = np.array([o.reset_sigma_level_rad, o.reset_sigma_level_rad, o.reset_sigma_heading_rad])
-        states, sigma, labels = [], [], []
-        for label, first, values in (("position", POS, sigma_pos), ("velocity", VEL, sigma_vel), ("attitude", ATT, sigma_att)):
+        if "attitude" in names:  # a lost filter: the sensor, odometer and GNSS error states it dragged along
+            names |= {"sensor errors", "odometer scale", "GNSS error"}
+        values = {"position": sigma_pos, "velocity": sigma_vel, "attitude": sigma_att}
+        sigma, labels = [], []
+        for label, first, count in RESET_STATES:
             if label in names:
-                states.extend(range(first, first + 3))
-                sigma.extend(np.broadcast_to(values, 3).tolist())
+                sigma.extend(np.broadcast_to(values.get(label, self.initial_sigma[first : first + count]), count).tolist())
                 labels.append(label)
         reset = FilterReset(float(time_s), self.sources[k].name, float(time_s - self.start[k]), int(self.count[k]),
                             float(np.nanmin(self.start[involved])),
@@ -928,6 +955,10 @@ class _Setup:
     noise: ErrorModelNoise
     gqg: np.ndarray
     gates: np.ndarray  # chi-square gate per number of rows
+    #: the positions a reset's re-alignment takes the heading from: the track, when the NHC holds the
+    #: trolley frame's x axis along it (not for a hand-held unit, whose axes point anywhere); else None
+    heading_track: PositionTrack | None
+    c_vb: np.ndarray  # C_b^v, the trolley's mounting
 
 
 def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: FusionOptions,
@@ -982,13 +1013,42 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     notices.extend(start.notices)
     every = max(int(round(1.0 / (options.update_rate_hz * dt[0]))), 1)
     epochs = update_grid(t, start.epoch, every, aiding.measurements)
-    plan = schedule(t[epochs], aiding.measurements, stops)
+    motion = (np.array([s[0] for s in stops]), np.array([s[1] for s in stops]),
+              stop_motion_sigma(imu, stops, profile.accel_vrw))
+    plan = schedule(t[epochs], [replace(m, stop_motion=motion) if isinstance(m, Zupt) else m
+                                for m in aiding.measurements], stops)
     P0 = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
                             start.sigma_heading_rad)
     # chi-square quantile of the gate probability per degree of freedom (scipy.special: no scipy.stats import)
     gates = np.array([np.inf] + [chdtri(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
     return _Setup(imu, dt, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
-                  noise, gqg, gates)
+                  noise, gqg, gates,
+                  track if any(isinstance(m, OdometerNhc) and m.use_nhc for m in aiding.measurements) else None, c_vb)
+
+
+def realign_at_reset(reset: FilterReset, nav: np.ndarray, setup: _Setup, options: FusionOptions,
+                     ellipsoid: earth.Ellipsoid) -> FilterReset:
+    """A reset that widens the attitude first turns the lost filter's heading to the track's
+    (``startup.heading_at_reset``) when they differ by more than three times the track's 1-sigma:
+    a lost filter can be tens of degrees off, beyond what the error model's small angles cover.
+    Only where the NHC ties the trolley's x axis to the track (``setup.heading_track``).
+    The attitude and velocity in ``nav`` are turned about the vertical, the heading's 1-sigma is
+    then the track's (not below the level's); the reset says so."""
+    found = (heading_at_reset(nav, setup.heading_track, reset.time_s, setup.c_vb, ellipsoid)
+             if "attitude" in reset.states and setup.heading_track is not None else None)
+    if found is None or abs(found[0]) <= 3.0 * found[1]:
+        return reset
+    turn, sigma = found
+    q = nav[_kernels.NAV_Q_BN : _kernels.NAV_Q_BN + 4]
+    nav[_kernels.NAV_Q_BN : _kernels.NAV_Q_BN + 4] = _kernels.quat_normalize(
+        _kernels.quat_mul(_kernels.rotvec_quat(0.0, 0.0, turn), (q[0], q[1], q[2], q[3])))
+    vn, ve = nav[_kernels.NAV_VEL], nav[_kernels.NAV_VEL + 1]
+    nav[_kernels.NAV_VEL] = math.cos(turn) * vn - math.sin(turn) * ve
+    nav[_kernels.NAV_VEL + 1] = math.sin(turn) * vn + math.cos(turn) * ve
+    at = sum(count for label, _, count in RESET_STATES[:2] if label in reset.states) + 2  # the heading's entry
+    sigma_list = list(reset.sigma)
+    sigma_list[at] = max(sigma, options.reset_sigma_level_rad)
+    return replace(reset, sigma=tuple(sigma_list), heading_turned_rad=turn)
 
 
 @dataclass
@@ -1053,7 +1113,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     sum_dof = np.zeros(k_src, dtype=np.int64)
     watched = np.zeros(k_src, dtype=bool)
     event_nu = np.zeros(meas.MAX_ROWS)
-    runs = _RejectionRuns(sources, options)
+    runs = _RejectionRuns(sources, options, np.sqrt(np.diag(setup.P0)))
     rejections: list[Rejection] = []
     resets: list[FilterReset] = []
     t = imu.time_s
@@ -1096,13 +1156,10 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
                                         tuple(event_nu[:m].tolist())))
             reset = runs.rejected(k, i, time_s, event_nu[:m].copy())
             if reset is not None:
+                reset = realign_at_reset(reset, state.nav, setup, options, ellipsoid)
                 resets.append(reset)
-                state.pending[:] = np.nan
                 state.pending[0] = 1.0
-                for label, first in (("position", POS), ("velocity", VEL), ("attitude", ATT)):
-                    if label in reset.states:
-                        at = reset.states.index(label)
-                        state.pending[1 + first : 1 + first + 3] = reset.sigma[3 * at : 3 * at + 3]
+                state.pending[1:] = reset.floors()
         else:
             runs.accepted(k)
         watched[:] = [runs.pending(s) for s in range(k_src)]

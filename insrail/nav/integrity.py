@@ -76,10 +76,13 @@ class FusionIntegrity:
     reasons: tuple[str, ...]
     suspect_s: tuple[tuple[float, float, str], ...]
     invalid_share: float  # of the travelled length
+    #: why the whole survey is inconsistent though its sections are not (``insrail.nav.self_calibration``:
+    #: the GNSS positions still disagreeing with the solution when its passes ran out); "" when not
+    inconsistent: str = ""
 
     @property
     def trusted(self) -> bool:
-        return not self.invalid_share > MOSTLY
+        return not (self.invalid_share > MOSTLY or self.inconsistent)
 
     def not_valid_intervals(self) -> list[tuple[float, float, str]]:
         """(start, end, why) in seconds of week: the not-valid sections and the suspect intervals."""
@@ -96,6 +99,8 @@ class FusionIntegrity:
             text += f"; not valid: {100 * self.invalid_share:.0f} % of the length"
         if self.suspect_s:
             text += f"; {len(self.suspect_s)} filter reset(s)"
+        if self.inconsistent:
+            text += f"; inconsistent: {self.inconsistent}"
         return text
 
     def failure(self) -> str:
@@ -110,8 +115,10 @@ class FusionIntegrity:
                 nis = np.nanmedian(self.nis_per_dof[counted, s]) if np.isfinite(self.nis_per_dof[counted, s]).any() \
                     else math.nan
             worst.append(f"{name} {100 * rejected:.0f} % rejected, NIS {nis:.1f} x its degrees of freedom")
-        return (f"the fused solution is inconsistent with its own 1-sigma over {100 * self.invalid_share:.0f} % of "
-                f"the survey ({int(np.sum(~self.valid))} of {len(self.valid)} sections): " + "; ".join(worst)
+        where = (self.inconsistent if self.inconsistent and not self.invalid_share > MOSTLY else
+                 f"over {100 * self.invalid_share:.0f} % of the survey ({int(np.sum(~self.valid))} of {len(self.valid)} "
+                 "sections)")
+        return (f"the fused solution is inconsistent with its own 1-sigma {where}: " + "; ".join(worst)
                 + ". Check the lever arms and mounting angles in survey.toml, the IMU profile (a MEMS unit carried "
                   "by hand or shaken: mems_handheld) and the GNSS solution's time scale and sigmas")
 

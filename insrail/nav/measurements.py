@@ -392,14 +392,20 @@ class OdometerNhc:
 class Zupt:
     """Zero velocity and zero heading rate while the trolley stands still.
 
-    Velocity rows: the INS velocity must be zero. Heading-rate row (ZARU): the mean
-    compensated gyro rate about the vertical must equal the earth rate's vertical
-    component; it observes the vertical gyro bias.
+    Velocity rows: the INS velocity must be zero, with the noise of the motion the platform
+    shows at that stop (``stop_motion``: per stop its start, end and 1-sigma velocity from the
+    accelerometers, ``insrail.nav.alignment.stop_motion_sigma``) over the floor
+    ``sigma_velocity_mps`` of a platform standing still. Heading-rate row (ZARU): the mean
+    compensated gyro rate about the vertical must equal the earth rate's vertical component;
+    it observes the vertical gyro bias.
     """
 
     time_s: np.ndarray
-    sigma_velocity_mps: float = 0.001
+    sigma_velocity_mps: float = 2e-6
     gyro_white_noise: float = 1e-6  # rad/sqrt(s): the ZARU sigma is this / sqrt(segment)
+    stop_motion: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+    #: per observation (update epoch, once scheduled) the velocity rows' 1-sigma [m/s]
+    sigma_mps: np.ndarray | None = None
     name: str = "zupt"
     resets: ClassVar[tuple[str, ...]] = ("velocity",)
     position_innovation: ClassVar[bool] = False
@@ -409,10 +415,20 @@ class Zupt:
 
     def scheduled(self, update_time_s, stops):
         """Applied at the end of every segment that starts and ends inside a stop
-        (observation i = update epoch j)."""
+        (observation i = update epoch j), with that stop's motion noise."""
+        update_time_s = np.asarray(update_time_s)
         rest = at_rest(stops, update_time_s)
         j = np.flatnonzero(rest[1:] & rest[:-1]).astype(np.int64) + 1
-        return replace(self, time_s=np.asarray(update_time_s)), j, j
+        motion = np.zeros(len(update_time_s))
+        if self.stop_motion is not None and len(self.stop_motion[0]):
+            start, end, sigma = self.stop_motion
+            k = np.maximum(np.searchsorted(start, update_time_s, side="right") - 1, 0)
+            inside = (update_time_s >= start[k]) & (update_time_s <= end[k])
+            motion[inside] = sigma[k[inside]]
+        return replace(self, time_s=update_time_s, sigma_mps=np.hypot(self.sigma_velocity_mps, motion)), j, j
+
+    def _sigma(self) -> np.ndarray:
+        return self.sigma_mps if self.sigma_mps is not None else np.full(len(self.time_s), self.sigma_velocity_mps)
 
     def model(self, nav: NavSnapshot, i: int):
         H = _h(4)
@@ -424,11 +440,11 @@ class Zupt:
         H[3, BG : BG + 3] = nav.c_bn[2]
         H[3, SG : SG + 3] = nav.c_bn[2] * nav.mean_omega_ib_b
         sigma_rate = self.gyro_white_noise / np.sqrt(max(nav.segment_s, 1e-3))
-        R = np.diag([self.sigma_velocity_mps**2] * 3 + [sigma_rate**2])
+        R = np.diag([self._sigma()[i] ** 2] * 3 + [sigma_rate**2])
         return z, H, R
 
     def compiled(self) -> CompiledModel:
-        return _compiled(MODEL_ZUPT, [self.sigma_velocity_mps, self.gyro_white_noise], [self.time_s])
+        return _compiled(MODEL_ZUPT, [self.gyro_white_noise], [self.time_s, np.square(self._sigma())])
 
 
 @dataclass(frozen=True)
@@ -698,13 +714,13 @@ def _zupt_model(ctx, params, obs, z, H, r):
     for a in range(3):
         z[a] = ctx[CTX_VEL + a]
         H[a, VEL + a] = 1.0
-        r[a] = params[0] * params[0]
+        r[a] = obs[1]
     z[3] = rate_n[2] - ctx[CTX_EARTH_RATE + 2]
     H[3, ATT], H[3, ATT + 1] = -rate_n[1], rate_n[0]
     for b in range(3):
         H[3, BG + b] = ctx[CTX_C_BN + 6 + b]
         H[3, SG + b] = ctx[CTX_C_BN + 6 + b] * w[b]
-    sigma_rate = params[1] / math.sqrt(max(ctx[CTX_SEGMENT], 1e-3))
+    sigma_rate = params[0] / math.sqrt(max(ctx[CTX_SEGMENT], 1e-3))
     r[3] = sigma_rate * sigma_rate
     return 4
 

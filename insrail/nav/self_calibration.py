@@ -20,6 +20,9 @@ filter measures (its normalised innovations, ``insrail.nav.integrity``):
   the GNSS noise, so the iteration is damped) and the survey fused again, up to
   :data:`MAX_PASSES` passes, the scale at most :data:`MAX_GNSS_SCALE`. The notice names the factor.
 
+A survey still inconsistent when the passes run out cannot be trusted: its integrity verdict
+says why (``FusionIntegrity.inconsistent``), and ``insrail fuse``/``process``/``batch`` fail it.
+
 A survey the first pass finds consistent is fused once: clean surveys pay nothing and their
 figures do not change. A short fault (a false fix of seconds, single outliers) stays below the
 thresholds and is rejected, not absorbed into the sigmas. Scaling the sigmas only ever makes the
@@ -114,8 +117,14 @@ def fuse_consistent(imu, build_aiding, profile, options, ellipsoid, new_store=No
             if store is not None:
                 store.close()
             raise
-        changed = _next_options(result, aiding, options, notices)
-        if changed is None or passes == MAX_PASSES:
+        said: list[Notice] = []
+        changed = _next_options(result, aiding, options, said)
+        if changed is not None and passes == MAX_PASSES:  # still inconsistent, and no pass left to mend it
+            result = replace(result, integrity=replace(result.integrity,
+                                                       inconsistent=_still_inconsistent(result, passes, options, changed)))
+            break
+        notices += said
+        if changed is None:
             break
         nhc_dropped |= options.use_nhc and not changed.use_nhc
         options = changed
@@ -124,6 +133,17 @@ def fuse_consistent(imu, build_aiding, profile, options, ellipsoid, new_store=No
     result.info["warnings"] = [*result.info.get("warnings", []), *(n.message for n in notices)]
     result.info["calibration"] = calibration.to_dict()
     return result, options, store, calibration
+
+
+def _still_inconsistent(result, passes: int, options, wanted) -> str:
+    """Why the last pass is not consistent (``wanted``: the options it would have needed next)."""
+    if wanted.use_nhc != options.use_nhc:
+        nhc = consistency(result, NHC_SOURCE)
+        return f"after {passes} passes {100 * nhc.rejected_share:.0f} % of the non-holonomic constraint's rows rejected"
+    gnss = consistency(result, GNSS_SOURCE)
+    return (f"after {passes} passes (GNSS sigmas x {options.gnss_sigma_scale:.2f}) {100 * gnss.rejected_share:.0f} % of "
+            f"the {gnss.observations} GNSS fixes still rejected (their median NIS {gnss.robust_nis_per_dof:.2f} x its "
+            "chi-square median)")
 
 
 def _next_options(result, aiding, options, notices: list[Notice]):

@@ -514,3 +514,25 @@ def _sets_off_backwards(imu, track, ned, moving, roll, pitch, c_vb, ell) -> bool
     ahead = np.array([np.interp(t0 + 2.0, track.time_s, ned[:, a]) for a in range(2)])
     speed = float(np.hypot(*(ahead - ned[max(moving - 1, 0), :2]))) / 2.0
     return dv_forward < -0.5 * speed
+
+
+def heading_at_reset(nav: np.ndarray, track: PositionTrack, time_s: float, c_vb: np.ndarray,
+                     ell: earth.Ellipsoid) -> tuple[float, float] | None:
+    """For a filter reset at ``time_s``: the yaw [rad] to turn the lost filter's attitude by (about
+    the n frame's down axis) so its trolley heading is the track's travel direction there (the
+    chord of :func:`track_heading`, as the moving start takes it; forwards or backwards, whichever
+    is nearer the filter's), and that heading's 1-sigma. ``nav`` is the strapdown's navigation
+    vector (attitude quaternion q_bn at NAV_Q_BN). None when the track gives no chord from there."""
+    i0 = int(np.searchsorted(track.time_s, time_s))
+    if i0 >= len(track) - 1:
+        return None
+    found = track_heading(track.local_ned(ell), track.horizontal_sigma_m(), i0)
+    if found is None:
+        return None
+    q = nav[_kernels.NAV_Q_BN : _kernels.NAV_Q_BN + 4]
+    forward_n = quat_to_dcm(q) @ c_vb.T[:, 0]
+    filter_heading = math.atan2(forward_n[1], forward_n[0])
+    turn = float(_wrap(found.heading_rad - filter_heading))
+    if abs(turn) > 0.5 * math.pi:  # the trolley runs backwards along the track
+        turn = float(_wrap(turn + math.pi))
+    return turn, found.sigma_heading_rad

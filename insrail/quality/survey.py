@@ -32,9 +32,6 @@ import numpy as np
 from insrail.io.survey import SurveyData
 from insrail.nav import earth
 from insrail.nav.error_model import (
-    ATT,
-    POS,
-    VEL,
     ErrorModelNoise,
     discretise,
     dynamics_matrix,
@@ -199,9 +196,6 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
                    smoother=smoothed, forward_lags=forward_lags, progress=progress, cancel=cancel)
 
 
-_RESET_BLOCKS = {"position": POS, "velocity": VEL, "attitude": ATT}
-
-
 def reset_segments(result: FusionResult) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     """Per update epoch j, the filter reset the fusion applied to the P- of segment j (states, 1-sigma
     floor): the one decided at the update epoch of the rejected observation that ended the run, applied
@@ -211,8 +205,9 @@ def reset_segments(result: FusionResult) -> dict[int, tuple[np.ndarray, np.ndarr
     for reset in result.resets:
         j = int(np.searchsorted(t, reset.time_s - 1e-6)) + 1
         if 0 < j < len(t):
-            states = np.concatenate([np.arange(_RESET_BLOCKS[label], _RESET_BLOCKS[label] + 3) for label in reset.states])
-            out[j] = (states, np.asarray(reset.sigma, dtype=float))
+            floors = reset.floors()
+            states = np.flatnonzero(~np.isnan(floors))
+            out[j] = (states, floors[states])
     return out
 
 
