@@ -368,8 +368,9 @@ class OdometerNhc:
         if self.use_odometer:
             v_mean, H_odo = frame.velocity_rows(self.odometer_lever_arm_m, nav.mean_vel_ned)
             corrected = self.speed_mps[i] / (1.0 + nav.odometer_scale)
-            # odometer state = residual scale error s - s_hat: z = dv_x - v (s - s_hat)
-            H_odo[0, ODO] = -corrected
+            # odometer state = residual scale error s - s_hat; the corrected speed d / (1 + s_hat)
+            # changes by -d / (1 + s_hat)^2 per unit of it
+            H_odo[0, ODO] = -corrected / (1.0 + nav.odometer_scale)
             rows.append(H_odo[0])
             z.append(v_mean[0] - corrected)
             sig.append(self.sigma_speed_mps[i])
@@ -693,7 +694,7 @@ def _odometer_nhc_model(ctx, params, obs, z, H, r):
         mean_vel = (ctx[CTX_MEAN_VEL], ctx[CTX_MEAN_VEL + 1], ctx[CTX_MEAN_VEL + 2])
         v = _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, mean_vel, 0, H, 0)
         corrected = obs[1] / (1.0 + ctx[CTX_ODO_SCALE])
-        H[0, ODO] = -corrected
+        H[0, ODO] = -corrected / (1.0 + ctx[CTX_ODO_SCALE])
         z[0] = v - corrected
         r[0] = obs[2]
         m = 1
