@@ -265,6 +265,9 @@ def test_cli_fuse_places_prism_fixes_by_the_project_and_refuses_them_without(tun
     assert "note: fuse: 2 total-station prism fix(es) placed by project tunnel" in out
     log = tomllib.loads((tmp_path / "with" / "fusion_log.toml").read_text())
     assert log["prism_fixes"] == 2 and log["measurements"]["position_fix"]["used"] == 2
+    assert main(["fuse", str(survey), "--project", str(tmp_path / "project"), "--ellipsoid", "WGS84",
+                 "--out", str(tmp_path / "other")]) == 2  # the fixes' geodetic coordinates are on the project's
+    assert "conflicts with the project's CRS on CGCS2000" in capsys.readouterr().err
     manifest = read_manifest(survey)  # the same survey without GNSS: the fixes are all it has
     write_manifest(survey, replace(manifest, files={r: e for r, e in manifest.files.items() if r != "gnss"}))
     assert main(["fuse", str(survey), "--out", str(tmp_path / "without"), "--no-smoother"]) == 1

@@ -82,9 +82,13 @@ def run(args: argparse.Namespace) -> int:
         bar.done()
         print(f"insrail fuse: survey {survey.manifest.name} ({args.survey}): {err}", file=sys.stderr)
         return 1
+    if args.ellipsoid is not None and project_ellipsoid is not None and args.ellipsoid != project_ellipsoid.name:
+        bar.done()
+        print(f"insrail fuse: --ellipsoid {args.ellipsoid} conflicts with the project's CRS on {project_ellipsoid.name}: "
+              "leave it out with --project", file=sys.stderr)
+        return 2
     every = max(int(round(survey.imu.rate_hz / args.rate)), 1) if args.rate > 0 else 1
-    ellipsoid = project_ellipsoid if args.ellipsoid is None and project_ellipsoid is not None else (
-        earth.WGS84 if args.ellipsoid == "WGS84" else earth.CGCS2000)
+    ellipsoid = project_ellipsoid or (earth.WGS84 if args.ellipsoid == "WGS84" else earth.CGCS2000)
     args.out.mkdir(parents=True, exist_ok=True)
     # Streamed under staging names; an untrustworthy solution is not put where a user would take it.
     staged = {"trajectory.npy": args.out / ".trajectory.fusing.npy"}
