@@ -117,3 +117,18 @@ def test_gnss_position_is_zero_for_a_consistent_observation():
     z, _, R = m.model(nav, 0)
     assert np.abs(z).max() < 1e-6
     assert np.allclose(np.diag(R), [1e-4, 1e-4, 4e-4])
+
+
+def test_the_prism_fix_a_survey_starts_from_is_applied_while_the_trolley_stands_still():
+    """A fix at the first update epoch (the start of a survey without GNSS) is applied at the second
+    when one stop holds both; taken while moving, or before the stop, it is not (nor any fix outside
+    the update epochs); the others as every time-stamped source, at the first epoch at or after them."""
+    from insrail.nav.measurements import PositionFix, schedule
+
+    grid = 10.0 + 0.1 * np.arange(1000)  # 10.0 .. 109.9 s
+    fixes = PositionFix(np.array([5.0, 10.0, 50.05, 120.0]), *np.zeros((3, 4)), np.full(4, 0.001), np.zeros(3))
+    plan = schedule(grid, [fixes], [(8.0, 40.0)])
+    assert list(zip(plan.epoch, plan.observation)) == [(1, 1), (401, 2)]
+    moving = schedule(grid, [fixes], [(10.05, 40.0), (45.0, 55.0)])
+    assert list(zip(moving.epoch, moving.observation)) == [(401, 2)]
+    assert list(zip(schedule(grid, [fixes], []).epoch, schedule(grid, [fixes], []).observation)) == [(401, 2)]

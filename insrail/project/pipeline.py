@@ -157,7 +157,7 @@ from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 7  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity
+CACHE_VERSION = 8  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied
 
 
 @dataclass(frozen=True)
