@@ -75,7 +75,7 @@ def test_published_gsi8_and_gsi16_blocks(tmp_path):
     a real file holds, 87 and 51 among them), face II and sexagesimal angles, CPIII pointings untimed."""
     path = tmp_path / "crew.gsi"
     path.write_text(
-        "410001+00000020 42....+00007142\n"  # a code block: skipped
+        "\ufeff410001+00000020 42....+00007142\r\n"  # a byte-order mark, Windows line ends, a code block: skipped
         "*110001+0000000000STN001 84..10+0000000000000000 85..10+0000000000000000 88..10+0000000000001600 \n"
         "110002+00130021 21.102+19723700 22.102+10000000 31..00+00045179 51....+0000+000\n"
         "*110003+0000000000CP0017 21...2+0000000014638140 22...2+0000000010175230 31...0+0000000000006627 "

@@ -147,12 +147,21 @@ class _Block:
         return -value if word.negative else value
 
 
+_BOM = "\ufeff".encode().decode("latin-1")  # a UTF-8 byte-order mark read as latin-1
+
+
+def _lines(handle):
+    """(line number, content) of the non-empty lines, a byte-order mark dropped."""
+    for line, raw in enumerate(handle, start=1):
+        content = raw.strip().removeprefix(_BOM) if line == 1 else raw.strip()
+        if content:
+            yield line, content
+
+
 def _blocks(path: Path):
     with open(path, encoding="latin-1") as handle:
-        for line, raw in enumerate(handle, start=1):
-            content = raw.strip()
-            if content:
-                yield _Block(path, line, content)
+        for line, content in _lines(handle):
+            yield _Block(path, line, content)
 
 
 def read_total_station_gsi(path: str | Path, prism_prefix: str = PRISM_TARGET) -> TotalStationObservations:
@@ -220,10 +229,8 @@ def detect(path: Path, lines: int = 20) -> str | None:
     found: set[str] = set()
     try:
         with open(path, encoding="latin-1") as handle:
-            for raw in handle:
-                words = raw.strip().lstrip("*").split()
-                if not words:
-                    continue
+            for _, content in _lines(handle):
+                words = content.lstrip("*").split()
                 if not all(_WORD.match(w) for w in words):
                     return None
                 found |= {w[:2] for w in words}
