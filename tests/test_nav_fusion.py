@@ -238,9 +238,40 @@ def test_a_survey_without_gnss_starts_from_the_prism_fixes(short_nav_survey, sur
     result = fuse_survey(replace(_first_seconds(survey, 700.0), gnss=None), ellipsoid=CGCS2000, output_every=4,
                   position_fixes=fixes)
     assert result.info["alignment"] == "static" and "gnss_position" not in result.statistics
-    assert result.statistics["position_fix"]["used"] == len(rows) - 1  # the first one starts the filter
+    # the first one starts the filter (5 mm) and, the trolley standing still, counts with its own 1 mm too
+    assert result.statistics["position_fix"]["used"] == len(rows)
     errors = trajectory_errors(result.trajectory, truth, CGCS2000)
     assert errors.rms_horizontal_m() < 0.004 and errors.rms_vertical_m() < 0.003
     assert max(errors.lag_difference_sigma_m(5.0)) < 0.3e-3
     with pytest.raises(ValueError, match="neither GNSS nor total-station prism fixes"):
         fuse_survey(replace(survey, gnss=None))
+
+
+def test_cli_fuse_places_prism_fixes_by_the_project_and_refuses_them_without(tunnel_survey, tmp_path, capsys):
+    """`insrail fuse --project` uses the survey's prism fixes as `insrail process` does; without a project
+    a survey whose fixes are its only position source is refused, naming --project."""
+    import shutil
+
+    from insrail.cli.main import main
+    from insrail.io.survey import read_manifest, write_manifest
+    from insrail.project.demo import project_for_simulated_survey
+
+    folder, _ = tunnel_survey
+    survey = tmp_path / "project" / "surveys" / "tunnel"
+    shutil.copytree(folder, survey)
+    project_for_simulated_survey(tmp_path / "project", survey, name="tunnel")
+    assert main(["fuse", str(survey), "--project", str(tmp_path / "project"), "--out", str(tmp_path / "with"),
+                 "--no-smoother", "--rate", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "note: fuse: 2 total-station prism fix(es) placed by project tunnel" in out
+    log = tomllib.loads((tmp_path / "with" / "fusion_log.toml").read_text())
+    assert log["prism_fixes"] == 2 and log["measurements"]["position_fix"]["used"] == 2
+    assert main(["fuse", str(survey), "--project", str(tmp_path / "project"), "--ellipsoid", "WGS84",
+                 "--out", str(tmp_path / "other")]) == 2  # the fixes' geodetic coordinates are on the project's
+    assert "conflicts with the project's CRS on CGCS2000" in capsys.readouterr().err
+    manifest = read_manifest(survey)  # the same survey without GNSS: the fixes are all it has
+    write_manifest(survey, replace(manifest, files={r: e for r, e in manifest.files.items() if r != "gnss"}))
+    assert main(["fuse", str(survey), "--out", str(tmp_path / "without"), "--no-smoother"]) == 1
+    err = capsys.readouterr().err
+    assert "2 total-station observation(s) are its only position source" in err and "--project PROJECT" in err
+    assert not (tmp_path / "without" / "trajectory.npy").exists()

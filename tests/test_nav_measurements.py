@@ -126,3 +126,21 @@ def test_gnss_position_is_zero_for_a_consistent_observation():
     z, _, R = m.model(nav, 0)
     assert np.abs(z).max() < 1e-6
     assert np.allclose(np.diag(R), [1e-4, 1e-4, 4e-4])
+
+
+def test_a_prism_fix_in_the_stop_a_survey_starts_from_or_ends_in_holds_where_the_run_leaves_or_arrives():
+    """A fix in the stop holding the first update epochs (a survey without GNSS starts from it) is
+    applied at the stop's last epoch, one in the stop holding the last epoch at that stop's first,
+    with their times moved there; one before the start's stop, or at the start while moving, is not
+    applied; the others as every time-stamped source, at the first epoch at or after them."""
+    from insrail.nav.measurements import PositionFix, schedule
+
+    grid = 10.0 + 0.1 * np.arange(1000)  # 10.0 .. 109.9 s
+    times = np.array([5.0, 10.0, 20.0, 50.05, 105.0, 120.0])
+    fixes = PositionFix(times, *np.zeros((3, 6)), np.full(6, 0.001), np.zeros(3))
+    plan = schedule(grid, [fixes], [(8.0, 40.0), (45.0, 55.0), (100.0, 130.0)])
+    assert list(zip(plan.epoch, plan.observation)) == [(300, 1), (300, 2), (401, 3), (900, 4), (900, 5)]
+    np.testing.assert_allclose(plan.measurements[0].time_s, [5.0, 40.0, 40.0, 50.05, 100.0, 100.0])
+    moving = schedule(grid, [fixes], [(10.05, 40.0), (45.0, 55.0)])
+    assert list(zip(moving.epoch, moving.observation)) == [(100, 2), (401, 3), (950, 4)]
+    np.testing.assert_array_equal(moving.measurements[0].time_s, times)

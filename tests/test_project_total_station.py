@@ -206,3 +206,20 @@ def test_raw_observations_without_cpiii_points_are_a_manifest_problem(tmp_path):
     text = str(error.value)
     assert "need the CPIII points they are resected on [files.cpiii]" in text
     assert "trolley.imu_to_prism_m: missing (required with files.total_station" in text
+
+
+def test_the_crews_gsi_files_place_the_same_fixes_as_the_text_files(tmp_path):
+    """The set-ups written as Leica GSI-16 (pointings and CPIII coordinates), named in survey.toml by their
+    formats, resect and place the prism as the text files do (GSI's 1e-5 gon and 0.01 mm: < 0.02 mm)."""
+    from insrail.io.formats import read_any
+    from insrail.io.gsi import write_cpiii_gsi, write_total_station_gsi
+
+    observations, points, _ = simulated(np.random.default_rng(3), wrong_point="CP03L")
+    write_total_station_gsi(tmp_path / "ts.gsi", observations)
+    write_cpiii_gsi(tmp_path / "cpiii.gsi", points)
+    text, text_notices = prism_fixes_from_observations(observations, points)
+    gsi, gsi_notices = prism_fixes_from_observations(read_any(tmp_path / "ts.gsi"), read_any(tmp_path / "cpiii.gsi"))
+    for name in ("time_s", "east_m", "north_m", "height_m"):
+        np.testing.assert_allclose(getattr(gsi, name), getattr(text, name), rtol=0, atol=2e-5)
+    assert [n.message.split(" (line")[0] for n in gsi_notices] == [n.message.split(" (line")[0] for n in text_notices]
+    assert gsi_notices and all("CP03L does not fit" in n.message for n in gsi_notices)

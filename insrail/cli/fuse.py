@@ -6,6 +6,12 @@ field, SI; streamed to disk as it is made) and fusion_log.toml (measurement stat
 every rejected measurement with its time and size, stops, alignment, options); with
 --forward also forward_trajectory.npy, with --text the KF-GINS text files trajectory.nav,
 trajectory_std.txt and imu_errors.txt (of every written trajectory).
+
+Total-station prism fixes ([files.prism], or raw observations [files.total_station] resected on
+[files.cpiii]) are in engineering coordinates: with --project PROJECT they are placed by that
+project's CRS and height model (and its trolley and ellipsoid apply), as ``insrail process`` does.
+Without it they cannot be placed: a survey with GNSS is fused on its GNSS alone and says so, a
+survey without GNSS is refused.
 """
 
 from __future__ import annotations
@@ -27,7 +33,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--gnss-only", action="store_true", help="GNSS positions only: no odometer, NHC or ZUPT")
     p.add_argument("--imu-profile", help="IMU error profile name or .toml (default: the survey's)")
     p.add_argument("--rate", type=float, default=0.0, help="output rate [Hz] (default: the IMU rate)")
-    p.add_argument("--ellipsoid", choices=("WGS84", "CGCS2000"), default="CGCS2000")
+    p.add_argument("--project", type=Path,
+                   help="project (folder or project.toml) whose CRS and height model place the survey's total-station "
+                        "prism fixes in the fusion (its trolley and ellipsoid then apply too)")
+    p.add_argument("--ellipsoid", choices=("WGS84", "CGCS2000"),
+                   help="navigation ellipsoid (default: the project's with --project, else CGCS2000)")
     p.add_argument("--heading", type=float,
                    help="initial heading of the IMU [deg]: skips the gyrocompass and sets the start velocity's direction")
     p.add_argument("--heading-sigma", type=float, default=0.1,
@@ -64,8 +74,21 @@ def run(args: argparse.Namespace) -> int:
     )
     bar = TerminalProgress("fuse")
     survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m))
+    try:
+        survey, fixes, project_ellipsoid, placed = _prism_fixes(survey, args.project)
+    except ValueError as err:
+        if isinstance(err, InputError):
+            raise
+        bar.done()
+        print(f"insrail fuse: survey {survey.manifest.name} ({args.survey}): {err}", file=sys.stderr)
+        return 1
+    if args.ellipsoid is not None and project_ellipsoid is not None and args.ellipsoid != project_ellipsoid.name:
+        bar.done()
+        print(f"insrail fuse: --ellipsoid {args.ellipsoid} conflicts with the project's CRS on {project_ellipsoid.name}: "
+              "leave it out with --project", file=sys.stderr)
+        return 2
     every = max(int(round(survey.imu.rate_hz / args.rate)), 1) if args.rate > 0 else 1
-    ellipsoid = earth.CGCS2000 if args.ellipsoid == "CGCS2000" else earth.WGS84
+    ellipsoid = project_ellipsoid or (earth.WGS84 if args.ellipsoid == "WGS84" else earth.CGCS2000)
     args.out.mkdir(parents=True, exist_ok=True)
     # Streamed under staging names; an untrustworthy solution is not put where a user would take it.
     staged = {"trajectory.npy": args.out / ".trajectory.fusing.npy"}
@@ -74,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         profile = load_imu_profile(args.imu_profile or survey.manifest.imu_profile)
         # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
-        result, options, _, _ = fuse_consistent(survey.imu, lambda o: aiding_for(survey, o, profile), profile, options,
+        result, options, _, _ = fuse_consistent(survey.imu, lambda o: aiding_for(survey, o, profile, fixes), profile, options,
                                                 ellipsoid, output_every=every,
                                                 progress=lambda f, m: bar(0.05 + 0.85 * f, m),
                                                 trajectory_file=staged["trajectory.npy"],
@@ -111,7 +134,8 @@ def run(args: argparse.Namespace) -> int:
         "odometer_scale_ppm": float(traj.odometer_scale[-1] * 1e6),
         "stops_s": [list(s) for s in result.stops],
         "warnings": result.info["warnings"],
-        "notices": [n.to_dict() for n in result.info["notices"]],
+        "prism_fixes": 0 if fixes is None else len(fixes.time_s),
+        "notices": [n.to_dict() for n in (*placed, *result.info["notices"])],
         "alignment": result.info["alignment"],
         "imu_outliers_removed": [
             {"time_s": o.time_s, "record": o.index + 1, "quantity": o.quantity, "axis": o.axis, "reason": o.reason,
@@ -137,7 +161,7 @@ def run(args: argparse.Namespace) -> int:
     with atomic_write(args.out / "fusion_log.toml") as stream:
         stream.write(tomli_w.dumps(log))
     elapsed = bar.done()
-    for notice in result.info["notices"]:
+    for notice in (*placed, *result.info["notices"]):
         print(f"{'warning' if notice.severity == 'warning' else 'note'}: {notice.text()}")
     kind = "smoothed" if options.smoother else "forward"
     print(f"Fused {len(survey.imu):,} IMU epochs in {elapsed:.1f} s ({kind}); {len(result.rejections)} measurements rejected")
@@ -156,3 +180,36 @@ def run(args: argparse.Namespace) -> int:
           + "/".join(f"{1e3 * s:.1f}" for s in traj.sigma_pos_ned_m[-1]) + " mm")
     print(f"Results: {args.out.resolve()}")
     return 0
+
+
+def _prism_fixes(survey, project_path: Path | None):
+    """(survey with its raw total-station observations placed, the prism fixes as position fixes or
+    None, the project's ellipsoid or None, the notices of placing them): module docstring. Raises
+    ValueError for a survey whose only position source is fixes that cannot be placed."""
+    from dataclasses import replace
+
+    from insrail.notices import Notice
+    from insrail.project.model import load_project
+    from insrail.project.pipeline import ellipsoid_of, fit_heights, prism_fixes
+    from insrail.project.total_station import with_total_station_fixes
+
+    count = sum(len(getattr(survey, role)) for role in ("prism", "total_station") if getattr(survey, role) is not None)
+    if project_path is None:
+        if count and survey.gnss is None:
+            raise ValueError(f"its {count} total-station observation(s) are its only position source and are in "
+                             "engineering coordinates: give --project PROJECT, whose CRS and height model place them")
+        if count:
+            print(f"note: the survey's {count} total-station observation(s) are not used: their engineering "
+                  "coordinates need a project's CRS and height model (--project PROJECT); fused on GNSS alone")
+        return survey, None, None, []
+    project = load_project(project_path)
+    trolley = project.trolley(set(survey.manifest.files))
+    if trolley is not None:
+        survey = replace(survey, manifest=replace(survey.manifest, trolley=trolley))
+    if not count:
+        return survey, None, ellipsoid_of(project), []
+    survey, placed = with_total_station_fixes(survey)
+    fixes = prism_fixes(project, survey.prism, survey.manifest.trolley, fit_heights(project))
+    placed = [*placed, Notice("fuse", f"{len(fixes.time_s)} total-station prism fix(es) placed by project "
+                                      f"{project.name} ({project.crs.describe()})", severity="info")]
+    return survey, fixes, ellipsoid_of(project), placed

@@ -15,7 +15,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from insrail.io import control, events, gnss, imu, odometer, rtklib, total_station, track_sensors
+from insrail.io import control, events, gnss, gsi, imu, odometer, rtklib, total_station, track_sensors
 from insrail.io.errors import InputError
 from insrail.io.textparse import COMMENT_MARKERS, header_value, is_number, split_fields, strip_comment
 from insrail.io.types import (
@@ -74,8 +74,12 @@ FORMATS: dict[str, FileFormat] = {f.name: f for f in (
                "total-station prism positions on CPIII, engineering frame"),
     FileFormat("total-station-polar", total_station.read_total_station_polar, total_station.write_total_station_polar,
                TotalStationObservations, "raw total-station pointings (Hz, V, slope distance) of free stations"),
+    FileFormat("total-station-gsi", gsi.read_total_station_gsi, gsi.write_total_station_gsi,
+               TotalStationObservations, "raw total-station pointings of free stations, Leica GSI-16 (or GSI-8)"),
     FileFormat("cpiii-enh", total_station.read_cpiii_enh, total_station.write_cpiii_enh, ControlPoints,
                "CPIII point coordinates, engineering frame"),
+    FileFormat("cpiii-gsi", gsi.read_cpiii_gsi, gsi.write_cpiii_gsi, ControlPoints,
+               "CPIII point coordinates, engineering frame, Leica GSI-16 (or GSI-8)"),
     FileFormat("benchmarks", control.read_benchmarks, control.write_benchmarks, Benchmarks,
                "GNSS-levelling benchmarks (h and H)"),
     FileFormat("events", events.read_events, events.write_events, events.EventList,
@@ -188,6 +192,9 @@ def detect_format(path: str | Path) -> str | None:
         return None
     if path.suffix.lower() == ".npy":
         return "imu-npy" if _is_imu_npy(path) else None
+    gsi_format = gsi.detect(path)
+    if gsi_format is not None:
+        return gsi_format
     try:
         comments, rows = _head(path)
     except OSError:
