@@ -35,9 +35,11 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
 from insrail.report.content import (
+    ADJUSTMENT_KEYS,
     SEVERITY_RULE,
     Column,
     ReportContent,
+    adjustment_work,
     after_adjustment_text,
     check_description,
     exceedance_check,
@@ -50,6 +52,7 @@ from insrail.report.content import (
     sections,
     sleeper_repair_text,
     survey_start,
+    threshold_text,
 )
 
 EXCEEDANCE_FILL = PatternFill("solid", fgColor="FFC7CE")  # the spreadsheet's usual "bad" red
@@ -59,6 +62,7 @@ TITLE_FONT = Font(bold=True, size=14)
 BOLD = Font(bold=True)
 RED_FONT = Font(color="9C0006")
 HEADER_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)
+WRAPPED = Alignment(vertical="top", wrap_text=True)
 GROUP_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)  # merged over its columns
 #: Columns (0-based) of label, value, label, value ... in the header blocks above the tables.
 BLOCK_ANCHORS = (0, 4, 12, 16, 24, 28)
@@ -98,9 +102,9 @@ class _Sheet:
         self._later_titles: list[list[tuple[str, int]]] = []  # headers to come below the layout
 
     def style_id(self, number_format: str | None = None, fill: PatternFill | None = None,
-                 font: Font | None = None) -> int:
+                 font: Font | None = None, alignment: Alignment | None = None) -> int:
         """The workbook's index of a cell style (registered when new)."""
-        return self.cell(None, number_format, font=font, fill=fill).style_id
+        return self.cell(None, number_format, font=font, fill=fill, alignment=alignment).style_id
 
     def table(self, columns: list[tuple[list, list[int] | int]], progress: StepProgress | None = None,
               cancel: CancelToken = None) -> None:
@@ -396,38 +400,69 @@ def limits_text_for(column: Column) -> str:
 
 # --------------------------------------------------------------------------- adjustment
 
-ADJUSTMENT_KEYS = ("adjust_lateral_left_mm", "adjust_lateral_right_mm", "adjust_vertical_left_mm", "adjust_vertical_right_mm")
-
-
-def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    sheet.title("Adjustment: the sleepers to move, in chainage order")
+def _adjustment_header(sheet: _Sheet, content: ReportContent, title: str) -> None:
+    sheet.title(title)
     sheet.append([sheet.cell(_context(content))])
     fastener = content.fastener
     adjustment = content.summary.get("adjustment", {})
     kind = (f"{fastener.description or fastener.name}, steps of {1e3 * fastener.step_m:g} mm" if fastener
-            else adjustment.get("fastener", ""))
-    sheet.append([sheet.cell(f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm; "
+            else f"{adjustment.get('fastener', '')} (the fastener type file is not readable: no parts)")
+    sheet.append([sheet.cell(f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm at "
+                             f"{adjustment.get('sleepers_to_work_on', 0)} sleepers; "
                              f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")])
-    after = after_adjustment_text(content.summary)
-    if after:
-        sheet.append([sheet.cell(after)])
-    sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it "
-                             "(looking towards increasing chainage)", font=BOLD)])
+    for text in (threshold_text(content.summary), after_adjustment_text(content.summary)):
+        if text:
+            sheet.append([sheet.cell(text)])
+
+
+def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    _adjustment_header(sheet, content, "Adjustment: the sleepers to work on, in working order (increasing chainage)")
+    sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it (looking towards "
+                             "increasing chainage). Parts: field side = outside of the rail, gauge side = inside; "
+                             "No. 9→11: replace the No. 9 part by a No. 11. The materials list sums the parts.",
+                             font=BOLD)])
+    work = adjustment_work(content)
     amounts = [content.column(key) for key in ADJUSTMENT_KEYS]
-    titles = ["sleeper", "chainage", "station (m)"] + [f"{c.title} (mm)" for c in amounts] + ["checks still failed"]
-    sheet.group_header(["Sleeper"] * 3 + [c.group for c in amounts] + [""])
+    titles = (["no.", "sleeper", "chainage", "station (m)", "from the first (m)"]
+              + [f"{c.title} (mm)" for c in amounts] + ["parts, left rail", "parts, right rail", "checks still failed"])
+    sheet.group_header(["Working order"] + ["Sleeper"] * 3 + ["Working order"] + [c.group for c in amounts]
+                       + ["Fastener parts"] * 2 + [""])
     header = sheet.header(titles)
-    _start(sheet, content, [9, 13, 11, 10, 10, 10, 10, 40], freeze=f"C{header + 1}")
-    moving = np.flatnonzero(np.any([np.nan_to_num(c.values) != 0 for c in amounts], axis=0))
-    order = moving[np.argsort(content.station_m[moving], kind="stable")]
-    columns = [content.column("number").values[order].tolist(), [str(v) for v in content.column("label").values[order]],
-               content.station_m[order].tolist()] + [c.values[order].tolist() for c in amounts] + \
-        [[str(v) for v in content.column("unresolved").values[order]]]
-    styles = [sheet.style_id(), sheet.style_id(), sheet.style_id("0.000")] + [sheet.style_id("0")] * len(amounts) + \
-        [sheet.style_id(font=RED_FONT)]
+    _start(sheet, content, [6, 9, 13, 11, 9, 9, 9, 9, 9, 48, 48, 30], freeze=f"E{header + 1}")
+    order = work.order
+    station = content.station_m[order]
+    columns = [list(range(1, order.size + 1)), content.column("number").values[order].tolist(),
+               [str(v) for v in content.column("label").values[order]], station.tolist(),
+               (station - station[0]).tolist() if order.size else []]
+    columns += [work.amounts_mm[:, k].tolist() for k in range(len(amounts))]
+    columns += [[p[0] for p in work.parts], [p[1] for p in work.parts],
+                [str(v) for v in content.column("unresolved").values[order]]]
+    wrapped = sheet.style_id(alignment=WRAPPED)
+    styles = ([sheet.style_id()] * 3 + [sheet.style_id("0.000"), sheet.style_id("0.0")]
+              + [sheet.style_id("+0;-0;0")] * len(amounts) + [wrapped, wrapped, sheet.style_id(font=RED_FONT)])
     sheet.table(list(zip(columns, styles)), cancel=cancel)
     progress(1.0, "adjustment sheet")
     sheet.finish_table(header, header - 1, len(titles))
+
+
+def _materials_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    _adjustment_header(sheet, content, "Materials list: the fastener parts the adjustment sheet needs")
+    work = adjustment_work(content)
+    for note in work.notes:
+        sheet.append([sheet.cell(f"No parts for {note}")])
+    sheet.append([sheet.cell("Parts marked (assumed) have sizes not taken from published figures: check them against "
+                             "the fastener type file before ordering.", font=BOLD)])
+    titles = ["part", "size", "left rails", "right rails", "total"]
+    header = sheet.header(titles)
+    _start(sheet, content, [40, 10, 10, 10, 10], freeze=f"A{header + 1}")
+    for part, size, left, right in work.materials:
+        sheet.append([sheet.cell(part), sheet.cell(size), sheet.cell(left), sheet.cell(right),
+                      sheet.cell(left + right, font=BOLD)])
+    if not work.materials:
+        sheet.append([sheet.cell("no parts: no sleeper to work on" if not work.order.size
+                                 else "no parts listed for this fastener type")])
+    progress(1.0, "materials list")
+    sheet.finish_table(header, header, len(titles))
 
 
 # --------------------------------------------------------------------------- exceedances
@@ -598,6 +633,7 @@ SHEETS: tuple[tuple[str, Callable, float], ...] = (
     ("Summary", _summary_sheet, 0.04),
     ("Sleepers", _sleeper_sheet, 0.6),
     ("Adjustment", _adjustment_sheet, 0.04),
+    ("Materials", _materials_sheet, 0.01),
     ("Exceedances", _exceedance_sheet, 0.04),
     ("Processing log", _log_sheet, 0.01),
 )
