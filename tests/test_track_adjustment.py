@@ -234,11 +234,10 @@ def test_fastener_parts_wj7_and_bad_part_tables(tmp_path):
     wj7 = load_fastener_type("wj7")
     assert wj7.lateral_range_m == pytest.approx((-6e-3, 6e-3))
     # Annex 8 table 8-1: +9 mm is one 8 mm shim under the base plate and 1 mm under the rail
-    assert parts_text(wj7.parts, 0, 0.0, 9.0) == \
-        "vertical +9 mm: shims under the rail 1 mm; shims under the base plate 8 mm"
-    assert parts_text(wj7.parts, 1, -3.0, -2.0) == ("lateral -3 mm: shift the base plate (no parts) | vertical -2 mm: "
-                                                   "insulating buffer pad 6→2 mm; shims under the rail 2 mm")
-    assert parts_text(wj7.parts, 0, 0.0, 0.0) == ""
+    assert parts_text(wj7.parts, "vertical", 0, 9.0) == "shims under the rail 1 mm; shims under the base plate 8 mm"
+    assert parts_text(wj7.parts, "vertical", 1, -2.0) == "insulating buffer pad 6→2 mm; shims under the rail 2 mm"
+    assert parts_text(wj7.parts, "lateral", 1, -3.0) == "shift the base plate (no parts)"
+    assert parts_text(wj7.parts, "vertical", 0, 0.0) == ""
     base = (Path(__file__).parents[1] / "resources" / "fastener_types" / "wj8.toml").read_text()
     path = tmp_path / "f.toml"
     for old, new, key, message in (

@@ -415,7 +415,7 @@ class AdjustmentWork:
 
     order: np.ndarray  # sleeper indices
     amounts_mm: np.ndarray
-    parts: tuple[tuple[str, str], ...]  # (left rail, right rail) per row
+    parts: tuple[tuple[str, ...], ...]  # per row the parts of each amount, in ADJUSTMENT_KEYS order
     materials: tuple[tuple[str, str, int, int], ...]  # (part, size, left rails, right rails)
     notes: tuple[str, ...]  # how a direction is adjusted without parts
 
@@ -426,7 +426,9 @@ def adjustment_work(content: ReportContent) -> AdjustmentWork:
     order = moving[np.argsort(content.station_m[moving], kind="stable")]
     amounts = amounts[order]
     tables = content.fastener.parts if content.fastener is not None else {}
-    parts = tuple((parts_text(tables, 0, row[0], row[2]), parts_text(tables, 1, row[1], row[3])) for row in amounts)
+    places = [(key.split("_")[1], RAILS.index(key.split("_")[2])) for key in ADJUSTMENT_KEYS]
+    parts = tuple(tuple(parts_text(tables, direction, rail, amount) for (direction, rail), amount in zip(places, row))
+                  for row in amounts)
     listed = tuple(materials(tables, amounts[:, :2], amounts[:, 2:]))
     notes = tuple(f"{direction}: {table.note}" for direction, table in tables.items() if table.note)
     return AdjustmentWork(order, amounts, parts, listed, notes)

@@ -74,6 +74,7 @@ PAPER_CODES = {"A3": 8, "A4": 9}  # OOXML paper size codes
 #: Header text metrics at the default zoom: characters of the bold 11 pt header font per unit of column
 #: width (a unit is one digit of the body font; bold letters are wider), and the height of a text line [pt].
 BOLD_CHARACTER_WIDTH = 1.15
+BODY_CHARACTER_WIDTH = 1.05  # the body font's letters, for wrapping text cells
 LINE_HEIGHT_PT = 14.5
 
 
@@ -107,9 +108,10 @@ class _Sheet:
         return self.cell(None, number_format, font=font, fill=fill, alignment=alignment).style_id
 
     def table(self, columns: list[tuple[list, list[int] | int]], progress: StepProgress | None = None,
-              cancel: CancelToken = None) -> None:
+              cancel: CancelToken = None, heights: list[float | None] | None = None) -> None:
         """Rows below everything appended so far: one (values, style id per row or for all) per column.
-        Values are float (NaN: empty cell), int, or str ("" empty)."""
+        Values are float (NaN: empty cell), int, or str ("" empty); ``heights`` [pt] per row (None:
+        the default height)."""
         if self._pending is not None:
             raise RuntimeError("start() the sheet before its table")
         if not columns or not len(columns[0][0]):
@@ -124,7 +126,9 @@ class _Sheet:
                 progress(index / len(columns), "writing the table")
             cells.append(_cells(get_column_letter(index + 1), numbers, values,
                                 styles if isinstance(styles, list) else [styles] * count))
-        self.table_xml.append("".join(f'<row r="{r}">{"".join(row)}</row>' for r, *row in zip(numbers, *cells)))
+        rows = [f'<row r="{r}"' + (f' ht="{h:g}" customHeight="1"' if h else "") for r, h in
+                zip(numbers, heights or [None] * count)]
+        self.table_xml.append("".join(f'{start}>{"".join(row)}</row>' for start, *row in zip(rows, *cells)))
         self.rows += count
         self.last_cell = f"{get_column_letter(len(columns))}{self.rows}"
 
@@ -237,9 +241,9 @@ def _longest_word(text: str) -> int:
     return max((len(word) for word in str(text).split()), default=0)
 
 
-def _wrapped_lines(text: str, width: float) -> int:
+def _wrapped_lines(text: str, width: float, character_width: float = BOLD_CHARACTER_WIDTH) -> int:
     """Lines ``text`` wraps to in a cell ``width`` wide (word wrap as the spreadsheet does it)."""
-    characters = max(int((width - 1.0) / BOLD_CHARACTER_WIDTH), 1)
+    characters = max(int((width - 1.0) / character_width), 1)
     lines, used = 1, 0
     for word in str(text).split():
         if used and used + 1 + len(word) > characters:
@@ -419,28 +423,32 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
     _adjustment_header(sheet, content, "Adjustment: the sleepers to work on, in working order (increasing chainage)")
     sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it (looking towards "
                              "increasing chainage). Parts: field side = outside of the rail, gauge side = inside; "
-                             "No. 9→11: replace the No. 9 part by a No. 11. The materials list sums the parts.",
-                             font=BOLD)])
+                             "No. 9→11: replace the No. 9 part by a No. 11; shims are added; * size assumed, not a "
+                             "published figure. The Materials sheet sums the parts.", font=BOLD)])
     work = adjustment_work(content)
     amounts = [content.column(key) for key in ADJUSTMENT_KEYS]
     titles = (["no.", "sleeper", "chainage", "station (m)", "from the first (m)"]
-              + [f"{c.title} (mm)" for c in amounts] + ["parts, left rail", "parts, right rail", "checks still failed"])
+              + [f"{c.title} (mm)" for c in amounts] + [c.title for c in amounts] + ["checks still failed"])
     sheet.group_header(["Working order"] + ["Sleeper"] * 3 + ["Working order"] + [c.group for c in amounts]
-                       + ["Fastener parts"] * 2 + [""])
+                       + ["Fastener parts for the amounts"] * len(amounts) + [""])
     header = sheet.header(titles)
-    _start(sheet, content, [6, 9, 13, 11, 9, 9, 9, 9, 9, 48, 48, 30], freeze=f"E{header + 1}")
+    part_widths = [40, 40, 30, 30]
+    _start(sheet, content, [6, 9, 13, 11, 9, 9, 9, 9, 9, *part_widths, 30], freeze=f"F{header + 1}")
     order = work.order
     station = content.station_m[order]
     columns = [list(range(1, order.size + 1)), content.column("number").values[order].tolist(),
                [str(v) for v in content.column("label").values[order]], station.tolist(),
                (station - station[0]).tolist() if order.size else []]
     columns += [work.amounts_mm[:, k].tolist() for k in range(len(amounts))]
-    columns += [[p[0] for p in work.parts], [p[1] for p in work.parts],
-                [str(v) for v in content.column("unresolved").values[order]]]
+    columns += [[row[k] for row in work.parts] for k in range(len(amounts))]
+    columns.append([str(v) for v in content.column("unresolved").values[order]])
     wrapped = sheet.style_id(alignment=WRAPPED)
     styles = ([sheet.style_id()] * 3 + [sheet.style_id("0.000"), sheet.style_id("0.0")]
-              + [sheet.style_id("+0;-0;0")] * len(amounts) + [wrapped, wrapped, sheet.style_id(font=RED_FONT)])
-    sheet.table(list(zip(columns, styles)), cancel=cancel)
+              + [sheet.style_id("+0;-0;")] * len(amounts) + [wrapped] * len(amounts) + [sheet.style_id(font=RED_FONT)])
+    lines = [max((_wrapped_lines(text, width, BODY_CHARACTER_WIDTH) for text, width in zip(row, part_widths)), default=1)
+             for row in work.parts]
+    sheet.table(list(zip(columns, styles)), cancel=cancel, heights=[LINE_HEIGHT_PT * n + 2.0 if n > 1 else None
+                                                                     for n in lines])
     progress(1.0, "adjustment sheet")
     sheet.finish_table(header, header - 1, len(titles))
 
@@ -450,8 +458,8 @@ def _materials_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgre
     work = adjustment_work(content)
     for note in work.notes:
         sheet.append([sheet.cell(f"No parts for {note}")])
-    sheet.append([sheet.cell("Parts marked (assumed) have sizes not taken from published figures: check them against "
-                             "the fastener type file before ordering.", font=BOLD)])
+    sheet.append([sheet.cell("Parts marked * have sizes not taken from published figures: check them against the "
+                             "fastener type file before ordering.", font=BOLD)])
     titles = ["part", "size", "left rails", "right rails", "total"]
     header = sheet.header(titles)
     _start(sheet, content, [40, 10, 10, 10, 10], freeze=f"A{header + 1}")

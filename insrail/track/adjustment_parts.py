@@ -22,7 +22,8 @@ import numpy as np
 
 from insrail.track.tolerance import SettingsFileError, read_number
 
-RAIL_NAMES = ("left", "right")
+#: Marks a part whose sizes are not published figures (the sheets explain it).
+ASSUMED = "*"
 
 
 @dataclass(frozen=True)
@@ -105,22 +106,16 @@ def read_part_table(path: Path, key: str, table: object, low_mm: float, high_mm:
     return PartTable(tuple(amounts), tuple(positions), str(table.get("note", "")))
 
 
-def parts_text(tables: dict[str, PartTable], rail: int, lateral_mm: float, vertical_mm: float) -> str:
-    """What to fit at one rail of one sleeper, e.g. "lateral +2 mm: gauge block, field side
-    No. 9→7; gauge block, gauge side No. 9→11"; "" where nothing moves."""
-    out = []
-    for direction, amount in (("lateral", lateral_mm), ("vertical", vertical_mm)):
-        if not np.isfinite(amount) or round(amount) == 0:
-            continue
-        table = tables.get(direction)
-        head = f"{direction} {amount:+.0f} mm"
-        if table is None:
-            out.append(head)
-            continue
-        changes = table.changes(table_amount(direction, rail, amount))
-        parts = [f"{_part_name(p)} {_change(p, size)}" for p, size in changes]
-        out.append(f"{head}: {'; '.join(parts) or table.note}")
-    return " | ".join(out)
+def parts_text(tables: dict[str, PartTable], direction: str, rail: int, amount_mm: float) -> str:
+    """What to fit for one amount at one rail, e.g. WJ-8 lateral +2 mm at the right rail "gauge
+    block, field side No. 9→7; gauge block, gauge side No. 9→11" ("" where the amount is 0 or the
+    fastener type has no parts table for the direction). Sizes not from published figures end in
+    :data:`ASSUMED`."""
+    table = tables.get(direction)
+    if table is None or not np.isfinite(amount_mm) or round(amount_mm) == 0:
+        return ""
+    changes = table.changes(table_amount(direction, rail, amount_mm))
+    return "; ".join(f"{_part_name(p)} {_change(p, size)}" for p, size in changes) or table.note
 
 
 def _change(position: PartPosition, size: float) -> str:
@@ -154,7 +149,7 @@ def materials(tables: dict[str, PartTable], lateral_mm: np.ndarray, vertical_mm:
 
 
 def _part_name(position: PartPosition) -> str:
-    return position.name + (" (assumed)" if position.assumed else "")
+    return position.name + (ASSUMED if position.assumed else "")
 
 
 def _size_key(label: str) -> float:
