@@ -215,9 +215,9 @@ def test_adjustment_sheet_lists_the_sleepers_to_work_on_in_order_with_parts(proj
             assert bool(amount) == bool(parts), row
     # Annex 8 table 8-2: a rail moved outwards (left rail to the left, right rail to the right) gets smaller
     # field-side and larger gauge-side parts
-    outwards = {1: "gauge block, field side No. 9→8; gauge block, gauge side No. 9→10",
-                2: "gauge block, field side No. 9→7; gauge block, gauge side No. 9→11",
-                3: "gauge apron, field side No. 7→4; gauge apron, gauge side No. 7→10"}
+    outwards = {1: "outer block No. 9→8; inner block No. 9→10",
+                2: "outer block No. 9→7; inner block No. 9→11",
+                3: "outer apron No. 7→4; inner apron No. 7→10"}
     checked = 0
     for row in rows:
         for amount, text in ((-(row[5] or 0), row[9]), (row[6] or 0, row[10])):
@@ -353,4 +353,4 @@ def test_libreoffice_opens_the_workbook(workbook, tmp_path):
     assert result.returncode == 0, result.stderr
     lines = next((tmp_path / "materials").glob("crews*.csv")).read_text(encoding="utf-8").splitlines()
     assert lines[0].startswith("Materials list")
-    assert any(line.startswith('"gauge block, field side",No. 7,') for line in lines)
+    assert any(line.split(",")[:2] == ["outer block", "No. 7"] for line in lines)

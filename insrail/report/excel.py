@@ -62,7 +62,7 @@ TITLE_FONT = Font(bold=True, size=14)
 BOLD = Font(bold=True)
 RED_FONT = Font(color="9C0006")
 HEADER_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)
-WRAPPED = Alignment(vertical="top", wrap_text=True)
+WRAPPED = Alignment(wrap_text=True)
 GROUP_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)  # merged over its columns
 #: Columns (0-based) of label, value, label, value ... in the header blocks above the tables.
 BLOCK_ANCHORS = (0, 4, 12, 16, 24, 28)
@@ -422,9 +422,10 @@ def _adjustment_header(sheet: _Sheet, content: ReportContent, title: str) -> Non
 def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
     _adjustment_header(sheet, content, "Adjustment: the sleepers to work on, in working order (increasing chainage)")
     sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it (looking towards "
-                             "increasing chainage). Parts: field side = outside of the rail, gauge side = inside; "
-                             "No. 9→11: replace the No. 9 part by a No. 11; shims are added; * size assumed, not a "
-                             "published figure. The Materials sheet sums the parts.", font=BOLD)])
+                             "increasing chainage).", font=BOLD)])
+    sheet.append([sheet.cell("Parts: outer = on the field side of the rail foot, inner = on the gauge side; No. 9→11: "
+                             "replace the No. 9 part by a No. 11; shims are added; * size assumed, not a published "
+                             "figure. The Materials sheet sums the parts.", font=BOLD)])
     work = adjustment_work(content)
     amounts = [content.column(key) for key in ADJUSTMENT_KEYS]
     titles = (["no.", "sleeper", "chainage", "station (m)", "from the first (m)"]
@@ -432,7 +433,7 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
     sheet.group_header(["Working order"] + ["Sleeper"] * 3 + ["Working order"] + [c.group for c in amounts]
                        + ["Fastener parts for the amounts"] * len(amounts) + [""])
     header = sheet.header(titles)
-    part_widths = [40, 40, 30, 30]
+    part_widths = [44, 44, 34, 34]
     _start(sheet, content, [6, 9, 13, 11, 9, 9, 9, 9, 9, *part_widths, 30], freeze=f"F{header + 1}")
     order = work.order
     station = content.station_m[order]

@@ -22,6 +22,8 @@ import numpy as np
 
 from insrail.track.tolerance import SettingsFileError, read_number
 
+#: The sign of a part table's amounts: lateral + moves the rail to the field side, vertical + raises it.
+POSITIVE = {"lateral_parts": "field side", "vertical_parts": "up"}
 #: Marks a part whose sizes are not published figures (the sheets explain it).
 ASSUMED = "*"
 
@@ -78,6 +80,9 @@ def read_part_table(path: Path, key: str, table: object, low_mm: float, high_mm:
     amount of the range (both rails' signs) has a size at every position."""
     if not isinstance(table, dict):
         raise SettingsFileError(path, key, "expected a table")
+    positive = POSITIVE[key]
+    if table.get("positive") != positive:
+        raise SettingsFileError(path, f"{key}.positive", f'expected "{positive}" (the sign the amounts are written in)')
     amounts = table.get("amounts_mm")
     if not isinstance(amounts, list) or not all(isinstance(a, int) and not isinstance(a, bool) for a in amounts):
         raise SettingsFileError(path, f"{key}.amounts_mm", "expected a list of whole millimetres")
@@ -107,8 +112,8 @@ def read_part_table(path: Path, key: str, table: object, low_mm: float, high_mm:
 
 
 def parts_text(tables: dict[str, PartTable], direction: str, rail: int, amount_mm: float) -> str:
-    """What to fit for one amount at one rail, e.g. WJ-8 lateral +2 mm at the right rail "gauge
-    block, field side No. 9→7; gauge block, gauge side No. 9→11" ("" where the amount is 0 or the
+    """What to fit for one amount at one rail, e.g. WJ-8 lateral +2 mm at the right rail "outer
+    block No. 9→7; inner block No. 9→11" ("" where the amount is 0 or the
     fastener type has no parts table for the direction). Sizes not from published figures end in
     :data:`ASSUMED`."""
     table = tables.get(direction)
