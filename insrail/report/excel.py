@@ -74,7 +74,7 @@ PAPER_CODES = {"A3": 8, "A4": 9}  # OOXML paper size codes
 #: Header text metrics at the default zoom: characters of the bold 11 pt header font per unit of column
 #: width (a unit is one digit of the body font; bold letters are wider), and the height of a text line [pt].
 BOLD_CHARACTER_WIDTH = 1.15
-BODY_CHARACTER_WIDTH = 1.05  # the body font's letters, for wrapping text cells
+BODY_CHARACTER_WIDTH = 0.9  # the body font's letters, for wrapping text cells
 LINE_HEIGHT_PT = 14.5
 
 
@@ -409,7 +409,7 @@ def _adjustment_header(sheet: _Sheet, content: ReportContent, title: str) -> Non
     sheet.append([sheet.cell(_context(content))])
     fastener = content.fastener
     adjustment = content.summary.get("adjustment", {})
-    kind = (f"{fastener.description or fastener.name}, steps of {1e3 * fastener.step_m:g} mm" if fastener
+    kind = ((fastener.description or f"{fastener.name}, steps of {1e3 * fastener.step_m:g} mm") if fastener
             else f"{adjustment.get('fastener', '')} (the fastener type file is not readable: no parts)")
     sheet.append([sheet.cell(f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm at "
                              f"{adjustment.get('sleepers_to_work_on', 0)} sleepers; "
