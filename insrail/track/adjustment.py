@@ -303,7 +303,10 @@ def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], prog
                                amounts)
             amounts = repair_rounding(problem, amounts, continuous)
             done += stop - start
-    return apply_threshold(problem, amounts, checks, threshold, cancel)
+    # the threshold's integer programmes report in the last tenth (monotonic with the rounds after the first)
+    threshold_progress = (None if progress is None
+                          else lambda fraction, message: progress(0.9 + 0.1 * fraction, message))
+    return apply_threshold(problem, amounts, checks, threshold, cancel, threshold_progress)
 
 
 def direction_problem(geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, direction: str,
@@ -372,7 +375,8 @@ def optimise_amounts(
 def below_threshold_count(adjustment: Adjustment, fastener: FastenerType, threshold_m: float | None) -> int:
     """Sleepers with an amount below the action threshold that the checks needed (kept)."""
     threshold = threshold_steps(fastener, threshold_m)
-    small = [below_threshold(a / fastener.step_m, threshold).any(axis=1) for a in (adjustment.lateral_m, adjustment.vertical_m)]
+    small = [below_threshold(a / fastener.step_m, threshold).any(axis=1)
+             for a in (adjustment.lateral_m, adjustment.vertical_m)]
     return int(np.count_nonzero(small[0] | small[1]))
 
 

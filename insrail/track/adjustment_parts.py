@@ -130,7 +130,8 @@ def _change(position: PartPosition, size: float) -> str:
     return f"{as_built}→{position.label(size).removeprefix('No. ')}"
 
 
-def materials(tables: dict[str, PartTable], lateral_mm: np.ndarray, vertical_mm: np.ndarray) -> list[tuple[str, str, int, int]]:
+def materials(tables: dict[str, PartTable], lateral_mm: np.ndarray,
+              vertical_mm: np.ndarray) -> list[tuple[str, str, int, int]]:
     """The parts to bring: (part, size, pieces at left rails, at right rails) per position and size,
     in the order of the fastener file; ``*_mm`` the amounts (n, 2) [left, right]."""
     counts: Counter = Counter()

@@ -648,7 +648,7 @@ def below_threshold(amounts: np.ndarray, threshold: float) -> np.ndarray:
 
 
 def apply_threshold(problem: DirectionProblem, amounts: np.ndarray, checks: list[RailCheck], threshold: float,
-                    cancel=None) -> np.ndarray:
+                    cancel=None, progress=None) -> np.ndarray:
     """Whole-step amounts [steps] each 0 or at least ``threshold`` steps either way, where that
     holds every check the given ``amounts`` hold.
 
@@ -678,6 +678,8 @@ def apply_threshold(problem: DirectionProblem, amounts: np.ndarray, checks: list
             if solved is not None:
                 amounts = solved
             position = small[0] + 1 if second and solved is None else stop
+            if progress is not None:
+                progress((second + position / n) / len(THRESHOLD_WINDOWS), "action threshold")
     return amounts
 
 
