@@ -16,7 +16,7 @@ from shared_build import computed_once
 
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, save_trajectory
-from insrail.project.model import HeightSettings, Project, SurveyEntry
+from insrail.project.model import AdjustmentSettings, HeightSettings, Project, SurveyEntry
 from insrail.project.results import (
     EXCEEDANCES_FILE,
     RESULTS_FOLDER,
@@ -125,7 +125,7 @@ def processed_project(root: Path, profile_name: str = "cn_hsr_ballastless", n: i
         "track": {"design": "", "sleepers": len(table), "valid_sleepers": int(table.valid.sum()),
                   "station_from_m": float(table.station_m[0]), "station_to_m": float(table.station_m[-1])},
         "assessment": {"tolerance_profile": profile.name, "exceedances": len(assessment.exceedances), "by_check": {}},
-        "adjustment": adjustment_section(adjustment, assessment, after, "least_movement"),
+        "adjustment": adjustment_section(adjustment, assessment, after, AdjustmentSettings(), load_fastener_type("wj8")),
         "gnss": gnss_section(gnss_time, np.ones(len(gnss_time), dtype=int), start, end),
         "track_quality": track_quality_section(geometry),
     }

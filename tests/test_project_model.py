@@ -202,3 +202,22 @@ def test_adjustment_strategy(tmp_path):
     message = str(info.value)
     assert "adjustment.strategy: expected 'least_movement' or 'guiding_rail_first', found 'lowest_rail'" in message
     assert "adjustment.threshold: unknown key" in message
+
+
+def test_adjustment_action_threshold(tmp_path):
+    from insrail.project.model import AdjustmentSettings
+
+    make_folder(tmp_path)
+    path = save_project(sample_project(tmp_path))
+    assert load_project(tmp_path).adjustment.threshold_mm is None  # one fastener step: every amount is listed
+    chosen = sample_project(tmp_path, adjustment=AdjustmentSettings(threshold_mm=2.0))
+    save_project(chosen)
+    assert tomllib.loads(path.read_text())["adjustment"] == {"threshold_mm": 2.0}
+    assert load_project(tmp_path) == chosen and load_project(tmp_path).adjustment.threshold_m == pytest.approx(2e-3)
+    for bad, message in (("-1", "adjustment.threshold_mm: expected a positive number, found -1"),
+                         ('"2 mm"', "adjustment.threshold_mm: expected a number, found '2 mm'"),
+                         ("12", "adjustment.threshold_mm: expected at most 10 mm, found 12")):
+        path.write_text(path.read_text().replace("threshold_mm = 2.0", f"threshold_mm = {bad}"))
+        with pytest.raises(ProjectError, match=message):
+            load_project(tmp_path)
+        save_project(chosen)

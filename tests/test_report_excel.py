@@ -114,7 +114,7 @@ def test_red_fill_on_exactly_the_exceedance_cells_and_grey_on_invalid_rows(proje
 
 def test_layout_for_the_crews(project, workbook):
     sheets = workbook[1]
-    assert sheets.sheetnames == ["Summary", "Sleepers", "Adjustment", "Exceedances", "Processing log"]
+    assert sheets.sheetnames == ["Summary", "Sleepers", "Adjustment", "Materials", "Exceedances", "Processing log"]
     sheet = sheets["Sleepers"]
     header, titles, rows = sleeper_table(sheet)
     assert sheet.freeze_panes == f"E{header + 1}"
@@ -195,22 +195,66 @@ def test_guiding_rail_is_the_high_rail_of_the_curve(project, workbook):
     assert np.all(guide[right_high] == "R") and np.all(guide[~right_high] == "L")
 
 
-def test_adjustment_sheet_lists_the_sleepers_to_move_in_chainage_order(project, workbook):
+def test_adjustment_sheet_lists_the_sleepers_to_work_on_in_order_with_parts(project, workbook):
     results = stored(project)
     sheet = workbook[1]["Adjustment"]
-    header = next(row[0].row for row in sheet.iter_rows() if row[0].value == "sleeper")
+    header = next(row[0].row for row in sheet.iter_rows() if row[0].value == "no.")
     rows = [[c.value for c in row] for row in sheet.iter_rows(min_row=header + 1)]
     keys = ["adjust_lateral_left_mm", "adjust_lateral_right_mm", "adjust_vertical_left_mm", "adjust_vertical_right_mm"]
     amounts = np.column_stack([results.columns[k] for k in keys])
     moving = np.flatnonzero(np.any(amounts != 0, axis=1))
     assert moving.size
-    assert [r[0] for r in rows] == results.number[moving].tolist()
-    assert [r[2] for r in rows] == sorted(r[2] for r in rows)
-    assert [r[3:7] for r in rows] == amounts[moving].tolist()
+    assert [r[0] for r in rows] == list(range(1, moving.size + 1))  # the running count
+    assert [r[1] for r in rows] == results.number[moving].tolist()
+    assert [r[3] for r in rows] == sorted(r[3] for r in rows)
+    assert [r[4] for r in rows] == pytest.approx([r[3] - rows[0][3] for r in rows])  # length from the first
+    assert [r[5:9] for r in rows] == amounts[moving].tolist()
+    # every amount names its WJ-8 parts beside it, and only an amount does
+    for row in rows:
+        for amount, parts in zip(row[5:9], row[9:13]):
+            assert bool(amount) == bool(parts), row
+    # Annex 8 table 8-2: a rail moved outwards (left rail to the left, right rail to the right) gets smaller
+    # field-side and larger gauge-side parts
+    outwards = {1: "outer block No. 9→8; inner block No. 9→10",
+                2: "outer block No. 9→7; inner block No. 9→11",
+                3: "outer apron No. 7→4; inner apron No. 7→10"}
+    checked = 0
+    for row in rows:
+        for amount, text in ((-(row[5] or 0), row[9]), (row[6] or 0, row[10])):
+            if amount in outwards:
+                assert text == outwards[amount]
+                checked += 1
+    assert checked
+    assert {row[11] for row in rows if row[7] == 1} == {"shims under the rail* 1 mm"}  # assumed sizes marked
     # the re-assessment of the adjusted geometry above the table, honestly per check
     above = [row[0].value for row in sheet.iter_rows(max_row=header - 1) if row and isinstance(row[0].value, str)]
     after = results.summary["adjustment"]["after"]
     assert any(text.startswith(f"After adjustment: {after['exceedances']} exceedances") for text in above)
+    assert any(text.startswith("Action threshold 1 mm") for text in above)
+
+
+def test_the_materials_list_sums_the_parts_of_the_adjustment_sheet(project, workbook):
+    from insrail.track.adjustment import load_fastener_type
+    from insrail.track.adjustment_parts import table_amount
+
+    results = stored(project)
+    sheet = workbook[1]["Materials"]
+    header = next(row[0].row for row in sheet.iter_rows() if row[0].value == "part")
+    listed = {(r[0], r[1]): r[2:] for r in sheet.iter_rows(min_row=header + 1, values_only=True)}
+    assert listed and all(left + right == total for left, right, total in listed.values())
+    # counted again from the amounts, independently of the sheet: WJ-8 lateral parts by table 8-2
+    fastener = load_fastener_type("wj8")
+    table = fastener.parts["lateral"]
+    expected = {}
+    for rail, key in enumerate(("adjust_lateral_left_mm", "adjust_lateral_right_mm")):
+        for amount in results.columns[key][results.columns[key] != 0]:
+            index = table.amounts_mm.index(table_amount("lateral", rail, amount))
+            for position in table.positions:
+                if position.sizes[index] != position.as_built:
+                    name = (position.name, f"No. {position.sizes[index]:g}")
+                    expected[name] = expected.get(name, 0) + 1
+    assert expected
+    assert {k: v[2] for k, v in listed.items() if k[1].startswith("No.")} == expected
 
 
 def test_exceedance_and_summary_sheets(project, workbook):
@@ -301,3 +345,12 @@ def test_libreoffice_opens_the_workbook(workbook, tmp_path):
     csv = exported[0].read_text(encoding="utf-8", errors="replace").splitlines()
     assert csv[0].startswith("Track geometry per sleeper")
     assert any(line.startswith("1,1,DK1+000.000,1000") for line in csv)
+    materials = 4  # the materials list opens too, its parts summed
+    result = subprocess.run(["soffice", f"-env:UserInstallation=file://{tmp_path}/profile", "--headless", "--convert-to",
+                             f"csv:Text - txt - csv (StarCalc):44,34,76,1,,0,false,true,false,false,false,{materials}",
+                             "--outdir", str(tmp_path / "materials"), str(path)],
+                            capture_output=True, text=True, timeout=120, check=False)
+    assert result.returncode == 0, result.stderr
+    lines = next((tmp_path / "materials").glob("crews*.csv")).read_text(encoding="utf-8").splitlines()
+    assert lines[0].startswith("Materials list")
+    assert any(line.split(",")[:2] == ["outer block", "No. 7"] for line in lines)

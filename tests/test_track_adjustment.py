@@ -1,5 +1,7 @@
 """Fastener types, correct-to-line and optimised adjustment amounts."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -168,15 +170,18 @@ def test_guiding_rail_first_moves_the_reference_rail_and_the_other_follows():
 
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 10_000), sigma_mm=st.floats(0.05, 0.4), differential_mm=st.floats(0.0, 0.5),
-       cant_mm=st.sampled_from([0.0, 60.0, -60.0]))
-def test_property_adjusted_track_checks_hold_where_the_input_did(seed, sigma_mm, differential_mm, cant_mm):
+       cant_mm=st.sampled_from([0.0, 60.0, -60.0]), threshold_mm=st.sampled_from([None, 2.0]))
+def test_property_adjusted_track_checks_hold_where_the_input_did(seed, sigma_mm, differential_mm, cant_mm,
+                                                                 threshold_mm):
     """Random deviation fields within the fastener range: after the amounts gauge, gauge change
     rate, cross-level and twist are inside their limits wherever the input was; every chord check
-    passes or its sleepers are flagged; amounts are whole steps in range."""
+    passes or its sleepers are flagged; amounts are whole steps in range (with an action
+    threshold too, where the amounts below it are the ones counted as needed)."""
     profile = load_tolerance_profile()
     fastener = load_fastener_type()
     geometry = consistent_track(260, seed, sigma_mm * 1e-3, differential_mm * 1e-3, cant_mm * 1e-3)
-    adjustment = optimise_adjustment(geometry, profile, fastener)
+    adjustment = optimise_adjustment(geometry, profile, fastener,
+                                     threshold_m=None if threshold_mm is None else threshold_mm * 1e-3)
     before, after = assess(geometry, profile), assess(adjustment.apply(geometry), profile)
     for check in profile.checks:
         if check.kind in TRACK_KINDS:
@@ -191,3 +196,57 @@ def test_property_adjusted_track_checks_hold_where_the_input_did(seed, sigma_mm,
                                  (adjustment.vertical_m, fastener.vertical_range_m)):
         np.testing.assert_allclose(amounts * 1e3, np.round(amounts * 1e3), atol=1e-9)
         assert amounts.min() >= low - 1e-12 and amounts.max() <= high + 1e-12
+
+
+def test_an_action_threshold_takes_out_small_amounts_without_a_new_exceedance():
+    """Each amount 0 or at least 2 mm (the rest counted, as needed by the checks): fewer sleepers to
+    work on, nothing pushed out that was inside, every chord check passes or is flagged."""
+    from insrail.track.adjustment import below_threshold_count
+
+    profile = load_tolerance_profile()
+    fastener = load_fastener_type()
+    geometry = consistent_track(300, seed=4)
+    before = assess(geometry, profile)
+    plain = optimise_adjustment(geometry, profile, fastener)
+    adjustment = optimise_adjustment(geometry, profile, fastener, threshold_m=2e-3)
+    amounts = np.abs(np.concatenate([adjustment.lateral_m, adjustment.vertical_m], axis=1)) * 1e3
+    small = np.any((amounts > 0.5) & (amounts < 1.5), axis=1)
+    assert below_threshold_count(adjustment, fastener, 2e-3) == small.sum()
+    assert below_threshold_count(plain, fastener, 2e-3) > 3 * small.sum()  # most of them taken out
+    assert below_threshold_count(adjustment, fastener, None) == 0
+
+    def sleepers(a):
+        return np.count_nonzero(np.any(a.lateral_m != 0, axis=1) | np.any(a.vertical_m != 0, axis=1))
+
+    assert sleepers(adjustment) < sleepers(plain)
+    after = assess(adjustment.apply(geometry), profile)
+    for check in profile.checks:
+        if check.kind in TRACK_KINDS:
+            assert not np.any(outside(after, check.name) & ~outside(before, check.name)), check.name
+    for e in after.exceedances:
+        flags = adjustment.unresolved_lateral if e.direction == "lateral" else adjustment.unresolved_vertical
+        assert flags[e.first_index:e.last_index + 1].any(), e
+
+
+def test_fastener_parts_wj7_and_bad_part_tables(tmp_path):
+    from insrail.track.adjustment_parts import parts_text
+
+    wj7 = load_fastener_type("wj7")
+    assert wj7.lateral_range_m == pytest.approx((-6e-3, 6e-3))
+    # Annex 8 table 8-1: +9 mm is one 8 mm shim under the base plate and 1 mm under the rail
+    assert parts_text(wj7.parts, "vertical", 0, 9.0) == "shims under the rail 1 mm; shims under the base plate 8 mm"
+    assert parts_text(wj7.parts, "vertical", 1, -2.0) == "insulating buffer pad 6→2 mm; shims under the rail 2 mm"
+    assert parts_text(wj7.parts, "lateral", 1, -3.0) == "shift the base plate (no parts)"
+    assert parts_text(wj7.parts, "vertical", 0, 0.0) == ""
+    base = (Path(__file__).parents[1] / "resources" / "fastener_types" / "wj8.toml").read_text()
+    path = tmp_path / "f.toml"
+    for old, new, key, message in (
+            ("amounts_mm = [-5, -4,", "amounts_mm = [-4,", "lateral_parts.amounts_mm", r"needs the amounts \[-5\]"),
+            ("sizes = [10, 10, 10, 7, 7, 7, 7, 7, 4, 4, 4]", "sizes = [10, 10]", "lateral_parts.positions[0].sizes",
+             "expected 11 sizes"),
+            ("stock_mm = [1, 2, 5]", "stock_mm = [2, 5]", "vertical_parts.positions[1].sizes",
+             "1 mm cannot be made of")):
+        path.write_text(base.replace(old, new, 1))
+        with pytest.raises(SettingsFileError, match=message) as info:
+            load_fastener_type(path)
+        assert info.value.key == key

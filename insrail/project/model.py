@@ -26,7 +26,8 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
                          tolerance_profile, fastener, line_speed_kmh = 250 or a
                          table of ranges [{from_m = 0, to_m = 4200, kmh = 250}, ...] (for the cant deficiency)
     [adjustment]         how the fastener adjustment amounts are computed (:class:`AdjustmentSettings`):
-                         strategy = "least_movement" (default) | "guiding_rail_first"
+                         strategy = "least_movement" (default) | "guiding_rail_first", threshold_mm = 2
+                         (the action threshold: each amount 0 or at least this; default one fastener step)
     [[surveys]]          name, folder (holding a survey.toml)
     [[sections]]         name, surveys = ["run1", "run2"], from_m, to_m (optional), overlap = "best" | "mean":
                          a line section joined from several runs (insrail.project.section)
@@ -159,9 +160,15 @@ _REPORT_DATES = ("trolley_calibrated", "imu_calibrated")
 @dataclass(frozen=True)
 class AdjustmentSettings:
     """The ``[adjustment]`` table: how the optimisation shares the movement between the rails
-    (:data:`insrail.track.adjustment.STRATEGIES`)."""
+    (:data:`insrail.track.adjustment.STRATEGIES`) and the action threshold [mm]: each amount is 0
+    or at least this much where the checks allow it (None: one fastener step, i.e. every amount)."""
 
     strategy: str = DEFAULT_STRATEGY
+    threshold_mm: float | None = None
+
+    @property
+    def threshold_m(self) -> float | None:
+        return None if self.threshold_mm is None else 1e-3 * self.threshold_mm
 
     def to_settings(self) -> dict[str, Any]:
         """The non-default entries (an untouched project writes no [adjustment] table)."""
@@ -450,7 +457,15 @@ def _adjustment(reader: _Reader, table: dict) -> AdjustmentSettings:
     if strategy not in STRATEGIES:
         reader.add("adjustment.strategy", f"expected {' or '.join(repr(s) for s in STRATEGIES)}, found {strategy!r}")
         strategy = DEFAULT_STRATEGY
-    return AdjustmentSettings(strategy=strategy)
+    threshold = reader.number(table, "adjustment.threshold_mm", positive=True) if "threshold_mm" in table else None
+    if threshold is not None and threshold > MAX_THRESHOLD_MM:
+        reader.add("adjustment.threshold_mm", f"expected at most {MAX_THRESHOLD_MM:g} mm, found {threshold:g}")
+        threshold = None
+    return AdjustmentSettings(strategy=strategy, threshold_mm=threshold)
+
+
+#: The largest action threshold [mm] the settings accept (beyond it hardly any amount could be listed).
+MAX_THRESHOLD_MM = 10.0
 
 
 def _report(reader: _Reader, table: dict) -> ReportSettings:

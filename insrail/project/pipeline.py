@@ -453,6 +453,7 @@ def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress,
     fastener = load_fastener_type(project.resource(project.fastener))
     strategy = project.adjustment.strategy
     digest = hashlib.sha256(json.dumps({"version": CACHE_VERSION, "fastener": repr(fastener), "strategy": strategy,
+                                        "threshold_mm": project.adjustment.threshold_mm,
                                         "programme": programme_settings(profile)}).encode())
     for values in (geometry.lateral_deviation_m, geometry.vertical_deviation_m, geometry.gauge_m, geometry.cant_m,
                    geometry.design_cant_m, geometry.station_m):
@@ -462,7 +463,8 @@ def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress,
     if cached is not None:
         lateral, vertical = cached.lateral_m, cached.vertical_m
     else:
-        lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=progress, cancel=cancel)
+        lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=progress, cancel=cancel,
+                                             threshold_m=project.adjustment.threshold_m)
     after, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
     if cached is None:
         save_dataclass(path, adjustment)
@@ -654,7 +656,8 @@ def _summary(project, name, manifest, fusion_info, track_cached, height_fit, hei
                   "station_to_m": float(table.station_m[-1]) if len(table) else 0.0},
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),
                        "by_check": counts},
-        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, project.adjustment.strategy),
+        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, project.adjustment,
+                                         load_fastener_type(project.resource(project.fastener))),
         "files": {"trajectory": TRAJECTORY_FILE, "sleepers": SLEEPERS_FILE, "exceedances": EXCEEDANCES_FILE},
     }
     return summary

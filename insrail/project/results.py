@@ -46,7 +46,7 @@ from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, load_trajectory
 from insrail.progress import CancelToken, check_cancel
 from insrail.project import table_cache
 from insrail.quality.survey import SectionQuality, weakness
-from insrail.track.adjustment import Adjustment
+from insrail.track.adjustment import REASONS, Adjustment, FastenerType, below_threshold_count, threshold_steps
 from insrail.track.exceedance import Assessment, SleeperGeometry, track_quality
 from insrail.track.parameters import guiding_rail_is_right, track_parameters
 from insrail.track.sleeper_table import SleeperTable
@@ -192,12 +192,12 @@ def _csv_text(text: str) -> str:
     return '"' + text.replace("\n", " ").replace('"', '""') + '"'
 
 
-def adjustment_section(adjustment: Adjustment, before: Assessment, after: Assessment, strategy: str) -> dict:
+def adjustment_section(adjustment: Adjustment, before: Assessment, after: Assessment, settings,
+                       fastener: FastenerType) -> dict:
     """summary.toml's ``[adjustment]``: the amounts' headline numbers and the re-assessment of the
     adjusted geometry, per check: exceedance runs before and after, and how many of the after
-    runs lie where that check channel did not fail before (``new``)."""
-    from insrail.track.adjustment import REASONS
-
+    runs lie where that check channel did not fail before (``new``). ``settings``: the project's
+    :class:`insrail.project.model.AdjustmentSettings` (strategy, action threshold)."""
     moved = np.any(np.abs(adjustment.lateral_m) > 1e-9, axis=1) | np.any(np.abs(adjustment.vertical_m) > 1e-9, axis=1)
     failing = np.any(adjustment.unresolved_lateral | adjustment.unresolved_vertical, axis=1)
     failed_before: dict[tuple, np.ndarray] = {}
@@ -218,7 +218,9 @@ def adjustment_section(adjustment: Adjustment, before: Assessment, after: Assess
     for bit, text in REASONS.items():
         count = int(np.any((adjustment.reason_lateral & bit) | (adjustment.reason_vertical & bit), axis=1).sum())
         reasons[text.replace(" ", "_")] = count
-    return {"fastener": adjustment.fastener, "strategy": strategy,
+    return {"fastener": adjustment.fastener, "strategy": settings.strategy,
+            "threshold_mm": 1e3 * fastener.step_m * threshold_steps(fastener, settings.threshold_m),
+            "below_threshold_sleepers": below_threshold_count(adjustment, fastener, settings.threshold_m),
             "total_movement_mm": round(1e3 * adjustment.total_movement_m, 1),
             "max_lateral_mm": 1e3 * float(np.abs(adjustment.lateral_m).max(initial=0.0)),
             "max_vertical_mm": 1e3 * float(np.abs(adjustment.vertical_m).max(initial=0.0)),

@@ -322,7 +322,7 @@ def join_section(project: Project, name: str, progress: ProgressFn | None = None
     fastener = load_fastener_type(project.resource(project.fastener))
     strategy = project.adjustment.strategy
     lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=step.sub(0.6, 0.95),
-                                         cancel=cancel)
+                                         cancel=cancel, threshold_m=project.adjustment.threshold_m)
     after_adjustment, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
     columns = {k: (v, _format(k)) for k, v in c.items()}
     columns |= sleeper_check_columns(assessment, adjustment)
@@ -357,7 +357,7 @@ def join_section(project: Project, name: str, progress: ProgressFn | None = None
                   **({"parameters": first["track"]["parameters"]} if "parameters" in first.get("track", {}) else {})},
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),
                        "by_check": counts},
-        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, strategy),
+        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, project.adjustment, fastener),
         "track_quality": track_quality_section(geometry),
         "notices": [n.to_dict() for n in notices],
         "files": {"sleepers": SLEEPERS_FILE, "exceedances": EXCEEDANCES_FILE, "quality": QUALITY_FILE},

@@ -39,6 +39,7 @@ from insrail.project.results import (
     check_column,
 )
 from insrail.track.adjustment import FastenerType, load_fastener_type
+from insrail.track.adjustment_parts import materials, parts_text
 from insrail.track.events import KIND_NAMES
 from insrail.track.exceedance import RAILS
 from insrail.track.stationing import StationEquations
@@ -401,6 +402,46 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
             else np.where(unresolved, "yes", "").astype(object))
     columns.append(_named("unresolved", ADJUSTMENT_GROUP, flag, "@", width=9))
     return columns
+
+
+ADJUSTMENT_KEYS = ("adjust_lateral_left_mm", "adjust_lateral_right_mm", "adjust_vertical_left_mm",
+                   "adjust_vertical_right_mm")
+
+
+@dataclass(frozen=True)
+class AdjustmentWork:
+    """The adjustment sheet's rows: the sleepers with an amount, in working order (increasing
+    chainage), their amounts [mm] (m, 4) in :data:`ADJUSTMENT_KEYS` order and the parts per rail."""
+
+    order: np.ndarray  # sleeper indices
+    amounts_mm: np.ndarray
+    parts: tuple[tuple[str, ...], ...]  # per row the parts of each amount, in ADJUSTMENT_KEYS order
+    materials: tuple[tuple[str, str, int, int], ...]  # (part, size, left rails, right rails)
+    notes: tuple[str, ...]  # how a direction is adjusted without parts
+
+
+def adjustment_work(content: ReportContent) -> AdjustmentWork:
+    amounts = np.column_stack([np.nan_to_num(content.column(key).values) for key in ADJUSTMENT_KEYS])
+    moving = np.flatnonzero(np.any(amounts != 0, axis=1))
+    order = moving[np.argsort(content.station_m[moving], kind="stable")]
+    amounts = amounts[order]
+    tables = content.fastener.parts if content.fastener is not None else {}
+    places = [(key.split("_")[1], RAILS.index(key.split("_")[2])) for key in ADJUSTMENT_KEYS]
+    parts = tuple(tuple(parts_text(tables, direction, rail, amount) for (direction, rail), amount in zip(places, row))
+                  for row in amounts)
+    listed = tuple(materials(tables, amounts[:, :2], amounts[:, 2:]))
+    notes = tuple(f"{direction}: {table.note}" for direction, table in tables.items() if table.note)
+    return AdjustmentWork(order, amounts, parts, listed, notes)
+
+
+def threshold_text(summary: dict) -> str:
+    """The action threshold and the amounts below it that the checks needed ("" for older results)."""
+    adjustment = summary.get("adjustment", {})
+    if "threshold_mm" not in adjustment:
+        return ""
+    kept = adjustment.get("below_threshold_sleepers", 0)
+    return (f"Action threshold {adjustment['threshold_mm']:g} mm: every amount is 0 or at least this"
+            + (f", except at {kept} sleepers where a smaller amount is needed to keep the checks" if kept else ""))
 
 
 def after_adjustment_text(summary: dict) -> str:

@@ -35,9 +35,11 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
 from insrail.report.content import (
+    ADJUSTMENT_KEYS,
     SEVERITY_RULE,
     Column,
     ReportContent,
+    adjustment_work,
     after_adjustment_text,
     check_description,
     exceedance_check,
@@ -50,6 +52,7 @@ from insrail.report.content import (
     sections,
     sleeper_repair_text,
     survey_start,
+    threshold_text,
 )
 
 EXCEEDANCE_FILL = PatternFill("solid", fgColor="FFC7CE")  # the spreadsheet's usual "bad" red
@@ -59,6 +62,7 @@ TITLE_FONT = Font(bold=True, size=14)
 BOLD = Font(bold=True)
 RED_FONT = Font(color="9C0006")
 HEADER_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)
+WRAPPED = Alignment(wrap_text=True)
 GROUP_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)  # merged over its columns
 #: Columns (0-based) of label, value, label, value ... in the header blocks above the tables.
 BLOCK_ANCHORS = (0, 4, 12, 16, 24, 28)
@@ -70,6 +74,7 @@ PAPER_CODES = {"A3": 8, "A4": 9}  # OOXML paper size codes
 #: Header text metrics at the default zoom: characters of the bold 11 pt header font per unit of column
 #: width (a unit is one digit of the body font; bold letters are wider), and the height of a text line [pt].
 BOLD_CHARACTER_WIDTH = 1.15
+BODY_CHARACTER_WIDTH = 0.9  # the body font's letters, for wrapping text cells
 LINE_HEIGHT_PT = 14.5
 
 
@@ -98,14 +103,15 @@ class _Sheet:
         self._later_titles: list[list[tuple[str, int]]] = []  # headers to come below the layout
 
     def style_id(self, number_format: str | None = None, fill: PatternFill | None = None,
-                 font: Font | None = None) -> int:
+                 font: Font | None = None, alignment: Alignment | None = None) -> int:
         """The workbook's index of a cell style (registered when new)."""
-        return self.cell(None, number_format, font=font, fill=fill).style_id
+        return self.cell(None, number_format, font=font, fill=fill, alignment=alignment).style_id
 
     def table(self, columns: list[tuple[list, list[int] | int]], progress: StepProgress | None = None,
-              cancel: CancelToken = None) -> None:
+              cancel: CancelToken = None, heights: list[float | None] | None = None) -> None:
         """Rows below everything appended so far: one (values, style id per row or for all) per column.
-        Values are float (NaN: empty cell), int, or str ("" empty)."""
+        Values are float (NaN: empty cell), int, or str ("" empty); ``heights`` [pt] per row (None:
+        the default height)."""
         if self._pending is not None:
             raise RuntimeError("start() the sheet before its table")
         if not columns or not len(columns[0][0]):
@@ -120,7 +126,9 @@ class _Sheet:
                 progress(index / len(columns), "writing the table")
             cells.append(_cells(get_column_letter(index + 1), numbers, values,
                                 styles if isinstance(styles, list) else [styles] * count))
-        self.table_xml.append("".join(f'<row r="{r}">{"".join(row)}</row>' for r, *row in zip(numbers, *cells)))
+        rows = [f'<row r="{r}"' + (f' ht="{h:g}" customHeight="1"' if h else "") for r, h in
+                zip(numbers, heights or [None] * count)]
+        self.table_xml.append("".join(f'{start}>{"".join(row)}</row>' for start, *row in zip(rows, *cells)))
         self.rows += count
         self.last_cell = f"{get_column_letter(len(columns))}{self.rows}"
 
@@ -233,9 +241,9 @@ def _longest_word(text: str) -> int:
     return max((len(word) for word in str(text).split()), default=0)
 
 
-def _wrapped_lines(text: str, width: float) -> int:
+def _wrapped_lines(text: str, width: float, character_width: float = BOLD_CHARACTER_WIDTH) -> int:
     """Lines ``text`` wraps to in a cell ``width`` wide (word wrap as the spreadsheet does it)."""
-    characters = max(int((width - 1.0) / BOLD_CHARACTER_WIDTH), 1)
+    characters = max(int((width - 1.0) / character_width), 1)
     lines, used = 1, 0
     for word in str(text).split():
         if used and used + 1 + len(word) > characters:
@@ -396,38 +404,74 @@ def limits_text_for(column: Column) -> str:
 
 # --------------------------------------------------------------------------- adjustment
 
-ADJUSTMENT_KEYS = ("adjust_lateral_left_mm", "adjust_lateral_right_mm", "adjust_vertical_left_mm", "adjust_vertical_right_mm")
-
-
-def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    sheet.title("Adjustment: the sleepers to move, in chainage order")
+def _adjustment_header(sheet: _Sheet, content: ReportContent, title: str) -> None:
+    sheet.title(title)
     sheet.append([sheet.cell(_context(content))])
     fastener = content.fastener
     adjustment = content.summary.get("adjustment", {})
-    kind = (f"{fastener.description or fastener.name}, steps of {1e3 * fastener.step_m:g} mm" if fastener
-            else adjustment.get("fastener", ""))
-    sheet.append([sheet.cell(f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm; "
+    kind = ((fastener.description or f"{fastener.name}, steps of {1e3 * fastener.step_m:g} mm") if fastener
+            else f"{adjustment.get('fastener', '')} (the fastener type file is not readable: no parts)")
+    sheet.append([sheet.cell(f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm at "
+                             f"{adjustment.get('sleepers_to_work_on', 0)} sleepers; "
                              f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")])
-    after = after_adjustment_text(content.summary)
-    if after:
-        sheet.append([sheet.cell(after)])
-    sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it "
-                             "(looking towards increasing chainage)", font=BOLD)])
+    for text in (threshold_text(content.summary), after_adjustment_text(content.summary)):
+        if text:
+            sheet.append([sheet.cell(text)])
+
+
+def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    _adjustment_header(sheet, content, "Adjustment: the sleepers to work on, in working order (increasing chainage)")
+    sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it (looking towards "
+                             "increasing chainage).", font=BOLD)])
+    sheet.append([sheet.cell("Parts: outer = on the field side of the rail foot, inner = on the gauge side; No. 9→11: "
+                             "replace the No. 9 part by a No. 11; shims are added; * size assumed, not a published "
+                             "figure. The Materials sheet sums the parts.", font=BOLD)])
+    work = adjustment_work(content)
     amounts = [content.column(key) for key in ADJUSTMENT_KEYS]
-    titles = ["sleeper", "chainage", "station (m)"] + [f"{c.title} (mm)" for c in amounts] + ["checks still failed"]
-    sheet.group_header(["Sleeper"] * 3 + [c.group for c in amounts] + [""])
+    titles = (["no.", "sleeper", "chainage", "station (m)", "from the first (m)"]
+              + [f"{c.title} (mm)" for c in amounts] + [c.title for c in amounts] + ["checks still failed"])
+    sheet.group_header(["Working order"] + ["Sleeper"] * 3 + ["Working order"] + [c.group for c in amounts]
+                       + ["Fastener parts for the amounts"] * len(amounts) + [""])
     header = sheet.header(titles)
-    _start(sheet, content, [9, 13, 11, 10, 10, 10, 10, 40], freeze=f"C{header + 1}")
-    moving = np.flatnonzero(np.any([np.nan_to_num(c.values) != 0 for c in amounts], axis=0))
-    order = moving[np.argsort(content.station_m[moving], kind="stable")]
-    columns = [content.column("number").values[order].tolist(), [str(v) for v in content.column("label").values[order]],
-               content.station_m[order].tolist()] + [c.values[order].tolist() for c in amounts] + \
-        [[str(v) for v in content.column("unresolved").values[order]]]
-    styles = [sheet.style_id(), sheet.style_id(), sheet.style_id("0.000")] + [sheet.style_id("0")] * len(amounts) + \
-        [sheet.style_id(font=RED_FONT)]
-    sheet.table(list(zip(columns, styles)), cancel=cancel)
+    part_widths = [44, 44, 34, 34]
+    _start(sheet, content, [6, 9, 13, 11, 9, 9, 9, 9, 9, *part_widths, 30], freeze=f"F{header + 1}")
+    order = work.order
+    station = content.station_m[order]
+    columns = [list(range(1, order.size + 1)), content.column("number").values[order].tolist(),
+               [str(v) for v in content.column("label").values[order]], station.tolist(),
+               (station - station[0]).tolist() if order.size else []]
+    columns += [work.amounts_mm[:, k].tolist() for k in range(len(amounts))]
+    columns += [[row[k] for row in work.parts] for k in range(len(amounts))]
+    columns.append([str(v) for v in content.column("unresolved").values[order]])
+    wrapped = sheet.style_id(alignment=WRAPPED)
+    styles = ([sheet.style_id()] * 3 + [sheet.style_id("0.000"), sheet.style_id("0.0")]
+              + [sheet.style_id("+0;-0;")] * len(amounts) + [wrapped] * len(amounts) + [sheet.style_id(font=RED_FONT)])
+    lines = [max((_wrapped_lines(text, width, BODY_CHARACTER_WIDTH) for text, width in zip(row, part_widths)), default=1)
+             for row in work.parts]
+    sheet.table(list(zip(columns, styles)), cancel=cancel, heights=[LINE_HEIGHT_PT * n + 2.0 if n > 1 else None
+                                                                     for n in lines])
     progress(1.0, "adjustment sheet")
     sheet.finish_table(header, header - 1, len(titles))
+
+
+def _materials_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    _adjustment_header(sheet, content, "Materials list: the fastener parts the adjustment sheet needs")
+    work = adjustment_work(content)
+    for note in work.notes:
+        sheet.append([sheet.cell(f"No parts for {note}")])
+    sheet.append([sheet.cell("Parts marked * have sizes not taken from published figures: check them against the "
+                             "fastener type file before ordering.", font=BOLD)])
+    titles = ["part", "size", "left rails", "right rails", "total"]
+    header = sheet.header(titles)
+    _start(sheet, content, [40, 10, 10, 10, 10], freeze=f"A{header + 1}")
+    for part, size, left, right in work.materials:
+        sheet.append([sheet.cell(part), sheet.cell(size), sheet.cell(left), sheet.cell(right),
+                      sheet.cell(left + right, font=BOLD)])
+    if not work.materials:
+        sheet.append([sheet.cell("no parts: no sleeper to work on" if not work.order.size
+                                 else "no parts listed for this fastener type")])
+    progress(1.0, "materials list")
+    sheet.finish_table(header, header, len(titles))
 
 
 # --------------------------------------------------------------------------- exceedances
@@ -598,6 +642,7 @@ SHEETS: tuple[tuple[str, Callable, float], ...] = (
     ("Summary", _summary_sheet, 0.04),
     ("Sleepers", _sleeper_sheet, 0.6),
     ("Adjustment", _adjustment_sheet, 0.04),
+    ("Materials", _materials_sheet, 0.01),
     ("Exceedances", _exceedance_sheet, 0.04),
     ("Processing log", _log_sheet, 0.01),
 )

@@ -70,6 +70,7 @@ from insrail.report.charts import (
     strip_drawing,
 )
 from insrail.report.content import (
+    ADJUSTMENT_KEYS,
     DEVIATION_GROUP,
     OTHER_CHECKS_GROUP,
     RAIL_KINDS,
@@ -86,6 +87,7 @@ from insrail.report.content import (
     load_report_content,
     sleeper_repair_text,
     survey_start,
+    threshold_text,
 )
 from insrail.track.exceedance import RAILS
 
@@ -405,8 +407,7 @@ def _accuracy_conclusion(content: ReportContent) -> list[Flowable]:
 
 def _adjustment_conclusion(content: ReportContent) -> str:
     adjustment = content.summary.get("adjustment", {})
-    amounts = [content.column(key).values for key in ("adjust_lateral_left_mm", "adjust_lateral_right_mm",
-                                                        "adjust_vertical_left_mm", "adjust_vertical_right_mm")]
+    amounts = [content.column(key).values for key in ADJUSTMENT_KEYS]
     moving = int(np.count_nonzero(np.any([np.nan_to_num(a) != 0 for a in amounts], axis=0)))
     fastener = content.fastener.description or content.fastener.name if content.fastener else adjustment.get("fastener", "")
     unresolved = adjustment.get("unresolved_sleepers", 0)
@@ -415,7 +416,8 @@ def _adjustment_conclusion(content: ReportContent) -> str:
             f"{_fmt(adjustment.get('total_movement_mm'), 0, 'mm')}; "
             + (f"<b>{unresolved} sleepers where the checks still fail after adjustment</b>." if unresolved
                else "every check met after adjustment.")
-            + (f" {escape(after)}." if (after := after_adjustment_text(content.summary)) else ""))
+            + (f" {escape(after)}." if (after := after_adjustment_text(content.summary)) else "")
+            + (f" {escape(threshold)}." if (threshold := threshold_text(content.summary)) else ""))
 
 
 SIGN_OFF_STYLE = TableStyle([

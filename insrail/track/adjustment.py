@@ -32,7 +32,7 @@ from __future__ import annotations
 import os
 import tomllib
 from concurrent.futures import ThreadPoolExecutor, wait
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -42,12 +42,15 @@ from insrail.resources import resources_dir
 from insrail.track.adjustment_programme import (
     DirectionProblem,
     RailCheck,
+    apply_threshold,
+    below_threshold,
     rail_checks,
     repair_rounding,
     round_amounts,
     solve_free,
     track_rows,
 )
+from insrail.track.adjustment_parts import PartTable, read_part_table
 from insrail.track.exceedance import RAILS, Assessment, SleeperGeometry, assess
 from insrail.track.irregularity import BANDS_M, SLEEPER_SPACING_M
 from insrail.track.parameters import guiding_rail_is_right
@@ -89,6 +92,8 @@ class FastenerType:
     step_m: float
     lateral_range_m: tuple[float, float]
     vertical_range_m: tuple[float, float]
+    #: direction -> the parts per amount (:mod:`insrail.track.adjustment_parts`); none where the file has none
+    parts: dict[str, PartTable] = field(default_factory=dict, repr=False, compare=False)
 
     def range_m(self, direction: str) -> tuple[float, float]:
         return self.lateral_range_m if direction == "lateral" else self.vertical_range_m
@@ -114,12 +119,16 @@ def load_fastener_type(name_or_path: str | Path = DEFAULT_FASTENER) -> FastenerT
         low, high = values[f"{direction}_min_mm"], values[f"{direction}_max_mm"]
         if not low <= 0.0 <= high:
             raise SettingsFileError(path, f"{direction}_min_mm", "the range must contain 0 (min <= 0 <= max)")
+    parts = {direction: read_part_table(path, f"{direction}_parts", data[f"{direction}_parts"],
+                                        1e3 * values[f"{direction}_min_mm"], 1e3 * values[f"{direction}_max_mm"])
+             for direction in DIRECTIONS if f"{direction}_parts" in data}
     return FastenerType(
         name=str(data.get("name", path.stem)),
         description=str(data.get("description", "")),
         step_m=values["step_mm"],
         lateral_range_m=(values["lateral_min_mm"], values["lateral_max_mm"]),
         vertical_range_m=(values["vertical_min_mm"], values["vertical_max_mm"]),
+        parts=parts,
     )
 
 
@@ -258,7 +267,8 @@ def _share(progress, done: int, size: int, total: int):
     return lambda fraction, message: progress((done + fraction * size) / total, message)
 
 
-def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], progress=None, cancel=None) -> np.ndarray:
+def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], progress=None, cancel=None,
+                        threshold: float = 1.0) -> np.ndarray:
     """Amounts [steps] (n, 2) of one direction.
 
     Only the sleepers near exceedances are moved (two reaches of the check around each
@@ -268,7 +278,8 @@ def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], prog
     before are held where their rows reach into the next one). Each solution is rounded to whole
     steps and the rounding repaired where it broke a hard track row. The line
     is then checked again: windows around exceedances that the previous round did not already
-    try are solved again, until there are none.
+    try are solved again, until there are none. Last, amounts below the action ``threshold``
+    [steps] are taken out where the checks allow (:func:`insrail.track.adjustment_programme.apply_threshold`).
     """
     n = problem.deviation.shape[0]
     amounts = np.zeros((n, 2))
@@ -292,7 +303,10 @@ def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], prog
                                amounts)
             amounts = repair_rounding(problem, amounts, continuous)
             done += stop - start
-    return amounts
+    # the threshold's integer programmes report in the last tenth (monotonic with the rounds after the first)
+    threshold_progress = (None if progress is None
+                          else lambda fraction, message: progress(0.9 + 0.1 * fraction, message))
+    return apply_threshold(problem, amounts, checks, threshold, cancel, threshold_progress)
 
 
 def direction_problem(geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, direction: str,
@@ -313,11 +327,20 @@ def direction_problem(geometry: SleeperGeometry, profile: ToleranceProfile, fast
                             float(np.ceil(low / step - 1e-9)), float(np.floor(high / step + 1e-9)), step, reference)
 
 
+def threshold_steps(fastener: FastenerType, threshold_m: float | None) -> float:
+    """The action threshold in whole fastener steps (at least one: None is one step)."""
+    if threshold_m is None:
+        return 1.0
+    return max(1.0, float(np.ceil(threshold_m / fastener.step_m - 1e-9)))
+
+
 def optimise_amounts(
     geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, strategy: str = DEFAULT_STRATEGY,
-    progress: ProgressFn | None = None, cancel: CancelToken = None,
+    progress: ProgressFn | None = None, cancel: CancelToken = None, threshold_m: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(lateral, vertical) amounts [m] (n, 2) of :func:`optimise_adjustment`, not yet re-assessed.
+    Each amount is 0 or at least the action threshold ``threshold_m`` (rounded up to whole steps;
+    None: one step) where the checks allow it (:func:`below_threshold_count` counts the others).
 
     The two directions are independent and HiGHS releases the GIL while it solves: one thread
     each, the heavier submitted first; ``progress`` is called from the calling thread, ``cancel``
@@ -330,7 +353,8 @@ def optimise_amounts(
         def direction_progress(fraction: float, message: str) -> None:
             done[direction] = max(done[direction], fraction)  # a second round starts again from 0
 
-        return _optimise_direction(problems[direction], checks[direction], direction_progress, cancel)
+        return _optimise_direction(problems[direction], checks[direction], direction_progress, cancel,
+                                   threshold_steps(fastener, threshold_m))
 
     def expected_work(direction: str) -> int:
         state = _state(problems[direction], np.zeros(problems[direction].deviation.shape), checks[direction])
@@ -348,13 +372,21 @@ def optimise_amounts(
     return steps["lateral"] * fastener.step_m, steps["vertical"] * fastener.step_m
 
 
+def below_threshold_count(adjustment: Adjustment, fastener: FastenerType, threshold_m: float | None) -> int:
+    """Sleepers with an amount below the action threshold that the checks needed (kept)."""
+    threshold = threshold_steps(fastener, threshold_m)
+    small = [below_threshold(a / fastener.step_m, threshold).any(axis=1)
+             for a in (adjustment.lateral_m, adjustment.vertical_m)]
+    return int(np.count_nonzero(small[0] | small[1]))
+
+
 def optimise_adjustment(
     geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, progress: ProgressFn | None = None,
-    cancel: CancelToken = None, strategy: str = DEFAULT_STRATEGY,
+    cancel: CancelToken = None, strategy: str = DEFAULT_STRATEGY, threshold_m: float | None = None,
 ) -> Adjustment:
     """The optimised amounts (:func:`optimise_amounts`) with the sleepers that still fail a check
     flagged by :func:`reassess`."""
-    lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress, cancel)
+    lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress, cancel, threshold_m)
     return reassess(geometry, lateral, vertical, profile, fastener)[1]
 
 

@@ -24,7 +24,7 @@ simplex restarting from its last basis), and a few per sleeper ever enter the pr
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import highspy._core as highspy_core
 import numpy as np
@@ -423,7 +423,21 @@ class _TrackRowFamily:
 #: solved again from the last basis); no presolve, which would throw that basis away.
 HIGHS_OPTIONS = {"output_flag": False, "solver": "simplex", "simplex_strategy": 1, "presolve": "off",
                  "simplex_dual_edge_weight_strategy": 0, "threads": 1}
+#: HiGHS options of the integer programme of the action threshold (branch and bound; each solve
+#: starts afresh, so presolve helps).
+HIGHS_INTEGER_OPTIONS = {"output_flag": False, "solver": "choose", "presolve": "on", "threads": 1,
+                         "mip_rel_gap": 0.02, "time_limit": 2.0}
 MAX_ROUNDS = 200
+#: Rounds of "solve the integer programme, add the rows it violates" before a window is given up.
+MAX_INTEGER_ROUNDS = 40
+#: Action-threshold windows, (before, after): the sleepers from ``before`` ahead of the first amount
+#: below the threshold to ``after`` beyond it may change (each to 0 or at least the threshold); a
+#: second pass centred on each amount the first one could not take out.
+THRESHOLD_WINDOWS = ((6, 20), (16, 16))
+#: How far [steps] beyond the threshold an amount may go from the one given (fewer choices: a fast search).
+THRESHOLD_REACH = 1.0
+#: The rows started with: those within this many thresholds (per free amount) of their limit.
+THRESHOLD_SEED = 0.25
 
 
 class _Programme:
@@ -432,13 +446,14 @@ class _Programme:
     movement), per soft row a slack (its excess, costing :data:`VIOLATION_PENALTY`), rows added
     as they are found violated."""
 
-    def __init__(self, problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray):
+    def __init__(self, problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray, threshold: float | None = None):
         # the bare solver: highspy.Highs (a wrapper of it) prints a banner on stdout when created
         self.highs = highspy_core._Highs()
-        for key, value in HIGHS_OPTIONS.items():
+        for key, value in (HIGHS_OPTIONS if threshold is None else HIGHS_INTEGER_OPTIONS).items():
             self.highs.setOptionValue(key, value)
         self.infinity = highspy_core.kHighsInf
         self.optimal = highspy_core.HighsModelStatus.kOptimal
+        self.integer = threshold is not None
         n = free.size
         self.free_column = np.concatenate([free, free])
         columns = np.flatnonzero(self.free_column)
@@ -466,6 +481,30 @@ class _Programme:
             index = np.column_stack([right, right + count, left, left + count, up, down])
             values = np.broadcast_to([1.0, -1.0, -1.0, 1.0, -1.0, 1.0], index.shape)
             self._add_rows(index, values, np.zeros(size), np.zeros(size))
+        if threshold is not None:  # near the given amounts: the window's choices stay few
+            given = amounts.T.reshape(-1)[columns]
+            reach = threshold + THRESHOLD_REACH
+            self._semi_integer(threshold, np.minimum(problem.high, np.maximum(given, 0.0) + reach),
+                               np.minimum(-problem.low, np.maximum(-given, 0.0) + reach))
+
+    def _semi_integer(self, threshold: float, plus_max: np.ndarray, minus_max: np.ndarray) -> None:
+        """Whole steps, each amount 0 or at least ``threshold`` either way: plus and minus integer,
+        each switched on by a binary (plus = 0 or threshold <= plus <= plus_max), never both on
+        (else plus - minus could be a small net amount)."""
+        count = self.count
+        plus, minus = np.arange(count), count + np.arange(count)
+        on_plus = self._add_variables(np.zeros(count), np.zeros(count), np.ones(count))
+        on_minus = self._add_variables(np.zeros(count), np.zeros(count), np.ones(count))
+        columns = np.concatenate([plus, minus, on_plus, on_minus]).astype(np.int32)
+        self.highs.changeColsIntegrality(columns.size, columns,
+                                         np.full(columns.size, highspy_core.HighsVarType.kInteger))
+        for amount, on, most in ((plus, on_plus, plus_max), (minus, on_minus, minus_max)):
+            index = np.column_stack([amount, on])
+            self._add_rows(index, np.broadcast_to([1.0, -threshold], index.shape), np.zeros(count),
+                           np.full(count, np.inf))
+            self._add_rows(index, np.column_stack([np.ones(count), -most]), np.full(count, -np.inf), np.zeros(count))
+        index = np.column_stack([on_plus, on_minus])
+        self._add_rows(index, np.ones(index.shape), np.full(count, -np.inf), np.ones(count))
 
     def _add_variables(self, cost, lower, upper) -> np.ndarray:
         size = cost.size
@@ -506,16 +545,69 @@ class _Programme:
         values = np.concatenate([coefficients, -coefficients, sign[:, None]], axis=1)
         self._add_rows(index, values, lower, upper)
 
-    def solve(self) -> np.ndarray:
-        """The amounts [steps] (N, 2): the programme's on free sleepers, the given ones elsewhere."""
+    def solve(self) -> np.ndarray | None:
+        """The amounts [steps] (N, 2): the programme's on free sleepers, the given ones elsewhere.
+        An integer programme that has no solution (or found none in its time) gives None."""
         self.highs.run()
-        if self.highs.getModelStatus() != self.optimal:
-            raise RuntimeError("adjustment optimisation failed: "
-                               f"{self.highs.modelStatusToString(self.highs.getModelStatus())}")
+        status = self.highs.getModelStatus()
+        if self.integer:
+            if self.highs.getInfo().primal_solution_status != 2:  # no feasible solution
+                return None
+        elif status != self.optimal:
+            raise RuntimeError(f"adjustment optimisation failed: {self.highs.modelStatusToString(status)}")
         x = np.asarray(self.highs.getSolution().col_value)
         flat = self.amounts.T.reshape(-1).copy()
         flat[self.columns] = x[: self.count] - x[self.count: 2 * self.count]
+        if self.integer:
+            flat[self.columns] = np.round(flat[self.columns])
         return flat.reshape(2, -1).T
+
+
+def _families(problem: DirectionProblem, checks: list[RailCheck]) -> list:
+    families = [_ChordRows(index, check, rail, problem.deviation, problem.valid, problem.step_m)
+                for index, (check, rail) in enumerate((c, r) for c in checks for r in (0, 1))]
+    families.append(_TrackRowFamily(len(families), problem.rows))
+    return families
+
+
+class _Generation:
+    """Rows entering a programme as amounts violate them: each row holding a free amount once.
+
+    With ``reference`` amounts (the integer programme of the action threshold) no row keeps a
+    rounding margin, and a row those amounts hold is hard: the new amounts may not break it."""
+
+    def __init__(self, programme: _Programme, families: list, free: np.ndarray, reference: np.ndarray | None = None):
+        self.programme, self.families = programme, families
+        sleepers = np.flatnonzero(free)
+        # the rows that hold a free sleeper lie within one reach of the free ones
+        self.spans = [(max(0, sleepers[0] - f.reach_steps), min(free.size, sleepers[-1] + f.reach_steps + 1))
+                      for f in families]
+        self.reference = None if reference is None else reference.T.reshape(-1)
+        self.known = np.zeros(0, np.int64)
+
+    def add(self, current: np.ndarray, half: np.ndarray) -> int:
+        """Add the new rows that ``current``, widened by ``half`` a step per free amount, violates;
+        how many."""
+        free_column = self.programme.free_column
+        added = 0
+        for family, span in zip(self.families, self.spans):
+            rows = family.violated(current, half, span)
+            if rows is None:
+                continue
+            key = rows.key * len(self.families) + family.family  # unique over the families
+            fresh = (free_column[rows.columns] & (np.asarray(rows.coefficients) != 0)).any(axis=1)
+            fresh &= ~np.isin(key, self.known)
+            if not fresh.any():
+                continue
+            new = rows.take(np.flatnonzero(fresh))
+            if self.reference is not None:
+                value = new.offset + (np.asarray(new.coefficients) * self.reference[new.columns]).sum(axis=1)
+                held = (value >= new.lower - 1e-7) & (value <= new.upper + 1e-7)
+                new = replace(new, soft=new.soft & ~held, rounded=np.zeros(new.key.size, bool))
+            self.known = np.concatenate([self.known, key[fresh]])
+            self.programme.add(new)
+            added += new.key.size
+        return added
 
 
 def solve_free(problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray, checks: list[RailCheck],
@@ -532,33 +624,14 @@ def solve_free(problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray,
     free = free & problem.valid
     if not free.any():
         return amounts.copy()
-    families = [_ChordRows(index, check, rail, problem.deviation, problem.valid, problem.step_m)
-                for index, (check, rail) in enumerate((c, r) for c in checks for r in (0, 1))]
-    families.append(_TrackRowFamily(len(families), problem.rows))
     programme = _Programme(problem, amounts, free)
-    free_column = programme.free_column
+    generation = _Generation(programme, _families(problem, checks), free)
     half = np.where(free, 0.5, 0.0)
-    known = np.zeros(0, np.int64)
     current = amounts
     first = None
-    sleepers = np.flatnonzero(free)
     for _ in range(MAX_ROUNDS):
         check_cancel(cancel)
-        added = 0
-        for family in families:
-            # the rows that hold a free sleeper lie within one reach of the free ones
-            span = (max(0, sleepers[0] - family.reach_steps), min(free.size, sleepers[-1] + family.reach_steps + 1))
-            rows = family.violated(current, half, span)
-            if rows is None:
-                continue
-            key = rows.key * len(families) + family.family  # unique over the families
-            fresh = (free_column[rows.columns] & (np.asarray(rows.coefficients) != 0)).any(axis=1)
-            fresh &= ~np.isin(key, known)
-            if fresh.any():
-                new = rows.take(np.flatnonzero(fresh))
-                known = np.concatenate([known, key[fresh]])
-                programme.add(new)
-                added += new.key.size
+        added = generation.add(current, half)
         if not added:
             return current
         first = first or added
@@ -566,6 +639,64 @@ def solve_free(problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray,
             progress(max(0.0, 1.0 - added / first), "adjustment amounts")
         current = programme.solve()
     raise RuntimeError("adjustment optimisation: the rows did not settle")
+
+
+def below_threshold(amounts: np.ndarray, threshold: float) -> np.ndarray:
+    """(N, 2) amounts [steps] that are not 0 but smaller than ``threshold`` steps."""
+    size = np.abs(amounts)
+    return (size > 0.5) & (size < threshold - 0.5)
+
+
+def apply_threshold(problem: DirectionProblem, amounts: np.ndarray, checks: list[RailCheck], threshold: float,
+                    cancel=None, progress=None) -> np.ndarray:
+    """Whole-step amounts [steps] each 0 or at least ``threshold`` steps either way, where that
+    holds every check the given ``amounts`` hold.
+
+    Window after window from the first amount below the threshold (:data:`THRESHOLD_WINDOWS`:
+    a few sleepers before it to a few after it), the window's amounts are chosen
+    again by an integer programme (each plus and minus part 0 or at least the threshold, the
+    least movement): every chord and track row the given amounts hold stays held, the rows
+    they exceed may not get worse than their penalty allows; rows enter as the solution violates
+    them (started with those within the threshold of their limit). Where no such choice exists
+    or none is found in time, the window keeps its amounts, small ones included (the caller
+    counts them); a second pass tries each of those again in a window centred on it."""
+    if threshold <= 1.0 + TOLERANCE or not below_threshold(amounts, threshold).any():
+        return amounts
+    families = _families(problem, checks)
+    n = amounts.shape[0]
+    for second, (before, after) in enumerate(THRESHOLD_WINDOWS):
+        position = 0
+        while True:
+            small = np.flatnonzero(below_threshold(amounts, threshold).any(axis=1))
+            small = small[small >= position]
+            if not small.size:
+                break
+            start, stop = max(0, small[0] - before), min(n, small[0] + after)
+            free = np.zeros(n, bool)
+            free[start:stop] = problem.valid[start:stop]
+            solved = _integer_window(problem, amounts, free, families, threshold, cancel)
+            if solved is not None:
+                amounts = solved
+            position = small[0] + 1 if second and solved is None else stop
+            if progress is not None:
+                progress((second + position / n) / len(THRESHOLD_WINDOWS), "action threshold")
+    return amounts
+
+
+def _integer_window(problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray, families: list,
+                    threshold: float, cancel) -> np.ndarray | None:
+    programme = _Programme(problem, amounts, free, threshold)
+    generation = _Generation(programme, families, free, reference=amounts)
+    generation.add(amounts, np.where(free, THRESHOLD_SEED * threshold, 0.0))  # the rows near their limit
+    nothing = np.zeros(free.size)
+    for _ in range(MAX_INTEGER_ROUNDS):
+        check_cancel(cancel)
+        current = programme.solve()
+        if current is None:
+            return None
+        if not generation.add(current, nothing):
+            return current
+    return None
 
 
 def round_amounts(continuous: np.ndarray, low: float, high: float, valid: np.ndarray) -> np.ndarray:
