@@ -1,4 +1,4 @@
-"""The track view on plain arrays (pytest-qt, offscreen): names, read-out, navigation, tools."""
+"""The track view on plain arrays (pytest-qt, offscreen): names, read-out, navigation, tools; the plan view's dots."""
 
 from __future__ import annotations
 
@@ -287,3 +287,29 @@ def test_the_exceedance_model_sorts_by_magnitude_and_keeps_the_selection(qtbot):
     assert model.exceedance_at(view.selectionModel().selectedRows()[0].row()) == 4321  # the selection followed
     widths = model.column_widths(len)
     assert widths[0] >= len("30 m / 5 m short wave") and widths[8] >= len("Sleepers")
+
+
+def test_plan_dots_one_per_pixel_and_an_isolated_fix_still_drawn(qtbot):
+    """The GNSS fixes of a long survey cost a plan frame what the pixels they cover cost; a lone
+    fix far from the others is still drawn."""
+    import pyqtgraph as pg
+
+    from insrail.gui.views.plan import PointsItem
+
+    x = np.concatenate([np.linspace(0.0, 100.0, 50_000), [200.0]])
+    y = np.concatenate([np.zeros(50_000), [50.0]])
+    widget = pg.PlotWidget(background="w")
+    qtbot.addWidget(widget)
+    widget.resize(400, 300)
+    points = PointsItem(x, y, "#009E73", 5)
+    widget.addItem(points)
+    widget.setRange(xRange=(0.0, 210.0), yRange=(-60.0, 60.0), padding=0.0)
+    widget.show()
+    qtbot.waitExposed(widget)
+    image = widget.grab().toImage()
+    assert 0 < points.drawn_points <= 400  # one dot per pixel column of the line, not 50 000
+    lone = widget.mapFromScene(widget.getPlotItem().vb.mapViewToScene(pg.Point(200.0, 50.0)))
+    assert image.pixelColor(lone.x(), lone.y()).name() == "#009e73"
+    widget.setRange(xRange=(40.0, 41.0), yRange=(10.0, 20.0), padding=0.0)  # inside their bounds, no fix on the screen
+    widget.grab()  # (an empty set of dots once crashed Qt's painter)
+    assert points.drawn_points == 0
