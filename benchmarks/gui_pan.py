@@ -17,8 +17,11 @@ A sleeper table parsed once is kept in the user's cache (insrail.project.table_c
 say whether each open found it there. ``--cold`` runs with an empty cache folder: the first open of
 a project after processing it outside the desktop application (the table parsed on that open).
 
-Budgets (issue 21): first paint <= 2 s, every frame <= 50 ms, project switch <= 2 s. Wall-clock
-figures grow with the machine's load (printed); each frame's CPU time is printed beside it.
+Budgets (issue 21): first paint <= 2 s, every frame <= 50 ms, project switch <= 2 s. Per series
+of frames it prints the wall-clock median, 95th percentile and maximum, the CPU time per frame (what
+contention affects less) and the load average; per view whether its slowest frame (wall clock)
+meets the bar. Wall-clock figures grow with the machine's load; the exit status is 1 when a budget
+is not met.
 """
 
 from __future__ import annotations
@@ -71,13 +74,23 @@ def frames(app, widget, item, low: float, high: float, width: float, count: int 
     return 1e3 * np.array(times), 1e3 * np.array(cpu)
 
 
-def report(name: str, measured: tuple[np.ndarray, np.ndarray]) -> float:
-    """Prints the figures; the worst frame's CPU time (the budget's figure on a shared machine)."""
+def report(name: str, measured: tuple[np.ndarray, np.ndarray]) -> tuple[float, float]:
+    """Prints the figures of one series of frames and whether its slowest frame meets the bar;
+    (wall max, CPU 95th percentile) in ms."""
     ms, cpu = measured
-    print(f"  {name:<30} wall {ms.mean():6.1f} ms mean, median {np.median(ms):5.1f}, max {ms.max():6.1f}; "
-          f"CPU {cpu.mean():5.1f} mean, median {np.median(cpu):5.1f}, 95 % {np.percentile(cpu, 95):5.1f}, "
-          f"max {cpu.max():5.1f}")
-    return float(np.percentile(cpu, 95))
+    print(f"  {name:<26} wall median {np.median(ms):5.1f} ms, 95 % {np.percentile(ms, 95):5.1f}, max {ms.max():6.1f}; "
+          f"CPU median {np.median(cpu):5.1f}, 95 % {np.percentile(cpu, 95):5.1f}, max {cpu.max():5.1f}; "
+          f"load {os.getloadavg()[0]:4.1f}: {'meets' if ms.max() <= FRAME_MS else 'ABOVE'} the bar")
+    return float(ms.max()), float(np.percentile(cpu, 95))
+
+
+def verdict(view: str, figures: list[tuple[float, float]]) -> bool:
+    """One line per view: its slowest frame (wall clock) against the bar; True when met."""
+    wall_max, cpu_95 = max(f[0] for f in figures), max(f[1] for f in figures)
+    met = wall_max <= FRAME_MS
+    print(f"  {view:<10} wall max {wall_max:6.1f} ms (bar {FRAME_MS:g}): {'met' if met else 'NOT MET'}; "
+          f"CPU 95 % {cpu_95:5.1f} ms")
+    return met
 
 
 def table_state(project_folder: str) -> str:
@@ -117,7 +130,8 @@ def main(project: str, other: str | None = None, cold: bool = False) -> int:
         track = window.track
         station = track._station
         print(f"{window.project.name}: {len(station)} sleepers over {station[-1] - station[0]:.0f} m, "
-              f"{len(track.plots.plots)} plots")
+              f"{len(track.plots.plots)} plots, {len(track.plots.in_view())} of them in the scroll area's view "
+              "(a pan moves those; the others catch up when scrolled into view)")
         print(f"first paint {first_paint:.2f} s after the window appeared ({first_paint_cpu:.2f} s CPU of all "
               f"threads; longest unanswered gap {max(opened, longest):.2f} s; {state})")
         while window.loader is not None:  # the trajectory: plan and navigation
@@ -125,12 +139,12 @@ def main(project: str, other: str | None = None, cold: bool = False) -> int:
             time.sleep(0.001)
         print(f"  plan and navigation data ready {time.perf_counter() - began:.2f} s after opening")
 
-        worst = 0.0
+        figures: dict[str, list[tuple[float, float]]] = {"track": [], "navigation": [], "plan": []}
         first_plot = next(iter(track.plots.plots.values()))
         low, high = station[0], station[-1]
         for width in (200.0, 2000.0, high - low):
-            worst = max(worst, report(f"track, {width:.0f} m window", frames(app, track.plots, first_plot, low, high,
-                                                                               width)))
+            figures["track"].append(report(f"track, {width:.0f} m window",
+                                           frames(app, track.plots, first_plot, low, high, width)))
 
         began = time.perf_counter()
         window.tabs.setCurrentWidget(window.navigation)
@@ -140,8 +154,8 @@ def main(project: str, other: str | None = None, cold: bool = False) -> int:
         nav_item = next(iter(window.navigation.items.values()))
         t = window.navigation._time
         for width in (60.0, 1000.0, t[-1] - t[0]):
-            worst = max(worst, report(f"navigation, {width:.0f} s window",
-                                      frames(app, window.navigation.plots, nav_item, t[0], t[-1], width)))
+            figures["navigation"].append(report(f"navigation, {width:.0f} s window",
+                                                frames(app, window.navigation.plots, nav_item, t[0], t[-1], width)))
 
         began = time.perf_counter()
         window.tabs.setCurrentWidget(window.plan)
@@ -150,8 +164,8 @@ def main(project: str, other: str | None = None, cold: bool = False) -> int:
         print(f"  plan tab drawn in {time.perf_counter() - began:.2f} s when first shown")
         east = window.plan.data.trajectory_en_m[:, 0] - window.plan.origin[0]
         for width in (200.0, float(east.max() - east.min())):
-            worst = max(worst, report(f"plan, {width:.0f} m window",
-                                      frames(app, window.plan, window.plan.item, east.min(), east.max(), width)))
+            figures["plan"].append(report(f"plan, {width:.0f} m window",
+                                          frames(app, window.plan, window.plan.item, east.min(), east.max(), width)))
 
         window.tabs.setCurrentWidget(window.track)
         app.processEvents()
@@ -170,9 +184,11 @@ def main(project: str, other: str | None = None, cold: bool = False) -> int:
         window.close()
 
     print(f"load average {os.getloadavg()[0]:.1f} at the end")
-    within = first_paint <= FIRST_PAINT_S and worst <= FRAME_MS and switch <= SWITCH_S
-    print(f"budgets (wall clock): first paint {first_paint:.2f} s (<= {FIRST_PAINT_S:g}), frames {worst:.1f} ms "
-          f"CPU at the 95th percentile (<= {FRAME_MS:g}), switch {switch:.2f} s (<= {SWITCH_S:g}): "
+    print(f"every pan/zoom frame <= {FRAME_MS:g} ms (wall clock, the slowest frame of each view):")
+    frames_met = all([verdict(view, measured) for view, measured in figures.items()])
+    within = first_paint <= FIRST_PAINT_S and frames_met and switch <= SWITCH_S
+    print(f"budgets (wall clock): first paint {first_paint:.2f} s (<= {FIRST_PAINT_S:g}), every frame "
+          f"{'met' if frames_met else 'NOT MET'} (<= {FRAME_MS:g} ms), switch {switch:.2f} s (<= {SWITCH_S:g}): "
           f"{'within' if within else 'ABOVE'}")
     return 0 if within else 1
 

@@ -9,7 +9,8 @@ view and the screen size: ``docs/gui_<view>_<width>x<height>.png``. The docs/ pi
 demo project with a second simulated run (seed 2) added as survey `short2`, so that the
 repeatability view has two runs to overlay. With a second project whose survey holds raw GNSS
 observations (``[gnss_raw]``), the GNSS page is post-processed and shown too. Without X
-(``QT_QPA_PLATFORM=offscreen``) the window grabs itself instead.
+(``QT_QPA_PLATFORM=offscreen``) the window grabs itself instead. ``--track-only`` takes the track
+view's two pictures (track, track_measure) and nothing else (the project is left as it is).
 """
 
 from __future__ import annotations
@@ -68,7 +69,7 @@ def place(widget, size: tuple[int, int], fill: bool = True) -> None:
         widget.move(max((size[0] - widget.width()) // 2, 0), max((size[1] - widget.height()) // 2, 0))
 
 
-def main(project: str, raw_gnss_project: str | None = None) -> None:
+def main(project: str, raw_gnss_project: str | None = None, track_only: bool = False) -> None:
     app = QApplication.instance() or QApplication([])
     screen = app.primaryScreen().size()
     size = (screen.width(), screen.height())
@@ -77,11 +78,14 @@ def main(project: str, raw_gnss_project: str | None = None) -> None:
         window = MainWindow(QSettings(str(Path(settings_folder) / "s.ini"), QSettings.IniFormat))
         window.show()
         place(window, size)
-        camera.save(window, "empty")  # no project open: what the window says
+        if not track_only:
+            camera.save(window, "empty")  # no project open: what the window says
         window.open_project(project)
         wait(app, lambda: window.loader is not None)
         for name, view in (("track", window.track), ("plan", window.plan), ("navigation", window.navigation),
                            ("repeatability", window.repeatability)):
+            if track_only and name != "track":
+                continue
             window.tabs.setCurrentWidget(view)
             if name == "track":
                 window.track.exceedances.selectRow(4)  # the fifth along the track
@@ -97,6 +101,10 @@ def main(project: str, raw_gnss_project: str | None = None) -> None:
         track.plots.set_cursor(track._station[310])
         camera.save(window, "track_measure")
         track.measure_button.setChecked(False)
+        if track_only:
+            window.modified = False
+            window.close()
+            return
 
         editor = window.edit_settings()
         place(editor, size, fill=False)
@@ -159,4 +167,5 @@ def main(project: str, raw_gnss_project: str | None = None) -> None:
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:3])
+    arguments = [a for a in sys.argv[1:] if a != "--track-only"]
+    main(*arguments[:2], track_only="--track-only" in sys.argv[1:])

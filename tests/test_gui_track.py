@@ -1,4 +1,4 @@
-"""The track view on plain arrays (pytest-qt, offscreen): names, read-out, navigation, tools."""
+"""The track view on plain arrays (pytest-qt, offscreen): names, read-out, navigation, tools; the plan view's dots."""
 
 from __future__ import annotations
 
@@ -103,6 +103,12 @@ def test_panning_stays_on_the_data_and_the_wheel_zooms_along_chainage_only(view,
     assert y_after[1] - y_after[0] <= (y_before[1] - y_before[0]) + 1e-9  # y fits the (narrower) visible data
 
 
+def scroll_to(view, item) -> None:
+    """Scroll the stack until ``item`` (a plot) is in the scroll area's viewport."""
+    rect = view.plots.mapFromScene(item.vb.sceneBoundingRect()).boundingRect()
+    view.scroll.ensureVisible(rect.center().x(), rect.center().y(), 0, rect.height() // 2)
+
+
 def test_each_plot_fits_its_height_to_what_is_visible_and_to_its_limits(view, qtbot):
     """A narrow window shows its own values full height (not the survey's extremes), limits included."""
     view.plots.set_x_range(1010.0, 1012.0)  # the wave rises from about +0.9 to +1.0 here
@@ -111,12 +117,42 @@ def test_each_plot_fits_its_height_to_what_is_visible_and_to_its_limits(view, qt
     for spec in view._specs:
         if spec.key not in view.plots.plots:
             continue
+        scroll_to(view, view.plots.plots[spec.key])  # a plot out of view is fitted when it comes into view
         bottom, top = view.plots.plots[spec.key].vb.viewRange()[1]
         values = np.concatenate([spec.scale * view._columns[column][shown] for _, column in spec.curves])
         limits = [limit for limit in (spec.lower, spec.upper) if limit is not None]
         wanted = np.concatenate([values, limits])
         assert bottom <= wanted.min() and top >= wanted.max(), spec.key
         assert top - bottom <= 1.2 * np.ptp(wanted) + 1e-6, spec.key  # a margin, not the whole survey's range
+
+
+def test_a_pan_moves_the_plots_in_view_and_a_plot_scrolled_into_view_catches_up(view, qtbot):
+    """Only the plots in the scroll area's viewport follow a pan at once (a frame costs what is seen);
+    a plot scrolled into view shows the window, its height fitted to it, before it is painted."""
+    items = list(view.plots.plots.values())
+    view.scroll.verticalScrollBar().setValue(0)
+    view.plots.set_x_range(1100.0, 1130.0)
+    top, bottom = items[0], items[-1]
+    assert np.allclose(top.vb.viewRange()[0], (1100.0, 1130.0))
+    assert not np.allclose(bottom.vb.viewRange()[0], (1100.0, 1130.0))  # out of view: not moved
+    top.vb.translateBy(x=5.0)  # a drag in the top plot
+    assert np.allclose(view.plots.x_range(), (1105.0, 1135.0))
+    scroll_to(view, bottom)
+    assert np.allclose(bottom.vb.viewRange()[0], (1105.0, 1135.0))
+    spec = next(s for s in view._specs if view.plots.plots.get(s.key) is bottom)
+    station = view._station
+    shown = (station >= 1105.0 - 0.7) & (station <= 1135.0 + 0.7)
+    values = np.concatenate([spec.scale * view._columns[column][shown] for _, column in spec.curves]
+                            + [[limit for limit in (spec.lower, spec.upper) if limit is not None]])
+    low, high = bottom.vb.viewRange()[1]
+    assert low <= values.min() and high >= values.max() and high - low <= 1.2 * np.ptp(values) + 1e-6
+    bottom.vb.scaleBy(x=0.5)  # the wheel in the bottom plot: the plots now in view follow it
+    window = view.plots.x_range()
+    assert np.allclose(window, (1112.5, 1127.5))
+    in_view = [item for item in items if np.allclose(item.vb.viewRange()[0], window)]
+    assert bottom in in_view and top not in in_view
+    view.scroll.verticalScrollBar().setValue(0)
+    assert np.allclose(top.vb.viewRange()[0], window)
 
 
 def test_go_to_a_sleeper_a_chainage_or_a_station(view):
@@ -251,3 +287,29 @@ def test_the_exceedance_model_sorts_by_magnitude_and_keeps_the_selection(qtbot):
     assert model.exceedance_at(view.selectionModel().selectedRows()[0].row()) == 4321  # the selection followed
     widths = model.column_widths(len)
     assert widths[0] >= len("30 m / 5 m short wave") and widths[8] >= len("Sleepers")
+
+
+def test_plan_dots_one_per_pixel_and_an_isolated_fix_still_drawn(qtbot):
+    """The GNSS fixes of a long survey cost a plan frame what the pixels they cover cost; a lone
+    fix far from the others is still drawn."""
+    import pyqtgraph as pg
+
+    from insrail.gui.views.plan import PointsItem
+
+    x = np.concatenate([np.linspace(0.0, 100.0, 50_000), [200.0]])
+    y = np.concatenate([np.zeros(50_000), [50.0]])
+    widget = pg.PlotWidget(background="w")
+    qtbot.addWidget(widget)
+    widget.resize(400, 300)
+    points = PointsItem(x, y, "#009E73", 5)
+    widget.addItem(points)
+    widget.setRange(xRange=(0.0, 210.0), yRange=(-60.0, 60.0), padding=0.0)
+    widget.show()
+    qtbot.waitExposed(widget)
+    image = widget.grab().toImage()
+    assert 0 < points.drawn_points <= 400  # one dot per pixel column of the line, not 50 000
+    lone = widget.mapFromScene(widget.getPlotItem().vb.mapViewToScene(pg.Point(200.0, 50.0)))
+    assert image.pixelColor(lone.x(), lone.y()).name() == "#009e73"
+    widget.setRange(xRange=(40.0, 41.0), yRange=(10.0, 20.0), padding=0.0)  # inside their bounds, no fix on the screen
+    widget.grab()  # (an empty set of dots once crashed Qt's painter)
+    assert points.drawn_points == 0

@@ -55,21 +55,24 @@ class EnvelopeItem(pg.GraphicsObject):
         points = 0
         for part in self.parts:
             x, low, high = part.visible(x_from, x_to, columns)
-            keep = np.isfinite(low) & np.isfinite(high)
-            x, low, high = x[keep], low[keep], high[keep]
             if len(x) < 2:
                 continue
-            path.addPath(self._outline(x, low, high))
-            points += 2 * len(x)
+            outline, drawn = self._outline(x, low, high)
+            path.addPath(outline)
+            points += drawn
         self.prepareGeometryChange()
         self.path = path
         self.drawn_points = points
         self.update()
 
-    def _outline(self, x: np.ndarray, low: np.ndarray, high: np.ndarray) -> QPainterPath:
+    def _outline(self, x: np.ndarray, low: np.ndarray, high: np.ndarray) -> tuple[QPainterPath, int]:
+        """The path of the visible bins and its number of points (a band: around its finite bins)."""
+        keep = np.isfinite(low) & np.isfinite(high)
+        x, low, high = x[keep], low[keep], high[keep]
         outline = pg.arrayToQPath(np.concatenate([x, x[::-1]]), np.concatenate([high, low[::-1]]))
-        outline.closeSubpath()
-        return outline
+        if len(x) >= 2:
+            outline.closeSubpath()
+        return outline, 2 * len(x)
 
     def boundingRect(self) -> QRectF:
         return self.path.boundingRect()
@@ -101,14 +104,19 @@ class EnvelopeItem(pg.GraphicsObject):
 class EnvelopeLine(EnvelopeItem):
     """A curve (an envelope of ``low == high``: the series itself) drawn through the min and the max
     of each pixel column, as pyqtgraph's peak downsampling would, but from the core's pyramid: the
-    cost of a frame follows the plot's width, not the survey's millions of epochs."""
+    cost of a frame follows the plot's width, not the survey's millions of epochs (nor its length:
+    a pan asks for a slice of one level, where pyqtgraph's PlotDataItem clips, downsamples and
+    searches the bounds of the visible samples again)."""
 
     def __init__(self, parts: Sequence[Envelope], pen):
         super().__init__(parts, (0, 0, 0, 0))
         self.pen = pg.mkPen(pen)
 
-    def _outline(self, x: np.ndarray, low: np.ndarray, high: np.ndarray) -> QPainterPath:
-        return pg.arrayToQPath(np.repeat(x, 2), np.column_stack([low, high]).ravel())
+    def _outline(self, x: np.ndarray, low: np.ndarray, high: np.ndarray) -> tuple[QPainterPath, int]:
+        """Through the min and the max of each bin; a bin without a finite value breaks the line
+        (a stretch without values, e.g. where a chord reaches past the data, draws nothing)."""
+        y = np.column_stack([low, high]).ravel()
+        return pg.arrayToQPath(np.repeat(x, 2), y, connect="finite"), int(np.count_nonzero(np.isfinite(y)))
 
     def paint(self, painter, *_args) -> None:
         painter.setPen(self.pen)

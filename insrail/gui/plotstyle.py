@@ -24,11 +24,6 @@ def pen(index: int, width: float = 1.0):
     return pg.mkPen(COLOURS[index % len(COLOURS)], width=width)
 
 
-#: Samples kept per pixel by the automatic downsampling; 'peak' draws each as a min-max pair, so
-#: 1.0 already keeps every extreme visible (pyqtgraph's default of 5 draws 5x more for nothing).
-SAMPLES_PER_PIXEL = 1.0
-
-
 def make_fluid(item: pg.PlotItem) -> None:
     """Large data stays interactive: draw only what is visible, peak-preserving downsampling."""
     item.setDownsampling(auto=True, mode="peak")

@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QRectF, Qt
+from PySide6.QtGui import QTransform
+from PySide6.QtWidgets import QGraphicsItem, QGraphicsSimpleTextItem
 
 from insrail.gui import plotstyle
 from insrail.gui.lazy import DrawWhenShown
@@ -22,10 +24,10 @@ class PointsItem(pg.GraphicsObject):
     def __init__(self, x: np.ndarray, y: np.ndarray, colour: str, size_px: float):
         super().__init__()
         self._x, self._y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-        self._points = pg.functions.arrayToQPolygonF(self._x, self._y)
         self._pen = pg.mkPen(colour, width=size_px)
         self._pen.setCosmetic(True)  # the width in pixels, whatever the zoom
         self._pen.setCapStyle(Qt.RoundCap)
+        self.drawn_points = 0  # dots of the last paint (one per pixel at most)
         finite = np.isfinite(self._x) & np.isfinite(self._y)
         if finite.any():
             x, y = self._x[finite], self._y[finite]
@@ -46,8 +48,23 @@ class PointsItem(pg.GraphicsObject):
         return self._bounds
 
     def paint(self, painter, *_args) -> None:
+        """One dot per pixel the points fall on, and none off the screen: drawing the 9 000 fixes of a
+        10 km survey as dots of 5 px each frame cost most of a plan frame."""
         painter.setPen(self._pen)
-        painter.drawPoints(self._points)
+        t, screen = painter.transform(), painter.viewport()  # the rectangle painted, in pixels
+        column = np.rint(t.m11() * self._x + t.m21() * self._y + t.dx())
+        row = np.rint(t.m12() * self._x + t.m22() * self._y + t.dy())
+        margin = self._pen.widthF()
+        on_screen = ((column >= -margin) & (column <= screen.width() + margin)
+                     & (row >= -margin) & (row <= screen.height() + margin))
+        index = np.flatnonzero(on_screen)
+        _, first = np.unique(column[index] * (screen.height() + 2 * margin + 1) + (row[index] + margin),
+                             return_index=True)
+        shown = index[first]
+        self.drawn_points = len(shown)
+        if not len(shown):
+            return
+        painter.drawPoints(pg.functions.arrayToQPolygonF(self._x[shown], self._y[shown]))
 
 
 class PlanView(DrawWhenShown, pg.PlotWidget):
@@ -63,6 +80,7 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
         # no clip-to-view or downsampling: both assume x sorted, a line in the plane is not (the core thins it)
         self.origin = np.zeros(2)
         self.curves: dict[str, pg.PlotDataItem] = {}
+        self._labels: list[QGraphicsSimpleTextItem] = []  # the benchmarks' names
         self.data: PlanData | None = None
         self._marked = np.zeros(0, int)
 
@@ -78,7 +96,7 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
     def _draw(self) -> None:
         item, data = self.item, self.data
         item.clear()
-        self.curves = {}
+        self.curves, self._labels = {}, []
         if item.legend is not None:
             item.legend.clear()
         else:
@@ -105,9 +123,14 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
             self.curves["benchmarks"] = item.plot(*local(data.benchmark_en_m).T, pen=None, symbol="t1", symbolSize=12,
                                                   symbolBrush=plotstyle.COLOURS[4], name="benchmarks")
             for name, (east, north) in zip(data.benchmark_ids, local(data.benchmark_en_m)):
-                text = pg.TextItem(name, color="k", anchor=(0, 1))
+                # placed by Qt at every zoom (a pyqtgraph TextItem recomputes its transform in Python
+                # each frame: 44 of them were a third of a plan frame)
+                text = QGraphicsSimpleTextItem(name)
+                text.setFlag(QGraphicsItem.ItemIgnoresTransformations)
+                text.setTransform(QTransform.fromTranslate(0.0, -text.boundingRect().height()))  # above the mark
                 text.setPos(east, north)
-                item.addItem(text)
+                item.addItem(text, ignoreBounds=True)
+                self._labels.append(text)  # not a QObject: kept alive from Python while shown
         item.setLabel("bottom", f"E − {self.origin[0]:.0f} m")
         item.setLabel("left", f"N − {self.origin[1]:.0f} m")
         item.autoRange()

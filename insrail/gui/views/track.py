@@ -29,11 +29,13 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.gui import plotstyle
+from insrail.gui.bands import EnvelopeLine
 from insrail.gui.lazy import DrawWhenShown
 from insrail.gui.views.exceedances import START_COLUMN, ExceedanceModel
 from insrail.project.plotdata import (
     BAND_SIGMAS,
     ChainagePlot,
+    Envelope,
     EventSpan,
     QualityBand,
     exceedance_window,
@@ -83,10 +85,15 @@ def _add_events(item: pg.PlotItem, events: Sequence[EventSpan], named: bool) -> 
 
 
 class ChainagePlots(pg.GraphicsLayoutWidget):
-    """Stacked plots along chainage sharing the x axis of the top one, with a crosshair."""
+    """Stacked plots along chainage sharing one chainage window, with a crosshair.
+
+    The stack is taller than the scroll area that shows it. A pan or zoom moves only the plots in
+    the scroll area's viewport (pyqtgraph's x-link would move, downsample and fit every plot each
+    frame); a plot scrolled or shown into view catches up with the window before it is painted."""
 
     cursorMoved = Signal(float)
     clicked = Signal(str, float)  # plot key, station [m]
+    _window: tuple[float, float] | None = None  # the chainage window every plot follows [m] (none before data)
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -99,7 +106,9 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self._pool: list[pg.PlotItem] = []
         self._laid_out = 0  # how many of the pool are in the layout (the first ones)
         self._station = np.zeros(0)
-        self._fits: list[tuple[pg.ViewBox, list[np.ndarray], list[float]]] = []  # per plot: curves, limits
+        self._fits: dict[pg.ViewBox, tuple[list[Envelope], list[float]]] = {}  # per plot: curves, limits
+        self._synced: set[pg.ViewBox] = set()  # the plots that show the window (x, and y fitted to it)
+        self._following = False  # the window is being handed to the plots in view
         self._mouse = pg.SignalProxy(self.scene().sigMouseMoved, rateLimit=60, slot=self._mouse_moved)
         self.scene().sigMouseClicked.connect(self._mouse_clicked)
 
@@ -111,14 +120,24 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self._regions.clear()
         self._measure_lines.clear()
         shown = [p for p in plots if p.key in visible]
-        self._station, self._fits = np.asarray(station_m), []
+        self._station, self._fits, self._window, self._synced = np.asarray(station_m), {}, None, set()
+        self._following = True  # a reused plot's old window, clamped to the new limits, is no pan
+        try:
+            self._add_plots(shown, columns, bands or {}, events)
+        finally:
+            self._following = False
+        self.follow()
+
+    def _add_plots(self, shown: Sequence[ChainagePlot], columns: Mapping[str, np.ndarray],
+                   bands: Mapping[str, QualityBand], events: Sequence[EventSpan]) -> None:
+        station_m = self._station
         self._lay_out(len(shown))
         self.setMinimumHeight(MIN_PLOT_HEIGHT * len(shown))
         for row, spec in enumerate(shown):
             item = self._pool[row]
             # A zero line instead of a grid: pyqtgraph's grid triples the time per frame.
             item.addItem(pg.InfiniteLine(0.0, angle=0, pen=plotstyle.ZERO_PEN), ignoreBounds=True)
-            band = (bands or {}).get(spec.key)
+            band = bands.get(spec.key)
             item.setTitle(plotstyle.titled(f"{spec.title} [{spec.unit}]", [label for label, _ in spec.curves],
                                            f"±{BAND_SIGMAS:g}σ predicted" if band is not None else ""), size="8pt")
             if band is not None:
@@ -126,13 +145,15 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                 fill = pg.FillBetweenItem(*edges, brush=plotstyle.BAND_BRUSH)  # a step per 200 m: a few points
                 fill.setZValue(-5)
                 item.addItem(fill, ignoreBounds=True)  # the data, not the band, set the view
-            curves = [spec.scale * columns[column] for _, column in spec.curves]
-            for index, values in enumerate(curves):
-                item.plot(station_m, values, pen=plotstyle.pen(index), autoDownsampleFactor=plotstyle.SAMPLES_PER_PIXEL)
+            # min/max per pixel column from a pyramid made once: a pan slices one level of it
+            curves = [Envelope.of(station_m, values, values)
+                      for values in (spec.scale * columns[column] for _, column in spec.curves)]
+            for index, curve in enumerate(curves):
+                item.addItem(EnvelopeLine((curve,), plotstyle.pen(index)))
             limits = [limit for limit in (spec.lower, spec.upper) if limit is not None]
             for limit in limits:
                 item.addItem(pg.InfiniteLine(limit, angle=0, pen=plotstyle.LIMIT_PEN), ignoreBounds=True)
-            self._fits.append((item.vb, curves, limits))
+            self._fits[item.vb] = (curves, limits)
             crosshair = pg.InfiniteLine(angle=90, pen=plotstyle.CROSSHAIR_PEN)
             item.addItem(crosshair, ignoreBounds=True)
             region = pg.LinearRegionItem(movable=False, brush=(255, 200, 0, 60), pen=pg.mkPen(None))
@@ -147,31 +168,65 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             self._regions.append(region)
             self._measure_lines.append(lines)
             _add_events(item, events, named=not row)
-            view = item.vb
             if len(station_m):
                 low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
-                view.setLimits(xMin=low, xMax=high, minXRange=MIN_WINDOW_M, maxXRange=high - low)
-            view.enableAutoRange(x=True, y=False)  # a reused plot: this survey, not the previous one's window
+                item.vb.setLimits(xMin=low, xMax=high, minXRange=MIN_WINDOW_M, maxXRange=high - low)
+                self._window = (low, high)  # the whole survey; a reused plot drops the previous one's window
             if row == len(shown) - 1:
                 item.showAxis("bottom")
                 item.setLabel("bottom", "station [m]")
             else:
                 item.hideAxis("bottom")  # one chainage axis under the stack (each axis costs a frame)
             self.plots[spec.key] = item
-        self._fit_y()
 
-    def _fit_y(self, *_args) -> None:
-        """Each plot's y range fitted to what is visible along chainage and to its limits, from one
-        slice of the sorted stations per plot: pyqtgraph's own fit (auto-visible) searched every
+    def in_view(self) -> list[pg.ViewBox]:
+        """The plots' view boxes that show at least a pixel row in the scroll area's viewport."""
+        shown = self.viewport().visibleRegion().boundingRect()  # empty while hidden
+        if shown.isEmpty():
+            return []
+        return [view for view in self._fits
+                if self.mapFromScene(view.sceneBoundingRect()).boundingRect().intersects(shown)]
+
+    def follow(self, *_args) -> None:
+        """The plots in view catch up with the chainage window (after a scroll, a resize, a show)."""
+        if self._window is not None:
+            self._hand_on(None, self._window)
+
+    def _x_changed(self, view: pg.ViewBox, window: tuple[float, float]) -> None:
+        """A plot's chainage window changed (a drag, the wheel, a go-to): the others in view follow."""
+        if not self._following and view in self._fits:
+            self._hand_on(view, (float(window[0]), float(window[1])))
+
+    def _hand_on(self, source: pg.ViewBox | None, window: tuple[float, float]) -> None:
+        """``window`` to the plots in view that do not show it yet (``source`` has it: it moved)."""
+        if window != self._window:
+            self._window, self._synced = window, set()
+        catching_up = [view for view in self.in_view() if view not in self._synced and view is not source]
+        self._following = True
+        try:
+            for view in catching_up:
+                view.setXRange(*window, padding=0.0)
+        finally:
+            self._following = False
+        if source is not None and source not in self._synced:
+            catching_up.append(source)
+        self._fit_y(catching_up)
+        self._synced.update(catching_up)
+
+    def _fit_y(self, views: Sequence[pg.ViewBox]) -> None:
+        """Each plot's y range fitted to what is visible along chainage and to its limits, from the
+        min/max per pixel column its curves draw: pyqtgraph's own fit (auto-visible) searched every
         curve's bounds several times per frame, a third of the CPU of a pan frame."""
-        if not self._fits or not len(self._station):
+        if not views or self._window is None:
             return
-        low, high = self._pool[0].vb.viewRange()[0]
-        first = max(int(np.searchsorted(self._station, low, side="left")) - 1, 0)
-        last = int(np.searchsorted(self._station, high, side="right")) + 1
-        for view, curves, limits in self._fits:
-            shown = [part[np.isfinite(part)] for part in (values[first:last] for values in curves)]
-            extremes = [float(v) for part in shown if part.size for v in (part.min(), part.max())] + limits
+        low, high = self._window
+        for view in views:
+            curves, limits = self._fits[view]
+            extremes = list(limits)
+            for curve in curves:  # what is drawn: the min and max of each pixel column (±1 sample or column)
+                _, lows, highs = curve.visible(low, high, max(int(view.width()), 1))
+                if np.isfinite(lows).any():
+                    extremes += [float(np.nanmin(lows)), float(np.nanmax(highs))]
             if not extremes:
                 continue
             bottom, top = min(extremes), max(extremes)
@@ -186,10 +241,9 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             plotstyle.make_fluid(item)
             item.getAxis("left").setWidth(48)
             item.vb.setMouseEnabled(x=True, y=False)  # the wheel zooms along chainage; y fits what is visible
-            if self._pool:
-                item.setXLink(self._pool[0])
-            else:
-                item.vb.sigXRangeChanged.connect(self._fit_y)
+            item.vb.enableAutoRange(x=False, y=False)  # the window is set; no bounds searched during pans
+            item.vb.sigXRangeChanged.connect(self._x_changed)
+            item.vb.sigResized.connect(self.follow)  # laid out (or out) after a change of the stack
             self._pool.append(item)
         for item in self._pool:
             item.clear()  # the previous survey's curves and lines
@@ -200,12 +254,29 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self._laid_out = count
 
     def x_range(self) -> tuple[float, float]:
-        first = next(iter(self.plots.values()))
-        return tuple(first.vb.viewRange()[0])
+        return self._window
 
     def set_x_range(self, low: float, high: float) -> None:
+        """Show ``low..high`` (within the limits: the window the plot in view, or the first, took)."""
         if self.plots:
-            next(iter(self.plots.values())).setXRange(low, high, padding=0.0)
+            view = (self.in_view() or [next(iter(self.plots.values())).vb])[0]
+            view.setXRange(low, high, padding=0.0)  # a change is handed on to the others in view
+            window = tuple(float(v) for v in view.viewRange()[0])
+            if window != self._window:  # no change of a plot out of view that had the window asked for
+                self._hand_on(view, window)
+
+    # a scroll moves the stack in the scroll area; the plots that come into view catch up
+    def moveEvent(self, event) -> None:
+        super().moveEvent(event)
+        self.follow()
+
+    def resizeEvent(self, event) -> None:
+        super().resizeEvent(event)
+        self.follow()
+
+    def showEvent(self, event) -> None:
+        super().showEvent(event)
+        self.follow()
 
     def highlight(self, low: float, high: float) -> None:
         for region in self._regions:
