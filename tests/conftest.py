@@ -58,3 +58,6 @@ def window(qtbot, tmp_path):
     yield main
     main.modified = False  # closing must not ask (a modal question would block the tests)
     main.close()
+    import gc
+
+    gc.unfreeze()  # the shown results were frozen out of the cyclic collector: the next test starts clean
