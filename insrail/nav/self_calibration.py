@@ -139,9 +139,9 @@ def _still_inconsistent(result, passes: int, options, wanted) -> str:
     """Why the last pass is not consistent (``wanted``: the options it would have needed next)."""
     if wanted.use_nhc != options.use_nhc:
         nhc = consistency(result, NHC_SOURCE)
-        return f"after {passes} passes {100 * nhc.rejected_share:.0f} % of the non-holonomic constraint's rows rejected"
+        return f"after {passes} passes: {100 * nhc.rejected_share:.0f} % of the non-holonomic constraint's rows rejected"
     gnss = consistency(result, GNSS_SOURCE)
-    return (f"after {passes} passes (GNSS sigmas x {options.gnss_sigma_scale:.2f}) {100 * gnss.rejected_share:.0f} % of "
+    return (f"after {passes} passes (GNSS sigmas x {options.gnss_sigma_scale:.2f}): {100 * gnss.rejected_share:.0f} % of "
             f"the {gnss.observations} GNSS fixes still rejected (their median NIS {gnss.robust_nis_per_dof:.2f} x its "
             "chi-square median)")
 
