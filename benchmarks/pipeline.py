@@ -1,6 +1,6 @@
 """End-to-end pipeline time and memory per stage: the demo projects of the `short` and `long` surveys.
 
-    python benchmarks/pipeline.py [--workdir DIR] [--skip-long] [--only long] [--reuse]
+    python benchmarks/pipeline.py [--workdir DIR] [--skip-long] [--twenty] [--only long long20] [--reuse]
 
 For each scenario: simulates the survey into a demo project (its own process; with --reuse an
 existing project in --workdir is taken as it is, its results removed), then runs, each in a fresh
@@ -153,13 +153,44 @@ class StageClock:
 
 # --------------------------------------------------------------------------- the child steps
 
+def long20_scenario():
+    """The `long` survey twice over: its design repeated end to end (about 20.6 km, the second
+    copy's profile raised to join the first's end), the same trolley, sensors and speeds, a stop
+    every kilometre."""
+    from dataclasses import replace
+
+    from insrail.sim.irregularity import Bump
+    from insrail.sim.scenario import long_scenario
+
+    long = long_scenario()
+    design, motion = long.design, long.motion
+    length = design.pvis[-1][0] - design.pvis[0][0]
+    rise = design.pvis[-1][1] - design.pvis[0][1]
+    pvis = (*design.pvis[:-1], (design.pvis[-1][0], design.pvis[-1][1], 25000.0),
+            *((station + length, height + rise, radius) for station, height, radius in design.pvis[1:]))
+    cant = (*design.cant, *((station + length, value) for station, value in design.cant[1:]))
+    twice = replace(design, horizontal=design.horizontal * 2, pvis=pvis, cant=cant)
+
+    def doubled(bumps):
+        return (*bumps, *(Bump(bump.start_station_m + length, bump.length_m, bump.amplitude_m) for bump in bumps))
+
+    first, last = motion.stops[0][0], motion.stops[-1][0]
+    stops = tuple((float(station), 20.0) for station in range(int(first), int(last + length) + 1, 1000))
+    return replace(long, name="long20", design=twice,
+                   motion=replace(motion, end_station_m=motion.end_station_m + length, stops=stops),
+                   irregularities=replace(long.irregularities,
+                                          lateral_bumps=doubled(long.irregularities.lateral_bumps),
+                                          vertical_bumps=doubled(long.irregularities.vertical_bumps)))
+
+
 def step_simulate(name: str, root: Path) -> dict:
     from insrail.project.demo import project_for_simulated_survey
     from insrail.sim.scenario import preset
     from insrail.sim.simulate import simulate
 
     survey = root / "surveys" / name
-    simulate(preset(name), seed=1, out_dir=survey, overwrite=True, imu_format="npy")
+    scenario = long20_scenario() if name == "long20" else preset(name)
+    simulate(scenario, seed=1, out_dir=survey, overwrite=True, imu_format="npy")
     project_for_simulated_survey(root, survey, name=f"benchmark {name}")
     return {}
 
@@ -258,12 +289,15 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--workdir", type=Path, help="where the projects are (default: a temporary folder)")
     parser.add_argument("--skip-long", action="store_true", help="only the short survey")
-    parser.add_argument("--only", choices=("short", "long"), help="one scenario")
+    parser.add_argument("--only", nargs="+", choices=("short", "long", "long20"), help="these scenarios only")
+    parser.add_argument("--twenty", action="store_true",
+                        help="also the 20 km survey (long20) and the 20 km / 10 km peak RSS side by side")
     parser.add_argument("--reuse", action="store_true",
                         help="take a project already simulated in --workdir (its results and cache removed)")
     parser.add_argument("--keep-outputs", type=Path, metavar="DIR", help="copy each step's sleepers.csv to DIR")
     args = parser.parse_args()
-    scenarios = [args.only] if args.only else ["short"] if args.skip_long else ["short", "long"]
+    scenarios = args.only or (["short"] if args.skip_long else ["short", "long"]) + (["long20"] if args.twenty else [])
+    peaks: dict[str, dict[str, float]] = {}
     failed = False
     with tempfile.TemporaryDirectory() as tmp:
         workdir = args.workdir or Path(tmp)
@@ -290,12 +324,28 @@ def main() -> int:
             rerun = totals["rerun"]
             print(f"\n{name}: process + report {wall:.1f} s wall, {cpu:.1f} s CPU, peak RSS {peak:.0f} MB; "
                   f"rerun after a tolerance edit {rerun['wall_s']:.1f} s wall, {rerun['cpu_s']:.1f} s CPU")
+            peaks[name] = {step: totals[step]["peak_mb"] for step in ("process", "report")}
             if name == "long":
                 bars = [("process + report wall <= 60 s", wall <= 60.0), ("peak RSS <= 1.5 GB", peak <= 1500.0),
                         ("rerun wall <= 5 s", rerun["wall_s"] <= 5.0)]
                 print("  " + "; ".join(f"{what}: {'met' if ok else 'NOT met'}" for what, ok in bars))
                 failed |= not all(ok for _, ok in bars)
+    if "long" in peaks and "long20" in peaks:
+        failed |= not print_length_ratio(peaks["long"], peaks["long20"])
     return 1 if failed else 0
+
+
+def print_length_ratio(ten: dict[str, float], twenty: dict[str, float]) -> bool:
+    """Peak RSS of process and report at 10 and 20 km side by side; True when the 20 km peak is
+    within 10 % of the 10 km one (issue 24: memory bounded for any length)."""
+    print(f"\n  {'peak RSS MB':<12} {'10 km':>8} {'20 km':>8} {'ratio':>7}")
+    for step in ("process", "report"):
+        print(f"  {step:<12} {ten[step]:>8.0f} {twenty[step]:>8.0f} {twenty[step] / ten[step]:>7.3f}")
+    ratio = max(twenty.values()) / max(ten.values())
+    met = ratio <= 1.10
+    print(f"  process + report {max(ten.values()):.0f} -> {max(twenty.values()):.0f} MB, ratio {ratio:.3f}: "
+          f"20 km peak within 10 % of 10 km's: {'met' if met else 'NOT met'}")
+    return met
 
 
 if __name__ == "__main__":
