@@ -40,8 +40,9 @@ def _check_increment_magnitudes(path: Path, time_s: np.ndarray, dtheta: np.ndarr
     if len(time_s) < 2:
         return
     interval = float(np.median(np.diff(time_s)))
-    specific_force = float(np.median(np.linalg.norm(dvel, axis=1))) / interval
-    turn_rate = float(np.median(np.linalg.norm(dtheta, axis=1))) / interval
+    # the norms without (n, 3) temporaries
+    specific_force = float(np.median(np.sqrt(np.einsum("ij,ij->i", dvel, dvel)))) / interval
+    turn_rate = float(np.median(np.sqrt(np.einsum("ij,ij->i", dtheta, dtheta)))) / interval
     if specific_force > _MAX_MEDIAN_SPECIFIC_FORCE_MPS2:
         raise InputError(path, None, f"velocity increments imply a median specific force of "
                          f"{specific_force:.0f} m/s^2 at {1 / interval:.0f} Hz: the file seems to hold "
@@ -78,43 +79,63 @@ def write_imu_kfgins(path: str | Path, imu: ImuIncrements) -> None:
                         ["%.9f"] + ["%.16e"] * 6, header)
 
 
+#: records read at a time from a binary IMU file (14 MB): the file itself is never mapped whole
+NPY_READ_CHUNK = 1 << 18
+
+
+def _npy_header(path: Path, handle) -> tuple[tuple[int, ...], bool, np.dtype]:
+    """(shape, Fortran order, dtype) of an .npy file, the handle left at its first record."""
+    try:
+        version = np.lib.format.read_magic(handle)
+        read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+        return read_header(handle)
+    except (ValueError, OSError, EOFError) as exc:
+        raise InputError(path, None, f"not a readable NumPy .npy file ({exc})") from None
+
+
 def read_imu_npy(path: str | Path) -> ImuIncrements:
     """Binary IMU increments: a .npy structured array with fields
     ``time_s`` (f8), ``dtheta_rad`` (f8, 3), ``dvel_mps`` (f8, 3), little-endian.
 
-    Errors name the 0-based record index.
+    Read in chunks of NPY_READ_CHUNK records with plain reads (a memory map of the file would keep
+    every page it touched resident: 56 B per record on top of the arrays). Errors name the 0-based
+    record index.
     """
     path = Path(path)
     if not path.exists():
         raise InputError(path, None, "file not found")
-    try:
-        records = np.load(path, mmap_mode="r", allow_pickle=False)
-    except (ValueError, OSError, EOFError) as exc:
-        raise InputError(path, None, f"not a readable NumPy .npy file ({exc})") from None
-    expected = ", ".join(f"{name} {IMU_NPY_DTYPE.fields[name][0].str}" for name in IMU_NPY_DTYPE.names)
-    if records.dtype.names is None or records.ndim != 1:
-        raise InputError(path, None, f"expected a 1-D structured array with fields {expected}, "
-                         f"found dtype {records.dtype} with shape {records.shape}")
-    for name in IMU_NPY_DTYPE.names:
-        want = IMU_NPY_DTYPE.fields[name][0]
-        have = records.dtype.fields.get(name)
-        if have is None or have[0].shape != want.shape or have[0].base.kind != "f":
-            raise InputError(path, None, f"field {name!r}: expected {want.base} with shape {want.shape}; "
-                             f"the file's fields are {records.dtype}")
-    if len(records) == 0:
-        raise InputError(path, None, "empty file: no records")
+    with open(path, "rb") as handle:
+        shape, fortran, dtype = _npy_header(path, handle)
+        expected = ", ".join(f"{name} {IMU_NPY_DTYPE.fields[name][0].str}" for name in IMU_NPY_DTYPE.names)
+        if dtype.names is None or len(shape) != 1:
+            raise InputError(path, None, f"expected a 1-D structured array with fields {expected}, "
+                             f"found dtype {dtype} with shape {shape}")
+        for name in IMU_NPY_DTYPE.names:
+            want = IMU_NPY_DTYPE.fields[name][0]
+            have = dtype.fields.get(name)
+            if have is None or have[0].shape != want.shape or have[0].base.kind != "f":
+                raise InputError(path, None, f"field {name!r}: expected {want.base} with shape {want.shape}; "
+                                 f"the file's fields are {dtype}")
+        n = shape[0]
+        if n == 0:
+            raise InputError(path, None, "empty file: no records")
 
-    def fail(index: int, message: str):
-        raise InputError(path, index, message, unit="index")
+        def fail(index: int, message: str):
+            raise InputError(path, index, message, unit="index")
 
-    time_s = np.array(records["time_s"], dtype=np.float64)
-    dtheta = np.array(records["dtheta_rad"], dtype=np.float64)
-    dvel = np.array(records["dvel_mps"], dtype=np.float64)
-    for name, values in (("time_s", time_s), ("dtheta_rad", dtheta), ("dvel_mps", dvel)):
-        finite = np.isfinite(values.reshape(len(values), -1)).all(axis=1)
-        if not finite.all():
-            index = int(np.argmin(finite))
-            fail(index, f"{name} is {values[index]}: expected finite numbers")
+        time_s, dtheta, dvel = np.empty(n), np.empty((n, 3)), np.empty((n, 3))
+        for start in range(0, n, NPY_READ_CHUNK):
+            count = min(NPY_READ_CHUNK, n - start)
+            records = np.fromfile(handle, dtype=dtype, count=count)
+            if len(records) != count:
+                raise InputError(path, None, f"the file ends after {start + len(records)} of its {n} records")
+            for name, out in (("time_s", time_s), ("dtheta_rad", dtheta), ("dvel_mps", dvel)):
+                values = out[start : start + count]
+                values[:] = records[name]
+                finite = np.isfinite(values.reshape(count, -1)).all(axis=1)
+                if not finite.all():
+                    index = start + int(np.argmin(finite))
+                    fail(index, f"{name} is {out[index]}: expected finite numbers")
     check_time_order(time_s, fail, unit="index", where=lambda index: index)
     _check_increment_magnitudes(path, time_s, dtheta, dvel)
     return ImuIncrements(time_s=time_s, dtheta_rad=dtheta, dvel_mps=dvel, gaps=find_gaps(time_s),

@@ -145,6 +145,42 @@ def _moving_std(values: np.ndarray, n_win: int) -> np.ndarray:
     return np.sqrt(np.maximum(np.convolve(values**2, kernel, mode="same") - mean**2, 0.0))
 
 
+def _still(imu: ImuIncrements, odometer, nominal, lo: int, first: int, stop: int, hi: int, window_s, max_speed_mps,
+           max_gyro_std_radps, max_accel_std_mps2, positions) -> np.ndarray:
+    """:func:`detect_stops`'s still flags of records first .. stop - 1, from records lo .. hi - 1."""
+    time_s = imu.time_s[lo:hi]
+    step = np.diff(imu.time_s[max(lo - 1, 0) : hi])
+    dt = step if lo > 0 else np.concatenate([[nominal], step])  # a logger's jitter must not pass for motion
+    n_win = max(int(round(window_s / nominal)), 2)
+    rate = np.linalg.norm(imu.dtheta_rad[lo:hi], axis=1) / dt
+    still = _moving_std(rate, n_win) < max_gyro_std_radps
+    if max_accel_std_mps2 is not None:
+        # Per axis (a gentle start changes the direction of f, not |f|), over blocks of
+        # ACCEL_BLOCK_S: a logger's time stamps rounded to the millisecond make single-sample
+        # rates jump by 10 % of gravity.
+        m = max(int(round(ACCEL_BLOCK_S / nominal)), 1)
+        kernel = np.ones(m)
+        span = np.convolve(dt, kernel, mode="same")
+        spread = np.sqrt(sum(_moving_std(np.convolve(imu.dvel_mps[lo:hi, a], kernel, mode="same") / span, n_win) ** 2
+                             for a in range(3)))
+        still &= spread < max_accel_std_mps2
+
+    half = 0.5 * window_s
+    if odometer is not None:
+        d_ahead = np.interp(time_s + half, odometer.time_s, odometer.distance_m)
+        d_behind = np.interp(time_s - half, odometer.time_s, odometer.distance_m)
+        still &= np.abs(d_ahead - d_behind) < max_speed_mps * window_s
+        still &= (time_s - half >= odometer.time_s[0]) & (time_s + half <= odometer.time_s[-1])
+    elif positions is not None and len(positions[0]) > 1:
+        t_pos, ne, sigma = positions
+        ahead = np.column_stack([np.interp(time_s + half, t_pos, ne[:, a]) for a in range(2)])
+        behind = np.column_stack([np.interp(time_s - half, t_pos, ne[:, a]) for a in range(2)])
+        noise = np.interp(time_s, t_pos, sigma)
+        covered = (time_s - half >= t_pos[0]) & (time_s + half <= t_pos[-1])
+        still &= ~covered | (np.hypot(*(ahead - behind).T) < 3.0 * np.sqrt(2.0) * noise + max_speed_mps * window_s)
+    return still[first - lo : stop - lo]
+
+
 def detect_stops(
     imu: ImuIncrements,
     odometer: OdometerData | None,
@@ -154,6 +190,7 @@ def detect_stops(
     min_duration_s: float = 2.0,
     max_accel_std_mps2: float | None = None,
     positions: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    chunk: int = 1 << 18,
 ) -> list[tuple[float, float]]:
     """Intervals [start, end] [s] where the trolley stands still.
 
@@ -166,38 +203,18 @@ def detect_stops(
     by more than three times their noise over the window either; the IMU decides alone where
     there are none. Intervals shorter than ``min_duration_s`` are dropped; the ends are pulled in
     by half a window so no moving sample is declared still. The thresholds of an IMU class:
-    :func:`stop_thresholds`.
+    :func:`stop_thresholds`. ``chunk`` records are judged at a time (memory bounded for any
+    length; the result does not depend on it).
     """
-    step = np.diff(imu.time_s)
-    nominal = np.median(step)
-    dt = np.concatenate([[nominal], step])  # a logger's jitter must not pass for motion
-    n_win = max(int(round(window_s / nominal)), 2)
-    rate = np.linalg.norm(imu.dtheta_rad, axis=1) / dt
-    still = _moving_std(rate, n_win) < max_gyro_std_radps
-    if max_accel_std_mps2 is not None:
-        # Per axis (a gentle start changes the direction of f, not |f|), over blocks of
-        # ACCEL_BLOCK_S: a logger's time stamps rounded to the millisecond make single-sample
-        # rates jump by 10 % of gravity.
-        m = max(int(round(ACCEL_BLOCK_S / nominal)), 1)
-        kernel = np.ones(m)
-        span = np.convolve(dt, kernel, mode="same")
-        spread = np.sqrt(sum(_moving_std(np.convolve(imu.dvel_mps[:, a], kernel, mode="same") / span, n_win) ** 2
-                             for a in range(3)))
-        still &= spread < max_accel_std_mps2
-
+    nominal = np.median(np.diff(imu.time_s))
+    n = len(imu.time_s)
+    # a chunk of records at a time, each with the records its windows reach on either side
+    margin = 2 * max(int(round(window_s / nominal)), 2) + 2 * max(int(round(ACCEL_BLOCK_S / nominal)), 1)
+    still = np.concatenate([_still(imu, odometer, nominal, max(first - margin, 0), first, min(first + chunk, n),
+                                   min(first + chunk + margin, n), window_s, max_speed_mps, max_gyro_std_radps,
+                                   max_accel_std_mps2, positions)
+                            for first in range(0, n, chunk)])
     half = 0.5 * window_s
-    if odometer is not None:
-        d_ahead = np.interp(imu.time_s + half, odometer.time_s, odometer.distance_m)
-        d_behind = np.interp(imu.time_s - half, odometer.time_s, odometer.distance_m)
-        still &= np.abs(d_ahead - d_behind) < max_speed_mps * window_s
-        still &= (imu.time_s - half >= odometer.time_s[0]) & (imu.time_s + half <= odometer.time_s[-1])
-    elif positions is not None and len(positions[0]) > 1:
-        t_pos, ne, sigma = positions
-        ahead = np.column_stack([np.interp(imu.time_s + half, t_pos, ne[:, a]) for a in range(2)])
-        behind = np.column_stack([np.interp(imu.time_s - half, t_pos, ne[:, a]) for a in range(2)])
-        noise = np.interp(imu.time_s, t_pos, sigma)
-        covered = (imu.time_s - half >= t_pos[0]) & (imu.time_s + half <= t_pos[-1])
-        still &= ~covered | (np.hypot(*(ahead - behind).T) < 3.0 * np.sqrt(2.0) * noise + max_speed_mps * window_s)
 
     edges = np.diff(still.astype(np.int8), prepend=0, append=0)
     starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1

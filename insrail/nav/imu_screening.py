@@ -37,7 +37,6 @@ import warnings
 from dataclasses import dataclass, replace
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 from insrail.io.types import GAP_FACTOR, ImuIncrements
 from insrail.nav.alignment import stop_thresholds
@@ -73,53 +72,76 @@ class Outlier:
         return f"{where}IMU record {self.index + 1} at t = {self.time_s:.4f} s removed as an outlier: {what}; bridged"
 
 
-def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.01
+def _intervals(time_s: np.ndarray, index: np.ndarray, nominal: float) -> np.ndarray:
+    """The interval each record ``index`` integrates over: the time since the record before, one
+    nominal interval for the first record and after a dropout (the ImuIncrements gap contract)."""
+    step = time_s[index] - time_s[np.maximum(index - 1, 0)]
+    return np.where((index == 0) | (step > GAP_FACTOR * nominal), nominal, step)
+
+
+def _candidates(time_s: np.ndarray, increments: np.ndarray, nominal: float, full_range: float, jump: float,
+                first: int, stop: int) -> np.ndarray:
+    """Indices in [first, stop) of the records that may be outliers: not finite, beyond the range,
+    or next to a step between neighbouring records larger than ``jump``; the records either side
+    of the chunk are read for its steps."""
+    n = len(time_s)
+    stop = min(stop, n)
+    lo, hi = max(first - 1, 0), min(stop + 1, n)
+    with np.errstate(invalid="ignore", over="ignore"):
+        values = increments[lo:hi] / _intervals(time_s, np.arange(lo, hi), nominal)[:, None]
+        finite = np.isfinite(values)
+        beyond = finite & (np.abs(values) > full_range)
+        clean = np.where(finite & ~beyond, values, np.nan)
+        edge = (np.abs(np.diff(clean, axis=0)) > jump).any(axis=1)
+    candidate = (~finite.all(axis=1) | beyond.any(axis=1) | np.concatenate([edge, [False]])
+                 | np.concatenate([[False], edge]))
+    found = np.flatnonzero(candidate) + lo
+    return found[(found >= first) & (found < stop)]
+
+
+def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.01, chunk: int = 1 << 18
                ) -> tuple[ImuIncrements, tuple[Outlier, ...], list[Notice]]:
     """(the records inside the envelope, the removed ones, notices). The returned increments have
     holes where records were removed; :func:`insrail.nav.imu_gaps.bridge_gaps` fills them.
-    Raises ValueError naming the file when more than ``max_fraction`` of the records fail."""
+    Raises ValueError naming the file when more than ``max_fraction`` of the records fail.
+    The records are screened ``chunk`` at a time (memory bounded for any length)."""
     n = len(imu)
     source = str(imu.source or "")
     if n < 3:
         return imu, (), []
     check_units(imu, profile)
-    step = np.diff(imu.time_s)
-    nominal = float(np.median(step))
-    # a record after a dropout holds one nominal interval (the ImuIncrements gap contract)
-    dt = np.concatenate([[nominal], np.where(step > GAP_FACTOR * nominal, nominal, step)])
-    rates = {"specific force": imu.dvel_mps / dt[:, None], "angular rate": imu.dtheta_rad / dt[:, None]}
+    nominal = float(np.median(np.diff(imu.time_s)))
+    increments = {"specific force": imu.dvel_mps, "angular rate": imu.dtheta_rad}
     limits = {"specific force": (profile.specific_force_range_mps2, profile.specific_force_jump_mps2),
               "angular rate": (profile.rate_range_radps, profile.rate_jump_radps)}
     bad = np.zeros(n, dtype=bool)
     found: dict[int, Outlier] = {}
-    for quantity, values in rates.items():
+    for quantity, values in increments.items():
         full_range, jump = limits[quantity]
-        with np.errstate(invalid="ignore", over="ignore"):
-            finite = np.isfinite(values)
-            beyond = finite & (np.abs(values) > full_range)
-            # spikes: only records next to a large step between neighbours are candidates
-            clean = np.where(finite & ~beyond, values, np.nan)
-            edge = np.abs(np.diff(clean, axis=0)) > jump
-        candidates = np.flatnonzero(~finite.all(axis=1) | beyond.any(axis=1)
-                                    | np.concatenate([edge.any(axis=1), [False]]) | np.concatenate([[False], edge.any(axis=1)]))
+        candidates = np.concatenate([_candidates(imu.time_s, values, nominal, full_range, jump, first, first + chunk)
+                                     for first in range(0, n, chunk)])
         if candidates.size > 2 * max_fraction * n + 10:
             raise ValueError(
                 f"{source or 'IMU'}: {candidates.size} of {n} records ({100 * candidates.size / n:.1f} %) leave the "
                 f"{profile.name} profile's envelope ({quantity} range {_show(quantity, full_range)}, change between "
                 f"records {_show(quantity, jump)}): not a few corrupt records but a wrong unit, sensor axes or IMU "
                 "profile; check the file's format options and survey.imu_profile")
+        # each candidate against the median of its neighbours (NaN beyond the file's ends and where not clean)
+        near = candidates[:, None] + np.arange(-NEIGHBOURS, NEIGHBOURS + 1)
+        inside = (near >= 0) & (near < n)
+        near = np.clip(near, 0, n - 1)
+        with np.errstate(invalid="ignore", over="ignore"):
+            rates = values[near] / _intervals(imu.time_s, near, nominal)[..., None]  # (c, w, 3)
+            clean = np.where(inside[..., None] & np.isfinite(rates) & (np.abs(rates) <= full_range), rates, np.nan)
+        clean[:, NEIGHBOURS] = np.nan  # the record itself does not vote
         reference = np.full((candidates.size, 3), np.nan)
         if candidates.size:
-            padded = np.pad(clean, ((NEIGHBOURS, NEIGHBOURS), (0, 0)), constant_values=np.nan)
-            windows = sliding_window_view(padded, 2 * NEIGHBOURS + 1, axis=0)[candidates]  # (c, 3, w)
-            windows = windows.copy()
-            windows[:, :, NEIGHBOURS] = np.nan  # the record itself does not vote
             with warnings.catch_warnings():  # a record whose neighbours are all bad has no median
                 warnings.simplefilter("ignore", RuntimeWarning)
-                reference = np.nanmedian(windows, axis=2)
+                reference = np.nanmedian(clean, axis=1)
         for c, k in enumerate(candidates):
             for axis in range(3):
-                value, ref = values[k, axis], reference[c, axis]
+                value, ref = rates[c, NEIGHBOURS, axis], reference[c, axis]
                 if not np.isfinite(value):
                     reason = "not finite"
                 elif abs(value) > full_range:
@@ -239,8 +261,9 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
         finite = np.isfinite(imu.dvel_mps).all(axis=1) & np.isfinite(imu.dtheta_rad).all(axis=1)
         if finite.sum() < 0.99 * n:
             return  # a record's screening says what is wrong with it
-        dvel = np.where(finite[:, None], imu.dvel_mps, 0.0)
-        dtheta = np.where(finite[:, None], imu.dtheta_rad, 0.0)
+        dvel, dtheta = imu.dvel_mps, imu.dtheta_rad
+        if not finite.all():  # copies only then
+            dvel, dtheta = np.where(finite[:, None], dvel, 0.0), np.where(finite[:, None], dtheta, 0.0)
 
         def gravity_of(increments):  # over 50 ms: a few corrupt records move the median by nothing
             return float(np.median(np.linalg.norm(_block_means(increments, dt, sub), axis=1)))
@@ -263,7 +286,8 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
         if rest.any():  # and the gyro as quiet as in the quietest of them, whatever its unit (slow sways pass the
             # accelerometers' test)
             g_blocks = dtheta[: len(rest) * sub * subs].reshape(len(rest), sub * subs, 3)
-            g_spread = np.linalg.norm(g_blocks.std(axis=1), axis=1)
+            g_spread = np.concatenate([np.linalg.norm(g_blocks[first : first + 1024].std(axis=1), axis=1)
+                                       for first in range(0, len(rest), 1024)])  # a chunk of blocks at a time
             rest &= g_spread <= 4.0 * np.min(g_spread[rest])
         if rest.sum() * per_block_rest * nominal < MIN_REST_S:
             return

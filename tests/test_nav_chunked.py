@@ -1,0 +1,97 @@
+"""The IMU path is read and judged a chunk of records at a time (memory bounded for any survey
+length): the reader, the screening and the stop detection give with tiny chunks exactly what they
+give in one chunk, and so does the fusion of the `short` survey (every epoch within 0.01 mm)."""
+
+from dataclasses import replace
+from functools import partial
+
+import numpy as np
+import pytest
+
+from insrail.io import imu as imu_io
+from insrail.io.survey import read_survey
+from insrail.io.types import ImuIncrements
+from insrail.nav import alignment, fusion, imu_screening
+from insrail.nav.earth import CGCS2000
+from insrail.nav.imu_profile import load_imu_profile
+
+TINY = 997  # records per chunk: hundreds of chunk boundaries in `short`
+WHOLE = 1 << 40
+
+
+@pytest.fixture(scope="module")
+def survey(short_nav_survey):
+    return read_survey(short_nav_survey)
+
+
+def test_reader_in_chunks_reads_what_one_chunk_reads(survey, short_nav_survey, monkeypatch):
+    path = short_nav_survey / survey.manifest.files["imu"].path
+    whole = imu_io.read_imu_npy(path)
+    monkeypatch.setattr(imu_io, "NPY_READ_CHUNK", TINY)
+    chunked = imu_io.read_imu_npy(path)
+    for name in ("time_s", "dtheta_rad", "dvel_mps"):
+        np.testing.assert_array_equal(getattr(chunked, name), getattr(whole, name))
+
+
+def test_reader_names_a_bad_record_in_a_later_chunk(tmp_path, monkeypatch):
+    records = np.zeros(5000, dtype=imu_io.IMU_NPY_DTYPE)
+    records["time_s"] = 100.0 + 0.005 * np.arange(5000)
+    records["dvel_mps"][:, 2] = -9.8 * 0.005
+    records["dvel_mps"][3210, 1] = np.nan
+    np.save(tmp_path / "imu.npy", records)
+    monkeypatch.setattr(imu_io, "NPY_READ_CHUNK", TINY)
+    with pytest.raises(imu_io.InputError) as info:
+        imu_io.read_imu_npy(tmp_path / "imu.npy")
+    assert info.value.line == 3210 and "dvel_mps" in info.value.message
+
+
+def test_screening_in_chunks_finds_the_outliers_one_chunk_finds(survey):
+    imu = survey.imu
+    n = 20 * TINY
+    dtheta, dvel = imu.dtheta_rad[:n].copy(), imu.dvel_mps[:n].copy()
+    spikes = [0, TINY - 1, TINY + 1, 2 * TINY, 5 * TINY + 2, n - 1]  # at and next to chunk boundaries
+    dvel[spikes, 0] += 0.3  # 60 m/s^2 for one 5 ms record
+    dtheta[7 * TINY, 2] += 0.01
+    dvel[3 * TINY, 1] = np.nan
+    short = ImuIncrements(imu.time_s[:n].copy(), dtheta, dvel, source=imu.source)
+    profile = load_imu_profile("nav")
+    whole = imu_screening.screen_imu(short, profile, chunk=WHOLE)
+    chunked = imu_screening.screen_imu(short, profile, chunk=TINY)
+    assert [o.index for o in whole[1]] == sorted([*spikes, 7 * TINY, 3 * TINY])
+    assert repr(chunked[1]) == repr(whole[1])  # (a NaN value is not == itself)
+    np.testing.assert_array_equal(chunked[0].time_s, whole[0].time_s)
+
+
+@pytest.mark.parametrize("with_odometer", [True, False])
+def test_stops_in_chunks_are_the_stops_of_one_chunk(survey, with_odometer):
+    profile = load_imu_profile("nav")
+    gyro, accel = alignment.stop_thresholds(profile.gyro_arw, profile.accel_vrw, survey.imu.rate_hz)
+    odometer = survey.odometer if with_odometer else None
+    kwargs = {"max_gyro_std_radps": gyro, "max_accel_std_mps2": None if with_odometer else accel}
+    whole = alignment.detect_stops(survey.imu, odometer, chunk=WHOLE, **kwargs)
+    assert len(whole) >= 3  # the static start, two stops (and the end)
+    assert alignment.detect_stops(survey.imu, odometer, chunk=TINY, **kwargs) == whole
+
+
+def test_fusion_in_tiny_chunks_is_the_fusion_in_one_chunk(survey, short_nav_survey, monkeypatch):
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions()
+
+    def fused():
+        imu = read_survey(short_nav_survey).imu
+        return fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000).trajectory
+
+    monkeypatch.setattr(fusion, "screen_imu", partial(imu_screening.screen_imu, chunk=WHOLE))
+    monkeypatch.setattr(fusion, "detect_stops", partial(alignment.detect_stops, chunk=WHOLE))
+    monkeypatch.setattr(imu_io, "NPY_READ_CHUNK", WHOLE)
+    whole = fused()
+    monkeypatch.setattr(fusion, "screen_imu", partial(imu_screening.screen_imu, chunk=TINY))
+    monkeypatch.setattr(fusion, "detect_stops", partial(alignment.detect_stops, chunk=TINY))
+    monkeypatch.setattr(imu_io, "NPY_READ_CHUNK", TINY)
+    chunked = fused()
+    assert len(chunked) == len(whole) > 250_000
+    np.testing.assert_array_equal(chunked.time_s, whole.time_s)
+    north = (chunked.lat_rad - whole.lat_rad) * 6.36e6
+    east = (chunked.lon_rad - whole.lon_rad) * 6.39e6 * np.cos(whole.lat_rad)
+    up = chunked.height_m - whole.height_m
+    assert np.abs(np.column_stack([north, east, up])).max() <= 1e-5  # 0.01 mm
