@@ -387,11 +387,12 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     with atomic_write(info_path, "wb") as handle:
         tomli_w.dump(info, handle)
     seal(path, info_path)
+    gauge, pulses = survey.gauge, survey.sleepers
+    del survey, result  # the 200 Hz IMU record and the fusion's arrays, before the trajectory is read back
     # read back as a cached fusion is (contiguous arrays: the track is then the same to the bit)
     trajectory = replace(load_trajectory(path, gps_week=manifest.gps_week, only=POSE_FIELDS),
                          ellipsoid_name=ellipsoid_of(project).name)
-    fresh = FreshFusion(trajectory, survey.gauge, survey.sleepers)
-    return fresh, path, {"from_cache": False} | info
+    return FreshFusion(trajectory, gauge, pulses), path, {"from_cache": False} | info
 
 
 def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Path, fresh: FreshFusion | None,
@@ -435,7 +436,9 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
                          FittedLine.of(recon) if project.design is None else None)
     save_dataclass(extras_path, extras)
     save_dataclass(path, replace(recon, rails=None, stations=None, fitted=None, reference=None))
-    return recon, extras, False
+    # the later stages take the epochs' stations only, as from the cache: the dense rails and stations
+    # (25 doubles per epoch) are not held through them
+    return replace(recon, rails=None, stations=None), extras, False
 
 
 def _read_role(folder: Path, manifest: SurveyManifest, role: str):
