@@ -39,7 +39,8 @@ CONFIGS = {
 FIGURES = ("horiz", "vert", "roll", "pitch", "head", "out H", "out V", "lat5", "ver5", "lat150", "ver150")
 WIDTHS = (6, 6, 7, 7, 7, 6, 6, 6, 6, 6, 6)
 HEADER = f"{'scenario':<12} {'config':<10} {'pass':<9} " + " ".join(f"{n:>{w}}" for n, w in zip(FIGURES, WIDTHS))
-UNITS = f"{'':<12} {'':<10} {'':<9} " + " ".join(f"{u:>{w}}" for u, w in zip(["mm"] * 2 + ["deg"] * 3 + ["mm"] * 6, WIDTHS))
+UNITS = f"{'':<12} {'':<10} {'':<9} " + " ".join(f"{u:>{w}}" for u, w in zip(["mm"] * 2 + ["deg"] * 3 + ["mm"] * 6,
+                                                                           WIDTHS))
 
 
 #: The figures of the `full` smoothed row when issue 18 was filed (55b9d5f: its benchmarks/fusion.py, seeds 1-10,
