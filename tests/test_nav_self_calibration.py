@@ -133,17 +133,11 @@ def test_the_scale_is_bounded_and_a_survey_still_inconsistent_after_the_last_pas
 
 # --------------------------------------------------------------------------- the real hand-held walk
 
-BENCHMARK = Path(__file__).resolve().parents[1] / "benchmarks" / "imu_integrity.py"
-
-
 def walk_folder(folder: Path, profile: str) -> Path:
-    """The real walk as benchmarks/imu_integrity.py builds it (its survey.toml), with ``profile``."""
-    import importlib.util
+    """The real walk as benchmarks/imu_integrity.py builds it (insrail.sim.recordings), with ``profile``."""
+    from insrail.sim.recordings import walk_survey
 
-    spec = importlib.util.spec_from_file_location("imu_integrity", BENCHMARK)
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
-    return bench.walk_survey(folder, profile, real_path("walk_0827"))
+    return walk_survey(folder, profile, real_path("walk_0827"))
 
 
 def test_the_real_handheld_walk_fuses_consistently_as_a_user_runs_it(tmp_path, capsys):
