@@ -120,7 +120,7 @@ from insrail.project.stagecache import (
     save_dataclass,
     seal,
 )
-from insrail.project.total_station import with_total_station_fixes
+from insrail.project.total_station import uncovered_run_notices, with_total_station_fixes
 from insrail.project.track_events import (
     EVENTS_ROLE,
     TURNOUT_EXCEEDANCES_FILE,
@@ -345,7 +345,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     survey, placed = with_total_station_fixes(read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel,
                                                           gnss=gnss))
     survey, checked = check_survey(replace(survey, manifest=manifest), nominal_gauge_m(project))
-    checked = [*placed, *checked]
+    checked = [*placed, *uncovered_run_notices(survey), *checked]
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
     profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
