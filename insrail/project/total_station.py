@@ -14,6 +14,12 @@ standard deviation
 
 the set-up's own fit on the CPIII points plus the pointing's precision at its distance. The fixes
 join the survey's ``[files.prism]`` fixes, if it has any, in time order.
+
+A survey without GNSS is held by its fixes alone: where its run goes on beyond the first or the last
+fix, the INS and the odometer carry the position on their own and its 1-sigma grows with the distance
+(nav grade, fixes every 60 m: 0.8 mm between them, about 1.3, 2.2 and 3.1 mm over the three 60 m beyond
+the last, docs/accuracy.md). That stretch is named in a notice (:func:`uncovered_run_notices`);
+sleepers.csv and quality.csv carry its 1-sigma.
 """
 
 from __future__ import annotations
@@ -33,6 +39,8 @@ from insrail.notices import Notice
 ANGLE_SIGMA_RAD = 0.3e-3 * math.pi / 200.0  # 0.3 mgon (1"): the pointing of a precise total station
 DISTANCE_SIGMA_M = 0.0006
 MIN_SIGMA_M = 0.0005
+#: A run beyond the first or last prism fix shorter than this is the fix's own stop, not a stretch.
+UNCOVERED_RUN_M = 1.0
 
 
 def _polar(observations: TotalStationObservations, rows: np.ndarray) -> PolarObservations:
@@ -103,3 +111,23 @@ def with_total_station_fixes(survey: SurveyData) -> tuple[SurveyData, list[Notic
         order = np.argsort(merged["time_s"], kind="stable")
         fixes = PrismObservations(**{k: v[order] for k, v in merged.items()}, source=own.source)
     return replace(survey, prism=fixes), notices
+
+
+def uncovered_run_notices(survey: SurveyData) -> list[Notice]:
+    """A notice for each end of a survey without GNSS whose run (odometer distance) goes on more than
+    UNCOVERED_RUN_M beyond its first or last prism fix (module docstring); none with GNSS, without
+    fixes or without an odometer."""
+    if survey.gnss is not None or survey.prism is None or not len(survey.prism) or survey.odometer is None:
+        return []
+    odometer = survey.odometer
+    first, last = float(np.min(survey.prism.time_s)), float(np.max(survey.prism.time_s))
+    at_first, at_last = np.interp([first, last], odometer.time_s, odometer.distance_m)
+    notices = []
+    for run, where, time_s in ((at_first - odometer.distance_m.min(), "before its first", first),
+                               (odometer.distance_m.max() - at_last, "beyond its last", last)):
+        if run > UNCOVERED_RUN_M:
+            notices.append(Notice("total station", f"the run goes on {run:.0f} m {where} prism fix (at {time_s:.1f} s) "
+                                  "with no GNSS: the sleepers there rest on the INS and the odometer alone, their "
+                                  "position 1-sigma growing with the distance (sleepers.csv, quality.csv); start and "
+                                  "end a survey without GNSS on a fix", time_s=time_s))
+    return notices
