@@ -294,7 +294,7 @@ SETTING_NAMES = {
     "processing.gnss_sigma_floor_m": "GNSS sigma floor (m)",
     "processing.gnss_correlated_tau_s": "GNSS error correlation time (s)",
     "processing.odometer_sigma_mps": "Odometer sigma (m/s)",
-    "processing.nhc_sigma_mps": "NHC sigma at 1 m/s (m/s)",
+    "processing.nhc_sigma_mps": "NHC sigma (m/s)",
     "processing.zupt_sigma_mps": "ZUPT sigma where a stop shows no motion (m/s)",
     "processing.min_static_s": "Shortest stop for a ZUPT (s)",
     "track": "Track",

@@ -113,24 +113,6 @@ def test_odometer_nhc_jacobian(use_odometer, use_nhc):
     assert len(z) == int(use_odometer) + 2 * int(use_nhc)
 
 
-def test_the_nhc_noise_is_the_plays_drift_per_metre_at_any_speed():
-    """With an odometer the NHC rows' variance grows with its speed (the trolley's play lets the
-    position drift a fixed amount per metre, TrolleyPlaySpec), down to a floor where the trolley
-    starts or stops; without one it is the stated sigma at any speed."""
-    from insrail.sim.scenario import TrolleyPlaySpec
-
-    def nhc_variance(speed, use_odometer=True):
-        m = OdometerNhc(np.array([1000.0]), np.array([speed]), np.eye(3), np.zeros(3), np.zeros(3),
-                        np.array([0.004]), sigma_nhc_mps=0.0005, use_odometer=use_odometer)
-        return np.diag(m.model(true_state(), 0)[2])[-2:]
-
-    for speed in (0.5, 1.0, 1.2, 4.0):
-        play = TrolleyPlaySpec().equivalent_nhc_sigma_mps(speed, 0.1)
-        assert np.allclose(nhc_variance(speed), np.square(play), rtol=0.01)
-    assert np.allclose(nhc_variance(0.0), nhc_variance(0.1)) and nhc_variance(0.1)[0] == pytest.approx(0.1 * 0.0005**2)
-    assert np.allclose(nhc_variance(4.0, use_odometer=False), 0.0005**2)
-
-
 def test_zupt_jacobian():
     check_linearisation(Zupt(np.array([1000.0])))
 

