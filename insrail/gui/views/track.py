@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QLineF, QRectF, Qt, Signal
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QHBoxLayout,
@@ -84,6 +84,28 @@ def _add_events(item: pg.PlotItem, events: Sequence[EventSpan], named: bool) -> 
             item.addItem(text, ignoreBounds=True)
 
 
+class Rules(pg.GraphicsObject):
+    """Horizontal lines along the whole surveyed chainage (a plot's zero line and tolerance limits)
+    with bounds fixed when made. pyqtgraph's InfiniteLine spans the view, so it computes its bounds
+    again from the view transform at every pan or zoom (some 40 times a frame over the plots in view);
+    these never move, and the view box clips them to what is shown."""
+
+    def __init__(self, lines: Sequence[tuple[float, object]], x_from: float, x_to: float):
+        super().__init__()
+        self.lines = tuple((float(y), pg.mkPen(pen)) for y, pen in lines)
+        bottom, top = min(y for y, _ in self.lines), max(y for y, _ in self.lines)
+        pad = max(top - bottom, 1.0)  # never without height: Qt skips an item whose bounds have none
+        self._bounds = QRectF(x_from, bottom - pad, x_to - x_from, top - bottom + 2.0 * pad)
+
+    def boundingRect(self) -> QRectF:
+        return self._bounds
+
+    def paint(self, painter, *_args) -> None:
+        for y, pen in self.lines:
+            painter.setPen(pen)
+            painter.drawLine(QLineF(self._bounds.left(), y, self._bounds.right(), y))
+
+
 class ChainagePlots(pg.GraphicsLayoutWidget):
     """Stacked plots along chainage sharing one chainage window, with a crosshair.
 
@@ -135,8 +157,6 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self.setMinimumHeight(MIN_PLOT_HEIGHT * len(shown))
         for row, spec in enumerate(shown):
             item = self._pool[row]
-            # A zero line instead of a grid: pyqtgraph's grid triples the time per frame.
-            item.addItem(pg.InfiniteLine(0.0, angle=0, pen=plotstyle.ZERO_PEN), ignoreBounds=True)
             band = bands.get(spec.key)
             item.setTitle(plotstyle.titled(f"{spec.title} [{spec.unit}]", [label for label, _ in spec.curves],
                                            f"±{BAND_SIGMAS:g}σ predicted" if band is not None else ""), size="8pt")
@@ -151,8 +171,12 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             for index, curve in enumerate(curves):
                 item.addItem(EnvelopeLine((curve,), plotstyle.pen(index)))
             limits = [limit for limit in (spec.lower, spec.upper) if limit is not None]
-            for limit in limits:
-                item.addItem(pg.InfiniteLine(limit, angle=0, pen=plotstyle.LIMIT_PEN), ignoreBounds=True)
+            if len(station_m):
+                # A zero line instead of a grid (pyqtgraph's grid triples the time per frame), and the limits.
+                rules = Rules([(0.0, plotstyle.ZERO_PEN)] + [(limit, plotstyle.LIMIT_PEN) for limit in limits],
+                              float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M)
+                rules.setZValue(-1)
+                item.addItem(rules, ignoreBounds=True)
             self._fits[item.vb] = (curves, limits)
             crosshair = pg.InfiniteLine(angle=90, pen=plotstyle.CROSSHAIR_PEN)
             item.addItem(crosshair, ignoreBounds=True)
