@@ -55,6 +55,12 @@ MIN_PLOT_HEIGHT = 150
 PAN_MARGIN_M = 10.0
 #: The narrowest window a zoom reaches [m] (a few sleepers).
 MIN_WINDOW_M = 2.0
+#: The y range keeps this fraction of its span free above and below the values shown.
+Y_MARGIN = 0.05
+#: A pan keeps a plot's y range while it holds what is shown and is at most this many times the
+#: fitted one: the value axis (whose tick labels are laid out again at each change) stays put
+#: instead of twitching at every frame.
+Y_SLACK = 1.25
 #: The window a go-to shows when the current one is wider [m].
 GOTO_WINDOW_M = 100.0
 MEASURE_PENS = (pg.mkPen("#7B3294", width=1, style=Qt.DashDotLine), pg.mkPen("#008837", width=1, style=Qt.DashDotLine))
@@ -256,7 +262,12 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             bottom, top = min(extremes), max(extremes)
             if top - bottom < 1e-9:
                 bottom, top = bottom - 0.5, top + 0.5
-            view.setYRange(bottom, top, padding=0.05)
+            margin = Y_MARGIN * (top - bottom)
+            bottom, top = bottom - margin, top + margin
+            shown_bottom, shown_top = view.viewRange()[1]
+            if shown_bottom <= bottom and top <= shown_top and shown_top - shown_bottom <= Y_SLACK * (top - bottom):
+                continue  # still shows all of it at nearly full height: no new axis to lay out this frame
+            view.setYRange(bottom, top, padding=0.0)
 
     def _lay_out(self, count: int) -> None:
         """The first ``count`` plot items of the pool in the layout, emptied; the others out of it."""
