@@ -4,8 +4,9 @@ with the rail and direction of each, a go-to field (sleeper number, K-chainage o
 two-point measuring tool (its span can be marked as a track event: turnout, level crossing, ...),
 and the exceedance table (a click zooms every plot there).
 
-Navigation: the wheel zooms along chainage only (the y axes fit what is visible), dragging pans
-along chainage, and neither can leave the surveyed chainage."""
+Navigation: the wheel zooms along chainage only (the y axes fit what is visible, and keep their
+range during a pan while it shows all of that at 80 % of the height or more), dragging pans along
+chainage, and neither can leave the surveyed chainage."""
 
 from __future__ import annotations
 
