@@ -20,8 +20,9 @@ a project after processing it outside the desktop application (the table parsed 
 Budgets (issue 21): first paint <= 2 s, every frame <= 50 ms, project switch <= 2 s. Per series
 of frames it prints the wall-clock median, 95th percentile and maximum, the CPU time of the GUI
 thread per frame (what contention affects less) and the load average, and splits the slowest frame
-into the GUI thread's CPU time and the time it waited for a CPU while other processes ran (Linux's
-/proc/thread-self/schedstat; "?" elsewhere): on a shared machine a slow frame is mostly the latter.
+into the GUI thread's CPU time, the time it waited for a CPU while other processes ran (Linux's
+/proc/thread-self/schedstat; "?" elsewhere) and the rest, when it was blocked (on the X server, which
+shares the CPUs too): on a shared machine a slow frame is mostly the latter two.
 Per view it says whether its slowest frame (wall clock) meets the bar. Wall-clock figures grow with
 the machine's load; the exit status is 1 when a budget is not met.
 """
@@ -91,11 +92,16 @@ def report(name: str, measured: np.ndarray) -> tuple[float, float]:
     it meets the bar; (wall max, CPU 95th percentile) in ms."""
     ms, cpu, waited = measured.T
     slowest = int(np.argmax(ms))
-    wait = f"{waited[slowest]:.1f}" if np.isfinite(waited[slowest]) else "?"
+    if np.isfinite(waited[slowest]):
+        rest = max(ms[slowest] - cpu[slowest] - waited[slowest], 0.0)
+        wait = f"{waited[slowest]:.1f} ms waiting for a CPU + {rest:.1f} ms blocked (e.g. on the X server)"
+    else:
+        wait = "? ms waiting for a CPU or blocked"
     print(f"  {name:<26} wall median {np.median(ms):5.1f} ms, 95 % {np.percentile(ms, 95):5.1f}, max {ms.max():6.1f}; "
           f"CPU median {np.median(cpu):5.1f}, 95 % {np.percentile(cpu, 95):5.1f}, max {cpu.max():5.1f}; "
           f"load {os.getloadavg()[0]:4.1f}: {'meets' if ms.max() <= FRAME_MS else 'ABOVE'} the bar "
-          f"(slowest: frame {slowest}, {cpu[slowest]:.1f} ms CPU + {wait} ms waiting for a CPU)")
+          f"(first frame, the zoom to this width: {ms[0]:.1f} ms, {cpu[0]:.1f} CPU; "
+          f"slowest: frame {slowest}, {cpu[slowest]:.1f} ms CPU + {wait})")
     return float(ms.max()), float(np.percentile(cpu, 95))
 
 
