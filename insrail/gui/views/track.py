@@ -187,17 +187,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             self._fits[item.vb] = (curves, limits)
             crosshair = pg.InfiniteLine(angle=90, pen=plotstyle.CROSSHAIR_PEN)
             item.addItem(crosshair, ignoreBounds=True)
-            region = pg.LinearRegionItem(movable=False, brush=(255, 200, 0, 60), pen=pg.mkPen(None))
-            region.setZValue(-10)
-            region.hide()
-            item.addItem(region, ignoreBounds=True)
-            lines = tuple(pg.InfiniteLine(angle=90, pen=pen) for pen in MEASURE_PENS)
-            for line in lines:
-                line.hide()
-                item.addItem(line, ignoreBounds=True)
             self._crosshairs.append(crosshair)
-            self._regions.append(region)
-            self._measure_lines.append(lines)
             _add_events(item, events, named=not row)
             if len(station_m):
                 low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
@@ -315,9 +305,14 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self.follow()
 
     def highlight(self, low: float, high: float) -> None:
+        if not self._regions:  # made at the first use: each item in a plot costs every pan frame
+            for item in self.plots.values():
+                region = pg.LinearRegionItem(movable=False, brush=(255, 200, 0, 60), pen=pg.mkPen(None))
+                region.setZValue(-10)
+                item.addItem(region, ignoreBounds=True)
+                self._regions.append(region)
         for region in self._regions:
             region.setRegion((low, high))
-            region.show()
 
     def set_cursor(self, station: float) -> None:
         for line in self._crosshairs:
@@ -325,6 +320,12 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
 
     def mark_measure(self, points: Sequence[float]) -> None:
         """The measuring tool's points (none, one or two stations) as lines in every plot."""
+        if points and not self._measure_lines:  # made at the first use, as the highlight
+            for item in self.plots.values():
+                lines = tuple(pg.InfiniteLine(angle=90, pen=pen) for pen in MEASURE_PENS)
+                for line in lines:
+                    item.addItem(line, ignoreBounds=True)
+                self._measure_lines.append(lines)
         for lines in self._measure_lines:
             for k, line in enumerate(lines):
                 line.setVisible(k < len(points))
