@@ -23,11 +23,11 @@ from tests.test_project_model import make_folder, sample_project
 SLEEPERS = 800
 
 
-def columns():
-    station = 1000.0 + 0.625 * np.arange(SLEEPERS)
+def columns(sleepers: int = SLEEPERS):
+    station = 1000.0 + 0.625 * np.arange(sleepers)
     wave = np.sin(station / 7.0)
     data = {"station_m": station, "gauge_mm": 1435.0 + 0.5 * wave, "cant_mm": 2.0 * wave,
-            "design_cant_mm": np.zeros(SLEEPERS), "check_versine_10m_left_lateral_mm": 0.3 * wave}
+            "design_cant_mm": np.zeros(sleepers), "check_versine_10m_left_lateral_mm": 0.3 * wave}
     for direction in ("lateral", "vertical"):
         data[f"{direction}_deviation_left_mm"] = 1.0 + wave
         data[f"{direction}_deviation_right_mm"] = -1.0 - 2.0 * wave
@@ -153,6 +153,39 @@ def test_a_pan_moves_the_plots_in_view_and_a_plot_scrolled_into_view_catches_up(
     assert bottom in in_view and top not in in_view
     view.scroll.verticalScrollBar().setValue(0)
     assert np.allclose(top.vb.viewRange()[0], window)
+
+
+def test_a_one_sleeper_spike_is_drawn_in_the_first_frame_of_every_zoom_level(qtbot):
+    """Over a long survey a frame draws the min and max per pixel column from a level of the
+    pyramid; the first frame after a zoom to any width (a new level each time) still reaches a
+    spike of one sleeper, and the plot's height shows it. A window beside it does not draw it."""
+    from insrail.gui.bands import EnvelopeLine
+    from insrail.project.plotdata import FIRST_LEVEL
+
+    data = columns(100_000)  # 62.5 km
+    spike_at, spike_mm = 54_321, 25.0
+    data["lateral_deviation_left_mm"][spike_at] = spike_mm
+    station = data["station_m"]
+    plots = chainage_plots(data, load_tolerance_profile("cn_hsr_ballastless"))
+    view = TrackView()
+    qtbot.addWidget(view)
+    view.resize(1366, 740)
+    view.show()
+    view.set_results(station, np.arange(1, len(station) + 1), [f"{s:.3f}" for s in station], data, plots, ())
+    spec = next(s for s in view._specs if any(c == "lateral_deviation_left_mm" for _, c in s.curves))
+    item, drawn = view.plots.plots[spec.key], spec.scale * spike_mm
+    scroll_to(view, item)
+    line = next(c for c in item.items if isinstance(c, EnvelopeLine))
+    columns_px = int(item.vb.width())
+    at = station[spike_at]
+    for width in (station[-1] - station[0], 20_000.0, 5_000.0, 1_000.0, 100.0):
+        low = max(station[0], at - 0.3 * width)
+        view.plots.set_x_range(low, low + width)
+        assert line.boundingRect().bottom() >= drawn, width  # the path's largest y (Qt's y runs down)
+        assert item.vb.viewRange()[1][1] >= drawn, width  # the height fitted to it
+        assert line.drawn_points <= 2 * 2 ** FIRST_LEVEL * columns_px + 8, width  # per pixel column, not per sleeper
+    view.plots.set_x_range(at + 10.0, at + 110.0)  # beside the spike: not drawn there
+    assert line.boundingRect().bottom() < drawn
 
 
 def test_go_to_a_sleeper_a_chainage_or_a_station(view):

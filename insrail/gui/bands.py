@@ -113,10 +113,15 @@ class EnvelopeLine(EnvelopeItem):
         self.pen = pg.mkPen(pen)
 
     def _outline(self, x: np.ndarray, low: np.ndarray, high: np.ndarray) -> tuple[QPainterPath, int]:
-        """Through the min and the max of each bin; a bin without a finite value breaks the line
-        (a stretch without values, e.g. where a chord reaches past the data, draws nothing)."""
-        y = np.column_stack([low, high]).ravel()
-        return pg.arrayToQPath(np.repeat(x, 2), y, connect="finite"), int(np.count_nonzero(np.isfinite(y)))
+        """Through the min and the max of each bin, or through each sample once where the view is
+        zoomed in so far that it gets the samples themselves (min = max: half the points to stroke);
+        a bin without a finite value breaks the line (a stretch without values, e.g. where a chord
+        reaches past the data, draws nothing)."""
+        if np.array_equal(low, high, equal_nan=True):
+            y = low
+        else:
+            x, y = np.repeat(x, 2), np.column_stack([low, high]).ravel()
+        return pg.arrayToQPath(x, y, connect="finite"), int(np.count_nonzero(np.isfinite(y)))
 
     def paint(self, painter, *_args) -> None:
         painter.setPen(self.pen)

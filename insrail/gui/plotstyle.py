@@ -30,6 +30,9 @@ def make_fluid(item: pg.PlotItem) -> None:
     item.setClipToView(True)
     for side in ("left", "bottom", "right", "top"):  # no automatic "(x1000)" scaling: it also re-renders the label every frame
         item.getAxis(side).enableAutoSIPrefix(False)
+    # Major and minor ticks only on the value axis: its third level put some 35 ticks on a 150 px
+    # plot, and laying them out is most of what a zoom costs an axis (once per plot in view).
+    item.getAxis("left").setStyle(maxTickLevel=1)
 
 
 def titled(title: str, labels, band: str = "") -> str:

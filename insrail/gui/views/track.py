@@ -4,8 +4,9 @@ with the rail and direction of each, a go-to field (sleeper number, K-chainage o
 two-point measuring tool (its span can be marked as a track event: turnout, level crossing, ...),
 and the exceedance table (a click zooms every plot there).
 
-Navigation: the wheel zooms along chainage only (the y axes fit what is visible), dragging pans
-along chainage, and neither can leave the surveyed chainage."""
+Navigation: the wheel zooms along chainage only (the y axes fit what is visible, and keep their
+range during a pan while it shows all of that at 80 % of the height or more), dragging pans along
+chainage, and neither can leave the surveyed chainage."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QLineF, QRectF, Qt, Signal
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QHBoxLayout,
@@ -55,6 +56,12 @@ MIN_PLOT_HEIGHT = 150
 PAN_MARGIN_M = 10.0
 #: The narrowest window a zoom reaches [m] (a few sleepers).
 MIN_WINDOW_M = 2.0
+#: The y range keeps this fraction of its span free above and below the values shown.
+Y_MARGIN = 0.05
+#: A pan keeps a plot's y range while it holds what is shown and is at most this many times the
+#: fitted one: the value axis (whose tick labels are laid out again at each change) stays put
+#: instead of twitching at every frame.
+Y_SLACK = 1.25
 #: The window a go-to shows when the current one is wider [m].
 GOTO_WINDOW_M = 100.0
 MEASURE_PENS = (pg.mkPen("#7B3294", width=1, style=Qt.DashDotLine), pg.mkPen("#008837", width=1, style=Qt.DashDotLine))
@@ -82,6 +89,28 @@ def _add_events(item: pg.PlotItem, events: Sequence[EventSpan], named: bool) -> 
             text = pg.TextItem(event.name, color=EVENT_TEXT, anchor=(0, 0))
             text.setPos(event.station_from_m, 0.0)
             item.addItem(text, ignoreBounds=True)
+
+
+class Rules(pg.GraphicsObject):
+    """Horizontal lines along the whole surveyed chainage (a plot's zero line and tolerance limits)
+    with bounds fixed when made. pyqtgraph's InfiniteLine spans the view, so it computes its bounds
+    again from the view transform at every pan or zoom (some 40 times a frame over the plots in view);
+    these never move, and the view box clips them to what is shown."""
+
+    def __init__(self, lines: Sequence[tuple[float, object]], x_from: float, x_to: float):
+        super().__init__()
+        self.lines = tuple((float(y), pg.mkPen(pen)) for y, pen in lines)
+        bottom, top = min(y for y, _ in self.lines), max(y for y, _ in self.lines)
+        pad = max(top - bottom, 1.0)  # never without height: Qt skips an item whose bounds have none
+        self._bounds = QRectF(x_from, bottom - pad, x_to - x_from, top - bottom + 2.0 * pad)
+
+    def boundingRect(self) -> QRectF:
+        return self._bounds
+
+    def paint(self, painter, *_args) -> None:
+        for y, pen in self.lines:
+            painter.setPen(pen)
+            painter.drawLine(QLineF(self._bounds.left(), y, self._bounds.right(), y))
 
 
 class ChainagePlots(pg.GraphicsLayoutWidget):
@@ -135,8 +164,6 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self.setMinimumHeight(MIN_PLOT_HEIGHT * len(shown))
         for row, spec in enumerate(shown):
             item = self._pool[row]
-            # A zero line instead of a grid: pyqtgraph's grid triples the time per frame.
-            item.addItem(pg.InfiniteLine(0.0, angle=0, pen=plotstyle.ZERO_PEN), ignoreBounds=True)
             band = bands.get(spec.key)
             item.setTitle(plotstyle.titled(f"{spec.title} [{spec.unit}]", [label for label, _ in spec.curves],
                                            f"±{BAND_SIGMAS:g}σ predicted" if band is not None else ""), size="8pt")
@@ -151,22 +178,16 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             for index, curve in enumerate(curves):
                 item.addItem(EnvelopeLine((curve,), plotstyle.pen(index)))
             limits = [limit for limit in (spec.lower, spec.upper) if limit is not None]
-            for limit in limits:
-                item.addItem(pg.InfiniteLine(limit, angle=0, pen=plotstyle.LIMIT_PEN), ignoreBounds=True)
+            if len(station_m):
+                # A zero line instead of a grid (pyqtgraph's grid triples the time per frame), and the limits.
+                rules = Rules([(0.0, plotstyle.ZERO_PEN)] + [(limit, plotstyle.LIMIT_PEN) for limit in limits],
+                              float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M)
+                rules.setZValue(-1)
+                item.addItem(rules, ignoreBounds=True)
             self._fits[item.vb] = (curves, limits)
             crosshair = pg.InfiniteLine(angle=90, pen=plotstyle.CROSSHAIR_PEN)
             item.addItem(crosshair, ignoreBounds=True)
-            region = pg.LinearRegionItem(movable=False, brush=(255, 200, 0, 60), pen=pg.mkPen(None))
-            region.setZValue(-10)
-            region.hide()
-            item.addItem(region, ignoreBounds=True)
-            lines = tuple(pg.InfiniteLine(angle=90, pen=pen) for pen in MEASURE_PENS)
-            for line in lines:
-                line.hide()
-                item.addItem(line, ignoreBounds=True)
             self._crosshairs.append(crosshair)
-            self._regions.append(region)
-            self._measure_lines.append(lines)
             _add_events(item, events, named=not row)
             if len(station_m):
                 low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
@@ -232,7 +253,12 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             bottom, top = min(extremes), max(extremes)
             if top - bottom < 1e-9:
                 bottom, top = bottom - 0.5, top + 0.5
-            view.setYRange(bottom, top, padding=0.05)
+            margin = Y_MARGIN * (top - bottom)
+            bottom, top = bottom - margin, top + margin
+            shown_bottom, shown_top = view.viewRange()[1]
+            if shown_bottom <= bottom and top <= shown_top and shown_top - shown_bottom <= Y_SLACK * (top - bottom):
+                continue  # still shows all of it at nearly full height: no new axis to lay out this frame
+            view.setYRange(bottom, top, padding=0.0)
 
     def _lay_out(self, count: int) -> None:
         """The first ``count`` plot items of the pool in the layout, emptied; the others out of it."""
@@ -279,9 +305,14 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self.follow()
 
     def highlight(self, low: float, high: float) -> None:
+        if not self._regions:  # made at the first use: each item in a plot costs every pan frame
+            for item in self.plots.values():
+                region = pg.LinearRegionItem(movable=False, brush=(255, 200, 0, 60), pen=pg.mkPen(None))
+                region.setZValue(-10)
+                item.addItem(region, ignoreBounds=True)
+                self._regions.append(region)
         for region in self._regions:
             region.setRegion((low, high))
-            region.show()
 
     def set_cursor(self, station: float) -> None:
         for line in self._crosshairs:
@@ -289,6 +320,12 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
 
     def mark_measure(self, points: Sequence[float]) -> None:
         """The measuring tool's points (none, one or two stations) as lines in every plot."""
+        if points and not self._measure_lines:  # made at the first use, as the highlight
+            for item in self.plots.values():
+                lines = tuple(pg.InfiniteLine(angle=90, pen=pen) for pen in MEASURE_PENS)
+                for line in lines:
+                    item.addItem(line, ignoreBounds=True)
+                self._measure_lines.append(lines)
         for lines in self._measure_lines:
             for k, line in enumerate(lines):
                 line.setVisible(k < len(points))
