@@ -120,7 +120,7 @@ from insrail.project.stagecache import (
     save_dataclass,
     seal,
 )
-from insrail.project.total_station import uncovered_run_notices, with_total_station_fixes
+from insrail.project.total_station import gnss_free_run_notices, with_total_station_fixes
 from insrail.project.track_events import (
     EVENTS_ROLE,
     TURNOUT_EXCEEDANCES_FILE,
@@ -159,7 +159,7 @@ from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 10  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notice for a run beyond its prism fixes
+CACHE_VERSION = 10  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them)
 #: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
 #: entry 52 MB instead of 370 MB, read back in a rerun).
 TRACK_CACHE_LAYOUT = 2
@@ -345,7 +345,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     survey, placed = with_total_station_fixes(read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel,
                                                           gnss=gnss))
     survey, checked = check_survey(replace(survey, manifest=manifest), nominal_gauge_m(project))
-    checked = [*placed, *uncovered_run_notices(survey), *checked]
+    checked = [*placed, *gnss_free_run_notices(survey), *checked]
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
     profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
