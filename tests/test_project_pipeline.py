@@ -229,6 +229,30 @@ def test_a_survey_without_gauge_is_refused_before_the_fusion(short_nav_survey, t
     assert not (tmp_path / "results").exists()
 
 
+def test_the_demos_turnout_and_level_crossing_are_listed_and_not_assessed(processed, tmp_path):
+    """The demo's event file (a turnout and a level crossing, issue 22): named in project.toml,
+    written afresh by a second demo in the same folder, its sleepers not assessed and no
+    exceedance inside either span."""
+    from insrail.cli.demo import DEMO_EVENTS, demo_events
+    from insrail.io.events import read_events
+
+    project, _ = processed
+    root = tmp_path / "demo"
+    shutil.copytree(project.folder, root, ignore=shutil.ignore_patterns("results"))
+    demo = demo_events(demo_events(load_project(root)))  # the second as an earlier demo's folder
+    assert load_project(root).events == "events.txt" and len(read_events(root / "events.txt")) == 2
+    process(demo, "short")
+    summary = tomllib.loads((root / "results" / "short" / "summary.toml").read_text())
+    events = summary["events"]
+    assert [(e["kind"], e["station_from_m"], e["station_to_m"]) for e in events] == [e[:3] for e in DEMO_EVENTS]
+    assert all(e["not_assessed"] and e["sleepers"] > 5 for e in events)
+    assert summary["assessment"]["not_assessed_sleepers"] >= sum(e["sleepers"] for e in events)
+    exceedances = read_csv(root / "results" / "short" / "exceedances.csv")
+    assert len(exceedances) > 0
+    for _, start, end, _ in DEMO_EVENTS:
+        assert not np.any((exceedances["station_from_m"] <= end) & (exceedances["station_to_m"] >= start))
+
+
 @pytest.mark.slow
 def test_cli_demo_builds_and_processes_a_project(tmp_path, capsys):
     assert main(["demo", "--out", str(tmp_path)]) == 0
