@@ -114,45 +114,65 @@ def save_trajectory(path, trajectory: Trajectory) -> None:
 
 
 def load_trajectory(path, smoothed: bool = True, gps_week: int | None = None, mmap: bool = False,
-                    only: tuple[str, ...] | None = None) -> Trajectory:
+                    only: tuple[str, ...] | None = None, start: int = 0, count: int | None = None) -> Trajectory:
     """Read a ``trajectory.npy`` written by :func:`save_trajectory`; ``mmap``: its arrays are
     read-only views of the file mapped into memory (read as they are used), not copies.
     ``only``: read just these fields (a consumer of a few of them, e.g. the track
     reconstruction's ``insrail.track.rails.POSE_FIELDS``: 13 of the 32 doubles per epoch); every
-    other field is NaN, read-only and takes no memory."""
+    other field is NaN, read-only and takes no memory. ``start``, ``count``: just these records
+    (:func:`read_trajectory_fields`; not with ``mmap``)."""
     if mmap:
         records = np.load(path, allow_pickle=False, mmap_mode="r")
         if records.dtype != TRAJECTORY_DTYPE:
             raise ValueError(f"{path}: not an insrail trajectory file (record layout {records.dtype})")
         return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week)
-    fields = read_trajectory_fields(path, TRAJECTORY_DTYPE.names if only is None else only)
+    fields = read_trajectory_fields(path, TRAJECTORY_DTYPE.names if only is None else only, start=start, count=count)
     n = len(next(iter(fields.values())))
     absent = {name: np.broadcast_to(np.nan, (n, *TRAJECTORY_DTYPE[name].shape))
               for name in TRAJECTORY_DTYPE.names if name not in fields}
     return Trajectory(**fields, **absent, smoothed=smoothed, gps_week=gps_week)
 
 
-def read_trajectory_fields(path, names, chunk: int = CHUNK_RECORDS) -> dict[str, np.ndarray]:
+def trajectory_records(path) -> int:
+    """The number of records of a ``trajectory.npy`` (its header only is read)."""
+    with open(path, "rb") as handle:
+        return _trajectory_header(path, handle)
+
+
+def _trajectory_header(path, handle) -> int:
+    """Reads the ``.npy`` header of an open trajectory file; its record count."""
+    version = np.lib.format.read_magic(handle)
+    read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+    shape, fortran, dtype = read_header(handle)
+    if dtype != TRAJECTORY_DTYPE or fortran or len(shape) != 1:
+        raise ValueError(f"{path}: not an insrail trajectory file (record layout {dtype})")
+    return shape[0]
+
+
+def read_trajectory_fields(path, names, chunk: int = CHUNK_RECORDS, start: int = 0,
+                           count: int | None = None) -> dict[str, np.ndarray]:
     """The named fields of a ``trajectory.npy`` (e.g. ``sigma_pos_ned_m``) as contiguous arrays,
     read a chunk of records at a time with plain reads: neither the whole file (0.26 kB per
-    epoch, 0.55 GB for 10 km) nor a memory map of it ever counts towards the process's memory."""
+    epoch, 0.55 GB for 10 km) nor a memory map of it ever counts towards the process's memory.
+    ``start``, ``count``: only the records ``start`` .. ``start + count - 1`` (to the end when
+    ``count`` is None)."""
     unknown = set(names) - set(TRAJECTORY_DTYPE.names)
     if unknown or not names:
         raise ValueError(f"not trajectory fields: {', '.join(sorted(unknown)) or 'none asked for'}")
     with open(path, "rb") as handle:
-        version = np.lib.format.read_magic(handle)
-        read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
-        shape, fortran, dtype = read_header(handle)
-        if dtype != TRAJECTORY_DTYPE or fortran or len(shape) != 1:
-            raise ValueError(f"{path}: not an insrail trajectory file (record layout {dtype})")
-        total = shape[0]
+        records_in_file = _trajectory_header(path, handle)
+        if not 0 <= start <= records_in_file:
+            raise ValueError(f"{path}: record {start} asked for, the file has {records_in_file}")
+        total = records_in_file - start if count is None else min(count, records_in_file - start)
+        handle.seek(start * TRAJECTORY_DTYPE.itemsize, 1)
         out = {name: np.empty((total, *TRAJECTORY_DTYPE[name].shape)) for name in names}
-        for start in range(0, total, chunk):
-            records = np.fromfile(handle, dtype=TRAJECTORY_DTYPE, count=min(chunk, total - start))
-            if len(records) != min(chunk, total - start):
-                raise ValueError(f"{path}: the file ends after {start + len(records)} of its {total} records")
+        for first in range(0, total, chunk):
+            records = np.fromfile(handle, dtype=TRAJECTORY_DTYPE, count=min(chunk, total - first))
+            if len(records) != min(chunk, total - first):
+                raise ValueError(f"{path}: the file ends after {start + first + len(records)} of its "
+                                 f"{records_in_file} records")
             for name in names:
-                out[name][start : start + len(records)] = records[name]
+                out[name][first : first + len(records)] = records[name]
     return out
 
 

@@ -108,7 +108,6 @@ from insrail.project.sleeper_parameters import (
     parameter_bases,
     parameter_columns,
     parameters_section,
-    sleeper_attitude_rad,
     speed_notices,
 )
 from insrail.project.stagecache import (
@@ -148,12 +147,8 @@ from insrail.track.exceedance import Assessment, SleeperGeometry, assess
 from insrail.track.landxml import format_landxml, read_landxml
 from insrail.track.linefit import element_table
 from insrail.track.parameters import line_speed_mps
-from insrail.track.rails import POSE_FIELDS
-from insrail.track.sleeper_table import (
-    SleeperTable,
-    TrackReconstruction,
-    reconstruct_track,
-)
+from insrail.track.sleeper_table import SleeperTable, TrackReconstruction
+from insrail.track.streamed import reconstruct_track_streamed
 from insrail.track.sleepers import AnchorError
 from insrail.track.tolerance import load_tolerance_profile
 
@@ -235,11 +230,10 @@ class TrackExtras:
 
 @dataclass(frozen=True)
 class FreshFusion:
-    """What the track reconstruction needs from a fusion just computed (the 200 Hz IMU data and
-    the fusion's covariances are dropped here: they dominate the memory of a long survey; the
-    trajectory holds its ``POSE_FIELDS`` only)."""
+    """What the track reconstruction needs from a fusion just computed beyond its trajectory file,
+    which it reads by parts (the 200 Hz IMU data and the fusion's covariances are dropped here:
+    they dominate the memory of a long survey)."""
 
-    trajectory: Trajectory
     gauge: GaugeData
     pulses: SleeperPulses | None
 
@@ -387,12 +381,8 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     with atomic_write(info_path, "wb") as handle:
         tomli_w.dump(info, handle)
     seal(path, info_path)
-    gauge, pulses = survey.gauge, survey.sleepers
-    del survey, result  # the 200 Hz IMU record and the fusion's arrays, before the trajectory is read back
-    # read back as a cached fusion is (contiguous arrays: the track is then the same to the bit)
-    trajectory = replace(load_trajectory(path, gps_week=manifest.gps_week, only=POSE_FIELDS),
-                         ellipsoid_name=ellipsoid_of(project).name)
-    return FreshFusion(trajectory, gauge, pulses), path, {"from_cache": False} | info
+    # the track reads the trajectory from the file by parts, as from the cache
+    return FreshFusion(survey.gauge, survey.sleepers), path, {"from_cache": False} | info
 
 
 def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Path, fresh: FreshFusion | None,
@@ -418,27 +408,23 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
     if fresh is None:
         gauge, _ = clean_gauge(_read_role(folder, manifest, "gauge"), nominal_gauge_m(project),  # as the fusion did
                                describe(folder / manifest.files["gauge"].path, manifest.files["gauge"].format))
-        # the file does not say on which ellipsoid the fusion ran: the project's (the rails of a fusion
-        # from the cache would otherwise differ from those of the same fusion just computed)
-        trajectory = replace(load_trajectory(trajectory_file, gps_week=manifest.gps_week, only=POSE_FIELDS),
-                             ellipsoid_name=ellipsoid_of(project).name)
-        fresh = FreshFusion(trajectory, gauge, _read_role(folder, manifest, "sleepers"))
+        fresh = FreshFusion(gauge, _read_role(folder, manifest, "sleepers"))
     design = read_design(project.resolve(project.design)) if project.design is not None else None
     check_cancel(cancel)
     try:
-        recon = reconstruct_track(fresh.trajectory, manifest.trolley, fresh.gauge, to_engineering, design=design,
-                                  pulses=fresh.pulses,
-                                  start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
-                                  stationing=project.stationing_direction, anchor=project.sleeper_anchor)
+        # the file does not say on which ellipsoid the fusion ran: the project's; read by parts, the
+        # rails and stations (25 doubles per epoch) are never held whole
+        recon, attitude = reconstruct_track_streamed(
+            trajectory_file, ellipsoid_of(project).name, manifest.trolley, fresh.gauge, to_engineering, design=design,
+            pulses=fresh.pulses, start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
+            stationing=project.stationing_direction, anchor=project.sleeper_anchor, spool_folder=path.parent,
+            check=lambda: check_cancel(cancel))
     except AnchorError as error:
         raise InputError(project.path, None, f"track.sleeper_anchor: {error}") from None
-    extras = TrackExtras(sleeper_attitude_rad(fresh.trajectory.time_s, fresh.trajectory.rpy_rad, recon.table.time_s),
-                         FittedLine.of(recon) if project.design is None else None)
+    extras = TrackExtras(attitude, FittedLine.of(recon) if project.design is None else None)
     save_dataclass(extras_path, extras)
-    save_dataclass(path, replace(recon, rails=None, stations=None, fitted=None, reference=None))
-    # the later stages take the epochs' stations only, as from the cache: the dense rails and stations
-    # (25 doubles per epoch) are not held through them
-    return replace(recon, rails=None, stations=None), extras, False
+    save_dataclass(path, replace(recon, fitted=None, reference=None))
+    return recon, extras, False
 
 
 def _read_role(folder: Path, manifest: SurveyManifest, role: str):

@@ -22,6 +22,7 @@ from insrail.track.parameters import (
     rate_over_base,
 )
 from insrail.track.sleeper_table import SleeperTable
+from insrail.track.streamed import attitude_at_times
 from insrail.track.tolerance import SPEED_KINDS, ToleranceProfile
 
 #: Bases when the profile has no check of the kind [m]. [U] the thesis names the rates (§5.6)
@@ -57,16 +58,12 @@ def sleeper_attitude_rad(trajectory_time_s: np.ndarray, trajectory_rpy_rad: np.n
     """(n, 3) roll, pitch, heading [rad, heading in [0, 2 pi)] of the fused trajectory (its time
     and roll, pitch, heading per epoch) at ``time_s``; NaN outside the trajectory."""
     time, rpy = np.asarray(trajectory_time_s), np.asarray(trajectory_rpy_rad)
-    at = np.asarray(time_s, dtype=float)
-    out = np.full((at.size, 3), np.nan)
-    if time.size < 2 or not at.size:
-        return out
-    inside = (at >= time[0]) & (at <= time[-1])
-    for axis in range(3):
-        values = np.unwrap(rpy[:, axis]) if axis == 2 else rpy[:, axis]
-        out[inside, axis] = np.interp(at[inside], time, values)
-    out[:, 2] = np.mod(out[:, 2], 2 * np.pi)
-    return out
+
+    def interpolated(at: np.ndarray) -> np.ndarray:
+        return np.column_stack([np.interp(at, time, np.unwrap(rpy[:, axis]) if axis == 2 else rpy[:, axis])
+                                for axis in range(3)])
+
+    return attitude_at_times(time_s, (time[0], time[-1]) if time.size >= 2 else None, interpolated)
 
 
 def parameter_columns(table: SleeperTable, attitude_rad: np.ndarray, curvature_1pm: np.ndarray | None,

@@ -430,12 +430,15 @@ class HorizontalAlignment:
         east, north, _, _ = self._state(stations)
         return cKDTree(np.column_stack((east, north))), stations, self.length_m / (count - 1)
 
-    def station_offset(self, east_m, north_m) -> tuple[np.ndarray, np.ndarray]:
+    def station_offset(self, east_m, north_m, carry: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(station_m, offset_m) of points: the foot of the perpendicular and the signed distance.
 
         Offsets are positive to the right. Points whose foot lies beyond the ends of the
         alignment, and points with no perpendicular foot nearby (at a curve's centre),
         get NaN for both: test with ``np.isnan(station)``. Exact to ~1e-10 m.
+        ``carry``: :func:`projection_carry`, updated in place, to project a long series of points
+        in consecutive parts with the same result, to the bit, as in one call (each point starts
+        from where the one before it ended).
         """
         east, north = np.broadcast_arrays(np.asarray(east_m, dtype=float), np.asarray(north_m, dtype=float))
         shape = east.shape
@@ -450,7 +453,7 @@ class HorizontalAlignment:
                  _GL_FRACTIONS, _GL_WEIGHTS, sample_stations, tree.data[:, 0].copy(), tree.data[:, 1].copy())
         limits = (max(spacing, 10.0), self.start_station_m - _STATION_TOLERANCE_M,
                   self.end_station_m + _STATION_TOLERANCE_M, _NEWTON_MAX_ITERATIONS, _NEWTON_TOLERANCE_M)
-        previous = np.zeros(4)
+        previous = projection_carry() if carry is None else carry
         first, cold_sample = 0, -1
         # each point starts from the sample nearest to it: walked to from the one before it, or
         # (the first point, one after a gap or a jump) looked up in the index
@@ -458,6 +461,12 @@ class HorizontalAlignment:
                                        previous)) >= 0:
             cold_sample = int(tree.query((east[first], north[first]))[1])
         return station.reshape(shape), offset.reshape(shape)
+
+
+def projection_carry() -> np.ndarray:
+    """What :meth:`HorizontalAlignment.station_offset` carries from one point to the next (the
+    previous point's nearest sample and position), before the first point."""
+    return np.zeros(4)
 
 
 @dataclass(frozen=True)

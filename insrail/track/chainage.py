@@ -51,46 +51,84 @@ class RailStations:
     from_design: bool
 
 
-def reference_stations_on_design(rails: RailPoints, design: DesignAlignment) -> np.ndarray:
+def reference_stations_on_design(rails: RailPoints, design: DesignAlignment,
+                                 carry: np.ndarray | None = None) -> np.ndarray:
     """Stations of the reference rail's points by projection on the design's plan (the same in
-    either naming of the rails: :func:`in_stationing_frame` keeps the reference rail's points)."""
-    return design.horizontal.station_offset(rails.reference_rail_enh_m[:, 0], rails.reference_rail_enh_m[:, 1])[0]
+    either naming of the rails: :func:`in_stationing_frame` keeps the reference rail's points);
+    ``carry``: the projection's carry (:meth:`HorizontalAlignment.station_offset`) for rails
+    given in consecutive parts."""
+    return design.horizontal.station_offset(rails.reference_rail_enh_m[:, 0], rails.reference_rail_enh_m[:, 1],
+                                            carry)[0]
 
 
 def stations_on_design(rails: RailPoints, design: DesignAlignment,
-                       reference_station_m: np.ndarray | None = None) -> RailStations:
+                       reference_station_m: np.ndarray | None = None,
+                       carries: dict[str, np.ndarray] | None = None) -> RailStations:
     """Stations of the centreline and both rails by projection on the design's plan;
     ``reference_station_m``: the reference rail's, when already projected
-    (:func:`reference_stations_on_design`: each projection of 10 km of epochs takes seconds)."""
+    (:func:`reference_stations_on_design`: each projection of 10 km of epochs takes seconds);
+    ``carries``: the projections' carries ("centre", "left", "right") for rails given in parts."""
     h = design.horizontal
-    centre, offset = h.station_offset(rails.centre_enh_m[:, 0], rails.centre_enh_m[:, 1])
+    carries = carries or {}
+    centre, offset = h.station_offset(rails.centre_enh_m[:, 0], rails.centre_enh_m[:, 1], carries.get("centre"))
 
     def projected(rail: str, points: np.ndarray) -> np.ndarray:
         if reference_station_m is not None and rail == rails.reference_rail:
             return reference_station_m
-        return h.station_offset(points[:, 0], points[:, 1])[0]
+        return h.station_offset(points[:, 0], points[:, 1], carries.get(rail))[0]
 
     left, right = projected("left", rails.left_rail_enh_m), projected("right", rails.right_rail_enh_m)
     reference = left if rails.reference_rail == "left" else right
     return RailStations(centre, left, right, reference, offset, from_design=True)
 
 
+#: Why a track cannot be stationed.
+NO_STATIONS = "fewer than two epochs have a station: does the trajectory lie along the design?"
+
 #: Without a design the stations grow in the direction of travel unless an azimuth is given.
 WITH_TRAVEL = "travel"
 
 
-def _along_path(rails: RailPoints) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(track points E, N; unit forward axes E, N; plane distance travelled along the trolley's
-    x axis since the first epoch). The centreline of epochs without gauge is bridged by the
-    reference rail's motion."""
+def track_and_forward(rails: RailPoints) -> tuple[np.ndarray, np.ndarray]:
+    """(track points E, N; unit forward axes E, N) per epoch. The centreline of epochs without
+    gauge is bridged by the reference rail's motion."""
     centre = rails.centre_enh_m[:, :2]
     reference = rails.reference_rail_enh_m[:, :2]
     track = np.where(np.isnan(centre), reference, centre)
     forward = rails.forward_enh[:, :2]
-    forward = forward / np.linalg.norm(forward, axis=1)[:, None]
+    return track, forward / np.linalg.norm(forward, axis=1)[:, None]
+
+
+def along_steps(track: np.ndarray, forward: np.ndarray) -> np.ndarray:
+    """The plane distance of each step between consecutive track points along the trolley's x axis."""
     mid_forward = 0.5 * (forward[1:] + forward[:-1])
-    along_steps = np.einsum("ij,ij->i", np.diff(track, axis=0), mid_forward)
-    return track, forward, np.concatenate([[0.0], np.cumsum(along_steps)])
+    return np.einsum("ij,ij->i", np.diff(track, axis=0), mid_forward)
+
+
+def _along_path(rails: RailPoints) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(:func:`track_and_forward`; plane distance travelled along the trolley's x axis since the first epoch)."""
+    track, forward = track_and_forward(rails)
+    return track, forward, np.concatenate([[0.0], np.cumsum(along_steps(track, forward))])
+
+
+def finite_ends(track: np.ndarray) -> np.ndarray | None:
+    """The first and last track points with a position ((2, 2)), None when fewer than two have one."""
+    finite = np.flatnonzero(np.all(np.isfinite(track), axis=1))
+    return track[[finite[0], finite[-1]]] if finite.size >= 2 else None
+
+
+def facing_from(travelled_m: float, ends: np.ndarray | None, stationing: str | float = WITH_TRAVEL) -> float:
+    """:func:`facing_along_path` from the distance travelled along the x axis over the whole run
+    and the run's :func:`finite_ends`."""
+    along_x = 1.0 if travelled_m >= 0.0 else -1.0
+    if stationing == WITH_TRAVEL:
+        return along_x
+    azimuth = np.radians(float(stationing))
+    if ends is None:
+        raise ValueError("fewer than two epochs have a position: the stationing direction cannot be found")
+    travel = ends[1] - ends[0]
+    with_travel = 1.0 if travel @ np.array([np.sin(azimuth), np.cos(azimuth)]) >= 0.0 else -1.0
+    return along_x * with_travel
 
 
 def facing_along_path(rails: RailPoints, stationing: str | float = WITH_TRAVEL) -> float:
@@ -99,30 +137,26 @@ def facing_along_path(rails: RailPoints, stationing: str | float = WITH_TRAVEL) 
     travel) or the grid azimuth [deg] towards which they grow (within 90 degrees: the run's
     overall direction from its first to its last point decides)."""
     track, _, travelled = _along_path(rails)
-    along_x = 1.0 if travelled[-1] >= 0.0 else -1.0
-    if stationing == WITH_TRAVEL:
-        return along_x
-    azimuth = np.radians(float(stationing))
-    finite = np.flatnonzero(np.all(np.isfinite(track), axis=1))
-    if finite.size < 2:
-        raise ValueError("fewer than two epochs have a position: the stationing direction cannot be found")
-    travel = track[finite[-1]] - track[finite[0]]
-    with_travel = 1.0 if travel @ np.array([np.sin(azimuth), np.cos(azimuth)]) >= 0.0 else -1.0
-    return along_x * with_travel
+    return facing_from(travelled[-1], finite_ends(track), stationing)
 
 
 def facing_on_design(rails: RailPoints, design: DesignAlignment, reference_station_m: np.ndarray | None = None) -> float:
     """+1 when the trolley's x axis points towards increasing design station, -1 against it
     (the median over the epochs projecting on the design; +1 when none does);
     ``reference_station_m`` as in :func:`stations_on_design`."""
-    h = design.horizontal
     station = reference_stations_on_design(rails, design) if reference_station_m is None else reference_station_m
-    on = np.isfinite(station)
-    if not on.any():
+    cosine = design_cosines(rails, design, station)
+    if not cosine.size:
         return 1.0
-    azimuth = h.azimuth_at(station[on])
-    cosine = rails.forward_enh[on, 0] * np.sin(azimuth) + rails.forward_enh[on, 1] * np.cos(azimuth)
     return 1.0 if np.median(cosine) >= 0.0 else -1.0
+
+
+def design_cosines(rails: RailPoints, design: DesignAlignment, reference_station_m: np.ndarray) -> np.ndarray:
+    """Per epoch projecting on the design, the cosine between the trolley's x axis and the design's
+    tangent at the reference rail's station (what :func:`facing_on_design` takes the median of)."""
+    on = np.isfinite(reference_station_m)
+    azimuth = design.horizontal.azimuth_at(reference_station_m[on])
+    return rails.forward_enh[on, 0] * np.sin(azimuth) + rails.forward_enh[on, 1] * np.cos(azimuth)
 
 
 def in_stationing_frame(rails: RailPoints, facing: float) -> RailPoints:
@@ -148,7 +182,14 @@ def stations_along_path(rails: RailPoints, start_station_m: float, stationing: s
     a run against that direction gets decreasing stations.
     """
     track, forward, travelled = _along_path(rails)
-    direction = facing_along_path(rails, stationing)
+    direction = facing_from(travelled[-1], finite_ends(track), stationing)
+    return stations_from_travelled(rails, track, forward, travelled, start_station_m, direction)
+
+
+def stations_from_travelled(rails: RailPoints, track: np.ndarray, forward: np.ndarray, travelled: np.ndarray,
+                            start_station_m: float, direction: float) -> RailStations:
+    """:func:`stations_along_path` from :func:`track_and_forward`, the distance travelled and the
+    direction in which the stations grow (+1 along the x axis): pointwise, for rails in parts."""
     centre_station = start_station_m + direction * travelled
 
     def shifted(points: np.ndarray) -> np.ndarray:
@@ -171,7 +212,7 @@ def epoch_station_track(time_s: np.ndarray, station_m: np.ndarray) -> tuple[np.n
     """
     finite = np.isfinite(station_m)
     if finite.sum() < 2:
-        raise ValueError("fewer than two epochs have a station: does the trajectory lie along the design?")
+        raise ValueError(NO_STATIONS)
     t, s = np.asarray(time_s)[finite], np.asarray(station_m)[finite]
     if s[-1] < s[0]:
         return t, np.minimum.accumulate(s)

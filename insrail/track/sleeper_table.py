@@ -47,6 +47,7 @@ from insrail.track.resample import (
 from insrail.track.sleepers import (
     SleeperAnchor,
     SleeperNumbering,
+    StationTrack,
     anchor_numbering,
     number_sleepers,
     sleeper_detector_ahead_m,
@@ -104,12 +105,15 @@ def regular_sleepers(rails: RailPoints, stations: RailStations, spacing_m: float
                      first_number: int = 1) -> SleeperNumbering:
     """A regular grid of "sleepers" every ``spacing_m`` over the stations the survey covers, for
     tracks without detector pulses; the grid starts at the first whole multiple of the spacing."""
-    t, s = epoch_station_track(rails.time_s, stations.reference_m)
-    if s[-1] < s[0]:  # a run against the stationing
-        t, s = t[::-1], s[::-1]
-    first, last = np.ceil(s[0] / spacing_m), np.floor(s[-1] / spacing_m)
+    return grid_sleepers(StationTrack.of(*epoch_station_track(rails.time_s, stations.reference_m)), spacing_m,
+                         first_number)
+
+
+def grid_sleepers(track: StationTrack, spacing_m: float = 0.625, first_number: int = 1) -> SleeperNumbering:
+    """:func:`regular_sleepers` over a :class:`~insrail.track.sleepers.StationTrack`."""
+    first, last = np.ceil(track.low_station_m / spacing_m), np.floor(track.high_station_m / spacing_m)
     grid = np.arange(first, last + 1) * spacing_m
-    times = np.interp(grid, s, t)
+    times = track.time_at(grid)
     return SleeperNumbering(
         number=np.arange(len(grid)) + first_number,
         station_m=grid,
@@ -142,6 +146,18 @@ def build_sleeper_table(
     right = sliding_window_fit(stations.right_m, rails.right_rail_enh_m, at, window_m)
     gauge = interpolate_in_station(stations.reference_m, rails.gauge_m, at)
     cant = interpolate_in_station(stations.reference_m, rails.cant_m, at)
+    sigma_pos = np.column_stack([np.interp(sleepers.time_s, rails.time_s, rails.sigma_pos_ned_m[:, i]) for i in range(3)])
+    sigma_roll = np.interp(sleepers.time_s, rails.time_s, rails.sigma_roll_rad)
+    return sleeper_table_of(sleepers, left, right, gauge, cant, sigma_pos, sigma_roll, design, design_gauge_m,
+                            cant_base_m)
+
+
+def sleeper_table_of(sleepers: SleeperNumbering, left: np.ndarray, right: np.ndarray, gauge: np.ndarray,
+                     cant: np.ndarray, sigma_pos: np.ndarray, sigma_roll: np.ndarray,
+                     design: DesignAlignment | None = None, design_gauge_m: float = NOMINAL_GAUGE_M,
+                     cant_base_m: float = CANT_BASE_M) -> SleeperTable:
+    """The table of :func:`build_sleeper_table` from what was resampled at the sleepers."""
+    at = sleepers.station_m
     n = len(at)
     if design is not None:
         lateral, vertical = rail_deviations(design, left, right, design_gauge_m, cant_base_m)
@@ -153,8 +169,6 @@ def build_sleeper_table(
         design_cant = np.zeros(n)
         labels = ("",) * n
         zone = None
-    sigma_pos = np.column_stack([np.interp(sleepers.time_s, rails.time_s, rails.sigma_pos_ned_m[:, i]) for i in range(3)])
-    sigma_roll = np.interp(sleepers.time_s, rails.time_s, rails.sigma_roll_rad)
     valid = (np.all(np.isfinite(left), axis=1) & np.all(np.isfinite(right), axis=1) & np.isfinite(gauge)
              & np.isfinite(cant))
     if design is not None:
@@ -306,11 +320,21 @@ def reconstruct_track(
     table = build_sleeper_table(rails, stations, sleepers, design, window_m, design_gauge_m,
                                 trolley.rail_centre_spacing_m)
     dense = {"epochs": EpochStations.of(rails, stations), "rails": rails, "stations": stations}
-    if design is not None or not fit_line:
+    return finished_reconstruction(sleepers, table, dense, fit_line and design is None, fit_window_m, fit_overlap_m,
+                                   design_gauge_m, trolley.rail_centre_spacing_m)
+
+
+def finished_reconstruction(sleepers: SleeperNumbering, table: SleeperTable, dense: dict, fit_line: bool,
+                            fit_window_m: float = DEFAULT_FIT_WINDOW_M, fit_overlap_m: float = DEFAULT_FIT_OVERLAP_M,
+                            design_gauge_m: float = NOMINAL_GAUGE_M,
+                            cant_base_m: float = CANT_BASE_M) -> TrackReconstruction:
+    """The reconstruction of a table, with the deviations from the fitted line when ``fit_line``
+    (:func:`deviations_from_fitted_line`); ``dense``: its epochs (and rails and stations)."""
+    if not fit_line:
         return TrackReconstruction(sleepers, table, **dense)
     try:
         table, fitted, reference = deviations_from_fitted_line(table, fit_window_m, fit_overlap_m, design_gauge_m,
-                                                               trolley.rail_centre_spacing_m)
+                                                               cant_base_m)
     except LineFitError as error:
         return TrackReconstruction(sleepers, table, **dense, line_fit_error=str(error))
     return TrackReconstruction(sleepers, table, **dense, fitted=fitted, reference=reference)

@@ -25,6 +25,7 @@ the station noise of a fused trajectory over a few sleepers (millimetres).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -134,6 +135,31 @@ def _anchor(stations: np.ndarray, spacing_m: float, tolerance_m: float) -> int:
     return int(both[0])
 
 
+@dataclass(frozen=True)
+class StationTrack:
+    """The trolley reference point's station over time, monotonic in the direction of travel
+    (:func:`insrail.track.chainage.epoch_station_track`), as the numbering uses it: its first and
+    last time, its lowest and highest station, whether it runs against the stationing, and the
+    interpolations both ways (``np.interp``: in time; in station, the epochs in order of station).
+    The whole-run arrays give them in :meth:`of`; a streamed track computes the same values by parts."""
+
+    first_time_s: float
+    last_time_s: float
+    low_station_m: float
+    high_station_m: float
+    against: bool
+    station_at: Callable[[np.ndarray], np.ndarray]
+    time_at: Callable[[np.ndarray], np.ndarray]
+
+    @classmethod
+    def of(cls, epoch_time_s: np.ndarray, epoch_station_m: np.ndarray) -> StationTrack:
+        against = bool(epoch_station_m[-1] < epoch_station_m[0])
+        by_station = slice(None, None, -1) if against else slice(None)
+        epoch_t, epoch_s = epoch_time_s[by_station], epoch_station_m[by_station]
+        return cls(float(epoch_time_s[0]), float(epoch_time_s[-1]), float(epoch_s[0]), float(epoch_s[-1]), against,
+                   lambda t: np.interp(t, epoch_time_s, epoch_station_m), lambda s: np.interp(s, epoch_s, epoch_t))
+
+
 def number_sleepers(
     pulse_time_s,
     epoch_time_s: np.ndarray,
@@ -152,20 +178,31 @@ def number_sleepers(
     when the trolley faces against the stationing); ``first_number``: the number given to the
     sleeper of lowest station.
     """
+    return number_on_track(pulse_time_s, StationTrack.of(epoch_time_s, epoch_station_m), detector_ahead_m,
+                           spacing_m, tolerance_m, first_number)
+
+
+def number_on_track(
+    pulse_time_s,
+    track: StationTrack,
+    detector_ahead_m: float,
+    spacing_m: float = 0.625,
+    tolerance_m: float | None = None,
+    first_number: int = 1,
+) -> SleeperNumbering:
+    """:func:`number_sleepers` on a :class:`StationTrack`."""
     if not spacing_m > 0.0:
         raise ValueError(f"sleeper spacing must be positive, not {spacing_m!r}")
     tolerance = 0.12 * spacing_m if tolerance_m is None else float(tolerance_m)
     times = np.sort(np.asarray(pulse_time_s, dtype=float))
-    inside = (times >= epoch_time_s[0]) & (times <= epoch_time_s[-1])
+    inside = (times >= track.first_time_s) & (times <= track.last_time_s)
     times = times[inside]
     if len(times) < 3:
         raise ValueError(f"{len(times)} sleeper pulses fall within the trajectory; at least 3 are needed")
-    pulse_stations = np.interp(times, epoch_time_s, epoch_station_m) + detector_ahead_m
+    pulse_stations = track.station_at(times) + detector_ahead_m
     # The walk runs in order of station: reversed time order for a run against the stationing.
-    against = epoch_station_m[-1] < epoch_station_m[0]
-    by_station = slice(None, None, -1) if against else slice(None)
+    by_station = slice(None, None, -1) if track.against else slice(None)
     stations = pulse_stations[by_station]
-    epoch_t, epoch_s = epoch_time_s[by_station], epoch_station_m[by_station]
 
     anchor = _anchor(stations, spacing_m, tolerance)
     fwd_accepted, fwd_steps = _walk(stations, anchor, spacing_m, tolerance)
@@ -188,7 +225,7 @@ def number_sleepers(
     all_numbers = np.arange(numbers_good[0], numbers_good[-1] + 1)
     detected = np.isin(all_numbers, numbers_good)
     all_stations = np.interp(all_numbers, numbers_good, stations_good)
-    all_times = np.interp(all_stations - detector_ahead_m, epoch_s, epoch_t)
+    all_times = track.time_at(all_stations - detector_ahead_m)
     all_times[detected] = times_good
     return SleeperNumbering(
         number=all_numbers,
