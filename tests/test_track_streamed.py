@@ -49,10 +49,12 @@ def _both(tmp_path, truth, trajectory, gauge=None, pulses="file", **options):
         pulses = read_sleeper_times(truth.folder / "sleepers.txt")
     whole = reconstruct_track(whole_trajectory, truth.trolley, gauge, truth.to_engineering, pulses=pulses, **options)
     attitude = sleeper_attitude_rad(whole_trajectory.time_s, whole_trajectory.rpy_rad, whole.table.time_s)
-    parts = reconstruct_track_streamed(path, truth.trajectory.ellipsoid_name, truth.trolley, gauge,
-                                       truth.to_engineering, pulses=pulses, spool_folder=tmp_path, **options)
-    assert [p.name for p in tmp_path.iterdir()] == ["trajectory.npy"]  # the spool is gone
-    return (whole, attitude), parts
+    recon, parts_attitude = reconstruct_track_streamed(path, truth.trajectory.ellipsoid_name, truth.trolley, gauge,
+                                                       truth.to_engineering, pulses=pulses, spool_folder=tmp_path,
+                                                       epochs_file=tmp_path / "epochs.npy", **options)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["epochs.npy", "trajectory.npy"]  # the spool is gone
+    assert recon.epochs.path == tmp_path / "epochs.npy"
+    return (whole, attitude), (replace(recon, epochs=recon.epochs.load()), parts_attitude)
 
 
 def _assert_same(whole, parts):
@@ -142,7 +144,7 @@ def test_memory_does_not_grow_with_the_length(tmp_path, truth):
     def run(epochs: int):
         return reconstruct_track_streamed(tmp_path / f"{epochs}.npy", truth.trajectory.ellipsoid_name, truth.trolley,
                                           truth.gauge, truth.to_engineering, design=truth.design, pulses=None,
-                                          spool_folder=tmp_path)
+                                          spool_folder=tmp_path, epochs_file=tmp_path / "epochs.npy")
 
     short, long = peak_growth_bytes(run, 20_000)
     sleepers = len(run(40_000)[0].table) - len(run(20_000)[0].table)

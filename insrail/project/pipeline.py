@@ -147,8 +147,8 @@ from insrail.track.exceedance import Assessment, SleeperGeometry, assess
 from insrail.track.landxml import format_landxml, read_landxml
 from insrail.track.linefit import element_table
 from insrail.track.parameters import line_speed_mps
-from insrail.track.sleeper_table import SleeperTable, TrackReconstruction
-from insrail.track.streamed import reconstruct_track_streamed
+from insrail.track.sleeper_table import EpochStationsFile, SleeperTable, TrackReconstruction
+from insrail.track.streamed import chunked_interp, reconstruct_track_streamed
 from insrail.track.sleepers import AnchorError
 from insrail.track.tolerance import load_tolerance_profile
 
@@ -156,8 +156,9 @@ CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
 CACHE_VERSION = 10  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them)
 #: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
-#: entry 52 MB instead of 370 MB, read back in a rerun).
-TRACK_CACHE_LAYOUT = 2
+#: entry 52 MB instead of 370 MB, read back in a rerun); 3, the epochs' stations in their own
+#: file (track-<key>.epochs.npy), read by parts.
+TRACK_CACHE_LAYOUT = 3
 
 
 @dataclass(frozen=True)
@@ -394,11 +395,12 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
     ``reference`` objects, only their :class:`FittedLine`); with local control every coordinate
     from here on is in the local grid."""
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"track-{key}.npz"
-    extras_path = path.with_suffix(".extras.npz")
-    cached = cached_dataclass("track reconstruction", path, TrackReconstruction)
+    extras_path, epochs_path = path.with_suffix(".extras.npz"), path.with_suffix(".epochs.npy")
+    cached = (cached_dataclass("track reconstruction", path, TrackReconstruction)
+              if intact("track reconstruction", epochs_path) else None)
     extras = cached_dataclass("track reconstruction", extras_path, TrackExtras) if cached is not None else None
     if extras is not None and (extras.line is not None or project.design is not None):
-        return cached, extras, True
+        return replace(cached, epochs=EpochStationsFile(epochs_path)), extras, True
 
     def to_engineering(lat, lon, h):
         east, north = project.crs.to_plane(lat, lon)
@@ -418,12 +420,13 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
             trajectory_file, ellipsoid_of(project).name, manifest.trolley, fresh.gauge, to_engineering, design=design,
             pulses=fresh.pulses, start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
             stationing=project.stationing_direction, anchor=project.sleeper_anchor, spool_folder=path.parent,
-            check=lambda: check_cancel(cancel))
+            epochs_file=epochs_path, check=lambda: check_cancel(cancel))
     except AnchorError as error:
         raise InputError(project.path, None, f"track.sleeper_anchor: {error}") from None
     extras = TrackExtras(attitude, FittedLine.of(recon) if project.design is None else None)
     save_dataclass(extras_path, extras)
-    save_dataclass(path, replace(recon, fitted=None, reference=None))
+    seal(epochs_path)
+    save_dataclass(path, replace(recon, epochs=None, fitted=None, reference=None))  # the epochs: in their own file
     return recon, extras, False
 
 
@@ -592,14 +595,22 @@ def _section_quality(trajectory_file: Path, recon: TrackReconstruction) -> Secti
     of the reconstructed centreline at its time (the reference rail's where the centreline has
     none); sections of TQI_SECTION_M start at the first sleeper, like the ``[track_quality]`` ones."""
     epochs = load_dataclass(quality_cache_file(trajectory_file), EpochQuality)
-    stations = recon.epochs
-    chainage = np.where(np.isfinite(stations.centre_m), stations.centre_m, stations.reference_m)
-    known = np.isfinite(chainage)
-    if not known.any():
-        raise InputError(trajectory_file, None, "no epoch of the reconstructed track has a chainage")
-    at_epochs = np.interp(epochs.time_s, stations.time_s[known], chainage[known])
+    lowest = [np.inf]
+
+    def known_chainage():  # the epochs with a chainage, by parts
+        for part in recon.epochs.chunks():
+            chainage = np.where(np.isfinite(part.centre_m), part.centre_m, part.reference_m)
+            known = np.isfinite(chainage)
+            if known.any():
+                lowest[0] = min(lowest[0], float(np.min(chainage[known])))
+            yield part.time_s[known], chainage[known]
+
+    try:  # np.interp(update times, epoch times, chainage) of the epochs with one
+        at_epochs = chunked_interp(epochs.time_s, known_chainage())
+    except ValueError:  # none has one
+        raise InputError(trajectory_file, None, "no epoch of the reconstructed track has a chainage") from None
     table = recon.table
-    start = float(table.station_m[0]) if len(table) else float(np.min(chainage[known]))
+    start = float(table.station_m[0]) if len(table) else lowest[0]
     return sections_along(epochs, at_epochs, start, TQI_SECTION_M)
 
 

@@ -8,7 +8,10 @@ ordered by station; lengths in metres, frames and signs as in :mod:`insrail.trac
 
 from __future__ import annotations
 
+import os
+from collections.abc import Iterator
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 
@@ -230,6 +233,10 @@ def deviations_from_fitted_line(
     return updated, fit, reference
 
 
+#: Epochs read at a time from an :class:`EpochStationsFile`.
+EPOCH_CHUNK = 1 << 17
+
+
 @dataclass(frozen=True)
 class EpochStations:
     """Per trajectory epoch, what places things on the chainage once the rails are built: the
@@ -247,6 +254,64 @@ class EpochStations:
         """(time, station) made invertible (:func:`~insrail.track.chainage.epoch_station_track`)."""
         return epoch_station_track(self.time_s, self.reference_m)
 
+    def chunks(self, size: int = EPOCH_CHUNK) -> Iterator[EpochStations]:
+        """The epochs ``size`` at a time, in order."""
+        for first in range(0, len(self.time_s), size):
+            part = slice(first, first + size)
+            yield EpochStations(self.time_s[part], self.reference_m[part], self.centre_m[part])
+
+
+@dataclass(frozen=True)
+class EpochStationsFile:
+    """:class:`EpochStations` kept on disk (a ``.npy`` of (n, 3) float64: time, reference, centre),
+    read by parts (plain reads: never held whole, never mapped)."""
+
+    path: Path
+
+    def chunks(self, size: int = EPOCH_CHUNK) -> Iterator[EpochStations]:
+        with open(self.path, "rb") as handle:
+            version = np.lib.format.read_magic(handle)
+            shape, _, _ = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                           else np.lib.format.read_array_header_2_0)(handle)
+            for first in range(0, shape[0], size):
+                count = min(size, shape[0] - first)
+                rows = np.fromfile(handle, dtype=np.float64, count=3 * count).reshape(count, 3)
+                if len(rows) != count:
+                    raise ValueError(f"{self.path}: the file ends after {first + len(rows)} of {shape[0]} epochs")
+                yield EpochStations(*(np.ascontiguousarray(column) for column in rows.T))
+
+    def load(self) -> EpochStations:
+        """All epochs in memory (24 B each)."""
+        parts = list(self.chunks())
+        return EpochStations(*(np.concatenate([getattr(p, name) for p in parts]) if parts else np.empty(0)
+                               for name in ("time_s", "reference_m", "centre_m")))
+
+    def track(self) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`EpochStations.track` (whole: 16 B per epoch with a station)."""
+        return self.load().track()
+
+
+class EpochStationsWriter:
+    """Writes an :class:`EpochStationsFile` of ``n`` epochs part by part under a temporary name:
+    :meth:`commit` puts it in place, :meth:`discard` removes what was written."""
+
+    def __init__(self, path: Path, n: int):
+        self.path, self.tmp = Path(path), Path(path).with_name(f".{Path(path).name}.tmp")
+        self.handle = open(self.tmp, "wb")
+        np.lib.format.write_array_header_1_0(self.handle, {"descr": "<f8", "fortran_order": False, "shape": (n, 3)})
+
+    def write(self, part: EpochStations) -> None:
+        self.handle.write(np.column_stack([part.time_s, part.reference_m, part.centre_m]).tobytes())
+
+    def commit(self) -> EpochStationsFile:
+        self.handle.close()
+        os.replace(self.tmp, self.path)
+        return EpochStationsFile(self.path)
+
+    def discard(self) -> None:
+        self.handle.close()
+        self.tmp.unlink(missing_ok=True)
+
 
 @dataclass(frozen=True)
 class TrackReconstruction:
@@ -257,12 +322,13 @@ class TrackReconstruction:
     deviations were taken from; ``line_fit_error`` says why they are None when the fit was
     asked for but failed (then the deviations are NaN, as with line fitting off).
     ``rails`` and ``stations`` (25 doubles per epoch) are None in a reconstruction kept for
-    later (the pipeline's stage cache): ``epochs`` holds what the later stages take from them.
+    later (the pipeline's stage cache): ``epochs`` holds what the later stages take from them
+    (on disk, :class:`EpochStationsFile`, from :func:`~insrail.track.streamed.reconstruct_track_streamed`).
     """
 
     sleepers: SleeperNumbering
     table: SleeperTable
-    epochs: EpochStations
+    epochs: EpochStations | EpochStationsFile
     rails: RailPoints | None = None  # in the stationing's frame (chainage.in_stationing_frame)
     stations: RailStations | None = None
     fitted: AlignmentFit | None = None

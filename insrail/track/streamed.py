@@ -25,9 +25,10 @@ written and read with plain IO: neither they nor a memory map count towards the 
 * σ and the attitude at the sleepers by :func:`chunked_interp` (the heading unwrapped with its
   correction's ``cumsum`` carried).
 
-The memory held: a chunk's arrays (~0.4 kB per epoch of a chunk), a band's points, the epochs'
-stations (:class:`~insrail.track.sleeper_table.EpochStations`, 24 B per epoch) and the
-sleeper-level results. A back-and-forth run puts more epochs into one band: documented, not capped.
+The memory held: a chunk's arrays (~0.4 kB per epoch of a chunk), a band's points and the
+sleeper-level results; the epochs' stations go to a file
+(:class:`~insrail.track.sleeper_table.EpochStationsFile`). A back-and-forth run puts more epochs
+into one band: documented, not capped.
 """
 
 from __future__ import annotations
@@ -64,6 +65,7 @@ from insrail.track.rails import POSE_FIELDS, RailPoints, ToEngineering, rails_fr
 from insrail.track.resample import DEFAULT_WINDOW_M, interpolate_in_station, sliding_window_fit
 from insrail.track.sleeper_table import (
     EpochStations,
+    EpochStationsWriter,
     TrackReconstruction,
     finished_reconstruction,
     grid_sleepers,
@@ -288,12 +290,12 @@ class _Streamed:
         return in_stationing_frame(trolley_rails, self.facing)
 
     # ------------------------------------------------------------------ pass B
-    def stations_pass(self, design: DesignAlignment | None, start_station_m: float | None) -> EpochStations:
-        """Spools the stations in the stationing's frame; the epochs' stations."""
+    def stations_pass(self, design: DesignAlignment | None, start_station_m: float | None,
+                      epochs: EpochStationsWriter) -> None:
+        """Spools the stations in the stationing's frame and writes the epochs' stations."""
         carries = {"centre": projection_carry(), "left": projection_carry(), "right": projection_carry()}
         self.ranges = {name: _Range([], []) for name in ("reference_station", "left_station", "right_station")}
         self.kept = {"gauge": [np.inf, -np.inf], "cant": [np.inf, -np.inf]}
-        epochs = EpochStations(np.empty(self.n), np.empty(self.n), np.empty(self.n))
         travelled, last, self.with_station = 0.0, None, 0
         for start, count in self.parts:
             self.check()
@@ -311,9 +313,7 @@ class _Streamed:
                 travelled = float(distance[-1])
                 stations = stations_from_travelled(rails, track, forward, distance, start_station_m,
                                                    self.direction)
-            part = slice(start, start + count)
-            epochs.time_s[part], epochs.reference_m[part], epochs.centre_m[part] = (
-                rails.time_s, stations.reference_m, stations.centre_m)
+            epochs.write(EpochStations(rails.time_s, stations.reference_m, stations.centre_m))
             for name, values in (("reference_station", stations.reference_m), ("centre_station", stations.centre_m),
                                  ("left_station", stations.left_m), ("right_station", stations.right_m)):
                 self.spool.write(name, start, values)
@@ -324,7 +324,6 @@ class _Streamed:
                 kept = stations.reference_m[np.isfinite(stations.reference_m) & np.isfinite(values)]
                 if len(kept):
                     self.kept[name] = [min(self.kept[name][0], kept.min()), max(self.kept[name][1], kept.max())]
-        return epochs
 
     # ------------------------------------------------------------------ the sleepers
     def station_track(self) -> StationTrack:
@@ -460,6 +459,7 @@ def reconstruct_track_streamed(
     stationing: str | float = WITH_TRAVEL,
     anchor: SleeperAnchor | None = None,
     spool_folder: Path | None = None,
+    epochs_file: Path | None = None,
     check: Callable[[], None] = lambda: None,
 ) -> tuple[TrackReconstruction, np.ndarray]:
     """:func:`~insrail.track.sleeper_table.reconstruct_track` of the trajectory in
@@ -467,15 +467,19 @@ def reconstruct_track_streamed(
     correction) and the fused attitude at its sleepers
     (:func:`~insrail.project.sleeper_parameters.sleeper_attitude_rad`), the same to the bit, in
     memory independent of the survey's length (see the module docstring). The reconstruction
-    carries no rails and stations. ``spool_folder``: where the temporary spool goes (removed on
-    every exit); ``check``: called per chunk (cancel)."""
+    carries no rails and stations; its epochs' stations are written to ``epochs_file``
+    (:class:`~insrail.track.sleeper_table.EpochStationsFile`; None: held in memory).
+    ``spool_folder``: where the temporary spool goes (removed on every exit); ``check``: called
+    per chunk (cancel)."""
     if design is None and start_station_m is None:
         raise ValueError("without a design alignment the start station (start_station_m) must be given")
     spool = _Spool(spool_folder)
+    epochs = EpochStationsWriter(epochs_file or spool.folder / "epochs.npy", trajectory_records(trajectory_file))
     try:
         run = _Streamed(trajectory_file, ellipsoid_name, trolley, gauge, to_engineering, spool, check)
         facing = run.rails_pass(design, stationing)
-        epochs = run.stations_pass(design, start_station_m)
+        run.stations_pass(design, start_station_m, epochs)
+        epochs = epochs.commit()
         track = run.station_track()
         if pulses is None:
             sleepers = grid_sleepers(track, spacing_m, first_number)
@@ -502,8 +506,12 @@ def reconstruct_track_streamed(
                                  design_gauge_m, trolley.rail_centre_spacing_m)
         attitude = attitude_at_times(sleepers.time_s, run.first_last_time(),
                                      lambda at: chunked_interp(at, run.epoch_blocks(("rpy",), unwrap_last=True)))
+        if epochs_file is None:  # in memory (the spool goes)
+            epochs = epochs.load()
     finally:
         spool.close()
+        if isinstance(epochs, EpochStationsWriter):  # not committed: failed or cancelled
+            epochs.discard()
     recon = finished_reconstruction(sleepers, table, {"epochs": epochs}, fit_line and design is None, fit_window_m,
                                     fit_overlap_m, design_gauge_m, trolley.rail_centre_spacing_m)
     return recon, attitude
