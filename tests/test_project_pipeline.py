@@ -114,7 +114,7 @@ def test_changing_the_tolerance_profile_reuses_the_fusion(processed, monkeypatch
     def not_again(*args, **kwargs):
         raise AssertionError("a cached stage ran again or a raw file was read")
 
-    for stage in ("fuse", "read_survey", "reconstruct_track", "optimise_amounts"):
+    for stage in ("fuse", "read_survey", "reconstruct_track_streamed", "optimise_amounts"):
         monkeypatch.setattr(pipeline, stage, not_again)
     # The surveyor adds a band-passed check to a copy of the default profile: a new assessment,
     # everything else (the adjustment too: the checks it holds are unchanged) cached.
@@ -414,8 +414,8 @@ def test_without_a_design_the_line_fit_is_cached_with_the_track(processed, monke
     assert len(line_files) == 1
 
     calls = []
-    real = pipeline.reconstruct_track
-    monkeypatch.setattr(pipeline, "reconstruct_track", lambda *a, **k: calls.append(1) or real(*a, **k))
+    real = pipeline.reconstruct_track_streamed
+    monkeypatch.setattr(pipeline, "reconstruct_track_streamed", lambda *a, **k: calls.append(1) or real(*a, **k))
     default = (resources_dir() / "tolerance_profiles" / "cn_hsr_ballastless.toml").read_text()
     (project.folder / "edited.toml").write_text(default + '\n[checks.d1_peak]\nkind = "band_peak"\nband = "D1"\nmax_abs_mm = 0.5\n')
     edited = process(replace(undesigned, tolerance_profile="edited.toml"), "short")
@@ -621,7 +621,7 @@ def test_events_take_turnouts_and_level_crossings_out_of_the_assessment(processe
     def not_again(*args, **kwargs):
         raise AssertionError("events must not rerun the fusion or the track reconstruction")
 
-    for stage in ("fuse", "reconstruct_track"):
+    for stage in ("fuse", "reconstruct_track_streamed"):
         monkeypatch.setattr(pipeline, stage, not_again)
     results = process(load_project(folder), "short")
     inside = [(1240.0, 1310.0), (crossing.station_from_m - 3.0, crossing.station_to_m + 3.0)]
