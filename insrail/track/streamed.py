@@ -79,10 +79,10 @@ from insrail.track.sleepers import (
     sleeper_detector_ahead_m,
 )
 
-#: Trajectory epochs worked on at a time (~0.7 km at a walking 2 m/s and 200 Hz).
-CHUNK_EPOCHS = 1 << 17
+#: Trajectory epochs worked on at a time (~0.3 km at a walking 2 m/s and 200 Hz; 2**17 holds 70 MB more at the peak).
+CHUNK_EPOCHS = 1 << 15
 #: Sleepers resampled at a time (the table's bands).
-BAND_SLEEPERS = 2000
+BAND_SLEEPERS = 500
 
 #: The spooled per-epoch quantities and their widths. Rails, cant and forward axis in the
 #: trolley's frame (turned to the stationing when read); stations in the stationing's.
