@@ -19,7 +19,8 @@ from insrail.track.rails import POSE_FIELDS
 from insrail.track.reversed_design import reversed_design
 from insrail.track.sleeper_table import reconstruct_track
 from insrail.track.sleepers import SleeperAnchor
-from insrail.track.streamed import _MedianSign, _unwrapped, chunked_interp, reconstruct_track_streamed
+from insrail.track.by_parts import chunked_interp
+from insrail.track.streamed import _MedianSign, _unwrapped, reconstruct_track_streamed
 
 
 @pytest.fixture(autouse=True)
@@ -54,7 +55,18 @@ def _both(tmp_path, truth, trajectory, gauge=None, pulses="file", **options):
                                                        epochs_file=tmp_path / "epochs.npy", **options)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["epochs.npy", "trajectory.npy"]  # the spool is gone
     assert recon.epochs.path == tmp_path / "epochs.npy"
+    _assert_same_track(whole.epochs.station_track(), recon.epochs.station_track(size=997))
     return (whole, attitude), (replace(recon, epochs=recon.epochs.load()), parts_attitude)
+
+
+def _assert_same_track(whole, parts):
+    """Two StationTracks (events are placed on them): the same ends and interpolations both ways."""
+    for name in ("first_time_s", "last_time_s", "low_station_m", "high_station_m", "against"):
+        assert getattr(whole, name) == getattr(parts, name), name
+    times = np.linspace(whole.first_time_s - 1.0, whole.last_time_s + 1.0, 1001)
+    stations = np.linspace(whole.low_station_m - 1.0, whole.high_station_m + 1.0, 1001)
+    np.testing.assert_array_equal(whole.station_at(times), parts.station_at(times))
+    np.testing.assert_array_equal(whole.time_at(stations), parts.time_at(stations))
 
 
 def _assert_same(whole, parts):

@@ -148,7 +148,8 @@ from insrail.track.landxml import format_landxml, read_landxml
 from insrail.track.linefit import element_table
 from insrail.track.parameters import line_speed_mps
 from insrail.track.sleeper_table import EpochStationsFile, SleeperTable, TrackReconstruction
-from insrail.track.streamed import chunked_interp, reconstruct_track_streamed
+from insrail.track.by_parts import chunked_interp
+from insrail.track.streamed import reconstruct_track_streamed
 from insrail.track.sleepers import AnchorError
 from insrail.track.tolerance import load_tolerance_profile
 

@@ -23,7 +23,7 @@ from insrail.track.events import (
     TrackEvent,
     inside,
     mark_not_assessed,
-    place_event,
+    place_event_on,
     turnouts_with_profiles,
 )
 from insrail.track.exceedance import Exceedance, SleeperGeometry, assess
@@ -46,7 +46,7 @@ def survey_events(project: Project, manifest: SurveyManifest, folder: Path,
         lists.append(read_events(project.resolve(project.events)))
     if not any(len(events) for events in lists):
         return ()
-    time_s, station_m = recon.epochs.track()
+    track = recon.epochs.station_track()
     odometer = None
     if any(e.unit == "odometer_m" for events in lists for e in events.events) and "odometer" in manifest.files:
         entry = manifest.files["odometer"]
@@ -56,7 +56,7 @@ def survey_events(project: Project, manifest: SurveyManifest, folder: Path,
         for event in events.events:
             source = f"{Path(events.source).name}, line {event.line}"
             try:
-                placed.append(place_event(event, time_s, station_m, odometer, source))
+                placed.append(place_event_on(event, track, odometer, source))
             except ValueError as error:
                 raise InputError(events.source, event.line, str(error)) from None
             if event.profile:

@@ -20,6 +20,7 @@ import numpy as np
 from insrail.io.events import Event
 from insrail.io.types import OdometerData
 from insrail.track.sleeper_table import SleeperTable
+from insrail.track.sleepers import StationTrack
 
 #: Shown to the user (workbook, PDF, GUI) for each kind.
 KIND_NAMES = {"turnout": "turnout", "level_crossing": "level crossing", "bridge": "bridge", "joint": "joint",
@@ -58,6 +59,14 @@ def place_event(event: Event, epoch_time_s: np.ndarray, epoch_station_m: np.ndar
     ValueError for a time or odometer reading outside the survey, or an odometer event without
     odometer data.
     """
+    finite = np.isfinite(epoch_station_m)
+    return place_event_on(event, StationTrack.of(epoch_time_s[finite], epoch_station_m[finite]), odometer, source)
+
+
+def place_event_on(event: Event, track: StationTrack, odometer: OdometerData | None = None,
+                   source: str = "") -> TrackEvent:
+    """:func:`place_event` on the reference rail's station over time as a
+    :class:`~insrail.track.sleepers.StationTrack` (e.g. interpolated by parts)."""
     if event.unit == "station_m":
         start, end = event.start, event.end
     else:
@@ -72,12 +81,11 @@ def place_event(event: Event, epoch_time_s: np.ndarray, epoch_station_m: np.ndar
                                  f"record ({distance.min():.3f}..{distance.max():.3f} m)")
             order = np.argsort(distance, kind="stable")
             times = np.interp(positions, distance[order], odometer.time_s[order])
-        finite = np.isfinite(epoch_station_m)
-        t, s = epoch_time_s[finite], epoch_station_m[finite]
-        if np.any((times < t[0]) | (times > t[-1])):
+        first, last = track.first_time_s, track.last_time_s
+        if np.any((times < first) | (times > last)):
             raise ValueError(f"time {times[0]:.3f}..{times[1]:.3f} s lies outside the survey's time on the track "
-                             f"({t[0]:.3f}..{t[-1]:.3f} s)")
-        start, end = np.sort(np.interp(times, t, s))
+                             f"({first:.3f}..{last:.3f} s)")
+        start, end = np.sort(track.station_at(times))
     return TrackEvent(event.kind, float(start), float(end), event.text, event.profile, source)
 
 

@@ -19,6 +19,7 @@ from insrail.io.survey import TrolleyGeometry
 from insrail.io.types import GaugeData, SleeperPulses
 from insrail.nav.trajectory import Trajectory
 from insrail.track.alignment import DesignAlignment
+from insrail.track.by_parts import station_track_by_parts
 from insrail.track.chainage import (
     WITH_TRAVEL,
     RailStations,
@@ -254,6 +255,10 @@ class EpochStations:
         """(time, station) made invertible (:func:`~insrail.track.chainage.epoch_station_track`)."""
         return epoch_station_track(self.time_s, self.reference_m)
 
+    def station_track(self) -> StationTrack:
+        """:meth:`track` as a :class:`~insrail.track.sleepers.StationTrack`."""
+        return StationTrack.of(*self.track())
+
     def chunks(self, size: int = EPOCH_CHUNK) -> Iterator[EpochStations]:
         """The epochs ``size`` at a time, in order."""
         for first in range(0, len(self.time_s), size):
@@ -268,17 +273,25 @@ class EpochStationsFile:
 
     path: Path
 
-    def chunks(self, size: int = EPOCH_CHUNK) -> Iterator[EpochStations]:
+    def _layout(self) -> tuple[int, int]:
+        """(where the data begin, the number of epochs)."""
         with open(self.path, "rb") as handle:
             version = np.lib.format.read_magic(handle)
             shape, _, _ = (np.lib.format.read_array_header_1_0 if version == (1, 0)
                            else np.lib.format.read_array_header_2_0)(handle)
-            for first in range(0, shape[0], size):
-                count = min(size, shape[0] - first)
-                rows = np.fromfile(handle, dtype=np.float64, count=3 * count).reshape(count, 3)
-                if len(rows) != count:
-                    raise ValueError(f"{self.path}: the file ends after {first + len(rows)} of {shape[0]} epochs")
-                yield EpochStations(*(np.ascontiguousarray(column) for column in rows.T))
+            return handle.tell(), shape[0]
+
+    def _part(self, offset: int, n: int, first: int, size: int) -> EpochStations:
+        count = min(size, n - first)
+        rows = np.fromfile(self.path, dtype=np.float64, count=3 * count, offset=offset + 24 * first)
+        if len(rows) != 3 * count:
+            raise ValueError(f"{self.path}: the file ends before epoch {first + count} of {n}")
+        return EpochStations(*(np.ascontiguousarray(column) for column in rows.reshape(count, 3).T))
+
+    def chunks(self, size: int = EPOCH_CHUNK) -> Iterator[EpochStations]:
+        offset, n = self._layout()
+        for first in range(0, n, size):
+            yield self._part(offset, n, first, size)
 
     def load(self) -> EpochStations:
         """All epochs in memory (24 B each)."""
@@ -286,9 +299,17 @@ class EpochStationsFile:
         return EpochStations(*(np.concatenate([getattr(p, name) for p in parts]) if parts else np.empty(0)
                                for name in ("time_s", "reference_m", "centre_m")))
 
-    def track(self) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`EpochStations.track` (whole: 16 B per epoch with a station)."""
-        return self.load().track()
+    def station_track(self, size: int = EPOCH_CHUNK) -> StationTrack:
+        """:meth:`EpochStations.station_track`, read and interpolated by parts."""
+        offset, n = self._layout()
+        firsts = range(0, n, size)
+
+        def finite_part(k: int) -> tuple[np.ndarray, np.ndarray]:
+            part = self._part(offset, n, firsts[k], size)
+            finite = np.isfinite(part.reference_m)
+            return part.time_s[finite], part.reference_m[finite]
+
+        return station_track_by_parts(len(firsts), finite_part)
 
 
 class EpochStationsWriter:

@@ -36,7 +36,7 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -47,7 +47,6 @@ from insrail.io.types import GaugeData, SleeperPulses
 from insrail.nav.trajectory import load_trajectory, trajectory_records
 from insrail.track.alignment import DesignAlignment, projection_carry
 from insrail.track.chainage import (
-    NO_STATIONS,
     WITH_TRAVEL,
     along_steps,
     design_cosines,
@@ -58,6 +57,7 @@ from insrail.track.chainage import (
     stations_on_design,
     track_and_forward,
 )
+from insrail.track.by_parts import chunked_interp, station_track_by_parts
 from insrail.track.deviations import NOMINAL_GAUGE_M
 from insrail.track.linefit_windows import DEFAULT_OVERLAP_M as DEFAULT_FIT_OVERLAP_M
 from insrail.track.linefit_windows import DEFAULT_WINDOW_M as DEFAULT_FIT_WINDOW_M
@@ -149,46 +149,6 @@ class _MedianSign:
         if self.negative != self.n // 2:
             return self.negative < self.n // 2
         return bool(np.mean(np.array([self.largest_negative, self.smallest_other])) >= 0.0)
-
-
-def chunked_interp(x: np.ndarray, blocks: Iterable[tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
-    """``np.interp(x, xp, fp)`` (``fp`` (m,) or (m, k): per column) where ``xp``/``fp`` are the
-    concatenation of ``blocks`` ((xp part, fp part), in order, the parts held one or two at a
-    time), to the bit: each query goes to the block holding the last xp <= it, with the next
-    block's first point appended, so it meets the same two neighbours as in one call."""
-    x = np.asarray(x, dtype=float)
-    order = np.argsort(x, kind="stable")
-    xs = x[order]
-    valid = int(np.count_nonzero(~np.isnan(xs)))  # NaN sort last, and interpolate to NaN
-    out, done, pending = None, 0, None
-
-    def fill(xp: np.ndarray, fp: np.ndarray, stop: int) -> None:
-        nonlocal out, done
-        if out is None:
-            out = np.full((len(x), *fp.shape[1:]), np.nan)
-        rows = order[done:stop]
-        if fp.ndim == 1:
-            out[rows] = np.interp(xs[done:stop], xp, fp)
-        else:
-            for column in range(fp.shape[1]):
-                out[rows, column] = np.interp(xs[done:stop], xp, fp[:, column])
-        done = stop
-
-    points = 0
-    for xp, fp in blocks:
-        if not len(xp):
-            continue
-        points += len(xp)
-        if pending is not None:
-            stop = int(np.searchsorted(xs[:valid], xp[0], side="left"))
-            fill(np.concatenate([pending[0], xp[:1]]), np.concatenate([pending[1], fp[:1]]), stop)
-        pending = (xp, fp)
-    if pending is None:
-        raise ValueError("array of sample points is empty")
-    fill(*pending, valid)
-    if points == 1:  # np.interp on one point gives its value even at NaN
-        fill(*pending, len(x))
-    return out
 
 
 def _unwrapped(previous: float | None, carried: float, angle: np.ndarray) -> tuple[np.ndarray, float]:
@@ -296,7 +256,7 @@ class _Streamed:
         carries = {"centre": projection_carry(), "left": projection_carry(), "right": projection_carry()}
         self.ranges = {name: _Range([], []) for name in ("reference_station", "left_station", "right_station")}
         self.kept = {"gauge": [np.inf, -np.inf], "cant": [np.inf, -np.inf]}
-        travelled, last, self.with_station = 0.0, None, 0
+        travelled, last = 0.0, None
         for start, count in self.parts:
             self.check()
             rails = self.rails(start, count)
@@ -319,7 +279,6 @@ class _Streamed:
                 self.spool.write(name, start, values)
                 if name in self.ranges:
                     self.ranges[name].add(values)
-            self.with_station += int(np.isfinite(stations.reference_m).sum())
             for name, values in (("gauge", rails.gauge_m), ("cant", rails.cant_m)):
                 kept = stations.reference_m[np.isfinite(stations.reference_m) & np.isfinite(values)]
                 if len(kept):
@@ -327,38 +286,8 @@ class _Streamed:
 
     # ------------------------------------------------------------------ the sleepers
     def station_track(self) -> StationTrack:
-        """The reference rail's monotone (time, station) track of
-        :func:`~insrail.track.chainage.epoch_station_track`, interpolated by parts."""
-        ranges = self.ranges["reference_station"]
-        with_data = [k for k in range(len(self.parts)) if np.isfinite(ranges.low[k])]
-        if self.with_station < 2:
-            raise ValueError(NO_STATIONS)
-        first_t, first_s = (v[0] for v in self._finite_reference(with_data[0]))
-        last_t, last_s = (v[-1] for v in self._finite_reference(with_data[-1]))
-        against = bool(last_s < first_s)
-        extreme = np.minimum if against else np.maximum
-        carried, running = [], -np.inf if not against else np.inf
-        for k in range(len(self.parts)):
-            carried.append(running)
-            if k in with_data:
-                running = float(extreme(running, ranges.low[k] if against else ranges.high[k]))
-        low, high = (running, first_s) if against else (first_s, running)
-
-        def monotone(k: int) -> tuple[np.ndarray, np.ndarray]:
-            t, s = self._finite_reference(k)
-            return t, extreme(extreme.accumulate(s), carried[k])
-
-        def by_time() -> Iterator:
-            for k in with_data:
-                yield monotone(k)
-
-        def by_station() -> Iterator:
-            for k in (reversed(with_data) if against else with_data):
-                t, s = monotone(k)
-                yield (s[::-1], t[::-1]) if against else (s, t)
-
-        return StationTrack(float(first_t), float(last_t), float(low), float(high), against,
-                            lambda t: chunked_interp(t, by_time()), lambda s: chunked_interp(s, by_station()))
+        """The reference rail's monotone (time, station) track, interpolated by parts."""
+        return station_track_by_parts(len(self.parts), self._finite_reference)
 
     def _finite_reference(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         start, count = self.parts[k]
