@@ -152,7 +152,7 @@ def test_leftovers_of_killed_runs_are_cleaned_by_the_next_run(tiny, tmp_path):
     results = project / "results"
     old = time.time() - LEFTOVER_AGE_S - 60
     leftovers = [results / f".{SURVEY}.abcd.new", results / f".{SURVEY}.old-12345",
-                 cache_of(project) / ".rinex-xyz"]
+                 cache_of(project) / ".rinex-xyz", cache_of(project) / ".track-spool-k2j4"]
     for folder in leftovers:
         folder.mkdir()
         (folder / "part").write_text("half")

@@ -195,3 +195,20 @@ def test_median_sign_by_parts(values, size):
     for k in range(0, len(values), size):
         sign.add(values[k:k + size])
     assert sign.non_negative() == bool(np.median(values) >= 0.0)
+
+
+def test_a_cancel_leaves_no_spool_and_no_epochs_file(tmp_path, truth):
+    path = tmp_path / "trajectory.npy"
+    save_trajectory(path, _part(truth.trajectory, _stretch(truth, seconds=30.0)))
+    calls = []
+
+    def cancel_at_the_tenth_part():
+        calls.append(1)
+        if len(calls) == 10:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        reconstruct_track_streamed(path, truth.trajectory.ellipsoid_name, truth.trolley, truth.gauge,
+                                   truth.to_engineering, design=truth.design, spool_folder=tmp_path,
+                                   epochs_file=tmp_path / "epochs.npy", check=cancel_at_the_tenth_part)
+    assert [p.name for p in tmp_path.iterdir()] == ["trajectory.npy"]

@@ -10,7 +10,8 @@ files matches its checksum (:func:`intact`); a truncated, empty, bit-flipped or 
 notice (:func:`collect_cache_notices` gathers them for the survey's summary). Results are copies,
 never links into the cache, so editing a result file cannot change the cache.
 
-Leftovers of killed runs (``.*.tmp`` files, ``.rinex-*`` staging folders) untouched for
+Leftovers of killed runs (``.*.tmp`` files, ``.rinex-*`` staging folders, ``.track-spool-*`` spools of
+the track by parts) untouched for
 :data:`LEFTOVER_AGE_S` are removed by :func:`clean_leftovers`: no write keeps a temporary file
 that long without touching it, so a younger one may belong to a run going on in parallel.
 """
@@ -123,7 +124,7 @@ def clean_leftovers(folder: Path, now: float | None = None) -> list[Path]:
         return removed
     for item in folder.iterdir():
         is_leftover = ((item.name.startswith(".") and item.name.endswith(".tmp") and item.is_file())
-                       or (item.name.startswith(".rinex-") and item.is_dir()))
+                       or (item.name.startswith((".rinex-", ".track-spool-")) and item.is_dir()))
         try:
             if not is_leftover or now - item.stat().st_mtime < LEFTOVER_AGE_S:
                 continue
