@@ -97,8 +97,9 @@ def test_on_the_design_with_pulses(tmp_path, truth):
     _assert_same(whole, parts)
 
 
-def test_on_a_design_stationed_against_the_travel_on_a_regular_grid(tmp_path, truth):
-    whole, parts = _both(tmp_path, truth, _part(truth.trajectory, _stretch(truth)), pulses=None,
+@pytest.mark.parametrize("pulses", [None, "file"], ids=["regular grid", "pulses"])
+def test_on_a_design_stationed_against_the_travel(tmp_path, truth, pulses):
+    whole, parts = _both(tmp_path, truth, _part(truth.trajectory, _stretch(truth)), pulses=pulses,
                          design=reversed_design(truth.design))
     assert np.all(np.diff(whole[0].table.time_s) < 0)  # against the travel
     _assert_same(whole, parts)
@@ -146,6 +147,16 @@ def test_a_reversal_across_chunk_edges(tmp_path, truth):
     gauge = GaugeData(trajectory.time_s, np.full(len(trajectory), 1.435))
     for options in ({"design": truth.design}, {"start_station_m": 500.0}):
         _assert_same(*_both(tmp_path, truth, trajectory, gauge=gauge, pulses=None, **options))
+
+
+def test_a_long_stop_spanning_many_chunks(tmp_path, truth):
+    rows = _stretch(truth, seconds=30.0)
+    stop = np.full(30_000, rows[len(rows) // 2])  # 150 s standing at one place: 30 chunks of 997 epochs
+    trajectory = _part(truth.trajectory, np.concatenate([rows[: len(rows) // 2], stop, rows[len(rows) // 2 + 1:]]))
+    dt = np.diff(truth.trajectory.time_s[rows[:2]])[0]
+    trajectory = replace(trajectory, time_s=trajectory.time_s[0] + dt * np.arange(len(trajectory)))
+    gauge = GaugeData(trajectory.time_s, 1.435 + 1e-4 * np.sin(np.arange(len(trajectory)) * 0.01))
+    _assert_same(*_both(tmp_path, truth, trajectory, gauge=gauge, pulses=None, design=truth.design))
 
 
 def test_memory_does_not_grow_with_the_length(tmp_path, truth):
