@@ -14,6 +14,7 @@ from insrail.io.types import ImuIncrements
 from insrail.nav import alignment, fusion, imu_screening
 from insrail.nav.earth import CGCS2000
 from insrail.nav.imu_profile import load_imu_profile
+from insrail.sim import gnss_faults
 
 TINY = 997  # records per chunk: hundreds of chunk boundaries in `short`
 WHOLE = 1 << 40
@@ -95,3 +96,58 @@ def test_fusion_in_tiny_chunks_is_the_fusion_in_one_chunk(survey, short_nav_surv
     east = (chunked.lon_rad - whole.lon_rad) * 6.39e6 * np.cos(whole.lat_rad)
     up = chunked.height_m - whole.height_m
     assert np.abs(np.column_stack([north, east, up])).max() <= 1e-5  # 0.01 mm
+
+
+def _fused_files(survey, imu, tmp_path, label):
+    """The fusion of ``imu`` with the survey's aiding: (trajectory.npy's bytes, what it said)."""
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions()
+    path = tmp_path / f"{label}.npy"
+    result = fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
+                         trajectory_file=path)
+    said = (result.rejections, result.stops, result.resets, result.statistics, result.info["imu_gaps"],
+            [n.message for n in result.info["notices"]], result.info["imu_outliers"], result.integrity)
+    return path.read_bytes(), repr(said)
+
+
+@pytest.fixture(scope="module")
+def faulty_imu(survey):
+    """The first 600 s of `short` in memory, with a 0.2 s dropout (bridged) and a spike (removed)
+    at chunk edges of TINY, and the GNSS with two outliers (rejected)."""
+    imu = survey.imu
+    n = 120_000
+    keep = np.ones(n, dtype=bool)
+    keep[50 * TINY - 20 : 50 * TINY + 20] = False  # 40 records: 0.2 s
+    dvel = imu.dvel_mps[:n].copy()
+    dvel[70 * TINY - 1, 0] += 0.3
+    first = survey.gnss.time_s[0]
+    gnss = gnss_faults.outliers(survey.gnss, [first + 200.0, first + 400.0], [(0.8, 0.6, 0.0), (0.0, 0.9, 0.0)])
+    return replace(survey, gnss=gnss), ImuIncrements(imu.time_s[:n][keep], imu.dtheta_rad[:n][keep].copy(),
+                                                     dvel[keep], gaps=imu_io.find_gaps(imu.time_s[:n][keep]),
+                                                     source=imu.source)
+
+
+def test_the_filter_fed_in_imu_chunks_gives_the_same_files_and_events(faulty_imu, tmp_path, monkeypatch):
+    """trajectory.npy byte-identical with the IMU fed to the filter 997 records at a time, by the
+    default chunk and whole; the same rejections, stops, resets, statistics, gaps and notices."""
+    survey, imu = faulty_imu
+    runs = {}
+    for label, chunk in (("tiny", TINY), ("default", fusion.IMU_CHUNK), ("whole", len(imu))):
+        monkeypatch.setattr(fusion, "IMU_CHUNK", chunk)
+        runs[label] = _fused_files(survey, imu, tmp_path, label)
+    said = runs["whole"][1]
+    assert "rejected" in said and "removed as an outlier" in said and "missing samples bridged" in said
+    assert runs["tiny"] == runs["whole"] and runs["default"] == runs["whole"]
+
+
+def test_the_mapped_imu_file_fuses_as_the_record_in_memory(survey, short_nav_survey, tmp_path, monkeypatch):
+    """read_imu_npy maps the increments (not held in memory); fused from the map, with its pages
+    let go behind the filter, the trajectory is the one fused from a copy in memory."""
+    path = short_nav_survey / survey.manifest.files["imu"].path
+    n = 100_000
+    mapped = imu_io.read_imu_npy(path)
+    assert isinstance(mapped.dtheta_rad.base, np.memmap) or isinstance(mapped.dtheta_rad, np.memmap)
+    mapped = replace(mapped, time_s=mapped.time_s[:n], dtheta_rad=mapped.dtheta_rad[:n], dvel_mps=mapped.dvel_mps[:n])
+    in_memory = replace(mapped, dtheta_rad=np.array(mapped.dtheta_rad), dvel_mps=np.array(mapped.dvel_mps))
+    monkeypatch.setattr(fusion, "IMU_CHUNK", TINY)
+    assert _fused_files(survey, mapped, tmp_path, "mapped") == _fused_files(survey, in_memory, tmp_path, "memory")

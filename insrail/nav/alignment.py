@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from insrail.io.imu import release_pages
 from insrail.io.types import ImuIncrements, OdometerData
 from insrail.nav import earth
 
@@ -178,6 +179,7 @@ def _still(imu: ImuIncrements, odometer, nominal, lo: int, first: int, stop: int
         noise = np.interp(time_s, t_pos, sigma)
         covered = (time_s - half >= t_pos[0]) & (time_s + half <= t_pos[-1])
         still &= ~covered | (np.hypot(*(ahead - behind).T) < 3.0 * np.sqrt(2.0) * noise + max_speed_mps * window_s)
+    release_pages(imu.dtheta_rad, imu.dvel_mps)  # a mapped file's pages behind the chunk
     return still[first - lo : stop - lo]
 
 

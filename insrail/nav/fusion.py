@@ -50,6 +50,7 @@ import numpy as np
 from numba import njit
 from scipy.special import chdtri
 
+from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth, integrity, kalman
@@ -342,17 +343,20 @@ class FusionResult:
 N_NAV = 9  # rows of Phi that are not diagonal: position, velocity, attitude errors
 RECORD_SIZE = N_NAV * N_STATES + (N_STATES - N_NAV) + N_STATES * (N_STATES + 1) + N_STATES
 PROGRESS_SEGMENTS = 2000
-EVENT_DONE, EVENT_REJECTED, EVENT_ACCEPTED, EVENT_FLUSH, EVENT_PROGRESS = 0, 1, 2, 3, 4
+EVENT_DONE, EVENT_REJECTED, EVENT_ACCEPTED, EVENT_FLUSH, EVENT_PROGRESS, EVENT_NEED_IMU = 0, 1, 2, 3, 4, 5
+#: IMU records the forward filter holds at a time (dtheta, dvel, dt: 56 B each, 3.7 MB); tests shrink it
+IMU_CHUNK = 1 << 16
 _UPPER = np.triu_indices(N_STATES)
 
 compiled = njit(cache=True, error_model="numpy")
 
 
 @compiled
-def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out, base, sums):
+def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out, base, sums, imu_base):
     """Strapdown over epochs start..stop-1 with compensated increments.
 
-    sensor = [bg(3), ba(3), sg(3), sa(3)] (estimates); out[k - base] receives nav after epoch k;
+    dtheta, dvel, dt: the IMU record from epoch imu_base on (row k - imu_base: epoch k; it must
+    hold start - 1); sensor = [bg(3), ba(3), sg(3), sa(3)] (estimates); out[k - base] receives nav after epoch k;
     sums = [sum v dt (3), sum dtheta_c (3), sum dvel_c (3), total dt, last dtheta_c (3),
     last dvel_c (3)].
     """
@@ -362,8 +366,9 @@ def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out,
     dv_prev = np.empty(3)
     th = np.empty(3)
     dv = np.empty(3)
-    for k in range(start, stop):
-        prev = k - 1 if k > 0 else 0
+    for epoch in range(start, stop):
+        k = epoch - imu_base
+        prev = k - 1 if epoch > 0 else k
         for a in range(3):
             th_prev[a] = (dtheta[prev, a] - sensor[a] * dt[prev]) / (1.0 + sensor[6 + a])
             dv_prev[a] = (dvel[prev, a] - sensor[3 + a] * dt[prev]) / (1.0 + sensor[9 + a])
@@ -371,7 +376,7 @@ def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out,
             dv[a] = (dvel[k, a] - sensor[3 + a] * dt[k]) / (1.0 + sensor[9 + a])
         _kernels.strapdown_step(nav, th_prev, dv_prev, th, dv, dt[k], earth_c, nav)
         for a in range(12):
-            out[k - base, a] = nav[a]
+            out[epoch - base, a] = nav[a]
         for a in range(3):
             sums[a] += nav[_kernels.NAV_VEL + a] * dt[k]
             sums[3 + a] += th[a]
@@ -565,12 +570,14 @@ def _unpack_records(records, phi, P_minus, P, dx):
 
 @compiled
 def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, phi_diag, ctx, sums, pending,
-                    dtheta, dvel, dt, t, epochs, earth_c, decay, gqg, gnss_decay_tau, gap_j, gap_q,
+                    dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, gnss_decay_tau, gap_j, gap_q,
                     first, source, observation, kinds, params, rows, row_first, gates,
                     nav_buf, nav_base, rec_buf, rec_fill, record, sensor_hist, sigma_hist,
                     nis_out, dof_out, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu):
     """Run the forward filter from pos = [segment j, entry e, phase] (phase 0: segment j not
     yet propagated) until an event; returns (event, entry) and leaves pos where to resume.
+    dtheta, dvel, dt: a chunk of the IMU record, IMU epochs imu_span[0] .. imu_span[1] - 1 (a
+    segment that it does not hold whole, with the epoch before it, returns EVENT_NEED_IMU);
     nav_base[0]: the IMU epoch of nav_buf's first row; rec_fill[0]: records in rec_buf."""
     n = x.shape[0]
     m_epochs = epochs.shape[0]
@@ -585,14 +592,16 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
         j = pos[0]
         if pos[2] == 0:
             a, b = epochs[j - 1] + 1, epochs[j] + 1
+            if a - 1 < imu_span[0] or b > imu_span[1]:
+                return EVENT_NEED_IMU, -1
             if b - nav_base[0] > nav_buf.shape[0] or (record and rec_fill[0] == rec_buf.shape[0]):
                 return EVENT_FLUSH, -1
             if j % PROGRESS_SEGMENTS == 0 and pos[1] != -2:
                 pos[1] = -2  # reported; the next call goes on
                 return EVENT_PROGRESS, -1
-            _propagate_segment(nav, dtheta, dvel, dt, a, b, sensor, earth_c, nav_buf, nav_base[0], sums)
+            _propagate_segment(nav, dtheta, dvel, dt, a, b, sensor, earth_c, nav_buf, nav_base[0], sums, imu_span[0])
             seg = sums[9]
-            meas.fill_context(ctx, nav, sums, dt[b - 1], odo[0], gnss_error, t[b - 1], earth_c)
+            meas.fill_context(ctx, nav, sums, dt[b - 1 - imu_span[0]], odo[0], gnss_error, t[b - 1], earth_c)
             for k in range(3):
                 f_b[k] = sums[6 + k] / seg
                 w_b[k] = sums[3 + k] / seg
@@ -943,7 +952,7 @@ class _Setup:
     the start, the update grid, the schedule and the noise."""
 
     imu: ImuIncrements
-    dt: np.ndarray
+    dt0: float  # the interval of the first record (the median of the first 1000)
     outliers: list
     notices: list
     stops: list
@@ -975,9 +984,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                 if not np.any((removed > gap.start_s) & (removed < gap.end_s))]  # a removed record says so itself
     n = len(imu)
     t = imu.time_s
-    dt = np.empty(n)
-    dt[1:] = np.diff(t)
-    dt[0] = np.median(dt[1 : min(n, 1000)])
+    dt0 = float(np.median(np.diff(t[: min(n, 1000)])))
 
     gnss = aiding.gnss
     fixes = next((m for m in aiding.measurements if isinstance(m, PositionFix)), None)
@@ -1003,7 +1010,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                 "fusion", f"no odometer: across the {track.source} outage of {track.time_s[i + 1] - track.time_s[i]:.0f} s "
                 f"after t = {track.time_s[i]:.1f} s the along-track position rests on the IMU alone",
                 time_s=float(track.time_s[i])))
-    gyro_quiet, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, 1.0 / dt[0])
+    gyro_quiet, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, 1.0 / dt0)
     positions = None
     if aiding.odometer is None and gnss is not None:
         positions = (track.time_s, track.local_ned(ellipsoid)[:, :2], track.horizontal_sigma_m())
@@ -1011,7 +1018,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                          max_accel_std_mps2=None if aiding.odometer is not None else accel_quiet)
     start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid, aiding.design_azimuth)
     notices.extend(start.notices)
-    every = max(int(round(1.0 / (options.update_rate_hz * dt[0]))), 1)
+    every = max(int(round(1.0 / (options.update_rate_hz * dt0))), 1)
     epochs = update_grid(t, start.epoch, every, aiding.measurements)
     motion = (np.array([s[0] for s in stops]), np.array([s[1] for s in stops]),
               stop_motion_sigma(imu, stops, profile.accel_vrw))
@@ -1021,7 +1028,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                             start.sigma_heading_rad)
     # chi-square quantile of the gate probability per degree of freedom (scipy.special: no scipy.stats import)
     gates = np.array([np.inf] + [chdtri(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
-    return _Setup(imu, dt, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
+    return _Setup(imu, dt0, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
                   noise, gqg, gates,
                   track if any(isinstance(m, OdometerNhc) and m.use_nhc for m in aiding.measurements) else None, c_vb)
 
@@ -1117,8 +1124,10 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     rejections: list[Rejection] = []
     resets: list[FilterReset] = []
     t = imu.time_s
-    dtheta = np.ascontiguousarray(imu.dtheta_rad, dtype=float)
-    dvel = np.ascontiguousarray(imu.dvel_mps, dtype=float)
+    # the IMU record a chunk at a time (never copied whole; a file-backed record's pages are let go)
+    imu_chunk = max(min(IMU_CHUNK, len(imu)), int(np.max(np.diff(epochs))) + 1 if m_epochs > 1 else 1)
+    dtheta, dvel, dt = np.empty((imu_chunk, 3)), np.empty((imu_chunk, 3)), np.empty(imu_chunk)
+    imu_span = np.zeros(2, dtype=np.int64)
     gnss_tau = float(options.gnss_correlated_tau_s)
     earth_c = _kernels.earth_constants(ellipsoid)
     if m_epochs > 1 and np.max(np.diff(epochs)) > nav_chunk:
@@ -1128,12 +1137,15 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
         event, e = _forward_kernel(
             state.pos, state.nav, state.sensor, state.gnss_error, state.odo, state.x, state.P, state.P_minus,
             state.phi_top, state.phi_diag, state.ctx, state.sums, state.pending,
-            dtheta, dvel, setup.dt, t, epochs, earth_c, decay, gqg, gnss_tau, gap_j, gap_q,
+            dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, gnss_tau, gap_j, gap_q,
             plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
             nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist,
             nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu)
         if event == EVENT_DONE:
             break
+        if event == EVENT_NEED_IMU:
+            _fill_imu_chunk(imu, setup.dt0, int(epochs[state.pos[0] - 1]), dtheta, dvel, dt, imu_span)
+            continue
         if event in (EVENT_FLUSH, EVENT_PROGRESS):
             if event == EVENT_PROGRESS:
                 check_cancel(cancel)
@@ -1173,6 +1185,24 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
             int(used[k]), int(rejected[k]), sum_sq[k, :dof_k].copy() if used[k] else None, float(sum_nis[k]),
             int(sum_dof[k])).summary()
     return _ForwardPass(sensor_hist, sigma_hist, nis, dof, accepted, statistics, rejections, resets)
+
+
+def _fill_imu_chunk(imu: ImuIncrements, dt0: float, start: int, dtheta, dvel, dt, span) -> None:
+    """IMU records start, start + 1, ... (as many as the buffers hold) into dtheta, dvel and dt (the
+    interval each integrates: dt0 for the first record), their epochs into span; a file-backed
+    record's pages are then released (``insrail.io.imu.release_pages``)."""
+    stop = min(start + len(dt), len(imu))
+    count = stop - start
+    dtheta[:count] = imu.dtheta_rad[start:stop]
+    dvel[:count] = imu.dvel_mps[start:stop]
+    t = imu.time_s
+    if start == 0:
+        dt[0] = dt0
+        np.subtract(t[1:stop], t[: stop - 1], out=dt[1:count])
+    else:
+        np.subtract(t[start:stop], t[start - 1 : stop - 1], out=dt[:count])
+    span[:] = start, stop
+    release_pages(imu.dtheta_rad, imu.dvel_mps)
 
 
 def fuse(
@@ -1316,12 +1346,23 @@ def _trajectory(t, nav_file: _EpochFile, epochs, sensor_hist, sigma_hist, correc
     ``indices``), the errors interpolated linearly between update epochs. Built in chunks
     from the IMU-rate record of the forward pass; with ``path`` each chunk is written to that
     ``trajectory.npy`` as it is made and the result is a memory map of the file."""
-    idx_all = np.arange(epochs[0], epochs[-1] + 1, output_every) if indices is None else np.asarray(indices)
-    n = len(idx_all)
+    if indices is None:  # every output_every-th epoch, made chunk by chunk (not one index per epoch held)
+        first = int(epochs[0])
+        n = len(range(first, int(epochs[-1]) + 1, output_every))
+        # chunks of at most ``chunk`` IMU epochs of the record, whatever the output rate
+        cuts = np.minimum(-(-np.arange(0, output_every * (n - 1) + chunk, chunk) // output_every), n)
+
+        def rows_of(c0, c1):
+            return first + output_every * np.arange(c0, c1)
+    else:
+        idx_all = np.asarray(indices)
+        n = len(idx_all)
+        cuts = np.searchsorted(idx_all, np.arange(idx_all[0], idx_all[-1] + chunk, chunk)) if n else np.zeros(1, int)
+
+        def rows_of(c0, c1):
+            return idx_all[c0:c1]
     writer = TrajectoryWriter(path, n) if path is not None else None
     records = None if writer is not None else np.empty(n, dtype=TRAJECTORY_DTYPE)
-    # chunks of at most ``chunk`` IMU epochs of the record, whatever the output rate
-    cuts = np.searchsorted(idx_all, np.arange(idx_all[0], idx_all[-1] + chunk, chunk)) if n else np.zeros(1, int)
     try:
         for c0, c1 in itertools.pairwise(cuts):
             if c1 == c0:
@@ -1329,7 +1370,7 @@ def _trajectory(t, nav_file: _EpochFile, epochs, sensor_hist, sigma_hist, correc
             if progress is not None:
                 check_cancel(cancel)
                 progress(c0 / n, "trajectory")
-            idx = idx_all[c0:c1]
+            idx = rows_of(c0, c1)
             rows = nav_file.read(int(idx[0]), int(idx[-1]) + 1)[idx - idx[0]]
             block = _trajectory_block(t, rows, idx, epochs, sensor_hist, sigma_hist, corrections, ell)
             if writer is not None:
