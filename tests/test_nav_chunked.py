@@ -128,12 +128,14 @@ def faulty_imu(survey):
 
 
 def test_the_filter_fed_in_imu_chunks_gives_the_same_files_and_events(faulty_imu, tmp_path, monkeypatch):
-    """trajectory.npy byte-identical with the IMU fed to the filter 997 records at a time, by the
-    default chunk and whole; the same rejections, stops, resets, statistics, gaps and notices."""
+    """trajectory.npy byte-identical with the IMU fed to the filter 997 records at a time (and the
+    filter-rate record kept 37 update epochs at a time), by the default chunks and whole; the same rejections, stops, resets, statistics, gaps and notices."""
     survey, imu = faulty_imu
     runs = {}
-    for label, chunk in (("tiny", TINY), ("default", fusion.IMU_CHUNK), ("whole", len(imu))):
+    for label, chunk, rows in (("tiny", TINY, 37), ("default", fusion.IMU_CHUNK, fusion.HIST_CHUNK),
+                               ("whole", len(imu), len(imu))):
         monkeypatch.setattr(fusion, "IMU_CHUNK", chunk)
+        monkeypatch.setattr(fusion, "HIST_CHUNK", rows)  # update epochs of the filter-rate record held at a time
         runs[label] = _fused_files(survey, imu, tmp_path, label)
     said = runs["whole"][1]
     assert "rejected" in said and "removed as an outlier" in said and "missing samples bridged" in said
