@@ -153,3 +153,42 @@ def test_the_mapped_imu_file_fuses_as_the_record_in_memory(survey, short_nav_sur
     in_memory = replace(mapped, dtheta_rad=np.array(mapped.dtheta_rad), dvel_mps=np.array(mapped.dvel_mps))
     monkeypatch.setattr(fusion, "IMU_CHUNK", TINY)
     assert _fused_files(survey, mapped, tmp_path, "mapped") == _fused_files(survey, in_memory, tmp_path, "memory")
+
+
+def test_fusion_and_its_covariance_analysis_grow_only_at_the_filter_rate(survey, tmp_path, monkeypatch):
+    """tracemalloc peaks of fuse + epoch_quality (the pipeline's path: the smoother's record, no
+    IMU data in the analysis) on the first L and 2L epochs of `short`, chunks shrunk: nothing is
+    held per IMU epoch (the increments, their intervals, the output indices) nor the filter-rate
+    record (sensor estimates, sigmas, smoother corrections: 1.1 kB per update epoch); what still
+    grows is the forward solution at the update epochs, the schedule and the analysis's figures
+    (0.37 kB per update epoch measured, 1.6 kB before)."""
+    from memory_support import peak_growth_bytes
+
+    from insrail.quality.survey import epoch_quality
+
+    monkeypatch.setattr(fusion, "IMU_CHUNK", TINY)
+    monkeypatch.setattr(fusion, "HIST_CHUNK", 37)
+    monkeypatch.setattr(fusion, "TRAJECTORY_CHUNK", TINY)
+    monkeypatch.setattr(imu_screening, "UNITS_CHUNK", TINY)
+    monkeypatch.setattr(fusion, "screen_imu", partial(imu_screening.screen_imu, chunk=TINY))
+    monkeypatch.setattr(fusion, "detect_stops", partial(alignment.detect_stops, chunk=TINY))
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions()
+    aiding = fusion.aiding_for(survey, options, profile)
+    imu = survey.imu
+    inputs = {n: ImuIncrements(imu.time_s[:n].copy(), np.array(imu.dtheta_rad[:n]), np.array(imu.dvel_mps[:n]),
+                               source=imu.source) for n in (20_000, 40_000)}
+    updates = {}
+
+    def run(n):
+        with fusion.SmootherStore(chunk=37) as store:
+            result = fusion.fuse(inputs[n], aiding, profile, options, CGCS2000, covariance_store=store,
+                                 trajectory_file=tmp_path / f"{n}.npy")  # as the pipeline streams it
+            epoch_quality(replace(survey, imu=None), result, options, profile, CGCS2000, covariance_store=store)
+        updates[n] = len(result.timeline.time_s)
+
+    run(20_000)  # compiled and cached once, outside the traced runs
+    short, long = peak_growth_bytes(run, 20_000)
+    more = updates[40_000] - updates[20_000]
+    assert more > 900
+    assert long - short <= 700 * more + (1 << 16), (long - short) / more

@@ -818,6 +818,8 @@ class _RowFile:
         self.file.close()
 
 
+#: IMU epochs of the trajectory made at a time (about 45 MB while one is made)
+TRAJECTORY_CHUNK = 100_000
 #: update epochs of the filter-rate record held at a time while it is made
 HIST_CHUNK = 4096
 #: the forward pass's row per update epoch: sensor estimates and odometer scale (13), sigmas (N)
@@ -1397,13 +1399,14 @@ def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, out: _RowFile, cancel
 
 def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_rows: _RowFile | None, gps_week, ell,
                 smoothed, output_every: int = 1, indices: np.ndarray | None = None, path: Path | None = None,
-                progress=None, cancel: CancelToken = None, chunk: int = 100_000) -> Trajectory:
+                progress=None, cancel: CancelToken = None) -> Trajectory:
     """Trajectory at every ``output_every``-th IMU epoch from the first update epoch on (or at
     ``indices``), the errors (``smoothed_rows``: the smoother's; None: none) interpolated
     linearly between update epochs. Built in chunks from the IMU-rate record of the forward pass
     and the filter-rate rows of the update epochs each chunk lies between; with ``path`` each
     chunk is written to that ``trajectory.npy`` as it is made and the result is a memory map of
     the file."""
+    chunk = TRAJECTORY_CHUNK
     if indices is None:  # every output_every-th epoch, made chunk by chunk (not one index per epoch held)
         first = int(epochs[0])
         n = len(range(first, int(epochs[-1]) + 1, output_every))
