@@ -192,3 +192,15 @@ def test_fusion_and_its_covariance_analysis_grow_only_at_the_filter_rate(survey,
     more = updates[40_000] - updates[20_000]
     assert more > 900
     assert long - short <= 700 * more + (1 << 16), (long - short) / more
+
+
+def test_the_running_sum_of_the_odometer_check_is_numpys_to_the_bit(survey, monkeypatch):
+    from insrail.project import plausibility
+
+    dvel = survey.imu.dvel_mps  # mapped from the file
+    records = [0, 5, TINY - 1, TINY, 3 * TINY + 7, 20 * TINY, len(dvel) - 1]
+    whole = np.cumsum(np.asarray(dvel[:, 0]))[records]
+    monkeypatch.setattr(plausibility, "RUNNING_SUM_CHUNK", TINY)
+    got, values = plausibility._running_sum_at(dvel, 0, records)
+    assert got == records
+    np.testing.assert_array_equal(values, whole)
