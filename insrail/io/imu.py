@@ -46,9 +46,9 @@ def _check_increment_magnitudes(path: Path, time_s: np.ndarray, dtheta_norm: np.
     increments' norms, :func:`_norms`)."""
     if len(time_s) < 2:
         return
-    interval = float(np.median(np.diff(time_s)))
-    specific_force = float(np.median(dvel_norm)) / interval
-    turn_rate = float(np.median(dtheta_norm)) / interval
+    interval = float(np.median(np.diff(time_s), overwrite_input=True))
+    specific_force = float(np.median(dvel_norm, overwrite_input=True)) / interval
+    turn_rate = float(np.median(dtheta_norm, overwrite_input=True)) / interval
     if specific_force > _MAX_MEDIAN_SPECIFIC_FORCE_MPS2:
         raise InputError(path, None, f"velocity increments imply a median specific force of "
                          f"{specific_force:.0f} m/s^2 at {1 / interval:.0f} Hz: the file seems to hold "

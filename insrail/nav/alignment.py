@@ -208,7 +208,7 @@ def detect_stops(
     :func:`stop_thresholds`. ``chunk`` records are judged at a time (memory bounded for any
     length; the result does not depend on it).
     """
-    nominal = np.median(np.diff(imu.time_s))
+    nominal = np.median(np.diff(imu.time_s), overwrite_input=True)
     n = len(imu.time_s)
     # a chunk of records at a time, each with the records its windows reach on either side
     margin = 2 * max(int(round(window_s / nominal)), 2) + 2 * max(int(round(ACCEL_BLOCK_S / nominal)), 1)

@@ -24,12 +24,17 @@ Smoother
     6.2). The corrections are kept at the filter rate and interpolated to the IMU rate while
     the trajectory is written.
 
-Memory stays bounded: what the backward pass needs per segment (Phi, P-, P+, dx packed: 916
-doubles, 7.3 kB) goes to a temporary file in chunks and is read back chunk by chunk in
-reverse; the forward solution at the IMU rate (12 doubles per epoch) goes to another
-temporary file; the trajectory is built from both in chunks and, with ``trajectory_file``,
-written to disk as it is made. What stays in memory is at the filter rate (sensor
-estimates, sigmas, corrections: about 0.6 kB per update epoch).
+Memory stays bounded: the IMU increments reach the filter through a buffer of IMU_CHUNK
+records refilled at an event (a file :func:`insrail.io.imu.read_imu_npy` mapped is never held
+whole: its pages are let go behind the buffer); what the backward pass needs per segment (Phi,
+P-, P+, dx packed: 916 doubles, 7.3 kB) goes to a temporary file in chunks and is read back
+chunk by chunk in reverse; the forward solution at the IMU rate (12 doubles per epoch), the
+forward pass's sensor estimates and sigmas and the smoother's corrections and sigmas per
+update epoch go to other temporary files; the trajectory is built from them in chunks (each
+reading the update epochs it lies between) and, with ``trajectory_file``, written to disk as
+it is made. What still stays in memory per update epoch: the forward solution there
+(``FusionResult.forward``, 32 doubles), the schedule's and the innovations' entries, the
+timeline (about 0.4 kB per update epoch); per IMU epoch, the times (8 bytes).
 
 Error-state conventions: see ``insrail.nav.error_model``. Navigation errors are computed
 minus true (subtracted on feedback); sensor-error states are the residual errors not yet

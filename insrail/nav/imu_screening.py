@@ -112,7 +112,7 @@ def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.
     if n < 3:
         return imu, (), []
     check_units(imu, profile)
-    nominal = float(np.median(np.diff(imu.time_s)))
+    nominal = float(np.median(np.diff(imu.time_s), overwrite_input=True))
     increments = {"specific force": imu.dvel_mps, "angular rate": imu.dtheta_rad}
     limits = {"specific force": (profile.specific_force_range_mps2, profile.specific_force_jump_mps2),
               "angular rate": (profile.rate_range_radps, profile.rate_jump_radps)}
@@ -260,7 +260,7 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
     (less than two seconds of data; no rest for the gyro)."""
     n = len(imu)
     step = np.diff(imu.time_s)
-    nominal = float(np.median(step)) if n > 1 else 0.0
+    nominal = float(np.median(step, overwrite_input=True)) if n > 1 else 0.0
     if not nominal > 0.0 or n * nominal < 2.0 * _BLOCK_S:
         return
     rate_hz = 1.0 / nominal
