@@ -101,8 +101,10 @@ def release_pages(*arrays: np.ndarray) -> None:
                 mappings[id(mapping)] = mapping
                 break
             array = array.base
+    advice = getattr(mmap, "MADV_DONTNEED", None)  # Linux and macOS; elsewhere the pages stay
     for mapping in mappings.values():
-        mapping.madvise(mmap.MADV_DONTNEED)
+        if advice is not None:
+            mapping.madvise(advice)
 
 
 def _npy_header(path: Path, handle) -> tuple[tuple[int, ...], bool, np.dtype]:
