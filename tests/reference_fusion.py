@@ -85,7 +85,8 @@ class ReferenceResult:
 
 def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1) -> ReferenceResult:
     setup = fusion._prepare(imu, aiding, profile, options, ellipsoid)
-    imu, epochs, plan, dt = setup.imu, setup.epochs, setup.plan, setup.dt
+    imu, epochs, plan = setup.imu, setup.epochs, setup.plan
+    dt = np.concatenate([[setup.dt0], np.diff(imu.time_s)])
     t = imu.time_s
     n = len(imu)
     nav = np.array(setup.start.nav, dtype=float)
@@ -110,7 +111,7 @@ def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1) -> R
     records = []
     for j in range(1, m_epochs):
         a, b = epochs[j - 1] + 1, epochs[j] + 1
-        fusion._propagate_segment(nav, imu.dtheta_rad, imu.dvel_mps, dt, a, b, sensor, earth_c, nav_store, 0, sums)
+        fusion._propagate_segment(nav, imu.dtheta_rad, imu.dvel_mps, dt, a, b, sensor, earth_c, nav_store, 0, sums, 0)
         seg = sums[9]
         lat, lon = lat_lon_from_q_ne(nav[0:4])
         snap = NavSnapshot(

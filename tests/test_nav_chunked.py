@@ -14,6 +14,7 @@ from insrail.io.types import ImuIncrements
 from insrail.nav import alignment, fusion, imu_screening
 from insrail.nav.earth import CGCS2000
 from insrail.nav.imu_profile import load_imu_profile
+from insrail.sim import gnss_faults
 
 TINY = 997  # records per chunk: hundreds of chunk boundaries in `short`
 WHOLE = 1 << 40
@@ -95,3 +96,111 @@ def test_fusion_in_tiny_chunks_is_the_fusion_in_one_chunk(survey, short_nav_surv
     east = (chunked.lon_rad - whole.lon_rad) * 6.39e6 * np.cos(whole.lat_rad)
     up = chunked.height_m - whole.height_m
     assert np.abs(np.column_stack([north, east, up])).max() <= 1e-5  # 0.01 mm
+
+
+def _fused_files(survey, imu, tmp_path, label):
+    """The fusion of ``imu`` with the survey's aiding: (trajectory.npy's bytes, what it said)."""
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions()
+    path = tmp_path / f"{label}.npy"
+    result = fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
+                         trajectory_file=path)
+    said = (result.rejections, result.stops, result.resets, result.statistics, result.info["imu_gaps"],
+            [n.message for n in result.info["notices"]], result.info["imu_outliers"], result.integrity)
+    return path.read_bytes(), repr(said)
+
+
+@pytest.fixture(scope="module")
+def faulty_imu(survey):
+    """The first 600 s of `short` in memory, with a 0.2 s dropout (bridged) and a spike (removed)
+    at chunk edges of TINY, and the GNSS with two outliers (rejected)."""
+    imu = survey.imu
+    n = 120_000
+    keep = np.ones(n, dtype=bool)
+    keep[50 * TINY - 20 : 50 * TINY + 20] = False  # 40 records: 0.2 s
+    dvel = imu.dvel_mps[:n].copy()
+    dvel[70 * TINY - 1, 0] += 0.3
+    first = survey.gnss.time_s[0]
+    gnss = gnss_faults.outliers(survey.gnss, [first + 200.0, first + 400.0], [(0.8, 0.6, 0.0), (0.0, 0.9, 0.0)])
+    return replace(survey, gnss=gnss), ImuIncrements(imu.time_s[:n][keep], imu.dtheta_rad[:n][keep].copy(),
+                                                     dvel[keep], gaps=imu_io.find_gaps(imu.time_s[:n][keep]),
+                                                     source=imu.source)
+
+
+def test_the_filter_fed_in_imu_chunks_gives_the_same_files_and_events(faulty_imu, tmp_path, monkeypatch):
+    """trajectory.npy byte-identical with the IMU fed to the filter 997 records at a time (and the
+    filter-rate record kept 37 update epochs at a time), by the default chunks and whole; the same rejections, stops, resets, statistics, gaps and notices."""
+    survey, imu = faulty_imu
+    runs = {}
+    for label, chunk, rows in (("tiny", TINY, 37), ("default", fusion.IMU_CHUNK, fusion.HIST_CHUNK),
+                               ("whole", len(imu), len(imu))):
+        monkeypatch.setattr(fusion, "IMU_CHUNK", chunk)
+        monkeypatch.setattr(fusion, "HIST_CHUNK", rows)  # update epochs of the filter-rate record held at a time
+        runs[label] = _fused_files(survey, imu, tmp_path, label)
+    said = runs["whole"][1]
+    assert "rejected" in said and "removed as an outlier" in said and "missing samples bridged" in said
+    assert runs["tiny"] == runs["whole"] and runs["default"] == runs["whole"]
+
+
+def test_the_mapped_imu_file_fuses_as_the_record_in_memory(survey, short_nav_survey, tmp_path, monkeypatch):
+    """read_imu_npy maps the increments (not held in memory); fused from the map, with its pages
+    let go behind the filter, the trajectory is the one fused from a copy in memory."""
+    path = short_nav_survey / survey.manifest.files["imu"].path
+    n = 100_000
+    mapped = imu_io.read_imu_npy(path)
+    assert isinstance(mapped.dtheta_rad.base, np.memmap) or isinstance(mapped.dtheta_rad, np.memmap)
+    mapped = replace(mapped, time_s=mapped.time_s[:n], dtheta_rad=mapped.dtheta_rad[:n], dvel_mps=mapped.dvel_mps[:n])
+    in_memory = replace(mapped, dtheta_rad=np.array(mapped.dtheta_rad), dvel_mps=np.array(mapped.dvel_mps))
+    monkeypatch.setattr(fusion, "IMU_CHUNK", TINY)
+    assert _fused_files(survey, mapped, tmp_path, "mapped") == _fused_files(survey, in_memory, tmp_path, "memory")
+
+
+def test_fusion_and_its_covariance_analysis_grow_only_at_the_filter_rate(survey, tmp_path, monkeypatch):
+    """tracemalloc peaks of fuse + epoch_quality (the pipeline's path: the smoother's record, no
+    IMU data in the analysis) on the first L and 2L epochs of `short`, chunks shrunk: nothing is
+    held per IMU epoch (the increments, their intervals, the output indices) nor the filter-rate
+    record (sensor estimates, sigmas, smoother corrections: 1.1 kB per update epoch); what still
+    grows is the forward solution at the update epochs, the schedule and the analysis's figures
+    (0.37 kB per update epoch measured, 1.6 kB before)."""
+    from memory_support import peak_growth_bytes
+
+    from insrail.quality.survey import epoch_quality
+
+    monkeypatch.setattr(fusion, "IMU_CHUNK", TINY)
+    monkeypatch.setattr(fusion, "HIST_CHUNK", 37)
+    monkeypatch.setattr(fusion, "TRAJECTORY_CHUNK", TINY)
+    monkeypatch.setattr(imu_screening, "UNITS_CHUNK", TINY)
+    monkeypatch.setattr(fusion, "screen_imu", partial(imu_screening.screen_imu, chunk=TINY))
+    monkeypatch.setattr(fusion, "detect_stops", partial(alignment.detect_stops, chunk=TINY))
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions()
+    aiding = fusion.aiding_for(survey, options, profile)
+    imu = survey.imu
+    inputs = {n: ImuIncrements(imu.time_s[:n].copy(), np.array(imu.dtheta_rad[:n]), np.array(imu.dvel_mps[:n]),
+                               source=imu.source) for n in (20_000, 40_000)}
+    updates = {}
+
+    def run(n):
+        with fusion.SmootherStore(chunk=37) as store:
+            result = fusion.fuse(inputs[n], aiding, profile, options, CGCS2000, covariance_store=store,
+                                 trajectory_file=tmp_path / f"{n}.npy")  # as the pipeline streams it
+            epoch_quality(replace(survey, imu=None), result, options, profile, CGCS2000, covariance_store=store)
+        updates[n] = len(result.timeline.time_s)
+
+    run(20_000)  # compiled and cached once, outside the traced runs
+    short, long = peak_growth_bytes(run, 20_000)
+    more = updates[40_000] - updates[20_000]
+    assert more > 900
+    assert long - short <= 700 * more + (1 << 16), (long - short) / more
+
+
+def test_the_running_sum_of_the_odometer_check_is_numpys_to_the_bit(survey, monkeypatch):
+    from insrail.project import plausibility
+
+    dvel = survey.imu.dvel_mps  # mapped from the file
+    records = [0, 5, TINY - 1, TINY, 3 * TINY + 7, 20 * TINY, len(dvel) - 1]
+    whole = np.cumsum(np.asarray(dvel[:, 0]))[records]
+    monkeypatch.setattr(plausibility, "RUNNING_SUM_CHUNK", TINY)
+    got, values = plausibility._running_sum_at(dvel, 0, records)
+    assert got == records
+    np.testing.assert_array_equal(values, whole)

@@ -72,6 +72,16 @@ def test_the_fusions_record_gives_the_replays_figures(recorded, fused):
     assert fractions == sorted(fractions) and fractions[-1] == 1.0
 
 
+def test_the_record_is_analysed_without_the_imu_data(recorded):
+    """The pipeline drops the 200 Hz IMU record before the analysis of the fusion's record: the
+    figures are the same to the bit without it."""
+    survey, result, store = recorded
+    with_imu = epoch_quality(survey, result, ellipsoid=CGCS2000, covariance_store=store)
+    without = epoch_quality(replace(survey, imu=None), result, ellipsoid=CGCS2000, covariance_store=store)
+    for name, value in vars(with_imu).items():
+        np.testing.assert_array_equal(getattr(without, name), value, err_msg=name)
+
+
 def test_a_record_of_another_fusion_is_refused(recorded):
     survey, result, store = recorded
     with SmootherStore() as other, pytest.raises(ValueError, match="not this fusion's record"):

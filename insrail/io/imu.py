@@ -6,6 +6,7 @@ over the interval ending at each time stamp, body frame forward-right-down.
 
 from __future__ import annotations
 
+import mmap
 from pathlib import Path
 
 import numpy as np
@@ -34,15 +35,20 @@ _MAX_MEDIAN_SPECIFIC_FORCE_MPS2 = 10 * STANDARD_GRAVITY_MPS2
 _MAX_MEDIAN_TURN_RATE_RADPS = 20.0
 
 
-def _check_increment_magnitudes(path: Path, time_s: np.ndarray, dtheta: np.ndarray,
-                                dvel: np.ndarray) -> None:
-    """Refuse files that hold rates (rad/s, m/s^2) where increments are expected."""
+def _norms(increments: np.ndarray) -> np.ndarray:
+    """The norm of each (3,) increment, without (n, 3) temporaries."""
+    return np.sqrt(np.einsum("ij,ij->i", increments, increments))
+
+
+def _check_increment_magnitudes(path: Path, time_s: np.ndarray, dtheta_norm: np.ndarray,
+                                dvel_norm: np.ndarray) -> None:
+    """Refuse files that hold rates (rad/s, m/s^2) where increments are expected (from the
+    increments' norms, :func:`_norms`)."""
     if len(time_s) < 2:
         return
-    interval = float(np.median(np.diff(time_s)))
-    # the norms without (n, 3) temporaries
-    specific_force = float(np.median(np.sqrt(np.einsum("ij,ij->i", dvel, dvel)))) / interval
-    turn_rate = float(np.median(np.sqrt(np.einsum("ij,ij->i", dtheta, dtheta)))) / interval
+    interval = float(np.median(np.diff(time_s), overwrite_input=True))
+    specific_force = float(np.median(dvel_norm, overwrite_input=True)) / interval
+    turn_rate = float(np.median(dtheta_norm, overwrite_input=True)) / interval
     if specific_force > _MAX_MEDIAN_SPECIFIC_FORCE_MPS2:
         raise InputError(path, None, f"velocity increments imply a median specific force of "
                          f"{specific_force:.0f} m/s^2 at {1 / interval:.0f} Hz: the file seems to hold "
@@ -62,7 +68,7 @@ def read_imu_kfgins(path: str | Path) -> ImuIncrements:
     table = read_numeric_table(path, columns=(7,), column_names=KFGINS_IMU_COLUMNS)
     time_s = check_table_time(table)
     dtheta, dvel = table.values[:, 1:4], table.values[:, 4:7]
-    _check_increment_magnitudes(table.path, time_s, dtheta, dvel)
+    _check_increment_magnitudes(table.path, time_s, _norms(dtheta), _norms(dvel))
     return ImuIncrements(time_s=np.ascontiguousarray(time_s), dtheta_rad=np.ascontiguousarray(dtheta),
                          dvel_mps=np.ascontiguousarray(dvel), gps_week=header_gps_week(table.path, table.comments),
                          gaps=find_gaps(time_s), source=table.path)
@@ -79,8 +85,26 @@ def write_imu_kfgins(path: str | Path, imu: ImuIncrements) -> None:
                         ["%.9f"] + ["%.16e"] * 6, header)
 
 
-#: records read at a time from a binary IMU file (14 MB): the file itself is never mapped whole
+#: records read at a time from a binary IMU file (14 MB) while it is checked
 NPY_READ_CHUNK = 1 << 18
+
+
+def release_pages(*arrays: np.ndarray) -> None:
+    """Let the kernel drop the pages of a read-only file mapping behind ``arrays`` (views of the
+    memory map :func:`read_imu_npy` returns): touched pages of a mapping count in the resident
+    set until then. Arrays in memory are left alone."""
+    mappings = {}
+    for array in arrays:
+        while array is not None:
+            mapping = getattr(array, "_mmap", None)
+            if mapping is not None:
+                mappings[id(mapping)] = mapping
+                break
+            array = array.base
+    advice = getattr(mmap, "MADV_DONTNEED", None)  # Linux and macOS; elsewhere the pages stay
+    for mapping in mappings.values():
+        if advice is not None:
+            mapping.madvise(advice)
 
 
 def _npy_header(path: Path, handle) -> tuple[tuple[int, ...], bool, np.dtype]:
@@ -97,9 +121,11 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
     """Binary IMU increments: a .npy structured array with fields
     ``time_s`` (f8), ``dtheta_rad`` (f8, 3), ``dvel_mps`` (f8, 3), little-endian.
 
-    Read in chunks of NPY_READ_CHUNK records with plain reads (a memory map of the file would keep
-    every page it touched resident: 56 B per record on top of the arrays). Errors name the 0-based
-    record index.
+    Checked in chunks of NPY_READ_CHUNK records with plain reads. The times are held in memory;
+    the increments of a file in the layout above (little-endian float64) are read-only views of a
+    memory map of the file, never held whole: whoever reads them in chunks lets the pages go behind
+    the cursor (:func:`release_pages`; the fusion does). Other float fields are converted into
+    memory. Errors name the 0-based record index.
     """
     path = Path(path)
     if not path.exists():
@@ -123,23 +149,36 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
         def fail(index: int, message: str):
             raise InputError(path, index, message, unit="index")
 
-        time_s, dtheta, dvel = np.empty(n), np.empty((n, 3)), np.empty((n, 3))
+        offset = handle.tell()
+        mapped = all(dtype.fields[name][0].base == np.dtype("<f8") for name in ("dtheta_rad", "dvel_mps"))
+        time_s = np.empty(n)
+        held = {} if mapped else {"dtheta_rad": np.empty((n, 3)), "dvel_mps": np.empty((n, 3))}
+        norms = {"dtheta_rad": np.empty(n), "dvel_mps": np.empty(n)}
         for start in range(0, n, NPY_READ_CHUNK):
             count = min(NPY_READ_CHUNK, n - start)
             records = np.fromfile(handle, dtype=dtype, count=count)
             if len(records) != count:
                 raise InputError(path, None, f"the file ends after {start + len(records)} of its {n} records")
-            for name, out in (("time_s", time_s), ("dtheta_rad", dtheta), ("dvel_mps", dvel)):
-                values = out[start : start + count]
-                values[:] = records[name]
+            for name in IMU_NPY_DTYPE.names:
+                values = np.asarray(records[name], dtype=np.float64)
+                if name == "time_s":
+                    time_s[start : start + count] = values
+                else:
+                    norms[name][start : start + count] = _norms(values)
+                    if name in held:
+                        held[name][start : start + count] = values
                 finite = np.isfinite(values.reshape(count, -1)).all(axis=1)
                 if not finite.all():
                     index = start + int(np.argmin(finite))
-                    fail(index, f"{name} is {out[index]}: expected finite numbers")
+                    fail(index, f"{name} is {values[index - start]}: expected finite numbers")
     check_time_order(time_s, fail, unit="index", where=lambda index: index)
-    _check_increment_magnitudes(path, time_s, dtheta, dvel)
-    return ImuIncrements(time_s=time_s, dtheta_rad=dtheta, dvel_mps=dvel, gaps=find_gaps(time_s),
-                         source=path)
+    _check_increment_magnitudes(path, time_s, norms["dtheta_rad"], norms["dvel_mps"])
+    del norms
+    if mapped:
+        records = np.memmap(path, dtype=dtype, mode="r", offset=offset, shape=(n,))
+        held = {name: records[name] for name in ("dtheta_rad", "dvel_mps")}
+    return ImuIncrements(time_s=time_s, dtheta_rad=held["dtheta_rad"], dvel_mps=held["dvel_mps"],
+                         gaps=find_gaps(time_s), source=path)
 
 
 def write_imu_npy(path: str | Path, imu: ImuIncrements) -> None:

@@ -275,8 +275,8 @@ def find_gaps(time_s: np.ndarray, factor: float = GAP_FACTOR) -> tuple[Gap, ...]
     """Intervals longer than ``factor`` x the median interval, as Gap(start, end)."""
     if len(time_s) < 3:
         return ()
+    nominal = np.median(np.diff(time_s), overwrite_input=True)  # one whole-run temporary at a time
     step = np.diff(time_s)
-    nominal = np.median(step)
     return tuple(Gap(float(time_s[i]), float(time_s[i + 1]))
                  for i in np.flatnonzero(step > factor * nominal))
 

@@ -55,7 +55,7 @@ class ImuIncrements:
     @property
     def rate_hz(self) -> float:
         """Nominal sample rate from the median interval."""
-        return float(1.0 / np.median(np.diff(self.time_s)))
+        return float(1.0 / np.median(np.diff(self.time_s), overwrite_input=True))
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from insrail.io.imu import release_pages
 from insrail.io.types import ImuIncrements, OdometerData
 from insrail.nav import earth
 
@@ -178,6 +179,7 @@ def _still(imu: ImuIncrements, odometer, nominal, lo: int, first: int, stop: int
         noise = np.interp(time_s, t_pos, sigma)
         covered = (time_s - half >= t_pos[0]) & (time_s + half <= t_pos[-1])
         still &= ~covered | (np.hypot(*(ahead - behind).T) < 3.0 * np.sqrt(2.0) * noise + max_speed_mps * window_s)
+    release_pages(imu.dtheta_rad, imu.dvel_mps)  # a mapped file's pages behind the chunk
     return still[first - lo : stop - lo]
 
 
@@ -206,7 +208,7 @@ def detect_stops(
     :func:`stop_thresholds`. ``chunk`` records are judged at a time (memory bounded for any
     length; the result does not depend on it).
     """
-    nominal = np.median(np.diff(imu.time_s))
+    nominal = np.median(np.diff(imu.time_s), overwrite_input=True)
     n = len(imu.time_s)
     # a chunk of records at a time, each with the records its windows reach on either side
     margin = 2 * max(int(round(window_s / nominal)), 2) + 2 * max(int(round(ACCEL_BLOCK_S / nominal)), 1)

@@ -24,12 +24,17 @@ Smoother
     6.2). The corrections are kept at the filter rate and interpolated to the IMU rate while
     the trajectory is written.
 
-Memory stays bounded: what the backward pass needs per segment (Phi, P-, P+, dx packed: 916
-doubles, 7.3 kB) goes to a temporary file in chunks and is read back chunk by chunk in
-reverse; the forward solution at the IMU rate (12 doubles per epoch) goes to another
-temporary file; the trajectory is built from both in chunks and, with ``trajectory_file``,
-written to disk as it is made. What stays in memory is at the filter rate (sensor
-estimates, sigmas, corrections: about 0.6 kB per update epoch).
+Memory stays bounded: the IMU increments reach the filter through a buffer of IMU_CHUNK
+records refilled at an event (a file :func:`insrail.io.imu.read_imu_npy` mapped is never held
+whole: its pages are let go behind the buffer); what the backward pass needs per segment (Phi,
+P-, P+, dx packed: 916 doubles, 7.3 kB) goes to a temporary file in chunks and is read back
+chunk by chunk in reverse; the forward solution at the IMU rate (12 doubles per epoch), the
+forward pass's sensor estimates and sigmas and the smoother's corrections and sigmas per
+update epoch go to other temporary files; the trajectory is built from them in chunks (each
+reading the update epochs it lies between) and, with ``trajectory_file``, written to disk as
+it is made. What still stays in memory per update epoch: the forward solution there
+(``FusionResult.forward``, 32 doubles), the schedule's and the innovations' entries, the
+timeline (about 0.4 kB per update epoch); per IMU epoch, the times (8 bytes).
 
 Error-state conventions: see ``insrail.nav.error_model``. Navigation errors are computed
 minus true (subtracted on feedback); sensor-error states are the residual errors not yet
@@ -40,6 +45,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
 import tempfile
 from dataclasses import dataclass, field, replace
 from functools import partial
@@ -50,6 +56,7 @@ import numpy as np
 from numba import njit
 from scipy.special import chdtri
 
+from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth, integrity, kalman
@@ -342,17 +349,20 @@ class FusionResult:
 N_NAV = 9  # rows of Phi that are not diagonal: position, velocity, attitude errors
 RECORD_SIZE = N_NAV * N_STATES + (N_STATES - N_NAV) + N_STATES * (N_STATES + 1) + N_STATES
 PROGRESS_SEGMENTS = 2000
-EVENT_DONE, EVENT_REJECTED, EVENT_ACCEPTED, EVENT_FLUSH, EVENT_PROGRESS = 0, 1, 2, 3, 4
+EVENT_DONE, EVENT_REJECTED, EVENT_ACCEPTED, EVENT_FLUSH, EVENT_PROGRESS, EVENT_NEED_IMU = 0, 1, 2, 3, 4, 5
+#: IMU records the forward filter holds at a time (dtheta, dvel, dt: 56 B each, 3.7 MB); tests shrink it
+IMU_CHUNK = 1 << 16
 _UPPER = np.triu_indices(N_STATES)
 
 compiled = njit(cache=True, error_model="numpy")
 
 
 @compiled
-def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out, base, sums):
+def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out, base, sums, imu_base):
     """Strapdown over epochs start..stop-1 with compensated increments.
 
-    sensor = [bg(3), ba(3), sg(3), sa(3)] (estimates); out[k - base] receives nav after epoch k;
+    dtheta, dvel, dt: the IMU record from epoch imu_base on (row k - imu_base: epoch k; it must
+    hold start - 1); sensor = [bg(3), ba(3), sg(3), sa(3)] (estimates); out[k - base] receives nav after epoch k;
     sums = [sum v dt (3), sum dtheta_c (3), sum dvel_c (3), total dt, last dtheta_c (3),
     last dvel_c (3)].
     """
@@ -362,8 +372,9 @@ def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out,
     dv_prev = np.empty(3)
     th = np.empty(3)
     dv = np.empty(3)
-    for k in range(start, stop):
-        prev = k - 1 if k > 0 else 0
+    for epoch in range(start, stop):
+        k = epoch - imu_base
+        prev = k - 1 if epoch > 0 else k
         for a in range(3):
             th_prev[a] = (dtheta[prev, a] - sensor[a] * dt[prev]) / (1.0 + sensor[6 + a])
             dv_prev[a] = (dvel[prev, a] - sensor[3 + a] * dt[prev]) / (1.0 + sensor[9 + a])
@@ -371,7 +382,7 @@ def _propagate_segment(nav, dtheta, dvel, dt, start, stop, sensor, earth_c, out,
             dv[a] = (dvel[k, a] - sensor[3 + a] * dt[k]) / (1.0 + sensor[9 + a])
         _kernels.strapdown_step(nav, th_prev, dv_prev, th, dv, dt[k], earth_c, nav)
         for a in range(12):
-            out[k - base, a] = nav[a]
+            out[epoch - base, a] = nav[a]
         for a in range(3):
             sums[a] += nav[_kernels.NAV_VEL + a] * dt[k]
             sums[3 + a] += th[a]
@@ -565,13 +576,16 @@ def _unpack_records(records, phi, P_minus, P, dx):
 
 @compiled
 def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, phi_diag, ctx, sums, pending,
-                    dtheta, dvel, dt, t, epochs, earth_c, decay, gqg, gnss_decay_tau, gap_j, gap_q,
+                    dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, gnss_decay_tau, gap_j, gap_q,
                     first, source, observation, kinds, params, rows, row_first, gates,
-                    nav_buf, nav_base, rec_buf, rec_fill, record, sensor_hist, sigma_hist,
+                    nav_buf, nav_base, rec_buf, rec_fill, record, sensor_hist, sigma_hist, hist_base,
                     nis_out, dof_out, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu):
     """Run the forward filter from pos = [segment j, entry e, phase] (phase 0: segment j not
     yet propagated) until an event; returns (event, entry) and leaves pos where to resume.
-    nav_base[0]: the IMU epoch of nav_buf's first row; rec_fill[0]: records in rec_buf."""
+    dtheta, dvel, dt: a chunk of the IMU record, IMU epochs imu_span[0] .. imu_span[1] - 1 (a
+    segment that it does not hold whole, with the epoch before it, returns EVENT_NEED_IMU);
+    nav_base[0]: the IMU epoch of nav_buf's first row; rec_fill[0]: records in rec_buf;
+    hist_base[0]: the update epoch of the first row of sensor_hist and sigma_hist."""
     n = x.shape[0]
     m_epochs = epochs.shape[0]
     z = np.zeros(meas.MAX_ROWS)
@@ -585,14 +599,17 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
         j = pos[0]
         if pos[2] == 0:
             a, b = epochs[j - 1] + 1, epochs[j] + 1
-            if b - nav_base[0] > nav_buf.shape[0] or (record and rec_fill[0] == rec_buf.shape[0]):
+            if a - 1 < imu_span[0] or b > imu_span[1]:
+                return EVENT_NEED_IMU, -1
+            if (b - nav_base[0] > nav_buf.shape[0] or (record and rec_fill[0] == rec_buf.shape[0])
+                    or j - hist_base[0] >= sensor_hist.shape[0]):
                 return EVENT_FLUSH, -1
             if j % PROGRESS_SEGMENTS == 0 and pos[1] != -2:
                 pos[1] = -2  # reported; the next call goes on
                 return EVENT_PROGRESS, -1
-            _propagate_segment(nav, dtheta, dvel, dt, a, b, sensor, earth_c, nav_buf, nav_base[0], sums)
+            _propagate_segment(nav, dtheta, dvel, dt, a, b, sensor, earth_c, nav_buf, nav_base[0], sums, imu_span[0])
             seg = sums[9]
-            meas.fill_context(ctx, nav, sums, dt[b - 1], odo[0], gnss_error, t[b - 1], earth_c)
+            meas.fill_context(ctx, nav, sums, dt[b - 1 - imu_span[0]], odo[0], gnss_error, t[b - 1], earth_c)
             for k in range(3):
                 f_b[k] = sums[6 + k] / seg
                 w_b[k] = sums[3 + k] / seg
@@ -644,11 +661,12 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
         if record:
             _pack_record(phi_top, phi_diag, P_minus, P, x, rec_buf[rec_fill[0]])
             rec_fill[0] += 1
+        row = j - hist_base[0]
         for k in range(12):
-            sensor_hist[j, k] = sensor[k]
-        sensor_hist[j, 12] = odo[0]
+            sensor_hist[row, k] = sensor[k]
+        sensor_hist[row, 12] = odo[0]
         for k in range(n):
-            sigma_hist[j, k] = math.sqrt(P[k, k])
+            sigma_hist[row, k] = math.sqrt(P[k, k])
         pos[0] = j + 1
         pos[1] = 0
         pos[2] = 0
@@ -656,9 +674,9 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
 
 
 @compiled
-def _rts_chunk(records, first_record, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma):
-    """The backward RTS pass over one chunk of smoother records (record r: epoch
-    first_record + r + 1), last record first. state[0] = 1 once an epoch has been smoothed
+def _rts_chunk(records, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma):
+    """The backward RTS pass over one chunk of smoother records (record r: the chunk's epoch r + 1,
+    written to row r + 1 of corrections and sigma), last record first. state[0] = 1 once an epoch has been smoothed
     (the last epoch: smoothed = filtered); (e_next, P_s_next, phi_next, p_minus_next) carry
     the successor epoch's quantities from chunk to chunk."""
     n = e_next.shape[0]
@@ -667,7 +685,7 @@ def _rts_chunk(records, first_record, state, e_next, P_s_next, phi_next, p_minus
     p_plus = np.empty((n, n))
     dx = np.empty(n)
     for r in range(records.shape[0] - 1, -1, -1):
-        j = first_record + r + 1
+        j = r + 1
         _unpack_record(records[r], phi, p_minus, p_plus, dx)
         if state[0] == 0.0:
             e = np.zeros(n)
@@ -773,6 +791,46 @@ class _EpochFile:
 
     def close(self):
         self.file.close()
+
+
+class _RowFile:
+    """Rows of ``width`` doubles per update epoch in a temporary file: written at any row, read
+    by ranges of rows, never all in memory (the filter-rate record: the forward pass's sensor
+    estimates and sigmas, the smoother's corrections and sigmas)."""
+
+    def __init__(self, width: int, what: str):
+        self.file = tempfile.TemporaryFile(prefix="insrail-updates-")
+        self.width, self.what = width, what
+
+    def write(self, first: int, rows: np.ndarray) -> None:
+        data = np.ascontiguousarray(rows, dtype=np.float64).reshape(len(rows), self.width).tobytes()
+        try:
+            written = os.pwrite(self.file.fileno(), data, first * self.width * 8)
+        except OSError as err:
+            raise OSError(err.errno, err.strerror, f"{tempfile.gettempdir()} ({self.what})") from None
+        if written != len(data):
+            raise OSError(f"{tempfile.gettempdir()} ({self.what}): {written} of {len(data)} bytes written")
+
+    def read(self, first: int, stop: int) -> np.ndarray:
+        """Rows first .. stop - 1, (stop - first, width)."""
+        size = (stop - first) * self.width * 8
+        data = os.pread(self.file.fileno(), size, first * self.width * 8)
+        if len(data) != size:
+            raise OSError(f"{tempfile.gettempdir()} ({self.what}): rows {first}-{stop - 1} not written")
+        return np.frombuffer(data, dtype=np.float64).reshape(stop - first, self.width)
+
+    def close(self):
+        self.file.close()
+
+
+#: IMU epochs of the trajectory made at a time (about 45 MB while one is made)
+TRAJECTORY_CHUNK = 100_000
+#: update epochs of the filter-rate record held at a time while it is made
+HIST_CHUNK = 4096
+#: the forward pass's row per update epoch: sensor estimates and odometer scale (13), sigmas (N)
+HISTORY_WIDTH = 13 + N_STATES
+#: the smoother's row per update epoch: the correction pair (2 N), smoothed sigmas (N)
+SMOOTHED_WIDTH = 3 * N_STATES
 
 
 @dataclass
@@ -943,7 +1001,7 @@ class _Setup:
     the start, the update grid, the schedule and the noise."""
 
     imu: ImuIncrements
-    dt: np.ndarray
+    dt0: float  # the interval of the first record (the median of the first 1000)
     outliers: list
     notices: list
     stops: list
@@ -975,9 +1033,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                 if not np.any((removed > gap.start_s) & (removed < gap.end_s))]  # a removed record says so itself
     n = len(imu)
     t = imu.time_s
-    dt = np.empty(n)
-    dt[1:] = np.diff(t)
-    dt[0] = np.median(dt[1 : min(n, 1000)])
+    dt0 = float(np.median(np.diff(t[: min(n, 1000)])))
 
     gnss = aiding.gnss
     fixes = next((m for m in aiding.measurements if isinstance(m, PositionFix)), None)
@@ -1003,7 +1059,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                 "fusion", f"no odometer: across the {track.source} outage of {track.time_s[i + 1] - track.time_s[i]:.0f} s "
                 f"after t = {track.time_s[i]:.1f} s the along-track position rests on the IMU alone",
                 time_s=float(track.time_s[i])))
-    gyro_quiet, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, 1.0 / dt[0])
+    gyro_quiet, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, 1.0 / dt0)
     positions = None
     if aiding.odometer is None and gnss is not None:
         positions = (track.time_s, track.local_ned(ellipsoid)[:, :2], track.horizontal_sigma_m())
@@ -1011,7 +1067,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                          max_accel_std_mps2=None if aiding.odometer is not None else accel_quiet)
     start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid, aiding.design_azimuth)
     notices.extend(start.notices)
-    every = max(int(round(1.0 / (options.update_rate_hz * dt[0]))), 1)
+    every = max(int(round(1.0 / (options.update_rate_hz * dt0))), 1)
     epochs = update_grid(t, start.epoch, every, aiding.measurements)
     motion = (np.array([s[0] for s in stops]), np.array([s[1] for s in stops]),
               stop_motion_sigma(imu, stops, profile.accel_vrw))
@@ -1021,7 +1077,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                             start.sigma_heading_rad)
     # chi-square quantile of the gate probability per degree of freedom (scipy.special: no scipy.stats import)
     gates = np.array([np.inf] + [chdtri(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
-    return _Setup(imu, dt, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
+    return _Setup(imu, dt0, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
                   noise, gqg, gates,
                   track if any(isinstance(m, OdometerNhc) and m.use_nhc for m in aiding.measurements) else None, c_vb)
 
@@ -1055,8 +1111,7 @@ def realign_at_reset(reset: FilterReset, nav: np.ndarray, setup: _Setup, options
 class _ForwardPass:
     """What the forward pass leaves at the filter rate."""
 
-    sensor_hist: np.ndarray  # (m, 13): sensor estimates and odometer scale after epoch j
-    sigma_hist: np.ndarray  # (m, N)
+    history: _RowFile  # per update epoch j: sensor estimates and odometer scale after it (13), sigmas (N)
     nis: np.ndarray  # per schedule entry
     dof: np.ndarray
     accepted: np.ndarray
@@ -1066,9 +1121,10 @@ class _ForwardPass:
 
 
 def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, store: SmootherStore | None,
-             nav_file: _EpochFile, progress, cancel, nav_chunk: int = 65536) -> _ForwardPass:
+             nav_file: _EpochFile, history: _RowFile, progress, cancel, nav_chunk: int = 65536) -> _ForwardPass:
     """The forward filter: the compiled loop, with Python at its events (module docstring);
-    the IMU-rate solution goes to ``nav_file`` (opened at the first update epoch)."""
+    the IMU-rate solution goes to ``nav_file`` (opened at the first update epoch), the sensor
+    estimates and sigmas per update epoch to ``history``."""
     plan, epochs, imu = setup.plan, setup.epochs, setup.imu
     sources = plan.measurements
     models = [s.compiled() for s in sources]
@@ -1098,10 +1154,19 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     nav_file.append(nav_buf[:1])
     rec_buf = np.empty((store.chunk if store is not None else 1, RECORD_SIZE))
     rec_fill = np.zeros(1, dtype=np.int64)
-    sensor_hist = np.empty((m_epochs, 13))
-    sigma_hist = np.empty((m_epochs, N_STATES))
+    hist_rows = min(HIST_CHUNK, m_epochs)
+    sensor_hist = np.empty((hist_rows, 13))
+    sigma_hist = np.empty((hist_rows, N_STATES))
     sensor_hist[0] = 0.0
     sigma_hist[0] = np.sqrt(np.diag(setup.P0))
+    hist_base = np.zeros(1, dtype=np.int64)
+
+    def save_history():  # the rows of the update epochs done so far
+        done = int(state.pos[0]) - int(hist_base[0])
+        if done > 0:
+            history.write(int(hist_base[0]), np.hstack([sensor_hist[:done], sigma_hist[:done]]))
+            hist_base[0] += done
+
     nis = np.full(n_entries, np.nan)
     dof = np.zeros(n_entries, dtype=np.int64)
     accepted = np.zeros(n_entries, dtype=bool)
@@ -1117,8 +1182,10 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     rejections: list[Rejection] = []
     resets: list[FilterReset] = []
     t = imu.time_s
-    dtheta = np.ascontiguousarray(imu.dtheta_rad, dtype=float)
-    dvel = np.ascontiguousarray(imu.dvel_mps, dtype=float)
+    # the IMU record a chunk at a time (never copied whole; a file-backed record's pages are let go)
+    imu_chunk = max(min(IMU_CHUNK, len(imu)), int(np.max(np.diff(epochs))) + 1 if m_epochs > 1 else 1)
+    dtheta, dvel, dt = np.empty((imu_chunk, 3)), np.empty((imu_chunk, 3)), np.empty(imu_chunk)
+    imu_span = np.zeros(2, dtype=np.int64)
     gnss_tau = float(options.gnss_correlated_tau_s)
     earth_c = _kernels.earth_constants(ellipsoid)
     if m_epochs > 1 and np.max(np.diff(epochs)) > nav_chunk:
@@ -1128,12 +1195,15 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
         event, e = _forward_kernel(
             state.pos, state.nav, state.sensor, state.gnss_error, state.odo, state.x, state.P, state.P_minus,
             state.phi_top, state.phi_diag, state.ctx, state.sums, state.pending,
-            dtheta, dvel, setup.dt, t, epochs, earth_c, decay, gqg, gnss_tau, gap_j, gap_q,
+            dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, gnss_tau, gap_j, gap_q,
             plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
-            nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist,
+            nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist, hist_base,
             nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu)
         if event == EVENT_DONE:
             break
+        if event == EVENT_NEED_IMU:
+            _fill_imu_chunk(imu, setup.dt0, int(epochs[state.pos[0] - 1]), dtheta, dvel, dt, imu_span)
+            continue
         if event in (EVENT_FLUSH, EVENT_PROGRESS):
             if event == EVENT_PROGRESS:
                 check_cancel(cancel)
@@ -1145,6 +1215,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
             if store is not None and rec_fill[0]:
                 store.append_records(rec_buf[: rec_fill[0]])
                 rec_fill[0] = 0
+            save_history()
             continue
         k, i = int(plan.source[e]), int(plan.observation[e])
         source = sources[k]
@@ -1166,13 +1237,32 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     nav_file.append(nav_buf[: int(epochs[-1]) + 1 - nav_base[0]])
     if store is not None and rec_fill[0]:
         store.append_records(rec_buf[: rec_fill[0]])
+    save_history()
     statistics = {}
     for k in dict.fromkeys(plan.source.tolist()):  # the sources in the order they first applied
         dof_k = int(dof[plan.source == k].max()) if used[k] + rejected[k] else 0
         statistics[sources[k].name] = MeasurementStats(
             int(used[k]), int(rejected[k]), sum_sq[k, :dof_k].copy() if used[k] else None, float(sum_nis[k]),
             int(sum_dof[k])).summary()
-    return _ForwardPass(sensor_hist, sigma_hist, nis, dof, accepted, statistics, rejections, resets)
+    return _ForwardPass(history, nis, dof, accepted, statistics, rejections, resets)
+
+
+def _fill_imu_chunk(imu: ImuIncrements, dt0: float, start: int, dtheta, dvel, dt, span) -> None:
+    """IMU records start, start + 1, ... (as many as the buffers hold) into dtheta, dvel and dt (the
+    interval each integrates: dt0 for the first record), their epochs into span; a file-backed
+    record's pages are then released (``insrail.io.imu.release_pages``)."""
+    stop = min(start + len(dt), len(imu))
+    count = stop - start
+    dtheta[:count] = imu.dtheta_rad[start:stop]
+    dvel[:count] = imu.dvel_mps[start:stop]
+    t = imu.time_s
+    if start == 0:
+        dt[0] = dt0
+        np.subtract(t[1:stop], t[: stop - 1], out=dt[1:count])
+    else:
+        np.subtract(t[start:stop], t[start - 1 : stop - 1], out=dt[:count])
+    span[:] = start, stop
+    release_pages(imu.dtheta_rad, imu.dvel_mps)
 
 
 def fuse(
@@ -1216,29 +1306,33 @@ def fuse(
     own_store = covariance_store is None and options.smoother
     store = SmootherStore() if own_store else covariance_store
     nav_file = _EpochFile(int(epochs[0]))
+    history = _RowFile(HISTORY_WIDTH, "the fusion's temporary file")
+    smoothed_rows = _RowFile(SMOOTHED_WIDTH, "the smoother's temporary file") if options.smoother else None
     try:
-        forward_pass = _forward(setup, options, ellipsoid, store, nav_file,
+        forward_pass = _forward(setup, options, ellipsoid, store, nav_file, history,
                                 step.sub(0.0, 0.8 if options.smoother else 0.9), cancel)
-        build = partial(_trajectory, t, nav_file, epochs, forward_pass.sensor_hist, gps_week=imu.gps_week,
-                        ell=ellipsoid, cancel=cancel)
-        forward = at_updates = build(forward_pass.sigma_hist, None, smoothed=False, indices=epochs)
+        build = partial(_trajectory, t, nav_file, epochs, history, gps_week=imu.gps_week, ell=ellipsoid, cancel=cancel)
+        forward = at_updates = build(None, smoothed=False, indices=epochs)
         if forward_file is not None or full_forward:
-            forward = build(forward_pass.sigma_hist, None, smoothed=False, output_every=output_every, path=forward_file)
+            forward = build(None, smoothed=False, output_every=output_every, path=forward_file)
         trajectory = None
         if options.smoother:
             check_cancel(cancel)
-            corrections, sigma_smooth = _rts(store, m_epochs, forward_pass.sigma_hist[0], cancel, step.sub(0.8, 0.9))
-            trajectory = build(sigma_smooth, corrections, smoothed=True, output_every=output_every,
+            _rts(store, m_epochs, np.sqrt(np.diag(setup.P0)), smoothed_rows, cancel, step.sub(0.8, 0.9))
+            trajectory = build(smoothed_rows, smoothed=True, output_every=output_every,
                                path=trajectory_file, progress=step.sub(0.9, 1.0))
         elif forward_file is not None and trajectory_file is None:
             trajectory = forward
         else:
-            trajectory = build(forward_pass.sigma_hist, None, smoothed=False, output_every=output_every,
+            trajectory = build(None, smoothed=False, output_every=output_every,
                                path=trajectory_file, progress=step.sub(0.9, 1.0))
     finally:
         if own_store:
             store.close()
         nav_file.close()
+        history.close()
+        if smoothed_rows is not None:
+            smoothed_rows.close()
     step(1.0, "fusion done")
     accepted = forward_pass.accepted
     applied = {}
@@ -1285,43 +1379,56 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
     return notices
 
 
-def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, cancel: CancelToken, progress):
-    """Backward RTS pass (compiled, chunk by chunk from the store). Returns per update epoch j
-    the correction pair (left: e_j relative to the stored post-update solution, right:
-    e_j + dx_j relative to the pre-update solution) as an (m, 2, N) array, and the smoothed
-    sigmas (m, N): filter-rate arrays."""
-    corrections = np.zeros((m, 2, N_STATES))
-    sigma = np.zeros((m, N_STATES))
+def _rts(store: SmootherStore, m: int, sigma0: np.ndarray, out: _RowFile, cancel: CancelToken, progress) -> None:
+    """Backward RTS pass (compiled, chunk by chunk from the store). Writes per update epoch j
+    into row j of ``out`` the correction pair (left: e_j relative to the stored post-update
+    solution, right: e_j + dx_j relative to the pre-update solution) and the smoothed sigmas
+    (SMOOTHED_WIDTH), a chunk at a time."""
     state = np.zeros(1)
     e_next = np.zeros(N_STATES)
     P_s_next, phi_next, p_minus_next = (np.zeros((N_STATES, N_STATES)) for _ in range(3))
     for first, chunk in store.reversed_chunks():
         check_cancel(cancel)
         progress((m - first) / m, "smoother")
-        _rts_chunk(chunk, first, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma)
+        k = len(chunk)
+        corrections, sigma = np.zeros((k + 1, 2, N_STATES)), np.zeros((k + 1, N_STATES))  # row r: epoch first + r
+        _rts_chunk(chunk, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma)
+        out.write(first + 1, np.hstack([corrections[1:].reshape(k, 2 * N_STATES), sigma[1:]]))
     # epoch 0: before the first segment
     if state[0]:
         e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, np.diag(sigma0**2))
     else:
         e, P_s = np.zeros(N_STATES), np.diag(sigma0**2)
-    corrections[0, 0] = corrections[0, 1] = e
-    sigma[0] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
-    return corrections, sigma
+    out.write(0, np.concatenate([e, e, np.sqrt(np.maximum(np.diag(P_s), 0.0))])[None])
 
 
-def _trajectory(t, nav_file: _EpochFile, epochs, sensor_hist, sigma_hist, corrections, gps_week, ell, smoothed,
-                output_every: int = 1, indices: np.ndarray | None = None, path: Path | None = None,
-                progress=None, cancel: CancelToken = None, chunk: int = 100_000) -> Trajectory:
+def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_rows: _RowFile | None, gps_week, ell,
+                smoothed, output_every: int = 1, indices: np.ndarray | None = None, path: Path | None = None,
+                progress=None, cancel: CancelToken = None) -> Trajectory:
     """Trajectory at every ``output_every``-th IMU epoch from the first update epoch on (or at
-    ``indices``), the errors interpolated linearly between update epochs. Built in chunks
-    from the IMU-rate record of the forward pass; with ``path`` each chunk is written to that
-    ``trajectory.npy`` as it is made and the result is a memory map of the file."""
-    idx_all = np.arange(epochs[0], epochs[-1] + 1, output_every) if indices is None else np.asarray(indices)
-    n = len(idx_all)
+    ``indices``), the errors (``smoothed_rows``: the smoother's; None: none) interpolated
+    linearly between update epochs. Built in chunks from the IMU-rate record of the forward pass
+    and the filter-rate rows of the update epochs each chunk lies between; with ``path`` each
+    chunk is written to that ``trajectory.npy`` as it is made and the result is a memory map of
+    the file."""
+    chunk = TRAJECTORY_CHUNK
+    if indices is None:  # every output_every-th epoch, made chunk by chunk (not one index per epoch held)
+        first = int(epochs[0])
+        n = len(range(first, int(epochs[-1]) + 1, output_every))
+        # chunks of at most ``chunk`` IMU epochs of the record, whatever the output rate
+        cuts = np.minimum(-(-np.arange(0, output_every * (n - 1) + chunk, chunk) // output_every), n)
+
+        def rows_of(c0, c1):
+            return first + output_every * np.arange(c0, c1)
+    else:
+        idx_all = np.asarray(indices)
+        n = len(idx_all)
+        cuts = np.searchsorted(idx_all, np.arange(idx_all[0], idx_all[-1] + chunk, chunk)) if n else np.zeros(1, int)
+
+        def rows_of(c0, c1):
+            return idx_all[c0:c1]
     writer = TrajectoryWriter(path, n) if path is not None else None
     records = None if writer is not None else np.empty(n, dtype=TRAJECTORY_DTYPE)
-    # chunks of at most ``chunk`` IMU epochs of the record, whatever the output rate
-    cuts = np.searchsorted(idx_all, np.arange(idx_all[0], idx_all[-1] + chunk, chunk)) if n else np.zeros(1, int)
     try:
         for c0, c1 in itertools.pairwise(cuts):
             if c1 == c0:
@@ -1329,9 +1436,9 @@ def _trajectory(t, nav_file: _EpochFile, epochs, sensor_hist, sigma_hist, correc
             if progress is not None:
                 check_cancel(cancel)
                 progress(c0 / n, "trajectory")
-            idx = idx_all[c0:c1]
+            idx = rows_of(c0, c1)
             rows = nav_file.read(int(idx[0]), int(idx[-1]) + 1)[idx - idx[0]]
-            block = _trajectory_block(t, rows, idx, epochs, sensor_hist, sigma_hist, corrections, ell)
+            block = _trajectory_block(t, rows, idx, epochs, history, smoothed_rows, ell)
             if writer is not None:
                 writer.write(block)
             else:
@@ -1346,14 +1453,21 @@ def _trajectory(t, nav_file: _EpochFile, epochs, sensor_hist, sigma_hist, correc
     return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week, ellipsoid_name=ell.name)
 
 
-def _trajectory_block(t, nav, idx, epochs, sensor_hist, sigma_hist, corrections, ell) -> np.ndarray:
+def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _RowFile | None, ell) -> np.ndarray:
     """TRAJECTORY_DTYPE records of IMU epochs ``idx`` from their forward navigation vectors ``nav``."""
     # Segment j covers epochs (epochs[j-1], epochs[j]]; w is the position inside it.
     seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, max(len(epochs) - 1, 1))
+    j0, j1 = int(seg.min()) - 1, min(int(seg.max()) + 1, len(epochs))  # the update epochs the block lies between
+    rows = history.read(j0, j1)
+    sensor_hist, sigma_hist = np.ascontiguousarray(rows[:, :13]), np.ascontiguousarray(rows[:, 13:])
+    corrections = np.zeros((1, 2, N_STATES))
+    if smoothed_rows is not None:
+        rows = smoothed_rows.read(j0, j1)
+        corrections = np.ascontiguousarray(rows[:, : 2 * N_STATES]).reshape(j1 - j0, 2, N_STATES)
+        sigma_hist = np.ascontiguousarray(rows[:, 2 * N_STATES :])
     out = np.empty((len(idx), TRAJECTORY_DTYPE.itemsize // 8))
-    _trajectory_rows(t, np.ascontiguousarray(nav), idx, seg, epochs, sensor_hist, sigma_hist,
-                     np.zeros((1, 2, N_STATES)) if corrections is None else corrections, corrections is not None,
-                     _kernels.earth_constants(ell), out)
+    _trajectory_rows(t, np.ascontiguousarray(nav), idx, seg - j0, epochs[j0:j1], sensor_hist, sigma_hist,
+                     corrections, smoothed_rows is not None, _kernels.earth_constants(ell), out)
     return out.view(TRAJECTORY_DTYPE).reshape(len(idx))
 
 

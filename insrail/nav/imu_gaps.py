@@ -30,7 +30,7 @@ def bridge_gaps(imu: ImuIncrements, max_gap_s: float = 5.0, long_gap_s: float = 
     t = imu.time_s
     if len(t) < 3:
         return imu, []
-    nominal = float(np.median(np.diff(t)))
+    nominal = float(np.median(np.diff(t), overwrite_input=True))
     step = np.diff(t)
     gap_at = np.flatnonzero(step > GAP_FACTOR * nominal)
     if gap_at.size == 0:

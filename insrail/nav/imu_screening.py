@@ -38,6 +38,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from insrail.io.imu import release_pages
 from insrail.io.types import GAP_FACTOR, ImuIncrements
 from insrail.nav.alignment import stop_thresholds
 from insrail.nav.imu_profile import ImuProfile
@@ -96,6 +97,7 @@ def _candidates(time_s: np.ndarray, increments: np.ndarray, nominal: float, full
     candidate = (~finite.all(axis=1) | beyond.any(axis=1) | np.concatenate([edge, [False]])
                  | np.concatenate([[False], edge]))
     found = np.flatnonzero(candidate) + lo
+    release_pages(increments)  # a mapped file's pages behind the chunk
     return found[(found >= first) & (found < stop)]
 
 
@@ -110,7 +112,7 @@ def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.
     if n < 3:
         return imu, (), []
     check_units(imu, profile)
-    nominal = float(np.median(np.diff(imu.time_s)))
+    nominal = float(np.median(np.diff(imu.time_s), overwrite_input=True))
     increments = {"specific force": imu.dvel_mps, "angular rate": imu.dtheta_rad}
     limits = {"specific force": (profile.specific_force_range_mps2, profile.specific_force_jump_mps2),
               "angular rate": (profile.rate_range_radps, profile.rate_jump_radps)}
@@ -217,10 +219,39 @@ def _unit_guesses(quantity: str, rate_hz: float) -> list[tuple[str, float | None
              rate_hz * degrees)]
 
 
-def _block_means(values: np.ndarray, dt: np.ndarray, per_block: int) -> np.ndarray:
-    """(blocks, 3) mean rate over consecutive blocks of ``per_block`` records."""
-    m = (len(dt) // per_block) * per_block
-    return values[:m].reshape(-1, per_block, 3).sum(axis=1) / dt[:m].reshape(-1, per_block).sum(axis=1)[:, None]
+#: records the unit check reads at a time (whole blocks of them)
+UNITS_CHUNK = 1 << 18
+
+
+def _block_means(values: np.ndarray, time_s: np.ndarray, nominal: float, per_block: int) -> np.ndarray:
+    """(blocks, 3) mean rate over consecutive blocks of ``per_block`` records (each record over
+    its :func:`_intervals`), read UNITS_CHUNK records at a time (a mapped file's pages let go behind)."""
+    m = (len(time_s) // per_block) * per_block
+    step = max(UNITS_CHUNK // per_block, 1) * per_block
+    means = [np.zeros((0, 3))]
+    for lo in range(0, m, step):
+        hi = min(lo + step, m)
+        dt = _intervals(time_s, np.arange(lo, hi), nominal)
+        means.append(values[lo:hi].reshape(-1, per_block, 3).sum(axis=1) / dt.reshape(-1, per_block).sum(axis=1)[:, None])
+        release_pages(values)
+    return np.concatenate(means)
+
+
+def _released(value, *arrays):
+    """``value``, once the pages of ``arrays`` (a mapped file's) are let go."""
+    release_pages(*arrays)
+    return value
+
+
+def _finite_records(imu: ImuIncrements) -> int:
+    """How many records have finite increments, UNITS_CHUNK at a time."""
+    count = 0
+    for lo in range(0, len(imu), UNITS_CHUNK):
+        hi = lo + UNITS_CHUNK
+        count += int(np.count_nonzero(np.isfinite(imu.dvel_mps[lo:hi]).all(axis=1)
+                                      & np.isfinite(imu.dtheta_rad[lo:hi]).all(axis=1)))
+        release_pages(imu.dvel_mps, imu.dtheta_rad)
+    return count
 
 
 def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
@@ -229,11 +260,12 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
     (less than two seconds of data; no rest for the gyro)."""
     n = len(imu)
     step = np.diff(imu.time_s)
-    nominal = float(np.median(step)) if n > 1 else 0.0
+    nominal = float(np.median(step, overwrite_input=True)) if n > 1 else 0.0
     if not nominal > 0.0 or n * nominal < 2.0 * _BLOCK_S:
         return
     rate_hz = 1.0 / nominal
-    dt = np.concatenate([[nominal], np.where(step > GAP_FACTOR * nominal, nominal, step)])
+    del step
+    t = imu.time_s
     per_block = max(round(_BLOCK_S / nominal), 2)
     sub = max(round(_SUB_BLOCK_S / nominal), 1)
     source = str(imu.source or "the IMU file")
@@ -258,15 +290,16 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
                            "insrail reads (m/s and rad per record); check the file's format and units in survey.toml")
 
     with np.errstate(invalid="ignore", over="ignore"):
-        finite = np.isfinite(imu.dvel_mps).all(axis=1) & np.isfinite(imu.dtheta_rad).all(axis=1)
-        if finite.sum() < 0.99 * n:
+        finite_records = _finite_records(imu)
+        if finite_records < 0.99 * n:
             return  # a record's screening says what is wrong with it
         dvel, dtheta = imu.dvel_mps, imu.dtheta_rad
-        if not finite.all():  # copies only then
+        if finite_records < n:  # copies only then
+            finite = np.isfinite(imu.dvel_mps).all(axis=1) & np.isfinite(imu.dtheta_rad).all(axis=1)
             dvel, dtheta = np.where(finite[:, None], dvel, 0.0), np.where(finite[:, None], dtheta, 0.0)
 
         def gravity_of(increments):  # over 50 ms: a few corrupt records move the median by nothing
-            return float(np.median(np.linalg.norm(_block_means(increments, dt, sub), axis=1)))
+            return float(np.median(np.linalg.norm(_block_means(increments, t, nominal, sub), axis=1)))
 
         def gravity_plausible(increments):
             return abs(gravity_of(increments) / GRAVITY_MPS2 - 1.0) <= GRAVITY_TOLERANCE
@@ -278,7 +311,7 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
         _, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, rate_hz)
         subs = max(per_block // sub, 2)
         per_block_rest = sub * subs
-        f_sub = _block_means(dvel, dt, sub)
+        f_sub = _block_means(dvel, t, nominal, sub)
         m = (len(f_sub) // subs) * subs
         spread = np.linalg.norm(f_sub[:m].reshape(-1, subs, 3).std(axis=1), axis=1)
         f_mean = f_sub[:m].reshape(-1, subs, 3).mean(axis=1)
@@ -286,7 +319,8 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
         if rest.any():  # and the gyro as quiet as in the quietest of them, whatever its unit (slow sways pass the
             # accelerometers' test)
             g_blocks = dtheta[: len(rest) * sub * subs].reshape(len(rest), sub * subs, 3)
-            g_spread = np.concatenate([np.linalg.norm(g_blocks[first : first + 1024].std(axis=1), axis=1)
+            g_spread = np.concatenate([_released(np.linalg.norm(g_blocks[first : first + 1024].std(axis=1), axis=1),
+                                                 dtheta)
                                        for first in range(0, len(rest), 1024)])  # a chunk of blocks at a time
             rest &= g_spread <= 4.0 * np.min(g_spread[rest])
         if rest.sum() * per_block_rest * nominal < MIN_REST_S:
@@ -296,7 +330,7 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
         limit = _EARTH_RATE_RADPS + REST_RATE_SIGMAS * math.sqrt(3.0) * math.hypot(bias, noise)
 
         def rest_rate(increments):
-            return float(np.median(np.linalg.norm(_block_means(increments, dt, per_block_rest)[rest], axis=1)))
+            return float(np.median(np.linalg.norm(_block_means(increments, t, nominal, per_block_rest)[rest], axis=1)))
 
         def wanders_at_rest(increments):
             """Running sums at rest wander far more within a second than they change from record to

@@ -360,6 +360,9 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
         check_cancel(cancel)
         if not result.integrity.trusted:
             raise UntrustedSolution(result.integrity.failure())
+        imu_epochs, imu_span_s = len(survey.imu), (float(survey.imu.time_s[0]), float(survey.imu.time_s[-1]))
+        if store is not None:  # the analysis of the record reads no IMU data: the 200 Hz record goes first
+            survey = replace(survey, imu=None)
         # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
         quality = epoch_quality(survey, result, options, profile, ellipsoid_of(project),
                                 covariance_store=store, progress=progress.sub(0.87, 1.0), cancel=cancel)
@@ -370,7 +373,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
         if store is not None:
             store.close()
     save_dataclass(quality_cache_file(path), quality)
-    info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": len(survey.imu),
+    info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": imu_epochs,
             "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
             "notices": [*(n.to_dict() for n in checked), *(n.to_dict() for n in result.info["notices"])],
             "alignment": result.info["alignment"],
@@ -379,7 +382,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
             "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
             "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]]}
     if survey.gnss is not None:
-        info["gnss"] = gnss_section(survey.gnss.time_s, survey.gnss.quality, survey.imu.time_s[0], survey.imu.time_s[-1])
+        info["gnss"] = gnss_section(survey.gnss.time_s, survey.gnss.quality, *imu_span_s)
     with atomic_write(info_path, "wb") as handle:
         tomli_w.dump(info, handle)
     seal(path, info_path)

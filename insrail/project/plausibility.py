@@ -36,6 +36,7 @@ import numpy as np
 
 from insrail.io.errors import InputError
 from insrail.io.formats import FORMATS
+from insrail.io.imu import release_pages
 from insrail.io.survey import MANIFEST_NAME, SurveyData, TrolleyGeometry
 from insrail.io.types import (
     Benchmarks,
@@ -300,8 +301,7 @@ def check_odometer_direction(imu: ImuIncrements, odometer: OdometerData, odomete
     step = max(float(np.median(np.diff(t))), 1e-3)
     moving = np.abs(np.gradient(d, t)) > 0.05
     starts = np.flatnonzero(moving[1:] & ~moving[:-1]) + 1
-    forward = np.cumsum(imu.dvel_mps[:, 0])
-    votes = []
+    windows = []  # (t0, IMU records a, b, c) of each start from rest
     for start in starts:
         t0 = float(t[start])
         rest = (t >= t0 - STATIC_BEFORE_START_S) & (t < t0 - step)
@@ -310,6 +310,11 @@ def check_odometer_direction(imu: ImuIncrements, odometer: OdometerData, odomete
         a, b, c = np.searchsorted(imu.time_s, [t0 - STATIC_BEFORE_START_S, t0 - 0.5, t0 + START_WINDOW_S])
         if c >= len(imu.time_s) or b - a < 10:
             continue
+        windows.append((t0, a, b, c))
+    # the running sum of the forward velocity increments at those records only
+    forward = dict(zip(*_running_sum_at(imu.dvel_mps, 0, sorted({i for _, *abc in windows for i in abc}))))
+    votes = []
+    for t0, a, b, c in windows:
         static_rate = (forward[b] - forward[a]) / (imu.time_s[b] - imu.time_s[a])  # gravity along x, biases
         gained = forward[c] - forward[b] - static_rate * (imu.time_s[c] - imu.time_s[b])
         odometer_speed = float(np.interp(t0 + START_WINDOW_S, t, np.gradient(d, t)))
@@ -322,6 +327,27 @@ def check_odometer_direction(imu: ImuIncrements, odometer: OdometerData, odomete
                          "(a reversed odometer, or the sign of its counts); the distance must grow as the trolley "
                          "moves along the IMU's x axis")
     return []
+
+
+#: IMU records summed at a time by :func:`_running_sum_at`
+RUNNING_SUM_CHUNK = 1 << 18
+
+
+def _running_sum_at(increments: np.ndarray, axis: int, records: list[int]) -> tuple[list[int], list[float]]:
+    """(records, np.cumsum(increments[:, axis])[records]) to the bit, summed a chunk at a time with the
+    sum carried over (a mapped IMU file's pages let go behind each chunk)."""
+    wanted = np.asarray(records, dtype=np.int64)
+    values = np.empty(len(wanted))
+    carry = 0.0
+    for lo in range(0, int(wanted.max()) + 1 if len(wanted) else 0, RUNNING_SUM_CHUNK):
+        hi = lo + RUNNING_SUM_CHUNK
+        sums = np.cumsum(increments[lo:hi, axis]) if lo == 0 else np.cumsum(
+            np.concatenate([[carry], increments[lo:hi, axis]]))[1:]
+        inside = (wanted >= lo) & (wanted < hi)
+        values[inside] = sums[wanted[inside] - lo]
+        carry = sums[-1]
+        release_pages(increments)
+    return wanted.tolist(), values.tolist()
 
 
 def _sleeper_match(pulses: np.ndarray, odometer: OdometerData, offset: float) -> tuple[float, float]:
