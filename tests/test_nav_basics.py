@@ -86,3 +86,19 @@ def test_single_vector_cross_and_skew_are_numpys_exactly(a, b):
     assert np.array_equal(rotation.cross(a, b), np.cross(a, b))
     assert np.array_equal(rotation.skew(a), rotation.skew(a[None])[0])
     assert np.array_equal(np.signbit(rotation.skew(a)), np.signbit(rotation.skew(a[None])[0]))
+
+
+def test_the_play_noise_is_across_the_track_and_grows_with_the_distance_run():
+    from insrail.nav.error_model import play_noise
+    from insrail.nav.fusion import FusionOptions, play_drift
+    from insrail.nav.measurements import Zupt
+
+    along, across = np.array([0.6, 0.8, 0.0]), np.array([-0.8, 0.6, 0.0])
+    q = play_noise(1.2 * along + [0.0, 0.0, 0.01], np.array([2e-8, 3e-8]))
+    assert across @ q @ across == pytest.approx(2e-8 * 1.2)
+    assert along @ q @ along == pytest.approx(0.0, abs=1e-24)
+    assert q[2, 2] == pytest.approx(3e-8 * 1.2) and q[0, 2] == q[1, 2] == 0.0
+    np.testing.assert_array_equal(q, q.T)
+    assert not play_noise(np.zeros(3), np.array([2e-8, 3e-8])).any()  # standing still
+    # only where an NHC holds the trolley to the rail (not a hand-held unit's ZUPT-only run)
+    assert not play_drift(FusionOptions(), [Zupt(np.array([1.0]), 0.001, 2e-6)]).any()
