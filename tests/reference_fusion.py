@@ -124,7 +124,7 @@ def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1) -> R
                             setup.noise, ellipsoid)
         phi, q = discretise(F, setup.gqg, seg)
         q = q + setup.bridged_q.get(j, 0.0)
-        q[:3, :3] += play_noise(sums[0:3], setup.play)
+        q[:3, :3] += play_noise(sums[0:3], seg, setup.play)
         P_minus = phi @ P @ phi.T + q
         if pending_reset is not None:
             P_minus = inflate(P_minus, *pending_reset)

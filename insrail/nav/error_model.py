@@ -35,9 +35,11 @@ Discretisation over an interval dt (thesis 2.101, 2.105): Phi = I + F dt + (F dt
 and Q_k = (Phi G Q G^T Phi^T + G Q G^T) dt / 2.
 
 The trolley's play (its frame's small yaw and pitch about the rail, ``resources/trolley_play.toml``)
-makes the rail point the NHC integrates drift from the rail as a random walk in distance: where the
-NHC holds the trolley to the rail, Q_k's position block gets :func:`play_noise` of the segment's
-displacement, lateral and vertical to the track.
+makes the rail point the NHC integrates drift from the rail as a random walk in distance, q per metre
+run. The NHC's white noise (sigma at the update rate f) already lets the position wander by
+sigma^2 / f per second; where the NHC holds the trolley to the rail, Q_k's position block gets the
+rest, :func:`play_noise`: q * run - sigma^2 / f * dt over a segment (none below the speed
+sigma^2 / (f q), 0.81 m/s for the defaults), lateral and vertical to the track.
 """
 
 from __future__ import annotations
@@ -180,21 +182,22 @@ def trolley_play_drift_m2_per_m() -> tuple[float, float]:
     return drift["lateral_mm2_per_m"] * 1e-6, drift["vertical_mm2_per_m"] * 1e-6
 
 
-def play_noise(displacement_ned_m: np.ndarray, drift_m2_per_m: np.ndarray) -> np.ndarray:
-    """Position process noise (3 x 3, NED) of the trolley's play over a segment that moved by
-    ``displacement_ned_m``: ``drift_m2_per_m`` = (lateral, vertical) variance per metre run, lateral
-    across the horizontal displacement, vertical along down (grades of a few per mille ignored).
-    Plain scalar code: the compiled filter runs it as it is (``insrail.nav.fusion``)."""
+def play_noise(displacement_ned_m: np.ndarray, dt: float, play: np.ndarray) -> np.ndarray:
+    """Position process noise (3 x 3, NED) of the trolley's play over a segment of ``dt`` seconds that
+    moved by ``displacement_ned_m`` (module docstring): ``play`` = (lateral drift, vertical drift [m^2
+    per metre run], the NHC noise's own drift sigma^2 / f [m^2/s]); lateral across the horizontal
+    displacement, vertical along down (grades of a few per mille ignored). Plain scalar code: the
+    compiled filter runs it as it is (``insrail.nav.fusion``)."""
     q = np.zeros((3, 3))
     dn, de = displacement_ned_m[0], displacement_ned_m[1]
     run = math.sqrt(dn * dn + de * de)
     if run > 0.0:
-        lateral = drift_m2_per_m[0] / run  # run * u u^T with u = (-de, dn) / run
+        lateral = max(play[0] * run - play[2] * dt, 0.0) / (run * run)  # its variance * u u^T, u = (-de, dn) / run
         q[0, 0] = lateral * de * de
         q[0, 1] = -lateral * dn * de
         q[1, 0] = q[0, 1]
         q[1, 1] = lateral * dn * dn
-        q[2, 2] = drift_m2_per_m[1] * run
+        q[2, 2] = max(play[1] * run - play[2] * dt, 0.0)
     return q
 
 

@@ -448,9 +448,9 @@ def _transition(top_f, decay, gqg, seg, disp, play, phi_top, phi_diag, P, P_minu
     """Phi = I + F dt + (F dt)^2 / 2 (rows 0-8 dense in phi_top, the rest diagonal in
     phi_diag) and P- = Phi P Phi^T + (Phi G Q G^T Phi^T + G Q G^T) dt / 2 with the diagonal
     G Q G^T ``gqg`` (error_model.discretise on the block structure), plus the trolley play's
-    position noise over the segment's displacement ``disp`` (NED) with the drift per metre
-    ``play`` (error_model.play_noise; zero where no NHC holds the trolley to the rail). P- is
-    filled from its upper triangle, exactly symmetric."""
+    position noise over the segment's displacement ``disp`` (NED) with ``play`` (error_model.
+    play_noise; zero where no NHC holds the trolley to the rail). P- is filled from its upper
+    triangle, exactly symmetric."""
     n = P.shape[0]
     for i in range(N_NAV, n):
         d = decay[i] * seg
@@ -493,7 +493,7 @@ def _transition(top_f, decay, gqg, seg, disp, play, phi_top, phi_diag, P, P_minu
                 q += gqg[i]
             P_minus[i, j] = s + 0.5 * q * seg
             P_minus[j, i] = P_minus[i, j]
-    q_play = _play_noise(disp, play)
+    q_play = _play_noise(disp, seg, play)
     for i in range(3):
         for j in range(3):
             P_minus[i, j] += q_play[i, j]
@@ -944,10 +944,14 @@ def holds_to_rail(measurements) -> bool:
 
 
 def play_drift(options: FusionOptions, measurements) -> np.ndarray:
-    """The trolley play's drift per metre run (lateral, vertical) [m^2/m] the position process noise
-    gets (``error_model.play_noise``): the options' where an NHC holds the trolley to the rail, else
-    none (a hand-held unit's axes point anywhere). The fusion and its covariance replays use this."""
-    return np.array(options.play_drift_m2_per_m if holds_to_rail(measurements) else (0.0, 0.0), dtype=float)
+    """What the position process noise of the trolley's play takes (``error_model.play_noise``): its
+    drift per metre run (lateral, vertical) [m^2/m] and the drift its NHC's white noise stands for
+    already, sigma^2 / f [m^2/s]; where an NHC holds the trolley to the rail, else none (a hand-held
+    unit's axes point anywhere). The fusion and its covariance replays use this."""
+    nhc = [m for m in measurements if isinstance(m, OdometerNhc) and m.use_nhc]
+    if not nhc:
+        return np.zeros(3)
+    return np.array([*options.play_drift_m2_per_m, nhc[0].sigma_nhc_mps**2 / options.update_rate_hz])
 
 
 def update_grid(imu_time_s: np.ndarray, k0: int, every: int, measurements) -> np.ndarray:
@@ -982,7 +986,7 @@ class _Setup:
     P0: np.ndarray
     noise: ErrorModelNoise
     gqg: np.ndarray
-    play: np.ndarray  # the play's drift per metre (lateral, vertical) the filter's position noise gets
+    play: np.ndarray  # the play's position noise (play_drift)
     gates: np.ndarray  # chi-square gate per number of rows
     #: the positions a reset's re-alignment takes the heading from: the track, when the NHC holds the
     #: trolley frame's x axis along it (not for a hand-held unit, whose axes point anywhere); else None

@@ -278,7 +278,7 @@ def predict(
             snap = replace(_snapshot(lat, h, vel, key[1] * forward_ned, c_bn, dt, ellipsoid), time_s=plan.time_s[j])
             F = dynamics_matrix(lat, h, vel, c_bn, snap.f_b, snap.omega_ib_b, noise, ellipsoid)
             phi, q = discretise(F, gqg, dt)
-            q[:3, :3] += play_noise(vel * dt, play)
+            q[:3, :3] += play_noise(vel * dt, dt, play)
             cache[key] = (phi, q, snap, {})
         phi, q, snap, models = cache[key]
         updates = []

@@ -190,7 +190,7 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
     def segment(j):
         F = dynamics_matrix(lat[j], h[j], vel[j], c_bn[j], f_b[j], omega_b[j], noise, ellipsoid)
         phi, q = discretise(F, gqg, seg[j])
-        q[:3, :3] += play_noise(vel[j] * seg[j], play)
+        q[:3, :3] += play_noise(vel[j] * seg[j], seg[j], play)
         snap = snapshot(j)
         updates = (meas.model(snap, i)[1:] for meas, i in applied_at.get(j, ()))
         return (phi, q, updates, resets[j]) if j in resets else (phi, q, updates)
