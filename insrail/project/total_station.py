@@ -3,8 +3,9 @@ prism fixes: every set-up resected on its CPIII points, the prism pointings plac
 
 Per set-up (:mod:`insrail.geodesy.free_station`): the station's plan position, height and circle
 orientation from its CPIII pointings (at least three), each point checked by leave-one-out; a
-point whose residual exceeds the tolerance (2 mm) is named in a notice and left out, one at a time
-while three remain. A set-up that cannot be resected (fewer than three known points, or points
+point whose residual fails the test against its own 1-sigma (the pointing's precision through the
+fit, scaled by the set-up's residuals; significance 1e-4 in plan and in height) is named in a notice
+and left out, one at a time while three remain. A set-up that cannot be resected (fewer than three known points, or points
 that disagree with no majority) is an error naming the file and the set-up's first line. Each
 prism pointing then becomes a prism fix (time, E, N, H; ``point_id`` the set-up), with the
 standard deviation
@@ -26,20 +27,23 @@ over the 60 m between fixes, docs/accuracy.md): a notice says so too.
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 
 import numpy as np
 
-from insrail.geodesy.free_station import DEFAULT_TOLERANCE_M, PolarObservations, resect
+from insrail.geodesy.free_station import (
+    ANGLE_SIGMA_RAD,
+    DISTANCE_SIGMA_M,
+    SIGNIFICANCE,
+    PolarObservations,
+    resect,
+)
 from insrail.io.errors import InputError
 from insrail.io.survey import SurveyData
 from insrail.io.total_station import PRISM_TARGET
 from insrail.io.types import ControlPoints, PrismObservations, TotalStationObservations
 from insrail.notices import Notice
 
-ANGLE_SIGMA_RAD = 0.3e-3 * math.pi / 200.0  # 0.3 mgon (1"): the pointing of a precise total station
-DISTANCE_SIGMA_M = 0.0006
 MIN_SIGMA_M = 0.0005
 #: A run beyond the first or last prism fix shorter than this is the fix's own stop, not a stretch.
 UNCOVERED_RUN_M = 1.0
@@ -51,7 +55,7 @@ def _polar(observations: TotalStationObservations, rows: np.ndarray) -> PolarObs
 
 
 def prism_fixes_from_observations(observations: TotalStationObservations, points: ControlPoints,
-                                  tolerance_m: float = DEFAULT_TOLERANCE_M) -> tuple[PrismObservations, list[Notice]]:
+                                  significance: float = SIGNIFICANCE) -> tuple[PrismObservations, list[Notice]]:
     """The prism fixes of every set-up (module docstring) and the notices of CPIII points left out."""
     source = observations.source or "total-station observations"
     known = {str(p): k for k, p in enumerate(points.point_id)}
@@ -70,7 +74,7 @@ def prism_fixes_from_observations(observations: TotalStationObservations, points
                              f"in the CPIII file {points.source or ''}".rstrip())
         try:
             station = resect(_polar(observations, on_points),
-                             coordinates[[known[str(t)] for t in observations.target[on_points]]], tolerance_m)
+                             coordinates[[known[str(t)] for t in observations.target[on_points]]], significance)
         except ValueError as error:
             raise InputError(source, line, f"set-up {setup}: {error}") from None
         for point in station.points:
@@ -78,7 +82,8 @@ def prism_fixes_from_observations(observations: TotalStationObservations, points
                 notices.append(Notice("total station", (
                     f"set-up {setup} (line {line}): CPIII point {point.name} does not fit (leave-one-out residual "
                     f"{1e3 * point.left_out_residual_plan_m:.1f} mm in plan, {1e3 * point.left_out_residual_height_m:.1f} "
-                    f"mm in height, tolerance {1e3 * tolerance_m:.1f} mm): left out; check its coordinates"),
+                    f"mm in height, {point.test_ratio:.1f} times the limit of the test against its 1-sigma): left "
+                    f"out; check its coordinates"),
                     file=str(source), time_s=float(observations.time_s[rows[0]])))
         if not on_prism.size:
             continue
