@@ -20,9 +20,8 @@ A survey without GNSS is held by its fixes alone: where its run goes on beyond t
 fix, the INS and the odometer carry the position on their own and its 1-sigma grows with the distance
 (nav grade, fixes every 60 m: 0.8 mm between them, about 1.3, 2.2 and 3.1 mm over the three 60 m beyond
 the last, docs/accuracy.md). That stretch is named in a notice (:func:`gnss_free_run_notices`);
-sleepers.csv and quality.csv carry its 1-sigma. Between the fixes the stated 1-sigma is about 10 % short
-of the error (the fusion's NHC noise is set for its innovations, the trolley's play drifts a little more
-over the 60 m between fixes, docs/accuracy.md): a notice says so too.
+sleepers.csv and quality.csv carry its 1-sigma. Between the fixes the stated 1-sigma is the error's
+(the trolley's play is in the fusion's process noise, docs/accuracy.md).
 """
 
 from __future__ import annotations
@@ -121,18 +120,13 @@ def with_total_station_fixes(survey: SurveyData) -> tuple[SurveyData, list[Notic
 
 
 def gnss_free_run_notices(survey: SurveyData) -> list[Notice]:
-    """For a survey held by prism fixes where it has no GNSS (module docstring): a notice that the
-    stated 1-sigma between the fixes is about 10 % short, and, without any GNSS, one for each end whose
-    run (odometer distance) goes on more than UNCOVERED_RUN_M beyond its first or last fix; none
-    without fixes or without an odometer."""
-    if survey.prism is None or not len(survey.prism) or survey.odometer is None:
+    """For a survey held by prism fixes without any GNSS (module docstring): a notice for each end whose
+    run (odometer distance) goes on more than UNCOVERED_RUN_M beyond its first or last fix; none with
+    GNSS, without fixes or without an odometer."""
+    if survey.prism is None or not len(survey.prism) or survey.odometer is None or survey.gnss is not None:
         return []
     first, last = float(np.min(survey.prism.time_s)), float(np.max(survey.prism.time_s))
-    notices = [Notice("total station", "between the prism fixes, where there is no GNSS, the position rests on the "
-                      "odometer and the trolley's constraint to the rails; the stated position 1-sigma there is about "
-                      "10 % below the error seen on simulated tunnels (docs/accuracy.md)", time_s=first)]
-    if survey.gnss is not None:
-        return notices
+    notices = []
     odometer = survey.odometer
     at_first, at_last = np.interp([first, last], odometer.time_s, odometer.distance_m)
     for run, where, time_s in ((at_first - odometer.distance_m.min(), "before its first", first),
