@@ -4,9 +4,10 @@ prism fixes: every set-up resected on its CPIII points, the prism pointings plac
 Per set-up (:mod:`insrail.geodesy.free_station`): the station's plan position, height and circle
 orientation from its CPIII pointings (at least three), each point checked by leave-one-out; a
 point whose residual fails the test against its own 1-sigma (the pointing's precision through the
-fit, scaled by the set-up's residuals; significance 1e-4 in plan and in height) is named in a notice
-and left out, one at a time while three remain. A set-up that cannot be resected (fewer than three known points, or points
-that disagree with no majority) is an error naming the file and the set-up's first line. Each
+fit, scaled by the set-up's residuals; significance 1e-3 in plan and in height) is named in a notice
+and left out, one at a time while three remain. A set-up that cannot be resected (fewer than three
+known points, or points that disagree with no majority) is an error naming the file and the set-up's
+first line. Each
 prism pointing then becomes a prism fix (time, E, N, H; ``point_id`` the set-up), with the
 standard deviation
 
