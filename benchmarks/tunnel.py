@@ -122,17 +122,6 @@ def smoothed_walk(fix_sigma_m: float, length_m: float, *, sigma_m: float | None 
             "p_within_2mm": float(np.mean(largest <= 0.002))}
 
 
-def play_drift_m2_per_m(name: str) -> tuple[float, float]:
-    """(vertical, lateral) drift variance per metre of the preset's trolley play: the flat one-sided
-    spatial PSD G = rms^2 / (1/shortest - 1/longest) of its pitch and yaw integrates along the track
-    into a random walk of variance G / 2 per metre (``TrolleyPlaySpec``)."""
-    from insrail.sim.scenario import preset
-
-    play = preset(name).play
-    band = 1.0 / play.shortest_wavelength_m - 1.0 / play.longest_wavelength_m
-    return play.pitch_rms_rad**2 / band / 2.0, play.yaw_rms_rad**2 / band / 2.0
-
-
 def _process(root: Path, survey: Path, name: str):
     from insrail.project import process
     from insrail.project.demo import project_for_simulated_survey
@@ -345,6 +334,8 @@ def _raw_case(survey: Path, work: Path, name: str, first: dict[str, float], inte
 
 def _seed_summary(rows: list[dict], seeds: list[int], fix_sigma_m: float) -> None:
     """Over the seeds of case 4: the three readings of "absolute error <= 2 mm" and the bound."""
+    from insrail.sim.scenario import preset
+
     print(f"   over the seeds {seeds} (the largest is over {rows[0]['length_m']:.0f} m of sleepers, "
           f"the 95 % and RMS over all of them):")
     for d in ("lateral", "vertical"):
@@ -359,7 +350,7 @@ def _seed_summary(rows: list[dict], seeds: list[int], fix_sigma_m: float) -> Non
               f"{np.sqrt(np.mean(rms**2)):.2f} mm; error / sigma RMS {ratio:.2f}, beyond 3 sigma {100 * beyond:.2f} %")
     runs = np.array([[r["lateral_max_mm"], r["vertical_max_mm"]] for r in rows]).max(axis=1)
     print(f"   both directions within 2 mm in {int(np.sum(runs <= 2.0))} of {len(rows)} runs")
-    drift = dict(zip(("vertical", "lateral"), play_drift_m2_per_m("tunnel-no-gnss")))
+    drift = dict(zip(("lateral", "vertical"), preset("tunnel-no-gnss").play.drift_m2_per_m()))
     same = drift["vertical"] == drift["lateral"]
     for d, q in [("lateral and vertical", drift["lateral"])] if same else drift.items():
         bound = smoothed_walk(fix_sigma_m, rows[0]["length_m"], drift_m2_per_m=q)

@@ -23,6 +23,7 @@ from insrail.nav.error_model import (
     VEL,
     discretise,
     dynamics_matrix,
+    play_noise,
 )
 from insrail.nav.measurements import NavSnapshot
 from insrail.nav.mechanization import (
@@ -124,6 +125,7 @@ def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1) -> R
                             setup.noise, ellipsoid)
         phi, q = discretise(F, setup.gqg, seg)
         q = q + setup.bridged_q.get(j, 0.0)
+        q[:3, :3] += play_noise(sums[0:3], seg, setup.play)
         P_minus = phi @ P @ phi.T + q
         if pending_reset is not None:
             P_minus = inflate(P_minus, *pending_reset)

@@ -86,3 +86,26 @@ def test_single_vector_cross_and_skew_are_numpys_exactly(a, b):
     assert np.array_equal(rotation.cross(a, b), np.cross(a, b))
     assert np.array_equal(rotation.skew(a), rotation.skew(a[None])[0])
     assert np.array_equal(np.signbit(rotation.skew(a)), np.signbit(rotation.skew(a[None])[0]))
+
+
+def test_the_play_noise_is_across_the_track_and_the_part_of_its_drift_the_nhc_noise_does_not_carry():
+    from insrail.nav.error_model import play_noise
+    from insrail.nav.fusion import FusionOptions, play_drift
+    from insrail.nav.measurements import OdometerNhc, Zupt
+
+    along, across = np.array([0.6, 0.8, 0.0]), np.array([-0.8, 0.6, 0.0])
+    play = np.array([2e-8, 3e-8, 1e-8])  # per metre run lateral, vertical; the NHC's drift per second
+    q = play_noise(1.2 * along + [0.0, 0.0, 0.01], 0.1, play)  # 1.2 m in 0.1 s
+    assert across @ q @ across == pytest.approx(2e-8 * 1.2 - 1e-8 * 0.1)
+    assert along @ q @ along == pytest.approx(0.0, abs=1e-24)
+    assert q[2, 2] == pytest.approx(3e-8 * 1.2 - 1e-8 * 0.1) and q[0, 2] == q[1, 2] == 0.0
+    np.testing.assert_array_equal(q, q.T)
+    assert not play_noise(np.zeros(3), 0.1, play).any()  # standing still
+    assert not play_noise(0.03 * along, 0.1, play).any()  # 0.3 m/s: the NHC noise carries more than the play
+    # only where an NHC holds the trolley to the rail (not a hand-held unit's ZUPT-only run), with its sigma
+    options = FusionOptions()
+    assert not play_drift(options, [Zupt(np.array([1.0]), 0.001, 2e-6)]).any()
+    nhc = OdometerNhc(np.array([1.0]), np.array([1.2]), np.eye(3), np.zeros(3), np.zeros(3), np.array([0.001]),
+                      sigma_nhc_mps=options.nhc_sigma_mps)
+    np.testing.assert_allclose(play_drift(options, [nhc]), [*options.play_drift_m2_per_m,
+                                                          options.nhc_sigma_mps**2 / options.update_rate_hz])

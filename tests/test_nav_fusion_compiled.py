@@ -20,6 +20,7 @@ from insrail.nav.error_model import (
     discretise,
     dynamics_matrix,
     noise_matrix,
+    play_noise,
 )
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.mechanization import q_ne_from_lat_lon
@@ -149,8 +150,10 @@ def test_block_structured_propagation_is_the_dense_one():
     np.testing.assert_allclose(top, F[: fusion.N_NAV], rtol=1e-9, atol=1e-15)
     assert np.count_nonzero(F[fusion.N_NAV :] - np.diag(np.diag(F))[fusion.N_NAV :]) == 0  # the rest is diagonal
     phi_top, phi_diag, P_minus = np.zeros((fusion.N_NAV, N_STATES)), np.ones(N_STATES), np.zeros((N_STATES, N_STATES))
-    fusion._transition(top, np.diag(F).copy(), np.diag(gqg).copy(), 0.1, phi_top, phi_diag, P, P_minus)
+    disp, play = np.array([0.08, -0.09, 0.002]), np.array([2.5e-8, 1.5e-8, 2e-9])
+    fusion._transition(top, np.diag(F).copy(), np.diag(gqg).copy(), 0.1, disp, play, phi_top, phi_diag, P, P_minus)
     np.testing.assert_allclose(phi_top, phi[: fusion.N_NAV], rtol=1e-12, atol=1e-18)
     np.testing.assert_allclose(phi_diag[fusion.N_NAV :], np.diag(phi)[fusion.N_NAV :], rtol=1e-14)
+    q[:3, :3] += play_noise(disp, 0.1, play)
     np.testing.assert_allclose(P_minus, phi @ P @ phi.T + q, rtol=1e-9, atol=1e-18)
     assert np.array_equal(P_minus, P_minus.T)

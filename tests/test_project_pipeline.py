@@ -100,9 +100,10 @@ def test_exceedances_are_those_of_the_truth_beyond_the_predicted_noise(processed
     measured = [e for e in results.assessment.exceedances if e.check == "short_wave_30m_5m"]
     assert sum(clear(e) for e in short_wave) >= 4 and all(found_in(e, measured) for e in short_wave if clear(e))
     assert all(found_in(e, short_wave) for e in measured if clear(e))
-    # the largest injected bump (2.9 mm, lateral) among them
-    assert any(e.direction == "lateral" and 1241.0 <= e.station_to_m and e.station_from_m <= 1250.0
-               for e in short_wave if clear(e))
+    # the largest injected bump (2.8 mm, lateral) is reported at its place, however near the 3-sigma margin
+    # (0.83 mm with the trolley play's process noise, docs/accuracy.md) it stands
+    largest = [e for e in short_wave if e.direction == "lateral" and 1241.0 <= e.station_to_m and e.station_from_m <= 1250.0]
+    assert largest and all(found_in(e, measured) for e in largest)
 
 
 def test_changing_the_tolerance_profile_reuses_the_fusion(processed, monkeypatch):

@@ -64,3 +64,16 @@ def test_without_play_the_rail_point_moves_exactly_along_the_frame():
     t = np.linspace(20.0, 260.0, 2001)
     body = np.einsum("nji,nj->ni", kin.state(t).dcm_ecef_from_body, kin.point_ecef(t, lever)[1])
     assert np.abs(body[:, 1:]).max() < 1e-7
+
+
+def test_the_fusions_play_drift_is_the_simulated_plays_integral_along_the_track():
+    # resources/trolley_play.toml, the fusion's position process noise per metre run, is the
+    # simulator's default play, whose yaw and pitch integrated over a run drift by G / 2 per metre
+    lateral, vertical = TrolleyPlaySpec().drift_m2_per_m()
+    assert FusionOptions().play_drift_m2_per_m == pytest.approx((lateral, vertical), rel=0.01)
+    # the formula against the play itself: the integral of the drawn yaw over 60 m, 300 draws
+    station = np.arange(0.0, 60.0, 0.02)
+    spec = TrolleyPlaySpec(pitch_rms_rad=0.0)
+    drift = [np.trapezoid(trolley_play(spec, np.random.default_rng(seed), station)[:, 1], station)
+             for seed in range(300)]
+    assert np.var(drift) / 60.0 == pytest.approx(lateral, rel=0.25)  # 300 draws: 8 % 1-sigma

@@ -33,17 +33,28 @@ random constant with a tiny random walk (wheel wear, temperature).
 
 Discretisation over an interval dt (thesis 2.101, 2.105): Phi = I + F dt + (F dt)^2 / 2
 and Q_k = (Phi G Q G^T Phi^T + G Q G^T) dt / 2.
+
+The trolley's play (its frame's small yaw and pitch about the rail, ``resources/trolley_play.toml``)
+makes the rail point the NHC integrates drift from the rail as a random walk in distance, q per metre
+run. The NHC's white noise (sigma at the update rate f) already lets the position wander by
+sigma^2 / f per second; where the NHC holds the trolley to the rail, Q_k's position block gets the
+rest, :func:`play_noise`: q * run - sigma^2 / f * dt over a segment (none below the speed
+sigma^2 / (f q), 0.81 m/s for the defaults), lateral and vertical to the track.
 """
 
 from __future__ import annotations
 
+import math
+import tomllib
 from dataclasses import dataclass
+from functools import cache
 
 import numpy as np
 
 from insrail.nav import earth
 from insrail.nav.imu_profile import ImuProfile
 from insrail.nav.rotation import skew
+from insrail.resources import resources_dir
 
 N_STATES = 25
 POS, VEL, ATT, BG, BA, SG, SA, ODO, GNSS = 0, 3, 6, 9, 12, 15, 18, 21, 22
@@ -158,6 +169,35 @@ def noise_matrix(noise: ErrorModelNoise) -> np.ndarray:
     q[SA : SA + 3, SA : SA + 3] = noise.accel_scale_psd * np.eye(3)
     q[ODO, ODO] = ODOMETER_SCALE_RANDOM_WALK**2
     q[GNSS : GNSS + 3, GNSS : GNSS + 3] = np.diag(2.0 * np.square(noise.gnss_sigma_ned_m) / noise.gnss_tau_s)
+    return q
+
+
+@cache
+def trolley_play_drift_m2_per_m() -> tuple[float, float]:
+    """(lateral, vertical) drift variance of the trolley's play per metre run [m^2/m], from
+    ``resources/trolley_play.toml``."""
+    path = resources_dir() / "trolley_play.toml"
+    with open(path, "rb") as handle:
+        drift = tomllib.load(handle)["drift"]
+    return drift["lateral_mm2_per_m"] * 1e-6, drift["vertical_mm2_per_m"] * 1e-6
+
+
+def play_noise(displacement_ned_m: np.ndarray, dt: float, play: np.ndarray) -> np.ndarray:
+    """Position process noise (3 x 3, NED) of the trolley's play over a segment of ``dt`` seconds that
+    moved by ``displacement_ned_m`` (module docstring): ``play`` = (lateral drift, vertical drift [m^2
+    per metre run], the NHC noise's own drift sigma^2 / f [m^2/s]); lateral across the horizontal
+    displacement, vertical along down (grades of a few per mille ignored). Plain scalar code: the
+    compiled filter runs it as it is (``insrail.nav.fusion``)."""
+    q = np.zeros((3, 3))
+    dn, de = displacement_ned_m[0], displacement_ned_m[1]
+    run = math.sqrt(dn * dn + de * de)
+    if run > 0.0:
+        lateral = max(play[0] * run - play[2] * dt, 0.0) / (run * run)  # its variance * u u^T, u = (-de, dn) / run
+        q[0, 0] = lateral * de * de
+        q[0, 1] = -lateral * dn * de
+        q[1, 0] = q[0, 1]
+        q[1, 1] = lateral * dn * dn
+        q[2, 2] = max(play[1] * run - play[2] * dt, 0.0)
     return q
 
 

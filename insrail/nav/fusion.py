@@ -59,7 +59,7 @@ from scipy.special import chdtri
 from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
-from insrail.nav import _kernels, earth, integrity, kalman
+from insrail.nav import _kernels, earth, error_model, integrity, kalman
 from insrail.nav import measurements as meas
 from insrail.nav.alignment import detect_stops, stop_motion_sigma, stop_thresholds
 from insrail.nav.error_model import (
@@ -76,6 +76,8 @@ from insrail.nav.error_model import (
     ErrorModelNoise,
     initial_sensor_sigmas,
     noise_matrix,
+    play_noise,
+    trolley_play_drift_m2_per_m,
 )
 from insrail.nav.imu_gaps import bridge_gaps, bridged_process_noise
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
@@ -128,6 +130,11 @@ class FusionOptions:
     # 0.1 mm/s/sqrt(Hz), i.e. 0.3 mm/s at 10 Hz; tighter than 0.45 mm/s the solution follows the play.
     odometer_sigma_mps: float = 0.0005  # plus the pulse quantisation over the segment
     nhc_sigma_mps: float = 0.00045
+    #: The trolley's play as position process noise where the NHC holds the trolley to the rail:
+    #: (lateral, vertical) drift variance per metre run [m^2/m], ``resources/trolley_play.toml``.
+    #: The NHC noise above is set for its 10 Hz innovations; the play's drift over tens of metres
+    #: (between prism fixes) is this (docs/fusion.md).
+    play_drift_m2_per_m: tuple[float, float] = field(default_factory=trolley_play_drift_m2_per_m)
     # The ZUPT's velocity noise where the platform shows no motion beyond the accelerometers' noise;
     # a stop where they show more (an operator's touch, a hand) adds that motion's velocity
     # (``alignment.stop_motion_sigma``). Between two 10 Hz ZUPTs of a still trolley the INS velocity
@@ -444,12 +451,17 @@ def dynamics_rows(ctx, f_b, omega_ib_b, earth_c, top):
             top[6 + a, SG + b] = -c[3 * a + b] * omega_ib_b[b]
 
 
+_play_noise = compiled(play_noise)
+
+
 @compiled
-def _transition(top_f, decay, gqg, seg, phi_top, phi_diag, P, P_minus):
+def _transition(top_f, decay, gqg, seg, disp, play, phi_top, phi_diag, P, P_minus):
     """Phi = I + F dt + (F dt)^2 / 2 (rows 0-8 dense in phi_top, the rest diagonal in
     phi_diag) and P- = Phi P Phi^T + (Phi G Q G^T Phi^T + G Q G^T) dt / 2 with the diagonal
-    G Q G^T ``gqg`` (error_model.discretise on the block structure). P- is filled from its
-    upper triangle, exactly symmetric."""
+    G Q G^T ``gqg`` (error_model.discretise on the block structure), plus the trolley play's
+    position noise over the segment's displacement ``disp`` (NED) with ``play`` (error_model.
+    play_noise; zero where no NHC holds the trolley to the rail). P- is filled from its upper
+    triangle, exactly symmetric."""
     n = P.shape[0]
     for i in range(N_NAV, n):
         d = decay[i] * seg
@@ -492,6 +504,10 @@ def _transition(top_f, decay, gqg, seg, phi_top, phi_diag, P, P_minus):
                 q += gqg[i]
             P_minus[i, j] = s + 0.5 * q * seg
             P_minus[j, i] = P_minus[i, j]
+    q_play = _play_noise(disp, seg, play)
+    for i in range(3):
+        for j in range(3):
+            P_minus[i, j] += q_play[i, j]
 
 
 @compiled
@@ -576,7 +592,7 @@ def _unpack_records(records, phi, P_minus, P, dx):
 
 @compiled
 def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, phi_diag, ctx, sums, pending,
-                    dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, gnss_decay_tau, gap_j, gap_q,
+                    dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, play, gnss_decay_tau, gap_j, gap_q,
                     first, source, observation, kinds, params, rows, row_first, gates,
                     nav_buf, nav_base, rec_buf, rec_fill, record, sensor_hist, sigma_hist, hist_base,
                     nis_out, dof_out, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu):
@@ -614,7 +630,7 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
                 f_b[k] = sums[6 + k] / seg
                 w_b[k] = sums[3 + k] / seg
             dynamics_rows(ctx, f_b, w_b, earth_c, top_f)
-            _transition(top_f, decay, gqg, seg, phi_top, phi_diag, P, P_minus)
+            _transition(top_f, decay, gqg, seg, sums[0:3], play, phi_top, phi_diag, P, P_minus)
             for g in range(gap_j.shape[0]):  # the motion an IMU gap's interpolation may have missed
                 if gap_j[g] == j:
                     for k in range(n):
@@ -980,6 +996,22 @@ def fuse_survey(survey: SurveyData, options: FusionOptions = FusionOptions(), pr
     return fuse(survey.imu, aiding_for(survey, options, profile, position_fixes), profile, options, ellipsoid, **kwargs)
 
 
+def holds_to_rail(measurements) -> bool:
+    """Whether an NHC among ``measurements`` holds the trolley frame's x axis along the rail."""
+    return any(isinstance(m, OdometerNhc) and m.use_nhc for m in measurements)
+
+
+def play_drift(options: FusionOptions, measurements) -> np.ndarray:
+    """What the position process noise of the trolley's play takes (``error_model.play_noise``): its
+    drift per metre run (lateral, vertical) [m^2/m] and the drift its NHC's white noise stands for
+    already, sigma^2 / f [m^2/s]; where an NHC holds the trolley to the rail, else none (a hand-held
+    unit's axes point anywhere). The fusion and its covariance replays use this."""
+    nhc = [m for m in measurements if isinstance(m, OdometerNhc) and m.use_nhc]
+    if not nhc:
+        return np.zeros(3)
+    return np.array([*options.play_drift_m2_per_m, nhc[0].sigma_nhc_mps**2 / options.update_rate_hz])
+
+
 def update_grid(imu_time_s: np.ndarray, k0: int, every: int, measurements) -> np.ndarray:
     """The IMU epochs that end a filter segment: every ``every``-th from the start epoch
     ``k0``, the epoch that closes each time-stamped observation, and the last epoch."""
@@ -1012,6 +1044,7 @@ class _Setup:
     P0: np.ndarray
     noise: ErrorModelNoise
     gqg: np.ndarray
+    play: np.ndarray  # the play's position noise (play_drift)
     gates: np.ndarray  # chi-square gate per number of rows
     #: the positions a reset's re-alignment takes the heading from: the track, when the NHC holds the
     #: trolley frame's x axis along it (not for a hand-held unit, whose axes point anywhere); else None
@@ -1077,9 +1110,9 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                             start.sigma_heading_rad)
     # chi-square quantile of the gate probability per degree of freedom (scipy.special: no scipy.stats import)
     gates = np.array([np.inf] + [chdtri(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
+    on_rail = holds_to_rail(aiding.measurements)
     return _Setup(imu, dt0, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
-                  noise, gqg, gates,
-                  track if any(isinstance(m, OdometerNhc) and m.use_nhc for m in aiding.measurements) else None, c_vb)
+                  noise, gqg, play_drift(options, aiding.measurements), gates, track if on_rail else None, c_vb)
 
 
 def realign_at_reset(reset: FilterReset, nav: np.ndarray, setup: _Setup, options: FusionOptions,
@@ -1195,7 +1228,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
         event, e = _forward_kernel(
             state.pos, state.nav, state.sensor, state.gnss_error, state.odo, state.x, state.P, state.P_minus,
             state.phi_top, state.phi_diag, state.ctx, state.sums, state.pending,
-            dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, gnss_tau, gap_j, gap_q,
+            dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, setup.play, gnss_tau, gap_j, gap_q,
             plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
             nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist, hist_base,
             nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu)
@@ -1512,4 +1545,4 @@ def _trajectory_rows(t, nav, idx, seg, epochs, sensor_hist, sigma_hist, correcti
 # strapdown): their cache entries go when those modules change (numba checks only this file).
 _kernels.drop_stale_cache((_propagate_segment, dynamics_rows, _transition, _feedback, _pack_record, _unpack_record,
                            _unpack_records, _forward_kernel, _rts_chunk, _trajectory_rows),
-                          (meas.__file__, kalman.__file__, _kernels.__file__))
+                          (meas.__file__, kalman.__file__, _kernels.__file__, error_model.__file__))

@@ -3,9 +3,11 @@ prism fixes: every set-up resected on its CPIII points, the prism pointings plac
 
 Per set-up (:mod:`insrail.geodesy.free_station`): the station's plan position, height and circle
 orientation from its CPIII pointings (at least three), each point checked by leave-one-out; a
-point whose residual exceeds the tolerance (2 mm) is named in a notice and left out, one at a time
-while three remain. A set-up that cannot be resected (fewer than three known points, or points
-that disagree with no majority) is an error naming the file and the set-up's first line. Each
+point whose residual fails the test against its own 1-sigma (the pointing's precision through the
+fit, scaled by the set-up's residuals; significance 1e-3 in plan and in height) is named in a notice
+and left out, one at a time while three remain. A set-up that cannot be resected (fewer than three
+known points, or points that disagree with no majority) is an error naming the file and the set-up's
+first line. Each
 prism pointing then becomes a prism fix (time, E, N, H; ``point_id`` the set-up), with the
 standard deviation
 
@@ -19,27 +21,29 @@ A survey without GNSS is held by its fixes alone: where its run goes on beyond t
 fix, the INS and the odometer carry the position on their own and its 1-sigma grows with the distance
 (nav grade, fixes every 60 m: 0.8 mm between them, about 1.3, 2.2 and 3.1 mm over the three 60 m beyond
 the last, docs/accuracy.md). That stretch is named in a notice (:func:`gnss_free_run_notices`);
-sleepers.csv and quality.csv carry its 1-sigma. Between the fixes the stated 1-sigma is about 10 % short
-of the error (the fusion's NHC noise is set for its innovations, the trolley's play drifts a little more
-over the 60 m between fixes, docs/accuracy.md): a notice says so too.
+sleepers.csv and quality.csv carry its 1-sigma. Between the fixes the stated 1-sigma is the error's
+(the trolley's play is in the fusion's process noise, docs/accuracy.md).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 
 import numpy as np
 
-from insrail.geodesy.free_station import DEFAULT_TOLERANCE_M, PolarObservations, resect
+from insrail.geodesy.free_station import (
+    ANGLE_SIGMA_RAD,
+    DISTANCE_SIGMA_M,
+    SIGNIFICANCE,
+    PolarObservations,
+    resect,
+)
 from insrail.io.errors import InputError
 from insrail.io.survey import SurveyData
 from insrail.io.total_station import PRISM_TARGET
 from insrail.io.types import ControlPoints, PrismObservations, TotalStationObservations
 from insrail.notices import Notice
 
-ANGLE_SIGMA_RAD = 0.3e-3 * math.pi / 200.0  # 0.3 mgon (1"): the pointing of a precise total station
-DISTANCE_SIGMA_M = 0.0006
 MIN_SIGMA_M = 0.0005
 #: A run beyond the first or last prism fix shorter than this is the fix's own stop, not a stretch.
 UNCOVERED_RUN_M = 1.0
@@ -51,7 +55,7 @@ def _polar(observations: TotalStationObservations, rows: np.ndarray) -> PolarObs
 
 
 def prism_fixes_from_observations(observations: TotalStationObservations, points: ControlPoints,
-                                  tolerance_m: float = DEFAULT_TOLERANCE_M) -> tuple[PrismObservations, list[Notice]]:
+                                  significance: float = SIGNIFICANCE) -> tuple[PrismObservations, list[Notice]]:
     """The prism fixes of every set-up (module docstring) and the notices of CPIII points left out."""
     source = observations.source or "total-station observations"
     known = {str(p): k for k, p in enumerate(points.point_id)}
@@ -70,7 +74,7 @@ def prism_fixes_from_observations(observations: TotalStationObservations, points
                              f"in the CPIII file {points.source or ''}".rstrip())
         try:
             station = resect(_polar(observations, on_points),
-                             coordinates[[known[str(t)] for t in observations.target[on_points]]], tolerance_m)
+                             coordinates[[known[str(t)] for t in observations.target[on_points]]], significance)
         except ValueError as error:
             raise InputError(source, line, f"set-up {setup}: {error}") from None
         for point in station.points:
@@ -78,7 +82,8 @@ def prism_fixes_from_observations(observations: TotalStationObservations, points
                 notices.append(Notice("total station", (
                     f"set-up {setup} (line {line}): CPIII point {point.name} does not fit (leave-one-out residual "
                     f"{1e3 * point.left_out_residual_plan_m:.1f} mm in plan, {1e3 * point.left_out_residual_height_m:.1f} "
-                    f"mm in height, tolerance {1e3 * tolerance_m:.1f} mm): left out; check its coordinates"),
+                    f"mm in height, {point.test_ratio:.1f} times the limit of the test against its 1-sigma): left "
+                    f"out; check its coordinates"),
                     file=str(source), time_s=float(observations.time_s[rows[0]])))
         if not on_prism.size:
             continue
@@ -116,18 +121,13 @@ def with_total_station_fixes(survey: SurveyData) -> tuple[SurveyData, list[Notic
 
 
 def gnss_free_run_notices(survey: SurveyData) -> list[Notice]:
-    """For a survey held by prism fixes where it has no GNSS (module docstring): a notice that the
-    stated 1-sigma between the fixes is about 10 % short, and, without any GNSS, one for each end whose
-    run (odometer distance) goes on more than UNCOVERED_RUN_M beyond its first or last fix; none
-    without fixes or without an odometer."""
-    if survey.prism is None or not len(survey.prism) or survey.odometer is None:
+    """For a survey held by prism fixes without any GNSS (module docstring): a notice for each end whose
+    run (odometer distance) goes on more than UNCOVERED_RUN_M beyond its first or last fix; none with
+    GNSS, without fixes or without an odometer."""
+    if survey.prism is None or not len(survey.prism) or survey.odometer is None or survey.gnss is not None:
         return []
     first, last = float(np.min(survey.prism.time_s)), float(np.max(survey.prism.time_s))
-    notices = [Notice("total station", "between the prism fixes, where there is no GNSS, the position rests on the "
-                      "odometer and the trolley's constraint to the rails; the stated position 1-sigma there is about "
-                      "10 % below the error seen on simulated tunnels (docs/accuracy.md)", time_s=first)]
-    if survey.gnss is not None:
-        return notices
+    notices = []
     odometer = survey.odometer
     at_first, at_last = np.interp([first, last], odometer.time_s, odometer.distance_m)
     for run, where, time_s in ((at_first - odometer.distance_m.min(), "before its first", first),

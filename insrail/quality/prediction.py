@@ -35,8 +35,9 @@ from insrail.nav.error_model import (
     discretise,
     dynamics_matrix,
     noise_matrix,
+    play_noise,
 )
-from insrail.nav.fusion import FusionOptions, aiding_sources, initial_covariance
+from insrail.nav.fusion import FusionOptions, aiding_sources, initial_covariance, play_drift
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import NavSnapshot, schedule
 from insrail.nav.rotation import euler_to_dcm
@@ -261,8 +262,9 @@ def predict(
                                 np.tile(file_sigma, (k, 1)), np.ones(k, dtype=int), np.zeros(k, dtype=int),
                                 np.full(k, np.nan))
     planned_odometer = OdometerData(plan.time_s, plan.station_m, odometer_pulse_m)
-    timeline = schedule(plan.time_s, aiding_sources(aiding, trolley, profile, planned_gnss, planned_odometer),
-                        _stops(plan))
+    sources = aiding_sources(aiding, trolley, profile, planned_gnss, planned_odometer)
+    timeline = schedule(plan.time_s, sources, _stops(plan))
+    play = play_drift(aiding, sources)
     forward_ned = np.array([math.cos(heading), math.sin(heading), 0.0])
 
     # straight track: Phi, Q and every source's (H, R) depend on the speed and acceleration only
@@ -275,7 +277,9 @@ def predict(
             vel = key[0] * forward_ned
             snap = replace(_snapshot(lat, h, vel, key[1] * forward_ned, c_bn, dt, ellipsoid), time_s=plan.time_s[j])
             F = dynamics_matrix(lat, h, vel, c_bn, snap.f_b, snap.omega_ib_b, noise, ellipsoid)
-            cache[key] = (*discretise(F, gqg, dt), snap, {})
+            phi, q = discretise(F, gqg, dt)
+            q[:3, :3] += play_noise(vel * dt, dt, play)
+            cache[key] = (phi, q, snap, {})
         phi, q, snap, models = cache[key]
         updates = []
         for e in timeline.at(j):

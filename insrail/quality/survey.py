@@ -36,8 +36,9 @@ from insrail.nav.error_model import (
     discretise,
     dynamics_matrix,
     noise_matrix,
+    play_noise,
 )
-from insrail.nav.fusion import FusionOptions, FusionResult, SmootherStore
+from insrail.nav.fusion import FusionOptions, FusionResult, SmootherStore, play_drift
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import NavSnapshot
 from insrail.nav.rotation import euler_to_dcm
@@ -184,10 +185,12 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
                            ellipsoid=ellipsoid)
 
     resets = reset_segments(result)
+    play = play_drift(options, timeline.measurements.values())
 
     def segment(j):
         F = dynamics_matrix(lat[j], h[j], vel[j], c_bn[j], f_b[j], omega_b[j], noise, ellipsoid)
         phi, q = discretise(F, gqg, seg[j])
+        q[:3, :3] += play_noise(vel[j] * seg[j], seg[j], play)
         snap = snapshot(j)
         updates = (meas.model(snap, i)[1:] for meas, i in applied_at.get(j, ()))
         return (phi, q, updates, resets[j]) if j in resets else (phi, q, updates)

@@ -148,6 +148,14 @@ class TrolleyPlaySpec:
     longest_wavelength_m: float = 5000.0
     components: int = 400
 
+    def drift_m2_per_m(self) -> tuple[float, float]:
+        """(lateral, vertical) variance per metre run of the play's integral along the track, the
+        rail point's drift from the rail where the NHC holds the trolley's x axis to it: for the flat
+        one-sided spatial PSD G = rms^2 / (1/shortest - 1/longest) of yaw and pitch, G / 2 per metre
+        (the fusion's ``resources/trolley_play.toml``)."""
+        band = 1.0 / self.shortest_wavelength_m - 1.0 / self.longest_wavelength_m
+        return self.yaw_rms_rad**2 / band / 2.0, self.pitch_rms_rad**2 / band / 2.0
+
     def equivalent_nhc_sigma_mps(self, speed_mps: float, update_interval_s: float) -> tuple[float, float]:
         """(vertical, lateral) sigma of white NHC noise at ``update_interval_s`` with the same
         low-frequency spectrum as the play at ``speed_mps``: for a flat one-sided spatial
