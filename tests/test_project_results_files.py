@@ -8,6 +8,7 @@ import pytest
 
 from insrail.nav.trajectory import TRAJECTORY_DTYPE, load_trajectory, save_trajectory
 from insrail.project.results import read_trajectory_fields, write_results
+from insrail.track.exceedance import Assessment, Exceedance
 
 
 def _cached_file(tmp_path):
@@ -80,3 +81,40 @@ def test_a_trajectory_read_for_its_pose_holds_nan_elsewhere(tmp_path):
             assert np.isnan(values).all() and not values.flags.writeable and values.strides[0] == 0
     with pytest.raises(ValueError, match="not trajectory fields: speed"):
         load_trajectory(tmp_path / "trajectory.npy", only=("time_s", "speed"))
+
+
+def test_result_tables_written_in_blocks_are_the_whole_text(tmp_path, monkeypatch):
+    """sleepers.csv and exceedances.csv go to the file a block of rows at a time: the same bytes as one
+    block of every row (NaN as empty, -0.0, quoted reasons, notes, a last short block)."""
+    from insrail.project import results
+
+    n = 23
+    rng = np.random.default_rng(5)
+    gauge = rng.normal(1435.0, 2.0, n)
+    gauge[[0, 6, 7, 22]] = [np.nan, -0.0, np.nan, 1.5e-7]
+    columns = {"station_m": (np.arange(n) * 0.6, "%.4f"), "gauge_mm": (gauge, "%.3f"),
+               "valid": (rng.integers(0, 2, n), "%d")}
+    number, label = np.arange(100, 100 + n), tuple(f"K0+{600 * i:03d}" for i in range(n))
+    reasons = tuple(rng.choice(["", "turnout, switch", 'level "crossing"']) for _ in range(n))
+    notes = tuple(rng.choice(["", "fastener range, exhausted"]) for _ in range(n))
+    cases = [(number, label, columns, reasons, notes), (number, label, columns), (number[:0], (), {
+        name: (values[:0], fmt) for name, (values, fmt) in columns.items()})]
+
+    def texts(rows: int) -> list[str]:
+        monkeypatch.setattr(results, "CSV_BLOCK_ROWS", rows)
+        return ["".join(results.columns_csv(*case)) for case in cases]
+
+    whole = texts(10**9)
+    assert whole[0].count("\n") == n + 1 and '"level ""crossing"""' in whole[0] and ",,1435" not in whole[0]
+    for rows in (1, 7):
+        assert texts(rows) == whole
+    written = write_results(tmp_path / "results", "s", {"sleepers.csv": results.columns_csv(*cases[0])})
+    assert (written / "sleepers.csv").read_text(encoding="utf-8") == whole[0]
+
+    exceedances = tuple(Exceedance("gauge", kind, "track", "", 0.6 * i, 0.6 * i + 1.2, 1e-3 * i, 2e-3, i, i + 2,
+                                   100 + i, 102 + i) for i, kind in zip(range(11), ["gauge_deviation", "gauge_change_rate"] * 6))
+    monkeypatch.setattr(results, "CSV_BLOCK_ROWS", 10**9)
+    whole = "".join(results.exceedances_csv(Assessment("p", (), exceedances)))
+    assert whole.count("\n") == 12
+    monkeypatch.setattr(results, "CSV_BLOCK_ROWS", 4)
+    assert "".join(results.exceedances_csv(Assessment("p", (), exceedances))) == whole

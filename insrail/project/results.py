@@ -35,6 +35,7 @@ import sys
 import tempfile
 import tomllib
 import warnings
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -157,33 +158,42 @@ def sleeper_check_columns(assessment: Assessment, adjustment: Adjustment) -> dic
 
 
 def sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjustment,
-                 extra: dict[str, tuple[np.ndarray, str]] | None = None) -> str:
+                 extra: dict[str, tuple[np.ndarray, str]] | None = None) -> Iterator[str]:
     """number, label, then the columns of :func:`sleeper_columns`, then ``not_assessed`` (why a
     measured sleeper is left out of the assessment, reasons joined by "; ", quoted as CSV when
     they hold a comma), then ``adjustment_note`` (why a check still fails at the sleeper after the
-    adjustment, :meth:`Adjustment.reasons`); NaN (not computable) as empty."""
+    adjustment, :meth:`Adjustment.reasons`); NaN (not computable) as empty. In blocks of rows
+    (:func:`columns_csv`)."""
     return columns_csv(table.number, table.label, sleeper_columns(table, assessment, adjustment, extra),
                        table.not_assessed, tuple(adjustment.reasons()))
 
 
+#: Rows of a result file formatted at once (the file's text is written block by block, never held whole).
+CSV_BLOCK_ROWS = 4096
+
+
 def columns_csv(number: np.ndarray, label: tuple[str, ...], columns: dict[str, tuple[np.ndarray, str]],
-                not_assessed: tuple[str, ...] = (), notes: tuple[str, ...] | None = None) -> str:
+                not_assessed: tuple[str, ...] = (), notes: tuple[str, ...] | None = None) -> Iterator[str]:
     """A sleeper table as sleepers.csv: number, label, then ``columns`` (name -> (values, format)), then
-    ``not_assessed`` (() for none) and, when ``notes`` are given, ``adjustment_note``; NaN as empty."""
+    ``not_assessed`` (() for none) and, when ``notes`` are given, ``adjustment_note``; NaN as empty.
+    The text in blocks (the header, then :data:`CSV_BLOCK_ROWS` rows at a time), to be written one
+    after the other (:func:`write_results`) or joined."""
     texts = [NOT_ASSESSED_COLUMN] + ([ADJUSTMENT_NOTE_COLUMN] if notes is not None else [])
-    header = ",".join(["number", "label", *columns, *texts]) + "\n"
-    if not len(number):
-        return header
-    block = io.StringIO()
-    numeric = np.column_stack([np.asarray(values, dtype=float) for values, _ in columns.values()])
-    np.savetxt(block, numeric, fmt=[fmt for _, fmt in columns.values()], delimiter=",")
-    lines = block.getvalue().replace("nan", "").splitlines()
-    reasons = not_assessed or ("",) * len(number)
-    if notes is None:
-        return header + "".join(f"{n},{lbl},{line},{_csv_text(reason)}\n"
-                                for n, lbl, line, reason in zip(number, label, lines, reasons))
-    return header + "".join(f"{n},{lbl},{line},{_csv_text(reason)},{_csv_text(note)}\n"
-                            for n, lbl, line, reason, note in zip(number, label, lines, reasons, notes))
+    yield ",".join(["number", "label", *columns, *texts]) + "\n"
+    formats = [fmt for _, fmt in columns.values()]
+    for start in range(0, len(number), CSV_BLOCK_ROWS):
+        rows = slice(start, start + CSV_BLOCK_ROWS)
+        block = io.StringIO()
+        numeric = np.column_stack([np.asarray(values[rows], dtype=float) for values, _ in columns.values()])
+        np.savetxt(block, numeric, fmt=formats, delimiter=",")
+        lines = block.getvalue().replace("nan", "").splitlines()
+        reasons = not_assessed[rows] if not_assessed else ("",) * len(lines)
+        if notes is None:
+            yield "".join(f"{n},{lbl},{line},{_csv_text(reason)}\n"
+                          for n, lbl, line, reason in zip(number[rows], label[rows], lines, reasons))
+        else:
+            yield "".join(f"{n},{lbl},{line},{_csv_text(reason)},{_csv_text(note)}\n"
+                          for n, lbl, line, reason, note in zip(number[rows], label[rows], lines, reasons, notes[rows]))
 
 
 def _csv_text(text: str) -> str:
@@ -231,21 +241,26 @@ def adjustment_section(adjustment: Adjustment, before: Assessment, after: Assess
                       "by_check_before": by_check_before, "by_check": by_check_after, "new_by_check": new}}
 
 
-def exceedances_csv(assessment: Assessment) -> str:
-    """One row per exceedance; lengths and values in mm, rates as ratios (the ``unit`` column says which)."""
-    def values(e) -> tuple[str, ...]:
+def exceedances_csv(assessment: Assessment) -> Iterator[str]:
+    """One row per exceedance; lengths and values in mm, rates as ratios (the ``unit`` column says which).
+    In blocks of rows, as :func:`columns_csv`."""
+    def row(e) -> str:
         _, factor, fmt, unit = _UNITS[limit_unit(e.kind)]
-        return unit, f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", fmt % (factor * e.peak), fmt % (factor * e.limit)
+        return ",".join([e.check, e.kind, e.rail, e.direction, unit, f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}",
+                         fmt % (factor * e.peak), fmt % (factor * e.limit), str(e.first_sleeper),
+                         str(e.last_sleeper)]) + "\n"
 
-    rows = [",".join([e.check, e.kind, e.rail, e.direction, *values(e), str(e.first_sleeper), str(e.last_sleeper)])
-            for e in assessment.exceedances]
-    return "\n".join([",".join(EXCEEDANCE_HEADER), *rows]) + "\n"
+    yield ",".join(EXCEEDANCE_HEADER) + "\n"
+    exceedances = assessment.exceedances
+    for start in range(0, len(exceedances), CSV_BLOCK_ROWS):
+        yield "".join(row(e) for e in exceedances[start:start + CSV_BLOCK_ROWS])
 
 
-def write_results(results: Path, name: str, files: dict[str, str | bytes | Path],
+def write_results(results: Path, name: str, files: dict[str, str | bytes | Path | Iterable[str]],
                   cancel: CancelToken = None) -> Path:
-    """Write ``results/<name>/`` from ``files`` (file name -> text, bytes, or a file to copy) into a
-    staging folder, then swap it for the previous results (see the module docstring)."""
+    """Write ``results/<name>/`` from ``files`` (file name -> text, bytes, a file to copy, or the text
+    in blocks written one after the other: :func:`sleepers_csv`) into a staging folder, then swap it
+    for the previous results (see the module docstring)."""
     results.mkdir(parents=True, exist_ok=True)
     recover_results(results, name)
     final = results / name
@@ -259,7 +274,10 @@ def write_results(results: Path, name: str, files: dict[str, str | bytes | Path]
                 elif isinstance(content, bytes):
                     target.write_bytes(content)
                 else:
-                    target.write_text(content, encoding="utf-8")
+                    with open(target, "w", encoding="utf-8") as handle:
+                        for block in [content] if isinstance(content, str) else content:
+                            check_cancel(cancel)
+                            handle.write(block)
             except OSError as err:  # a full disk names no file: name the one being written
                 if err.filename:
                     raise
@@ -381,13 +399,14 @@ def gnss_section(gnss_time_s: np.ndarray, quality: np.ndarray, start_s: float, e
             "outage_total_s": round(float(sum(b - a for a, b in outages)), 3)}
 
 
-def quality_csv(quality: SectionQuality) -> str:
-    """quality.csv: one row per section (:data:`QUALITY_HEADER`), NaN as an empty cell."""
+def quality_csv(quality: SectionQuality) -> Iterator[str]:
+    """quality.csv: one row per section (:data:`QUALITY_HEADER`), NaN as an empty cell; the header,
+    then the rows (one per 200 m: few), as :func:`columns_csv` gives its blocks."""
     def cell(value: float) -> str:
         return f"{value:.3f}" if np.isfinite(value) else ""
 
-    rows = [",".join(cell(row[name]) for name in QUALITY_HEADER) for row in quality.to_rows()]
-    return "\n".join([",".join(QUALITY_HEADER), *rows]) + "\n"
+    yield ",".join(QUALITY_HEADER) + "\n"
+    yield "".join(",".join(cell(row[name]) for name in QUALITY_HEADER) + "\n" for row in quality.to_rows())
 
 
 def quality_section(quality: SectionQuality) -> dict:
