@@ -2,12 +2,18 @@
 file linked from the previous results, and the trajectory's fields read a chunk at a time."""
 
 import os
+import tomllib
+from unittest import mock
 
 import numpy as np
 import pytest
+import tomli_w
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from insrail.nav.trajectory import TRAJECTORY_DTYPE, load_trajectory, save_trajectory
-from insrail.project.results import read_trajectory_fields, write_results
+from insrail.nav.trajectory import TRAJECTORY_DTYPE, load_trajectory, read_trajectory_fields, save_trajectory
+from insrail.project import results
+from insrail.project.results import write_results
 from insrail.track.exceedance import Assessment, Exceedance
 
 
@@ -86,8 +92,6 @@ def test_a_trajectory_read_for_its_pose_holds_nan_elsewhere(tmp_path):
 def test_result_tables_written_in_blocks_are_the_whole_text(tmp_path, monkeypatch):
     """sleepers.csv and exceedances.csv go to the file a block of rows at a time: the same bytes as one
     block of every row (NaN as empty, -0.0, quoted reasons, notes, a last short block)."""
-    from insrail.project import results
-
     n = 23
     rng = np.random.default_rng(5)
     gauge = rng.normal(1435.0, 2.0, n)
@@ -118,3 +122,60 @@ def test_result_tables_written_in_blocks_are_the_whole_text(tmp_path, monkeypatc
     assert whole.count("\n") == 12
     monkeypatch.setattr(results, "CSV_BLOCK_ROWS", 4)
     assert "".join(results.exceedances_csv(Assessment("p", (), exceedances))) == whole
+
+
+def _same(got, want) -> bool:
+    return got == want or (np.isnan(got) and np.isnan(want))
+
+
+@settings(max_examples=300, deadline=None)
+@given(values=st.lists(st.one_of(st.floats(width=64, allow_nan=False), st.sampled_from([0.0, -0.0, 1.0, 2.5, 1e300])),
+                       min_size=1, max_size=300),
+       chunk=st.integers(1, 40), limit=st.sampled_from([0, 2, 1 << 16]), q=st.floats(0.0, 100.0), nan=st.booleans())
+def test_exact_quantiles_are_numpys_median_percentile_and_max(values, chunk, limit, q, nan):
+    """Median, percentile (linear) and largest, fed in chunks over several passes, are the numbers numpy gives
+    for the whole array: ties, odd and even counts, infinities, chunk edges anywhere, bins sorted or split
+    down to their last bits; NaN when one value is."""
+    values = np.array(values + ([np.nan] if nan else []))
+    selection = results.ExactQuantiles((q,))
+    with mock.patch.object(results, "SELECTION_SORT_LIMIT", limit), np.errstate(invalid="ignore", over="ignore"):
+        while True:
+            for start in range(0, len(values), chunk):
+                selection.feed(values[start:start + chunk])
+            if not selection.more():
+                break
+        assert selection.passes <= 4
+        assert _same(selection.median(), np.median(values))
+        assert _same(selection.percentile(q), np.percentile(values, q))
+        assert _same(selection.maximum(), np.max(values))
+
+
+def test_the_trajectory_section_is_the_whole_files_figures(tmp_path, monkeypatch):
+    """summary.toml's [trajectory], read 997 records at a time, holds the numbers of the whole arrays (the
+    report's figures: epochs, time span, median / 95 % / largest position sigma, odometer scale)."""
+    n = 5003
+    rng = np.random.default_rng(8)
+    records = np.zeros(n, dtype=TRAJECTORY_DTYPE)
+    records["time_s"] = 230000.0 + 0.005 * np.arange(n)
+    records["sigma_pos_ned_m"] = np.round(rng.gamma(4.0, 0.002, (n, 3)), 5)  # rounded: ties
+    records["odometer_scale"] = 1.5e-3 + 1e-5 * np.sin(np.arange(n) / 400)
+    path = tmp_path / "trajectory.npy"
+    np.save(path, records)
+    monkeypatch.setattr(results, "STATISTICS_CHUNK_RECORDS", 997)
+    section = tomllib.loads(tomli_w.dumps({"trajectory": results.trajectory_section(path)}))["trajectory"]
+    sigma = records["sigma_pos_ned_m"]
+    horizontal, vertical = 1e3 * np.hypot(sigma[:, 0], sigma[:, 1]), 1e3 * sigma[:, 2]
+    scale = records["odometer_scale"]
+    assert section == {
+        "epochs": n, "start_s": records["time_s"][0], "end_s": records["time_s"][-1],
+        **{name: {"median": np.median(v), "p95": np.percentile(v, 95), "max": v.max()}
+           for name, v in (("sigma_horizontal_mm", horizontal), ("sigma_vertical_mm", vertical))},
+        "odometer_scale": {"last": scale[-1], "min": scale.min(), "max": scale.max(), "used": True}}
+    np.save(path, records[:0])
+    assert results.trajectory_section(path) == {"epochs": 0}
+    records["odometer_scale"] = 0.0
+    np.save(path, records)
+    assert results.trajectory_section(path)["odometer_scale"]["used"] is False
+    np.save(path, np.zeros(3))
+    with pytest.raises(ValueError, match="not an insrail trajectory"):
+        results.trajectory_section(path)

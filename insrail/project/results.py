@@ -43,7 +43,7 @@ import numpy as np
 import tomli_w
 
 from insrail.io.errors import InputError
-from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, load_trajectory, read_trajectory_fields
+from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, load_trajectory
 from insrail.progress import CancelToken, check_cancel
 from insrail.project import table_cache
 from insrail.quality.survey import SectionQuality, weakness
@@ -432,6 +432,182 @@ def summary_toml(summary: dict) -> bytes:
     return tomli_w.dumps(summary).encode("utf-8")
 
 
+#: Records of trajectory.npy read at a time for its statistics (tests shrink it to a prime).
+STATISTICS_CHUNK_RECORDS = 1 << 14
+#: A bin of :class:`ExactQuantiles` holding at most this many values is sorted; a fuller one is split again.
+SELECTION_SORT_LIMIT = 1 << 16
+_BIN_BITS = 16
+_SIGN = np.uint64(1 << 63)
+
+
+def _sortable_keys(values: np.ndarray) -> np.ndarray:
+    """uint64 keys ordered as the (non-NaN) float64 ``values``: the bit pattern with the sign bit
+    set for a positive value, all bits flipped for a negative one (-0.0 is taken as 0.0)."""
+    bits = (values + 0.0).view(np.uint64)
+    return np.where(bits >= _SIGN, ~bits, bits | _SIGN)
+
+
+def _key_value(key: int) -> float:
+    bits = np.uint64(key) ^ _SIGN if key >= 1 << 63 else ~np.uint64(key)
+    return float(bits.view(np.float64))
+
+
+class ExactQuantiles:
+    """The median, percentiles (numpy's default "linear" method) and largest of float64 values fed a
+    chunk at a time (:meth:`feed`), in as many passes over them as the selection needs (:meth:`more`;
+    2 usually, at most 4); the same numbers as ``np.median``, ``np.percentile`` and ``np.max`` of all
+    the values at once, NaN when one is NaN. Memory: a few bins of counts, never the values.
+
+    Pass 1 counts the values by the top 16 bits of their ordered bit patterns (:func:`_sortable_keys`).
+    Each later pass takes the values of every bin holding a wanted rank: sorted when the bin holds
+    at most :data:`SELECTION_SORT_LIMIT`, else counted again by their next 16 bits (a bin of the
+    last 16 bits holds equal values: its rank needs no values)."""
+
+    def __init__(self, percentiles: tuple[float, ...]):
+        self.percentiles = percentiles
+        self.count = self.nans = 0
+        self.largest = -np.inf
+        self.passes = 0
+        self._keys: dict[int, int] = {}  # wanted rank -> its key, once known
+        self._open: dict[tuple[int, int], dict] = {(0, 0): {"ranks": {}, "histogram": np.zeros(1 << _BIN_BITS, np.int64)}}
+
+    def feed(self, values: np.ndarray) -> None:
+        """The next chunk of values (every pass feeds the same values in the same chunks)."""
+        if self.passes == 0:
+            nan = np.isnan(values)
+            self.nans += int(nan.sum())
+            values = values[~nan]
+            self.count += values.size
+            if values.size:
+                self.largest = max(self.largest, float(values.max()))
+        else:
+            values = values[~np.isnan(values)]
+        if self.nans or not values.size:
+            return
+        keys = _sortable_keys(values)
+        for (level, prefix), group in self._open.items():
+            shift = 64 - _BIN_BITS * level
+            inside = keys if level == 0 else keys[keys >> np.uint64(shift) == np.uint64(prefix)]
+            if "histogram" in group:
+                group["histogram"] += np.bincount((inside >> np.uint64(shift - _BIN_BITS)) & np.uint64(0xFFFF),
+                                                  minlength=1 << _BIN_BITS)
+            else:
+                group["values"].append(inside)
+
+    def more(self) -> bool:
+        """End a pass: True when the values are to be fed once more."""
+        if self.passes == 0:
+            self._open[0, 0]["ranks"] = {rank: rank for rank in self._ranks()} if self.count and not self.nans else {}
+        self.passes += 1
+        groups, self._open = self._open, {}
+        for (level, prefix), group in groups.items():
+            if "values" in group:
+                ordered = np.sort(np.concatenate(group["values"]))
+                self._keys.update({rank: int(ordered[within]) for rank, within in group["ranks"].items()})
+                continue
+            ends = np.cumsum(group["histogram"])
+            for rank, within in group["ranks"].items():
+                index = int(np.searchsorted(ends, within, side="right"))
+                key, within = (prefix << _BIN_BITS) | index, within - (int(ends[index - 1]) if index else 0)
+                if level + 1 == 64 // _BIN_BITS:  # all 64 bits known: the value itself
+                    self._keys[rank] = key
+                    continue
+                below = self._open.setdefault((level + 1, key), {"ranks": {}, "size": int(group["histogram"][index])})
+                below["ranks"][rank] = within
+        for group in self._open.values():
+            if group.pop("size") <= SELECTION_SORT_LIMIT:
+                group["values"] = []
+            else:
+                group["histogram"] = np.zeros(1 << _BIN_BITS, np.int64)
+        return bool(self._open)
+
+    def _ranks(self) -> set[int]:
+        n = self.count
+        ranks = {(n - 1) // 2, n // 2}
+        for q in self.percentiles:
+            virtual = (n - 1) * (q / 100)
+            ranks |= {n - 1} if virtual >= n - 1 else {int(np.floor(virtual)), int(np.floor(virtual)) + 1}
+        return ranks
+
+    def _value(self, rank: int) -> float:
+        return _key_value(self._keys[rank])
+
+    def median(self) -> float:
+        """``np.median``: the middle value, or the mean of the two middle ones."""
+        if self.nans or not self.count:
+            return np.nan
+        n = self.count
+        if n % 2:
+            return self._value(n // 2)
+        return float(np.mean(np.array([self._value(n // 2 - 1), self._value(n // 2)])))
+
+    def percentile(self, q: float) -> float:
+        """``np.percentile(values, q)`` (numpy's linear interpolation between the neighbouring ranks)."""
+        if self.nans or not self.count:
+            return np.nan
+        n = self.count
+        virtual = (n - 1) * np.true_divide(q, 100)
+        if virtual >= n - 1:
+            return self._value(n - 1)
+        below = np.floor(virtual)
+        a, b = np.float64(self._value(int(below))), np.float64(self._value(int(below) + 1))
+        gamma = virtual - below
+        difference = b - a
+        return float(b - difference * (1 - gamma) if gamma >= 0.5 else a + difference * gamma)
+
+    def maximum(self) -> float:
+        return np.nan if self.nans or not self.count else self.largest
+
+
+def _trajectory_chunks(path: Path, chunk: int) -> Iterator[np.ndarray]:
+    """The records of a trajectory.npy, ``chunk`` at a time, by plain reads (no memory map)."""
+    header = np.load(path, mmap_mode="r")  # reads the header only
+    if header.dtype != TRAJECTORY_DTYPE or header.ndim != 1:
+        raise ValueError(f"{path}: not an insrail trajectory file (record layout {header.dtype})")
+    total, offset = len(header), header.offset
+    del header
+    with open(path, "rb") as handle:
+        handle.seek(offset)
+        for start in range(0, total, chunk):
+            records = np.fromfile(handle, dtype=TRAJECTORY_DTYPE, count=min(chunk, total - start))
+            if len(records) != min(chunk, total - start):
+                raise ValueError(f"{path}: the file ends after {start + len(records)} of its {total} records")
+            yield records
+
+
+def trajectory_section(path: Path) -> dict:
+    """summary.toml's ``[trajectory]``: the fused trajectory's epochs, first and last time [s of week],
+    the median, 95 % and largest of its horizontal and vertical position 1-sigma [mm], and the
+    odometer scale error (a ratio) at the end, smallest and largest, ``used`` when it is not 0
+    throughout (the filter's state stays 0 without an odometer). Exact (the whole-array numpy
+    figures), read :data:`STATISTICS_CHUNK_RECORDS` records at a time; NaN where a value is."""
+    horizontal, vertical = ExactQuantiles((95.0,)), ExactQuantiles((95.0,))
+    epochs, first_s, last_s, scale = 0, np.nan, np.nan, {"last": np.nan, "min": np.inf, "max": -np.inf, "used": False}
+    while True:
+        for records in _trajectory_chunks(path, STATISTICS_CHUNK_RECORDS):
+            sigma = records["sigma_pos_ned_m"]
+            horizontal.feed(1e3 * np.hypot(sigma[:, 0], sigma[:, 1]))
+            vertical.feed(1e3 * sigma[:, 2])
+            if horizontal.passes == 0:  # the first pass
+                first_s = float(records["time_s"][0]) if not epochs else first_s
+                epochs += len(records)
+                last_s = float(records["time_s"][-1])
+                odometer = records["odometer_scale"]  # min/max as numpy's: NaN when one is NaN
+                scale = {"last": float(odometer[-1]), "min": float(np.minimum(scale["min"], odometer.min())),
+                         "max": float(np.maximum(scale["max"], odometer.max())),
+                         "used": scale["used"] or bool(np.any(odometer != 0))}
+        if not (horizontal.more() | vertical.more()):
+            break
+    if not epochs:
+        return {"epochs": 0}
+
+    def figures(values: ExactQuantiles) -> dict:
+        return {"median": values.median(), "p95": values.percentile(95.0), "max": values.maximum()}
+
+    return {"epochs": epochs, "start_s": first_s, "end_s": last_s, "sigma_horizontal_mm": figures(horizontal),
+            "sigma_vertical_mm": figures(vertical), "odometer_scale": scale}
+
+
 # --------------------------------------------------------------------------- reading
 
 @dataclass(frozen=True)
@@ -505,10 +681,6 @@ class StoredResults:
     def trajectory(self) -> Trajectory:
         """The fused trajectory (read on demand: it is the large file)."""
         return load_trajectory(self.folder / TRAJECTORY_FILE, gps_week=self.summary.get("survey", {}).get("gps_week"))
-
-    def trajectory_fields(self, *names: str) -> dict[str, np.ndarray]:
-        """Some fields of the fused trajectory (:func:`read_trajectory_fields`)."""
-        return read_trajectory_fields(self.folder / TRAJECTORY_FILE, names)
 
 
 def load_results(project_folder: Path, survey: str) -> StoredResults:
