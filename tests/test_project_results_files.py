@@ -115,6 +115,22 @@ def test_result_tables_written_in_blocks_are_the_whole_text(tmp_path, monkeypatc
     written = write_results(tmp_path / "results", "s", {"sleepers.csv": results.columns_csv(*cases[0])})
     assert (written / "sleepers.csv").read_text(encoding="utf-8") == whole[0]
 
+    # read back a block of lines at a time (also with CR LF line ends): the same table as in one block
+    (tmp_path / "crlf.csv").write_bytes(whole[0].replace("\n", "\r\n").encode("utf-8"))
+    parsed = {}
+    for rows in (10**9, 7):
+        monkeypatch.setattr(results, "CSV_BLOCK_ROWS", rows)
+        for name in ("sleepers.csv", "crlf.csv"):
+            path = written / name if name == "sleepers.csv" else tmp_path / name
+            parsed[rows, name] = results._parse_sleepers(path)
+    for table in parsed.values():
+        reference = parsed[10**9, "sleepers.csv"]
+        assert table[0].tolist() == number.tolist() and table[1] == reference[1] == label
+        assert table[2].keys() == columns.keys() and table[3:] == reference[3:] == (reasons, notes)
+        for name, (values, _) in columns.items():
+            assert table[2][name].tobytes() == reference[2][name].tobytes()
+        np.testing.assert_allclose(table[2]["gauge_mm"], gauge, atol=6e-4)
+
     exceedances = tuple(Exceedance("gauge", kind, "track", "", 0.6 * i, 0.6 * i + 1.2, 1e-3 * i, 2e-3, i, i + 2,
                                    100 + i, 102 + i) for i, kind in zip(range(11), ["gauge_deviation", "gauge_change_rate"] * 6))
     monkeypatch.setattr(results, "CSV_BLOCK_ROWS", 10**9)

@@ -28,6 +28,7 @@ import csv
 import ctypes
 import ctypes.util
 import io
+import itertools
 import os
 import re
 import shutil
@@ -547,10 +548,9 @@ class ExactQuantiles:
             return np.nan
         n = self.count
         virtual = (n - 1) * np.true_divide(q, 100)
-        if virtual >= n - 1:
-            return self._value(n - 1)
-        below = np.floor(virtual)
-        a, b = np.float64(self._value(int(below))), np.float64(self._value(int(below) + 1))
+        below = np.floor(virtual) if virtual < n - 1 else np.float64(-1.0)  # numpy's index -1: the last value
+        a, b = (np.float64(self._value(int(below))), np.float64(self._value(int(below) + 1))) if below >= 0 else \
+            (np.float64(self._value(n - 1)),) * 2
         gamma = virtual - below
         difference = b - a
         return float(b - difference * (1 - gamma) if gamma >= 0.5 else a + difference * gamma)
@@ -725,16 +725,27 @@ def _read_sleepers(path: Path) -> table_cache.SleeperTableParse:
         raise InputError(path, None, "result file missing: process the survey again") from None
     table = table_cache.load(data)
     if table is None:
-        table = _parse_sleepers(path)
+        table = _parse_sleepers(path, data)
         table_cache.store(data, table)
     return table
 
 
-def _parse_sleepers(path: Path) -> table_cache.SleeperTableParse:
-    lines = _lines(path)
-    if not lines or not lines[0].startswith("number,label,"):
+def _text_lines(data: bytes) -> Iterator[str]:
+    """The lines of the UTF-8 text ``data`` one at a time, as ``str.splitlines()`` of the text read
+    with universal newlines gives them (the text is never split whole)."""
+    for line in io.TextIOWrapper(io.BytesIO(data), encoding="utf-8"):
+        yield from line.splitlines()
+
+
+def _parse_sleepers(path: Path, data: bytes | None = None) -> table_cache.SleeperTableParse:
+    """sleepers.csv (its bytes ``data``, else read), :data:`CSV_BLOCK_ROWS` lines at a time into one
+    array of values."""
+    data = path.read_bytes() if data is None else data
+    lines = _text_lines(data)
+    header = next(lines, None)
+    if header is None or not header.startswith("number,label,"):
         raise InputError(path, 1, "expected the header 'number,label,...' of an insrail sleeper table")
-    names = lines[0].split(",")[2:]
+    names = header.split(",")[2:]
     texts = 0  # trailing text columns (results of older versions have fewer)
     for text_names in ([NOT_ASSESSED_COLUMN, ADJUSTMENT_NOTE_COLUMN], [NOT_ASSESSED_COLUMN]):
         if names[-len(text_names):] == text_names:
@@ -742,11 +753,29 @@ def _parse_sleepers(path: Path) -> table_cache.SleeperTableParse:
             break
     if texts:
         names = names[:-texts]
-    fast = _regular_rows(lines[1:], len(names), texts)
-    if fast is not None:
-        number, labels, values, not_assessed, notes = fast
-        return number, labels, {name: values[:, i] for i, name in enumerate(names)}, not_assessed, notes
-    # A file that is not as written (or holds a mistake): row by row, naming the line at fault.
+    capacity = data.count(b"\n") + data.count(b"\r")  # line ends: at least the rows
+    values = np.empty((capacity, len(names)))
+    number, labels, not_assessed, notes = [], [], [], []
+    rows = 0
+    while block := list(itertools.islice(lines, CSV_BLOCK_ROWS)):
+        fast = _regular_rows(block, len(names), texts)
+        if fast is None or rows + len(block) > capacity:
+            return _parse_rows(path, names, texts)
+        values[rows:rows + len(block)] = fast[2]
+        number.append(fast[0])
+        for held, part in zip((labels, not_assessed, notes), (fast[1], fast[3], fast[4])):
+            held.extend(part)
+        rows += len(block)
+    if not rows:
+        return _parse_rows(path, names, texts)
+    values.resize((rows, len(names)), refcheck=False)  # in place: no second copy of the table
+    return (np.concatenate(number), tuple(labels), {name: values[:, i] for i, name in enumerate(names)},
+            tuple(not_assessed), tuple(notes))
+
+
+def _parse_rows(path: Path, names: list[str], texts: int) -> table_cache.SleeperTableParse:
+    """A file that is not as written (or holds a mistake): row by row, naming the line at fault."""
+    lines = _lines(path)
     if texts:  # quoted text columns: the csv module splits these lines
         rows = list(csv.reader(lines[1:]))
     else:
