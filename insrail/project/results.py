@@ -9,7 +9,8 @@
 * ``exceedances.csv``  one row per run of sleepers beyond a tolerance (:data:`EXCEEDANCE_HEADER`)
 * ``quality.csv``      predicted 1-sigma accuracy per 200 m section of chainage (:data:`QUALITY_HEADER`:
   stations in m, sigmas in mm; empty where a section has no value); absent in results of older versions
-* ``summary.toml``     settings used, headline numbers, file list
+* ``summary.toml``     settings used, headline numbers (``[trajectory]``: the trajectory's figures the PDF
+  states, :func:`trajectory_section`), file list
 
 A result folder is assembled beside the old one (``.<survey>.XXXX.new``) and swapped in only when
 complete (:func:`write_results`), so a cancelled, failed or killed run leaves the previous results (or
