@@ -6,17 +6,21 @@ import re
 import shutil
 import subprocess
 import threading
+import tomllib
 from dataclasses import replace
 
 import numpy as np
 import pytest
+import tomli_w
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from report_support import INVALID, shared_project, stored
 from reportlab.graphics.shapes import PolyLine
 from reportlab.platypus import Paragraph
 
+from insrail.nav.trajectory import read_trajectory_fields
 from insrail.progress import Cancelled
+from insrail.project.results import TRAJECTORY_FILE, trajectory_section
 from insrail.report import write_pdf
 from insrail.report.charts import (
     Series,
@@ -35,7 +39,9 @@ from insrail.report.pdf import (
     chart_area_height,
     chart_spans,
     chart_specs,
+    _trajectory_rows,
     pages_of_charts,
+    trajectory_statistics,
 )
 
 needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
@@ -231,3 +237,27 @@ def test_every_page_is_landscape_on_the_projects_paper(project, report, tmp_path
     assert project.report.paper == "A3" and page_sizes(report) == {(1191, 842)}
     a4 = write_pdf(replace(project, report=replace(project.report, paper="A4")), stored(project), tmp_path / "a4.pdf")
     assert page_sizes(a4) == {(842, 595)}
+
+
+def test_the_trajectory_figures_come_from_the_summary_or_for_older_results_from_the_file(project):
+    """The processing page states the trajectory's figures from summary.toml's [trajectory]; results of older
+    versions (none there) have them read from trajectory.npy: the same text, the whole arrays' numpy figures."""
+    older = stored(project)
+    assert "trajectory" not in older.summary
+    fields = read_trajectory_fields(older.folder / TRAJECTORY_FILE, ("time_s", "sigma_pos_ned_m", "odometer_scale"))
+    time, sigma, scale = fields["time_s"], fields["sigma_pos_ned_m"], fields["odometer_scale"]
+    horizontal, vertical = 1e3 * np.hypot(sigma[:, 0], sigma[:, 1]), 1e3 * sigma[:, 2]
+    expected = [
+        ("Trajectory", f"{len(time)} epochs, {time[0]:.1f} - {time[-1]:.1f} s of week ({time[-1] - time[0]:.0f} s), "
+                       "forward filter and RTS smoother"),
+        ("Position sigma, horizontal", f"median {np.median(horizontal):.1f} mm, 95 % {np.percentile(horizontal, 95):.1f} "
+                                       f"mm, largest {horizontal.max():.1f} mm"),
+        ("Position sigma, vertical", f"median {np.median(vertical):.1f} mm, 95 % {np.percentile(vertical, 95):.1f} mm, "
+                                     f"largest {vertical.max():.1f} mm"),
+        ("Odometer scale error", f"{1e3 * scale[-1]:+.2f} per mille at the end")]
+    assert _trajectory_rows(trajectory_statistics(older), smoother=True) == expected
+    section = tomllib.loads(tomli_w.dumps({"t": trajectory_section(older.folder / TRAJECTORY_FILE)}))["t"]
+    processed = replace(older, summary={**older.summary, "trajectory": section})
+    assert _trajectory_rows(trajectory_statistics(processed), smoother=True) == expected
+    gone = replace(older, folder=older.folder.parent / "nowhere")
+    assert _trajectory_rows(trajectory_statistics(gone), smoother=True) == [("Trajectory", "not available")]

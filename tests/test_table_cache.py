@@ -8,9 +8,9 @@ from insrail.project.results import columns_csv
 
 
 def _table(path, gauge=(1435.0, np.nan, 1436.5), reasons=("", "turnout, switch", "")):
-    path.write_text(columns_csv(np.array([1, 2, 3]), ("K0+000.000", "K0+000.600", "K0+001.200"),
+    path.write_text("".join(columns_csv(np.array([1, 2, 3]), ("K0+000.000", "K0+000.600", "K0+001.200"),
                                 {"station_m": (np.array([0.0, 0.6, 1.2]), "%.4f"),
-                                 "gauge_mm": (np.array(gauge), "%.3f")}, reasons), encoding="utf-8")
+                                 "gauge_mm": (np.array(gauge), "%.3f")}, reasons)), encoding="utf-8")
     return path
 
 
@@ -77,11 +77,11 @@ def test_the_fast_reading_gives_what_reading_cell_by_cell_gives(tmp_path, cache,
     """Quoted reasons, empty cells (NaN), signs and exponents: numpy's parser over the whole table
     and the row-by-row reading agree to the bit; a short row still names its line."""
     path = tmp_path / "sleepers.csv"
-    path.write_text(columns_csv(np.array([7, 8, 9, 10]), ("K0+000.000", "K0+000.600", "K0+001.200", "K0+001.800"),
+    path.write_text("".join(columns_csv(np.array([7, 8, 9, 10]), ("K0+000.000", "K0+000.600", "K0+001.200", "K0+001.800"),
                                 {"station_m": (np.array([0.0, 0.6, 1.2, 1.8]), "%.4f"),
                                  "gauge_mm": (np.array([-0.0, np.nan, 1.5e-7, -1436.123]), "%.6g"),
                                  "valid": (np.array([1, 0, 1, 1]), "%d")},
-                                ("", 'turnout, "W12"', "", "joint; bridge"), ("", "", "fastener range, exhausted", "")),
+                                ("", 'turnout, "W12"', "", "joint; bridge"), ("", "", "fastener range, exhausted", ""))),
                     encoding="utf-8")
     fast = results._parse_sleepers(path)
     monkeypatch.setattr(results, "_regular_rows", lambda *_args: None)

@@ -100,6 +100,7 @@ from insrail.project.results import (
     sleepers_csv,
     summary_toml,
     track_quality_section,
+    trajectory_section,
     write_results,
 )
 from insrail.project.sleeper_integrity import flag_sleepers
@@ -583,6 +584,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     quality = _section_quality(trajectory_file, recon)
     summary["quality"] = quality_section(quality)
     summary["files"]["quality"] = QUALITY_FILE
+    summary["trajectory"] = trajectory_section(trajectory_file)  # the report's figures, read here in chunks
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment, parameter_columns(
             table, extras.attitude_rad, curvature, speed, bases)),

@@ -9,7 +9,8 @@
 * ``exceedances.csv``  one row per run of sleepers beyond a tolerance (:data:`EXCEEDANCE_HEADER`)
 * ``quality.csv``      predicted 1-sigma accuracy per 200 m section of chainage (:data:`QUALITY_HEADER`:
   stations in m, sigmas in mm; empty where a section has no value); absent in results of older versions
-* ``summary.toml``     settings used, headline numbers, file list
+* ``summary.toml``     settings used, headline numbers (``[trajectory]``: the trajectory's figures the PDF
+  states, :func:`trajectory_section`), file list
 
 A result folder is assembled beside the old one (``.<survey>.XXXX.new``) and swapped in only when
 complete (:func:`write_results`), so a cancelled, failed or killed run leaves the previous results (or
@@ -28,6 +29,7 @@ import csv
 import ctypes
 import ctypes.util
 import io
+import itertools
 import os
 import re
 import shutil
@@ -35,6 +37,7 @@ import sys
 import tempfile
 import tomllib
 import warnings
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -42,7 +45,7 @@ import numpy as np
 import tomli_w
 
 from insrail.io.errors import InputError
-from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, load_trajectory, read_trajectory_fields
+from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, load_trajectory
 from insrail.progress import CancelToken, check_cancel
 from insrail.project import table_cache
 from insrail.quality.survey import SectionQuality, weakness
@@ -157,33 +160,42 @@ def sleeper_check_columns(assessment: Assessment, adjustment: Adjustment) -> dic
 
 
 def sleepers_csv(table: SleeperTable, assessment: Assessment, adjustment: Adjustment,
-                 extra: dict[str, tuple[np.ndarray, str]] | None = None) -> str:
+                 extra: dict[str, tuple[np.ndarray, str]] | None = None) -> Iterator[str]:
     """number, label, then the columns of :func:`sleeper_columns`, then ``not_assessed`` (why a
     measured sleeper is left out of the assessment, reasons joined by "; ", quoted as CSV when
     they hold a comma), then ``adjustment_note`` (why a check still fails at the sleeper after the
-    adjustment, :meth:`Adjustment.reasons`); NaN (not computable) as empty."""
+    adjustment, :meth:`Adjustment.reasons`); NaN (not computable) as empty. In blocks of rows
+    (:func:`columns_csv`)."""
     return columns_csv(table.number, table.label, sleeper_columns(table, assessment, adjustment, extra),
                        table.not_assessed, tuple(adjustment.reasons()))
 
 
+#: Rows of a result file formatted at once (the file's text is written block by block, never held whole).
+CSV_BLOCK_ROWS = 4096
+
+
 def columns_csv(number: np.ndarray, label: tuple[str, ...], columns: dict[str, tuple[np.ndarray, str]],
-                not_assessed: tuple[str, ...] = (), notes: tuple[str, ...] | None = None) -> str:
+                not_assessed: tuple[str, ...] = (), notes: tuple[str, ...] | None = None) -> Iterator[str]:
     """A sleeper table as sleepers.csv: number, label, then ``columns`` (name -> (values, format)), then
-    ``not_assessed`` (() for none) and, when ``notes`` are given, ``adjustment_note``; NaN as empty."""
+    ``not_assessed`` (() for none) and, when ``notes`` are given, ``adjustment_note``; NaN as empty.
+    The text in blocks (the header, then :data:`CSV_BLOCK_ROWS` rows at a time), to be written one
+    after the other (:func:`write_results`) or joined."""
     texts = [NOT_ASSESSED_COLUMN] + ([ADJUSTMENT_NOTE_COLUMN] if notes is not None else [])
-    header = ",".join(["number", "label", *columns, *texts]) + "\n"
-    if not len(number):
-        return header
-    block = io.StringIO()
-    numeric = np.column_stack([np.asarray(values, dtype=float) for values, _ in columns.values()])
-    np.savetxt(block, numeric, fmt=[fmt for _, fmt in columns.values()], delimiter=",")
-    lines = block.getvalue().replace("nan", "").splitlines()
-    reasons = not_assessed or ("",) * len(number)
-    if notes is None:
-        return header + "".join(f"{n},{lbl},{line},{_csv_text(reason)}\n"
-                                for n, lbl, line, reason in zip(number, label, lines, reasons))
-    return header + "".join(f"{n},{lbl},{line},{_csv_text(reason)},{_csv_text(note)}\n"
-                            for n, lbl, line, reason, note in zip(number, label, lines, reasons, notes))
+    yield ",".join(["number", "label", *columns, *texts]) + "\n"
+    formats = [fmt for _, fmt in columns.values()]
+    for start in range(0, len(number), CSV_BLOCK_ROWS):
+        rows = slice(start, start + CSV_BLOCK_ROWS)
+        block = io.StringIO()
+        numeric = np.column_stack([np.asarray(values[rows], dtype=float) for values, _ in columns.values()])
+        np.savetxt(block, numeric, fmt=formats, delimiter=",")
+        lines = block.getvalue().replace("nan", "").splitlines()
+        reasons = not_assessed[rows] if not_assessed else ("",) * len(lines)
+        if notes is None:
+            yield "".join(f"{n},{lbl},{line},{_csv_text(reason)}\n"
+                          for n, lbl, line, reason in zip(number[rows], label[rows], lines, reasons))
+        else:
+            yield "".join(f"{n},{lbl},{line},{_csv_text(reason)},{_csv_text(note)}\n"
+                          for n, lbl, line, reason, note in zip(number[rows], label[rows], lines, reasons, notes[rows]))
 
 
 def _csv_text(text: str) -> str:
@@ -231,21 +243,26 @@ def adjustment_section(adjustment: Adjustment, before: Assessment, after: Assess
                       "by_check_before": by_check_before, "by_check": by_check_after, "new_by_check": new}}
 
 
-def exceedances_csv(assessment: Assessment) -> str:
-    """One row per exceedance; lengths and values in mm, rates as ratios (the ``unit`` column says which)."""
-    def values(e) -> tuple[str, ...]:
+def exceedances_csv(assessment: Assessment) -> Iterator[str]:
+    """One row per exceedance; lengths and values in mm, rates as ratios (the ``unit`` column says which).
+    In blocks of rows, as :func:`columns_csv`."""
+    def row(e) -> str:
         _, factor, fmt, unit = _UNITS[limit_unit(e.kind)]
-        return unit, f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", fmt % (factor * e.peak), fmt % (factor * e.limit)
+        return ",".join([e.check, e.kind, e.rail, e.direction, unit, f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}",
+                         fmt % (factor * e.peak), fmt % (factor * e.limit), str(e.first_sleeper),
+                         str(e.last_sleeper)]) + "\n"
 
-    rows = [",".join([e.check, e.kind, e.rail, e.direction, *values(e), str(e.first_sleeper), str(e.last_sleeper)])
-            for e in assessment.exceedances]
-    return "\n".join([",".join(EXCEEDANCE_HEADER), *rows]) + "\n"
+    yield ",".join(EXCEEDANCE_HEADER) + "\n"
+    exceedances = assessment.exceedances
+    for start in range(0, len(exceedances), CSV_BLOCK_ROWS):
+        yield "".join(row(e) for e in exceedances[start:start + CSV_BLOCK_ROWS])
 
 
-def write_results(results: Path, name: str, files: dict[str, str | bytes | Path],
+def write_results(results: Path, name: str, files: dict[str, str | bytes | Path | Iterable[str]],
                   cancel: CancelToken = None) -> Path:
-    """Write ``results/<name>/`` from ``files`` (file name -> text, bytes, or a file to copy) into a
-    staging folder, then swap it for the previous results (see the module docstring)."""
+    """Write ``results/<name>/`` from ``files`` (file name -> text, bytes, a file to copy, or the text
+    in blocks written one after the other: :func:`sleepers_csv`) into a staging folder, then swap it
+    for the previous results (see the module docstring)."""
     results.mkdir(parents=True, exist_ok=True)
     recover_results(results, name)
     final = results / name
@@ -259,7 +276,10 @@ def write_results(results: Path, name: str, files: dict[str, str | bytes | Path]
                 elif isinstance(content, bytes):
                     target.write_bytes(content)
                 else:
-                    target.write_text(content, encoding="utf-8")
+                    with open(target, "w", encoding="utf-8") as handle:
+                        for block in [content] if isinstance(content, str) else content:
+                            check_cancel(cancel)
+                            handle.write(block)
             except OSError as err:  # a full disk names no file: name the one being written
                 if err.filename:
                     raise
@@ -381,13 +401,14 @@ def gnss_section(gnss_time_s: np.ndarray, quality: np.ndarray, start_s: float, e
             "outage_total_s": round(float(sum(b - a for a, b in outages)), 3)}
 
 
-def quality_csv(quality: SectionQuality) -> str:
-    """quality.csv: one row per section (:data:`QUALITY_HEADER`), NaN as an empty cell."""
+def quality_csv(quality: SectionQuality) -> Iterator[str]:
+    """quality.csv: one row per section (:data:`QUALITY_HEADER`), NaN as an empty cell; the header,
+    then the rows (one per 200 m: few), as :func:`columns_csv` gives its blocks."""
     def cell(value: float) -> str:
         return f"{value:.3f}" if np.isfinite(value) else ""
 
-    rows = [",".join(cell(row[name]) for name in QUALITY_HEADER) for row in quality.to_rows()]
-    return "\n".join([",".join(QUALITY_HEADER), *rows]) + "\n"
+    yield ",".join(QUALITY_HEADER) + "\n"
+    yield "".join(",".join(cell(row[name]) for name in QUALITY_HEADER) + "\n" for row in quality.to_rows())
 
 
 def quality_section(quality: SectionQuality) -> dict:
@@ -411,6 +432,181 @@ def quality_section(quality: SectionQuality) -> dict:
 
 def summary_toml(summary: dict) -> bytes:
     return tomli_w.dumps(summary).encode("utf-8")
+
+
+#: Records of trajectory.npy read at a time for its statistics (tests shrink it to a prime).
+STATISTICS_CHUNK_RECORDS = 1 << 14
+#: A bin of :class:`ExactQuantiles` holding at most this many values is sorted; a fuller one is split again.
+SELECTION_SORT_LIMIT = 1 << 16
+_BIN_BITS = 16
+_SIGN = np.uint64(1 << 63)
+
+
+def _sortable_keys(values: np.ndarray) -> np.ndarray:
+    """uint64 keys ordered as the (non-NaN) float64 ``values``: the bit pattern with the sign bit
+    set for a positive value, all bits flipped for a negative one (-0.0 is taken as 0.0)."""
+    bits = (values + 0.0).view(np.uint64)
+    return np.where(bits >= _SIGN, ~bits, bits | _SIGN)
+
+
+def _key_value(key: int) -> float:
+    bits = np.uint64(key) ^ _SIGN if key >= 1 << 63 else ~np.uint64(key)
+    return float(bits.view(np.float64))
+
+
+class ExactQuantiles:
+    """The median, percentiles (numpy's default "linear" method) and largest of float64 values fed a
+    chunk at a time (:meth:`feed`), in as many passes over them as the selection needs (:meth:`more`;
+    2 usually, at most 4); the same numbers as ``np.median``, ``np.percentile`` and ``np.max`` of all
+    the values at once, NaN when one is NaN. Memory: a few bins of counts, never the values.
+
+    Pass 1 counts the values by the top 16 bits of their ordered bit patterns (:func:`_sortable_keys`).
+    Each later pass takes the values of every bin holding a wanted rank: sorted when the bin holds
+    at most :data:`SELECTION_SORT_LIMIT`, else counted again by their next 16 bits (a bin of the
+    last 16 bits holds equal values: its rank needs no values)."""
+
+    def __init__(self, percentiles: tuple[float, ...]):
+        self.percentiles = percentiles
+        self.count = self.nans = 0
+        self.largest = -np.inf
+        self.passes = 0
+        self._keys: dict[int, int] = {}  # wanted rank -> its key, once known
+        self._open: dict[tuple[int, int], dict] = {(0, 0): {"ranks": {}, "histogram": np.zeros(1 << _BIN_BITS, np.int64)}}
+
+    def feed(self, values: np.ndarray) -> None:
+        """The next chunk of values (every pass feeds the same values in the same chunks)."""
+        if self.passes == 0:
+            nan = np.isnan(values)
+            self.nans += int(nan.sum())
+            values = values[~nan]
+            self.count += values.size
+            if values.size:
+                self.largest = max(self.largest, float(values.max()))
+        else:
+            values = values[~np.isnan(values)]
+        if self.nans or not values.size:
+            return
+        keys = _sortable_keys(values)
+        for (level, prefix), group in self._open.items():
+            shift = 64 - _BIN_BITS * level
+            inside = keys if level == 0 else keys[keys >> np.uint64(shift) == np.uint64(prefix)]
+            if "histogram" in group:
+                group["histogram"] += np.bincount((inside >> np.uint64(shift - _BIN_BITS)) & np.uint64(0xFFFF),
+                                                  minlength=1 << _BIN_BITS)
+            else:
+                group["values"].append(inside)
+
+    def more(self) -> bool:
+        """End a pass: True when the values are to be fed once more."""
+        if self.passes == 0:
+            self._open[0, 0]["ranks"] = {rank: rank for rank in self._ranks()} if self.count and not self.nans else {}
+        self.passes += 1
+        groups, self._open = self._open, {}
+        for (level, prefix), group in groups.items():
+            if "values" in group:
+                ordered = np.sort(np.concatenate(group["values"]))
+                self._keys.update({rank: int(ordered[within]) for rank, within in group["ranks"].items()})
+                continue
+            ends = np.cumsum(group["histogram"])
+            for rank, within in group["ranks"].items():
+                index = int(np.searchsorted(ends, within, side="right"))
+                key, within = (prefix << _BIN_BITS) | index, within - (int(ends[index - 1]) if index else 0)
+                if level + 1 == 64 // _BIN_BITS:  # all 64 bits known: the value itself
+                    self._keys[rank] = key
+                    continue
+                below = self._open.setdefault((level + 1, key), {"ranks": {}, "size": int(group["histogram"][index])})
+                below["ranks"][rank] = within
+        for group in self._open.values():
+            if group.pop("size") <= SELECTION_SORT_LIMIT:
+                group["values"] = []
+            else:
+                group["histogram"] = np.zeros(1 << _BIN_BITS, np.int64)
+        return bool(self._open)
+
+    def _ranks(self) -> set[int]:
+        n = self.count
+        ranks = {(n - 1) // 2, n // 2}
+        for q in self.percentiles:
+            virtual = (n - 1) * (q / 100)
+            ranks |= {n - 1} if virtual >= n - 1 else {int(np.floor(virtual)), int(np.floor(virtual)) + 1}
+        return ranks
+
+    def _value(self, rank: int) -> float:
+        return _key_value(self._keys[rank])
+
+    def median(self) -> float:
+        """``np.median``: the middle value, or the mean of the two middle ones."""
+        if self.nans or not self.count:
+            return np.nan
+        n = self.count
+        if n % 2:
+            return self._value(n // 2)
+        return float(np.mean(np.array([self._value(n // 2 - 1), self._value(n // 2)])))
+
+    def percentile(self, q: float) -> float:
+        """``np.percentile(values, q)`` (numpy's linear interpolation between the neighbouring ranks)."""
+        if self.nans or not self.count:
+            return np.nan
+        n = self.count
+        virtual = (n - 1) * np.true_divide(q, 100)
+        below = np.floor(virtual) if virtual < n - 1 else np.float64(-1.0)  # numpy's index -1: the last value
+        a, b = (np.float64(self._value(int(below))), np.float64(self._value(int(below) + 1))) if below >= 0 else \
+            (np.float64(self._value(n - 1)),) * 2
+        gamma = virtual - below
+        difference = b - a
+        return float(b - difference * (1 - gamma) if gamma >= 0.5 else a + difference * gamma)
+
+    def maximum(self) -> float:
+        return np.nan if self.nans or not self.count else self.largest
+
+
+def _trajectory_chunks(path: Path, chunk: int) -> Iterator[np.ndarray]:
+    """The records of a trajectory.npy, ``chunk`` at a time, by plain reads (no memory map)."""
+    header = np.load(path, mmap_mode="r")  # reads the header only
+    if header.dtype != TRAJECTORY_DTYPE or header.ndim != 1:
+        raise ValueError(f"{path}: not an insrail trajectory file (record layout {header.dtype})")
+    total, offset = len(header), header.offset
+    del header
+    with open(path, "rb") as handle:
+        handle.seek(offset)
+        for start in range(0, total, chunk):
+            records = np.fromfile(handle, dtype=TRAJECTORY_DTYPE, count=min(chunk, total - start))
+            if len(records) != min(chunk, total - start):
+                raise ValueError(f"{path}: the file ends after {start + len(records)} of its {total} records")
+            yield records
+
+
+def trajectory_section(path: Path) -> dict:
+    """summary.toml's ``[trajectory]``: the fused trajectory's epochs, first and last time [s of week],
+    the median, 95 % and largest of its horizontal and vertical position 1-sigma [mm], and the
+    odometer scale error (a ratio) at the end, smallest and largest, ``used`` when it is not 0
+    throughout (the filter's state stays 0 without an odometer). Exact (the whole-array numpy
+    figures), read :data:`STATISTICS_CHUNK_RECORDS` records at a time; NaN where a value is."""
+    horizontal, vertical = ExactQuantiles((95.0,)), ExactQuantiles((95.0,))
+    epochs, first_s, last_s, scale = 0, np.nan, np.nan, {"last": np.nan, "min": np.inf, "max": -np.inf, "used": False}
+    while True:
+        for records in _trajectory_chunks(path, STATISTICS_CHUNK_RECORDS):
+            sigma = records["sigma_pos_ned_m"]
+            horizontal.feed(1e3 * np.hypot(sigma[:, 0], sigma[:, 1]))
+            vertical.feed(1e3 * sigma[:, 2])
+            if horizontal.passes == 0:  # the first pass
+                first_s = float(records["time_s"][0]) if not epochs else first_s
+                epochs += len(records)
+                last_s = float(records["time_s"][-1])
+                odometer = records["odometer_scale"]  # min/max as numpy's: NaN when one is NaN
+                scale = {"last": float(odometer[-1]), "min": float(np.minimum(scale["min"], odometer.min())),
+                         "max": float(np.maximum(scale["max"], odometer.max())),
+                         "used": scale["used"] or bool(np.any(odometer != 0))}
+        if not (horizontal.more() | vertical.more()):
+            break
+    if not epochs:
+        return {"epochs": 0}
+
+    def figures(values: ExactQuantiles) -> dict:
+        return {"median": values.median(), "p95": values.percentile(95.0), "max": values.maximum()}
+
+    return {"epochs": epochs, "start_s": first_s, "end_s": last_s, "sigma_horizontal_mm": figures(horizontal),
+            "sigma_vertical_mm": figures(vertical), "odometer_scale": scale}
 
 
 # --------------------------------------------------------------------------- reading
@@ -487,10 +683,6 @@ class StoredResults:
         """The fused trajectory (read on demand: it is the large file)."""
         return load_trajectory(self.folder / TRAJECTORY_FILE, gps_week=self.summary.get("survey", {}).get("gps_week"))
 
-    def trajectory_fields(self, *names: str) -> dict[str, np.ndarray]:
-        """Some fields of the fused trajectory (:func:`read_trajectory_fields`)."""
-        return read_trajectory_fields(self.folder / TRAJECTORY_FILE, names)
-
 
 def load_results(project_folder: Path, survey: str) -> StoredResults:
     """Read ``<project_folder>/results/<survey>/``; a missing or damaged file raises InputError naming it."""
@@ -534,16 +726,27 @@ def _read_sleepers(path: Path) -> table_cache.SleeperTableParse:
         raise InputError(path, None, "result file missing: process the survey again") from None
     table = table_cache.load(data)
     if table is None:
-        table = _parse_sleepers(path)
+        table = _parse_sleepers(path, data)
         table_cache.store(data, table)
     return table
 
 
-def _parse_sleepers(path: Path) -> table_cache.SleeperTableParse:
-    lines = _lines(path)
-    if not lines or not lines[0].startswith("number,label,"):
+def _text_lines(data: bytes) -> Iterator[str]:
+    """The lines of the UTF-8 text ``data`` one at a time, as ``str.splitlines()`` of the text read
+    with universal newlines gives them (the text is never split whole)."""
+    for line in io.TextIOWrapper(io.BytesIO(data), encoding="utf-8"):
+        yield from line.splitlines()
+
+
+def _parse_sleepers(path: Path, data: bytes | None = None) -> table_cache.SleeperTableParse:
+    """sleepers.csv (its bytes ``data``, else read), :data:`CSV_BLOCK_ROWS` lines at a time into one
+    array of values."""
+    data = path.read_bytes() if data is None else data
+    lines = _text_lines(data)
+    header = next(lines, None)
+    if header is None or not header.startswith("number,label,"):
         raise InputError(path, 1, "expected the header 'number,label,...' of an insrail sleeper table")
-    names = lines[0].split(",")[2:]
+    names = header.split(",")[2:]
     texts = 0  # trailing text columns (results of older versions have fewer)
     for text_names in ([NOT_ASSESSED_COLUMN, ADJUSTMENT_NOTE_COLUMN], [NOT_ASSESSED_COLUMN]):
         if names[-len(text_names):] == text_names:
@@ -551,11 +754,29 @@ def _parse_sleepers(path: Path) -> table_cache.SleeperTableParse:
             break
     if texts:
         names = names[:-texts]
-    fast = _regular_rows(lines[1:], len(names), texts)
-    if fast is not None:
-        number, labels, values, not_assessed, notes = fast
-        return number, labels, {name: values[:, i] for i, name in enumerate(names)}, not_assessed, notes
-    # A file that is not as written (or holds a mistake): row by row, naming the line at fault.
+    capacity = data.count(b"\n") + data.count(b"\r")  # line ends: at least the rows
+    values = np.empty((capacity, len(names)))
+    number, labels, not_assessed, notes = [], [], [], []
+    rows = 0
+    while block := list(itertools.islice(lines, CSV_BLOCK_ROWS)):
+        fast = _regular_rows(block, len(names), texts)
+        if fast is None or rows + len(block) > capacity:
+            return _parse_rows(path, names, texts)
+        values[rows:rows + len(block)] = fast[2]
+        number.append(fast[0])
+        for held, part in zip((labels, not_assessed, notes), (fast[1], fast[3], fast[4])):
+            held.extend(part)
+        rows += len(block)
+    if not rows:
+        return _parse_rows(path, names, texts)
+    values.resize((rows, len(names)), refcheck=False)  # in place: no second copy of the table
+    return (np.concatenate(number), tuple(labels), {name: values[:, i] for i, name in enumerate(names)},
+            tuple(not_assessed), tuple(notes))
+
+
+def _parse_rows(path: Path, names: list[str], texts: int) -> table_cache.SleeperTableParse:
+    """A file that is not as written (or holds a mistake): row by row, naming the line at fault."""
+    lines = _lines(path)
     if texts:  # quoted text columns: the csv module splits these lines
         rows = list(csv.reader(lines[1:]))
     else:

@@ -16,9 +16,12 @@ import datetime
 import io
 import math
 import re
+import shutil
+import tempfile
 import zipfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import IO
 from xml.sax.saxutils import escape
 
 import numpy as np
@@ -70,6 +73,10 @@ THIN = Side(style="thin", color="808080")
 HEADER_BORDER = Border(bottom=THIN)
 GROUP_BORDER = Border(left=THIN, right=THIN, top=THIN, bottom=THIN)
 SECTION_M = 200.0
+#: Rows of a big table (:meth:`_Sheet.table`) formatted at once, and the bytes copied at a time from its
+#: temporary file into the workbook: what the writer holds, whatever the survey's length.
+TABLE_BLOCK_ROWS = 2048
+SPOOL_COPY_BYTES = 1 << 20
 PAPER_CODES = {"A3": 8, "A4": 9}  # OOXML paper size codes
 #: Header text metrics at the default zoom: characters of the bold 11 pt header font per unit of column
 #: width (a unit is one digit of the body font; bold letters are wider), and the height of a text line [pt].
@@ -87,8 +94,9 @@ class _Sheet:
 
     Big tables go through :meth:`table`: without lxml, openpyxl serialises about 25 000 cells a
     second, so a 16 000-sleeper table would take half a minute. :meth:`table` writes the rows'
-    SpreadsheetML itself (styles registered with openpyxl, so styles.xml stays openpyxl's) and
-    :func:`_splice_tables` puts them at the end of the sheet's data when the workbook is saved.
+    SpreadsheetML itself (styles registered with openpyxl, so styles.xml stays openpyxl's), a block
+    of rows at a time, to a temporary file (:attr:`spool`), and :func:`_splice_tables` copies them
+    to the end of the sheet's data when the workbook is saved: the table's text is never held whole.
     """
 
     def __init__(self, sheet: Worksheet):
@@ -96,7 +104,7 @@ class _Sheet:
         self.rows = 0
         self._pending: list[list] | None = []
         self._heights: dict[int, float] = {}
-        self.table_xml: list[str] = []
+        self.spool: IO[bytes] | None = None  # the table rows' SpreadsheetML (UTF-8), once there is a table
         self.last_cell = "A1"
         self.widths: list[float] | None = None
         self._header_titles: dict[int, list[tuple[str, int]]] = {}  # row -> (title, columns it spans)
@@ -107,30 +115,40 @@ class _Sheet:
         """The workbook's index of a cell style (registered when new)."""
         return self.cell(None, number_format, font=font, fill=fill, alignment=alignment).style_id
 
-    def table(self, columns: list[tuple[list, list[int] | int]], progress: StepProgress | None = None,
+    def table(self, columns: list[tuple[Sequence, Sequence[int] | int]], progress: StepProgress | None = None,
               cancel: CancelToken = None, heights: list[float | None] | None = None) -> None:
         """Rows below everything appended so far: one (values, style id per row or for all) per column.
-        Values are float (NaN: empty cell), int, or str ("" empty); ``heights`` [pt] per row (None:
-        the default height)."""
+        Values (a list or an array; an object array's items are written as text) are float (NaN:
+        empty cell), int, or str ("" empty); ``heights`` [pt] per row (None: the default height).
+        Formatted :data:`TABLE_BLOCK_ROWS` rows at a time into :attr:`spool`."""
         if self._pending is not None:
             raise RuntimeError("start() the sheet before its table")
         if not columns or not len(columns[0][0]):
             return
         first = self.rows + 1
         count = len(columns[0][0])
-        numbers = [str(r) for r in range(first, first + count)]
-        cells = []
-        for index, (values, styles) in enumerate(columns):
+        letters = [get_column_letter(index + 1) for index in range(len(columns))]
+        if self.spool is None:
+            self.spool = tempfile.TemporaryFile()
+        for start in range(0, count, TABLE_BLOCK_ROWS):
             check_cancel(cancel)
             if progress is not None:
-                progress(index / len(columns), "writing the table")
-            cells.append(_cells(get_column_letter(index + 1), numbers, values,
-                                styles if isinstance(styles, list) else [styles] * count))
-        rows = [f'<row r="{r}"' + (f' ht="{h:g}" customHeight="1"' if h else "") for r, h in
-                zip(numbers, heights or [None] * count)]
-        self.table_xml.append("".join(f'{start}>{"".join(row)}</row>' for start, *row in zip(rows, *cells)))
+                progress(start / count, "writing the table")
+            block = slice(start, min(start + TABLE_BLOCK_ROWS, count))
+            numbers = [str(r) for r in range(first + block.start, first + block.stop)]
+            cells = [_cells(letter, numbers, _listed(values[block]),
+                            [styles] * len(numbers) if isinstance(styles, int) else _listed(styles[block]))
+                     for letter, (values, styles) in zip(letters, columns)]
+            rows = [f'<row r="{r}"' + (f' ht="{h:g}" customHeight="1"' if h else "") for r, h in
+                    zip(numbers, heights[block] if heights else [None] * len(numbers))]
+            self.spool.write("".join(f'{start}>{"".join(row)}</row>' for start, *row in zip(rows, *cells)).encode("utf-8"))
         self.rows += count
         self.last_cell = f"{get_column_letter(len(columns))}{self.rows}"
+
+    def close(self) -> None:
+        """Delete the table's temporary file."""
+        if self.spool is not None:
+            self.spool.close()
 
     def cell(self, value, number_format: str | None = None, font: Font | None = None, fill: PatternFill | None = None,
              alignment: Alignment | None = None, border: Border | None = None) -> WriteOnlyCell:
@@ -263,6 +281,13 @@ def _header_height(titles: list[tuple[str, int]], widths: list[float]) -> float:
     return LINE_HEIGHT_PT * lines + 4.0
 
 
+def _listed(values: Sequence) -> list:
+    """A block of a column as Python values: an array's numbers as float or int, an object array's items as text."""
+    if isinstance(values, np.ndarray):
+        return values.tolist() if values.dtype != object else [str(v) for v in values]
+    return list(values)
+
+
 def _cells(letter: str, rows: list[str], values: list, styles: list[int]) -> list[str]:
     """The <c> elements of one column; floats as the shortest text that reads back the same number."""
     out = []
@@ -279,21 +304,29 @@ def _cells(letter: str, rows: list[str], values: list, styles: list[int]) -> lis
 
 def _splice_tables(xlsx: bytes, sheets: list[_Sheet], handle) -> None:
     """Copy the workbook ``xlsx`` to ``handle`` with each sheet's :meth:`_Sheet.table` rows at the
-    end of its sheetData and its dimension covering them."""
-    tables = {sheet.sheet.path.lstrip("/"): sheet for sheet in sheets if sheet.table_xml}
+    end of its sheetData and its dimension covering them: the sheet's own XML before them, the rows
+    copied from the spool in blocks of :data:`SPOOL_COPY_BYTES`, then the rest of the sheet's XML."""
+    tables = {sheet.sheet.path.lstrip("/"): sheet for sheet in sheets if sheet.spool is not None}
     with zipfile.ZipFile(io.BytesIO(xlsx)) as source, \
             zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED, compresslevel=1) as target:
         for info in source.infolist():
             data = source.read(info.filename)
             sheet = tables.get(info.filename)
-            if sheet is not None:
-                text = data.decode("utf-8")
-                text = re.sub(r'<dimension ref="[^"]*"\s*/>', f'<dimension ref="A1:{sheet.last_cell}"/>', text, count=1)
-                rows = "".join(sheet.table_xml)
-                text = (text.replace("</sheetData>", rows + "</sheetData>", 1) if "</sheetData>" in text
-                        else text.replace("<sheetData/>", f"<sheetData>{rows}</sheetData>", 1))
-                data = text.encode("utf-8")
-            target.writestr(info.filename, data)
+            if sheet is None:
+                target.writestr(info.filename, data)
+                continue
+            text = data.decode("utf-8")
+            text = re.sub(r'<dimension ref="[^"]*"\s*/>', f'<dimension ref="A1:{sheet.last_cell}"/>', text, count=1)
+            if "</sheetData>" in text:
+                head, tail = text.split("</sheetData>", 1)
+            else:
+                head, tail = text.split("<sheetData/>", 1)
+                head += "<sheetData>"
+            with target.open(info.filename, "w") as member:
+                member.write(head.encode("utf-8"))
+                sheet.spool.seek(0)
+                shutil.copyfileobj(sheet.spool, member, SPOOL_COPY_BYTES)
+                member.write(("</sheetData>" + tail).encode("utf-8"))
 
 
 def _cell_value(value):
@@ -386,8 +419,7 @@ def _sleeper_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
         styles = np.where(valid, plain[index], grey[index])
         if column.exceeding is not None:
             styles = np.where(column.exceeding, red[index], styles)
-        values = column.values.tolist() if column.values.dtype != object else [str(v) for v in column.values]
-        table.append((values, styles.tolist()))
+        table.append((column.values, styles.astype(np.uint16)))  # a few style ids: 2 bytes a cell
     sheet.table(table, progress, cancel)
     sheet.finish_table(header, first_header, len(columns))
 
@@ -437,12 +469,11 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
     _start(sheet, content, [6, 9, 13, 11, 9, 9, 9, 9, 9, *part_widths, 30], freeze=f"F{header + 1}")
     order = work.order
     station = content.station_m[order]
-    columns = [list(range(1, order.size + 1)), content.column("number").values[order].tolist(),
-               [str(v) for v in content.column("label").values[order]], station.tolist(),
-               (station - station[0]).tolist() if order.size else []]
-    columns += [work.amounts_mm[:, k].tolist() for k in range(len(amounts))]
+    columns = [np.arange(1, order.size + 1), content.column("number").values[order],
+               content.column("label").values[order], station, station - station[:1]]
+    columns += [work.amounts_mm[:, k] for k in range(len(amounts))]
     columns += [[row[k] for row in work.parts] for k in range(len(amounts))]
-    columns.append([str(v) for v in content.column("unresolved").values[order]])
+    columns.append(content.column("unresolved").values[order])
     wrapped = sheet.style_id(alignment=WRAPPED)
     styles = ([sheet.style_id()] * 3 + [sheet.style_id("0.000"), sheet.style_id("0.0")]
               + [sheet.style_id("+0;-0;")] * len(amounts) + [wrapped] * len(amounts) + [sheet.style_id(font=RED_FONT)])
@@ -674,5 +705,8 @@ def write_workbook(project: Project, results: StoredResults, path, progress: Pro
     except BaseException:
         _discard(workbook)
         raise
+    finally:
+        for sheet in sheets:
+            sheet.close()
     step(1.0, f"workbook written: {path.name}")
     return path

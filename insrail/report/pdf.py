@@ -15,8 +15,8 @@ import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
+from functools import partial
 from pathlib import Path
-from types import SimpleNamespace
 from xml.sax.saxutils import escape
 
 import numpy as np
@@ -46,7 +46,6 @@ from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
 from insrail.names import UnknownName, check_name, column_name, quantity_name, rail_direction
 from insrail.nav.imu_profile import load_imu_profile
-from insrail.nav.trajectory import Trajectory
 from insrail.notices import notices_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.compare import (
@@ -55,7 +54,7 @@ from insrail.project.compare import (
     load_repeatability,
 )
 from insrail.project.model import Project
-from insrail.project.results import SUMMARY_FILE, StoredResults, check_column
+from insrail.project.results import SUMMARY_FILE, TRAJECTORY_FILE, StoredResults, check_column, trajectory_section
 from insrail.report.charts import (
     EVENT_COLOUR,
     LIMIT_COLOUR,
@@ -217,24 +216,48 @@ class Scaled(Flowable):
 
 
 class NumberedCanvas(Canvas):
-    """Writes "page i of n" once the number of pages is known."""
-
-    def __init__(self, *args, **kwargs):
-        super().__init__(*args, **kwargs)
-        self._pages: list[dict] = []
+    """Writes "page i of n" once the number of pages is known: each page ends by drawing its own form
+    (a PDF XObject, drawn in the page's graphics state), and the forms are written at the end. A
+    page goes out as soon as it is complete; no page is held to the end of the document."""
 
     def showPage(self):
-        self._pages.append(dict(self.__dict__))
-        self._startPage()
+        self.doForm(self._page_number_form(self._pageNumber))
+        super().showPage()
+
+    @staticmethod
+    def _page_number_form(number: int) -> str:
+        return f"pageNumber{number}"
 
     def save(self):
-        for state in self._pages:
-            self.__dict__.update(state)
+        pages = self._pageNumber - 1
+        for number in range(1, pages + 1):
+            self.beginForm(self._page_number_form(number))
             self.setFont("Helvetica", 8)
-            self.drawRightString(self._pagesize[0] - MARGIN, MARGIN - 16,
-                                 f"page {self._pageNumber} of {len(self._pages)}")
-            super().showPage()
+            self.drawRightString(self._pagesize[0] - MARGIN, MARGIN - 16, f"page {number} of {pages}")
+            self.endForm()
         super().save()
+
+
+class Deferred(Flowable):
+    """A flowable made by ``make`` only when it is laid out and let go once drawn: the chart pages of a
+    long survey are never all in memory at once."""
+
+    def __init__(self, make: Callable[[], Flowable]):
+        super().__init__()
+        self._make = make
+        self._made: Flowable | None = None
+
+    def _flowable(self) -> Flowable:
+        if self._made is None:
+            self._made = self._make()
+        return self._made
+
+    def wrap(self, available_width, available_height):
+        return self._flowable().wrap(available_width, available_height)
+
+    def drawOn(self, canvas, x, y, _sW=0):
+        self._flowable().drawOn(canvas, x, y, _sW)
+        self._made = None
 
 
 def _fmt(value, digits: int = 1, unit: str = "") -> str:
@@ -450,7 +473,7 @@ def _notice_line(content: ReportContent) -> list[Flowable]:
                                               + ("; ..." if len(notices) > 2 else "")), BODY)]
 
 
-def _cover(content: ReportContent, trajectory: Trajectory | None) -> list[Flowable]:
+def _cover(content: ReportContent) -> list[Flowable]:
     """The page a client signs off: what was surveyed with what, in which coordinate system and heights,
     against which tolerances, the conclusion, and the signatures."""
     project = content.project
@@ -491,35 +514,41 @@ def _gnss_rows(gnss: dict) -> list[tuple[str, object]]:
     ]
 
 
-#: The trajectory's fields the report states (read alone: the whole file is large).
-TRAJECTORY_FIELDS = ("time_s", "sigma_pos_ned_m", "odometer_scale")
+def trajectory_statistics(results: StoredResults) -> dict | None:
+    """The trajectory's figures the report states: summary.toml's ``[trajectory]`` (computed when the
+    survey was processed), for results of older versions the same figures read from trajectory.npy
+    (:func:`insrail.project.results.trajectory_section`, a chunk at a time); None without either."""
+    if "trajectory" in results.summary:
+        return results.summary["trajectory"]
+    try:
+        return trajectory_section(results.folder / TRAJECTORY_FILE)
+    except (OSError, ValueError):  # the report still stands without the trajectory's statistics
+        return None
 
 
-def _trajectory_rows(trajectory: Trajectory | None, smoother: bool) -> list[tuple[str, object]]:
-    """``trajectory``: a Trajectory or the :data:`TRAJECTORY_FIELDS` of one (a namespace)."""
-    if trajectory is None or not len(trajectory.time_s):
+def _trajectory_rows(statistics: dict | None, smoother: bool) -> list[tuple[str, object]]:
+    """``statistics``: :func:`trajectory_statistics`."""
+    if not statistics or not statistics["epochs"]:
         return [("Trajectory", "not available")]
-    sigma = trajectory.sigma_pos_ned_m
-    horizontal = 1e3 * np.hypot(sigma[:, 0], sigma[:, 1])
-    vertical = 1e3 * sigma[:, 2]
+    start, end = statistics["start_s"], statistics["end_s"]
+    horizontal, vertical = statistics["sigma_horizontal_mm"], statistics["sigma_vertical_mm"]
     rows = [
-        ("Trajectory", (f"{len(trajectory.time_s)} epochs, {trajectory.time_s[0]:.1f} - {trajectory.time_s[-1]:.1f} s of week "
-                       f"({trajectory.time_s[-1] - trajectory.time_s[0]:.0f} s), "
+        ("Trajectory", (f"{statistics['epochs']} epochs, {start:.1f} - {end:.1f} s of week ({end - start:.0f} s), "
                        f"{'forward filter and RTS smoother' if smoother else 'forward filter only'}")),
-        ("Position sigma, horizontal", (f"median {np.median(horizontal):.1f} mm, 95 % {np.percentile(horizontal, 95):.1f} mm, "
-                                       f"largest {horizontal.max():.1f} mm")),
-        ("Position sigma, vertical", (f"median {np.median(vertical):.1f} mm, 95 % {np.percentile(vertical, 95):.1f} mm, "
-                                     f"largest {vertical.max():.1f} mm")),
+        ("Position sigma, horizontal", (f"median {horizontal['median']:.1f} mm, 95 % {horizontal['p95']:.1f} mm, "
+                                       f"largest {horizontal['max']:.1f} mm")),
+        ("Position sigma, vertical", (f"median {vertical['median']:.1f} mm, 95 % {vertical['p95']:.1f} mm, "
+                                     f"largest {vertical['max']:.1f} mm")),
     ]
-    scale = trajectory.odometer_scale
-    if np.any(scale != 0):  # a state of the filter: 0 throughout when the odometer was not used
-        spread = scale.max() - scale.min()
-        rows.append(("Odometer scale error", f"{1e3 * scale[-1]:+.2f} per mille at the end"
-                     + (f" (from {1e3 * scale.min():+.2f} to {1e3 * scale.max():+.2f} along the survey)" if spread > 5e-6 else "")))
+    scale = statistics["odometer_scale"]
+    if scale["used"]:  # a state of the filter: 0 throughout when the odometer was not used
+        spread = scale["max"] - scale["min"]
+        rows.append(("Odometer scale error", f"{1e3 * scale['last']:+.2f} per mille at the end"
+                     + (f" (from {1e3 * scale['min']:+.2f} to {1e3 * scale['max']:+.2f} along the survey)" if spread > 5e-6 else "")))
     return rows
 
 
-def _processing(content: ReportContent, trajectory: Trajectory | None) -> list[Flowable]:
+def _processing(content: ReportContent, trajectory: dict | None) -> list[Flowable]:
     s = content.summary
     survey, fusion, heights = s.get("survey", {}), s.get("fusion", {}), s.get("heights", {})
     rows = [("IMU", f"{survey.get('imu_epochs', '-')} epochs"), *_gnss_rows(s.get("gnss", {})),
@@ -728,8 +757,8 @@ def _charts(content: ReportContent, progress: StepProgress, cancel: CancelToken)
             story.append(Heading(heading))
             height = available / on_page - 2
             for chart in charts[first:first + on_page]:
-                story.append(strip_drawing(chart, station, content.valid, start, end, width, height,
-                                           ticks=axis.ticks, axis_title=axis.title))
+                story.append(Deferred(partial(strip_drawing, chart, station, content.valid, start, end, width, height,
+                                              ticks=axis.ticks, axis_title=axis.title)))
             first += on_page
             story.append(PageBreak())
     return story
@@ -909,16 +938,13 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     step = StepProgress(progress)
     path = Path(path)
     content = load_report_content(project, results)
-    step(0.02, "reading the trajectory")
-    try:
-        trajectory = SimpleNamespace(**results.trajectory_fields(*TRAJECTORY_FIELDS))
-    except (OSError, ValueError):  # the report still stands without the trajectory's statistics
-        trajectory = None
+    step(0.02, "the trajectory's statistics")
+    trajectory = trajectory_statistics(results)
     check_cancel(cancel)
     compared = load_repeatability(project.folder)
     if compared is not None and compared.includes(results.survey):
         sections = (*sections, _repeatability(compared, (results.folder / SUMMARY_FILE).stat().st_mtime))
-    story = _cover(content, trajectory) + _processing(content, trajectory)
+    story = _cover(content) + _processing(content, trajectory)
     story += _charts(content, step.sub(0.05, 0.45), cancel)
     story += _plan(content)
     for section in sections:
