@@ -11,7 +11,7 @@ import pytest
 from insrail import memory
 
 # A fresh interpreter (the thresholds are per process and fixed for good once set): glibc's
-# dynamic threshold is first raised by freeing a mapped 8 MiB block, then a 1 MiB block is taken
+# dynamic threshold is first raised by freeing a mapped 16 MiB block, then a 4 MiB block is taken
 # and the number of mapped blocks (mallinfo2's hblks) tells whether it got a mapping of its own.
 PROBE = textwrap.dedent("""
     import ctypes, sys
@@ -25,10 +25,10 @@ PROBE = textwrap.dedent("""
     libc.malloc.restype = ctypes.c_void_p
     libc.malloc.argtypes = [ctypes.c_size_t]
     libc.free.argtypes = [ctypes.c_void_p]
-    libc.free(libc.malloc(8 << 20))
+    libc.free(libc.malloc(16 << 20))
     tuned = tune_allocator() if sys.argv[1] == "tune" else None
     before = libc.mallinfo2().hblks
-    block = libc.malloc(1 << 20)
+    block = libc.malloc(4 << 20)
     mapped = libc.mallinfo2().hblks - before
     libc.free(block)
     print(tuned, mapped)
@@ -43,8 +43,8 @@ def _probe(mode: str) -> list[str]:
 @pytest.mark.skipif(memory.glibc() is None or not hasattr(memory.glibc(), "mallinfo2"),
                     reason="glibc >= 2.33 only")
 def test_fixed_threshold_maps_a_block_the_dynamic_one_keeps_on_the_heap():
-    assert _probe("plain") == ["None", "0"]  # the dynamic threshold rose to 8 MiB: 1 MiB on the heap
-    assert _probe("tune") == ["True", "1"]  # fixed at 256 KiB: its own mapping, returned when freed
+    assert _probe("plain") == ["None", "0"]  # the dynamic threshold rose to 16 MiB: 4 MiB on the heap
+    assert _probe("tune") == ["True", "1"]  # fixed at 2 MiB: its own mapping, returned when freed
 
 
 class FakeLibc:
@@ -63,7 +63,7 @@ class FakeLibc:
 def test_settings_and_a_refusal_reported():
     accepted, refused = FakeLibc(1), FakeLibc(0)
     assert memory.tune_allocator(accepted) is True
-    assert accepted.calls == [(-3, 256 * 1024), (-1, 1024 * 1024)]
+    assert accepted.calls == [(-3, 2 << 20), (-1, 4 << 20)]
     assert memory.tune_allocator(refused) is False
     memory.release_free_memory(accepted)
     assert accepted.trimmed == 1
