@@ -17,7 +17,11 @@ Per stage (the pipeline's progress steps; "start-up" is the interpreter and the 
 the wall time, the CPU time (user + system) and the stage's own peak resident memory (the
 kernel's high-water mark is reset at each stage: /proc/self/clear_refs). Per step it prints the
 whole process's wall, CPU and peak RSS (getrusage of the child), i.e. what `/usr/bin/time -v`
-says of the command. On a loaded machine the CPU time is the figure to compare. The "numba s"
+says of the command. Beside a stage's peak, "anon MB" and "file MB" split the resident memory
+into anonymous (heap, numpy buffers) and file-backed (memory-mapped files, the libraries) pages,
+as /proc/self/status's RssAnon and RssFile give them at the stage's largest sampled VmRSS (sampled
+every 20 ms and at the stage's end, so a shorter spike than that may be missed by these two
+columns, never by the peak). On a loaded machine the CPU time is the figure to compare. The "numba s"
 column is the wall time spent compiling numba kernels in the stage (numba's "numba:compile"
 events: a kernel whose on-disk cache is missing or stale, e.g. the first run after an install or
 after a change to the engine; once per install, not per survey): the first `long` run after such
@@ -41,6 +45,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -90,8 +95,50 @@ class CompileTimer:
         self.registered = True
 
 
+class RssSampler:
+    """RssAnon and RssFile at the largest VmRSS seen since :meth:`take` (a thread samples
+    /proc/self/status every ``interval_s``)."""
+
+    def __init__(self, interval_s: float = 0.02):
+        self.lock = threading.Lock()
+        self.best = (0.0, float("nan"), float("nan"))
+        self.stopped = threading.Event()
+        self.thread = threading.Thread(target=self._run, args=(interval_s,), daemon=True)
+        self.thread.start()
+
+    @staticmethod
+    def _status() -> tuple[float, float, float]:
+        """VmRSS, RssAnon and RssFile (MB)."""
+        values = {}
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                key, _, rest = line.partition(":")
+                if key in ("VmRSS", "RssAnon", "RssFile"):
+                    values[key] = int(rest.split()[0]) / 1024
+        return values.get("VmRSS", 0.0), values.get("RssAnon", float("nan")), values.get("RssFile", float("nan"))
+
+    def sample(self) -> None:
+        now = self._status()
+        with self.lock:
+            if now[0] >= self.best[0]:
+                self.best = now
+
+    def _run(self, interval_s: float) -> None:
+        while not self.stopped.wait(interval_s):
+            self.sample()
+
+    def take(self) -> tuple[float, float]:
+        """(RssAnon, RssFile) at the largest VmRSS since the last take; the next period starts."""
+        self.sample()
+        with self.lock:
+            _, anon, file = self.best
+            self.best = (0.0, float("nan"), float("nan"))
+        return anon, file
+
+
 class StageClock:
-    """Wall, CPU, peak RSS and numba compile time per stage, switched by :meth:`enter`."""
+    """Wall, CPU, peak RSS (with its anonymous and file-backed parts) and numba compile time per
+    stage, switched by :meth:`enter`."""
 
     def __init__(self, started_wall: float):
         self.rows: list[dict] = []
@@ -100,6 +147,7 @@ class StageClock:
         self.cpu = 0.0  # the process's CPU time so far is charged to the first stage
         self.compiles = CompileTimer()
         self.compiled_s = 0.0
+        self.rss = RssSampler()
         self.enter("start-up")
 
     @staticmethod
@@ -128,9 +176,11 @@ class StageClock:
             return
         now, cpu = time.time(), self._cpu()
         self.compiles.register_if_loaded()
+        anon, file = self.rss.take()
         if self.stage is not None:
             self.rows.append({"stage": self.stage, "wall_s": now - self.wall, "cpu_s": cpu - self.cpu,
-                              "peak_mb": self._peak_mb(), "numba_s": self.compiles.total_s - self.compiled_s})
+                              "peak_mb": self._peak_mb(), "anon_mb": anon, "file_mb": file,
+                              "numba_s": self.compiles.total_s - self.compiled_s})
         self._reset_peak()
         self.stage, self.wall, self.cpu, self.compiled_s = stage, now, cpu, self.compiles.total_s
 
@@ -150,7 +200,8 @@ class StageClock:
                                                  "numba_s": 0.0})
             for key in ("wall_s", "cpu_s", "numba_s"):
                 item[key] += row[key]
-            item["peak_mb"] = max(item["peak_mb"], row["peak_mb"])
+            if row["peak_mb"] >= item["peak_mb"]:
+                item.update(peak_mb=row["peak_mb"], anon_mb=row["anon_mb"], file_mb=row["file_mb"])
         return list(out.values())
 
 
@@ -231,6 +282,9 @@ def step_report(name: str, root: Path, clock: StageClock) -> dict:
 
 
 def child_main(argv: list[str]) -> None:
+    from insrail.memory import tune_allocator
+
+    tune_allocator()  # as the `insrail` command does first
     step, name, root, started = argv[0], argv[1], Path(argv[2]), float(argv[3])
     clock = StageClock(started)
     if step == "simulate":
@@ -279,10 +333,10 @@ def print_step(name: str, step: str, report: dict) -> None:
     print(f"\n{name} {step}: {report['wall_s']:.1f} s wall, {report['cpu_s']:.1f} s CPU, "
           f"peak RSS {report['peak_mb']:.0f} MB" + (f", {report['sleepers']} sleepers, {report['exceedances']} exceedances"
                                                     if "sleepers" in report else ""))
-    print(f"  {'stage':<22} {'wall s':>8} {'CPU s':>8} {'peak MB':>8} {'numba s':>8}")
+    print(f"  {'stage':<22} {'wall s':>8} {'CPU s':>8} {'peak MB':>8} {'anon MB':>8} {'file MB':>8} {'numba s':>8}")
     for row in report["stages"]:
         print(f"  {row['stage']:<22} {row['wall_s']:>8.2f} {row['cpu_s']:>8.2f} {row['peak_mb']:>8.0f} "
-              f"{row['numba_s']:>8.2f}")
+              f"{row['anon_mb']:>8.0f} {row['file_mb']:>8.0f} {row['numba_s']:>8.2f}")
 
 
 def main() -> int:

@@ -10,6 +10,7 @@ import traceback
 
 from insrail import __version__
 from insrail.io.errors import InputError
+from insrail.memory import tune_allocator
 from insrail.progress import Cancelled
 
 # (name, module) of every sub-command; a module provides add_arguments(parser) and run(args).
@@ -47,6 +48,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    tune_allocator()
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "run", None):

@@ -14,9 +14,11 @@ def run(project: str | Path | None = None, argv: list[str] | None = None, screen
     and closed (a check that the application starts, e.g. from an installed bundle)."""
     from PySide6.QtWidgets import QApplication
 
+    from insrail.memory import tune_allocator
     from insrail.gui.main_window import MainWindow
     from insrail.gui.settings import APPLICATION, ORGANISATION, user_settings
 
+    tune_allocator()
     app = QApplication.instance() or QApplication(argv if argv is not None else sys.argv[:1])
     app.setOrganizationName(ORGANISATION)
     app.setApplicationName(APPLICATION)

@@ -79,8 +79,10 @@ def batch_tasks(projects: list[str | Path]) -> tuple[list[BatchTask], list[Batch
 def run_task(task: BatchTask) -> BatchOutcome:
     """Process one survey (in a worker). Any error becomes a failed outcome: one bad survey must
     not take the batch down."""
+    from insrail.memory import tune_allocator
     from insrail.project.pipeline import process
 
+    tune_allocator()  # a worker is a process of its own (spawned, or a Dask worker)
     started = time.monotonic()
     try:
         results = process(load_project(task.project_file), task.survey)

@@ -57,6 +57,7 @@ from insrail.io.survey import (
     read_survey,
 )
 from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
+from insrail.memory import release_free_memory
 from insrail.nav.earth import Ellipsoid
 from insrail.nav.fusion import SmootherStore, aiding_for, fuse
 from insrail.nav.imu_profile import load_imu_profile
@@ -517,6 +518,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     fresh, trajectory_file, fusion_info = _fused_trajectory(project, manifest, folder, key, height_fit,
                                                              gnss.solution if gnss else None,
                                                              step.sub(0.04, 0.8), cancel)
+    release_free_memory()
     check_cancel(cancel)
 
     step(0.82, "rails, chainage and sleepers")
@@ -524,6 +526,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     recon, extras, track_cached = _reconstructed_track(project, manifest, folder, fresh, trajectory_file,
                                                             track_key(project, key), height_fit, cancel, local)
     del fresh
+    release_free_memory()
     check_cancel(cancel)
     step(0.88, "irregularities and exceedances")
     measured = recon.table.valid
@@ -545,9 +548,11 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     profile = load_tolerance_profile(project.resource(project.tolerance_profile))
     assessment = assess(geometry, profile)
     in_turnouts, turnout_counts = assess_turnouts(project, geometry, measured, events)
+    release_free_memory()
     check_cancel(cancel)
     step(0.9, "adjustment amounts")
     after_adjustment, adjustment = _adjustment(project, geometry, profile, step.sub(0.9, 0.97), cancel)
+    release_free_memory()
     check_cancel(cancel)
 
     step(0.97, "writing results")
@@ -591,6 +596,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         QUALITY_FILE: quality_csv(quality),
         EXCEEDANCES_FILE: exceedances_csv(assessment), SUMMARY_FILE: summary_toml(summary),
         **line_fit_files, **event_files, **(gnss.result_files() if gnss else {})}, cancel)
+    release_free_memory()
     step(1.0, "done")
     return SurveyResults(entry.name, results_folder, manifest.gps_week, height_fit, recon, assessment, adjustment,
                          fusion_info["from_cache"], summary, quality)

@@ -41,14 +41,15 @@ from insrail.progress import CancelToken, ProgressFn
 from insrail.resources import resources_dir
 from insrail.track.adjustment_programme import (
     DirectionProblem,
+    ROW_BLOCK,
     RailCheck,
+    TrackRowSource,
     apply_threshold,
     below_threshold,
     rail_checks,
     repair_rounding,
     round_amounts,
     solve_free,
-    track_rows,
 )
 from insrail.track.adjustment_parts import PartTable, read_part_table
 from insrail.track.exceedance import RAILS, Assessment, SleeperGeometry, assess
@@ -224,31 +225,34 @@ def _trouble_windows(n: int, trouble: np.ndarray, pad: np.ndarray, merge: int) -
 
 @dataclass(frozen=True)
 class _State:
-    """Where the current amounts leave one direction: per chord check and rail the values [m]
-    and exceeding sleepers, and the exceeding track rows' sleepers."""
+    """Where the current amounts leave one direction: the sleepers of exceeding chord-check values
+    and of exceeding track rows."""
 
-    values: dict  # (check index, rail) -> values
     trouble: np.ndarray  # sleepers of exceeding values (any check)
     pad: np.ndarray  # reach of the check of each trouble sleeper
 
 
 def _state(problem: DirectionProblem, amounts: np.ndarray, checks: list[RailCheck]) -> _State:
+    """Checked block by block (:data:`ROW_BLOCK` sleepers): nothing of the whole line's size but
+    the amounts and deviations."""
+    n = amounts.shape[0]
+    blocks = [(start, min(n, start + ROW_BLOCK)) for start in range(0, n, ROW_BLOCK)]
     current = problem.step_m * (problem.deviation + amounts)
-    values, trouble, pad = {}, [], []
-    for index, check in enumerate(checks):
+    trouble, pad = [], []
+    for check in checks:
         for rail in (0, 1):
-            values[index, rail] = check.values(current[:, rail])
-            with np.errstate(invalid="ignore"):
-                sleepers = np.flatnonzero(np.abs(values[index, rail]) > check.limit_m + 1e-9)
+            sleepers = np.concatenate([np.zeros(0, int), *(check.exceeding(current[:, rail], *block) for block in blocks)])
             trouble.append(sleepers)
             pad.append(np.full(sleepers.size, check.reach_steps))
-    rows = problem.rows
-    if rows.size:
+    ends = [np.zeros(0, int)]
+    for block in blocks:
+        rows = problem.rows.owned(*block)
         bad = np.flatnonzero(rows.exceeding(amounts))
-        sleepers = np.unique(np.concatenate([rows.first[bad], rows.last[bad]]))
-        trouble.append(sleepers)
-        pad.append(np.full(sleepers.size, 8))
-    return _State(values, np.concatenate([np.zeros(0, int), *trouble]), np.concatenate([np.zeros(0, int), *pad]))
+        ends += [rows.first[bad], rows.last[bad]]
+    sleepers = np.unique(np.concatenate(ends))
+    trouble.append(sleepers)
+    pad.append(np.full(sleepers.size, 8))
+    return _State(np.concatenate([np.zeros(0, int), *trouble]), np.concatenate([np.zeros(0, int), *pad]))
 
 
 def _sweep_progress(progress, sweep: int):
@@ -301,7 +305,7 @@ def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], prog
                                     cancel)
             amounts = np.where(free[:, None], round_amounts(continuous, problem.low, problem.high, problem.valid),
                                amounts)
-            amounts = repair_rounding(problem, amounts, continuous)
+            amounts = repair_rounding(problem, amounts, continuous, (start, stop))
             done += stop - start
     # the threshold's integer programmes report in the last tenth (monotonic with the rounds after the first)
     threshold_progress = (None if progress is None
@@ -323,7 +327,7 @@ def direction_problem(geometry: SleeperGeometry, profile: ToleranceProfile, fast
         raise ValueError(f"adjustment strategy {strategy!r}: expected one of {', '.join(STRATEGIES)}")
     reference = reference_rail_is_right(geometry.design_cant_m, direction) if strategy == "guiding_rail_first" else None
     return DirectionProblem(np.where(valid[:, None], deviation, np.nan) / step, valid,
-                            track_rows(geometry, profile, direction, step),
+                            TrackRowSource.of(geometry, profile, direction, step),
                             float(np.ceil(low / step - 1e-9)), float(np.floor(high / step + 1e-9)), step, reference)
 
 

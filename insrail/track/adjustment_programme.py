@@ -78,10 +78,23 @@ class RailCheck:
             out[k] = deviation_m[k] - (b * deviation_m[k - a] + a * deviation_m[k + b]) / (a + b)
         return out
 
-    def exceeding(self, deviation_m: np.ndarray) -> np.ndarray:
-        """Sleepers whose value exceeds the limit (for a differential versine: first sleeper of the pair)."""
+    @property
+    def span_steps(self) -> tuple[int, int]:
+        """How many sleepers before and after k the value at k reads."""
+        if self.kind == "differential_versine":
+            return self.first_steps - self.second_steps, self.first_steps
+        return self.first_steps, self.second_steps
+
+    def exceeding(self, deviation_m: np.ndarray, start: int = 0, stop: int | None = None) -> np.ndarray:
+        """Sleepers of start..stop-1 whose value exceeds the limit (for a differential versine: first
+        sleeper of the pair), from the deviations those values read (the same values as over the
+        whole line)."""
+        stop = deviation_m.size if stop is None else stop
+        back, ahead = self.span_steps
+        lo, hi = max(0, start - back), min(deviation_m.size, stop + ahead)
+        values = self.values(deviation_m[lo:hi])[start - lo: stop - lo]
         with np.errstate(invalid="ignore"):
-            return np.flatnonzero(np.abs(self.values(deviation_m)) > self.limit_m + TOLERANCE)
+            return np.flatnonzero(np.abs(values) > self.limit_m + TOLERANCE) + start
 
 
 def rail_checks(profile: ToleranceProfile, direction: str, spacing_m: float = SLEEPER_SPACING_M) -> list[RailCheck]:
@@ -115,6 +128,7 @@ class TrackRows:
     hard: np.ndarray
     first: np.ndarray  # lowest sleeper index a row touches
     last: np.ndarray  # highest
+    owner: np.ndarray  # the sleeper whose value (or base) the row checks
 
     @property
     def size(self) -> int:
@@ -135,23 +149,30 @@ class TrackRows:
 
 
 class _RowCollector:
-    def __init__(self, n: int, step: float):
-        self.n, self.step = n, step
+    """Rows over the 2 ``total`` amount columns, built on the sleepers ``offset``.. of a block;
+    only the rows owned by sleepers own[0]..own[1]-1 are kept."""
+
+    def __init__(self, total: int, offset: int, own: tuple[int, int], step: float):
+        self.n, self.offset, self.own, self.step = total, offset, own, step
         self.rows: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # (row-local index, column, value)
-        self.value0, self.lower, self.upper, self.box = [], [], [], []
+        self.value0, self.lower, self.upper, self.box, self.owner = [], [], [], [], []
         self.count = 0
 
-    def add(self, terms: list[tuple[np.ndarray, np.ndarray]], value0_m: np.ndarray, lower_m: float, upper_m: float,
-            box: bool) -> None:
-        """Rows value0 + sum(coefficient * amount[column]); terms hold (sleeper-rail column, coefficient per row)."""
-        size = value0_m.size
+    def add(self, owner: np.ndarray, terms: list[tuple[int, np.ndarray, np.ndarray]], value0_m: np.ndarray,
+            lower_m: float, upper_m: float, box: bool) -> None:
+        """Rows value0 + sum(coefficient * amount[rail, sleeper]), one per block sleeper of ``owner``;
+        terms hold (rail, block sleeper, coefficient) per row."""
+        keep = np.flatnonzero((owner >= self.own[0] - self.offset) & (owner < self.own[1] - self.offset))
+        size = keep.size
         index = np.arange(size) + self.count
-        for column, coefficient in terms:
-            self.rows.append((index, column, np.broadcast_to(np.asarray(coefficient, dtype=float), (size,))))
-        self.value0.append(value0_m / self.step)
+        for rail, sleeper, coefficient in terms:
+            coefficient = np.broadcast_to(np.asarray(coefficient, dtype=float), owner.shape)[keep]
+            self.rows.append((index, rail * self.n + self.offset + sleeper[keep], coefficient))
+        self.value0.append(value0_m[keep] / self.step)
         self.lower.append(np.full(size, lower_m / self.step))
         self.upper.append(np.full(size, upper_m / self.step))
         self.box.append(np.full(size, box))
+        self.owner.append(self.offset + owner[keep])
         self.count += size
 
     def build(self) -> TrackRows:
@@ -159,7 +180,7 @@ class _RowCollector:
         if not self.count:
             empty = np.empty(0)
             return TrackRows(sparse.csr_array((0, 2 * n)), empty, empty, empty, np.empty(0, bool),
-                             np.empty(0, int), np.empty(0, int))
+                             np.empty(0, int), np.empty(0, int), np.empty(0, int))
         rows = np.concatenate([r for r, _, _ in self.rows])
         columns = np.concatenate([c for _, c, _ in self.rows])
         values = np.concatenate([v for _, _, v in self.rows])
@@ -178,7 +199,7 @@ class _RowCollector:
         last = np.full(self.count, -1, dtype=np.int64)
         np.minimum.at(first, coo.row, coo.col % n)
         np.maximum.at(last, coo.row, coo.col % n)
-        return TrackRows(matrix, value0, lower, upper, hard, first, last)
+        return TrackRows(matrix, value0, lower, upper, hard, first, last, np.concatenate(self.owner))
 
 
 def _base_rows(collector: _RowCollector, station: np.ndarray, series: np.ndarray, difference: np.ndarray, base_m: float,
@@ -189,7 +210,6 @@ def _base_rows(collector: _RowCollector, station: np.ndarray, series: np.ndarray
     valid = np.flatnonzero(np.isfinite(series))
     if valid.size < 2:
         return
-    n = collector.n
     sv = station[valid]
     for sign in (-1.0, 1.0):  # ending: f(s) - f(s - b); starting: f(s + b) - f(s)
         query = station + sign * base_m
@@ -198,8 +218,7 @@ def _base_rows(collector: _RowCollector, station: np.ndarray, series: np.ndarray
         if not rows.size:
             continue
         q = query[rows]
-        right = np.clip(np.searchsorted(sv, q, side="left"), 0, sv.size - 1)
-        left = np.clip(right - 1, 0, sv.size - 1)
+        right, left = _bracket(sv, q)
         on_right = np.isclose(sv[right], q, rtol=0.0, atol=1e-9)
         span = sv[right] - sv[left]
         weight_right = np.where(on_right | (span <= 0), 1.0, (q - sv[left]) / np.where(span > 0, span, 1.0))
@@ -207,49 +226,130 @@ def _base_rows(collector: _RowCollector, station: np.ndarray, series: np.ndarray
         far_left, far_right = valid[left], valid[right]
         value0 = sign * (far[rows] - series[rows]) * scale
         terms = []
-        for column, factor in ((0, difference[0]), (1, difference[1])):
-            terms.append((column * n + rows, -sign * factor * scale * np.ones(rows.size)))
-            terms.append((column * n + far_left, sign * factor * scale * weight_left))
-            terms.append((column * n + far_right, sign * factor * scale * weight_right))
-        collector.add(terms, value0, lower, upper, box=False)
+        for rail in (0, 1):
+            factor = difference[rail]
+            terms.append((rail, rows, -sign * factor * scale * np.ones(rows.size)))
+            terms.append((rail, far_left, sign * factor * scale * weight_left))
+            terms.append((rail, far_right, sign * factor * scale * weight_right))
+        collector.add(rows, terms, value0, lower, upper, box=False)
 
 
-def track_rows(geometry: SleeperGeometry, profile: ToleranceProfile, direction: str, step_m: float) -> TrackRows:
+def _bracket(sv: np.ndarray, query: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Indices of the valid samples (stations ``sv``) each side of each query, as
+    :func:`insrail.track.irregularity.interpolate_valid` takes them."""
+    right = np.clip(np.searchsorted(sv, query, side="left"), 0, sv.size - 1)
+    return right, np.clip(right - 1, 0, sv.size - 1)
+
+
+def _based_series(geometry: SleeperGeometry, profile: ToleranceProfile, direction: str):
+    """(check, series) of the direction's checks over a base: gauge change rate (lateral), twist (vertical)."""
+    for check in profile.checks:
+        if direction == "lateral" and check.kind == "gauge_change_rate":
+            yield check, geometry.gauge_m
+        elif direction == "vertical" and check.kind == "twist":
+            yield check, (geometry.cant_m - geometry.design_cant_m if check.relative_to_design else geometry.cant_m)
+
+
+def track_rows(geometry: SleeperGeometry, profile: ToleranceProfile, direction: str, step_m: float,
+               extent: tuple[int, int] | None = None, own: tuple[int, int] | None = None) -> TrackRows:
     """The profile's gauge / gauge-change-rate (lateral) or cross-level / twist (vertical) checks
-    as rows over the direction's amounts (see :class:`TrackRows`)."""
-    n = geometry.station_m.size
-    collector = _RowCollector(n, step_m)
-    station = geometry.station_m
+    as rows over the direction's amounts (see :class:`TrackRows`), in the order: check, then
+    (over a base) ending before starting, then sleeper. With ``extent`` and ``own`` only the rows
+    owned by sleepers own[0]..own[1]-1 (a sleeper owns the rows of its own value and of the bases
+    ending and starting at it), built from the sleepers extent[0]..extent[1]-1 alone: the same
+    rows as over the whole line when the extent holds every sleeper they read
+    (:class:`TrackRowSource`)."""
+    total = geometry.station_m.size
+    lo, hi = extent or (0, total)
+    collector = _RowCollector(total, lo, own or (0, total), step_m)
+    station = geometry.station_m[lo:hi]
+    gauge, cant, design_cant = geometry.gauge_m[lo:hi], geometry.cant_m[lo:hi], geometry.design_cant_m[lo:hi]
+    n = station.size
     index = np.arange(n)
     # change of gauge (lateral) or cant (vertical) per step of the [left, right] amount
     difference = np.array([-1.0, 1.0]) * step_m if direction == "lateral" else np.array([1.0, -1.0]) * step_m
-    cross_level = geometry.cant_m - geometry.design_cant_m
+    cross_level = cant - design_cant
     for check in profile.checks:
         if direction == "lateral" and check.kind == "gauge_deviation":
-            value0 = geometry.gauge_m - profile.nominal_gauge_m
+            value0 = gauge - profile.nominal_gauge_m
             ok = index[np.isfinite(value0)]
-            collector.add([(ok, difference[0] / step_m), (n + ok, difference[1] / step_m)], value0[ok],
+            collector.add(ok, [(0, ok, difference[0] / step_m), (1, ok, difference[1] / step_m)], value0[ok],
                           check.lower, check.upper, box=True)
         elif direction == "lateral" and check.kind == "gauge_change_rate":
             if check.base_m is None:
-                gauge = geometry.gauge_m
                 ok = np.flatnonzero(np.isfinite(gauge[1:]) & np.isfinite(gauge[:-1])) + 1
                 ds = station[ok] - station[ok - 1]
                 value0 = (gauge[ok] - gauge[ok - 1]) / ds
-                terms = [(c * n + ok, difference[c] / step_m / ds) for c in (0, 1)]
-                terms += [(c * n + ok - 1, -difference[c] / step_m / ds) for c in (0, 1)]
-                collector.add(terms, value0, check.lower, check.upper, box=False)
+                terms = [(c, ok, difference[c] / step_m / ds) for c in (0, 1)]
+                terms += [(c, ok - 1, -difference[c] / step_m / ds) for c in (0, 1)]
+                collector.add(ok, terms, value0, check.lower, check.upper, box=False)
             else:
-                _base_rows(collector, station, geometry.gauge_m, difference / step_m, check.base_m, 1.0 / check.base_m,
+                _base_rows(collector, station, gauge, difference / step_m, check.base_m, 1.0 / check.base_m,
                            check.lower, check.upper)
         elif direction == "vertical" and check.kind == "cross_level":
             ok = index[np.isfinite(cross_level)]
-            collector.add([(ok, difference[0] / step_m), (n + ok, difference[1] / step_m)], cross_level[ok],
+            collector.add(ok, [(0, ok, difference[0] / step_m), (1, ok, difference[1] / step_m)], cross_level[ok],
                           check.lower, check.upper, box=True)
         elif direction == "vertical" and check.kind == "twist":
-            series = cross_level if check.relative_to_design else geometry.cant_m
+            series = cross_level if check.relative_to_design else cant
             _base_rows(collector, station, series, difference / step_m, check.base_m, 1.0, check.lower, check.upper)
     return collector.build()
+
+
+#: Sleepers per block of track rows where a computation goes over the whole line (tests shrink it).
+ROW_BLOCK = 2048
+
+
+@dataclass(frozen=True)
+class TrackRowSource:
+    """The track rows of one direction (:func:`track_rows`), built for the sleepers a computation
+    works on, so that no row set of the whole line is ever held. ``first``/``last``: per sleeper,
+    the lowest and highest sleeper a row it owns may read (itself, the one before for a gauge
+    change rate between neighbours, the valid samples each side of its bases' far ends)."""
+
+    geometry: SleeperGeometry
+    profile: ToleranceProfile
+    direction: str
+    step_m: float
+    first: np.ndarray
+    last: np.ndarray
+
+    @classmethod
+    def of(cls, geometry: SleeperGeometry, profile: ToleranceProfile, direction: str, step_m: float) -> TrackRowSource:
+        station = geometry.station_m
+        n = station.size
+        first, last = np.arange(n), np.arange(n)
+        for check, series in _based_series(geometry, profile, direction):
+            if check.base_m is None:  # between neighbours
+                first[1:] = np.minimum(first[1:], np.arange(n - 1))
+                continue
+            valid = np.flatnonzero(np.isfinite(series))
+            if valid.size < 2:
+                continue
+            for sign in (-1.0, 1.0):
+                right, left = _bracket(station[valid], station + sign * check.base_m)
+                np.minimum(first, valid[left], out=first)
+                np.maximum(last, valid[right], out=last)
+        return cls(geometry, profile, direction, step_m, first, last)
+
+    @property
+    def sleepers(self) -> int:
+        return self.first.size
+
+    def owned(self, start: int, stop: int) -> TrackRows:
+        """The rows owned by sleepers start..stop-1, in the whole line's order."""
+        if start >= stop:
+            return track_rows(self.geometry, self.profile, self.direction, self.step_m, (0, 0), (0, 0))
+        extent = (int(self.first[start:stop].min()), int(self.last[start:stop].max()) + 1)
+        return track_rows(self.geometry, self.profile, self.direction, self.step_m, extent, (start, stop))
+
+    def touching(self, start: int, stop: int) -> TrackRows:
+        """Every row that reads a sleeper of start..stop-1 (with the other rows of their owners),
+        in the whole line's order."""
+        owners = np.flatnonzero((self.first < stop) & (self.last >= start))
+        if not owners.size:
+            return self.owned(0, 0)
+        return self.owned(int(owners[0]), int(owners[-1]) + 1)
 
 
 # --------------------------------------------------------------------------- the programme
@@ -260,7 +360,7 @@ class DirectionProblem:
 
     deviation: np.ndarray  # (N, 2) steps, NaN where invalid
     valid: np.ndarray  # (N,) bool
-    rows: TrackRows
+    rows: TrackRowSource
     low: float  # fastener range [steps], whole numbers
     high: float
     step_m: float
@@ -563,11 +663,15 @@ class _Programme:
         return flat.reshape(2, -1).T
 
 
-def _families(problem: DirectionProblem, checks: list[RailCheck]) -> list:
-    families = [_ChordRows(index, check, rail, problem.deviation, problem.valid, problem.step_m)
-                for index, (check, rail) in enumerate((c, r) for c in checks for r in (0, 1))]
-    families.append(_TrackRowFamily(len(families), problem.rows))
-    return families
+def _chord_families(problem: DirectionProblem, checks: list[RailCheck]) -> list:
+    return [_ChordRows(index, check, rail, problem.deviation, problem.valid, problem.step_m)
+            for index, (check, rail) in enumerate((c, r) for c in checks for r in (0, 1))]
+
+
+def _with_track_rows(problem: DirectionProblem, chord: list, free: np.ndarray) -> list:
+    """The chord families and the track rows that read a sleeper of the ``free`` ones' range."""
+    sleepers = np.flatnonzero(free)
+    return [*chord, _TrackRowFamily(len(chord), problem.rows.touching(int(sleepers[0]), int(sleepers[-1]) + 1))]
 
 
 class _Generation:
@@ -625,7 +729,7 @@ def solve_free(problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray,
     if not free.any():
         return amounts.copy()
     programme = _Programme(problem, amounts, free)
-    generation = _Generation(programme, _families(problem, checks), free)
+    generation = _Generation(programme, _with_track_rows(problem, _chord_families(problem, checks), free), free)
     half = np.where(free, 0.5, 0.0)
     current = amounts
     first = None
@@ -662,7 +766,7 @@ def apply_threshold(problem: DirectionProblem, amounts: np.ndarray, checks: list
     counts them); a second pass tries each of those again in a window centred on it."""
     if threshold <= 1.0 + TOLERANCE or not below_threshold(amounts, threshold).any():
         return amounts
-    families = _families(problem, checks)
+    chord = _chord_families(problem, checks)
     n = amounts.shape[0]
     for second, (before, after) in enumerate(THRESHOLD_WINDOWS):
         position = 0
@@ -674,7 +778,7 @@ def apply_threshold(problem: DirectionProblem, amounts: np.ndarray, checks: list
             start, stop = max(0, small[0] - before), min(n, small[0] + after)
             free = np.zeros(n, bool)
             free[start:stop] = problem.valid[start:stop]
-            solved = _integer_window(problem, amounts, free, families, threshold, cancel)
+            solved = _integer_window(problem, amounts, free, _with_track_rows(problem, chord, free), threshold, cancel)
             if solved is not None:
                 amounts = solved
             position = small[0] + 1 if second and solved is None else stop
@@ -704,23 +808,32 @@ def round_amounts(continuous: np.ndarray, low: float, high: float, valid: np.nda
     return np.where(valid[:, None], np.clip(np.round(continuous), low, high), 0.0)
 
 
-def repair_rounding(problem: DirectionProblem, amounts: np.ndarray, continuous: np.ndarray) -> np.ndarray:
-    """Amounts [steps] holding every hard track row: around each row the rounding broke, the
+def repair_rounding(problem: DirectionProblem, amounts: np.ndarray, continuous: np.ndarray,
+                    changed: tuple[int, int]) -> np.ndarray:
+    """Amounts [steps] holding every hard track row, where they held them all before sleepers
+    changed[0]..changed[1]-1 changed: around each row the rounding broke, the
     sleepers' amounts are chosen again among the whole steps next to the continuous solution
     (an integer programme over a few sleepers, least distance to it). Where no such choice
     exists the sleepers stay unmoved in this direction, which holds their rows by construction;
-    that is repeated (the region grows) until no hard row is broken."""
-    rows = problem.rows
+    that is repeated (the region grows) until no hard row is broken. Only the rows reading the
+    sleepers changed so far are built (the others cannot break)."""
+    start, stop = changed
+    rows = problem.rows.touching(start, stop)
     amounts = amounts.copy()
     total = amounts.shape[0]
     for _ in range(200):
-        broken = np.flatnonzero(rows.broken(amounts))
-        if not broken.size:
-            return amounts
-        sleepers = np.unique(rows.matrix[broken].tocoo().col % total)
-        region = np.unique(np.clip(sleepers[:, None] + np.arange(-REPAIR_PAD, REPAIR_PAD + 1), 0, total - 1))
+        while True:
+            broken = np.flatnonzero(rows.broken(amounts))
+            if not broken.size:
+                return amounts
+            sleepers = np.unique(rows.matrix[broken].tocoo().col % total)
+            region = np.unique(np.clip(sleepers[:, None] + np.arange(-REPAIR_PAD, REPAIR_PAD + 1), 0, total - 1))
+            if start <= region[0] and region[-1] < stop:
+                break
+            start, stop = min(start, int(region[0])), max(stop, int(region[-1]) + 1)  # the region may change
+            rows = problem.rows.touching(start, stop)
         region = region[problem.valid[region]]
-        choice = _integer_choice(problem, amounts, continuous, region)
+        choice = _integer_choice(problem, rows, amounts, continuous, region)
         if choice is None:
             amounts[sleepers] = 0.0
         else:
@@ -729,9 +842,8 @@ def repair_rounding(problem: DirectionProblem, amounts: np.ndarray, continuous: 
     return amounts
 
 
-def _integer_choice(problem: DirectionProblem, amounts: np.ndarray, continuous: np.ndarray,
+def _integer_choice(problem: DirectionProblem, rows: TrackRows, amounts: np.ndarray, continuous: np.ndarray,
                     region: np.ndarray) -> np.ndarray | None:
-    rows = problem.rows
     total = amounts.shape[0]
     columns = np.concatenate([region, total + region])  # rail-major amount columns
     target = np.concatenate([continuous[region, 0], continuous[region, 1]])
