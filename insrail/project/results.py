@@ -45,7 +45,7 @@ import numpy as np
 import tomli_w
 
 from insrail.io.errors import InputError
-from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, load_trajectory
+from insrail.nav.trajectory import Trajectory, load_trajectory, read_trajectory_fields, trajectory_records
 from insrail.progress import CancelToken, check_cancel
 from insrail.project import table_cache
 from insrail.quality.survey import SectionQuality, weakness
@@ -560,20 +560,11 @@ class ExactQuantiles:
         return np.nan if self.nans or not self.count else self.largest
 
 
-def _trajectory_chunks(path: Path, chunk: int) -> Iterator[np.ndarray]:
-    """The records of a trajectory.npy, ``chunk`` at a time, by plain reads (no memory map)."""
-    header = np.load(path, mmap_mode="r")  # reads the header only
-    if header.dtype != TRAJECTORY_DTYPE or header.ndim != 1:
-        raise ValueError(f"{path}: not an insrail trajectory file (record layout {header.dtype})")
-    total, offset = len(header), header.offset
-    del header
-    with open(path, "rb") as handle:
-        handle.seek(offset)
-        for start in range(0, total, chunk):
-            records = np.fromfile(handle, dtype=TRAJECTORY_DTYPE, count=min(chunk, total - start))
-            if len(records) != min(chunk, total - start):
-                raise ValueError(f"{path}: the file ends after {start + len(records)} of its {total} records")
-            yield records
+def _trajectory_chunks(path: Path, names, chunk: int) -> Iterator[dict[str, np.ndarray]]:
+    """The named fields of a trajectory.npy, ``chunk`` records at a time (plain reads, no memory map)."""
+    total = trajectory_records(path)
+    for start in range(0, total, chunk):
+        yield read_trajectory_fields(path, names, start=start, count=chunk)
 
 
 def trajectory_section(path: Path) -> dict:
@@ -585,13 +576,13 @@ def trajectory_section(path: Path) -> dict:
     horizontal, vertical = ExactQuantiles((95.0,)), ExactQuantiles((95.0,))
     epochs, first_s, last_s, scale = 0, np.nan, np.nan, {"last": np.nan, "min": np.inf, "max": -np.inf, "used": False}
     while True:
-        for records in _trajectory_chunks(path, STATISTICS_CHUNK_RECORDS):
+        for records in _trajectory_chunks(path, ("time_s", "sigma_pos_ned_m", "odometer_scale"), STATISTICS_CHUNK_RECORDS):
             sigma = records["sigma_pos_ned_m"]
             horizontal.feed(1e3 * np.hypot(sigma[:, 0], sigma[:, 1]))
             vertical.feed(1e3 * sigma[:, 2])
             if horizontal.passes == 0:  # the first pass
                 first_s = float(records["time_s"][0]) if not epochs else first_s
-                epochs += len(records)
+                epochs += len(records["time_s"])
                 last_s = float(records["time_s"][-1])
                 odometer = records["odometer_scale"]  # min/max as numpy's: NaN when one is NaN
                 scale = {"last": float(odometer[-1]), "min": float(np.minimum(scale["min"], odometer.min())),
