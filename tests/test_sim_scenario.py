@@ -31,9 +31,11 @@ def test_walking_profile_reaches_every_stop_smoothly(seed, length, speed, stops)
     assert s[0] == pytest.approx(100.0) and s[-1] == pytest.approx(100.0 + length + 30.0, abs=1e-6)
     assert np.all(v >= -1e-12) and v.max() < 1.16 * speed + 1e-9
     assert np.all(np.diff(s) >= -1e-9)
+    # the samples see a stop up to one sample interval late and leave it up to one early
+    resolution = 2.0 * (t[1] - t[0])
     for station, duration in stop_stations:
         at_stop = (v == 0.0) & (np.abs(s - station) < 1e-6)
-        assert (t[at_stop][-1] - t[at_stop][0]) == pytest.approx(duration, abs=0.2)
+        assert (t[at_stop][-1] - t[at_stop][0]) == pytest.approx(duration, abs=max(0.2, resolution))
     # Speed and acceleration are continuous across every piece boundary.
     edges = p.start_time_s[1:]
     for eps in (1e-7,):
