@@ -7,6 +7,7 @@ over the interval ending at each time stamp, body frame forward-right-down.
 from __future__ import annotations
 
 import mmap
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -87,6 +88,8 @@ def write_imu_kfgins(path: str | Path, imu: ImuIncrements) -> None:
 
 #: records read at a time from a binary IMU file (14 MB) while it is checked
 NPY_READ_CHUNK = 1 << 18
+#: the increments of a binary IMU file as the fusion reads them (the private copy read_imu_npy maps)
+_INCREMENTS_DTYPE = np.dtype([("dtheta_rad", "<f8", (3,)), ("dvel_mps", "<f8", (3,))])
 
 
 def release_pages(*arrays: np.ndarray) -> None:
@@ -122,10 +125,12 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
     ``time_s`` (f8), ``dtheta_rad`` (f8, 3), ``dvel_mps`` (f8, 3), little-endian.
 
     Checked in chunks of NPY_READ_CHUNK records with plain reads. The times are held in memory;
-    the increments of a file in the layout above (little-endian float64) are read-only views of a
-    memory map of the file, never held whole: whoever reads them in chunks lets the pages go behind
-    the cursor (:func:`release_pages`; the fusion does). Other float fields are converted into
-    memory. Errors name the 0-based record index.
+    the increments (any float layout, as float64) are copied as they are checked into a private
+    temporary file, already unlinked, and returned as read-only views of a memory map of that copy:
+    never held whole (whoever reads them in chunks lets the pages go behind the cursor,
+    :func:`release_pages`; the fusion does), and what the fusion reads is what was checked, even
+    if the file is rewritten or cut while a survey is processed (a map of the file itself would
+    then fault). Errors name the 0-based record index.
     """
     path = Path(path)
     if not path.exists():
@@ -149,35 +154,33 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
         def fail(index: int, message: str):
             raise InputError(path, index, message, unit="index")
 
-        offset = handle.tell()
-        mapped = all(dtype.fields[name][0].base == np.dtype("<f8") for name in ("dtheta_rad", "dvel_mps"))
         time_s = np.empty(n)
-        held = {} if mapped else {"dtheta_rad": np.empty((n, 3)), "dvel_mps": np.empty((n, 3))}
         norms = {"dtheta_rad": np.empty(n), "dvel_mps": np.empty(n)}
-        for start in range(0, n, NPY_READ_CHUNK):
-            count = min(NPY_READ_CHUNK, n - start)
-            records = np.fromfile(handle, dtype=dtype, count=count)
-            if len(records) != count:
-                raise InputError(path, None, f"the file ends after {start + len(records)} of its {n} records")
-            for name in IMU_NPY_DTYPE.names:
-                values = np.asarray(records[name], dtype=np.float64)
-                if name == "time_s":
-                    time_s[start : start + count] = values
-                else:
-                    norms[name][start : start + count] = _norms(values)
-                    if name in held:
-                        held[name][start : start + count] = values
-                finite = np.isfinite(values.reshape(count, -1)).all(axis=1)
-                if not finite.all():
-                    index = start + int(np.argmin(finite))
-                    fail(index, f"{name} is {values[index - start]}: expected finite numbers")
-    check_time_order(time_s, fail, unit="index", where=lambda index: index)
-    _check_increment_magnitudes(path, time_s, norms["dtheta_rad"], norms["dvel_mps"])
-    del norms
-    if mapped:
-        records = np.memmap(path, dtype=dtype, mode="r", offset=offset, shape=(n,))
-        held = {name: records[name] for name in ("dtheta_rad", "dvel_mps")}
-    return ImuIncrements(time_s=time_s, dtheta_rad=held["dtheta_rad"], dvel_mps=held["dvel_mps"],
+        with tempfile.TemporaryFile() as copy:
+            for start in range(0, n, NPY_READ_CHUNK):
+                count = min(NPY_READ_CHUNK, n - start)
+                records = np.fromfile(handle, dtype=dtype, count=count)
+                if len(records) != count:
+                    raise InputError(path, None, f"the file ends after {start + len(records)} of its {n} records")
+                checked = np.empty(count, dtype=_INCREMENTS_DTYPE)
+                for name in IMU_NPY_DTYPE.names:
+                    values = np.asarray(records[name], dtype=np.float64)
+                    if name == "time_s":
+                        time_s[start : start + count] = values
+                    else:
+                        norms[name][start : start + count] = _norms(values)
+                        checked[name] = values
+                    finite = np.isfinite(values.reshape(count, -1)).all(axis=1)
+                    if not finite.all():
+                        index = start + int(np.argmin(finite))
+                        fail(index, f"{name} is {values[index - start]}: expected finite numbers")
+                checked.tofile(copy)
+            check_time_order(time_s, fail, unit="index", where=lambda index: index)
+            _check_increment_magnitudes(path, time_s, norms["dtheta_rad"], norms["dvel_mps"])
+            del norms
+            copy.flush()
+            increments = np.memmap(copy, dtype=_INCREMENTS_DTYPE, mode="r", shape=(n,))  # outlives the file handle
+    return ImuIncrements(time_s=time_s, dtheta_rad=increments["dtheta_rad"], dvel_mps=increments["dvel_mps"],
                          gaps=find_gaps(time_s), source=path)
 
 
