@@ -233,6 +233,24 @@ def test_npy_errors_name_the_record_index(tmp_path):
     assert info.value.line == 3 and "dtheta_rad" in info.value.message
 
 
+def test_npy_increments_are_those_checked_even_if_the_file_is_rewritten_or_cut(tmp_path):
+    """The increments read_imu_npy returns (mapped, not held in memory) are a private copy of what it
+    checked: rewriting the file in place, or cutting it, while a survey is processed changes nothing
+    (a map of the file itself would show the new bytes, or fault on the cut pages)."""
+    path = tmp_path / "imu.npy"
+    time_s = 100.0 + 0.005 * np.arange(5000)
+    dtheta = np.random.default_rng(1).normal(0.0, 1e-5, (len(time_s), 3))
+    _write_npy(path, time_s, dtheta)
+    imu = read_imu_npy(path)
+    with open(path, "r+b") as handle:  # in place: the same inode, as a copy over the file does
+        handle.seek(-len(time_s) * IMU_NPY_DTYPE.itemsize, 2)
+        handle.write(np.ones(len(time_s), dtype=IMU_NPY_DTYPE).tobytes())
+    assert np.array_equal(imu.dtheta_rad, dtheta) and not imu.dtheta_rad.flags.writeable
+    with open(path, "r+b") as handle:
+        handle.truncate(128)
+    assert np.array_equal(imu.dtheta_rad[-10:], dtheta[-10:]) and np.all(imu.dvel_mps == 0.0)
+
+
 def test_npy_with_wrong_fields(tmp_path):
     path = tmp_path / "imu.npy"
     np.save(path, np.zeros((4, 7)))
