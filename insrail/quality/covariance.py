@@ -52,6 +52,7 @@ that assumption against the simulator).
 
 from __future__ import annotations
 
+import functools
 import itertools
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
@@ -127,14 +128,22 @@ class _Plan:
     Pair p of lag l is two columns of the pushed matrix D: lateral, then vertical."""
 
     def __init__(self, n: int, m: int, station_m, heading_rad, anchors, lags_m):
-        self.n = n
-        self.u_lat, self.u_ver, self.u_roll = projections(np.asarray(heading_rad, dtype=float))
+        self.n, self.m = n, m
+        self.u = np.stack(projections(np.asarray(heading_rad, dtype=float)))  # (3, m, 3): lateral, vertical, roll
+        self.u_lat, self.u_ver, self.u_roll = self.u
         self.pairs = [lag_pairs(station_m, np.asarray(anchors), lag) for lag in lags_m]
-        first = np.concatenate([j for j, _ in self.pairs]).astype(int)
-        second = np.concatenate([k for _, k in self.pairs]).astype(int)
-        self.n_pairs = len(first)
-        self.starts_at = _group(first, m)
-        self.ends_at = _group(second, m)
+        self.first = np.concatenate([j for j, _ in self.pairs]).astype(int)
+        self.second = np.concatenate([k for _, k in self.pairs]).astype(int)
+        self.n_pairs = len(self.first)
+
+    # the pairs per epoch as dicts (the replay's forward filter only; the backward pass takes them in CSR form)
+    @functools.cached_property
+    def starts_at(self) -> dict[int, np.ndarray]:
+        return _group(self.first, self.m)
+
+    @functools.cached_property
+    def ends_at(self) -> dict[int, np.ndarray]:
+        return _group(self.second, self.m)
 
     def project(self, P, i):
         """Lateral and vertical position variance and roll variance at epoch i."""
@@ -282,9 +291,9 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
     cross_s = np.empty((plan.n_pairs, 2))
     var_f = var_forward if var_forward is not None else np.empty((m, 3))
     state = _BackwardState(n, plan.n_pairs)
-    starts_ptr, starts_idx = _csr(np.concatenate([j for j, _ in plan.pairs]).astype(np.int64), m)
-    ends_ptr, ends_idx = _csr(np.concatenate([k for _, k in plan.pairs]).astype(np.int64), m)
-    u = np.stack([plan.u_lat, plan.u_ver, plan.u_roll])  # (3, m, 3)
+    starts_ptr, starts_idx = _csr(plan.first.astype(np.int64, copy=False), m)
+    ends_ptr, ends_idx = _csr(plan.second.astype(np.int64, copy=False), m)
+    u = plan.u
     expected = m - 1
     carry = None  # (Phi, P-) of the epoch after the chunk's first one
     for js, phi, p_minus, p_plus in blocks:
