@@ -129,14 +129,22 @@ class _Plan:
 
     def __init__(self, n: int, m: int, station_m, heading_rad, anchors, lags_m):
         self.n, self.m = n, m
-        self.u = np.stack(projections(np.asarray(heading_rad, dtype=float)))  # (3, m, 3): lateral, vertical, roll
-        self.u_lat, self.u_ver, self.u_roll = self.u
+        self.heading_rad = np.asarray(heading_rad, dtype=float)
         self.pairs = [lag_pairs(station_m, np.asarray(anchors), lag) for lag in lags_m]
         self.first = np.concatenate([j for j, _ in self.pairs]).astype(int)
         self.second = np.concatenate([k for _, k in self.pairs]).astype(int)
         self.n_pairs = len(self.first)
 
-    # the pairs per epoch as dicts (the replay's forward filter only; the backward pass takes them in CSR form)
+    # the projections of every epoch and the pairs per epoch as dicts: the replay's forward filter
+    # only (the backward pass makes the projections of a block at a time and takes the pairs in CSR form)
+    @functools.cached_property
+    def _projections(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return projections(self.heading_rad)
+
+    u_lat = property(lambda self: self._projections[0])
+    u_ver = property(lambda self: self._projections[1])
+    u_roll = property(lambda self: self._projections[2])
+
     @functools.cached_property
     def starts_at(self) -> dict[int, np.ndarray]:
         return _group(self.first, self.m)
@@ -293,7 +301,6 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
     state = _BackwardState(n, plan.n_pairs)
     starts_ptr, starts_idx = _csr(plan.first.astype(np.int64, copy=False), m)
     ends_ptr, ends_idx = _csr(plan.second.astype(np.int64, copy=False), m)
-    u = plan.u
     expected = m - 1
     carry = None  # (Phi, P-) of the epoch after the chunk's first one
     for js, phi, p_minus, p_plus in blocks:
@@ -316,7 +323,9 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
             first = 1
         carry = (phi[-1].copy(), p_minus[-1].copy())
         gains = np.linalg.solve(p_minus_next, phi_next @ p_plus).transpose(0, 2, 1)  # P+ Phi^T (P-)^-1
-        _backward_chunk(js, gains, p_minus_next, p_plus, first, u, POS, ATT, starts_ptr, starts_idx, ends_ptr,
+        low = int(js[-1])  # the block's projections, epochs low..js[0]
+        u = np.stack(projections(plan.heading_rad[low : js[0] + 1]))  # (3, k, 3)
+        _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, POS, ATT, starts_ptr, starts_idx, ends_ptr,
                         ends_idx, state.P_s, state.columns, state.slot_of, state.pair_of_slot, state.active,
                         var_s, var_f, cross_s)
     if expected != -1:
@@ -344,19 +353,20 @@ class _BackwardState:
 
 
 @njit(cache=True)
-def _project(out, P, u, j, pos, att):  # pragma: no cover - compiled
-    """out[j] = lateral and vertical position variance and roll variance of P at epoch j."""
+def _project(out, P, u, j, low, pos, att):  # pragma: no cover - compiled
+    """out[j] = lateral and vertical position variance and roll variance of P at epoch j
+    (projections ``u`` from epoch ``low`` on)."""
     for r in range(3):
         block = pos if r < 2 else att
         total = 0.0
         for p in range(3):
             for q in range(3):
-                total += u[r, j, p] * P[block + p, block + q] * u[r, j, q]
+                total += u[r, j - low, p] * P[block + p, block + q] * u[r, j - low, q]
         out[j, r] = total
 
 
 @njit(cache=True)
-def _backward_chunk(js, gains, p_minus_next, p_plus, first, u, pos, att, starts_ptr, starts_idx, ends_ptr, ends_idx,
+def _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, pos, att, starts_ptr, starts_idx, ends_ptr, ends_idx,
                     P_s, columns, slot_of, pair_of_slot, active, var_s, var_f, cross_s):  # pragma: no cover - compiled
     """The RTS recursion over one chunk of epochs (see :func:`_smooth`); ``first`` = 1 when the
     chunk starts with the last epoch of the survey (P_s = P+ there)."""
@@ -373,15 +383,15 @@ def _backward_chunk(js, gains, p_minus_next, p_plus, first, u, pos, att, starts_
             k = 2 * active[0]
             if k:
                 columns[:k] = columns[:k] @ a.T  # each row d^T A^T = (A d)^T
-        _project(var_s, P_s, u, j, pos, att)
-        _project(var_f, p_plus[e], u, j, pos, att)
+        _project(var_s, P_s, u, j, low, pos, att)
+        _project(var_f, p_plus[e], u, j, low, pos, att)
         for t in range(starts_ptr[j], starts_ptr[j + 1]):  # pairs whose first epoch is j: read and drop
             pair = starts_idx[t]
             slot = slot_of[pair]
             for r in range(2):
                 total = 0.0
                 for p in range(3):
-                    total += u[r, j, p] * columns[2 * slot + r, pos + p]
+                    total += u[r, j - low, p] * columns[2 * slot + r, pos + p]
                 cross_s[pair, r] = total
             last = active[0] - 1
             if slot != last:
@@ -401,7 +411,7 @@ def _backward_chunk(js, gains, p_minus_next, p_plus, first, u, pos, att, starts_
                 for i in range(n):
                     total = 0.0
                     for p in range(3):
-                        total += P_s[i, pos + p] * u[r, j, p]
+                        total += P_s[i, pos + p] * u[r, j - low, p]
                     columns[2 * slot + r, i] = total
 
 
