@@ -2,6 +2,7 @@
 length): the reader, the screening and the stop detection give with tiny chunks exactly what they
 give in one chunk, and so does the fusion of the `short` survey (every epoch within 0.01 mm)."""
 
+from contextlib import ExitStack
 from dataclasses import replace
 from functools import partial
 
@@ -156,15 +157,16 @@ def test_the_mapped_imu_file_fuses_as_the_record_in_memory(survey, short_nav_sur
 
 
 def test_fusion_and_its_covariance_analysis_grow_only_at_the_filter_rate(survey, tmp_path, monkeypatch):
-    """tracemalloc peaks of fuse + epoch_quality (the pipeline's path: the smoother's record, no
-    IMU data in the analysis) on the first L and 2L epochs of `short`, chunks shrunk: nothing is
-    held per IMU epoch (the increments, their intervals, the output indices) nor the filter-rate
-    record (sensor estimates, sigmas, smoother corrections: 1.1 kB per update epoch); what still
-    grows is the forward solution at the update epochs, the schedule and the analysis's figures
-    (0.37 kB per update epoch measured, 1.6 kB before)."""
+    """tracemalloc peaks of fuse + the analysis of its record (the pipeline's path: the smoother's
+    record, no IMU data, the fusion result let go first) on the first L and 2L epochs of `short`,
+    chunks shrunk: nothing is held per IMU epoch (the increments, their intervals, the output
+    indices) nor the filter-rate record (sensor estimates, sigmas, smoother corrections: 1.1 kB
+    per update epoch); what still grows is the forward solution at the update epochs, the
+    schedule and the innovations at the end of the fusion (0.40 kB per update epoch measured,
+    1.6 kB before; the analysis alone: the next test)."""
     from memory_support import peak_growth_bytes
 
-    from insrail.quality.survey import epoch_quality
+    from insrail.quality.survey import UpdateEpochs, recorded_quality
 
     monkeypatch.setattr(fusion, "IMU_CHUNK", TINY)
     monkeypatch.setattr(fusion, "HIST_CHUNK", 37)
@@ -184,14 +186,47 @@ def test_fusion_and_its_covariance_analysis_grow_only_at_the_filter_rate(survey,
         with fusion.SmootherStore(chunk=37) as store:
             result = fusion.fuse(inputs[n], aiding, profile, options, CGCS2000, covariance_store=store,
                                  trajectory_file=tmp_path / f"{n}.npy")  # as the pipeline streams it
-            epoch_quality(replace(survey, imu=None), result, options, profile, CGCS2000, covariance_store=store)
-        updates[n] = len(result.timeline.time_s)
+            updates[n] = len(result.timeline.time_s)
+            epochs = UpdateEpochs.of(survey.odometer, result)
+            del result  # as the pipeline does
+            recorded_quality(epochs, store)
 
     run(20_000)  # compiled and cached once, outside the traced runs
     short, long = peak_growth_bytes(run, 20_000)
     more = updates[40_000] - updates[20_000]
     assert more > 900
     assert long - short <= 700 * more + (1 << 16), (long - short) / more
+
+
+def test_the_analysis_of_the_record_grows_only_by_its_own_figures(survey, tmp_path):
+    """tracemalloc peak of the covariance analysis alone (``recorded_quality``; the fusions run
+    outside the trace and their results are let go, as in the pipeline) on L and 2L update
+    epochs: per update epoch only its variances and figures grow (64 B measured; 147 B with the
+    whole survey's projections, and the pipeline held the forward solution and innovations
+    through it before, 0.3 kB more)."""
+    from memory_support import peak_growth_bytes
+
+    from insrail.quality.survey import UpdateEpochs, recorded_quality
+
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions()
+    aiding = fusion.aiding_for(survey, options, profile)
+    imu = survey.imu
+    with ExitStack() as stack:
+        records = {}
+        for n in (20_000, 40_000):
+            store = stack.enter_context(fusion.SmootherStore(chunk=37))
+            result = fusion.fuse(ImuIncrements(imu.time_s[:n].copy(), np.array(imu.dtheta_rad[:n]),
+                                               np.array(imu.dvel_mps[:n]), source=imu.source),
+                                 aiding, profile, options, CGCS2000, covariance_store=store,
+                                 trajectory_file=tmp_path / f"{n}.npy")
+            records[n] = UpdateEpochs.of(survey.odometer, result), store
+        del result
+        recorded_quality(*records[20_000])  # compiled and cached once, outside the traced runs
+        short, long = peak_growth_bytes(lambda n: recorded_quality(*records[n]), 20_000)
+    more = len(records[40_000][0].time_s) - len(records[20_000][0].time_s)
+    assert more > 900
+    assert long - short <= 100 * more + (1 << 16), (long - short) / more
 
 
 def test_the_running_sum_of_the_odometer_check_is_numpys_to_the_bit(survey, monkeypatch):

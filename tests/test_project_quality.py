@@ -96,6 +96,7 @@ def test_a_cached_rerun_reuses_the_covariance_analysis(processed, monkeypatch):
         raise AssertionError("the covariance analysis ran again")
 
     monkeypatch.setattr(pipeline, "epoch_quality", refuse)
+    monkeypatch.setattr(pipeline, "recorded_quality", refuse)
     again = process(project, SURVEY)
     assert again.fusion_from_cache
     assert (again.folder / QUALITY_FILE).read_text() == before

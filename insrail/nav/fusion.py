@@ -33,7 +33,7 @@ forward pass's sensor estimates and sigmas and the smoother's corrections and si
 update epoch go to other temporary files; the trajectory is built from them in chunks (each
 reading the update epochs it lies between) and, with ``trajectory_file``, written to disk as
 it is made. What still stays in memory per update epoch: the forward solution there
-(``FusionResult.forward``, 32 doubles), the schedule's and the innovations' entries, the
+(``FusionResult.forward``, 32 doubles, built after the smoothed trajectory), the schedule's and the innovations' entries, the
 timeline (about 0.4 kB per update epoch); per IMU epoch, the times (8 bytes).
 
 Error-state conventions: see ``insrail.nav.error_model``. Navigation errors are computed
@@ -1345,20 +1345,19 @@ def fuse(
         forward_pass = _forward(setup, options, ellipsoid, store, nav_file, history,
                                 step.sub(0.0, 0.8 if options.smoother else 0.9), cancel)
         build = partial(_trajectory, t, nav_file, epochs, history, gps_week=imu.gps_week, ell=ellipsoid, cancel=cancel)
-        forward = at_updates = build(None, smoothed=False, indices=epochs)
-        if forward_file is not None or full_forward:
-            forward = build(None, smoothed=False, output_every=output_every, path=forward_file)
         trajectory = None
-        if options.smoother:
+        if options.smoother:  # first: the forward solution at the updates is then not held through it
             check_cancel(cancel)
             _rts(store, m_epochs, np.sqrt(np.diag(setup.P0)), smoothed_rows, cancel, step.sub(0.8, 0.9))
             trajectory = build(smoothed_rows, smoothed=True, output_every=output_every,
                                path=trajectory_file, progress=step.sub(0.9, 1.0))
-        elif forward_file is not None and trajectory_file is None:
-            trajectory = forward
-        else:
-            trajectory = build(None, smoothed=False, output_every=output_every,
-                               path=trajectory_file, progress=step.sub(0.9, 1.0))
+        forward = at_updates = build(None, smoothed=False, indices=epochs)
+        if forward_file is not None or full_forward:
+            forward = build(None, smoothed=False, output_every=output_every, path=forward_file)
+        if not options.smoother:
+            trajectory = (forward if forward_file is not None and trajectory_file is None else
+                          build(None, smoothed=False, output_every=output_every, path=trajectory_file,
+                                progress=step.sub(0.9, 1.0)))
     finally:
         if own_store:
             store.close()

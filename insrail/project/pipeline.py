@@ -133,7 +133,9 @@ from insrail.project.track_events import (
 from insrail.quality.survey import (
     EpochQuality,
     SectionQuality,
+    UpdateEpochs,
     epoch_quality,
+    recorded_quality,
     sections_along,
 )
 from insrail.track.adjustment import (
@@ -363,11 +365,24 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
         if not result.integrity.trusted:
             raise UntrustedSolution(result.integrity.failure())
         imu_epochs, imu_span_s = len(survey.imu), (float(survey.imu.time_s[0]), float(survey.imu.time_s[-1]))
-        if store is not None:  # the analysis of the record reads no IMU data: the 200 Hz record goes first
-            survey = replace(survey, imu=None)
+        info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": imu_epochs,
+                "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
+                "notices": [*(n.to_dict() for n in checked), *(n.to_dict() for n in result.info["notices"])],
+                "alignment": result.info["alignment"],
+                "resets": len(result.resets), "integrity": result.integrity.to_dict(),
+                "calibration": result.info["calibration"],
+                "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
+                "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]]}
         # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
-        quality = epoch_quality(survey, result, options, profile, ellipsoid_of(project),
-                                covariance_store=store, progress=progress.sub(0.87, 1.0), cancel=cancel)
+        if store is not None and result.trajectory.smoothed:
+            # the analysis of the record reads neither the 200 Hz IMU record nor the fusion's result
+            # (its forward solution and innovations, ~0.3 kB per update epoch): both go first
+            epochs = UpdateEpochs.of(survey.odometer, result)
+            survey, result = replace(survey, imu=None), None
+            quality = recorded_quality(epochs, store, progress=progress.sub(0.87, 1.0), cancel=cancel)
+        else:
+            quality = epoch_quality(survey, result, options, profile, ellipsoid_of(project),
+                                    progress=progress.sub(0.87, 1.0), cancel=cancel)
     except BaseException:  # untrusted, cancelled or failed once the streamed trajectory is complete: no unsealed entry left
         path.unlink(missing_ok=True)
         raise
@@ -375,14 +390,6 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
         if store is not None:
             store.close()
     save_dataclass(quality_cache_file(path), quality)
-    info = {"rejections": len(result.rejections), "stops": len(result.stops), "imu_epochs": imu_epochs,
-            "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
-            "notices": [*(n.to_dict() for n in checked), *(n.to_dict() for n in result.info["notices"])],
-            "alignment": result.info["alignment"],
-            "resets": len(result.resets), "integrity": result.integrity.to_dict(),
-            "calibration": result.info["calibration"],
-            "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
-            "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]]}
     if survey.gnss is not None:
         info["gnss"] = gnss_section(survey.gnss.time_s, survey.gnss.quality, *imu_span_s)
     with atomic_write(info_path, "wb") as handle:

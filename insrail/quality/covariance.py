@@ -52,6 +52,7 @@ that assumption against the simulator).
 
 from __future__ import annotations
 
+import functools
 import itertools
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
@@ -127,14 +128,30 @@ class _Plan:
     Pair p of lag l is two columns of the pushed matrix D: lateral, then vertical."""
 
     def __init__(self, n: int, m: int, station_m, heading_rad, anchors, lags_m):
-        self.n = n
-        self.u_lat, self.u_ver, self.u_roll = projections(np.asarray(heading_rad, dtype=float))
+        self.n, self.m = n, m
+        self.heading_rad = np.asarray(heading_rad, dtype=float)
         self.pairs = [lag_pairs(station_m, np.asarray(anchors), lag) for lag in lags_m]
-        first = np.concatenate([j for j, _ in self.pairs]).astype(int)
-        second = np.concatenate([k for _, k in self.pairs]).astype(int)
-        self.n_pairs = len(first)
-        self.starts_at = _group(first, m)
-        self.ends_at = _group(second, m)
+        self.first = np.concatenate([j for j, _ in self.pairs]).astype(int)
+        self.second = np.concatenate([k for _, k in self.pairs]).astype(int)
+        self.n_pairs = len(self.first)
+
+    # the projections of every epoch and the pairs per epoch as dicts: the replay's forward filter
+    # only (the backward pass makes the projections of a block at a time and takes the pairs in CSR form)
+    @functools.cached_property
+    def _projections(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return projections(self.heading_rad)
+
+    u_lat = property(lambda self: self._projections[0])
+    u_ver = property(lambda self: self._projections[1])
+    u_roll = property(lambda self: self._projections[2])
+
+    @functools.cached_property
+    def starts_at(self) -> dict[int, np.ndarray]:
+        return _group(self.first, self.m)
+
+    @functools.cached_property
+    def ends_at(self) -> dict[int, np.ndarray]:
+        return _group(self.second, self.m)
 
     def project(self, P, i):
         """Lateral and vertical position variance and roll variance at epoch i."""
@@ -282,9 +299,8 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
     cross_s = np.empty((plan.n_pairs, 2))
     var_f = var_forward if var_forward is not None else np.empty((m, 3))
     state = _BackwardState(n, plan.n_pairs)
-    starts_ptr, starts_idx = _csr(np.concatenate([j for j, _ in plan.pairs]).astype(np.int64), m)
-    ends_ptr, ends_idx = _csr(np.concatenate([k for _, k in plan.pairs]).astype(np.int64), m)
-    u = np.stack([plan.u_lat, plan.u_ver, plan.u_roll])  # (3, m, 3)
+    starts_ptr, starts_idx = _csr(plan.first.astype(np.int64, copy=False), m)
+    ends_ptr, ends_idx = _csr(plan.second.astype(np.int64, copy=False), m)
     expected = m - 1
     carry = None  # (Phi, P-) of the epoch after the chunk's first one
     for js, phi, p_minus, p_plus in blocks:
@@ -307,7 +323,9 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
             first = 1
         carry = (phi[-1].copy(), p_minus[-1].copy())
         gains = np.linalg.solve(p_minus_next, phi_next @ p_plus).transpose(0, 2, 1)  # P+ Phi^T (P-)^-1
-        _backward_chunk(js, gains, p_minus_next, p_plus, first, u, POS, ATT, starts_ptr, starts_idx, ends_ptr,
+        low = int(js[-1])  # the block's projections, epochs low..js[0]
+        u = np.stack(projections(plan.heading_rad[low : js[0] + 1]))  # (3, k, 3)
+        _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, POS, ATT, starts_ptr, starts_idx, ends_ptr,
                         ends_idx, state.P_s, state.columns, state.slot_of, state.pair_of_slot, state.active,
                         var_s, var_f, cross_s)
     if expected != -1:
@@ -335,19 +353,20 @@ class _BackwardState:
 
 
 @njit(cache=True)
-def _project(out, P, u, j, pos, att):  # pragma: no cover - compiled
-    """out[j] = lateral and vertical position variance and roll variance of P at epoch j."""
+def _project(out, P, u, j, low, pos, att):  # pragma: no cover - compiled
+    """out[j] = lateral and vertical position variance and roll variance of P at epoch j
+    (projections ``u`` from epoch ``low`` on)."""
     for r in range(3):
         block = pos if r < 2 else att
         total = 0.0
         for p in range(3):
             for q in range(3):
-                total += u[r, j, p] * P[block + p, block + q] * u[r, j, q]
+                total += u[r, j - low, p] * P[block + p, block + q] * u[r, j - low, q]
         out[j, r] = total
 
 
 @njit(cache=True)
-def _backward_chunk(js, gains, p_minus_next, p_plus, first, u, pos, att, starts_ptr, starts_idx, ends_ptr, ends_idx,
+def _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, pos, att, starts_ptr, starts_idx, ends_ptr, ends_idx,
                     P_s, columns, slot_of, pair_of_slot, active, var_s, var_f, cross_s):  # pragma: no cover - compiled
     """The RTS recursion over one chunk of epochs (see :func:`_smooth`); ``first`` = 1 when the
     chunk starts with the last epoch of the survey (P_s = P+ there)."""
@@ -364,15 +383,15 @@ def _backward_chunk(js, gains, p_minus_next, p_plus, first, u, pos, att, starts_
             k = 2 * active[0]
             if k:
                 columns[:k] = columns[:k] @ a.T  # each row d^T A^T = (A d)^T
-        _project(var_s, P_s, u, j, pos, att)
-        _project(var_f, p_plus[e], u, j, pos, att)
+        _project(var_s, P_s, u, j, low, pos, att)
+        _project(var_f, p_plus[e], u, j, low, pos, att)
         for t in range(starts_ptr[j], starts_ptr[j + 1]):  # pairs whose first epoch is j: read and drop
             pair = starts_idx[t]
             slot = slot_of[pair]
             for r in range(2):
                 total = 0.0
                 for p in range(3):
-                    total += u[r, j, p] * columns[2 * slot + r, pos + p]
+                    total += u[r, j - low, p] * columns[2 * slot + r, pos + p]
                 cross_s[pair, r] = total
             last = active[0] - 1
             if slot != last:
@@ -392,7 +411,7 @@ def _backward_chunk(js, gains, p_minus_next, p_plus, first, u, pos, att, starts_
                 for i in range(n):
                     total = 0.0
                     for p in range(3):
-                        total += P_s[i, pos + p] * u[r, j, p]
+                        total += P_s[i, pos + p] * u[r, j - low, p]
                     columns[2 * slot + r, i] = total
 
 

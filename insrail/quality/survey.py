@@ -134,24 +134,15 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
                 anchor_spacing_m, store: SmootherStore | None, progress, cancel) -> CovarianceProfile:
     """The covariance analysis along the fusion's timeline (stations: odometer distance):
     with the fusion's ``store`` the smoother's backward pass over its record, else a replay."""
-    timeline = result.timeline
-    if timeline is None:
-        raise ValueError("the fusion result carries no measurement timeline; fuse the survey again")
-    t = timeline.time_s
-    nav = result.forward  # the navigation state the filter linearised on, at the update epochs
-    k = np.clip(np.searchsorted(nav.time_s, t - 1e-6), 0, len(nav.time_s) - 1)
-    distance = _travelled_m(survey.odometer, t, nav, k)
-    station = distance - distance[0] + station_offset_m
-    heading = _travel_direction(nav.vel_ned_mps[k], nav.rpy_rad[k, 2])
-    anchors = np.unique(np.searchsorted(station, np.arange(station[0], station[-1], anchor_spacing_m)))
-    lags_m = (SHORT_LAG_M, LONG_LAG_M)
+    epochs = UpdateEpochs.of(survey.odometer, result, station_offset_m)
     if store is not None and smoothed and not forward_lags:
-        if store.count != len(t) - 1:
-            raise ValueError(f"the covariance store holds {store.count} segments, the fusion's timeline "
-                             f"{len(t) - 1}: it is not this fusion's record")
-        blocks = ((j, phi, p_minus, p_plus) for j, phi, p_minus, p_plus, _ in store.reversed_blocks())
-        return analyse_recorded(timeline.initial_covariance, blocks, t, station, heading, anchors, lags_m,
-                                progress=progress, cancel=cancel)
+        return _recorded(epochs, store, anchor_spacing_m, progress, cancel)
+    t, station, heading = epochs.time_s, epochs.station_m, epochs.heading_rad
+    timeline = result.timeline
+    nav = result.forward
+    k = _forward_index(nav, t)
+    anchors = _anchors(station, anchor_spacing_m)
+    lags_m = (SHORT_LAG_M, LONG_LAG_M)
     profile = profile or load_imu_profile(survey.manifest.imu_profile)
     noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
     gqg = noise_matrix(noise)
@@ -197,6 +188,62 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
 
     return analyse(timeline.initial_covariance, segment, t, station, heading, anchors, lags_m,
                    smoother=smoothed, forward_lags=forward_lags, progress=progress, cancel=cancel)
+
+
+@dataclass(frozen=True)
+class UpdateEpochs:
+    """What the analysis of the fusion's record reads of the fusion, per update epoch: its time,
+    station (odometer distance from the first epoch, plus an offset) and direction of travel,
+    and the covariance at the first one. Taken out of the :class:`FusionResult` so that the
+    caller can let the result (the forward solution at the update epochs, the innovations:
+    ~0.3 kB per update epoch) go before the analysis runs."""
+
+    time_s: np.ndarray
+    station_m: np.ndarray
+    heading_rad: np.ndarray
+    initial_covariance: np.ndarray
+
+    @classmethod
+    def of(cls, odometer, result: FusionResult, station_offset_m: float = 0.0) -> UpdateEpochs:
+        timeline = result.timeline
+        if timeline is None:
+            raise ValueError("the fusion result carries no measurement timeline; fuse the survey again")
+        t = timeline.time_s
+        nav = result.forward  # the navigation state the filter linearised on, at the update epochs
+        k = _forward_index(nav, t)
+        distance = _travelled_m(odometer, t, nav, k)
+        station = distance - distance[0] + station_offset_m
+        heading = _travel_direction(nav.vel_ned_mps[k], nav.rpy_rad[k, 2])
+        return cls(t, station, heading, timeline.initial_covariance)
+
+
+def recorded_quality(epochs: UpdateEpochs, store: SmootherStore, anchor_spacing_m: float = 1.0,
+                     progress: ProgressFn | None = None, cancel: CancelToken = None) -> EpochQuality:
+    """:func:`epoch_quality` of a smoothed fusion from its ``store``, given only the fusion's
+    :class:`UpdateEpochs` (the same figures to the bit)."""
+    return EpochQuality.from_profile(_recorded(epochs, store, anchor_spacing_m, progress, cancel), True)
+
+
+def _recorded(epochs: UpdateEpochs, store: SmootherStore, anchor_spacing_m, progress, cancel) -> CovarianceProfile:
+    """The smoother's backward pass over the fusion's record of Phi, P- and P+."""
+    t = epochs.time_s
+    if store.count != len(t) - 1:
+        raise ValueError(f"the covariance store holds {store.count} segments, the fusion's timeline "
+                         f"{len(t) - 1}: it is not this fusion's record")
+    blocks = ((j, phi, p_minus, p_plus) for j, phi, p_minus, p_plus, _ in store.reversed_blocks())
+    return analyse_recorded(epochs.initial_covariance, blocks, t, epochs.station_m, epochs.heading_rad,
+                            _anchors(epochs.station_m, anchor_spacing_m), (SHORT_LAG_M, LONG_LAG_M),
+                            progress=progress, cancel=cancel)
+
+
+def _forward_index(nav, t: np.ndarray) -> np.ndarray:
+    """Index of each update epoch ``t`` in the forward solution ``nav``."""
+    return np.clip(np.searchsorted(nav.time_s, t - 1e-6), 0, len(nav.time_s) - 1)
+
+
+def _anchors(station: np.ndarray, spacing_m: float) -> np.ndarray:
+    """The epochs whose lag differences are wanted: the first at or past every ``spacing_m``."""
+    return np.unique(np.searchsorted(station, np.arange(station[0], station[-1], spacing_m)))
 
 
 def reset_segments(result: FusionResult) -> dict[int, tuple[np.ndarray, np.ndarray]]:
