@@ -750,7 +750,7 @@ class SmootherStore:
     def append_records(self, records: np.ndarray) -> None:
         """Append packed records (k, RECORD)."""
         try:
-            self.file.write(np.ascontiguousarray(records, dtype=np.float64).tobytes())
+            self.file.write(memoryview(np.ascontiguousarray(records, dtype=np.float64)).cast("B"))
         except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
             raise OSError(err.errno, err.strerror,
                           f"{tempfile.gettempdir()} (the smoother's temporary file)") from None
@@ -792,7 +792,7 @@ class _EpochFile:
 
     def append(self, rows: np.ndarray) -> None:
         try:
-            self.file.write(np.ascontiguousarray(rows[:, : self.WIDTH]).tobytes())
+            self.file.write(memoryview(np.ascontiguousarray(rows[:, : self.WIDTH])).cast("B"))
         except OSError as err:
             raise OSError(err.errno, err.strerror, f"{tempfile.gettempdir()} (the fusion's temporary file)") from None
         self.count += len(rows)
@@ -819,7 +819,7 @@ class _RowFile:
         self.width, self.what = width, what
 
     def write(self, first: int, rows: np.ndarray) -> None:
-        data = np.ascontiguousarray(rows, dtype=np.float64).reshape(len(rows), self.width).tobytes()
+        data = memoryview(np.ascontiguousarray(rows, dtype=np.float64).reshape(len(rows), self.width)).cast("B")
         try:
             written = os.pwrite(self.file.fileno(), data, first * self.width * 8)
         except OSError as err:

@@ -79,7 +79,7 @@ class TrajectoryWriter:
     def write(self, block: np.ndarray) -> None:
         if block.dtype != TRAJECTORY_DTYPE or self.written + len(block) > self.n:
             raise ValueError(f"{self.path}: expected at most {self.n - self.written} more trajectory records")
-        self.handle.write(np.ascontiguousarray(block).tobytes())
+        self.handle.write(memoryview(np.ascontiguousarray(block)).cast("B"))
         self.written += len(block)
 
     def commit(self) -> None:
