@@ -311,7 +311,11 @@ def test_a_read_only_project_is_named_and_its_results_kept(tiny, tmp_path, monke
     assert (results_of(project) / "sleepers.csv").read_bytes() == before
 
 
-def test_a_full_disk_in_the_fusions_temporary_file_is_named(tiny, tmp_path, monkeypatch, capsys):
+@pytest.mark.parametrize("full_from, named", [
+    ("insrail-imu-", "the IMU record's temporary copy"),  # the first temporary file a fusion writes
+    ("insrail-nav-", "the fusion's temporary file"),  # the forward pass's record at the IMU rate
+])
+def test_a_full_disk_in_the_fusions_temporary_file_is_named(tiny, tmp_path, monkeypatch, capsys, full_from, named):
     import errno
 
     from insrail.nav import fusion
@@ -328,11 +332,23 @@ def test_a_full_disk_in_the_fusions_temporary_file_is_named(tiny, tmp_path, monk
         def close(self):
             pass
 
-    monkeypatch.setattr(fusion.tempfile, "TemporaryFile", lambda **kwargs: FullDisk())
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            self.close()
+
+    real = fusion.tempfile.TemporaryFile
+    prefixes = ["insrail-imu-", "insrail-nav-"]
+    full = set(prefixes[prefixes.index(full_from):])  # the disk fills at that file and stays full
+
+    def temporary_file(**kwargs):
+        return FullDisk() if kwargs.get("prefix") in full else real(**kwargs)
+
+    monkeypatch.setattr(fusion.tempfile, "TemporaryFile", temporary_file)
     assert main(["process", str(project)]) == 1
     error = capsys.readouterr().err
-    # the forward pass's record at the IMU rate is the first temporary file the fusion writes
-    assert "(the fusion's temporary file): No space left on device (the disk is full" in error, error
+    assert f"({named}): No space left on device (the disk is full" in error, error
     assert (results_of(project) / "sleepers.csv").read_bytes() == before
     assert not list(cache_of(project).glob("fusion-*"))  # nothing half-written taken for a cache entry
 

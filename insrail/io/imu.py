@@ -156,7 +156,7 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
 
         time_s = np.empty(n)
         norms = {"dtheta_rad": np.empty(n), "dvel_mps": np.empty(n)}
-        with tempfile.TemporaryFile() as copy:
+        with tempfile.TemporaryFile(prefix="insrail-imu-") as copy:
             for start in range(0, n, NPY_READ_CHUNK):
                 count = min(NPY_READ_CHUNK, n - start)
                 records = np.fromfile(handle, dtype=dtype, count=count)
@@ -174,7 +174,11 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
                     if not finite.all():
                         index = start + int(np.argmin(finite))
                         fail(index, f"{name} is {values[index - start]}: expected finite numbers")
-                checked.tofile(copy)
+                try:
+                    copy.write(memoryview(checked).cast("B"))
+                except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
+                    raise OSError(err.errno, err.strerror,
+                                  f"{tempfile.gettempdir()} (the IMU record's temporary copy)") from None
             check_time_order(time_s, fail, unit="index", where=lambda index: index)
             _check_increment_magnitudes(path, time_s, norms["dtheta_rad"], norms["dvel_mps"])
             del norms
