@@ -76,3 +76,66 @@ def test_rates_csv_option_errors(walk_0827):
         read_imu_rates_csv(path, gyro_columns=(4, 5, 11))
     with pytest.raises(ValueError, match="accel_unit = 'mg'"):
         read_imu_rates_csv(path, accel_unit="mg")
+
+
+def test_the_logger_record_on_its_power_up_clock_is_put_on_gpst_by_its_rtklib_time_tag(walk_0827, tmp_path):
+    """imu_1730.csv counts milliseconds since the IMU's power-up; its .tag puts it on GPST. Named in a
+    survey as a user writes it, its times are those of the source's converted file to a microsecond."""
+    import shutil
+
+    from insrail.io import read_manifest
+    from insrail.io.survey import MANIFEST_NAME
+
+    for name in ("imu_1730.csv", "imu_1730.csv.tag", "gnss_1730_sf.pos"):
+        shutil.copy(walk_0827 / name, tmp_path / name)
+    (tmp_path / MANIFEST_NAME).write_text("""
+[survey]
+name = "walk"
+
+[files.imu]
+path = "imu_1730.csv"
+format = "imu-rates-csv"
+time_scale = "rtklib-tag"
+time_column = 6
+accel_columns = [0, 1, 2]
+gyro_columns = [3, 4, 5]
+accel_unit = "g"
+gyro_unit = "deg/s"
+sensor_rpy_deg = [180.0, 0.0, -90.0]
+
+[files.gnss]
+path = "gnss_1730_sf.pos"
+format = "rtklib-pos"
+
+[trolley]
+imu_to_antenna_m = [0.0, 0.0, 0.0]
+imu_to_reference_rail_m = [0.0, 0.0, 0.0]
+""")
+    imu = read_manifest(tmp_path).files["imu"].read(tmp_path)
+    converted = read_imu_rates_csv(walk_0827 / "imu_1730_sf.csv", time_scale="unix-gpst", accel_unit="g",
+                                   sensor_rpy_deg=(180.0, 0.0, -90.0))
+    assert len(imu) == len(converted) == 20454  # the partial first and last lines left out
+    assert imu.gps_week == converted.gps_week == 2381
+    np.testing.assert_allclose(imu.time_s, converted.time_s, rtol=0, atol=1e-6)
+    # the same motion: the mean specific force over the record within 0.01 m/s^2
+    span = imu.time_s[-1] - imu.time_s[0]
+    np.testing.assert_allclose(imu.dvel_mps.sum(axis=0) / span, converted.dvel_mps.sum(axis=0) / span, atol=0.01)
+
+
+def test_a_time_tag_that_is_not_the_records_is_refused_naming_it(walk_0827, tmp_path):
+    import shutil
+
+    from insrail.io import InputError
+
+    shutil.copy(walk_0827 / "imu_1730.csv", tmp_path / "imu.csv")
+    tag = bytearray((walk_0827 / "imu_1730.csv.tag").read_bytes())
+    options = dict(time_column=6, accel_columns=(0, 1, 2), gyro_columns=(3, 4, 5), time_scale="rtklib-tag",
+                   accel_unit="g", gyro_unit="deg/s")
+    with pytest.raises(InputError, match=r"imu.csv.tag: file not found"):
+        read_imu_rates_csv(tmp_path / "imu.csv", **options)
+    (tmp_path / "imu.csv.tag").write_bytes(bytes(tag[:76 + 8 * 4000]))  # the tag of a shorter record
+    with pytest.raises(InputError, match=r"imu.csv.tag: the time tag spans .* but the record imu.csv counts"):
+        read_imu_rates_csv(tmp_path / "imu.csv", **options)
+    (tmp_path / "imu.csv.tag").write_bytes(b"not a tag" * 20)
+    with pytest.raises(InputError, match=r"imu.csv.tag: not an RTKLIB time tag"):
+        read_imu_rates_csv(tmp_path / "imu.csv", **options)

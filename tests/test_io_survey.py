@@ -215,8 +215,37 @@ def test_several_bad_files_are_all_reported(survey_folder):
 def test_time_scale_mix_up_is_reported(survey_folder):
     odo = OdometerData(np.arange(10.0) + 1.7e9, np.arange(10.0), pulse_length_m=0.001)
     write_odometer_pulses(survey_folder / "odo.txt", odo)
-    with pytest.raises(ManifestError, match="files.odometer: time span .* does not overlap the IMU"):
+    with pytest.raises(ManifestError, match=r"files.odometer \(odo.txt\): time span .* does not overlap the IMU"):
         read_survey(survey_folder)
+
+
+def test_a_time_offset_is_taken_off_the_files_time_stamps(survey_folder):
+    path = survey_folder / "survey.toml"
+    text = path.read_text()
+    plain = read_survey(survey_folder)
+    path.write_text(text.replace('path = "sleepers.txt"\n', 'path = "sleepers.txt"\ntime_offset_s = 0.25\n'))
+    manifest = read_manifest(survey_folder)
+    assert manifest.files["sleepers"].time_offset_s == 0.25 and manifest.files["sleepers"].options == {}
+    shifted = read_survey(survey_folder)
+    np.testing.assert_array_equal(shifted.sleepers.time_s, plain.sleepers.time_s - 0.25)
+    np.testing.assert_array_equal(shifted.odometer.time_s, plain.odometer.time_s)
+    write_manifest(survey_folder, manifest)  # kept when written back
+    assert read_manifest(survey_folder).files["sleepers"].time_offset_s == 0.25
+
+
+@pytest.mark.parametrize(("table", "value", "problem"), [
+    ("imu", "0.1", "files.imu.time_offset_s: only the files of gnss, odometer"),
+    ("gauge", '"0.1"', "files.gauge.time_offset_s: expected the seconds the file's time stamps run late"),
+    ("gauge", "86400.0", "files.gauge.time_offset_s: expected the seconds"),
+])
+def test_a_time_offset_that_cannot_be_one_is_a_problem(survey_folder, table, value, problem):
+    path = survey_folder / "survey.toml"
+    text = path.read_text()
+    anchor = {"imu": 'path = "imu.txt"\n', "gauge": 'path = "gauge.txt"\n'}[table]
+    path.write_text(text.replace(anchor, f"{anchor}time_offset_s = {value}\n"))
+    with pytest.raises(ManifestError) as info:
+        read_manifest(survey_folder)
+    assert any(problem in p for p in info.value.problems), info.value.problems
 
 
 def test_week_conflict_is_reported(survey_folder):

@@ -236,6 +236,6 @@ def test_the_running_sum_of_the_odometer_check_is_numpys_to_the_bit(survey, monk
     records = [0, 5, TINY - 1, TINY, 3 * TINY + 7, 20 * TINY, len(dvel) - 1]
     whole = np.cumsum(np.asarray(dvel[:, 0]))[records]
     monkeypatch.setattr(plausibility, "RUNNING_SUM_CHUNK", TINY)
-    got, values = plausibility._running_sum_at(dvel, 0, records)
+    got, values = plausibility.running_sum_at(dvel, 0, records)
     assert got == records
     np.testing.assert_array_equal(values, whole)

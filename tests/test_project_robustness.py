@@ -228,6 +228,15 @@ FAULTS = {
     "sleeper file shifted 137 s": (lambda p: rewrite_numbers(survey_folder(p) / "sleepers.txt", 0,
                                                              lambda t: t + 137.0),
                                    "sleepers.txt", "sleeper pulses lie one sleeper spacing"),
+    "sleeper file of another day": (lambda p: rewrite_numbers(survey_folder(p) / "sleepers.txt", 0,
+                                                              lambda t: t + 86400.0),
+                                    "sleepers.txt", "a file of another day or run"),
+    "odometer 1 s late": (lambda p: rewrite_numbers(survey_folder(p) / "odometer.txt", 0, lambda t: t + 1.0),
+                          "odometer.txt", "time stamps run 1.0"),
+    "odometer 2 s late": (lambda p: rewrite_numbers(survey_folder(p) / "odometer.txt", 0, lambda t: t + 2.0),
+                          "odometer.txt", "time stamps run 2.0"),
+    "sleeper detector 1 s late": (lambda p: rewrite_numbers(survey_folder(p) / "sleepers.txt", 0, lambda t: t + 1.0),
+                                  "sleepers.txt", "time stamps run 1.0"),
     "IMU angle increments in degrees": (lambda p: _edit_imu(p, "dtheta_rad", np.degrees), "imu.npy",
                                         "angle increments look like degrees, not radians"),
     "IMU velocity increments in g": (lambda p: _edit_imu(p, "dvel_mps", lambda dv: dv / 9.80665), "imu.npy",
@@ -247,6 +256,28 @@ def test_an_implausible_input_is_refused_naming_the_file(tiny, tmp_path, capsys,
     assert file_name in error and cause in error, error
     assert "Traceback" not in error
     assert (results_of(project) / "sleepers.csv").read_bytes() == before  # the previous results stay
+
+
+def test_an_odometer_clock_03_s_late_is_a_notice_naming_the_file_and_the_offset(tiny, tmp_path, capsys):
+    project = copy_of(tiny, tmp_path)
+    rewrite_numbers(survey_folder(project) / "odometer.txt", 0, lambda t: t + 0.3)
+    capsys.readouterr()
+    assert main(["process", str(project)]) == 0
+    out = capsys.readouterr().out
+    (notice,) = [n for n in notices(project) if n["stage"] == "time"]
+    assert notice["file"].endswith("odometer.txt") and "time stamps run 0.3" in notice["message"]
+    assert "late against the IMU's clock" in out and "time_offset_s = 0.3" in out
+
+
+def test_a_given_time_offset_is_applied_and_nothing_said(tiny, tmp_path):
+    """A known latency written as time_offset_s, as a user writes it: the 1 s odometer is accepted and
+    fused as the clean one (no filter reset, every sleeper valid)."""
+    project = copy_of(tiny, tmp_path)
+    rewrite_numbers(survey_folder(project) / "odometer.txt", 0, lambda t: t + 1.0)
+    _edit_manifest('path = "odometer.txt"\n', 'path = "odometer.txt"\ntime_offset_s = 1.0\n')(project)
+    assert main(["process", str(project)]) == 0
+    assert notices(project) == []
+    assert_same_results(project, tiny)
 
 
 def test_a_gauge_outlier_is_removed_and_listed(tiny, tmp_path, capsys):
@@ -274,6 +305,7 @@ def test_on_a_clean_survey_the_checks_change_nothing_and_say_nothing(tiny, tmp_p
     for entry in cache_of(unchecked).iterdir():  # fused again: the checks run on the raw files
         entry.unlink()
     monkeypatch.setattr(pipeline, "check_survey", lambda survey, nominal: (survey, []))
+    monkeypatch.setattr(pipeline, "check_clocks", lambda survey, labels: [])
     monkeypatch.setattr(pipeline, "check_trolley", lambda *args: None)
     monkeypatch.setattr(pipeline, "check_benchmarks", lambda *args: None)
     process(load_project(unchecked), SURVEY)

@@ -24,6 +24,7 @@ from insrail.io.textparse import (
     write_numeric_table,
 )
 from insrail.io.timescale import unix_gpst_to_week_seconds
+from insrail.io.timetag import TimeTag, read_time_tag
 from insrail.io.types import GAP_FACTOR, ImuIncrements
 
 STANDARD_GRAVITY_MPS2 = 9.80665
@@ -198,9 +199,44 @@ def write_imu_npy(path: str | Path, imu: ImuIncrements) -> None:
         np.save(handle, records, allow_pickle=False)
 
 
-TIME_SCALES = ("gps-sow", "unix-gpst")
+TIME_SCALES = ("gps-sow", "unix-gpst", "rtklib-tag")
+#: a logger's millisecond counter and the GPST span of its time tag agree far better than this
+MAX_TAG_RATE_ERROR = 0.01
 ACCEL_UNITS = {"m/s^2": 1.0, "g": STANDARD_GRAVITY_MPS2}
 GYRO_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180.0}
+
+
+def _whole_records(path: Path) -> str:
+    """The file's text with a partial first and last record blanked (line numbers kept): a logger
+    stream cut at the start and the end of the recording, not inside."""
+    try:
+        lines = path.read_text(encoding="utf-8", errors="replace").split("\n")
+    except OSError as exc:
+        raise InputError(path, None, f"cannot be read: {exc.strerror or exc}") from None
+    filled = [i for i, line in enumerate(lines) if line.strip()]
+    if len(filled) < 3:
+        return "\n".join(lines)
+    widths = [lines[i].count(",") for i in filled[1:21]]
+    width = max(set(widths), key=widths.count)
+    for i in (filled[0], filled[-1]):
+        if lines[i].count(",") != width or lines[i].rstrip().endswith(","):
+            lines[i] = ""
+    return "\n".join(lines)
+
+
+def on_time_tag(path: Path, tag: TimeTag, counter_ms: np.ndarray) -> tuple[int, np.ndarray]:
+    """(GPS week, seconds of week) of a record stamped by its logger's millisecond counter: the
+    counter stretched onto the GPST span of the time tag, its first record at the tag's start and its
+    last at the tag's last write (the logger's crystal and the GNSS-disciplined host clock differ
+    by a rate: 1.4e-4 on the walk_0827 record)."""
+    counter_span_s = (float(counter_ms[-1]) - float(counter_ms[0])) / 1e3
+    rate = tag.span_s / counter_span_s if counter_span_s > 0 else np.inf
+    if not abs(rate - 1.0) <= MAX_TAG_RATE_ERROR:
+        raise InputError(tag.path, None, f"the time tag spans {tag.span_s:.3f} s but the record {path.name} counts "
+                         f"{counter_span_s:.3f} s (time column in ms): not this record's tag, or the time column is not "
+                         "the logger's millisecond counter")
+    week, start = unix_gpst_to_week_seconds(np.array([float(tag.start_unix_gpst_s)]))
+    return week, start[0] + tag.start_fraction_s + (counter_ms - counter_ms[0]) / 1e3 * rate
 
 
 def _choice(path: Path, option: str, value: str, allowed) -> None:
@@ -219,7 +255,10 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
 
     Column indices are 0-based. time_scale "gps-sow": seconds of the GPS week;
     "unix-gpst": seconds counted like Unix time but on the GPST scale (converted to
-    week + seconds of week). sensor_rpy_deg: roll, pitch, yaw [deg] of the sensor
+    week + seconds of week); "rtklib-tag": the time column is the logger's millisecond counter
+    (since power-up), put on GPST by the RTKLIB time tag ``<file>.tag`` beside the file
+    (:func:`on_time_tag`), and a partial first or last line (the logging started or stopped
+    inside a record) is left out. sensor_rpy_deg: roll, pitch, yaw [deg] of the sensor
     axes relative to the body FRD axes, ``C_s^b = Rz(yaw) Ry(pitch) Rx(roll)``, so
     ``f^b = C_s^b f^s``. Each output increment is the trapezoidal integral of the
     rates over the interval between consecutive samples, stamped at its end; the
@@ -239,7 +278,8 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
     if len(sensor_rpy_deg) != 3:
         raise InputError(path, None, "option sensor_rpy_deg: expected 3 angles (roll, pitch, yaw)")
 
-    table = read_numeric_table(path)
+    tag = read_time_tag(path.with_name(path.name + ".tag")) if time_scale == "rtklib-tag" else None
+    table = read_numeric_table(path, text=_whole_records(path) if tag is not None else None)
     width = table.values.shape[1]
     for option, indices in wanted.items():
         for index in indices:
@@ -251,6 +291,8 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
         raise InputError(path, None, "need at least 2 samples to integrate rates into increments")
     if time_scale == "unix-gpst":
         gps_week, time_s = unix_gpst_to_week_seconds(stamps)
+    elif tag is not None:
+        gps_week, time_s = on_time_tag(path, tag, stamps)
     else:
         gps_week, time_s = None, stamps
 

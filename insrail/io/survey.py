@@ -29,6 +29,7 @@ from insrail.io.types import (
     Benchmarks,
     ControlPoints,
     GaugeData,
+    Gap,
     GnssSolution,
     ImuIncrements,
     OdometerData,
@@ -67,11 +68,29 @@ class TrolleyGeometry:
 
 @dataclass(frozen=True)
 class SurveyFile:
-    """One raw file of a survey: its path (relative to the folder), format and options."""
+    """One raw file of a survey: its path (relative to the folder), format and options.
+
+    time_offset_s: how late the file's time stamps run against the IMU's clock (a sensor's known
+    latency, or its logger's clock offset) [s]; subtracted from every time stamp as it is read.
+    """
 
     path: str
     format: str
     options: dict = field(default_factory=dict)
+    time_offset_s: float = 0.0
+
+    def read(self, folder: Path):
+        """The file's data, on the IMU's clock."""
+        data = FORMATS[self.format].read(Path(folder) / self.path, **self.options)
+        return on_imu_clock(data, self.time_offset_s) if self.time_offset_s else data
+
+
+def on_imu_clock(data, time_offset_s: float):
+    """``data`` with ``time_offset_s`` taken off its time stamps (and its gaps')."""
+    shifted = {"time_s": np.asarray(data.time_s, dtype=float) - time_offset_s}
+    if hasattr(data, "gaps"):
+        shifted["gaps"] = tuple(Gap(gap.start_s - time_offset_s, gap.end_s - time_offset_s) for gap in data.gaps)
+    return dataclasses.replace(data, **shifted)
 
 
 @dataclass(frozen=True)
@@ -129,6 +148,8 @@ ROLE_TYPES: dict[str, type] = {
     "events": EventList,
 }
 REQUIRED_ROLES = ("imu",)
+#: roles whose files may name a ``time_offset_s`` (the IMU's clock is the reference the others are put on)
+TIMED_ROLES = ("gnss", "odometer", "gauge", "sleepers", "prism", "total_station")
 #: roles of which a survey needs at least one (``[gnss_raw]`` counts as gnss): where the trolley is
 POSITION_ROLES = ("gnss", "prism", "total_station")
 _LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m",
@@ -137,6 +158,8 @@ _LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m",
 # given is NaN so that any use of it shows up instead of passing for a zero offset.
 _LEVER_ARM_NEEDED_BY = {"imu_to_antenna_m": ("gnss",), "imu_to_odometer_m": ("odometer",),
                         "imu_to_prism_m": ("prism", "total_station"), "imu_to_sleeper_detector_m": ("sleepers",)}
+#: a clock offset beyond a minute is not a latency but another time scale (leap seconds: 18 s)
+MAX_GIVEN_TIME_OFFSET_S = 60.0
 _SURVEY_KEYS = ("name", "gps_week", "imu_profile", "description")
 _TROLLEY_KEYS = _LEVER_ARMS + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m")
 
@@ -200,8 +223,16 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
         if not isinstance(entry, dict):
             problems.append(f"{key}: expected a table with path and format")
             continue
-        options = {k: v for k, v in entry.items() if k not in ("path", "format")}
+        options = {k: v for k, v in entry.items() if k not in ("path", "format", "time_offset_s")}
         path, name = entry.get("path"), entry.get("format")
+        time_offset_s = entry.get("time_offset_s", 0.0)
+        if "time_offset_s" in entry and role not in TIMED_ROLES:
+            problems.append(f"{key}.time_offset_s: only the files of {', '.join(TIMED_ROLES)} take one (the IMU's "
+                            "clock is the survey's time reference)")
+        elif not (_is_number(time_offset_s) and abs(time_offset_s) <= MAX_GIVEN_TIME_OFFSET_S):
+            problems.append(f"{key}.time_offset_s: expected the seconds the file's time stamps run late against the "
+                            f"IMU's clock (a number within ±{MAX_GIVEN_TIME_OFFSET_S:g} s), found {time_offset_s!r}")
+            time_offset_s = 0.0
         if not isinstance(path, str) or not path:
             problems.append(f"{key}.path: expected a file name relative to the survey folder")
         elif not (folder / path).is_file():
@@ -222,7 +253,7 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
                 elif (why := _option_problem(hints[option], value)) is not None:
                     problems.append(f"{key}.{option}: {why}")
         if isinstance(path, str) and isinstance(name, str):
-            files[role] = SurveyFile(path=path, format=name, options=options)
+            files[role] = SurveyFile(path=path, format=name, options=options, time_offset_s=float(time_offset_s))
     return files
 
 
@@ -324,7 +355,9 @@ def manifest_to_toml(manifest: SurveyManifest) -> str:
         survey["gps_week"] = manifest.gps_week
     if manifest.description:
         survey["description"] = manifest.description
-    files = {role: {"path": f.path, "format": f.format, **f.options} for role, f in manifest.files.items()}
+    files = {role: {"path": f.path, "format": f.format, **f.options,
+                    **({"time_offset_s": f.time_offset_s} if f.time_offset_s else {})}
+             for role, f in manifest.files.items()}
     geometry = manifest.trolley
     trolley: dict = {key: [float(v) for v in getattr(geometry, key)] for key in _LEVER_ARMS
                      if np.all(np.isfinite(getattr(geometry, key)))}
@@ -354,12 +387,15 @@ def write_manifest(folder: str | Path, manifest: SurveyManifest) -> Path:
 
 # --- loading a survey -------------------------------------------------------------------------
 
-def _check_time_overlap(imu: ImuIncrements, other, role: str, problems: list[str]) -> None:
-    """An aiding series that never overlaps the IMU is almost always a time-scale mix-up."""
+def _check_time_overlap(imu: ImuIncrements, other, role: str, entry: SurveyFile | None, problems: list[str]) -> None:
+    """An aiding series that never overlaps the IMU is almost always a time-scale mix-up, or a
+    file of another day or run."""
     if other.time_s[-1] < imu.time_s[0] or other.time_s[0] > imu.time_s[-1]:
+        name = f" ({entry.path})" if entry is not None else ""
         problems.append(
-            f"files.{role}: time span {other.time_s[0]:.3f}..{other.time_s[-1]:.3f} s does not overlap "
-            f"the IMU's {imu.time_s[0]:.3f}..{imu.time_s[-1]:.3f} s (different time scales?)")
+            f"files.{role}{name}: time span {other.time_s[0]:.3f}..{other.time_s[-1]:.3f} s does not overlap "
+            f"the IMU's {imu.time_s[0]:.3f}..{imu.time_s[-1]:.3f} s (different time scales, or a file of another "
+            "day or run?)")
 
 
 def _with_week(data, role: str, gps_week: int | None, problems: list[str]):
@@ -398,7 +434,7 @@ def read_survey(folder: str | Path, progress: ProgressFn | None = None,
         check_cancel(cancel)
         step(index / len(roles), f"reading {role}: {entry.path}")
         try:
-            loaded[role] = FORMATS[entry.format].read(folder / entry.path, **entry.options)
+            loaded[role] = entry.read(folder)
         except InputError as exc:
             errors.append(exc)
     if gnss is not None:
@@ -412,7 +448,7 @@ def read_survey(folder: str | Path, progress: ProgressFn | None = None,
     loaded = {role: _with_week(data, role, manifest.gps_week, problems) for role, data in loaded.items()}
     for role in ("gnss", "odometer", "gauge", "sleepers", "prism", "total_station"):
         if role in loaded:
-            _check_time_overlap(loaded["imu"], loaded[role], role, problems)
+            _check_time_overlap(loaded["imu"], loaded[role], role, manifest.files.get(role), problems)
     if problems:
         raise ManifestError(folder / MANIFEST_NAME, problems)
     step(1.0, "survey loaded")

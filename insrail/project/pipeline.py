@@ -48,7 +48,6 @@ from insrail.geodesy.height_anomaly import HeightAnomalyFit, fit_height_anomaly
 from insrail.io.atomic import atomic_write
 from insrail.io.control import read_benchmarks
 from insrail.io.errors import InputError
-from insrail.io.formats import FORMATS
 from insrail.io.survey import (
     MANIFEST_NAME,
     SurveyManifest,
@@ -72,12 +71,14 @@ from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
 from insrail.project.model import Project
+from insrail.project.clocks import check_clocks
 from insrail.project.plausibility import (
     check_benchmarks,
     check_survey,
     check_trolley,
     clean_gauge,
     describe,
+    file_labels,
     installed_geoid,
     nominal_gauge_m,
     trolley_source,
@@ -344,7 +345,10 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
         return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
     survey, placed = with_total_station_fixes(read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel,
                                                           gnss=gnss))
-    survey, checked = check_survey(replace(survey, manifest=manifest), nominal_gauge_m(project))
+    survey = replace(survey, manifest=manifest)
+    clocks = check_clocks(survey, file_labels(survey))  # first: a time-scale mix-up also upsets the other checks
+    survey, checked = check_survey(survey, nominal_gauge_m(project))
+    checked = [*clocks, *checked]
     checked = [*placed, *gnss_free_run_notices(survey), *checked]
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
@@ -446,7 +450,7 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
 def _read_role(folder: Path, manifest: SurveyManifest, role: str):
     """One raw file of the survey by its role (None when the survey has none)."""
     entry = manifest.files.get(role)
-    return None if entry is None else FORMATS[entry.format].read(folder / entry.path, **entry.options)
+    return None if entry is None else entry.read(folder)
 
 
 def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress,

@@ -17,14 +17,12 @@ anything (tests/test_project_robustness.py).
   another unit); single readings further than that from the median are removed and listed;
 * odometer against GNSS: the distance scale over :data:`SCALE_WINDOW_S` windows within
   :data:`MAX_SCALE_ERROR` of 1 (a distance in mm, a wrong pulse length), the speeds agreeing;
-* time offset: the odometer's speed cross-correlated with the GNSS speed; an offset of
-  :data:`MAX_TIME_OFFSET_S` or more is refused (18 s: GNSS in UTC read as GPST), a smaller but
-  clear one is a notice;
 * odometer direction: at each start from rest the forward (b-frame x) velocity the IMU gains and the
   odometer's signed speed must have the same sign (a trolley facing backwards has both negative;
-  an odometer counting backwards only one);
-* sleeper pulses: consecutive pulses one sleeper spacing apart along the odometer distance
-  (a sleeper file on another time scale lands pulses in the stops).
+  an odometer counting backwards only one).
+
+The clocks (time offsets of the odometer, GNSS and sleeper detector against the IMU, a sleeper
+file of another run) are checked by :mod:`insrail.project.clocks`.
 """
 
 from __future__ import annotations
@@ -43,7 +41,6 @@ from insrail.io.types import (
     GaugeData,
     GnssSolution,
     OdometerData,
-    SleeperPulses,
 )
 from insrail.nav.earth import geodetic_to_ecef
 from insrail.notices import Notice
@@ -59,13 +56,8 @@ SCALE_WINDOW_S = 10.0
 MIN_WINDOW_TRAVEL_M = 3.0
 MAX_SCALE_ERROR = 0.05
 MAX_SPEED_DISAGREEMENT_SHARE = 0.2
-MAX_TIME_OFFSET_S = 0.5
-NOTICE_TIME_OFFSET_S = 0.2
-TIME_SEARCH_S = 60.0
 STATIC_BEFORE_START_S = 3.0
 START_WINDOW_S = 3.0
-MIN_SLEEPER_MATCH = 0.8
-SLEEPER_SEARCH_S = 300.0
 GPS_MINUS_UTC_S = range(10, 19)  # 1995 .. today (18 s since 2017)
 
 
@@ -76,7 +68,7 @@ def describe(path: Path | None, format_name: str | None) -> str:
     return f"{name} ({fmt.description})" if fmt is not None else name
 
 
-def _read_as(label: str) -> str:
+def read_as(label: str) -> str:
     """The start of a message about the file itself (its name is already in front): its unit."""
     _, _, what = label.partition(" (")
     return f"read as {what[:-1]}: " if what else ""
@@ -168,14 +160,14 @@ def clean_gauge(gauge: GaugeData | None, nominal_gauge_m: float, label: str) -> 
     if not abs(median - nominal_gauge_m) <= MAX_GAUGE_OFFSET_M:
         ratio = median / nominal_gauge_m
         hint = f" (x{ratio:.3g} the nominal: another unit?)" if np.isfinite(ratio) and (ratio > 2 or ratio < 0.5) else ""
-        raise InputError(path, None, f"{_read_as(label)}median gauge {1e3 * median:.1f} mm against the nominal "
+        raise InputError(path, None, f"{read_as(label)}median gauge {1e3 * median:.1f} mm against the nominal "
                          f"{1e3 * nominal_gauge_m:.0f} mm of the tolerance profile{hint}; the file must hold the "
                          "gauge in mm")
     outlier = ~finite | (np.abs(values - median) > MAX_GAUGE_OFFSET_M)
     if not outlier.any():
         return gauge, []
     if outlier.mean() > MAX_GAUGE_OUTLIER_SHARE:
-        raise InputError(path, None, f"{_read_as(label)}{int(outlier.sum())} of {len(values)} readings lie more than "
+        raise InputError(path, None, f"{read_as(label)}{int(outlier.sum())} of {len(values)} readings lie more than "
                          f"{1e3 * MAX_GAUGE_OFFSET_M:.0f} mm from the median {1e3 * median:.1f} mm: a faulty gauge "
                          "sensor; repair or remove the record")
     listed = ", ".join(f"{t:.3f} s: {1e3 * v:.1f} mm" for t, v in zip(gauge.time_s[outlier][:5], values[outlier][:5]))
@@ -189,7 +181,7 @@ def clean_gauge(gauge: GaugeData | None, nominal_gauge_m: float, label: str) -> 
 
 # --------------------------------------------------------------------------- odometer, time, sleepers
 
-def _gnss_track(gnss: GnssSolution) -> tuple[np.ndarray, np.ndarray]:
+def gnss_track(gnss: GnssSolution) -> tuple[np.ndarray, np.ndarray]:
     """GNSS epochs and ECEF positions, the fixed ones when there are enough."""
     keep = np.isfinite(gnss.lat_rad) & np.isfinite(gnss.lon_rad) & np.isfinite(gnss.height_m)
     fixed = keep & (gnss.quality == 1)
@@ -199,20 +191,20 @@ def _gnss_track(gnss: GnssSolution) -> tuple[np.ndarray, np.ndarray]:
     return gnss.time_s[keep], xyz
 
 
-def _distance_at(odometer: OdometerData, times: np.ndarray) -> np.ndarray:
+def distance_at(odometer: OdometerData, times: np.ndarray) -> np.ndarray:
     return np.interp(times, odometer.time_s, odometer.distance_m, left=np.nan, right=np.nan)
 
 
 def check_odometer(odometer: OdometerData, gnss: GnssSolution, odometer_label: str, gnss_label: str) -> list[Notice]:
     """InputError when the odometer's distance scale or speed disagrees with GNSS."""
-    time_s, xyz = _gnss_track(gnss)
+    time_s, xyz = gnss_track(gnss)
     if len(time_s) < 3 or len(odometer.time_s) < 3:
         return []
     step = max(1, int(round(SCALE_WINDOW_S / max(float(np.median(np.diff(time_s))), 1e-3))))
     start, end = np.arange(len(time_s) - step), np.arange(step, len(time_s))
     duration = time_s[end] - time_s[start]
     gnss_travel = np.linalg.norm(xyz[end] - xyz[start], axis=1)
-    odo_travel = np.abs(_distance_at(odometer, time_s[end]) - _distance_at(odometer, time_s[start]))
+    odo_travel = np.abs(distance_at(odometer, time_s[end]) - distance_at(odometer, time_s[start]))
     usable = ((duration <= 1.5 * SCALE_WINDOW_S) & (gnss_travel > MIN_WINDOW_TRAVEL_M) & np.isfinite(odo_travel))
     if usable.sum() < 10:
         return []
@@ -225,72 +217,16 @@ def check_odometer(odometer: OdometerData, gnss: GnssSolution, odometer_label: s
             cause = f"a wrong pulse length (pulse_length_m = {odometer.pulse_length_m:g} m)"
         else:
             cause = "a distance in another unit, or a wrong calibration"
-        raise InputError(path, None, f"{_read_as(odometer_label)}the odometer travels {scale:.4g} m per metre of GNSS "
+        raise InputError(path, None, f"{read_as(odometer_label)}the odometer travels {scale:.4g} m per metre of GNSS "
                          f"({gnss_label}) over {int(usable.sum())} windows of {SCALE_WINDOW_S:g} s; expected 1 within "
                          f"{100 * MAX_SCALE_ERROR:.0f} %: likely {cause}")
     ratio = odo_travel[usable] / gnss_travel[usable]
     disagree = float(np.mean(np.abs(ratio / scale - 1.0) > 0.1))
     if disagree > MAX_SPEED_DISAGREEMENT_SHARE:
-        raise InputError(path, None, f"{_read_as(odometer_label)}the odometer's speed disagrees with the GNSS speed "
+        raise InputError(path, None, f"{read_as(odometer_label)}the odometer's speed disagrees with the GNSS speed "
                          f"({gnss_label}) by more than 10 % in {100 * disagree:.0f} % of the moving windows: a slipping "
                          "wheel, a wrong time scale or another survey's file")
     return []
-
-
-def estimate_time_offset(odometer: OdometerData, gnss: GnssSolution) -> tuple[float, float, float] | None:
-    """(offset [s], correlation at the offset, correlation at 0): the odometer's speed at t + offset
-    best matches the GNSS speed at t. None when the speed profile has too little variation to tell."""
-    time_s, xyz = _gnss_track(gnss)
-    if len(time_s) < 30 or len(odometer.time_s) < 30:
-        return None
-    dt = np.diff(time_s)
-    regular = dt <= 1.5 * np.median(dt)
-    gnss_speed = np.linalg.norm(np.diff(xyz, axis=0), axis=1)[regular] / dt[regular]
-    t0, t1 = time_s[:-1][regular], time_s[1:][regular]
-    if len(gnss_speed) < 30 or np.std(gnss_speed) < 0.05:
-        return None
-
-    def correlation(offsets: np.ndarray) -> np.ndarray:
-        out = np.full(len(offsets), -1.0)
-        for i, offset in enumerate(offsets):
-            speed = np.abs(_distance_at(odometer, t1 + offset) - _distance_at(odometer, t0 + offset)) / (t1 - t0)
-            both = np.isfinite(speed)
-            if both.sum() >= 0.5 * len(speed) and np.std(speed[both]) > 0:
-                out[i] = np.corrcoef(speed[both], gnss_speed[both])[0, 1]
-        return out
-
-    coarse = np.arange(-TIME_SEARCH_S, TIME_SEARCH_S + 0.5, 0.5)
-    values = correlation(coarse)
-    best = float(coarse[int(np.argmax(values))])
-    fine = np.arange(best - 0.6, best + 0.61, 0.05)
-    fine_values = correlation(fine)
-    at_zero = float(correlation(np.array([0.0]))[0])
-    return float(fine[int(np.argmax(fine_values))]), float(fine_values.max()), at_zero
-
-
-def check_time_offset(odometer: OdometerData, gnss: GnssSolution, odometer_label: str,
-                      gnss_label: str) -> list[Notice]:
-    """InputError for GNSS and odometer on different time scales; a notice for a small clear offset."""
-    found = estimate_time_offset(odometer, gnss)
-    if found is None:
-        return []
-    offset, best, at_zero = found
-    if best < 0.8 or best - at_zero < 0.01 or abs(offset) < NOTICE_TIME_OFFSET_S:
-        return []  # no clear peak away from zero: the time scales agree (or cannot be told apart)
-    path = gnss.source or Path(gnss_label)
-    where = "behind" if offset > 0 else "ahead of"
-    if abs(offset) >= MAX_TIME_OFFSET_S:
-        if round(abs(offset)) in GPS_MINUS_UTC_S and abs(abs(offset) - round(abs(offset))) < 0.3:
-            cause = (f"{round(abs(offset))} s is GPS - UTC (leap seconds): GNSS times in UTC read as GPST (an RTKLIB "
-                     ".pos written in UTC, or without its header)")
-        else:
-            cause = "the receivers' clocks are not synchronised, or a file of another survey"
-        raise InputError(path, None, f"{_read_as(gnss_label)}the GNSS time tags run {abs(offset):.2f} s {where} the odometer's "
-                         f"({odometer_label}; speed profiles cross-correlated, r = {best:.3f} there, {at_zero:.3f} "
-                         f"without the offset); all files must be in GPS time: likely {cause}")
-    return [Notice("time", f"{gnss_label}: the GNSS time tags run {abs(offset):.2f} s {where} the odometer's "
-                   f"({odometer_label}; speed profiles cross-correlated): check the time synchronisation",
-                   file=str(path))]
 
 
 def check_odometer_direction(imu: ImuIncrements, odometer: OdometerData, odometer_label: str) -> list[Notice]:
@@ -312,7 +248,7 @@ def check_odometer_direction(imu: ImuIncrements, odometer: OdometerData, odomete
             continue
         windows.append((t0, a, b, c))
     # the running sum of the forward velocity increments at those records only
-    forward = dict(zip(*_running_sum_at(imu.dvel_mps, 0, sorted({i for _, *abc in windows for i in abc}))))
+    forward = dict(zip(*running_sum_at(imu.dvel_mps, 0, sorted({i for _, *abc in windows for i in abc}))))
     votes = []
     for t0, a, b, c in windows:
         static_rate = (forward[b] - forward[a]) / (imu.time_s[b] - imu.time_s[a])  # gravity along x, biases
@@ -322,18 +258,18 @@ def check_odometer_direction(imu: ImuIncrements, odometer: OdometerData, odomete
             votes.append(np.sign(gained) == np.sign(odometer_speed))
     if len(votes) and not any(votes):
         path = odometer.source or Path(odometer_label)
-        raise InputError(path, None, f"{_read_as(odometer_label)}the odometer counts backwards: at {len(votes)} "
+        raise InputError(path, None, f"{read_as(odometer_label)}the odometer counts backwards: at {len(votes)} "
                          "start(s) from rest the IMU moved forwards along its x axis while the distance decreased "
                          "(a reversed odometer, or the sign of its counts); the distance must grow as the trolley "
                          "moves along the IMU's x axis")
     return []
 
 
-#: IMU records summed at a time by :func:`_running_sum_at`
+#: IMU records summed at a time by :func:`running_sum_at`
 RUNNING_SUM_CHUNK = 1 << 18
 
 
-def _running_sum_at(increments: np.ndarray, axis: int, records: list[int]) -> tuple[list[int], list[float]]:
+def running_sum_at(increments: np.ndarray, axis: int, records: list[int]) -> tuple[list[int], list[float]]:
     """(records, np.cumsum(increments[:, axis])[records]) to the bit, summed a chunk at a time with the
     sum carried over (a mapped IMU file's pages let go behind each chunk)."""
     wanted = np.asarray(records, dtype=np.int64)
@@ -350,39 +286,6 @@ def _running_sum_at(increments: np.ndarray, axis: int, records: list[int]) -> tu
     return wanted.tolist(), values.tolist()
 
 
-def _sleeper_match(pulses: np.ndarray, odometer: OdometerData, offset: float) -> tuple[float, float]:
-    steps = np.diff(_distance_at(odometer, pulses + offset))
-    steps = np.abs(steps[np.isfinite(steps)])
-    if len(steps) < 10:
-        return 0.0, float("nan")
-    spacing = float(np.median(steps))
-    if spacing <= 0:
-        return 0.0, spacing
-    return float(np.mean(np.abs(steps - spacing) < 0.25 * spacing)), spacing
-
-
-def check_sleepers(pulses: SleeperPulses | None, odometer: OdometerData, sleepers_label: str,
-                   odometer_label: str) -> list[Notice]:
-    """InputError when the sleeper pulses do not lie one spacing apart along the odometer distance."""
-    if pulses is None or len(pulses.time_s) < 20:
-        return []
-    match, spacing = _sleeper_match(pulses.time_s, odometer, 0.0)
-    offsets = np.arange(-SLEEPER_SEARCH_S, SLEEPER_SEARCH_S + 0.5, 0.5)
-    scores = [_sleeper_match(pulses.time_s, odometer, o)[0] for o in offsets]
-    best = int(np.argmax(scores))
-    clearly_shifted = abs(offsets[best]) > 1.0 and scores[best] - match > 0.1
-    if match >= MIN_SLEEPER_MATCH and not clearly_shifted:
-        return []
-    hint = (f"; shifted by {offsets[best]:+.1f} s they would match ({100 * scores[best]:.0f} %): a file on another "
-            "time scale" if scores[best] >= MIN_SLEEPER_MATCH else
-            ": a file of another survey, or a detector that misses or doubles pulses")
-    path = pulses.source or Path(sleepers_label)
-    raise InputError(path, None, f"{_read_as(sleepers_label)}only {100 * match:.0f} % of consecutive sleeper pulses lie one "
-                     f"sleeper spacing ({spacing:.3f} m, the median) apart along the odometer distance "
-                     f"({odometer_label}); expected at least {100 * MIN_SLEEPER_MATCH:.0f} % and no better match "
-                     f"at another time{hint}")
-
-
 # --------------------------------------------------------------------------- one entry per place
 
 def check_setup(trolley: TrolleyGeometry, trolley_source: Path, benchmarks: Benchmarks | None,
@@ -393,25 +296,29 @@ def check_setup(trolley: TrolleyGeometry, trolley_source: Path, benchmarks: Benc
         check_benchmarks(benchmarks, geoid)
 
 
+def file_labels(survey: SurveyData) -> dict[str, str]:
+    """Each loaded file by role, named as :func:`describe` names it (with what it was read as)."""
+    manifest = survey.manifest
+    labels = {}
+    for role, entry in manifest.files.items():
+        data = getattr(survey, role, None)
+        labels[role] = describe(getattr(data, "source", None) or Path(entry.path), entry.format)
+    for role in ("gnss", "odometer", "sleepers", "gauge"):
+        labels.setdefault(role, describe(getattr(getattr(survey, role, None), "source", None), None))
+    return labels
+
+
 def check_survey(survey: SurveyData, nominal_gauge_m: float) -> tuple[SurveyData, list[Notice]]:
     """The recorded data checked against each other: the survey with the gauge outliers removed,
-    and the notices; InputError naming the file for data that would give a wrong result."""
-    manifest = survey.manifest
-
-    def label(role: str, data) -> str:
-        entry = manifest.files.get(role)
-        return describe(getattr(data, "source", None) or (Path(entry.path) if entry else None),
-                        entry.format if entry else None)
-
-    odometer_label, gnss_label = label("odometer", survey.odometer), label("gnss", survey.gnss)
+    and the notices; InputError naming the file for data that would give a wrong result. The
+    clocks are checked by :func:`insrail.project.clocks.check_clocks`."""
+    labels = file_labels(survey)
     notices = []
     if survey.odometer is not None and survey.gnss is not None:  # both roles are optional
-        notices += check_time_offset(survey.odometer, survey.gnss, odometer_label, gnss_label)
-        notices += check_odometer(survey.odometer, survey.gnss, odometer_label, gnss_label)
+        notices += check_odometer(survey.odometer, survey.gnss, labels["odometer"], labels["gnss"])
     if survey.odometer is not None:
-        notices += check_odometer_direction(survey.imu, survey.odometer, odometer_label)
-        notices += check_sleepers(survey.sleepers, survey.odometer, label("sleepers", survey.sleepers), odometer_label)
-    gauge, gauge_notices = clean_gauge(survey.gauge, nominal_gauge_m, label("gauge", survey.gauge))
+        notices += check_odometer_direction(survey.imu, survey.odometer, labels["odometer"])
+    gauge, gauge_notices = clean_gauge(survey.gauge, nominal_gauge_m, labels["gauge"])
     return replace(survey, gauge=gauge), notices + gauge_notices
 
 

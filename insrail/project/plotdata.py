@@ -76,7 +76,7 @@ def survey_gnss(project: Project, survey: str) -> GnssSolution:
     entry = read_manifest(folder).files.get("gnss")
     if entry is None:
         return read_any(project.folder / RESULTS_FOLDER / survey / GNSS_POS_FILE, "rtklib-pos")
-    return read_any(folder / entry.path, entry.format, **entry.options)
+    return entry.read(folder)
 
 
 def plan_data(project: Project, stored: StoredResults, trajectory: Trajectory,

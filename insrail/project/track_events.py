@@ -16,7 +16,6 @@ import numpy as np
 
 from insrail.io.errors import InputError
 from insrail.io.events import EventList, read_events
-from insrail.io.formats import FORMATS
 from insrail.io.survey import SurveyManifest
 from insrail.project.model import Project
 from insrail.track.events import (
@@ -41,7 +40,7 @@ def survey_events(project: Project, manifest: SurveyManifest, folder: Path,
     lists: list[EventList] = []
     if EVENTS_ROLE in manifest.files:
         entry = manifest.files[EVENTS_ROLE]
-        lists.append(FORMATS[entry.format].read(folder / entry.path, **entry.options))
+        lists.append(entry.read(folder))
     if project.events is not None:
         lists.append(read_events(project.resolve(project.events)))
     if not any(len(events) for events in lists):
@@ -50,7 +49,7 @@ def survey_events(project: Project, manifest: SurveyManifest, folder: Path,
     odometer = None
     if any(e.unit == "odometer_m" for events in lists for e in events.events) and "odometer" in manifest.files:
         entry = manifest.files["odometer"]
-        odometer = FORMATS[entry.format].read(folder / entry.path, **entry.options)
+        odometer = entry.read(folder)
     placed = []
     for events in lists:
         for event in events.events:
