@@ -5,6 +5,7 @@ from __future__ import annotations
 import shutil
 
 import pytest
+from PySide6.QtWidgets import QLabel
 
 pytest.importorskip("pytestqt")
 from insrail.gui.settings_editor import stages_to_rerun
@@ -116,3 +117,94 @@ def test_report_fields_are_edited_checked_and_saved(window, small_project, tmp_p
     assert "paper" not in (root / "project.toml").read_text(encoding="utf-8")
     editor.set_field("report.paper", "A4")
     assert editor.save() and load_project(root).report.paper == "A4"
+
+
+def type_into(box, text: str) -> None:
+    """Type ``text`` into a number field KEY BY KEY as a surveyor does: select what it shows, type,
+    then Return commits the edit."""
+    from PySide6.QtCore import Qt
+    from PySide6.QtTest import QTest
+
+    box.setFocus()
+    QTest.keyClick(box, Qt.Key_A, Qt.ControlModifier)
+    QTest.keyClicks(box, text)
+    QTest.keyClick(box, Qt.Key_Return)
+
+
+def test_numbers_typed_key_by_key_are_saved_exactly_as_typed(window, small_project, tmp_path):
+    """Every kind of number field (the coordinate system, a lever arm, the mounting angles, a
+    processing threshold, an integer): what is typed is what project.toml holds; each committed edit
+    is one undo step."""
+    import tomllib
+
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    editor.own_trolley.click()  # the project's own trolley table: its fields become editable
+    steps = editor.undo_stack.count()
+    field = {key: widget for key, (_spec, widget) in editor.editors.items()}
+    typed = [(field["geodesy.crs.false_northing_m"], "45.5"),
+             (field["geodesy.crs.false_easting_m"], "500123.125"),
+             (field["trolley.imu_to_prism_m"].boxes[0], "0.125"),
+             (field["trolley.imu_to_prism_m"].boxes[2], "-1.45"),
+             (field["trolley.mounting_rpy_deg"].boxes[1], "-0.25"),
+             (field["processing.gnss_sigma_floor_m"], "0.0125"),
+             (field["track.first_sleeper_number"], "1201")]
+    for box, text in typed:
+        type_into(box, text)
+    assert editor.undo_stack.count() == steps + len(typed)  # one step per committed edit, none per key
+    assert editor.save() and not editor.isWindowModified()
+    saved = tomllib.loads((root / "project.toml").read_text(encoding="utf-8"))
+    crs, trolley = saved["geodesy"]["crs"], saved["trolley"]
+    assert (crs["false_northing_m"], crs["false_easting_m"]) == (45.5, 500123.125)
+    assert (trolley["imu_to_prism_m"][0], trolley["imu_to_prism_m"][2]) == (0.125, -1.45)
+    assert trolley["mounting_rpy_deg"][1] == -0.25
+    assert saved["processing"]["gnss_sigma_floor_m"] == 0.0125
+    assert saved["track"]["first_sleeper_number"] == 1201
+
+    editor.undo_stack.undo()  # the last committed edit back, as one step
+    assert field["track.first_sleeper_number"].value() != 1201
+    assert field["processing.gnss_sigma_floor_m"].value() == 0.0125
+
+
+def test_a_field_left_without_a_change_changes_nothing(window, small_project, tmp_path):
+    """Values are compared at the field's precision: a value of project.toml with more decimals than
+    its field shows stays as it is when the field (or another of its vector) is only visited."""
+    root = copy_of(small_project, tmp_path)
+    text = (root / "project.toml").read_text(encoding="utf-8")
+    (root / "project.toml").write_text(text + "\n[trolley]\nimu_to_prism_m = [0.123456, 0.0, -1.2]\n"
+                                       "imu_to_antenna_m = [0.1, 0.0, -1.0]\nimu_to_odometer_m = [0.0, 0.3, 0.2]\n"
+                                       "imu_to_reference_rail_m = [0.0, -0.7, 0.3]\n"
+                                       "imu_to_sleeper_detector_m = [0.2, 0.0, 0.3]\n", encoding="utf-8")
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    prism = editor.editors["trolley.imu_to_prism_m"][1].boxes
+    type_into(prism[0], prism[0].cleanText())  # what it shows, typed again
+    assert editor.undo_stack.count() == 0 and not editor.isWindowModified()
+    type_into(prism[1], "0.05")
+    assert editor.document["trolley"]["imu_to_prism_m"] == [0.123456, 0.05, -1.2]
+
+
+def test_a_setting_not_given_shows_no_number(window, small_project, tmp_path):
+    """The demo project has no trolley table: its fields say "not given" instead of a sentinel, and the
+    lever arms' columns are named in the trolley's frame (forward, right, down)."""
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    spacing = editor.editors["trolley.rail_centre_spacing_m"][1]
+    assert spacing.text() == "not given" and "1000000000" not in spacing.text()
+    assert all(box.text() == "not given" for box in editor.editors["trolley.imu_to_prism_m"][1].boxes)
+    headings = [label.text() for label in editor.findChildren(QLabel)]
+    assert "forward" in headings and "right" in headings and "down" in headings
+
+
+def test_the_main_window_undo_offers_no_settings_edit_of_a_closed_editor(window, small_project, tmp_path):
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    editor.set_field("report.client", "Wuhan Railway Bureau")
+    assert window.undo_action.isEnabled()
+    assert editor.isWindowModified() and "[*]" in editor.windowTitle()  # Qt shows it as "*" while unsaved
+    editor.close()
+    assert not window.undo_action.isEnabled()  # nothing invisible is undone
+    assert window.edit_settings() is editor and window.undo_action.isEnabled()

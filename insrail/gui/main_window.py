@@ -84,7 +84,7 @@ class MainWindow(QMainWindow):
         self.wizard: NewProjectWizard | None = None
         self.plan_dialog: PlanSurveyDialog | None = None
         self.settings_editor: SettingsEditor | None = None
-        self.undo_group = QUndoGroup(self)  # the Edit menu's Undo/Redo: the settings editor's steps
+        self.undo_group = QUndoGroup(self)  # the Edit menu's Undo/Redo: the open settings editor's steps
         self.exported: Path | None = None
         self.request = 0  # the number of the latest results load; answers to older ones are dropped
         self.loader: ResultsLoader | None = None  # the load of the latest request while it runs
@@ -270,6 +270,8 @@ class MainWindow(QMainWindow):
             self.settings_editor = SettingsEditor(self.project, self)
             self.undo_group.addStack(self.settings_editor.undo_stack)
             self.settings_editor.saved.connect(self._settings_saved)
+            # Closed, its edits are out of sight: the Edit menu's Undo must not change them unseen.
+            self.settings_editor.finished.connect(lambda _result: self.undo_group.setActiveStack(None))
         self.undo_group.setActiveStack(self.settings_editor.undo_stack)
         self.settings_editor.show()
         self.settings_editor.raise_()
