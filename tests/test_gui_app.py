@@ -666,3 +666,18 @@ def test_export_for_machines_and_cad_from_the_file_menu(window, qtbot, demo_proj
     window.export_file_actions[0].trigger()
     qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
     assert len(read_lift_lining(root / "reports" / "short_lift_lining.csv")) > 1000
+
+
+def test_the_first_window_fits_the_screen_it_opens_on(qtbot, tmp_path):
+    """No saved geometry: the window fits the available area of its screen (a 1366 x 768 laptop must
+    see the go-to field, the log and the status bar)."""
+    main = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat))
+    qtbot.addWidget(main)
+    main.show()
+    qtbot.waitExposed(main)
+    available = main.screen().availableGeometry()
+    assert available.width() < 1400 or available.height() < 900  # the offscreen screen is smaller
+    # (the offscreen platform's pretend frame shifts the window by 2 px: the sizes are compared)
+    assert main.width() <= available.width() and main.height() <= available.height()
+    assert main.statusBar().geometry().bottom() < available.height()
+    main.close()

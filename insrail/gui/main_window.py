@@ -67,6 +67,10 @@ from insrail.report.stale import stale_reports
 from insrail.track.events import KIND_NAMES
 
 PROGRESS_STEPS = 1000
+#: The first window's size (without saved geometry) where the screen has room for it [px].
+FIRST_SIZE = (1400, 900)
+#: Room kept for a window manager's frame and title bar around the first window [px].
+FRAME_ALLOWANCE = (16, 48)
 
 
 class MainWindow(QMainWindow):
@@ -156,7 +160,7 @@ class MainWindow(QMainWindow):
         if geometry is not None:
             self.restoreGeometry(geometry)
         else:
-            self.resize(1400, 900)
+            self._first_size()
             log_dock = self.findChild(QDockWidget, "log")
             QTimer.singleShot(0, lambda: self.resizeDocks([log_dock], [120], Qt.Vertical))  # once laid out
             self.resizeDocks([self.findChild(QDockWidget, "explorer")], [330], Qt.Horizontal)
@@ -164,6 +168,19 @@ class MainWindow(QMainWindow):
             self.restoreState(state)
 
     # ------------------------------------------------------------------ building
+
+    def _first_size(self) -> None:
+        """The first window: FIRST_SIZE centred on its screen, or the whole of a smaller screen's
+        available area (maximized: the window manager's frame then fits too; a 1366 x 768 laptop
+        must not hide the go-to field, the log and the status bar below its edge)."""
+        available = self.screen().availableGeometry()
+        width, height = FIRST_SIZE
+        if width + FRAME_ALLOWANCE[0] > available.width() or height + FRAME_ALLOWANCE[1] > available.height():
+            self.resize(min(width, available.width()), min(height, available.height()))
+            self.setWindowState(self.windowState() | Qt.WindowMaximized)
+        else:
+            self.resize(width, height)
+            self.move(available.center() - self.rect().center())
 
     def _dock(self, name: str, title: str, widget, area) -> QDockWidget:
         dock = QDockWidget(title, self)
