@@ -63,6 +63,7 @@ from insrail.project.model import project_from_settings
 from insrail.project.pipeline import CACHE_FOLDER
 from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+from insrail.report.content import ChainageAxis
 from insrail.report.stale import stale_reports
 from insrail.track.events import KIND_NAMES
 
@@ -555,13 +556,13 @@ class MainWindow(QMainWindow):
             self.empty_state.show_unprocessed(surveys[0].name if surveys else None)
         self._enable_project_actions()
 
-    def _track_ready(self, request: int, data: TrackData) -> None:
+    def _track_ready(self, request: int, data: TrackData, chainage: ChainageAxis) -> None:
         if request != self.request:
             return
         self.shown_survey = data.survey
         self.empty_state.hide()
         self.track.set_results(data.station_m, data.number, data.label, data.columns, data.plots,
-                               data.exceedances, data.bands, data.survey, data.events)
+                               data.exceedances, data.bands, data.survey, data.events, chainage)
         pending, self._pending_view = self._pending_view, None
         if pending is not None and pending.get("survey") == data.survey:
             self.track.restore_state(pending)

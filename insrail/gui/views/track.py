@@ -2,7 +2,9 @@
 keeps a readable height), a crosshair read-out of every value at the sleeper under the cursor
 with the rail and direction of each, a go-to field (sleeper number, K-chainage or station), a
 two-point measuring tool (its span can be marked as a track event: turnout, level crossing, ...),
-and the exceedance table (a click zooms every plot there).
+and the exceedance table (a click scrolls to the check's plot and zooms every plot there). The
+chainage axis, in K-chainage as the sleeper table prints it, runs over the first plot and under the
+last. The read-out sits in a bar of fixed height: a long read-out never moves the plots under the mouse.
 
 Navigation: the wheel zooms along chainage only (the y axes fit what is visible, and keep their
 range during a pan while it shows all of that at 80 % of the height or more), dragging pans along
@@ -31,6 +33,7 @@ from PySide6.QtWidgets import (
 
 from insrail.gui import plotstyle
 from insrail.gui.bands import EnvelopeLine
+from insrail.gui.chainage_axis import ChainageAxisItem
 from insrail.gui.lazy import DrawWhenShown
 from insrail.gui.views.exceedances import START_COLUMN, ExceedanceModel
 from insrail.project.plotdata import (
@@ -45,6 +48,7 @@ from insrail.project.plotdata import (
     plot_values,
 )
 from insrail.project.results import ExceedanceRow
+from insrail.report.content import ChainageAxis
 
 #: Checks whose plot starts hidden unless they have exceedances: each repeats what another plot
 #: shows (gauge, cant) or is a shorter-chord version of one shown; the Plots menu brings them back.
@@ -64,6 +68,8 @@ Y_MARGIN = 0.05
 Y_SLACK = 1.25
 #: The window a go-to shows when the current one is wider [m].
 GOTO_WINDOW_M = 100.0
+#: Lines of text the read-out bar holds (a longer read-out is cut there; its tooltip has all of it).
+READOUT_LINES = 3
 MEASURE_PENS = (pg.mkPen("#7B3294", width=1, style=Qt.DashDotLine), pg.mkPen("#008837", width=1, style=Qt.DashDotLine))
 
 
@@ -143,7 +149,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
 
     def set_data(self, station_m: np.ndarray, columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
                  visible: set[str], bands: Mapping[str, QualityBand] | None = None,
-                 events: Sequence[EventSpan] = ()) -> None:
+                 events: Sequence[EventSpan] = (), chainage: ChainageAxis | None = None) -> None:
         self.plots.clear()
         self._crosshairs.clear()
         self._regions.clear()
@@ -152,13 +158,14 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self._station, self._fits, self._window, self._synced = np.asarray(station_m), {}, None, set()
         self._following = True  # a reused plot's old window, clamped to the new limits, is no pan
         try:
-            self._add_plots(shown, columns, bands or {}, events)
+            self._add_plots(shown, columns, bands or {}, events, chainage)
         finally:
             self._following = False
         self.follow()
 
     def _add_plots(self, shown: Sequence[ChainagePlot], columns: Mapping[str, np.ndarray],
-                   bands: Mapping[str, QualityBand], events: Sequence[EventSpan]) -> None:
+                   bands: Mapping[str, QualityBand], events: Sequence[EventSpan],
+                   chainage: ChainageAxis | None) -> None:
         station_m = self._station
         self._lay_out(len(shown))
         self.setMinimumHeight(MIN_PLOT_HEIGHT * len(shown))
@@ -193,11 +200,15 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                 low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
                 item.vb.setLimits(xMin=low, xMax=high, minXRange=MIN_WINDOW_M, maxXRange=high - low)
                 self._window = (low, high)  # the whole survey; a reused plot drops the previous one's window
-            if row == len(shown) - 1:
-                item.showAxis("bottom")
-                item.setLabel("bottom", "station [m]")
-            else:
-                item.hideAxis("bottom")  # one chainage axis under the stack (each axis costs a frame)
+            # the chainage axis over the stack and under it (each axis costs time in every pan frame)
+            title = "chainage" if chainage is not None and chainage.prefix is not None else "station [m]"
+            for side, shown_here in (("top", row == 0), ("bottom", row == len(shown) - 1)):
+                item.getAxis(side).set_chainage(chainage)
+                if shown_here:
+                    item.showAxis(side)
+                    item.setLabel(side, title)
+                else:
+                    item.hideAxis(side)
             self.plots[spec.key] = item
 
     def in_view(self) -> list[pg.ViewBox]:
@@ -263,7 +274,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
     def _lay_out(self, count: int) -> None:
         """The first ``count`` plot items of the pool in the layout, emptied; the others out of it."""
         while len(self._pool) < count:
-            item = pg.PlotItem()
+            item = pg.PlotItem(axisItems={side: ChainageAxisItem(side) for side in ("top", "bottom")})
             plotstyle.make_fluid(item)
             item.getAxis("left").setWidth(48)
             item.vb.setMouseEnabled(x=True, y=False)  # the wheel zooms along chainage; y fits what is visible
@@ -303,6 +314,10 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
     def showEvent(self, event) -> None:
         super().showEvent(event)
         self.follow()
+
+    def scroll_rect(self, key: str):
+        """Where plot ``key`` is in this widget (what the scroll area scrolls into view)."""
+        return self.mapFromScene(self.plots[key].sceneBoundingRect()).boundingRect()
 
     def highlight(self, low: float, high: float) -> None:
         if not self._regions:  # made at the first use: each item in a plot costs every pan frame
@@ -364,7 +379,9 @@ class TrackView(DrawWhenShown, QWidget):
         self.readout = QLabel(READOUT_HINT)
         self.readout.setTextFormat(Qt.RichText)
         self.readout.setWordWrap(True)
+        self.readout.setAlignment(Qt.AlignLeft | Qt.AlignTop)
         self.readout.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.readout.setFixedHeight(READOUT_LINES * self.readout.fontMetrics().lineSpacing() + 4)
         self.goto = QLineEdit()
         self.goto.setPlaceholderText("Go to: #sleeper, K1+234.5 or station")
         self.goto.setToolTip("Go to a sleeper (#123), a chainage as printed on the sleepers (K1+234.5) or a "
@@ -443,15 +460,18 @@ class TrackView(DrawWhenShown, QWidget):
         self._measured: list[tuple[str, float]] = []  # (plot key, station) of the measuring tool's points
         self._pending_range: tuple[float, float] | None = None  # a range to apply once drawn
         self._events: tuple[EventSpan, ...] = ()
+        self._chainage: ChainageAxis | None = None
+        self._pending_scroll: str | None = None  # the plot to scroll to once drawn
         self.plots.cursorMoved.connect(self.show_values_at)
         self.plots.clicked.connect(self._plot_clicked)
 
     def set_results(self, station_m: np.ndarray, number: np.ndarray, label: Sequence[str],
                     columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
                     exceedances: Sequence[ExceedanceRow], bands: Mapping[str, QualityBand] | None = None,
-                    survey: str = "", events: Sequence[EventSpan] = ()) -> None:
+                    survey: str = "", events: Sequence[EventSpan] = (), chainage: ChainageAxis | None = None) -> None:
         """Plain arrays (one per sleeper, in chainage order), the plots to draw from them, the
-        predicted-accuracy bands of some plots (by plot key) and the survey's events. The same
+        predicted-accuracy bands of some plots (by plot key), the survey's events and its chainage
+        axis (None: the axis in metres of station). The same
         ``survey`` again (processed once more) keeps the chainage window and the plots shown."""
         same = bool(survey) and survey == self.survey and bool(self._specs)
         state = self.view_state() if same else None
@@ -460,6 +480,8 @@ class TrackView(DrawWhenShown, QWidget):
         self._columns, self._specs, self._rows = columns, tuple(plots), tuple(exceedances)
         self._bands = dict(bands or {})
         self._events = tuple(events)
+        self._chainage = chainage
+        self._pending_scroll = None
         failing = {f"check_{e.check}" for e in self._rows}
         self._visible = {p.key for p in plots if p.kind not in HIDDEN_KINDS or p.key in failing}
         self._measured = []
@@ -469,7 +491,7 @@ class TrackView(DrawWhenShown, QWidget):
         self._fill_plots_menu()
         self.request_draw(now=not len(self._station))
         self._fill_table()
-        self.readout.setText(READOUT_HINT if len(self._station) else "")
+        self._set_readout(READOUT_HINT if len(self._station) else "")
         if state is not None:
             self.restore_state(state)
 
@@ -519,8 +541,12 @@ class TrackView(DrawWhenShown, QWidget):
         self.request_draw()
 
     def _draw(self) -> None:
-        self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands, self._events)
+        self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands, self._events,
+                            self._chainage)
         self.plots.mark_measure([station for _, station in self._measured])
+        pending, self._pending_scroll = self._pending_scroll, None
+        if pending in self.plots.plots:
+            self._scroll_to_plot(pending)
         self._apply_pending_range()
 
     # ------------------------------------------------------------------ exceedances
@@ -538,19 +564,39 @@ class TrackView(DrawWhenShown, QWidget):
         return self.exceedance_model.exceedance_at(table_row)
 
     def zoom_to_exceedance(self, index: int) -> None:
-        """Zoom every plot to exceedance ``index`` (in the order of the results, not of the table)."""
+        """Scroll to the plot of exceedance ``index`` (in the order of the results, not of the table),
+        shown again if it was hidden, and zoom every plot to the exceedance."""
         if not 0 <= index < len(self._rows):
             return
         e = self._rows[index]
+        key = f"check_{e.check}"
+        if key not in self._visible and any(spec.key == key for spec in self._specs):
+            self.set_plot_visible(key, True)
+            self._fill_plots_menu()
+        if key in self.plots.plots and not self.stale:
+            self._scroll_to_plot(key)  # first: the window goes to the plots then in view
+        else:
+            self._pending_scroll = key
         low, high = exceedance_window(e.station_from_m, e.station_to_m)
-        self.plots.set_x_range(low, high)
+        if self.stale:  # drawn later (hidden, or a plot shown again): the window waits for it
+            self._pending_range = (low, high)
+        else:
+            self.plots.set_x_range(low, high)
         self.plots.highlight(min(e.station_from_m, e.station_to_m), max(e.station_from_m, e.station_to_m))
         centre = 0.5 * (e.station_from_m + e.station_to_m)
         self.plots.set_cursor(centre)
         self.show_values_at(centre)
         self.exceedanceSelected.emit(e.first_sleeper, e.last_sleeper)
 
+    def _scroll_to_plot(self, key: str) -> None:
+        rect = self.plots.scroll_rect(key)
+        self.scroll.ensureVisible(rect.center().x(), rect.center().y(), 0, rect.height() // 2)
+
     # ------------------------------------------------------------------ reading values
+
+    def _set_readout(self, text: str) -> None:
+        self.readout.setText(text)
+        self.readout.setToolTip(text)  # all of it, where the bar cuts a long one
 
     def go_to(self, text: str) -> bool:
         """Centre the plots on the sleeper ``text`` names (see :func:`insrail.project.plotdata.locate`);
@@ -580,7 +626,7 @@ class TrackView(DrawWhenShown, QWidget):
             values = ", ".join(f"{label} {value:+.2f}" if label else f"{value:+.2f}"
                                for label, value in plot_values(spec, self._columns, i))
             parts.append(f"<b>{spec.title}</b>: {values} {spec.unit}")
-        self.readout.setText(" &nbsp;|&nbsp; ".join(parts))
+        self._set_readout(" &nbsp;|&nbsp; ".join(parts))
 
     def _measure_toggled(self, on: bool) -> None:
         self._measured = []
