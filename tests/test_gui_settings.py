@@ -208,3 +208,30 @@ def test_the_main_window_undo_offers_no_settings_edit_of_a_closed_editor(window,
     editor.close()
     assert not window.undo_action.isEnabled()  # nothing invisible is undone
     assert window.edit_settings() is editor and window.undo_action.isEnabled()
+
+
+def test_lists_and_the_properties_show_names_not_ids(window, small_project, tmp_path):
+    """The tolerance profile, the fastener type and the projection height convention are listed in
+    words (a shipped file's own description), and project.toml still gets the ids."""
+    import tomllib
+
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    lists = {key: editor.editors[key][1] for key in ("track.tolerance_profile", "track.fastener",
+                                                     "geodesy.crs.projection_height_convention",
+                                                     "geodesy.height.model")}
+    shown = {key: [box.itemText(i) for i in range(box.count())] for key, box in lists.items()}
+    assert not any("_" in text or text in ("wj7", "wj8", "auto") for texts in shown.values() for text in texts)
+    assert "Conventional main line > 160 km/h, maintenance work acceptance" in shown["track.tolerance_profile"]
+    assert any(text.startswith("WJ-7") for text in shown["track.fastener"])
+    box = lists["track.tolerance_profile"]
+    box.setCurrentIndex(box.findText("Conventional main line > 160 km/h, maintenance work acceptance"))
+    editor.set_field("track.fastener", "wj8")
+    assert editor.save()
+    saved = tomllib.loads((root / "project.toml").read_text(encoding="utf-8"))
+    assert (saved["track"]["tolerance_profile"], saved["track"]["fastener"]) == ("cn_conventional_160", "wj8")
+    window.explorer.setCurrentItem(window.explorer.topLevelItem(0))  # the project: its properties
+    texts = [value for _key, value in window.properties.rows()]
+    assert "wj8" not in texts and "scale_factor" not in texts and "cn_conventional_160" not in texts
+    assert "Scale factor k × (1 + H0 / R)" in texts

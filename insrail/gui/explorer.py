@@ -9,6 +9,7 @@ from insrail.gui.fields import split_problem
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, read_manifest
 from insrail.io.tomlfile import read_toml
+from insrail.gui.choices import value_text
 from insrail.names import setting_name
 from insrail.project import Project
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, report_path
@@ -157,7 +158,8 @@ class ProjectExplorer(QTreeWidget):
         project = self.project
         if kind == "project":
             rows = [("folder", str(project.folder.resolve())), ("coordinate system", project.crs.describe())]
-            rows += [(setting_name(split_problem(f"{key}: ")[0]), value) for key, value in flatten(project.to_settings())]
+            rows += [(setting_name(bare), value_text(bare, value)) for bare, value in
+                     ((split_problem(f"{key}: ")[0], value) for key, value in flatten(project.to_settings()))]
         elif kind == "survey":
             folder = project.resolve(project.survey(payload).folder)
             rows = [("folder", str(folder.resolve()))]

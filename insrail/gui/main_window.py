@@ -66,6 +66,7 @@ from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
 from insrail.report.content import ChainageAxis
 from insrail.report.stale import stale_reports
 from insrail.track.events import KIND_NAMES
+from insrail.track.tolerance import load_tolerance_profile
 
 PROGRESS_STEPS = 1000
 #: The first window's size (without saved geometry) where the screen has room for it [px].
@@ -549,7 +550,7 @@ class MainWindow(QMainWindow):
         if request != self.request:
             return
         self.results = results
-        self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in results.items()})
+        self._show_runs()
         show = self.loader.show if self.loader is not None else None
         if show is None and not results:  # nothing processed yet: say so and offer Process
             surveys = self.project.surveys
@@ -596,10 +597,20 @@ class MainWindow(QMainWindow):
         self._clear_views()
         if name not in self.results and not (self.project.folder / RESULTS_FOLDER / name / SUMMARY_FILE).is_file():
             self.empty_state.show_unprocessed(name)
-            self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
+            self._show_runs()
             self._enable_project_actions()
             return
         self._request_views(name)
+
+    def _show_runs(self) -> None:
+        """Every processed survey in the repeatability view, its parameters named with the project's checks."""
+        try:
+            checks = load_tolerance_profile(self.project.resource(self.project.tolerance_profile)).checks
+        except (InputError, ValueError, OSError) as error:
+            self.log.warning(f"the check channels are shown by their columns: {error}")
+            checks = ()
+        self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()},
+                                    checks)
 
     def _view_state(self) -> dict | None:
         if self.shown_survey is None:

@@ -40,12 +40,13 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
+from insrail.gui.choices import choose, chosen, fill
 from insrail.gui.fields import split_problem
 from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.names import setting_name
+from insrail.names import RESOURCE_SETTINGS, setting_name
 from insrail.project import (
     HEIGHT_MODELS,
     Project,
@@ -267,8 +268,8 @@ class SettingsEditor(QDialog):
         elif kind == "choice":
             widget = QComboBox()
             choices = spec.choices() if callable(spec.choices) else list(spec.choices)
-            widget.addItems(([EACH_SURVEY] if spec.optional else []) + choices)
-            widget.setEditable(spec.key in ("track.tolerance_profile", "track.fastener", "processing.imu_profile"))
+            fill(widget, spec.key, choices, (EACH_SURVEY, EACH_SURVEY) if spec.optional else None)
+            widget.setEditable(spec.key in RESOURCE_SETTINGS)  # or a file of one's own
             widget.currentTextChanged.connect(lambda _t, key=spec.key: self._edited(key))
         else:  # a vector of three numbers
             widget = QWidget()
@@ -351,8 +352,8 @@ class SettingsEditor(QDialog):
         if spec.kind == "bool":
             return widget.isChecked()
         if spec.kind == "choice":
-            text = widget.currentText()
-            return _MISSING if (spec.optional and text == EACH_SURVEY) or text == spec.default else text
+            value = chosen(widget)
+            return _MISSING if (spec.optional and value == EACH_SURVEY) or value == spec.default else value
         if not isinstance(before, list) or len(before) != len(widget.boxes):
             before = [None] * len(widget.boxes)
         values = [self._number(box, old) for box, old in zip(widget.boxes, before)]
@@ -375,10 +376,7 @@ class SettingsEditor(QDialog):
         elif spec.kind == "bool":
             widget.setChecked(bool(value) if present else False)
         elif spec.kind == "choice":
-            text = str(value) if present else (EACH_SURVEY if spec.optional else spec.default or "")
-            if widget.findText(text) < 0:
-                widget.addItem(text)
-            widget.setCurrentText(text)
+            choose(widget, value if present else EACH_SURVEY if spec.optional else spec.default or "")
         else:
             for box, v in zip(widget.boxes, value if present else [box.minimum() for box in widget.boxes]):
                 box.setValue(float(v))
@@ -428,9 +426,7 @@ class SettingsEditor(QDialog):
         elif spec.kind == "bool":
             widget.setChecked(bool(value))
         elif spec.kind == "choice":
-            if widget.findText(str(value)) < 0:
-                widget.addItem(str(value))
-            widget.setCurrentText(str(value))
+            choose(widget, value)
         else:
             for box, v in zip(widget.boxes, value):
                 box.setValue(float(v))
