@@ -150,9 +150,11 @@ def test_numbers_typed_key_by_key_are_saved_exactly_as_typed(window, small_proje
              (field["trolley.mounting_rpy_deg"].boxes[1], "-0.25"),
              (field["processing.gnss_sigma_floor_m"], "0.0125"),
              (field["track.first_sleeper_number"], "1201")]
+    before = (root / "project.toml").read_bytes()
     for box, text in typed:
         type_into(box, text)
     assert editor.undo_stack.count() == steps + len(typed)  # one step per committed edit, none per key
+    assert (root / "project.toml").read_bytes() == before  # Return commits the field, Save writes
     assert editor.save() and not editor.isWindowModified()
     saved = tomllib.loads((root / "project.toml").read_text(encoding="utf-8"))
     crs, trolley = saved["geodesy"]["crs"], saved["trolley"]

@@ -284,7 +284,7 @@ class SettingsEditor(QDialog):
                 row.addWidget(box)
                 widget.boxes.append(box)
             if spec.key in (f"trolley.{_ARMS[0]}", "trolley.mounting_rpy_deg"):
-                form.addRow(self._axis_headings(axes))
+                form.addRow("", self._axis_headings(axes))  # over the boxes, in the fields' column
         note = QLabel()
         note.setStyleSheet(NOTE_STYLE)
         note.setWordWrap(True)
@@ -299,6 +299,12 @@ class SettingsEditor(QDialog):
         form.addRow(label.split(": ")[-1] if ": " in label else label, box)
         self.editors[spec.key] = (spec, widget)
         self.notes[spec.key] = note
+
+    def showEvent(self, event) -> None:
+        super().showEvent(event)
+        # The button box has just made Save the dialog's default button (pressed by Return): Return
+        # commits the number being typed and must not write project.toml with it.
+        self.save_button.setDefault(False)
 
     def _commit_when_left(self, box, key: str, absent_text: str) -> None:
         """A number field that commits when left or on Return (and at once on a step of its arrows);
@@ -353,7 +359,8 @@ class SettingsEditor(QDialog):
             return widget.isChecked()
         if spec.kind == "choice":
             value = chosen(widget)
-            return _MISSING if (spec.optional and value == EACH_SURVEY) or value == spec.default else value
+            absent = (spec.optional and value == EACH_SURVEY) or value in (spec.default, NOT_GIVEN)
+            return _MISSING if absent else value
         if not isinstance(before, list) or len(before) != len(widget.boxes):
             before = [None] * len(widget.boxes)
         values = [self._number(box, old) for box, old in zip(widget.boxes, before)]
@@ -376,7 +383,7 @@ class SettingsEditor(QDialog):
         elif spec.kind == "bool":
             widget.setChecked(bool(value) if present else False)
         elif spec.kind == "choice":
-            choose(widget, value if present else EACH_SURVEY if spec.optional else spec.default or "")
+            choose(widget, value if present else EACH_SURVEY if spec.optional else spec.default or NOT_GIVEN)
         else:
             for box, v in zip(widget.boxes, value if present else [box.minimum() for box in widget.boxes]):
                 box.setValue(float(v))

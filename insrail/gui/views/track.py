@@ -12,11 +12,13 @@ chainage, and neither can leave the surveyed chainage."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pyqtgraph as pg
 from PySide6.QtCore import QLineF, QRectF, Qt, Signal
+from PySide6.QtGui import QTextDocument
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QHBoxLayout,
@@ -206,7 +208,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                 item.getAxis(side).set_chainage(chainage)
                 if shown_here:
                     item.showAxis(side)
-                    item.setLabel(side, title)
+                    item.setLabel(side, title if side == "bottom" else None)  # over the stack: the ticks only
                 else:
                     item.hideAxis(side)
             self.plots[spec.key] = item
@@ -381,7 +383,7 @@ class TrackView(DrawWhenShown, QWidget):
         self.readout.setWordWrap(True)
         self.readout.setAlignment(Qt.AlignLeft | Qt.AlignTop)
         self.readout.setTextInteractionFlags(Qt.TextSelectableByMouse)
-        self.readout.setFixedHeight(READOUT_LINES * self.readout.fontMetrics().lineSpacing() + 4)
+        self.readout.setFixedHeight(self._readout_height())
         self.goto = QLineEdit()
         self.goto.setPlaceholderText("Go to: #sleeper, K1+234.5 or station")
         self.goto.setToolTip("Go to a sleeper (#123), a chainage as printed on the sleepers (K1+234.5) or a "
@@ -593,6 +595,15 @@ class TrackView(DrawWhenShown, QWidget):
         self.scroll.ensureVisible(rect.center().x(), rect.center().y(), 0, rect.height() // 2)
 
     # ------------------------------------------------------------------ reading values
+
+    def _readout_height(self) -> int:
+        """READOUT_LINES lines of the read-out as it is set (bold names), and no more: a cut line
+        would show half its letters."""
+        lines = QTextDocument()
+        lines.setDefaultFont(self.readout.font())
+        lines.setDocumentMargin(0)
+        lines.setHtml("<br>".join(["<b>K1+000.000</b> sleeper 1"] * READOUT_LINES))
+        return math.ceil(lines.size().height()) + 2 * self.readout.margin()
 
     def _set_readout(self, text: str) -> None:
         self.readout.setText(text)
