@@ -378,7 +378,7 @@ class TrackView(DrawWhenShown, QWidget):
     def __init__(self, parent=None):
         super().__init__(parent)
         self.plots = ChainagePlots()
-        self.readout = QLabel(READOUT_HINT)
+        self.readout = QLabel()  # the hint once there is something to read
         self.readout.setTextFormat(Qt.RichText)
         self.readout.setWordWrap(True)
         self.readout.setAlignment(Qt.AlignLeft | Qt.AlignTop)
