@@ -185,6 +185,8 @@ def test_a_field_left_without_a_change_changes_nothing(window, small_project, tm
     assert editor.undo_stack.count() == 0 and not editor.isWindowModified()
     type_into(prism[1], "0.05")
     assert editor.document["trolley"]["imu_to_prism_m"] == [0.123456, 0.05, -1.2]
+    editor.set_field("trolley.imu_to_prism_m", [0.1, 0.2, -1.3])  # a whole vector: one step
+    assert editor.undo_stack.count() == 2 and editor.document["trolley"]["imu_to_prism_m"] == [0.1, 0.2, -1.3]
 
 
 def test_a_setting_not_given_shows_no_number(window, small_project, tmp_path):

@@ -434,9 +434,12 @@ class SettingsEditor(QDialog):
             widget.setChecked(bool(value))
         elif spec.kind == "choice":
             choose(widget, value)
-        else:
+        else:  # the three numbers as one edit
             for box, v in zip(widget.boxes, value):
+                box.blockSignals(True)
                 box.setValue(float(v))
+                box.blockSignals(False)
+            self._edited(key)
 
     def use_project_trolley(self) -> None:
         """Give the project its own [trolley] table, starting from the first survey's geometry."""

@@ -42,6 +42,7 @@ from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import ImportWidget, shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, read_manifest
+from insrail.names import setting_name
 from insrail.project import (
     HEIGHT_MODELS,
     Project,
@@ -53,9 +54,8 @@ from insrail.project import (
 from insrail.project.model import PROJECT_FILE
 from insrail.track.tolerance import DEFAULT_PROFILE, shipped_tolerance_profiles
 
-LEVER_ARMS = (("imu_to_antenna_m", "IMU → GNSS antenna"), ("imu_to_odometer_m", "IMU → odometer wheel contact"),
-              ("imu_to_reference_rail_m", "IMU → reference rail gauge point"),
-              ("imu_to_sleeper_detector_m", "IMU → sleeper detector"), ("imu_to_prism_m", "IMU → prism"))
+LEVER_ARMS = tuple((key, setting_name(f"trolley.{key}")) for key in (
+    "imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m", "imu_to_prism_m"))
 EACH_SURVEY = "(each survey's own)"
 #: Lever arms every project uses (the prism's only in tunnels with a total station).
 REQUIRED_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m")
@@ -221,7 +221,7 @@ class NewProjectWizard(QWizard):
             self.notes[f"trolley.{key}"] = note_label()
             grid.addWidget(self.notes[f"trolley.{key}"], row, 4)
         mounting_row = len(LEVER_ARMS) + 1
-        grid.addWidget(QLabel("Mounting roll, pitch, heading"), mounting_row, 0)
+        grid.addWidget(QLabel(setting_name("trolley.mounting_rpy_deg")), mounting_row, 0)
         self.mounting = tuple(spin_box(-180, 180, 4, suffix=" °") for _ in range(3))
         for column, box in enumerate(self.mounting, start=1):
             grid.addWidget(box, mounting_row, column)
