@@ -387,7 +387,9 @@ def test_a_click_in_the_exceedance_table_scrolls_to_the_plot_it_names(view, qtbo
     assert low <= 1100.0 and 1101.0 <= high and high - low < 100.0  # zoomed there
 
 
-def test_the_chainage_axis_prints_k_chainage_over_and_under_the_plots(qtbot):
+def test_the_chainage_ruler_prints_k_chainage_wherever_the_stack_is_scrolled(qtbot):
+    from PySide6.QtWidgets import QApplication
+
     from insrail.report.content import ChainageAxis
 
     data = columns()
@@ -396,23 +398,29 @@ def test_the_chainage_axis_prints_k_chainage_over_and_under_the_plots(qtbot):
     labels = [f"K{int(d // 1000)}+{d % 1000:07.3f}" for d in np.where(station < 1200.0, station, station + 800.0)]
     widget = TrackView()
     qtbot.addWidget(widget)
-    widget.resize(1366, 740)
+    widget.resize(1366, 560)
     widget.show()
     widget.set_results(station, np.arange(1, SLEEPERS + 1), labels, data,
                        chainage_plots(data, load_tolerance_profile("cn_hsr_ballastless")), (), survey="run",
                        chainage=ChainageAxis.from_labels(station, tuple(labels)))
-    items = list(widget.plots.plots.values())
-    first, last = items[0], items[-1]
-    assert first.getAxis("top").isVisible() and last.getAxis("bottom").isVisible()
-    assert not any(item.getAxis(side).isVisible() for item in items[1:-1] for side in ("top", "bottom"))
-    widget.plots.set_x_range(1150.0, 1250.0)
-    for axis in (first.getAxis("top"), last.getAxis("bottom")):
-        widget.scroll.ensureVisible(0, int(widget.plots.mapFromScene(axis.sceneBoundingRect()).boundingRect().center().y()))
+    bar = widget.scroll.verticalScrollBar()
+    assert bar.maximum() > 0
+    axis = widget.ruler.axis
+    for scrolled in (bar.minimum(), (bar.minimum() + bar.maximum()) // 2, bar.maximum()):
+        bar.setValue(scrolled)
+        widget.plots.set_x_range(1150.0 + scrolled * 1e-3, 1250.0)
+        QApplication.processEvents()
+        assert widget.ruler.isVisible() and axis.range == list(widget.plots.x_range())
         low, high = axis.range
-        assert (low, high) == (1150.0, 1250.0)  # the plot in view follows the window
         (step, ticks), = axis.tickValues(low, high, axis.width())
         texts = axis.tickStrings(ticks, 1.0, step)
-        assert texts and all(text.startswith("K1+") or text.startswith("K2+") for text in texts)
+        assert all(text.startswith(("K1+", "K2+")) for text in texts)
         assert "K2+000" in texts or "K2+010" in texts  # round chainage after the equation
         assert any(text.startswith("K1+1") for text in texts)  # and before it
-    assert last.getAxis("bottom").labelText == "chainage"
+    assert not axis.label.isVisible()  # "K1+200" says what it is
+    # the ruler's axis spans the plots' data area
+    view = next(iter(widget.plots.plots.values())).vb
+    area = widget.plots.mapFromScene(view.sceneBoundingRect()).boundingRect()
+    data_left = widget.plots.mapTo(widget, area.topLeft()).x()
+    axis_left = widget.ruler.mapTo(widget, widget.ruler.mapFromScene(axis.sceneBoundingRect().topLeft())).x()
+    assert abs(axis_left - data_left) <= 1 and abs(axis.width() - area.width()) <= 2

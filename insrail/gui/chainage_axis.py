@@ -53,3 +53,40 @@ class ChainageAxisItem(pg.AxisItem):
         if self.chainage is None:
             return super().tickStrings(values, scale, spacing)
         return [self.chainage.label(value) for value in values]
+
+
+class ChainageRuler(pg.GraphicsView):
+    """The chainage axis of a stack of plots that scrolls, as a bar of its own under it: in sight
+    wherever the stack is scrolled. :meth:`place` lines it up with the plots' data area,
+    :meth:`set_window` follows their chainage window."""
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.setBackground(None)  # the window's colour: a ruler, not a plot
+        self.frame = pg.GraphicsLayout()
+        self.axis = ChainageAxisItem("bottom")
+        self.frame.addItem(self.axis)
+        self.setCentralItem(self.frame)
+        self.setFixedHeight(RULER_HEIGHT_PX[True])
+        self.window: tuple[float, float] | None = None
+
+    def set_chainage(self, chainage: ChainageAxis | None) -> None:
+        """K-chainage ticks say what they are; plain numbers are named "station [m]" under them."""
+        self.axis.set_chainage(chainage)
+        titled = self.axis.chainage is None
+        self.axis.setLabel("station [m]" if titled else None)
+        self.setFixedHeight(RULER_HEIGHT_PX[titled])
+
+    def set_window(self, low: float, high: float) -> None:
+        if (low, high) != self.window:  # called at every frame of a pan: a new range only when it moved
+            self.window = (low, high)
+            self.axis.setRange(low, high)
+
+    def place(self, left_px: float, width_px: float) -> None:
+        """The axis from ``left_px`` (from this bar's left edge) over ``width_px``: the plots' data area."""
+        right = max(self.width() - left_px - width_px, 0.0)
+        self.frame.setContentsMargins(max(left_px, 0.0), 0.0, right, 0.0)
+
+
+#: The ruler's height: the axis line and its tick labels, with (True) or without their title [px].
+RULER_HEIGHT_PX = {True: 46, False: 30}

@@ -3,8 +3,8 @@ keeps a readable height), a crosshair read-out of every value at the sleeper und
 with the rail and direction of each, a go-to field (sleeper number, K-chainage or station), a
 two-point measuring tool (its span can be marked as a track event: turnout, level crossing, ...),
 and the exceedance table (a click scrolls to the check's plot and zooms every plot there). The
-chainage axis, in K-chainage as the sleeper table prints it, runs over the first plot and under the
-last. The read-out sits in a bar of fixed height: a long read-out never moves the plots under the mouse.
+chainage axis, in K-chainage as the sleeper table prints it, is a ruler under the scrolled stack,
+in sight wherever the stack is scrolled. The read-out sits in a bar of fixed height: a long read-out never moves the plots under the mouse.
 
 Navigation: the wheel zooms along chainage only (the y axes fit what is visible, and keep their
 range during a pan while it shows all of that at 80 % of the height or more), dragging pans along
@@ -17,7 +17,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import QLineF, QRectF, Qt, Signal
+from PySide6.QtCore import QLineF, QPoint, QRectF, Qt, Signal
 from PySide6.QtGui import QTextDocument
 from PySide6.QtWidgets import (
     QAbstractItemView,
@@ -35,7 +35,7 @@ from PySide6.QtWidgets import (
 
 from insrail.gui import plotstyle
 from insrail.gui.bands import EnvelopeLine
-from insrail.gui.chainage_axis import ChainageAxisItem
+from insrail.gui.chainage_axis import ChainageRuler
 from insrail.gui.lazy import DrawWhenShown
 from insrail.gui.views.exceedances import START_COLUMN, ExceedanceModel
 from insrail.project.plotdata import (
@@ -130,6 +130,8 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
 
     cursorMoved = Signal(float)
     clicked = Signal(str, float)  # plot key, station [m]
+    windowShown = Signal(float, float)  # the chainage window of the plots in view [m]
+    plotResized = Signal()  # a plot's data area moved or changed its size
     _window: tuple[float, float] | None = None  # the chainage window every plot follows [m] (none before data)
 
     def __init__(self, parent=None):
@@ -151,7 +153,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
 
     def set_data(self, station_m: np.ndarray, columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
                  visible: set[str], bands: Mapping[str, QualityBand] | None = None,
-                 events: Sequence[EventSpan] = (), chainage: ChainageAxis | None = None) -> None:
+                 events: Sequence[EventSpan] = ()) -> None:
         self.plots.clear()
         self._crosshairs.clear()
         self._regions.clear()
@@ -160,14 +162,13 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self._station, self._fits, self._window, self._synced = np.asarray(station_m), {}, None, set()
         self._following = True  # a reused plot's old window, clamped to the new limits, is no pan
         try:
-            self._add_plots(shown, columns, bands or {}, events, chainage)
+            self._add_plots(shown, columns, bands or {}, events)
         finally:
             self._following = False
         self.follow()
 
     def _add_plots(self, shown: Sequence[ChainagePlot], columns: Mapping[str, np.ndarray],
-                   bands: Mapping[str, QualityBand], events: Sequence[EventSpan],
-                   chainage: ChainageAxis | None) -> None:
+                   bands: Mapping[str, QualityBand], events: Sequence[EventSpan]) -> None:
         station_m = self._station
         self._lay_out(len(shown))
         self.setMinimumHeight(MIN_PLOT_HEIGHT * len(shown))
@@ -202,15 +203,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                 low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
                 item.vb.setLimits(xMin=low, xMax=high, minXRange=MIN_WINDOW_M, maxXRange=high - low)
                 self._window = (low, high)  # the whole survey; a reused plot drops the previous one's window
-            # the chainage axis over the stack and under it (each axis costs time in every pan frame)
-            title = "chainage" if chainage is not None and chainage.prefix is not None else "station [m]"
-            for side, shown_here in (("top", row == 0), ("bottom", row == len(shown) - 1)):
-                item.getAxis(side).set_chainage(chainage)
-                if shown_here:
-                    item.showAxis(side)
-                    item.setLabel(side, title if side == "bottom" else None)  # over the stack: the ticks only
-                else:
-                    item.hideAxis(side)
+            item.hideAxis("bottom")  # the chainage ruler under the stack is the plots' one axis
             self.plots[spec.key] = item
 
     def in_view(self) -> list[pg.ViewBox]:
@@ -246,6 +239,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             catching_up.append(source)
         self._fit_y(catching_up)
         self._synced.update(catching_up)
+        self.windowShown.emit(*window)
 
     def _fit_y(self, views: Sequence[pg.ViewBox]) -> None:
         """Each plot's y range fitted to what is visible along chainage and to its limits, from the
@@ -276,13 +270,14 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
     def _lay_out(self, count: int) -> None:
         """The first ``count`` plot items of the pool in the layout, emptied; the others out of it."""
         while len(self._pool) < count:
-            item = pg.PlotItem(axisItems={side: ChainageAxisItem(side) for side in ("top", "bottom")})
+            item = pg.PlotItem()
             plotstyle.make_fluid(item)
             item.getAxis("left").setWidth(48)
             item.vb.setMouseEnabled(x=True, y=False)  # the wheel zooms along chainage; y fits what is visible
             item.vb.enableAutoRange(x=False, y=False)  # the window is set; no bounds searched during pans
             item.vb.sigXRangeChanged.connect(self._x_changed)
             item.vb.sigResized.connect(self.follow)  # laid out (or out) after a change of the stack
+            item.vb.sigResized.connect(self.plotResized)
             self._pool.append(item)
         for item in self._pool:
             item.clear()  # the previous survey's curves and lines
@@ -433,12 +428,16 @@ class TrackView(DrawWhenShown, QWidget):
         self.scroll.setWidgetResizable(True)
         self.scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarAlwaysOff)
         self.scroll.setWidget(self.plots)
+        self.ruler = ChainageRuler()
+        self.plots.windowShown.connect(self.ruler.set_window)
+        self.plots.plotResized.connect(self._place_ruler)
         upper = QWidget()
         upper_layout = QVBoxLayout(upper)
         upper_layout.setContentsMargins(0, 0, 0, 0)
         upper_layout.addLayout(top)
         upper_layout.addWidget(self.measure_label)
         upper_layout.addWidget(self.scroll, 1)
+        upper_layout.addWidget(self.ruler)
         splitter = QSplitter(Qt.Vertical)
         splitter.addWidget(upper)
         splitter.addWidget(self.exceedances)
@@ -543,8 +542,10 @@ class TrackView(DrawWhenShown, QWidget):
         self.request_draw()
 
     def _draw(self) -> None:
-        self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands, self._events,
-                            self._chainage)
+        self.ruler.set_chainage(self._chainage)
+        self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands, self._events)
+        self.ruler.setVisible(bool(self.plots.plots))
+        self._place_ruler()
         self.plots.mark_measure([station for _, station in self._measured])
         pending, self._pending_scroll = self._pending_scroll, None
         if pending in self.plots.plots:
@@ -589,6 +590,19 @@ class TrackView(DrawWhenShown, QWidget):
         self.plots.set_cursor(centre)
         self.show_values_at(centre)
         self.exceedanceSelected.emit(e.first_sleeper, e.last_sleeper)
+
+    def _place_ruler(self) -> None:
+        """The ruler's axis under the plots' data area (their view boxes share one left edge)."""
+        if not self.plots.plots:
+            return
+        view = next(iter(self.plots.plots.values())).vb
+        area = self.plots.mapFromScene(view.sceneBoundingRect()).boundingRect()
+        left = self.plots.mapTo(self, area.topLeft()).x() - self.ruler.mapTo(self, QPoint(0, 0)).x()
+        self.ruler.place(left, area.width())
+
+    def resizeEvent(self, event) -> None:
+        super().resizeEvent(event)
+        self._place_ruler()
 
     def _scroll_to_plot(self, key: str) -> None:
         rect = self.plots.scroll_rect(key)
