@@ -360,7 +360,7 @@ CHOICE_NAMES: dict[str, dict[str, str]] = {
 }
 #: The settings that name a shipped resource (or a file of one's own), and the resources folder it is in.
 RESOURCE_SETTINGS = {"track.tolerance_profile": "tolerance_profiles", "track.fastener": "fastener_types",
-                     "processing.imu_profile": "imu_profiles"}
+                     "processing.imu_profile": "imu_profiles", "survey.imu_profile": "imu_profiles"}
 
 
 def choice_name(key: str, value: str) -> str:

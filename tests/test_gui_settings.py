@@ -239,3 +239,15 @@ def test_lists_and_the_properties_show_names_not_ids(window, small_project, tmp_
     texts = [value for _key, value in window.properties.rows()]
     assert "wj8" not in texts and "scale_factor" not in texts and "cn_conventional_160" not in texts
     assert "Scale factor k × (1 + H0 / R)" in texts
+
+
+def test_the_properties_of_a_survey_are_in_words(window, small_project, tmp_path):
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    project_item = window.explorer.topLevelItem(0)
+    surveys = next(project_item.child(k) for k in range(project_item.childCount())
+                   if project_item.child(k).text(0) == "Surveys")
+    window.explorer.setCurrentItem(surveys.child(0))
+    rows = window.properties.rows()
+    assert len(rows) > 5 and not any("_" in key or "." in key for key, _value in rows)
+    assert ("Survey: imu profile", "Navigation grade (RLG, quartz accelerometers), thesis Table 3-2") in rows
