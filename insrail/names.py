@@ -338,3 +338,39 @@ def setting_name(key: str) -> str:
         if head in SETTING_NAMES:
             return f"{SETTING_NAMES[head]}: {' '.join(parts[cut:]).replace('_', ' ')}"
     return key.replace(".", ": ").replace("_", " ").capitalize()
+
+
+# --------------------------------------------------------------------------- the desktop application's lists
+
+#: The values of a setting chosen from a list, in words (the settings editor's and the wizard's lists, the
+#: properties panel). The shipped tolerance profiles, fastener types and IMU profiles are named by their own
+#: files' descriptions (:func:`resource_choice`); a file of one's own by its path.
+CHOICE_NAMES: dict[str, dict[str, str]] = {
+    "geodesy.crs.projection_height_convention": {
+        "scale_factor": "Scale factor k × (1 + H0 / R)",
+        "semi_major_axis": "Expanded ellipsoid, a + H0",
+    },
+    "geodesy.height.model": {
+        "auto": "Best fit to the benchmarks (leave-one-out)",
+        "constant": "Constant height anomaly",
+        "plane": "Plane through the benchmarks",
+        "quadratic": "Quadratic surface through the benchmarks",
+    },
+    "trolley.reference_rail": {"left": "Left rail", "right": "Right rail"},
+}
+#: The settings that name a shipped resource (or a file of one's own), and the resources folder it is in.
+RESOURCE_SETTINGS = {"track.tolerance_profile": "tolerance_profiles", "track.fastener": "fastener_types",
+                     "processing.imu_profile": "imu_profiles", "survey.imu_profile": "imu_profiles"}
+
+
+def choice_name(key: str, value: str) -> str:
+    """A value of setting ``key`` chosen from its list, in words ("scale_factor" -> "Scale factor k × (1 + H0 / R)")."""
+    try:
+        return CHOICE_NAMES[key][value]
+    except KeyError:
+        raise UnknownName(f"{key} = {value}", "choice") from None
+
+
+def resource_choice(name: str, description: str) -> str:
+    """A shipped resource in a list: its file's own description, with its name where the file gives none."""
+    return description.strip() or name.replace("_", " ")

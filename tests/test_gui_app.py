@@ -30,6 +30,7 @@ from insrail.io.survey import read_manifest
 from insrail.project import load_project, process
 from insrail.project.demo import project_for_simulated_survey
 from insrail.project.plotdata import exceedance_window
+from insrail.track.tolerance import load_tolerance_profile
 from tests.test_gui_track import scroll_to
 
 RAW_FILES = ("imu.npy", "gnss.pos", "odometer.txt", "gauge.txt", "sleepers.txt", "benchmarks.txt")
@@ -279,12 +280,14 @@ def test_repeatability_overlays_plain_arrays_of_several_runs(qtbot):
     view = RepeatabilityView()
     qtbot.addWidget(view)
     station = np.linspace(0.0, 100.0, 161)
-    runs = {f"run{k}": (station, {"gauge_mm": 1435.0 + 0.1 * k + np.sin(station), "time_s": station})
-            for k in range(3)}
-    view.set_runs(runs)
+    runs = {f"run{k}": (station, {"gauge_mm": 1435.0 + 0.1 * k + np.sin(station), "time_s": station,
+                                  "check_versine_10m_left_lateral_mm": np.cos(station)}) for k in range(3)}
+    view.set_runs(runs, load_tolerance_profile("cn_hsr_ballastless").checks)
     assert view.stale and not view.item.listDataItems()  # drawn when shown
     view.show()
-    assert [view.parameter.itemText(i) for i in range(view.parameter.count())] == ["gauge_mm"]
+    # display names, never the columns' ids
+    assert [view.parameter.itemText(i) for i in range(view.parameter.count())] == [
+        "Gauge (mm)", "10 m versine, left rail, lateral (mm)"]
     curves = view.item.listDataItems()
     assert len(curves) == 3
     assert np.allclose(curves[2].getOriginalDataset()[1], runs["run2"][1]["gauge_mm"])
@@ -666,3 +669,18 @@ def test_export_for_machines_and_cad_from_the_file_menu(window, qtbot, demo_proj
     window.export_file_actions[0].trigger()
     qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
     assert len(read_lift_lining(root / "reports" / "short_lift_lining.csv")) > 1000
+
+
+def test_the_first_window_fits_the_screen_it_opens_on(qtbot, tmp_path):
+    """No saved geometry: the window fits the available area of its screen (a 1366 x 768 laptop must
+    see the go-to field, the log and the status bar)."""
+    main = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat))
+    qtbot.addWidget(main)
+    main.show()
+    qtbot.waitExposed(main)
+    available = main.screen().availableGeometry()
+    assert available.width() < 1400 or available.height() < 900  # the offscreen screen is smaller
+    # (the offscreen platform's pretend frame shifts the window by 2 px: the sizes are compared)
+    assert main.width() <= available.width() and main.height() <= available.height()
+    assert main.statusBar().geometry().bottom() < available.height()
+    main.close()

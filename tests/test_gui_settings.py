@@ -5,6 +5,7 @@ from __future__ import annotations
 import shutil
 
 import pytest
+from PySide6.QtWidgets import QLabel
 
 pytest.importorskip("pytestqt")
 from insrail.gui.settings_editor import stages_to_rerun
@@ -116,3 +117,137 @@ def test_report_fields_are_edited_checked_and_saved(window, small_project, tmp_p
     assert "paper" not in (root / "project.toml").read_text(encoding="utf-8")
     editor.set_field("report.paper", "A4")
     assert editor.save() and load_project(root).report.paper == "A4"
+
+
+def type_into(box, text: str) -> None:
+    """Type ``text`` into a number field KEY BY KEY as a surveyor does: select what it shows, type,
+    then Return commits the edit."""
+    from PySide6.QtCore import Qt
+    from PySide6.QtTest import QTest
+
+    box.setFocus()
+    QTest.keyClick(box, Qt.Key_A, Qt.ControlModifier)
+    QTest.keyClicks(box, text)
+    QTest.keyClick(box, Qt.Key_Return)
+
+
+def test_numbers_typed_key_by_key_are_saved_exactly_as_typed(window, small_project, tmp_path):
+    """Every kind of number field (the coordinate system, a lever arm, the mounting angles, a
+    processing threshold, an integer): what is typed is what project.toml holds; each committed edit
+    is one undo step."""
+    import tomllib
+
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    editor.own_trolley.click()  # the project's own trolley table: its fields become editable
+    steps = editor.undo_stack.count()
+    field = {key: widget for key, (_spec, widget) in editor.editors.items()}
+    typed = [(field["geodesy.crs.false_northing_m"], "45.5"),
+             (field["geodesy.crs.false_easting_m"], "500123.125"),
+             (field["trolley.imu_to_prism_m"].boxes[0], "0.125"),
+             (field["trolley.imu_to_prism_m"].boxes[2], "-1.45"),
+             (field["trolley.mounting_rpy_deg"].boxes[1], "-0.25"),
+             (field["processing.gnss_sigma_floor_m"], "0.0125"),
+             (field["track.first_sleeper_number"], "1201")]
+    before = (root / "project.toml").read_bytes()
+    for box, text in typed:
+        type_into(box, text)
+    assert editor.undo_stack.count() == steps + len(typed)  # one step per committed edit, none per key
+    assert (root / "project.toml").read_bytes() == before  # Return commits the field, Save writes
+    assert editor.save() and not editor.isWindowModified()
+    saved = tomllib.loads((root / "project.toml").read_text(encoding="utf-8"))
+    crs, trolley = saved["geodesy"]["crs"], saved["trolley"]
+    assert (crs["false_northing_m"], crs["false_easting_m"]) == (45.5, 500123.125)
+    assert (trolley["imu_to_prism_m"][0], trolley["imu_to_prism_m"][2]) == (0.125, -1.45)
+    assert trolley["mounting_rpy_deg"][1] == -0.25
+    assert saved["processing"]["gnss_sigma_floor_m"] == 0.0125
+    assert saved["track"]["first_sleeper_number"] == 1201
+
+    editor.undo_stack.undo()  # the last committed edit back, as one step
+    assert field["track.first_sleeper_number"].value() != 1201
+    assert field["processing.gnss_sigma_floor_m"].value() == 0.0125
+
+
+def test_a_field_left_without_a_change_changes_nothing(window, small_project, tmp_path):
+    """Values are compared at the field's precision: a value of project.toml with more decimals than
+    its field shows stays as it is when the field (or another of its vector) is only visited."""
+    root = copy_of(small_project, tmp_path)
+    text = (root / "project.toml").read_text(encoding="utf-8")
+    (root / "project.toml").write_text(text + "\n[trolley]\nimu_to_prism_m = [0.123456, 0.0, -1.2]\n"
+                                       "imu_to_antenna_m = [0.1, 0.0, -1.0]\nimu_to_odometer_m = [0.0, 0.3, 0.2]\n"
+                                       "imu_to_reference_rail_m = [0.0, -0.7, 0.3]\n"
+                                       "imu_to_sleeper_detector_m = [0.2, 0.0, 0.3]\n", encoding="utf-8")
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    prism = editor.editors["trolley.imu_to_prism_m"][1].boxes
+    type_into(prism[0], prism[0].cleanText())  # what it shows, typed again
+    assert editor.undo_stack.count() == 0 and not editor.isWindowModified()
+    type_into(prism[1], "0.05")
+    assert editor.document["trolley"]["imu_to_prism_m"] == [0.123456, 0.05, -1.2]
+    editor.set_field("trolley.imu_to_prism_m", [0.1, 0.2, -1.3])  # a whole vector: one step
+    assert editor.undo_stack.count() == 2 and editor.document["trolley"]["imu_to_prism_m"] == [0.1, 0.2, -1.3]
+
+
+def test_a_setting_not_given_shows_no_number(window, small_project, tmp_path):
+    """The demo project has no trolley table: its fields say "not given" instead of a sentinel, and the
+    lever arms' columns are named in the trolley's frame (forward, right, down)."""
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    spacing = editor.editors["trolley.rail_centre_spacing_m"][1]
+    assert spacing.text() == "not given" and "1000000000" not in spacing.text()
+    assert all(box.text() == "not given" for box in editor.editors["trolley.imu_to_prism_m"][1].boxes)
+    headings = [label.text() for label in editor.findChildren(QLabel)]
+    assert "forward" in headings and "right" in headings and "down" in headings
+
+
+def test_the_main_window_undo_offers_no_settings_edit_of_a_closed_editor(window, small_project, tmp_path):
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    editor.set_field("report.client", "Wuhan Railway Bureau")
+    assert window.undo_action.isEnabled()
+    assert editor.isWindowModified() and "[*]" in editor.windowTitle()  # Qt shows it as "*" while unsaved
+    editor.close()
+    assert not window.undo_action.isEnabled()  # nothing invisible is undone
+    assert window.edit_settings() is editor and window.undo_action.isEnabled()
+
+
+def test_lists_and_the_properties_show_names_not_ids(window, small_project, tmp_path):
+    """The tolerance profile, the fastener type and the projection height convention are listed in
+    words (a shipped file's own description), and project.toml still gets the ids."""
+    import tomllib
+
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    editor = window.edit_settings()
+    lists = {key: editor.editors[key][1] for key in ("track.tolerance_profile", "track.fastener",
+                                                     "geodesy.crs.projection_height_convention",
+                                                     "geodesy.height.model")}
+    shown = {key: [box.itemText(i) for i in range(box.count())] for key, box in lists.items()}
+    assert not any("_" in text or text in ("wj7", "wj8", "auto") for texts in shown.values() for text in texts)
+    assert "Conventional main line > 160 km/h, maintenance work acceptance" in shown["track.tolerance_profile"]
+    assert any(text.startswith("WJ-7") for text in shown["track.fastener"])
+    box = lists["track.tolerance_profile"]
+    box.setCurrentIndex(box.findText("Conventional main line > 160 km/h, maintenance work acceptance"))
+    editor.set_field("track.fastener", "wj8")
+    assert editor.save()
+    saved = tomllib.loads((root / "project.toml").read_text(encoding="utf-8"))
+    assert (saved["track"]["tolerance_profile"], saved["track"]["fastener"]) == ("cn_conventional_160", "wj8")
+    window.explorer.setCurrentItem(window.explorer.topLevelItem(0))  # the project: its properties
+    texts = [value for _key, value in window.properties.rows()]
+    assert "wj8" not in texts and "scale_factor" not in texts and "cn_conventional_160" not in texts
+    assert "Scale factor k × (1 + H0 / R)" in texts
+
+
+def test_the_properties_of_a_survey_are_in_words(window, small_project, tmp_path):
+    root = copy_of(small_project, tmp_path)
+    assert window.open_project(root)
+    project_item = window.explorer.topLevelItem(0)
+    surveys = next(project_item.child(k) for k in range(project_item.childCount())
+                   if project_item.child(k).text(0) == "Surveys")
+    window.explorer.setCurrentItem(surveys.child(0))
+    rows = window.properties.rows()
+    assert len(rows) > 5 and not any("_" in key or "." in key for key, _value in rows)
+    assert ("Survey: imu profile", "Navigation grade (RLG, quartz accelerometers), thesis Table 3-2") in rows

@@ -16,6 +16,7 @@ pytest.importorskip("pytestqt")
 
 from real_data import REAL
 
+from insrail.gui.choices import choose
 from insrail.io.survey import read_manifest
 from insrail.nav.fusion import FusionOptions
 from insrail.project import load_project, save_project
@@ -38,7 +39,7 @@ def table_rows(table) -> list[list[str]]:
 def test_plan_survey_shows_the_figures_of_predict(window, qtbot):
     dialog = window.plan_survey()
     assert dialog.isVisible() and window.plan_survey() is dialog  # one dialog, raised again
-    dialog.imu.setCurrentText("tactical")
+    choose(dialog.imu, "tactical")
     dialog.gnss_horizontal.setValue(15.0)
     dialog.gnss_vertical.setValue(30.0)
     dialog.speed.setValue(2.0)

@@ -346,3 +346,81 @@ def test_plan_dots_one_per_pixel_and_an_isolated_fix_still_drawn(qtbot):
     widget.setRange(xRange=(40.0, 41.0), yRange=(10.0, 20.0), padding=0.0)  # inside their bounds, no fix on the screen
     widget.grab()  # (an empty set of dots once crashed Qt's painter)
     assert points.drawn_points == 0
+
+
+def test_the_readout_bar_keeps_its_height_and_the_plots_stay_put(view, qtbot):
+    """A read-out of every plot's values is long: it must not wrap into a taller bar that pushes the
+    plots down under the mouse."""
+    from PySide6.QtWidgets import QApplication
+
+    QApplication.processEvents()
+    top, height = view.scroll.mapTo(view, QPoint(0, 0)).y(), view.readout.height()
+    for name in view._specs:  # every plot shown: the longest read-out
+        view.set_plot_visible(name.key, True)
+    view.show_values_at(1100.0)
+    assert len(view.readout.text()) > 400
+    QApplication.processEvents()
+    assert view.readout.height() == height and view.scroll.mapTo(view, QPoint(0, 0)).y() == top
+    assert view.readout.toolTip() == view.readout.text()  # all of it, where the bar cuts it
+
+
+def test_a_click_in_the_exceedance_table_scrolls_to_the_plot_it_names(view, qtbot):
+    from PySide6.QtWidgets import QApplication
+
+    view.resize(1366, 560)  # a laptop's track view: a few plots in view
+    QApplication.processEvents()
+    item = view.plots.plots["check_versine_10m"]
+    viewport, bar = view.scroll.viewport().rect(), view.scroll.verticalScrollBar()
+
+    def in_view() -> bool:
+        rect = view.plots.scroll_rect("check_versine_10m").translated(view.plots.pos())
+        return viewport.contains(rect.center())
+
+    bar.setValue(bar.maximum())  # the last plots
+    if in_view():
+        bar.setValue(bar.minimum())
+    assert not in_view()
+    index = view.exceedance_model.index(0, 0)
+    view.exceedances.clicked.emit(index)
+    assert in_view()
+    low, high = item.vb.viewRange()[0]
+    assert low <= 1100.0 and 1101.0 <= high and high - low < 100.0  # zoomed there
+
+
+def test_the_chainage_ruler_prints_k_chainage_wherever_the_stack_is_scrolled(qtbot):
+    from PySide6.QtWidgets import QApplication
+
+    from insrail.report.content import ChainageAxis
+
+    data = columns()
+    station = data["station_m"]
+    # a station equation at 1200 m: 1200 m of station is K2+000 from there on (800 m short chain)
+    labels = [f"K{int(d // 1000)}+{d % 1000:07.3f}" for d in np.where(station < 1200.0, station, station + 800.0)]
+    widget = TrackView()
+    qtbot.addWidget(widget)
+    widget.resize(1366, 560)
+    widget.show()
+    widget.set_results(station, np.arange(1, SLEEPERS + 1), labels, data,
+                       chainage_plots(data, load_tolerance_profile("cn_hsr_ballastless")), (), survey="run",
+                       chainage=ChainageAxis.from_labels(station, tuple(labels)))
+    bar = widget.scroll.verticalScrollBar()
+    assert bar.maximum() > 0
+    axis = widget.ruler.axis
+    for scrolled in (bar.minimum(), (bar.minimum() + bar.maximum()) // 2, bar.maximum()):
+        bar.setValue(scrolled)
+        widget.plots.set_x_range(1150.0 + scrolled * 1e-3, 1250.0)
+        QApplication.processEvents()
+        assert widget.ruler.isVisible() and axis.range == list(widget.plots.x_range())
+        low, high = axis.range
+        (step, ticks), = axis.tickValues(low, high, axis.width())
+        texts = axis.tickStrings(ticks, 1.0, step)
+        assert all(text.startswith(("K1+", "K2+")) for text in texts)
+        assert "K2+000" in texts or "K2+010" in texts  # round chainage after the equation
+        assert any(text.startswith("K1+1") for text in texts)  # and before it
+    assert not axis.label.isVisible()  # "K1+200" says what it is
+    # the ruler's axis spans the plots' data area
+    view = next(iter(widget.plots.plots.values())).vb
+    area = widget.plots.mapFromScene(view.sceneBoundingRect()).boundingRect()
+    data_left = widget.plots.mapTo(widget, area.topLeft()).x()
+    axis_left = widget.ruler.mapTo(widget, widget.ruler.mapFromScene(axis.sceneBoundingRect().topLeft())).x()
+    assert abs(axis_left - data_left) <= 1 and abs(axis.width() - area.width()) <= 2

@@ -5,6 +5,7 @@ from __future__ import annotations
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtWidgets import QMenu, QTreeWidget, QTreeWidgetItem
 
+from insrail.gui.choices import value_text
 from insrail.gui.fields import split_problem
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, read_manifest
@@ -157,12 +158,12 @@ class ProjectExplorer(QTreeWidget):
         project = self.project
         if kind == "project":
             rows = [("folder", str(project.folder.resolve())), ("coordinate system", project.crs.describe())]
-            rows += [(setting_name(split_problem(f"{key}: ")[0]), value) for key, value in flatten(project.to_settings())]
+            rows += rows_in_words(flatten(project.to_settings()))
         elif kind == "survey":
             folder = project.resolve(project.survey(payload).folder)
             rows = [("folder", str(folder.resolve()))]
             try:
-                rows += flatten(read_toml(folder / MANIFEST_NAME))
+                rows += rows_in_words(flatten(read_toml(folder / MANIFEST_NAME)))
             except (OSError, ValueError) as error:
                 rows.append(("problem", str(error)))
         elif kind == "file":
@@ -175,10 +176,10 @@ class ProjectExplorer(QTreeWidget):
             rows += [(f"option {k}", str(v)) for k, v in file.options.items()]
         elif kind == "gnss_raw":
             raw = read_manifest(project.resolve(project.survey(payload).folder)).raw_gnss
-            rows = flatten({"gnss_raw": raw.to_settings()})
+            rows = rows_in_words(flatten({"gnss_raw": raw.to_settings()}))
         elif kind == "results":
             summary = project.folder / RESULTS_FOLDER / payload / SUMMARY_FILE
-            rows = [("folder", str(summary.parent.resolve()))] + flatten(read_toml(summary))
+            rows = [("folder", str(summary.parent.resolve()))] + rows_in_words(flatten(read_toml(summary)))
         elif kind == "report":
             survey, path = payload
             stale = report_is_stale(path, project.folder, survey)
@@ -190,6 +191,16 @@ class ProjectExplorer(QTreeWidget):
         else:
             rows = []
         self.propertiesChanged.emit(rows)
+
+
+def rows_in_words(rows: list[tuple[str, str]]) -> list[tuple[str, str]]:
+    """Key paths and values as the screen shows them: names (:func:`insrail.names.setting_name`, in
+    words where the table has none), a listed value or a shipped resource by its name."""
+    words = []
+    for key, value in rows:
+        bare = split_problem(f"{key}: ")[0]
+        words.append((setting_name(bare), value_text(bare, value)))
+    return words
 
 
 class PropertiesPanel(QTreeWidget):

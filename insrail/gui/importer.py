@@ -32,6 +32,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from insrail.gui.choices import choose, chosen, fill
 from insrail.io.errors import InputError
 from insrail.io.formats import FORMATS, detect_format, read_any
 from insrail.io.survey import (
@@ -95,8 +96,8 @@ class ImportWidget(QWidget):
         self.gps_week.setRange(0, 9999)
         self.gps_week.setSpecialValueText("from the files")
         self.imu_profile = QComboBox()
-        self.imu_profile.addItems(shipped_names("imu_profiles"))
-        self.imu_profile.setCurrentText("nav")
+        fill(self.imu_profile, "processing.imu_profile", shipped_names("imu_profiles"))
+        choose(self.imu_profile, "nav")
         self.files = QTableWidget(0, 4)
         self.files.setHorizontalHeaderLabels(["File", "Role", "Format", "Check"])
         self.files.setSelectionBehavior(QAbstractItemView.SelectRows)
@@ -205,7 +206,7 @@ class ImportWidget(QWidget):
                        formats={paths[r]: f.format for r, f in manifest.files.items()})
         self.name.setText(folder.name)
         self.gps_week.setValue(manifest.gps_week or 0)
-        self.imu_profile.setCurrentText(manifest.imu_profile)
+        choose(self.imu_profile, manifest.imu_profile)
         self.folder_trolley = manifest.trolley
 
     def entries(self) -> list[tuple[Path, str, str]]:
@@ -314,7 +315,7 @@ class ImportWidget(QWidget):
                 self._show_problems([Problem(str(path), None, f"cannot copy into {into}: {error.strerror or error}")])
                 return None
             folder = into
-        manifest = SurveyManifest(name=name, files=files, trolley=trolley, imu_profile=self.imu_profile.currentText(),
+        manifest = SurveyManifest(name=name, files=files, trolley=trolley, imu_profile=chosen(self.imu_profile),
                                   gps_week=self.gps_week.value() or None)
         write_manifest(folder, manifest)
         return folder

@@ -17,6 +17,7 @@ from insrail.io.errors import InputError
 from insrail.project import Project, load_results
 from insrail.project.plotdata import track_data, trajectory_views
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+from insrail.report.content import ChainageAxis
 
 #: The longest the trajectory waits for the track view to be drawn [s].
 TRACK_DRAW_WAIT_S = 10.0
@@ -27,7 +28,7 @@ class ResultsLoader(QThread):
     ``show`` (None: the first survey that has results)."""
 
     resultsLoaded = Signal(int, object)  # request, {survey: StoredResults}
-    trackReady = Signal(int, object)  # request, TrackData
+    trackReady = Signal(int, object, object)  # request, TrackData, its ChainageAxis
     trajectoryReady = Signal(int, object)  # request, TrajectoryViews
     failed = Signal(int, str)  # request, what went wrong (as the core words it)
 
@@ -69,7 +70,9 @@ class ResultsLoader(QThread):
         show = self.show if self.show is not None else next(iter(results), None)
         if show not in results or self._stop.is_set():
             return
-        self.trackReady.emit(self.request, track_data(project, results[show]))
+        data = track_data(project, results[show])
+        # the chainage axis reads every sleeper's label: here, not in the GUI thread
+        self.trackReady.emit(self.request, data, ChainageAxis.from_labels(data.station_m, data.label))
         # Reading the trajectory holds the interpreter for seconds: not while the track view draws.
         self.track_drawn.wait(TRACK_DRAW_WAIT_S)
         if self._stop.is_set():

@@ -63,10 +63,16 @@ from insrail.project.model import project_from_settings
 from insrail.project.pipeline import CACHE_FOLDER
 from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+from insrail.report.content import ChainageAxis
 from insrail.report.stale import stale_reports
 from insrail.track.events import KIND_NAMES
+from insrail.track.tolerance import load_tolerance_profile
 
 PROGRESS_STEPS = 1000
+#: The first window's size (without saved geometry) where the screen has room for it [px].
+FIRST_SIZE = (1400, 900)
+#: Room kept for a window manager's frame and title bar around the first window [px].
+FRAME_ALLOWANCE = (16, 48)
 
 
 class MainWindow(QMainWindow):
@@ -84,7 +90,7 @@ class MainWindow(QMainWindow):
         self.wizard: NewProjectWizard | None = None
         self.plan_dialog: PlanSurveyDialog | None = None
         self.settings_editor: SettingsEditor | None = None
-        self.undo_group = QUndoGroup(self)  # the Edit menu's Undo/Redo: the settings editor's steps
+        self.undo_group = QUndoGroup(self)  # the Edit menu's Undo/Redo: the open settings editor's steps
         self.exported: Path | None = None
         self.request = 0  # the number of the latest results load; answers to older ones are dropped
         self.loader: ResultsLoader | None = None  # the load of the latest request while it runs
@@ -156,7 +162,7 @@ class MainWindow(QMainWindow):
         if geometry is not None:
             self.restoreGeometry(geometry)
         else:
-            self.resize(1400, 900)
+            self._first_size()
             log_dock = self.findChild(QDockWidget, "log")
             QTimer.singleShot(0, lambda: self.resizeDocks([log_dock], [120], Qt.Vertical))  # once laid out
             self.resizeDocks([self.findChild(QDockWidget, "explorer")], [330], Qt.Horizontal)
@@ -164,6 +170,19 @@ class MainWindow(QMainWindow):
             self.restoreState(state)
 
     # ------------------------------------------------------------------ building
+
+    def _first_size(self) -> None:
+        """The first window: FIRST_SIZE centred on its screen, or the whole of a smaller screen's
+        available area (maximized: the window manager's frame then fits too; a 1366 x 768 laptop
+        must not hide the go-to field, the log and the status bar below its edge)."""
+        available = self.screen().availableGeometry()
+        width, height = FIRST_SIZE
+        if width + FRAME_ALLOWANCE[0] > available.width() or height + FRAME_ALLOWANCE[1] > available.height():
+            self.resize(min(width, available.width()), min(height, available.height()))
+            self.setWindowState(self.windowState() | Qt.WindowMaximized)
+        else:
+            self.resize(width, height)
+            self.move(available.center() - self.rect().center())
 
     def _dock(self, name: str, title: str, widget, area) -> QDockWidget:
         dock = QDockWidget(title, self)
@@ -270,6 +289,8 @@ class MainWindow(QMainWindow):
             self.settings_editor = SettingsEditor(self.project, self)
             self.undo_group.addStack(self.settings_editor.undo_stack)
             self.settings_editor.saved.connect(self._settings_saved)
+            # Closed, its edits are out of sight: the Edit menu's Undo must not change them unseen.
+            self.settings_editor.finished.connect(lambda _result: self.undo_group.setActiveStack(None))
         self.undo_group.setActiveStack(self.settings_editor.undo_stack)
         self.settings_editor.show()
         self.settings_editor.raise_()
@@ -529,20 +550,20 @@ class MainWindow(QMainWindow):
         if request != self.request:
             return
         self.results = results
-        self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in results.items()})
+        self._show_runs()
         show = self.loader.show if self.loader is not None else None
         if show is None and not results:  # nothing processed yet: say so and offer Process
             surveys = self.project.surveys
             self.empty_state.show_unprocessed(surveys[0].name if surveys else None)
         self._enable_project_actions()
 
-    def _track_ready(self, request: int, data: TrackData) -> None:
+    def _track_ready(self, request: int, data: TrackData, chainage: ChainageAxis) -> None:
         if request != self.request:
             return
         self.shown_survey = data.survey
         self.empty_state.hide()
         self.track.set_results(data.station_m, data.number, data.label, data.columns, data.plots,
-                               data.exceedances, data.bands, data.survey, data.events)
+                               data.exceedances, data.bands, data.survey, data.events, chainage)
         pending, self._pending_view = self._pending_view, None
         if pending is not None and pending.get("survey") == data.survey:
             self.track.restore_state(pending)
@@ -576,10 +597,20 @@ class MainWindow(QMainWindow):
         self._clear_views()
         if name not in self.results and not (self.project.folder / RESULTS_FOLDER / name / SUMMARY_FILE).is_file():
             self.empty_state.show_unprocessed(name)
-            self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
+            self._show_runs()
             self._enable_project_actions()
             return
         self._request_views(name)
+
+    def _show_runs(self) -> None:
+        """Every processed survey in the repeatability view, its parameters named with the project's checks."""
+        try:
+            checks = load_tolerance_profile(self.project.resource(self.project.tolerance_profile)).checks
+        except (InputError, ValueError, OSError) as error:
+            self.log.warning(f"the check channels are shown by their columns: {error}")
+            checks = ()
+        self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()},
+                                    checks)
 
     def _view_state(self) -> dict | None:
         if self.shown_survey is None:

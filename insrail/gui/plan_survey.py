@@ -36,6 +36,7 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.gui import plotstyle
+from insrail.gui.choices import choose, chosen, fill
 from insrail.gui.forms import spin_box
 from insrail.gui.importer import shipped_names
 from insrail.gui.worker import TaskWorker
@@ -111,8 +112,8 @@ class PlanSurveyDialog(QDialog):
         self.shown_inputs: PlanInputs | None = None
 
         self.imu = QComboBox()
-        self.imu.addItems(shipped_names("imu_profiles"))
-        self.imu.setCurrentText("nav")
+        fill(self.imu, "processing.imu_profile", shipped_names("imu_profiles"))
+        choose(self.imu, "nav")
         self.imu.setToolTip("IMU profile from resources/imu_profiles (bias, random walks)")
         self.gnss_horizontal = spin_box(0.5, 500.0, 1, 10.0, " mm", 1.0)
         self.gnss_vertical = spin_box(0.5, 500.0, 1, 20.0, " mm", 1.0)
@@ -228,7 +229,7 @@ class PlanSurveyDialog(QDialog):
             except ValueError:
                 raise ValueError(f"sweep values: expected numbers separated by spaces, found {text!r}") from None
         return PlanInputs(
-            imu=self.imu.currentText(),
+            imu=chosen(self.imu),
             gnss=GnssQuality(1e-3 * self.gnss_horizontal.value(), 1e-3 * self.gnss_vertical.value()),
             speed_mps=self.speed.value(), length_m=self.length.value(), outage_s=self.outage.value(),
             aiding=FusionOptions(smoother=self.smoothed.currentIndex() == 0, use_odometer=self.odometer.isChecked(),

@@ -1,7 +1,11 @@
 """Project settings editor: the project.toml of the open project as a form.
 
-Every edit is one undoable step (QUndoStack; the main window's Edit menu carries Undo and Redo);
-after every edit the whole document is checked by the core exactly as loading checks it
+Every committed edit is one undoable step (QUndoStack; the main window's Edit menu carries Undo
+and Redo while the editor is open). A number field commits what was typed when it is left or on
+Return, never at each key: an edit at each key set the field again and reformatted it under the
+typing hand (``-1.45`` became -1.4000). A value is compared with the document's at the precision its
+field shows, so a value of project.toml with more decimals than its field is kept as written unless
+it is changed. A setting not given shows "not given", never the field's lowest number. After every edit the whole document is checked by the core exactly as loading checks it
 (:func:`insrail.project.project_from_settings`) and each problem is shown beside its field in the
 field's words; Save writes project.toml atomically (:func:`insrail.project.save_project`) only
 when there is none. The form says which processing stages the changes will run again (the stage
@@ -16,7 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from PySide6.QtCore import Signal
+from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QUndoCommand, QUndoStack
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -36,12 +40,13 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
+from insrail.gui.choices import choose, chosen, fill
 from insrail.gui.fields import split_problem
 from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.names import setting_name
+from insrail.names import RESOURCE_SETTINGS, setting_name
 from insrail.project import (
     HEIGHT_MODELS,
     Project,
@@ -58,6 +63,12 @@ from insrail.project.model import (
 from insrail.track.tolerance import shipped_tolerance_profiles
 
 EACH_SURVEY = "(each survey's own)"
+#: What a number field of a setting absent from project.toml shows (optional ones: "none").
+NOT_GIVEN = "not given"
+#: The columns of a lever arm: the trolley's body frame b (x forward, y right, z down: FRD).
+FRD_AXES = ("forward", "right", "down")
+#: The columns of the mounting angles.
+RPY_AXES = ("roll", "pitch", "heading")
 #: The processing stages in their order; a change reruns the first stage it feeds and all after it.
 STAGES = ("fusion", "track reconstruction", "assessment", "adjustment")
 #: Key path prefix -> the first stage that reads it (none: only the reports change).
@@ -158,20 +169,11 @@ def changed_keys(before: dict, after: dict) -> list[str]:
 
 
 class SetSetting(QUndoCommand):
-    """One edit of one setting; consecutive edits of the same field merge into one step."""
+    """One committed edit of one setting (one undo step)."""
 
     def __init__(self, editor: SettingsEditor, key: str, before, after):
         super().__init__(f"{setting_name(key)}")
         self.editor, self.key, self.before, self.after = editor, key, before, after
-
-    def id(self) -> int:
-        return 1
-
-    def mergeWith(self, other) -> bool:
-        if other.key != self.key:
-            return False
-        self.after = other.after
-        return True
 
     def redo(self) -> None:
         self.editor.apply(self.key, self.after)
@@ -187,7 +189,7 @@ class SettingsEditor(QDialog):
 
     def __init__(self, project: Project, parent=None):
         super().__init__(parent)
-        self.setWindowTitle(f"Project settings — {project.name}")
+        self.setWindowTitle(f"Project settings — {project.name}[*]")  # [*]: Qt's mark of unsaved changes
         self.resize(760, 640)
         self.project = project
         self.original = project.to_settings()
@@ -228,6 +230,8 @@ class SettingsEditor(QDialog):
         self.undo_stack.canRedoChanged.connect(redo.setEnabled)
         undo.setEnabled(False)
         redo.setEnabled(False)
+        for button in (undo, redo, self.own_trolley, *self.buttons.buttons()):
+            button.setAutoDefault(False)  # Return commits the field being typed in; it saves nothing
         row = QHBoxLayout()
         row.addWidget(undo)
         row.addWidget(redo)
@@ -251,32 +255,36 @@ class SettingsEditor(QDialog):
             widget = QLineEdit()
             widget.setPlaceholderText("YYYY-MM-DD" if kind == "date" else "none" if spec.optional else "")
             widget.editingFinished.connect(lambda key=spec.key: self._edited(key))
-        elif kind == "number":
-            widget = spin_box(-1e9, 1e9, spec.decimals, suffix=spec.suffix)
-            widget.valueChanged.connect(lambda _v, key=spec.key: self._edited(key))
-        elif kind == "int":
-            widget = QSpinBox()
-            widget.setRange(-10**9, 10**9)
-            widget.valueChanged.connect(lambda _v, key=spec.key: self._edited(key))
+        elif kind in ("number", "int"):
+            if kind == "number":
+                widget = spin_box(-1e9, 1e9, spec.decimals, suffix=spec.suffix)
+            else:
+                widget = QSpinBox()
+                widget.setRange(-10**9, 10**9)
+            self._commit_when_left(widget, spec.key, "none" if spec.optional else NOT_GIVEN)
         elif kind == "bool":
             widget = QCheckBox()
             widget.toggled.connect(lambda _on, key=spec.key: self._edited(key))
         elif kind == "choice":
             widget = QComboBox()
             choices = spec.choices() if callable(spec.choices) else list(spec.choices)
-            widget.addItems(([EACH_SURVEY] if spec.optional else []) + choices)
-            widget.setEditable(spec.key in ("track.tolerance_profile", "track.fastener", "processing.imu_profile"))
+            fill(widget, spec.key, choices, (EACH_SURVEY, EACH_SURVEY) if spec.optional else None)
+            widget.setEditable(spec.key in RESOURCE_SETTINGS)  # or a file of one's own
             widget.currentTextChanged.connect(lambda _t, key=spec.key: self._edited(key))
         else:  # a vector of three numbers
             widget = QWidget()
             row = QHBoxLayout(widget)
             row.setContentsMargins(0, 0, 0, 0)
             widget.boxes = []
-            for _ in range(3):
+            axes = RPY_AXES if spec.key == "trolley.mounting_rpy_deg" else FRD_AXES
+            for axis in axes:
                 box = spin_box(-1e4, 1e4, spec.decimals, suffix=spec.suffix)
-                box.valueChanged.connect(lambda _v, key=spec.key: self._edited(key))
+                box.setToolTip(axis)
+                self._commit_when_left(box, spec.key, NOT_GIVEN)
                 row.addWidget(box)
                 widget.boxes.append(box)
+            if spec.key in (f"trolley.{_ARMS[0]}", "trolley.mounting_rpy_deg"):
+                form.addRow("", self._axis_headings(axes))  # over the boxes, in the fields' column
         note = QLabel()
         note.setStyleSheet(NOTE_STYLE)
         note.setWordWrap(True)
@@ -292,9 +300,49 @@ class SettingsEditor(QDialog):
         self.editors[spec.key] = (spec, widget)
         self.notes[spec.key] = note
 
+    def showEvent(self, event) -> None:
+        super().showEvent(event)
+        # The button box has just made Save the dialog's default button (pressed by Return): Return
+        # commits the number being typed and must not write project.toml with it.
+        self.save_button.setDefault(False)
+
+    def _commit_when_left(self, box, key: str, absent_text: str) -> None:
+        """A number field that commits when left or on Return (and at once on a step of its arrows);
+        its lowest value stands for a setting not given and shows ``absent_text``."""
+        box.setKeyboardTracking(False)
+        box.setSpecialValueText(absent_text)
+        box.valueChanged.connect(lambda _value: self._edited(key))
+
+    @staticmethod
+    def _axis_headings(axes: tuple[str, ...]) -> QWidget:
+        """Column headings over the three boxes of the vectors below."""
+        headings = QWidget()
+        row = QHBoxLayout(headings)
+        row.setContentsMargins(0, 0, 0, 0)
+        for axis in axes:
+            label = QLabel(axis)
+            label.setAlignment(Qt.AlignCenter)
+            if axes == FRD_AXES:
+                label.setToolTip("the trolley's body frame b: x forward, y right, z down (FRD)")
+            row.addWidget(label)
+        return headings
+
+    @staticmethod
+    def _number(box, before):
+        """The box's value; ``before`` (the document's) while the box shows it at its precision,
+        ``_MISSING`` while it shows "not given"."""
+        if box.specialValueText() and box.value() == box.minimum():
+            return _MISSING
+        if isinstance(before, (int, float)) and not isinstance(before, bool) and np.isfinite(before):
+            decimals = box.decimals() if hasattr(box, "decimals") else 0
+            if round(float(before), decimals) == round(box.value(), decimals):
+                return before
+        return box.value()
+
     def _read(self, key: str):
         """The value the field holds, as the document stores it (``_MISSING``: left empty)."""
         spec, widget = self.editors[key]
+        before = get_value(self.document, key)
         if spec.kind in ("text", "file", "date"):
             text = widget.text().strip()
             if spec.optional and not text:
@@ -306,15 +354,19 @@ class SettingsEditor(QDialog):
                     return text  # the core's check says what is wrong with it, beside the field
             return text
         if spec.kind in ("number", "int"):
-            if spec.optional and widget.specialValueText() and widget.value() == widget.minimum():
-                return _MISSING
-            return widget.value()
+            return self._number(widget, before)
         if spec.kind == "bool":
             return widget.isChecked()
         if spec.kind == "choice":
-            text = widget.currentText()
-            return _MISSING if (spec.optional and text == EACH_SURVEY) or text == spec.default else text
-        return [box.value() for box in widget.boxes]
+            value = chosen(widget)
+            absent = (spec.optional and value == EACH_SURVEY) or value in (spec.default, NOT_GIVEN)
+            return _MISSING if absent else value
+        if not isinstance(before, list) or len(before) != len(widget.boxes):
+            before = [None] * len(widget.boxes)
+        values = [self._number(box, old) for box, old in zip(widget.boxes, before)]
+        if all(value is _MISSING for value in values):
+            return _MISSING
+        return [0.0 if value is _MISSING else value for value in values]  # a vector begun: the rest 0
 
     def _show(self, key: str) -> None:
         """Put the document's value into the field (signals blocked: not an edit)."""
@@ -327,18 +379,13 @@ class SettingsEditor(QDialog):
         if spec.kind in ("text", "file", "date"):
             widget.setText(str(value) if present else "")
         elif spec.kind in ("number", "int"):
-            if spec.optional:
-                widget.setSpecialValueText("none")
             widget.setValue(value if present else widget.minimum())
         elif spec.kind == "bool":
             widget.setChecked(bool(value) if present else False)
         elif spec.kind == "choice":
-            text = str(value) if present else (EACH_SURVEY if spec.optional else spec.default or "")
-            if widget.findText(text) < 0:
-                widget.addItem(text)
-            widget.setCurrentText(text)
+            choose(widget, value if present else EACH_SURVEY if spec.optional else spec.default or NOT_GIVEN)
         else:
-            for box, v in zip(widget.boxes, value if present else (0.0, 0.0, 0.0)):
+            for box, v in zip(widget.boxes, value if present else [box.minimum() for box in widget.boxes]):
                 box.setValue(float(v))
         for w in widgets:
             w.blockSignals(False)
@@ -386,12 +433,13 @@ class SettingsEditor(QDialog):
         elif spec.kind == "bool":
             widget.setChecked(bool(value))
         elif spec.kind == "choice":
-            if widget.findText(str(value)) < 0:
-                widget.addItem(str(value))
-            widget.setCurrentText(str(value))
-        else:
+            choose(widget, value)
+        else:  # the three numbers as one edit
             for box, v in zip(widget.boxes, value):
+                box.blockSignals(True)
                 box.setValue(float(v))
+                box.blockSignals(False)
+            self._edited(key)
 
     def use_project_trolley(self) -> None:
         """Give the project its own [trolley] table, starting from the first survey's geometry."""

@@ -36,11 +36,13 @@ from PySide6.QtWidgets import (
 )
 
 from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
+from insrail.gui.choices import choose, chosen, fill
 from insrail.gui.fields import in_words, split_problem
 from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import ImportWidget, shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, read_manifest
+from insrail.names import setting_name
 from insrail.project import (
     HEIGHT_MODELS,
     Project,
@@ -52,9 +54,8 @@ from insrail.project import (
 from insrail.project.model import PROJECT_FILE
 from insrail.track.tolerance import DEFAULT_PROFILE, shipped_tolerance_profiles
 
-LEVER_ARMS = (("imu_to_antenna_m", "IMU → GNSS antenna"), ("imu_to_odometer_m", "IMU → odometer wheel contact"),
-              ("imu_to_reference_rail_m", "IMU → reference rail gauge point"),
-              ("imu_to_sleeper_detector_m", "IMU → sleeper detector"), ("imu_to_prism_m", "IMU → prism"))
+LEVER_ARMS = tuple((key, setting_name(f"trolley.{key}")) for key in (
+    "imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m", "imu_to_prism_m"))
 EACH_SURVEY = "(each survey's own)"
 #: Lever arms every project uses (the prism's only in tunnels with a total station).
 REQUIRED_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m")
@@ -181,7 +182,7 @@ class NewProjectWizard(QWizard):
         self.false_northing = spin_box(-2e7, 2e7, 3, 0.0, " m")
         self.projection_height = spin_box(-1000, 9000, 3, 0.0, " m")
         self.convention = QComboBox()
-        self.convention.addItems(list(PROJECTION_HEIGHT_CONVENTIONS))
+        fill(self.convention, "geodesy.crs.projection_height_convention", PROJECTION_HEIGHT_CONVENTIONS)
         for label, widget, key in (
                 ("Ellipsoid", self.ellipsoid, "ellipsoid"), ("Central meridian", self.central_meridian,
                                                               "central_meridian_deg"),
@@ -199,7 +200,7 @@ class NewProjectWizard(QWizard):
                                 "height anomaly; without them heights stay ellipsoidal.")
         self.benchmarks = QLineEdit()
         self.height_model = QComboBox()
-        self.height_model.addItems(list(HEIGHT_MODELS))
+        fill(self.height_model, "geodesy.height.model", HEIGHT_MODELS)
         self._row(form, "Benchmarks file", file_row(self.benchmarks, "Benchmarks", "Text (*.txt *.csv);;All (*)", self),
                   "geodesy.height.benchmarks")
         self._row(form, "Height-anomaly model", self.height_model, "geodesy.height.model")
@@ -220,12 +221,12 @@ class NewProjectWizard(QWizard):
             self.notes[f"trolley.{key}"] = note_label()
             grid.addWidget(self.notes[f"trolley.{key}"], row, 4)
         mounting_row = len(LEVER_ARMS) + 1
-        grid.addWidget(QLabel("Mounting roll, pitch, heading"), mounting_row, 0)
+        grid.addWidget(QLabel(setting_name("trolley.mounting_rpy_deg")), mounting_row, 0)
         self.mounting = tuple(spin_box(-180, 180, 4, suffix=" °") for _ in range(3))
         for column, box in enumerate(self.mounting, start=1):
             grid.addWidget(box, mounting_row, column)
         self.reference_rail = QComboBox()
-        self.reference_rail.addItems(["left", "right"])
+        fill(self.reference_rail, "trolley.reference_rail", ("left", "right"))
         self.rail_spacing = spin_box(0.5, 3.0, 4, 1.5, " m")
         from_survey = QPushButton("Copy from a survey.toml…")
         from_survey.clicked.connect(self._browse_trolley)
@@ -255,14 +256,14 @@ class NewProjectWizard(QWizard):
         page, form = self._page("Processing and assessment", "IMU error model, design alignment, tolerance "
                                 "profile for the assessment and the fastener type for the adjustment.")
         self.imu_profile = QComboBox()
-        self.imu_profile.addItems([EACH_SURVEY, *shipped_names("imu_profiles")])
+        fill(self.imu_profile, "processing.imu_profile", shipped_names("imu_profiles"), (EACH_SURVEY, EACH_SURVEY))
         self.design = QLineEdit()
         self.start_station = spin_box(-1e7, 1e8, 3, 0.0, " m")
         self.tolerance_profile = QComboBox()
-        self.tolerance_profile.addItems(shipped_tolerance_profiles())
-        self.tolerance_profile.setCurrentText(DEFAULT_PROFILE)
+        fill(self.tolerance_profile, "track.tolerance_profile", shipped_tolerance_profiles())
+        choose(self.tolerance_profile, DEFAULT_PROFILE)
         self.fastener = QComboBox()
-        self.fastener.addItems(shipped_names("fastener_types"))
+        fill(self.fastener, "track.fastener", shipped_names("fastener_types"))
         self._row(form, "IMU profile", self.imu_profile, "processing.imu_profile")
         self._row(form, "Design alignment", file_row(self.design, "Design alignment",
                                                      "Alignment (*.csv *.xml);;All (*)", self), "track.design")
@@ -322,7 +323,7 @@ class NewProjectWizard(QWizard):
         self.false_easting.setValue(settings.get("false_easting_m", 500000.0))
         self.false_northing.setValue(settings.get("false_northing_m", 0.0))
         self.projection_height.setValue(settings.get("projection_height_m", 0.0))
-        self.convention.setCurrentText(settings.get("projection_height_convention", "scale_factor"))
+        choose(self.convention, settings.get("projection_height_convention", "scale_factor"))
 
     def _copy_earlier_trolley(self, index: int) -> None:
         if index <= 0:
@@ -345,7 +346,7 @@ class NewProjectWizard(QWizard):
                 box.setValue(float(value) if np.isfinite(value) else 0.0)
         for box, value in zip(self.mounting, np.degrees(trolley.mounting_rpy_rad)):
             box.setValue(float(value))
-        self.reference_rail.setCurrentText(trolley.reference_rail)
+        choose(self.reference_rail, trolley.reference_rail)
         self.rail_spacing.setValue(trolley.rail_centre_spacing_m)
 
     def _browse_trolley(self) -> None:
@@ -360,7 +361,7 @@ class NewProjectWizard(QWizard):
 
     def trolley(self) -> TrolleyGeometry:
         arms = {key: np.array([box.value() for box in boxes]) for key, boxes in self.lever_arms.items()}
-        return TrolleyGeometry(**arms, reference_rail=self.reference_rail.currentText(),
+        return TrolleyGeometry(**arms, reference_rail=chosen(self.reference_rail),
                                mounting_rpy_rad=np.radians([box.value() for box in self.mounting]),
                                rail_centre_spacing_m=self.rail_spacing.value())
 
@@ -369,15 +370,15 @@ class NewProjectWizard(QWizard):
         def relative(path_text: str) -> str:
             return os.path.relpath(Path(path_text).resolve(), folder.resolve()).replace(os.sep, "/")
 
-        height = {"model": self.height_model.currentText()}
+        height = {"model": chosen(self.height_model)}
         if self.benchmarks.text().strip():
             height["benchmarks"] = relative(self.benchmarks.text().strip())
-        track = {"tolerance_profile": self.tolerance_profile.currentText(), "fastener": self.fastener.currentText()}
+        track = {"tolerance_profile": chosen(self.tolerance_profile), "fastener": chosen(self.fastener)}
         if self.design.text().strip():
             track["design"] = relative(self.design.text().strip())
         else:
             track["start_station_m"] = self.start_station.value()
-        profile = self.imu_profile.currentText()
+        profile = chosen(self.imu_profile)
         processing = {} if profile == EACH_SURVEY else {"imu_profile": profile}
         return {
             "project": {"name": self.name.text().strip(), "description": self.description.text().strip()},
@@ -386,9 +387,9 @@ class NewProjectWizard(QWizard):
                 "latitude_of_origin_deg": self.latitude_of_origin.value(), "scale_factor": self.scale_factor.value(),
                 "false_easting_m": self.false_easting.value(), "false_northing_m": self.false_northing.value(),
                 "projection_height_m": self.projection_height.value(),
-                "projection_height_convention": self.convention.currentText()}, "height": height},
+                "projection_height_convention": chosen(self.convention)}, "height": height},
             "trolley": {**{key: [box.value() for box in boxes] for key, boxes in self.lever_arms.items()},
-                        "reference_rail": self.reference_rail.currentText(),
+                        "reference_rail": chosen(self.reference_rail),
                         "mounting_rpy_deg": [box.value() for box in self.mounting],
                         "rail_centre_spacing_m": self.rail_spacing.value()},
             "processing": processing,

@@ -1,8 +1,10 @@
-"""Repeatability view: one parameter of several runs overlaid along chainage."""
+"""Repeatability view: one parameter of several runs overlaid along chainage, chosen by its
+display name (:func:`insrail.names.column_name`; the check channels named from the project's
+tolerance profile)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pyqtgraph as pg
@@ -10,6 +12,7 @@ from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QVBoxLayout, QWidg
 
 from insrail.gui import plotstyle
 from insrail.gui.lazy import DrawWhenShown
+from insrail.names import CheckLike, UnknownName, column_name
 
 #: Columns worth overlaying: values in mm or ratios (not coordinates, times, flags).
 _UNITS = ("_mm", "_ratio")
@@ -37,21 +40,28 @@ class RepeatabilityView(DrawWhenShown, QWidget):
         layout.addLayout(top)
         layout.addWidget(self.plot, 1)
         self._runs: Mapping[str, tuple[np.ndarray, Mapping[str, np.ndarray]]] = {}
-        self.parameter.currentTextChanged.connect(lambda _text: self.request_draw())
+        self.parameter.currentIndexChanged.connect(lambda _index: self.request_draw())
 
-    def set_runs(self, runs: Mapping[str, tuple[np.ndarray, Mapping[str, np.ndarray]]]) -> None:
+    def set_runs(self, runs: Mapping[str, tuple[np.ndarray, Mapping[str, np.ndarray]]],
+                 checks: Sequence[CheckLike] = ()) -> None:
+        """``checks``: the tolerance profile's checks, which name the check channels' columns."""
         self._runs = runs
         common = None
         for _station, columns in runs.values():
             names = [n for n in columns if n.endswith(_UNITS)]
             common = names if common is None else [n for n in common if n in names]
-        current = self.parameter.currentText()
+        current = self.parameter.currentData()
         self.parameter.blockSignals(True)
         self.parameter.clear()
-        self.parameter.addItems(common or [])
+        for column in common or []:
+            try:
+                text = column_name(column, checks).with_unit
+            except UnknownName:  # a check the profile no longer has: still comparable, by its column
+                text = column
+            self.parameter.addItem(text, column)
         self.parameter.blockSignals(False)
-        if current and current in (common or []):
-            self.parameter.setCurrentText(current)
+        if current is not None and self.parameter.findData(current) >= 0:
+            self.parameter.setCurrentIndex(self.parameter.findData(current))
         self.note.setText(f"{len(runs)} run{'s' if len(runs) != 1 else ''}"
                           + ("" if len(runs) > 1 else ": process more surveys of this track to compare them"))
         self.request_draw(now=not runs)
@@ -62,10 +72,10 @@ class RepeatabilityView(DrawWhenShown, QWidget):
         if item.legend is None:
             item.addLegend(offset=(-4, 2), brush=(255, 255, 255, 200))
         item.legend.clear()
-        column = self.parameter.currentText()
+        column = self.parameter.currentData()
         if not column:
             return
         for index, (name, (station, columns)) in enumerate(self._runs.items()):
             item.plot(station, columns[column], pen=plotstyle.pen(index), name=name)
-        item.setLabel("left", column)
+        item.setLabel("left", self.parameter.currentText())
         item.autoRange()

@@ -2,7 +2,9 @@
 keeps a readable height), a crosshair read-out of every value at the sleeper under the cursor
 with the rail and direction of each, a go-to field (sleeper number, K-chainage or station), a
 two-point measuring tool (its span can be marked as a track event: turnout, level crossing, ...),
-and the exceedance table (a click zooms every plot there).
+and the exceedance table (a click scrolls to the check's plot and zooms every plot there). The
+chainage axis, in K-chainage as the sleeper table prints it, is a ruler under the scrolled stack,
+in sight wherever the stack is scrolled. The read-out sits in a bar of fixed height: a long read-out never moves the plots under the mouse.
 
 Navigation: the wheel zooms along chainage only (the y axes fit what is visible, and keep their
 range during a pan while it shows all of that at 80 % of the height or more), dragging pans along
@@ -10,11 +12,13 @@ chainage, and neither can leave the surveyed chainage."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
 import pyqtgraph as pg
-from PySide6.QtCore import QLineF, QRectF, Qt, Signal
+from PySide6.QtCore import QLineF, QPoint, QRectF, Qt, Signal
+from PySide6.QtGui import QTextDocument
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QHBoxLayout,
@@ -31,6 +35,7 @@ from PySide6.QtWidgets import (
 
 from insrail.gui import plotstyle
 from insrail.gui.bands import EnvelopeLine
+from insrail.gui.chainage_axis import ChainageRuler
 from insrail.gui.lazy import DrawWhenShown
 from insrail.gui.views.exceedances import START_COLUMN, ExceedanceModel
 from insrail.project.plotdata import (
@@ -45,6 +50,7 @@ from insrail.project.plotdata import (
     plot_values,
 )
 from insrail.project.results import ExceedanceRow
+from insrail.report.content import ChainageAxis
 
 #: Checks whose plot starts hidden unless they have exceedances: each repeats what another plot
 #: shows (gauge, cant) or is a shorter-chord version of one shown; the Plots menu brings them back.
@@ -64,6 +70,8 @@ Y_MARGIN = 0.05
 Y_SLACK = 1.25
 #: The window a go-to shows when the current one is wider [m].
 GOTO_WINDOW_M = 100.0
+#: Lines of text the read-out bar holds (a longer read-out is cut there; its tooltip has all of it).
+READOUT_LINES = 3
 MEASURE_PENS = (pg.mkPen("#7B3294", width=1, style=Qt.DashDotLine), pg.mkPen("#008837", width=1, style=Qt.DashDotLine))
 
 
@@ -122,6 +130,8 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
 
     cursorMoved = Signal(float)
     clicked = Signal(str, float)  # plot key, station [m]
+    windowShown = Signal(float, float)  # the chainage window of the plots in view [m]
+    plotResized = Signal()  # a plot's data area moved or changed its size
     _window: tuple[float, float] | None = None  # the chainage window every plot follows [m] (none before data)
 
     def __init__(self, parent=None):
@@ -193,11 +203,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
                 low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
                 item.vb.setLimits(xMin=low, xMax=high, minXRange=MIN_WINDOW_M, maxXRange=high - low)
                 self._window = (low, high)  # the whole survey; a reused plot drops the previous one's window
-            if row == len(shown) - 1:
-                item.showAxis("bottom")
-                item.setLabel("bottom", "station [m]")
-            else:
-                item.hideAxis("bottom")  # one chainage axis under the stack (each axis costs a frame)
+            item.hideAxis("bottom")  # the chainage ruler under the stack is the plots' one axis
             self.plots[spec.key] = item
 
     def in_view(self) -> list[pg.ViewBox]:
@@ -233,6 +239,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             catching_up.append(source)
         self._fit_y(catching_up)
         self._synced.update(catching_up)
+        self.windowShown.emit(*window)
 
     def _fit_y(self, views: Sequence[pg.ViewBox]) -> None:
         """Each plot's y range fitted to what is visible along chainage and to its limits, from the
@@ -270,6 +277,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             item.vb.enableAutoRange(x=False, y=False)  # the window is set; no bounds searched during pans
             item.vb.sigXRangeChanged.connect(self._x_changed)
             item.vb.sigResized.connect(self.follow)  # laid out (or out) after a change of the stack
+            item.vb.sigResized.connect(self.plotResized)
             self._pool.append(item)
         for item in self._pool:
             item.clear()  # the previous survey's curves and lines
@@ -303,6 +311,10 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
     def showEvent(self, event) -> None:
         super().showEvent(event)
         self.follow()
+
+    def scroll_rect(self, key: str):
+        """Where plot ``key`` is in this widget (what the scroll area scrolls into view)."""
+        return self.mapFromScene(self.plots[key].sceneBoundingRect()).boundingRect()
 
     def highlight(self, low: float, high: float) -> None:
         if not self._regions:  # made at the first use: each item in a plot costs every pan frame
@@ -361,10 +373,12 @@ class TrackView(DrawWhenShown, QWidget):
     def __init__(self, parent=None):
         super().__init__(parent)
         self.plots = ChainagePlots()
-        self.readout = QLabel(READOUT_HINT)
+        self.readout = QLabel()  # the hint once there is something to read
         self.readout.setTextFormat(Qt.RichText)
         self.readout.setWordWrap(True)
+        self.readout.setAlignment(Qt.AlignLeft | Qt.AlignTop)
         self.readout.setTextInteractionFlags(Qt.TextSelectableByMouse)
+        self.readout.setFixedHeight(self._readout_height())
         self.goto = QLineEdit()
         self.goto.setPlaceholderText("Go to: #sleeper, K1+234.5 or station")
         self.goto.setToolTip("Go to a sleeper (#123), a chainage as printed on the sleepers (K1+234.5) or a "
@@ -414,12 +428,16 @@ class TrackView(DrawWhenShown, QWidget):
         self.scroll.setWidgetResizable(True)
         self.scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarAlwaysOff)
         self.scroll.setWidget(self.plots)
+        self.ruler = ChainageRuler()
+        self.plots.windowShown.connect(self.ruler.set_window)
+        self.plots.plotResized.connect(self._place_ruler)
         upper = QWidget()
         upper_layout = QVBoxLayout(upper)
         upper_layout.setContentsMargins(0, 0, 0, 0)
         upper_layout.addLayout(top)
         upper_layout.addWidget(self.measure_label)
         upper_layout.addWidget(self.scroll, 1)
+        upper_layout.addWidget(self.ruler)
         splitter = QSplitter(Qt.Vertical)
         splitter.addWidget(upper)
         splitter.addWidget(self.exceedances)
@@ -443,15 +461,18 @@ class TrackView(DrawWhenShown, QWidget):
         self._measured: list[tuple[str, float]] = []  # (plot key, station) of the measuring tool's points
         self._pending_range: tuple[float, float] | None = None  # a range to apply once drawn
         self._events: tuple[EventSpan, ...] = ()
+        self._chainage: ChainageAxis | None = None
+        self._pending_scroll: str | None = None  # the plot to scroll to once drawn
         self.plots.cursorMoved.connect(self.show_values_at)
         self.plots.clicked.connect(self._plot_clicked)
 
     def set_results(self, station_m: np.ndarray, number: np.ndarray, label: Sequence[str],
                     columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
                     exceedances: Sequence[ExceedanceRow], bands: Mapping[str, QualityBand] | None = None,
-                    survey: str = "", events: Sequence[EventSpan] = ()) -> None:
+                    survey: str = "", events: Sequence[EventSpan] = (), chainage: ChainageAxis | None = None) -> None:
         """Plain arrays (one per sleeper, in chainage order), the plots to draw from them, the
-        predicted-accuracy bands of some plots (by plot key) and the survey's events. The same
+        predicted-accuracy bands of some plots (by plot key), the survey's events and its chainage
+        axis (None: the axis in metres of station). The same
         ``survey`` again (processed once more) keeps the chainage window and the plots shown."""
         same = bool(survey) and survey == self.survey and bool(self._specs)
         state = self.view_state() if same else None
@@ -460,6 +481,8 @@ class TrackView(DrawWhenShown, QWidget):
         self._columns, self._specs, self._rows = columns, tuple(plots), tuple(exceedances)
         self._bands = dict(bands or {})
         self._events = tuple(events)
+        self._chainage = chainage
+        self._pending_scroll = None
         failing = {f"check_{e.check}" for e in self._rows}
         self._visible = {p.key for p in plots if p.kind not in HIDDEN_KINDS or p.key in failing}
         self._measured = []
@@ -469,7 +492,7 @@ class TrackView(DrawWhenShown, QWidget):
         self._fill_plots_menu()
         self.request_draw(now=not len(self._station))
         self._fill_table()
-        self.readout.setText(READOUT_HINT if len(self._station) else "")
+        self._set_readout(READOUT_HINT if len(self._station) else "")
         if state is not None:
             self.restore_state(state)
 
@@ -519,8 +542,14 @@ class TrackView(DrawWhenShown, QWidget):
         self.request_draw()
 
     def _draw(self) -> None:
+        self.ruler.set_chainage(self._chainage)
         self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands, self._events)
+        self.ruler.setVisible(bool(self.plots.plots))
+        self._place_ruler()
         self.plots.mark_measure([station for _, station in self._measured])
+        pending, self._pending_scroll = self._pending_scroll, None
+        if pending in self.plots.plots:
+            self._scroll_to_plot(pending)
         self._apply_pending_range()
 
     # ------------------------------------------------------------------ exceedances
@@ -538,19 +567,61 @@ class TrackView(DrawWhenShown, QWidget):
         return self.exceedance_model.exceedance_at(table_row)
 
     def zoom_to_exceedance(self, index: int) -> None:
-        """Zoom every plot to exceedance ``index`` (in the order of the results, not of the table)."""
+        """Scroll to the plot of exceedance ``index`` (in the order of the results, not of the table),
+        shown again if it was hidden, and zoom every plot to the exceedance."""
         if not 0 <= index < len(self._rows):
             return
         e = self._rows[index]
+        key = f"check_{e.check}"
+        if key not in self._visible and any(spec.key == key for spec in self._specs):
+            self.set_plot_visible(key, True)
+            self._fill_plots_menu()
+        if key in self.plots.plots and not self.stale:
+            self._scroll_to_plot(key)  # first: the window goes to the plots then in view
+        else:
+            self._pending_scroll = key
         low, high = exceedance_window(e.station_from_m, e.station_to_m)
-        self.plots.set_x_range(low, high)
+        if self.stale:  # drawn later (hidden, or a plot shown again): the window waits for it
+            self._pending_range = (low, high)
+        else:
+            self.plots.set_x_range(low, high)
         self.plots.highlight(min(e.station_from_m, e.station_to_m), max(e.station_from_m, e.station_to_m))
         centre = 0.5 * (e.station_from_m + e.station_to_m)
         self.plots.set_cursor(centre)
         self.show_values_at(centre)
         self.exceedanceSelected.emit(e.first_sleeper, e.last_sleeper)
 
+    def _place_ruler(self) -> None:
+        """The ruler's axis under the plots' data area (their view boxes share one left edge)."""
+        if not self.plots.plots:
+            return
+        view = next(iter(self.plots.plots.values())).vb
+        area = self.plots.mapFromScene(view.sceneBoundingRect()).boundingRect()
+        left = self.plots.mapTo(self, area.topLeft()).x() - self.ruler.mapTo(self, QPoint(0, 0)).x()
+        self.ruler.place(left, area.width())
+
+    def resizeEvent(self, event) -> None:
+        super().resizeEvent(event)
+        self._place_ruler()
+
+    def _scroll_to_plot(self, key: str) -> None:
+        rect = self.plots.scroll_rect(key)
+        self.scroll.ensureVisible(rect.center().x(), rect.center().y(), 0, rect.height() // 2)
+
     # ------------------------------------------------------------------ reading values
+
+    def _readout_height(self) -> int:
+        """READOUT_LINES lines of the read-out as it is set (bold names), and no more: a cut line
+        would show half its letters."""
+        lines = QTextDocument()
+        lines.setDefaultFont(self.readout.font())
+        lines.setDocumentMargin(0)
+        lines.setHtml("<br>".join(["<b>K1+000.000</b> sleeper 1"] * READOUT_LINES))
+        return math.ceil(lines.size().height()) + 2 * self.readout.margin()
+
+    def _set_readout(self, text: str) -> None:
+        self.readout.setText(text)
+        self.readout.setToolTip(text)  # all of it, where the bar cuts a long one
 
     def go_to(self, text: str) -> bool:
         """Centre the plots on the sleeper ``text`` names (see :func:`insrail.project.plotdata.locate`);
@@ -580,7 +651,7 @@ class TrackView(DrawWhenShown, QWidget):
             values = ", ".join(f"{label} {value:+.2f}" if label else f"{value:+.2f}"
                                for label, value in plot_values(spec, self._columns, i))
             parts.append(f"<b>{spec.title}</b>: {values} {spec.unit}")
-        self.readout.setText(" &nbsp;|&nbsp; ".join(parts))
+        self._set_readout(" &nbsp;|&nbsp; ".join(parts))
 
     def _measure_toggled(self, on: bool) -> None:
         self._measured = []
