@@ -24,8 +24,6 @@ from reportlab.lib import colors
 from reportlab.lib.pagesizes import A3, A4, landscape
 from reportlab.lib.styles import ParagraphStyle, getSampleStyleSheet
 from reportlab.lib.units import mm
-from reportlab.pdfbase import pdfmetrics
-from reportlab.pdfbase.cidfonts import UnicodeCIDFont
 from reportlab.pdfgen.canvas import Canvas
 from reportlab.platypus import (
     BaseDocTemplate,
@@ -70,7 +68,6 @@ from insrail.report.charts import (
 )
 from insrail.report.content import (
     ADJUSTMENT_KEYS,
-    DEVIATION_GROUP,
     OTHER_CHECKS_GROUP,
     RAIL_KINDS,
     SEVERITIES,
@@ -88,6 +85,8 @@ from insrail.report.content import (
     survey_start,
     threshold_text,
 )
+from insrail.report.fonts import font_for, helvetica_can_show, register_cjk
+from insrail.report.labels import deviation_reference
 from insrail.track.exceedance import RAILS
 
 #: [report] paper -> the page (landscape), width and height in points
@@ -96,7 +95,6 @@ MARGIN = 14 * mm
 CHART_RANGE_M = 500.0  # the longest chainage span of a chart page
 CHART_ROUND_M = 50.0  # chart spans start on and last a multiple of this
 CHART_MIN_HEIGHT = 24 * mm  # a chart is never drawn lower (pages hold as many as fit)
-CJK_FONT = "STSong-Light"  # an Adobe CID font every PDF viewer provides; Helvetica has no CJK glyphs
 def page_size(content: ReportContent) -> tuple[float, float]:
     """The report's page (width, height) in points: the project's paper, landscape."""
     return PAGES[content.project.report.paper]
@@ -138,33 +136,19 @@ KEY_VALUE_STYLE = TableStyle([
 ])
 
 
-def _helvetica_can_show(character: str) -> bool:
-    try:
-        character.encode("cp1252")
-    except UnicodeEncodeError:
-        return False
-    return True
-
-
 def text(value) -> str:
     """Paragraph markup for any text: escaped, the runs Helvetica cannot show (Chinese, σ) in a CJK font
     and the rest in the paragraph's own font."""
     value = str(value)
-    runs = itertools.groupby(value, _helvetica_can_show)
+    runs = itertools.groupby(value, helvetica_can_show)
     parts = []
     for shown, characters in runs:
         run = escape("".join(characters))
         if shown:
             parts.append(run)
         else:
-            _register_cjk()
-            parts.append(f'<font name="{CJK_FONT}">{run}</font>')
+            parts.append(f'<font name="{register_cjk()}">{run}</font>')
     return "".join(parts)
-
-
-def _register_cjk() -> None:
-    if CJK_FONT not in pdfmetrics.getRegisteredFontNames():
-        pdfmetrics.registerFont(UnicodeCIDFont(CJK_FONT))
 
 
 def _cell(value, style: ParagraphStyle = SMALL) -> Paragraph:
@@ -354,7 +338,8 @@ def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
         ("IMU", _instrument(_imu(content), report.imu_calibrated)),
         ("Coordinate system", crs_text(project.crs)),
         ("Height datum", height_text(content)),
-        ("Design", project.design or "none: fitted line types, deviations measured - best"),
+        ("Design", f"{project.design}; deviations {deviation_reference(content.summary)}" if project.design
+         else f"none: fitted line types, deviations {deviation_reference(content.summary)}"),
         ("Tolerance profile", f"{profile.description or profile.name} ({profile.name}); {profile.source}"),
         ("Operator", _not_stated(report.operator)),
     ]
@@ -673,10 +658,11 @@ def _predicted_accuracy(content: ReportContent) -> list[Flowable]:
 def chart_specs(content: ReportContent) -> list[StripChart]:
     """The quantities drawn along chainage, in the order of the sleeper table, titled with their display names."""
     c = {column.key: column for column in content.columns}
-    charts = [StripChart(f"Lateral deviation {DEVIATION_GROUP.removeprefix('Deviation ')}", "mm",
+    reference = deviation_reference(content.summary)
+    charts = [StripChart(f"Lateral deviation, {reference}", "mm",
                          (Series("left rail", c["lateral_deviation_left_mm"].values),
                           Series("right rail", c["lateral_deviation_right_mm"].values))),
-              StripChart(f"Vertical deviation {DEVIATION_GROUP.removeprefix('Deviation ')}", "mm",
+              StripChart(f"Vertical deviation, {reference}", "mm",
                          (Series("left rail", c["vertical_deviation_left_mm"].values),
                           Series("right rail", c["vertical_deviation_right_mm"].values)))]
     profile_checks = {check.name: check for check in content.profile.checks}
@@ -895,11 +881,11 @@ def _on_page(canvas: Canvas, doc) -> None:
     page_width, page_height = doc.pagesize
     top = page_height - MARGIN + 6
     canvas.line(MARGIN, top - 3, page_width - MARGIN, top - 3)
-    canvas.setFont(_font_for(doc.report_title), 8)
+    canvas.setFont(font_for(doc.report_title), 8)
     canvas.drawString(MARGIN, top, doc.report_title)
     canvas.setFont("Helvetica-Bold", 8)
     canvas.drawRightString(page_width - MARGIN, top, getattr(canvas, "_insrail_heading", ""))
-    canvas.setFont(_font_for(doc.report_footer), 8)
+    canvas.setFont(font_for(doc.report_footer), 8)
     canvas.drawString(MARGIN, MARGIN - 16, doc.report_footer)
     canvas.restoreState()
 
@@ -916,16 +902,6 @@ def _layout_progress(progress: StepProgress, cancel: CancelToken) -> Callable[[s
             progress(min(value / total[0], 1.0), "laying out the pages")
 
     return callback
-
-
-def _font_for(value: str) -> str:
-    """Helvetica, or the CJK font for text Helvetica cannot show (a project named in Chinese)."""
-    try:
-        value.encode("cp1252")
-    except UnicodeEncodeError:
-        _register_cjk()
-        return CJK_FONT
-    return "Helvetica"
 
 
 def write_pdf(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
