@@ -4,7 +4,8 @@ A3 or A4 as the workbook, vector charts).
 Order: cover; survey and processing summary (data spans, GNSS availability and outages, fusion
 quality, heights, assessment, TQI per section, predicted accuracy per section); charts along chainage, one range of
 ``CHART_RANGE_M`` per page group with the range in the page header; the plan view; any extra
-sections (``sections``: e.g. repeatability when several runs exist); the exceedance table. Every
+sections (``sections``: e.g. repeatability when several runs exist); the exceedance table; the adjustment
+amounts per sleeper and rail (the workbook's, :mod:`insrail.report.labels`). Every
 page carries the project and survey, its section or chainage range and "page i of n".
 """
 
@@ -42,7 +43,15 @@ from reportlab.platypus import (
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.names import UnknownName, check_name, column_name, quantity_name, rail_direction
+from insrail.names import (
+    UnknownName,
+    check_name,
+    column_name,
+    fastener_name,
+    profile_name,
+    quantity_name,
+    rail_direction,
+)
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.notices import notices_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
@@ -73,8 +82,10 @@ from insrail.report.content import (
     SEVERITIES,
     SEVERITY_RULE,
     ReportContent,
+    adjustment_work,
     after_adjustment_text,
     check_description,
+    crew_sections,
     exceedance_check,
     exceedance_display,
     exceedances_by_severity,
@@ -86,7 +97,7 @@ from insrail.report.content import (
     threshold_text,
 )
 from insrail.report.fonts import font_for, helvetica_can_show, register_cjk
-from insrail.report.labels import deviation_reference
+from insrail.report.labels import amounts_text, deviation_reference
 from insrail.track.exceedance import RAILS
 
 #: [report] paper -> the page (landscape), width and height in points
@@ -340,7 +351,7 @@ def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
         ("Height datum", height_text(content)),
         ("Design", f"{project.design}; deviations {deviation_reference(content.summary)}" if project.design
          else f"none: fitted line types, deviations {deviation_reference(content.summary)}"),
-        ("Tolerance profile", f"{profile.description or profile.name} ({profile.name}); {profile.source}"),
+        ("Tolerance profile", f"{profile_name(profile)}; {profile.source}"),
         ("Operator", _not_stated(report.operator)),
     ]
 
@@ -354,7 +365,7 @@ def _exceedance_conclusion(content: ReportContent) -> list[Flowable]:
     total = sum(len(rows) for _, rows in groups)
     valid = int(content.valid.sum())
     if not total:
-        return [Paragraph(f"<b>No sleeper is beyond a limit</b> of tolerance profile {text(content.profile.name)} "
+        return [Paragraph(f"<b>No sleeper is beyond a limit</b> of tolerance profile {text(profile_name(content.profile))} "
                           f"({valid} valid sleepers assessed).", BODY)]
     severities = [name for name, _ in SEVERITIES]
     counts: dict[str, dict[str, int]] = {}
@@ -417,7 +428,8 @@ def _adjustment_conclusion(content: ReportContent) -> str:
     adjustment = content.summary.get("adjustment", {})
     amounts = [content.column(key).values for key in ADJUSTMENT_KEYS]
     moving = int(np.count_nonzero(np.any([np.nan_to_num(a) != 0 for a in amounts], axis=0)))
-    fastener = content.fastener.description or content.fastener.name if content.fastener else adjustment.get("fastener", "")
+    fastener = (content.fastener.description or fastener_name(content.fastener) if content.fastener
+                else fastener_name(None, adjustment.get("fastener", "")))
     unresolved = adjustment.get("unresolved_sleepers", 0)
     return (f"{moving} sleepers to adjust ({fastener}); largest lateral {_fmt(adjustment.get('max_lateral_mm'), 1, 'mm')}, "
             f"vertical {_fmt(adjustment.get('max_vertical_mm'), 1, 'mm')}; total movement "
@@ -551,7 +563,7 @@ def _processing(content: ReportContent, trajectory: dict | None) -> list[Flowabl
                              key_values(rows, widths=(45 * mm, 215 * mm))]
     story += _local_control_table(s.get("local_control"))
     story += [Paragraph("Tolerance profile", H2),
-              Paragraph(text(f"{content.profile.name}: {content.profile.description}"), BODY)]
+              Paragraph(text(profile_name(content.profile)), BODY)]
     counts = s.get("assessment", {}).get("by_check", {})
     story.append(table(["check", "what", "limit", "exceedances"],
                        [[check_name(c), check_description(c), limits_text(c), counts.get(c.name, 0)]
@@ -815,12 +827,60 @@ def _exceedances(content: ReportContent) -> list[Flowable]:
     return story + _events(content)
 
 
+#: The PDF's adjustment table: titles and widths; the amounts as the crew's sheet (0 written out).
+ADJUSTMENT_TITLES = ["no.", "sleeper", "chainage", "rail", "lateral (mm)", "vertical (mm)", "fastener parts",
+                     "checks still failed"]
+ADJUSTMENT_WIDTHS = [12 * mm, 18 * mm, 28 * mm, 14 * mm, 20 * mm, 20 * mm, 95 * mm, 60 * mm]
+
+
+def _amount(value: float) -> str:
+    return f"{value:+.0f}" if round(value) else "0"
+
+
+def _adjustment(content: ReportContent) -> list[Flowable]:
+    """The amounts per sleeper and rail, as the workbook's crew sheet lists them, one table per work section."""
+    story: list[Flowable] = [Heading("Adjustment"), Paragraph("Adjustment amounts", H1),
+                             Paragraph(text("Amounts: " + amounts_text(content.summary, content.profile, content.fastener)
+                                            + "."), BODY),
+                             Paragraph(_adjustment_conclusion(content), BODY)]
+    work = adjustment_work(content)
+    work_sections = crew_sections(content, work)
+    if not work_sections:
+        return story + [Paragraph("No rail to move: every check of the tolerance profile passes as measured.", BODY)]
+    numbers, labels = content.column("number").values, content.column("label").values
+    notes = content.column("unresolved").values
+    count, previous = 0, None
+    for section in work_sections:
+        first, last = section.rows[0].sleeper, section.rows[-1].sleeper
+        rows: list[list] = [[_cell(title) for title in ADJUSTMENT_TITLES]]
+        for row in section.rows:
+            if row.sleeper != previous:
+                count, previous = count + 1, row.sleeper
+            parts = "; ".join(f"{direction}: {part}" for direction, part in (("lateral", row.lateral_parts),
+                                                                            ("vertical", row.vertical_parts)) if part)
+            note = str(notes[row.sleeper])
+            rows.append([str(count), str(int(numbers[row.sleeper])), text_cell(labels[row.sleeper]), RAILS[row.rail],
+                         _amount(row.lateral_mm), _amount(row.vertical_mm), _cell(parts) if parts else "",
+                         _cell(note) if note else ""])
+        story += [CondPageBreak(40 * mm),
+                  Paragraph(text(f"Work section {section.number} of {len(work_sections)}: {labels[first]} – "
+                                 f"{labels[last]}"), H2),
+                  Table(rows, colWidths=ADJUSTMENT_WIDTHS, repeatRows=1, style=TABLE_STYLE, hAlign="LEFT")]
+    return story
+
+
+def text_cell(value) -> str | Paragraph:
+    """A table cell: the text itself where Helvetica shows it (quick to lay out), else a paragraph."""
+    value = str(value)
+    return value if helvetica_can_show(value) else _cell(value)
+
+
 def _compared_name(content: ReportContent, column: str) -> str:
     """The display name of a compared sleepers.csv column."""
     try:
         return column_name(column, content.profile.checks).name
     except UnknownName:  # a check of the profile the runs were compared with, no longer in the project's
-        return f"{column} (a check no longer in tolerance profile {content.profile.name})"
+        return f"{column} (a check no longer in tolerance profile {profile_name(content.profile)})"
 
 
 def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Section:
@@ -925,7 +985,7 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     story += _plan(content)
     for section in sections:
         story += section(content) + [PageBreak()]
-    story += _exceedances(content)
+    story += _exceedances(content) + [PageBreak()] + _adjustment(content)
     check_cancel(cancel)
     step(0.5, "laying out the pages")
     with atomic_write(path, "wb") as handle:
@@ -933,7 +993,7 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
         doc = BaseDocTemplate(handle, pagesize=page, leftMargin=MARGIN, rightMargin=MARGIN, topMargin=MARGIN,
                               bottomMargin=MARGIN, title=f"{project.name} - {results.survey}: track geometry survey report",
                               author=content.software, creator=content.software)
-        doc.report_title = f"{project.name} - survey {results.survey} - {content.profile.name}"
+        doc.report_title = f"{project.name} - survey {results.survey} - {profile_name(content.profile)}"
         doc.report_footer = f"{content.software}; results {results.folder.name}"
         frame = Frame(MARGIN, MARGIN, page[0] - 2 * MARGIN, page[1] - 2 * MARGIN, leftPadding=0, rightPadding=0,
                       topPadding=0, bottomPadding=0)
