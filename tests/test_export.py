@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from report_support import INVALID, SURVEY, shared_project, stored
+from report_support import INVALID, SURVEY, saved_project, stored
 
 from insrail.cli.main import main
 from insrail.export.dxf import (
@@ -25,11 +25,7 @@ from insrail.project.model import save_project
 
 @pytest.fixture(scope="module")
 def project(tmp_path_factory):
-    project = shared_project(tmp_path_factory)
-    (project.folder / "surveys" / SURVEY).mkdir(parents=True, exist_ok=True)
-    (project.folder / "surveys" / SURVEY / "survey.toml").touch()
-    save_project(project)
-    return project
+    return saved_project(tmp_path_factory)
 
 
 def export(project, fmt, path, capsys):

@@ -13,11 +13,10 @@ import ezdxf
 import numpy as np
 import pytest
 from openpyxl import load_workbook
-from report_support import SURVEY, shared_project, stored
+from report_support import SURVEY, saved_project, stored
 
 from insrail.cli.main import main
 from insrail.export.dxf import ADJUSTMENT_LAYER, INFO_LAYER
-from insrail.project.model import save_project
 from insrail.report import write_pdf, write_workbook
 
 RAILS = ("left", "right")
@@ -27,11 +26,7 @@ needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None, reason="po
 
 @pytest.fixture(scope="module")
 def project(tmp_path_factory):
-    project = shared_project(tmp_path_factory)
-    (project.folder / "surveys" / SURVEY).mkdir(parents=True, exist_ok=True)
-    (project.folder / "surveys" / SURVEY / "survey.toml").touch()
-    save_project(project)
-    return project
+    return saved_project(tmp_path_factory)
 
 
 def _number(text: str) -> float:

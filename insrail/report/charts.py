@@ -15,8 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 from reportlab.graphics.shapes import Circle, Drawing, Line, PolyLine, Rect, String
 from reportlab.lib import colors
+from reportlab.pdfbase.pdfmetrics import stringWidth
 
-from insrail.report.fonts import font_for
+from insrail.report.fonts import font_for, font_runs
 
 SERIES_COLOURS = (colors.HexColor("#1f4e9c"), colors.HexColor("#d9641e"), colors.HexColor("#2b8a3e"))
 LIMIT_COLOUR = colors.HexColor("#c0141e")
@@ -202,7 +203,10 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
     title = f"{chart.title} ({chart.unit})" if chart.unit else chart.title
     if chart.limits is not None:
         title += "   - - limit" + ("   red: exceedances" if chart.exceeding is not None and chart.exceeding[window].any() else "")
-    drawing.add(String(left, height - 10, title, fontName=font_for(title, "Helvetica-Bold"), fontSize=8))
+    x = left
+    for run, font in font_runs(title, "Helvetica-Bold"):
+        drawing.add(String(x, height - 10, run, fontName=font, fontSize=8))
+        x += stringWidth(run, font, 8)
     x = left + plot_w
     legend = [(colour, series.name) for colour, series in zip(SERIES_COLOURS, chart.series)] if len(chart.series) > 1 else []
     for colour, name in reversed(legend):

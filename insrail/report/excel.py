@@ -39,7 +39,6 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
 from insrail.report.content import (
-    ADJUSTMENT_KEYS,
     SEVERITY_RULE,
     Column,
     ReportContent,

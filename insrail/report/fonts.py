@@ -5,6 +5,8 @@ subset of the glyphs used, so a viewer without CJK system fonts shows the text, 
 
 from __future__ import annotations
 
+import itertools
+
 from reportlab.pdfbase import pdfmetrics
 from reportlab.pdfbase.ttfonts import TTFont
 
@@ -33,3 +35,10 @@ def register_cjk() -> str:
 def font_for(text: str, font: str = "Helvetica") -> str:
     """``font`` for text it can show, else the CJK font (which has Latin too: one string, one font)."""
     return font if helvetica_can_show(text) else register_cjk()
+
+
+def font_runs(text: str, font: str = "Helvetica") -> list[tuple[str, str]]:
+    """(run, font) of ``text``: ``font`` where it shows the characters, the CJK font for the rest (a
+    bold title keeps its weight but for a "−" or a Chinese word)."""
+    return [("".join(run), font if shown else register_cjk())
+            for shown, run in itertools.groupby(text, helvetica_can_show)]

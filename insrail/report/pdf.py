@@ -12,7 +12,6 @@ page carries the project and survey, its section or chainage range and "page i o
 from __future__ import annotations
 
 import datetime
-import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -96,7 +95,7 @@ from insrail.report.content import (
     survey_start,
     threshold_text,
 )
-from insrail.report.fonts import font_for, helvetica_can_show, register_cjk
+from insrail.report.fonts import font_for, font_runs, helvetica_can_show
 from insrail.report.labels import amounts_text, deviation_reference
 from insrail.track.exceedance import RAILS
 
@@ -106,6 +105,7 @@ MARGIN = 14 * mm
 CHART_RANGE_M = 500.0  # the longest chainage span of a chart page
 CHART_ROUND_M = 50.0  # chart spans start on and last a multiple of this
 CHART_MIN_HEIGHT = 24 * mm  # a chart is never drawn lower (pages hold as many as fit)
+PARAGRAPH_FONT = "Helvetica"  # the paragraphs' own font (a run in it keeps the paragraph's weight)
 def page_size(content: ReportContent) -> tuple[float, float]:
     """The report's page (width, height) in points: the project's paper, landscape."""
     return PAGES[content.project.report.paper]
@@ -150,16 +150,8 @@ KEY_VALUE_STYLE = TableStyle([
 def text(value) -> str:
     """Paragraph markup for any text: escaped, the runs Helvetica cannot show (Chinese, σ) in a CJK font
     and the rest in the paragraph's own font."""
-    value = str(value)
-    runs = itertools.groupby(value, helvetica_can_show)
-    parts = []
-    for shown, characters in runs:
-        run = escape("".join(characters))
-        if shown:
-            parts.append(run)
-        else:
-            parts.append(f'<font name="{register_cjk()}">{run}</font>')
-    return "".join(parts)
+    return "".join(escape(run) if font == PARAGRAPH_FONT else f'<font name="{font}">{escape(run)}</font>'
+                   for run, font in font_runs(str(value), PARAGRAPH_FONT))
 
 
 def _cell(value, style: ParagraphStyle = SMALL) -> Paragraph:
