@@ -237,13 +237,8 @@ class _Sheet:
             self._heights[row] = _header_height(titles, self.widths)
             self.sheet.row_dimensions[row].height = self._heights[row]
 
-    def start(self, widths: list[float], freeze: str | None = None, paper: str = "A3",
-              page_header: tuple[str, str, str] = ("", "", ""), orientation: str = "landscape",
-              scale: int | None = None) -> None:
-        """Fix the layout (column widths, frozen panes, printing) and write the rows held so far.
-
-        A column is widened where the longest word of a title above it would not fit (nothing in a
-        header is clipped or broken inside a word), and each header row is as high as its titles wrap."""
+    def fitted_widths(self, widths: list[float]) -> list[float]:
+        """``widths`` with every column widened where the longest word of a header title above it would not fit."""
         widths = list(widths)
         for titles in [*self._header_titles.values(), *self._later_titles]:
             column = 0
@@ -251,6 +246,28 @@ class _Sheet:
                 if span == 1 and column < len(widths):
                     widths[column] = max(widths[column], _longest_word(title) * BOLD_CHARACTER_WIDTH + 1.5)
                 column += span
+        return widths
+
+    def long_pair(self, label: str, text: str) -> tuple[int, str]:
+        """A label and a long text wrapped in its cell (at the header block's value column); (row, text) for
+        :meth:`wrap_over`."""
+        return self.append([self.cell(label, font=BOLD), None, None, None,
+                            self.cell(text, alignment=Alignment(wrap_text=True, vertical="top"))]), text
+
+    def wrap_over(self, row: int, text: str, widths: list[float], first: int, stop: int) -> None:
+        """Merge a :meth:`long_pair` text's cell over columns [first, stop) (0-based) and make its row as high as
+        the text wraps there (before :meth:`start`)."""
+        self.sheet.merged_cells.add(f"{get_column_letter(first + 1)}{row}:{get_column_letter(stop)}{row}")
+        self.set_height(row, LINE_HEIGHT_PT * _wrapped_lines(text, sum(widths[first:stop]), BODY_CHARACTER_WIDTH) + 2.0)
+
+    def start(self, widths: list[float], freeze: str | None = None, paper: str = "A3",
+              page_header: tuple[str, str, str] = ("", "", ""), orientation: str = "landscape",
+              scale: int | None = None) -> None:
+        """Fix the layout (column widths, frozen panes, printing) and write the rows held so far.
+
+        A column is widened where the longest word of a title above it would not fit (nothing in a
+        header is clipped or broken inside a word), and each header row is as high as its titles wrap."""
+        widths = self.fitted_widths(widths)
         self.widths = widths
         for row, titles in self._header_titles.items():
             self._heights[row] = _header_height(titles, widths)
@@ -427,8 +444,7 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
                 ("Design", project.design or "fitted lines (no design alignment)"))
     sheet.pairs(("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"), ("Software", content.software),
                 ("Operator", content.project.report.operator or "not stated"))
-    # the limits run on over the empty cells of their row (kept within the table's width: it sets the print scale)
-    sheet.pairs(("Limits", "; ".join(f"{check_name(c)} {limits_text(c)}" for c in profile.checks)), anchors=(0, 4))
+
 
 
 # --------------------------------------------------------------------------- sleepers
@@ -437,17 +453,22 @@ def _sleeper_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     _header_block(sheet, content, "Track geometry per sleeper")
     sheet.pairs(("Legend", sheet.cell("beyond a limit", fill=EXCEEDANCE_FILL)),
                 ("", sheet.cell("invalid sleeper", fill=INVALID_FILL)))
-    sheet.pairs(("Deviations", f"{deviation_reference(content.summary)}: where the rail is ({SIGNS})"), anchors=(0, 4))
-    sheet.pairs(("Adjustment", amounts_text(content.summary, content.profile, content.fastener)), anchors=(0, 4))
+    long_texts = [sheet.long_pair("Limits", "; ".join(f"{check_name(c)} {limits_text(c)}" for c in content.profile.checks)),
+                  sheet.long_pair("Deviations", f"{deviation_reference(content.summary)}: where the rail is ({SIGNS})"),
+                  sheet.long_pair("Adjustment", amounts_text(content.summary, content.profile, content.fastener))]
     columns = content.columns
     first_header = sheet.group_header([column.group for column in columns])
     sheet.header([limits_text_for(column) for column in columns])
     header = sheet.header([f"{c.title} ({c.unit})" if c.unit else c.title for c in columns])
-    _start(sheet, content, [c.width for c in columns], freeze=f"E{header + 1}", scale=SLEEPER_PRINT_SCALE)
-    # printed in readable column groups: the sleeper's identity on every page, a page break between groups
-    paper = content.project.report.paper
-    for first in column_pages(sheet.widths, [c.group for c in columns], SLEEPER_TITLE_COLUMNS,
-                              printable_width_mm(paper, "landscape") * 100 / SLEEPER_PRINT_SCALE)[1:]:
+    # printed in readable column groups: the sleeper's identity on every page, a page break between groups; the
+    # long texts above wrapped within the first page
+    widths = sheet.fitted_widths([c.width for c in columns])
+    starts = column_pages(widths, [c.group for c in columns], SLEEPER_TITLE_COLUMNS,
+                          printable_width_mm(content.project.report.paper, "landscape") * 100 / SLEEPER_PRINT_SCALE)
+    for row, text in long_texts:
+        sheet.wrap_over(row, text, widths, BLOCK_ANCHORS[1], starts[1] if len(starts) > 1 else len(columns))
+    _start(sheet, content, widths, freeze=f"E{header + 1}", scale=SLEEPER_PRINT_SCALE)
+    for first in starts[1:]:
         sheet.sheet.col_breaks.append(Break(id=first, max=1048575))
     sheet.sheet.print_title_cols = f"A:{get_column_letter(SLEEPER_TITLE_COLUMNS)}"
 
