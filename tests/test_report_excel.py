@@ -436,3 +436,20 @@ def test_the_workbook_writer_holds_no_more_for_a_longer_survey(tmp_path_factory,
 
     short, long = peak_growth_bytes(run, 550)
     assert long - short < 1024 * 550 + 64 * 1024, (short, long)
+
+
+def test_work_sections_are_work_sites_of_at_most_100_m(project):
+    from insrail.report.content import WORK_SECTION_GAP_M, WORK_SECTION_M, crew_sections
+
+    content = load_report_content(project, stored(project))
+    station = content.station_m
+    sections = crew_sections(content)
+    assert len(sections) > 1 and [s.number for s in sections] == list(range(1, len(sections) + 1))
+    for section in sections:
+        stations = station[[row.sleeper for row in section.rows]]
+        assert np.all(np.diff(stations) >= 0) and stations[-1] - stations[0] < WORK_SECTION_M
+        assert np.all(np.diff(stations) <= WORK_SECTION_GAP_M)
+    for before, after in zip(sections, sections[1:]):
+        first = station[before.rows[0].sleeper]
+        gap = station[after.rows[0].sleeper] - station[before.rows[-1].sleeper]
+        assert gap > WORK_SECTION_GAP_M or station[after.rows[0].sleeper] - first >= WORK_SECTION_M
