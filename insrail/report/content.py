@@ -448,11 +448,19 @@ class CrewRow:
     """One line of the crew's sheet: one rail of one sleeper with an amount [mm] (+ right / + up)."""
 
     sleeper: int  # index into the sleeper table
+    count: int  # the sleeper's place in working order (1, 2, ...)
     rail: int  # 0 left, 1 right
     lateral_mm: float
     vertical_mm: float
     lateral_parts: str
     vertical_parts: str
+    failing: str  # why a check still fails at this rail after the adjustment ("" where none)
+
+    @property
+    def parts(self) -> tuple[str, ...]:
+        """The parts of each amount, named by its direction ("lateral: outer block No. 9→7; ...")."""
+        return tuple(f"{direction}: {text}" for direction, text in (("lateral", self.lateral_parts),
+                                                                   ("vertical", self.vertical_parts)) if text)
 
 
 @dataclass(frozen=True)
@@ -469,6 +477,7 @@ def crew_sections(content: ReportContent, work: AdjustmentWork | None = None) ->
     amount, split into work sections (every amount exactly as in sleepers.csv)."""
     work = work or adjustment_work(content)
     keys = {key: k for k, key in enumerate(ADJUSTMENT_KEYS)}
+    notes = content.column("unresolved").values
     rows: list[list[CrewRow]] = []
     previous = first = None
     for position, sleeper in enumerate(work.order):
@@ -481,10 +490,18 @@ def crew_sections(content: ReportContent, work: AdjustmentWork | None = None) ->
             lateral = work.amounts_mm[position, keys[f"adjust_lateral_{name}_mm"]]
             vertical = work.amounts_mm[position, keys[f"adjust_vertical_{name}_mm"]]
             if lateral or vertical:
-                rows[-1].append(CrewRow(int(sleeper), rail, float(lateral), float(vertical),
+                rows[-1].append(CrewRow(int(sleeper), position + 1, rail, float(lateral), float(vertical),
                                         work.parts[position][keys[f"adjust_lateral_{name}_mm"]],
-                                        work.parts[position][keys[f"adjust_vertical_{name}_mm"]]))
+                                        work.parts[position][keys[f"adjust_vertical_{name}_mm"]],
+                                        rail_note(str(notes[sleeper]), name)))
     return [WorkSection(number, tuple(section)) for number, section in enumerate(rows, start=1)]
+
+
+def rail_note(note: str, rail: str) -> str:
+    """The parts of a sleeper's "checks still failed" note about one rail ("lateral left: ..."; "yes" stays)."""
+    if note in ("", "yes"):
+        return note
+    return "; ".join(part for part in note.split("; ") if f" {rail}:" in part)
 
 
 def threshold_text(summary: dict) -> str:

@@ -553,13 +553,6 @@ def _note(sheet: _Sheet, text: str, widths: Sequence[float], font: Font | None =
     sheet.set_height(row, LINE_HEIGHT_PT * _wrapped_lines(text, sum(widths), letters) + 2.0)
 
 
-def _rail_notes(note: str, rail: str) -> str:
-    """The parts of a sleeper's "checks still failed" note about one rail ("yes" stays)."""
-    if note in ("", "yes"):
-        return note
-    return "; ".join(part for part in note.split("; ") if f" {rail}:" in part or f" {rail} " in part)
-
-
 def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
     """The crew's sheet: A4 portrait, 11 pt at 100 %, one line per rail to move, a page per work section."""
     widths = CREW_WIDTHS
@@ -578,13 +571,11 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
     work = adjustment_work(content)
     work_sections = crew_sections(content, work)
     numbers, labels = content.column("number").values, content.column("label").values
-    notes = content.column("unresolved").values
     plain, bold, amount = sheet.style_id(), sheet.style_id(font=BOLD), sheet.style_id("+0;-0;")
     wrapped, red = sheet.style_id(alignment=WRAPPED), sheet.style_id(font=RED_FONT, alignment=WRAPPED)
     columns: list[list] = [[] for _ in CREW_TITLES]
     styles: list[list[int]] = [[] for _ in CREW_TITLES]
     heights: list[float | None] = []
-    count, previous = 0, None
     for section in work_sections:
         first, last = section.rows[0].sleeper, section.rows[-1].sleeper
         sleepers = len({row.sleeper for row in section.rows})
@@ -599,19 +590,13 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
             styles[k].append(bold)
         heights.append(LINE_HEIGHT_PT + 6.0)
         for row in section.rows:
-            if row.sleeper != previous:
-                count, previous = count + 1, row.sleeper
-            rail = RAILS[row.rail]
-            parts = [f"{direction}: {text}" for direction, text in (("lateral", row.lateral_parts),
-                                                                   ("vertical", row.vertical_parts)) if text]
-            failing = _rail_notes(str(notes[row.sleeper]), rail)
-            values = [count, int(numbers[row.sleeper]), str(labels[row.sleeper]), rail, row.lateral_mm,
-                      row.vertical_mm, "\n".join(parts), failing]
+            values = [row.count, int(numbers[row.sleeper]), str(labels[row.sleeper]), RAILS[row.rail], row.lateral_mm,
+                      row.vertical_mm, "\n".join(row.parts), row.failing]
             for k, (value, style) in enumerate(zip(values, [plain, plain, plain, plain, amount, amount, wrapped, red])):
                 columns[k].append(value)
                 styles[k].append(style)
-            lines = max(sum(_wrapped_lines(part, widths[6], BODY_CHARACTER_WIDTH) for part in parts) or 1,
-                        _wrapped_lines(failing, widths[7], BODY_CHARACTER_WIDTH))
+            lines = max(sum(_wrapped_lines(part, widths[6], BODY_CHARACTER_WIDTH) for part in row.parts) or 1,
+                        _wrapped_lines(row.failing, widths[7], BODY_CHARACTER_WIDTH))
             heights.append(LINE_HEIGHT_PT * lines + 2.0 if lines > 1 else None)
     if not work_sections:
         columns[0].append("no rail to move: every check of the tolerance profile passes as measured")

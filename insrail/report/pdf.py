@@ -840,20 +840,13 @@ def _adjustment(content: ReportContent) -> list[Flowable]:
     if not work_sections:
         return story + [Paragraph("No rail to move: every check of the tolerance profile passes as measured.", BODY)]
     numbers, labels = content.column("number").values, content.column("label").values
-    notes = content.column("unresolved").values
-    count, previous = 0, None
     for section in work_sections:
         first, last = section.rows[0].sleeper, section.rows[-1].sleeper
         rows: list[list] = [[_cell(title) for title in ADJUSTMENT_TITLES]]
         for row in section.rows:
-            if row.sleeper != previous:
-                count, previous = count + 1, row.sleeper
-            parts = "; ".join(f"{direction}: {part}" for direction, part in (("lateral", row.lateral_parts),
-                                                                            ("vertical", row.vertical_parts)) if part)
-            note = str(notes[row.sleeper])
-            rows.append([str(count), str(int(numbers[row.sleeper])), text_cell(labels[row.sleeper]), RAILS[row.rail],
-                         _amount(row.lateral_mm), _amount(row.vertical_mm), _cell(parts) if parts else "",
-                         _cell(note) if note else ""])
+            rows.append([str(row.count), str(int(numbers[row.sleeper])), text_cell(labels[row.sleeper]),
+                         RAILS[row.rail], _amount(row.lateral_mm), _amount(row.vertical_mm),
+                         _cell("; ".join(row.parts)) if row.parts else "", _cell(row.failing) if row.failing else ""])
         story += [CondPageBreak(40 * mm),
                   Paragraph(text(f"Work section {section.number} of {len(work_sections)}: {labels[first]} – "
                                  f"{labels[last]}"), H2),
