@@ -102,13 +102,17 @@ def test_the_pdf_carries_the_same_amounts(project, truth, tmp_path):
     part = extracted[extracted.index("Adjustment amounts"):]
     assert BRINGS in " ".join(part.split())
     found = {}
-    row = re.compile(r"^\s*\d+\s+(\d+)\s+(\S+)\s+(left|right)\s+([+-]?\d+)\s+([+-]?\d+)(\s|$)")
+    row = re.compile(r"^\s*\d+\s+(\d+)\s+(\S+)" + r"\s+([+-]?\d+)" * 4 + r"(\s|$)")  # lateral, vertical: left, right
     for line in part.splitlines():
         match = row.match(line)
         if match:
-            number, label, rail = int(match[1]), match[2], match[3]
-            assert (number, rail) not in found and label == truth[1][number]
-            found[(number, rail)] = (float(match[4]), float(match[5]))
+            number, label = int(match[1]), match[2]
+            assert label == truth[1][number]
+            for side, rail in enumerate(RAILS):
+                pair = (float(match[3 + side]), float(match[5 + side]))
+                if any(pair):
+                    assert (number, rail) not in found
+                    found[(number, rail)] = pair
     assert found == truth[0]
     assert "Lateral deviation, measured − fitted line (mm)" in extracted
 

@@ -12,6 +12,7 @@ page carries the project and survey, its section or chainage range and "page i o
 from __future__ import annotations
 
 import datetime
+import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -819,10 +820,11 @@ def _exceedances(content: ReportContent) -> list[Flowable]:
     return story + _events(content)
 
 
-#: The PDF's adjustment table: titles and widths; the amounts as the crew's sheet (0 written out).
-ADJUSTMENT_TITLES = ["no.", "sleeper", "chainage", "rail", "lateral (mm)", "vertical (mm)", "fastener parts",
-                     "checks still failed"]
-ADJUSTMENT_WIDTHS = [12 * mm, 18 * mm, 28 * mm, 14 * mm, 20 * mm, 20 * mm, 95 * mm, 60 * mm]
+#: The PDF's adjustment table: a line per sleeper (the crew's sheet has one per rail, with the parts); the
+#: amounts written out, 0 too.
+ADJUSTMENT_TITLES = ["no.", "sleeper", "chainage", "lateral left (mm)", "lateral right (mm)", "vertical left (mm)",
+                     "vertical right (mm)", "checks still failed"]
+ADJUSTMENT_WIDTHS = [14 * mm, 20 * mm, 30 * mm, 26 * mm, 26 * mm, 26 * mm, 26 * mm, 100 * mm]
 
 
 def _amount(value: float) -> str:
@@ -830,23 +832,27 @@ def _amount(value: float) -> str:
 
 
 def _adjustment(content: ReportContent) -> list[Flowable]:
-    """The amounts per sleeper and rail, as the workbook's crew sheet lists them, one table per work section."""
+    """The amounts per sleeper, the crew sheet's lines (:func:`insrail.report.content.crew_sections`) a sleeper
+    to a line, one table per work section."""
     story: list[Flowable] = [Heading("Adjustment"), Paragraph("Adjustment amounts", H1),
                              Paragraph(text("Amounts: " + amounts_text(content.summary, content.profile, content.fastener)
-                                            + "."), BODY),
+                                            + ". The fastener parts per rail are on the workbook's Adjustment sheet."),
+                                       BODY),
                              Paragraph(_adjustment_conclusion(content), BODY)]
-    work = adjustment_work(content)
-    work_sections = crew_sections(content, work)
+    work_sections = crew_sections(content)
     if not work_sections:
         return story + [Paragraph("No rail to move: every check of the tolerance profile passes as measured.", BODY)]
     numbers, labels = content.column("number").values, content.column("label").values
     for section in work_sections:
         first, last = section.rows[0].sleeper, section.rows[-1].sleeper
         rows: list[list] = [[_cell(title) for title in ADJUSTMENT_TITLES]]
-        for row in section.rows:
-            rows.append([str(row.count), str(int(numbers[row.sleeper])), text_cell(labels[row.sleeper]),
-                         RAILS[row.rail], _amount(row.lateral_mm), _amount(row.vertical_mm),
-                         _cell("; ".join(row.parts)) if row.parts else "", _cell(row.failing) if row.failing else ""])
+        for sleeper, lines in itertools.groupby(section.rows, key=lambda row: row.sleeper):
+            by_rail = {row.rail: row for row in lines}
+            lateral = [by_rail[rail].lateral_mm if rail in by_rail else 0.0 for rail in (0, 1)]
+            vertical = [by_rail[rail].vertical_mm if rail in by_rail else 0.0 for rail in (0, 1)]
+            failing = "; ".join(dict.fromkeys(row.failing for row in by_rail.values() if row.failing))
+            rows.append([str(next(iter(by_rail.values())).count), str(int(numbers[sleeper])), text_cell(labels[sleeper]),
+                         *(_amount(value) for value in (*lateral, *vertical)), _cell(failing) if failing else ""])
         story += [CondPageBreak(40 * mm),
                   Paragraph(text(f"Work section {section.number} of {len(work_sections)}: {labels[first]} – "
                                  f"{labels[last]}"), H2),
