@@ -156,3 +156,14 @@ def test_with_a_design_the_deviations_name_it(project, tmp_path):
     extracted = subprocess.run(["pdftotext", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
     assert "Vertical deviation, measured − design (down line.csv) (mm)" in extracted
     assert "does not put the rail onto the design alignment down line.csv" in " ".join(extracted.split())
+
+
+def test_results_without_the_re_assessment_claim_no_verdict():
+    from insrail.report.labels import amounts_text
+    from insrail.track.tolerance import load_tolerance_profile
+
+    profile = load_tolerance_profile("cn_hsr_ballastless")
+    old = amounts_text({"adjustment": {"fastener": "wj8"}, "track": {"design": "d/x.xml"}}, profile, None)
+    assert BRINGS not in old and "not re-assessed" in old and "onto the design alignment x.xml" in old
+    failing = amounts_text({"adjustment": {"fastener": "wj8", "unresolved_sleepers": 3, "after": {}}}, profile, None)
+    assert f"{BRINGS} High-speed" in failing and "except at 3 sleepers" in failing and "WJ-8" in failing

@@ -54,8 +54,11 @@ def amounts_text(summary: dict, profile, fastener) -> str:
     adjustment = summary.get("adjustment", {})
     strategy = STRATEGIES.get(adjustment.get("strategy", DEFAULT_STRATEGY), adjustment.get("strategy", ""))
     failing = adjustment.get("unresolved_sleepers", 0)
+    verdict = (f"after it the track passes every check of tolerance profile {profile_name(profile)}"
+               + (f" except at {failing} sleepers marked as still failing" if failing else "")
+               if "after" in adjustment else  # results of an insrail before the re-assessment: no verdict to state
+               f"planned for tolerance profile {profile_name(profile)}, not re-assessed after the adjustment in "
+               "these results")
     return (f"move the rail by the amount ({SIGNS}); planned by insrail for fastener "
             f"{fastener_name(fastener, adjustment.get('fastener', ''))} in whole fastener steps ({strategy}): "
-            f"after it the track passes every check of tolerance profile {profile_name(profile)}"
-            + (f" except at {failing} sleepers marked as still failing" if failing else "")
-            + f"; it does not put the rail onto {reference_line(summary)}")
+            f"{verdict}; it does not put the rail onto {reference_line(summary)}")
