@@ -374,3 +374,36 @@ def choice_name(key: str, value: str) -> str:
 def resource_choice(name: str, description: str) -> str:
     """A shipped resource in a list: its file's own description, with its name where the file gives none."""
     return description.strip() or name.replace("_", " ")
+
+
+# --------------------------------------------------------------------------- reports and exports
+
+#: The shipped fastener types' ids; any other fastener file is named by its description's first part.
+FASTENER_NAMES = {"wj7": "WJ-7", "wj8": "WJ-8"}
+
+
+class DescribedLike(Protocol):
+    """What naming needs of a tolerance profile or a fastener type: its id and its file's description."""
+
+    name: str
+    description: str
+
+
+def _described(item: DescribedLike) -> str:
+    """The part of a description before its first colon ("WJ-7: lateral ..." -> "WJ-7"), else the whole."""
+    return item.description.split(":", 1)[0].strip()
+
+
+def profile_name(profile: DescribedLike) -> str:
+    """A tolerance profile as the reports name it: its description ("High-speed ballastless track, static
+    acceptance (TB 10754-2018)"); a profile file without one by its id in words."""
+    return _described(profile) or profile.name.replace("_", " ")
+
+
+def fastener_name(fastener: DescribedLike | None, stored: str = "") -> str:
+    """A fastener type: "WJ-8" for the shipped ones, else its description's first part; ``stored``: the
+    id recorded in the results when the fastener file is not readable."""
+    key = fastener.name if fastener is not None else stored
+    if key in FASTENER_NAMES:
+        return FASTENER_NAMES[key]
+    return (_described(fastener) if fastener is not None else "") or key.replace("_", " ")

@@ -152,6 +152,17 @@ def shared_project(tmp_path_factory, profile_name: str = "cn_hsr_ballastless") -
     return _BUILT[profile_name]
 
 
+def saved_project(tmp_path_factory) -> Project:
+    """The shared project as a folder the CLI opens: its project.toml and the survey's folder written."""
+    from insrail.project.model import save_project
+
+    project = shared_project(tmp_path_factory)
+    (project.folder / "surveys" / SURVEY).mkdir(parents=True, exist_ok=True)
+    (project.folder / "surveys" / SURVEY / "survey.toml").touch()
+    save_project(project)
+    return project
+
+
 def stored(project: Project):
     return load_results(project.folder, SURVEY)
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from report_support import INVALID, SURVEY, shared_project, stored
+from report_support import INVALID, SURVEY, saved_project, stored
 
 from insrail.cli.main import main
 from insrail.export.dxf import (
@@ -25,11 +25,7 @@ from insrail.project.model import save_project
 
 @pytest.fixture(scope="module")
 def project(tmp_path_factory):
-    project = shared_project(tmp_path_factory)
-    (project.folder / "surveys" / SURVEY).mkdir(parents=True, exist_ok=True)
-    (project.folder / "surveys" / SURVEY / "survey.toml").touch()
-    save_project(project)
-    return project
+    return saved_project(tmp_path_factory)
 
 
 def export(project, fmt, path, capsys):
@@ -38,7 +34,7 @@ def export(project, fmt, path, capsys):
     return path
 
 
-def test_lift_lining_is_minus_the_deviation_and_reads_back(project, tmp_path, capsys):
+def test_lift_lining_carries_the_amounts_and_the_deviations_and_reads_back(project, tmp_path, capsys):
     path = export(project, "lift-lining", tmp_path / "ll.csv", capsys)
     table = read_lift_lining(path)
     results = stored(project)
@@ -48,15 +44,20 @@ def test_lift_lining_is_minus_the_deviation_and_reads_back(project, tmp_path, ca
     np.testing.assert_array_equal(table.number, results.number)
     np.testing.assert_array_equal(table.valid, valid)
     for rail, side in (("left", 0), ("right", 1)):
-        np.testing.assert_allclose(table.lift_mm[valid, side], -c[f"vertical_deviation_{rail}_mm"][valid], atol=0.051)
-        np.testing.assert_allclose(table.lining_mm[valid, side], -c[f"lateral_deviation_{rail}_mm"][valid], atol=0.051)
-    assert np.isnan(table.lift_mm[~valid]).all() and np.isnan(table.lining_mm[~valid]).all()
+        # the planned amounts (whole steps, exactly as stored), and the deviations as measured
+        np.testing.assert_array_equal(table.lift_mm[:, side], c[f"adjust_vertical_{rail}_mm"])
+        np.testing.assert_array_equal(table.lining_mm[:, side], c[f"adjust_lateral_{rail}_mm"])
+        np.testing.assert_allclose(table.vertical_deviation_mm[valid, side], c[f"vertical_deviation_{rail}_mm"][valid],
+                                   atol=0.051)
+        np.testing.assert_allclose(table.lateral_deviation_mm[valid, side], c[f"lateral_deviation_{rail}_mm"][valid],
+                                   atol=0.051)
+    assert np.isnan(table.vertical_deviation_mm[~valid]).all() and np.isnan(table.lateral_deviation_mm[~valid]).all()
     np.testing.assert_allclose(table.station_m, c["station_m"], atol=5e-5)
-    assert table.metadata["survey"] == SURVEY and table.metadata["reference"].startswith("best-fit line")
+    assert table.metadata["survey"] == SURVEY and table.metadata["reference"].startswith("the line fitted")
     assert "lift + up" in table.metadata["convention"]
     # the file is what docs/formats.md shows, and writing what was read gives the same file
     text = path.read_text()
-    assert text.splitlines()[0] == "# insrail lift-lining 1"
+    assert text.splitlines()[0] == "# insrail lift-lining 2"
     assert format_table(table) == text
 
 
@@ -65,31 +66,35 @@ _amount = st.one_of(st.just(np.nan), st.floats(-99.9, 99.9).map(lambda v: round(
 
 @settings(max_examples=30, deadline=None)
 @given(rows=st.lists(st.tuples(st.integers(1, 10**6), st.floats(-1e5, 1e6).map(lambda v: round(v, 4)),
-                               st.booleans(), *[_amount] * 5), min_size=0, max_size=20),
+                               st.booleans(), *[_amount] * 9), min_size=0, max_size=20),
        reference=st.text(st.characters(blacklist_categories=("Cc", "Cs", "Zl", "Zp")), max_size=30))
 def test_any_table_round_trips(tmp_path_factory, rows, reference):
     n = len(rows)
-    columns = list(zip(*rows)) if rows else [()] * 8
+    columns = list(zip(*rows)) if rows else [()] * 12
+
+    def pair(k):
+        return np.column_stack([columns[k], columns[k + 1]]).reshape(n, 2).astype(float)
+
     table = LiftLiningTable({"reference": " ".join(reference.split())}, np.array(columns[0], dtype=int),
                             tuple(f"{s:.4f}" for s in columns[1]), np.array(columns[1], dtype=float),
-                            np.array(columns[2], dtype=bool),
-                            np.column_stack([columns[3], columns[4]]).reshape(n, 2).astype(float),
-                            np.column_stack([columns[5], columns[6]]).reshape(n, 2).astype(float),
-                            np.array(columns[7], dtype=float))
+                            np.array(columns[2], dtype=bool), pair(3), pair(5), pair(7), pair(9),
+                            np.array(columns[11], dtype=float))
     path = tmp_path_factory.mktemp("ll") / "t.csv"
     path.write_text(format_table(table))
     back = read_lift_lining(path)
     assert back.metadata == table.metadata and back.chainage == table.chainage
-    for name in ("number", "station_m", "valid", "lift_mm", "lining_mm", "design_cant_mm"):
+    for name in ("number", "station_m", "valid", "lift_mm", "lining_mm", "vertical_deviation_mm",
+                 "lateral_deviation_mm", "design_cant_mm"):
         np.testing.assert_array_equal(getattr(back, name), getattr(table, name), err_msg=name)
 
 
 @pytest.mark.parametrize("damage, line, expected", [
     (lambda lines: ["number,chainage"] + lines[1:], 1, "expected the first line"),
-    (lambda lines: lines[:6] + ["number,chainage,station_m"] + lines[7:], 7, "expected the header"),
-    (lambda lines: lines[:9] + [lines[9].replace(",1,", ",x,", 1)] + lines[10:], 10, "valid: expected 0 or 1"),
-    (lambda lines: lines[:9] + [lines[9] + ",3"] + lines[10:], 10, "expected 9 fields"),
-    (lambda lines: lines[:9] + [",".join(["7", "x", "1.2.3", *lines[9].split(",")[3:]])] + lines[10:], 10,
+    (lambda lines: ["# insrail lift-lining 1"] + lines[1:], 1, "a version 1 table (amounts = -deviation"),
+    (lambda lines: lines[:8] + ["number,chainage,station_m"] + lines[9:], 9, "expected the header"),
+    (lambda lines: lines[:11] + [lines[11].replace(",1,", ",x,", 1)] + lines[12:], 12, "valid: expected 0 or 1"),
+    (lambda lines: lines[:11] + [lines[11] + ",3"] + lines[12:], 12, "expected 13 fields"),
+    (lambda lines: lines[:11] + [",".join(["7", "x", "1.2.3", *lines[11].split(",")[3:]])] + lines[12:], 12,
      "expected a whole sleeper number and numbers"),
 ])
 def test_a_damaged_table_is_refused_naming_the_line(project, tmp_path, capsys, damage, line, expected):

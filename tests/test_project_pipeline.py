@@ -268,6 +268,19 @@ def test_cli_demo_builds_and_processes_a_project(tmp_path, capsys):
     assert summary["track"]["valid_sleepers"] > 1700
 
 
+@pytest.mark.slow
+def test_cli_demo_long_makes_the_10_km_project(tmp_path, capsys):
+    from insrail.cli.demo import LONG_DEMO_EVENTS
+
+    assert main(["demo", "--preset", "long", "--out", str(tmp_path)]) == 0
+    project = load_project(tmp_path)
+    assert [s.name for s in project.surveys] == ["long"] and project.design == "surveys/long/truth/design.csv"
+    summary = tomllib.loads((tmp_path / "results" / "long" / "summary.toml").read_text())
+    assert summary["track"]["station_to_m"] - summary["track"]["station_from_m"] > 10000
+    assert [(e["kind"], e["station_from_m"]) for e in summary["events"]] == [e[:2] for e in LONG_DEMO_EVENTS]
+    assert (tmp_path / "reports" / "track_geometry_long.xlsx").is_file()
+
+
 def test_stored_results_read_back_what_the_pipeline_computed(processed):
     from insrail.project.results import load_results
 

@@ -136,7 +136,7 @@ def test_the_joined_table_is_each_runs_outside_the_overlap_and_numbered_continuo
     # the exports take the section like a survey
     assert main(["export", str(project.folder), "--section", "km1", "--format", "lift-lining",
                  "--out", str(project.folder / "km1.csv")]) == 0
-    assert len((project.folder / "km1.csv").read_text().splitlines()) == 7 + 1100
+    assert len((project.folder / "km1.csv").read_text().splitlines()) == 9 + 1100  # the layout-2 header lines
 
 
 def test_weighted_mean_in_the_overlap(project, capsys):

@@ -136,7 +136,7 @@ def test_layout_for_the_crews(project, workbook):
             assert f"{get_column_letter(first + 1)}{header - 2}:{get_column_letter(first + span)}{header - 2}" in merged
         first += span
     groups = {cell.value for cell in sheet[header - 2] if cell.value}
-    assert {"Deviation [measured - best]", "30 m / 5 m short wave", "300 m / 150 m long wave",
+    assert {"Deviation [measured − fitted line]", "30 m / 5 m short wave", "300 m / 150 m long wave",
             "Adjustment (move the rail by)"} <= groups
     assert {"twist 3 m (mm)", "guiding rail", "cross level (mm)", "gauge (mm)", "gauge deviation (mm)"} <= set(titles)
     # one name per column: within a group no two titles alike, and no internal id anywhere in the header
@@ -154,8 +154,10 @@ def test_headers_fit_and_every_page_is_headed_and_numbered(project, workbook):
     as their wrapped titles; print header with project and survey, footer with page x of y; the project's paper."""
     sheets = workbook[1]
     for sheet in sheets:
-        assert sheet.page_setup.paperSize == PAPER_CODES[project.report.paper] == PAPER_CODES["A3"]
-        assert sheet.page_setup.orientation == "landscape"
+        crew = sheet.title == "Adjustment"  # A4 portrait whatever the project's paper
+        assert sheet.page_setup.paperSize == PAPER_CODES["A4" if crew else project.report.paper]
+        assert project.report.paper == "A3"
+        assert sheet.page_setup.orientation == ("portrait" if crew else "landscape")
         assert sheet.oddHeader.left.text == project.name
         assert SURVEY in sheet.oddHeader.center.text
         assert sheet.oddFooter.right.text == "page &P of &N"
@@ -197,42 +199,82 @@ def test_guiding_rail_is_the_high_rail_of_the_curve(project, workbook):
     assert np.all(guide[right_high] == "R") and np.all(guide[~right_high] == "L")
 
 
-def test_adjustment_sheet_lists_the_sleepers_to_work_on_in_order_with_parts(project, workbook):
+def test_adjustment_sheet_lists_the_rails_to_move_in_order_with_parts(project, workbook):
     results = stored(project)
+    c = results.columns
     sheet = workbook[1]["Adjustment"]
     header = next(row[0].row for row in sheet.iter_rows() if row[0].value == "no.")
-    rows = [[c.value for c in row] for row in sheet.iter_rows(min_row=header + 1)]
-    keys = ["adjust_lateral_left_mm", "adjust_lateral_right_mm", "adjust_vertical_left_mm", "adjust_vertical_right_mm"]
-    amounts = np.column_stack([results.columns[k] for k in keys])
-    moving = np.flatnonzero(np.any(amounts != 0, axis=1))
-    assert moving.size
-    assert [r[0] for r in rows] == list(range(1, moving.size + 1))  # the running count
-    assert [r[1] for r in rows] == results.number[moving].tolist()
-    assert [r[3] for r in rows] == sorted(r[3] for r in rows)
-    assert [r[4] for r in rows] == pytest.approx([r[3] - rows[0][3] for r in rows])  # length from the first
-    assert [r[5:9] for r in rows] == amounts[moving].tolist()
+    assert [cell.value for cell in sheet[header]] == list(excel.CREW_TITLES)
+    rows = [[c.value for c in row] for row in sheet.iter_rows(min_row=header + 1, max_col=len(excel.CREW_TITLES))]
+    lines = [row for row in rows if not isinstance(row[0], str)]
+    # one line per rail to move, in working order, with exactly the amounts of sleepers.csv
+    expected = [[int(results.number[i]), results.label[i], rail, c[f"adjust_lateral_{rail}_mm"][i],
+                 c[f"adjust_vertical_{rail}_mm"][i]]
+                for i in np.argsort(c["station_m"], kind="stable") for rail in ("left", "right")
+                if c[f"adjust_lateral_{rail}_mm"][i] or c[f"adjust_vertical_{rail}_mm"][i]]
+    assert expected and [row[1:6] for row in lines] == expected
+    sleepers = list(dict.fromkeys(row[1] for row in lines))
+    assert [row[0] for row in lines] == [sleepers.index(row[1]) + 1 for row in lines]  # the running count
     # every amount names its WJ-8 parts beside it, and only an amount does
-    for row in rows:
-        for amount, parts in zip(row[5:9], row[9:13]):
-            assert bool(amount) == bool(parts), row
+    for row in lines:
+        assert bool(row[4]) == ("lateral: " in (row[6] or "")) and bool(row[5]) == ("vertical: " in (row[6] or ""))
     # Annex 8 table 8-2: a rail moved outwards (left rail to the left, right rail to the right) gets smaller
     # field-side and larger gauge-side parts
     outwards = {1: "outer block No. 9→8; inner block No. 9→10",
                 2: "outer block No. 9→7; inner block No. 9→11",
                 3: "outer apron No. 7→4; inner apron No. 7→10"}
     checked = 0
-    for row in rows:
-        for amount, text in ((-(row[5] or 0), row[9]), (row[6] or 0, row[10])):
-            if amount in outwards:
-                assert text == outwards[amount]
-                checked += 1
+    for row in lines:
+        if row[4] and (-row[4] if row[3] == "left" else row[4]) in outwards:
+            assert f"lateral: {outwards[-row[4] if row[3] == 'left' else row[4]]}" in row[6]
+            checked += 1
     assert checked
-    assert {row[11] for row in rows if row[7] == 1} == {"shims under the rail* 1 mm"}  # assumed sizes marked
-    # the re-assessment of the adjusted geometry above the table, honestly per check
+    assert {part for row in lines if row[5] == 1 for part in row[6].split("\n") if part.startswith("vertical")} \
+        == {"vertical: shims under the rail* 1 mm"}  # assumed sizes marked
+    # work sections: each a heading and a page of its own
+    headings = [header + 1 + k for k, row in enumerate(rows) if isinstance(row[0], str)]
+    assert len(headings) > 1 and all(rows[h - header - 1][0].startswith("Work section ") for h in headings)
+    assert [b.id for b in sheet.row_breaks.brk] == [h - 1 for h in headings[1:]]
+    # what the amounts bring the rail to, and the re-assessment of the adjusted geometry, above the table
     above = [row[0].value for row in sheet.iter_rows(max_row=header - 1) if row and isinstance(row[0].value, str)]
+    assert any(text.startswith("Amounts: move the rail by the amount") and "does not put the rail onto the line "
+               "fitted to the measured centreline" in text and "Cn hsr" not in text for text in above)
     after = results.summary["adjustment"]["after"]
     assert any(text.startswith(f"After adjustment: {after['exceedances']} exceedances") for text in above)
     assert any(text.startswith("Action threshold 1 mm") for text in above)
+
+
+def test_the_crew_sheet_prints_on_a4_portrait_at_a_readable_size(project, workbook):
+    sheet = workbook[1]["Adjustment"]
+    setup = sheet.page_setup
+    assert (setup.orientation, setup.paperSize) == ("portrait", PAPER_CODES["A4"])
+    # one page wide, which the columns fill at 100 %: the body font prints at its size
+    assert sheet.sheet_properties.pageSetUpPr.fitToPage and setup.fitToWidth == 1 and setup.fitToHeight == 0
+    widths = [sheet.column_dimensions[get_column_letter(k + 1)].width for k in range(len(excel.CREW_TITLES))]
+    assert sum(excel.column_width_mm(w) for w in widths) <= excel.printable_width_mm("A4", "portrait")
+    assert excel.BODY_FONT_PT >= excel.READABLE_PT
+
+
+@pytest.mark.parametrize("paper", ["A3", "A4"])
+def test_the_sleeper_table_prints_in_readable_column_groups(project, tmp_path, paper):
+    project = replace(project, report=replace(project.report, paper=paper))
+    sheet = load_workbook(write_workbook(project, stored(project), tmp_path / "p.xlsx"))["Sleepers"]
+    setup = sheet.page_setup
+    assert setup.orientation == "landscape" and setup.paperSize == PAPER_CODES[paper]
+    assert excel.BODY_FONT_PT * int(setup.scale) / 100 >= excel.READABLE_PT
+    header, titles, rows = sleeper_table(sheet)
+    count = len(rows[0])
+    widths = [sheet.column_dimensions[get_column_letter(k + 1)].width for k in range(count)]
+    starts = [b.id for b in sheet.col_breaks.brk]
+    assert starts and sheet.print_title_cols == "$A:$D"
+    groups = [sheet.cell(header - 2, k + 1).value for k in range(count)]
+    room = excel.printable_width_mm(paper, "landscape") * 100 / int(setup.scale)
+    for first, stop in zip([4] + starts, starts + [count]):
+        page = sum(excel.column_width_mm(w) for w in widths[:4] + widths[first:stop])
+        assert page <= room
+    assert all(groups[first] is not None for first in starts)  # a page starts where a group does (merged titles
+    # sit in a group's first cell)
+    assert len(starts) >= (3 if paper == "A4" else 1)
 
 
 def test_the_materials_list_sums_the_parts_of_the_adjustment_sheet(project, workbook):
@@ -394,3 +436,20 @@ def test_the_workbook_writer_holds_no_more_for_a_longer_survey(tmp_path_factory,
 
     short, long = peak_growth_bytes(run, 550)
     assert long - short < 1024 * 550 + 64 * 1024, (short, long)
+
+
+def test_work_sections_are_work_sites_of_at_most_100_m(project):
+    from insrail.report.content import WORK_SECTION_GAP_M, WORK_SECTION_M, crew_sections
+
+    content = load_report_content(project, stored(project))
+    station = content.station_m
+    sections = crew_sections(content)
+    assert len(sections) > 1 and [s.number for s in sections] == list(range(1, len(sections) + 1))
+    for section in sections:
+        stations = station[[row.sleeper for row in section.rows]]
+        assert np.all(np.diff(stations) >= 0) and stations[-1] - stations[0] < WORK_SECTION_M
+        assert np.all(np.diff(stations) <= WORK_SECTION_GAP_M)
+    for before, after in zip(sections, sections[1:]):
+        first = station[before.rows[0].sleeper]
+        gap = station[after.rows[0].sleeper] - station[before.rows[-1].sleeper]
+        assert gap > WORK_SECTION_GAP_M or station[after.rows[0].sleeper] - first >= WORK_SECTION_M

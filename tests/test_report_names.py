@@ -100,3 +100,23 @@ def test_unknown_ids_are_refused_not_shown_raw():
         column_name("check_gone_mm", load_tolerance_profile().checks)
     with pytest.raises(UnknownName):
         quantity_name("gauge_mm_typo")
+
+
+@pytest.mark.parametrize("profile_id", shipped_tolerance_profiles())
+def test_every_shipped_profile_has_a_name(profile_id):
+    from insrail.names import profile_name
+
+    assert _looks_human(profile_name(load_tolerance_profile(profile_id)))
+
+
+def test_fasteners_are_named_for_people(tmp_path):
+    from insrail.names import fastener_name
+    from insrail.track.adjustment import load_fastener_type
+
+    assert [fastener_name(load_fastener_type(name)) for name in ("wj7", "wj8")] == ["WJ-7", "WJ-8"]
+    assert fastener_name(None, "wj8") == "WJ-8"  # the id the results recorded, the file no longer readable
+    own = tmp_path / "vossloh_300.toml"
+    own.write_text('description = "Vossloh 300: lateral -4..+4 mm"\nstep_mm = 1\nlateral_min_mm = -4\n'
+                   "lateral_max_mm = 4\nvertical_min_mm = -4\nvertical_max_mm = 26\n", encoding="utf-8")
+    assert fastener_name(load_fastener_type(own)) == "Vossloh 300"
+    assert fastener_name(None, "vossloh_300") == "vossloh 300"

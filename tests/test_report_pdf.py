@@ -122,7 +122,13 @@ def test_an_added_section_lands_before_the_exceedances(project, tmp_path):
 def test_chinese_names_are_set_in_a_cjk_font(project, tmp_path):
     path = write_pdf(replace(project, name="兰新铁路第二双线", description="精调测量 SDK1+695"), stored(project), tmp_path / "cn.pdf")
     fonts = subprocess.run(["pdffonts", str(path)], capture_output=True, text=True, check=True).stdout
-    assert "STSong-Light" in fonts
+    # the shipped CJK font, embedded (a subset): no viewer needs a CJK system font to show it
+    cjk = [line.split() for line in fonts.splitlines() if "WenQuanYiMicroHei" in line]
+    assert cjk and all(fields[-5:-3] == ["yes", "yes"] for fields in cjk), fonts
+    assert not [line for line in fonts.splitlines()[2:] if line.split()[-5] == "no" and "Helvetica" not in line]
+    extracted = subprocess.run(["pdftotext", "-f", "1", "-l", "2", str(path), "-"], capture_output=True, text=True,
+                               check=True).stdout
+    assert "兰新铁路第二双线" in extracted and "高速铁路轨道工程施工质量验收标准" in extracted  # the standard's title
     subprocess.run(["pdftoppm", "-r", "20", "-png", "-f", "1", "-l", "1", str(path), str(tmp_path / "p")], check=True)
 
 

@@ -1,12 +1,12 @@
-"""Run insrail end to end on the built-in demo: a project around the simulated `short` survey.
+"""Run insrail end to end on the built-in demo: a project around a simulated survey.
 
-Simulates the 1.2 km `short` survey with a navigation-grade IMU into DIR/surveys/short
-(replacing an earlier demo there), writes DIR/project.toml (the simulation's engineering
-CRS, its GNSS-levelling benchmarks for the height model, its design alignment) and
-processes the survey like `insrail process DIR`: fusion, engineering coordinates, rails,
-chainage and sleepers, deviations, irregularities, exceedances and adjustment amounts into
-DIR/results/short, the Excel workbook and the PDF report into DIR/reports. Then compares the
-results with the simulator's truth.
+Simulates the 1.2 km `short` survey (``--preset long``: the 10 km `long` one) with a
+navigation-grade IMU into DIR/surveys/<preset> (replacing an earlier demo there), writes
+DIR/project.toml (the simulation's engineering CRS, its GNSS-levelling benchmarks for the height
+model, its design alignment, a turnout and a level crossing as track events) and processes the
+survey like `insrail process DIR`: fusion, engineering coordinates, rails, chainage and sleepers,
+deviations, irregularities, exceedances and adjustment amounts into DIR/results/<preset>, the Excel
+workbook and the PDF report into DIR/reports. Then compares the results with the simulator's truth.
 """
 
 from __future__ import annotations
@@ -20,6 +20,8 @@ from insrail.cli.progressbar import TerminalProgress
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", type=Path, default=Path("insrail-demo"), help="demo folder (default: ./insrail-demo)")
     p.add_argument("--seed", type=int, default=1, help="random seed of the simulated survey (default: 1)")
+    p.add_argument("--preset", choices=tuple(PRESET_EVENTS), default="short",
+                   help="the simulated survey: short (1.2 km, the default) or long (10 km)")
 
 
 def truth_comparison(table, truth) -> dict[str, float]:
@@ -47,10 +49,14 @@ def truth_comparison(table, truth) -> dict[str, float]:
 #: The demo's track events, on the `short` design's chainage: a turnout (the length of a No. 18 turnout)
 #: and a level crossing, both left out of the assessment (docs/formats.md "Track events").
 DEMO_EVENTS = (("turnout", 1300.0, 1369.0, "No. 18"), ("level_crossing", 1800.0, 1808.0, "of the service road"))
+#: The same on the `long` design's chainage (its survey runs from 20 050 to 30 250 m).
+LONG_DEMO_EVENTS = (("turnout", 22300.0, 22369.0, "No. 18"), ("level_crossing", 27800.0, 27808.0, "of the service road"))
+#: The simulator presets the demo offers, each with its events.
+PRESET_EVENTS = {"short": DEMO_EVENTS, "long": LONG_DEMO_EVENTS}
 
 
-def demo_events(project):
-    """The project with the demo's event file (DEMO_EVENTS, replacing one an earlier demo wrote there),
+def demo_events(project, events=DEMO_EVENTS):
+    """The project with the demo's event file (``events``, replacing one an earlier demo wrote there),
     named in its project.toml."""
     from dataclasses import replace
 
@@ -59,7 +65,7 @@ def demo_events(project):
     from insrail.project.model import save_project
 
     write_events(project.resolve(DEFAULT_EVENTS_FILE),
-                 EventList(tuple(Event(kind, start, end, "station_m", text=text) for kind, start, end, text in DEMO_EVENTS)))
+                 EventList(tuple(Event(kind, start, end, "station_m", text=text) for kind, start, end, text in events)))
     project = replace(project, events=DEFAULT_EVENTS_FILE)
     save_project(project)
     return project
@@ -78,18 +84,19 @@ def run(args: argparse.Namespace) -> int:
     from insrail.sim.simulate import simulate
     from insrail.sim.truth import read_nav_truth, read_sleeper_truth
 
-    survey_dir = args.out / "surveys" / "short"
+    name = args.preset
+    survey_dir = args.out / "surveys" / name
     bar = TerminalProgress("demo")
-    result = simulate(preset("short"), args.seed, survey_dir, overwrite=True, imu_format="npy",
+    result = simulate(preset(name), args.seed, survey_dir, overwrite=True, imu_format="npy",
                       progress=lambda f, m: bar(0.25 * f, m))
     print(f"insrail demo: simulated a {result.length_m:.0f} m trolley survey ({result.duration_s:.0f} s of data)")
     print(f"Survey folder: {result.folder.resolve()}")
-    project = demo_events(project_for_simulated_survey(args.out, survey_dir, name="insrail demo"))
+    project = demo_events(project_for_simulated_survey(args.out, survey_dir, name="insrail demo"), PRESET_EVENTS[name])
     print(f"Project file: {project.path.resolve()}")
-    results = process(project, "short", progress=lambda f, m: bar(0.25 + 0.75 * f, m))
+    results = process(project, name, progress=lambda f, m: bar(0.25 + 0.75 * f, m))
     elapsed = bar.done()
     print("\n".join(describe(results, profile_checks(project))))
-    for path in write_reports(project, "short", *default_paths(project.folder, "short")):
+    for path in write_reports(project, name, *default_paths(project.folder, name)):
         print(f"Report: {path.resolve()}")
 
     errors = trajectory_errors(results.trajectory, read_nav_truth(survey_dir / "truth" / "nav.npy"), ellipsoid_of(project))

@@ -3,11 +3,12 @@
 Every export reads the result files (:func:`insrail.project.results.load_results`), never
 recomputes geometry, and writes its file atomically:
 
-* ``lift-lining``  per-sleeper lift and lining of each rail onto its reference (design or best-fit
-  line) for a tamping machine's guidance computer (:mod:`insrail.export.liftlining`; layout in
-  ``docs/formats.md``, read back by :func:`~insrail.export.liftlining.read_lift_lining`)
-* ``dxf``          rails, centreline, sleepers with their numbers, exceedance markers, one layer
-  each, in the engineering CRS (:mod:`insrail.export.dxf`, with ezdxf)
+* ``lift-lining``  per sleeper the planned lift and lining of each rail (the adjustment amounts, as the
+  workbook and the PDF carry them) and each rail's deviations from its reference, for a tamping machine's
+  guidance computer or the crews (:mod:`insrail.export.liftlining`; layout in ``docs/formats.md``, read
+  back by :func:`~insrail.export.liftlining.read_lift_lining`)
+* ``dxf``          rails, centreline, sleepers with their numbers, the adjustment amounts, exceedance
+  markers, one layer each, in the engineering CRS (:mod:`insrail.export.dxf`, with ezdxf)
 * ``landxml``      the measured centreline and rails as LandXML 1.2 3D lines (:mod:`insrail.export.landxml`)
 * ``csv``          per-sleeper coordinates of centreline and rails (:mod:`insrail.export.points`)
 
@@ -37,9 +38,9 @@ def export_formats() -> dict[str, ExportFormat]:
     from insrail.export import dxf, landxml, liftlining, points
 
     return {f.name: f for f in (
-        ExportFormat("lift-lining", "_lift_lining.csv", "lift/lining per sleeper for a tamping machine",
+        ExportFormat("lift-lining", "_lift_lining.csv", "planned lift/lining and deviations per sleeper and rail",
                      liftlining.format_lift_lining),
-        ExportFormat("dxf", ".dxf", "CAD drawing: rails, centreline, sleepers, exceedances", dxf.format_dxf),
+        ExportFormat("dxf", ".dxf", "CAD drawing: rails, centreline, sleepers, amounts, exceedances", dxf.format_dxf),
         ExportFormat("landxml", "_centreline.xml", "measured centreline and rails, LandXML 1.2", landxml.format_landxml_lines),
         ExportFormat("csv", "_points.csv", "per-sleeper coordinates of centreline and rails", points.format_points),
     )}

@@ -1,20 +1,24 @@
-"""The lift/lining table: per sleeper, how far to lift and line each rail onto its reference.
+"""The lift/lining table: per sleeper, how far to lift and line each rail, for a tamping machine's guidance
+computer or the crews, and where each rail is.
 
 Layout (``docs/formats.md``, "Lift/lining table")::
 
-    # insrail lift-lining 1
+    # insrail lift-lining 2
     # project = demo
     # survey = short
+    # amounts = lift_*_mm, lining_*_mm: move the rail by the amount (...): planned by insrail for fastener WJ-8 ...
+    # deviations = *_deviation_*_mm: measured − design (design.csv), where the rail is; not an instruction
     # reference = design alignment surveys/short/truth/design.csv
     # crs = Transverse Mercator ...
-    # convention = mm; lift + up, lining + to the right looking towards increasing chainage; ...
-    number,chainage,station_m,valid,lift_left_mm,lift_right_mm,lining_left_mm,lining_right_mm,design_cant_mm
-    1,DK1+051.250,1051.2500,1,0.4,-0.2,1.1,0.9,0.0
+    # convention = mm; lift + up, lining + to the right looking towards increasing chainage; empty = not measured
+    number,chainage,station_m,valid,lift_left_mm,lift_right_mm,lining_left_mm,lining_right_mm,vertical_deviation_left_mm,...
+    1,DK1+051.250,1051.2500,1,1.0,1.0,0.0,0.0,2.4,2.2,-0.3,-0.1,0.0
 
-The amounts are the full corrections onto the reference, ``-deviation`` of each rail (the reference
-is the design alignment, with its gauge and cant, or without a design the best-fit line of the
-measured centreline, thesis eq. 5.24): a rail 1.2 mm too low gets a lift of +1.2. An empty cell is
-a sleeper without a measurement (``valid`` 0). Values are rounded to 0.1 mm, stations to 0.1 mm.
+The amounts are the project's adjustment (sleepers.csv ``adjust_*_mm``, :mod:`insrail.track.adjustment`), the
+same numbers as the workbook, the PDF and the DXF (:mod:`insrail.report.labels`): they bring the track within
+the tolerance profile, not the rail onto its reference. The deviations are measured − reference of each rail
+(the design alignment with its gauge and cant, or without a design the line fitted to the measured
+centreline). An empty cell is a value that does not exist there (no measurement at the sleeper).
 """
 
 from __future__ import annotations
@@ -25,25 +29,31 @@ from pathlib import Path
 import numpy as np
 
 from insrail.io.errors import InputError
+from insrail.report.labels import amounts_text, deviation_reference
+from insrail.track.adjustment import load_fastener_type
+from insrail.track.tolerance import load_tolerance_profile
 
-MAGIC = "# insrail lift-lining 1"
-HEADER = ["number", "chainage", "station_m", "valid", "lift_left_mm", "lift_right_mm", "lining_left_mm",
-          "lining_right_mm", "design_cant_mm"]
-CONVENTION = ("mm; lift + up, lining + to the right looking towards increasing chainage; "
-              "amount = -deviation, moving the rail onto its reference; empty = not measured")
+MAGIC = "# insrail lift-lining 2"
+AMOUNT_COLUMNS = ["lift_left_mm", "lift_right_mm", "lining_left_mm", "lining_right_mm"]
+DEVIATION_COLUMNS = ["vertical_deviation_left_mm", "vertical_deviation_right_mm", "lateral_deviation_left_mm",
+                     "lateral_deviation_right_mm"]
+HEADER = ["number", "chainage", "station_m", "valid", *AMOUNT_COLUMNS, *DEVIATION_COLUMNS, "design_cant_mm"]
+CONVENTION = "mm; lift + up, lining + to the right looking towards increasing chainage; empty = not measured"
 
 
 @dataclass(frozen=True)
 class LiftLiningTable:
-    """A lift/lining table (amounts in mm as in the file; NaN where empty)."""
+    """A lift/lining table (millimetres as in the file; NaN where empty)."""
 
-    metadata: dict[str, str]  # the "# key = value" lines: project, survey, reference, crs, convention
+    metadata: dict[str, str]  # the "# key = value" lines: project, survey, amounts, deviations, reference, crs, convention
     number: np.ndarray
     chainage: tuple[str, ...]
     station_m: np.ndarray
     valid: np.ndarray
-    lift_mm: np.ndarray  # (n, 2) [left, right], + up
-    lining_mm: np.ndarray  # (n, 2) [left, right], + right
+    lift_mm: np.ndarray  # (n, 2) [left, right], + up: the planned amounts
+    lining_mm: np.ndarray  # (n, 2) [left, right], + right: the planned amounts
+    vertical_deviation_mm: np.ndarray  # (n, 2) measured - reference, + up
+    lateral_deviation_mm: np.ndarray  # (n, 2) measured - reference, + right
     design_cant_mm: np.ndarray
 
     def __len__(self) -> int:
@@ -51,11 +61,11 @@ class LiftLiningTable:
 
 
 def reference_text(project, results) -> str:
-    """What the amounts are taken against, from the results' summary."""
+    """What the deviations are taken against, from the results' summary."""
     design = results.summary.get("track", {}).get("design", "")
     if design:
         return f"design alignment {design}"
-    return "best-fit line of the measured centreline (no design alignment; thesis eq. 5.24)"
+    return "the line fitted to the measured centreline (no design alignment; thesis eq. 5.24)"
 
 
 def lift_lining_table(project, results) -> LiftLiningTable:
@@ -63,15 +73,23 @@ def lift_lining_table(project, results) -> LiftLiningTable:
     c = results.columns
     valid = c["valid"] > 0
 
-    def amounts(direction: str) -> np.ndarray:
-        values = -np.column_stack([c[f"{direction}_deviation_left_mm"], c[f"{direction}_deviation_right_mm"]])
-        values[~valid] = np.nan
-        return values
+    def pair(pattern: str) -> np.ndarray:
+        return np.column_stack([c[pattern.format(rail=rail)] for rail in ("left", "right")])
 
-    metadata = {"project": project.name, "survey": results.survey, "reference": reference_text(project, results),
-                "crs": project.crs.describe(), "convention": CONVENTION}
+    profile = load_tolerance_profile(project.resource(project.tolerance_profile))
+    try:
+        fastener = load_fastener_type(project.resource(project.fastener))
+    except ValueError:  # edited since processing: the amounts are in the results, the file only names it
+        fastener = None
+    metadata = {"project": project.name, "survey": results.survey,
+                "amounts": f"{', '.join(AMOUNT_COLUMNS)}: {amounts_text(results.summary, profile, fastener)}",
+                "deviations": f"{', '.join(DEVIATION_COLUMNS)}: {deviation_reference(results.summary)}, where the "
+                              "rail is (not an instruction)",
+                "reference": reference_text(project, results), "crs": project.crs.describe(), "convention": CONVENTION}
     return LiftLiningTable(metadata, np.asarray(results.number), tuple(results.label), c["station_m"], valid,
-                           amounts("vertical"), amounts("lateral"), c["design_cant_mm"])
+                           pair("adjust_vertical_{rail}_mm"), pair("adjust_lateral_{rail}_mm"),
+                           pair("vertical_deviation_{rail}_mm"), pair("lateral_deviation_{rail}_mm"),
+                           c["design_cant_mm"])
 
 
 def _cell(value: float, digits: int) -> str:
@@ -85,7 +103,8 @@ def format_table(table: LiftLiningTable) -> str:
     for i in range(len(table)):
         label = table.chainage[i] or f"{table.station_m[i]:.4f}"
         lines.append(",".join([str(int(table.number[i])), label, _cell(table.station_m[i], 4), str(int(table.valid[i])),
-                               *(_cell(v, 1) for v in (*table.lift_mm[i], *table.lining_mm[i])),
+                               *(_cell(v, 1) for v in (*table.lift_mm[i], *table.lining_mm[i],
+                                                       *table.vertical_deviation_mm[i], *table.lateral_deviation_mm[i])),
                                _cell(table.design_cant_mm[i], 1)]))
     return "\n".join(lines) + "\n"
 
@@ -102,6 +121,9 @@ def read_lift_lining(path: str | Path) -> LiftLiningTable:
         lines = path.read_text(encoding="utf-8").splitlines()
     except (OSError, UnicodeDecodeError) as error:
         raise InputError(path, None, f"cannot read the lift/lining table: {error}") from None
+    if lines and lines[0] == "# insrail lift-lining 1":
+        raise InputError(path, 1, "a version 1 table (amounts = -deviation, from an insrail before the amounts were "
+                                  "the planned adjustment): export it again")
     if not lines or lines[0] != MAGIC:
         raise InputError(path, 1, f"expected the first line {MAGIC!r}")
     metadata: dict[str, str] = {}
@@ -130,4 +152,4 @@ def read_lift_lining(path: str | Path) -> LiftLiningTable:
         chainages.append(fields[1])
     data = np.array(values, dtype=float).reshape(-1, len(HEADER) - 2)
     return LiftLiningTable(metadata, np.array(numbers, dtype=int), tuple(chainages), data[:, 0], data[:, 1] > 0,
-                           data[:, 2:4], data[:, 4:6], data[:, 6])
+                           data[:, 2:4], data[:, 4:6], data[:, 6:8], data[:, 8:10], data[:, 10])

@@ -33,7 +33,8 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
                          a line section joined from several runs (insrail.project.section)
     [report]             what the reports' first page states and how they print (:class:`ReportSettings`):
                          client, line_section, track_name, operator, checked_by, approved_by, trolley,
-                         trolley_calibrated, imu, imu_calibrated (dates: 2026-03-14), paper = "A3" | "A4"
+                         trolley_calibrated, imu, imu_calibrated (dates: 2026-03-14), paper = "A3" | "A4" (the
+                         workbook's and the PDF's pages, landscape; the crews' adjustment sheet is A4 portrait)
 
 Loading checks everything and raises :class:`ProjectError` listing every problem with its key
 path (``surveys[2].folder: not found: runs/x``). Nothing in the file is executed or unpickled.

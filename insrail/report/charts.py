@@ -15,6 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 from reportlab.graphics.shapes import Circle, Drawing, Line, PolyLine, Rect, String
 from reportlab.lib import colors
+from reportlab.pdfbase.pdfmetrics import stringWidth
+
+from insrail.report.fonts import font_for, font_runs
 
 SERIES_COLOURS = (colors.HexColor("#1f4e9c"), colors.HexColor("#d9641e"), colors.HexColor("#2b8a3e"))
 LIMIT_COLOUR = colors.HexColor("#c0141e")
@@ -165,7 +168,7 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
         x0, x1 = (float(np.clip(px(s), left, left + plot_w)) for s in (event.station_from_m, event.station_to_m))
         drawing.add(Rect(x0, bottom + plot_h - 3.0, max(x1 - x0, 1.0), 3.0, fillColor=event.colour, strokeColor=None))
         drawing.add(Line(x0, bottom, x0, bottom + plot_h, strokeColor=event.colour, strokeWidth=0.3))
-        drawing.add(String(x0 + 1.5, bottom + plot_h - 9.0, event.name, fontName=FONT, fontSize=5.5,
+        drawing.add(String(x0 + 1.5, bottom + plot_h - 9.0, event.name, fontName=font_for(event.name, FONT), fontSize=5.5,
                            fillColor=event.colour))
     step = nice_step(high - low, 5)
     for tick in np.arange(math.ceil(low / step) * step, high, step):
@@ -200,16 +203,19 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
     title = f"{chart.title} ({chart.unit})" if chart.unit else chart.title
     if chart.limits is not None:
         title += "   - - limit" + ("   red: exceedances" if chart.exceeding is not None and chart.exceeding[window].any() else "")
-    drawing.add(String(left, height - 10, title, fontName="Helvetica-Bold", fontSize=8))
+    x = left
+    for run, font in font_runs(title, "Helvetica-Bold"):
+        drawing.add(String(x, height - 10, run, fontName=font, fontSize=8))
+        x += stringWidth(run, font, 8)
     x = left + plot_w
     legend = [(colour, series.name) for colour, series in zip(SERIES_COLOURS, chart.series)] if len(chart.series) > 1 else []
     for colour, name in reversed(legend):
-        drawing.add(String(x, height - 10, name, fontName=FONT, fontSize=7, textAnchor="end", fillColor=colour))
+        drawing.add(String(x, height - 10, name, fontName=font_for(name, FONT), fontSize=7, textAnchor="end", fillColor=colour))
         x -= 7 * 0.55 * len(name) + 10
     for band in reversed(chart.bands):
         width_text = 7 * 0.55 * len(band.name)
         drawing.add(Rect(x - width_text - 2, height - 12, width_text + 4, 9, fillColor=band.colour, strokeColor=None))
-        drawing.add(String(x, height - 10, band.name, fontName=FONT, fontSize=7, textAnchor="end"))
+        drawing.add(String(x, height - 10, band.name, fontName=font_for(band.name, FONT), fontSize=7, textAnchor="end"))
         x -= width_text + 14
     return drawing
 
@@ -283,6 +289,6 @@ def plan_drawing(east_m: np.ndarray, north_m: np.ndarray, station_m: np.ndarray,
     x = width - margin
     for colour, name in [(SERIES_COLOURS[0], "centreline")] + [(c, n) for _, c, n in highlight] + \
             [(m.colour, m.name) for m in marks]:
-        drawing.add(String(x, 9, name, fontName=FONT, fontSize=7, fillColor=colour, textAnchor="end"))
+        drawing.add(String(x, 9, name, fontName=font_for(name, FONT), fontSize=7, fillColor=colour, textAnchor="end"))
         x -= 7 * 0.55 * len(name) + 12
     return drawing

@@ -5,7 +5,7 @@ Reports format; they compute no track geometry. Every number comes from the resu
 ratios (gauge change rates) are shown in per mille (‰), lengths stay in mm or m.
 
 The sleeper columns follow the thesis's sleeper table (Chen 2016, Figure 5-7): deviations
-[measured − best] per rail, gauge and cross-level, design cant, gauge change to the neighbour
+(measured − design or − fitted line, as the results were processed: :mod:`insrail.report.labels`) per rail, gauge and cross-level, design cant, gauge change to the neighbour
 and over 2.5 m, twist over 3 m, guiding rail, the 30 m / 5 m and 300 m / 150 m differential
 versines; then every other check of the tolerance profile, then the adjustment amounts. Where
 the profile checks a quantity the column shows the check's channel, carries its limits, and the
@@ -31,6 +31,7 @@ from insrail.names import (
     rail_direction,
 )
 from insrail.project.model import Project
+from insrail.report.labels import deviation_group
 from insrail.project.results import (
     GAUGE_CHANGE_BASE_M,
     TWIST_BASE_M,
@@ -335,8 +336,9 @@ def _find(profile: ToleranceProfile, used: set[str], kind: str, **parameters) ->
 
 #: Group titles of the sleeper table (a check with a channel per rail has its own group: its name).
 SLEEPER_GROUP = "Sleeper"
-DEVIATION_GROUP = "Deviation [measured - best]"
 PARAMETER_GROUP = "Track parameters"
+#: Gauge against the nominal gauge and cross level against the design cant (whatever the deviations' reference).
+GAUGE_LEVEL_GROUP = "Gauge and cross level [measured − nominal / design cant]"
 OTHER_CHECKS_GROUP = "Other checks of the tolerance profile"
 ADJUSTMENT_GROUP = "Adjustment (move the rail by)"
 
@@ -360,13 +362,13 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
     for direction in DIRECTIONS:
         for rail in RAILS:
             key = f"{direction}_deviation_{rail}_mm"
-            columns.append(_named(key, DEVIATION_GROUP, c[key], title=rail_direction(rail, direction)))
+            columns.append(_named(key, deviation_group(results.summary), c[key], title=rail_direction(rail, direction)))
     gauge = _find(profile, used, "gauge_deviation")
-    columns += (_channels(results, gauge, DEVIATION_GROUP) if gauge else
-                [_named("gauge_deviation_mm", DEVIATION_GROUP, c["gauge_mm"] - 1e3 * profile.nominal_gauge_m)])
+    columns += (_channels(results, gauge, GAUGE_LEVEL_GROUP) if gauge else
+                [_named("gauge_deviation_mm", GAUGE_LEVEL_GROUP, c["gauge_mm"] - 1e3 * profile.nominal_gauge_m)])
     cross_level = _find(profile, used, "cross_level")
-    columns += (_channels(results, cross_level, DEVIATION_GROUP) if cross_level else
-                [_named("cross_level_mm", DEVIATION_GROUP, c["cant_mm"] - c["design_cant_mm"])])
+    columns += (_channels(results, cross_level, GAUGE_LEVEL_GROUP) if cross_level else
+                [_named("cross_level_mm", GAUGE_LEVEL_GROUP, c["cant_mm"] - c["design_cant_mm"])])
     columns += [_named("gauge_mm", PARAMETER_GROUP, c["gauge_mm"], width=9),
                 _named("cant_mm", PARAMETER_GROUP, c["cant_mm"]),
                 _named("design_cant_mm", PARAMETER_GROUP, c["design_cant_mm"]),
@@ -432,6 +434,74 @@ def adjustment_work(content: ReportContent) -> AdjustmentWork:
     listed = tuple(materials(tables, amounts[:, :2], amounts[:, 2:]))
     notes = tuple(f"{direction}: {table.note}" for direction, table in tables.items() if table.note)
     return AdjustmentWork(order, amounts, parts, listed, notes)
+
+
+#: Two sleepers with work further apart than this [m] belong to different work sections, and a section
+#: spans at most WORK_SECTION_M of chainage (the crew's sheet starts a new page for each: a stretch a crew
+#: takes on in one go, on its own sheets of paper).
+WORK_SECTION_GAP_M = 30.0
+WORK_SECTION_M = 100.0
+
+
+@dataclass(frozen=True)
+class CrewRow:
+    """One line of the crew's sheet: one rail of one sleeper with an amount [mm] (+ right / + up)."""
+
+    sleeper: int  # index into the sleeper table
+    count: int  # the sleeper's place in working order (1, 2, ...)
+    rail: int  # 0 left, 1 right
+    lateral_mm: float
+    vertical_mm: float
+    lateral_parts: str
+    vertical_parts: str
+    failing: str  # why a check still fails at this rail after the adjustment ("" where none)
+
+    @property
+    def parts(self) -> tuple[str, ...]:
+        """The parts of each amount, named by its direction ("lateral: outer block No. 9→7; ...")."""
+        return tuple(f"{direction}: {text}" for direction, text in (("lateral", self.lateral_parts),
+                                                                   ("vertical", self.vertical_parts)) if text)
+
+
+@dataclass(frozen=True)
+class WorkSection:
+    """Consecutive crew rows of one work site: sleepers with work no more than WORK_SECTION_GAP_M apart,
+    over at most WORK_SECTION_M."""
+
+    number: int
+    rows: tuple[CrewRow, ...]
+
+
+def crew_sections(content: ReportContent, work: AdjustmentWork | None = None) -> list[WorkSection]:
+    """The adjustment as the crew's sheet lists it: per sleeper in working order each rail with an
+    amount, split into work sections (every amount exactly as in sleepers.csv)."""
+    work = work or adjustment_work(content)
+    keys = {key: k for k, key in enumerate(ADJUSTMENT_KEYS)}
+    notes = content.column("unresolved").values
+    rows: list[list[CrewRow]] = []
+    previous = first = None
+    for position, sleeper in enumerate(work.order):
+        station = float(content.station_m[sleeper])
+        if previous is None or station - previous > WORK_SECTION_GAP_M or station - first >= WORK_SECTION_M:
+            rows.append([])
+            first = station
+        previous = station
+        for rail, name in enumerate(RAILS):
+            lateral = work.amounts_mm[position, keys[f"adjust_lateral_{name}_mm"]]
+            vertical = work.amounts_mm[position, keys[f"adjust_vertical_{name}_mm"]]
+            if lateral or vertical:
+                rows[-1].append(CrewRow(int(sleeper), position + 1, rail, float(lateral), float(vertical),
+                                        work.parts[position][keys[f"adjust_lateral_{name}_mm"]],
+                                        work.parts[position][keys[f"adjust_vertical_{name}_mm"]],
+                                        rail_note(str(notes[sleeper]), name)))
+    return [WorkSection(number, tuple(section)) for number, section in enumerate(rows, start=1)]
+
+
+def rail_note(note: str, rail: str) -> str:
+    """The parts of a sleeper's "checks still failed" note about one rail ("lateral left: ..."; "yes" stays)."""
+    if note in ("", "yes"):
+        return note
+    return "; ".join(part for part in note.split("; ") if f" {rail}:" in part)
 
 
 def threshold_text(summary: dict) -> str:

@@ -30,20 +30,21 @@ from openpyxl.cell import WriteOnlyCell
 from openpyxl.cell.cell import Cell
 from openpyxl.styles import Alignment, Border, Font, PatternFill, Side
 from openpyxl.utils import get_column_letter
+from openpyxl.worksheet.pagebreak import Break
 from openpyxl.worksheet.worksheet import Worksheet
 
 from insrail.io.atomic import atomic_write
-from insrail.names import check_name, quantity_name
+from insrail.names import check_name, fastener_name, profile_name, quantity_name
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
 from insrail.report.content import (
-    ADJUSTMENT_KEYS,
     SEVERITY_RULE,
     Column,
     ReportContent,
     adjustment_work,
     after_adjustment_text,
+    crew_sections,
     check_description,
     exceedance_check,
     exceedance_display,
@@ -57,13 +58,16 @@ from insrail.report.content import (
     survey_start,
     threshold_text,
 )
+from insrail.report.labels import SIGNS, amounts_text, deviation_reference
+from insrail.track.exceedance import RAILS
 
 EXCEEDANCE_FILL = PatternFill("solid", fgColor="FFC7CE")  # the spreadsheet's usual "bad" red
 INVALID_FILL = PatternFill("solid", fgColor="D9D9D9")
 HEADER_FILL = PatternFill("solid", fgColor="DDEBF7")
-TITLE_FONT = Font(bold=True, size=14)
-BOLD = Font(bold=True)
-RED_FONT = Font(color="9C0006")
+BODY_FONT = "Calibri"  # the workbook's default font, named so that a font of its own keeps the family
+TITLE_FONT = Font(name=BODY_FONT, bold=True, size=14)
+BOLD = Font(name=BODY_FONT, bold=True)
+RED_FONT = Font(name=BODY_FONT, color="9C0006")
 HEADER_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)
 WRAPPED = Alignment(wrap_text=True)
 GROUP_ALIGNMENT = Alignment(horizontal="center", vertical="center", wrap_text=True)  # merged over its columns
@@ -78,6 +82,14 @@ SECTION_M = 200.0
 TABLE_BLOCK_ROWS = 2048
 SPOOL_COPY_BYTES = 1 << 20
 PAPER_CODES = {"A3": 8, "A4": 9}  # OOXML paper size codes
+#: Paper width and height [mm] (portrait), the side margins [inch] and the body font [pt] of a printed sheet.
+PAPER_MM = {"A3": (297.0, 420.0), "A4": (210.0, 297.0)}
+SIDE_MARGIN_IN = 0.4
+BODY_FONT_PT = 11.0
+#: The smallest printed text [pt] on a sheet a crew or a reader works from.
+READABLE_PT = 9.0
+#: The sleeper table's print scale [%]: 11 pt printed at 9.35 pt, the columns in groups of pages.
+SLEEPER_PRINT_SCALE = 85
 #: Header text metrics at the default zoom: characters of the bold 11 pt header font per unit of column
 #: width (a unit is one digit of the body font; bold letters are wider), and the height of a text line [pt].
 BOLD_CHARACTER_WIDTH = 1.15
@@ -185,6 +197,10 @@ class _Sheet:
             row[anchors[2 * index + 1]] = value if isinstance(value, Cell) else self.cell(value)
         self.append(row)
 
+    def set_height(self, row: int, height: float) -> None:
+        """The height [pt] of a row appended before :meth:`start` (streamed with it)."""
+        self._heights[row] = height
+
     def header(self, titles: list[str]) -> int:
         """A row of column titles; its height (and, before :meth:`start`, the column widths) fit the titles."""
         self._fit_header(self.rows + 1, [(title, 1) for title in titles])
@@ -221,12 +237,8 @@ class _Sheet:
             self._heights[row] = _header_height(titles, self.widths)
             self.sheet.row_dimensions[row].height = self._heights[row]
 
-    def start(self, widths: list[float], freeze: str | None = None, paper: str = "A3",
-              page_header: tuple[str, str, str] = ("", "", "")) -> None:
-        """Fix the layout (column widths, frozen panes, printing) and write the rows held so far.
-
-        A column is widened where the longest word of a title above it would not fit (nothing in a
-        header is clipped or broken inside a word), and each header row is as high as its titles wrap."""
+    def fitted_widths(self, widths: list[float]) -> list[float]:
+        """``widths`` with every column widened where the longest word of a header title above it would not fit."""
         widths = list(widths)
         for titles in [*self._header_titles.values(), *self._later_titles]:
             column = 0
@@ -234,6 +246,28 @@ class _Sheet:
                 if span == 1 and column < len(widths):
                     widths[column] = max(widths[column], _longest_word(title) * BOLD_CHARACTER_WIDTH + 1.5)
                 column += span
+        return widths
+
+    def long_pair(self, label: str, text: str) -> tuple[int, str]:
+        """A label and a long text wrapped in its cell (at the header block's value column); (row, text) for
+        :meth:`wrap_over`."""
+        return self.append([self.cell(label, font=BOLD), None, None, None,
+                            self.cell(text, alignment=Alignment(wrap_text=True, vertical="top"))]), text
+
+    def wrap_over(self, row: int, text: str, widths: list[float], first: int, stop: int) -> None:
+        """Merge a :meth:`long_pair` text's cell over columns [first, stop) (0-based) and make its row as high as
+        the text wraps there (before :meth:`start`)."""
+        self.sheet.merged_cells.add(f"{get_column_letter(first + 1)}{row}:{get_column_letter(stop)}{row}")
+        self.set_height(row, LINE_HEIGHT_PT * _wrapped_lines(text, sum(widths[first:stop]), BODY_CHARACTER_WIDTH) + 2.0)
+
+    def start(self, widths: list[float], freeze: str | None = None, paper: str = "A3",
+              page_header: tuple[str, str, str] = ("", "", ""), orientation: str = "landscape",
+              scale: int | None = None) -> None:
+        """Fix the layout (column widths, frozen panes, printing) and write the rows held so far.
+
+        A column is widened where the longest word of a title above it would not fit (nothing in a
+        header is clipped or broken inside a word), and each header row is as high as its titles wrap."""
+        widths = self.fitted_widths(widths)
         self.widths = widths
         for row, titles in self._header_titles.items():
             self._heights[row] = _header_height(titles, widths)
@@ -241,7 +275,7 @@ class _Sheet:
             self.sheet.column_dimensions[get_column_letter(index)].width = width
         if freeze:
             self.sheet.freeze_panes = freeze
-        _printable(self.sheet, paper, page_header)
+        _printable(self.sheet, paper, page_header, orientation, scale)
         pending, self._pending = self._pending or [], None
         for index, row in enumerate(pending, start=1):
             if index in self._heights:
@@ -343,20 +377,38 @@ def _header_text(text: str) -> str:
     return text.replace("&", "&&")
 
 
-def _printable(sheet: Worksheet, paper: str = "A3", page_header: tuple[str, str, str] = ("", "", "")) -> None:
-    """Landscape on the project's paper, one page wide; print header: project, survey, sheet; footer:
-    software and "page x of y"."""
-    sheet.page_setup.orientation = "landscape"
+def column_width_mm(width: float) -> float:
+    """The printed width [mm] at 100 % of a column ``width`` units wide (a unit is one digit of the 11 pt body
+    font, 7 px at 96 dpi, plus 5 px of padding)."""
+    return (7.0 * width + 5.0) * 25.4 / 96.0
+
+
+def printable_width_mm(paper: str, orientation: str) -> float:
+    """The width [mm] between the side margins of a page."""
+    short, long = PAPER_MM[paper]
+    return (long if orientation == "landscape" else short) - 2 * 25.4 * SIDE_MARGIN_IN
+
+
+def _printable(sheet: Worksheet, paper: str = "A3", page_header: tuple[str, str, str] = ("", "", ""),
+               orientation: str = "landscape", scale: int | None = None) -> None:
+    """On the project's paper, one page wide (``scale`` None) or at ``scale`` percent (the sheet says
+    where its pages break); print header: project, survey, sheet; footer: software and "page x of y"."""
+    sheet.page_setup.orientation = orientation
     sheet.page_setup.paperSize = PAPER_CODES[paper]
+    sheet.page_margins.left = sheet.page_margins.right = SIDE_MARGIN_IN
     project, survey, software = page_header
     sheet.HeaderFooter.oddHeader.left.text = _header_text(project)
     sheet.HeaderFooter.oddHeader.center.text = _header_text(survey)
     sheet.HeaderFooter.oddHeader.right.text = "&A"
     sheet.HeaderFooter.oddFooter.left.text = _header_text(software)
     sheet.HeaderFooter.oddFooter.right.text = "page &P of &N"
-    sheet.page_setup.fitToWidth = 1
-    sheet.page_setup.fitToHeight = 0  # as many pages as the rows need
-    sheet.sheet_properties.pageSetUpPr.fitToPage = True
+    if scale is None:
+        sheet.page_setup.fitToWidth = 1
+        sheet.page_setup.fitToHeight = 0  # as many pages as the rows need
+        sheet.sheet_properties.pageSetUpPr.fitToPage = True
+    else:
+        sheet.page_setup.scale = scale
+        sheet.sheet_properties.pageSetUpPr.fitToPage = False
     sheet.print_options.gridLines = True
 
 
@@ -366,15 +418,16 @@ def page_header(content: ReportContent) -> tuple[str, str, str]:
             content.software)
 
 
-def _start(sheet: _Sheet, content: ReportContent, widths: list[float], freeze: str | None = None) -> None:
-    """Lay out a sheet for the project's paper with the page header of the report."""
-    sheet.start(widths, freeze, content.project.report.paper, page_header(content))
+def _start(sheet: _Sheet, content: ReportContent, widths: list[float], freeze: str | None = None,
+           scale: int | None = None) -> None:
+    """Lay out a sheet for the project's paper (landscape) with the page header of the report."""
+    sheet.start(widths, freeze, content.project.report.paper, page_header(content), scale=scale)
 
 
 def _context(content: ReportContent) -> str:
     """Project, survey, chainage and tolerance profile in one line (above the smaller tables)."""
     return (f"{content.project.name}, survey {content.survey} {survey_start(content)}, {content.chainage_range}, "
-            f"tolerance profile {content.profile.name}; {content.software}")
+            f"tolerance profile {profile_name(content.profile)}; {content.software}")
 
 
 def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
@@ -387,12 +440,11 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     sheet.pairs(("Project", project.name), ("Line", project.description or project.name), ("Survey", content.survey))
     sheet.pairs(("Chainage", content.chainage_range), ("Sleepers", sleepers), ("Survey start", survey_start(content)))
     profile = content.profile
-    sheet.pairs(("Tolerance profile", f"{profile.name}: {profile.description}"), ("Standard", profile.source),
+    sheet.pairs(("Tolerance profile", profile_name(profile)), ("Standard", profile.source),
                 ("Design", project.design or "fitted lines (no design alignment)"))
     sheet.pairs(("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"), ("Software", content.software),
                 ("Operator", content.project.report.operator or "not stated"))
-    # the limits run on over the empty cells of their row (kept within the table's width: it sets the print scale)
-    sheet.pairs(("Limits", "; ".join(f"{check_name(c)} {limits_text(c)}" for c in profile.checks)), anchors=(0, 4))
+
 
 
 # --------------------------------------------------------------------------- sleepers
@@ -401,13 +453,24 @@ def _sleeper_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     _header_block(sheet, content, "Track geometry per sleeper")
     sheet.pairs(("Legend", sheet.cell("beyond a limit", fill=EXCEEDANCE_FILL)),
                 ("", sheet.cell("invalid sleeper", fill=INVALID_FILL)))
-    sheet.pairs(("Signs", "deviations + right / + up; adjustment: move the rail by the amount, + right / + up"),
-                anchors=(0, 4))
+    long_texts = [sheet.long_pair("Limits", "; ".join(f"{check_name(c)} {limits_text(c)}" for c in content.profile.checks)),
+                  sheet.long_pair("Deviations", f"{deviation_reference(content.summary)}: where the rail is ({SIGNS})"),
+                  sheet.long_pair("Adjustment", amounts_text(content.summary, content.profile, content.fastener))]
     columns = content.columns
     first_header = sheet.group_header([column.group for column in columns])
     sheet.header([limits_text_for(column) for column in columns])
     header = sheet.header([f"{c.title} ({c.unit})" if c.unit else c.title for c in columns])
-    _start(sheet, content, [c.width for c in columns], freeze=f"E{header + 1}")
+    # printed in readable column groups: the sleeper's identity on every page, a page break between groups; the
+    # long texts above wrapped within the first page
+    widths = sheet.fitted_widths([c.width for c in columns])
+    starts = column_pages(widths, [c.group for c in columns], SLEEPER_TITLE_COLUMNS,
+                          printable_width_mm(content.project.report.paper, "landscape") * 100 / SLEEPER_PRINT_SCALE)
+    for row, text in long_texts:
+        sheet.wrap_over(row, text, widths, BLOCK_ANCHORS[1], starts[1] if len(starts) > 1 else len(columns))
+    _start(sheet, content, widths, freeze=f"E{header + 1}", scale=SLEEPER_PRINT_SCALE)
+    for first in starts[1:]:
+        sheet.sheet.col_breaks.append(Break(id=first, max=1048575))
+    sheet.sheet.print_title_cols = f"A:{get_column_letter(SLEEPER_TITLE_COLUMNS)}"
 
     # a style per column and state: plain, inside an exceedance run, invalid sleeper
     plain = [sheet.style_id(c.number_format) for c in columns]
@@ -422,6 +485,35 @@ def _sleeper_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
         table.append((column.values, styles.astype(np.uint16)))  # a few style ids: 2 bytes a cell
     sheet.table(table, progress, cancel)
     sheet.finish_table(header, first_header, len(columns))
+
+
+#: The sleeper table's columns printed on every page: row, sleeper number, chainage, station.
+SLEEPER_TITLE_COLUMNS = 4
+
+
+def column_pages(widths: list[float], groups: list[str], title_columns: int, page_mm: float) -> list[int]:
+    """The first column (0-based) of each printed page of a wide table: whole groups of columns per
+    page as far as they fit beside the ``title_columns`` repeated on every page (a group wider than a
+    page on its own is broken between its columns)."""
+    room = page_mm - sum(column_width_mm(w) for w in widths[:title_columns])
+    starts, used = [title_columns], 0.0
+    index = title_columns
+    while index < len(widths):
+        stop = index
+        while stop < len(widths) and groups[stop] == groups[index]:
+            stop += 1
+        size = sum(column_width_mm(w) for w in widths[index:stop])
+        if used and used + size > room:
+            starts.append(index)
+            used = 0.0
+        for column in range(index, stop):  # within a group too wide for any page
+            width = column_width_mm(widths[column])
+            if used and used + width > room:
+                starts.append(column)
+                used = 0.0
+            used += width
+        index = stop
+    return starts
 
 
 def limits_text_for(column: Column) -> str:
@@ -439,50 +531,94 @@ def limits_text_for(column: Column) -> str:
 def _adjustment_header(sheet: _Sheet, content: ReportContent, title: str) -> None:
     sheet.title(title)
     sheet.append([sheet.cell(_context(content))])
-    fastener = content.fastener
-    adjustment = content.summary.get("adjustment", {})
-    kind = ((fastener.description or f"{fastener.name}, steps of {1e3 * fastener.step_m:g} mm") if fastener
-            else f"{adjustment.get('fastener', '')} (the fastener type file is not readable: no parts)")
-    sheet.append([sheet.cell(f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm at "
-                             f"{adjustment.get('sleepers_to_work_on', 0)} sleepers; "
-                             f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")])
+    sheet.append([sheet.cell(_fastener_line(content))])
     for text in (threshold_text(content.summary), after_adjustment_text(content.summary)):
         if text:
             sheet.append([sheet.cell(text)])
 
 
+#: The crew's sheet: its columns, their widths (A4 portrait at 100 %: 188 of the 190 mm between the margins)
+#: and the paper it is printed on whatever the project's paper (the crews' clipboards hold A4).
+CREW_TITLES = ("no.", "sleeper", "chainage", "rail", "lateral (mm)", "vertical (mm)", "fastener parts",
+               "checks still failed")
+CREW_WIDTHS = (5, 9, 11, 5, 9, 10, 35, 9)
+CREW_PAPER = "A4"
+
+
+def _note(sheet: _Sheet, text: str, widths: Sequence[float], font: Font | None = None) -> None:
+    """A line of text above a table, merged over its columns and wrapped (nothing runs off the page)."""
+    row = sheet.append([sheet.cell(text, font=font, alignment=WRAPPED)])
+    sheet.sheet.merged_cells.add(f"A{row}:{get_column_letter(len(widths))}{row}")
+    letters = BOLD_CHARACTER_WIDTH if font is not None and font.b else BODY_CHARACTER_WIDTH
+    sheet.set_height(row, LINE_HEIGHT_PT * _wrapped_lines(text, sum(widths), letters) + 2.0)
+
+
 def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    _adjustment_header(sheet, content, "Adjustment: the sleepers to work on, in working order (increasing chainage)")
-    sheet.append([sheet.cell("Signs: lateral + moves the rail to the right, vertical + raises it (looking towards "
-                             "increasing chainage).", font=BOLD)])
-    sheet.append([sheet.cell("Parts: outer = on the field side of the rail foot, inner = on the gauge side; No. 9→11: "
-                             "replace the No. 9 part by a No. 11; shims are added; * size assumed, not a published "
-                             "figure. The Materials sheet sums the parts.", font=BOLD)])
+    """The crew's sheet: A4 portrait, 11 pt at 100 %, one line per rail to move, a page per work section."""
+    widths = CREW_WIDTHS
+    sheet.title("Adjustment sheet")
+    _note(sheet, "The rails to move, in working order (increasing chainage). " + _context(content), widths)
+    _note(sheet, "Amounts: " + amounts_text(content.summary, content.profile, content.fastener) + ".", widths, BOLD)
+    for text in (_fastener_line(content), threshold_text(content.summary), after_adjustment_text(content.summary)):
+        if text:
+            _note(sheet, text, widths)
+    _note(sheet, "Parts: outer = on the field side of the rail foot, inner = on the gauge side; No. 9→11: replace the "
+                 "No. 9 part by a No. 11; shims are added; * size assumed, not a published figure. The Materials sheet "
+                 "sums the parts.", widths)
+    header = sheet.header(list(CREW_TITLES))
+    # at 100 % with the body font's widths; fitted to the page width where a substitute font is wider
+    sheet.start(list(widths), f"A{header + 1}", CREW_PAPER, page_header(content), orientation="portrait")
     work = adjustment_work(content)
-    amounts = [content.column(key) for key in ADJUSTMENT_KEYS]
-    titles = (["no.", "sleeper", "chainage", "station (m)", "from the first (m)"]
-              + [f"{c.title} (mm)" for c in amounts] + [c.title for c in amounts] + ["checks still failed"])
-    sheet.group_header(["Working order"] + ["Sleeper"] * 3 + ["Working order"] + [c.group for c in amounts]
-                       + ["Fastener parts for the amounts"] * len(amounts) + [""])
-    header = sheet.header(titles)
-    part_widths = [44, 44, 34, 34]
-    _start(sheet, content, [6, 9, 13, 11, 9, 9, 9, 9, 9, *part_widths, 30], freeze=f"F{header + 1}")
-    order = work.order
-    station = content.station_m[order]
-    columns = [np.arange(1, order.size + 1), content.column("number").values[order],
-               content.column("label").values[order], station, station - station[:1]]
-    columns += [work.amounts_mm[:, k] for k in range(len(amounts))]
-    columns += [[row[k] for row in work.parts] for k in range(len(amounts))]
-    columns.append(content.column("unresolved").values[order])
-    wrapped = sheet.style_id(alignment=WRAPPED)
-    styles = ([sheet.style_id()] * 3 + [sheet.style_id("0.000"), sheet.style_id("0.0")]
-              + [sheet.style_id("+0;-0;")] * len(amounts) + [wrapped] * len(amounts) + [sheet.style_id(font=RED_FONT)])
-    lines = [max((_wrapped_lines(text, width, BODY_CHARACTER_WIDTH) for text, width in zip(row, part_widths)), default=1)
-             for row in work.parts]
-    sheet.table(list(zip(columns, styles)), cancel=cancel, heights=[LINE_HEIGHT_PT * n + 2.0 if n > 1 else None
-                                                                     for n in lines])
+    work_sections = crew_sections(content, work)
+    numbers, labels = content.column("number").values, content.column("label").values
+    plain, bold, amount = sheet.style_id(), sheet.style_id(font=BOLD), sheet.style_id("+0;-0;")
+    wrapped, red = sheet.style_id(alignment=WRAPPED), sheet.style_id(font=RED_FONT, alignment=WRAPPED)
+    columns: list[list] = [[] for _ in CREW_TITLES]
+    styles: list[list[int]] = [[] for _ in CREW_TITLES]
+    heights: list[float | None] = []
+    for section in work_sections:
+        first, last = section.rows[0].sleeper, section.rows[-1].sleeper
+        sleepers = len({row.sleeper for row in section.rows})
+        heading = (f"Work section {section.number} of {len(work_sections)}: {labels[first]} – {labels[last]}, "
+                   f"{sleepers} sleepers, {len(section.rows)} rails to move")
+        row_number = sheet.rows + len(heights) + 1
+        if section.number > 1:  # each work section starts on a sheet of paper of its own
+            sheet.sheet.row_breaks.append(Break(id=row_number - 1))
+        sheet.sheet.merged_cells.add(f"A{row_number}:{get_column_letter(len(widths))}{row_number}")
+        for k, value in enumerate([heading] + [""] * (len(CREW_TITLES) - 1)):
+            columns[k].append(value)
+            styles[k].append(bold)
+        heights.append(LINE_HEIGHT_PT + 6.0)
+        for row in section.rows:
+            values = [row.count, int(numbers[row.sleeper]), str(labels[row.sleeper]), RAILS[row.rail], row.lateral_mm,
+                      row.vertical_mm, "\n".join(row.parts), row.failing]
+            for k, (value, style) in enumerate(zip(values, [plain, plain, plain, plain, amount, amount, wrapped, red])):
+                columns[k].append(value)
+                styles[k].append(style)
+            lines = max(sum(_wrapped_lines(part, widths[6], BODY_CHARACTER_WIDTH) for part in row.parts) or 1,
+                        _wrapped_lines(row.failing, widths[7], BODY_CHARACTER_WIDTH))
+            heights.append(LINE_HEIGHT_PT * lines + 2.0 if lines > 1 else None)
+    if not work_sections:
+        columns[0].append("no rail to move: every check of the tolerance profile passes as measured")
+        styles[0].append(bold)
+        for k in range(1, len(CREW_TITLES)):
+            columns[k].append("")
+            styles[k].append(plain)
+        heights.append(None)
+    sheet.table([(values, style) for values, style in zip(columns, styles)], cancel=cancel, heights=heights)
+    sheet.sheet.print_title_rows = f"{header}:{header}"
     progress(1.0, "adjustment sheet")
-    sheet.finish_table(header, header - 1, len(titles))
+
+
+def _fastener_line(content: ReportContent) -> str:
+    """The fastener type, the total movement and how many sleepers still fail (summary.toml [adjustment])."""
+    fastener = content.fastener
+    adjustment = content.summary.get("adjustment", {})
+    kind = ((fastener.description or f"{fastener.name}, steps of {1e3 * fastener.step_m:g} mm") if fastener
+            else f"{fastener_name(None, adjustment.get('fastener', ''))} (the fastener type file is not readable: no parts)")
+    return (f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm at "
+            f"{adjustment.get('sleepers_to_work_on', 0)} sleepers; "
+            f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")
 
 
 def _materials_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:

@@ -4,7 +4,8 @@ A3 or A4 as the workbook, vector charts).
 Order: cover; survey and processing summary (data spans, GNSS availability and outages, fusion
 quality, heights, assessment, TQI per section, predicted accuracy per section); charts along chainage, one range of
 ``CHART_RANGE_M`` per page group with the range in the page header; the plan view; any extra
-sections (``sections``: e.g. repeatability when several runs exist); the exceedance table. Every
+sections (``sections``: e.g. repeatability when several runs exist); the exceedance table; the adjustment
+amounts per sleeper and rail (the workbook's, :mod:`insrail.report.labels`). Every
 page carries the project and survey, its section or chainage range and "page i of n".
 """
 
@@ -24,8 +25,6 @@ from reportlab.lib import colors
 from reportlab.lib.pagesizes import A3, A4, landscape
 from reportlab.lib.styles import ParagraphStyle, getSampleStyleSheet
 from reportlab.lib.units import mm
-from reportlab.pdfbase import pdfmetrics
-from reportlab.pdfbase.cidfonts import UnicodeCIDFont
 from reportlab.pdfgen.canvas import Canvas
 from reportlab.platypus import (
     BaseDocTemplate,
@@ -44,7 +43,15 @@ from reportlab.platypus import (
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.names import UnknownName, check_name, column_name, quantity_name, rail_direction
+from insrail.names import (
+    UnknownName,
+    check_name,
+    column_name,
+    fastener_name,
+    profile_name,
+    quantity_name,
+    rail_direction,
+)
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.notices import notices_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
@@ -70,14 +77,15 @@ from insrail.report.charts import (
 )
 from insrail.report.content import (
     ADJUSTMENT_KEYS,
-    DEVIATION_GROUP,
     OTHER_CHECKS_GROUP,
     RAIL_KINDS,
     SEVERITIES,
     SEVERITY_RULE,
     ReportContent,
+    adjustment_work,
     after_adjustment_text,
     check_description,
+    crew_sections,
     exceedance_check,
     exceedance_display,
     exceedances_by_severity,
@@ -88,6 +96,8 @@ from insrail.report.content import (
     survey_start,
     threshold_text,
 )
+from insrail.report.fonts import font_for, font_runs, helvetica_can_show
+from insrail.report.labels import amounts_text, deviation_reference
 from insrail.track.exceedance import RAILS
 
 #: [report] paper -> the page (landscape), width and height in points
@@ -96,7 +106,7 @@ MARGIN = 14 * mm
 CHART_RANGE_M = 500.0  # the longest chainage span of a chart page
 CHART_ROUND_M = 50.0  # chart spans start on and last a multiple of this
 CHART_MIN_HEIGHT = 24 * mm  # a chart is never drawn lower (pages hold as many as fit)
-CJK_FONT = "STSong-Light"  # an Adobe CID font every PDF viewer provides; Helvetica has no CJK glyphs
+PARAGRAPH_FONT = "Helvetica"  # the paragraphs' own font (a run in it keeps the paragraph's weight)
 def page_size(content: ReportContent) -> tuple[float, float]:
     """The report's page (width, height) in points: the project's paper, landscape."""
     return PAGES[content.project.report.paper]
@@ -138,33 +148,11 @@ KEY_VALUE_STYLE = TableStyle([
 ])
 
 
-def _helvetica_can_show(character: str) -> bool:
-    try:
-        character.encode("cp1252")
-    except UnicodeEncodeError:
-        return False
-    return True
-
-
 def text(value) -> str:
     """Paragraph markup for any text: escaped, the runs Helvetica cannot show (Chinese, σ) in a CJK font
     and the rest in the paragraph's own font."""
-    value = str(value)
-    runs = itertools.groupby(value, _helvetica_can_show)
-    parts = []
-    for shown, characters in runs:
-        run = escape("".join(characters))
-        if shown:
-            parts.append(run)
-        else:
-            _register_cjk()
-            parts.append(f'<font name="{CJK_FONT}">{run}</font>')
-    return "".join(parts)
-
-
-def _register_cjk() -> None:
-    if CJK_FONT not in pdfmetrics.getRegisteredFontNames():
-        pdfmetrics.registerFont(UnicodeCIDFont(CJK_FONT))
+    return "".join(escape(run) if font == PARAGRAPH_FONT else f'<font name="{font}">{escape(run)}</font>'
+                   for run, font in font_runs(str(value), PARAGRAPH_FONT))
 
 
 def _cell(value, style: ParagraphStyle = SMALL) -> Paragraph:
@@ -354,8 +342,9 @@ def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
         ("IMU", _instrument(_imu(content), report.imu_calibrated)),
         ("Coordinate system", crs_text(project.crs)),
         ("Height datum", height_text(content)),
-        ("Design", project.design or "none: fitted line types, deviations measured - best"),
-        ("Tolerance profile", f"{profile.description or profile.name} ({profile.name}); {profile.source}"),
+        ("Design", f"{project.design}; deviations {deviation_reference(content.summary)}" if project.design
+         else f"none: fitted line types, deviations {deviation_reference(content.summary)}"),
+        ("Tolerance profile", f"{profile_name(profile)}; {profile.source}"),
         ("Operator", _not_stated(report.operator)),
     ]
 
@@ -369,7 +358,7 @@ def _exceedance_conclusion(content: ReportContent) -> list[Flowable]:
     total = sum(len(rows) for _, rows in groups)
     valid = int(content.valid.sum())
     if not total:
-        return [Paragraph(f"<b>No sleeper is beyond a limit</b> of tolerance profile {text(content.profile.name)} "
+        return [Paragraph(f"<b>No sleeper is beyond a limit</b> of tolerance profile {text(profile_name(content.profile))} "
                           f"({valid} valid sleepers assessed).", BODY)]
     severities = [name for name, _ in SEVERITIES]
     counts: dict[str, dict[str, int]] = {}
@@ -432,7 +421,8 @@ def _adjustment_conclusion(content: ReportContent) -> str:
     adjustment = content.summary.get("adjustment", {})
     amounts = [content.column(key).values for key in ADJUSTMENT_KEYS]
     moving = int(np.count_nonzero(np.any([np.nan_to_num(a) != 0 for a in amounts], axis=0)))
-    fastener = content.fastener.description or content.fastener.name if content.fastener else adjustment.get("fastener", "")
+    fastener = (content.fastener.description or fastener_name(content.fastener) if content.fastener
+                else fastener_name(None, adjustment.get("fastener", "")))
     unresolved = adjustment.get("unresolved_sleepers", 0)
     return (f"{moving} sleepers to adjust ({fastener}); largest lateral {_fmt(adjustment.get('max_lateral_mm'), 1, 'mm')}, "
             f"vertical {_fmt(adjustment.get('max_vertical_mm'), 1, 'mm')}; total movement "
@@ -566,7 +556,7 @@ def _processing(content: ReportContent, trajectory: dict | None) -> list[Flowabl
                              key_values(rows, widths=(45 * mm, 215 * mm))]
     story += _local_control_table(s.get("local_control"))
     story += [Paragraph("Tolerance profile", H2),
-              Paragraph(text(f"{content.profile.name}: {content.profile.description}"), BODY)]
+              Paragraph(text(profile_name(content.profile)), BODY)]
     counts = s.get("assessment", {}).get("by_check", {})
     story.append(table(["check", "what", "limit", "exceedances"],
                        [[check_name(c), check_description(c), limits_text(c), counts.get(c.name, 0)]
@@ -673,10 +663,11 @@ def _predicted_accuracy(content: ReportContent) -> list[Flowable]:
 def chart_specs(content: ReportContent) -> list[StripChart]:
     """The quantities drawn along chainage, in the order of the sleeper table, titled with their display names."""
     c = {column.key: column for column in content.columns}
-    charts = [StripChart(f"Lateral deviation {DEVIATION_GROUP.removeprefix('Deviation ')}", "mm",
+    reference = deviation_reference(content.summary)
+    charts = [StripChart(f"Lateral deviation, {reference}", "mm",
                          (Series("left rail", c["lateral_deviation_left_mm"].values),
                           Series("right rail", c["lateral_deviation_right_mm"].values))),
-              StripChart(f"Vertical deviation {DEVIATION_GROUP.removeprefix('Deviation ')}", "mm",
+              StripChart(f"Vertical deviation, {reference}", "mm",
                          (Series("left rail", c["vertical_deviation_left_mm"].values),
                           Series("right rail", c["vertical_deviation_right_mm"].values)))]
     profile_checks = {check.name: check for check in content.profile.checks}
@@ -829,12 +820,58 @@ def _exceedances(content: ReportContent) -> list[Flowable]:
     return story + _events(content)
 
 
+#: The PDF's adjustment table: a line per sleeper (the crew's sheet has one per rail, with the parts); the
+#: amounts written out, 0 too.
+ADJUSTMENT_TITLES = ["no.", "sleeper", "chainage", "lateral left (mm)", "lateral right (mm)", "vertical left (mm)",
+                     "vertical right (mm)", "checks still failed"]
+ADJUSTMENT_WIDTHS = [14 * mm, 20 * mm, 30 * mm, 26 * mm, 26 * mm, 26 * mm, 26 * mm, 100 * mm]
+
+
+def _amount(value: float) -> str:
+    return f"{value:+.0f}" if round(value) else "0"
+
+
+def _adjustment(content: ReportContent) -> list[Flowable]:
+    """The amounts per sleeper, the crew sheet's lines (:func:`insrail.report.content.crew_sections`) a sleeper
+    to a line, one table per work section."""
+    story: list[Flowable] = [Heading("Adjustment"), Paragraph("Adjustment amounts", H1),
+                             Paragraph(text("Amounts: " + amounts_text(content.summary, content.profile, content.fastener)
+                                            + ". The fastener parts per rail are on the workbook's Adjustment sheet."),
+                                       BODY),
+                             Paragraph(_adjustment_conclusion(content), BODY)]
+    work_sections = crew_sections(content)
+    if not work_sections:
+        return story + [Paragraph("No rail to move: every check of the tolerance profile passes as measured.", BODY)]
+    numbers, labels = content.column("number").values, content.column("label").values
+    for section in work_sections:
+        first, last = section.rows[0].sleeper, section.rows[-1].sleeper
+        rows: list[list] = [[_cell(title) for title in ADJUSTMENT_TITLES]]
+        for sleeper, lines in itertools.groupby(section.rows, key=lambda row: row.sleeper):
+            by_rail = {row.rail: row for row in lines}
+            lateral = [by_rail[rail].lateral_mm if rail in by_rail else 0.0 for rail in (0, 1)]
+            vertical = [by_rail[rail].vertical_mm if rail in by_rail else 0.0 for rail in (0, 1)]
+            failing = "; ".join(dict.fromkeys(row.failing for row in by_rail.values() if row.failing))
+            rows.append([str(next(iter(by_rail.values())).count), str(int(numbers[sleeper])), text_cell(labels[sleeper]),
+                         *(_amount(value) for value in (*lateral, *vertical)), _cell(failing) if failing else ""])
+        story += [CondPageBreak(40 * mm),
+                  Paragraph(text(f"Work section {section.number} of {len(work_sections)}: {labels[first]} – "
+                                 f"{labels[last]}"), H2),
+                  Table(rows, colWidths=ADJUSTMENT_WIDTHS, repeatRows=1, style=TABLE_STYLE, hAlign="LEFT")]
+    return story
+
+
+def text_cell(value) -> str | Paragraph:
+    """A table cell: the text itself where Helvetica shows it (quick to lay out), else a paragraph."""
+    value = str(value)
+    return value if helvetica_can_show(value) else _cell(value)
+
+
 def _compared_name(content: ReportContent, column: str) -> str:
     """The display name of a compared sleepers.csv column."""
     try:
         return column_name(column, content.profile.checks).name
     except UnknownName:  # a check of the profile the runs were compared with, no longer in the project's
-        return f"{column} (a check no longer in tolerance profile {content.profile.name})"
+        return f"{column} (a check no longer in tolerance profile {profile_name(content.profile)})"
 
 
 def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Section:
@@ -895,11 +932,11 @@ def _on_page(canvas: Canvas, doc) -> None:
     page_width, page_height = doc.pagesize
     top = page_height - MARGIN + 6
     canvas.line(MARGIN, top - 3, page_width - MARGIN, top - 3)
-    canvas.setFont(_font_for(doc.report_title), 8)
+    canvas.setFont(font_for(doc.report_title), 8)
     canvas.drawString(MARGIN, top, doc.report_title)
     canvas.setFont("Helvetica-Bold", 8)
     canvas.drawRightString(page_width - MARGIN, top, getattr(canvas, "_insrail_heading", ""))
-    canvas.setFont(_font_for(doc.report_footer), 8)
+    canvas.setFont(font_for(doc.report_footer), 8)
     canvas.drawString(MARGIN, MARGIN - 16, doc.report_footer)
     canvas.restoreState()
 
@@ -916,16 +953,6 @@ def _layout_progress(progress: StepProgress, cancel: CancelToken) -> Callable[[s
             progress(min(value / total[0], 1.0), "laying out the pages")
 
     return callback
-
-
-def _font_for(value: str) -> str:
-    """Helvetica, or the CJK font for text Helvetica cannot show (a project named in Chinese)."""
-    try:
-        value.encode("cp1252")
-    except UnicodeEncodeError:
-        _register_cjk()
-        return CJK_FONT
-    return "Helvetica"
 
 
 def write_pdf(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
@@ -949,7 +976,7 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     story += _plan(content)
     for section in sections:
         story += section(content) + [PageBreak()]
-    story += _exceedances(content)
+    story += _exceedances(content) + [PageBreak()] + _adjustment(content)
     check_cancel(cancel)
     step(0.5, "laying out the pages")
     with atomic_write(path, "wb") as handle:
@@ -957,7 +984,7 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
         doc = BaseDocTemplate(handle, pagesize=page, leftMargin=MARGIN, rightMargin=MARGIN, topMargin=MARGIN,
                               bottomMargin=MARGIN, title=f"{project.name} - {results.survey}: track geometry survey report",
                               author=content.software, creator=content.software)
-        doc.report_title = f"{project.name} - survey {results.survey} - {content.profile.name}"
+        doc.report_title = f"{project.name} - survey {results.survey} - {profile_name(content.profile)}"
         doc.report_footer = f"{content.software}; results {results.folder.name}"
         frame = Frame(MARGIN, MARGIN, page[0] - 2 * MARGIN, page[1] - 2 * MARGIN, leftPadding=0, rightPadding=0,
                       topPadding=0, bottomPadding=0)

@@ -1,0 +1,64 @@
+"""What the numbers on paper and in the exports are: one wording for every file.
+
+Two kinds of per-rail millimetres leave insrail, and no file may confuse them:
+
+* a **deviation** is a measurement: the rail's position minus its reference, ``measured − design
+  (<design file>)`` with a design alignment, else ``measured − fitted line`` (the line types fitted
+  to the measured centreline), + right / + up looking towards increasing chainage
+  (:func:`deviation_reference`, taken from the results' summary: the reference the processing used);
+* an **amount** is the crew's instruction: how far to move the rail at a sleeper (+ right / + up), the
+  adjustment planning's result (:mod:`insrail.track.adjustment`, sleepers.csv ``adjust_*_mm``). Every
+  file that carries amounts carries these, unchanged, and says what they bring the rail to
+  (:func:`amounts_text`): the re-assessed track passes the tolerance profile; they do not put the rail
+  onto its reference (that would be −deviation, which no file offers as an instruction).
+"""
+
+from __future__ import annotations
+
+from pathlib import PurePosixPath
+
+from insrail.names import fastener_name, profile_name
+from insrail.track.adjustment import DEFAULT_STRATEGY, STRATEGIES
+
+MINUS = "−"  # U+2212: "measured − design" reads as a difference, not a hyphenated word
+#: The sign of deviations and amounts alike, looking towards increasing chainage.
+SIGNS = "lateral + right, vertical + up, looking towards increasing chainage"
+
+
+def design_name(summary: dict) -> str:
+    """The design alignment the results were processed with, by its file name ("" without one)."""
+    design = summary.get("track", {}).get("design", "")
+    return PurePosixPath(str(design).replace("\\", "/")).name if design else ""
+
+
+def deviation_reference(summary: dict) -> str:
+    """What the deviations are: "measured − design (design.csv)" or "measured − fitted line"."""
+    design = design_name(summary)
+    return f"measured {MINUS} design ({design})" if design else f"measured {MINUS} fitted line"
+
+
+def deviation_group(summary: dict) -> str:
+    """The sleeper table's and the charts' group title of the deviations."""
+    return f"Deviation [{deviation_reference(summary)}]"
+
+
+def reference_line(summary: dict) -> str:
+    """The line the deviations are taken against, in words ("the design alignment design.csv")."""
+    design = design_name(summary)
+    return f"the design alignment {design}" if design else "the line fitted to the measured centreline"
+
+
+def amounts_text(summary: dict, profile, fastener) -> str:
+    """What moving each rail by its amount achieves, from the results' summary ([adjustment]) and the
+    profile and fastener type the amounts were planned with (``fastener`` None: its file is not readable)."""
+    adjustment = summary.get("adjustment", {})
+    strategy = STRATEGIES.get(adjustment.get("strategy", DEFAULT_STRATEGY), adjustment.get("strategy", ""))
+    failing = adjustment.get("unresolved_sleepers", 0)
+    verdict = (f"after it the track passes every check of tolerance profile {profile_name(profile)}"
+               + (f" except at {failing} sleepers marked as still failing" if failing else "")
+               if "after" in adjustment else  # results of an insrail before the re-assessment: no verdict to state
+               f"planned for tolerance profile {profile_name(profile)}, not re-assessed after the adjustment in "
+               "these results")
+    return (f"move the rail by the amount ({SIGNS}); planned by insrail for fastener "
+            f"{fastener_name(fastener, adjustment.get('fastener', ''))} in whole fastener steps ({strategy}): "
+            f"{verdict}; it does not put the rail onto {reference_line(summary)}")
