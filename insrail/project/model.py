@@ -52,7 +52,8 @@ import numpy as np
 import tomli_w
 
 from insrail.geodesy.crs import EngineeringCRS
-from insrail.geodesy.errors import SettingsError
+from insrail.geodesy.errors import GeoidGridError, SettingsError
+from insrail.geodesy.geoid import GeoidGrid
 from insrail.geodesy.height_anomaly import HeightAnomalySettings
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
@@ -234,13 +235,14 @@ class Project:
         """The project's trolley geometry, or None when each survey brings its own.
 
         ``roles``: the file roles of the survey it is used for; a lever arm that survey's data
-        need but the project's ``[trolley]`` leaves out is then an error (``InputError`` naming
-        project.toml), never a NaN offset reaching the fusion. Without roles only what every
-        survey needs is required."""
+        need in the fusion but the project's ``[trolley]`` leaves out is then an error (``InputError``
+        naming project.toml), never a missing offset reaching the fusion (those of the track are
+        checked before the fusion too: ``plausibility.check_trolley``). Without roles no lever arm
+        is required."""
         if self.trolley_settings is None:
             return None
         problems: list[str] = []
-        trolley = parse_trolley(self.trolley_settings, {"sleepers"} if roles is None else roles, problems)
+        trolley = parse_trolley(self.trolley_settings, set() if roles is None else roles, problems)
         if roles is not None and problems:
             raise InputError(self.path, None, "; ".join(problems))
         return trolley
@@ -338,7 +340,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     trolley_settings = document.get("trolley")
     if trolley_settings is not None:
         trolley_problems: list[str] = []
-        parse_trolley(trolley_settings, {"sleepers"}, trolley_problems)
+        parse_trolley(trolley_settings, set(), trolley_problems)  # which lever arms a survey needs: per survey
         reader.problems.extend(trolley_problems)
 
     processing = reader.table(document, "processing")
@@ -530,6 +532,11 @@ def _height(reader: _Reader, table: dict) -> HeightSettings:
             {k: v for k, v in table.items() if k in ("model", "geoid_grid")} | {"model": model}, "geodesy.height")
     except SettingsError as err:
         reader.problems.extend(err.problems)
+    if anomaly.geoid_grid not in (None, "egm96") and reader.file(table, "geodesy.height.geoid_grid") is not None:
+        try:  # a grid PROJ cannot read is named here, not when the heights are fitted
+            GeoidGrid(reader.folder / anomaly.geoid_grid)
+        except GeoidGridError as err:
+            reader.add("geodesy.height.geoid_grid", str(err))
     return HeightSettings(benchmarks, anomaly)
 
 

@@ -74,11 +74,11 @@ from insrail.project.local_control import LocalFit, fit_local
 from insrail.project.model import Project
 from insrail.project.plausibility import (
     check_benchmarks,
+    check_imu_profile,
     check_survey,
     check_trolley,
     clean_gauge,
     describe,
-    installed_geoid,
     nominal_gauge_m,
     trolley_source,
 )
@@ -321,7 +321,7 @@ def prism_fixes(project: Project, prism: PrismObservations, trolley: TrolleyGeom
         zeta = height_fit.zeta_m(east, north) if height_fit is not None else 0.0
         return lat, lon, normal_height + zeta
 
-    return PositionFix.from_prism(prism, trolley.imu_to_prism_m, to_geodetic)
+    return PositionFix.from_prism(prism, trolley.lever_arm_m("imu_to_prism_m"), to_geodetic)
 
 
 def quality_cache_file(trajectory_file: Path) -> Path:
@@ -481,7 +481,7 @@ def fit_heights(project: Project) -> HeightAnomalyFit | None:
     if project.height.benchmarks is None:
         return None
     benchmarks = read_benchmarks(project.resolve(project.height.benchmarks))
-    check_benchmarks(benchmarks, installed_geoid())
+    check_benchmarks(benchmarks)
     east, north = project.crs.to_plane(benchmarks.lat_rad, benchmarks.lon_rad)
     anomaly = project.height.anomaly
     if anomaly.geoid_grid not in (None, "egm96"):  # a grid file named relative to the project
@@ -511,10 +511,14 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     if manifest.raw_gnss is not None:
         gnss = run_gnss_stage(project, folder, manifest, project.folder / RESULTS_FOLDER / CACHE_FOLDER,
                               step.sub(0.0, 0.04), cancel)
-    trolley = project.trolley(set(manifest.files) | ({"gnss"} if manifest.raw_gnss is not None else set()))
+    roles = set(manifest.files) | ({"gnss"} if manifest.raw_gnss is not None else set())
+    trolley = project.trolley(roles)
     if trolley is not None:
         manifest = replace(manifest, trolley=trolley)
-    check_trolley(manifest.trolley, trolley_source(project.path, folder, trolley is not None), nominal_gauge_m(project))
+    check_trolley(manifest.trolley, trolley_source(project.path, folder, trolley is not None), nominal_gauge_m(project),
+                  roles)
+    if project.imu_profile is None:  # the project's own is checked when the project is loaded
+        check_imu_profile(manifest.imu_profile, folder / MANIFEST_NAME, "survey.imu_profile")
     if "gauge" not in manifest.files:
         raise InputError(folder / MANIFEST_NAME, None,
                          "files.gauge: missing; the track reconstruction needs the gauge record")
