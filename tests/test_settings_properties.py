@@ -69,11 +69,13 @@ class Drawn:
 
 MISSING = object()
 #: The keys a drawn configuration may get wrong (one at a time, so that each refusal is seen alone).
-FAULTS = ("survey.gps_week", "survey.imu_profile", "survey.description", "files", "files.gauge",
+FAULTS = ("project.name", "project.description", "survey.gps_week", "survey.imu_profile", "survey.description", "files", "files.gauge",
           *(f"trolley.{key}" for key in LEVER_ARMS), "trolley.reference_rail", "trolley.mounting_rpy_deg",
           "trolley.rail_centre_spacing_m", "geodesy.height.benchmarks", "geodesy.height.model",
           "geodesy.height.geoid_grid", "track.design", "track.start_station_m", "track.tolerance_profile",
-          "track.first_sleeper_number", "processing.use_nhc", "processing.update_rate_hz", "processing.imu_profile")
+          "track.first_sleeper_number", "track.fastener", "track.stationing_direction", "track.line_speed_kmh",
+          "track.sleeper_anchor", "processing.use_nhc", "processing.update_rate_hz", "processing.imu_profile",
+          "adjustment.strategy", "adjustment.threshold_mm", "report.paper")
 
 
 @st.composite
@@ -137,14 +139,29 @@ def configurations(draw, valid_only=False):
     put(track, "tolerance_profile", "track.tolerance_profile", ["cn_hsr_ballastless", "cn_conventional_160"],
         ["cn-hsr"])
     put(track, "first_sleeper_number", "track.first_sleeper_number", [1, 500], [1.5])
+    put(track, "fastener", "track.fastener", ["wj7", "wj8"], ["wj-7"])
+    put(track, "stationing_direction", "track.stationing_direction", ["travel", 45.0], ["north"])
+    put(track, "line_speed_kmh", "track.line_speed_kmh", [250, [{"from_m": 0.0, "to_m": 5000.0, "kmh": 200}]],
+        [-5, "fast", [{"from_m": 10.0, "to_m": 0.0, "kmh": 100}]])
+    put(track, "sleeper_anchor", "track.sleeper_anchor", [{"number": 1234, "station_m": 1150.0}],
+        [{"number": 1234}, {"number": "1234", "station_m": 1150.0}])
+    adjustment: dict = {}
+    put(adjustment, "strategy", "adjustment.strategy", ["least_movement", "guiding_rail_first"], ["cheapest"])
+    put(adjustment, "threshold_mm", "adjustment.threshold_mm", [1.0, 2.0], [50.0, -1.0])
+    report: dict = {}
+    put(report, "paper", "report.paper", ["A3", "A4"], ["Letter"])
     processing: dict = {}
     put(processing, "use_nhc", "processing.use_nhc", [True], ["yes"])
     put(processing, "update_rate_hz", "processing.update_rate_hz", [10.0], [-10.0, 0])
     put(processing, "imu_profile", "processing.imu_profile", ["nav"], ["navigation"])
     if survey.get("imu_profile") == "navv" and "imu_profile" in processing:
         refused.discard("survey.imu_profile")  # the project's profile replaces the survey's
-    project = {"project": {"name": "settings"}, "geodesy": {"crs": crs, "height": height},
-               "track": track, "processing": processing, "surveys": [{"name": SURVEY, "folder": SURVEY}]}
+    meta: dict = {}
+    put(meta, "name", "project.name", ["settings"], [7])
+    put(meta, "description", "project.description", ["a test"], [["a", "b"]])
+    project = {"project": meta, "geodesy": {"crs": crs, "height": height},
+               "track": track, "processing": processing, "adjustment": adjustment, "report": report,
+               "surveys": [{"name": SURVEY, "folder": SURVEY}]}
     return Drawn({"survey": survey, "files": files, "trolley": trolley}, project, refused)
 
 
