@@ -507,10 +507,6 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     entry = project.survey(survey_name)
     folder = project.resolve(entry.folder)
     manifest = read_manifest(folder)
-    gnss = None  # the GNSS stage (PPK), for a survey with raw observations
-    if manifest.raw_gnss is not None:
-        gnss = run_gnss_stage(project, folder, manifest, project.folder / RESULTS_FOLDER / CACHE_FOLDER,
-                              step.sub(0.0, 0.04), cancel)
     roles = set(manifest.files) | ({"gnss"} if manifest.raw_gnss is not None else set())
     trolley = project.trolley(roles)
     if trolley is not None:
@@ -522,6 +518,10 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     if "gauge" not in manifest.files:
         raise InputError(folder / MANIFEST_NAME, None,
                          "files.gauge: missing; the track reconstruction needs the gauge record")
+    gnss = None  # the GNSS stage (PPK), for a survey with raw observations: after the settings' checks
+    if manifest.raw_gnss is not None:
+        gnss = run_gnss_stage(project, folder, manifest, project.folder / RESULTS_FOLDER / CACHE_FOLDER,
+                              step.sub(0.0, 0.04), cancel)
     check_cancel(cancel)
     step(0.04, "height model")
     height_fit = fit_heights(project)
