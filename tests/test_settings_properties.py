@@ -11,20 +11,20 @@ result (a handful of examples on a 150 m survey simulated once per session).
 from __future__ import annotations
 
 import re
-import tomllib
 import shutil
-from dataclasses import dataclass, replace
+import tomllib
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
 import tomli_w
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from test_project_robustness import tiny_scenario  # the 150 m survey
 
 from insrail.cli.main import main
 from insrail.io.errors import InputError
 from insrail.project import load_project, pipeline, process
-from insrail.sim.scenario import GnssSpec, preset
 from insrail.sim.simulate import simulate
 
 SURVEY = "run"
@@ -39,14 +39,6 @@ NEEDED_WITH = {"imu_to_antenna_m": "gnss", "imu_to_odometer_m": "odometer", "imu
 RAW_FILES = {"imu": ("imu.npy", "imu-npy"), "gnss": ("gnss.pos", "rtklib-pos"),
              "odometer": ("odometer.txt", "odometer-distance"), "gauge": ("gauge.txt", "gauge-mm"),
              "sleepers": ("sleepers.txt", "sleeper-times")}
-
-
-def tiny_scenario():
-    short = preset("short")
-    return replace(short, name=SURVEY,
-                   motion=replace(short.motion, start_station_m=1100.0, end_station_m=1250.0, stops=(),
-                                  static_start_s=60.0, static_end_s=10.0),
-                   gnss=GnssSpec())
 
 
 @pytest.fixture(scope="session")
