@@ -250,3 +250,22 @@ def test_fuse_takes_a_survey_of_imu_and_gnss_without_any_rail_key(raw_survey, tm
     error = capsys.readouterr().err
     assert f"{folder / 'survey.toml'}: trolley.imu_to_reference_rail_m: missing; insrail process needs it" in error
     assert not (tmp_path / "results" / ".cache").exists() or not list((tmp_path / "results" / ".cache").glob("fusion-*"))
+
+
+def test_a_project_trolley_needs_only_what_each_survey_uses(raw_survey, tmp_path, monkeypatch):
+    """project.toml's [trolley] replaces the surveys' own, which may then be left out; without the
+    sleeper detector it loads, a survey with a sleeper file is then refused before the fusion naming
+    project.toml and the key, one without is accepted."""
+    monkeypatch.setattr(pipeline, "_fused_trajectory", before_the_fusion)
+    arms = {key: LEVER_ARMS[key] for key in ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m")}
+    survey = {"survey": {"name": SURVEY}, "files": {role: {"path": RAW_FILES[role][0], "format": RAW_FILES[role][1]}
+                        for role in ("imu", "gnss", "odometer", "gauge", "sleepers")}}
+    project = {"geodesy": {"crs": {"ellipsoid": "CGCS2000", "central_meridian_deg": 114.3}}, "trolley": arms,
+               "track": {"start_station_m": 1100.0}, "surveys": [{"name": SURVEY, "folder": SURVEY}]}
+    root = write_project(tmp_path / "project", raw_survey, Drawn(survey, project, set()))
+    error = outcome_before_the_fusion(root)
+    assert str(error).startswith(f"{root / 'project.toml'}: trolley.imu_to_sleeper_detector_m: missing; insrail "
+                                 "process needs it because files.sleepers is given"), error
+    del survey["files"]["sleepers"]
+    root = write_project(tmp_path / "project", raw_survey, Drawn(survey, project, set()))
+    assert outcome_before_the_fusion(root) is None

@@ -298,8 +298,11 @@ def track_lever_arm_problems(trolley: TrolleyGeometry, roles: set[str]) -> list[
     return problems
 
 
-def read_manifest(folder: str | Path) -> SurveyManifest:
+def read_manifest(folder: str | Path, trolley_from_project: bool = False) -> SurveyManifest:
     """Read and validate ``<folder>/survey.toml``.
+
+    ``trolley_from_project``: the survey is processed in a project whose ``[trolley]`` replaces the
+    survey's own, which may then be left out (and requires no lever arm; one given is still read).
 
     Raises :class:`ManifestError` listing every problem found, each with its key
     path (``files.gnss.path: file not found: gnss.pos``).
@@ -334,7 +337,10 @@ def read_manifest(folder: str | Path) -> SurveyManifest:
     raw_gnss = parse_raw_gnss(folder, document["gnss_raw"], problems) if "gnss_raw" in document else None
     files = _parse_files(folder, document.get("files"), problems, raw_gnss="gnss_raw" in document)
     roles = set(files) | ({"gnss"} if "gnss_raw" in document else set())
-    trolley = parse_trolley(document.get("trolley"), roles, problems)
+    if trolley_from_project:
+        trolley = parse_trolley(document["trolley"], set(), problems) if "trolley" in document else TrolleyGeometry()
+    else:
+        trolley = parse_trolley(document.get("trolley"), roles, problems)
     imu_profile = survey.get("imu_profile", "nav")
     if isinstance(imu_profile, str) and imu_profile.endswith(".toml"):
         # a profile file of the survey's own: relative to the survey folder, wherever the user runs from
@@ -407,17 +413,19 @@ def _with_week(data, role: str, gps_week: int | None, problems: list[str]):
 
 
 def read_survey(folder: str | Path, progress: ProgressFn | None = None,
-                cancel: CancelToken = None, gnss: GnssSolution | None = None) -> SurveyData:
+                cancel: CancelToken = None, gnss: GnssSolution | None = None,
+                trolley_from_project: bool = False) -> SurveyData:
     """Load every file of a survey folder by its role and format.
 
     Every file is read even after one fails, so the user sees all bad files at
     once: one bad file raises its own InputError, several raise a ManifestError
     listing them. Then the aiding data must overlap the IMU in time.
     ``gnss`` is the solution computed from ``[gnss_raw]`` (a project's GNSS stage);
-    it is required for such a survey and refused for one with ``[files.gnss]``.
+    it is required for such a survey and refused for one with ``[files.gnss]``. ``trolley_from_project``:
+    as for :func:`read_manifest`.
     """
     folder = Path(folder)
-    manifest = read_manifest(folder)
+    manifest = read_manifest(folder, trolley_from_project)
     if (manifest.raw_gnss is not None) != (gnss is not None):
         raise InputError(folder / MANIFEST_NAME, None, "gnss_raw: the survey holds raw GNSS observations; "
                          "process it in a project (PPK) first" if gnss is None else

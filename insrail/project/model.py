@@ -13,7 +13,9 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
     [geodesy.local]      model = "4-parameter" | "7-parameter", [geodesy.local.points.<name>] common points in
                          the engineering CRS and the railway's local grid (insrail.project.local_control): every
                          output coordinate (and the design) in the local grid
-    [trolley]            as in survey.toml; when absent each survey's own [trolley] is used
+    [trolley]            as in survey.toml; when absent each survey's own [trolley] is used, when given it
+                         replaces theirs (which may then be left out); each lever arm is required only
+                         by a survey whose data use it (checked per survey before its fusion)
     [processing]         imu_profile (default: each survey's), a subset of FusionOptions
     [track]              design (alignment CSV or LandXML), start_station_m (needed without a design:
                          the station where each survey starts), stationing_direction (without a

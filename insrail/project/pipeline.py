@@ -342,8 +342,9 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     if intact("fusion", path, info_path, quality_cache_file(path)):
         progress(1.0, "fusion reused from the cache")
         return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
+    # the trolley in force is the manifest's, checked before the fusion (the project's or the survey's)
     survey, placed = with_total_station_fixes(read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel,
-                                                          gnss=gnss))
+                                                          gnss=gnss, trolley_from_project=True))
     survey, checked = check_survey(replace(survey, manifest=manifest), nominal_gauge_m(project))
     checked = [*placed, *gnss_free_run_notices(survey), *checked]
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
@@ -506,7 +507,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     started = time.monotonic()
     entry = project.survey(survey_name)
     folder = project.resolve(entry.folder)
-    manifest = read_manifest(folder)
+    manifest = read_manifest(folder, trolley_from_project=project.trolley_settings is not None)
     roles = set(manifest.files) | ({"gnss"} if manifest.raw_gnss is not None else set())
     trolley = project.trolley(roles)
     if trolley is not None:
