@@ -60,7 +60,7 @@ from insrail.geodesy.height_anomaly import HeightAnomalySettings
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
 from insrail.io.events import read_events
-from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, parse_trolley
+from insrail.io.survey import MANIFEST_NAME, SurveyManifest, TrolleyGeometry, parse_trolley, read_manifest
 from insrail.io.tomlfile import read_toml
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
@@ -232,6 +232,12 @@ class Project:
 
     def control_point(self, name: str) -> ControlPoint | None:
         return next((p for p in self.control_points if p.name == name), None)
+
+    def manifest(self, survey_name: str) -> SurveyManifest:
+        """The survey.toml of one of the project's surveys, read as the project uses it (with a project
+        ``[trolley]`` the survey's own may be left out)."""
+        return read_manifest(self.resolve(self.survey(survey_name).folder),
+                             trolley_from_project=self.trolley_settings is not None)
 
     def trolley(self, roles: set[str] | None = None) -> TrolleyGeometry | None:
         """The project's trolley geometry, or None when each survey brings its own.

@@ -53,7 +53,6 @@ from insrail.io.survey import (
     MANIFEST_NAME,
     SurveyManifest,
     TrolleyGeometry,
-    read_manifest,
     read_survey,
 )
 from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
@@ -507,7 +506,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     started = time.monotonic()
     entry = project.survey(survey_name)
     folder = project.resolve(entry.folder)
-    manifest = read_manifest(folder, trolley_from_project=project.trolley_settings is not None)
+    manifest = project.manifest(survey_name)
     roles = set(manifest.files) | ({"gnss"} if manifest.raw_gnss is not None else set())
     trolley = project.trolley(roles)
     if trolley is not None:

@@ -43,7 +43,6 @@ from reportlab.platypus import (
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
-from insrail.io.survey import read_manifest
 from insrail.names import UnknownName, check_name, column_name, quantity_name, rail_direction
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.notices import notices_of
@@ -284,7 +283,7 @@ def _imu(content: ReportContent) -> str:
     name = project.imu_profile
     if name is None:
         try:
-            name = read_manifest(project.resolve(project.survey(content.survey).folder)).imu_profile
+            name = project.manifest(content.survey).imu_profile
         except (InputError, OSError, KeyError):
             return "not stated (survey folder not readable)"
     try:
