@@ -4,21 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from insrail.geodesy.geoid import EGM96_GRID_NAME, GeoidGridError, find_egm96_grid
+from insrail.geodesy.geoid import SHIPPED_GRIDS_DIR, find_egm96_grid
 
-#: pyproj looks for grids in its own data folder first (pyproj.datadir.get_data_dir()).
-PYPROJ_DATA_IN_BUNDLE = "pyproj/proj_dir/share/proj"
+#: Where the package's grids lie inside the bundle: beside the bundled insrail.geodesy modules,
+#: where insrail.geodesy.geoid looks for them.
+GRIDS_IN_BUNDLE = "insrail/geodesy/grids"
 
 
 def bundle_datas(root: Path) -> list[tuple[str, str]]:
-    """(source, folder in bundle) pairs: the resources and the EGM96 geoid grid.
-
-    The grid comes from the build machine's PROJ data (Debian's proj-data); without it the bundle
-    still builds, and height models using EGM96 then ask the user for a grid file.
-    """
-    datas = [(str(root / "resources"), "resources")]
-    try:
-        datas.append((str(find_egm96_grid()), PYPROJ_DATA_IN_BUNDLE))
-    except GeoidGridError:
-        print(f"warning: {EGM96_GRID_NAME} not found on this machine; the bundle will not contain it")
-    return datas
+    """(source, folder in bundle) pairs: the resources and the package's geoid grids (EGM96 with its
+    licence note); a checkout without the grid cannot build a bundle."""
+    find_egm96_grid()  # raises when the grid is missing
+    return [(str(root / "resources"), "resources"), (str(SHIPPED_GRIDS_DIR), GRIDS_IN_BUNDLE)]

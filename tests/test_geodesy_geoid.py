@@ -3,16 +3,17 @@
 import math
 import pickle
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
-from geodesy_support import egm96_or_skip
 
-from insrail.geodesy import GeoidGrid, GeoidGridError, checked_transformer
+from insrail.geodesy import GeoidGrid, GeoidGridError, checked_transformer, find_egm96_grid
+from insrail.geodesy import geoid as geoid_module
 
 
 def test_egm96_check_values():
-    grid = egm96_or_skip()
+    grid = GeoidGrid.egm96()
     # geodesy.md check value: 117.5E 31.8N -> N = -3.684 m; EGM96 at (0, 0) is +17.16 m.
     n = grid.undulation_m(np.radians([31.8, 0.0]), np.radians([117.5, 0.0]))
     np.testing.assert_allclose(n, [-3.684, 17.16], atol=0.005)
@@ -20,9 +21,22 @@ def test_egm96_check_values():
 
 
 def test_points_outside_the_grid_are_an_error():
-    grid = egm96_or_skip()
+    grid = GeoidGrid.egm96()
     with pytest.raises(GeoidGridError, match=r"1 point\(s\) lie outside the grid, first at latitude 95"):
         grid.undulation_m(np.radians([31.8, 95.0]), np.radians([117.5, 0.0]))
+
+
+def test_egm96_ships_inside_the_package_with_its_licence():
+    # no system package (Debian's proj-data) needed: the grid is package data, beside its licence note
+    path = find_egm96_grid()
+    assert path.parent == Path(geoid_module.__file__).resolve().parent / "grids"
+    assert "public domain" in (path.parent / "EGM96_LICENCE.md").read_text(encoding="utf-8").lower()
+
+
+def test_a_missing_shipped_grid_is_named_as_an_incomplete_install(tmp_path, monkeypatch):
+    monkeypatch.setattr(geoid_module, "SHIPPED_GRIDS_DIR", tmp_path)
+    with pytest.raises(GeoidGridError, match="egm96_15.gtx: the EGM96 geoid grid that ships with insrail is missing"):
+        GeoidGrid.egm96()
 
 
 def test_missing_and_unreadable_grid_files_are_an_error(tmp_path):

@@ -2,12 +2,12 @@
 
 import numpy as np
 import pytest
-from geodesy_support import egm96_or_skip
 
 from insrail.geodesy import (
     EngineeringCRS,
     FitError,
     GeodesyError,
+    GeoidGrid,
     GeoidGridError,
     HeightAnomalySettings,
     PlaneGeoid,
@@ -196,7 +196,7 @@ def test_settings_validation_and_missing_grid():
 
 
 def test_remove_restore_with_egm96():
-    geoid = PlaneGeoid(egm96_or_skip(), EngineeringCRS(central_meridian_deg=117.5))
+    geoid = PlaneGeoid(GeoidGrid.egm96(), EngineeringCRS(central_meridian_deg=117.5))
     rng = np.random.default_rng(12)
     en, chainage = benchmarks(rng, 10)
     # ζ = EGM96 undulation + a small local plane: after removing EGM96 the plane fits exactly

@@ -24,7 +24,7 @@ from insrail.io import (
     write_rtklib_pos,
     write_sleeper_times,
 )
-from insrail.io.survey import SurveyFile, SurveyManifest, TrolleyGeometry
+from insrail.io.survey import SurveyFile, SurveyManifest, TrolleyGeometry, track_lever_arm_problems
 from insrail.io.types import GaugeData, GnssSolution, ImuIncrements, OdometerData, PrismObservations, SleeperPulses
 from insrail.progress import Cancelled
 
@@ -163,15 +163,13 @@ def test_broken_manifest_lists_every_problem(tmp_path):
         "files.sleepers.path: file not found: sleepers.txt",
         "files.wheels: unknown role",
         "trolley.imu_to_antenna_m: expected 3 numbers",
-        "trolley.imu_to_reference_rail_m: missing (required",
-        "trolley.imu_to_sleeper_detector_m: missing (required with files.sleepers",
         "trolley.reference_rail: expected \"left\" or \"right\"",
     ]
     for fragment in expected:
         assert any(p.startswith(fragment) for p in problems), (fragment, problems)
     assert len(problems) == len(expected)
     assert "imu_to_prism_m" not in str(info.value)  # no prism file, so no prism lever arm needed
-    assert str(info.value).startswith(f"{tmp_path / 'survey.toml'}: 11 problems:")
+    assert str(info.value).startswith(f"{tmp_path / 'survey.toml'}: 9 problems:")
 
 
 def test_manifest_option_types_are_checked(survey_folder):
@@ -290,12 +288,12 @@ def test_gnss_and_odometer_are_optional_roles(tmp_path):
     files = make_survey_files(tmp_path)
     del files["gnss"], files["odometer"]
     manifest = make_manifest(files)
-    trolley = replace(manifest.trolley, imu_to_antenna_m=np.full(3, np.nan), imu_to_odometer_m=np.full(3, np.nan))
+    trolley = replace(manifest.trolley, imu_to_antenna_m=None, imu_to_odometer_m=None)
     write_manifest(tmp_path, replace(manifest, trolley=trolley))  # lever arms not given are left out
     assert "imu_to_antenna_m" not in (tmp_path / "survey.toml").read_text()
     data = read_survey(tmp_path)
     assert data.gnss is None and data.odometer is None and len(data.prism) == 2
-    assert not np.isfinite(data.manifest.trolley.imu_to_antenna_m).any()
+    assert data.manifest.trolley.imu_to_antenna_m is None
 
     del files["prism"]
     write_manifest(tmp_path, make_manifest(files))
@@ -305,9 +303,28 @@ def test_gnss_and_odometer_are_optional_roles(tmp_path):
 
 def test_antenna_lever_arm_is_required_with_gnss(tmp_path):
     manifest = make_manifest(make_survey_files(tmp_path))
-    write_manifest(tmp_path, replace(manifest, trolley=replace(manifest.trolley, imu_to_antenna_m=np.full(3, np.nan))))
+    write_manifest(tmp_path, replace(manifest, trolley=replace(manifest.trolley, imu_to_antenna_m=None)))
     with pytest.raises(ManifestError, match=r"trolley.imu_to_antenna_m: missing \(required with files.gnss"):
         read_manifest(tmp_path)
+
+
+def test_lever_arms_of_the_track_are_not_required_to_read_a_survey(tmp_path):
+    """A survey that is only fused (a walk, a road test) gives no rail or sleeper-detector lever arm:
+    survey.toml reads without them; the track reconstruction names each with why it needs it."""
+    manifest = make_manifest(make_survey_files(tmp_path))
+    write_manifest(tmp_path, replace(manifest, trolley=replace(manifest.trolley, imu_to_reference_rail_m=None,
+                                                                   imu_to_sleeper_detector_m=None)))
+    text = (tmp_path / "survey.toml").read_text()
+    assert "imu_to_reference_rail_m" not in text and "imu_to_sleeper_detector_m" not in text
+    trolley = read_manifest(tmp_path).trolley
+    assert trolley.imu_to_reference_rail_m is None and trolley.imu_to_sleeper_detector_m is None
+    assert track_lever_arm_problems(trolley, {"imu", "gnss"}) == [
+        "trolley.imu_to_reference_rail_m: missing; insrail process needs it because the rails are placed from the "
+        "reference rail's point (3 numbers [m], IMU body frame FRD)"]
+    assert track_lever_arm_problems(trolley, {"imu", "gnss", "sleepers"})[1].startswith(
+        "trolley.imu_to_sleeper_detector_m: missing; insrail process needs it because files.sleepers is given")
+    with pytest.raises(ValueError, match="trolley.imu_to_reference_rail_m: not given, but used"):
+        trolley.lever_arm_m("imu_to_reference_rail_m")
 
 
 def test_relative_imu_profile_is_resolved_from_the_survey_folder(tmp_path, monkeypatch):

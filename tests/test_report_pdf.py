@@ -7,6 +7,7 @@ import shutil
 import subprocess
 import threading
 import tomllib
+from pathlib import Path
 from dataclasses import replace
 
 import numpy as np
@@ -46,6 +47,9 @@ from insrail.report.pdf import (
 
 needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
                                    reason="poppler-utils (pdftotext, pdftoppm) not installed; .ci/run installs them")
+#: poppler reads a CJK font's text through the character maps of Debian's poppler-data
+needs_cjk_maps = pytest.mark.skipif(not Path("/usr/share/poppler/cMap").is_dir(),
+                                    reason="poppler-data (poppler's CJK character maps) not installed; .ci/run installs it")
 
 
 @pytest.fixture(scope="module")
@@ -119,6 +123,7 @@ def test_an_added_section_lands_before_the_exceedances(project, tmp_path):
 
 
 @needs_poppler
+@needs_cjk_maps
 def test_chinese_names_are_set_in_a_cjk_font(project, tmp_path):
     path = write_pdf(replace(project, name="兰新铁路第二双线", description="精调测量 SDK1+695"), stored(project), tmp_path / "cn.pdf")
     fonts = subprocess.run(["pdffonts", str(path)], capture_output=True, text=True, check=True).stdout

@@ -61,6 +61,7 @@ def run(args: argparse.Namespace) -> int:
     from insrail.nav.imu_profile import load_imu_profile
     from insrail.nav.self_calibration import fuse_consistent
     from insrail.nav.trajectory import write_kfgins_imu_errors, write_kfgins_nav, write_kfgins_std
+    from insrail.project.model import load_project
 
     options = FusionOptions(
         smoother=not args.no_smoother,
@@ -73,7 +74,9 @@ def run(args: argparse.Namespace) -> int:
         gnss_sigma_floor_m=args.gnss_sigma_floor / 1000.0,
     )
     bar = TerminalProgress("fuse")
-    survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m))
+    # a project's [trolley] replaces the survey's own, which may then be left out
+    project_trolley = args.project is not None and load_project(args.project).trolley_settings is not None
+    survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m), trolley_from_project=project_trolley)
     try:
         survey, fixes, project_ellipsoid, placed = _prism_fixes(survey, args.project)
     except ValueError as err:

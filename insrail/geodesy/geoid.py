@@ -3,10 +3,10 @@
 PROJ quietly replaces a transformation whose grid is missing by a "ballpark" one that
 returns heights unchanged; a railway survey would then be off by the whole geoid
 undulation (tens of metres) without a sign. This module therefore never lets PROJ look a
-grid up by name: a ``GeoidGrid`` is opened from an explicit file (``egm96_15.gtx`` from
-Debian's ``proj-data``, or any vertical grid PROJ's ``vgridshift`` reads: .gtx, .tif),
-and ``checked_transformer`` refuses ballpark operations for code that must go through
-PROJ's database.
+grid up by name: a ``GeoidGrid`` is opened from an explicit file (EGM96's ``egm96_15.gtx``,
+shipped inside this package in ``grids/`` with its licence note, or any vertical grid PROJ's
+``vgridshift`` reads: .gtx, .tif), and ``checked_transformer`` refuses ballpark operations for
+code that must go through PROJ's database.
 
 Undulation N is the geoid height above the ellipsoid [m] (h = H + N), evaluated at
 geodetic latitude/longitude in radians.
@@ -19,7 +19,6 @@ from functools import cached_property
 from pathlib import Path
 
 import numpy as np
-import pyproj
 from pyproj import Transformer
 from pyproj.exceptions import ProjError
 from pyproj.transformer import TransformerGroup
@@ -28,20 +27,17 @@ from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import GeoidGridError
 
 EGM96_GRID_NAME = "egm96_15.gtx"
-#: Where Debian's proj-data package installs its grids.
-DEBIAN_PROJ_DATA_DIR = Path("/usr/share/proj")
+#: The package's own grids (package data: every install and the bundle carry them).
+SHIPPED_GRIDS_DIR = Path(__file__).resolve().parent / "grids"
 
 
 def find_egm96_grid() -> Path:
-    """Path of ``egm96_15.gtx`` in PROJ's data directories or /usr/share/proj; raises if absent."""
-    candidates = [Path(d) for d in pyproj.datadir.get_data_dir().split(":") if d] + [DEBIAN_PROJ_DATA_DIR]
-    for directory in candidates:
-        path = directory / EGM96_GRID_NAME
-        if path.is_file():
-            return path
-    raise GeoidGridError(f"the EGM96 geoid grid {EGM96_GRID_NAME} was not found in "
-                         f"{', '.join(str(c) for c in candidates)}; install it with "
-                         "'apt-get install proj-data' (Debian/Ubuntu) or give the path of a geoid grid file")
+    """Path of the EGM96 grid shipped with insrail; raises when the install lacks it."""
+    path = SHIPPED_GRIDS_DIR / EGM96_GRID_NAME
+    if not path.is_file():
+        raise GeoidGridError(f"{path}: the EGM96 geoid grid that ships with insrail is missing: the install is "
+                             "incomplete (install insrail again)")
+    return path
 
 
 @dataclass(frozen=True)
@@ -53,8 +49,8 @@ class GeoidGrid:
     def __post_init__(self) -> None:
         object.__setattr__(self, "path", Path(self.path))
         if not self.path.is_file():
-            raise GeoidGridError(f"{self.path}: geoid grid file not found (for EGM96 install Debian's "
-                                 "proj-data package, which provides /usr/share/proj/egm96_15.gtx)")
+            raise GeoidGridError(f"{self.path}: geoid grid file not found (EGM96 ships with insrail: "
+                                 "geoid_grid = \"egm96\")")
         self._transformer  # open it now, so an unreadable file fails here and not mid-pipeline
 
     @classmethod

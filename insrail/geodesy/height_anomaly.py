@@ -344,7 +344,7 @@ def _hull_excess_m(benchmarks_en: np.ndarray, east_m, north_m) -> np.ndarray:
 class HeightAnomalySettings:
     """The ``[geodesy.height_anomaly]`` table: model choice and optional geoid grid for remove-restore.
 
-    ``geoid_grid`` is a file path, ``"egm96"`` for Debian's /usr/share/proj/egm96_15.gtx,
+    ``geoid_grid`` is a file path, ``"egm96"`` for the EGM96 grid shipped with insrail,
     or None for no remove-restore.
     """
 

@@ -8,7 +8,7 @@ from PySide6.QtWidgets import QMenu, QTreeWidget, QTreeWidgetItem
 from insrail.gui.choices import value_text
 from insrail.gui.fields import split_problem
 from insrail.io.errors import InputError
-from insrail.io.survey import MANIFEST_NAME, read_manifest
+from insrail.io.survey import MANIFEST_NAME
 from insrail.io.tomlfile import read_toml
 from insrail.names import setting_name
 from insrail.project import Project
@@ -64,7 +64,7 @@ class ProjectExplorer(QTreeWidget):
         for entry in project.surveys:
             survey = self._item(surveys, entry.name, ("survey", entry.name))
             try:
-                manifest = read_manifest(project.resolve(entry.folder))
+                manifest = project.manifest(entry.name)
             except InputError as error:
                 self._item(survey, f"⚠ {error.message.splitlines()[0]}", ("error", str(error)))
                 continue
@@ -169,13 +169,13 @@ class ProjectExplorer(QTreeWidget):
         elif kind == "file":
             survey, role = payload
             folder = project.resolve(project.survey(survey).folder)
-            file = read_manifest(folder).files[role]
+            file = project.manifest(survey).files[role]
             path = folder / file.path
             rows = [("role", role), ("path", str(path.resolve())), ("format", file.format),
                     ("size", f"{path.stat().st_size / 1e6:.2f} MB" if path.is_file() else "missing")]
             rows += [(f"option {k}", str(v)) for k, v in file.options.items()]
         elif kind == "gnss_raw":
-            raw = read_manifest(project.resolve(project.survey(payload).folder)).raw_gnss
+            raw = project.manifest(payload).raw_gnss
             rows = rows_in_words(flatten({"gnss_raw": raw.to_settings()}))
         elif kind == "results":
             summary = project.folder / RESULTS_FOLDER / payload / SUMMARY_FILE

@@ -686,7 +686,7 @@ class MainWindow(QMainWindow):
         names = []
         for entry in self.project.surveys:
             try:
-                if read_manifest(self.project.resolve(entry.folder)).raw_gnss is not None:
+                if self.project.manifest(entry.name).raw_gnss is not None:
                     names.append(entry.name)
             except InputError:  # the explorer shows the problem
                 continue
@@ -696,7 +696,7 @@ class MainWindow(QMainWindow):
         """The GNSS page for one survey: its raw inputs and, once post-processed, the QC."""
         project = self.project
         folder = project.resolve(project.survey(name).folder)
-        raw = read_manifest(folder).raw_gnss
+        raw = project.manifest(name).raw_gnss
         self.gnss.set_inputs(input_rows(raw, folder, project.control_point(raw.base_point)))
         try:
             self.gnss.set_ppk(stored_ppk(project, name), " (from the processed results)")
@@ -713,7 +713,7 @@ class MainWindow(QMainWindow):
         project = self.project
         folder = project.resolve(project.survey(name).folder)
         try:
-            manifest = read_manifest(folder)
+            manifest = project.manifest(name)
         except InputError as error:
             self._warn("GNSS post-processing failed", str(error))
             return None

@@ -449,7 +449,7 @@ class SettingsEditor(QDialog):
             self.general.setText(f"The first survey's trolley geometry cannot be read: {error}")
             return
         self.undo_stack.beginMacro("Trolley for the whole project")
-        table = {arm: [float(v) for v in getattr(trolley, arm)] for arm in _ARMS}
+        table = {arm: [float(v) for v in values] for arm, values in trolley.given_lever_arms().items()}
         table.update(reference_rail=trolley.reference_rail, rail_centre_spacing_m=trolley.rail_centre_spacing_m,
                      mounting_rpy_deg=[float(v) for v in np.degrees(trolley.mounting_rpy_rad)])
         self.undo_stack.push(SetSetting(self, "trolley", _MISSING, table))

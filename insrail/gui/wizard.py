@@ -341,9 +341,9 @@ class NewProjectWizard(QWizard):
 
     def set_trolley(self, trolley: TrolleyGeometry) -> None:
         for key, boxes in self.lever_arms.items():
-            values = getattr(trolley, key)
-            for box, value in zip(boxes, values):
-                box.setValue(float(value) if np.isfinite(value) else 0.0)
+            values = getattr(trolley, key)  # None: not given there (left at 0, to be confirmed)
+            for box, value in zip(boxes, values if values is not None else np.zeros(3)):
+                box.setValue(float(value))
         for box, value in zip(self.mounting, np.degrees(trolley.mounting_rpy_rad)):
             box.setValue(float(value))
         choose(self.reference_rail, trolley.reference_rail)

@@ -54,16 +54,32 @@ class TrolleyGeometry:
     mounting_rpy_rad          : roll, pitch, heading of b relative to the trolley frame v,
                                 C_b^v = euler_to_dcm(*mounting_rpy_rad)
     rail_centre_spacing_m     : base of the cant definition, cant = base * sin(roll) (1.5 m)
+
+    A lever arm is None where survey.toml does not give it: each is needed only with the data
+    using it (:data:`FUSION_LEVER_ARMS`, :data:`TRACK_LEVER_ARMS`), and a missing one is an error
+    naming the key before that data is used, never a number.
     """
 
-    imu_to_antenna_m: np.ndarray
-    imu_to_odometer_m: np.ndarray
-    imu_to_prism_m: np.ndarray
-    imu_to_sleeper_detector_m: np.ndarray
-    imu_to_reference_rail_m: np.ndarray
+    imu_to_antenna_m: np.ndarray | None = None
+    imu_to_odometer_m: np.ndarray | None = None
+    imu_to_prism_m: np.ndarray | None = None
+    imu_to_sleeper_detector_m: np.ndarray | None = None
+    imu_to_reference_rail_m: np.ndarray | None = None
     reference_rail: str = "left"
     mounting_rpy_rad: np.ndarray = field(default_factory=lambda: np.zeros(3))
     rail_centre_spacing_m: float = 1.5
+
+    def lever_arm_m(self, key: str) -> np.ndarray:
+        """The lever arm ``key`` as floats; ValueError when survey.toml does not give it (a use the
+        checks before it should have refused: never a NaN offset)."""
+        arm = getattr(self, key)
+        if arm is None:
+            raise ValueError(f"trolley.{key}: not given, but used")
+        return np.asarray(arm, dtype=float)
+
+    def given_lever_arms(self) -> dict[str, np.ndarray]:
+        """The lever arms survey.toml gives, by key."""
+        return {key: getattr(self, key) for key in LEVER_ARMS if getattr(self, key) is not None}
 
 
 @dataclass(frozen=True)
@@ -152,16 +168,21 @@ REQUIRED_ROLES = ("imu",)
 TIMED_ROLES = ("gnss", "odometer", "gauge", "sleepers", "prism", "total_station")
 #: roles of which a survey needs at least one (``[gnss_raw]`` counts as gnss): where the trolley is
 POSITION_ROLES = ("gnss", "prism", "total_station")
-_LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m",
-               "imu_to_sleeper_detector_m", "imu_to_reference_rail_m")
-# A lever arm is required only when the data that uses it is in the survey; one not
-# given is NaN so that any use of it shows up instead of passing for a zero offset.
-_LEVER_ARM_NEEDED_BY = {"imu_to_antenna_m": ("gnss",), "imu_to_odometer_m": ("odometer",),
-                        "imu_to_prism_m": ("prism", "total_station"), "imu_to_sleeper_detector_m": ("sleepers",)}
+LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m",
+              "imu_to_sleeper_detector_m", "imu_to_reference_rail_m")
+#: The lever arms the fusion uses (``insrail fuse`` and ``insrail process``), each with the roles
+#: whose data need it: reading survey.toml requires one only when the survey holds such data.
+FUSION_LEVER_ARMS = {"imu_to_antenna_m": ("gnss",), "imu_to_odometer_m": ("odometer",),
+                     "imu_to_prism_m": ("prism", "total_station")}
+#: The lever arms only the track reconstruction (``insrail process``) uses, and why: a survey that is
+#: only fused (a walk, a road test) need not give them. None: needed by every processed survey.
+TRACK_LEVER_ARMS = {"imu_to_reference_rail_m": (None, "the rails are placed from the reference rail's point"),
+                    "imu_to_sleeper_detector_m": ("sleepers",
+                                                  "the sleeper pulses are placed on the track at the detector")}
 #: a clock offset beyond a minute is not a latency but another time scale (leap seconds: 18 s)
 MAX_GIVEN_TIME_OFFSET_S = 60.0
 _SURVEY_KEYS = ("name", "gps_week", "imu_profile", "description")
-_TROLLEY_KEYS = _LEVER_ARMS + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m")
+_TROLLEY_KEYS = LEVER_ARMS + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m")
 
 
 def _is_number(value) -> bool:
@@ -259,28 +280,28 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
 
 def parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometry | None:
     """A ``[trolley]`` table (as in survey.toml or project.toml) as TrolleyGeometry; ``roles`` are
-    the survey's file roles (a lever arm is required only with the data using it). Problems are
-    appended to ``problems`` as ``trolley.<key>: ...``; None when there are any."""
+    the survey's file roles: a lever arm the fusion uses is required only with the data using it
+    (:data:`FUSION_LEVER_ARMS`; those of the track, :data:`TRACK_LEVER_ARMS`, are checked where the
+    track is reconstructed, :func:`track_lever_arm_problems`). Problems are appended to ``problems``
+    as ``trolley.<key>: ...``; None when there are any."""
     if not isinstance(table, dict):
         problems.append("trolley: missing table [trolley] (lever arms and reference rail)")
         return None
     for key in table:
         if key not in _TROLLEY_KEYS:
             problems.append(f"trolley.{key}: unknown key (expected {', '.join(_TROLLEY_KEYS)})")
-    arms: dict[str, np.ndarray] = {}
-    for key in _LEVER_ARMS:
-        needed = _LEVER_ARM_NEEDED_BY.get(key)
+    arms: dict[str, np.ndarray | None] = {}
+    for key in LEVER_ARMS:
         if key not in table:
-            users = [role for role in needed or () if role in roles]
-            if needed is None or users:
-                reason = "required" if needed is None else f"required with files.{users[0]}"
-                problems.append(f"trolley.{key}: missing ({reason}; 3 numbers [m], IMU body frame FRD)")
-            arms[key] = np.full(3, np.nan)
+            users = [role for role in FUSION_LEVER_ARMS.get(key, ()) if role in roles]
+            if users:
+                problems.append(f"trolley.{key}: missing (required with files.{users[0]}; 3 numbers [m], IMU body "
+                                "frame FRD)")
+            arms[key] = None
             continue
-        vector = _vector3(table[key])
-        if vector is None:
+        arms[key] = _vector3(table[key])
+        if arms[key] is None:
             problems.append(f"trolley.{key}: expected 3 numbers [m], found {table[key]!r}")
-        arms[key] = vector if vector is not None else np.full(3, np.nan)
     reference_rail = table.get("reference_rail", "left")
     if reference_rail not in ("left", "right"):
         problems.append(f"trolley.reference_rail: expected \"left\" or \"right\", found {reference_rail!r}")
@@ -296,8 +317,23 @@ def parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometr
                            rail_centre_spacing_m=float(spacing))
 
 
-def read_manifest(folder: str | Path) -> SurveyManifest:
+def track_lever_arm_problems(trolley: TrolleyGeometry, roles: set[str]) -> list[str]:
+    """``trolley.<key>: missing ...`` for each lever arm the track reconstruction needs with the
+    survey's data (``roles``) that ``trolley`` does not give (:data:`TRACK_LEVER_ARMS`)."""
+    problems = []
+    for key, (role, why) in TRACK_LEVER_ARMS.items():
+        if getattr(trolley, key) is None and (role is None or role in roles):
+            given = f"files.{role} is given: " if role is not None else ""
+            problems.append(f"trolley.{key}: missing; insrail process needs it because {given}{why} "
+                            "(3 numbers [m], IMU body frame FRD)")
+    return problems
+
+
+def read_manifest(folder: str | Path, trolley_from_project: bool = False) -> SurveyManifest:
     """Read and validate ``<folder>/survey.toml``.
+
+    ``trolley_from_project``: the survey is processed in a project whose ``[trolley]`` replaces the
+    survey's own, which may then be left out (and requires no lever arm; one given is still read).
 
     Raises :class:`ManifestError` listing every problem found, each with its key
     path (``files.gnss.path: file not found: gnss.pos``).
@@ -332,7 +368,10 @@ def read_manifest(folder: str | Path) -> SurveyManifest:
     raw_gnss = parse_raw_gnss(folder, document["gnss_raw"], problems) if "gnss_raw" in document else None
     files = _parse_files(folder, document.get("files"), problems, raw_gnss="gnss_raw" in document)
     roles = set(files) | ({"gnss"} if "gnss_raw" in document else set())
-    trolley = parse_trolley(document.get("trolley"), roles, problems)
+    if trolley_from_project:
+        trolley = parse_trolley(document["trolley"], set(), problems) if "trolley" in document else TrolleyGeometry()
+    else:
+        trolley = parse_trolley(document.get("trolley"), roles, problems)
     imu_profile = survey.get("imu_profile", "nav")
     if isinstance(imu_profile, str) and imu_profile.endswith(".toml"):
         # a profile file of the survey's own: relative to the survey folder, wherever the user runs from
@@ -359,8 +398,7 @@ def manifest_to_toml(manifest: SurveyManifest) -> str:
                     **({"time_offset_s": f.time_offset_s} if f.time_offset_s else {})}
              for role, f in manifest.files.items()}
     geometry = manifest.trolley
-    trolley: dict = {key: [float(v) for v in getattr(geometry, key)] for key in _LEVER_ARMS
-                     if np.all(np.isfinite(getattr(geometry, key)))}
+    trolley: dict = {key: [float(v) for v in arm] for key, arm in geometry.given_lever_arms().items()}
     trolley.update(reference_rail=geometry.reference_rail,
                    mounting_rpy_deg=[float(v) for v in np.degrees(geometry.mounting_rpy_rad)],
                    rail_centre_spacing_m=float(geometry.rail_centre_spacing_m))
@@ -411,17 +449,19 @@ def _with_week(data, role: str, gps_week: int | None, problems: list[str]):
 
 
 def read_survey(folder: str | Path, progress: ProgressFn | None = None,
-                cancel: CancelToken = None, gnss: GnssSolution | None = None) -> SurveyData:
+                cancel: CancelToken = None, gnss: GnssSolution | None = None,
+                trolley_from_project: bool = False) -> SurveyData:
     """Load every file of a survey folder by its role and format.
 
     Every file is read even after one fails, so the user sees all bad files at
     once: one bad file raises its own InputError, several raise a ManifestError
     listing them. Then the aiding data must overlap the IMU in time.
     ``gnss`` is the solution computed from ``[gnss_raw]`` (a project's GNSS stage);
-    it is required for such a survey and refused for one with ``[files.gnss]``.
+    it is required for such a survey and refused for one with ``[files.gnss]``. ``trolley_from_project``:
+    as for :func:`read_manifest`.
     """
     folder = Path(folder)
-    manifest = read_manifest(folder)
+    manifest = read_manifest(folder, trolley_from_project)
     if (manifest.raw_gnss is not None) != (gnss is not None):
         raise InputError(folder / MANIFEST_NAME, None, "gnss_raw: the survey holds raw GNSS observations; "
                          "process it in a project (PPK) first" if gnss is None else

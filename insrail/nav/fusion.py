@@ -948,6 +948,16 @@ _ALL_TIME_S = np.array([-1e12, 1e12])
 NHC_SIGMA_WITHOUT_ODOMETER_MPS = 0.002
 
 
+def nhc_point_m(trolley: TrolleyGeometry) -> np.ndarray:
+    """Where the non-holonomic constraint holds (b frame [m]): the reference rail's point of a trolley;
+    a survey not on rails (a walk, a road test: no ``imu_to_reference_rail_m``) at the odometer wheel's
+    contact when it has one, else at the IMU."""
+    for point in (trolley.imu_to_reference_rail_m, trolley.imu_to_odometer_m):
+        if point is not None:
+            return np.asarray(point, dtype=float)
+    return np.zeros(3)
+
+
 def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: ImuProfile, gnss: GnssSolution | None,
                    odometer: OdometerData | None, position_fixes: PositionFix | None = None) -> tuple:
     """The aiding sources as ``options`` selects them, in the order the filter applies them at
@@ -956,8 +966,8 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
     sources: list = []
     if gnss is not None:
         sources.append(GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
-                                    trolley.imu_to_antenna_m, options.gnss_sigma_scale, options.gnss_sigma_floor_m,
-                                    options.gnss_correlated_sigma_ned_m,
+                                    trolley.lever_arm_m("imu_to_antenna_m"), options.gnss_sigma_scale,
+                                    options.gnss_sigma_floor_m, options.gnss_correlated_sigma_ned_m,
                                     trusted=np.isin(gnss.quality, TRUSTED_QUALITY)))
     if gnss is not None and options.use_gnss_velocity and gnss.vel_ned_mps is not None:
         sources.append(GnssVelocity(gnss.time_s, gnss.vel_ned_mps, gnss.sigma_vel_ned_mps, trolley.imu_to_antenna_m))
@@ -968,8 +978,9 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
         # without an odometer the NHC rows alone, on a record that covers all time (its speeds unused)
         odo_t, odo_d = (odometer.time_s, odometer.distance_m) if odometer is not None else (_ALL_TIME_S, np.zeros(2))
         sources.append(OdometerNhc.from_distance(
-            odo_t, odo_d, euler_to_dcm(*trolley.mounting_rpy_rad), trolley.imu_to_odometer_m,
-            trolley.imu_to_reference_rail_m, options.odometer_sigma_mps,
+            odo_t, odo_d, euler_to_dcm(*trolley.mounting_rpy_rad),
+            trolley.lever_arm_m("imu_to_odometer_m") if odometer is not None else np.zeros(3), nhc_point_m(trolley),
+            options.odometer_sigma_mps,
             (odometer.pulse_length_m if odometer is not None else None) or 0.001,
             sigma_nhc_mps=options.nhc_sigma_mps if use_odometer else max(options.nhc_sigma_mps,
                                                                           NHC_SIGMA_WITHOUT_ODOMETER_MPS),
@@ -1073,6 +1084,10 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     if aiding.odometer is None:
         notices.append(Notice("fusion", "no odometer in the survey: the along-track scale comes from the "
                               f"{'GNSS positions' if gnss is not None else 'prism fixes'} only", severity="info"))
+    if options.use_nhc and trolley.imu_to_reference_rail_m is None:
+        where = "the odometer wheel's contact" if trolley.imu_to_odometer_m is not None else "the IMU"
+        notices.append(Notice("fusion", "no trolley.imu_to_reference_rail_m (a survey not on rails): the "
+                              f"non-holonomic constraint is applied at {where}", severity="info"))
     if gnss is not None:
         track = PositionTrack.from_gnss(gnss, trolley.imu_to_antenna_m).within(t[0], t[-1])
     elif fixes is not None:

@@ -13,7 +13,9 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
     [geodesy.local]      model = "4-parameter" | "7-parameter", [geodesy.local.points.<name>] common points in
                          the engineering CRS and the railway's local grid (insrail.project.local_control): every
                          output coordinate (and the design) in the local grid
-    [trolley]            as in survey.toml; when absent each survey's own [trolley] is used
+    [trolley]            as in survey.toml; when absent each survey's own [trolley] is used, when given it
+                         replaces theirs (which may then be left out); each lever arm is required only
+                         by a survey whose data use it (checked per survey before its fusion)
     [processing]         imu_profile (default: each survey's), a subset of FusionOptions
     [track]              design (alignment CSV or LandXML), start_station_m (needed without a design:
                          the station where each survey starts), stationing_direction (without a
@@ -53,12 +55,13 @@ import numpy as np
 import tomli_w
 
 from insrail.geodesy.crs import EngineeringCRS
-from insrail.geodesy.errors import SettingsError
+from insrail.geodesy.errors import GeoidGridError, SettingsError
+from insrail.geodesy.geoid import GeoidGrid
 from insrail.geodesy.height_anomaly import HeightAnomalySettings
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
 from insrail.io.events import read_events
-from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, parse_trolley
+from insrail.io.survey import MANIFEST_NAME, SurveyManifest, TrolleyGeometry, parse_trolley, read_manifest
 from insrail.io.tomlfile import read_toml
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
@@ -231,17 +234,24 @@ class Project:
     def control_point(self, name: str) -> ControlPoint | None:
         return next((p for p in self.control_points if p.name == name), None)
 
+    def manifest(self, survey_name: str) -> SurveyManifest:
+        """The survey.toml of one of the project's surveys, read as the project uses it (with a project
+        ``[trolley]`` the survey's own may be left out)."""
+        return read_manifest(self.resolve(self.survey(survey_name).folder),
+                             trolley_from_project=self.trolley_settings is not None)
+
     def trolley(self, roles: set[str] | None = None) -> TrolleyGeometry | None:
         """The project's trolley geometry, or None when each survey brings its own.
 
         ``roles``: the file roles of the survey it is used for; a lever arm that survey's data
-        need but the project's ``[trolley]`` leaves out is then an error (``InputError`` naming
-        project.toml), never a NaN offset reaching the fusion. Without roles only what every
-        survey needs is required."""
+        need in the fusion but the project's ``[trolley]`` leaves out is then an error (``InputError``
+        naming project.toml), never a missing offset reaching the fusion (those of the track are
+        checked before the fusion too: ``plausibility.check_trolley``). Without roles no lever arm
+        is required."""
         if self.trolley_settings is None:
             return None
         problems: list[str] = []
-        trolley = parse_trolley(self.trolley_settings, {"sleepers"} if roles is None else roles, problems)
+        trolley = parse_trolley(self.trolley_settings, set() if roles is None else roles, problems)
         if roles is not None and problems:
             raise InputError(self.path, None, "; ".join(problems))
         return trolley
@@ -339,7 +349,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     trolley_settings = document.get("trolley")
     if trolley_settings is not None:
         trolley_problems: list[str] = []
-        parse_trolley(trolley_settings, {"sleepers"}, trolley_problems)
+        parse_trolley(trolley_settings, set(), trolley_problems)  # which lever arms a survey needs: per survey
         reader.problems.extend(trolley_problems)
 
     processing = reader.table(document, "processing")
@@ -531,6 +541,11 @@ def _height(reader: _Reader, table: dict) -> HeightSettings:
             {k: v for k, v in table.items() if k in ("model", "geoid_grid")} | {"model": model}, "geodesy.height")
     except SettingsError as err:
         reader.problems.extend(err.problems)
+    if anomaly.geoid_grid not in (None, "egm96") and reader.file(table, "geodesy.height.geoid_grid") is not None:
+        try:  # a grid PROJ cannot read is named here, not when the heights are fitted
+            GeoidGrid(reader.folder / anomaly.geoid_grid)
+        except GeoidGridError as err:
+            reader.add("geodesy.height.geoid_grid", str(err))
     return HeightSettings(benchmarks, anomaly)
 
 

@@ -52,7 +52,6 @@ from insrail.io.survey import (
     MANIFEST_NAME,
     SurveyManifest,
     TrolleyGeometry,
-    read_manifest,
     read_survey,
 )
 from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
@@ -74,12 +73,12 @@ from insrail.project.model import Project
 from insrail.project.clocks import check_clocks
 from insrail.project.plausibility import (
     check_benchmarks,
+    check_imu_profile,
     check_survey,
     check_trolley,
     clean_gauge,
     describe,
     file_labels,
-    installed_geoid,
     nominal_gauge_m,
     trolley_source,
 )
@@ -322,7 +321,7 @@ def prism_fixes(project: Project, prism: PrismObservations, trolley: TrolleyGeom
         zeta = height_fit.zeta_m(east, north) if height_fit is not None else 0.0
         return lat, lon, normal_height + zeta
 
-    return PositionFix.from_prism(prism, trolley.imu_to_prism_m, to_geodetic)
+    return PositionFix.from_prism(prism, trolley.lever_arm_m("imu_to_prism_m"), to_geodetic)
 
 
 def quality_cache_file(trajectory_file: Path) -> Path:
@@ -343,8 +342,9 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     if intact("fusion", path, info_path, quality_cache_file(path)):
         progress(1.0, "fusion reused from the cache")
         return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
+    # the trolley in force is the manifest's, checked before the fusion (the project's or the survey's)
     survey, placed = with_total_station_fixes(read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel,
-                                                          gnss=gnss))
+                                                          gnss=gnss, trolley_from_project=True))
     survey = replace(survey, manifest=manifest)
     clocks = check_clocks(survey, file_labels(survey))  # first: a time-scale mix-up also upsets the other checks
     survey, checked = check_survey(survey, nominal_gauge_m(project))
@@ -485,7 +485,7 @@ def fit_heights(project: Project) -> HeightAnomalyFit | None:
     if project.height.benchmarks is None:
         return None
     benchmarks = read_benchmarks(project.resolve(project.height.benchmarks))
-    check_benchmarks(benchmarks, installed_geoid())
+    check_benchmarks(benchmarks)
     east, north = project.crs.to_plane(benchmarks.lat_rad, benchmarks.lon_rad)
     anomaly = project.height.anomaly
     if anomaly.geoid_grid not in (None, "egm96"):  # a grid file named relative to the project
@@ -510,18 +510,22 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     started = time.monotonic()
     entry = project.survey(survey_name)
     folder = project.resolve(entry.folder)
-    manifest = read_manifest(folder)
-    gnss = None  # the GNSS stage (PPK), for a survey with raw observations
-    if manifest.raw_gnss is not None:
-        gnss = run_gnss_stage(project, folder, manifest, project.folder / RESULTS_FOLDER / CACHE_FOLDER,
-                              step.sub(0.0, 0.04), cancel)
-    trolley = project.trolley(set(manifest.files) | ({"gnss"} if manifest.raw_gnss is not None else set()))
+    manifest = project.manifest(survey_name)
+    roles = set(manifest.files) | ({"gnss"} if manifest.raw_gnss is not None else set())
+    trolley = project.trolley(roles)
     if trolley is not None:
         manifest = replace(manifest, trolley=trolley)
-    check_trolley(manifest.trolley, trolley_source(project.path, folder, trolley is not None), nominal_gauge_m(project))
+    check_trolley(manifest.trolley, trolley_source(project.path, folder, trolley is not None), nominal_gauge_m(project),
+                  roles)
+    if project.imu_profile is None:  # the project's own is checked when the project is loaded
+        check_imu_profile(manifest.imu_profile, folder / MANIFEST_NAME, "survey.imu_profile")
     if "gauge" not in manifest.files:
         raise InputError(folder / MANIFEST_NAME, None,
                          "files.gauge: missing; the track reconstruction needs the gauge record")
+    gnss = None  # the GNSS stage (PPK), for a survey with raw observations: after the settings' checks
+    if manifest.raw_gnss is not None:
+        gnss = run_gnss_stage(project, folder, manifest, project.folder / RESULTS_FOLDER / CACHE_FOLDER,
+                              step.sub(0.0, 0.04), cancel)
     check_cancel(cancel)
     step(0.04, "height model")
     height_fit = fit_heights(project)

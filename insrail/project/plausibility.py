@@ -9,9 +9,10 @@ anything (tests/test_project_robustness.py).
 
 * benchmarks: the height anomaly ζ = h − H of every benchmark within ±:data:`MAX_HEIGHT_ANOMALY_M`
   (the geoid's range on Earth), consistent between benchmarks (within :data:`MAX_ANOMALY_SPREAD_M`
-  of their median) and, where the EGM96 grid is installed, within :data:`MAX_EGM96_OFFSET_M` of it
-  (h and H swapped gives −ζ: 25 m off on the demo);
-* trolley: lever arms at most :data:`MAX_LEVER_ARM_M` (millimetres written as metres), the
+  of their median) and within :data:`MAX_EGM96_OFFSET_M` of EGM96 (its grid ships with insrail, so the
+  check runs on every install; h and H swapped gives −ζ: 25 m off on the demo);
+* trolley: the lever arms the track needs given, those given at most :data:`MAX_LEVER_ARM_M`
+  (millimetres written as metres), the
   rail-centre spacing (cant base) the nominal gauge plus one rail head (:data:`RAIL_HEAD_BAND_M`);
 * gauge record: its median within :data:`MAX_GAUGE_OFFSET_M` of the nominal gauge (a file in
   another unit); single readings further than that from the median are removed and listed;
@@ -35,14 +36,16 @@ import numpy as np
 from insrail.io.errors import InputError
 from insrail.io.formats import FORMATS
 from insrail.io.imu import release_pages
-from insrail.io.survey import MANIFEST_NAME, SurveyData, TrolleyGeometry
+from insrail.io.survey import MANIFEST_NAME, SurveyData, TrolleyGeometry, track_lever_arm_problems
 from insrail.io.types import (
     Benchmarks,
     GaugeData,
     GnssSolution,
+    ImuIncrements,
     OdometerData,
 )
 from insrail.nav.earth import geodetic_to_ecef
+from insrail.nav.imu_profile import load_imu_profile
 from insrail.notices import Notice
 
 MAX_HEIGHT_ANOMALY_M = 150.0
@@ -81,21 +84,12 @@ def nominal_gauge_m(project) -> float:
     return load_tolerance_profile(project.resource(project.tolerance_profile)).nominal_gauge_m
 
 
-def installed_geoid():
-    """EGM96 where its grid is installed (Debian proj-data), else None (the checks then use the sane range)."""
-    from insrail.geodesy.errors import GeodesyError
-    from insrail.geodesy.geoid import GeoidGrid
-
-    try:
-        return GeoidGrid.egm96()
-    except (GeodesyError, OSError):
-        return None
-
-
 # --------------------------------------------------------------------------- heights
 
-def check_benchmarks(benchmarks: Benchmarks, geoid=None) -> None:
+def check_benchmarks(benchmarks: Benchmarks) -> None:
     """InputError naming the benchmark file for a height anomaly that cannot be one."""
+    from insrail.geodesy.geoid import GeoidGrid
+
     if not len(benchmarks):
         return
     path = benchmarks.source or Path("benchmarks")
@@ -112,9 +106,7 @@ def check_benchmarks(benchmarks: Benchmarks, geoid=None) -> None:
         bad = int(np.argmax(off))
         raise InputError(path, None, f"benchmark {benchmarks.point_id[bad]}: height anomaly h - H = {zeta[bad]:.3f} m "
                          f"against {median:.3f} m at the others ({columns}): h and H swapped on its line, or a typo?")
-    if geoid is None:
-        return
-    undulation = np.asarray(geoid.undulation_m(benchmarks.lat_rad, benchmarks.lon_rad), dtype=float)
+    undulation = np.asarray(GeoidGrid.egm96().undulation_m(benchmarks.lat_rad, benchmarks.lon_rad), dtype=float)
     offset = float(np.median(zeta - undulation))
     if abs(offset) > MAX_EGM96_OFFSET_M:
         swapped = abs(float(np.median(-zeta - undulation))) <= MAX_EGM96_OFFSET_M
@@ -127,15 +119,15 @@ def check_benchmarks(benchmarks: Benchmarks, geoid=None) -> None:
 
 # --------------------------------------------------------------------------- trolley
 
-_LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m", "imu_to_sleeper_detector_m",
-               "imu_to_reference_rail_m")
-
-
-def check_trolley(trolley: TrolleyGeometry, source: Path, nominal_gauge_m: float) -> None:
-    """InputError naming the file of the ``[trolley]`` table for geometry no trolley has."""
-    for name in _LEVER_ARMS:
-        arm = np.asarray(getattr(trolley, name), dtype=float)
-        if not np.all(np.isfinite(arm)) or np.max(np.abs(arm)) > MAX_LEVER_ARM_M:
+def check_trolley(trolley: TrolleyGeometry, source: Path, nominal_gauge_m: float, roles: set[str]) -> None:
+    """InputError naming the file of the ``[trolley]`` table for a lever arm the track reconstruction
+    needs with the survey's data (``roles``) but the table leaves out, or geometry no trolley has
+    (lever arms not given are not numbers and are not checked as such)."""
+    missing = track_lever_arm_problems(trolley, roles)
+    if missing:
+        raise InputError(source, None, "; ".join(missing))
+    for name, arm in trolley.given_lever_arms().items():
+        if np.max(np.abs(arm)) > MAX_LEVER_ARM_M:
             raise InputError(source, None, f"trolley.{name} = {arm.tolist()} m: a lever arm on a trolley is at most "
                              f"{MAX_LEVER_ARM_M:g} m (b frame, metres): millimetres given as metres?")
     low, high = (nominal_gauge_m + band for band in RAIL_HEAD_BAND_M)
@@ -145,6 +137,14 @@ def check_trolley(trolley: TrolleyGeometry, source: Path, nominal_gauge_m: float
                          f"rail centres (the cant base) is the gauge plus one rail head, {low:.3f} .. {high:.3f} m "
                          f"for the {1e3 * nominal_gauge_m:.0f} mm gauge of the tolerance profile"
                          + (": millimetres given as metres?" if spacing > 100 * high else ""))
+
+
+def check_imu_profile(name_or_path: str, source: Path, key: str) -> None:
+    """InputError naming the file and key of an IMU profile that does not load (an unknown name)."""
+    try:
+        load_imu_profile(name_or_path)
+    except (ValueError, OSError) as err:
+        raise InputError(source, None, f"{key}: {err}") from None
 
 
 # --------------------------------------------------------------------------- gauge
@@ -287,14 +287,6 @@ def running_sum_at(increments: np.ndarray, axis: int, records: list[int]) -> tup
 
 
 # --------------------------------------------------------------------------- one entry per place
-
-def check_setup(trolley: TrolleyGeometry, trolley_source: Path, benchmarks: Benchmarks | None,
-                nominal_gauge_m: float, geoid=None) -> None:
-    """The checks of what does not depend on the recorded data (run on every processing)."""
-    check_trolley(trolley, trolley_source, nominal_gauge_m)
-    if benchmarks is not None:
-        check_benchmarks(benchmarks, geoid)
-
 
 def file_labels(survey: SurveyData) -> dict[str, str]:
     """Each loaded file by role, named as :func:`describe` names it (with what it was read as)."""

@@ -30,7 +30,6 @@ from insrail.io.control import read_benchmarks
 from insrail.io.errors import InputError
 from insrail.io.formats import read_any
 from insrail.io.rtklib import read_rtklib_pos
-from insrail.io.survey import read_manifest
 from insrail.io.tomlfile import read_toml
 from insrail.io.types import GnssSolution
 from insrail.names import check_name, rail_direction
@@ -73,7 +72,7 @@ def survey_gnss(project: Project, survey: str) -> GnssSolution:
     """The GNSS solution of one survey, read as the pipeline reads it: the survey's own file, or
     the solution the GNSS stage (PPK) wrote into the results for raw observations."""
     folder = project.resolve(project.survey(survey).folder)
-    entry = read_manifest(folder).files.get("gnss")
+    entry = project.manifest(survey).files.get("gnss")
     if entry is None:
         return read_any(project.folder / RESULTS_FOLDER / survey / GNSS_POS_FILE, "rtklib-pos")
     return entry.read(folder)
@@ -504,7 +503,7 @@ def trajectory_views(project: Project, stored: StoredResults) -> TrajectoryViews
     ellipsoid = ellipsoid_of(project)
     series = navigation_series(trajectory, ellipsoid)
     if gnss is not None:
-        trolley = project.trolley() or read_manifest(project.resolve(project.survey(stored.survey).folder)).trolley
+        trolley = project.trolley() or project.manifest(stored.survey).trolley
         series += (gnss_residuals(trajectory, gnss, trolley.imu_to_antenna_m, ellipsoid),)
     return TrajectoryViews(stored.survey, plan_data(project, stored, trajectory, gnss), trajectory.time_s, series,
                            series_bands(trajectory.time_s, series), tuple(warnings),

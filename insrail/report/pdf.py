@@ -42,7 +42,6 @@ from reportlab.platypus import (
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
-from insrail.io.survey import read_manifest
 from insrail.names import (
     UnknownName,
     check_name,
@@ -82,7 +81,6 @@ from insrail.report.content import (
     SEVERITIES,
     SEVERITY_RULE,
     ReportContent,
-    adjustment_work,
     after_adjustment_text,
     check_description,
     crew_sections,
@@ -272,7 +270,7 @@ def _imu(content: ReportContent) -> str:
     name = project.imu_profile
     if name is None:
         try:
-            name = read_manifest(project.resolve(project.survey(content.survey).folder)).imu_profile
+            name = project.manifest(content.survey).imu_profile
         except (InputError, OSError, KeyError):
             return "not stated (survey folder not readable)"
     try:

@@ -146,7 +146,7 @@ def _trolley_axes_enh(trajectory: Trajectory, part: slice, trolley: TrolleyGeome
     # Trolley axes in b: rows of C_b^v are v's axes expressed in b.
     c_vb = euler_to_dcm(*np.asarray(trolley.mounting_rpy_rad, dtype=float))
     x_v_b, y_v_b = c_vb[0], c_vb[1]
-    ref_e = earth.geodetic_to_ecef(lat, lon, h, ell) + c_eb @ np.asarray(trolley.imu_to_reference_rail_m, dtype=float)
+    ref_e = earth.geodetic_to_ecef(lat, lon, h, ell) + c_eb @ trolley.lever_arm_m("imu_to_reference_rail_m")
 
     def engineering(points_e: np.ndarray) -> np.ndarray:
         la, lo, hh = earth.ecef_to_geodetic(points_e, ell)

@@ -82,7 +82,7 @@ def sleeper_detector_ahead_m(trolley: TrolleyGeometry) -> float:
     """Along-track distance [m] of the sleeper detector ahead of the reference-rail point
     (x component in the trolley frame v of the lever-arm difference)."""
     c_vb = euler_to_dcm(*np.asarray(trolley.mounting_rpy_rad, dtype=float))
-    lever = np.asarray(trolley.imu_to_sleeper_detector_m, dtype=float) - np.asarray(trolley.imu_to_reference_rail_m, dtype=float)
+    lever = trolley.lever_arm_m("imu_to_sleeper_detector_m") - trolley.lever_arm_m("imu_to_reference_rail_m")
     return float((c_vb @ lever)[0])
 
 
