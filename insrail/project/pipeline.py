@@ -58,7 +58,6 @@ from insrail.io.survey import (
 )
 from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
 from insrail.memory import release_free_memory
-from insrail.nav.earth import Ellipsoid
 from insrail.nav.fusion import SmootherStore, aiding_for, fuse
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.integrity import UntrustedSolution
@@ -249,11 +248,6 @@ def read_design(path: Path) -> DesignAlignment:
     return read_landxml(path) if path.suffix.lower() == ".xml" else read_alignment_csv(path)
 
 
-def ellipsoid_of(project: Project) -> Ellipsoid:
-    """The navigation ellipsoid matching the project's CRS (fusion and CRS must agree)."""
-    return Ellipsoid(project.crs.ellipsoid, project.crs.semi_major_axis_m, 1.0 / project.crs.inverse_flattening_value)
-
-
 def _hash_file(digest, path: Path) -> None:
     with open(path, "rb") as handle:
         for block in iter(lambda: handle.read(1 << 20), b""):
@@ -284,7 +278,7 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
                for k, v in asdict(manifest.trolley).items()}
     profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
     settings = {"version": CACHE_VERSION, "gps_week": manifest.gps_week, "trolley": trolley, "imu_profile": repr(profile),
-                "fusion": repr(project.fusion), "ellipsoid": repr(ellipsoid_of(project)),
+                "fusion": repr(project.fusion), "ellipsoid": repr(project.crs.reference_ellipsoid),
                 "files": {r: asdict(f) for r, f in fused.items()}}
     if "prism" in manifest.files or "total_station" in manifest.files:
         settings["prism_geodesy"] = _geodesy_settings(project)
@@ -359,7 +353,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
         # the trajectory is streamed into the cache as the smoother makes it (sealed below)
         result, options, store, _ = fuse_consistent(
             survey.imu, lambda options: replace(aiding_for(survey, options, profile, fixes), design_azimuth=design),
-            profile, project.fusion, ellipsoid_of(project), new_store=SmootherStore if project.fusion.smoother else None, fuse=fuse,
+            profile, project.fusion, project.crs.reference_ellipsoid, new_store=SmootherStore if project.fusion.smoother else None, fuse=fuse,
             progress=progress.sub(0.05, 0.87), cancel=cancel, trajectory_file=path)
         check_cancel(cancel)
         if not result.integrity.trusted:
@@ -381,7 +375,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
             survey, result = replace(survey, imu=None), None
             quality = recorded_quality(epochs, store, progress=progress.sub(0.87, 1.0), cancel=cancel)
         else:
-            quality = epoch_quality(survey, result, options, profile, ellipsoid_of(project),
+            quality = epoch_quality(survey, result, options, profile, project.crs.reference_ellipsoid,
                                     progress=progress.sub(0.87, 1.0), cancel=cancel)
     except BaseException:  # untrusted, cancelled or failed once the streamed trajectory is complete: no unsealed entry left
         path.unlink(missing_ok=True)
@@ -427,10 +421,10 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
     design = read_design(project.resolve(project.design)) if project.design is not None else None
     check_cancel(cancel)
     try:
-        # the file does not say on which ellipsoid the fusion ran: the project's; read by parts, the
+        # the file does not say on which ellipsoid the fusion ran: the CRS's; read by parts, the
         # rails and stations (25 doubles per epoch) are never held whole
         recon, attitude = reconstruct_track_streamed(
-            trajectory_file, ellipsoid_of(project).name, manifest.trolley, fresh.gauge, to_engineering, design=design,
+            trajectory_file, project.crs.reference_ellipsoid, manifest.trolley, fresh.gauge, to_engineering, design=design,
             pulses=fresh.pulses, start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
             stationing=project.stationing_direction, anchor=project.sleeper_anchor, spool_folder=path.parent,
             epochs_file=epochs_path, check=lambda: check_cancel(cancel))
