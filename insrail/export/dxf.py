@@ -22,6 +22,8 @@ import re
 
 import numpy as np
 
+from insrail.project.run_settings import processed_crs_text
+
 RAIL_LAYERS = {"left": "INSRAIL_RAIL_LEFT", "right": "INSRAIL_RAIL_RIGHT"}
 CENTRELINE_LAYER = "INSRAIL_CENTRELINE"
 SLEEPER_LAYER = "INSRAIL_SLEEPERS"
@@ -95,7 +97,7 @@ def dxf_document(project, results):
         first = int(np.flatnonzero(valid)[0])
         heights = "normal heights" if results.summary.get("heights", {}).get("model", "none").split()[0] != "none" \
             else "ellipsoidal heights"
-        space.add_text(f"insrail: {project.name}, survey {results.survey}; {project.crs.describe()}; {heights}; m",
+        space.add_text(f"insrail: {project.name}, survey {results.survey}; {processed_crs_text(project, results.summary)}; {heights}; m",
                        height=2 * TEXT_HEIGHT_M, dxfattribs={"layer": INFO_LAYER}).set_placement(
             (centre[first] + [2.0, 2.0, 0.0]).tolist())
     return doc

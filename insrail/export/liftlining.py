@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from insrail.io.errors import InputError
+from insrail.project.run_settings import processed_crs_text
 
 MAGIC = "# insrail lift-lining 1"
 HEADER = ["number", "chainage", "station_m", "valid", "lift_left_mm", "lift_right_mm", "lining_left_mm",
@@ -69,7 +70,7 @@ def lift_lining_table(project, results) -> LiftLiningTable:
         return values
 
     metadata = {"project": project.name, "survey": results.survey, "reference": reference_text(project, results),
-                "crs": project.crs.describe(), "convention": CONVENTION}
+                "crs": processed_crs_text(project, results.summary), "convention": CONVENTION}
     return LiftLiningTable(metadata, np.asarray(results.number), tuple(results.label), c["station_m"], valid,
                            amounts("vertical"), amounts("lateral"), c["design_cant_mm"])
 

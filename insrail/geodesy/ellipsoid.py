@@ -16,7 +16,10 @@ are given in that datum (``[geodesy.control_points]``), and the rover's relative
 the base's coordinates plus the baseline. A solution in another frame (PPP or a CORS network in
 ITRF/WGS84/CGCS2000 while the CRS is on Xian80 or Krassovsky, two non-geocentric datums) lies
 tens of metres off in that datum: it needs common points in ``[geodesy.local]`` (a 4- or
-7-parameter fit onto the railway's grid), see docs/formats.md.
+7-parameter fit onto the railway's grid), see docs/formats.md. A base solution computed with
+WGS84's formulas (RTKLIB) reads baselines longer by :func:`wgs84_baseline_scale_ppm` in a datum
+with another semi-major axis: beyond 1 ppm (Krassovsky: 17 ppm, 85 mm at 5 km from the base) the
+processing says so in a notice.
 
 The normal gravity field keeps the WGS84 defining constants (GM, omega, gamma at equator and
 pole) whatever the geometric ellipsoid: on Xian80 or Krassovsky that changes normal gravity by
@@ -74,6 +77,13 @@ CGCS2000 = Ellipsoid("CGCS2000", 6378137.0, 298.257222101)
 KRASSOVSKY = Ellipsoid("Krassovsky", 6378245.0, 298.3)
 #: IAG 1975, Xi'an 1980.
 XIAN80 = Ellipsoid("Xian80", 6378140.0, 298.257)
+
+def wgs84_baseline_scale_ppm(ellipsoid: Ellipsoid) -> float:
+    """How much longer [ppm] a GNSS baseline computed with WGS84's formulas reads in a datum on
+    ``ellipsoid`` when the base's coordinates in that datum are carried over (see the module
+    docstring): (a / a_WGS84 - 1), 0.5 ppm on Xian80, 17 ppm on Krassovsky."""
+    return (ellipsoid.a / WGS84.a - 1.0) * 1e6
+
 
 #: The named ellipsoids a project may choose (``[geodesy.crs] ellipsoid``), by name.
 ELLIPSOIDS: dict[str, Ellipsoid] = {ell.name: ell for ell in (CGCS2000, WGS84, KRASSOVSKY, XIAN80)}

@@ -63,6 +63,7 @@ from insrail.project.model import project_from_settings
 from insrail.project.pipeline import CACHE_FOLDER
 from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
+from insrail.project.run_settings import settings_change_lines
 from insrail.report.stale import stale_reports
 from insrail.track.events import KIND_NAMES
 
@@ -579,6 +580,8 @@ class MainWindow(QMainWindow):
             self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()})
             self._enable_project_actions()
             return
+        for line in settings_change_lines(self.project, name):  # the views show what was processed
+            self.log.warning(f"{name}: {line}")
         self._request_views(name)
 
     def _view_state(self) -> dict | None:
