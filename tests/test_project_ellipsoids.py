@@ -53,6 +53,7 @@ def test_a_survey_on_xian80_is_processed_and_reported_with_its_ellipsoid(xian80,
     assert settings["ellipsoid"] == {"name": "Xian80", "a_m": 6378140.0, "inverse_flattening": 298.257}
     assert settings["crs"]["ellipsoid"] == "Xian80" and "TM Xian80 CM 114.3°" in settings["crs_text"]
     assert summary["track"]["valid_sleepers"] > 0.9 * summary["track"]["sleepers"]
+    assert not [n for n in summary["notices"] if n["stage"] == "geodesy"]  # Xian80: 0.5 ppm, below the notice
     assert main(["report", str(xian80)]) == 0
     text = _pdf_text(xian80 / "reports" / "track_geometry_short.pdf")
     assert "Transverse Mercator on Xian80 (a = 6378140.000 m" in text
@@ -114,3 +115,6 @@ def test_every_stage_gets_the_ellipsoid_object_of_the_crs(short_nav_survey, tmp_
     assert run.ellipsoid == expected
     assert run.record()["ellipsoid"] == {"name": expected.name, "a_m": expected.a,
                                          "inverse_flattening": expected.inverse_flattening}
+    # GNSS baselines computed with WGS84's formulas read 16.9 ppm (3.6 ppm) long in this datum: said
+    scale_mm = {"Krassovsky": "+85 mm", "custom": "+18 mm"}[expected.name]
+    assert [n.stage for n in run.notices()] == ["geodesy"] and scale_mm in run.notices()[0].message

@@ -101,9 +101,9 @@ class RunSettings:
             return []
         return [Notice("geodesy", f"the CRS is on {self.ellipsoid.describe()}: GNSS positions are taken in its datum; "
                                   f"a GNSS solution computed with WGS84's formulas from a base given in that datum "
-                                  f"reads baselines {scale:+.1f} ppm long ({scale * 5e-3:+.0f} mm at 5 km from the "
-                                  "base): relative geometry is unaffected, absolute positions need common points "
-                                  "([geodesy.local]) or a solution made on this ellipsoid")]
+                                  f"reads baselines {scale:+.1f} ppm long ({scale * 5.0:+.0f} mm at 5 km from the "
+                                  "base): lengths and chainage read that much long, absolute positions need common "
+                                  "points ([geodesy.local]) or a solution made on this ellipsoid")]
 
     def record(self) -> dict[str, Any]:
         """The ``[settings]`` table of summary.toml (plain TOML data; :class:`RecordedSettings` reads it)."""
