@@ -30,7 +30,7 @@ import numpy as np
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.ellipsoid import Ellipsoid, wgs84_baseline_scale_ppm
 from insrail.geodesy.errors import SettingsError
-from insrail.io.survey import SurveyManifest, TrolleyGeometry
+from insrail.io.survey import SurveyManifest, TrolleyGeometry, read_manifest
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.notices import Notice
@@ -161,8 +161,8 @@ _DESCRIBED = (
     ("tolerance_profile", "tolerance profile", lambda p: p.get("name", "?")),
     ("fastener", "fastener type", lambda p: p.get("name", "?")),
     ("design", "design", lambda d: d.get("file") or "none (fitted lines)"),
-    ("trolley", "trolley geometry", lambda t: "as recorded"),
-    ("fusion", "fusion options", lambda f: "as recorded"),
+    ("trolley", "trolley geometry", lambda t: f"[{SETTINGS_SECTION}.trolley] of summary.toml"),
+    ("fusion", "fusion options", lambda f: f"[{SETTINGS_SECTION}.fusion] of summary.toml"),
     ("adjustment", "adjustment settings", lambda a: ", ".join(f"{k} {v}" for k, v in a.items())),
 )
 
@@ -203,8 +203,6 @@ class RecordedSettings:
         record is one line too. A project that no longer resolves (a profile file gone) says so."""
         if self.missing:
             return [NOT_RECORDED]
-        from insrail.io.survey import read_manifest
-
         try:
             manifest = read_manifest(project.resolve(project.survey(survey).folder))
             trolley = project.trolley()
@@ -219,8 +217,8 @@ class RecordedSettings:
             if then is None or _same(then, today):
                 continue
             old, new = describe(then), describe(today)
-            if old == new:
-                new = f"{new}, changed since"
+            if old == new:  # the same name, other contents: a profile or file edited, a lever arm changed
+                new = "other values" if key in ("trolley", "fusion") else f"{new} with other contents"
             lines.append(f"{what}: processed with {old}; the project now says {new}: process again")
         return lines
 
