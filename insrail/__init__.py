@@ -16,8 +16,10 @@ uses in its own docstring):
   forward-right-down axes; vehicle frame v = the trolley's forward-right-down axes
   (x along the rails in the direction of travel).
 * Attitude is roll, pitch, heading (Euler z-y-x) of b (or v) relative to n.
-* Geodetic coordinates are on the WGS84/CGCS2000 ellipsoid (they differ by 0.1 mm
-  in the semi-minor axis), latitude/longitude in radians inside the core.
+* Geodetic coordinates are on the ellipsoid of the project's engineering CRS (CGCS2000,
+  WGS84, Xian80, Krassovsky or a custom one), one :class:`insrail.geodesy.ellipsoid.Ellipsoid`
+  object handed to every stage; the GNSS positions are taken in that datum (that module's
+  docstring). Latitude/longitude in radians inside the core.
 """
 
 __version__ = "0.1.0"

@@ -262,6 +262,8 @@ SETTING_NAMES = {
     "project.description": "Description",
     "geodesy.crs": "Coordinate system",
     "geodesy.crs.ellipsoid": "Ellipsoid",
+    "geodesy.crs.a_m": "Semi-major axis (custom ellipsoid)",
+    "geodesy.crs.inverse_flattening": "Inverse flattening (custom ellipsoid)",
     "geodesy.crs.central_meridian_deg": "Central meridian",
     "geodesy.crs.latitude_of_origin_deg": "Latitude of origin",
     "geodesy.crs.scale_factor": "Scale factor",

@@ -116,7 +116,7 @@ def test_digest_projection_height_examples():
 def test_projection_height_conventions_match_independent_series(convention, h0):
     crs = EngineeringCRS(central_meridian_deg=CM, projection_height_m=h0, projection_height_convention=convention,
                          false_easting_m=500_000.0, false_northing_m=-3_000_000.0)
-    a, rf = ELLIPSOIDS["CGCS2000"]
+    a, rf = ELLIPSOIDS["CGCS2000"].a, ELLIPSOIDS["CGCS2000"].inverse_flattening
     if convention == "scale_factor":
         k0, a_used = 1.0 + h0 / 6_371_000.0, a
     else:

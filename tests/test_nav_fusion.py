@@ -122,7 +122,7 @@ def test_cli_fuse_streams_the_trajectory_and_writes_text_and_forward_only_when_a
     assert np.abs(forward.height_m - streamed.height_m).max() > 1e-4  # the forward solution, not a copy
     streamed_result = fuse_survey(survey, FusionOptions(smoother=False), ellipsoid=CGCS2000, output_every=50,
                                   trajectory_file=tmp_path / "again.npy")
-    assert streamed_result.trajectory.ellipsoid_name == "CGCS2000" and not streamed_result.trajectory.smoothed
+    assert streamed_result.trajectory.ellipsoid.name == "CGCS2000" and not streamed_result.trajectory.smoothed
     # without --forward the forward solution is kept at the update epochs only
     assert len(in_memory.forward) == in_memory.info["update_epochs"]
 

@@ -5,7 +5,7 @@ trajectory (Gauss-Legendre quadrature, 4 nodes per interval: exact to rounding f
 this smooth), so every error left is the algorithm's own.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pytest
@@ -190,7 +190,7 @@ def test_at_rest_check_sees_a_wrong_earth_rate(lat_deg):
     # Increments generated on an earth spinning the other way must not pass the check
     # above: proves the tolerances there are tight enough to catch an earth-rate sign.
     motion = at_rest(np.deg2rad(lat_deg), 0.4)
-    flipped = earth.Ellipsoid("flipped", earth.WGS84.a, earth.WGS84.f, omega=-earth.WGS84.omega)
+    flipped = replace(earth.WGS84, name="flipped", omega=-earth.WGS84.omega)
     n = int(60 * RATE_HZ)
     dtheta, dvel = motion.increments(n, flipped)
     sol = integrate(ImuIncrements(T0 + DT * np.arange(1, n + 1), dtheta, dvel), motion.initial_state(earth.WGS84))

@@ -22,7 +22,6 @@ from insrail.io.rinex import RinexObsHeader, write_rinex2_obs
 from insrail.io.survey import read_manifest, read_survey, write_manifest
 from insrail.io.survey_gnss import RawGnss
 from insrail.io.types import GnssSolution
-from insrail.nav.earth import geodetic_to_ecef
 from insrail.nav.fusion import FusionOptions
 from insrail.progress import Cancelled
 from insrail.project import (
@@ -36,7 +35,7 @@ from insrail.project import (
 from insrail.project.control_points import ControlPoint, resolve_control_point
 from insrail.project.demo import project_for_simulated_survey
 from insrail.project.gnss_stage import GnssStageResult, run_gnss_stage
-from insrail.project.pipeline import ellipsoid_of, fit_heights
+from insrail.project.pipeline import fit_heights
 from insrail.sim.evaluation import trajectory_errors
 from insrail.sim.gnss_obs import convert_survey_to_raw_gnss
 from insrail.sim.scenario import preset
@@ -115,7 +114,7 @@ def test_process_runs_ppk_and_matches_the_truth(processed):
     # The fused trajectory agrees with the truth as in the demo (GNSS-limited, millimetres).
     trajectory = load_results(root, "short").trajectory()
     errors = trajectory_errors(trajectory, read_nav_truth(root / "surveys" / "short" / "truth" / "nav.npy"),
-                               ellipsoid_of(project))
+                               project.crs.reference_ellipsoid)
     assert len(trajectory) > 50_000
     assert errors.rms_horizontal_m() < 0.005 and errors.rms_vertical_m() < 0.008
     assert np.abs(errors.ned_m[errors.moving]).max() < 0.015
@@ -248,22 +247,20 @@ def test_receiver_log_is_converted_once_and_its_navigation_used(raw_survey, tmp_
     assert stamps[0] == stamps[1]  # the second run took the converted files from the cache
 
 
-def test_control_points_resolve_to_the_ellipsoid(raw_survey):
+def test_control_points_resolve_in_the_crs_datum(raw_survey):
     root, raw = raw_survey
     project = load_project(root)
-    ellipsoid, fit = ellipsoid_of(project), fit_heights(project)
-    geodetic = resolve_control_point(ControlPoint("G", geodetic=(30.5, 114.4, 12.0)), project.crs, ellipsoid, fit)
+    fit = fit_heights(project)
+    geodetic = resolve_control_point(ControlPoint("G", geodetic=(30.5, 114.4, 12.0)), project.crs, fit)
     assert (np.degrees(geodetic.lat_rad), np.degrees(geodetic.lon_rad), geodetic.height_m) == pytest.approx(
         (30.5, 114.4, 12.0), abs=1e-12)
-    assert np.allclose(geodetic.ecef_m, geodetic_to_ecef(np.radians(30.5), np.radians(114.4), 12.0, ellipsoid))
     east, north, normal_height = raw.base_enh_m
-    engineering = resolve_control_point(ControlPoint("E", engineering=raw.base_enh_m), project.crs, ellipsoid, fit)
+    engineering = resolve_control_point(ControlPoint("E", engineering=raw.base_enh_m), project.crs, fit)
     back = project.crs.to_plane(engineering.lat_rad, engineering.lon_rad)
     assert np.allclose(back, (east, north), atol=1e-6)
     zeta = float(fit.zeta_m(np.array([east]), np.array([north]))[0])
     assert engineering.height_m == pytest.approx(normal_height + zeta, abs=1e-9) and -13.0 < zeta < -11.5
-    without_benchmarks = resolve_control_point(ControlPoint("E", engineering=raw.base_enh_m), project.crs, ellipsoid,
-                                               None)
+    without_benchmarks = resolve_control_point(ControlPoint("E", engineering=raw.base_enh_m), project.crs, None)
     assert without_benchmarks.height_m == normal_height and "H taken as ellipsoidal" in without_benchmarks.derivation
 
 
@@ -323,7 +320,7 @@ def test_whole_short_survey_from_rinex_matches_the_truth(tmp_path, capsys):
     stored = load_results(tmp_path, "short")
     assert stored.summary["ppk"]["fix_rate"] >= 0.95
     errors = trajectory_errors(stored.trajectory(), read_nav_truth(folder / "truth" / "nav.npy"),
-                               ellipsoid_of(load_project(tmp_path)))
+                               load_project(tmp_path).crs.reference_ellipsoid)
     print(f"RINEX short: trajectory RMS horizontal {1e3 * errors.rms_horizontal_m():.2f} mm, vertical "
           f"{1e3 * errors.rms_vertical_m():.2f} mm; fix rate {100 * stored.summary['ppk']['fix_rate']:.1f} %")
     assert errors.rms_horizontal_m() < 0.005 and errors.rms_vertical_m() < 0.008

@@ -1,11 +1,16 @@
 """Rails from pose and chainage, on the simulator's navigation truth (no navigation error)."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from insrail.geodesy.ellipsoid import ELLIPSOIDS, Ellipsoid
 from insrail.io.types import Gap, GaugeData
+from insrail.nav import earth
+from insrail.nav.rotation import euler_to_dcm
 from insrail.track.chainage import stations_along_path
 from insrail.track.rails import gauge_at_times, gauge_curve_correction_m, rails_from_pose
 from track_truth import truth_reconstruction
@@ -123,13 +128,31 @@ def test_gauge_at_times_blanks_gaps_and_outside():
     assert values[1] == pytest.approx(1.4355) and values[3] == pytest.approx(1.4375)
 
 
-def test_rails_from_pose_refuses_bad_reference_rail_and_unknown_ellipsoid(recon):
+def test_rails_from_pose_refuses_a_bad_reference_rail(recon):
     bad = type(recon.trolley)(**{**recon.trolley.__dict__, "reference_rail": "centre"})
     with pytest.raises(ValueError, match="reference_rail"):
         rails_from_pose(recon.trajectory, bad, recon.gauge, recon.to_engineering)
-    odd = type(recon.trajectory)(**{**recon.trajectory.__dict__, "ellipsoid_name": "Krassowsky"})
-    with pytest.raises(ValueError, match="Krassowsky"):
-        rails_from_pose(odd, recon.trolley, recon.gauge, recon.to_engineering)
+
+
+@pytest.mark.parametrize("ellipsoid", [*ELLIPSOIDS.values(), Ellipsoid("custom", 6_378_300.0, 297.0)],
+                         ids=[*ELLIPSOIDS, "custom"])
+def test_rails_from_pose_works_on_the_trajectorys_ellipsoid(recon, ellipsoid):
+    """Every ellipsoid a project may choose (issue 32: Xian80 and Krassovsky were refused by name):
+    the lever arm goes through ECEF on the trajectory's own ellipsoid, so with ECEF on that
+    ellipsoid as the 'engineering' frame the reference rail is the IMU plus C_e^b l exactly."""
+    trajectory = replace(recon.trajectory, ellipsoid=ellipsoid)
+
+    def ecef(lat, lon, h):
+        return tuple(earth.geodetic_to_ecef(lat, lon, h, ellipsoid).T)
+
+    rails = rails_from_pose(trajectory, recon.trolley, recon.gauge, ecef)
+    part = slice(0, 2000, 50)
+    lat, lon, h = trajectory.lat_rad[part], trajectory.lon_rad[part], trajectory.height_m[part]
+    c_eb = earth.dcm_ecef_from_ned(lat, lon) @ euler_to_dcm(*trajectory.rpy_rad[part].T)
+    expected = earth.geodetic_to_ecef(lat, lon, h, ellipsoid) + c_eb @ np.asarray(recon.trolley.imu_to_reference_rail_m)
+    assert np.abs(rails.reference_rail_enh_m[part] - expected).max() < 1e-6
+    across = np.linalg.norm(rails.right_rail_enh_m[part] - rails.left_rail_enh_m[part], axis=1)
+    assert np.allclose(across, rails.gauge_m[part], rtol=0, atol=1e-6)
 
 
 @settings(max_examples=25, deadline=None)

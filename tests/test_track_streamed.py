@@ -44,13 +44,13 @@ def _both(tmp_path, truth, trajectory, gauge=None, pulses="file", **options):
     """(whole run, its attitude), (by parts, its attitude) of ``trajectory`` written to a file and read back."""
     path = tmp_path / "trajectory.npy"
     save_trajectory(path, trajectory)
-    whole_trajectory = replace(load_trajectory(path, only=POSE_FIELDS), ellipsoid_name=truth.trajectory.ellipsoid_name)
+    whole_trajectory = replace(load_trajectory(path, only=POSE_FIELDS), ellipsoid=truth.trajectory.ellipsoid)
     gauge = truth.gauge if gauge is None else gauge
     if pulses == "file":
         pulses = read_sleeper_times(truth.folder / "sleepers.txt")
     whole = reconstruct_track(whole_trajectory, truth.trolley, gauge, truth.to_engineering, pulses=pulses, **options)
     attitude = sleeper_attitude_rad(whole_trajectory.time_s, whole_trajectory.rpy_rad, whole.table.time_s)
-    recon, parts_attitude = reconstruct_track_streamed(path, truth.trajectory.ellipsoid_name, truth.trolley, gauge,
+    recon, parts_attitude = reconstruct_track_streamed(path, truth.trajectory.ellipsoid, truth.trolley, gauge,
                                                        truth.to_engineering, pulses=pulses, spool_folder=tmp_path,
                                                        epochs_file=tmp_path / "epochs.npy", **options)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["epochs.npy", "trajectory.npy"]  # the spool is gone
@@ -111,7 +111,7 @@ def test_the_trolley_facing_backwards_with_anchor_numbering(tmp_path, truth):
     rpy[:, 0], rpy[:, 1], rpy[:, 2] = -rpy[:, 0], -rpy[:, 1], np.mod(rpy[:, 2] + np.pi, 2 * np.pi)
     trajectory = replace(trajectory, rpy_rad=rpy)
     # the anchor: a sleeper of the plain numbering (from 1), numbered 500
-    station = reconstruct_track(replace(trajectory, ellipsoid_name=truth.trajectory.ellipsoid_name), truth.trolley,
+    station = reconstruct_track(replace(trajectory, ellipsoid=truth.trajectory.ellipsoid), truth.trolley,
                                 truth.gauge, truth.to_engineering, design=truth.design,
                                 pulses=read_sleeper_times(truth.folder / "sleepers.txt")).sleepers.station_m[40]
     whole, parts = _both(tmp_path, truth, trajectory, design=truth.design,
@@ -165,7 +165,7 @@ def test_memory_does_not_grow_with_the_length(tmp_path, truth):
         save_trajectory(tmp_path / f"{epochs}.npy", _part(truth.trajectory, rows[:epochs]))
 
     def run(epochs: int):
-        return reconstruct_track_streamed(tmp_path / f"{epochs}.npy", truth.trajectory.ellipsoid_name, truth.trolley,
+        return reconstruct_track_streamed(tmp_path / f"{epochs}.npy", truth.trajectory.ellipsoid, truth.trolley,
                                           truth.gauge, truth.to_engineering, design=truth.design, pulses=None,
                                           spool_folder=tmp_path, epochs_file=tmp_path / "epochs.npy")
 
@@ -219,7 +219,7 @@ def test_a_cancel_leaves_no_spool_and_no_epochs_file(tmp_path, truth):
             raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
-        reconstruct_track_streamed(path, truth.trajectory.ellipsoid_name, truth.trolley, truth.gauge,
+        reconstruct_track_streamed(path, truth.trajectory.ellipsoid, truth.trolley, truth.gauge,
                                    truth.to_engineering, design=truth.design, spool_folder=tmp_path,
                                    epochs_file=tmp_path / "epochs.npy", check=cancel_at_the_tenth_part)
     assert [p.name for p in tmp_path.iterdir()] == ["trajectory.npy"]

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from insrail.geodesy.crs import EngineeringCRS
+from insrail.geodesy.ellipsoid import Ellipsoid
 from insrail.io.survey import TrolleyGeometry, read_manifest
 from insrail.io.types import GaugeData
 from insrail.nav.trajectory import Trajectory
@@ -46,7 +47,7 @@ class TruthReconstruction:
         return east, north, h - height_anomaly(self.config, east, north)
 
 
-def trajectory_from_truth(nav: np.ndarray, ellipsoid_name: str) -> Trajectory:
+def trajectory_from_truth(nav: np.ndarray, ellipsoid: Ellipsoid) -> Trajectory:
     zeros = np.zeros((len(nav), 3))
     return Trajectory(
         time_s=np.ascontiguousarray(nav["time_s"]), lat_rad=np.ascontiguousarray(nav["lat_rad"]),
@@ -54,7 +55,7 @@ def trajectory_from_truth(nav: np.ndarray, ellipsoid_name: str) -> Trajectory:
         vel_ned_mps=np.ascontiguousarray(nav["vel_ned_mps"]), rpy_rad=np.ascontiguousarray(nav["rpy_rad"]),
         sigma_pos_ned_m=zeros, sigma_vel_ned_mps=zeros, sigma_rpy_rad=zeros, gyro_bias_radps=zeros,
         accel_bias_mps2=zeros, gyro_scale=zeros, accel_scale=zeros, odometer_scale=np.zeros(len(nav)),
-        smoothed=True, ellipsoid_name=ellipsoid_name,
+        smoothed=True, ellipsoid=ellipsoid,
     )
 
 
@@ -66,7 +67,7 @@ def truth_reconstruction(folder: Path) -> TruthReconstruction:
     # The simulator's first random stream builds the track: the same seed rebuilds it exactly.
     track = true_track(config, np.random.default_rng(np.random.SeedSequence(scenario.get("track_seed", scenario["seed"])).spawn(9)[0]))
     nav = np.asarray(read_nav_truth(folder / "truth" / "nav.npy"))
-    trajectory = trajectory_from_truth(nav, crs.ellipsoid)
+    trajectory = trajectory_from_truth(nav, crs.reference_ellipsoid)
     # The error-free gauge at the trolley's reference cross-section, as the simulated sensor sees it.
     gauge = GaugeData(trajectory.time_s, track.nominal_gauge_m + track.gauge.evaluate(nav["station_m"]))
     trolley = read_manifest(folder).trolley

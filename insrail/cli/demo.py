@@ -78,7 +78,6 @@ def run(args: argparse.Namespace) -> int:
     from insrail.cli.report import default_paths, write_reports
     from insrail.project import process
     from insrail.project.demo import project_for_simulated_survey
-    from insrail.project.pipeline import ellipsoid_of
     from insrail.sim.evaluation import trajectory_errors
     from insrail.sim.scenario import preset
     from insrail.sim.simulate import simulate
@@ -99,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
     for path in write_reports(project, name, *default_paths(project.folder, name)):
         print(f"Report: {path.resolve()}")
 
-    errors = trajectory_errors(results.trajectory, read_nav_truth(survey_dir / "truth" / "nav.npy"), ellipsoid_of(project))
+    errors = trajectory_errors(results.trajectory, read_nav_truth(survey_dir / "truth" / "nav.npy"), project.crs.reference_ellipsoid)
     lat5, ver5 = errors.lag_difference_sigma_m(5.0)
     rpy = np.rad2deg(errors.rms_attitude_rad())
     track = truth_comparison(results.table, read_sleeper_truth(survey_dir / "truth" / "sleepers.csv"))

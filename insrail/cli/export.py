@@ -30,6 +30,7 @@ def run(args: argparse.Namespace) -> int:
     from insrail.export import default_export_path, write_export
     from insrail.project import load_project
     from insrail.project.results import load_results
+    from insrail.project.run_settings import settings_change_lines
 
     project = load_project(args.project)
     if args.section:
@@ -49,4 +50,6 @@ def run(args: argparse.Namespace) -> int:
     path = args.out or default_export_path(project.folder, names[0], args.format)
     written = write_export(project, results, args.format, path)
     print(f"{names[0]} {args.format}: {written.resolve()}")
+    for line in settings_change_lines(project, names[0]):  # the export states the settings processed with
+        print(f"{names[0]}: warning: {line}", file=sys.stderr)
     return 0

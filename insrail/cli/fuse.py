@@ -23,6 +23,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from insrail.cli.progressbar import TerminalProgress
+from insrail.geodesy.ellipsoid import ELLIPSOIDS
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -36,7 +37,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--project", type=Path,
                    help="project (folder or project.toml) whose CRS and height model place the survey's total-station "
                         "prism fixes in the fusion (its trolley and ellipsoid then apply too)")
-    p.add_argument("--ellipsoid", choices=("WGS84", "CGCS2000"),
+    p.add_argument("--ellipsoid", choices=tuple(ELLIPSOIDS),
                    help="navigation ellipsoid (default: the project's with --project, else CGCS2000)")
     p.add_argument("--heading", type=float,
                    help="initial heading of the IMU [deg]: skips the gyrocompass and sets the start velocity's direction")
@@ -56,7 +57,6 @@ def run(args: argparse.Namespace) -> int:
     from insrail.io.atomic import atomic_write
     from insrail.io.errors import InputError
     from insrail.io.survey import read_survey
-    from insrail.nav import earth
     from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, aiding_for
     from insrail.nav.imu_profile import load_imu_profile
     from insrail.nav.self_calibration import fuse_consistent
@@ -91,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
               "leave it out with --project", file=sys.stderr)
         return 2
     every = max(int(round(survey.imu.rate_hz / args.rate)), 1) if args.rate > 0 else 1
-    ellipsoid = project_ellipsoid or (earth.WGS84 if args.ellipsoid == "WGS84" else earth.CGCS2000)
+    ellipsoid = project_ellipsoid or ELLIPSOIDS[args.ellipsoid or "CGCS2000"]
     args.out.mkdir(parents=True, exist_ok=True)
     # Streamed under staging names; an untrustworthy solution is not put where a user would take it.
     staged = {"trajectory.npy": args.out / ".trajectory.fusing.npy"}
@@ -193,7 +193,7 @@ def _prism_fixes(survey, project_path: Path | None):
 
     from insrail.notices import Notice
     from insrail.project.model import load_project
-    from insrail.project.pipeline import ellipsoid_of, fit_heights, prism_fixes
+    from insrail.project.pipeline import fit_heights, prism_fixes
     from insrail.project.total_station import with_total_station_fixes
 
     count = sum(len(getattr(survey, role)) for role in ("prism", "total_station") if getattr(survey, role) is not None)
@@ -210,9 +210,9 @@ def _prism_fixes(survey, project_path: Path | None):
     if trolley is not None:
         survey = replace(survey, manifest=replace(survey.manifest, trolley=trolley))
     if not count:
-        return survey, None, ellipsoid_of(project), []
+        return survey, None, project.crs.reference_ellipsoid, []
     survey, placed = with_total_station_fixes(survey)
     fixes = prism_fixes(project, survey.prism, survey.manifest.trolley, fit_heights(project))
     placed = [*placed, Notice("fuse", f"{len(fixes.time_s)} total-station prism fix(es) placed by project "
                                       f"{project.name} ({project.crs.describe()})", severity="info")]
-    return survey, fixes, ellipsoid_of(project), placed
+    return survey, fixes, project.crs.reference_ellipsoid, placed

@@ -71,6 +71,7 @@ def _unwritable(path: Path | None) -> str | None:
 def run(args: argparse.Namespace) -> int:
     from insrail.cli.process import chosen_surveys
     from insrail.project import load_project
+    from insrail.project.run_settings import settings_change_lines
     from insrail.report.stale import stale_report_lines
 
     project = load_project(args.project)
@@ -97,6 +98,8 @@ def run(args: argparse.Namespace) -> int:
             return 1
         for path in written:
             print(f"{name}: {path.resolve()}")
+        for line in settings_change_lines(project, name):  # the reports state the settings processed with
+            print(f"{name}: warning: {line}", file=sys.stderr)
         for line in stale_report_lines(project.folder, name, indent=f"{name}: "):  # a default report not rewritten
             print(line, file=sys.stderr)
     return 0

@@ -30,6 +30,7 @@ from insrail.names import channel_name
 from insrail.report.labels import amounts_text, deviation_reference
 from insrail.track.adjustment import load_fastener_type
 from insrail.track.tolerance import load_tolerance_profile
+from insrail.project.run_settings import processed_crs_text
 
 RAIL_LAYERS = {"left": "INSRAIL_RAIL_LEFT", "right": "INSRAIL_RAIL_RIGHT"}
 CENTRELINE_LAYER = "INSRAIL_CENTRELINE"
@@ -131,7 +132,7 @@ def dxf_document(project, results):
         except ValueError:  # edited since processing: the amounts are in the results, the file only names it
             fastener = None
         for line, text in enumerate((
-                f"insrail: {project.name}, survey {results.survey}; {project.crs.describe()}; {heights}; m",
+                f"insrail: {project.name}, survey {results.survey}; {processed_crs_text(project, results.summary)}; {heights}; m",
                 f"{ADJUSTMENT_LAYER} [mm]: {amounts_text(results.summary, profile, fastener)}",
                 f"deviations (not drawn): {deviation_reference(results.summary)}")):
             space.add_text(text, height=2 * TEXT_HEIGHT_M, dxfattribs={"layer": INFO_LAYER}).set_placement(

@@ -15,6 +15,7 @@ import numpy as np
 
 from insrail import __version__
 from insrail.export.dxf import _points, _runs
+from insrail.project.run_settings import processed_crs_text
 
 NAMESPACE = "http://www.landxml.org/schema/LandXML-1.2"
 
@@ -29,7 +30,7 @@ def format_landxml_lines(project, results) -> str:
     ET.SubElement(root, "Units").append(ET.Element("Metric", {
         "linearUnit": "meter", "areaUnit": "squareMeter", "volumeUnit": "cubicMeter", "angularUnit": "decimal degrees",
         "directionUnit": "decimal degrees"}))
-    ET.SubElement(root, "Project", {"name": project.name, "desc": project.crs.describe()})
+    ET.SubElement(root, "Project", {"name": project.name, "desc": processed_crs_text(project, results.summary)})
     ET.SubElement(root, "Application", {"name": "insrail", "version": __version__, "manufacturer": "insrail"})
     features = ET.SubElement(root, "PlanFeatures", {"name": f"{results.survey} measured"})
     lines = {"centreline": _points(c, "centre") if "centre_E_m" in c else 0.5 * (_points(c, "left") + _points(c, "right")),

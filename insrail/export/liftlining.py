@@ -32,6 +32,7 @@ from insrail.io.errors import InputError
 from insrail.report.labels import amounts_text, deviation_reference
 from insrail.track.adjustment import load_fastener_type
 from insrail.track.tolerance import load_tolerance_profile
+from insrail.project.run_settings import processed_crs_text
 
 MAGIC = "# insrail lift-lining 2"
 AMOUNT_COLUMNS = ["lift_left_mm", "lift_right_mm", "lining_left_mm", "lining_right_mm"]
@@ -85,7 +86,7 @@ def lift_lining_table(project, results) -> LiftLiningTable:
                 "amounts": f"{', '.join(AMOUNT_COLUMNS)}: {amounts_text(results.summary, profile, fastener)}",
                 "deviations": f"{', '.join(DEVIATION_COLUMNS)}: {deviation_reference(results.summary)}, where the "
                               "rail is (not an instruction)",
-                "reference": reference_text(project, results), "crs": project.crs.describe(), "convention": CONVENTION}
+                "reference": reference_text(project, results), "crs": processed_crs_text(project, results.summary), "convention": CONVENTION}
     return LiftLiningTable(metadata, np.asarray(results.number), tuple(results.label), c["station_m"], valid,
                            pair("adjust_vertical_{rail}_mm"), pair("adjust_lateral_{rail}_mm"),
                            pair("vertical_deviation_{rail}_mm"), pair("lateral_deviation_{rail}_mm"),

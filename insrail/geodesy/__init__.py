@@ -2,6 +2,8 @@
 
 Conventions (on top of the package-wide ones in ``insrail``):
 
+* One ellipsoid type for the package (:class:`Ellipsoid`, ``insrail.geodesy.ellipsoid``: the
+  named ones, and which datum the GNSS positions are taken in).
 * Geodetic latitude/longitude in radians, on the ellipsoid of the CRS in use; ellipsoidal
   heights h and normal heights H in metres; height anomaly ζ = h − H.
 * Plane coordinates are (east_m, north_m) in that order, whatever axis order an EPSG
@@ -15,7 +17,8 @@ Conventions (on top of the package-wide ones in ``insrail``):
 * All errors are ``GeodesyError`` (a ``ValueError``) or subclasses.
 """
 
-from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS, EngineeringCRS
+from insrail.geodesy.crs import PROJECTION_HEIGHT_CONVENTIONS, EngineeringCRS
+from insrail.geodesy.ellipsoid import ELLIPSOIDS, Ellipsoid
 from insrail.geodesy.errors import FitError, GeodesyError, GeoidGridError, SettingsError
 from insrail.geodesy.geoid import GeoidGrid, PlaneGeoid, checked_transformer, find_egm96_grid
 from insrail.geodesy.height_anomaly import (
@@ -38,7 +41,7 @@ from insrail.geodesy.similarity import (
 )
 
 __all__ = [
-    "ELLIPSOIDS", "PROJECTION_HEIGHT_CONVENTIONS", "EngineeringCRS",
+    "ELLIPSOIDS", "Ellipsoid", "PROJECTION_HEIGHT_CONVENTIONS", "EngineeringCRS",
     "FitError", "GeodesyError", "GeoidGridError", "SettingsError",
     "GeoidGrid", "PlaneGeoid", "checked_transformer", "find_egm96_grid",
     "MODELS", "CandidateFit", "ChainageSplineModel", "HeightAnomalyFit", "HeightAnomalyModel",

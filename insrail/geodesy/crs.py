@@ -40,15 +40,9 @@ from pyproj import CRS, Proj, Transformer
 from pyproj.exceptions import CRSError
 
 from insrail.geodesy._validation import Problems
+from insrail.geodesy.ellipsoid import ELLIPSOIDS, Ellipsoid
 from insrail.geodesy.errors import GeodesyError, SettingsError
 
-#: Named ellipsoids: semi-major axis [m] and inverse flattening.
-ELLIPSOIDS: dict[str, tuple[float, float]] = {
-    "CGCS2000": (6378137.0, 298.257222101),
-    "WGS84": (6378137.0, 298.257223563),
-    "Krassovsky": (6378245.0, 298.3),  # Beijing 1954
-    "Xian80": (6378140.0, 298.257),  # IAG 1975, Xi'an 1980
-}
 CUSTOM_ELLIPSOID = "custom"
 PROJECTION_HEIGHT_CONVENTIONS = ("scale_factor", "semi_major_axis")
 DEFAULT_MEAN_RADIUS_M = 6_371_000.0
@@ -156,12 +150,19 @@ class EngineeringCRS:
 
     # -- pyproj objects (built lazily, dropped when pickled) ---------------------------
     @property
+    def reference_ellipsoid(self) -> Ellipsoid:
+        """The CRS's ellipsoid as the one object every stage takes (fusion, rails, control points)."""
+        if self.ellipsoid in ELLIPSOIDS:
+            return ELLIPSOIDS[self.ellipsoid]
+        return Ellipsoid(self.ellipsoid, float(self.a_m), float(self.inverse_flattening))
+
+    @property
     def semi_major_axis_m(self) -> float:
-        return ELLIPSOIDS[self.ellipsoid][0] if self.ellipsoid in ELLIPSOIDS else float(self.a_m)
+        return self.reference_ellipsoid.a
 
     @property
     def inverse_flattening_value(self) -> float:
-        return ELLIPSOIDS[self.ellipsoid][1] if self.ellipsoid in ELLIPSOIDS else float(self.inverse_flattening)
+        return self.reference_ellipsoid.inverse_flattening
 
     @property
     def effective_scale_factor(self) -> float:
@@ -214,7 +215,8 @@ class EngineeringCRS:
         """One line a surveyor recognises, for reports and error messages."""
         if self.epsg is not None:
             return f"EPSG:{self.epsg} ({self.pyproj_crs.name})"
-        return (f"TM {self.ellipsoid} CM {self.central_meridian_deg:g}° k {self.scale_factor:.9g} "
+        ellipsoid = self.ellipsoid if self.ellipsoid in ELLIPSOIDS else self.reference_ellipsoid.describe()
+        return (f"TM {ellipsoid} CM {self.central_meridian_deg:g}° k {self.scale_factor:.9g} "
                 f"FE {self.false_easting_m:.3f} FN {self.false_northing_m:.3f} "
                 f"H0 {self.projection_height_m:.3f} m ({self.projection_height_convention})")
 
@@ -343,7 +345,8 @@ def _fields_from_epsg(crs: EngineeringCRS) -> dict[str, Any]:
                              "system must be a transverse Mercator (Gauss-Krüger/UTM) zone"])
     params = {int(p.code): p.value for p in operation.params if p.code}
     a, rf = definition.ellipsoid.semi_major_metre, definition.ellipsoid.inverse_flattening
-    named = next((name for name, (na, nrf) in ELLIPSOIDS.items() if na == a and abs(nrf - rf) < 1e-9), None)
+    named = next((name for name, ell in ELLIPSOIDS.items()
+                  if ell.a == a and abs(ell.inverse_flattening - rf) < 1e-9), None)
     from_epsg = {
         "ellipsoid": named or CUSTOM_ELLIPSOID,
         "a_m": None if named else a,

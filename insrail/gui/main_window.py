@@ -64,6 +64,7 @@ from insrail.project.pipeline import CACHE_FOLDER
 from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
 from insrail.report.content import ChainageAxis
+from insrail.project.run_settings import settings_change_lines
 from insrail.report.stale import stale_reports
 from insrail.track.events import KIND_NAMES
 from insrail.track.tolerance import load_tolerance_profile
@@ -600,6 +601,8 @@ class MainWindow(QMainWindow):
             self._show_runs()
             self._enable_project_actions()
             return
+        for line in settings_change_lines(self.project, name):  # the views show what was processed
+            self.log.warning(f"{name}: {line}")
         self._request_views(name)
 
     def _show_runs(self) -> None:

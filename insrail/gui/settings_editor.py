@@ -39,7 +39,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from insrail.geodesy.crs import ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
+from insrail.geodesy.crs import CUSTOM_ELLIPSOID, ELLIPSOIDS, PROJECTION_HEIGHT_CONVENTIONS
 from insrail.gui.choices import choose, chosen, fill
 from insrail.gui.fields import split_problem
 from insrail.gui.forms import NOTE_STYLE, spin_box
@@ -110,7 +110,10 @@ _ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "im
 FIELDS = (
     Field("Project", "project.name", "text"),
     Field("Project", "project.description", "text"),
-    Field("Coordinate system", "geodesy.crs.ellipsoid", "choice", tuple(ELLIPSOIDS)),
+    Field("Coordinate system", "geodesy.crs.ellipsoid", "choice", (*ELLIPSOIDS, CUSTOM_ELLIPSOID)),
+    # only with ellipsoid = "custom" (the core refuses them beside a named ellipsoid)
+    Field("Coordinate system", "geodesy.crs.a_m", "number", suffix=" m", optional=True),
+    Field("Coordinate system", "geodesy.crs.inverse_flattening", "number", decimals=9, optional=True),
     Field("Coordinate system", "geodesy.crs.central_meridian_deg", "number", decimals=6, suffix=" °"),
     Field("Coordinate system", "geodesy.crs.latitude_of_origin_deg", "number", decimals=6, suffix=" °"),
     Field("Coordinate system", "geodesy.crs.scale_factor", "number", decimals=9),

@@ -2,53 +2,23 @@
 
 All functions are vectorised over numpy arrays. Latitude ``lat`` and longitude
 ``lon`` are geodetic, in radians; heights ``h`` are ellipsoidal, in metres.
-The gravity model is the WGS84 Somigliana normal gravity with the second-order
-free-air height correction; its direction is taken along the ellipsoid normal
+The ellipsoid is an :class:`insrail.geodesy.ellipsoid.Ellipsoid` object (the
+project's, from its CRS; which datum that is: that module's docstring). The gravity
+model is the WGS84 Somigliana normal gravity with the second-order free-air height
+correction; its direction is taken along the ellipsoid normal
 (n-frame z, down), the usual convention for strapdown navigation, deflection of
 the vertical being ignored (thesis 2.4.1.3).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
+# The one ellipsoid type of the package (geodesy's): the fusion takes the project's as an object.
+from insrail.geodesy.ellipsoid import CGCS2000, WGS84, Ellipsoid
 
-@dataclass(frozen=True)
-class Ellipsoid:
-    """An earth ellipsoid with the constants the navigation needs."""
-
-    name: str
-    a: float  #: semi-major axis [m]
-    f: float  #: flattening
-    gm: float = 3.986004418e14  #: geocentric gravitational constant [m^3/s^2]
-    omega: float = 7.292115e-5  #: earth rotation rate [rad/s] (WGS84 defining value)
-    gamma_e: float = 9.7803253359  #: normal gravity at the equator [m/s^2]
-    gamma_p: float = 9.8321849378  #: normal gravity at the pole [m/s^2]
-
-    @property
-    def b(self) -> float:
-        return self.a * (1.0 - self.f)
-
-    @property
-    def e2(self) -> float:
-        return self.f * (2.0 - self.f)
-
-    @property
-    def m(self) -> float:
-        """omega^2 a^2 b / GM, used in the height correction of normal gravity."""
-        return self.omega**2 * self.a**2 * self.b / self.gm
-
-    @property
-    def k_somigliana(self) -> float:
-        return (self.b * self.gamma_p) / (self.a * self.gamma_e) - 1.0
-
-
-WGS84 = Ellipsoid("WGS84", 6378137.0, 1.0 / 298.257223563)
-#: CGCS2000 differs from WGS84 only in the flattening (0.1 mm in b); normal gravity
-#: is taken as WGS84's (differences below 1e-8 m/s^2).
-CGCS2000 = Ellipsoid("CGCS2000", 6378137.0, 1.0 / 298.257222101)
+__all__ = ["CGCS2000", "WGS84", "Ellipsoid", "dcm_ecef_from_ned", "earth_rate_ned", "ecef_to_geodetic",
+           "geodetic_to_ecef", "gravity_ned", "ned_to_geodetic_delta", "normal_gravity", "radii", "transport_rate_ned"]
 
 
 def radii(lat, ell: Ellipsoid = WGS84):

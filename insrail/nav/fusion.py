@@ -1496,8 +1496,8 @@ def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_row
         if writer is not None:
             writer.discard()
     if writer is not None:
-        return replace(load_trajectory(path, smoothed=smoothed, gps_week=gps_week, mmap=True), ellipsoid_name=ell.name)
-    return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week, ellipsoid_name=ell.name)
+        return replace(load_trajectory(path, smoothed=smoothed, gps_week=gps_week, mmap=True), ellipsoid=ell)
+    return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week, ellipsoid=ell)
 
 
 def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _RowFile | None, ell) -> np.ndarray:

@@ -1,6 +1,6 @@
 """Strapdown INS mechanization in the local-level NED frame (thesis 2.4.4).
 
-Free-inertial integration of IMU increments on the WGS84/CGCS2000 ellipsoid with normal
+Free-inertial integration of IMU increments on the project's ellipsoid with normal
 gravity: two-sample velocity update with rotation and sculling compensation and mid-epoch
 gravity/Coriolis (2.32-2.36), position as the quaternion q_n^e plus height (2.37-2.40),
 two-sample (coning-compensated) attitude quaternion update (2.41-2.49). The per-epoch

@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from insrail.geodesy.ellipsoid import WGS84, Ellipsoid
+
 
 @dataclass(frozen=True)
 class Trajectory:
@@ -33,7 +35,7 @@ class Trajectory:
     odometer_scale: np.ndarray  # (n,) estimated scale-factor error of the odometer
     smoothed: bool = False
     gps_week: int | None = None
-    ellipsoid_name: str = "WGS84"
+    ellipsoid: Ellipsoid = WGS84  #: the latitude, longitude and height are on it (a file does not say: its reader's)
     info: dict = field(default_factory=dict)
 
     def __len__(self) -> int:

@@ -30,7 +30,6 @@ import numpy as np
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import GeodesyError
 from insrail.geodesy.height_anomaly import HeightAnomalyFit
-from insrail.nav.earth import Ellipsoid, geodetic_to_ecef
 
 GEODETIC_KEYS = ("lat_deg", "lon_deg", "ellipsoidal_height_m")
 ENGINEERING_KEYS = ("east_m", "north_m", "normal_height_m")
@@ -53,14 +52,13 @@ class ControlPoint:
 
 @dataclass(frozen=True)
 class ResolvedPoint:
-    """A control point on the ellipsoid: latitude/longitude [rad], ellipsoidal height [m], ECEF [m],
-    and how it was obtained (for the processing log)."""
+    """A control point in the CRS's datum: latitude/longitude [rad] and ellipsoidal height [m] on
+    its ellipsoid, and how it was obtained (for the processing log)."""
 
     name: str
     lat_rad: float
     lon_rad: float
     height_m: float
-    ecef_m: tuple[float, float, float]
     derivation: str
     warnings: tuple[str, ...] = ()  # e.g. the height anomaly extrapolated at the point
 
@@ -106,7 +104,7 @@ def parse_control_points(table: Any, key_path: str, problems: list[str]) -> tupl
     return tuple(points)
 
 
-def resolve_control_point(point: ControlPoint, crs: EngineeringCRS, ellipsoid: Ellipsoid,
+def resolve_control_point(point: ControlPoint, crs: EngineeringCRS,
                           height_fit: HeightAnomalyFit | None) -> ResolvedPoint:
     """The point on the ellipsoid (see the module docstring for the height path)."""
     if point.geodetic is not None:
@@ -130,5 +128,4 @@ def resolve_control_point(point: ControlPoint, crs: EngineeringCRS, ellipsoid: E
             zeta, warnings = 0.0, ()
             derivation = "engineering E/N through the CRS; no benchmarks in the project: H taken as ellipsoidal"
         h = normal_height + zeta
-    ecef = geodetic_to_ecef(lat, lon, h, ellipsoid)
-    return ResolvedPoint(point.name, lat, lon, h, tuple(float(v) for v in ecef), derivation, warnings)
+    return ResolvedPoint(point.name, lat, lon, h, derivation, warnings)

@@ -113,14 +113,16 @@ def _base_position(project: Project, folder: Path, raw: RawGnss) -> tuple[BasePo
         raise InputError(folder / MANIFEST_NAME, None, f"gnss_raw.base_point: unknown control point "
                          f"{raw.base_point!r}: not in the project's [geodesy.control_points] (known: {known}); "
                          "or write base_point = \"rinex-header\" for the approximate header position")
-    from insrail.project.pipeline import (  # the pipeline imports this module
-        ellipsoid_of,
-        fit_heights,
-    )
+    from insrail.project.pipeline import fit_heights  # the pipeline imports this module
 
-    resolved = resolve_control_point(point, project.crs, ellipsoid_of(project), fit_heights(project))
-    base = BasePosition(ecef_m=resolved.ecef_m, antenna_height_m=raw.base_antenna_height_m,
-                        antenna_type=raw.base_antenna_type)
+    resolved = resolve_control_point(point, project.crs, fit_heights(project))
+    # The base's coordinates in the CRS's datum go to RTKLIB as latitude, longitude and height (its
+    # WGS84 formulas make them ECEF and the rover's ECEF back), so the rover's solution comes out
+    # in that datum, as the fusion takes it (insrail.geodesy.ellipsoid); on a datum with another
+    # ellipsoid the baseline's length changes by Δa/a (0.5 ppm on Xian80). ECEF made with the
+    # datum's own ellipsoid would put the rover metres off (3 m in height on Xian80).
+    base = BasePosition(resolved.lat_rad, resolved.lon_rad, resolved.height_m,
+                        antenna_height_m=raw.base_antenna_height_m, antenna_type=raw.base_antenna_type)
     return base, {"point": resolved.name, "approximate": False, "lat_deg": math.degrees(resolved.lat_rad),
                   "lon_deg": math.degrees(resolved.lon_rad), "ellipsoidal_height_m": resolved.height_m,
                   "antenna_height_m": raw.base_antenna_height_m, "antenna_type": raw.base_antenna_type,

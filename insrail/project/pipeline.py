@@ -7,6 +7,12 @@ along the path from the start station) -> assess (tolerance profile) -> adjustme
 type) and writes ``<project>/results/<survey>/`` (the files and how they are swapped in:
 :mod:`insrail.project.results`).
 
+``process`` resolves the project once, at its start, into the run's settings
+(:class:`~insrail.project.run_settings.RunSettings`: CRS and its ellipsoid, height model,
+trolley, profiles, design, fusion and adjustment options, with their files' hashes); the stages
+take their settings from it, the cache keys below hash its parts, and summary.toml records it
+(``[settings]``), which the reports and exports state.
+
 Three stages are cached in ``<project>/results/.cache/``, each under a hash of what determines it:
 
 * ``fusion-<key>.npy``       the raw survey files' contents, trolley, IMU profile, fusion options,
@@ -56,9 +62,7 @@ from insrail.io.survey import (
 )
 from insrail.io.types import GaugeData, GnssSolution, PrismObservations, SleeperPulses
 from insrail.memory import release_free_memory
-from insrail.nav.earth import Ellipsoid
 from insrail.nav.fusion import SmootherStore, aiding_for, fuse
-from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.integrity import UntrustedSolution
 from insrail.nav.measurements import PositionFix
 from insrail.nav.self_calibration import fuse_consistent
@@ -82,6 +86,7 @@ from insrail.project.plausibility import (
     nominal_gauge_m,
     trolley_source,
 )
+from insrail.project.run_settings import SETTINGS_SECTION, RunSettings, resolve_run_settings
 from insrail.project.results import (
     EXCEEDANCES_FILE,
     FITTED_ALIGNMENT_CSV,
@@ -140,7 +145,6 @@ from insrail.quality.survey import (
 )
 from insrail.track.adjustment import (
     Adjustment,
-    load_fastener_type,
     optimise_amounts,
     programme_settings,
     reassess,
@@ -155,7 +159,6 @@ from insrail.track.sleeper_table import EpochStationsFile, SleeperTable, TrackRe
 from insrail.track.by_parts import chunked_interp
 from insrail.track.streamed import reconstruct_track_streamed
 from insrail.track.sleepers import AnchorError
-from insrail.track.tolerance import load_tolerance_profile
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
@@ -249,66 +252,58 @@ def read_design(path: Path) -> DesignAlignment:
     return read_landxml(path) if path.suffix.lower() == ".xml" else read_alignment_csv(path)
 
 
-def ellipsoid_of(project: Project) -> Ellipsoid:
-    """The navigation ellipsoid matching the project's CRS (fusion and CRS must agree)."""
-    return Ellipsoid(project.crs.ellipsoid, project.crs.semi_major_axis_m, 1.0 / project.crs.inverse_flattening_value)
-
-
 def _hash_file(digest, path: Path) -> None:
     with open(path, "rb") as handle:
         for block in iter(lambda: handle.read(1 << 20), b""):
             digest.update(block)
 
 
-def _geodesy_settings(project: Project) -> dict:
+def _geodesy_settings(run: RunSettings) -> dict:
     """What the engineering coordinates depend on: CRS, benchmarks (contents) and height model."""
-    settings = {"crs": project.crs.to_settings(), "height": project.height.anomaly.to_settings()}
-    if project.height.benchmarks is not None:
-        digest = hashlib.sha256()
-        _hash_file(digest, project.resolve(project.height.benchmarks))
-        settings["benchmarks"] = digest.hexdigest()
+    settings = {"crs": run.crs.to_settings(), "height": run.height.anomaly.to_settings()}
+    if run.height.benchmarks is not None:
+        settings["benchmarks"] = run.benchmarks_sha256
     return settings
 
 
-def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sha256: str = "") -> str:
+def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sha256: str = "",
+               run: RunSettings | None = None) -> str:
     """Hash of everything the fused trajectory of the survey in ``folder`` depends on (its
-    manifest with the project's trolley applied): raw files, settings and, when prism fixes
-    aid the fusion, the geodesy that places them; ``gnss_sha256``: the hash of a GNSS solution
-    computed by the GNSS stage (PPK)."""
+    manifest with the project's trolley applied): raw files, the parts of the run settings the
+    fusion reads (``run``; None: resolved from the project now) and, when prism fixes aid the
+    fusion, the geodesy that places them; ``gnss_sha256``: the hash of a GNSS solution computed by
+    the GNSS stage (PPK)."""
+    run = run or resolve_run_settings(project, manifest)
     digest = hashlib.sha256(gnss_sha256.encode())
     fused = {role: entry for role, entry in manifest.files.items() if role != EVENTS_ROLE}  # events: assessment only
     for role in sorted(fused):
         digest.update(role.encode())
         _hash_file(digest, folder / manifest.files[role].path)
     trolley = {k: np.asarray(v).tolist() if not isinstance(v, str) else v
-               for k, v in asdict(manifest.trolley).items()}
-    profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
-    settings = {"version": CACHE_VERSION, "gps_week": manifest.gps_week, "trolley": trolley, "imu_profile": repr(profile),
-                "fusion": repr(project.fusion), "ellipsoid": repr(ellipsoid_of(project)),
+               for k, v in asdict(run.trolley).items()}
+    settings = {"version": CACHE_VERSION, "gps_week": manifest.gps_week, "trolley": trolley,
+                "imu_profile": repr(run.imu_profile), "fusion": repr(run.fusion), "ellipsoid": repr(run.ellipsoid),
                 "files": {r: asdict(f) for r, f in fused.items()}}
     if "prism" in manifest.files or "total_station" in manifest.files:
-        settings["prism_geodesy"] = _geodesy_settings(project)
-    if uses_design(project, profile):  # its azimuth may give the start heading
-        design = hashlib.sha256()
-        _hash_file(design, project.resolve(project.design))
-        settings["design"] = [design.hexdigest(), _geodesy_settings(project)["crs"]]
+        settings["prism_geodesy"] = _geodesy_settings(run)
+    if uses_design(project, run.imu_profile):  # its azimuth may give the start heading
+        settings["design"] = [run.design_sha256, _geodesy_settings(run)["crs"]]
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
 
 
-def track_key(project: Project, fusion: str) -> str:
+def track_key(project: Project, run: RunSettings, fusion: str) -> str:
     """Hash of everything the track reconstruction depends on beyond the fusion (whose key holds
-    the raw files, gauge and sleeper pulses included, and the trolley)."""
+    the raw files, gauge and sleeper pulses included, and the trolley): the run settings' geodesy
+    and design, and the project's stationing."""
     digest = hashlib.sha256(fusion.encode())
-    settings = {"version": CACHE_VERSION, "layout": TRACK_CACHE_LAYOUT, "geodesy": _geodesy_settings(project),
+    settings = {"version": CACHE_VERSION, "layout": TRACK_CACHE_LAYOUT, "geodesy": _geodesy_settings(run),
                 "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number,
                 "stationing_direction": project.stationing_direction, "sleeper_anchor": repr(project.sleeper_anchor)}
     if project.local_control is not None:
         settings["local_control"] = project.local_control.to_settings()
-    if project.design is not None:
-        design = hashlib.sha256()
-        _hash_file(design, project.resolve(project.design))
-        settings["design"] = [project.design, design.hexdigest()]
+    if run.design is not None:
+        settings["design"] = [run.design, run.design_sha256]
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
 
@@ -329,7 +324,7 @@ def quality_cache_file(trajectory_file: Path) -> Path:
     return trajectory_file.with_suffix(".quality.npz")
 
 
-def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, key: str,
+def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManifest, folder: Path, key: str,
                       height_fit: HeightAnomalyFit | None, gnss: GnssSolution | None,
                       progress: StepProgress, cancel: CancelToken) -> tuple[FreshFusion | None, Path, dict]:
     """What a computed fusion leaves for the track (None when it comes from the cache), the fused
@@ -352,18 +347,18 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     checked = [*placed, *gnss_free_run_notices(survey), *checked]
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
-    profile = load_imu_profile(project.resource(project.imu_profile or manifest.imu_profile))
+    profile = run.imu_profile
     # The smoother's record of the filter (Phi, P-, P+ per update epoch, on disk) outlives the
     # fusion so that the covariance analysis needs only its backward pass, not a replay.
     store = None
     cache.mkdir(parents=True, exist_ok=True)
     try:  # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
-        design = design_azimuth_for(project, read_design(project.resolve(project.design)) if project.design else None,
+        design = design_azimuth_for(project, read_design(project.resolve(run.design)) if run.design else None,
                                     profile)
         # the trajectory is streamed into the cache as the smoother makes it (sealed below)
         result, options, store, _ = fuse_consistent(
             survey.imu, lambda options: replace(aiding_for(survey, options, profile, fixes), design_azimuth=design),
-            profile, project.fusion, ellipsoid_of(project), new_store=SmootherStore if project.fusion.smoother else None, fuse=fuse,
+            profile, run.fusion, run.ellipsoid, new_store=SmootherStore if run.fusion.smoother else None, fuse=fuse,
             progress=progress.sub(0.05, 0.87), cancel=cancel, trajectory_file=path)
         check_cancel(cancel)
         if not result.integrity.trusted:
@@ -385,7 +380,7 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
             survey, result = replace(survey, imu=None), None
             quality = recorded_quality(epochs, store, progress=progress.sub(0.87, 1.0), cancel=cancel)
         else:
-            quality = epoch_quality(survey, result, options, profile, ellipsoid_of(project),
+            quality = epoch_quality(survey, result, options, profile, run.ellipsoid,
                                     progress=progress.sub(0.87, 1.0), cancel=cancel)
     except BaseException:  # untrusted, cancelled or failed once the streamed trajectory is complete: no unsealed entry left
         path.unlink(missing_ok=True)
@@ -403,7 +398,8 @@ def _fused_trajectory(project: Project, manifest: SurveyManifest, folder: Path, 
     return FreshFusion(survey.gauge, survey.sleepers), path, {"from_cache": False} | info
 
 
-def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Path, fresh: FreshFusion | None,
+def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyManifest, folder: Path,
+                         fresh: FreshFusion | None,
                          trajectory_file: Path, key: str, height_fit: HeightAnomalyFit | None,
                          cancel: CancelToken, local: LocalFit | None = None
                          ) -> tuple[TrackReconstruction, TrackExtras, bool]:
@@ -416,11 +412,11 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
     cached = (cached_dataclass("track reconstruction", path, TrackReconstruction)
               if intact("track reconstruction", epochs_path) else None)
     extras = cached_dataclass("track reconstruction", extras_path, TrackExtras) if cached is not None else None
-    if extras is not None and (extras.line is not None or project.design is not None):
+    if extras is not None and (extras.line is not None or run.design is not None):
         return replace(cached, epochs=EpochStationsFile(epochs_path)), extras, True
 
     def to_engineering(lat, lon, h):
-        east, north = project.crs.to_plane(lat, lon)
+        east, north = run.crs.to_plane(lat, lon)
         zeta = height_fit.zeta_m(east, north) if height_fit is not None else 0.0
         return (east, north, h - zeta) if local is None else local.apply(east, north, h - zeta)
 
@@ -428,19 +424,19 @@ def _reconstructed_track(project: Project, manifest: SurveyManifest, folder: Pat
         gauge, _ = clean_gauge(_read_role(folder, manifest, "gauge"), nominal_gauge_m(project),  # as the fusion did
                                describe(folder / manifest.files["gauge"].path, manifest.files["gauge"].format))
         fresh = FreshFusion(gauge, _read_role(folder, manifest, "sleepers"))
-    design = read_design(project.resolve(project.design)) if project.design is not None else None
+    design = read_design(project.resolve(run.design)) if run.design is not None else None
     check_cancel(cancel)
     try:
-        # the file does not say on which ellipsoid the fusion ran: the project's; read by parts, the
+        # the file does not say on which ellipsoid the fusion ran: the run's; read by parts, the
         # rails and stations (25 doubles per epoch) are never held whole
         recon, attitude = reconstruct_track_streamed(
-            trajectory_file, ellipsoid_of(project).name, manifest.trolley, fresh.gauge, to_engineering, design=design,
+            trajectory_file, run.ellipsoid, manifest.trolley, fresh.gauge, to_engineering, design=design,
             pulses=fresh.pulses, start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
             stationing=project.stationing_direction, anchor=project.sleeper_anchor, spool_folder=path.parent,
             epochs_file=epochs_path, check=lambda: check_cancel(cancel))
     except AnchorError as error:
         raise InputError(project.path, None, f"track.sleeper_anchor: {error}") from None
-    extras = TrackExtras(attitude, FittedLine.of(recon) if project.design is None else None)
+    extras = TrackExtras(attitude, FittedLine.of(recon) if run.design is None else None)
     save_dataclass(extras_path, extras)
     seal(epochs_path)
     save_dataclass(path, replace(recon, epochs=None, fitted=None, reference=None))  # the epochs: in their own file
@@ -453,16 +449,16 @@ def _read_role(folder: Path, manifest: SurveyManifest, role: str):
     return None if entry is None else entry.read(folder)
 
 
-def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress,
+def _adjustment(project: Project, run: RunSettings, geometry: SleeperGeometry, progress,
                 cancel) -> tuple[Assessment, Adjustment]:
     """The optimised adjustment and the assessment of the geometry it leaves (every check of the
     profile; sleepers still failing flagged with the reason). The amounts come from the cache
     when the geometry, the checks the optimisation holds, the fastener and the strategy are those
     of an earlier run."""
-    fastener = load_fastener_type(project.resource(project.fastener))
-    strategy = project.adjustment.strategy
+    fastener, profile = run.fastener, run.tolerance_profile
+    strategy = run.adjustment.strategy
     digest = hashlib.sha256(json.dumps({"version": CACHE_VERSION, "fastener": repr(fastener), "strategy": strategy,
-                                        "threshold_mm": project.adjustment.threshold_mm,
+                                        "threshold_mm": run.adjustment.threshold_mm,
                                         "programme": programme_settings(profile)}).encode())
     for values in (geometry.lateral_deviation_m, geometry.vertical_deviation_m, geometry.gauge_m, geometry.cant_m,
                    geometry.design_cant_m, geometry.station_m):
@@ -473,7 +469,7 @@ def _adjustment(project: Project, geometry: SleeperGeometry, profile, progress,
         lateral, vertical = cached.lateral_m, cached.vertical_m
     else:
         lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=progress, cancel=cancel,
-                                             threshold_m=project.adjustment.threshold_m)
+                                             threshold_m=run.adjustment.threshold_m)
     after, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
     if cached is None:
         save_dataclass(path, adjustment)
@@ -522,6 +518,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     if "gauge" not in manifest.files:
         raise InputError(folder / MANIFEST_NAME, None,
                          "files.gauge: missing; the track reconstruction needs the gauge record")
+    run = resolve_run_settings(project, manifest)  # what every stage takes, recorded in summary.toml
     gnss = None  # the GNSS stage (PPK), for a survey with raw observations: after the settings' checks
     if manifest.raw_gnss is not None:
         gnss = run_gnss_stage(project, folder, manifest, project.folder / RESULTS_FOLDER / CACHE_FOLDER,
@@ -529,8 +526,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     check_cancel(cancel)
     step(0.04, "height model")
     height_fit = fit_heights(project)
-    key = fusion_key(project, manifest, folder, gnss.pos_sha256 if gnss else "")
-    fresh, trajectory_file, fusion_info = _fused_trajectory(project, manifest, folder, key, height_fit,
+    key = fusion_key(project, manifest, folder, gnss.pos_sha256 if gnss else "", run)
+    fresh, trajectory_file, fusion_info = _fused_trajectory(project, run, manifest, folder, key, height_fit,
                                                              gnss.solution if gnss else None,
                                                              step.sub(0.04, 0.8), cancel)
     release_free_memory()
@@ -538,8 +535,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
 
     step(0.82, "rails, chainage and sleepers")
     local = fit_local(project.local_control) if project.local_control is not None else None
-    recon, extras, track_cached = _reconstructed_track(project, manifest, folder, fresh, trajectory_file,
-                                                            track_key(project, key), height_fit, cancel, local)
+    recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
+                                                       track_key(project, run, key), height_fit, cancel, local)
     del fresh
     release_free_memory()
     check_cancel(cancel)
@@ -554,36 +551,36 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     if local is not None:  # the height model lives in the engineering CRS
         centre = np.column_stack(local.to_engineering(*centre.T))
     height_warnings = height_fit.warnings_for(centre[:, 0], centre[:, 1]) if height_fit is not None else []
-    curvature = (line_curvature_1pm(read_design(project.resolve(project.design)), table.station_m)
-                 if project.design is not None else extras.line.curvature_1pm)
+    curvature = (line_curvature_1pm(read_design(project.resolve(run.design)), table.station_m)
+                 if run.design is not None else extras.line.curvature_1pm)
     speed = line_speed_mps(project.line_speeds, table.station_m) if project.line_speeds else None
     geometry = SleeperGeometry.from_arrays(table.station_m, table.lateral_deviation_m, table.vertical_deviation_m,
                                            table.gauge_m, table.cant_m, table.design_cant_m, valid=table.valid,
                                            sleeper_number=table.number, curvature_1pm=curvature, line_speed_mps=speed)
-    profile = load_tolerance_profile(project.resource(project.tolerance_profile))
+    profile = run.tolerance_profile
     assessment = assess(geometry, profile)
     in_turnouts, turnout_counts = assess_turnouts(project, geometry, measured, events)
     release_free_memory()
     check_cancel(cancel)
     step(0.9, "adjustment amounts")
-    after_adjustment, adjustment = _adjustment(project, geometry, profile, step.sub(0.9, 0.97), cancel)
+    after_adjustment, adjustment = _adjustment(project, run, geometry, step.sub(0.9, 0.97), cancel)
     release_free_memory()
     check_cancel(cancel)
 
     step(0.97, "writing results")
     gnss_summary = fusion_info.pop("gnss", None)  # cached with the fusion: the GNSS file is not re-read
-    summary = _summary(project, entry.name, manifest, fusion_info, track_cached, height_fit, height_warnings, table,
-                       assessment, adjustment, after_adjustment, time.monotonic() - started)
+    summary = _summary(project, run, entry.name, manifest, fusion_info, track_cached, height_fit, height_warnings,
+                       table, assessment, adjustment, after_adjustment, time.monotonic() - started)
     if gnss_summary is not None:
         summary["gnss"] = gnss_summary
     if gnss is not None:
-        summary["ppk"] = gnss.summary(project.fusion.gnss_quality_policy)
+        summary["ppk"] = gnss.summary(run.fusion.gnss_quality_policy)
         summary["files"].update(gnss=GNSS_POS_FILE, gnss_qc=GNSS_QC_FILE)
     bases = parameter_bases(profile)
     summary["track"]["parameters"] = parameters_section(
-        bases, project.line_speeds, "design" if project.design is not None else "fitted" if curvature is not None else "none")
-    summary["notices"] = [n.to_dict() for n in [*cache_notices, *_notices(fusion_info, height_warnings,
-                                                                            summary.get("ppk")),
+        bases, project.line_speeds, "design" if run.design is not None else "fitted" if curvature is not None else "none")
+    summary["notices"] = [n.to_dict() for n in [*cache_notices, *run.notices(),
+                                                *_notices(fusion_info, height_warnings, summary.get("ppk")),
                                                 *(local.notices() if local is not None else []),
                                                 *speed_notices(profile, table, curvature, speed)]]
     if local is not None:
@@ -664,7 +661,7 @@ def _notices(fusion_info: dict, height_warnings: list[str], ppk: dict | None) ->
     return notices
 
 
-def _summary(project, name, manifest, fusion_info, track_cached, height_fit, height_warnings, table, assessment,
+def _summary(project, run, name, manifest, fusion_info, track_cached, height_fit, height_warnings, table, assessment,
              adjustment, after_adjustment, elapsed) -> dict:
     counts: dict[str, int] = {}
     for e in assessment.exceedances:
@@ -678,13 +675,13 @@ def _summary(project, name, manifest, fusion_info, track_cached, height_fit, hei
                      "loo_rms_mm": 1e3 * height_fit.loo_rms_m if np.isfinite(height_fit.loo_rms_m) else -1.0,
                      "warnings": height_warnings}
                     if height_fit is not None else {"model": "none (ellipsoidal heights)"}),
-        "track": {"design": project.design or "", "from_cache": track_cached, "sleepers": len(table), "valid_sleepers": int(table.valid.sum()),
+        "track": {"design": run.design or "", "from_cache": track_cached, "sleepers": len(table), "valid_sleepers": int(table.valid.sum()),
                   "station_from_m": float(table.station_m[0]) if len(table) else 0.0,
                   "station_to_m": float(table.station_m[-1]) if len(table) else 0.0},
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),
                        "by_check": counts},
-        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, project.adjustment,
-                                         load_fastener_type(project.resource(project.fastener))),
+        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, run.adjustment, run.fastener),
         "files": {"trajectory": TRAJECTORY_FILE, "sleepers": SLEEPERS_FILE, "exceedances": EXCEEDANCES_FILE},
+        SETTINGS_SECTION: run.record(),
     }
     return summary

@@ -38,7 +38,6 @@ from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.trajectory import Trajectory
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE
 from insrail.project.model import Project
-from insrail.project.pipeline import ellipsoid_of
 from insrail.project.results import (
     RESULTS_FOLDER,
     SUMMARY_FILE,
@@ -500,7 +499,7 @@ def trajectory_views(project: Project, stored: StoredResults) -> TrajectoryViews
     except (InputError, KeyError) as error:
         warnings.append(f"GNSS points not shown: {error}")
         gnss = None
-    ellipsoid = ellipsoid_of(project)
+    ellipsoid = project.crs.reference_ellipsoid
     series = navigation_series(trajectory, ellipsoid)
     if gnss is not None:
         trolley = project.trolley() or project.manifest(stored.survey).trolley

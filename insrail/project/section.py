@@ -62,6 +62,7 @@ from insrail.project.results import (
     track_quality_section,
     write_results,
 )
+from insrail.project.run_settings import SETTINGS_SECTION
 from insrail.track.adjustment import load_fastener_type, optimise_amounts, reassess
 from insrail.track.exceedance import SleeperGeometry, assess
 from insrail.track.repeatability import repeatability
@@ -364,6 +365,8 @@ def join_section(project: Project, name: str, progress: ProgressFn | None = None
     }
     if "local_control" in first:
         summary["local_control"] = first["local_control"]
+    if SETTINGS_SECTION in first:  # the runs share the project: the first run's settings stand for the section
+        summary[SETTINGS_SECTION] = first[SETTINGS_SECTION]
     step(0.97, "writing the section's results")
     folder = write_results(project.folder / RESULTS_FOLDER, name, {
         SLEEPERS_FILE: columns_csv(number, tuple(table.label), columns, tuple(table.not_assessed)), EXCEEDANCES_FILE: exceedances_csv(assessment),

@@ -44,7 +44,7 @@ def _sidecar(path: Path) -> Path:
     return path.with_name(path.name + CHECKSUM_SUFFIX)
 
 
-def _sha256(path: Path) -> str:
+def file_sha256(path: Path) -> str:
     digest = hashlib.sha256()
     with open(path, "rb") as handle:
         for block in iter(lambda: handle.read(1 << 20), b""):
@@ -56,7 +56,7 @@ def seal(*paths: Path) -> None:
     """Write the checksum of each (complete) cache file beside it."""
     for path in paths:
         with atomic_write(_sidecar(path), "w") as handle:
-            handle.write(f"{_sha256(path)}  {path.name}\n")
+            handle.write(f"{file_sha256(path)}  {path.name}\n")
 
 
 def _damage(path: Path) -> str | None:
@@ -69,7 +69,7 @@ def _damage(path: Path) -> str | None:
         return "it has no checksum (a run stopped while writing it, or an older insrail wrote it)"
     if path.stat().st_size == 0:
         return "it is empty"
-    if _sha256(path) != recorded:
+    if file_sha256(path) != recorded:
         return "its contents do not match its checksum (truncated or altered)"
     return None
 

@@ -11,6 +11,12 @@ versines; then every other check of the tolerance profile, then the adjustment a
 the profile checks a quantity the column shows the check's channel, carries its limits, and the
 sleepers inside one of the pipeline's exceedance runs are marked: exceedances.csv is the verdict,
 never a re-evaluation of rounded numbers.
+
+The settings a report states (coordinate system, heights, IMU, tolerance profile, design) are the
+ones the results were processed with (summary.toml's ``[settings]``,
+:mod:`insrail.project.run_settings`), not today's project.toml; what the project says differently
+now is listed in :attr:`ReportContent.settings_changes` ("processed with ...; the project now
+says ...: process again").
 """
 
 from __future__ import annotations
@@ -30,6 +36,7 @@ from insrail.names import (
     column_name,
     rail_direction,
 )
+from insrail.geodesy.crs import EngineeringCRS
 from insrail.project.model import Project
 from insrail.report.labels import deviation_group
 from insrail.project.results import (
@@ -39,6 +46,7 @@ from insrail.project.results import (
     StoredResults,
     check_column,
 )
+from insrail.project.run_settings import RecordedSettings
 from insrail.track.adjustment import FastenerType, load_fastener_type
 from insrail.track.adjustment_parts import materials, parts_text
 from insrail.track.events import KIND_NAMES
@@ -122,6 +130,19 @@ class ReportContent:
     station_m: np.ndarray
     software: str = f"insrail {__version__}"
     notes: tuple[str, ...] = field(default_factory=tuple)
+    recorded: RecordedSettings = field(default_factory=lambda: RecordedSettings({}))
+    #: what the project now says differently from the recorded settings, one line each
+    settings_changes: tuple[str, ...] = ()
+
+    @property
+    def crs(self) -> EngineeringCRS:
+        """The CRS the results are in: the recorded one (the project's for results that predate the record)."""
+        return self.recorded.crs or self.project.crs
+
+    @property
+    def design(self) -> str | None:
+        """The design the results were processed with (None: fitted lines)."""
+        return self.recorded.record.get("design", {}).get("file", self.project.design) or None
 
     @property
     def summary(self) -> dict:
@@ -265,10 +286,13 @@ def load_report_content(project: Project, results: StoredResults) -> ReportConte
     """Collect the columns and settings the reports show (see the module docstring)."""
     profile = load_tolerance_profile(project.resource(project.tolerance_profile))
     stored_profile = results.summary.get("assessment", {}).get("tolerance_profile")
+    recorded = RecordedSettings.of(results.summary)
     notes = []
-    if stored_profile is not None and stored_profile != profile.name:
+    # the columns and limits come from the profile: one other than the results' cannot print them
+    if stored_profile is not None and (stored_profile != profile.name or not recorded.same_tolerance_profile(profile)):
         raise ValueError(f"{results.folder}: results were assessed with tolerance profile {stored_profile!r}, the project "
-                         f"now names {profile.name!r}: process the survey again before reporting")
+                         f"now names {profile.name!r}{'' if stored_profile != profile.name else ' with other contents'}: "
+                         "process the survey again before reporting")
     try:
         fastener = load_fastener_type(project.resource(project.fastener))
     except ValueError as error:  # a fastener file edited since processing: the amounts are still in the results
@@ -277,7 +301,13 @@ def load_report_content(project: Project, results: StoredResults) -> ReportConte
     columns = _sleeper_columns(results, profile)
     valid = results.columns["valid"] > 0
     return ReportContent(project, results, profile, fastener, tuple(columns), valid, results.columns["station_m"],
-                         notes=tuple(notes))
+                         notes=tuple(notes), recorded=recorded,
+                         settings_changes=tuple(recorded.changes(project, _first_survey(results))))
+
+
+def _first_survey(results: StoredResults) -> str:
+    """The survey whose settings the results carry (a joined section's: its first run's)."""
+    return results.summary.get("section", {}).get("surveys", [results.survey])[0]
 
 
 # --------------------------------------------------------------------------- columns

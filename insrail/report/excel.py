@@ -441,7 +441,9 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     sheet.pairs(("Chainage", content.chainage_range), ("Sleepers", sleepers), ("Survey start", survey_start(content)))
     profile = content.profile
     sheet.pairs(("Tolerance profile", profile_name(profile)), ("Standard", profile.source),
-                ("Design", project.design or "fitted lines (no design alignment)"))
+                ("Design", content.design or "fitted lines (no design alignment)"))
+    if content.settings_changes:  # the project says otherwise now: the results stand as processed
+        sheet.pairs(("Settings", "; ".join(content.settings_changes)), anchors=(0, 4))
     sheet.pairs(("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"), ("Software", content.software),
                 ("Operator", content.project.report.operator or "not stated"))
 

@@ -61,6 +61,7 @@ from insrail.project.compare import (
 )
 from insrail.project.model import Project
 from insrail.project.results import SUMMARY_FILE, TRAJECTORY_FILE, StoredResults, check_column, trajectory_section
+from insrail.project.run_settings import NOT_RECORDED
 from insrail.report.charts import (
     EVENT_COLOUR,
     LIMIT_COLOUR,
@@ -267,6 +268,9 @@ def _imu(content: ReportContent) -> str:
     project = content.project
     if project.report.imu:
         return project.report.imu
+    recorded = content.recorded.record.get("imu_profile")
+    if recorded is not None:  # the profile the fusion used
+        return f"not stated; error model {recorded['name']}: {recorded.get('description', '')}".rstrip(": ")
     name = project.imu_profile
     if name is None:
         try:
@@ -296,13 +300,15 @@ def crs_text(crs) -> str:
 def height_text(content: ReportContent) -> str:
     """The height datum: normal heights from the fitted height anomaly, or ellipsoidal heights."""
     project, heights = content.project, content.summary.get("heights", {})
-    ellipsoid = project.crs.ellipsoid
-    if project.height.benchmarks is None:
+    ellipsoid = content.crs.ellipsoid
+    recorded = content.recorded.record.get("heights")  # the height model the results were processed with
+    benchmarks = (recorded.get("benchmarks") or None) if recorded is not None else project.height.benchmarks
+    if benchmarks is None:
         return f"ellipsoidal heights on {ellipsoid} (no benchmarks in the project: H = h)"
-    anomaly = project.height.anomaly
-    grid = getattr(anomaly, "geoid_grid", None)
-    text = (f"normal heights H = h - height anomaly, fitted ({heights.get('model', anomaly.model)}) on the benchmarks of "
-            f"{project.height.benchmarks}")
+    model = recorded.get("model") if recorded is not None else project.height.anomaly.model
+    grid = recorded.get("geoid_grid") if recorded is not None else project.height.anomaly.geoid_grid
+    text = (f"normal heights H = h - height anomaly, fitted ({heights.get('model', model)}) on the benchmarks of "
+            f"{benchmarks}")
     if grid:
         text += f" over the geoid grid {grid} (remove-restore)"
     if "internal_rms_mm" in heights:
@@ -338,9 +344,9 @@ def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
                      + f"{track.get('sleepers', len(content.results))} sleepers, {valid} valid)"),
         ("Trolley", _instrument(_not_stated(report.trolley), report.trolley_calibrated)),
         ("IMU", _instrument(_imu(content), report.imu_calibrated)),
-        ("Coordinate system", crs_text(project.crs)),
+        ("Coordinate system", crs_text(content.crs)),
         ("Height datum", height_text(content)),
-        ("Design", f"{project.design}; deviations {deviation_reference(content.summary)}" if project.design
+        ("Design", f"{content.design}; deviations {deviation_reference(content.summary)}" if content.design
          else f"none: fitted line types, deviations {deviation_reference(content.summary)}"),
         ("Tolerance profile", f"{profile_name(profile)}; {profile.source}"),
         ("Operator", _not_stated(report.operator)),
@@ -452,6 +458,17 @@ def _sign_off(content: ReportContent) -> Table:
                  style=SIGN_OFF_STYLE, hAlign="LEFT")
 
 
+def _settings_line(content: ReportContent) -> list[Flowable]:
+    """The settings the project now states differently from those the results were processed with."""
+    if not content.settings_changes:
+        return []
+    if content.recorded.missing:
+        return [Paragraph("<b>Settings not recorded</b>: these results were " + text(NOT_RECORDED)
+                          + "; this report states the project's settings as they are now.", BODY)]
+    return [Paragraph("<b>The project has changed since processing</b>; this report states the settings the results "
+                      "were processed with: " + text("; ".join(content.settings_changes)), BODY)]
+
+
 def _notice_line(content: ReportContent) -> list[Flowable]:
     notices = notices_of(content.summary)
     if not notices:
@@ -469,7 +486,7 @@ def _cover(content: ReportContent) -> list[Flowable]:
              Paragraph(text(project.name) + (f'<font size="10"> &nbsp; {text(project.description)}</font>'
                                               if project.description else ""), H1_COVER)]
     left = [Paragraph("Survey", H2), key_values(_survey_rows(content), widths=(32 * mm, 100 * mm))]
-    right = [Paragraph("Conclusion", H2), *_notice_line(content), *_exceedance_conclusion(content),
+    right = [Paragraph("Conclusion", H2), *_settings_line(content), *_notice_line(content), *_exceedance_conclusion(content),
              Paragraph("Predicted accuracy against the tolerances", H3), *_accuracy_conclusion(content),
              Paragraph("Adjustment", H3), Paragraph(_adjustment_conclusion(content), BODY)]
     page_width, page_height = PAGES["A4"]  # laid out on A4, enlarged on A3

@@ -311,7 +311,7 @@ def convert_survey_to_raw_gnss(survey_folder: str | Path, config: ScenarioConfig
     for start, end in outages:
         keep &= ~((tags >= start) & (tags <= end))
     crs = EngineeringCRS.from_settings(config.geodetic.crs)
-    ellipsoid = earth.Ellipsoid(crs.ellipsoid, crs.semi_major_axis_m, 1.0 / crs.inverse_flattening_value)
+    ellipsoid = crs.reference_ellipsoid
     lat, lon, h = earth.ecef_to_geodetic(antenna["ecef_m"][0], ellipsoid)
     east, north = crs.to_plane(lat, lon)
     east, north = float(east) + base_offset_en_m[0], float(north) + base_offset_en_m[1]

@@ -139,7 +139,7 @@ def simulate(
     step(0.0, "building the track")
     track = true_track(config, rng_track)
     crs = EngineeringCRS.from_settings(config.geodetic.crs)
-    ell = earth.Ellipsoid(crs.ellipsoid, crs.semi_major_axis_m, 1.0 / crs.inverse_flattening_value)
+    ell = crs.reference_ellipsoid
     motion = config.motion
     # The motion runs in a path coordinate growing with travel: the station itself, or for a
     # reverse run the station mirrored about the stretch's middle (the map is its own inverse).

@@ -36,8 +36,6 @@ from insrail.nav.trajectory import Trajectory
 
 ToEngineering = Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
-_ELLIPSOIDS = {ell.name: ell for ell in (earth.WGS84, earth.CGCS2000)}
-
 #: The fields of the trajectory the rails are made of (:func:`rails_from_pose`; the sleepers'
 #: attitude takes ``rpy_rad`` too): a long survey's trajectory is read with just these
 #: (``insrail.nav.trajectory.load_trajectory(..., only=POSE_FIELDS)``).
@@ -167,7 +165,6 @@ def rails_from_pose(
     to_engineering: ToEngineering,
     beam_wheel_spacing_m: float = 0.0,
     curvature_per_m: np.ndarray | None = None,
-    ellipsoid: earth.Ellipsoid | None = None,
 ) -> RailPoints:
     """Both rails and the centreline at every trajectory epoch (see the module docstring).
 
@@ -175,20 +172,18 @@ def rails_from_pose(
     (:func:`gauge_curve_correction_m`) with the beam on the reference rail; the curvature per
     epoch is ``curvature_per_m`` (e.g. the design's at each epoch's station, as the thesis does)
     or, when None, that of the reference rail's measured path over :data:`CURVATURE_BASE_M`.
-    0 (default) leaves the readings as they are.
+    0 (default) leaves the readings as they are. The lever arms go through ECEF on the
+    trajectory's ellipsoid (``trajectory.ellipsoid``, the one the fusion ran on).
     """
     if trolley.reference_rail not in ("left", "right"):
         raise ValueError(f"trolley.reference_rail must be 'left' or 'right', not {trolley.reference_rail!r}")
-    ell = ellipsoid or _ELLIPSOIDS.get(trajectory.ellipsoid_name)
-    if ell is None:
-        raise ValueError(f"unknown ellipsoid {trajectory.ellipsoid_name!r} of the trajectory; pass ellipsoid=")
     n = len(trajectory)
     ref, forward, cross = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
     sin_slope = np.empty(n)
     for start in range(0, n, CHUNK_EPOCHS):
         part = slice(start, min(start + CHUNK_EPOCHS, n))
         ref[part], forward[part], cross[part], sin_slope[part] = _trolley_axes_enh(
-            trajectory, part, trolley, to_engineering, ell)
+            trajectory, part, trolley, to_engineering, trajectory.ellipsoid)
 
     gauge_m = gauge_at_times(gauge, trajectory.time_s)
     if beam_wheel_spacing_m:

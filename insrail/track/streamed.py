@@ -42,6 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
+from insrail.geodesy.ellipsoid import Ellipsoid
 from insrail.io.survey import TrolleyGeometry
 from insrail.io.types import GaugeData, SleeperPulses
 from insrail.nav.trajectory import load_trajectory, trajectory_records
@@ -185,9 +186,9 @@ class _Range:
 class _Streamed:
     """The passes of :func:`reconstruct_track_streamed` over one trajectory file."""
 
-    def __init__(self, trajectory_file, ellipsoid_name: str, trolley: TrolleyGeometry, gauge: GaugeData,
+    def __init__(self, trajectory_file, ellipsoid: Ellipsoid, trolley: TrolleyGeometry, gauge: GaugeData,
                  to_engineering: ToEngineering, spool: _Spool, check: Callable[[], None]):
-        self.file, self.ellipsoid = trajectory_file, ellipsoid_name
+        self.file, self.ellipsoid = trajectory_file, ellipsoid
         self.trolley, self.gauge, self.to_engineering = trolley, gauge, to_engineering
         self.spool, self.check = spool, check
         self.n = trajectory_records(trajectory_file)
@@ -202,7 +203,7 @@ class _Streamed:
         for start, count in self.parts:
             self.check()
             trajectory = replace(load_trajectory(self.file, only=POSE_FIELDS, start=start, count=count),
-                                 ellipsoid_name=self.ellipsoid)
+                                 ellipsoid=self.ellipsoid)
             rails = rails_from_pose(trajectory, self.trolley, self.gauge, self.to_engineering)
             for name, values in (("time", rails.time_s), ("left", rails.left_rail_enh_m),
                                  ("right", rails.right_rail_enh_m), ("forward", rails.forward_enh),
@@ -371,7 +372,7 @@ def attitude_at_times(time_s: np.ndarray, span: tuple[float, float] | None,
 
 def reconstruct_track_streamed(
     trajectory_file,
-    ellipsoid_name: str,
+    ellipsoid: Ellipsoid,
     trolley: TrolleyGeometry,
     gauge: GaugeData,
     to_engineering: ToEngineering,
@@ -392,7 +393,7 @@ def reconstruct_track_streamed(
     check: Callable[[], None] = lambda: None,
 ) -> tuple[TrackReconstruction, np.ndarray]:
     """:func:`~insrail.track.sleeper_table.reconstruct_track` of the trajectory in
-    ``trajectory_file`` (read by parts, on the ellipsoid ``ellipsoid_name``; no beam curve
+    ``trajectory_file`` (read by parts, on ``ellipsoid``, the one the fusion ran on; no beam curve
     correction) and the fused attitude at its sleepers
     (:func:`~insrail.project.sleeper_parameters.sleeper_attitude_rad`), the same to the bit, in
     memory independent of the survey's length (see the module docstring). The reconstruction
@@ -405,7 +406,7 @@ def reconstruct_track_streamed(
     spool = _Spool(spool_folder)
     epochs = EpochStationsWriter(epochs_file or spool.folder / "epochs.npy", trajectory_records(trajectory_file))
     try:
-        run = _Streamed(trajectory_file, ellipsoid_name, trolley, gauge, to_engineering, spool, check)
+        run = _Streamed(trajectory_file, ellipsoid, trolley, gauge, to_engineering, spool, check)
         facing = run.rails_pass(design, stationing)
         run.stations_pass(design, start_station_m, epochs)
         epochs = epochs.commit()
