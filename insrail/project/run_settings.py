@@ -30,7 +30,7 @@ import numpy as np
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.ellipsoid import Ellipsoid, wgs84_baseline_scale_ppm
 from insrail.geodesy.errors import SettingsError
-from insrail.io.survey import SurveyManifest, TrolleyGeometry, read_manifest
+from insrail.io.survey import SurveyManifest, TrolleyGeometry
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.notices import Notice
@@ -204,7 +204,7 @@ class RecordedSettings:
         if self.missing:
             return [NOT_RECORDED]
         try:
-            manifest = read_manifest(project.resolve(project.survey(survey).folder))
+            manifest = project.manifest(survey)
             trolley = project.trolley()
             if trolley is not None:
                 manifest = replace(manifest, trolley=trolley)
