@@ -19,7 +19,9 @@ Bars, from what insrail states for the survey or from documented figures:
   reason in ``not_assessed``.
 
 A cell that fails for a reason another branch is fixing now carries ``xfail(strict=True)`` naming it
-(KNOWN); once that branch is merged the cell passes, the strict mark fails it, and the mark goes.
+(KNOWN, several reasons joined); once the last of its branches is merged the cell passes and the strict mark
+fails it: delete that branch's KNOWN entry. The cells' failures were taken apart by running each with the
+missing lever arms given and the track stage's ellipsoid look-up patched, so a cell lists every reason it has.
 A refusal must come before the fusion (no fusion result in the cache) and must not show a value that was
 not given as a number ("nan").
 """
