@@ -77,9 +77,10 @@ KNOWN = (
      "fixed on s9-ellipsoid", lambda c: c.ellipsoid in ("Xian80", "Krassovsky", "custom")),
     ("issue 32: tactical/MEMS static levelling (the accelerometer bias taken for tilt), fixed on s9-imu",
      lambda c: c.cell_id in S9_IMU_CELLS),
-    ("issue 32, new: without an odometer the stop detection takes a mems_handheld run with prism fixes for one "
-     "stop (the IMU-quiet threshold, 5 x the hand-held profile's noise, is above a pushed trolley's motion): "
-     "no heading at the start", lambda c: c.cell_id in HANDHELD_STOPS_CELLS),
+    ("issue 32, new: mems_handheld with prism fixes and no odometer: the stops come from the IMU alone (prism fixes "
+     "do not veto, GNSS positions would) and its quiet threshold, 5 x the hand-held profile's noise, is above a "
+     "pushed trolley's motion, so the whole run is one stop; insrail process stops with 'the trolley never moves "
+     "far enough; give --heading', which process does not have", lambda c: c.cell_id in HANDHELD_STOPS_CELLS),
 )
 
 
