@@ -136,3 +136,19 @@ def test_prism_fixes_at_the_run_ends_are_taken_during_the_static_start_and_end(t
     assert len(prism) == 3 and prism.time_s[0] - truth["time_s"][0] == pytest.approx(10.0, abs=0.01)
     np.testing.assert_allclose(station - station[0], [0.0, 20.0, 40.0], atol=0.3)  # the reference point, not the prism
     assert truth["time_s"][-1] - prism.time_s[-1] > 15.0  # inside the 30 s static end
+
+
+def test_a_reverse_run_writes_its_prism_fixes_in_time_order(tmp_path):
+    """Against the stationing the trolley meets the highest station first: the prism file (time stamps must
+    increase, docs/formats.md) lists that fix first, each fix where the trolley stood at its time."""
+    from insrail.io.control import read_prism_enu
+
+    tiny = _tiny(preset("short"))
+    start = tiny.motion.start_station_m
+    tiny = replace(tiny, motion=replace(tiny.motion, reverse=True),
+                   prism=replace(tiny.prism, stations_m=(start + 10.0, start + 30.0), duration_s=5.0))
+    simulate(tiny, 1, tmp_path / "s", imu_format="npy")
+    prism = read_prism_enu(tmp_path / "s" / "prism.txt")  # refuses decreasing time stamps
+    truth = np.load(tmp_path / "s" / "truth" / "nav.npy")
+    np.testing.assert_allclose(np.interp(prism.time_s, truth["time_s"], truth["station_m"]),
+                               [start + 30.0, start + 10.0], atol=0.3)

@@ -468,6 +468,9 @@ def _static_heading(imu, track, ned, sigma_h, static, roll, pitch, w, odometer, 
     if compass is not None and sigma_compass <= MAX_GYROCOMPASS_SIGMA_RAD:
         return "static", compass, max(options.initial_sigma_heading_rad, sigma_compass)
     moving = first_motion(track, ned, static[1], odometer)
+    if moving is None and track.time_s[-1] > static[1]:
+        # every fix taken at rest (prism fixes at stops): the chord from the last one of the static start
+        moving = max(int(np.searchsorted(track.time_s, static[1], side="right")), 1)
     direction = None
     if moving is not None:
         direction = track_heading(ned, sigma_h, max(moving - 1, 0))

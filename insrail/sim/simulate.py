@@ -289,7 +289,10 @@ def simulate(
 
     prism = None
     if config.prism.stations_m:
-        times = _station_inverse(t, path_at_imu, path_of(np.array(config.prism.stations_m))) + 0.5 * config.prism.duration_s
+        # in the order the trolley reaches them (a reverse run meets the highest station first): the
+        # prism file's time stamps must increase
+        fix_paths = np.sort(path_of(np.array(config.prism.stations_m)))
+        times = _station_inverse(t, path_at_imu, fix_paths) + 0.5 * config.prism.duration_s
         p_pos, _ = kin.point_ecef(times, trolley.imu_to_prism_m)
         p_lat, p_lon, p_h = earth.ecef_to_geodetic(p_pos, ell)
         p_e, p_n = crs.to_plane(p_lat, p_lon)
