@@ -79,10 +79,6 @@ HANDHELD_STOPS_CELLS = {
     "mems_handheld-prism-WGS84-csv-with-odometer-calibrated",
 }
 KNOWN = (
-    ("issue 32: a lever arm not given (NaN) refused by the plausibility check ('at most 5 m'), fixed on s9-optional",
-     lambda c: not (c.gnss and c.prism and c.has("odometer") and c.has("sleepers"))),
-    ("issue 32: Xian80/Krassovsky/custom ellipsoid: 'unknown ellipsoid of the trajectory' in the track stage, "
-     "fixed on s9-ellipsoid", lambda c: c.ellipsoid in ("Xian80", "Krassovsky", "custom")),
     ("issue 32: tactical/MEMS static levelling (the accelerometer bias taken for tilt), fixed on s9-imu",
      lambda c: c.cell_id in S9_IMU_CELLS),
     ("issue 32, new: mems_handheld with prism fixes and no odometer: the stops come from the IMU alone (prism fixes "
