@@ -136,6 +136,8 @@ class FusionOptions:
     #: The NHC noise above is set for its 10 Hz innovations; the play's drift over tens of metres
     #: (between prism fixes) is this (docs/fusion.md).
     play_drift_m2_per_m: tuple[float, float] = field(default_factory=trolley_play_drift_m2_per_m)
+    #: the survey's own play from its NHC innovations, fused again with it (insrail.nav.self_calibration)
+    estimate_play: bool = True
     # The ZUPT's velocity noise where the platform shows no motion beyond the accelerometers' noise;
     # a stop where they show more (an operator's touch, a hand) adds that motion's velocity
     # (``alignment.stop_motion_sigma``). Between two 10 Hz ZUPTs of a still trolley the INS velocity
