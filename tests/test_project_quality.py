@@ -65,10 +65,12 @@ def test_quality_csv_is_on_the_chainage_of_the_tqi_sections(processed):
     assert stored.summary["quality"]["median"]["sigma_cross_level_mm"] > 0.0
     # a quality.csv written before the cross-level column reads with that column empty
     old = folder.parent / "before-cross-level.csv"
-    old.write_text("\n".join(",".join(line.split(",")[:-1]) for line in lines) + "\n")
+    old.write_text("\n".join(",".join(line.split(",")[:8]) for line in lines) + "\n")
     before = _read_quality(old, True)
     np.testing.assert_allclose(before.sigma_lag5_lateral_mm, quality.sigma_lag5_lateral_mm)
-    assert np.all(np.isnan(before.sigma_cross_level_mm))
+    assert np.all(np.isnan(before.sigma_cross_level_mm)) and np.all(np.isnan(before.sigma_along_track_mm))
+    # the along-track position: GNSS-held, a few millimetres
+    assert np.all(quality.sigma_along_track_mm > 1.0) and np.all(quality.sigma_along_track_mm < 50.0)
     # the in-memory table is the file's
     np.testing.assert_allclose(1e3 * results.quality.sigma_lag150_lateral_m, quality.sigma_lag150_lateral_mm,
                                atol=1e-3)

@@ -78,11 +78,13 @@ REPORT_STEM = "track_geometry"
 QUALITY_FILE = "quality.csv"
 
 #: Columns of quality.csv: the section's chainage, then the 1-sigma of the lateral and vertical position and of
-#: their 5 m and 150 m lag differences (behind the 30 m/5 m and 300 m/150 m checks), and of the cross-level (cant).
+#: their 5 m and 150 m lag differences (behind the 30 m/5 m and 300 m/150 m checks), of the cross-level (cant) and of
+#: the along-track position.
 QUALITY_HEADER = ["station_from_m", "station_to_m", "sigma_lateral_mm", "sigma_vertical_mm", "sigma_lag5_lateral_mm",
-                  "sigma_lag5_vertical_mm", "sigma_lag150_lateral_mm", "sigma_lag150_vertical_mm", "sigma_cross_level_mm"]
-#: the header of a quality.csv written before the cross-level column (read with that column empty)
-QUALITY_HEADER_WITHOUT_CROSS_LEVEL = QUALITY_HEADER[:-1]
+                  "sigma_lag5_vertical_mm", "sigma_lag150_lateral_mm", "sigma_lag150_vertical_mm", "sigma_cross_level_mm",
+                  "sigma_along_track_mm"]
+#: a quality.csv of an older version holds the first of these columns (the others read empty)
+QUALITY_HEADER_OLDEST = QUALITY_HEADER[:8]
 EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from_m", "station_to_m", "peak",
                      "limit", "first_sleeper", "last_sleeper"]
 
@@ -636,6 +638,7 @@ class StoredQuality:
     sigma_lag150_lateral_mm: np.ndarray
     sigma_lag150_vertical_mm: np.ndarray
     sigma_cross_level_mm: np.ndarray
+    sigma_along_track_mm: np.ndarray
 
     def __len__(self) -> int:
         return len(self.station_from_m)
@@ -868,7 +871,7 @@ def _read_exceedances(path: Path) -> tuple[ExceedanceRow, ...]:
 def _read_quality(path: Path, smoothed: bool) -> StoredQuality:
     lines = _lines(path)
     header = lines[0].split(",") if lines else []
-    if header not in (QUALITY_HEADER, QUALITY_HEADER_WITHOUT_CROSS_LEVEL):
+    if len(header) < len(QUALITY_HEADER_OLDEST) or header != QUALITY_HEADER[: len(header)]:
         raise InputError(path, 1, f"expected the header {','.join(QUALITY_HEADER)}")
     values = np.full((len(lines) - 1, len(QUALITY_HEADER)), np.nan)
     for row, line in enumerate(lines[1:]):
