@@ -242,6 +242,8 @@ QUANTITY_NAMES: dict[str, Name] = {
     "sigma_lag5_vertical_mm": Name("Predicted 1σ, 5 m lag difference, vertical", "mm"),
     "sigma_lag150_lateral_mm": Name("Predicted 1σ, 150 m lag difference, lateral", "mm"),
     "sigma_lag150_vertical_mm": Name("Predicted 1σ, 150 m lag difference, vertical", "mm"),
+    "sigma_cross_level_mm": Name("Predicted 1σ, cross-level (cant)", "mm"),
+    "sigma_along_track_mm": Name("Predicted 1σ, along-track position", "mm"),
 }
 
 

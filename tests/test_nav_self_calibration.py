@@ -30,6 +30,8 @@ class FakeResult:
     innovations: InnovationRecord
     info: dict = field(default_factory=dict)
     integrity: FakeIntegrity = field(default_factory=FakeIntegrity)
+    statistics: dict = field(default_factory=dict)  # no NHC statistics: the play is not estimated
+    forward: object = None
 
 
 @dataclass
@@ -84,7 +86,9 @@ def run(true_gnss_factor: float, nhc_rejected_share: float, odometer=None, optio
 def test_a_consistent_survey_is_fused_once_and_nothing_said():
     result, used, store, calibration, passes, stores = run(1.0, 0.0)
     assert len(passes) == 1 and used == FusionOptions() and calibration.notices == ()
-    assert result.info["calibration"] == {"passes": 1, "nhc_dropped": False, "gnss_sigma_scale": 1.0}
+    assert result.info["calibration"] == {"passes": 1, "nhc_dropped": False, "gnss_sigma_scale": 1.0,
+                                          "play_estimated": False, "play_drift_mm2_per_m": [0.025, 0.025],
+                                          "profile_play_drift_mm2_per_m": [0.025, 0.025], "nhc_sigma_mm_per_s": 0.45}
     assert store is stores[0] and not store.closed
 
 

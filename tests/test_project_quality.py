@@ -13,7 +13,7 @@ import pytest
 from insrail.progress import Cancelled
 from insrail.project import pipeline, process
 from insrail.project.demo import project_for_simulated_survey
-from insrail.project.results import QUALITY_FILE, QUALITY_HEADER, load_results
+from insrail.project.results import QUALITY_FILE, QUALITY_HEADER, _read_quality, load_results
 from insrail.report import write_pdf
 from insrail.sim.scenario import preset
 from insrail.sim.simulate import simulate
@@ -60,6 +60,17 @@ def test_quality_csv_is_on_the_chainage_of_the_tqi_sections(processed):
     assert quality.station_to_m[-1] == pytest.approx(stored.columns["station_m"][-1], abs=2.0)
     assert np.all(np.isfinite(quality.sigma_lag5_lateral_mm)) and np.all(quality.sigma_lag5_lateral_mm > 0.0)
     assert np.all(quality.sigma_lag150_vertical_mm > quality.sigma_lag5_vertical_mm)
+    # the cross-level (cant): 1.5 m x the roll's 1-sigma, a few hundredths of a millimetre with a navigation grade IMU
+    assert np.all(quality.sigma_cross_level_mm > 0.0) and np.all(quality.sigma_cross_level_mm < 1.0)
+    assert stored.summary["quality"]["median"]["sigma_cross_level_mm"] > 0.0
+    # a quality.csv written before the cross-level column reads with that column empty
+    old = folder.parent / "before-cross-level.csv"
+    old.write_text("\n".join(",".join(line.split(",")[:8]) for line in lines) + "\n")
+    before = _read_quality(old, True)
+    np.testing.assert_allclose(before.sigma_lag5_lateral_mm, quality.sigma_lag5_lateral_mm)
+    assert np.all(np.isnan(before.sigma_cross_level_mm)) and np.all(np.isnan(before.sigma_along_track_mm))
+    # the along-track position: GNSS-held, a few millimetres
+    assert np.all(quality.sigma_along_track_mm > 1.0) and np.all(quality.sigma_along_track_mm < 50.0)
     # the in-memory table is the file's
     np.testing.assert_allclose(1e3 * results.quality.sigma_lag150_lateral_m, quality.sigma_lag150_lateral_mm,
                                atol=1e-3)

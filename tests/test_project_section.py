@@ -61,7 +61,7 @@ def write_run(root, name, table, rows, rng, lag5_mm):
                "quality": {"pass": "smoothed"}, "notices": [{"stage": "imu", "message": f"{name}: a notice"}]}
     start = np.arange(sub.station_m[0], sub.station_m[-1], 200.0)
     quality = "\n".join([",".join(QUALITY_HEADER)] + [
-        f"{s:.3f},{s + 200:.3f},3.000,3.000,{lag5_mm:.3f},{lag5_mm:.3f},1.000,1.000" for s in start]) + "\n"
+        f"{s:.3f},{s + 200:.3f},3.000,3.000,{lag5_mm:.3f},{lag5_mm:.3f},1.000,1.000,0.500,5.000" for s in start]) + "\n"
     write_results(root / RESULTS_FOLDER, name, {
         SLEEPERS_FILE: sleepers_csv(sub, assessment, adjustment), EXCEEDANCES_FILE: exceedances_csv(assessment),
         "quality.csv": quality, SUMMARY_FILE: summary_toml(summary)})

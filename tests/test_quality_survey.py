@@ -113,7 +113,10 @@ def test_rows_for_csv(fused):
     assert len(rows) == len(quality.station_from_m)
     assert set(rows[0]) == {"station_from_m", "station_to_m", "sigma_lateral_mm", "sigma_vertical_mm",
                             "sigma_lag5_lateral_mm", "sigma_lag5_vertical_mm", "sigma_lag150_lateral_mm",
-                            "sigma_lag150_vertical_mm"}
+                            "sigma_lag150_vertical_mm", "sigma_cross_level_mm", "sigma_along_track_mm"}
+    # the cross-level: the roll's 1-sigma over the rails' 1.5 m, RMS over the section's moving epochs
+    roll = quality.profile.smoothed.sigma_roll_rad
+    assert 0.0 < rows[1]["sigma_cross_level_mm"] <= 1e3 * 1.5 * roll.max() + 1e-3
     assert rows[1]["sigma_lag5_lateral_mm"] == pytest.approx(1e3 * quality.sigma_lag5_lateral_m[1], abs=1e-3)
     with pytest.raises(ValueError, match="unknown figure"):
         quality.weakest("sigma_lateral_mm")

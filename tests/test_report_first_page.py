@@ -51,7 +51,7 @@ def project(tmp_path_factory):
     project = processed_project(root)
     # a predicted accuracy whose third section is too weak for the 30 m / 5 m check laterally (3 x 0.8 > 2 mm)
     lag5_lateral = [0.2, 0.25, 0.8, 0.3]
-    rows = [",".join(map(str, [1000 + 200 * k, 1200 + 200 * k, 3.0, 6.0, lag5_lateral[k], 0.3, 1.5, 2.0]))
+    rows = [",".join(map(str, [1000 + 200 * k, 1200 + 200 * k, 3.0, 6.0, lag5_lateral[k], 0.3, 1.5, 2.0, 0.4, 5.0]))
             for k in range(4)]
     (root / "results" / "run1" / QUALITY_FILE).write_text("\n".join([",".join(QUALITY_HEADER), *rows]) + "\n")
     return replace(project, report=REPORT)

@@ -43,7 +43,8 @@ def _quality_lines(quality: dict | None) -> list[str]:
 
     def figures(values: dict) -> str:
         return (f"5 m lag {values['sigma_lag5_lateral_mm']:.2f}/{values['sigma_lag5_vertical_mm']:.2f} mm, "
-                f"150 m lag {values['sigma_lag150_lateral_mm']:.2f}/{values['sigma_lag150_vertical_mm']:.2f} mm")
+                f"150 m lag {values['sigma_lag150_lateral_mm']:.2f}/{values['sigma_lag150_vertical_mm']:.2f} mm, "
+                f"cross-level {values['sigma_cross_level_mm']:.2f} mm, along-track {values['sigma_along_track_mm']:.1f} mm")
 
     return [(f"  predicted accuracy ({quality['pass']}, 1 sigma lateral/vertical, {quality['sections']} sections): "
              f"median {figures(median)}; weakest {weakest['station_from_m']:.0f}..{weakest['station_to_m']:.0f} m "

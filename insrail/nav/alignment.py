@@ -19,20 +19,44 @@ from insrail.io.types import ImuIncrements, OdometerData
 from insrail.nav import earth
 
 
-def static_levelling(imu: ImuIncrements, start: int, stop: int):
+#: standard gravity [m/s^2]; normal gravity on the earth's surface lies within it -0.03/+0.03 (9.78 at
+#: the equator to 9.83 at the poles, less 3e-6 per metre of height)
+GRAVITY_MPS2 = 9.80665
+GRAVITY_SPREAD_MPS2 = 0.03
+#: the accelerometer bias is allowed this many of its 1-sigma along gravity
+GRAVITY_BIAS_SIGMAS = 3.0
+#: whatever the profile, a mean specific force at rest within this of standard gravity is gravity
+#: (the window insrail always accepted, 9.7-9.9 m/s^2)
+GRAVITY_FLOOR_MPS2 = 0.1
+
+
+def gravity_tolerance_mps2(profile) -> float:
+    """How far [m/s^2] the mean specific force at rest may lie from standard gravity with the IMU
+    ``profile``'s accelerometers (:class:`insrail.nav.imu_profile.ImuProfile`): the spread of normal
+    gravity plus GRAVITY_BIAS_SIGMAS x the bias's 1-sigma (turn-on and in-run together), never less
+    than GRAVITY_FLOOR_MPS2. A MEMS unit 14 mg off is within what its profile says; an accelerometer
+    read in g (1.0) or ft/s^2 (32.2) is far outside any."""
+    bias = float(np.hypot(profile.accel_bias_turn_on, profile.accel_bias_gm_sigma))
+    return max(GRAVITY_FLOOR_MPS2, GRAVITY_SPREAD_MPS2 + GRAVITY_BIAS_SIGMAS * bias)
+
+
+def static_levelling(imu: ImuIncrements, start: int, stop: int, tolerance_mps2: float = GRAVITY_FLOOR_MPS2):
     """(roll, pitch [rad], mean specific force f^b [m/s^2], mean angular rate w^b [rad/s]) of
     the IMU samples ``start:stop`` at rest. Raises ValueError when the samples do not look
-    static (the mean specific force is not gravity)."""
+    static (the mean specific force is not gravity within ``tolerance_mps2``:
+    :func:`gravity_tolerance_mps2` of the IMU's profile)."""
     if stop - start < 10:
         raise ValueError("static alignment needs at least 10 IMU samples at rest")
     span = imu.time_s[stop - 1] - imu.time_s[start] + (imu.time_s[start] - imu.time_s[start - 1] if start > 0 else 0.0)
     f = imu.dvel_mps[start:stop].sum(axis=0) / span
     w = imu.dtheta_rad[start:stop].sum(axis=0) / span
     g = np.linalg.norm(f)
-    if not 9.7 < g < 9.9:
+    if not abs(g - GRAVITY_MPS2) < tolerance_mps2:
         raise ValueError(f"static alignment: mean specific force {g:.4f} m/s^2 over "
-                         f"{imu.time_s[start]:.3f}-{imu.time_s[stop - 1]:.3f} s is not gravity; "
-                         "is the trolley at rest, or are the accelerometers in another unit?")
+                         f"{imu.time_s[start]:.3f}-{imu.time_s[stop - 1]:.3f} s is not gravity "
+                         f"({GRAVITY_MPS2 - tolerance_mps2:.3f}-{GRAVITY_MPS2 + tolerance_mps2:.3f} m/s^2 with the IMU "
+                         "profile's accelerometer bias); is the trolley at rest, are the accelerometers in another "
+                         "unit, or is the IMU profile's bias too small for this unit?")
     roll = np.arctan2(-f[1], -f[2])
     pitch = np.arctan2(f[0], np.hypot(f[1], f[2]))
     return float(roll), float(pitch), f, w
@@ -58,14 +82,6 @@ def gyrocompass(roll: float, pitch: float, w: np.ndarray, lat: float, ell: earth
             "the gyros cannot find north (tactical-grade or MEMS IMU, or motion)"
         )
     return float(np.arctan2(-w_level[1], w_level[0]))
-
-
-def coarse_alignment(imu: ImuIncrements, start: int, stop: int, lat: float, ell: earth.Ellipsoid = earth.WGS84):
-    """(roll, pitch, heading) [rad] of b from the IMU samples ``start:stop`` at rest: levelling
-    (:func:`static_levelling`), then gyrocompassing (:func:`gyrocompass`); either raises
-    ValueError when it cannot."""
-    roll, pitch, _, w = static_levelling(imu, start, stop)
-    return roll, pitch, gyrocompass(roll, pitch, w, lat, ell)
 
 
 def gyrocompass_sigma_rad(gyro_bias_radps: float, gyro_arw: float, duration_s: float, lat: float,
@@ -166,21 +182,33 @@ def _still(imu: ImuIncrements, odometer, nominal, lo: int, first: int, stop: int
                              for a in range(3)))
         still &= spread < max_accel_std_mps2
 
+    still &= aiding_still(time_s, window_s, odometer, positions, max_speed_mps)
+    release_pages(imu.dtheta_rad, imu.dvel_mps)  # a mapped file's pages behind the chunk
+    return still[first - lo : stop - lo]
+
+
+def aiding_still(time_s: np.ndarray, window_s: float, odometer: OdometerData | None,
+                 positions: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+                 max_speed_mps: float = 0.002) -> np.ndarray:
+    """Per time [s] whether the aiding lets the platform stand still over ``window_s`` around it:
+    with an odometer, it moved less than ``max_speed_mps * window_s`` (not still where the odometer
+    does not cover the window); without one, the ``positions`` (time [s], horizontal local positions
+    (n, 2) [m], their 1-sigma (n,) [m]) moved by no more than three times their noise plus that
+    (still where they do not cover the window: the IMU decides alone there); all still without either."""
     half = 0.5 * window_s
     if odometer is not None:
         d_ahead = np.interp(time_s + half, odometer.time_s, odometer.distance_m)
         d_behind = np.interp(time_s - half, odometer.time_s, odometer.distance_m)
-        still &= np.abs(d_ahead - d_behind) < max_speed_mps * window_s
-        still &= (time_s - half >= odometer.time_s[0]) & (time_s + half <= odometer.time_s[-1])
-    elif positions is not None and len(positions[0]) > 1:
+        return ((np.abs(d_ahead - d_behind) < max_speed_mps * window_s)
+                & (time_s - half >= odometer.time_s[0]) & (time_s + half <= odometer.time_s[-1]))
+    if positions is not None and len(positions[0]) > 1:
         t_pos, ne, sigma = positions
         ahead = np.column_stack([np.interp(time_s + half, t_pos, ne[:, a]) for a in range(2)])
         behind = np.column_stack([np.interp(time_s - half, t_pos, ne[:, a]) for a in range(2)])
         noise = np.interp(time_s, t_pos, sigma)
         covered = (time_s - half >= t_pos[0]) & (time_s + half <= t_pos[-1])
-        still &= ~covered | (np.hypot(*(ahead - behind).T) < 3.0 * np.sqrt(2.0) * noise + max_speed_mps * window_s)
-    release_pages(imu.dtheta_rad, imu.dvel_mps)  # a mapped file's pages behind the chunk
-    return still[first - lo : stop - lo]
+        return ~covered | (np.hypot(*(ahead - behind).T) < 3.0 * np.sqrt(2.0) * noise + max_speed_mps * window_s)
+    return np.ones(len(time_s), dtype=bool)
 
 
 def detect_stops(

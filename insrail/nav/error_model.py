@@ -182,6 +182,14 @@ def trolley_play_drift_m2_per_m() -> tuple[float, float]:
     return drift["lateral_mm2_per_m"] * 1e-6, drift["vertical_mm2_per_m"] * 1e-6
 
 
+def trolley_play_band_per_m() -> float:
+    """B = 1/shortest - 1/longest wavelength [1/m] of the play's flat spectrum (``resources/trolley_play.toml``):
+    at speed v its lateral (vertical) velocity has the variance 2 B v^2 x its drift per metre."""
+    with open(resources_dir() / "trolley_play.toml", "rb") as handle:
+        spectrum = tomllib.load(handle)["spectrum"]
+    return 1.0 / spectrum["shortest_wavelength_m"] - 1.0 / spectrum["longest_wavelength_m"]
+
+
 def play_noise(displacement_ned_m: np.ndarray, dt: float, play: np.ndarray) -> np.ndarray:
     """Position process noise (3 x 3, NED) of the trolley's play over a segment of ``dt`` seconds that
     moved by ``displacement_ned_m`` (module docstring): ``play`` = (lateral drift, vertical drift [m^2

@@ -61,7 +61,7 @@ from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth, error_model, integrity, kalman
 from insrail.nav import measurements as meas
-from insrail.nav.alignment import detect_stops, stop_motion_sigma, stop_thresholds
+from insrail.nav.alignment import aiding_still, detect_stops, stop_motion_sigma, stop_thresholds
 from insrail.nav.error_model import (
     ATT,
     BA,
@@ -74,6 +74,7 @@ from insrail.nav.error_model import (
     SG,
     VEL,
     ErrorModelNoise,
+    dynamics_matrix,
     initial_sensor_sigmas,
     noise_matrix,
     play_noise,
@@ -135,6 +136,8 @@ class FusionOptions:
     #: The NHC noise above is set for its 10 Hz innovations; the play's drift over tens of metres
     #: (between prism fixes) is this (docs/fusion.md).
     play_drift_m2_per_m: tuple[float, float] = field(default_factory=trolley_play_drift_m2_per_m)
+    #: the survey's own play from its NHC innovations, fused again with it (insrail.nav.self_calibration)
+    estimate_play: bool = True
     # The ZUPT's velocity noise where the platform shows no motion beyond the accelerometers' noise;
     # a stop where they show more (an operator's touch, a hand) adds that motion's velocity
     # (``alignment.stop_motion_sigma``). Between two 10 Hz ZUPTs of a still trolley the INS velocity
@@ -909,8 +912,15 @@ def gnss_by_quality(gnss: GnssSolution, policy) -> tuple[GnssSolution, dict[str,
 
 
 def initial_covariance(profile: ImuProfile, options: FusionOptions, sigma_pos_ned_m, sigma_vel_mps: float,
-                       sigma_level_rad: float, sigma_heading_rad: float) -> np.ndarray:
-    """P at the first update epoch, from the alignment's sigmas, the IMU profile and the options."""
+                       sigma_level_rad: float, sigma_heading_rad: float, levelled_at=None) -> np.ndarray:
+    """P at the first update epoch, from the alignment's sigmas, the IMU profile and the options.
+
+    ``levelled_at`` (lat [rad], h [m], C_b^n) of a static start: the levelling took the mean specific
+    force for gravity, so whatever horizontal accelerometer bias and scale-factor error the unit has went
+    into the level angles, exactly so much that the velocity error does not grow at rest. The level
+    errors then hold that part besides their own ``sigma_level_rad``, fully correlated with those sensor
+    states (a 15 mg MEMS bias is 0.86 deg of tilt, which a 1.35 m antenna mast turns into 2 cm; a
+    filter told the level is good to 0.01 deg rejects its GNSS once the trolley moves)."""
     sig = np.zeros(N_STATES)
     sig[POS : POS + 3] = sigma_pos_ned_m
     sig[VEL : VEL + 3] = sigma_vel_mps
@@ -918,7 +928,20 @@ def initial_covariance(profile: ImuProfile, options: FusionOptions, sigma_pos_ne
     sig[BG : SA + 3] = initial_sensor_sigmas(profile)
     sig[ODO] = options.initial_sigma_odometer_scale
     sig[GNSS : GNSS + 3] = options.gnss_correlated_sigma_ned_m
-    return np.diag(np.maximum(sig, 1e-12) ** 2)
+    P = np.diag(np.maximum(sig, 1e-12) ** 2)
+    if levelled_at is not None:
+        lat, h, c_bn = levelled_at
+        f_b = c_bn.T @ np.array([0.0, 0.0, -earth.normal_gravity(lat, h)])
+        F = dynamics_matrix(lat, h, np.zeros(3), c_bn, f_b, np.zeros(3), ErrorModelNoise.from_profile(profile))
+        # at rest the horizontal velocity error's rate F_va level + F_vs sensors is zero after the levelling
+        sensors = np.r_[BA : BA + 3, SA : SA + 3]
+        coupling = -np.linalg.solve(F[VEL : VEL + 2, ATT : ATT + 2], F[VEL : VEL + 2, sensors])
+        level = slice(ATT, ATT + 2)
+        p_sensors = P[np.ix_(sensors, sensors)]
+        P[level, level] += coupling @ p_sensors @ coupling.T
+        P[level, sensors] = coupling @ p_sensors
+        P[sensors, level] = P[level, sensors].T
+    return P
 
 
 @dataclass(frozen=True)
@@ -1070,7 +1093,21 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     trolley = aiding.trolley
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
     source_file = str(imu.source or "")
-    imu, outliers, notices = screen_imu(imu, profile)
+    gnss = aiding.gnss
+    fixes = next((m for m in aiding.measurements if isinstance(m, PositionFix)), None)
+    if gnss is not None:
+        track = PositionTrack.from_gnss(gnss, trolley.imu_to_antenna_m)
+    elif fixes is not None:
+        track = PositionTrack.from_fixes(fixes)
+    else:
+        raise ValueError("the survey has neither GNSS nor total-station prism fixes: nothing gives its position")
+    track = track.within(imu.time_s[0], imu.time_s[-1])
+    positions = None
+    if aiding.odometer is None and len(track) > 1:
+        positions = (track.time_s, track.local_ned(ellipsoid)[:, :2], track.horizontal_sigma_m())
+    # the unit check's rest is where the odometer or the positions let the trolley stand still
+    imu, outliers, notices = screen_imu(imu, profile, aiding_still=partial(aiding_still, odometer=aiding.odometer,
+                                                                           positions=positions))
     imu, warnings = bridge_gaps(imu, options.max_imu_gap_s)
     removed = np.array([o.time_s for o in outliers])
     notices += [Notice("imu", w, file=source_file, time_s=gap.start_s) for gap, w in zip(imu.gaps, warnings)
@@ -1079,8 +1116,6 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     t = imu.time_s
     dt0 = float(np.median(np.diff(t[: min(n, 1000)])))
 
-    gnss = aiding.gnss
-    fixes = next((m for m in aiding.measurements if isinstance(m, PositionFix)), None)
     if aiding.odometer is None:
         notices.append(Notice("fusion", "no odometer in the survey: the along-track scale comes from the "
                               f"{'GNSS positions' if gnss is not None else 'prism fixes'} only", severity="info"))
@@ -1088,12 +1123,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
         where = "the odometer wheel's contact" if trolley.imu_to_odometer_m is not None else "the IMU"
         notices.append(Notice("fusion", "no trolley.imu_to_reference_rail_m (a survey not on rails): the "
                               f"non-holonomic constraint is applied at {where}", severity="info"))
-    if gnss is not None:
-        track = PositionTrack.from_gnss(gnss, trolley.imu_to_antenna_m).within(t[0], t[-1])
-    elif fixes is not None:
-        track = PositionTrack.from_fixes(fixes).within(t[0], t[-1])
-    else:
-        raise ValueError("the survey has neither GNSS nor total-station prism fixes: nothing gives its position")
+    track = track.within(t[0], t[-1])
     if len(track) == 0:
         where = gnss.source if gnss is not None and gnss.source else track.source
         raise ValueError(
@@ -1122,7 +1152,7 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     plan = schedule(t[epochs], [replace(m, stop_motion=motion) if isinstance(m, Zupt) else m
                                 for m in aiding.measurements], stops)
     P0 = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
-                            start.sigma_heading_rad)
+                            start.sigma_heading_rad, start.levelled_at)
     # chi-square quantile of the gate probability per degree of freedom (scipy.special: no scipy.stats import)
     gates = np.array([np.inf] + [chdtri(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
     on_rail = holds_to_rail(aiding.measurements)

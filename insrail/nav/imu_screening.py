@@ -34,15 +34,19 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from insrail.io.imu import release_pages
 from insrail.io.types import GAP_FACTOR, ImuIncrements
-from insrail.nav.alignment import stop_thresholds
+from insrail.nav.alignment import GRAVITY_MPS2, gravity_tolerance_mps2, stop_thresholds
 from insrail.nav.imu_profile import ImuProfile
 from insrail.notices import Notice
+
+#: ``(times [s], window [s]) -> still flags``: whether the aiding lets the platform rest there
+StillnessTest = Callable[[np.ndarray, float], np.ndarray]
 
 #: records either side whose median a record is compared with
 NEIGHBOURS = 5
@@ -101,17 +105,18 @@ def _candidates(time_s: np.ndarray, increments: np.ndarray, nominal: float, full
     return found[(found >= first) & (found < stop)]
 
 
-def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.01, chunk: int = 1 << 18
-               ) -> tuple[ImuIncrements, tuple[Outlier, ...], list[Notice]]:
+def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.01, chunk: int = 1 << 18,
+               aiding_still: StillnessTest | None = None) -> tuple[ImuIncrements, tuple[Outlier, ...], list[Notice]]:
     """(the records inside the envelope, the removed ones, notices). The returned increments have
     holes where records were removed; :func:`insrail.nav.imu_gaps.bridge_gaps` fills them.
+    ``aiding_still``: what the odometer or the positions say about rest (:func:`check_units`).
     Raises ValueError naming the file when more than ``max_fraction`` of the records fail.
     The records are screened ``chunk`` at a time (memory bounded for any length)."""
     n = len(imu)
     source = str(imu.source or "")
     if n < 3:
         return imu, (), []
-    check_units(imu, profile)
+    check_units(imu, profile, aiding_still)
     nominal = float(np.median(np.diff(imu.time_s), overwrite_input=True))
     increments = {"specific force": imu.dvel_mps, "angular rate": imu.dtheta_rad}
     limits = {"specific force": (profile.specific_force_range_mps2, profile.specific_force_jump_mps2),
@@ -183,9 +188,7 @@ def _show(quantity: str, value: float) -> str:
 
 # --------------------------------------------------------------------------- units
 
-#: gravity on the ellipsoid lies within 9.78-9.83 m/s^2; a second's mean specific force of a
-#: trolley or a walker within this share of it
-GRAVITY_MPS2 = 9.80665
+#: a second's mean specific force of a trolley or a walker within this share of gravity
 GRAVITY_TOLERANCE = 0.1
 #: at rest, |mean rate| may exceed the earth rate by this many 1-sigma of the gyro bias and noise
 REST_RATE_SIGMAS = 5.0
@@ -254,10 +257,14 @@ def _finite_records(imu: ImuIncrements) -> int:
     return count
 
 
-def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
+def check_units(imu: ImuIncrements, profile: ImuProfile, aiding_still: StillnessTest | None = None) -> None:
     """Raise :class:`ImuUnitError` naming the file when the increments are off by a unit's factor
     (see the module docstring); say nothing on a plausible file, or where it cannot be judged
-    (less than two seconds of data; no rest for the gyro)."""
+    (less than two seconds of data; no rest for the gyro). ``aiding_still(times [s], window [s])``
+    says per time whether the odometer or the positions let the platform stand still over the window
+    around it (:func:`insrail.nav.alignment.aiding_still`): a trolley pushed smoothly along a curve
+    has accelerometers as quiet as at rest, and turns at v / R (3e-4 rad/s at 0.5 m/s on R = 1500 m),
+    far more than the earth rate the gyro sees at rest; only seconds the aiding lets be still are rest."""
     n = len(imu)
     step = np.diff(imu.time_s)
     nominal = float(np.median(step, overwrite_input=True)) if n > 1 else 0.0
@@ -315,7 +322,11 @@ def check_units(imu: ImuIncrements, profile: ImuProfile) -> None:
         m = (len(f_sub) // subs) * subs
         spread = np.linalg.norm(f_sub[:m].reshape(-1, subs, 3).std(axis=1), axis=1)
         f_mean = f_sub[:m].reshape(-1, subs, 3).mean(axis=1)
-        rest = (spread < accel_quiet) & (np.abs(np.linalg.norm(f_mean, axis=1) / GRAVITY_MPS2 - 1.0) < 0.02)
+        rest = (spread < accel_quiet) & (np.abs(np.linalg.norm(f_mean, axis=1) - GRAVITY_MPS2)
+                                         < gravity_tolerance_mps2(profile))
+        if aiding_still is not None and rest.any():
+            centres = t[per_block_rest // 2 : len(rest) * per_block_rest : per_block_rest]
+            rest &= aiding_still(centres, per_block_rest * nominal)
         if rest.any():  # and the gyro as quiet as in the quietest of them, whatever its unit (slow sways pass the
             # accelerometers' test)
             g_blocks = dtheta[: len(rest) * sub * subs].reshape(len(rest), sub * subs, 3)

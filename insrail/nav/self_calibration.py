@@ -20,6 +20,17 @@ filter measures (its normalised innovations, ``insrail.nav.integrity``):
   the GNSS noise, so the iteration is damped) and the survey fused again, up to
   :data:`MAX_PASSES` passes, the scale at most :data:`MAX_GNSS_SCALE`. The notice names the factor.
 
+* **the trolley's play** (``resources/trolley_play.toml``: its frame's yaw and pitch about the rail,
+  the NHC's noise and the position process noise of ``error_model.play_noise``) differs from trolley
+  to trolley: one without play has NHC innovations six times smaller than the profile's play gives.
+  Once the aiding is consistent, the play is estimated from the NHC's lateral and vertical innovations
+  (:func:`play_from_innovations`, a variance-component estimate under the play's own spectrum) and,
+  where it differs from the one the pass ran with by more than :data:`PLAY_TOLERANCE`, the survey is
+  fused again with it (the NHC's 1-sigma scaled with it: both stand for one process), up to
+  :data:`MAX_PLAY_PASSES` such passes. The result is stated in the calibration
+  (``play_drift_mm2_per_m`` against the profile's) and a notice; the covariance analyses run with the
+  options of the pass they describe, so the stated accuracy has the same noise.
+
 A survey still inconsistent when the passes run out cannot be trusted: its integrity verdict
 says why (``FusionIntegrity.inconsistent``), and ``insrail fuse``/``process``/``batch`` fail it.
 
@@ -49,6 +60,13 @@ MAX_PASSES = 4
 MAX_GNSS_SCALE = 10.0
 MIN_STEP = 1.4
 MAX_STEP = 2.0
+#: a pass whose play is within this factor of the estimate is kept
+PLAY_TOLERANCE = 1.5
+MAX_PLAY_PASSES = 3
+#: the estimate stays within this factor of the profile's play either way
+PLAY_RANGE = 100.0
+#: below this mean square speed [m^2/s^2] the survey says nothing about its play
+MIN_PLAY_SPEED2 = 0.1**2
 
 
 @dataclass(frozen=True)
@@ -78,18 +96,47 @@ def consistency(result, name: str) -> SourceConsistency | None:
     return SourceConsistency(int(mine.sum()), float(1.0 - accepted.mean()), mean, robust)
 
 
+def play_from_innovations(result) -> tuple[float, float] | None:
+    """(lateral, vertical) play drift [m^2 per metre run] the NHC's innovations of a pass show, or None
+    where it cannot tell (no NHC, a trolley hardly moving). The NHC row's innovation is the rail
+    point's velocity across the track in the trolley frame, v x yaw (pitch) of the play, plus the
+    filter's own uncertainty; for the play's flat spectrum over the band B
+    (:func:`insrail.nav.error_model.trolley_play_band_per_m`) its mean square over the updates is
+    2 B mean(v^2) x the drift per metre. The filter's part makes it an upper bound."""
+    from insrail.nav.error_model import trolley_play_band_per_m
+
+    stats = result.statistics.get(NHC_SOURCE)
+    if stats is None or stats["used"] == 0 or len(stats["innovation_rms"]) < 2 or result.forward is None:
+        return None
+    speed2 = float(np.mean(np.sum(np.square(result.forward.vel_ned_mps), axis=1)))
+    if not speed2 >= MIN_PLAY_SPEED2:
+        return None
+    rms = np.asarray(stats["innovation_rms"][-2:], dtype=float)  # the NHC's lateral and vertical rows
+    drift = rms**2 / (2.0 * trolley_play_band_per_m() * speed2)
+    return float(drift[0]), float(drift[1])
+
+
 @dataclass(frozen=True)
 class Calibration:
-    """What the passes changed: ``passes`` run, the NHC dropped, the GNSS sigma scale used."""
+    """What the passes changed: ``passes`` run, the NHC dropped, the GNSS sigma scale used, the play
+    drift (lateral, vertical) [m^2/m] and NHC 1-sigma [m/s] the result ran with and the profile's."""
 
     passes: int
     nhc_dropped: bool
     gnss_sigma_scale: float
     notices: tuple[Notice, ...]
+    play_drift_m2_per_m: tuple[float, float] = (math.nan, math.nan)
+    profile_play_drift_m2_per_m: tuple[float, float] = (math.nan, math.nan)
+    nhc_sigma_mps: float = math.nan
+    play_estimated: bool = False
 
     def to_dict(self) -> dict:
         return {"passes": self.passes, "nhc_dropped": self.nhc_dropped,
-                "gnss_sigma_scale": round(self.gnss_sigma_scale, 3)}
+                "gnss_sigma_scale": round(self.gnss_sigma_scale, 3),
+                "play_estimated": self.play_estimated,
+                "play_drift_mm2_per_m": [float(f"{1e6 * q:.3g}") for q in self.play_drift_m2_per_m],
+                "profile_play_drift_mm2_per_m": [float(f"{1e6 * q:.3g}") for q in self.profile_play_drift_m2_per_m],
+                "nhc_sigma_mm_per_s": float(f"{1e3 * self.nhc_sigma_mps:.3g}")}
 
 
 def fuse_consistent(imu, build_aiding, profile, options, ellipsoid, new_store=None, fuse=None, **kwargs):
@@ -106,7 +153,8 @@ def fuse_consistent(imu, build_aiding, profile, options, ellipsoid, new_store=No
     notices: list[Notice] = []
     nhc_dropped = False
     result = store = None
-    for passes in range(1, MAX_PASSES + 1):
+    profile_play, play_passes, estimated = options.play_drift_m2_per_m, 0, False
+    for passes in range(1, MAX_PASSES + MAX_PLAY_PASSES + 1):
         if store is not None:
             store.close()
         store = new_store() if new_store is not None else None
@@ -119,20 +167,51 @@ def fuse_consistent(imu, build_aiding, profile, options, ellipsoid, new_store=No
             raise
         said: list[Notice] = []
         changed = _next_options(result, aiding, options, said)
-        if changed is not None and passes == MAX_PASSES:  # still inconsistent, and no pass left to mend it
+        if changed is not None and passes - play_passes == MAX_PASSES:  # still inconsistent, no pass left to mend it
             result = replace(result, integrity=replace(result.integrity,
                                                        inconsistent=_still_inconsistent(result, passes, options, changed)))
             break
+        if changed is None and options.estimate_play and play_passes < MAX_PLAY_PASSES:
+            changed = _play_options(result, options, profile_play)
+            play_passes += changed is not None
+            estimated |= changed is not None
         notices += said
         if changed is None:
             break
         nhc_dropped |= options.use_nhc and not changed.use_nhc
         options = changed
-    calibration = Calibration(passes, nhc_dropped, options.gnss_sigma_scale, tuple(notices))
+    if estimated:
+        notices.append(Notice("fusion", "trolley play estimated from the NHC innovations: "
+                              f"{_mm2(options.play_drift_m2_per_m)} mm^2 per metre run lateral/vertical (the profile "
+                              f"resources/trolley_play.toml: {_mm2(profile_play)}), NHC 1-sigma "
+                              f"{1e3 * options.nhc_sigma_mps:.3g} mm/s; the stated accuracy uses them",
+                              severity="info"))
+    calibration = Calibration(passes, nhc_dropped, options.gnss_sigma_scale, tuple(notices),
+                              tuple(options.play_drift_m2_per_m), tuple(profile_play), options.nhc_sigma_mps, estimated)
     result.info["notices"] = [*result.info.get("notices", []), *notices]
     result.info["warnings"] = [*result.info.get("warnings", []), *(n.message for n in notices)]
     result.info["calibration"] = calibration.to_dict()
     return result, options, store, calibration
+
+
+def _mm2(drift) -> str:
+    return "/".join(f"{1e6 * q:.3g}" for q in drift)
+
+
+def _play_options(result, options, profile_play):
+    """The options of a pass with the play the innovations of ``result`` show (clipped to PLAY_RANGE
+    about the profile's ``profile_play``), or None when the pass ran with it already (PLAY_TOLERANCE).
+    The NHC's 1-sigma is scaled with the square root of the play's (its drift sigma^2 / f and the play
+    are one process: the speed below which the play adds nothing to the NHC's noise stays)."""
+    found = play_from_innovations(result)
+    if found is None or not options.use_nhc:
+        return None
+    wanted = tuple(float(np.clip(q, p / PLAY_RANGE, p * PLAY_RANGE)) for q, p in zip(found, profile_play))
+    ratios = [w / max(q, 1e-30) for w, q in zip(wanted, options.play_drift_m2_per_m)]
+    if all(1.0 / PLAY_TOLERANCE <= r <= PLAY_TOLERANCE for r in ratios):
+        return None
+    scale = math.sqrt(max(wanted) / max(options.play_drift_m2_per_m))
+    return replace(options, play_drift_m2_per_m=wanted, nhc_sigma_mps=options.nhc_sigma_mps * scale)
 
 
 def _still_inconsistent(result, passes: int, options, wanted) -> str:

@@ -41,7 +41,7 @@ import numpy as np
 
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth
-from insrail.nav.alignment import gyrocompass, gyrocompass_sigma_rad, static_levelling
+from insrail.nav.alignment import gravity_tolerance_mps2, gyrocompass, gyrocompass_sigma_rad, static_levelling
 from insrail.nav.mechanization import q_ne_from_lat_lon
 from insrail.nav.rotation import (
     dcm_to_euler,
@@ -330,6 +330,9 @@ class Start:
     sigma_level_rad: float
     sigma_heading_rad: float
     notices: tuple[Notice, ...] = ()
+    #: a static start's (lat [rad], h [m], C_b^n): its level angles hold the horizontal accelerometer
+    #: errors (insrail.nav.fusion.initial_covariance); None at a moving start
+    levelled_at: tuple[float, float, np.ndarray] | None = None
 
 
 class StartupError(ValueError):
@@ -349,7 +352,7 @@ def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: Odo
     static = stops[0] if stops and stops[0][0] <= t[0] + 5.0 else None
     if static is not None and static[1] - static[0] >= options.min_static_s and track.time_s[0] <= static[1]:
         i0 = 0
-        roll, pitch, _, w = static_levelling(imu, 1, int(np.searchsorted(t, static[1])))
+        roll, pitch, _, w = static_levelling(imu, 1, int(np.searchsorted(t, static[1])), gravity_tolerance_mps2(profile))
         mounting = np.eye(3)  # the static alignment gives the attitude of b itself
         vel, sigma_vel, sigma_level = np.zeros(3), 0.005, options.initial_sigma_level_rad
         if given is not None:
@@ -419,7 +422,8 @@ def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: Odo
     return Start(epoch=int(np.searchsorted(t, track.time_s[i0])), nav=nav, method=method,
                  rpy_rad=(float(roll), float(pitch), float(heading)),
                  sigma_pos_ned_m=np.maximum(track.sigma_ned_m[i0], MIN_START_SIGMA_M), sigma_vel_mps=sigma_vel,
-                 sigma_level_rad=sigma_level, sigma_heading_rad=float(sigma_heading), notices=tuple(notices))
+                 sigma_level_rad=sigma_level, sigma_heading_rad=float(sigma_heading), notices=tuple(notices),
+                 levelled_at=(float(lat0 - d_lat), float(h0 - d_h), c_bn) if method.startswith("static") else None)
 
 
 #: the window [s] over which the attitude of a moving start is levelled

@@ -162,7 +162,7 @@ from insrail.track.sleepers import AnchorError
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 11  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise
+CACHE_VERSION = 15  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma
 #: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
 #: entry 52 MB instead of 370 MB, read back in a rerun); 3, the epochs' stations in their own
 #: file (track-<key>.epochs.npy), read by parts.

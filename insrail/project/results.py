@@ -78,9 +78,13 @@ REPORT_STEM = "track_geometry"
 QUALITY_FILE = "quality.csv"
 
 #: Columns of quality.csv: the section's chainage, then the 1-sigma of the lateral and vertical position and of
-#: their 5 m and 150 m lag differences (behind the 30 m/5 m and 300 m/150 m checks).
+#: their 5 m and 150 m lag differences (behind the 30 m/5 m and 300 m/150 m checks), of the cross-level (cant) and of
+#: the along-track position.
 QUALITY_HEADER = ["station_from_m", "station_to_m", "sigma_lateral_mm", "sigma_vertical_mm", "sigma_lag5_lateral_mm",
-                  "sigma_lag5_vertical_mm", "sigma_lag150_lateral_mm", "sigma_lag150_vertical_mm"]
+                  "sigma_lag5_vertical_mm", "sigma_lag150_lateral_mm", "sigma_lag150_vertical_mm", "sigma_cross_level_mm",
+                  "sigma_along_track_mm"]
+#: a quality.csv of an older version holds the first of these columns (the others read empty)
+QUALITY_HEADER_OLDEST = QUALITY_HEADER[:8]
 EXCEEDANCE_HEADER = ["check", "kind", "rail", "direction", "unit", "station_from_m", "station_to_m", "peak",
                      "limit", "first_sleeper", "last_sleeper"]
 
@@ -633,6 +637,8 @@ class StoredQuality:
     sigma_lag5_vertical_mm: np.ndarray
     sigma_lag150_lateral_mm: np.ndarray
     sigma_lag150_vertical_mm: np.ndarray
+    sigma_cross_level_mm: np.ndarray
+    sigma_along_track_mm: np.ndarray
 
     def __len__(self) -> int:
         return len(self.station_from_m)
@@ -864,16 +870,17 @@ def _read_exceedances(path: Path) -> tuple[ExceedanceRow, ...]:
 
 def _read_quality(path: Path, smoothed: bool) -> StoredQuality:
     lines = _lines(path)
-    if not lines or lines[0].split(",") != QUALITY_HEADER:
+    header = lines[0].split(",") if lines else []
+    if len(header) < len(QUALITY_HEADER_OLDEST) or header != QUALITY_HEADER[: len(header)]:
         raise InputError(path, 1, f"expected the header {','.join(QUALITY_HEADER)}")
     values = np.full((len(lines) - 1, len(QUALITY_HEADER)), np.nan)
     for row, line in enumerate(lines[1:]):
         fields = line.split(",")
         try:
-            if len(fields) != len(QUALITY_HEADER):
+            if len(fields) != len(header):
                 raise ValueError
-            values[row] = [float(cell) if cell else np.nan for cell in fields]
+            values[row, : len(header)] = [float(cell) if cell else np.nan for cell in fields]
         except ValueError:
-            raise InputError(path, row + 2, f"expected {len(QUALITY_HEADER)} numbers (or empty cells): "
-                                            f"{','.join(QUALITY_HEADER)}") from None
+            raise InputError(path, row + 2, f"expected {len(header)} numbers (or empty cells): "
+                                            f"{','.join(header)}") from None
     return StoredQuality(smoothed, *(values[:, i] for i in range(len(QUALITY_HEADER))))

@@ -86,12 +86,13 @@ class LagDifference:
 @dataclass(frozen=True)
 class PassCovariance:
     """Per update epoch 1-sigma of the lateral and vertical position and the roll error,
-    and the lag differences, of one pass (forward filter or smoother)."""
+    and the lag differences, and the along-track position's 1-sigma, of one pass (forward filter or smoother)."""
 
     sigma_lateral_m: np.ndarray
     sigma_vertical_m: np.ndarray
     sigma_roll_rad: np.ndarray
     lags: tuple[LagDifference, ...]
+    sigma_along_track_m: np.ndarray
 
     def lag(self, lag_m: float) -> LagDifference:
         for item in self.lags:
@@ -108,12 +109,20 @@ class CovarianceProfile:
     smoothed: PassCovariance | None
 
 
-def projections(heading_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Rows picking lateral (positive right), vertical (positive up) position error and
-    roll error out of the NED position and attitude errors, per epoch: (m, 3) each."""
+#: the figures per epoch, in this order: lateral and vertical position, roll (on the attitude error),
+#: along-track position
+N_PROJECTIONS = 4
+_ROLL = 2
+
+
+def projections(heading_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Rows picking lateral (positive right), vertical (positive up) position error, roll error and
+    along-track position error (positive forward) out of the NED position and attitude errors, per
+    epoch: (m, 3) each (N_PROJECTIONS of them; the roll's on the attitude error)."""
     s, c = np.sin(heading_rad), np.cos(heading_rad)
     z = np.zeros_like(s)
-    return np.column_stack([-s, c, z]), np.column_stack([z, z, z - 1.0]), np.column_stack([c, s, z])
+    forward = np.column_stack([c, s, z])
+    return np.column_stack([-s, c, z]), np.column_stack([z, z, z - 1.0]), forward, forward
 
 
 def lag_pairs(station_m: np.ndarray, anchors: np.ndarray, lag_m: float) -> tuple[np.ndarray, np.ndarray]:
@@ -143,7 +152,6 @@ class _Plan:
 
     u_lat = property(lambda self: self._projections[0])
     u_ver = property(lambda self: self._projections[1])
-    u_roll = property(lambda self: self._projections[2])
 
     @functools.cached_property
     def starts_at(self) -> dict[int, np.ndarray]:
@@ -154,10 +162,11 @@ class _Plan:
         return _group(self.second, self.m)
 
     def project(self, P, i):
-        """Lateral and vertical position variance and roll variance at epoch i."""
+        """Lateral and vertical position variance, roll variance and along-track position variance at epoch i."""
         pos = P[POS : POS + 3, POS : POS + 3]
         att = P[ATT : ATT + 3, ATT : ATT + 3]
-        return self.u_lat[i] @ pos @ self.u_lat[i], self.u_ver[i] @ pos @ self.u_ver[i], self.u_roll[i] @ att @ self.u_roll[i]
+        u = self._projections
+        return tuple(u[r][i] @ (att if r == _ROLL else pos) @ u[r][i] for r in range(N_PROJECTIONS))
 
     def seeds(self, P, i, idx):
         """Columns P[:, pos] u^T for lateral and vertical, interleaved per pair."""
@@ -198,7 +207,7 @@ def analyse(
     step = StepProgress(progress)
     forward_progress = step.sub(0.0, 0.7 if smoother else 1.0)
 
-    var_f = np.empty((m, 3))
+    var_f = np.empty((m, N_PROJECTIONS))
     cross_f = np.empty((plan.n_pairs, 2))
     # The backward pass needs Phi, P- and P+ of every epoch: written to disk as they come.
     record = _ReverseStore(3 * n * n) if smoother else None
@@ -276,7 +285,7 @@ def analyse_recorded(
     n = P0.shape[0]
     plan = _Plan(n, m, station_m, heading_rad, anchors, lags_m)
     step = StepProgress(progress)
-    var_f = np.empty((m, 3))
+    var_f = np.empty((m, N_PROJECTIONS))
     last = (np.zeros(1, dtype=np.int64), np.eye(n)[None], P0[None], P0[None])
     var_s, cross_s = _smooth(plan, itertools.chain(blocks, [last]), m, step, cancel, var_f)
     step(1.0, "covariance analysis done")
@@ -288,16 +297,16 @@ def analyse_recorded(
 def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | None = None):
     """The RTS backward pass over blocks of consecutive epochs (j, Phi_j, P-_j, P+_j) as arrays
     ((k,), (k, n, n) x 3), j decreasing from m-1 down to 0: smoothed variances and the cross terms
-    of every pair; ``var_forward`` (m, 3), when given, receives the filtered variances of the
+    of every pair; ``var_forward`` (m, N_PROJECTIONS), when given, receives the filtered variances of the
     same epochs.
 
     Per block: the gains A_j in one batched solve, then the recursion itself (P_s, the pushed
     columns, the pairs starting and ending at each epoch) in the compiled
     :func:`_backward_chunk`, so no Python runs per epoch."""
     n = plan.n
-    var_s = np.empty((m, 3))
+    var_s = np.empty((m, N_PROJECTIONS))
     cross_s = np.empty((plan.n_pairs, 2))
-    var_f = var_forward if var_forward is not None else np.empty((m, 3))
+    var_f = var_forward if var_forward is not None else np.empty((m, N_PROJECTIONS))
     state = _BackwardState(n, plan.n_pairs)
     starts_ptr, starts_idx = _csr(plan.first.astype(np.int64, copy=False), m)
     ends_ptr, ends_idx = _csr(plan.second.astype(np.int64, copy=False), m)
@@ -324,7 +333,7 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
         carry = (phi[-1].copy(), p_minus[-1].copy())
         gains = np.linalg.solve(p_minus_next, phi_next @ p_plus).transpose(0, 2, 1)  # P+ Phi^T (P-)^-1
         low = int(js[-1])  # the block's projections, epochs low..js[0]
-        u = np.stack(projections(plan.heading_rad[low : js[0] + 1]))  # (3, k, 3)
+        u = np.stack(projections(plan.heading_rad[low : js[0] + 1]))  # (N_PROJECTIONS, k, 3)
         _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, POS, ATT, starts_ptr, starts_idx, ends_ptr,
                         ends_idx, state.P_s, state.columns, state.slot_of, state.pair_of_slot, state.active,
                         var_s, var_f, cross_s)
@@ -354,10 +363,10 @@ class _BackwardState:
 
 @njit(cache=True)
 def _project(out, P, u, j, low, pos, att):  # pragma: no cover - compiled
-    """out[j] = lateral and vertical position variance and roll variance of P at epoch j
-    (projections ``u`` from epoch ``low`` on)."""
-    for r in range(3):
-        block = pos if r < 2 else att
+    """out[j] = lateral and vertical position variance, roll variance and along-track position
+    variance of P at epoch j (projections ``u`` from epoch ``low`` on)."""
+    for r in range(u.shape[0]):
+        block = att if r == 2 else pos
         total = 0.0
         for p in range(3):
             for q in range(3):
@@ -432,7 +441,8 @@ def _pass(var, cross, pairs, lags_m, station_m) -> PassCovariance:
         diff_lat = np.maximum(var[k, 0] + var[j, 0] - 2.0 * c[:, 0], 0.0)
         diff_ver = np.maximum(var[k, 1] + var[j, 1] - 2.0 * c[:, 1], 0.0)
         lags.append(LagDifference(float(lag), j, k, station_m[j], np.sqrt(diff_lat), np.sqrt(diff_ver)))
-    return PassCovariance(np.sqrt(var[:, 0]), np.sqrt(var[:, 1]), np.sqrt(var[:, 2]), tuple(lags))
+    return PassCovariance(np.sqrt(var[:, 0]), np.sqrt(var[:, 1]), np.sqrt(var[:, 2]), tuple(lags),
+                          np.sqrt(var[:, 3]))
 
 
 class _ActivePairs:

@@ -7,7 +7,8 @@ which widen P where the filter widened it) in covariance-only form: Phi and Q of
 trajectory, H and R from the fusion's own measurement objects. It then summarises the
 forward or smoothed covariances per section of track (200 m by default): the 1-sigma
 lateral and vertical position error and the 1-sigma of the 5 m and 150 m lag differences,
-the quantities behind the 30 m/5 m and 300 m/150 m checks.
+the quantities behind the 30 m/5 m and 300 m/150 m checks, the 1-sigma of the cross-level
+(cant): the roll error over the rails' spacing, 1.5 m, and of the along-track position.
 
 Stations are the odometer distance from the first update epoch (plus ``station_offset_m``);
 a lag pair is assigned to the section holding its midpoint. Section figures are RMS values
@@ -49,13 +50,13 @@ from insrail.quality.covariance import (
     analyse,
     analyse_recorded,
 )
-from insrail.quality.prediction import LONG_LAG_M, SHORT_LAG_M
+from insrail.quality.prediction import CANT_BASE_M, LONG_LAG_M, SHORT_LAG_M
 
 #: Below this speed [m/s] the direction of travel is carried over from the last motion.
 _MOVING_SPEED_MPS = 0.05
 
 _COLUMNS = ("sigma_lateral_m", "sigma_vertical_m", "sigma_lag5_lateral_m", "sigma_lag5_vertical_m",
-            "sigma_lag150_lateral_m", "sigma_lag150_vertical_m")
+            "sigma_lag150_lateral_m", "sigma_lag150_vertical_m", "sigma_cross_level_m", "sigma_along_track_m")
 
 
 @dataclass(frozen=True)
@@ -71,6 +72,8 @@ class SectionQuality:
     sigma_lag5_vertical_m: np.ndarray
     sigma_lag150_lateral_m: np.ndarray
     sigma_lag150_vertical_m: np.ndarray
+    sigma_cross_level_m: np.ndarray  # the cross-level (cant): the roll's 1-sigma over the rails' spacing
+    sigma_along_track_m: np.ndarray
     smoothed: bool
     profile: CovarianceProfile | None = None  # the covariance analysis behind the figures, when kept
 
@@ -314,6 +317,8 @@ class EpochQuality:
     lag150_second_epoch: np.ndarray
     lag150_sigma_lateral_m: np.ndarray
     lag150_sigma_vertical_m: np.ndarray
+    sigma_cross_level_m: np.ndarray  # CANT_BASE_M x the roll's 1-sigma
+    sigma_along_track_m: np.ndarray
 
     LAGS: ClassVar[dict[str, float]] = {"lag5": SHORT_LAG_M, "lag150": LONG_LAG_M}
 
@@ -330,7 +335,9 @@ class EpochQuality:
                      f"{prefix}_sigma_vertical_m": item.sigma_vertical_m}
         station = profile.station_m
         return cls(smoothed=bool(smoothed), time_s=profile.time_s, moving=np.diff(station, prepend=station[0]) > 0.0,
-                   sigma_lateral_m=cov.sigma_lateral_m, sigma_vertical_m=cov.sigma_vertical_m, **lags)
+                   sigma_lateral_m=cov.sigma_lateral_m, sigma_vertical_m=cov.sigma_vertical_m,
+                   sigma_cross_level_m=CANT_BASE_M * cov.sigma_roll_rad, sigma_along_track_m=cov.sigma_along_track_m,
+                   **lags)
 
 
 def epoch_quality(
@@ -401,7 +408,9 @@ def _binned(epochs: EpochQuality, station: np.ndarray, section_of, station_from,
 
     moving = epochs.moving
     figures = {"sigma_lateral_m": rms_per_section(station[moving], epochs.sigma_lateral_m[moving]),
-               "sigma_vertical_m": rms_per_section(station[moving], epochs.sigma_vertical_m[moving])}
+               "sigma_vertical_m": rms_per_section(station[moving], epochs.sigma_vertical_m[moving]),
+               "sigma_cross_level_m": rms_per_section(station[moving], epochs.sigma_cross_level_m[moving]),
+               "sigma_along_track_m": rms_per_section(station[moving], epochs.sigma_along_track_m[moving])}
     for prefix in EpochQuality.LAGS:
         first, second = getattr(epochs, f"{prefix}_first_epoch"), getattr(epochs, f"{prefix}_second_epoch")
         middle = 0.5 * (station[first] + station[second])

@@ -209,6 +209,9 @@ class ScenarioConfig:
     play: TrolleyPlaySpec = TrolleyPlaySpec()
     trolley: TrolleyGeometry = field(default_factory=lambda: default_trolley())
     imu_profile: str = "nav"
+    #: the accelerometers' turn-on bias (x, y, z) [m/s^2] of this unit, instead of one drawn from the profile
+    #: (a unit known to be that far off)
+    accel_bias_turn_on_mps2: tuple[float, float, float] | None = None
     imu_rate_hz: float = 200.0
     gps_week: int = 2380
     start_time_s: float = 230400.0025  # GPS seconds of week; IMU epochs fall between GNSS seconds

@@ -12,7 +12,7 @@ import math
 import os
 import shutil
 import tempfile
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -191,6 +191,8 @@ def simulate(
     n = int(np.floor((profile.end_time_s - config.start_time_s) / dt)) + 1
     t = config.start_time_s + dt * np.arange(n)
     imu_errors = sensors.draw_imu_errors(rng_imu, profile_imu, n, dt)
+    if config.accel_bias_turn_on_mps2 is not None:  # drawn all the same: the other errors stay the seed's
+        imu_errors = replace(imu_errors, accel_bias_turn_on=np.array(config.accel_bias_turn_on_mps2, dtype=float))
     dtheta = np.empty((n, 3))
     dvel = np.empty((n, 3))
     wheel = np.empty(n)
@@ -445,9 +447,9 @@ def _write_design(folder: Path, design) -> dict[str, Path]:
 
 
 def _plain(value):
-    """TOML-ready copy of a scenario value (tuples to lists, inf to a string)."""
+    """TOML-ready copy of a scenario value (tuples to lists, inf to a string; a None left out)."""
     if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
+        return {k: _plain(v) for k, v in value.items() if v is not None}
     if isinstance(value, (list, tuple)):
         return [_plain(v) for v in value]
     if isinstance(value, np.ndarray):

@@ -1,0 +1,69 @@
+"""The trolley's play estimated from the survey itself (issue 33): a trolley without play is fused again
+with the play its NHC innovations show, and its stated accuracy shrinks with it while still covering the
+actual error; one with the profile's play keeps the profile's (no second pass)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import shared_build
+
+from insrail.io.survey import read_survey
+from insrail.nav.earth import CGCS2000
+from insrail.nav.fusion import FusionOptions, aiding_for
+from insrail.nav.imu_profile import load_imu_profile
+from insrail.nav.self_calibration import fuse_consistent, play_from_innovations
+from insrail.quality.survey import survey_quality
+from insrail.sim.evaluation import trajectory_errors
+from insrail.sim.truth import read_nav_truth
+
+
+def _survey(play: bool):
+    """300 m of the `short` line (straight into its clothoid), navigation grade, pushed at 1 m/s."""
+    from insrail.sim.scenario import preset
+    from insrail.sim.simulate import simulate
+
+    config = preset("short")
+    config = replace(config, motion=replace(config.motion, start_station_m=1100.0, end_station_m=1400.0, stops=(),
+                                            static_start_s=60.0, static_end_s=10.0, cruise_speed_mps=1.0),
+                     gnss=replace(config.gnss, outages=()))
+    if not play:
+        config = replace(config, play=replace(config.play, pitch_rms_rad=0.0, yaw_rms_rad=0.0))
+    return shared_build.built_once(f"play-{play}", lambda out: simulate(config, seed=3, out_dir=out, imu_format="npy"))
+
+
+def _fused(folder, estimate: bool):
+    survey = read_survey(folder)
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    result, options, _, calibration = fuse_consistent(
+        survey.imu, lambda o: aiding_for(survey, o, profile, None), profile, FusionOptions(estimate_play=estimate),
+        CGCS2000)
+    quality = survey_quality(survey, result, options, profile, CGCS2000)
+    errors = trajectory_errors(result.trajectory, read_nav_truth(folder / "truth" / "nav.npy"), CGCS2000)
+    stated = float(np.sqrt(np.nanmean(quality.sigma_lag5_lateral_m**2)))
+    return result, options, calibration, stated, errors.lag_difference_sigma_m(5.0)[0]
+
+
+def test_a_trolley_without_play_is_fused_with_the_play_its_innovations_show():
+    folder = _survey(play=False)
+    profile_result, _, _, profile_stated, profile_actual = _fused(folder, estimate=False)
+    lateral, vertical = play_from_innovations(profile_result)
+    assert lateral < 0.1 * 0.025e-6 and vertical < 0.1 * 0.025e-6  # six times smaller innovations than the profile's
+
+    result, options, calibration, stated, actual = _fused(folder, estimate=True)
+    assert calibration.play_estimated and calibration.passes >= 2
+    assert max(options.play_drift_m2_per_m) < 0.1 * 0.025e-6 and options.nhc_sigma_mps < 0.45e-3
+    logged = calibration.to_dict()
+    assert logged["profile_play_drift_mm2_per_m"] == [0.025, 0.025] and max(logged["play_drift_mm2_per_m"]) < 0.0025
+    assert any("trolley play estimated from the NHC innovations" in n.message for n in result.info["notices"])
+    # the stated 5 m lag follows: smaller, and still no smaller than the error it states
+    assert stated < 0.5 * profile_stated and actual <= 1.25 * stated and actual <= profile_actual
+
+
+def test_a_trolley_with_the_profiles_play_keeps_it():
+    _, options, calibration, stated, actual = _fused(_survey(play=True), estimate=True)
+    assert not calibration.play_estimated and calibration.passes == 1
+    assert options.play_drift_m2_per_m == pytest.approx((0.025e-6, 0.025e-6))
+    assert actual <= 1.25 * stated
