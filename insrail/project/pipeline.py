@@ -71,6 +71,7 @@ from insrail.project.design_heading import design_azimuth_for, uses_design
 from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
+from insrail.project.lock import project_run
 from insrail.project.model import Project
 from insrail.project.plausibility import (
     check_benchmarks,
@@ -494,9 +495,13 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
             cancel: CancelToken = None) -> SurveyResults:
     """Process one survey of ``project`` end to end and write its result files (see the module docstring)."""
     results = project.folder / RESULTS_FOLDER
-    for folder in (results / CACHE_FOLDER, results):  # what killed runs left behind
-        clean_leftovers(folder)
-    with collect_cache_notices() as cache_notices:
+
+    def clean() -> None:  # no other run of the project is going on: whatever is left, killed runs left
+        for folder in (results / CACHE_FOLDER, results):
+            clean_leftovers(folder)
+
+    with project_run(project.folder, [survey_name], progress, cancel, when_alone=clean), \
+            collect_cache_notices() as cache_notices:
         return _process_survey(project, survey_name, progress, cancel, cache_notices)
 
 
