@@ -48,6 +48,7 @@ import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
+from insrail.io.textparse import bounded_lines, check_text_file
 from insrail.io.total_station import PRISM_TARGET
 from insrail.io.types import ControlPoints, TotalStationObservations
 
@@ -150,17 +151,19 @@ class _Block:
 _BOM = "\ufeff".encode().decode("latin-1")  # a UTF-8 byte-order mark read as latin-1
 
 
-def _lines(handle):
-    """(line number, content) of the non-empty lines, a byte-order mark dropped."""
-    for line, raw in enumerate(handle, start=1):
+def _lines(handle, path: Path):
+    """(line number, content) of the non-empty lines, a byte-order mark dropped (bounded: a binary
+    file or an endless line is refused, :func:`insrail.io.textparse.bounded_lines`)."""
+    for line, raw in bounded_lines(handle, path):
         content = raw.strip().removeprefix(_BOM) if line == 1 else raw.strip()
         if content:
             yield line, content
 
 
 def _blocks(path: Path):
+    check_text_file(path)
     with open(path, encoding="latin-1") as handle:
-        for line, content in _lines(handle):
+        for line, content in _lines(handle, path):
             yield _Block(path, line, content)
 
 
@@ -229,7 +232,7 @@ def detect(path: Path, lines: int = 20) -> str | None:
     found: set[str] = set()
     try:
         with open(path, encoding="latin-1") as handle:
-            for _, content in _lines(handle):
+            for _, content in _lines(handle, path):
                 words = content.lstrip("*").split()
                 if not all(_WORD.match(w) for w in words):
                     return None
@@ -237,7 +240,7 @@ def detect(path: Path, lines: int = 20) -> str | None:
                 lines -= 1
                 if lines == 0:
                     break
-    except OSError:
+    except (OSError, InputError):  # unreadable, binary or an endless line: not GSI
         return None
     if {HZ, V, SLOPE} <= found:
         return "total-station-gsi"
