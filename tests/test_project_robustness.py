@@ -473,3 +473,23 @@ def test_two_concurrent_runs_of_one_project_both_succeed_one_after_the_other(tin
         worker.join()
     assert [run.wait(600) for run in runs] == [0, 0], [log.read_text()[-2000:] for log in logs]
     assert_same_results(project, tiny)
+
+
+# --------------------------------------------------------------------------- files outside the project
+
+def test_a_data_file_outside_the_project_is_named_and_a_foreign_files_lines_are_not_echoed(tiny, tmp_path, capsys):
+    project = copy_of(tiny, tmp_path)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    shutil.move(survey_folder(project) / "gauge.txt", elsewhere / "gauge.txt")
+    _edit_manifest('path = "gauge.txt"', f'path = "{elsewhere / "gauge.txt"}"')(project)
+    assert main(["process", str(project)]) == 0
+    out = capsys.readouterr().out
+    assert f"files.gauge: {elsewhere / 'gauge.txt'} lies outside the project and the survey folder" in out
+    secret = elsewhere / "keys"
+    secret.write_text("# someone's keys\nalice 30.4 AAAAC3NzaC1lZDI1NTE5AAAAIOMqqnkVzrm0SdG6UOoqKLsabgH5C1ok 14.0 26.5\n")
+    _edit_manifest('path = "benchmarks.txt"', f'path = "{secret}"')(project)
+    assert main(["process", str(project)]) == 1
+    err = capsys.readouterr().err
+    assert str(secret) in err and "line 2" in err and "characters of text (not shown)" in err
+    assert "AAAAC3" not in err

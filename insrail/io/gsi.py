@@ -48,7 +48,7 @@ import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
-from insrail.io.textparse import bounded_lines, check_text_file
+from insrail.io.textparse import bounded_lines, check_text_file, quoted
 from insrail.io.total_station import PRISM_TARGET
 from insrail.io.types import ControlPoints, TotalStationObservations
 
@@ -85,7 +85,7 @@ class _Block:
         for position, text in enumerate(content.lstrip("*").split(), start=1):
             match = _WORD.match(text)
             if match is None:
-                self.fail(f"word {position} ({text!r}): expected a GSI word: a two-digit word index, four "
+                self.fail(f"word {position} ({quoted(text)}): expected a GSI word: a two-digit word index, four "
                           "characters of information, a sign and the data")
             word = _Word(match[1], match[2], match[3] == "-", match[4], position, text)
             if word.index in self.words:
@@ -114,7 +114,7 @@ class _Block:
 
     def _digits(self, word: _Word) -> int:
         if not word.data.isdigit():
-            self.fail(f"word {word.position} ({word.text}): expected digits after the sign, found {word.data!r}")
+            self.fail(f"word {word.position} ({word.text}): expected digits after the sign, found {quoted(word.data)}")
         return -int(word.data) if word.negative else int(word.data)
 
     def length(self, index: str) -> float:
@@ -144,7 +144,7 @@ class _Block:
         except ValueError:
             value = math.nan
         if not math.isfinite(value):
-            self.fail(f"word {word.position} ({word.text}): expected a number, found {word.data!r}")
+            self.fail(f"word {word.position} ({word.text}): expected a number, found {quoted(word.data)}")
         return -value if word.negative else value
 
 

@@ -41,6 +41,7 @@ from insrail.io.types import GAP_FACTOR, Gap
 COMMENT_MARKERS = ("#", "%")
 MAX_LINE_CHARS = 1 << 16
 MAX_LINES = 100_000_000
+MAX_QUOTED_CHARS = 24
 _SCAN_BLOCK = 1 << 24
 _NEWLINE = 10
 _BINARY = ("binary data (a NUL byte), not a text file: a disk image, an archive or a file in UTF-16? "
@@ -95,6 +96,15 @@ def header_gps_week(path: Path, comments: Sequence[str]) -> int | None:
         return int(value)
     except ValueError:
         raise InputError(path, None, f"header gps_week = {value!r}: expected an integer") from None
+
+
+def quoted(token: str) -> str:
+    """A field of a file for an error message: quoted when it is short printable text (what a user
+    typed: ``'1,5'``, ``'n/a'``), else only described, so that a message never echoes a line of a
+    file that is not a survey file (``/etc/passwd`` named by mistake, or by a project handed over)."""
+    if len(token) <= MAX_QUOTED_CHARS and token.isascii() and token.isprintable():
+        return repr(token)
+    return f"{len(token)} characters of text (not shown)"
 
 
 def _column_label(col: int, names: Sequence[str]) -> str:
@@ -237,7 +247,7 @@ def _diagnose(path: Path, text: str | None, layout: _Layout, columns: Collection
                 return InputError(path, lineno, f"{_column_label(col, names)} is empty")
             if not is_number(token):
                 return InputError(path, lineno,
-                                  f"{_column_label(col, names)}: expected a number, found {token!r}")
+                                  f"{_column_label(col, names)}: expected a number, found {quoted(token)}")
     return InputError(path, None, f"could not be parsed as numbers ({parser_message})")
 
 
@@ -363,7 +373,7 @@ class TokenTable:
             try:
                 value = float(row[col])
             except ValueError:
-                raise InputError(self.path, lineno, f"{label}: expected a number, found {row[col]!r}") from None
+                raise InputError(self.path, lineno, f"{label}: expected a number, found {quoted(row[col])}") from None
             if not math.isfinite(value):
                 raise InputError(self.path, lineno, f"{label} is {value}: expected a finite number")
             out[i] = value

@@ -579,7 +579,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     bases = parameter_bases(profile)
     summary["track"]["parameters"] = parameters_section(
         bases, project.line_speeds, "design" if project.design is not None else "fitted" if curvature is not None else "none")
-    summary["notices"] = [n.to_dict() for n in [*cache_notices, *_notices(fusion_info, height_warnings,
+    summary["notices"] = [n.to_dict() for n in [*outside_notices(project, folder, manifest), *cache_notices,
+                                                *_notices(fusion_info, height_warnings,
                                                                             summary.get("ppk")),
                                                 *(local.notices() if local is not None else []),
                                                 *speed_notices(profile, table, curvature, speed)]]
@@ -651,6 +652,19 @@ def _line_fit_section(recon: TrackReconstruction) -> dict:
     return {"fitted": True, "elements": kinds, "pvis": len(fit.vertical.profile.pvis),
             "plan_rms_mm": round(1e3 * fit.horizontal.rms_m, 3), "profile_rms_mm": round(1e3 * fit.vertical.rms_m, 3),
             "windows": 0 if recon.reference is None else len(recon.reference.windows)}
+
+
+def outside_notices(project: Project, folder: Path, manifest: SurveyManifest) -> list[Notice]:
+    """A notice for each data file of the survey that lies outside the project and the survey folder
+    (``/etc/passwd`` or ``../../other/imu.txt`` in a survey.toml someone handed over): read, and named."""
+    inside = (project.folder.resolve(), folder.resolve())
+    notices = []
+    for role, entry in manifest.files.items():
+        path = (folder / entry.path).resolve()
+        if not any(path.is_relative_to(place) for place in inside):
+            notices.append(Notice("survey", f"files.{role}: {entry.path} lies outside the project and the survey "
+                                  f"folder ({path}): check that it is the file meant", file=str(path)))
+    return notices
 
 
 def _notices(fusion_info: dict, height_warnings: list[str], ppk: dict | None) -> list[Notice]:
