@@ -351,8 +351,8 @@ NO_SPACE = "No space left on device"
 
 
 def disk_full_cases(base: Path, workdir: Path) -> list[Outcome]:
-    """A full disk where the results are written and in the smoother's temporary file, raised as the
-    system raises it (ENOSPC, no file name). A case whose fault was never raised (the code took
+    """A full disk where the results are written, in the smoother's temporary file and where the
+    fusion's trajectory goes into the cache, raised as the system raises it (ENOSPC, no file name). A case whose fault was never raised (the code took
     another path) or whose error is not the full disk is NOT-INJECTED: it tested nothing."""
     from insrail.nav import fusion
     from insrail.project import results as results_module
@@ -396,6 +396,32 @@ def disk_full_cases(base: Path, workdir: Path) -> list[Outcome]:
         entry.unlink()
     raised.clear()
     result = run_cli(["process", str(project)], mock.patch.object(fusion.tempfile, "TemporaryFile", temporary))
+    outcomes.append(classify_injected(case, result, bool(raised)))
+
+    real_open = open
+
+    class FullFile:
+        """The fusion's trajectory being written into the cache on a full disk."""
+
+        def __init__(self, handle):
+            self.handle = handle
+
+        def write(self, data):
+            no_space()
+
+        def __getattr__(self, name):
+            return getattr(self.handle, name)
+
+    def opening(path, *args, **kwargs):
+        handle = real_open(path, *args, **kwargs)
+        return FullFile(handle) if str(path).endswith(".npy.partial") else handle
+
+    case = "disk full writing the fusion's trajectory into the cache"
+    project = copy_of(base, workdir, case)
+    for entry in cache(project).iterdir():
+        entry.unlink()
+    raised.clear()
+    result = run_cli(["process", str(project)], mock.patch("builtins.open", opening))
     outcomes.append(classify_injected(case, result, bool(raised)))
     return outcomes
 

@@ -44,7 +44,8 @@ def base(tmp_path_factory, robustness):
 
 def test_each_full_disk_case_raises_its_fault_and_the_message_names_a_path(robustness, base, tmp_path):
     outcomes = robustness.disk_full_cases(base, tmp_path)
-    assert [o.case for o in outcomes] == ["disk full writing the results", "disk full in the smoother's temporary file"]
+    assert [o.case for o in outcomes] == ["disk full writing the results", "disk full in the smoother's temporary file",
+                                          "disk full writing the fusion's trajectory into the cache"]
     for outcome in outcomes:
         assert outcome.kind == "error", outcome
         assert robustness.NO_SPACE in outcome.detail and "insrail: /" in outcome.detail

@@ -109,7 +109,7 @@ def atomic_write(path: str | Path, mode: str = "w", *, encoding: str | None = "u
     try:
         fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     except OSError as err:
-        raise _naming(err, path) from None
+        raise naming(err, path) from None
     if fcntl is not None:
         fcntl.flock(fd, fcntl.LOCK_EX)  # held until closed: tells remove_dead_temporaries this writer is alive
     text_args = {"encoding": encoding, "newline": newline} if mode == "w" else {}
@@ -126,15 +126,23 @@ def atomic_write(path: str | Path, mode: str = "w", *, encoding: str | None = "u
     except OSError as err:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp_name)
-        raise _naming(err, path) from None
+        raise naming(err, path) from None
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp_name)
         raise
 
 
-def _naming(err: OSError, path: Path) -> OSError:
-    """``err`` naming ``path`` when it names no file (a full disk names none)."""
+def naming(err: OSError, path: str | Path) -> OSError:
+    """``err`` naming ``path`` when it names no file (a full disk names none): what a writer raises."""
     if err.filename:
         return err
     return OSError(err.errno, err.strerror, str(path))
+
+
+def named_write(path: str | Path, write, *args):
+    """``write(*args)`` of a writer of ``path``; an OSError naming no file (a full disk) names ``path``."""
+    try:
+        return write(*args)
+    except OSError as err:
+        raise naming(err, path) from None
