@@ -4,6 +4,7 @@ project do not wait for each other; what killed runs left is cleaned only by a r
 
 from __future__ import annotations
 
+import errno
 import os
 import signal
 import subprocess
@@ -14,6 +15,7 @@ import time
 import pytest
 
 from insrail.progress import Cancelled
+from insrail.project import lock
 from insrail.project.lock import LOCK_FOLDER, ProjectBusy, project_run, waiting_policy
 
 
@@ -89,3 +91,15 @@ def test_the_lock_is_reentrant_in_one_thread_and_cleans_only_when_alone(tmp_path
         with project_run(tmp_path, ["north", "south"], when_alone=lambda: cleaned.append(2)):  # no deadlock
             pass
     assert cleaned == [1]  # the inner one is not alone: the outer holds the project
+
+
+def test_a_project_this_user_may_only_read_is_not_locked(tmp_path, monkeypatch):
+    def read_only(path):
+        raise PermissionError(errno.EACCES, "Permission denied", str(path))
+
+    monkeypatch.setattr(lock, "_open", read_only)
+    with project_run(tmp_path, ["north"]):  # as for an export from a colleague's share
+        pass
+    monkeypatch.setattr(lock, "_open", lambda path: (_ for _ in ()).throw(OSError(errno.EIO, "I/O error", str(path))))
+    with pytest.raises(OSError, match="I/O error"), project_run(tmp_path, ["north"]):
+        pass

@@ -132,7 +132,9 @@ def project_run(project_folder: Path, surveys: Iterable[str], progress: Progress
     except OSError as err:
         if err.errno not in (errno.EACCES, errno.EPERM, errno.EROFS):
             raise
-        yield  # a project this user may only read: there is nothing of it this run can write either
+        project_fd = None
+    if project_fd is None:  # a project this user may only read: there is nothing of it this run can write either
+        yield
         return
     with contextlib.ExitStack() as stack:
         stack.callback(os.close, project_fd)
