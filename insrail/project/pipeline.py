@@ -580,8 +580,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     summary["track"]["parameters"] = parameters_section(
         bases, project.line_speeds, "design" if project.design is not None else "fitted" if curvature is not None else "none")
     summary["notices"] = [n.to_dict() for n in [*outside_notices(project, folder, manifest), *cache_notices,
-                                                *_notices(fusion_info, height_warnings,
-                                                                            summary.get("ppk")),
+                                                *_notices(fusion_info, height_warnings, summary.get("ppk")),
                                                 *(local.notices() if local is not None else []),
                                                 *speed_notices(profile, table, curvature, speed)]]
     if local is not None:
