@@ -13,6 +13,8 @@ process (stdout/stderr captured, exceptions that escape the command caught). Pri
     recovered it finished and the result was verified against the clean run (no warning needed)
     WRONG-EXIT-0  it finished without a word and the result is wrong (the worst defect)
     TRACEBACK an exception reached the user
+    NOT-INJECTED  the fault the case claims was never raised, or another error came first (it tested nothing)
+    NO-PATH   a full disk reported without the path to clear
 
 Target: zero WRONG-EXIT-0 and zero TRACEBACK.
 """
@@ -261,7 +263,6 @@ def input_cases(base: Path, workdir: Path) -> list[Outcome]:
 
 
 def fault_cases(base: Path, workdir: Path) -> list[Outcome]:
-    from insrail.nav import fusion
     from insrail.project import results as results_module
 
     outcomes = []
@@ -280,7 +281,7 @@ def fault_cases(base: Path, workdir: Path) -> list[Outcome]:
             mock.patch.object(results_module.os, "replace", crash))
     report = run_cli(["report", str(project), "--xlsx", str(project / "r.xlsx"), "--pdf", str(project / "r.pdf")])
     rerun = run_cli(["process", str(project)])
-    clean = sorted(p.name for p in (project / "results").iterdir()) == [".cache", SURVEY]
+    clean = sorted(p.name for p in (project / "results").iterdir()) == [".cache", ".locks", SURVEY]
     outcomes.append(classify(case, report if report[0] else rerun, verified=report[0] == 0 and clean))
 
     case = "hidden .old/.new folders and .tmp files of killed runs"
@@ -326,28 +327,7 @@ def fault_cases(base: Path, workdir: Path) -> list[Outcome]:
                      mock.patch.object(tempfile, "mkdtemp", raising(errno.EROFS, "Read-only file system")))
     outcomes.append(classify(case, result, verified=False))
 
-    case = "disk full writing the results"
-    project = copy_of(base, workdir, case)
-    def full(*args, **kwargs):  # as the system says it: no file name
-        raise OSError(errno.ENOSPC, "No space left on device")
-
-    result = run_cli(["process", str(project)], mock.patch.object(results_module.shutil, "copyfile", full))
-    outcomes.append(classify(case, result, verified=False))
-
-    class FullDisk:
-        def write(self, data):
-            raise OSError(errno.ENOSPC, "No space left on device")
-
-        def close(self):
-            pass
-
-    case = "disk full in the smoother's temporary file"
-    project = copy_of(base, workdir, case)
-    for entry in cache(project).iterdir():
-        entry.unlink()
-    result = run_cli(["process", str(project)], mock.patch.object(fusion.tempfile, "TemporaryFile",
-                                                                 lambda **kwargs: FullDisk()))
-    outcomes.append(classify(case, result, verified=False))
+    outcomes += disk_full_cases(base, workdir)
 
     case = "LandXML design nested 100 000 deep"
     project = copy_of(base, workdir, case)
@@ -365,6 +345,97 @@ def fault_cases(base: Path, workdir: Path) -> list[Outcome]:
         outcome.detail += f" ({time.monotonic() - started:.1f} s)"
         outcomes.append(outcome)
     return outcomes
+
+
+NO_SPACE = "No space left on device"
+
+
+def disk_full_cases(base: Path, workdir: Path) -> list[Outcome]:
+    """A full disk where the results are written, in the smoother's temporary file and where the
+    fusion's trajectory goes into the cache, raised as the system raises it (ENOSPC, no file name). A case whose fault was never raised (the code took
+    another path) or whose error is not the full disk is NOT-INJECTED: it tested nothing."""
+    from insrail.nav import fusion
+    from insrail.project import results as results_module
+
+    outcomes = []
+    raised = []
+
+    def no_space(*args, **kwargs):
+        raised.append(True)
+        raise OSError(errno.ENOSPC, NO_SPACE)
+
+    def no_link(*args, **kwargs):  # the results' trajectory is linked to the previous one when it can be
+        raise OSError(errno.EXDEV, "Invalid cross-device link")
+
+    case = "disk full writing the results"
+    project = copy_of(base, workdir, case)
+    result = run_cli(["process", str(project)], mock.patch.object(results_module.shutil, "copyfile", no_space),
+                     mock.patch.object(results_module.os, "link", no_link))
+    outcomes.append(classify_injected(case, result, bool(raised)))
+
+    real_temporary = tempfile.TemporaryFile
+
+    class FullDisk:
+        """The smoother's temporary file on a full disk: every write fails."""
+
+        def __init__(self, **kwargs):
+            self.file = real_temporary(**kwargs)
+
+        def write(self, data):
+            no_space()
+
+        def __getattr__(self, name):
+            return getattr(self.file, name)
+
+    def temporary(**kwargs):
+        return FullDisk(**kwargs) if kwargs.get("prefix") == "insrail-rts-" else real_temporary(**kwargs)
+
+    case = "disk full in the smoother's temporary file"
+    project = copy_of(base, workdir, case)
+    for entry in cache(project).iterdir():
+        entry.unlink()
+    raised.clear()
+    result = run_cli(["process", str(project)], mock.patch.object(fusion.tempfile, "TemporaryFile", temporary))
+    outcomes.append(classify_injected(case, result, bool(raised)))
+
+    real_open = open
+
+    class FullFile:
+        """The fusion's trajectory being written into the cache on a full disk."""
+
+        def __init__(self, handle):
+            self.handle = handle
+
+        def write(self, data):
+            no_space()
+
+        def __getattr__(self, name):
+            return getattr(self.handle, name)
+
+    def opening(path, *args, **kwargs):
+        handle = real_open(path, *args, **kwargs)
+        return FullFile(handle) if str(path).endswith(".npy.partial") else handle
+
+    case = "disk full writing the fusion's trajectory into the cache"
+    project = copy_of(base, workdir, case)
+    for entry in cache(project).iterdir():
+        entry.unlink()
+    raised.clear()
+    result = run_cli(["process", str(project)], mock.patch("builtins.open", opening))
+    outcomes.append(classify_injected(case, result, bool(raised)))
+    return outcomes
+
+
+def classify_injected(case: str, result, raised: bool) -> Outcome:
+    """A full-disk case: an error naming the full disk and a path, or NOT-INJECTED (see disk_full_cases)."""
+    outcome = classify(case, result, verified=False)
+    message = first_line(result[2])
+    if not raised or (outcome.kind == "error" and NO_SPACE not in message):
+        return Outcome(case, "NOT-INJECTED", f"the full disk was {'raised' if raised else 'never raised'}; "
+                       f"the run said: {message or first_line(result[1])}")
+    if outcome.kind == "error" and "insrail: /" not in message:
+        return Outcome(case, "NO-PATH", message)
+    return outcome
 
 
 def gnss_cases(workdir: Path) -> list[Outcome]:
@@ -425,10 +496,11 @@ def main() -> int:
     for outcome in outcomes:
         print(f"{outcome.case:<{width}}  {outcome.kind:<12}  {outcome.detail}")
     counts = {kind: sum(o.kind == kind for o in outcomes) for kind in ("error", "warning", "recovered",
-                                                                        "WRONG-EXIT-0", "TRACEBACK")}
+                                                                        "WRONG-EXIT-0", "TRACEBACK", "NOT-INJECTED",
+                                                                        "NO-PATH")}
     print(f"\n{len(outcomes)} cases: " + ", ".join(f"{n} {kind}" for kind, n in counts.items())
           + f" ({time.monotonic() - started:.0f} s)")
-    return 1 if counts["WRONG-EXIT-0"] or counts["TRACEBACK"] else 0
+    return 1 if counts["WRONG-EXIT-0"] or counts["TRACEBACK"] or counts["NOT-INJECTED"] or counts["NO-PATH"] else 0
 
 
 if __name__ == "__main__":

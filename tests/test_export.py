@@ -1,6 +1,8 @@
 """insrail export: the lift/lining table (documented layout, read back), the DXF drawing read with
 ezdxf's own reader, the LandXML lines and the coordinate CSV, from the CLI as a user runs it."""
 
+import os
+import stat
 import xml.etree.ElementTree as ET
 
 import ezdxf
@@ -171,3 +173,23 @@ def test_export_without_results_or_with_an_unknown_survey_fails_clearly(project,
     err = capsys.readouterr().err
     assert "no results for survey 'a'" in err and "Traceback" not in err
     assert not (empty / "reports").exists()
+
+
+@pytest.mark.parametrize("make", ["fifo", "chardev", "folder"])
+def test_export_refuses_a_device_fifo_or_folder_and_leaves_it(project, tmp_path, capsys, make):
+    target = tmp_path / f"out-{make}"
+    if make == "fifo":
+        os.mkfifo(target)
+    elif make == "chardev":
+        if os.geteuid() != 0:
+            pytest.skip("mknod of a character device needs root")
+        os.mknod(target, 0o666 | stat.S_IFCHR, os.makedev(1, 7))  # a copy of /dev/full
+    else:
+        target.mkdir()
+    before = os.lstat(target)
+    assert main(["export", str(project.folder), "--format", "csv", "--out", str(target)]) == 1
+    err = capsys.readouterr().err
+    assert str(target) in err and "not a regular file" in err
+    after = os.lstat(target)
+    assert (after.st_ino, after.st_mode, after.st_rdev) == (before.st_ino, before.st_mode, before.st_rdev)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [target.name]  # no temporary left beside it

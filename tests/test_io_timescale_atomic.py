@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import fcntl
 import os
+import stat
 
 import numpy as np
 import pytest
 
-from insrail.io.atomic import atomic_write
+from insrail.io.atomic import NotARegularFile, atomic_write, remove_dead_temporaries
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.timescale import (
     calendar_to_week_seconds,
@@ -94,3 +96,37 @@ def test_atomic_write_replaces_only_on_success(tmp_path):
         handle.write(b"\x00\x01")
     assert (tmp_path / "fresh.bin").read_bytes() == b"\x00\x01"
     assert (tmp_path / "fresh.bin").stat().st_mode & 0o777 == 0o644
+
+
+def test_atomic_write_replaces_only_regular_files(tmp_path):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    with pytest.raises(NotARegularFile, match="FIFO"):
+        with atomic_write(fifo) as handle:
+            handle.write("x")
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    with pytest.raises(NotARegularFile, match="folder"):
+        with atomic_write(tmp_path) as handle:
+            handle.write("x")
+    real = tmp_path / "real.txt"
+    real.write_text("old")
+    link = tmp_path / "link.txt"
+    link.symlink_to(real)
+    with atomic_write(link) as handle:  # a link to a regular file is replaced, as editors do
+        handle.write("new")
+    assert link.read_text() == "new" and not link.is_symlink()
+
+
+def test_a_killed_writers_temporary_is_removed_by_the_next_write(tmp_path):
+    path = tmp_path / "report.pdf"
+    dead = tmp_path / ".report.pdf.abc123.tmp"
+    dead.write_bytes(b"half a report")  # unlocked: its writer is gone
+    alive = tmp_path / ".report.pdf.def456.tmp"
+    alive.write_bytes(b"being written")
+    with open(alive, "rb") as handle:
+        fcntl.flock(handle.fileno(), fcntl.LOCK_EX)  # as a writer alive in another process holds it
+        with atomic_write(path, "wb") as out:
+            out.write(b"%PDF")
+        assert path.read_bytes() == b"%PDF"
+        assert not dead.exists() and alive.exists()
+    assert remove_dead_temporaries(path) == [alive]  # its writer gone now too

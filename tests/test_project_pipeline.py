@@ -195,7 +195,7 @@ def test_cancel_leaves_the_previous_results(processed, stage):
         process(project, "short", progress=progress, cancel=lambda: bool(asked))
     assert asked
     assert {p.name: p.read_bytes() for p in (results / "short").iterdir() if p.suffix != ".npy"} == before
-    assert sorted(p.name for p in results.iterdir()) == [".cache", "short"]  # no staging folder left
+    assert sorted(p.name for p in results.iterdir()) == [".cache", ".locks", "short"]  # no staging folder left
 
 
 def test_cli_process(processed, capsys):
@@ -227,7 +227,7 @@ def test_a_survey_without_gauge_is_refused_before_the_fusion(short_nav_survey, t
     project = project_for_simulated_survey(tmp_path, survey)
     with pytest.raises(InputError, match="files.gauge: missing"):
         process(project, "short")
-    assert not (tmp_path / "results").exists()
+    assert [p.name for p in (tmp_path / "results").iterdir()] == [".locks"]  # nothing but the run's lock
 
 
 def test_the_demos_turnout_and_level_crossing_are_listed_and_not_assessed(processed, tmp_path):

@@ -4,8 +4,12 @@ results swap leaves the previous results readable, leftovers of killed runs are 
 
 from __future__ import annotations
 
+import fcntl
 import os
 import shutil
+import subprocess
+import sys
+import threading
 import time
 import tomllib
 from dataclasses import replace
@@ -19,8 +23,8 @@ from insrail.io.errors import InputError
 from insrail.project import load_project, process
 from insrail.project import results as results_module
 from insrail.project.demo import project_for_simulated_survey
+from insrail.project.lock import project_run
 from insrail.project.results import load_results
-from insrail.project.stagecache import LEFTOVER_AGE_S
 from insrail.sim.scenario import GnssSpec, preset
 from insrail.sim.simulate import simulate
 
@@ -144,13 +148,12 @@ def test_a_crash_between_the_renames_leaves_the_previous_results_readable(tiny, 
 def test_the_swap_exchanges_the_folders_and_leaves_nothing_behind(tiny, tmp_path):
     project = copy_of(tiny, tmp_path)
     process(load_project(project), SURVEY)
-    assert sorted(p.name for p in (project / "results").iterdir()) == [".cache", SURVEY]
+    assert sorted(p.name for p in (project / "results").iterdir()) == [".cache", ".locks", SURVEY]
 
 
 def test_leftovers_of_killed_runs_are_cleaned_by_the_next_run(tiny, tmp_path):
     project = copy_of(tiny, tmp_path)
     results = project / "results"
-    old = time.time() - LEFTOVER_AGE_S - 60
     leftovers = [results / f".{SURVEY}.abcd.new", results / f".{SURVEY}.old-12345",
                  cache_of(project) / ".rinex-xyz", cache_of(project) / ".track-spool-k2j4"]
     for folder in leftovers:
@@ -158,14 +161,17 @@ def test_leftovers_of_killed_runs_are_cleaned_by_the_next_run(tiny, tmp_path):
         (folder / "part").write_text("half")
     temporary = [cache_of(project) / ".fusion-1234.npy.abcd.tmp", results / ".repeatability.csv.x.tmp"]
     for file in temporary:
-        file.write_text("half")
-    for item in [*leftovers, *temporary]:
-        os.utime(item, (old, old))
-    young = cache_of(project) / ".track-5678.npz.efgh.tmp"  # perhaps a run going on in parallel
-    young.write_text("being written")
+        file.write_text("half")  # a second old: no other run holds the project, so they are a killed run's
     process(load_project(project), SURVEY)
     assert not [p for p in [*leftovers, *temporary] if p.exists()]
+    other_run = open(results / ".locks" / "project.lock", "rb")  # another run of the project going on
+    fcntl.flock(other_run.fileno(), fcntl.LOCK_SH)
+    young = cache_of(project) / ".track-5678.npz.efgh.tmp"
+    young.write_text("being written")
+    os.utime(young, (time.time() - 3600,) * 2)  # its writer slow, but alive
+    process(load_project(project), SURVEY)
     assert young.exists()
+    other_run.close()
 
 
 # --------------------------------------------------------------------------- plausibility, end to end
@@ -399,7 +405,7 @@ def test_a_full_disk_while_writing_the_results_keeps_the_previous_ones(tiny, tmp
     error = capsys.readouterr().err
     assert f"{results_of(project) / 'trajectory.npy'}: No space left on device (the disk is full" in error, error
     assert (results_of(project) / "sleepers.csv").read_bytes() == before
-    assert sorted(p.name for p in (project / "results").iterdir()) == [".cache", SURVEY]  # no staging left
+    assert sorted(p.name for p in (project / "results").iterdir()) == [".cache", ".locks", SURVEY]  # no staging left
 
 
 @pytest.mark.parametrize(("arguments", "message"), [
@@ -465,3 +471,57 @@ def test_a_nan_base_position_in_the_rinex_header_names_the_base_file(tmp_path):
     (tmp_path / "base.obs").write_text("\n".join(lines) + "\n")
     with pytest.raises(InputError, match=rf"base\.obs, line {row + 1}: APPROX POSITION XYZ: non-finite value"):
         read_obs_info(tmp_path / "base.obs")
+
+
+# --------------------------------------------------------------------------- two runs of one project
+
+def test_two_concurrent_runs_of_one_project_both_succeed_one_after_the_other(tiny, tmp_path, capsys):
+    project = copy_of(tiny, tmp_path)
+    shutil.rmtree(cache_of(project))  # the fusion computed again: each run writes the cache
+    held, release = threading.Event(), threading.Event()
+
+    def gui_run():  # as the GUI's worker thread processing the survey
+        with project_run(project, [SURVEY]):
+            held.set()
+            release.wait(600)
+
+    worker = threading.Thread(target=gui_run)
+    worker.start()
+    held.wait(60)
+    try:
+        assert main(["process", str(project), "--no-wait"]) == 1
+        err = capsys.readouterr().err
+        assert f"insrail: {project.resolve()}: survey {SURVEY} is in use by the run started at " in err
+        assert f"by PID {os.getpid()}" in err and "not waiting (--no-wait)" in err
+        logs = [tmp_path / f"run{i}.err" for i in range(2)]
+        runs = [subprocess.Popen([sys.executable, "-m", "insrail", "process", str(project)], stdout=subprocess.DEVNULL,
+                                 stderr=log.open("w")) for log in logs]
+        deadline = time.monotonic() + 300
+        while not all("insrail: waiting for the run started at " in log.read_text() for log in logs):
+            assert time.monotonic() < deadline and all(run.poll() is None for run in runs)
+            time.sleep(0.2)
+    finally:
+        release.set()  # both runs released together: one goes on, the other waits for it
+        worker.join()
+    assert [run.wait(600) for run in runs] == [0, 0], [log.read_text()[-2000:] for log in logs]
+    assert_same_results(project, tiny)
+
+
+# --------------------------------------------------------------------------- files outside the project
+
+def test_a_data_file_outside_the_project_is_named_and_a_foreign_files_lines_are_not_echoed(tiny, tmp_path, capsys):
+    project = copy_of(tiny, tmp_path)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    shutil.move(survey_folder(project) / "gauge.txt", elsewhere / "gauge.txt")
+    _edit_manifest('path = "gauge.txt"', f'path = "{elsewhere / "gauge.txt"}"')(project)
+    assert main(["process", str(project)]) == 0
+    out = capsys.readouterr().out
+    assert f"files.gauge: {elsewhere / 'gauge.txt'} lies outside the project and the survey folder" in out
+    secret = elsewhere / "keys"
+    secret.write_text("# someone's keys\nalice 30.4 AAAAC3NzaC1lZDI1NTE5AAAAIOMqqnkVzrm0SdG6UOoqKLsabgH5C1ok 14.0 26.5\n")
+    _edit_manifest('path = "benchmarks.txt"', f'path = "{secret}"')(project)
+    assert main(["process", str(project)]) == 1
+    err = capsys.readouterr().err
+    assert str(secret) in err and "line 2" in err and "characters of text (not shown)" in err
+    assert "AAAAC3" not in err

@@ -251,3 +251,14 @@ def test_dask_batch_over_tls_with_the_security_settings_of_a_config_file(tiny_pr
     config.write_text(config.read_text().replace(str(key), str(tmp_path / "nokey.pem")))
     assert main(["batch", str(copy), "--scheduler", "tls://127.0.0.1:1", "--security", str(config)]) == 1
     assert "dask-tls.yaml: distributed.comm.tls.client.key: file not found" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("address, expected", [
+    ("tls://127.0.0.1:8786", "a tls:// scheduler needs --security FILE"),
+    ("wss://127.0.0.1:8786", "a wss:// scheduler needs --security FILE"),
+    ("tsl://127.0.0.1:8786", "unknown protocol tsl://"),
+    ("tcp://", "no host given"),
+])
+def test_batch_refuses_a_scheduler_address_it_cannot_use_as_bad_usage(tmp_path, capsys, address, expected):
+    assert main(["batch", str(tmp_path), "--scheduler", address]) == 2
+    assert f"insrail batch: --scheduler {address}: {expected}" in capsys.readouterr().err

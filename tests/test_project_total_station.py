@@ -1,6 +1,8 @@
 """Raw total-station observations of free stations: the file formats, the set-ups resected on CPIII,
 the prism fixes they give, a wrong CPIII point named, and the errors naming file and line."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -190,6 +192,19 @@ def test_insrail_process_takes_raw_observations_and_names_a_wrong_cpiii_point(tm
     err = capsys.readouterr().err
     assert "total_station.txt" in err and "line 5" in err and "CP1140L is not in the CPIII file" in err
 
+    # the CPIII coordinates in millimetres; then the angles written in degrees, read as gon
+    write_cpiii_enh(survey / "cpiii.txt", ControlPoints(np.array(names), *(1e3 * cpiii).T))
+    assert main(["process", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert "total_station.txt, line " in err and ": set-up TS1: the CPIII points fit the observations to" in err
+    assert "coordinates in millimetres?" in err
+    write_cpiii_enh(survey / "cpiii.txt", ControlPoints(np.array(names), *cpiii.T))
+    write_total_station_polar(survey / "total_station.txt", replace(
+        observations, hz_rad=0.9 * observations.hz_rad, zenith_rad=0.9 * observations.zenith_rad))
+    assert main(["process", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert "set-up TS1" in err and "angles in degrees read as gon?" in err
+
 
 def test_raw_observations_without_cpiii_points_are_a_manifest_problem(tmp_path):
     from insrail.io.errors import ManifestError
@@ -248,3 +263,22 @@ def test_a_run_beyond_the_first_or_last_prism_fix_without_gnss_is_named():
     assert gnss_free_run_notices(replace(survey, prism=in_the_stops)) == []
     assert gnss_free_run_notices(replace(survey, gnss=object())) == []
     assert gnss_free_run_notices(replace(survey, prism=None)) == []
+
+
+@pytest.mark.parametrize("mistake, cause", [
+    ("cpiii in mm", "coordinates in millimetres?"),
+    ("degrees read as gon", "angles in degrees read as gon?"),
+    ("distances in mm", "distances in millimetres?"),
+])
+def test_a_set_up_no_total_station_can_give_is_an_error_naming_the_set_up_and_the_cause(mistake, cause):
+    observations, points, _ = simulated(np.random.default_rng(3))
+    if mistake == "cpiii in mm":
+        points = ControlPoints(points.point_id, 1e3 * points.east_m, 1e3 * points.north_m, 1e3 * points.height_m)
+    elif mistake == "degrees read as gon":
+        observations = replace(observations, hz_rad=0.9 * observations.hz_rad, zenith_rad=0.9 * observations.zenith_rad)
+    else:
+        observations = replace(observations, slope_m=1e3 * observations.slope_m)
+    with pytest.raises(InputError) as caught:
+        prism_fixes_from_observations(observations, points)
+    assert caught.value.line == 1 and "set-up TS1: the CPIII points fit the observations to" in str(caught.value)
+    assert "a total station gives" in str(caught.value) and cause in str(caught.value)

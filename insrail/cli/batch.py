@@ -30,6 +30,28 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "client cert and key; require-encryption)")
 
 
+#: Dask's address schemes; the secured ones need the TLS settings.
+SCHEMES = ("tcp", "tls", "inproc", "ucx", "ws", "wss")
+SECURED_SCHEMES = ("tls", "wss")
+
+
+def scheduler_problem(address: str | None, security: Path | None) -> str | None:
+    """What is wrong with a ``--scheduler`` address given with (or without) ``--security``, or None."""
+    if address is None:
+        return None
+    scheme, separator, rest = address.partition("://")
+    if not separator:
+        scheme, rest = "tcp", address  # host:port, as Dask reads it
+    if scheme not in SCHEMES:
+        return f"unknown protocol {scheme}:// (expected {', '.join(f'{s}://' for s in SCHEMES)})"
+    if not rest:
+        return "no host given (expected e.g. tls://10.0.0.5:8786)"
+    if scheme in SECURED_SCHEMES and security is None:
+        return (f"a {scheme}:// scheduler needs --security FILE (a Dask YAML configuration with "
+                "distributed.comm.tls: ca-file, client cert and key)")
+    return None
+
+
 def run(args: argparse.Namespace) -> int:
     from insrail.project.batch import run_batch
 
@@ -42,6 +64,10 @@ def run(args: argparse.Namespace) -> int:
         return 2
     if args.security is not None and args.scheduler is None:
         print("insrail batch: --security is for a Dask scheduler (--scheduler)", file=sys.stderr)
+        return 2
+    problem = scheduler_problem(args.scheduler, args.security)
+    if problem:
+        print(f"insrail batch: --scheduler {args.scheduler}: {problem}", file=sys.stderr)
         return 2
     security = None
     if args.security is not None:

@@ -29,6 +29,7 @@ def run(args: argparse.Namespace) -> int:
     from insrail.cli.process import chosen_surveys
     from insrail.export import default_export_path, write_export
     from insrail.project import load_project
+    from insrail.project.lock import project_run
     from insrail.project.results import load_results
     from insrail.project.run_settings import settings_change_lines
 
@@ -46,9 +47,9 @@ def run(args: argparse.Namespace) -> int:
     if len(names) > 1:
         print(f"insrail: {project.path}: choose the survey to export with --survey ({', '.join(names)})", file=sys.stderr)
         return 1
-    results = load_results(project.folder, names[0])
     path = args.out or default_export_path(project.folder, names[0], args.format)
-    written = write_export(project, results, args.format, path)
+    with project_run(project.folder, names):  # no run replaces the results while they are read
+        written = write_export(project, load_results(project.folder, names[0]), args.format, path)
     print(f"{names[0]} {args.format}: {written.resolve()}")
     for line in settings_change_lines(project, names[0]):  # the export states the settings processed with
         print(f"{names[0]}: warning: {line}", file=sys.stderr)

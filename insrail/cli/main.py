@@ -28,6 +28,8 @@ COMMANDS = [
     ("gui", "insrail.cli.gui"),
     ("predict", "insrail.cli.predict"),
 ]
+#: The sub-commands that write or read a project's results under its lock (insrail.project.lock).
+LOCKING_COMMANDS = ("process", "report", "export", "section", "demo")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -43,6 +45,9 @@ def build_parser() -> argparse.ArgumentParser:
         module = importlib.import_module(module_name)
         p = sub.add_parser(name, help=module.__doc__.strip().splitlines()[0], description=module.__doc__)
         module.add_arguments(p)
+        if name in LOCKING_COMMANDS:
+            p.add_argument("--no-wait", action="store_true",
+                           help="exit with an error when another run is using the project (default: wait for it)")
         p.set_defaults(run=module.run)
     return parser
 
@@ -54,8 +59,12 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "run", None):
         parser.print_help()
         return 2
+    from insrail.project.lock import waiting_policy
+
     try:
-        return int(args.run(args) or 0)
+        with waiting_policy(announce=lambda message: print(f"insrail: {message}", file=sys.stderr, flush=True),
+                         wait=not getattr(args, "no_wait", False)):
+            return int(args.run(args) or 0)
     except InputError as err:
         print(f"insrail: input error: {err}", file=sys.stderr)
         return 1

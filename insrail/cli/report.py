@@ -41,16 +41,18 @@ def default_paths(project_folder: Path, survey: str) -> tuple[Path, Path]:
 
 def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> list[Path]:
     """Write the requested reports of one processed survey with a progress bar; returns the files."""
+    from insrail.project.lock import project_run
     from insrail.project.results import load_results
     from insrail.report import write_pdf, write_workbook
 
-    results = load_results(project.folder, survey)
     written = []
-    for path, writer, what in ((xlsx, write_workbook, "workbook"), (pdf, write_pdf, "pdf")):
-        if path is not None:
-            bar = TerminalProgress(f"{survey} {what}")
-            written.append(writer(project, results, path, progress=bar))
-            bar.done()
+    with project_run(project.folder, [survey]):  # no run replaces the results while they are read
+        results = load_results(project.folder, survey)
+        for path, writer, what in ((xlsx, write_workbook, "workbook"), (pdf, write_pdf, "pdf")):
+            if path is not None:
+                bar = TerminalProgress(f"{survey} {what}")
+                written.append(writer(project, results, path, progress=bar))
+                bar.done()
     return written
 
 

@@ -26,6 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from insrail.cli.report import default_paths
     from insrail.project import load_project
+    from insrail.project.lock import project_run
     from insrail.project.results import load_results
     from insrail.project.section import join_section
     from insrail.report import write_pdf, write_workbook
@@ -63,11 +64,12 @@ def run(args: argparse.Namespace) -> int:
                 print(f"  warning: {notice['message']}")
         if args.no_reports:
             continue
-        results = load_results(project.folder, name)
         xlsx, pdf = default_paths(project.folder, name)
-        for path, writer, kwargs in ((xlsx, write_workbook, {}), (pdf, write_pdf, {"sections": (section_page,)})):
-            bar = TerminalProgress(f"{name} {path.suffix[1:]}")
-            writer(project, results, path, progress=bar, **kwargs)
-            bar.done()
-            print(f"{name}: {path.resolve()}")
+        with project_run(project.folder, [name]):  # no run replaces the results while they are read
+            results = load_results(project.folder, name)
+            for path, writer, kwargs in ((xlsx, write_workbook, {}), (pdf, write_pdf, {"sections": (section_page,)})):
+                bar = TerminalProgress(f"{name} {path.suffix[1:]}")
+                writer(project, results, path, progress=bar, **kwargs)
+                bar.done()
+                print(f"{name}: {path.resolve()}")
     return 0

@@ -18,6 +18,12 @@ command line would then run as a command. So insrail never passes a user's path:
   atomically (temporary sibling, fsync, rename).
 
 Errors name the user's file, never the staged name.
+
+Decompression is bounded (:func:`decompressed_limit`): RINEX compresses 3 to 10 times, so a file that
+inflates past :data:`MAX_DECOMPRESSION_RATIO` times its size (and past :data:`MIN_DECOMPRESSED_LIMIT`),
+or past :data:`MAX_DECOMPRESSED_BYTES` (more than a 20 Hz multi-GNSS day), is refused naming the file
+and the limit, after writing no more than the limit: a 13 MB "decompression bomb" that would inflate to
+3 GB, and then be read by RTKLIB into memory, stops at a few hundred megabytes on disk.
 """
 
 from __future__ import annotations
@@ -40,6 +46,31 @@ _SAFE_SUFFIX = re.compile(r"\.[a-z0-9]{1,4}")
 _COMPRESSED_SUFFIXES = (".z", ".gz", ".zip", ".tar", ".crx")
 _GZIP_MAGIC, _COMPRESS_MAGIC, _ZIP_MAGIC = b"\x1f\x8b", b"\x1f\x9d", b"PK\x03\x04"
 _CRINEX_LABEL = "CRINEX VERS   / TYPE"
+MAX_DECOMPRESSION_RATIO = 50
+MIN_DECOMPRESSED_LIMIT = 256 << 20
+MAX_DECOMPRESSED_BYTES = 4 << 30
+
+
+def decompressed_limit(compressed_bytes: int) -> int:
+    """The most bytes a compressed input of ``compressed_bytes`` may inflate to (module docstring)."""
+    return min(MAX_DECOMPRESSED_BYTES, max(MIN_DECOMPRESSED_LIMIT, MAX_DECOMPRESSION_RATIO * compressed_bytes))
+
+
+class _BoundedOutput:
+    """A binary file that refuses (InputError naming ``source``) to grow past ``limit`` bytes."""
+
+    def __init__(self, handle, source: Path, limit: int):
+        self.handle, self.source, self.limit, self.written = handle, source, limit, 0
+
+    def write(self, data) -> int:
+        self.written += len(data)
+        if self.written > self.limit:
+            raise InputError(self.source, None, f"inflates to more than {self.limit / 2**20:,.0f} MiB "
+                             f"({self.source.stat().st_size:,} bytes compressed; the limit is "
+                             f"{MAX_DECOMPRESSION_RATIO} times the compressed size, at least "
+                             f"{MIN_DECOMPRESSED_LIMIT >> 20} MiB, at most {MAX_DECOMPRESSED_BYTES >> 30} GiB): "
+                             "not a plausible RINEX file (a damaged or hostile archive?)")
+        return self.handle.write(data)
 
 
 @contextlib.contextmanager
@@ -91,14 +122,15 @@ def stage_file(source: str | Path, workdir: Path, stem: str, default_suffix: str
     if magic[:2] in (_GZIP_MAGIC, _COMPRESS_MAGIC):
         name = _decompressed_name(source)
     target = workdir / f"{stem}{safe_suffix(name, default_suffix)}"
+    limit = decompressed_limit(source.stat().st_size)
     if magic[:2] == _GZIP_MAGIC:
         try:
             with gzip.open(source, "rb") as packed, open(target, "wb") as plain:
-                shutil.copyfileobj(packed, plain, 1 << 20)
+                shutil.copyfileobj(packed, _BoundedOutput(plain, source, limit), 1 << 20)
         except (OSError, EOFError, zlib.error) as err:
             raise InputError(source, None, f"damaged gzip file: {err}") from None
     elif magic[:2] == _COMPRESS_MAGIC:
-        target.write_bytes(_uncompress_z(source))
+        _uncompress_z(source, target, limit)
     elif magic == _ZIP_MAGIC:
         raise InputError(source, None, "a zip archive: unpack it and give the RINEX files it holds")
     else:
@@ -111,14 +143,17 @@ def stage_file(source: str | Path, workdir: Path, stem: str, default_suffix: str
     return target
 
 
-def _uncompress_z(source: Path) -> bytes:
+def _uncompress_z(source: Path, target: Path, limit: int) -> None:
     try:
         import ncompress
     except ImportError:
         raise InputError(source, None, "Unix-compressed (.Z) file and the ncompress package is not installed: "
                          "decompress it first (uncompress / gzip -d)") from None
     try:
-        return ncompress.decompress(source.read_bytes())
+        with open(source, "rb") as packed, open(target, "wb") as plain:
+            ncompress.decompress(packed, _BoundedOutput(plain, source, limit))
+    except InputError:
+        raise
     except (OSError, ValueError) as err:
         raise InputError(source, None, f"damaged .Z (compress) file: {err}") from None
 
@@ -136,6 +171,9 @@ def _restore_hatanaka(source: Path, target: Path) -> None:
     except ImportError:
         raise InputError(source, None, "Compact RINEX (Hatanaka) and the hatanaka package is not installed: "
                          "pip install hatanaka, or restore it with CRX2RNX first") from None
+    if target.stat().st_size > MAX_DECOMPRESSED_BYTES // 4:  # restored in memory, about 4 times larger
+        raise InputError(source, None, f"Compact RINEX of more than {(MAX_DECOMPRESSED_BYTES // 4) >> 30} GiB: "
+                         "restore it with CRX2RNX first")
     try:
         plain = hatanaka.crx2rnx(target.read_bytes())
     except hatanaka.HatanakaException as err:

@@ -25,6 +25,7 @@ from pathlib import Path
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
+from insrail.io.textparse import quoted
 
 #: Event kinds; the second element says whether the sleepers inside are left out of the assessment.
 EVENT_KINDS = {
@@ -65,9 +66,9 @@ def _number(path: Path, line: int, column: str, text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise InputError(path, line, f"{column}: expected a number, found {text!r}") from None
+        raise InputError(path, line, f"{column}: expected a number, found {quoted(text)}") from None
     if not math.isfinite(value):
-        raise InputError(path, line, f"{column}: expected a finite number, found {text!r}")
+        raise InputError(path, line, f"{column}: expected a finite number, found {quoted(text)}")
     return value
 
 
@@ -92,9 +93,9 @@ def read_events(path: str | Path) -> EventList:
         fields += [""] * (len(HEADER) - len(fields))
         kind, start_text, end_text, unit, profile, text = fields
         if kind not in EVENT_KINDS:
-            raise InputError(path, number, f"kind: expected one of {', '.join(EVENT_KINDS)}, found {kind!r}")
+            raise InputError(path, number, f"kind: expected one of {', '.join(EVENT_KINDS)}, found {quoted(kind)}")
         if unit not in UNITS:
-            raise InputError(path, number, f"unit: expected one of {', '.join(UNITS)}, found {unit!r}")
+            raise InputError(path, number, f"unit: expected one of {', '.join(UNITS)}, found {quoted(unit)}")
         start = _number(path, number, "from", start_text)
         end = start if end_text == "" else _number(path, number, "to", end_text)
         if end < start:

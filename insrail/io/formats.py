@@ -17,7 +17,7 @@ import numpy as np
 
 from insrail.io import control, events, gnss, gsi, imu, odometer, rtklib, total_station, track_sensors
 from insrail.io.errors import InputError
-from insrail.io.textparse import COMMENT_MARKERS, header_value, is_number, split_fields, strip_comment
+from insrail.io.textparse import COMMENT_MARKERS, bounded_lines, header_value, is_number, split_fields, strip_comment
 from insrail.io.types import (
     Benchmarks,
     ControlPoints,
@@ -125,7 +125,7 @@ def _head(path: Path) -> tuple[list[str], list[list[str]]]:
     comments: list[str] = []
     rows: list[list[str]] = []
     with open(path, encoding="utf-8", errors="replace") as handle:
-        for raw in handle:
+        for _, raw in bounded_lines(handle, path):
             line = raw.strip().lstrip("\ufeff")
             if line[:1] in COMMENT_MARKERS:
                 comments.append(line[1:].strip())

@@ -48,6 +48,7 @@ import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
+from insrail.io.textparse import bounded_lines, check_text_file, quoted
 from insrail.io.total_station import PRISM_TARGET
 from insrail.io.types import ControlPoints, TotalStationObservations
 
@@ -84,7 +85,7 @@ class _Block:
         for position, text in enumerate(content.lstrip("*").split(), start=1):
             match = _WORD.match(text)
             if match is None:
-                self.fail(f"word {position} ({text!r}): expected a GSI word: a two-digit word index, four "
+                self.fail(f"word {position} ({quoted(text)}): expected a GSI word: a two-digit word index, four "
                           "characters of information, a sign and the data")
             word = _Word(match[1], match[2], match[3] == "-", match[4], position, text)
             if word.index in self.words:
@@ -113,7 +114,7 @@ class _Block:
 
     def _digits(self, word: _Word) -> int:
         if not word.data.isdigit():
-            self.fail(f"word {word.position} ({word.text}): expected digits after the sign, found {word.data!r}")
+            self.fail(f"word {word.position} ({word.text}): expected digits after the sign, found {quoted(word.data)}")
         return -int(word.data) if word.negative else int(word.data)
 
     def length(self, index: str) -> float:
@@ -143,24 +144,26 @@ class _Block:
         except ValueError:
             value = math.nan
         if not math.isfinite(value):
-            self.fail(f"word {word.position} ({word.text}): expected a number, found {word.data!r}")
+            self.fail(f"word {word.position} ({word.text}): expected a number, found {quoted(word.data)}")
         return -value if word.negative else value
 
 
 _BOM = "\ufeff".encode().decode("latin-1")  # a UTF-8 byte-order mark read as latin-1
 
 
-def _lines(handle):
-    """(line number, content) of the non-empty lines, a byte-order mark dropped."""
-    for line, raw in enumerate(handle, start=1):
+def _lines(handle, path: Path):
+    """(line number, content) of the non-empty lines, a byte-order mark dropped (bounded: a binary
+    file or an endless line is refused, :func:`insrail.io.textparse.bounded_lines`)."""
+    for line, raw in bounded_lines(handle, path):
         content = raw.strip().removeprefix(_BOM) if line == 1 else raw.strip()
         if content:
             yield line, content
 
 
 def _blocks(path: Path):
+    check_text_file(path)
     with open(path, encoding="latin-1") as handle:
-        for line, content in _lines(handle):
+        for line, content in _lines(handle, path):
             yield _Block(path, line, content)
 
 
@@ -229,7 +232,7 @@ def detect(path: Path, lines: int = 20) -> str | None:
     found: set[str] = set()
     try:
         with open(path, encoding="latin-1") as handle:
-            for _, content in _lines(handle):
+            for _, content in _lines(handle, path):
                 words = content.lstrip("*").split()
                 if not all(_WORD.match(w) for w in words):
                     return None
@@ -237,7 +240,7 @@ def detect(path: Path, lines: int = 20) -> str | None:
                 lines -= 1
                 if lines == 0:
                     break
-    except OSError:
+    except (OSError, InputError):  # unreadable, binary or an endless line: not GSI
         return None
     if {HZ, V, SLOPE} <= found:
         return "total-station-gsi"

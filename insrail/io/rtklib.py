@@ -24,6 +24,7 @@ from insrail.io.errors import InputError
 from insrail.io.gnss import check_geodetic, check_sigmas
 from insrail.io.textparse import (
     COMMENT_MARKERS,
+    check_text_file,
     check_time_order,
     find_gaps,
     read_numeric_table,
@@ -93,6 +94,7 @@ def read_rtklib_pos(path: str | Path) -> GnssSolution:
         raise InputError(path, None, "file not found")
     if path.is_dir():
         raise InputError(path, None, "is a folder, expected a file")
+    check_text_file(path)
     text = path.read_text(encoding="utf-8", errors="replace")
     time_system, dms = _column_header(path, text)
     calendar = "/" in _first_data_fields(path, text)[0]

@@ -9,6 +9,12 @@ Accepted layout (all text readers share it):
 * Fields are separated by whitespace, or by commas when the first data line holds
   a comma (spaces around the commas are allowed).
 
+Bounds (a disk image or a log copied in by mistake must not take the machine's memory): a text
+file holds no NUL byte (:func:`check_text_file` refuses it as binary, echoing none of its bytes), no
+line longer than :data:`MAX_LINE_CHARS` and at most :data:`MAX_LINES` lines (a 200 Hz IMU records
+17 million lines a day; a numeric table of more does not fit this machine's memory anyway). The scan
+streams the file in blocks, so refusing a 5 GB file takes seconds and a few megabytes.
+
 Speed: the fast path is numpy's C parser (``np.loadtxt``, one comment marker) on the
 file itself, which reads a 2.2-million-line IMU file in about 3 s here. Nothing Python-level runs per
 line unless the parse fails or a check finds a bad row; only then a slow scan walks
@@ -33,6 +39,13 @@ from insrail.io.errors import InputError
 from insrail.io.types import GAP_FACTOR, Gap
 
 COMMENT_MARKERS = ("#", "%")
+MAX_LINE_CHARS = 1 << 16
+MAX_LINES = 100_000_000
+MAX_QUOTED_CHARS = 24
+_SCAN_BLOCK = 1 << 24
+_NEWLINE = 10
+_BINARY = ("binary data (a NUL byte), not a text file: a disk image, an archive or a file in UTF-16? "
+           "Save text as UTF-8 or ASCII")
 
 _WRITE_CHUNK_ROWS = 20_000
 # latin-1 decodes any byte: numbers are ASCII, and a comment in another 8-bit
@@ -85,6 +98,15 @@ def header_gps_week(path: Path, comments: Sequence[str]) -> int | None:
         raise InputError(path, None, f"header gps_week = {value!r}: expected an integer") from None
 
 
+def quoted(token: str) -> str:
+    """A field of a file for an error message: quoted when it is short printable text (what a user
+    typed: ``'1,5'``, ``'n/a'``), else only described, so that a message never echoes a line of a
+    file that is not a survey file (``/etc/passwd`` named by mistake, or by a project handed over)."""
+    if len(token) <= MAX_QUOTED_CHARS and token.isascii() and token.isprintable():
+        return repr(token)
+    return f"{len(token)} characters of text (not shown)"
+
+
 def _column_label(col: int, names: Sequence[str]) -> str:
     return f"column {col + 1} ({names[col]})" if col < len(names) else f"column {col + 1}"
 
@@ -100,12 +122,50 @@ class _Layout:
     first_data_line: int       # 1-based
 
 
+def bounded_lines(handle, path: Path) -> Iterator[tuple[int, str]]:
+    """(line number, line) of an open text file, refusing a line longer than :data:`MAX_LINE_CHARS`
+    or holding a NUL character (binary data) before it is all in memory."""
+    for lineno, raw in enumerate(iter(lambda: handle.readline(MAX_LINE_CHARS + 1), ""), start=1):
+        if "\0" in raw:
+            raise InputError(path, lineno, _BINARY)
+        if len(raw) > MAX_LINE_CHARS and not raw.endswith("\n"):
+            raise InputError(path, lineno, _too_long())
+        yield lineno, raw
+
+
+def _too_long() -> str:
+    return f"line longer than the limit of {MAX_LINE_CHARS:,} characters: not a text table of this kind"
+
+
+def check_text_file(path: Path, max_lines: int = MAX_LINES) -> None:
+    """Refuse ``path`` when it is binary, has an overlong line or more than ``max_lines`` lines
+    (see the module docstring); one pass in blocks of :data:`_SCAN_BLOCK` bytes."""
+    lineno, run = 1, 0  # the current line, and the bytes of it seen so far
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(_SCAN_BLOCK), b""):
+            nul = block.find(b"\0")
+            if nul >= 0:
+                raise InputError(path, lineno + block.count(b"\n", 0, nul), _BINARY)
+            ends = np.flatnonzero(np.frombuffer(block, dtype=np.uint8) == _NEWLINE)
+            lengths = np.diff(ends, prepend=-1 - run) - 1  # of the lines ending in this block
+            long = np.flatnonzero(lengths > MAX_LINE_CHARS)
+            if long.size:
+                raise InputError(path, lineno + int(long[0]), _too_long())
+            run = len(block) - 1 - int(ends[-1]) if ends.size else run + len(block)
+            if run > MAX_LINE_CHARS:
+                raise InputError(path, lineno + ends.size, _too_long())
+            lineno += ends.size
+            if lineno - 1 > max_lines:
+                raise InputError(path, max_lines + 1, f"more than the limit of {max_lines:,} lines: not a "
+                                 "plausible survey file (a 200 Hz IMU records 17 million lines a day)")
+
+
 def _iter_lines(path: Path, text: str | None) -> Iterator[tuple[int, str]]:
     if text is not None:
         yield from enumerate(io.StringIO(text, newline=None), start=1)
         return
     with open(path, encoding="utf-8", errors="replace") as handle:
-        yield from enumerate(handle, start=1)
+        yield from bounded_lines(handle, path)
 
 
 def _sniff(path: Path, text: str | None) -> _Layout:
@@ -187,7 +247,7 @@ def _diagnose(path: Path, text: str | None, layout: _Layout, columns: Collection
                 return InputError(path, lineno, f"{_column_label(col, names)} is empty")
             if not is_number(token):
                 return InputError(path, lineno,
-                                  f"{_column_label(col, names)}: expected a number, found {token!r}")
+                                  f"{_column_label(col, names)}: expected a number, found {quoted(token)}")
     return InputError(path, None, f"could not be parsed as numbers ({parser_message})")
 
 
@@ -218,6 +278,8 @@ def read_numeric_table(path: str | Path, *, columns: Collection[int] | None = No
         if path.is_dir():
             raise InputError(path, None, "is a folder, expected a file")
     try:
+        if text is None:
+            check_text_file(path)
         layout = _sniff(path, text)
         header = layout.header
         names = tuple(column_names) or header
@@ -311,7 +373,7 @@ class TokenTable:
             try:
                 value = float(row[col])
             except ValueError:
-                raise InputError(self.path, lineno, f"{label}: expected a number, found {row[col]!r}") from None
+                raise InputError(self.path, lineno, f"{label}: expected a number, found {quoted(row[col])}") from None
             if not math.isfinite(value):
                 raise InputError(self.path, lineno, f"{label} is {value}: expected a finite number")
             out[i] = value
@@ -331,6 +393,7 @@ def read_token_table(path: str | Path, *, min_columns: int, max_columns: int,
     if path.is_dir():
         raise InputError(path, None, "is a folder, expected a file")
     try:
+        check_text_file(path)
         layout = _sniff(path, None)
         rows: list[tuple[str, ...]] = []
         line_numbers: list[int] = []

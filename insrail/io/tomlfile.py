@@ -9,10 +9,16 @@ from pathlib import Path
 from insrail.io.errors import InputError
 
 
+#: A survey.toml or project.toml is a few kilobytes; a larger file is no settings file (and is not read).
+MAX_TOML_BYTES = 16 << 20
+
+
 def read_toml(path: str | Path) -> dict:
     """The document in ``path``; syntax errors become InputError at tomllib's line."""
     path = Path(path)
     try:
+        if path.stat().st_size > MAX_TOML_BYTES:
+            raise InputError(path, None, f"larger than the limit of {MAX_TOML_BYTES >> 20} MiB for a settings file")
         return tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         # tomllib says "... (at line 7, column 3)"; lift the line into the error's place.

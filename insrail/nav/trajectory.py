@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from insrail.geodesy.ellipsoid import WGS84, Ellipsoid
+from insrail.io.atomic import named_write
 
 
 @dataclass(frozen=True)
@@ -75,13 +76,13 @@ class TrajectoryWriter:
         self.tmp = self.path.with_name(f".{self.path.name}.partial")
         self.n, self.written = n, 0
         self.handle = open(self.tmp, "wb")
-        np.lib.format.write_array_header_1_0(self.handle, {"descr": np.lib.format.dtype_to_descr(TRAJECTORY_DTYPE),
-                                                           "fortran_order": False, "shape": (n,)})
+        named_write(self.path, np.lib.format.write_array_header_1_0, self.handle, {
+            "descr": np.lib.format.dtype_to_descr(TRAJECTORY_DTYPE), "fortran_order": False, "shape": (n,)})
 
     def write(self, block: np.ndarray) -> None:
         if block.dtype != TRAJECTORY_DTYPE or self.written + len(block) > self.n:
             raise ValueError(f"{self.path}: expected at most {self.n - self.written} more trajectory records")
-        self.handle.write(memoryview(np.ascontiguousarray(block)).cast("B"))
+        named_write(self.path, self.handle.write, memoryview(np.ascontiguousarray(block)).cast("B"))
         self.written += len(block)
 
     def commit(self) -> None:
@@ -89,9 +90,9 @@ class TrajectoryWriter:
 
         if self.written != self.n:
             raise ValueError(f"{self.path}: {self.written} of {self.n} trajectory records written")
-        self.handle.flush()
-        os.fsync(self.handle.fileno())
-        self.handle.close()
+        named_write(self.path, self.handle.flush)
+        named_write(self.path, os.fsync, self.handle.fileno())
+        named_write(self.path, self.handle.close)
         os.replace(self.tmp, self.path)
 
     def discard(self) -> None:

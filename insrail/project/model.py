@@ -40,19 +40,24 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
 
 Loading checks everything and raises :class:`ProjectError` listing every problem with its key
 path (``surveys[2].folder: not found: runs/x``). Nothing in the file is executed or unpickled.
-Saving writes the whole file atomically (a crash leaves the previous file intact).
+Saving writes the whole file atomically (a crash leaves the previous file intact), keeping the
+comments and layout of the file the user wrote.
 """
 
 from __future__ import annotations
 
 import datetime
 import re
+import tomllib
+from collections.abc import MutableMapping
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import tomli_w
+import tomlkit
+import tomlkit.exceptions
 
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import GeoidGridError, SettingsError
@@ -303,11 +308,36 @@ class Project:
 
 
 def save_project(project: Project, path: str | Path | None = None) -> Path:
-    """Write ``project.toml`` atomically (to ``path`` or the project's own file)."""
+    """Write ``project.toml`` atomically (to ``path`` or the project's own file).
+
+    The file the user wrote keeps its comments, order and layout: the settings are merged into it
+    (:func:`_merge`), only the values that changed rewritten. Should the merged text not read back as
+    the settings (a layout tomlkit cannot edit), the plain document is written instead."""
     path = Path(path) if path is not None else project.path
-    with atomic_write(path, "wb") as handle:
-        tomli_w.dump(project.to_settings(), handle)
+    settings = tomllib.loads(tomli_w.dumps(project.to_settings()))  # tuples as lists: as they read back
+    try:
+        document = tomlkit.parse(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomlkit.exceptions.TOMLKitError):  # new, or not ours to edit
+        document = tomlkit.document()
+    _merge(document, settings)
+    text = tomlkit.dumps(document)
+    if tomllib.loads(text) != settings:
+        text = tomli_w.dumps(settings)
+    with atomic_write(path) as handle:
+        handle.write(text)
     return path
+
+
+def _merge(document: MutableMapping, settings: dict) -> None:
+    """Make the tomlkit ``document`` hold ``settings``, leaving equal values (and their comments) alone."""
+    for key in [key for key in document if key not in settings]:
+        del document[key]
+    for key, value in settings.items():
+        kept = document.get(key)
+        if isinstance(value, dict) and isinstance(kept, MutableMapping):
+            _merge(kept, value)
+        elif key not in document or getattr(kept, "unwrap", lambda: kept)() != value:  # a bool comes plain
+            document[key] = value
 
 
 def load_project(path: str | Path) -> Project:

@@ -73,6 +73,7 @@ from insrail.project.design_heading import design_azimuth_for, uses_design
 from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
+from insrail.project.lock import project_run
 from insrail.project.model import Project
 from insrail.project.clocks import check_clocks
 from insrail.project.plausibility import (
@@ -494,9 +495,13 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
             cancel: CancelToken = None) -> SurveyResults:
     """Process one survey of ``project`` end to end and write its result files (see the module docstring)."""
     results = project.folder / RESULTS_FOLDER
-    for folder in (results / CACHE_FOLDER, results):  # what killed runs left behind
-        clean_leftovers(folder)
-    with collect_cache_notices() as cache_notices:
+
+    def clean() -> None:  # no other run of the project is going on: whatever is left, killed runs left
+        for folder in (results / CACHE_FOLDER, results):
+            clean_leftovers(folder)
+
+    with project_run(project.folder, [survey_name], progress, cancel, when_alone=clean), \
+            collect_cache_notices() as cache_notices:
         return _process_survey(project, survey_name, progress, cancel, cache_notices)
 
 
@@ -579,7 +584,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     bases = parameter_bases(profile)
     summary["track"]["parameters"] = parameters_section(
         bases, project.line_speeds, "design" if run.design is not None else "fitted" if curvature is not None else "none")
-    summary["notices"] = [n.to_dict() for n in [*cache_notices, *run.notices(),
+    summary["notices"] = [n.to_dict() for n in [*outside_notices(project, folder, manifest), *cache_notices, *run.notices(),
                                                 *_notices(fusion_info, height_warnings, summary.get("ppk")),
                                                 *(local.notices() if local is not None else []),
                                                 *speed_notices(profile, table, curvature, speed)]]
@@ -651,6 +656,19 @@ def _line_fit_section(recon: TrackReconstruction) -> dict:
     return {"fitted": True, "elements": kinds, "pvis": len(fit.vertical.profile.pvis),
             "plan_rms_mm": round(1e3 * fit.horizontal.rms_m, 3), "profile_rms_mm": round(1e3 * fit.vertical.rms_m, 3),
             "windows": 0 if recon.reference is None else len(recon.reference.windows)}
+
+
+def outside_notices(project: Project, folder: Path, manifest: SurveyManifest) -> list[Notice]:
+    """A notice for each data file of the survey that lies outside the project and the survey folder
+    (``/etc/passwd`` or ``../../other/imu.txt`` in a survey.toml someone handed over): read, and named."""
+    inside = (project.folder.resolve(), folder.resolve())
+    notices = []
+    for role, entry in manifest.files.items():
+        path = (folder / entry.path).resolve()
+        if not any(path.is_relative_to(place) for place in inside):
+            notices.append(Notice("survey", f"files.{role}: {entry.path} lies outside the project and the survey "
+                                  f"folder ({path}): check that it is the file meant", file=str(path)))
+    return notices
 
 
 def _notices(fusion_info: dict, height_warnings: list[str], ppk: dict | None) -> list[Notice]:

@@ -44,7 +44,8 @@ from insrail.io.errors import InputError
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.compare import worst_over_placements
-from insrail.project.model import Project
+from insrail.project.lock import project_run
+from insrail.project.model import Project, SectionEntry
 from insrail.project.results import (
     EXCEEDANCES_FILE,
     QUALITY_FILE,
@@ -273,10 +274,16 @@ def _joined_quality(runs: list[StoredResults]) -> str:
 
 def join_section(project: Project, name: str, progress: ProgressFn | None = None,
                  cancel: CancelToken = None) -> SectionResult:
-    """Join the section's processed runs and write ``<project>/results/<name>/`` (module docstring)."""
+    """Join the section's processed runs and write ``<project>/results/<name>/`` (module docstring);
+    the section's and its surveys' results locked meanwhile (:mod:`insrail.project.lock`)."""
+    entry = project.section(name)
+    with project_run(project.folder, [name, *entry.surveys], progress, cancel):
+        return _join_section(project, entry, name, progress, cancel)
+
+
+def _join_section(project: Project, entry: SectionEntry, name: str, progress: ProgressFn | None, cancel: CancelToken) -> SectionResult:
     step = StepProgress(progress)
     started = time.monotonic()
-    entry = project.section(name)
     runs = []
     for i, survey in enumerate(entry.surveys):
         step(0.3 * i / len(entry.surveys), f"reading the results of {survey}")

@@ -11,9 +11,9 @@ notice (:func:`collect_cache_notices` gathers them for the survey's summary). Re
 never links into the cache, so editing a result file cannot change the cache.
 
 Leftovers of killed runs (``.*.tmp`` files, ``.rinex-*`` staging folders, ``.track-spool-*`` spools of
-the track by parts) untouched for
-:data:`LEFTOVER_AGE_S` are removed by :func:`clean_leftovers`: no write keeps a temporary file
-that long without touching it, so a younger one may belong to a run going on in parallel.
+the track by parts) are removed by :func:`clean_leftovers`, which the pipeline calls only when no other
+run of the project holds its lock (:mod:`insrail.project.lock`): then whatever is left, a killed run
+left, however young.
 """
 
 from __future__ import annotations
@@ -23,7 +23,6 @@ import contextvars
 import dataclasses
 import hashlib
 import shutil
-import time
 import typing
 import zipfile
 from collections.abc import Iterator
@@ -36,7 +35,6 @@ from insrail.io.errors import InputError
 from insrail.notices import Notice
 
 CHECKSUM_SUFFIX = ".sha256"
-LEFTOVER_AGE_S = 15 * 60.0
 _notices: contextvars.ContextVar[list[Notice] | None] = contextvars.ContextVar("cache_notices", default=None)
 
 
@@ -116,9 +114,8 @@ def collect_cache_notices() -> Iterator[list[Notice]]:
         _notices.reset(token)
 
 
-def clean_leftovers(folder: Path, now: float | None = None) -> list[Path]:
+def clean_leftovers(folder: Path) -> list[Path]:
     """Remove temporary files and staging folders of killed runs in ``folder`` (see the module docstring)."""
-    now = time.time() if now is None else now
     removed = []
     if not folder.is_dir():
         return removed
@@ -126,7 +123,7 @@ def clean_leftovers(folder: Path, now: float | None = None) -> list[Path]:
         is_leftover = ((item.name.startswith(".") and item.name.endswith(".tmp") and item.is_file())
                        or (item.name.startswith((".rinex-", ".track-spool-")) and item.is_dir()))
         try:
-            if not is_leftover or now - item.stat().st_mtime < LEFTOVER_AGE_S:
+            if not is_leftover:
                 continue
             if item.is_dir():
                 shutil.rmtree(item)

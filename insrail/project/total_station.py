@@ -14,7 +14,11 @@ standard deviation
     sigma = max(MIN_SIGMA_M, hypot(station residual RMS (plan or height, the larger),
                                    ANGLE_SIGMA_RAD * horizontal distance, DISTANCE_SIGMA_M))
 
-the set-up's own fit on the CPIII points plus the pointing's precision at its distance. The fixes
+the set-up's own fit on the CPIII points plus the pointing's precision at its distance. A set-up whose
+fit is worse than a total station on CPIII points can give (residual RMS over :data:`MAX_SETUP_RMS_M`)
+is an error naming the file and the set-up, with the likely cause when the numbers show it (CPIII
+coordinates in millimetres, zenith angles in degrees read as gon): such a set-up fixes nothing, and
+fixes with a 1-sigma of metres would pass unnoticed. The fixes
 join the survey's ``[files.prism]`` fixes, if it has any, in time order.
 
 A survey without GNSS is held by its fixes alone: where its run goes on beyond the first or the last
@@ -45,6 +49,10 @@ from insrail.io.types import ControlPoints, PrismObservations, TotalStationObser
 from insrail.notices import Notice
 
 MIN_SIGMA_M = 0.0005
+#: The worst residual RMS a set-up on CPIII points can have: the pointing gives 0.5 mm at 100 m, the
+#: CPIII network about 1 mm, and a point that is off is left out by the leave-one-out test; 25 mm
+#: is 25 times that, and past it the set-up is not measuring what its file says.
+MAX_SETUP_RMS_M = 0.025
 #: A run beyond the first or last prism fix shorter than this is the fix's own stop, not a stretch.
 UNCOVERED_RUN_M = 1.0
 
@@ -52,6 +60,33 @@ UNCOVERED_RUN_M = 1.0
 def _polar(observations: TotalStationObservations, rows: np.ndarray) -> PolarObservations:
     return PolarObservations(tuple(observations.target[rows]), observations.hz_rad[rows],
                              observations.zenith_rad[rows], observations.slope_m[rows])
+
+
+def _length(metres: float) -> str:
+    return f"{metres:.1f} m" if metres >= 1.0 else f"{1e3 * metres:.0f} mm"
+
+
+def _unit_hint(observations: PolarObservations, known_enh_m: np.ndarray) -> str:
+    """What the numbers of a set-up that does not fit show: units mixed up, or points that are not those named."""
+    level_gon = 200.0 / np.pi * np.median(observations.zenith_rad)
+    if abs(level_gon - 90.0) < 5.0:  # CPIII points lie near the instrument's height: 100 gon, 90 degrees
+        return (f"its zenith angles are about {level_gon:.0f} where points at the instrument's height read 100 gon: "
+                "angles in degrees read as gon? (set the reader option angle_unit = \"deg\")")
+    horizontal = observations.slope_m * np.sin(observations.zenith_rad)
+    measured = np.column_stack([horizontal * np.sin(observations.hz_rad), horizontal * np.cos(observations.hz_rad)])
+    ratio = np.median(_spacings(known_enh_m[:, :2])) / np.median(_spacings(measured))
+    if ratio > 100.0:
+        return (f"the CPIII points lie {ratio:.0f} times farther apart than measured: coordinates in millimetres? "
+                "(the CPIII file holds metres)")
+    if ratio < 0.01:
+        return f"the CPIII points lie {1 / ratio:.0f} times closer together than measured: distances in millimetres?"
+    return "check that the CPIII file and the observations belong together (point names, units)"
+
+
+def _spacings(plan_m: np.ndarray) -> np.ndarray:
+    """The plan distances between every pair of points."""
+    first, second = np.triu_indices(len(plan_m), 1)
+    return np.hypot(*(plan_m[first] - plan_m[second]).T)
 
 
 def prism_fixes_from_observations(observations: TotalStationObservations, points: ControlPoints,
@@ -77,6 +112,13 @@ def prism_fixes_from_observations(observations: TotalStationObservations, points
                              coordinates[[known[str(t)] for t in observations.target[on_points]]], significance)
         except ValueError as error:
             raise InputError(source, line, f"set-up {setup}: {error}") from None
+        fit = max(station.rms_plan_m, station.rms_height_m)
+        if not fit <= MAX_SETUP_RMS_M:
+            raise InputError(source, line, (
+                f"set-up {setup}: the CPIII points fit the observations to {_length(fit)} RMS, more than the "
+                f"{1e3 * MAX_SETUP_RMS_M:.0f} mm a total station gives: "
+                + _unit_hint(_polar(observations, on_points), coordinates[[known[str(t)] for t in
+                                                                          observations.target[on_points]]])))
         for point in station.points:
             if not point.used:
                 notices.append(Notice("total station", (
@@ -89,7 +131,6 @@ def prism_fixes_from_observations(observations: TotalStationObservations, points
             continue
         placed = station.place(_polar(observations, on_prism))
         distance = observations.slope_m[on_prism] * np.sin(observations.zenith_rad[on_prism])
-        fit = max(station.rms_plan_m, station.rms_height_m)
         sigma.append(np.maximum(MIN_SIGMA_M, np.sqrt(fit**2 + (ANGLE_SIGMA_RAD * distance) ** 2 + DISTANCE_SIGMA_M**2)))
         fixes.append(np.column_stack([observations.time_s[on_prism], placed]))
         setup_of_fix += [setup] * on_prism.size

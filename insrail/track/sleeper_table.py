@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from insrail.io.atomic import named_write
 from insrail.io.survey import TrolleyGeometry
 from insrail.io.types import GaugeData, SleeperPulses
 from insrail.nav.trajectory import Trajectory
@@ -319,13 +320,14 @@ class EpochStationsWriter:
     def __init__(self, path: Path, n: int):
         self.path, self.tmp = Path(path), Path(path).with_name(f".{Path(path).name}.tmp")
         self.handle = open(self.tmp, "wb")
-        np.lib.format.write_array_header_1_0(self.handle, {"descr": "<f8", "fortran_order": False, "shape": (n, 3)})
+        named_write(self.path, np.lib.format.write_array_header_1_0, self.handle,
+                      {"descr": "<f8", "fortran_order": False, "shape": (n, 3)})
 
     def write(self, part: EpochStations) -> None:
-        self.handle.write(np.column_stack([part.time_s, part.reference_m, part.centre_m]).tobytes())
+        named_write(self.path, self.handle.write, np.column_stack([part.time_s, part.reference_m, part.centre_m]).tobytes())
 
     def commit(self) -> EpochStationsFile:
-        self.handle.close()
+        named_write(self.path, self.handle.close)
         os.replace(self.tmp, self.path)
         return EpochStationsFile(self.path)
 
