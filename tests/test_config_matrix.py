@@ -78,10 +78,11 @@ KNOWN = (
      "stated 5 m lag 250 mm", lambda c: c.cell_id in PRISM_ONLY_RESET_CELLS),
     ("issue 33: the mems_handheld profile's noise on a trolley: ZUPT/NHC rejected from about 1.2 s, a reset at 5 s, "
      "the survey inconsistent with its 1-sigma", lambda c: c.cell_id in HANDHELD_NOISE_CELLS),
-    ("issue 32, new: mems_handheld with prism fixes and no odometer: the stops come from the IMU alone (prism fixes "
-     "do not veto, GNSS positions would) and its quiet threshold, 5 x the hand-held profile's noise, is above a "
-     "pushed trolley's motion, so the whole run is one stop; insrail process stops with 'the trolley never moves "
-     "far enough; give --heading', which process does not have", lambda c: c.cell_id in HANDHELD_STOPS_CELLS),
+    ("issue 32: mems_handheld with prism fixes and no odometer: the stops come from the IMU alone (sparse prism "
+     "fixes cannot say when the trolley moved between them) and its quiet threshold, 5 x the hand-held profile's "
+     "noise, is above a pushed trolley's motion, so the whole run is one stop; insrail process refuses it, naming "
+     "the fixes' move within that stop and the remedies (the odometer, the unit's own profile): "
+     "test_a_run_the_imu_takes_for_a_stop_is_refused_by_the_prism_fixes", lambda c: c.cell_id in HANDHELD_STOPS_CELLS),
 )
 
 
@@ -177,3 +178,16 @@ def test_a_survey_without_its_gauge_record_is_refused_before_the_fusion(tmp_path
     assert not _fused(built.project)
     code, out = insrail("report", str(built.project))
     assert code == 1 and "process it first" in out
+
+
+def test_a_run_the_imu_takes_for_a_stop_is_refused_by_the_prism_fixes(tmp_path):
+    """With the mems_handheld profile's noise a pushed trolley looks still to the IMU, and without an odometer or
+    GNSS nothing else finds the stops: the prism fixes moving within the one stop the IMU finds refuse the survey
+    before the fusion, with remedies `insrail process` users have (not a --heading it does not take)."""
+    cell = Cell(imu="mems_handheld", position="prism", ellipsoid="WGS84", design="csv", direction="with",
+                left_out="odometer", trolley="calibrated")
+    built = build_cell(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
+    code, out = insrail("process", str(built.project))
+    assert code == 1 and "prism fixes move by" in out and "which the IMU takes for a stop" in out, out
+    assert "odometer's file" in out and "survey.imu_profile" in out and "--heading" not in out, out
+    assert not _fused(built.project)
