@@ -63,8 +63,9 @@ PRISM_ONLY_RESET_CELLS = {
     "tactical_fog-prism-WGS84-landxml-with-none-minimal",
 }
 HANDHELD_NOISE_CELLS = {
-    # a sensor with the mems_handheld profile's own noise (ten times the data sheet's) on a trolley: ZUPT and
-    # NHC rejected about 1.2 s in, a filter reset at 5 s, the survey inconsistent with its 1-sigma (main the same)
+    # a sensor with the mems_handheld profile's own noise (ten times the data sheet's) on a trolley: no longer
+    # rejected or reset (2 rejections, the 30 m/5 m errors 2.3/3.0 mm 1-sigma within the stated 3.4 mm), but the
+    # stated 5 m lag sigma, 3.4-3.5 mm, is beyond the 2 mm the 30 m/5 m check needs: honest and not useful
     "mems_handheld-gnss+prism-custom-csv-against-odometer-calibrated",
     "mems_handheld-kfgins-gnss-CGCS2000-landxml-with-none-minimal",
     "mems_handheld-rtklib-pos-Xian80-fitted-against-sleepers-calibrated",
@@ -76,8 +77,8 @@ HANDHELD_STOPS_CELLS = {
 KNOWN = (
     ("issue 33: prism fixes alone with a tactical FOG or MEMS unit: fixes rejected after the start, filter resets, "
      "stated 5 m lag 250 mm", lambda c: c.cell_id in PRISM_ONLY_RESET_CELLS),
-    ("issue 33: the mems_handheld profile's noise on a trolley: ZUPT/NHC rejected from about 1.2 s, a reset at 5 s, "
-     "the survey inconsistent with its 1-sigma", lambda c: c.cell_id in HANDHELD_NOISE_CELLS),
+    ("issue 33: the mems_handheld profile's noise on a trolley: consistent with its 1-sigma, but its stated 5 m lag "
+     "sigma (3.5 mm) is beyond the 30 m/5 m check's 2 mm", lambda c: c.cell_id in HANDHELD_NOISE_CELLS),
     ("issue 32: mems_handheld with prism fixes and no odometer: the stops come from the IMU alone (sparse prism "
      "fixes cannot say when the trolley moved between them) and its quiet threshold, 5 x the hand-held profile's "
      "noise, is above a pushed trolley's motion, so the whole run is one stop; insrail process refuses it, naming "
