@@ -60,7 +60,6 @@ PRISM_ONLY_RESET_CELLS = {
     # with prism fixes alone a tactical FOG or MEMS unit has its fixes rejected after the start (2-3 filter
     # resets) and the stated 5 m lag sigma is 250 mm: refused by the matrix's bar, honest but useless
     "mems-prism-CGCS2000-csv-with-sleepers-calibrated",
-    "tactical_fog-prism-WGS84-landxml-with-none-minimal",
 }
 HANDHELD_NOISE_CELLS = {
     # a sensor with the mems_handheld profile's own noise (ten times the data sheet's) on a trolley: no longer
