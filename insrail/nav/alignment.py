@@ -211,6 +211,26 @@ def aiding_still(time_s: np.ndarray, window_s: float, odometer: OdometerData | N
     return np.ones(len(time_s), dtype=bool)
 
 
+def stop_with_moving_fixes(stops, positions: tuple[np.ndarray, np.ndarray, np.ndarray]
+                           ) -> tuple[float, float, float] | None:
+    """The first stop (start [s], end [s], the fixes' largest move within it [m]) within which the
+    ``positions`` (time [s], horizontal local positions (n, 2) [m], their 1-sigma (n,) [m]) move by
+    more than three times their noise: the trolley moved during what the IMU took for a stop. None
+    if there is none. Sparse fixes (a total station's, taken at the trolley's stops) cannot say when
+    it moved between them, so they do not veto in :func:`detect_stops`; they do show that an IMU too
+    noisy to see a pushed trolley's motion has taken a run for a stop."""
+    t_pos, ne, sigma = positions
+    for t0, t1 in stops:
+        inside = np.flatnonzero((t_pos >= t0) & (t_pos <= t1))
+        if inside.size < 2:
+            continue
+        move = np.hypot(*(ne[inside] - ne[inside[0]]).T)
+        noise = 3.0 * np.hypot(sigma[inside], sigma[inside[0]])
+        if np.any(move > noise):
+            return float(t0), float(t1), float(np.max(move))
+    return None
+
+
 def detect_stops(
     imu: ImuIncrements,
     odometer: OdometerData | None,

@@ -61,7 +61,13 @@ from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
 from insrail.nav import _kernels, earth, error_model, integrity, kalman
 from insrail.nav import measurements as meas
-from insrail.nav.alignment import aiding_still, detect_stops, stop_motion_sigma, stop_thresholds
+from insrail.nav.alignment import (
+    aiding_still,
+    detect_stops,
+    stop_motion_sigma,
+    stop_thresholds,
+    stop_with_moving_fixes,
+)
 from insrail.nav.error_model import (
     ATT,
     BA,
@@ -93,7 +99,7 @@ from insrail.nav.measurements import (
     schedule,
 )
 from insrail.nav.rotation import euler_to_dcm
-from insrail.nav.startup import PositionTrack, heading_at_reset, initial_state
+from insrail.nav.startup import PositionTrack, StartupError, heading_at_reset, initial_state
 from insrail.nav.trajectory import (
     TRAJECTORY_DTYPE,
     Trajectory,
@@ -1143,6 +1149,17 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
         positions = (track.time_s, track.local_ned(ellipsoid)[:, :2], track.horizontal_sigma_m())
     stops = detect_stops(imu, aiding.odometer, max_gyro_std_radps=gyro_quiet, positions=positions,
                          max_accel_std_mps2=None if aiding.odometer is not None else accel_quiet)
+    if aiding.odometer is None and gnss is None:
+        moved = stop_with_moving_fixes(stops, (track.time_s, track.local_ned(ellipsoid)[:, :2],
+                                               track.horizontal_sigma_m()))
+        if moved is not None:  # ZUPTs and a static alignment over a run: a wrong trajectory, not a poor one
+            raise StartupError(
+                f"stop detection: the {track.source} move by {moved[2]:.2f} m within {moved[0]:.1f} - {moved[1]:.1f} s, "
+                f"which the IMU takes for a stop: with the {profile.name} profile's noise (quiet below "
+                f"{gyro_quiet:.3g} rad/s and {accel_quiet:.3g} m/s^2 of spread) the IMU does not see the trolley move, "
+                "and without an odometer or GNSS nothing else finds the stops the zero-velocity updates and the "
+                "alignment rest on; add the odometer's file to the survey, or, if the unit is quieter than "
+                f"'{profile.name}' says, set survey.imu_profile to the profile of its data sheet")
     start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid, aiding.design_azimuth)
     notices.extend(start.notices)
     every = max(int(round(1.0 / (options.update_rate_hz * dt0))), 1)

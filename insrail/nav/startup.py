@@ -23,7 +23,8 @@ prism fixes. Its heading at the start point is the direction of a chord from the
 for the curvature the next chord of the same length shows (exact on a circle); its 1-sigma
 combines the positions' noise over the chord with half the curvature correction (the part a
 change of curvature can leave), and the chord length with the smallest 1-sigma is used: short
-chords on tight curves, long ones on straights.
+chords on tight curves, long ones on straights. The trolley's heading from it adds the trolley's
+yaw against the chord (:data:`TROLLEY_YAW_SIGMA_RAD`).
 
 A trolley pushed with its IMU x axis against the direction of travel is recognised at a static
 start by the sign of the IMU's forward velocity change when it sets off.
@@ -68,6 +69,11 @@ MIN_RADIUS_M = 150.0
 MIN_START_SIGMA_M = 0.005
 
 
+#: 1-sigma [rad] of a trolley's heading against the direction of a chord of its track: its yaw between
+#: the rails (a few mm of play over its length) and the track's own bends under the chord (mm over tens
+#: of metres); the chord's noise (:func:`track_heading`) says nothing of either. A tactical unit
+#: started 0.07 deg off a 60 m prism chord told good to 0.01 deg rejects the next fix 60 m on.
+TROLLEY_YAW_SIGMA_RAD = math.radians(0.1)
 #: 1-sigma [rad] of a trolley's heading against its design's local azimuth: its yaw between the
 #: rails (a few mm of play over its length) and the track's departure from the design (mm per m)
 DESIGN_TRACK_SIGMA_RAD = math.radians(0.1)
@@ -386,7 +392,8 @@ def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: Odo
                                   f"deg (1-sigma {math.degrees(sigma_heading):.2f} deg)",
                                   time_s=float(track.time_s[i0]), severity="info"))
         else:
-            method, heading, sigma_heading = "track", direction.heading_rad, direction.sigma_heading_rad
+            method, heading = "track", direction.heading_rad
+            sigma_heading = math.hypot(direction.sigma_heading_rad, TROLLEY_YAW_SIGMA_RAD)
             candidate = design_heading(design, track.lat_rad[i0], track.lon_rad[i0], float(sigma_h[i0]))
             on_design = None if candidate is None else _on_design(
                 candidate, heading, sigma_heading, f"{track.source} track's chord", notices, float(track.time_s[i0]))
@@ -486,7 +493,8 @@ def _static_heading(imu, track, ned, sigma_h, static, roll, pitch, w, odometer, 
             "(the trolley never moves far enough); give the initial heading (--heading)")
     # The track's direction is that of the trolley frame v, forward or backward.
     backward = _sets_off_backwards(imu, track, ned, moving, roll, pitch, c_vb, ell)
-    heading_v, sigma_v, source = direction.heading_rad + (math.pi if backward else 0.0), direction.sigma_heading_rad, ""
+    heading_v, source = direction.heading_rad + (math.pi if backward else 0.0), ""
+    sigma_v = math.hypot(direction.sigma_heading_rad, TROLLEY_YAW_SIGMA_RAD)
     candidate = design_heading(design, track.lat_rad[0], track.lon_rad[0], float(sigma_h[0]))
     on_design = None if candidate is None else _on_design(
         candidate, heading_v, sigma_v, f"{track.source} track of the first motion", notices, float(track.time_s[moving]))
