@@ -65,6 +65,34 @@ def test_clean_motion_and_steps_are_not_outliers():
     assert outliers == () and notices == [] and len(screened) == len(imu)
 
 
+@pytest.mark.parametrize("quantity, axis, added", [("angular rate", 0, 3e-3), ("specific force", 2, 0.07)])
+def test_a_spike_inside_the_envelope_but_far_outside_the_noise_is_removed_and_bridged(quantity, axis, added):
+    """3 mrad in one 5 ms angle increment (0.6 rad/s, below 50 deg/s) or 0.07 m/s in one velocity increment
+    (1.4 g, below 2 g): thousands of times the sway and noise of its neighbours (issue 33)."""
+    imu = walking_imu()
+    k = 2345
+    dtheta, dvel = imu.dtheta_rad.copy(), imu.dvel_mps.copy()
+    (dtheta if quantity == "angular rate" else dvel)[k, axis] += added
+    screened, outliers, notices = screen_imu(ImuIncrements(imu.time_s, dtheta, dvel, source=imu.source),
+                                             load_imu_profile("nav"))
+    assert [(o.index, o.quantity, o.axis, o.reason) for o in outliers] == [(k, quantity, "xyz"[axis],
+                                                                             "spike below the envelope")]
+    assert len(notices) == 1 and "spike below the envelope" in notices[0].message
+    bridged, _ = bridge_gaps(screened)
+    true, got = (imu.dtheta_rad, bridged.dtheta_rad) if quantity == "angular rate" else (imu.dvel_mps, bridged.dvel_mps)
+    assert abs(got[k, axis] - true[k, axis]) < 0.01 * added
+
+
+def test_motion_too_rough_for_the_below_envelope_test_removes_nothing_by_it_and_says_so():
+    imu = walking_imu()
+    dtheta = imu.dtheta_rad.copy()
+    dtheta[7::40, 1] += 0.05 / RATE_HZ  # 2.5 % of the records jolted by 0.05 rad/s: a rough ride, not faults
+    screened, outliers, notices = screen_imu(ImuIncrements(imu.time_s, dtheta, imu.dvel_mps, source=imu.source),
+                                             load_imu_profile("nav"))
+    assert outliers == () and len(screened) == len(imu)
+    assert len(notices) == 1 and "too rough to tell a single faulty record" in notices[0].message
+
+
 def test_a_file_far_outside_the_envelope_is_an_error_naming_it():
     imu = walking_imu()
     wrong_unit = ImuIncrements(imu.time_s, imu.dtheta_rad * 100.0, imu.dvel_mps, source=imu.source)  # deg as rad

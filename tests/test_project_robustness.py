@@ -525,3 +525,62 @@ def test_a_data_file_outside_the_project_is_named_and_a_foreign_files_lines_are_
     err = capsys.readouterr().err
     assert str(secret) in err and "line 2" in err and "characters of text (not shown)" in err
     assert "AAAAC3" not in err
+
+
+def read_csv(path: Path) -> np.ndarray:
+    return np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8", missing_values="",
+                         filling_values=np.nan)
+
+
+@pytest.mark.parametrize("screened", [True, False], ids=["removed by the screening", "seen by the aiding only"])
+def test_a_gyro_and_an_accelerometer_spike_below_the_envelope_leave_no_wrong_valid_sleeper(tiny, tmp_path, monkeypatch,
+                                                                                            screened):
+    """One IMU record 35 ms before a sleeper pulse, at speed, carries 3 mrad more roll (0.6 rad/s for
+    5 ms, below the 50 deg/s envelope) and 0.07 m/s more vertical velocity (1.4 g, below 2 g). Before,
+    the sleeper passed then was valid with 4.6 mm of cross-level error (the filter reset only made the
+    time from the first rejected odometer update suspect). Now no valid sleeper is off the truth by
+    more than 0.5 mm of cross-level, nor moved by more than 1 mm in a 30 m/5 m check (issue 33): the
+    screening removes the record. Where it could not tell it from the motion (its test switched off
+    here), the reset's suspect time begins at the odometer's last agreement, before the fault: the
+    sleeper 35 ms after it is not valid, with the reset as its reason."""
+    from insrail.nav import imu_screening
+    from insrail.sim.truth import read_sleeper_truth
+
+    if not screened:
+        monkeypatch.setattr(imu_screening, "QUIET_SPIKE_SIGMAS", np.inf)
+    project = copy_of(tiny, tmp_path)
+    shutil.rmtree(project / "results")
+    survey = project / "surveys" / SURVEY
+    truth = read_sleeper_truth(survey / "truth" / "sleepers.csv")
+    records = np.load(survey / "imu.npy")
+    fault = int(np.searchsorted(records["time_s"], truth["pass_time"][20] - 0.035))
+    records["dtheta_rad"][fault, 0] += 3e-3
+    records["dvel_mps"][fault, 2] += 0.07
+    np.save(survey / "imu.npy", records)
+    assert main(["process", str(project)]) == 0
+    sleepers = read_csv(results_of(project) / "sleepers.csv")
+    rows = np.argmin(np.abs(truth["station"][None, :] - sleepers["station_m"][:, None]), axis=1)
+    valid = sleepers["valid"].astype(bool)
+    assert valid.sum() > 0.8 * len(sleepers)
+    cross_level_error_mm = sleepers["cant_mm"] - 1e3 * truth["cant"][rows]
+    assert np.abs(cross_level_error_mm[valid]).max() < 0.5
+    assert any("spike below the envelope" in n["message"] for n in notices(project)) is screened
+    after = np.flatnonzero(truth["pass_time"][rows] > records["time_s"][fault])[0]  # the sleeper 35 ms after it
+    assert bool(valid[after]) is screened or "filter reset" in str(sleepers["not_assessed"][after])
+    if not screened:
+        # the 30 m/5 m checks are not yet held where only the aiding saw the fault: its NHC innovations raise
+        # the trolley play estimated from them 25-30 x (nav/self_calibration.play_from_innovations), which
+        # changes the smoothing of the whole survey (up to 6.5 mm added to a valid sleeper's 30 m/5 m check
+        # 5 s before the fault, 1-2 mm 70 s away); the fusion's to mend
+        return
+    # the 30 m/5 m checks against the clean run's (the clean run itself is up to 1.3 mm off the checks of
+    # the truth's deviations here, the survey's own noise): the spike adds less than 1 mm where valid
+    clean = read_csv(results_of(tiny) / "sleepers.csv")
+    assert np.allclose(clean["station_m"], sleepers["station_m"], rtol=0, atol=0.01)  # the same sleepers
+    for rail in ("left", "right"):
+        for direction in ("lateral", "vertical"):
+            column = f"check_short_wave_30m_5m_{rail}_{direction}_mm"
+            added_mm = sleepers[column] - clean[column]
+            measured = valid & np.isfinite(added_mm)
+            assert measured.sum() > 0.5 * len(sleepers)
+            assert np.abs(added_mm[measured]).max() < 1.0, (rail, direction)

@@ -17,6 +17,18 @@ A record is an outlier when, in the IMU profile's envelope (``[range]`` of the p
   100-200 Hz changes the rates smoothly; a step (a stop, a curve entry) keeps the median on
   either side, so only short spikes are removed.
 
+Inside the envelope a single faulty record is still far outside the sensor's noise: a 3 mrad jump
+in one 5 ms angle increment (0.6 rad/s, below the 50 deg/s envelope) leaves a permanent 3 mrad
+roll error, 4.5 mm of cross-level, that the aiding takes seconds to notice and the filter only
+resets after the first sleepers behind it were measured with it. So a record is also an outlier
+("spike below the envelope") when it departs from the median of its neighbours by more than
+``QUIET_SPIKE_SIGMAS`` times their own spread about it (1.4826 x their median absolute
+departure: the motion and vibration of the moment) and times the profile's noise per record (angle
+or velocity random walk over one interval). Smooth motion, a ramp or a step keeps the centre
+record near its neighbours' median; vibration widens the neighbours' spread with it. When more
+than ``max_fraction`` of the records fail only this test, the motion is too rough for it: nothing
+is removed by it and a notice says single-record faults below the envelope cannot be found there.
+
 Every removed record is listed with its time and size. More than ``max_fraction`` of the
 records out of the envelope is no longer a few corrupt records but a wrong file, unit or profile:
 that is an error naming the file.
@@ -50,6 +62,10 @@ StillnessTest = Callable[[np.ndarray, float], np.ndarray]
 
 #: records either side whose median a record is compared with
 NEIGHBOURS = 5
+#: a record this many times its neighbours' spread (and the profile's noise per record) off their median
+QUIET_SPIKE_SIGMAS = 100.0
+#: records the below-envelope test reads at a time at most (its windows hold 10 values per record)
+QUIET_CHUNK = 1 << 16
 #: notices listing single records; the rest are summed up in one more
 MAX_LISTED = 10
 
@@ -64,7 +80,7 @@ class Outlier:
     axis: str  # "x", "y", "z"
     value: float  # [m/s^2] or [rad/s]; NaN/inf when not finite
     reference: float  # the median of its neighbours, same unit
-    reason: str  # "not finite", "beyond range", "spike"
+    reason: str  # "not finite", "beyond range", "spike", "spike below the envelope"
 
     def describe(self, source: str) -> str:
         unit, scale = ("m/s^2", 1.0) if self.quantity == "specific force" else ("deg/s", 180.0 / np.pi)
@@ -163,15 +179,31 @@ def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.
                                        float(ref), reason)
                 break
     count = int(bad.sum())
-    if count == 0:
-        return imu, (), []
     if count > max_fraction * n:
         raise ValueError(
             f"{source or 'IMU'}: {count} of {n} records ({100 * count / n:.1f} %) are outside the {profile.name} "
             "profile's envelope: not a few corrupt records but a wrong unit, sensor axes or IMU profile; check the "
             "file's format options and survey.imu_profile")
+    notices: list[Notice] = []
+    noise = {"specific force": profile.accel_vrw / math.sqrt(nominal), "angular rate": profile.gyro_arw / math.sqrt(nominal)}
+    quiet: dict[int, Outlier] = {}
+    for quantity, values in increments.items():
+        for k, axis, value, ref in _spikes_below_envelope(imu.time_s, values, nominal, noise[quantity], bad,
+                                                           min(chunk, QUIET_CHUNK)):
+            if k not in quiet:
+                quiet[k] = Outlier(float(imu.time_s[k]), k, quantity, "xyz"[axis], value, ref, "spike below the envelope")
+    if len(quiet) > max_fraction * n:
+        notices.append(Notice("imu", f"{source + ': ' if source else ''}{len(quiet)} of {n} IMU records depart from their "
+                              f"neighbours by more than {QUIET_SPIKE_SIGMAS:g} x their spread: the motion is too rough to "
+                              "tell a single faulty record inside the envelope from it; none removed by that test, and "
+                              "such a fault would be seen only by the aiding", file=source))
+    else:
+        found.update(quiet)
+        bad[list(quiet)] = True
+    if not found:
+        return imu, (), notices
     outliers = tuple(found[k] for k in sorted(found))
-    notices = [Notice("imu", o.describe(source), file=source, time_s=o.time_s) for o in outliers[:MAX_LISTED]]
+    notices += [Notice("imu", o.describe(source), file=source, time_s=o.time_s) for o in outliers[:MAX_LISTED]]
     if len(outliers) > MAX_LISTED:
         rest = outliers[MAX_LISTED:]
         notices.append(Notice("imu", f"{source + ': ' if source else ''}{len(rest)} more IMU records removed as outliers "
@@ -180,6 +212,36 @@ def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.
     keep = ~bad
     screened = replace(imu, time_s=imu.time_s[keep], dtheta_rad=imu.dtheta_rad[keep], dvel_mps=imu.dvel_mps[keep])
     return screened, outliers, notices
+
+
+def _spikes_below_envelope(time_s: np.ndarray, increments: np.ndarray, nominal: float, noise: float,
+                           removed: np.ndarray, chunk: int) -> list[tuple[int, int, float, float]]:
+    """(index, axis, rate, neighbours' median) of the records more than QUIET_SPIKE_SIGMAS x
+    max(their neighbours' spread, ``noise``) off the neighbours' median (module docstring); records
+    already ``removed`` neither vote nor are tested again (a median next to them is not formed);
+    ``chunk`` records at a time."""
+    n = len(time_s)
+    width = 2 * NEIGHBOURS + 1
+    out = []
+    for first in range(0, n, chunk):
+        lo, hi = max(first - NEIGHBOURS, 0), min(first + chunk + NEIGHBOURS, n)
+        if hi - lo < width:
+            continue
+        with np.errstate(invalid="ignore", over="ignore"):
+            rates = increments[lo:hi] / _intervals(time_s, np.arange(lo, hi), nominal)[:, None]
+            rates[removed[lo:hi] | ~np.isfinite(rates).all(axis=1)] = np.nan
+            windows = np.lib.stride_tricks.sliding_window_view(rates, width, axis=0)  # (m, 3, width)
+            neighbours = np.concatenate([windows[..., :NEIGHBOURS], windows[..., NEIGHBOURS + 1:]], axis=-1)
+            reference = np.median(neighbours, axis=-1)
+            spread = 1.4826 * np.median(np.abs(neighbours - reference[..., None]), axis=-1)
+            centre = windows[..., NEIGHBOURS]
+            spike = np.abs(centre - reference) > QUIET_SPIKE_SIGMAS * np.maximum(spread, noise)
+        release_pages(increments)
+        index = np.arange(lo + NEIGHBOURS, hi - NEIGHBOURS)
+        inside = (index >= first) & (index < first + chunk)
+        for row, axis in zip(*np.nonzero(spike & inside[:, None])):
+            out.append((int(index[row]), int(axis), float(centre[row, axis]), float(reference[row, axis])))
+    return out
 
 
 def _show(quantity: str, value: float) -> str:

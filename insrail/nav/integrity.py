@@ -12,9 +12,12 @@ that record into a verdict per section of track and for the whole survey:
   more than ``MAX_REJECTED_SHARE`` of its trusted observations were rejected (a GNSS float
   stretch rejected is the receiver's fault, not the solution's) or the mean NIS per degree of
   freedom of the used ones exceeds ``MAX_NIS_PER_DOF``;
-- each filter reset (``insrail.nav.fusion.FilterReset``) makes the time from the run's first
-  rejection to ``RESET_SETTLE_S`` after the reset suspect: the solution was wrong there, or
-  converging again;
+- each filter reset (``insrail.nav.fusion.FilterReset``) makes the time from the last accepted
+  observation of the source it was reset for before the run's first rejection to
+  ``RESET_SETTLE_S`` after the reset suspect: the solution was wrong there, or converging again.
+  The fault that started the run lies after that last agreement, not at the first rejection: a
+  single bad IMU record 35 ms before a sleeper pulse spoils that sleeper's pose before the next
+  odometer update is rejected;
 - a survey whose not-valid sections cover more than ``MOSTLY`` of its travelled length cannot
   be trusted: :class:`UntrustedSolution` says which sources and sections, and why.
 
@@ -145,6 +148,15 @@ def travelled_m(north_m: np.ndarray, east_m: np.ndarray) -> np.ndarray:
     return np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(north_m), np.diff(east_m)))])
 
 
+def last_agreement_s(record: InnovationRecord, source: str, first_rejected_s: float) -> float:
+    """The time of the last observation of ``source`` accepted before ``first_rejected_s`` (that
+    time itself when there is none: the run began with the source)."""
+    if source not in record.names:
+        return first_rejected_s
+    agreed = record.accepted & (record.source == record.names.index(source)) & (record.time_s < first_rejected_s)
+    return float(record.time_s[agreed].max()) if agreed.any() else first_rejected_s
+
+
 def assess(record: InnovationRecord, time_s: np.ndarray, station_m: np.ndarray, resets=(),
            section_m: float = SECTION_M) -> FusionIntegrity:
     """The integrity of a forward pass whose update epochs ``time_s`` lie at ``station_m``
@@ -185,6 +197,7 @@ def assess(record: InnovationRecord, time_s: np.ndarray, station_m: np.ndarray, 
     time_to = np.array([time_s[epoch_section == k].max() if np.any(epoch_section == k) else np.nan for k in range(n)])
     widths = np.diff(edges)
     invalid_share = float(widths[~valid].sum() / widths.sum()) if widths.sum() > 0 else float(np.mean(~valid))
-    suspect = tuple((reset.first_rejected_s, reset.time_s + RESET_SETTLE_S, reset.message()) for reset in resets)
+    suspect = tuple((last_agreement_s(record, reset.source, reset.first_rejected_s), reset.time_s + RESET_SETTLE_S,
+                     reset.message()) for reset in resets)
     return FusionIntegrity(record.names, edges[:-1].copy(), edges[1:].copy(), time_from, time_to, count, share,
                            nis_per_dof, valid, tuple(reasons), suspect, invalid_share)
