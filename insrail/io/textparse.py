@@ -38,7 +38,6 @@ import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
-from insrail.io.fastparse import parse_numeric_file
 from insrail.io.types import GAP_FACTOR, Gap
 
 COMMENT_MARKERS = ("#", "%")
@@ -304,6 +303,8 @@ def read_numeric_table(path: str | Path, *, columns: Collection[int] | None = No
         names = tuple(column_names) or header
         values = None
         if text is None:  # the compiled reader; None for what only the general parser handles
+            from insrail.io.fastparse import parse_numeric_file  # numba: only when a table is read
+
             values = parse_numeric_file(path, layout.skip_lines, layout.delimiter == ",", line_count)
         if values is None:
             values = _load_general(path, text, layout, columns, names)
