@@ -9,6 +9,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from insrail.io import fastparse
 from insrail.io.errors import InputError
 from insrail.io.fastparse import parse_numeric_file
 from insrail.io.textparse import MAX_LINE_CHARS, check_text_file, read_numeric_table
@@ -77,14 +78,18 @@ def test_known_hard_numbers_take_the_fast_path_exactly(tmp_path, token):
     assert bits(parsed[0, :1]) == bits(np.array([float(token)]))
 
 
-def test_an_imu_file_as_insrail_writes_it_takes_the_fast_path(tmp_path):
+@pytest.mark.parametrize("block_bytes", [None, 100, 4096])
+def test_an_imu_file_as_insrail_writes_it_takes_the_fast_path(tmp_path, monkeypatch, block_bytes):
+    """Whole lines a block, whatever the block size (the header lines too may span blocks)."""
+    if block_bytes:
+        monkeypatch.setattr(fastparse, "_BLOCK_BYTES", block_bytes)
     rng = np.random.default_rng(3)
     data = np.column_stack([456300 + np.arange(1, 2001) / 200, rng.normal(0, 1e-4, (2000, 6))])
     path = tmp_path / "imu.txt"
     with open(path, "w") as handle:
-        handle.write("# format: kfgins-imu\n# gps_week = 2380\n")
+        handle.write("# format: kfgins-imu\n# gps_week = 2380\n# " + "columns " * 20 + "\n")
         np.savetxt(handle, data, fmt=["%.9f"] + ["%.16e"] * 6)
-    parsed = fast(path, skip_lines=2)
+    parsed = fast(path, skip_lines=3)
     assert parsed is not None and np.array_equal(bits(parsed), bits(np.loadtxt(path, ndmin=2)))
 
 

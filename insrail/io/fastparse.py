@@ -2,7 +2,7 @@
 
 np.loadtxt spends its time in the C library's string-to-double conversion (Python's dtoa,
 about 0.5 µs a field, holding the GIL): a 1.8-million-line IMU file takes 3-4 s. Here one numba
-loop over the file's bytes (memory-mapped, so only the page cache holds the file) splits lines and
+loop over the file's bytes (read in blocks, so memory holds the values and two blocks) splits lines and
 fields and converts each field with the Eisel-Lemire algorithm (Lemire, "Number parsing at a
 gigabyte per second", 2021; as in the fast_float library): the 64-bit decimal significand times a
 128-bit approximation of 5**q gives the correctly rounded double, and the rare cases the
@@ -21,7 +21,6 @@ None and the caller runs the general parser, which gives the values or the error
 
 from __future__ import annotations
 
-import mmap
 from pathlib import Path
 
 import numpy as np
@@ -135,17 +134,17 @@ def _is_comment(byte):
 
 @compiled
 def _skip_lines(data, count):
-    """Offset after ``count`` lines, or -1 on a lone carriage return (the general parser's
-    universal newlines would count lines differently)."""
+    """(offset after up to ``count`` lines, lines still to skip), or (-1, 0) on a lone carriage
+    return (the general parser's universal newlines would count lines differently)."""
     position, n = 0, len(data)
     while count > 0 and position < n:
         byte = data[position]
         if byte == 13 and (position + 1 >= n or data[position + 1] != 10):
-            return -1
+            return -1, 0
         if byte == 10:
             count -= 1
         position += 1
-    return position
+    return position, count
 
 
 @compiled
@@ -201,13 +200,14 @@ def _parse_number(data, position, negative):
 
 
 @compiled
-def _parse(data, start, comma, out_bits):
-    """Fill out_bits with the IEEE bits of the table's fields from byte ``start`` on, one row a
-    data line, up to out_bits.shape[0] rows. Returns (rows, columns), or (-1, 0) when the file
-    needs the general parser."""
+def _parse(data, start, comma, out_bits, rows, columns):
+    """Fill out_bits from row ``rows`` on with the IEEE bits of the fields of data's lines from
+    byte ``start`` on, one row a data line, up to out_bits.shape[0] rows; ``columns`` is the
+    field count of the rows before (-1: none yet). Returns (rows, columns) after these lines, or
+    (-1, 0) when the file needs the general parser."""
     n = len(data)
     max_rows, max_columns = out_bits.shape
-    position, rows, columns = start, 0, -1
+    position = start
     while position < n and rows < max_rows:
         field = 0
         blank_only = False
@@ -266,29 +266,52 @@ def _parse(data, start, comma, out_bits):
 
 #: fields a line can hold within the line length limit (a number and a separator each)
 _PROBE_COLUMNS = 1 << 15
+#: bytes read at a time: memory stays the values plus two blocks, whatever the file's size
+_BLOCK_BYTES = 1 << 24
+
+
+def _blocks_of_whole_lines(handle):
+    """The file's bytes in blocks of about :data:`_BLOCK_BYTES` that end at a line end (the last
+    one at the end of the file); check_text_file bounds a line, so every block holds one."""
+    carry = b""
+    while True:
+        block = handle.read(_BLOCK_BYTES)
+        if not block:
+            if carry:
+                yield carry
+            return
+        data = carry + block
+        cut = data.rfind(b"\n") + 1
+        if cut:
+            yield data[:cut]
+        carry = data[cut:]
 
 
 def parse_numeric_file(path: Path, skip_lines: int, comma: bool, line_count: int) -> np.ndarray | None:
     """(rows, columns) float64 of the file's data lines after ``skip_lines`` lines, exactly as
     np.loadtxt reads them, or None when the file needs the general parser (see the module
     docstring). ``line_count`` bounds the rows (from :func:`insrail.io.textparse.check_text_file`)."""
+    out_bits = None
+    rows, columns = 0, -1
     with open(path, "rb") as handle:
-        if handle.seek(0, 2) == 0:
-            return None
-        with mmap.mmap(handle.fileno(), 0, access=mmap.ACCESS_READ) as mapped:
-            data = np.frombuffer(mapped, dtype=np.uint8)
-            try:
-                start = _skip_lines(data, skip_lines)
+        for block in _blocks_of_whole_lines(handle):
+            data = np.frombuffer(block, dtype=np.uint8)
+            start = 0
+            if skip_lines:
+                start, skip_lines = _skip_lines(data, skip_lines)
                 if start < 0:
                     return None
+            if out_bits is None:  # the first data row's field count sizes the values
                 probe = np.empty((1, _PROBE_COLUMNS), dtype=np.int64)
-                rows, columns = _parse(data, start, comma, probe)
-                if rows <= 0:
+                found, columns = _parse(data, start, comma, probe, 0, -1)
+                if found < 0:
                     return None
-                out_bits = np.empty((max(line_count - skip_lines, 1), columns), dtype=np.int64)
-                rows, _ = _parse(data, start, comma, out_bits)
-            finally:
-                del data  # the map closes only once no array views it
-    if rows <= 0:
+                if found == 0:
+                    continue  # no data row in this block
+                out_bits = np.empty((max(line_count, 1), columns), dtype=np.int64)
+            rows, columns = _parse(data, start, comma, out_bits, rows, columns)
+            if rows < 0:
+                return None
+    if out_bits is None:
         return None
     return out_bits[:rows].view(np.float64)
