@@ -48,6 +48,9 @@ def measure_kfgins_text(folder: Path, imu: ImuIncrements) -> None:
     print(f"{'  file size':<34s} {path.stat().st_size / 1e6:7.1f} MB")
     back = timed("read_imu_kfgins", lambda: read_imu_kfgins(path))
     assert np.array_equal(back.dvel_mps, imu.dvel_mps), "text round trip lost precision"
+    # the yardstick: numpy's C parser, which read_numeric_table falls back to for what the
+    # compiled reader leaves (see insrail.io.fastparse)
+    timed("  np.loadtxt of the same file", lambda: np.loadtxt(path, ndmin=2))
 
 
 def measure_npy(folder: Path, imu: ImuIncrements) -> None:

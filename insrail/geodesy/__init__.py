@@ -17,28 +17,22 @@ Conventions (on top of the package-wide ones in ``insrail``):
 * All errors are ``GeodesyError`` (a ``ValueError``) or subclasses.
 """
 
-from insrail.geodesy.crs import PROJECTION_HEIGHT_CONVENTIONS, EngineeringCRS
-from insrail.geodesy.ellipsoid import ELLIPSOIDS, Ellipsoid
-from insrail.geodesy.errors import FitError, GeodesyError, GeoidGridError, SettingsError
-from insrail.geodesy.geoid import GeoidGrid, PlaneGeoid, checked_transformer, find_egm96_grid
-from insrail.geodesy.height_anomaly import (
-    MODELS,
-    CandidateFit,
-    ChainageSplineModel,
-    HeightAnomalyFit,
-    HeightAnomalyModel,
-    HeightAnomalySettings,
-    SurfaceModel,
-    fit_height_anomaly,
-)
-from insrail.geodesy.similarity import (
-    Helmert7,
-    Helmert7Fit,
-    Similarity2D,
-    Similarity2DFit,
-    fit_helmert_7,
-    fit_similarity_2d,
-)
+from insrail.lazy import lazy_exports
+
+_EXPORTS = {
+    "crs": ["PROJECTION_HEIGHT_CONVENTIONS", "EngineeringCRS"],
+    "ellipsoid": ["ELLIPSOIDS", "Ellipsoid"],
+    "errors": ["FitError", "GeodesyError", "GeoidGridError", "SettingsError"],
+    "geoid": ["GeoidGrid", "PlaneGeoid", "checked_transformer", "find_egm96_grid"],
+    "height_anomaly": [
+        "MODELS", "CandidateFit", "ChainageSplineModel", "HeightAnomalyFit", "HeightAnomalyModel",
+        "HeightAnomalySettings", "SurfaceModel", "fit_height_anomaly"
+    ],
+    "similarity": [
+        "Helmert7", "Helmert7Fit", "Similarity2D", "Similarity2DFit", "fit_helmert_7", "fit_similarity_2d"
+    ],
+}
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = [
     "ELLIPSOIDS", "Ellipsoid", "PROJECTION_HEIGHT_CONVENTIONS", "EngineeringCRS",

@@ -12,27 +12,23 @@ Formats are registered by name in :mod:`insrail.io.formats`; docs/formats.md
 describes each one.
 """
 
-from insrail.io.atomic import atomic_write
-from insrail.io.control import read_benchmarks, read_prism_enu, write_benchmarks, write_prism_enu
-from insrail.io.errors import InputError, ManifestError
-from insrail.io.formats import FORMATS, FileFormat, detect_format, read_any
-from insrail.io.gnss import read_gnss_kfgins, write_gnss_kfgins
-from insrail.io.imu import (
-    read_imu_kfgins,
-    read_imu_npy,
-    read_imu_rates_csv,
-    write_imu_kfgins,
-    write_imu_npy,
-)
-from insrail.io.odometer import (
-    read_odometer_distance,
-    read_odometer_pulses,
-    write_odometer_distance,
-    write_odometer_pulses,
-)
-from insrail.io.rtklib import read_rtklib_pos, write_rtklib_pos
-from insrail.io.survey import read_manifest, read_survey, write_manifest
-from insrail.io.track_sensors import read_gauge_mm, read_sleeper_times, write_gauge_mm, write_sleeper_times
+from insrail.lazy import lazy_exports
+
+_EXPORTS = {
+    "atomic": ["atomic_write"],
+    "control": ["read_benchmarks", "read_prism_enu", "write_benchmarks", "write_prism_enu"],
+    "errors": ["InputError", "ManifestError"],
+    "formats": ["FORMATS", "FileFormat", "detect_format", "read_any"],
+    "gnss": ["read_gnss_kfgins", "write_gnss_kfgins"],
+    "imu": ["read_imu_kfgins", "read_imu_npy", "read_imu_rates_csv", "write_imu_kfgins", "write_imu_npy"],
+    "odometer": [
+        "read_odometer_distance", "read_odometer_pulses", "write_odometer_distance", "write_odometer_pulses"
+    ],
+    "rtklib": ["read_rtklib_pos", "write_rtklib_pos"],
+    "survey": ["read_manifest", "read_survey", "write_manifest"],
+    "track_sensors": ["read_gauge_mm", "read_sleeper_times", "write_gauge_mm", "write_sleeper_times"],
+}
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = [
     "FORMATS", "FileFormat", "InputError", "ManifestError", "atomic_write", "detect_format", "read_any",

@@ -31,7 +31,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.signal import correlate
 
 from insrail.io.errors import InputError, ManifestError
 from insrail.io.survey import MANIFEST_NAME, SurveyData
@@ -123,6 +122,9 @@ def estimate_odometer_offset(imu: ImuIncrements, odometer: OdometerData,
     unshifted = odometer_acceleration(0.0)
     if min(np.std(unshifted), np.std(imu_acceleration)) < MIN_ACCELERATION_RMS_MPS2:
         return None
+    # imported here: scipy.signal pulls in scipy.stats (about a second) that other commands never use
+    from scipy.signal import correlate
+
     lags = int(round(SEARCH_S / GRID_STEP_S))
     # full[k] = sum_n odometer[n + k - (N - 1)] * imu[n]: the odometer lagging by k - (N - 1) samples
     full = correlate(unshifted, imu_acceleration, mode="full", method="fft")

@@ -9,7 +9,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import lfilter
 
 from insrail.nav.imu_profile import ImuProfile
 
@@ -20,6 +19,9 @@ def gauss_markov(rng: np.random.Generator, n: int, dt: float, sigma, tau_s: floa
     x_k = phi x_{k-1} + sigma sqrt(1 - phi^2) w_k with phi = exp(-dt/tau): the exact
     discretisation (its variance stays sigma^2 at every step).
     """
+    # imported here: scipy.signal pulls in scipy.stats (about a second) that other commands never use
+    from scipy.signal import lfilter
+
     sigma = np.atleast_1d(np.asarray(sigma, dtype=float))
     out = np.zeros((n, sigma.size))
     if n == 0 or not np.any(sigma > 0):

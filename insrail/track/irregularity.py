@@ -23,7 +23,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
-from scipy import signal
 
 SLEEPER_SPACING_M = 0.625
 DEFAULT_MAX_GAP_M = 1.5  # bridges one missing sleeper, never two
@@ -270,6 +269,9 @@ def band_pass(
         raise ValueError(f"wavelength band {band}: expected 0 < shortest < longest")
     if shortest <= 2 * spacing_m:
         raise ValueError(f"shortest wavelength {shortest} m is not resolved by a {spacing_m} m grid")
+    # imported here: scipy.signal pulls in scipy.stats (about a second) that other commands never use
+    from scipy import signal
+
     grid = UniformGrid.resample(station, deviation, spacing_m, max_gap_m)
     sos = signal.butter(order, [1.0 / longest, 1.0 / shortest], btype="bandpass", fs=1.0 / spacing_m, output="sos")
     filtered = np.full(grid.values.size, np.nan)
