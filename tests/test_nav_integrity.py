@@ -9,14 +9,16 @@ Figures: benchmarks/integrity.py prints them for every scenario.
 import math
 import tomllib
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from insrail.io.survey import read_manifest, read_survey, write_manifest
-from insrail.nav import integrity
+from insrail.nav import earth, integrity
 from insrail.nav.earth import CGCS2000
 from insrail.nav.fusion import FusionOptions, fuse_survey
+from insrail.nav.measurements import PositionFix
 from insrail.sim import gnss_faults
 from insrail.sim.evaluation import trajectory_errors
 from insrail.sim.truth import read_nav_truth
@@ -88,7 +90,6 @@ def test_a_reset_turns_a_lost_heading_to_the_tracks(off_deg, backwards):
     onto the track's line, forwards or backwards whichever is nearer (beyond 90 deg a lost heading
     is taken for a trolley pushed backwards), with the chord's 1-sigma, and the velocity with it;
     within three sigma of the track it is left alone."""
-    from types import SimpleNamespace
 
     from insrail.nav import _kernels
     from insrail.nav.fusion import FilterReset, realign_at_reset
@@ -150,6 +151,52 @@ def test_sections_inconsistent_with_their_sigma_are_not_valid_and_most_of_them_f
                                  time_s, station)
     assert not untrusted.trusted and "inconsistent with its own 1-sigma over 100 %" in untrusted.failure()
     assert "gnss_position" in untrusted.failure() and "lever arms" in untrusted.failure()
+
+
+def _northward(duration_s: float = 600.0, sigma_m: float = 0.01):
+    """A trajectory going north at 1 m/s from 30 deg N on CGCS2000, heading north, level."""
+    time_s = np.arange(0.0, duration_s + 0.5, 1.0)
+    r_m, _ = earth.radii(math.radians(30.0), CGCS2000)
+    n = len(time_s)
+    return SimpleNamespace(time_s=time_s, lat_rad=math.radians(30.0) + time_s / r_m, lon_rad=np.full(n, 2.0),
+                           height_m=np.full(n, 30.0), rpy_rad=np.zeros((n, 3)),
+                           sigma_pos_ned_m=np.full((n, 3), sigma_m))
+
+
+def _fixes_on(trajectory, time_s, north_off_m, lever_m=(0.0, 0.25, -1.5)):
+    """Prism fixes (1 mm) of the point at ``lever_m`` on ``trajectory``, moved north by ``north_off_m``."""
+    r_m, r_n = earth.radii(math.radians(30.0), CGCS2000)
+    north_m = np.asarray(north_off_m) + lever_m[0]
+    lat = np.interp(time_s, trajectory.time_s, trajectory.lat_rad) + north_m / (r_m + 30.0)
+    lon = 2.0 + lever_m[1] / ((r_n + 30.0) * np.cos(lat))
+    return PositionFix(np.asarray(time_s, float), lat, lon, np.full(len(time_s), 30.0 - lever_m[2]),
+                       np.full(len(time_s), 0.001), np.asarray(lever_m))
+
+
+def test_fixes_the_trajectory_misses_beyond_their_sigma_are_not_valid_and_most_of_them_fail_the_survey():
+    """issue 33 (the matrix's prism-only MEMS cell): after filter resets a trajectory missed its prism fixes by
+    metres while the filter's record, a rejected fix or two per 200 m section, looked consistent: every fix,
+    accepted or rejected, is checked against the final trajectory."""
+    trajectory = _northward()
+    time_s = np.arange(0.0, 601.0, 60.0)
+    gate = 16.27  # chi-square, 3 rows, 99.9 %
+    off = np.zeros(len(time_s))
+    off[4] = 0.2  # 20 x the 1-sigma of fix (1 mm) and trajectory (10 mm) together
+    off[5] = 0.03  # 3 x: within the gate
+    missed = integrity.missed_fixes(trajectory, [_fixes_on(trajectory, time_s, off)], gate, CGCS2000)
+    assert [(a, b) for a, b, _ in missed] == [(180.0, 300.0)]
+    assert "misses the position_fix at t = 240.0 s by 0.200 m, 20 x its 1-sigma" in missed[0][2]
+    record = _record(["position_fix"], time_s, np.zeros(len(time_s), int), np.full(len(time_s), 1.0),
+                     np.full(len(time_s), 3), np.ones(len(time_s), bool))
+    verdict = integrity.assess(record, trajectory.time_s, trajectory.time_s, missed=missed)
+    assert verdict.valid.all() and verdict.trusted and verdict.missed_share == pytest.approx(0.2, abs=0.01)
+    assert (180.0, 300.0) in [(a, b) for a, b, _ in verdict.not_valid_intervals()]
+    assert verdict.to_dict()["missed_fixes"][0]["time_from_s"] == 180.0
+    off[6:] = -5.0  # the trajectory 5 m beside every later fix, as a heading lost after a reset leaves it
+    missed = integrity.missed_fixes(trajectory, [_fixes_on(trajectory, time_s, off)], gate, CGCS2000)
+    untrusted = integrity.assess(record, trajectory.time_s, trajectory.time_s, missed=missed)
+    assert untrusted.valid.all() and not untrusted.trusted
+    assert "where it misses 6 position fixes" in untrusted.failure()
 
 
 # --------------------------------------------------------------------------- end to end

@@ -1449,7 +1449,9 @@ def fuse(
     r_m, r_n = earth.radii(lat_e[0], ellipsoid)
     station = integrity.travelled_m((lat_e - lat_e[0]) * r_m, (lon_e - lon_e[0]) * r_n * math.cos(lat_e[0]))
     resets = forward_pass.resets
-    verdict = integrity.assess(innovations, t[epochs], station, resets)
+    fixes = [m for m in aiding.measurements if isinstance(m, PositionFix)]
+    missed = integrity.missed_fixes(trajectory, fixes, float(setup.gates[3]), ellipsoid) if fixes else ()
+    verdict = integrity.assess(innovations, t[epochs], station, resets, missed=missed)
     notices += integrity_notices(resets, verdict)
     start = setup.start
     return FusionResult(trajectory, forward, tuple(forward_pass.rejections), forward_pass.statistics,
@@ -1462,14 +1464,17 @@ def fuse(
 
 
 def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
-    """Every filter reset and every section whose solution is inconsistent with its 1-sigma (its
-    sleepers are not assessed): notices with their times."""
+    """Every filter reset, every section whose solution is inconsistent with its 1-sigma and every
+    stretch around a position fix the trajectory misses (their sleepers are not assessed): notices
+    with their times."""
     notices = [Notice("fusion", reset.message(), time_s=reset.time_s) for reset in resets]
     notices += [Notice("fusion", f"not valid from t = {verdict.time_from_s[k]:.1f} s to {verdict.time_to_s[k]:.1f} s "
                                  f"(travelled {verdict.station_from_m[k]:.0f}-{verdict.station_to_m[k]:.0f} m): "
                                  f"{verdict.reasons[k]}; its sleepers are not assessed",
                        time_s=float(verdict.time_from_s[k]))
                 for k in np.flatnonzero(~verdict.valid)]
+    notices += [Notice("fusion", f"not valid from t = {start:.1f} s to {end:.1f} s: {why}; its sleepers are not assessed",
+                       time_s=start) for start, end, why in verdict.missed_s]
     return notices
 
 

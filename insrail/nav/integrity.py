@@ -18,8 +18,15 @@ that record into a verdict per section of track and for the whole survey:
   The fault that started the run lies after that last agreement, not at the first rejection: a
   single bad IMU record 35 ms before a sleeper pulse spoils that sleeper's pose before the next
   odometer update is rejected;
-- a survey whose not-valid sections cover more than ``MOSTLY`` of its travelled length cannot
-  be trusted: :class:`UntrustedSolution` says which sources and sections, and why.
+- every position fix (a prism on CPIII control), accepted or rejected by the forward filter, is
+  compared with the final trajectory (:func:`missed_fixes`): a trajectory that misses a fix by
+  more than the filter's gate, against the fix's and its own 1-sigma, is not valid from the
+  fix before it to the fix after it (what ties it there is that fix). The filter's record alone
+  cannot see this: after a reset it may converge on a wrong heading whose later fixes, rejected
+  or re-admitted with a wide covariance, all look consistent with its 1-sigma;
+- a survey whose not-valid sections, or whose stretches between missed fixes, cover more than
+  ``MOSTLY`` of its travelled length cannot be trusted: :class:`UntrustedSolution` says which
+  sources and sections, and why.
 
 Sleepers passed inside a not-valid section or a suspect interval are flagged and not assessed
 (``insrail.project.pipeline``). Sections are cut on the forward solution's travelled distance,
@@ -32,6 +39,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from insrail.nav import earth
+from insrail.nav.rotation import euler_to_dcm
 
 MIN_OBSERVATIONS = 5
 MAX_REJECTED_SHARE = 0.2
@@ -82,17 +92,21 @@ class FusionIntegrity:
     #: why the whole survey is inconsistent though its sections are not (``insrail.nav.self_calibration``:
     #: the GNSS positions still disagreeing with the solution when its passes ran out); "" when not
     inconsistent: str = ""
+    #: (start, end, why) in seconds of week around each position fix the trajectory misses
+    #: (:func:`missed_fixes`) and their share of the travelled length
+    missed_s: tuple[tuple[float, float, str], ...] = ()
+    missed_share: float = 0.0
 
     @property
     def trusted(self) -> bool:
-        return not (self.invalid_share > MOSTLY or self.inconsistent)
+        return not (self.invalid_share > MOSTLY or self.missed_share > MOSTLY or self.inconsistent)
 
     def not_valid_intervals(self) -> list[tuple[float, float, str]]:
         """(start, end, why) in seconds of week: the not-valid sections and the suspect intervals."""
         out = [(float(self.time_from_s[k]), float(self.time_to_s[k]),
                 (f"fusion inconsistent in section {self.station_from_m[k]:.0f}-{self.station_to_m[k]:.0f} m: "
                  f"{self.reasons[k]}")) for k in np.flatnonzero(~self.valid)]
-        return out + list(self.suspect_s)
+        return out + list(self.suspect_s) + list(self.missed_s)
 
     def summary(self) -> str:
         bad = int(np.sum(~self.valid))
@@ -102,6 +116,9 @@ class FusionIntegrity:
             text += f"; not valid: {100 * self.invalid_share:.0f} % of the length"
         if self.suspect_s:
             text += f"; {len(self.suspect_s)} filter reset(s)"
+        if self.missed_s:
+            text += (f"; {len(self.missed_s)} position fix(es) missed by the trajectory beyond their 1-sigma "
+                     f"({100 * self.missed_share:.0f} % of the length)")
         if self.inconsistent:
             text += f"; inconsistent: {self.inconsistent}"
         return text
@@ -118,9 +135,14 @@ class FusionIntegrity:
                 nis = np.nanmedian(self.nis_per_dof[counted, s]) if np.isfinite(self.nis_per_dof[counted, s]).any() \
                     else math.nan
             worst.append(f"{name} {100 * rejected:.0f} % rejected, NIS {nis:.1f} x its degrees of freedom")
-        where = (self.inconsistent if self.inconsistent and not self.invalid_share > MOSTLY else
-                 f"over {100 * self.invalid_share:.0f} % of the survey ({int(np.sum(~self.valid))} of {len(self.valid)} "
-                 "sections)")
+        if self.invalid_share > MOSTLY:
+            where = (f"over {100 * self.invalid_share:.0f} % of the survey ({int(np.sum(~self.valid))} of "
+                     f"{len(self.valid)} sections)")
+        elif self.missed_share > MOSTLY:
+            where = (f"over {100 * self.missed_share:.0f} % of the survey, where it misses {len(self.missed_s)} "
+                     f"position fixes ({self.missed_s[0][2]})")
+        else:
+            where = self.inconsistent
         return (f"the fused solution is inconsistent with its own 1-sigma {where}: " + "; ".join(worst)
                 + ". Check the lever arms and mounting angles in survey.toml, the IMU profile (a MEMS unit carried "
                   "by hand or shaken: mems_handheld) and the GNSS solution's time scale and sigmas")
@@ -140,7 +162,10 @@ class FusionIntegrity:
                                "rejected_share": clean(self.rejected_share[k])}
                               for k in np.flatnonzero(~self.valid)],
                 "suspect": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": why}
-                            for a, b, why in self.suspect_s]}
+                            for a, b, why in self.suspect_s],
+                "missed_fixes": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": why}
+                                 for a, b, why in self.missed_s],
+                "missed_share": round(self.missed_share, 4)}
 
 
 def travelled_m(north_m: np.ndarray, east_m: np.ndarray) -> np.ndarray:
@@ -157,10 +182,61 @@ def last_agreement_s(record: InnovationRecord, source: str, first_rejected_s: fl
     return float(record.time_s[agreed].max()) if agreed.any() else first_rejected_s
 
 
+def missed_fixes(trajectory, fixes, gate: float, ellipsoid) -> tuple[tuple[float, float, str], ...]:
+    """(start, end, why) around every fix of the ``PositionFix`` sources ``fixes`` that ``trajectory``
+    misses: the point at the fix's lever arm, interpolated to its time, off the fix by a normalised
+    squared residual beyond ``gate`` (the filter's 3-row chi-square gate) against the fix's variance
+    plus the trajectory's position variance (their sum: the fix is in the trajectory when it was used,
+    so this overstates the residual's variance and does not flag a fix the trajectory holds). The
+    interval runs from the fix before to the fix after it (the trajectory's start or end without one)."""
+    t = np.asarray(trajectory.time_s, dtype=float)
+    out = []
+    for fix in fixes:
+        time_s = np.asarray(fix.time_s, dtype=float)
+        inside = np.flatnonzero((time_s >= t[0]) & (time_s <= t[-1]))
+        if not len(inside):
+            continue
+        ts = time_s[inside]
+        lat, lon, h = (np.interp(ts, t, np.asarray(x, dtype=float))
+                       for x in (trajectory.lat_rad, trajectory.lon_rad, trajectory.height_m))
+        rpy = np.column_stack([np.interp(ts, t, np.unwrap(np.asarray(trajectory.rpy_rad[:, k], dtype=float)))
+                               for k in range(3)])
+        sigma_traj = np.column_stack([np.interp(ts, t, np.asarray(trajectory.sigma_pos_ned_m[:, k], dtype=float))
+                                      for k in range(3)])
+        lever_ned = euler_to_dcm(rpy[:, 0], rpy[:, 1], rpy[:, 2]) @ np.asarray(fix.lever_arm_m, dtype=float)
+        r_m, r_n = earth.radii(lat, ellipsoid)
+        residual = lever_ned - np.column_stack([(fix.lat[inside] - lat) * (r_m + h),
+                                                (fix.lon[inside] - lon) * (r_n + h) * np.cos(lat),
+                                                -(fix.h[inside] - h)])
+        variance = np.square(np.asarray(fix.sigma_m, dtype=float)[inside])[:, None] + np.square(sigma_traj)
+        nis = np.sum(residual**2 / variance, axis=1)
+        order = np.sort(time_s)
+        for k in np.flatnonzero(nis > gate):
+            before, after = order[order < ts[k]], order[order > ts[k]]
+            off = float(np.linalg.norm(residual[k]))
+            out.append((float(before[-1]) if len(before) else float(t[0]),
+                        float(after[0]) if len(after) else float(t[-1]),
+                        f"the trajectory misses the {fix.name} at t = {ts[k]:.1f} s by {off:.3f} m, "
+                        f"{math.sqrt(nis[k]):.0f} x its 1-sigma"))
+    return tuple(sorted(out))
+
+
+def _share(intervals, time_s: np.ndarray, station_m: np.ndarray) -> float:
+    """The share of the travelled length inside the union of the (start, end, ...) intervals."""
+    length = float(station_m[-1] - station_m[0])
+    if not intervals or length <= 0:
+        return 0.0
+    covered = np.zeros(len(time_s), dtype=bool)
+    for start, end, *_ in intervals:
+        covered |= (time_s >= start) & (time_s <= end)
+    return float(np.sum(np.diff(station_m)[covered[1:] & covered[:-1]]) / length)
+
+
 def assess(record: InnovationRecord, time_s: np.ndarray, station_m: np.ndarray, resets=(),
-           section_m: float = SECTION_M) -> FusionIntegrity:
+           section_m: float = SECTION_M, missed=()) -> FusionIntegrity:
     """The integrity of a forward pass whose update epochs ``time_s`` lie at ``station_m``
-    (non-decreasing travelled distance) with the observations in ``record``."""
+    (non-decreasing travelled distance) with the observations in ``record``; ``missed``: the
+    intervals around the position fixes the final trajectory misses (:func:`missed_fixes`)."""
     length = float(station_m[-1] - station_m[0])
     n = max(int(math.floor(length / section_m + 0.75)), 1)  # the last section takes the remainder
     edges = station_m[0] + section_m * np.arange(n + 1)
@@ -200,4 +276,5 @@ def assess(record: InnovationRecord, time_s: np.ndarray, station_m: np.ndarray, 
     suspect = tuple((last_agreement_s(record, reset.source, reset.first_rejected_s), reset.time_s + RESET_SETTLE_S,
                      reset.message()) for reset in resets)
     return FusionIntegrity(record.names, edges[:-1].copy(), edges[1:].copy(), time_from, time_to, count, share,
-                           nis_per_dof, valid, tuple(reasons), suspect, invalid_share)
+                           nis_per_dof, valid, tuple(reasons), suspect, invalid_share, missed_s=tuple(missed),
+                           missed_share=_share(missed, np.asarray(time_s), np.asarray(station_m)))

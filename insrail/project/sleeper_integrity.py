@@ -2,7 +2,8 @@
 
 The fusion's integrity verdict (``insrail.nav.integrity``, kept in the fusion's cached info as
 ``integrity``) names the times where the solution was inconsistent with its 1-sigma (not-valid
-sections) or suspect (around a filter reset). A sleeper the trolley passed inside one of them is
+sections), suspect (around a filter reset) or where the trajectory misses a position fix. A
+sleeper the trolley passed inside one of them is
 marked not valid, so no exceedance is assessed there and no adjustment amount computed from it,
 and sleepers.csv says why in its ``not_assessed`` column (reasons joined by "; ", with those of
 the track events).
@@ -24,6 +25,7 @@ def flag_sleepers(table: SleeperTable, integrity: dict | None) -> SleeperTable:
         return table
     intervals = [(s["time_from_s"], s["time_to_s"], s["reason"]) for s in integrity.get("not_valid", [])]
     intervals += [(s["time_from_s"], s["time_to_s"], s["reason"]) for s in integrity.get("suspect", [])]
+    intervals += [(s["time_from_s"], s["time_to_s"], s["reason"]) for s in integrity.get("missed_fixes", [])]
     reasons = list(table.not_assessed or ("",) * len(table))
     flagged = np.zeros(len(table), dtype=bool)
     for start, end, why in intervals:
