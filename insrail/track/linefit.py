@@ -36,7 +36,7 @@ come from :mod:`insrail.track.linefit_windows`, which refits it in overlapping w
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -148,12 +148,22 @@ def _ramp(s, curvature, k_from, k_to, window_m, entry: bool) -> tuple[float, flo
 class _CurveSeed:
     """One curve group as found on the curvature diagram.
 
-    boundaries_m: TS, then SC, CS per arc, then ST (2 + 2 * arcs stations, clothoids between
-    TS-SC, CS-SC of the next arc, CS-ST); curvatures: signed curvature of each arc [1/m].
+    kinds: its elements between the straights around it (closed: clothoid, then (arc,
+    clothoid) per arc; a group cut by the data's start or end begins or ends with an arc, or
+    with the piece of its clothoid the data hold, ``start_curvature`` (``end_curvature``) the
+    curvature at the data's edge then);
+    boundaries_m: the stations of its joints, the straights' joints included (TS ... ST; a
+    group cut by the start has no TS, one cut by the end no ST); curvatures: signed
+    curvature of each of its arcs [1/m].
     """
 
+    kinds: tuple[str, ...]
     boundaries_m: tuple[float, ...]
     curvatures: tuple[float, ...]
+    open_start: bool = False
+    open_end: bool = False
+    start_curvature: float | None = None
+    end_curvature: float | None = None
 
 
 def _plateaus(g, magnitude, window_m) -> list[tuple[int, int, float]]:
@@ -183,6 +193,25 @@ def _plateaus(g, magnitude, window_m) -> list[tuple[int, int, float]]:
     return flats
 
 
+_CLOSED = (math.nan, None)
+"""How :func:`_open_ramp` describes a curve group's end inside the data."""
+
+
+def _open_ramp(g, magnitude, level, flat_index, edge, data_edge, start: bool):
+    """How a curve group cut by the data's start (end) begins (ends): None when the data start
+    (end) on its arc; else (station of the straight's joint, None) when the extrapolated ramp
+    reaches zero inside the data (a whole clothoid), or (None, curvature at the data's edge)
+    when the data start (end) on the clothoid itself."""
+    at_edge = magnitude[edge]
+    if at_edge >= 0.9 * level:
+        return None
+    slope = (level - at_edge) / max(abs(g[flat_index] - g[edge]), 1.0)
+    zero = g[edge] - at_edge / slope if start else g[edge] + at_edge / slope
+    if (zero > data_edge + 1.0) if start else (zero < data_edge - 1.0):
+        return zero, None
+    return None, max(at_edge - slope * abs(g[edge] - data_edge), 0.05 * level)
+
+
 def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> list[_CurveSeed]:
     s, heading = _heading(station, east, north, chord_half_m)
     grid = np.arange(s[0] + 0.5 * window_m, s[-1] - 0.5 * window_m, 1.0)
@@ -192,11 +221,6 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
     seeds = []
     reach = int(window_m)
     for first, last in _runs(np.abs(curvature) > 1.0 / max_radius_m):
-        if first == 0 or last == grid.size - 1:
-            raise LineFitError(
-                f"line fitting: the centreline {'starts' if first == 0 else 'ends'} inside a curve; the "
-                "data must begin and end on a straight (extend the survey or cut it at a tangent)"
-            )
         if grid[last] - grid[first] < _MIN_CURVE_RUN_M:
             continue
         sign = float(np.sign(np.median(curvature[first : last + 1])))
@@ -205,18 +229,39 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
         g, magnitude = grid[lo : hi + 1], sign * curvature[lo : hi + 1]
         flats = _plateaus(g, np.where((g >= grid[first]) & (g <= grid[last]), magnitude, 0.0), window_m)
         levels = [0.0] + [level for _, _, level in flats] + [0.0]
+        arcs = [sign * level for level in levels[1:-1]]
+        # a group the data cut: how it begins and ends (module docstring)
+        head = _open_ramp(g, magnitude, levels[1], flats[0][0], 0, station[0], True) if first == 0 else _CLOSED
+        tail = (_open_ramp(g, magnitude, levels[-2], flats[-1][1], -1, station[-1], False)
+                if last == grid.size - 1 else _CLOSED)
+        kinds = [] if head is None else [CLOTHOID]
+        for i in range(len(flats)):
+            kinds += [ARC] if i == len(flats) - 1 else [ARC, CLOTHOID]
+        kinds += [] if tail is None else [CLOTHOID]
         # ramp i runs from the end of flat i - 1 (or the widened start) to the start of flat i
         starts = [0] + [f_last for _, f_last, _ in flats]
         stops = [f_first for f_first, _, _ in flats] + [g.size - 1]
         boundaries = []
         for i, (a, b) in enumerate(zip(starts, stops)):
+            edge = head if i == 0 else tail if i == len(flats) else _CLOSED
+            if edge is None:  # the data start (end) on this arc
+                continue
+            if edge[1] is not None:  # on this clothoid: it begins (ends) with the chain
+                boundaries += [g[b]] if i == 0 else [g[a]]
+                continue
+            if not math.isnan(edge[0]):  # the ramp extrapolated to zero inside the data
+                boundaries += [edge[0], g[b]] if i == 0 else [g[a], edge[0]]
+                continue
             entry = levels[i + 1] > levels[i]
             mid, length = _ramp(g[a : b + 1], magnitude[a : b + 1], levels[i], levels[i + 1], window_m, entry)
             boundaries += [mid - 0.5 * length, mid + 0.5 * length]
         # boundaries: TS, SC, (CS, SC)*, CS, ST -- pairs are the clothoids' ends
         if np.any(np.diff(boundaries) < 1.0):
             continue
-        seeds.append(_CurveSeed(tuple(boundaries), tuple(sign * level for level in levels[1:-1])))
+        seeds.append(_CurveSeed(tuple(kinds), tuple(boundaries), tuple(arcs), head is None or head[1] is not None,
+                                tail is None or tail[1] is not None,
+                                None if head is None or head[1] is None else sign * head[1],
+                                None if tail is None or tail[1] is None else sign * tail[1]))
     return seeds
 
 
@@ -245,11 +290,13 @@ class _Chain:
     """A pattern of element kinds from ``start_station`` to ``end_station`` and its parameter vector.
 
     x = [start offset across the initial tangent, start azimuth, lengths of every element but
-    the last, arc curvatures]; the last length closes the chain at ``end_station``. Lines have
+    the last, arc curvatures, then the start (end) curvature when ``free_start_curvature``
+    (``free_end_curvature``)]; the last length closes the chain at ``end_station``. Lines have
     curvature 0, arcs their own; a clothoid runs from its predecessor's curvature to its
     successor's, so tangent and curvature continuity hold by construction. Two clothoids meet at
     curvature 0 (an inflection, through a zero-length line); a clothoid cut by the chain's start
-    (end) starts (ends) at ``start_curvature`` (``end_curvature``).
+    (end) starts (ends) at ``start_curvature`` (``end_curvature``), or at a fitted one when it
+    is free (data beginning or ending on a transition curve).
     """
 
     start_station: float
@@ -259,6 +306,8 @@ class _Chain:
     kinds: tuple[str, ...]
     start_curvature: float = 0.0
     end_curvature: float = 0.0
+    free_start_curvature: bool = False
+    free_end_curvature: bool = False
 
     @property
     def element_count(self) -> int:
@@ -278,20 +327,32 @@ class _Chain:
         lengths[-1] = self.end_station - self.start_station - lengths[:-1].sum()
         return lengths
 
+    @property
+    def edge_index(self) -> int:
+        """Index in x of the first free edge curvature (after the arcs' curvatures)."""
+        return 2 + self.element_count - 1 + self.arc_elements.size
+
+    def edge_curvatures(self, x: np.ndarray) -> tuple[float, float]:
+        """Curvature at the chain's start and end where a clothoid is cut there."""
+        start = x[self.edge_index] if self.free_start_curvature else self.start_curvature
+        end = x[self.edge_index + self.free_start_curvature] if self.free_end_curvature else self.end_curvature
+        return float(start), float(end)
+
     def curvatures(self, x: np.ndarray) -> np.ndarray:
         """Signed curvature at the start and end of every element, shape (m, 2)."""
         level = np.zeros(self.element_count)
-        level[self.arc_elements] = x[2 + self.element_count - 1 :]
+        level[self.arc_elements] = x[2 + self.element_count - 1 : self.edge_index]
         ends = np.column_stack([level, level])
+        first, last = self.edge_curvatures(x)
         for i, kind in enumerate(self.kinds):
             if kind != CLOTHOID:
                 continue
             if i == 0:
-                ends[i, 0] = self.start_curvature
+                ends[i, 0] = first
             elif self.kinds[i - 1] == ARC:
                 ends[i, 0] = level[i - 1]
             if i == self.element_count - 1:
-                ends[i, 1] = self.end_curvature
+                ends[i, 1] = last
             elif self.kinds[i + 1] == ARC:
                 ends[i, 1] = level[i + 1]
         return ends
@@ -324,6 +385,9 @@ class _Chain:
         count = self.element_count
         if parameter < 2 + count - 1:
             return parameter - 2, parameter - 2
+        if parameter >= self.edge_index:  # an edge curvature: the clothoid at that edge
+            edge = 0 if self.free_start_curvature and parameter == self.edge_index else count - 1
+            return edge, edge
         arc = int(self.arc_elements[parameter - (2 + count - 1)])
         return max(arc - 1, 0), min(arc + 1, count - 1)
 
@@ -473,6 +537,110 @@ def _solve_chain(chain: _Chain, x_start, station, east, north, free=None, prior_
     return full(solution.x)
 
 
+def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max_radius_m: float):
+    """The chain without the elements its solution ``x`` leaves degenerate, and the matching x
+    (None when there are none), so that the refitted chain is an alignment a designer would lay
+    and the validator accepts (every clothoid continuing its neighbours' curvature):
+
+    * an arc flatter than ``max_radius_m`` is a straight;
+    * a line or clothoid shorter than _MIN_ELEMENT_M, an interior clothoid whose shift
+      L^2 |k2 - k1| / 24 is below ``min_transition_shift_m`` (the data cannot tell it from none)
+      and an interior straight under _MIN_INTERIOR_LINE_M between two curves go; so does an arc
+      shorter than _MIN_ELEMENT_M unless clothoids meet on both its sides (a spiral-spiral curve);
+    * a clothoid then left without an arc to take its curvature from (a lone spiral after a
+      collapsed curve: a jump in curvature, e.g. R 15 km -> inf right after a line) goes too, so
+      its curve is merged into the straight; one between arcs turning opposite ways splits at
+      an inflection; neighbouring straights join.
+
+    A removed element's length goes half to each kept neighbour, so the other joints keep their
+    stations for the refit.
+    """
+    lengths, ends = chain.lengths(x), chain.curvatures(x)
+    count = chain.element_count
+    edge_start, edge_end = chain.edge_curvatures(x)
+    items = [[kind, float(length), float(k)] for kind, length, k in zip(chain.kinds, lengths, ends[:, 0])]
+    changed = False
+    for item in items:
+        if item[0] == ARC and abs(item[2]) < 1.0 / max_radius_m:
+            item[0], item[2], changed = LINE, 0.0, True
+    interior = (np.arange(count) > 0) & (np.arange(count) < count - 1)
+    shift = lengths**2 * np.abs(ends[:, 1] - ends[:, 0]) / 24.0
+    gone = [
+        (kind != ARC and lengths[i] < _MIN_ELEMENT_M)
+        or (interior[i] and kind == CLOTHOID and shift[i] < min_transition_shift_m)
+        or (interior[i] and kind == LINE and lengths[i] < _MIN_INTERIOR_LINE_M)
+        for i, kind in enumerate(item[0] for item in items)
+    ]
+    items, dropped = _without(items, gone)
+    changed |= dropped
+    gone = [
+        kind == ARC and length < _MIN_ELEMENT_M
+        and not (0 < i < len(items) - 1 and items[i - 1][0] == CLOTHOID and items[i + 1][0] == CLOTHOID)
+        for i, (kind, length, _) in enumerate(items)
+    ]
+    items, dropped = _without(items, gone)
+    changed |= dropped
+    while True:
+        edited = False
+        for i, (kind, length, _) in enumerate(items):
+            if kind != CLOTHOID:
+                continue
+            k_start = edge_start if i == 0 else items[i - 1][2] if items[i - 1][0] == ARC else 0.0
+            k_end = edge_end if i == len(items) - 1 else items[i + 1][2] if items[i + 1][0] == ARC else 0.0
+            if k_start * k_end < 0.0:  # an inflection between them
+                items[i : i + 1] = [[CLOTHOID, 0.5 * length, 0.0], [CLOTHOID, 0.5 * length, 0.0]]
+                edited = True
+                break
+            if abs(k_end - k_start) <= 1e-12 + 1e-6 * max(abs(k_start), abs(k_end)):
+                items, edited = _without(items, [j == i for j in range(len(items))])
+                break
+        for i in range(len(items) - 1):
+            if items[i][0] == LINE and items[i + 1][0] == LINE:
+                items[i : i + 2] = [[LINE, items[i][1] + items[i + 1][1], 0.0]]
+                edited = True
+                break
+        if not edited:
+            break
+        changed = True
+    if not changed:
+        return None
+    kinds = tuple(kind for kind, _, _ in items)
+    new_lengths = [length for _, length, _ in items]
+    curvatures = [k for kind, _, k in items if kind == ARC]
+    # a clothoid still cut by the chain's start (end) keeps its fitted curvature there
+    free_start = chain.free_start_curvature and kinds[0] == CLOTHOID
+    free_end = chain.free_end_curvature and kinds[-1] == CLOTHOID
+    edges = [edge_start] * free_start + [edge_end] * free_end
+    return (replace(chain, kinds=kinds, free_start_curvature=free_start, free_end_curvature=free_end),
+            np.concatenate((x[:2], new_lengths[:-1], curvatures, edges)))
+
+
+def _without(items: list, gone: list) -> tuple[list, bool]:
+    """``items`` without those marked ``gone``, each one's length given half to each kept neighbour
+    (all to the one there is at an end); and whether any went."""
+    if not any(gone):
+        return items, False
+    if all(gone):  # nothing to keep: one straight over the whole chain
+        return [[LINE, sum(item[1] for item in items), 0.0]], True
+    kept = [list(item) for item, out in zip(items, gone) if not out]
+    position = np.cumsum([not out for out in gone]) - 1  # index in kept of the last kept item at or before each
+    for i, (item, out) in enumerate(zip(items, gone)):
+        if not out:
+            continue
+        before = int(position[i]) if position[i] >= 0 else None
+        after = int(position[i]) + 1 if int(position[i]) + 1 < len(kept) else None
+        if before is None or after is None:
+            kept[before if after is None else after][1] += item[1]
+        else:
+            kept[before][1] += 0.5 * item[1]
+            kept[after][1] += 0.5 * item[1]
+    return kept, True
+
+
+_MAX_SIMPLIFICATIONS = 10
+"""Rounds of :func:`_simplified` and refit; each removes at least one element, so few are ever needed."""
+
+
 def fit_horizontal(
     station_m,
     east_m,
@@ -486,15 +654,18 @@ def fit_horizontal(
     """Fit lines, clothoids and arcs to a centreline given at increasing stations [m].
 
     Curves flatter than ``max_radius_m`` count as straight. Each curve group is fitted as
-    clothoid, then (arc, clothoid) per arc; a clothoid whose shift L^2 |1/R2 - 1/R1| / 24 stays
-    below ``min_transition_shift_m`` is not supported by the data and is dropped (the arc then
-    meets the line, PC/PT, or the next arc directly).
+    clothoid, then (arc, clothoid) per arc (a group the data's start or end cuts begins or
+    ends with its arc, or with the piece of its clothoid the data hold); elements the solution
+    leaves degenerate are removed and the rest refitted (:func:`_simplified`), e.g. a clothoid
+    whose shift L^2 |1/R2 - 1/R1| / 24 stays below ``min_transition_shift_m`` (the arc then
+    meets the line, PC/PT, or the next arc directly). The result always passes the
+    alignment's own validator (curvature continuous at every clothoid).
     """
     station, east, north = _checked_series(station_m, east_m, north_m, names=("east_m", "north_m"))
     if station[-1] - station[0] < 2 * chord_half_m + curvature_window_m:
         raise LineFitError(
-            f"line fitting: the centreline spans {station[-1] - station[0]:.1f} m; at least "
-            f"{2 * chord_half_m + curvature_window_m:.1f} m are needed"
+            f"line fitting: the centreline from {station[0]:.1f} to {station[-1]:.1f} m spans "
+            f"{station[-1] - station[0]:.1f} m; at least {2 * chord_half_m + curvature_window_m:.1f} m are needed"
         )
     seeds = _seed_curves(station, east, north, chord_half_m, curvature_window_m, max_radius_m)
     start, end = station[0] - _END_MARGIN_M, station[-1] + _END_MARGIN_M
@@ -502,54 +673,59 @@ def fit_horizontal(
     azimuth0 = float(heading[0])
     reference_east = east[0] - _END_MARGIN_M * math.sin(azimuth0)
     reference_north = north[0] - _END_MARGIN_M * math.cos(azimuth0)
-    kinds = [LINE]
+    kinds = [] if seeds and seeds[0].open_start else [LINE]
     for seed in seeds:
-        kinds += [CLOTHOID] + [ARC, CLOTHOID] * len(seed.curvatures) + [LINE]
-    chain = _Chain(start, end, reference_east, reference_north, tuple(kinds))
+        kinds += list(seed.kinds) + ([] if seed.open_end else [LINE])
+    # data beginning (ending) on a transition: its curvature at the chain's start (end) is fitted
+    edges = [seeds[0].start_curvature] if seeds and seeds[0].start_curvature is not None else []
+    edges += [seeds[-1].end_curvature] if seeds and seeds[-1].end_curvature is not None else []
+    chain = _Chain(start, end, reference_east, reference_north, tuple(kinds),
+                   free_start_curvature=bool(seeds) and seeds[0].start_curvature is not None,
+                   free_end_curvature=bool(seeds) and seeds[-1].end_curvature is not None)
     boundaries = [start] + [b for seed in seeds for b in seed.boundaries_m] + [end]
     lengths = np.maximum(np.diff(boundaries), 1.0)
-    x0 = np.concatenate(([0.0, azimuth0], lengths[:-1], [k for seed in seeds for k in seed.curvatures]))
+    x0 = np.concatenate(([0.0, azimuth0], lengths[:-1], [k for seed in seeds for k in seed.curvatures], edges))
     x = _solve_chain(chain, x0, station, east, north)
-    # A clothoid shifts its arc by L^2 |k2 - k1| / 24; below min_transition_shift_m the data cannot
-    # tell it from none, so it is removed and the rest refitted (an arc meeting its neighbour directly).
-    # A very short straight between two curves is removed too (a reverse curve).
-    lengths, ends = chain.lengths(x), chain.curvatures(x)
-    kinds_array = np.array(chain.kinds)
-    interior = np.arange(chain.element_count) < chain.element_count - 1
-    interior[0] = False
-    shift = lengths**2 * np.abs(ends[:, 1] - ends[:, 0]) / 24.0
-    unsupported = interior & (
-        ((kinds_array == CLOTHOID) & (shift < min_transition_shift_m))
-        | ((kinds_array == LINE) & (lengths < _MIN_INTERIOR_LINE_M))
-    )
-    if unsupported.any():
-        fixed = chain.length_index[unsupported[:-1]]
-        x[fixed] = 0.0
-        free = np.ones(x.size, dtype=bool)
-        free[fixed] = False
-        x = _solve_chain(chain, x, station, east, north, free)
-    with_margins = chain.alignment(x)
+    for _ in range(_MAX_SIMPLIFICATIONS):
+        simpler = _simplified(chain, x, min_transition_shift_m, max_radius_m)
+        if simpler is None:
+            break
+        chain, x = simpler
+        x = _solve_chain(chain, x, station, east, north)
+    try:
+        with_margins = chain.alignment(x)
+    except ValueError as error:  # the validator's refusal (DesignError) or an element it cannot form
+        raise LineFitError(
+            f"line fitting: no valid alignment between {station[0]:.1f} and {station[-1]:.1f} m ({error})"
+        ) from None
     feet = _foot(with_margins, station, east, north)[0]
     # cut where the outermost points' perpendiculars fall, so the plan spans exactly the data
-    alignment = _without_margins(with_margins, float(feet.min()), float(feet.max()))
+    alignment = _cut(with_margins, float(feet.min()), float(feet.max()))
     feet, offsets = _foot(alignment, feet, east, north)
     return HorizontalFit(alignment, feet, offsets)
 
 
-def _without_margins(alignment: HorizontalAlignment, first: float, last: float) -> HorizontalAlignment:
-    """The alignment cut to [first, last] where its end elements are lines (as the fit builds them)."""
-    elements = list(alignment.elements)
-    head, tail = elements[0], elements[-1]
-    cut_head = first - alignment.start_station_m
-    cut_tail = alignment.end_station_m - last
-    if not (isinstance(head, Line) and isinstance(tail, Line)):
-        return alignment
-    if len(elements) == 1:
-        elements[0] = Line(head.length_m - cut_head - cut_tail)
-    elif head.length_m > cut_head and tail.length_m > cut_tail:
-        elements[0] = Line(head.length_m - cut_head)
-        elements[-1] = Line(tail.length_m - cut_tail)
-    else:
+def _cut(alignment: HorizontalAlignment, first: float, last: float) -> HorizontalAlignment:
+    """The alignment from station ``first`` to ``last``: the elements wholly outside go, the end
+    ones are shortened (a clothoid keeps its curvature where it is cut); joints stay valid, as a
+    piece of a valid chain is."""
+    pieces = []
+    for placed in alignment.placed_elements:
+        begin, finish = max(placed.start_station_m, first), min(placed.end_station_m, last)
+        if finish - begin < _MIN_ELEMENT_M:
+            continue
+        element = placed.element
+        if isinstance(element, Line):
+            pieces.append(Line(finish - begin))
+        elif isinstance(element, Arc):
+            pieces.append(Arc(finish - begin, element.radius_m, element.turn))
+        else:
+            rate = (element.curvature_end - element.curvature_start) / element.length_m
+            k_begin = element.curvature_start + rate * (begin - placed.start_station_m)
+            k_finish = (element.curvature_end if finish == placed.end_station_m
+                        else element.curvature_start + rate * (finish - placed.start_station_m))
+            pieces.append(_element(CLOTHOID, finish - begin, k_begin, k_finish))
+    if not pieces:
         return alignment
     east, north = alignment.point_at(first)
     return HorizontalAlignment(
@@ -557,7 +733,7 @@ def _without_margins(alignment: HorizontalAlignment, first: float, last: float) 
         start_north_m=float(north),
         start_azimuth_rad=float(alignment.azimuth_at(first)),
         start_station_m=float(first),
-        elements=tuple(elements),
+        elements=tuple(pieces),
     )
 
 
