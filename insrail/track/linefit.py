@@ -69,6 +69,10 @@ _MIN_INTERIOR_LINE_M = 1.0
 and the curves meet directly (a reverse curve through an inflection point)."""
 
 
+_MIN_PROFILE_M = 40.0
+"""Shortest profile fitted: two 20 m grade windows."""
+
+
 class LineFitError(ValueError):
     """The centreline cannot be fitted: bad input, or too short to hold its elements."""
 
@@ -786,14 +790,17 @@ def fit_vertical(
     """Fit grade lines joined at PVIs with circular vertical curves to heights at increasing stations [m].
 
     A PVI is found where the grades over ``window_m`` before and after a station differ
-    by more than ``min_grade_change``; PVIs closer than ``window_m`` merge.
+    by more than ``min_grade_change``; PVIs closer than ``window_m`` merge. Data shorter than two
+    windows are searched with windows of half their span (at least _MIN_PROFILE_M in all).
     """
     station, height = _checked_series(station_m, height_m, names=("height_m",))
-    if station[-1] - station[0] < 2 * window_m:
+    span = station[-1] - station[0]
+    if span < _MIN_PROFILE_M:
         raise LineFitError(
-            f"line fitting: the profile spans {station[-1] - station[0]:.1f} m; at least {2 * window_m:.1f} m "
-            "are needed"
+            f"line fitting: the profile from {station[0]:.1f} to {station[-1]:.1f} m spans {span:.1f} m; at least "
+            f"{_MIN_PROFILE_M:.1f} m are needed"
         )
+    window_m = min(window_m, 0.5 * span)
     grid = np.arange(station[0] + window_m, station[-1] - window_m, 1.0)
     change = _window_slopes(station, height, grid, window_m, False) - _window_slopes(
         station, height, grid, window_m, True
