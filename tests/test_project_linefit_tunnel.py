@@ -6,7 +6,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from insrail.cli import main
+from insrail.cli.main import main
 from insrail.io.survey import read_manifest, write_manifest
 from insrail.project import process
 from insrail.project.demo import project_for_simulated_survey
@@ -16,8 +16,8 @@ from insrail.sim.simulate import simulate
 from insrail.track.alignment import Clothoid
 from insrail.track.alignment_csv import read_alignment_csv
 
-START_M, END_M = 21320.0, 21680.0
-"""360 m of the `long` line: 80 m of straight, the 260 m entry clothoid and 20 m of the R 5500 m arc."""
+START_M, END_M = 21320.0, 21800.0
+"""480 m of the `long` line: 80 m of straight, the 260 m entry clothoid and 140 m of the R 5500 m arc."""
 
 
 @pytest.fixture(scope="module")

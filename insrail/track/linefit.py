@@ -202,18 +202,18 @@ _CLOSED = (math.nan, None)
 
 
 def _open_ramp(g, magnitude, level, flat_index, edge, data_edge, start: bool):
-    """How a curve group cut by the data's start (end) begins (ends): None when the data start
-    (end) on its arc; else (station of the straight's joint, None) when the extrapolated ramp
-    reaches zero inside the data (a whole clothoid), or (None, curvature at the data's edge)
-    when the data start (end) on the clothoid itself."""
+    """How a curve group cut by the data's start (end) begins (ends): (station of the straight's
+    joint, None) when its ramp, extrapolated, reaches zero inside the data (a whole clothoid);
+    else (None, seed of the curvature at the data's edge): the data start (end) on its
+    transition or its arc, fitted as the piece of a clothoid whose curvature there is free (a
+    piece that turns out to be an arc's is then removed by :func:`_simplified`)."""
     at_edge = magnitude[edge]
-    if at_edge >= 0.9 * level:
-        return None
-    slope = (level - at_edge) / max(abs(g[flat_index] - g[edge]), 1.0)
-    zero = g[edge] - at_edge / slope if start else g[edge] + at_edge / slope
-    if (zero > data_edge + 1.0) if start else (zero < data_edge - 1.0):
-        return zero, None
-    return None, max(at_edge - slope * abs(g[edge] - data_edge), 0.05 * level)
+    slope = max(level - at_edge, 0.0) / max(abs(g[flat_index] - g[edge]), 1.0)
+    if slope > 0.0:
+        zero = g[edge] - at_edge / slope if start else g[edge] + at_edge / slope
+        if (zero > data_edge + 1.0) if start else (zero < data_edge - 1.0):
+            return zero, None
+    return None, min(max(at_edge - slope * abs(g[edge] - data_edge), 0.05 * level), 0.95 * level)
 
 
 def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> list[_CurveSeed]:
@@ -238,18 +238,16 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
         head = _open_ramp(g, magnitude, levels[1], flats[0][0], 0, station[0], True) if first == 0 else _CLOSED
         tail = (_open_ramp(g, magnitude, levels[-2], flats[-1][1], -1, station[-1], False)
                 if last == grid.size - 1 else _CLOSED)
-        kinds = [] if head is None else [CLOTHOID]
+        kinds = [CLOTHOID]
         for i in range(len(flats)):
             kinds += [ARC] if i == len(flats) - 1 else [ARC, CLOTHOID]
-        kinds += [] if tail is None else [CLOTHOID]
+        kinds += [CLOTHOID]
         # ramp i runs from the end of flat i - 1 (or the widened start) to the start of flat i
         starts = [0] + [f_last for _, f_last, _ in flats]
         stops = [f_first for f_first, _, _ in flats] + [g.size - 1]
         boundaries = []
         for i, (a, b) in enumerate(zip(starts, stops)):
             edge = head if i == 0 else tail if i == len(flats) else _CLOSED
-            if edge is None:  # the data start (end) on this arc
-                continue
             if edge[1] is not None:  # on this clothoid: it begins (ends) with the chain
                 boundaries += [g[b]] if i == 0 else [g[a]]
                 continue
@@ -262,10 +260,8 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
         # boundaries: TS, SC, (CS, SC)*, CS, ST -- pairs are the clothoids' ends
         if np.any(np.diff(boundaries) < 1.0):
             continue
-        seeds.append(_CurveSeed(tuple(kinds), tuple(boundaries), tuple(arcs), head is None or head[1] is not None,
-                                tail is None or tail[1] is not None,
-                                None if head is None or head[1] is None else sign * head[1],
-                                None if tail is None or tail[1] is None else sign * tail[1]))
+        seeds.append(_CurveSeed(tuple(kinds), tuple(boundaries), tuple(arcs), head[1] is not None, tail[1] is not None,
+                                None if head[1] is None else sign * head[1], None if tail[1] is None else sign * tail[1]))
     return seeds
 
 
@@ -548,9 +544,14 @@ def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max
 
     * an arc flatter than ``max_radius_m`` is a straight;
     * a line or clothoid shorter than _MIN_ELEMENT_M, an interior clothoid whose shift
-      L^2 |k2 - k1| / 24 is below ``min_transition_shift_m`` (the data cannot tell it from none)
-      and an interior straight under _MIN_INTERIOR_LINE_M between two curves go; so does an arc
-      shorter than _MIN_ELEMENT_M unless clothoids meet on both its sides (a spiral-spiral curve);
+      L^2 |k2 - k1| / 24 is below ``min_transition_shift_m`` (the data cannot tell it from none;
+      also one the chain's end cuts, with its curvature there fitted) and an interior straight
+      under _MIN_INTERIOR_LINE_M between two curves go; so does an arc shorter than
+      _MIN_ELEMENT_M unless clothoids meet on both its sides (a spiral-spiral curve), and one
+      shorter than the shortest arc the curvature diagram seeds (_MIN_FLAT_M) meeting another
+      arc directly, or between two clothoids through which the curvature keeps growing
+      (shrinking): a step of a compound curve's transition, not an element (the two clothoids
+      join into one);
     * a clothoid then left without an arc to take its curvature from (a lone spiral after a
       collapsed curve: a jump in curvature, e.g. R 15 km -> inf right after a line) goes too, so
       its curve is merged into the straight; one between arcs turning opposite ways splits at
@@ -568,29 +569,50 @@ def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max
         if item[0] == ARC and abs(item[2]) < 1.0 / max_radius_m:
             item[0], item[2], changed = LINE, 0.0, True
     interior = (np.arange(count) > 0) & (np.arange(count) < count - 1)
+    # a clothoid cut by the chain's end with its curvature there fitted is judged like an interior one
+    judged = interior.copy()
+    judged[0] |= chain.free_start_curvature
+    judged[-1] |= chain.free_end_curvature
     shift = lengths**2 * np.abs(ends[:, 1] - ends[:, 0]) / 24.0
     gone = [
         (kind != ARC and lengths[i] < _MIN_ELEMENT_M)
-        or (interior[i] and kind == CLOTHOID and shift[i] < min_transition_shift_m)
+        or (judged[i] and kind == CLOTHOID and shift[i] < min_transition_shift_m)
         or (interior[i] and kind == LINE and lengths[i] < _MIN_INTERIOR_LINE_M)
         for i, kind in enumerate(item[0] for item in items)
     ]
     items, dropped = _without(items, gone)
     changed |= dropped
     gone = [
-        kind == ARC and length < _MIN_ELEMENT_M
-        and not (0 < i < len(items) - 1 and items[i - 1][0] == CLOTHOID and items[i + 1][0] == CLOTHOID)
+        kind == ARC and (
+            (length < _MIN_ELEMENT_M
+             and not (0 < i < len(items) - 1 and items[i - 1][0] == CLOTHOID and items[i + 1][0] == CLOTHOID))
+            or (length < _MIN_FLAT_M and ARC in [items[j][0] for j in (i - 1, i + 1) if 0 <= j < len(items)])
+        )
         for i, (kind, length, _) in enumerate(items)
     ]
     items, dropped = _without(items, gone)
     changed |= dropped
+    def start_of(i):  # a clothoid's curvature at its start (end), by the chain's rule
+        return edge_start if i == 0 else items[i - 1][2] if items[i - 1][0] == ARC else 0.0
+
+    def end_of(i):
+        return edge_end if i == len(items) - 1 else items[i + 1][2] if items[i + 1][0] == ARC else 0.0
+
     while True:
         edited = False
-        for i, (kind, length, _) in enumerate(items):
-            if kind != CLOTHOID:
+        for i in range(1, len(items) - 1):
+            kind, length, k = items[i]
+            if kind != ARC or length >= _MIN_FLAT_M or items[i - 1][0] != CLOTHOID or items[i + 1][0] != CLOTHOID:
                 continue
-            k_start = edge_start if i == 0 else items[i - 1][2] if items[i - 1][0] == ARC else 0.0
-            k_end = edge_end if i == len(items) - 1 else items[i + 1][2] if items[i + 1][0] == ARC else 0.0
+            before, after = abs(start_of(i - 1)), abs(end_of(i + 1))
+            if before < abs(k) < after or before > abs(k) > after:  # a step inside one transition
+                items[i - 1 : i + 2] = [[CLOTHOID, items[i - 1][1] + length + items[i + 1][1], 0.0]]
+                edited = True
+                break
+        for i, (kind, length, _) in enumerate(items):
+            if edited or kind != CLOTHOID:
+                continue
+            k_start, k_end = start_of(i), end_of(i)
             if k_start * k_end < 0.0:  # an inflection between them
                 items[i : i + 1] = [[CLOTHOID, 0.5 * length, 0.0], [CLOTHOID, 0.5 * length, 0.0]]
                 edited = True
