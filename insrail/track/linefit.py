@@ -17,10 +17,14 @@ curvature, is a trapezoid per curve. The pipeline:
    across the initial tangent, the start azimuth, every element length but the last
    and the arcs' curvatures. The chain is built from curvature, so tangent and
    curvature continuity hold by construction (the digest's recommendation rather than
-   the thesis's per-element fits and its eq. 5.7, which minimises sum d^4). Clothoids the
-   data cannot tell from none and straights under 1 m between two curves are removed
-   and the rest refitted, so an arc may meet a straight or another arc directly and two
-   clothoids may meet at an inflection (S-curve).
+   the thesis's per-element fits and its eq. 5.7, which minimises sum d^4). Elements the
+   solution leaves degenerate are removed and the rest refitted until none is
+   (:func:`_simplified`): clothoids the data cannot tell from none, straights under 1 m
+   between two curves, a curve collapsed to a lone clothoid (merged into the straight), so an
+   arc may meet a straight or another arc directly and two clothoids may meet at an
+   inflection (S-curve), and the result always passes the alignment's validator. Data that
+   begin or end inside a curve begin or end with the piece of a clothoid, its curvature at
+   the data's edge fitted (removed when it is an arc's).
 
 Profile. Grade lines meet at PVIs carrying circular vertical curves. A PVI shows up
 as a jump between the grades of least-squares lines fitted over ``window_m`` before
@@ -152,20 +156,17 @@ def _ramp(s, curvature, k_from, k_to, window_m, entry: bool) -> tuple[float, flo
 class _CurveSeed:
     """One curve group as found on the curvature diagram.
 
-    kinds: its elements between the straights around it (closed: clothoid, then (arc,
-    clothoid) per arc; a group cut by the data's start or end begins or ends with an arc, or
-    with the piece of its clothoid the data hold, ``start_curvature`` (``end_curvature``) the
-    curvature at the data's edge then);
-    boundaries_m: the stations of its joints, the straights' joints included (TS ... ST; a
-    group cut by the start has no TS, one cut by the end no ST); curvatures: signed
-    curvature of each of its arcs [1/m].
+    kinds: its elements between the straights around it: clothoid, then (arc, clothoid) per
+    arc; a group cut by the data's start (end) begins (ends) with the piece of a clothoid the
+    data hold, ``start_curvature`` (``end_curvature``) the seed of its curvature at the data's
+    edge, None when the group is whole there; boundaries_m: the stations of its joints, the
+    straights' joints included (TS ... ST; a group cut by the start has no TS, one cut by the
+    end no ST); curvatures: signed curvature of each of its arcs [1/m].
     """
 
     kinds: tuple[str, ...]
     boundaries_m: tuple[float, ...]
     curvatures: tuple[float, ...]
-    open_start: bool = False
-    open_end: bool = False
     start_curvature: float | None = None
     end_curvature: float | None = None
 
@@ -260,7 +261,7 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
         # boundaries: TS, SC, (CS, SC)*, CS, ST -- pairs are the clothoids' ends
         if np.any(np.diff(boundaries) < 1.0):
             continue
-        seeds.append(_CurveSeed(tuple(kinds), tuple(boundaries), tuple(arcs), head[1] is not None, tail[1] is not None,
+        seeds.append(_CurveSeed(tuple(kinds), tuple(boundaries), tuple(arcs),
                                 None if head[1] is None else sign * head[1], None if tail[1] is None else sign * tail[1]))
     return seeds
 
@@ -592,6 +593,7 @@ def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max
     ]
     items, dropped = _without(items, gone)
     changed |= dropped
+
     def start_of(i):  # a clothoid's curvature at its start (end), by the chain's rule
         return edge_start if i == 0 else items[i - 1][2] if items[i - 1][0] == ARC else 0.0
 
@@ -663,6 +665,47 @@ def _without(items: list, gone: list) -> tuple[list, bool]:
     return kept, True
 
 
+_PROBE_OFFSET_M = 1e-3
+"""Mean offset [m] of the points within the curvature diagram's reach of a straight end of the data
+above which a transition beginning there is tried (:func:`_with_edge_probes`)."""
+
+
+def _with_edge_probes(chain: _Chain, x: np.ndarray, station, east, north, reach_m: float):
+    """The chain with a clothoid piece, its curvature at the data's edge free, over the last
+    ``reach_m`` of each straight end along which the points lean to one side (the curvature
+    diagram, a window wide, does not see that far: a curve beginning there); None when no end
+    does. :func:`_simplified` removes a piece the data do not support."""
+    offsets = _foot(chain.alignment(x), station, east, north)[1]
+    lengths = chain.lengths(x)
+    at_start = station <= station[0] + reach_m
+    at_end = station >= station[-1] - reach_m
+    piece = reach_m + _END_MARGIN_M
+    probe_start = bool(chain.kinds[0] == LINE and lengths[0] > 2.0 * piece
+                   and abs(np.mean(offsets[at_start])) > _PROBE_OFFSET_M)
+    probe_end = bool(chain.kinds[-1] == LINE and lengths[-1] > 2.0 * piece
+                 and abs(np.mean(offsets[at_end])) > _PROBE_OFFSET_M)
+    if not (probe_start or probe_end):
+        return None
+    # seed curvature: of the sign of the points' lean (offsets and curvature both + to the right),
+    # of the size that leaves a few times their mean offset over the reach
+    kinds, lengths = list(chain.kinds), list(lengths)
+    arcs = list(x[2 + chain.element_count - 1 : chain.edge_index])
+    edges = list(chain.edge_curvatures(x))
+    if probe_start:
+        kinds.insert(0, CLOTHOID)
+        lengths[0:1] = [piece, lengths[0] - piece]
+        edges[0] = 24.0 * float(np.mean(offsets[at_start])) / reach_m**2
+    if probe_end:
+        kinds.append(CLOTHOID)
+        lengths[-1:] = [lengths[-1] - piece, piece]
+        edges[1] = 24.0 * float(np.mean(offsets[at_end])) / reach_m**2
+    free_start = chain.free_start_curvature or probe_start
+    free_end = chain.free_end_curvature or probe_end
+    x_edges = [edges[0]] * free_start + [edges[1]] * free_end
+    return (replace(chain, kinds=tuple(kinds), free_start_curvature=free_start, free_end_curvature=free_end),
+            np.concatenate((x[:2], lengths[:-1], arcs, x_edges)))
+
+
 _MAX_SIMPLIFICATIONS = 10
 """Rounds of :func:`_simplified` and refit; each removes at least one element, so few are ever needed."""
 
@@ -681,7 +724,8 @@ def fit_horizontal(
 
     Curves flatter than ``max_radius_m`` count as straight. Each curve group is fitted as
     clothoid, then (arc, clothoid) per arc (a group the data's start or end cuts begins or
-    ends with its arc, or with the piece of its clothoid the data hold); elements the solution
+    ends with the piece of a clothoid the data hold, its curvature at the data's edge fitted:
+    removed when it is an arc's); elements the solution
     leaves degenerate are removed and the rest refitted (:func:`_simplified`), e.g. a clothoid
     whose shift L^2 |1/R2 - 1/R1| / 24 stays below ``min_transition_shift_m`` (the arc then
     meets the line, PC/PT, or the next arc directly). The result always passes the
@@ -699,25 +743,33 @@ def fit_horizontal(
     azimuth0 = float(heading[0])
     reference_east = east[0] - _END_MARGIN_M * math.sin(azimuth0)
     reference_north = north[0] - _END_MARGIN_M * math.cos(azimuth0)
-    kinds = [] if seeds and seeds[0].open_start else [LINE]
+    # data beginning (ending) on a curve: its curvature at the chain's start (end) is fitted
+    open_start = bool(seeds) and seeds[0].start_curvature is not None
+    open_end = bool(seeds) and seeds[-1].end_curvature is not None
+    kinds = [] if open_start else [LINE]
     for seed in seeds:
-        kinds += list(seed.kinds) + ([] if seed.open_end else [LINE])
-    # data beginning (ending) on a transition: its curvature at the chain's start (end) is fitted
-    edges = [seeds[0].start_curvature] if seeds and seeds[0].start_curvature is not None else []
-    edges += [seeds[-1].end_curvature] if seeds and seeds[-1].end_curvature is not None else []
-    chain = _Chain(start, end, reference_east, reference_north, tuple(kinds),
-                   free_start_curvature=bool(seeds) and seeds[0].start_curvature is not None,
-                   free_end_curvature=bool(seeds) and seeds[-1].end_curvature is not None)
+        kinds += list(seed.kinds) + ([] if seed.end_curvature is not None else [LINE])
+    edges = [seeds[0].start_curvature] * open_start + [seeds[-1].end_curvature] * open_end
+    chain = _Chain(start, end, reference_east, reference_north, tuple(kinds), free_start_curvature=open_start,
+                   free_end_curvature=open_end)
     boundaries = [start] + [b for seed in seeds for b in seed.boundaries_m] + [end]
     lengths = np.maximum(np.diff(boundaries), 1.0)
     x0 = np.concatenate(([0.0, azimuth0], lengths[:-1], [k for seed in seeds for k in seed.curvatures], edges))
     x = _solve_chain(chain, x0, station, east, north)
-    for _ in range(_MAX_SIMPLIFICATIONS):
-        simpler = _simplified(chain, x, min_transition_shift_m, max_radius_m)
-        if simpler is None:
-            break
-        chain, x = simpler
-        x = _solve_chain(chain, x, station, east, north)
+    reach = chord_half_m + 0.5 * curvature_window_m
+    for probe in (False, True):
+        if probe:  # a curve beginning where the curvature diagram does not reach: try a transition there
+            probed = _with_edge_probes(chain, x, station, east, north, reach)
+            if probed is None:
+                break
+            chain, x = probed
+            x = _solve_chain(chain, x, station, east, north)
+        for _ in range(_MAX_SIMPLIFICATIONS):
+            simpler = _simplified(chain, x, min_transition_shift_m, max_radius_m)
+            if simpler is None:
+                break
+            chain, x = simpler
+            x = _solve_chain(chain, x, station, east, north)
     try:
         with_margins = chain.alignment(x)
     except ValueError as error:  # the validator's refusal (DesignError) or an element it cannot form
