@@ -538,12 +538,15 @@ def _solve_chain(chain: _Chain, x_start, station, east, north, free=None, prior_
     return full(solution.x)
 
 
-def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max_radius_m: float):
+def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max_radius_m: float,
+                edge_reach_m: tuple[float, float] = (math.inf, math.inf)):
     """The chain without the elements its solution ``x`` leaves degenerate, and the matching x
     (None when there are none), so that the refitted chain is an alignment a designer would lay
     and the validator accepts (every clothoid continuing its neighbours' curvature):
 
-    * an arc flatter than ``max_radius_m`` is a straight;
+    * an arc flatter than ``max_radius_m`` is a straight, and so is a clothoid piece the chain's
+      end cuts (its curvature there fitted) that is that flat there or reaches farther into the
+      data than ``edge_reach_m`` (start, end: a probe's, where the curvature diagram saw no curve);
     * a line or clothoid shorter than _MIN_ELEMENT_M, an interior clothoid whose shift
       L^2 |k2 - k1| / 24 is below ``min_transition_shift_m`` (the data cannot tell it from none;
       also one the chain's end cuts, with its curvature there fitted) and an interior straight
@@ -575,8 +578,12 @@ def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max
     judged[0] |= chain.free_start_curvature
     judged[-1] |= chain.free_end_curvature
     shift = lengths**2 * np.abs(ends[:, 1] - ends[:, 0]) / 24.0
+    flat_edge = np.zeros(count, dtype=bool)
+    flat_edge[0] |= chain.free_start_curvature and (abs(edge_start) < 1.0 / max_radius_m or lengths[0] > edge_reach_m[0])
+    flat_edge[-1] |= chain.free_end_curvature and (abs(edge_end) < 1.0 / max_radius_m or lengths[-1] > edge_reach_m[1])
     gone = [
         (kind != ARC and lengths[i] < _MIN_ELEMENT_M)
+        or (kind == CLOTHOID and flat_edge[i])
         or (judged[i] and kind == CLOTHOID and shift[i] < min_transition_shift_m)
         or (interior[i] and kind == LINE and lengths[i] < _MIN_INTERIOR_LINE_M)
         for i, kind in enumerate(item[0] for item in items)
@@ -673,8 +680,9 @@ above which a transition beginning there is tried (:func:`_with_edge_probes`).""
 def _with_edge_probes(chain: _Chain, x: np.ndarray, station, east, north, reach_m: float):
     """The chain with a clothoid piece, its curvature at the data's edge free, over the last
     ``reach_m`` of each straight end along which the points lean to one side (the curvature
-    diagram, a window wide, does not see that far: a curve beginning there); None when no end
-    does. :func:`_simplified` removes a piece the data do not support."""
+    diagram, a window wide, does not see that far: a curve beginning there), its x and which
+    ends (start, end) got one; None when no end does. :func:`_simplified` removes a piece the
+    data do not support."""
     offsets = _foot(chain.alignment(x), station, east, north)[1]
     lengths = chain.lengths(x)
     at_start = station <= station[0] + reach_m
@@ -703,7 +711,7 @@ def _with_edge_probes(chain: _Chain, x: np.ndarray, station, east, north, reach_
     free_end = chain.free_end_curvature or probe_end
     x_edges = [edges[0]] * free_start + [edges[1]] * free_end
     return (replace(chain, kinds=tuple(kinds), free_start_curvature=free_start, free_end_curvature=free_end),
-            np.concatenate((x[:2], lengths[:-1], arcs, x_edges)))
+            np.concatenate((x[:2], lengths[:-1], arcs, x_edges)), (probe_start, probe_end))
 
 
 _MAX_SIMPLIFICATIONS = 10
@@ -749,7 +757,7 @@ def fit_horizontal(
     kinds = [] if open_start else [LINE]
     for seed in seeds:
         kinds += list(seed.kinds) + ([] if seed.end_curvature is not None else [LINE])
-    edges = [seeds[0].start_curvature] * open_start + [seeds[-1].end_curvature] * open_end
+    edges = ([seeds[0].start_curvature] if open_start else []) + ([seeds[-1].end_curvature] if open_end else [])
     chain = _Chain(start, end, reference_east, reference_north, tuple(kinds), free_start_curvature=open_start,
                    free_end_curvature=open_end)
     boundaries = [start] + [b for seed in seeds for b in seed.boundaries_m] + [end]
@@ -757,15 +765,18 @@ def fit_horizontal(
     x0 = np.concatenate(([0.0, azimuth0], lengths[:-1], [k for seed in seeds for k in seed.curvatures], edges))
     x = _solve_chain(chain, x0, station, east, north)
     reach = chord_half_m + 0.5 * curvature_window_m
+    probed_reach = (math.inf, math.inf)
     for probe in (False, True):
         if probe:  # a curve beginning where the curvature diagram does not reach: try a transition there
             probed = _with_edge_probes(chain, x, station, east, north, reach)
             if probed is None:
                 break
-            chain, x = probed
+            chain, x, sides = probed
+            # a probe reaching far beyond the diagram's blind end is no curve it missed
+            probed_reach = tuple(2.0 * (reach + _END_MARGIN_M) if side else math.inf for side in sides)
             x = _solve_chain(chain, x, station, east, north)
         for _ in range(_MAX_SIMPLIFICATIONS):
-            simpler = _simplified(chain, x, min_transition_shift_m, max_radius_m)
+            simpler = _simplified(chain, x, min_transition_shift_m, max_radius_m, probed_reach)
             if simpler is None:
                 break
             chain, x = simpler
