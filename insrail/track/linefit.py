@@ -497,12 +497,13 @@ def _chain_jacobian(chain: _Chain, x: np.ndarray, free: np.ndarray, feet_seed, e
     return np.column_stack(columns)
 
 
-def _solve_chain(chain: _Chain, x_start, station, east, north, free=None, prior_sigma=None):
+def _solve_chain(chain: _Chain, x_start, station, east, north, free=None, prior_sigma=None, max_evaluations=None):
     """Total least squares of the points' perpendicular offsets to the chain over the ``free`` parameters.
 
     ``prior_sigma`` (one per parameter) adds weak pseudo-observations x = x_start, each worth
     one 1 mm residual at that sigma: it holds parameters the points cannot see (an element just
     outside a window) where they were, and does not move the ones they determine.
+    ``max_evaluations`` caps the solver's residual evaluations (None: scipy's default).
     """
     free = np.ones(x_start.size, dtype=bool) if free is None else free
     lower = np.full(x_start.size, -np.inf)
@@ -534,7 +535,8 @@ def _solve_chain(chain: _Chain, x_start, station, east, north, free=None, prior_
             return matrix
         return np.vstack((matrix, np.diag(prior_weight)))
 
-    solution = least_squares(residuals, x_start[free], jac=jacobian, bounds=(lower[free], np.inf), x_scale="jac")
+    solution = least_squares(residuals, x_start[free], jac=jacobian, bounds=(lower[free], np.inf), x_scale="jac",
+                             max_nfev=max_evaluations)
     return full(solution.x)
 
 
@@ -714,6 +716,32 @@ def _with_edge_probes(chain: _Chain, x: np.ndarray, station, east, north, reach_
             np.concatenate((x[:2], lengths[:-1], arcs, x_edges)), (probe_start, probe_end))
 
 
+_PROBE_EVALUATIONS = 8
+"""Solver evaluations an edge probe gets (:func:`_solve_edge_probes`): a curve the data need
+shows in a few; one they do not need only slides its piece along a long wave (and costs a
+full alignment per evaluation). A probe kept is refitted with the whole chain."""
+
+
+def _solve_edge_probes(chain: _Chain, x: np.ndarray, sides, station, east, north, window_m) -> np.ndarray:
+    """``x`` with the edge probes' parameters solved over the points within ``window_m`` (start,
+    end) of the data's edges only, the rest of the chain held: whether the data need a probe
+    shows there, and a full solve of a long chain per probe would cost many times the fit."""
+    count = chain.element_count
+    edge_end = chain.edge_index + chain.free_start_curvature
+    for side, window, params in (
+        (sides[0], window_m[0], [0, 1, 2, chain.edge_index]),  # start: the chain's anchor, the piece's length
+        (sides[1], window_m[1], [2 + count - 2, edge_end]),  # end: the straight before the piece
+    ):
+        if not side:
+            continue
+        near = station <= station[0] + window if params[0] == 0 else station >= station[-1] - window
+        free = np.zeros(x.size, dtype=bool)
+        free[params] = True
+        x = _solve_chain(chain, x, station[near], east[near], north[near], free=free,
+                         max_evaluations=_PROBE_EVALUATIONS)
+    return x
+
+
 _MAX_SIMPLIFICATIONS = 10
 """Rounds of :func:`_simplified` and refit; each removes at least one element, so few are ever needed."""
 
@@ -771,10 +799,14 @@ def fit_horizontal(
             probed = _with_edge_probes(chain, x, station, east, north, reach)
             if probed is None:
                 break
-            chain, x, sides = probed
+            probe_chain, probe_x, sides = probed
             # a probe reaching far beyond the diagram's blind end is no curve it missed
             probed_reach = tuple(2.0 * (reach + _END_MARGIN_M) if side else math.inf for side in sides)
-            x = _solve_chain(chain, x, station, east, north)
+            probe_x = _solve_edge_probes(probe_chain, probe_x, sides, station, east, north, probed_reach)
+            kept = _simplified(probe_chain, probe_x, min_transition_shift_m, max_radius_m, probed_reach)
+            if kept is not None and kept[0].kinds == chain.kinds:
+                break  # the data do not need the probes: the solution without them stands as it was
+            chain, x = probe_chain, _solve_chain(probe_chain, probe_x, station, east, north)
         for _ in range(_MAX_SIMPLIFICATIONS):
             simpler = _simplified(chain, x, min_transition_shift_m, max_radius_m, probed_reach)
             if simpler is None:
