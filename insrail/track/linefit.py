@@ -742,6 +742,13 @@ def _solve_edge_probes(chain: _Chain, x: np.ndarray, sides, station, east, north
     return x
 
 
+_MAX_PLAN_RMS_M = 0.02
+"""Plan residual RMS [m] above which a fit does not follow its data: a track's lateral
+irregularities, a trolley's noise and a GNSS long wave leave a few mm (the benchmark's 5 mm long
+wave about 3 mm); tens of mm mean a seed that led the solver to a wrong chain (e.g. a curve laid
+elsewhere), and deviations against it would be wrong numbers."""
+
+
 _MAX_SIMPLIFICATIONS = 10
 """Rounds of :func:`_simplified` and refit; each removes at least one element, so few are ever needed."""
 
@@ -823,6 +830,12 @@ def fit_horizontal(
     # cut where the outermost points' perpendiculars fall, so the plan spans exactly the data
     alignment = _cut(with_margins, float(feet.min()), float(feet.max()))
     feet, offsets = _foot(alignment, feet, east, north)
+    rms = float(np.sqrt(np.mean(offsets**2)))
+    if rms > _MAX_PLAN_RMS_M:
+        raise LineFitError(
+            f"line fitting: the fitted plan between {station[0]:.1f} and {station[-1]:.1f} m does not follow "
+            f"the centreline (residual RMS {1e3 * rms:.0f} mm, at most {1e3 * _MAX_PLAN_RMS_M:.0f} mm expected)"
+        )
     return HorizontalFit(alignment, feet, offsets)
 
 
