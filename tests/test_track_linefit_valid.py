@@ -10,11 +10,13 @@ gave: a curve collapsed to a lone clothoid after a straight.
 import math
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from insrail.track.alignment import Arc, Clothoid, HorizontalAlignment, Line
-from insrail.track.linefit import ARC, CLOTHOID, LINE, LineFitError, _Chain, _simplified, fit_alignment, fit_horizontal
+from insrail.track.linefit import (ARC, CLOTHOID, LINE, LineFitError, _Chain, _check_local_follow, _simplified,
+                                   fit_alignment, fit_horizontal)
 
 SPACING_M = 0.625
 FOLLOW_RMS_FACTOR = 1.5
@@ -106,6 +108,36 @@ def test_a_fit_that_does_not_follow_the_data_is_refused_naming_the_stretch():
         assert "does not follow" in str(error)
     else:
         assert fit.rms_m < FOLLOW_RMS_FACTOR * noise_m + 0.2e-3
+
+
+def test_a_plan_that_leaves_its_data_at_an_end_is_refused_naming_where():
+    """The case hypothesis found next: data ending 19.6 m into an arc without transitions (R 600 m)
+    were fitted valid, RMS 1.4 mm, but with a clothoid for the arc: 8.5 mm off at the data's end.
+    Either the fit follows the data there or it says between which stations it does not."""
+    truth = HorizontalAlignment(500000.0, 3300000.0, 0.0, 0.0, (Line(181.0), Arc(60.0, 600.0, "left"), Line(80.0)))
+    stations = np.arange(0.0, 0.625 * truth.end_station_m, SPACING_M)
+    rng = np.random.default_rng(0)
+    east, north = (v + rng.normal(0.0, 0.1e-3, stations.size) for v in truth.point_at(stations))
+    try:
+        fit = fit_horizontal(stations, east, north)
+    except LineFitError as error:
+        assert f"{stations[0]:.1f} and {stations[-1]:.1f} m does not follow the centreline between" in str(error)
+        assert "max residual" in str(error) and "against a noise of" in str(error)
+    else:
+        assert np.abs(fit.offset_m).max() < FOLLOW_MAX_M
+
+
+def test_a_local_defect_inside_the_data_is_no_misfit_but_a_plan_leaving_them_is():
+    """A lateral defect of a few sleepers inside the data is what the deviations must show; the same
+    offset held over a window's length, or a point far off at an end, is a plan that does not follow."""
+    stations = np.arange(0.0, 300.0, SPACING_M)
+    noise = np.random.default_rng(1).normal(0.0, 0.5e-3, stations.size)
+    defect = noise + np.where(np.abs(stations - 150.0) < 2.0, 10e-3, 0.0)
+    _check_local_follow(stations, defect)  # no refusal
+    for offsets, where in ((noise + np.where(np.abs(stations - 150.0) < 20.0, 3e-3, 0.0), "between 1"),
+                           (noise + np.where(stations > 297.0, 10e-3, 0.0), "and 299.4 m: max residual")):
+        with pytest.raises(LineFitError, match=where):
+            _check_local_follow(stations, offsets)
 
 
 def test_a_curve_collapsed_to_a_lone_clothoid_merges_into_the_straight():
