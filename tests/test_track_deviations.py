@@ -12,6 +12,7 @@ from insrail.track.deviations import design_cant_m, design_rail_offsets, rail_de
 from insrail.track.profile import PVI, CantTable, VerticalProfile
 from insrail.track.sleeper_table import (
     build_sleeper_table,
+    finished_reconstruction,
     reconstruct_track,
     regular_sleepers,
 )
@@ -177,15 +178,52 @@ def test_reconstruct_track_without_design_measures_against_the_fitted_line(short
     assert len(result.reference.windows) >= 2
 
 
-def test_reconstruct_track_reports_a_line_fit_it_cannot_make(short_perfect_survey):
-    """A survey that starts inside the curve cannot be line-fitted: the reconstruction still
-    completes, says why, and leaves the deviations empty."""
-    recon = truth_reconstruction(short_perfect_survey)
+def reconstruction_between(survey, first_m, last_m):
+    """The reconstruction (without a design) of the error-free trajectory between two stations."""
+    recon = truth_reconstruction(survey)
     trajectory = recon.trajectory
-    keep = (recon.nav["station_m"] > 1400.0) & (recon.nav["station_m"] < 1750.0)
+    keep = (recon.nav["station_m"] > first_m) & (recon.nav["station_m"] < last_m)
     sliced = {f.name: getattr(trajectory, f.name)[keep] for f in fields(trajectory)
               if isinstance(getattr(trajectory, f.name), np.ndarray) and len(getattr(trajectory, f.name)) == len(keep)}
-    result = reconstruct_track(replace(trajectory, **sliced), recon.trolley, recon.gauge, recon.to_engineering,
-                               start_station_m=1400.0)
-    assert "inside a curve" in result.line_fit_error and result.fitted is None
-    assert np.isnan(result.table.lateral_deviation_m).all() and len(result.table) > 400
+    return reconstruct_track(replace(trajectory, **sliced), recon.trolley, recon.gauge, recon.to_engineering,
+                             start_station_m=first_m)
+
+
+def test_reconstruct_track_reports_a_line_fit_it_cannot_make(short_perfect_survey):
+    """A survey too short to be line-fitted: the reconstruction still completes, says why, and
+    leaves the deviations empty."""
+    result = reconstruction_between(short_perfect_survey, 1400.0, 1450.0)
+    assert "at least" in result.line_fit_error and result.fitted is None
+    assert np.isnan(result.table.lateral_deviation_m).all() and len(result.table) > 60
+
+
+def test_a_survey_inside_the_curve_is_fitted_as_its_arc(short_perfect_survey):
+    """A run that starts and ends inside the curve (the `short` arc, R 2000 m right) is fitted, not
+    refused: one arc of the design's radius."""
+    result = reconstruction_between(short_perfect_survey, 1400.0, 1750.0)
+    assert result.line_fit_error == "" and result.fitted is not None
+    (arc,) = result.fitted.alignment.horizontal.elements
+    assert isinstance(arc, Arc) and arc.turn == "right" and abs(arc.radius_m / 2000.0 - 1.0) < 0.002
+
+
+def test_the_line_fit_leaves_out_the_rows_it_is_told_to(short_perfect_survey):
+    """Sleepers where the fusion is not valid are no measurements of the line: a 30 mm excursion
+    there does not bend the fit (fitted through, it makes the plan leave the line: refused), and
+    their deviations stay empty."""
+    recon = truth_reconstruction(short_perfect_survey)
+    result = reconstruct_track(recon.trajectory, recon.trolley, recon.gauge, recon.to_engineering,
+                               start_station_m=float(recon.nav["station_m"][0]), fit_line=False)
+    table = result.table
+    bad = np.zeros(len(table), dtype=bool)
+    bad[700:760] = True
+    shifted = np.where(bad[:, None], [0.03, 0.0, 0.0], 0.0)
+    table = replace(table, centre_enh_m=table.centre_enh_m + shifted, left_rail_enh_m=table.left_rail_enh_m + shifted,
+                    right_rail_enh_m=table.right_rail_enh_m + shifted)
+    dense = {"epochs": result.epochs}
+    blind = finished_reconstruction(result.sleepers, table, dense, True)
+    told = finished_reconstruction(result.sleepers, table, dense, True, fit_rows=~bad)
+    # fitted through them, the plan leaves the line around them: refused, naming where
+    assert blind.fitted is None and "does not follow the centreline between" in blind.line_fit_error
+    assert told.fitted.horizontal.rms_m < 1.5 * MM
+    assert np.isnan(told.table.lateral_deviation_m[bad]).all()
+    assert np.isfinite(told.table.lateral_deviation_m[table.valid & ~bad]).all()

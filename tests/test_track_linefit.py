@@ -164,7 +164,6 @@ def test_fitted_alignment_exports_like_any_design(tmp_path):
         (lambda s, e, n: (s, np.where(np.arange(e.size) == 7, np.nan, e), n), r"east_m\[7\]"),
         (lambda s, e, n: (s, e[:-1], n), "east_m has"),
         (lambda s, e, n: (s[:40], e[:40], n[:40]), "at least"),
-        (lambda s, e, n: (s[200:], e[200:], n[200:]), "inside a curve"),
     ],
 )
 def test_bad_input_is_named(mutate, message):

@@ -156,7 +156,12 @@ from insrail.track.exceedance import Assessment, SleeperGeometry, assess
 from insrail.track.landxml import format_landxml, read_landxml
 from insrail.track.linefit import element_table
 from insrail.track.parameters import line_speed_mps
-from insrail.track.sleeper_table import EpochStationsFile, SleeperTable, TrackReconstruction
+from insrail.track.sleeper_table import (
+    EpochStationsFile,
+    SleeperTable,
+    TrackReconstruction,
+    finished_reconstruction,
+)
 from insrail.track.by_parts import chunked_interp
 from insrail.track.streamed import reconstruct_track_streamed
 from insrail.track.sleepers import AnchorError
@@ -166,8 +171,9 @@ CACHE_FOLDER = ".cache"
 CACHE_VERSION = 16  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma; 16: a track heading's 1-sigma holds the trolley's yaw against the chord
 #: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
 #: entry 52 MB instead of 370 MB, read back in a rerun); 3, the epochs' stations in their own
-#: file (track-<key>.epochs.npy), read by parts.
-TRACK_CACHE_LAYOUT = 3
+#: file (track-<key>.epochs.npy), read by parts; 4, without a design the line-type fit always
+#: valid and leaving out the sleepers the fusion marks not valid.
+TRACK_CACHE_LAYOUT = 4
 
 
 @dataclass(frozen=True)
@@ -402,12 +408,14 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
 def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyManifest, folder: Path,
                          fresh: FreshFusion | None,
                          trajectory_file: Path, key: str, height_fit: HeightAnomalyFit | None,
-                         cancel: CancelToken, local: LocalFit | None = None
+                         cancel: CancelToken, local: LocalFit | None = None, fusion_info: dict | None = None
                          ) -> tuple[TrackReconstruction, TrackExtras, bool]:
     """Rails, chainage and sleepers and their :class:`TrackExtras` (from the cache when nothing
     they depend on changed; a reconstruction from the cache carries no ``fitted`` and
     ``reference`` objects, only their :class:`FittedLine`); with local control every coordinate
-    from here on is in the local grid."""
+    from here on is in the local grid. Without a design the line-type fit leaves out the
+    sleepers ``fusion_info`` marks not valid (fusion not consistent, IMU gaps bridged): they are
+    not measurements of the line (the fusion key, part of this stage's, determines them)."""
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"track-{key}.npz"
     extras_path, epochs_path = path.with_suffix(".extras.npz"), path.with_suffix(".epochs.npy")
     cached = (cached_dataclass("track reconstruction", path, TrackReconstruction)
@@ -434,9 +442,14 @@ def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyMan
             trajectory_file, run.ellipsoid, manifest.trolley, fresh.gauge, to_engineering, design=design,
             pulses=fresh.pulses, start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
             stationing=project.stationing_direction, anchor=project.sleeper_anchor, spool_folder=path.parent,
-            epochs_file=epochs_path, check=lambda: check_cancel(cancel))
+            epochs_file=epochs_path, check=lambda: check_cancel(cancel), fit_line=False)
     except AnchorError as error:
         raise InputError(project.path, None, f"track.sleeper_anchor: {error}") from None
+    if design is None:
+        info = fusion_info or {}
+        flagged = flag_gap_sleepers(flag_sleepers(recon.table, info.get("integrity")), info.get("imu_gaps_s", []))
+        recon = finished_reconstruction(recon.sleepers, recon.table, {"epochs": recon.epochs}, True,
+                                        cant_base_m=manifest.trolley.rail_centre_spacing_m, fit_rows=flagged.valid)
     extras = TrackExtras(attitude, FittedLine.of(recon) if run.design is None else None)
     save_dataclass(extras_path, extras)
     seal(epochs_path)
@@ -541,7 +554,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     step(0.82, "rails, chainage and sleepers")
     local = fit_local(project.local_control) if project.local_control is not None else None
     recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
-                                                       track_key(project, run, key), height_fit, cancel, local)
+                                                       track_key(project, run, key), height_fit, cancel, local,
+                                                       fusion_info)
     del fresh
     release_free_memory()
     check_cancel(cancel)
@@ -587,7 +601,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     summary["notices"] = [n.to_dict() for n in [*outside_notices(project, folder, manifest), *cache_notices, *run.notices(),
                                                 *_notices(fusion_info, height_warnings, summary.get("ppk")),
                                                 *(local.notices() if local is not None else []),
-                                                *speed_notices(profile, table, curvature, speed)]]
+                                                *speed_notices(profile, table, curvature, speed),
+                                                *_line_fit_notices(extras.line, table)]]
     if local is not None:
         summary["local_control"] = local.summary()
     summary["track_quality"] = track_quality_section(geometry)
@@ -669,6 +684,18 @@ def outside_notices(project: Project, folder: Path, manifest: SurveyManifest) ->
             notices.append(Notice("survey", f"files.{role}: {entry.path} lies outside the project and the survey "
                                   f"folder ({path}): check that it is the file meant", file=str(path)))
     return notices
+
+
+def _line_fit_notices(line: FittedLine | None, table: SleeperTable) -> list[Notice]:
+    """A warning where a line-type fit was asked for (no design) and failed: over which stations the
+    results hold no fitted alignment and no deviations, and why."""
+    if line is None or line.section().get("fitted", True):
+        return []
+    stations = table.station_m[np.isfinite(table.station_m)]
+    where = f"stations {stations.min():.1f} to {stations.max():.1f} m" if stations.size else "the whole survey"
+    return [Notice("track", f"no line-type fit over {where} (no fitted alignment, no deviations "
+                            f"\"measured - best\"): {line.section()['error']}",
+                   station_m=float(stations.min()) if stations.size else None)]
 
 
 def _notices(fusion_info: dict, height_warnings: list[str], ppk: dict | None) -> list[Notice]:

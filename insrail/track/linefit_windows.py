@@ -171,6 +171,22 @@ def _window_chain(plan: HorizontalAlignment, start: float, end: float):
     return chain, x0, sigma
 
 
+def _window_plan(chain, x0, sigma, station, east, north) -> HorizontalAlignment:
+    """The window's refitted plan: all its parameters free; where that solution is no valid
+    alignment (an element shrunk to nothing leaving a clothoid without its neighbour's
+    curvature), its lengths held at the global fit's; else the global fit's piece itself (valid,
+    as a piece of a valid chain is)."""
+    lengths_fixed = np.ones(x0.size, dtype=bool)
+    lengths_fixed[chain.length_index] = False
+    for free in (None, lengths_fixed):
+        x = _solve_chain(chain, x0, station, east, north, free=free, prior_sigma=sigma)
+        try:
+            return chain.alignment(x)
+        except ValueError:
+            continue
+    return chain.alignment(x0)
+
+
 # ---------------------------------------------------------------- profile
 def _window_profile_seed(profile: VerticalProfile, start: float, end: float):
     """The global profile over [start, end]: (first, last station, interior PVI count, x0, prior sigma).
@@ -217,7 +233,10 @@ def _fit_window_profile(profile: VerticalProfile, start: float, end: float, stat
     lower = np.concatenate((np.full(count, first), np.full(count + 2, -np.inf), np.zeros(count)))
     upper = np.concatenate((np.full(count, last), np.full(2 * count + 2, np.inf)))
     solution = least_squares(residuals, x0, bounds=(lower, upper), x_scale="jac", method="trf")
-    return _profile(solution.x, first, last, count)
+    try:
+        return _profile(solution.x, first, last, count)
+    except ValueError:  # no valid profile found: the global fit's over the window (valid)
+        return _profile(x0, first, last, count)
 
 
 # ------------------------------------------------------------------ windows
@@ -265,8 +284,7 @@ def fit_windows(
         chain, x0, sigma = _window_chain(
             plan, max(start - _MARGIN_M, plan.start_station_m), min(end + _MARGIN_M, plan.end_station_m)
         )
-        x = _solve_chain(chain, x0, feet[index], east[index], north[index], prior_sigma=sigma)
-        window_plan = chain.alignment(x)
+        window_plan = _window_plan(chain, x0, sigma, feet[index], east[index], north[index])
         window_feet, offsets = _foot(window_plan, feet[index], east[index], north[index])
         window_profile = _fit_window_profile(profile, start - _MARGIN_M, end + _MARGIN_M, window_feet,
                                              height[index])

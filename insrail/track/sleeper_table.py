@@ -207,15 +207,21 @@ def deviations_from_fitted_line(
     overlap_m: float = DEFAULT_FIT_OVERLAP_M,
     design_gauge_m: float = NOMINAL_GAUGE_M,
     cant_base_m: float = CANT_BASE_M,
+    fit_rows: np.ndarray | None = None,
 ) -> tuple[SleeperTable, AlignmentFit, WindowedReference]:
     """The table with deviations "measured - best" (thesis Fig. 5-7, 偏差量 [实测-最优]).
 
     Plan, profile and cant are fitted to the valid rows' centreline and cant
-    (:func:`~insrail.track.linefit.fit_alignment`); the deviations are taken from the windowed
-    best-fit reference (:func:`~insrail.track.linefit_windows.fit_windows`), the design cant
-    column holds the fitted cant. Raises LineFitError when the centreline cannot be fitted.
+    (:func:`~insrail.track.linefit.fit_alignment`), or only to those of them ``fit_rows`` (bool
+    per row) allows, e.g. not where the fusion is not consistent; the deviations are taken from
+    the windowed best-fit reference (:func:`~insrail.track.linefit_windows.fit_windows`) at the
+    fitted rows (NaN at the others), the design cant column holds the fitted cant. Raises
+    LineFitError when the centreline cannot be fitted.
     """
-    rows = np.flatnonzero(table.valid)
+    usable = np.asarray(table.valid, dtype=bool)
+    if fit_rows is not None:
+        usable = usable & np.asarray(fit_rows, dtype=bool)
+    rows = np.flatnonzero(usable)
     if rows.size < 2:
         raise LineFitError("line fitting: the sleeper table has fewer than two valid rows")
     centre = table.centre_enh_m[rows]
@@ -416,14 +422,16 @@ def reconstruct_track(
 def finished_reconstruction(sleepers: SleeperNumbering, table: SleeperTable, dense: dict, fit_line: bool,
                             fit_window_m: float = DEFAULT_FIT_WINDOW_M, fit_overlap_m: float = DEFAULT_FIT_OVERLAP_M,
                             design_gauge_m: float = NOMINAL_GAUGE_M,
-                            cant_base_m: float = CANT_BASE_M) -> TrackReconstruction:
+                            cant_base_m: float = CANT_BASE_M, fit_rows: np.ndarray | None = None) -> TrackReconstruction:
     """The reconstruction of a table, with the deviations from the fitted line when ``fit_line``
-    (:func:`deviations_from_fitted_line`); ``dense``: its epochs (and rails and stations)."""
+    (:func:`deviations_from_fitted_line`, on the rows ``fit_rows`` allows); ``dense``: its epochs
+    (and rails and stations). A fit that fails leaves the rest whole and says why in
+    ``line_fit_error`` (the reconstruction is kept whatever the fit does)."""
     if not fit_line:
         return TrackReconstruction(sleepers, table, **dense)
     try:
         table, fitted, reference = deviations_from_fitted_line(table, fit_window_m, fit_overlap_m, design_gauge_m,
-                                                               cant_base_m)
-    except LineFitError as error:
+                                                               cant_base_m, fit_rows)
+    except ValueError as error:  # LineFitError, or anything else the fit's numbers run into
         return TrackReconstruction(sleepers, table, **dense, line_fit_error=str(error))
     return TrackReconstruction(sleepers, table, **dense, fitted=fitted, reference=reference)
