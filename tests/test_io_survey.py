@@ -159,7 +159,7 @@ def test_broken_manifest_lists_every_problem(tmp_path):
         "survey.colour: unknown key",
         "files.gnss.path: file not found: gnss.pos",
         "files.odometer.pulse_lenght_m: unknown option for format odometer-pulses (known: pulse_length_m)",
-        "files.gauge.format: kfgins-gnss does not hold gauge data (use one of gauge-mm)",
+        "files.gauge.format: kfgins-gnss does not hold gauge data (use one of gauge-mm, gauge-volts)",
         "files.sleepers.path: file not found: sleepers.txt",
         "files.wheels: unknown role",
         "trolley.imu_to_antenna_m: expected 3 numbers",

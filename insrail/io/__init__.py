@@ -26,13 +26,13 @@ _EXPORTS = {
     ],
     "rtklib": ["read_rtklib_pos", "write_rtklib_pos"],
     "survey": ["read_manifest", "read_survey", "write_manifest"],
-    "track_sensors": ["read_gauge_mm", "read_sleeper_times", "write_gauge_mm", "write_sleeper_times"],
+    "track_sensors": ["read_gauge_mm", "read_gauge_volts", "read_sleeper_times", "write_gauge_mm", "write_sleeper_times"],
 }
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = [
     "FORMATS", "FileFormat", "InputError", "ManifestError", "atomic_write", "detect_format", "read_any",
-    "read_benchmarks", "read_gauge_mm", "read_gnss_kfgins", "read_imu_kfgins", "read_imu_npy",
+    "read_benchmarks", "read_gauge_mm", "read_gauge_volts", "read_gnss_kfgins", "read_imu_kfgins", "read_imu_npy",
     "read_imu_rates_csv", "read_manifest", "read_odometer_distance", "read_odometer_pulses",
     "read_prism_enu", "read_rtklib_pos", "read_sleeper_times", "read_survey", "write_benchmarks",
     "write_gauge_mm", "write_gnss_kfgins", "write_imu_kfgins", "write_imu_npy", "write_manifest",

@@ -40,6 +40,9 @@ class FileFormat:
     write: Callable[..., None] | None
     data_type: type
     description: str
+    #: (option, why) for options that are each of the right type but together no valid setting
+    #: (a calibration slope of 0, a key another needs): survey.toml names them by key before reading
+    check_options: Callable[[dict], list[tuple[str, str]]] | None = None
 
     def options(self) -> dict[str, inspect.Parameter]:
         """The reader's keyword options (everything after the path)."""
@@ -68,6 +71,9 @@ FORMATS: dict[str, FileFormat] = {f.name: f for f in (
                OdometerData, "odometer cumulative pulse counts"),
     FileFormat("gauge-mm", track_sensors.read_gauge_mm, track_sensors.write_gauge_mm, GaugeData,
                "gauge sensor [mm]"),
+    FileFormat("gauge-volts", track_sensors.read_gauge_volts, None, GaugeData,
+               "gauge sensor voltage [V] (and temperature [°C]) with its calibration",
+               track_sensors.gauge_volts_option_problems),
     FileFormat("sleeper-times", track_sensors.read_sleeper_times, track_sensors.write_sleeper_times,
                SleeperPulses, "sleeper detector pulse times"),
     FileFormat("prism-enu", control.read_prism_enu, control.write_prism_enu, PrismObservations,

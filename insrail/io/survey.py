@@ -54,6 +54,9 @@ class TrolleyGeometry:
     mounting_rpy_rad          : roll, pitch, heading of b relative to the trolley frame v,
                                 C_b^v = euler_to_dcm(*mounting_rpy_rad)
     rail_centre_spacing_m     : base of the cant definition, cant = base * sin(roll) (1.5 m)
+    beam_wheel_spacing_m      : d_w, the spacing of the two side wheels of the twin-wheel beam
+                                leaning on the reference rail's gauge face; > 0 turns on the
+                                gauge's curve correction (thesis eq. 5.2), 0 (default) leaves it off
 
     A lever arm is None where survey.toml does not give it: each is needed only with the data
     using it (:data:`FUSION_LEVER_ARMS`, :data:`TRACK_LEVER_ARMS`), and a missing one is an error
@@ -68,6 +71,7 @@ class TrolleyGeometry:
     reference_rail: str = "left"
     mounting_rpy_rad: np.ndarray = field(default_factory=lambda: np.zeros(3))
     rail_centre_spacing_m: float = 1.5
+    beam_wheel_spacing_m: float = 0.0
 
     def lever_arm_m(self, key: str) -> np.ndarray:
         """The lever arm ``key`` as floats; ValueError when survey.toml does not give it (a use the
@@ -182,7 +186,9 @@ TRACK_LEVER_ARMS = {"imu_to_reference_rail_m": (None, "the rails are placed from
 #: a clock offset beyond a minute is not a latency but another time scale (leap seconds: 18 s)
 MAX_GIVEN_TIME_OFFSET_S = 60.0
 _SURVEY_KEYS = ("name", "gps_week", "imu_profile", "description")
-_TROLLEY_KEYS = LEVER_ARMS + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m")
+_TROLLEY_KEYS = LEVER_ARMS + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m", "beam_wheel_spacing_m")
+#: The longest twin-wheel beam a trolley carries [m]: a spacing beyond it is a unit slip (mm as m)
+MAX_BEAM_WHEEL_SPACING_M = 3.0
 
 
 def _is_number(value) -> bool:
@@ -273,6 +279,10 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
                     problems.append(f"{key}.{option}: unknown option for format {name} (known: {known})")
                 elif (why := _option_problem(hints[option], value)) is not None:
                     problems.append(f"{key}.{option}: {why}")
+            if FORMATS[name].check_options is not None and all(
+                    option in hints and _option_problem(hints[option], value) is None
+                    for option, value in options.items()):
+                problems += [f"{key}.{option}: {why}" for option, why in FORMATS[name].check_options(options)]
         if isinstance(path, str) and isinstance(name, str):
             files[role] = SurveyFile(path=path, format=name, options=options, time_offset_s=float(time_offset_s))
     return files
@@ -311,10 +321,14 @@ def parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometr
     spacing = table.get("rail_centre_spacing_m", 1.5)
     if not (_is_number(spacing) and spacing > 0):
         problems.append(f"trolley.rail_centre_spacing_m: expected a positive number [m], found {spacing!r}")
+    beam = table.get("beam_wheel_spacing_m", 0.0)
+    if not (_is_number(beam) and 0.0 <= beam <= MAX_BEAM_WHEEL_SPACING_M):
+        problems.append(f"trolley.beam_wheel_spacing_m: expected the spacing of the twin-wheel beam's side wheels, "
+                        f"0 .. {MAX_BEAM_WHEEL_SPACING_M:g} m (0: no curve correction), found {beam!r}")
     if problems:
         return None
     return TrolleyGeometry(**arms, reference_rail=reference_rail, mounting_rpy_rad=np.radians(mounting),
-                           rail_centre_spacing_m=float(spacing))
+                           rail_centre_spacing_m=float(spacing), beam_wheel_spacing_m=float(beam))
 
 
 def track_lever_arm_problems(trolley: TrolleyGeometry, roles: set[str]) -> list[str]:
@@ -402,6 +416,8 @@ def manifest_to_toml(manifest: SurveyManifest) -> str:
     trolley.update(reference_rail=geometry.reference_rail,
                    mounting_rpy_deg=[float(v) for v in np.degrees(geometry.mounting_rpy_rad)],
                    rail_centre_spacing_m=float(geometry.rail_centre_spacing_m))
+    if geometry.beam_wheel_spacing_m:
+        trolley["beam_wheel_spacing_m"] = float(geometry.beam_wheel_spacing_m)
     document = {"survey": survey, "files": files, "trolley": trolley}
     if manifest.raw_gnss is not None:
         document["gnss_raw"] = manifest.raw_gnss.to_settings()

@@ -286,8 +286,9 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
     for role in sorted(fused):
         digest.update(role.encode())
         _hash_file(digest, folder / manifest.files[role].path)
+    # the beam's wheel spacing corrects the gauge after the fusion: the track key holds it
     trolley = {k: np.asarray(v).tolist() if not isinstance(v, str) else v
-               for k, v in asdict(run.trolley).items()}
+               for k, v in asdict(run.trolley).items() if k != "beam_wheel_spacing_m"}
     settings = {"version": CACHE_VERSION, "gps_week": manifest.gps_week, "trolley": trolley,
                 "imu_profile": repr(run.imu_profile), "fusion": repr(run.fusion), "ellipsoid": repr(run.ellipsoid),
                 "files": {r: asdict(f) for r, f in fused.items()}}
@@ -307,6 +308,8 @@ def track_key(project: Project, run: RunSettings, fusion: str) -> str:
     settings = {"version": CACHE_VERSION, "layout": TRACK_CACHE_LAYOUT, "geodesy": _geodesy_settings(run),
                 "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number,
                 "stationing_direction": project.stationing_direction, "sleeper_anchor": repr(project.sleeper_anchor)}
+    if run.trolley.beam_wheel_spacing_m:
+        settings["beam_wheel_spacing_m"] = run.trolley.beam_wheel_spacing_m
     if project.local_control is not None:
         settings["local_control"] = project.local_control.to_settings()
     if run.design is not None:
@@ -441,7 +444,8 @@ def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyMan
         recon, attitude = reconstruct_track_streamed(
             trajectory_file, run.ellipsoid, manifest.trolley, fresh.gauge, to_engineering, design=design,
             pulses=fresh.pulses, start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
-            stationing=project.stationing_direction, anchor=project.sleeper_anchor, spool_folder=path.parent,
+            stationing=project.stationing_direction, anchor=project.sleeper_anchor,
+            beam_wheel_spacing_m=manifest.trolley.beam_wheel_spacing_m, spool_folder=path.parent,
             epochs_file=epochs_path, check=lambda: check_cancel(cancel), fit_line=False)
     except AnchorError as error:
         raise InputError(project.path, None, f"track.sleeper_anchor: {error}") from None

@@ -24,7 +24,7 @@ EngineeringCRS plus its height-anomaly model), so this module needs no project.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -126,6 +126,22 @@ def path_curvature_per_m(forward_enh: np.ndarray, east_m: np.ndarray, north_m: n
     behind = np.interp(travelled - 0.5 * base_m, travelled, azimuth)
     span = np.interp(travelled + 0.5 * base_m, travelled, travelled) - np.interp(travelled - 0.5 * base_m, travelled, travelled)
     return np.where(span > 0.0, (ahead - behind) / np.where(span > 0.0, span, 1.0), 0.0)
+
+
+def curve_corrected_gauge(gauge: GaugeData, north_m: np.ndarray, east_m: np.ndarray, forward_ne: np.ndarray,
+                          beam_wheel_spacing_m: float, beam_rail: str) -> GaugeData:
+    """The gauge record with the curve correction (:func:`gauge_curve_correction_m`) added to each
+    reading; ``north_m``, ``east_m`` (a local plane [m]) and ``forward_ne`` (the trolley's x axis,
+    north and east components) are the trolley's path at the readings' times. The curvature is
+    the path's over :data:`CURVATURE_BASE_M`, signed for travel along the trolley's x axis (a run
+    pushed backwards, x against the travel, turns the other way per metre travelled)."""
+    forward_enh = np.column_stack([forward_ne[:, 1], forward_ne[:, 0], np.zeros(len(north_m))])
+    curvature = path_curvature_per_m(forward_enh, east_m, north_m)
+    along_x = np.sum(np.diff(east_m) * forward_enh[1:, 0] + np.diff(north_m) * forward_enh[1:, 1])
+    if along_x < 0.0:
+        curvature = -curvature
+    correction = gauge_curve_correction_m(curvature, beam_wheel_spacing_m, beam_rail)
+    return replace(gauge, gauge_m=np.asarray(gauge.gauge_m, dtype=float) + correction)
 
 
 def _trolley_axes_enh(trajectory: Trajectory, part: slice, trolley: TrolleyGeometry,

@@ -62,7 +62,9 @@ from insrail.track.by_parts import chunked_interp, station_track_by_parts
 from insrail.track.deviations import NOMINAL_GAUGE_M
 from insrail.track.linefit_windows import DEFAULT_OVERLAP_M as DEFAULT_FIT_OVERLAP_M
 from insrail.track.linefit_windows import DEFAULT_WINDOW_M as DEFAULT_FIT_WINDOW_M
-from insrail.track.rails import POSE_FIELDS, RailPoints, ToEngineering, rails_from_pose
+from insrail.nav import earth
+from insrail.nav.rotation import euler_to_dcm
+from insrail.track.rails import POSE_FIELDS, RailPoints, ToEngineering, curve_corrected_gauge, rails_from_pose
 from insrail.track.resample import DEFAULT_WINDOW_M, interpolate_in_station, sliding_window_fit
 from insrail.track.sleeper_table import (
     EpochStations,
@@ -355,6 +357,29 @@ class _Streamed:
         return float(self.spool.read("time", 0, 1)[0]), float(self.spool.read("time", self.n - 1, 1)[0])
 
 
+def path_at_times(trajectory_file, ellipsoid: Ellipsoid, trolley: TrolleyGeometry, time_s: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The IMU's path at ``time_s`` in a local plane tangent at its first point (north, east [m])
+    and the trolley's x axis there (north, east components), read from the trajectory file by parts:
+    what the gauge's curve correction takes (over a survey's few kilometres the plane's scale
+    error, below 1e-3, changes a curvature by as little)."""
+    x_v_b = euler_to_dcm(*np.asarray(trolley.mounting_rpy_rad, dtype=float))[0]
+    n = trajectory_records(trajectory_file)
+
+    def blocks():
+        for start in range(0, n, CHUNK_EPOCHS):
+            part = load_trajectory(trajectory_file, only=("time_s", "lat_rad", "lon_rad", "rpy_rad"), start=start,
+                                   count=min(CHUNK_EPOCHS, n - start))
+            rpy = part.rpy_rad
+            forward = euler_to_dcm(rpy[:, 0], rpy[:, 1], rpy[:, 2]) @ x_v_b
+            yield part.time_s, np.column_stack([part.lat_rad, part.lon_rad, forward[:, 0], forward[:, 1]])
+
+    at = chunked_interp(np.asarray(time_s, dtype=float), blocks())
+    lat0, lon0 = at[0, 0], at[0, 1]
+    r_m, r_n = earth.radii(lat0, ellipsoid)
+    return (at[:, 0] - lat0) * r_m, (at[:, 1] - lon0) * r_n * np.cos(lat0), at[:, 2:4]
+
+
 def attitude_at_times(time_s: np.ndarray, span: tuple[float, float] | None,
                       interpolated: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
     """(n, 3) roll, pitch, heading [rad, heading in [0, 2 pi)] at ``time_s`` from ``interpolated``
@@ -388,13 +413,16 @@ def reconstruct_track_streamed(
     fit_overlap_m: float = DEFAULT_FIT_OVERLAP_M,
     stationing: str | float = WITH_TRAVEL,
     anchor: SleeperAnchor | None = None,
+    beam_wheel_spacing_m: float = 0.0,
     spool_folder: Path | None = None,
     epochs_file: Path | None = None,
     check: Callable[[], None] = lambda: None,
 ) -> tuple[TrackReconstruction, np.ndarray]:
     """:func:`~insrail.track.sleeper_table.reconstruct_track` of the trajectory in
-    ``trajectory_file`` (read by parts, on ``ellipsoid``, the one the fusion ran on; no beam curve
-    correction) and the fused attitude at its sleepers
+    ``trajectory_file`` (read by parts, on ``ellipsoid``, the one the fusion ran on;
+    ``beam_wheel_spacing_m`` > 0: each gauge reading corrected for the curve,
+    :func:`~insrail.track.rails.curve_corrected_gauge`, at its own time on the path of
+    :func:`path_at_times`, where the whole-run function corrects the epochs) and the fused attitude at its sleepers
     (:func:`~insrail.project.sleeper_parameters.sleeper_attitude_rad`), the same to the bit, in
     memory independent of the survey's length (see the module docstring). The reconstruction
     carries no rails and stations; its epochs' stations are written to ``epochs_file``
@@ -403,6 +431,9 @@ def reconstruct_track_streamed(
     per chunk (cancel)."""
     if design is None and start_station_m is None:
         raise ValueError("without a design alignment the start station (start_station_m) must be given")
+    if beam_wheel_spacing_m:
+        gauge = curve_corrected_gauge(gauge, *path_at_times(trajectory_file, ellipsoid, trolley, gauge.time_s),
+                                      beam_wheel_spacing_m, trolley.reference_rail)
     spool = _Spool(spool_folder)
     epochs = EpochStationsWriter(epochs_file or spool.folder / "epochs.npy", trajectory_records(trajectory_file))
     try:
