@@ -245,9 +245,10 @@ class BuiltCell:
     config: ScenarioConfig
 
 
-def build_cell(cell: Cell, folder: Path, seed: int) -> BuiltCell:
-    """Simulate the cell's run into ``folder/sim`` and write its user project into ``folder/project``."""
-    config = scenario(cell)
+def build_cell(cell: Cell, folder: Path, seed: int, config: ScenarioConfig | None = None) -> BuiltCell:
+    """Simulate the cell's run into ``folder/sim`` and write its user project into ``folder/project``;
+    ``config``: the cell's :func:`scenario` with something more simulated (rail joints, say)."""
+    config = config or scenario(cell)
     simulated = folder / "sim"
     simulate(config, seed, simulated, imu_format="npy")
     project = folder / "project"

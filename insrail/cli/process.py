@@ -89,6 +89,7 @@ def describe(results, checks=()) -> list[str]:
          f"stations {track['station_from_m']:.3f} .. {track['station_to_m']:.3f} m"),
         *_pulse_lines(track.get("sleeper_pulses")),
         *_line_fit_lines(track.get("line_fit")),
+        *_joint_lines(s.get("joints")),
         *_event_lines(s.get("events", []), assessment.get("not_assessed_sleepers", 0)),
         *(f"  {'warning' if notice.severity == 'warning' else 'note'}: {notice.text()}" for notice in notices_of(s)),
         *_quality_lines(s.get("quality")),
@@ -110,11 +111,24 @@ def _pulse_lines(pulses: dict | None) -> list[str]:
              f"{pulses['false_rejected']} false pulses rejected")]
 
 
+def _joint_lines(joints: dict | None) -> list[str]:
+    """The rail joints found as IMU shocks (listed one by one in summary.toml's [[events]])."""
+    if not joints or not joints["detected"]:
+        return []
+    spacing = f", median spacing {joints['median_spacing_m']:.2f} m" if "median_spacing_m" in joints else ""
+    return [f"  rail joints: {joints['detected']} detected from IMU shocks (over {joints['threshold_mps2']:.2f} m/s^2)"
+            f"{spacing}; the NHC relaxed {joints['nhc_relaxed_s']:g} s either side (summary.toml [[events]])"]
+
+
 def _event_lines(events: list[dict], not_assessed: int) -> list[str]:
-    """The survey's events: which are not assessed, how many sleepers that takes out of the assessment."""
+    """The survey's events written in its event files (the detected joints: :func:`_joint_lines`): which are not
+    assessed, how many sleepers that takes out of the assessment."""
+    from insrail.project.track_events import DETECTED_JOINT_SOURCE
+    from insrail.track.events import KIND_NAMES
+
+    events = [e for e in events if e["source"] != DETECTED_JOINT_SOURCE]
     if not events:
         return []
-    from insrail.track.events import KIND_NAMES
 
     lines = [f"  events: {len(events)}, {not_assessed} sleepers not assessed with the track's profile"]
     for e in events:

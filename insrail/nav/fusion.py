@@ -988,10 +988,13 @@ def nhc_point_m(trolley: TrolleyGeometry) -> np.ndarray:
 
 
 def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: ImuProfile, gnss: GnssSolution | None,
-                   odometer: OdometerData | None, position_fixes: PositionFix | None = None) -> tuple:
+                   odometer: OdometerData | None, position_fixes: PositionFix | None = None,
+                   nhc_relaxed_s: tuple[np.ndarray, np.ndarray] | None = None) -> tuple:
     """The aiding sources as ``options`` selects them, in the order the filter applies them at
     an update epoch: GNSS positions (and velocities), total-station fixes, odometer/NHC, ZUPT.
-    The fusion and the accuracy prediction (``insrail.quality.prediction``) both build theirs here."""
+    The fusion and the accuracy prediction (``insrail.quality.prediction``) both build theirs here.
+    ``nhc_relaxed_s``: (start, end) of the intervals where the NHC does not hold (rail joints'
+    shocks, ``insrail.nav.shocks``)."""
     sources: list = []
     if gnss is not None:
         sources.append(GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
@@ -1013,18 +1016,20 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
             (odometer.pulse_length_m if odometer is not None else None) or 0.001,
             sigma_nhc_mps=options.nhc_sigma_mps if use_odometer else max(options.nhc_sigma_mps,
                                                                           NHC_SIGMA_WITHOUT_ODOMETER_MPS),
-            use_odometer=use_odometer, use_nhc=options.use_nhc))
+            use_odometer=use_odometer, use_nhc=options.use_nhc,
+            **({} if nhc_relaxed_s is None else {"nhc_relaxed_s": nhc_relaxed_s})))
     if options.use_zupt:
         sources.append(Zupt(np.zeros(0), options.zupt_sigma_mps, gyro_white_noise=max(profile.gyro_arw, 1e-7)))
     return tuple(sources)
 
 
 def aiding_for(survey: SurveyData, options: FusionOptions, profile: ImuProfile,
-               position_fixes: PositionFix | None = None) -> Aiding:
+               position_fixes: PositionFix | None = None,
+               nhc_relaxed_s: tuple[np.ndarray, np.ndarray] | None = None) -> Aiding:
     """What a survey aids the filter with (:func:`aiding_sources`), its GNSS after the quality policy."""
     gnss, gnss_quality = (None, {}) if survey.gnss is None else gnss_by_quality(survey.gnss, options.gnss_quality_policy)
     trolley = survey.manifest.trolley
-    return Aiding(aiding_sources(options, trolley, profile, gnss, survey.odometer, position_fixes), gnss,
+    return Aiding(aiding_sources(options, trolley, profile, gnss, survey.odometer, position_fixes, nhc_relaxed_s), gnss,
                   survey.odometer, trolley, gnss_quality)
 
 

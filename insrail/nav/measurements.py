@@ -337,6 +337,12 @@ class OdometerNhc:
     odometer_distance_m: np.ndarray | None = None
     sigma_odometer_mps: float = 0.001
     pulse_length_m: float = 0.001
+    #: (start, end) [s] of the intervals where the NHC does not hold (a rail joint's shock,
+    #: ``insrail.nav.shocks``): an update whose segment meets one takes the NHC 1-sigma times
+    #: ``nhc_relaxed_factor``; ``nhc_scale`` is that factor per observation once scheduled
+    nhc_relaxed_s: tuple[np.ndarray, np.ndarray] = (_NO_TIMES, _NO_TIMES)
+    nhc_relaxed_factor: float = 100.0
+    nhc_scale: np.ndarray | None = None
 
     @classmethod
     def from_distance(cls, time_s, distance_m, dcm_vehicle_from_body, odometer_lever_arm_m, nhc_lever_arm_m,
@@ -360,7 +366,15 @@ class OdometerNhc:
         sigma = odometer_speed_sigma(span, self.pulse_length_m, self.sigma_odometer_mps)
         valid = (times[:-1] >= self.odometer_time_s[0]) & (times[1:] <= self.odometer_time_s[-1])
         i = np.flatnonzero(valid).astype(np.int64)
-        return replace(self, time_s=times[1:], speed_mps=speed, sigma_speed_mps=sigma), i + 1, i
+        # a segment meets a relaxed interval when it starts before the interval ends and ends after it starts
+        start, end = (np.asarray(edge, dtype=float) for edge in self.nhc_relaxed_s)
+        order = np.argsort(start)
+        start, end = start[order], np.maximum.accumulate(end[order]) if len(end) else end
+        before = np.searchsorted(start, times[1:], side="left")  # intervals starting before the segment's end
+        relaxed = (before > 0) & (end[np.maximum(before - 1, 0)] > times[:-1]) if len(start) else np.zeros(len(span), bool)
+        scale = np.where(relaxed, self.nhc_relaxed_factor, 1.0)
+        return (replace(self, time_s=times[1:], speed_mps=speed, sigma_speed_mps=sigma, nhc_scale=scale),
+                i + 1, i)
 
     def model(self, nav: NavSnapshot, i: int):
         rows, z, sig = [], [], []
@@ -378,7 +392,7 @@ class OdometerNhc:
             v_ref, H_nhc = frame.velocity_rows(self.nhc_lever_arm_m, nav.vel_ned)
             rows.extend(H_nhc[1:3])
             z.extend(v_ref[1:3])
-            sig.extend([self.sigma_nhc_mps] * 2)
+            sig.extend([self.sigma_nhc_mps * (1.0 if self.nhc_scale is None else self.nhc_scale[i])] * 2)
         return np.array(z), np.array(rows).reshape(len(z), N_STATES), np.diag(np.square(sig))
 
     def compiled(self) -> CompiledModel:
@@ -386,7 +400,8 @@ class OdometerNhc:
                          [*np.asarray(self.dcm_vehicle_from_body, float).ravel(),
                           *np.asarray(self.odometer_lever_arm_m, float), *np.asarray(self.nhc_lever_arm_m, float),
                           self.sigma_nhc_mps, float(self.use_odometer), float(self.use_nhc)],
-                         [self.time_s, self.speed_mps, np.square(self.sigma_speed_mps)])
+                         [self.time_s, self.speed_mps, np.square(self.sigma_speed_mps),
+                          np.ones(len(self.time_s)) if self.nhc_scale is None else self.nhc_scale])
 
 
 @dataclass(frozen=True)
@@ -730,7 +745,7 @@ def _odometer_nhc_model(ctx, params, obs, z, H, r):
         vel = (ctx[CTX_VEL], ctx[CTX_VEL + 1], ctx[CTX_VEL + 2])
         for axis in (1, 2):
             z[m] = _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, vel, axis, H, m)
-            r[m] = params[15] * params[15]
+            r[m] = (params[15] * obs[3]) ** 2
             m += 1
     return m
 

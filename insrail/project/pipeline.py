@@ -66,6 +66,7 @@ from insrail.nav.fusion import SmootherStore, aiding_for, fuse
 from insrail.nav.integrity import UntrustedSolution
 from insrail.nav.measurements import PositionFix
 from insrail.nav.self_calibration import fuse_consistent
+from insrail.nav.shocks import NHC_RELAXED_S, detect_shocks
 from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
@@ -133,6 +134,7 @@ from insrail.project.track_events import (
     TURNOUT_EXCEEDANCES_FILE,
     apply_events,
     assess_turnouts,
+    detected_joints,
     events_section,
     survey_events,
 )
@@ -168,7 +170,7 @@ from insrail.track.sleepers import AnchorError
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 16  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma; 16: a track heading's 1-sigma holds the trolley's yaw against the chord
+CACHE_VERSION = 17  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma; 16: a track heading's 1-sigma holds the trolley's yaw against the chord; 17: the NHC relaxed over rail joints' shocks, listed in the fusion's info
 #: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
 #: entry 52 MB instead of 370 MB, read back in a rerun); 3, the epochs' stations in their own
 #: file (track-<key>.epochs.npy), read by parts; 4, without a design the line-type fit always
@@ -358,6 +360,8 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
     profile = run.imu_profile
+    # rail joints: the NHC does not hold over their shocks (thesis 5.3.1.2); listed as events later
+    shocks = detect_shocks(survey.imu)
     # The smoother's record of the filter (Phi, P-, P+ per update epoch, on disk) outlives the
     # fusion so that the covariance analysis needs only its backward pass, not a replay.
     store = None
@@ -367,7 +371,8 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
                                     profile)
         # the trajectory is streamed into the cache as the smoother makes it (sealed below)
         result, options, store, _ = fuse_consistent(
-            survey.imu, lambda options: replace(aiding_for(survey, options, profile, fixes), design_azimuth=design),
+            survey.imu, lambda options: replace(aiding_for(survey, options, profile, fixes, shocks.nhc_relaxed_s()),
+                                                design_azimuth=design),
             profile, run.fusion, run.ellipsoid, new_store=SmootherStore if run.fusion.smoother else None, fuse=fuse,
             progress=progress.sub(0.05, 0.87), cancel=cancel, trajectory_file=path)
         check_cancel(cancel)
@@ -381,7 +386,9 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
                 "resets": len(result.resets), "integrity": result.integrity.to_dict(),
                 "calibration": result.info["calibration"],
                 "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
-                "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]]}
+                "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]],
+                "shocks": {"time_s": shocks.time_s.tolist(), "peak_mps2": shocks.peak_mps2.tolist(),
+                           "threshold_mps2": shocks.threshold_mps2}}
         # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
         if store is not None and result.trajectory.smoothed:
             # the analysis of the record reads neither the 200 Hz IMU record nor the fusion's result
@@ -459,6 +466,18 @@ def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyMan
     seal(epochs_path)
     save_dataclass(path, replace(recon, epochs=None, fitted=None, reference=None))  # the epochs: in their own file
     return recon, extras, False
+
+
+def joints_section(joints: tuple, shocks: dict) -> dict:
+    """summary.toml's ``[joints]``: the rail joints found as IMU shocks (each also an event), the
+    median spacing between neighbours [m] and the shock threshold [m/s^2]."""
+    stations = np.sort([joint.station_from_m for joint in joints])
+    spacing = float(np.median(np.diff(stations))) if len(stations) >= 2 else float("nan")
+    section = {"detected": len(joints), "threshold_mps2": round(float(shocks["threshold_mps2"]), 3),
+               "nhc_relaxed_s": NHC_RELAXED_S}
+    if np.isfinite(spacing):
+        section["median_spacing_m"] = round(spacing, 3)
+    return section
 
 
 def _read_role(folder: Path, manifest: SurveyManifest, role: str):
@@ -566,7 +585,10 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     step(0.88, "irregularities and exceedances")
     measured = recon.table.valid
     recon = replace(recon, table=flag_sleepers(recon.table, fusion_info.get("integrity")))
-    events = survey_events(project, manifest, folder, recon)
+    shocks = fusion_info.pop("shocks")  # listed as joints, not in summary.toml's [fusion]
+    joints = detected_joints(shocks, recon)
+    events = tuple(sorted(survey_events(project, manifest, folder, recon) + joints,
+                          key=lambda e: (e.station_from_m, e.station_to_m)))
     recon = apply_events(recon, events)
     recon = replace(recon, table=flag_gap_sleepers(recon.table, fusion_info.get("imu_gaps_s", [])))
     table = recon.table
@@ -611,6 +633,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         summary["local_control"] = local.summary()
     summary["track_quality"] = track_quality_section(geometry)
     summary["events"] = events_section(events, table.station_m, turnout_counts)
+    summary["joints"] = joints_section(joints, shocks)
     summary["track"]["sleeper_pulses"] = recon.sleepers.repair_counts()
     event_files = {}
     if turnout_counts:  # turnouts assessed with their own profiles

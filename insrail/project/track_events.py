@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from insrail.io.errors import InputError
-from insrail.io.events import EventList, read_events
+from insrail.io.events import Event, EventList, read_events
 from insrail.io.survey import SurveyManifest
 from insrail.project.model import Project
 from insrail.track.events import (
@@ -64,6 +64,23 @@ def survey_events(project: Project, manifest: SurveyManifest, folder: Path,
                 except (ValueError, OSError) as error:
                     raise InputError(events.source, event.line, f"profile: {error}") from None
     return tuple(sorted(placed, key=lambda e: (e.station_from_m, e.station_to_m)))
+
+
+#: Where a detected joint's event says it came from (summary.toml ``[[events]] source``).
+DETECTED_JOINT_SOURCE = "IMU shock"
+
+
+def detected_joints(shocks: dict, recon: TrackReconstruction) -> tuple[TrackEvent, ...]:
+    """The rail joints the fusion stage found as IMU shocks (``shocks``: its ``time_s`` and
+    ``peak_mps2``, :mod:`insrail.nav.shocks`) as ``joint`` events on the survey's chainage; a shock
+    outside the time on the track (during the static start) is none."""
+    track = recon.epochs.station_track()
+    events = []
+    for time_s, peak in zip(shocks.get("time_s", []), shocks.get("peak_mps2", [])):
+        if track.first_time_s <= time_s <= track.last_time_s:
+            event = Event("joint", time_s, time_s, "time_s", text=f"detected: vertical shock {peak:+.1f} m/s^2")
+            events.append(place_event_on(event, track, None, DETECTED_JOINT_SOURCE))
+    return tuple(events)
 
 
 def apply_events(recon: TrackReconstruction, events: tuple[TrackEvent, ...]) -> TrackReconstruction:

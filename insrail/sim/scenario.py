@@ -167,6 +167,29 @@ class TrolleyPlaySpec:
 
 
 @dataclass(frozen=True)
+class JointSpec:
+    """Rail joints (thesis §5.3.1.2): every ``spacing_m`` of station from ``first_station_m`` the
+    trolley's reference wheel drops into a joint gap and bounces. Its specific force gets a shock
+    when the reference point passes the joint: a Ricker wavelet (the second derivative of a
+    Gaussian: no net velocity or position change) of peak ``vertical_mps2`` up-down and
+    ``lateral_mps2`` sideways, centre frequency ``frequency_hz`` (a 5 m/s^2, 40 Hz shock is a dip of
+    0.16 mm). The truth (rails, trolley path) does not hold the dip: the sensor sees a shock the
+    filter must not take for motion. ``spacing_m`` = 0 (the default): jointless welded rail."""
+
+    spacing_m: float = 0.0
+    first_station_m: float = 0.0
+    vertical_mps2: float = 5.0
+    lateral_mps2: float = 1.5
+    frequency_hz: float = 40.0
+
+    def shock_mps2(self, time_from_joint_s: np.ndarray) -> np.ndarray:
+        """(n, 3) specific force of the shock in the body frame (FRD) at times from the passing."""
+        a = (math.pi * self.frequency_hz * np.asarray(time_from_joint_s, dtype=float)) ** 2
+        wavelet = (1.0 - 2.0 * a) * np.exp(-a)
+        return np.column_stack([np.zeros_like(wavelet), self.lateral_mps2 * wavelet, self.vertical_mps2 * wavelet])
+
+
+@dataclass(frozen=True)
 class GeodeticSpec:
     """Engineering CRS of the line and the height-anomaly surface zeta = h - H.
 
@@ -207,6 +230,7 @@ class ScenarioConfig:
     prism: PrismSpec = PrismSpec()
     geodetic: GeodeticSpec = GeodeticSpec()
     play: TrolleyPlaySpec = TrolleyPlaySpec()
+    joints: JointSpec = JointSpec()
     trolley: TrolleyGeometry = field(default_factory=lambda: default_trolley())
     imu_profile: str = "nav"
     #: the accelerometers' turn-on bias (x, y, z) [m/s^2] of this unit, instead of one drawn from the profile

@@ -218,6 +218,8 @@ def simulate(
     wheel_distance = np.cumsum(wheel)  # true distance of the odometer wheel since the first epoch
     station_at_imu = truth["station_m"]
     path_at_imu = path_of(station_at_imu)  # non-decreasing in time: invertible
+    joint_station, joint_time = _joint_passings(config, t, path_at_imu, path_of)
+    _add_joint_shocks(config.joints, t, dt, joint_time, dvel)
 
     # --- GNSS ----------------------------------------------------------------------
     step(0.86, "GNSS")
@@ -332,7 +334,8 @@ def simulate(
         files["truth_sleepers"] = write_sleeper_truth(
             truth_dir / "sleepers.csv", sleeper_truth, np.arange(len(nominal)), pass_time, detected
         )
-        files["truth_errors"] = _write_error_truth(truth_dir, config, imu_errors, t, outage_intervals, false_times)
+        files["truth_errors"] = _write_error_truth(truth_dir, config, imu_errors, t, outage_intervals, false_times,
+                                                    (joint_station, joint_time))
         files.update(_write_design(truth_dir, track.design))
         files["scenario"] = _write_scenario(truth_dir / "scenario.toml", config, seed, crs, track_seed)
         if out_dir.exists():
@@ -416,7 +419,36 @@ def _write_survey(folder, config, seed, imu, imu_format, gnss, odometer, gauge, 
     return files
 
 
-def _write_error_truth(folder: Path, config, errors, t, outages, false_times) -> Path:
+def _joint_passings(config: ScenarioConfig, t: np.ndarray, path_at_imu: np.ndarray, path_of):
+    """The rail joints inside the run (stations) and when the trolley's reference point passes them."""
+    joints, motion = config.joints, config.motion
+    if joints.spacing_m <= 0.0:
+        return np.zeros(0), np.zeros(0)
+    low, high = sorted((motion.start_station_m, motion.end_station_m))
+    first = joints.first_station_m + np.ceil((low - joints.first_station_m) / joints.spacing_m) * joints.spacing_m
+    stations = np.arange(first, high, joints.spacing_m)
+    times = _station_inverse(t, path_at_imu, path_of(stations))
+    order = np.argsort(times)
+    return stations[order], times[order]
+
+
+#: Sub-steps per IMU interval over which a joint's shock is integrated into the velocity increment
+#: (a 40 Hz wavelet spans five 200 Hz intervals).
+_SHOCK_SUBSTEPS = 32
+
+
+def _add_joint_shocks(joints, t: np.ndarray, dt: float, joint_time_s: np.ndarray, dvel: np.ndarray) -> None:
+    """Adds each joint's shock (:meth:`JointSpec.shock_mps2`) to the velocity increments ``dvel`` in place
+    (increment k integrates over (t_k - dt, t_k])."""
+    reach = 4.0 / joints.frequency_hz if len(joint_time_s) else 0.0
+    fractions = (np.arange(_SHOCK_SUBSTEPS) + 0.5) / _SHOCK_SUBSTEPS
+    for passing in joint_time_s:
+        k = np.arange(np.searchsorted(t, passing - reach), min(np.searchsorted(t, passing + reach + dt), len(t)))
+        sub = t[k, None] - dt + dt * fractions[None, :] - passing
+        dvel[k] += joints.shock_mps2(sub.ravel()).reshape(len(k), _SHOCK_SUBSTEPS, 3).mean(axis=1) * dt
+
+
+def _write_error_truth(folder: Path, config, errors, t, outages, false_times, joints) -> Path:
     deg_h = np.rad2deg(1.0) * 3600.0
     content = {
         "gyro_bias_turn_on_deg_per_h": (errors.gyro_bias_turn_on * deg_h).tolist(),
@@ -426,6 +458,8 @@ def _write_error_truth(folder: Path, config, errors, t, outages, false_times) ->
         "odometer_scale_factor_error": config.odometer.scale_factor_error,
         "gnss_outages_s": [list(o) for o in outages],
         "false_sleeper_pulse_times_s": false_times.tolist(),
+        "joint_stations_m": joints[0].tolist(),
+        "joint_times_s": joints[1].tolist(),
     }
     path = folder / "errors.toml"
     path.write_text(tomli_w.dumps(content), encoding="utf-8")
