@@ -286,6 +286,7 @@ SETTING_NAMES = {
     "trolley.mounting_rpy_deg": "Mounting roll, pitch, heading",
     "trolley.reference_rail": "Reference rail",
     "trolley.rail_centre_spacing_m": "Rail centre spacing",
+    "trolley.beam_wheel_spacing_m": "Gauge beam wheel spacing (curve correction)",
     "processing": "Processing",
     "processing.imu_profile": "IMU profile",
     "processing.use_gnss_velocity": "Use the GNSS velocity",

@@ -128,6 +128,7 @@ FIELDS = (
     Field("Trolley", "trolley.mounting_rpy_deg", "vector", decimals=4, suffix=" °"),
     Field("Trolley", "trolley.reference_rail", "choice", ("left", "right")),
     Field("Trolley", "trolley.rail_centre_spacing_m", "number", decimals=4, suffix=" m"),
+    Field("Trolley", "trolley.beam_wheel_spacing_m", "number", decimals=4, suffix=" m", optional=True),
     Field("Processing", "processing.imu_profile", "choice", lambda: shipped_names("imu_profiles"), optional=True),
     *(Field("Processing", f"processing.{flag}", "bool") for flag in FUSION_FLAGS),
     *(Field("Processing", f"processing.{number}", "number", decimals=6) for number in FUSION_NUMBERS),
@@ -455,6 +456,8 @@ class SettingsEditor(QDialog):
         table = {arm: [float(v) for v in values] for arm, values in trolley.given_lever_arms().items()}
         table.update(reference_rail=trolley.reference_rail, rail_centre_spacing_m=trolley.rail_centre_spacing_m,
                      mounting_rpy_deg=[float(v) for v in np.degrees(trolley.mounting_rpy_rad)])
+        if trolley.beam_wheel_spacing_m:
+            table["beam_wheel_spacing_m"] = trolley.beam_wheel_spacing_m
         self.undo_stack.push(SetSetting(self, "trolley", _MISSING, table))
         self.undo_stack.endMacro()
 

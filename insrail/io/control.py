@@ -42,12 +42,7 @@ def read_prism_enu(path: str | Path) -> PrismObservations:
 def read_benchmarks(path: str | Path) -> Benchmarks:
     """``id lat[deg] lon[deg] h[m] H[m]`` (comma or whitespace separated) -> Benchmarks."""
     table = read_token_table(path, min_columns=5, max_columns=5, column_names=BENCHMARK_COLUMNS)
-    ids = tuple(row[0] for row in table.rows)
-    seen: dict[str, int] = {}
-    for row, point in enumerate(ids):
-        if point in seen:
-            table.fail(row, f"benchmark {point!r} appears twice (also on line {table.line_of_row(seen[point])})")
-        seen[point] = row
+    ids = table.unique_ids("benchmark")
     lat_deg, lon_deg = table.numbers(1), table.numbers(2)
     for values, limit, name in ((lat_deg, 90.0, "latitude"), (lon_deg, 360.0, "longitude")):
         bad = np.flatnonzero(np.abs(values) > limit)

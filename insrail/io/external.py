@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from insrail.io.textparse import TokenTable, read_token_table
+from insrail.io.textparse import read_token_table
 
 LEVELLING_COLUMNS = ("point", "chainage", "H")
 TROLLEY_POINT_COLUMNS = ("point", "chainage", "E", "N", "H")
@@ -40,20 +40,10 @@ class ReferencePoints:
         return len(self.point_id)
 
 
-def _unique_ids(table: TokenTable) -> tuple[str, ...]:
-    ids = tuple(row[0] for row in table.rows)
-    seen: dict[str, int] = {}
-    for row, point in enumerate(ids):
-        if point in seen:
-            table.fail(row, f"point {point!r} appears twice (also on line {table.line_of_row(seen[point])})")
-        seen[point] = row
-    return ids
-
-
 def read_levelling_line(path: str | Path) -> ReferencePoints:
     """``point, chainage, H`` -> ReferencePoints (E, N NaN)."""
     table = read_token_table(path, min_columns=3, max_columns=3, column_names=LEVELLING_COLUMNS)
-    ids = _unique_ids(table)
+    ids = table.unique_ids("point")
     height = table.numbers(2)
     enh = np.column_stack([np.full(len(ids), np.nan), np.full(len(ids), np.nan), height])
     return ReferencePoints(ids, table.numbers(1), enh, table.path)
@@ -62,5 +52,5 @@ def read_levelling_line(path: str | Path) -> ReferencePoints:
 def read_trolley_points(path: str | Path) -> ReferencePoints:
     """``point, chainage, E, N, H`` -> ReferencePoints."""
     table = read_token_table(path, min_columns=5, max_columns=5, column_names=TROLLEY_POINT_COLUMNS)
-    ids = _unique_ids(table)
+    ids = table.unique_ids("point")
     return ReferencePoints(ids, table.numbers(1), np.column_stack([table.numbers(c) for c in (2, 3, 4)]), table.path)

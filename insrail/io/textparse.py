@@ -394,6 +394,17 @@ class TokenTable:
             out[i] = value
         return out
 
+    def unique_ids(self, what: str) -> tuple[str, ...]:
+        """The first column as ids, each once: the same id twice is an error naming both lines
+        (``what``: how the message names an id, e.g. "benchmark")."""
+        ids = tuple(row[0] for row in self.rows)
+        seen: dict[str, int] = {}
+        for row, point in enumerate(ids):
+            if point in seen:
+                self.fail(row, f"{what} {point!r} appears twice (also on line {self.line_of_row(seen[point])})")
+            seen[point] = row
+        return ids
+
     def texts(self, col: int, default: str = "") -> np.ndarray:
         """Column ``col`` as strings, ``default`` where a row is shorter."""
         return np.array([row[col] if col < len(row) else default for row in self.rows], dtype=str)
