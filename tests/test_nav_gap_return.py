@@ -46,20 +46,34 @@ def walk(tmp_path_factory):
     return read_survey(folder), load_imu_profile("mems_handheld")
 
 
-def test_gnss_back_after_a_minute_is_bridged_not_reset_on_the_real_walk(walk):
+def _held_out_span(survey) -> tuple[float, float]:
+    end = min(survey.gnss.time_s[-1], survey.imu.time_s[-1]) - 5.0
+    return end - 60.0, end
+
+
+WALK_OPTIONS = fusion.FusionOptions(use_nhc=False, gnss_sigma_scale=2.0)  # what the self-calibration settles on
+
+
+@pytest.fixture(scope="module")
+def walk_without_its_last_minute(walk):
+    """(the walk, the mask of its GNSS epochs held out: the last minute, the fusion without them)."""
+    from insrail.nav.earth import WGS84
+
+    survey, profile = walk
+    gnss, removed = heldout.held_out(survey.gnss, *_held_out_span(survey))
+    cut = replace(survey, gnss=gnss)
+    return survey, removed, fusion.fuse(cut.imu, fusion.aiding_for(cut, WALK_OPTIONS, profile), profile, WALK_OPTIONS,
+                                        WGS84)
+
+
+def test_gnss_back_after_a_minute_is_bridged_not_reset_on_the_real_walk(walk_without_its_last_minute):
     """The real hand-held walk with the built-in mems_handheld profile, its last minute of fixes held out:
     the GNSS came back 94 m off the dead reckoning and the filter was reset there. Now no reset, the gap's
     growth is stated, and the smoothed trajectory at the held-out fixes is within 3 sigma of them and
     within 1.5 m (0.78 m measured)."""
     from insrail.nav.earth import WGS84
 
-    survey, profile = walk
-    end = min(survey.gnss.time_s[-1], survey.imu.time_s[-1]) - 5.0
-    gnss, removed = heldout.held_out(survey.gnss, end - 60.0, end)
-    cut = replace(survey, gnss=gnss)
-    result = fusion.fuse(cut.imu, fusion.aiding_for(cut, fusion.FusionOptions(use_nhc=False, gnss_sigma_scale=2.0),
-                                                    profile), profile,
-                         fusion.FusionOptions(use_nhc=False, gnss_sigma_scale=2.0), WGS84)
+    survey, removed, result = walk_without_its_last_minute
     assert not result.resets, [r.message() for r in result.resets]
     grown = result.info["gap_returns"]
     assert grown and grown[0].end_s - grown[0].start_s > 59.0
@@ -67,3 +81,24 @@ def test_gnss_back_after_a_minute_is_bridged_not_reset_on_the_real_walk(walk):
     error, sigma, _ = heldout.antenna_errors(result.trajectory, survey.gnss, removed, (0.0, 0.05, 0.0), WGS84)
     assert len(error) > 50 and np.all(error <= 3.0 * sigma), (error / sigma).max()
     assert error.max() < 1.5  # bridged: the dead reckoning alone ends 94 m off
+
+
+def test_the_python_engine_with_the_grown_gap_is_the_compiled_one(walk, walk_without_its_last_minute):
+    """The compiled pass that bridged the gap, and the reference engine (tests/reference_fusion.py) given the
+    same grown error: the same trajectory."""
+    from insrail.nav.earth import WGS84
+    from tests.reference_fusion import python_fusion
+
+    survey, profile = walk
+    _, removed, compiled = walk_without_its_last_minute
+    gnss, _ = heldout.held_out(survey.gnss, *_held_out_span(survey))
+    cut = replace(survey, gnss=gnss)
+    python = python_fusion(cut.imu, fusion.aiding_for(cut, WALK_OPTIONS, profile), profile, WALK_OPTIONS, WGS84,
+                           gap_returns=compiled.info["gap_returns"])
+    assert not python.resets
+    mine, theirs = compiled.trajectory, python.trajectory
+    np.testing.assert_array_equal(mine.time_s, theirs["time_s"])
+    north = (mine.lat_rad - theirs["lat_rad"]) * 6.36e6
+    east = (mine.lon_rad - theirs["lon_rad"]) * 6.39e6 * np.cos(theirs["lat_rad"])
+    assert np.abs(np.column_stack([north, east, mine.height_m - theirs["height_m"]])).max() < 1e-5  # 0.01 mm
+    np.testing.assert_allclose(mine.sigma_pos_ned_m, theirs["sigma_pos_ned_m"], rtol=1e-6)
