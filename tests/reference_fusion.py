@@ -7,7 +7,7 @@ update, the feedback, and the dense RTS pass and trajectory of the old engine.""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -84,8 +84,12 @@ class ReferenceResult:
     accepted: np.ndarray
 
 
-def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1) -> ReferenceResult:
+def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1, gap_returns=()) -> ReferenceResult:
+    """``gap_returns``: the compiled fusion's (``info["gap_returns"]``), whose grown error its last pass ran with."""
     setup = fusion._prepare(imu, aiding, profile, options, ellipsoid)
+    if gap_returns:
+        setup = replace(setup, bridged_q=fusion.with_gap_noise(setup.bridged_q, tuple(gap_returns),
+                                                               setup.imu.time_s[setup.epochs]))
     imu, epochs, plan = setup.imu, setup.epochs, setup.plan
     dt = np.concatenate([[setup.dt0], np.diff(imu.time_s)])
     t = imu.time_s

@@ -226,6 +226,140 @@ class FilterReset:
         return floor
 
 
+#: a GNSS or prism source silent for longer than this [s] before the run of rejections that reset the
+#: filter came back from a gap: the dead reckoning across it erred more than its 1-sigma said
+GAP_RETURN_S = 1.0
+#: forward passes that grow a gap's error before a reset after it is let stand (each doubles the growth)
+MAX_GAP_PASSES = 3
+#: the sources a gap return is looked for in: observations at their own times, which can fall silent
+_GAP_SOURCES = (GnssPosition, GnssVelocity, PositionFix)
+
+
+@dataclass(frozen=True)
+class GapReturn:
+    """``source`` came back from a gap (``start_s``: its last accepted observation, ``end_s``: the first
+    after the gap the filter rejected) off the dead reckoning by more than its 1-sigma, so much that the
+    filter was reset. Instead, the error is grown over the gap (:func:`gap_process_noise`: a white
+    acceleration noise whose position and velocity 1-sigma at the gap's end are ``sigma_position_m`` and
+    ``sigma_velocity_mps`` per NED axis) and the forward pass run again: its observations are then
+    re-admitted through the gate, and the smoother bridges the gap instead of a reset cutting it."""
+
+    source: str
+    start_s: float
+    end_s: float
+    sigma_position_m: tuple[float, float, float]
+    sigma_velocity_mps: tuple[float, float, float]
+    distance_m: float = 0.0  # between the source's positions at the gap's ends (0: not a position source)
+
+    def message(self) -> str:
+        off = (f"{max(self.sigma_position_m):.3g} m" if max(self.sigma_position_m) > 0
+               else f"{max(self.sigma_velocity_mps):.3g} m/s")
+        return (f"{self.source} back after a gap of {self.end_s - self.start_s:.1f} s at t = {self.end_s:.1f} s, "
+                f"{off} off the dead reckoning: the uncertainty grown over the gap to that (instead of a filter "
+                "reset) and the gap bridged by the smoother")
+
+
+def _moved_m(source, start_s: float, end_s: float) -> float:
+    """The horizontal distance [m] between a position source's observations at two of its times."""
+    i, k = np.searchsorted(source.time_s, [start_s, end_s])
+    k, i = min(k, len(source.time_s) - 1), min(i, len(source.time_s) - 1)
+    radius = 6.371e6
+    return float(radius * math.hypot(source.lat[k] - source.lat[i],
+                                     (source.lon[k] - source.lon[i]) * math.cos(source.lat[i])))
+
+
+def gap_returns(resets, rejections, sources, record_time_s, record_source, accepted,
+                grown: tuple[GapReturn, ...] = ()) -> tuple[GapReturn, ...]:
+    """The gap returns (:class:`GapReturn`) among a forward pass's ``resets``: a reset whose source, or one
+    rejected with it, is a GNSS or prism source silent for more than GAP_RETURN_S between its last accepted
+    observation and the run's first rejection. Its growth: the largest rejected position (velocity)
+    innovation per axis from that rejection to the reset; where ``grown`` already grew the same gap, at
+    least twice that. ``record_*``: every gated observation's time and source index and whether accepted
+    (``integrity.InnovationRecord``'s order); ``grown`` are kept as they are."""
+    found = {(g.source, round(g.start_s, 3)): g for g in grown}
+    names = [m.name for m in sources]
+    for reset in resets:
+        for name in (reset.source, *reset.also_rejected):
+            k = names.index(name)
+            if not isinstance(sources[k], _GAP_SOURCES):
+                continue
+            mine = record_source == k
+            before = mine & accepted & (record_time_s < reset.first_rejected_s)
+            if not before.any():
+                continue  # rejected from its start: no dead reckoning to blame
+            start = float(record_time_s[before].max())
+            after = mine & ~accepted & (record_time_s >= reset.first_rejected_s) & (record_time_s <= reset.time_s)
+            if not after.any():
+                continue
+            end = float(record_time_s[after].min())
+            seen = np.sort(record_time_s[mine & (record_time_s >= start) & (record_time_s <= end)])
+            if len(seen) < 2 or np.max(np.diff(seen)) <= GAP_RETURN_S:
+                continue
+            peak = np.zeros(3)
+            for r in rejections:
+                if r.measurement == name and reset.first_rejected_s <= r.time_s <= reset.time_s:
+                    peak = np.maximum(peak, np.abs(np.asarray(r.innovation[:3])))
+            key = (name, round(start, 3))
+            before_grown = found.get(key)
+            position = sources[k].position_innovation
+            pos = tuple(peak.tolist()) if position else (0.0, 0.0, 0.0)
+            vel = (0.0, 0.0, 0.0) if position else tuple(peak.tolist())
+            if before_grown is not None:
+                pos = tuple(max(a, 2.0 * b) for a, b in zip(pos, before_grown.sigma_position_m))
+                vel = tuple(max(a, 2.0 * b) for a, b in zip(vel, before_grown.sigma_velocity_mps))
+            found[key] = GapReturn(name, start, end, pos, vel, _moved_m(sources[k], start, end) if position else 0.0)
+    return tuple(sorted(found.values(), key=lambda g: g.start_s))
+
+
+#: the largest heading 1-sigma a gap's growth reaches [rad]: beyond it the error model's small angles fail
+GAP_MAX_HEADING_SIGMA_RAD = 0.2
+
+
+def gap_process_noise(returns: tuple[GapReturn, ...], update_time_s: np.ndarray) -> dict[int, np.ndarray]:
+    """Extra process noise (N x N) per filter segment j (ending at update_time_s[j]) inside each gap of
+    ``returns``, over the gap's length T, such that the dead reckoning's 1-sigma at its end reaches the
+    gap's: a white acceleration per NED axis of spectral density q = max(3 sigma_p^2 / T^3,
+    sigma_v^2 / T) (per segment of length d the exact [d^3/3, d^2/2; d^2/2, d] q on position and
+    velocity), and, over a gap that moved ``distance_m``, a random walk of the heading of 3 sigma_h^2 /
+    (distance^2 T) (sigma_h the larger horizontal sigma_p; at most GAP_MAX_HEADING_SIGMA_RAD at the end):
+    with an odometer and an NHC measuring the velocity in the trolley's frame ten times a second, what
+    drifts across a gap is its heading. Smooth growths: the smoother spreads the correction at the gap's
+    end over the gap as a curve, and the short-wave (5 m lag) accuracy stays what the sensors give."""
+    extra: dict[int, np.ndarray] = {}
+    for gap in returns:
+        j0 = int(np.searchsorted(update_time_s, gap.start_s, side="right"))
+        j1 = int(np.searchsorted(update_time_s, gap.end_s, side="left"))
+        j0, j1 = max(j0, 1), min(j1, len(update_time_s) - 1)
+        if j1 < j0:
+            continue
+        length = max(float(update_time_s[j1] - update_time_s[j0 - 1]), 1e-3)
+        q = np.maximum(3.0 * np.square(gap.sigma_position_m) / length**3,
+                       np.square(gap.sigma_velocity_mps) / length)
+        q_heading = 0.0
+        if gap.distance_m > 0.0:
+            q_heading = min(3.0 * max(gap.sigma_position_m[:2]) ** 2 / (gap.distance_m**2 * length),
+                            GAP_MAX_HEADING_SIGMA_RAD**2 / length)
+        for j in range(j0, j1 + 1):
+            d = float(update_time_s[j] - update_time_s[j - 1])
+            m = extra.setdefault(j, np.zeros((N_STATES, N_STATES)))
+            for a in range(3):
+                m[POS + a, POS + a] += q[a] * d**3 / 3.0
+                m[POS + a, VEL + a] += q[a] * d**2 / 2.0  # the position error's rate is the velocity's
+                m[VEL + a, POS + a] += q[a] * d**2 / 2.0
+                m[VEL + a, VEL + a] += q[a] * d
+            m[ATT + 2, ATT + 2] += q_heading * d
+    return extra
+
+
+def with_gap_noise(bridged_q: dict[int, np.ndarray], returns: tuple[GapReturn, ...],
+                   update_time_s: np.ndarray) -> dict[int, np.ndarray]:
+    """The IMU gaps' process noise ``bridged_q`` plus the gap returns' (:func:`gap_process_noise`)."""
+    merged = {j: q.copy() for j, q in bridged_q.items()}
+    for j, q in gap_process_noise(returns, update_time_s).items():
+        merged[j] = merged[j] + q if j in merged else q
+    return merged
+
+
 class _RejectionRuns:
     """Per aiding source the current run of consecutive rejections (NaN start: none), and the
     decision that a run means the filter, not the sensor, is wrong. Plain arrays, one slot per source."""
@@ -640,11 +774,12 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
                 w_b[k] = sums[3 + k] / seg
             dynamics_rows(ctx, f_b, w_b, earth_c, top_f)
             _transition(top_f, decay, gqg, seg, sums[0:3], play, phi_top, phi_diag, P, P_minus)
-            for g in range(gap_j.shape[0]):  # the motion an IMU gap's interpolation may have missed
-                if gap_j[g] == j:
-                    for k in range(n):
-                        for c in range(n):
-                            P_minus[k, c] += gap_q[g, k, c]
+            # the motion an IMU gap's interpolation may have missed, the error grown over a GNSS gap
+            g = np.searchsorted(gap_j, j)
+            if g < gap_j.shape[0] and gap_j[g] == j:
+                for k in range(n):
+                    for c in range(n):
+                        P_minus[k, c] += gap_q[g, k, c]
             if pending[0] != 0.0:  # a reset: a burst of process noise on this segment
                 kalman.inflate_in_place(P_minus, pending[1:])
                 pending[0] = 0.0
@@ -764,6 +899,12 @@ class SmootherStore:
             raise OSError(err.errno, err.strerror,
                           f"{tempfile.gettempdir()} (the smoother's temporary file)") from None
         self.count += len(records)
+
+    def clear(self) -> None:
+        """Forget every record (the forward pass is run again: :func:`fuse`'s gap returns)."""
+        self.file.seek(0)
+        self.file.truncate()
+        self.count = 0
 
     def reversed_chunks(self):
         """(index of the chunk's first record, records (k, RECORD)) from the last chunk to the first."""
@@ -1401,6 +1542,7 @@ def fuse(
     setup = _prepare(imu, aiding, profile, options, ellipsoid)
     imu, epochs, t = setup.imu, setup.epochs, setup.imu.time_s
     plan, notices = setup.plan, setup.notices
+    bridged_q = setup.bridged_q
     sources = plan.measurements
     m_epochs = len(epochs)
     own_store = covariance_store is None and options.smoother
@@ -1408,9 +1550,30 @@ def fuse(
     nav_file = _EpochFile(int(epochs[0]))
     history = _RowFile(HISTORY_WIDTH, "the fusion's temporary file")
     smoothed_rows = _RowFile(SMOOTHED_WIDTH, "the smoother's temporary file") if options.smoother else None
+    obs_time = np.empty(len(plan.epoch))
+    obs_trusted = np.ones(len(plan.epoch), dtype=bool)
+    for k, source in enumerate(sources):
+        mine = plan.source == k
+        obs_time[mine] = source.time_s[plan.observation[mine]]
+        if getattr(source, "trusted", None) is not None:
+            obs_trusted[mine] = source.trusted[plan.observation[mine]]
+    returns: tuple[GapReturn, ...] = ()
     try:
-        forward_pass = _forward(setup, options, ellipsoid, store, nav_file, history,
-                                step.sub(0.0, 0.8 if options.smoother else 0.9), cancel)
+        for gap_pass in range(MAX_GAP_PASSES + 1):  # a reset after a gap: the gap's error grown, the pass run again
+            forward_pass = _forward(setup, options, ellipsoid, store, nav_file, history,
+                                    step.sub(0.0, 0.8 if options.smoother else 0.9), cancel)
+            grown = gap_returns(forward_pass.resets, forward_pass.rejections, sources, obs_time, plan.source,
+                                forward_pass.accepted, returns)
+            if grown == returns or gap_pass == MAX_GAP_PASSES:
+                break
+            returns = grown
+            setup = replace(setup, bridged_q=with_gap_noise(bridged_q, returns, t[epochs]))
+            nav_file.close()
+            history.close()
+            nav_file = _EpochFile(int(epochs[0]))
+            history = _RowFile(HISTORY_WIDTH, "the fusion's temporary file")
+            if store is not None:
+                store.clear()
         build = partial(_trajectory, t, nav_file, epochs, history, gps_week=imu.gps_week, ell=ellipsoid, cancel=cancel)
         trajectory = None
         if options.smoother:  # first: the forward solution at the updates is then not held through it
@@ -1441,13 +1604,6 @@ def fuse(
             applied[source.name] = np.column_stack([plan.epoch[mine], plan.observation[mine]]).astype(int)
     timeline = UpdateTimeline(time_s=t[epochs], measurements={m.name: m for m in sources}, applied=applied,
                               initial_covariance=setup.P0)
-    obs_time = np.empty(len(plan.epoch))
-    obs_trusted = np.ones(len(plan.epoch), dtype=bool)
-    for k, source in enumerate(sources):
-        mine = plan.source == k
-        obs_time[mine] = source.time_s[plan.observation[mine]]
-        if getattr(source, "trusted", None) is not None:
-            obs_trusted[mine] = source.trusted[plan.observation[mine]]
     innovations = InnovationRecord(tuple(m.name for m in sources), obs_time, plan.source.copy(), forward_pass.nis,
                                    forward_pass.dof, accepted, obs_trusted)
     lat_e, lon_e = at_updates.lat_rad, at_updates.lon_rad
@@ -1457,6 +1613,7 @@ def fuse(
     fixes = [m for m in aiding.measurements if isinstance(m, PositionFix)]
     missed = integrity.missed_fixes(trajectory, fixes, float(setup.gates[3]), ellipsoid) if fixes else ()
     verdict = integrity.assess(innovations, t[epochs], station, resets, missed=missed)
+    notices += [Notice("fusion", gap.message(), time_s=gap.end_s, severity="info") for gap in returns]
     notices += integrity_notices(resets, verdict)
     start = setup.start
     return FusionResult(trajectory, forward, tuple(forward_pass.rejections), forward_pass.statistics,
@@ -1465,7 +1622,7 @@ def fuse(
                         info={"update_epochs": m_epochs, "alignment_rpy_rad": start.rpy_rad,
                               "alignment": start.method, "warnings": [n.message for n in notices if n.severity == "warning"],
                               "notices": notices, "gnss_quality": aiding.gnss_quality,
-                              "imu_outliers": setup.outliers, "imu_gaps": imu.gaps})
+                              "imu_outliers": setup.outliers, "imu_gaps": imu.gaps, "gap_returns": returns})
 
 
 def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
