@@ -11,7 +11,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QComboBox
 
 from insrail.io.errors import InputError
-from insrail.names import CHOICE_NAMES, RESOURCE_SETTINGS, choice_name, resource_choice
+from insrail.names import CHOICE_NAMES, RESOURCE_SETTINGS, choice_name, resource_name
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.track.adjustment import load_fastener_type
 from insrail.track.tolerance import load_tolerance_profile
@@ -36,7 +36,7 @@ def value_text(key: str, value) -> str:
         return choice_name(key, text)
     if key in RESOURCE_SETTINGS:
         description = _description(RESOURCE_SETTINGS[key], text)
-        return resource_choice(text, description) if description else text
+        return resource_name(text, description) if description else text
     return text
 
 

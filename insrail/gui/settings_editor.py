@@ -46,7 +46,7 @@ from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.names import RESOURCE_SETTINGS, setting_name
+from insrail.names import LANGUAGES, RESOURCE_SETTINGS, setting_name
 from insrail.project import (
     HEIGHT_MODELS,
     Project,
@@ -142,6 +142,7 @@ FIELDS = (
     Field("Report", "report.imu", "text", optional=True),
     Field("Report", "report.imu_calibrated", "date", optional=True),
     Field("Report", "report.paper", "choice", PAPER_SIZES, default=ReportSettings().paper),
+    Field("Report", "report.language", "choice", tuple(LANGUAGES), default=ReportSettings().language),
 )
 _MISSING = object()
 

@@ -1,0 +1,84 @@
+"""Every text a user reads exists in every language (insrail.names: the reports' tables; the .ts: the
+desktop application), and a Chinese report carries the field's standard terms and no English words."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import insrail
+from insrail import names
+from insrail.names_zh import ZH_CN
+
+PACKAGE = Path(insrail.__file__).parent
+
+
+def translated_literals(folder: Path, function: str = "t") -> dict[str, str]:
+    """Every string literal passed to ``function(...)`` under ``folder``: text -> where (file:line)."""
+    found = {}
+    for path in sorted(folder.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == function
+                    and node.args and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)):
+                found.setdefault(node.args[0].value, f"{path.relative_to(PACKAGE.parent)}:{node.lineno}")
+    return found
+
+
+def table_texts() -> set[str]:
+    """The English wording of every display-name table (translated where it is looked up)."""
+    from insrail.track.adjustment import STRATEGIES
+    from insrail.track.events import KIND_NAMES as EVENT_NAMES
+    from insrail.report.content import SEVERITIES, SEVERITY_RULE, ADJUSTMENT_GROUP, GAUGE_LEVEL_GROUP, \
+        OTHER_CHECKS_GROUP, PARAMETER_GROUP, SLEEPER_GROUP
+    from insrail.report.labels import SIGNS
+    from insrail.report.excel import CREW_TITLES, SHEETS
+    from insrail.report.pdf import ADJUSTMENT_TITLES
+
+    texts = {n.name for n in names.COLUMN_NAMES.values()} | {n.name for n in names.QUANTITY_NAMES.values()}
+    texts |= set(names.KIND_NAMES.values()) | {wording for _, wording in names.CHECK_NAMES.values()}
+    texts |= set(names.RAIL_NAMES.values()) | set(names.DIRECTION_NAMES.values()) | set(names.SETTING_NAMES.values())
+    texts |= {text for choices in names.CHOICE_NAMES.values() for text in choices.values()}
+    texts |= set(STRATEGIES.values()) | set(EVENT_NAMES.values()) | {name for name, _ in SEVERITIES}
+    texts |= {SEVERITY_RULE, SIGNS, ADJUSTMENT_GROUP, GAUGE_LEVEL_GROUP, OTHER_CHECKS_GROUP, PARAMETER_GROUP,
+              SLEEPER_GROUP, *CREW_TITLES, *ADJUSTMENT_TITLES, *(name for name, _, _ in SHEETS)}
+    return texts - {""}
+
+
+def shipped_resource_texts() -> set[str]:
+    """The shipped tolerance profiles', fastener types' and IMU profiles' descriptions and fastener parts."""
+    from insrail.nav.imu_profile import load_imu_profile
+    from insrail.track.adjustment import load_fastener_type
+    from insrail.track.tolerance import load_tolerance_profile, shipped_tolerance_profiles
+    from insrail.resources import resource
+
+    texts = {load_tolerance_profile(name).description.split(":")[0].strip() for name in shipped_tolerance_profiles()}
+    for path in sorted(resource("fastener_types").glob("*.toml")):
+        fastener = load_fastener_type(path.stem)
+        texts.add(fastener.description)
+    for path in sorted(resource("imu_profiles").glob("*.toml")):
+        texts.add(load_imu_profile(path.stem).description)
+    return texts
+
+
+def test_every_report_text_has_its_chinese():
+    literals = translated_literals(PACKAGE)
+    missing = {text: where for text, where in literals.items() if text not in ZH_CN}
+    missing.update({text: "a display-name table" for text in table_texts() | shipped_resource_texts()
+                    if text not in ZH_CN})
+    assert not missing, "no Chinese in insrail/names_zh.py for:\n" + "\n".join(
+        f"  {where}: {text!r}" for text, where in sorted(missing.items(), key=lambda item: item[1]))
+
+
+def test_chinese_texts_keep_the_fields_of_their_english():
+    """A template's fields ({count}, {chord_m:g}) are the same in both languages: a translation that drops one
+    would print a wrong or missing number."""
+    import string
+
+    def fields(text):
+        return sorted(f"{name}:{spec}" for _, name, spec, _ in string.Formatter().parse(text) if name is not None)
+
+    wrong = {en: zh for en, zh in ZH_CN.items() if fields(en) != fields(zh)}
+    assert not wrong, wrong
+    assert all(zh.strip() for zh in ZH_CN.values())
