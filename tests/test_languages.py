@@ -28,7 +28,9 @@ def translated_literals(folder: Path, function: str = "t") -> dict[str, str]:
 
 def table_texts() -> set[str]:
     """The English wording of every display-name table (translated where it is looked up)."""
-    from insrail.track.adjustment import STRATEGIES
+    from insrail.project.model import HEIGHT_MODELS
+    from insrail.project.run_settings import NOT_RECORDED
+    from insrail.track.adjustment import REASONS, STRATEGIES
     from insrail.track.events import KIND_NAMES as EVENT_NAMES
     from insrail.report.content import SEVERITIES, SEVERITY_RULE, ADJUSTMENT_GROUP, GAUGE_LEVEL_GROUP, \
         OTHER_CHECKS_GROUP, PARAMETER_GROUP, SLEEPER_GROUP
@@ -41,6 +43,7 @@ def table_texts() -> set[str]:
     texts |= set(names.RAIL_NAMES.values()) | set(names.DIRECTION_NAMES.values()) | set(names.SETTING_NAMES.values())
     texts |= {text for choices in names.CHOICE_NAMES.values() for text in choices.values()}
     texts |= set(STRATEGIES.values()) | set(EVENT_NAMES.values()) | {name for name, _ in SEVERITIES}
+    texts |= set(REASONS.values()) | set(HEIGHT_MODELS) | {NOT_RECORDED, "none (ellipsoidal heights)"}
     texts |= {SEVERITY_RULE, SIGNS, ADJUSTMENT_GROUP, GAUGE_LEVEL_GROUP, OTHER_CHECKS_GROUP, PARAMETER_GROUP,
               SLEEPER_GROUP, *CREW_TITLES, *ADJUSTMENT_TITLES, *(name for name, _, _ in SHEETS)}
     return texts - {""}
@@ -53,13 +56,18 @@ def shipped_resource_texts() -> set[str]:
     from insrail.track.tolerance import load_tolerance_profile, shipped_tolerance_profiles
     from insrail.resources import resource
 
-    texts = {load_tolerance_profile(name).description.split(":")[0].strip() for name in shipped_tolerance_profiles()}
+    texts = set()
+    for name in shipped_tolerance_profiles():
+        profile = load_tolerance_profile(name)
+        texts |= {profile.description.split(":")[0].strip(), profile.source}
     for path in sorted(resource("fastener_types").glob("*.toml")):
         fastener = load_fastener_type(path.stem)
         texts.add(fastener.description)
+        for table in fastener.parts.values():
+            texts |= {table.note} | {position.name for position in table.positions}
     for path in sorted(resource("imu_profiles").glob("*.toml")):
         texts.add(load_imu_profile(path.stem).description)
-    return texts
+    return texts - {""}
 
 
 def test_every_report_text_has_its_chinese():

@@ -203,7 +203,8 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
     drawing.add(Rect(left, bottom, plot_w, plot_h, fillColor=None, strokeColor=colors.black, strokeWidth=0.5))
     title = f"{chart.title} ({chart.unit})" if chart.unit else chart.title
     if chart.limits is not None:
-        title += "   - - limit" + ("   red: exceedances" if chart.exceeding is not None and chart.exceeding[window].any() else "")
+        title += "   - - " + t("limit") + ("   " + t("red: exceedances") if chart.exceeding is not None
+                                             and chart.exceeding[window].any() else "")
     x = left
     for run, font in font_runs(title, "Helvetica-Bold"):
         drawing.add(String(x, height - 10, run, fontName=font, fontSize=8))

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -50,7 +50,7 @@ from insrail.project.results import (
 )
 from insrail.project.run_settings import RecordedSettings
 from insrail.track.adjustment import FastenerType, load_fastener_type
-from insrail.track.adjustment_parts import materials, parts_text
+from insrail.track.adjustment_parts import PartTable, materials, parts_text
 from insrail.track.events import KIND_NAMES
 from insrail.track.exceedance import RAILS
 from insrail.track.stationing import StationEquations
@@ -311,7 +311,8 @@ def load_report_content(project: Project, results: StoredResults) -> ReportConte
     valid = results.columns["valid"] > 0
     return ReportContent(project, results, profile, fastener, tuple(columns), valid, results.columns["station_m"],
                          notes=tuple(notes), recorded=recorded,
-                         settings_changes=tuple(recorded.changes(project, _first_survey(results))))
+                         # the standard sentence translated; a change's own line names settings as project.toml does
+                         settings_changes=tuple(t(line) for line in recorded.changes(project, _first_survey(results))))
 
 
 def _first_survey(results: StoredResults) -> str:
@@ -388,7 +389,7 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
     used: set[str] = set()
     columns = [
         _named("row", SLEEPER_GROUP, np.arange(1, n + 1), "0", width=6),
-        _named("number", SLEEPER_GROUP, results.number, "0", "number", width=8),
+        _named("number", SLEEPER_GROUP, results.number, "0", t("number"), width=8),
         _named("label", SLEEPER_GROUP, np.array(results.label, dtype=object), "@", width=13),
         _named("station_m", SLEEPER_GROUP, c["station_m"], "0.000", width=11),
         *([_named("chain_zone", SLEEPER_GROUP, c["chain_zone"], "0", width=8)] if "chain_zone" in c else []),
@@ -421,7 +422,7 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
                 [_named("twist_3m_mm", PARAMETER_GROUP, c["twist_3m_mm"])])
     columns += _running_parameter_columns(results, profile, used)
     columns.append(_named("guiding_rail", PARAMETER_GROUP,
-                          np.where(c["guiding_rail_right"] > 0, "R", "L").astype(object), "@", width=8))
+                          np.where(c["guiding_rail_right"] > 0, t("R"), t("L")).astype(object), "@", width=8))
     # the thesis's short- and long-wave columns first, then the profile's other checks in file order
     for chord, pair in ((30.0, 5.0), (300.0, 150.0)):
         check = _find(profile, used, "differential_versine", chord_m=chord, pair_m=pair)
@@ -439,7 +440,8 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
         for rail in RAILS:
             unresolved |= c[f"unresolved_{direction}_{rail}"] > 0
     notes = results.adjustment_notes  # why: fastener range exhausted, conflicting checks (older results: none)
-    flag = (np.array([note or (t("yes") if u else "") for note, u in zip(notes, unresolved)], dtype=object) if notes
+    flag = (np.array([adjustment_note(note) or (t("yes") if u else "") for note, u in zip(notes, unresolved)],
+                     dtype=object) if notes
             else np.where(unresolved, t("yes"), "").astype(object))
     columns.append(_named("unresolved", ADJUSTMENT_GROUP, flag, "@", width=9))
     return columns
@@ -466,13 +468,20 @@ def adjustment_work(content: ReportContent) -> AdjustmentWork:
     moving = np.flatnonzero(np.any(amounts != 0, axis=1))
     order = moving[np.argsort(content.station_m[moving], kind="stable")]
     amounts = amounts[order]
-    tables = content.fastener.parts if content.fastener is not None else {}
+    tables = _in_language(content.fastener.parts) if content.fastener is not None else {}
     places = [(key.split("_")[1], RAILS.index(key.split("_")[2])) for key in ADJUSTMENT_KEYS]
     parts = tuple(tuple(parts_text(tables, direction, rail, amount) for (direction, rail), amount in zip(places, row))
                   for row in amounts)
     listed = tuple(materials(tables, amounts[:, :2], amounts[:, 2:]))
     notes = tuple(f"{direction}: {table.note}" for direction, table in tables.items() if table.note)
     return AdjustmentWork(order, amounts, parts, listed, notes)
+
+
+def _in_language(tables: dict[str, PartTable]) -> dict[str, PartTable]:
+    """A fastener's part tables with their parts' names and notes in the report's language."""
+    return {direction: replace(table, note=t(table.note),
+                               positions=tuple(replace(p, name=t(p.name)) for p in table.positions))
+            for direction, table in tables.items()}
 
 
 #: Two sleepers with work further apart than this [m] belong to different work sections, and a section
@@ -516,7 +525,7 @@ def crew_sections(content: ReportContent, work: AdjustmentWork | None = None) ->
     amount, split into work sections (every amount exactly as in sleepers.csv)."""
     work = work or adjustment_work(content)
     keys = {key: k for k, key in enumerate(ADJUSTMENT_KEYS)}
-    notes = content.column("unresolved").values
+    notes = content.results.adjustment_notes or content.column("unresolved").values  # as the results word them
     rows: list[list[CrewRow]] = []
     previous = first = None
     for position, sleeper in enumerate(work.order):
@@ -532,7 +541,7 @@ def crew_sections(content: ReportContent, work: AdjustmentWork | None = None) ->
                 rows[-1].append(CrewRow(int(sleeper), position + 1, rail, float(lateral), float(vertical),
                                         work.parts[position][keys[f"adjust_lateral_{name}_mm"]],
                                         work.parts[position][keys[f"adjust_vertical_{name}_mm"]],
-                                        rail_note(str(notes[sleeper]), name)))
+                                        adjustment_note(rail_note(str(notes[sleeper]), name))))
     return [WorkSection(number, tuple(section)) for number, section in enumerate(rows, start=1)]
 
 
@@ -541,6 +550,24 @@ def rail_note(note: str, rail: str) -> str:
     if note in ("", "yes", t("yes")):
         return note
     return "; ".join(part for part in note.split("; ") if f" {rail}:" in part)
+
+
+_NOTE_PART = re.compile(r"^(lateral|vertical) (left|right): (.*)$")
+
+
+def adjustment_note(note: str) -> str:
+    """A sleeper's "checks still failed" note of the results ("lateral left: conflicting checks; ...", the
+    reasons of :data:`insrail.track.adjustment.REASONS`) in the report's language."""
+    parts = []
+    for part in note.split("; ") if note else ():
+        match = _NOTE_PART.match(part)
+        if match is None:  # "yes" (results without reasons) or a wording of another version: as written
+            parts.append(t(part))
+            continue
+        direction, rail, why = match.groups()
+        reasons = " + ".join(t(reason) for reason in why.split(" + "))
+        parts.append(f"{joined((t(direction), t(rail + ' rail')))}: {reasons}")
+    return "; ".join(parts)
 
 
 def threshold_text(summary: dict) -> str:
@@ -561,7 +588,7 @@ def after_adjustment_text(summary: dict) -> str:
     after = adjustment.get("after")
     if after is None:
         return ""
-    reasons = joined(f"{t(name.replace('_', ' '))}: {count}" for name, count in
+    reasons = joined(f"{t(name.replace('_', ' '))}: {count}" for name, count in  # REASONS' words, as ids
                      adjustment.get("unresolved_reasons", {}).items() if count)
     before = sum(after.get("by_check_before", {}).values())
     return (t("After adjustment: {after} exceedances (before {before}), {new} where the track passed before").format(

@@ -60,7 +60,6 @@ from insrail.report.content import (
     threshold_text,
 )
 from insrail.report.labels import SIGNS, amounts_text, deviation_reference
-from insrail.track.exceedance import RAILS
 
 EXCEEDANCE_FILL = PatternFill("solid", fgColor="FFC7CE")  # the spreadsheet's usual "bad" red
 INVALID_FILL = PatternFill("solid", fgColor="D9D9D9")
@@ -445,7 +444,7 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     sheet.pairs((t("Chainage"), content.chainage_range), (t("Sleepers"), sleepers),
                 (t("Survey start"), survey_start(content)))
     profile = content.profile
-    sheet.pairs((t("Tolerance profile"), profile_name(profile)), (t("Standard"), profile.source),
+    sheet.pairs((t("Tolerance profile"), profile_name(profile)), (t("Standard"), t(profile.source)),
                 (t("Design"), content.design or t("fitted lines (no design alignment)")))
     if content.settings_changes:  # the project says otherwise now: the results stand as processed
         sheet.pairs((t("Settings"), "; ".join(content.settings_changes)), anchors=(0, 4))
@@ -601,7 +600,7 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
             styles[k].append(bold)
         heights.append(LINE_HEIGHT_PT + 6.0)
         for row in section.rows:
-            values = [row.count, int(numbers[row.sleeper]), str(labels[row.sleeper]), t(RAILS[row.rail]), row.lateral_mm,
+            values = [row.count, int(numbers[row.sleeper]), str(labels[row.sleeper]), (t("left"), t("right"))[row.rail], row.lateral_mm,
                       row.vertical_mm, "\n".join(row.parts), row.failing]
             for k, (value, style) in enumerate(zip(values, [plain, plain, plain, plain, amount, amount, wrapped, red])):
                 columns[k].append(value)
@@ -722,7 +721,8 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     figures = PREDICTED_FIGURES if predicted is not None else ()
     section_titles = ([t(title) for title in ("from (m)", "to (m)", "from", "to", "sleepers", "valid",
                                               "exceedances starting")]
-                      + [f"max |{check_name(check)}| ({columns[0].unit})" for check, columns in checks]
+                      + [t("max |{name}| ({unit})").format(name=check_name(check), unit=columns[0].unit)
+                         for check, columns in checks]
                       + [t("SD {name} (mm)").format(name=quantity_name(name).name) for name in channels]
                       + ([t("TQI (mm)")] if channels else [])
                       + [f"{quantity_name(name).name} (mm)" for name in figures])

@@ -364,7 +364,7 @@ def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
                                                                    reference=deviation_reference(content.summary))
          if content.design else t("none: fitted line types, deviations {reference}").format(
             reference=deviation_reference(content.summary))),
-        (t("Tolerance profile"), f"{profile_name(profile)}; {profile.source}"),
+        (t("Tolerance profile"), f"{profile_name(profile)}; {t(profile.source)}"),
         (t("Operator"), _not_stated(report.operator)),
     ]
 
