@@ -14,6 +14,7 @@ from insrail.names import setting_name
 from insrail.project import Project
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, report_path
 from insrail.report.stale import REPORT_SUFFIXES, report_is_stale
+from insrail.gui.translation import tr
 
 ROLE = Qt.UserRole
 
@@ -46,7 +47,7 @@ class ProjectExplorer(QTreeWidget):
 
     def __init__(self, parent=None):
         super().__init__(parent)
-        self.setHeaderLabels(["Project"])
+        self.setHeaderLabels([tr("Project")])
         self.project: Project | None = None
         self.currentItemChanged.connect(lambda item, _old: self._describe(item))
         self.itemDoubleClicked.connect(self._activated)
@@ -59,8 +60,8 @@ class ProjectExplorer(QTreeWidget):
         if project is None:
             return
         root = self._item(self, project.name, ("project", None))
-        surveys = self._item(root, "Surveys", ("group", None))
-        results = self._item(root, "Results", ("group", None))
+        surveys = self._item(root, tr("Surveys"), ("group", None))
+        results = self._item(root, tr("Results"), ("group", None))
         for entry in project.surveys:
             survey = self._item(surveys, entry.name, ("survey", entry.name))
             try:
@@ -121,17 +122,18 @@ class ProjectExplorer(QTreeWidget):
         """(text, slot) of what can be done with an item."""
         kind, payload = item.data(0, ROLE)
         if kind == "survey":
-            return [(f"Process {payload}", lambda: self.processRequested.emit(payload))]
+            return [(tr("Process {survey}").format(survey=payload), lambda: self.processRequested.emit(payload))]
         if kind == "results":
-            actions = [(f"Show results of {payload}", lambda: self.resultsActivated.emit(payload)),
-                       (f"Process {payload} again", lambda: self.processRequested.emit(payload))]
+            actions = [(tr("Show results of {survey}").format(survey=payload), lambda: self.resultsActivated.emit(payload)),
+                       (tr("Process {survey} again").format(survey=payload),
+                        lambda: self.processRequested.emit(payload))]
             stale = [item.child(k) for k in range(item.childCount()) if item.child(k).text(0).startswith("⚠")]
             if stale:
-                actions.append((f"Write the out-of-date reports of {payload} again",
+                actions.append((tr("Write the out-of-date reports of {survey} again").format(survey=payload),
                                 lambda: self.rewriteRequested.emit(payload)))
             return actions
         if kind == "report" and item.text(0).startswith("⚠"):
-            return [("Write the out-of-date reports again", lambda: self.rewriteRequested.emit(payload[0]))]
+            return [(tr("Write the out-of-date reports again"), lambda: self.rewriteRequested.emit(payload[0]))]
         return []
 
     def _context_menu(self, position) -> None:
@@ -206,7 +208,7 @@ def rows_in_words(rows: list[tuple[str, str]]) -> list[tuple[str, str]]:
 class PropertiesPanel(QTreeWidget):
     def __init__(self, parent=None):
         super().__init__(parent)
-        self.setHeaderLabels(["Property", "Value"])
+        self.setHeaderLabels([tr("Property"), tr("Value")])
         self.setRootIsDecorated(False)
         self.setColumnWidth(0, 170)
         self.setWordWrap(True)

@@ -53,6 +53,7 @@ from insrail.project import (
 )
 from insrail.project.model import PROJECT_FILE
 from insrail.track.tolerance import DEFAULT_PROFILE, shipped_tolerance_profiles
+from insrail.gui.translation import tr
 
 LEVER_ARMS = tuple((key, setting_name(f"trolley.{key}")) for key in (
     "imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m", "imu_to_prism_m"))
@@ -65,7 +66,7 @@ PAGE_KEYS = (("project",), ("geodesy.crs",), ("geodesy.height",), ("trolley",), 
 
 def file_row(edit: QLineEdit, caption: str, pattern: str, parent: QWidget) -> QWidget:
     """A path field with a Browse button."""
-    button = QPushButton("Browse…")
+    button = QPushButton(tr("Browse…"))
 
     def browse() -> None:
         path, _ = QFileDialog.getOpenFileName(parent, caption, filter=pattern)
@@ -106,7 +107,7 @@ class NewProjectWizard(QWizard):
 
     def __init__(self, parent=None, earlier_projects=()):
         super().__init__(parent)
-        self.setWindowTitle("New insrail project")
+        self.setWindowTitle(tr("New insrail project"))
         self.setWizardStyle(QWizard.ClassicStyle)
         self.resize(900, 680)
         self.project: Project | None = None
@@ -158,7 +159,7 @@ class NewProjectWizard(QWizard):
         page, form = self._page("Project", "Where the project file (project.toml) and the results are kept.")
         self.name = QLineEdit("New project")
         self.folder = QLineEdit()
-        browse = QPushButton("Browse…")
+        browse = QPushButton(tr("Browse…"))
         browse.clicked.connect(lambda: self.folder.setText(
             QFileDialog.getExistingDirectory(self, "Project folder") or self.folder.text()))
         row = QHBoxLayout()
@@ -228,14 +229,14 @@ class NewProjectWizard(QWizard):
         self.reference_rail = QComboBox()
         fill(self.reference_rail, "trolley.reference_rail", ("left", "right"))
         self.rail_spacing = spin_box(0.5, 3.0, 4, 1.5, " m")
-        from_survey = QPushButton("Copy from a survey.toml…")
+        from_survey = QPushButton(tr("Copy from a survey.toml…"))
         from_survey.clicked.connect(self._browse_trolley)
         self.earlier = QComboBox()
         self.earlier.addItem("Copy the trolley of an earlier project…")
         self.earlier.addItems(self.earlier_projects)
         self.earlier.setEnabled(bool(self.earlier_projects))
         self.earlier.activated.connect(self._copy_earlier_trolley)
-        self.zero_arms_ok = QCheckBox("These lever arms really are zero")
+        self.zero_arms_ok = QCheckBox(tr("These lever arms really are zero"))
         self.zero_arms_ok.hide()
         form = QFormLayout()
         self._row(form, "Reference rail", self.reference_rail, "trolley.reference_rail")
@@ -276,9 +277,9 @@ class NewProjectWizard(QWizard):
         page = self._new_page("First survey", "The raw files of one trolley run; formats are detected, check "
                               "them before finishing.")
         self.survey = ImportWidget()
-        self.keep_raw = QRadioButton("Keep the raw files where they are")
-        self.copy_raw = QRadioButton("Copy the raw files into the project (surveys/<survey name>/); the raw-data "
-                                     "folder is left as it is")
+        self.keep_raw = QRadioButton(tr("Keep the raw files where they are"))
+        self.copy_raw = QRadioButton(tr("Copy the raw files into the project (surveys/<survey name>/); the raw-data "
+                                     "folder is left as it is"))
         self.keep_raw.setChecked(True)
         choice = QButtonGroup(page)
         for button in (self.keep_raw, self.copy_raw):
@@ -506,10 +507,10 @@ class NewProjectWizard(QWizard):
         self.problems.clear()
         folder_text = self.folder.text().strip()
         if not folder_text:
-            self.problems.setText("Choose the project folder (first page).")
+            self.problems.setText(tr("Choose the project folder (first page)."))
             return False
         if not self.survey.entries():
-            self.problems.setText("Add the raw files of the first survey.")
+            self.problems.setText(tr("Add the raw files of the first survey."))
             return False
         folder = Path(folder_text)
         copy = self.copy_raw.isChecked()
@@ -529,7 +530,7 @@ class NewProjectWizard(QWizard):
             self.problems.setText(f"{survey_folder} is not empty: choose another survey name.")
             return False
         if self.survey.write_survey(self.trolley(), into=survey_folder if copy else None) is None:
-            self.problems.setText("The survey's files have problems (listed above).")
+            self.problems.setText(tr("The survey's files have problems (listed above)."))
             return False
         folder.mkdir(parents=True, exist_ok=True)
         self.project = project_from_settings(document, folder)
