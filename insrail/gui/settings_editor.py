@@ -46,7 +46,7 @@ from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.names import LANGUAGES, RESOURCE_SETTINGS, setting_name
+from insrail.names import LANGUAGES, RESOURCE_SETTINGS, joined, setting_name
 from insrail.project import (
     HEIGHT_MODELS,
     Project,
@@ -71,7 +71,7 @@ FRD_AXES = (tr_noop("forward"), tr_noop("right"), tr_noop("down"))
 #: The columns of the mounting angles.
 RPY_AXES = (tr_noop("roll"), tr_noop("pitch"), tr_noop("heading"))
 #: The processing stages in their order; a change reruns the first stage it feeds and all after it.
-STAGES = ("fusion", "track reconstruction", "assessment", "adjustment")
+STAGES = (tr_noop("fusion"), tr_noop("track reconstruction"), tr_noop("assessment"), tr_noop("adjustment"))
 #: Key path prefix -> the first stage that reads it (none: only the reports change).
 FIRST_STAGE = (("trolley", "fusion"), ("processing", "fusion"), ("geodesy", "track reconstruction"),
                ("track.design", "track reconstruction"), ("track.start_station_m", "track reconstruction"),
@@ -195,7 +195,7 @@ class SettingsEditor(QDialog):
 
     def __init__(self, project: Project, parent=None):
         super().__init__(parent)
-        self.setWindowTitle(f"Project settings — {project.name}[*]")  # [*]: Qt's mark of unsaved changes
+        self.setWindowTitle(tr("Project settings — {project}").format(project=project.name) + "[*]")  # [*]: Qt's mark of unsaved changes
         self.resize(760, 640)
         self.project = project
         self.original = project.to_settings()
@@ -452,9 +452,9 @@ class SettingsEditor(QDialog):
         try:
             trolley = read_manifest(self.project.resolve(self.project.surveys[0].folder)).trolley
         except (InputError, IndexError) as error:
-            self.general.setText(f"The first survey's trolley geometry cannot be read: {error}")
+            self.general.setText(tr("The first survey's trolley geometry cannot be read: {error}").format(error=error))
             return
-        self.undo_stack.beginMacro("Trolley for the whole project")
+        self.undo_stack.beginMacro(tr("Trolley for the whole project"))
         table = {arm: [float(v) for v in values] for arm, values in trolley.given_lever_arms().items()}
         table.update(reference_rail=trolley.reference_rail, rail_centre_spacing_m=trolley.rail_centre_spacing_m,
                      mounting_rpy_deg=[float(v) for v in np.degrees(trolley.mounting_rpy_rad)])
@@ -493,12 +493,13 @@ class SettingsEditor(QDialog):
         if not changed:
             self.rerun.setText("")
         elif stages:
-            self.rerun.setText(f"Changed: {', '.join(sorted({setting_name(k) for k in changed}))}. Processing again "
-                               f"will run: {', '.join(stages)}" + ("" if stages[0] == STAGES[0] else
-                                                                    " (the earlier stages from the cache)") + ".")
+            self.rerun.setText((tr("Changed: {settings}. Processing again will run: {stages}.") if stages[0] == STAGES[0]
+                                else tr("Changed: {settings}. Processing again will run: {stages} (the earlier stages "
+                                        "from the cache).")).format(
+                settings=joined(sorted({setting_name(k) for k in changed})), stages=joined(tr(s) for s in stages)))
         else:
-            self.rerun.setText(f"Changed: {', '.join(sorted({setting_name(k) for k in changed}))}. Nothing is "
-                               "processed again; the reports show the change when written again.")
+            self.rerun.setText(tr("Changed: {settings}. Nothing is processed again; the reports show the change when "
+                                  "written again.").format(settings=joined(sorted({setting_name(k) for k in changed}))))
         self.save_button.setEnabled(bool(changed) and not self.problems)
         self.setWindowModified(bool(changed))
         return self.problems
@@ -511,7 +512,8 @@ class SettingsEditor(QDialog):
         try:
             save_project(project)
         except OSError as error:
-            self.general.setText(f"Cannot write {self.project.path}: {error.strerror or error}")
+            self.general.setText(tr("Cannot write {path}: {error}").format(path=self.project.path,
+                                                                           error=error.strerror or error))
             return False
         self.project, self.original = project, copy.deepcopy(self.document)
         self.undo_stack.setClean()

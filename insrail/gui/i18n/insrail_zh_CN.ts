@@ -739,6 +739,26 @@
       <translation>航向</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="74" />
+      <source>fusion</source>
+      <translation>组合导航</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="74" />
+      <source>track reconstruction</source>
+      <translation>轨道重建</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="74" />
+      <source>assessment</source>
+      <translation>评估</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="74" />
+      <source>adjustment</source>
+      <translation>调整量计算</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/settings_editor.py" line="114" />
       <source>Coordinate system</source>
       <translation>坐标系</translation>
@@ -774,6 +794,11 @@
       <translation>整个项目使用同一小车（取第一个测量的）</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="457" />
+      <source>Trolley for the whole project</source>
+      <translation>整个项目使用同一小车</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/settings_editor.py" line="232" />
       <source>Undo</source>
       <translation>撤销</translation>
@@ -787,6 +812,36 @@
       <location filename="../../../insrail/gui/settings_editor.py" line="332" />
       <source>the trolley's body frame b: x forward, y right, z down (FRD)</source>
       <translation>小车载体坐标系 b：x 向前，y 向右，z 向下（前右下）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="198" />
+      <source>Project settings — {project}</source>
+      <translation>项目设置 — {project}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="455" />
+      <source>The first survey's trolley geometry cannot be read: {error}</source>
+      <translation>无法读取第一个测量的小车几何参数：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="501" />
+      <source>Changed: {settings}. Nothing is processed again; the reports show the change when written again.</source>
+      <translation>已修改：{settings}。无需重新处理；重新生成报告时即体现此修改。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="515" />
+      <source>Cannot write {path}: {error}</source>
+      <translation>无法写入 {path}：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="496" />
+      <source>Changed: {settings}. Processing again will run: {stages}.</source>
+      <translation>已修改：{settings}。重新处理将运行：{stages}。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="497" />
+      <source>Changed: {settings}. Processing again will run: {stages} (the earlier stages from the cache).</source>
+      <translation>已修改：{settings}。重新处理将运行：{stages}（之前的步骤取自缓存）。</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
@@ -964,39 +1019,194 @@
       <translation>新建 insrail 项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="232" />
+      <location filename="../../../insrail/gui/wizard.py" line="160" />
+      <source>Where the project file (project.toml) and the results are kept.</source>
+      <translation>项目文件（project.toml）和结果的存放位置。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="170" />
+      <source>Name</source>
+      <translation>名称</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="171" />
+      <source>Folder</source>
+      <translation>文件夹</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="172" />
+      <source>Description</source>
+      <translation>说明</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="176" />
+      <source>The engineering (construction) coordinate system: a transverse Mercator projection on the chosen ellipsoid, reduced to the projection height.</source>
+      <translation>工程（施工）坐标系：所选椭球上的横轴墨卡托（高斯-克吕格）投影，归算到投影面高程。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="201" />
+      <source>Benchmarks</source>
+      <translation>水准点</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="201" />
+      <source>GNSS-levelling benchmarks (ellipsoidal and normal heights) fit the height anomaly; without them heights stay ellipsoidal.</source>
+      <translation>GNSS 水准点（大地高与正常高）用于拟合高程异常；没有水准点时高程为大地高。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="206" />
+      <source>Benchmarks file</source>
+      <translation>水准点文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="208" />
+      <source>Height-anomaly model</source>
+      <translation>高程异常模型</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="212" />
+      <source>Trolley geometry</source>
+      <translation>小车几何参数</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="212" />
+      <source>Lever arms from the IMU centre in the IMU body frame (forward, right, down), metres; mounting angles of the IMU in the trolley.</source>
+      <translation>IMU 中心至各传感器的杆臂，IMU 载体坐标系（前、右、下），单位 m；IMU 在小车上的安装角。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="233" />
       <source>Copy from a survey.toml…</source>
       <translation>从 survey.toml 复制…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="239" />
+      <location filename="../../../insrail/gui/wizard.py" line="236" />
+      <source>Copy the trolley of an earlier project…</source>
+      <translation>复制以往项目的小车…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="240" />
       <source>These lever arms really are zero</source>
       <translation>这些杆臂确实为零</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="280" />
+      <location filename="../../../insrail/gui/wizard.py" line="243" />
+      <source>Reference rail</source>
+      <translation>基准轨</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="244" />
+      <source>Rail centre spacing (cant base)</source>
+      <translation>两轨中心距（超高基长）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="258" />
+      <source>Processing and assessment</source>
+      <translation>数据处理与评估</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="258" />
+      <source>IMU error model, design alignment, tolerance profile for the assessment and the fastener type for the adjustment.</source>
+      <translation>IMU 误差模型、设计线形、评估用的容许偏差标准及调整用的扣件类型。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="270" />
+      <source>Design alignment</source>
+      <translation>设计线形</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="272" />
+      <source>Start station (without a design)</source>
+      <translation>起点里程（无设计线形时）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="273" />
+      <source>Tolerance profile</source>
+      <translation>容许偏差标准</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="274" />
+      <source>Fastener type</source>
+      <translation>扣件类型</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="278" />
+      <source>First survey</source>
+      <translation>第一个测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="278" />
+      <source>The raw files of one trolley run; formats are detected, check them before finishing.</source>
+      <translation>一次小车推行的原始数据；格式自动识别，完成前请检查。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="281" />
       <source>Keep the raw files where they are</source>
       <translation>原始数据保留在原位置</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="281" />
+      <location filename="../../../insrail/gui/wizard.py" line="282" />
       <source>Copy the raw files into the project (surveys/&lt;survey name&gt;/); the raw-data folder is left as it is</source>
       <translation>将原始数据复制到项目中（surveys/&lt;测量名称&gt;/）；原始数据文件夹保持不变</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="510" />
+      <location filename="../../../insrail/gui/wizard.py" line="189" />
+      <source>Ellipsoid</source>
+      <translation>椭球</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="189" />
+      <source>Central meridian</source>
+      <translation>中央子午线</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="191" />
+      <source>Latitude of origin</source>
+      <translation>原点纬度</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="192" />
+      <source>Scale factor</source>
+      <translation>比例因子</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="192" />
+      <source>False easting</source>
+      <translation>东偏移</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="194" />
+      <source>False northing</source>
+      <translation>北偏移</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="195" />
+      <source>Projection height</source>
+      <translation>投影面高程</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="196" />
+      <source>Projection height applied as</source>
+      <translation>投影面高程的处理方式</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="511" />
       <source>Choose the project folder (first page).</source>
       <translation>请选择项目文件夹（第一页）。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="513" />
+      <location filename="../../../insrail/gui/wizard.py" line="514" />
       <source>Add the raw files of the first survey.</source>
       <translation>请添加第一个测量的原始数据。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="533" />
+      <location filename="../../../insrail/gui/wizard.py" line="534" />
       <source>The survey's files have problems (listed above).</source>
       <translation>测量文件有问题（见上方列表）。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="490" />
+      <source>Lever arms at 0 m: {arms}. A trolley's sensors are never all at the IMU centre: enter the measured lever arms, copy them from an earlier project, or confirm below that they really are zero.</source>
+      <translation>杆臂为 0 m：{arms}。小车的传感器不可能都位于 IMU 中心：请输入实测杆臂、从以往项目复制，或在下方确认其确实为零。</translation>
     </message>
   </context>
 </TS>
