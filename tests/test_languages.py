@@ -90,3 +90,19 @@ def test_chinese_texts_keep_the_fields_of_their_english():
     wrong = {en: zh for en, zh in ZH_CN.items() if fields(en) != fields(zh)}
     assert not wrong, wrong
     assert all(zh.strip() for zh in ZH_CN.values())
+
+
+def test_no_function_hides_the_translation_function_under_a_variable_of_its_name():
+    """A local variable ``t`` (a time) in a function that calls ``t("...")`` makes the call fail at run time
+    (the GNSS residual plot did): every module calling t() keeps the name free in its function scopes."""
+    offenders = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for function in (n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))):
+            body = [n for statement in function.body for n in ast.walk(statement)]
+            calls = any(isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "t" for n in body)
+            binds = [n.lineno for n in body if isinstance(n, ast.Name) and n.id == "t" and isinstance(n.ctx, ast.Store)]
+            binds += [function.lineno for a in function.args.args if a.arg == "t"]
+            if calls and binds:
+                offenders.append(f"{path.relative_to(PACKAGE.parent)}:{binds[0]}")
+    assert not offenders, offenders

@@ -159,37 +159,37 @@ class ProjectExplorer(QTreeWidget):
         kind, payload = item.data(0, ROLE)
         project = self.project
         if kind == "project":
-            rows = [("folder", str(project.folder.resolve())), ("coordinate system", project.crs.describe())]
+            rows = [(tr("folder"), str(project.folder.resolve())), (tr("coordinate system"), project.crs.describe())]
             rows += rows_in_words(flatten(project.to_settings()))
         elif kind == "survey":
             folder = project.resolve(project.survey(payload).folder)
-            rows = [("folder", str(folder.resolve()))]
+            rows = [(tr("folder"), str(folder.resolve()))]
             try:
                 rows += rows_in_words(flatten(read_toml(folder / MANIFEST_NAME)))
             except (OSError, ValueError) as error:
-                rows.append(("problem", str(error)))
+                rows.append((tr("problem"), str(error)))
         elif kind == "file":
             survey, role = payload
             folder = project.resolve(project.survey(survey).folder)
             file = project.manifest(survey).files[role]
             path = folder / file.path
-            rows = [("role", role), ("path", str(path.resolve())), ("format", file.format),
-                    ("size", f"{path.stat().st_size / 1e6:.2f} MB" if path.is_file() else "missing")]
-            rows += [(f"option {k}", str(v)) for k, v in file.options.items()]
+            rows = [(tr("role"), role), (tr("path"), str(path.resolve())), (tr("format"), file.format),
+                    (tr("size"), f"{path.stat().st_size / 1e6:.2f} MB" if path.is_file() else tr("missing"))]
+            rows += [(tr("option {name}").format(name=k), str(v)) for k, v in file.options.items()]
         elif kind == "gnss_raw":
             raw = project.manifest(payload).raw_gnss
             rows = rows_in_words(flatten({"gnss_raw": raw.to_settings()}))
         elif kind == "results":
             summary = project.folder / RESULTS_FOLDER / payload / SUMMARY_FILE
-            rows = [("folder", str(summary.parent.resolve()))] + rows_in_words(flatten(read_toml(summary)))
+            rows = [(tr("folder"), str(summary.parent.resolve()))] + rows_in_words(flatten(read_toml(summary)))
         elif kind == "report":
             survey, path = payload
             stale = report_is_stale(path, project.folder, survey)
-            rows = [("file", str(path.resolve())),
-                    ("state", "older than the results: written before the survey was processed again" if stale
-                     else "written from the current results")]
+            rows = [(tr("file"), str(path.resolve())),
+                    (tr("state"), tr("older than the results: written before the survey was processed again") if stale
+                     else tr("written from the current results"))]
         elif kind == "error":
-            rows = [("problem", payload)]
+            rows = [(tr("problem"), payload)]
         else:
             rows = []
         self.propertiesChanged.emit(rows)

@@ -158,7 +158,7 @@ class NewProjectWizard(QWizard):
 
     def _project_page(self) -> QWizardPage:
         page, form = self._page(tr_noop("Project"), tr_noop("Where the project file (project.toml) and the results are kept."))
-        self.name = QLineEdit("New project")
+        self.name = QLineEdit(tr("New project"))
         self.folder = QLineEdit()
         browse = QPushButton(tr("Browse…"))
         browse.clicked.connect(lambda: self.folder.setText(
@@ -336,7 +336,7 @@ class NewProjectWizard(QWizard):
             project = load_project(path)
             trolley = project.trolley() or read_manifest(project.resolve(project.surveys[0].folder)).trolley
         except (InputError, IndexError) as error:
-            self._show_page_note(3, [f"the trolley of {path} cannot be read: {error}"])
+            self._show_page_note(3, [tr("the trolley of {path} cannot be read: {error}").format(path=path, error=error)])
             return
         self.set_trolley(trolley)
         self._show_page_note(3, [])
@@ -479,7 +479,7 @@ class NewProjectWizard(QWizard):
         zero = [key for key in REQUIRED_ARMS if not any(box.value() for box in self.lever_arms[key])]
         for key in REQUIRED_ARMS:
             note = self.notes[f"trolley.{key}"]
-            note.setText("0 m: is this lever arm measured?" if key in zero else "")
+            note.setText(tr("0 m: is this lever arm measured?") if key in zero else "")
             note.setVisible(key in zero)
         if not zero:
             self.zero_arms_ok.hide()

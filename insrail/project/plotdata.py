@@ -156,12 +156,12 @@ def gnss_residuals(trajectory: Trajectory, gnss: GnssSolution, imu_to_antenna_m:
     """GNSS position minus the fused antenna position (trajectory + C_b^n lever arm) at the GNSS
     epochs inside the trajectory, north/east/down [mm]: how well the solution agrees with each
     fix (a rejected or float epoch stands out), with the fix's own 1-sigma as the band."""
-    t = trajectory.time_s
-    inside = (gnss.time_s >= t[0]) & (gnss.time_s <= t[-1])
+    fused = trajectory.time_s
+    inside = (gnss.time_s >= fused[0]) & (gnss.time_s <= fused[-1])
     time = gnss.time_s[inside]
 
     def at(values):
-        return np.interp(time, t, values)
+        return np.interp(time, fused, values)
 
     lat, lon, h = at(trajectory.lat_rad), at(trajectory.lon_rad), at(trajectory.height_m)
     c_bn = euler_to_dcm(at(trajectory.rpy_rad[:, 0]), at(trajectory.rpy_rad[:, 1]),

@@ -114,6 +114,16 @@
       <translation>重新生成过期的报告</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/explorer.py" line="162" />
+      <source>folder</source>
+      <translation>文件夹</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="162" />
+      <source>coordinate system</source>
+      <translation>坐标系</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/explorer.py" line="127" />
       <source>Show results of {survey}</source>
       <translation>显示 {survey} 的结果</translation>
@@ -124,9 +134,64 @@
       <translation>重新处理 {survey}</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/explorer.py" line="176" />
+      <source>role</source>
+      <translation>用途</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="176" />
+      <source>path</source>
+      <translation>路径</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="176" />
+      <source>format</source>
+      <translation>格式</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="177" />
+      <source>size</source>
+      <translation>大小</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/explorer.py" line="132" />
       <source>Write the out-of-date reports of {survey} again</source>
       <translation>重新生成 {survey} 的过期报告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="170" />
+      <source>problem</source>
+      <translation>问题</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="177" />
+      <source>missing</source>
+      <translation>缺失</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <source>option {name}</source>
+      <translation>选项 {name}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="188" />
+      <source>file</source>
+      <translation>文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="189" />
+      <source>state</source>
+      <translation>状态</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="189" />
+      <source>older than the results: written before the survey was processed again</source>
+      <translation>早于结果：生成于重新处理之前</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="190" />
+      <source>written from the current results</source>
+      <translation>按当前结果生成</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/export_files.py" line="23" />
@@ -1024,6 +1089,11 @@
       <translation>项目文件（project.toml）和结果的存放位置。</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/wizard.py" line="161" />
+      <source>New project</source>
+      <translation>新项目</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/wizard.py" line="170" />
       <source>Name</source>
       <translation>名称</translation>
@@ -1204,9 +1274,19 @@
       <translation>测量文件有问题（见上方列表）。</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/wizard.py" line="482" />
+      <source>0 m: is this lever arm measured?</source>
+      <translation>0 m：此杆臂是否已实测？</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/wizard.py" line="490" />
       <source>Lever arms at 0 m: {arms}. A trolley's sensors are never all at the IMU centre: enter the measured lever arms, copy them from an earlier project, or confirm below that they really are zero.</source>
       <translation>杆臂为 0 m：{arms}。小车的传感器不可能都位于 IMU 中心：请输入实测杆臂、从以往项目复制，或在下方确认其确实为零。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="339" />
+      <source>the trolley of {path} cannot be read: {error}</source>
+      <translation>无法读取 {path} 的小车参数：{error}</translation>
     </message>
   </context>
 </TS>

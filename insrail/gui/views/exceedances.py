@@ -10,7 +10,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt
 
-from insrail.names import DIRECTION_NAMES, RAIL_NAMES
+from insrail.names import DIRECTION_NAMES, RAIL_NAMES, t
 from insrail.project.results import ExceedanceRow
 from insrail.report.content import exceedance_display
 from insrail.gui.translation import tr, tr_noop
@@ -40,8 +40,8 @@ class ExceedanceModel(QAbstractTableModel):
         self._rows = tuple(rows)
         self._names = tuple(check_names.get(e.check, e.kind.replace("_", " ")) for e in self._rows)
         self._keys = (np.array(self._names, dtype=object),
-                      np.array([RAIL_NAMES.get(e.rail, e.rail) for e in self._rows], dtype=object),
-                      np.array([DIRECTION_NAMES.get(e.direction, e.direction) for e in self._rows], dtype=object),
+                      np.array([t(RAIL_NAMES.get(e.rail, e.rail)) for e in self._rows], dtype=object),
+                      np.array([t(DIRECTION_NAMES.get(e.direction, e.direction)) for e in self._rows], dtype=object),
                       np.array([e.station_from_m for e in self._rows], dtype=float),
                       np.array([e.station_to_m for e in self._rows], dtype=float),
                       np.abs(np.array([e.peak for e in self._rows], dtype=float)),
