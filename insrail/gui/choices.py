@@ -10,6 +10,7 @@ from functools import cache
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QComboBox
 
+from insrail.gui.translation import tr
 from insrail.io.errors import InputError
 from insrail.names import CHOICE_NAMES, RESOURCE_SETTINGS, choice_name, resource_name
 from insrail.nav.imu_profile import load_imu_profile
@@ -31,6 +32,8 @@ def _description(folder: str, name: str) -> str:
 def value_text(key: str, value) -> str:
     """The words for a setting's value on screen: a listed value's name, a shipped resource's
     description, anything else as written."""
+    if isinstance(value, bool):  # a switch: "True" / "False" as the file writes it, in the application's language
+        return tr("True") if value else tr("False")
     text = str(value)
     if key in CHOICE_NAMES and text in CHOICE_NAMES[key]:
         return choice_name(key, text)

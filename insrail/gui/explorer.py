@@ -19,8 +19,9 @@ from insrail.gui.translation import tr
 ROLE = Qt.UserRole
 
 
-def flatten(settings: dict, prefix: str = "") -> list[tuple[str, str]]:
-    """Key paths and values of a nested settings table, as the TOML files name them."""
+def flatten(settings: dict, prefix: str = "") -> list[tuple[str, str | bool]]:
+    """Key paths and values of a nested settings table, as the TOML files name them (a switch stays a bool:
+    :func:`insrail.gui.choices.value_text` words it in the application's language)."""
     rows = []
     for key, value in settings.items():
         path = f"{prefix}{key}"
@@ -30,7 +31,8 @@ def flatten(settings: dict, prefix: str = "") -> list[tuple[str, str]]:
             for i, entry in enumerate(value):
                 rows += flatten(entry, f"{path}[{i}].")
         else:
-            rows.append((path, ", ".join(map(str, value)) if isinstance(value, list) else str(value)))
+            rows.append((path, ", ".join(map(str, value)) if isinstance(value, list)
+                         else value if isinstance(value, bool) else str(value)))
     return rows
 
 

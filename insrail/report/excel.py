@@ -18,6 +18,7 @@ import math
 import re
 import shutil
 import tempfile
+import unicodedata
 import zipfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -289,19 +290,36 @@ class _Sheet:
         self.sheet.print_title_rows = f"{first_header_row}:{header_row}"
 
 
+#: Chinese characters and punctuation: the spreadsheet wraps a line between any two of them.
+_CJK = re.compile(r"([\u2e80-\u9fff\u3000-\u303f\uff00-\uffef])")
+
+
+def _pieces(word: str) -> list[str]:
+    """The parts of a word no line break splits: the word, or in Chinese each character."""
+    return [piece for piece in _CJK.split(word) if piece]
+
+
+def _text_width(text: str) -> int:
+    """Width in characters of the body font: a Chinese character takes two."""
+    return sum(2 if unicodedata.east_asian_width(c) in "WF" else 1 for c in text)
+
+
 def _longest_word(text: str) -> int:
-    return max((len(word) for word in str(text).split()), default=0)
+    return max((_text_width(piece) for word in str(text).split() for piece in _pieces(word)), default=0)
 
 
 def _wrapped_lines(text: str, width: float, character_width: float = BOLD_CHARACTER_WIDTH) -> int:
-    """Lines ``text`` wraps to in a cell ``width`` wide (word wrap as the spreadsheet does it)."""
+    """Lines ``text`` wraps to in a cell ``width`` wide (word wrap as the spreadsheet does it, Chinese
+    between any two characters)."""
     characters = max(int((width - 1.0) / character_width), 1)
     lines, used = 1, 0
     for word in str(text).split():
-        if used and used + 1 + len(word) > characters:
-            lines, used = lines + 1, len(word)
-        else:
-            used += len(word) + (1 if used else 0)
+        for index, piece in enumerate(_pieces(word)):
+            size, gap = _text_width(piece), 1 if used and index == 0 else 0
+            if used and used + gap + size > characters:
+                lines, used = lines + 1, size
+            else:
+                used += gap + size
     return lines
 
 

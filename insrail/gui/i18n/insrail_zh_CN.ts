@@ -4,6 +4,16 @@
   <context>
     <name>insrail</name>
     <message>
+      <location filename="../../../insrail/gui/choices.py" line="36" />
+      <source>True</source>
+      <translation>是</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/choices.py" line="36" />
+      <source>False</source>
+      <translation>否</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/empty.py" line="40" />
       <source>No project open. File &gt; New project… creates one from raw files; File &gt; Open project… opens a project.toml.</source>
       <translation>未打开项目。“文件 &gt; 新建项目…”从原始数据创建项目；“文件 &gt; 打开项目…”打开 project.toml。</translation>
@@ -1067,6 +1077,11 @@
       <location filename="../../../insrail/gui/views/track.py" line="633" />
       <source>{text} is no sleeper number, chainage or station of this survey</source>
       <translation>{text} 不是本测量的轨枕号、里程或测站</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="689" />
+      <source>Δ chainage &lt;b&gt;{length:+.3f} m&lt;/b&gt; (sleeper {first} {first_label} → {second} {second_label})</source>
+      <translation>Δ 里程 &lt;b&gt;{length:+.3f} m&lt;/b&gt;（轨枕 {first} {first_label} → {second} {second_label}）</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/views/track.py" line="180" />

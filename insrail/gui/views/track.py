@@ -686,8 +686,10 @@ class TrackView(DrawWhenShown, QWidget):
                            for (label, va), (_, vb) in zip(plot_values(spec, self._columns, first),
                                                            plot_values(spec, self._columns, second)))
         self.measure_label.setText(
-            f"Δ chainage <b>{b - a:+.3f} m</b> (sleeper {self._numbers[first]} {self._labels[first]} → "
-            f"{self._numbers[second]} {self._labels[second]}) &nbsp;|&nbsp; <b>{spec.title}</b>: {deltas} {spec.unit}")
+            tr("Δ chainage <b>{length:+.3f} m</b> (sleeper {first} {first_label} → {second} {second_label})").format(
+                length=b - a, first=self._numbers[first], first_label=self._labels[first],
+                second=self._numbers[second], second_label=self._labels[second])
+            + f" &nbsp;|&nbsp; <b>{spec.title}</b>: {deltas} {spec.unit}")
 
     def measured_span(self) -> tuple[float, float] | None:
         """The stations of the measuring tool's two points, smaller first; None before two are set."""
