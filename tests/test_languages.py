@@ -106,3 +106,16 @@ def test_no_function_hides_the_translation_function_under_a_variable_of_its_name
             if calls and binds:
                 offenders.append(f"{path.relative_to(PACKAGE.parent)}:{binds[0]}")
     assert not offenders, offenders
+
+
+def test_the_embedded_font_has_every_character_of_the_chinese_texts():
+    """The PDF sets Chinese in the shipped CJK subset: a character of a translation outside it prints as a box
+    (regenerate the subset with installer/cjk_font_subset.py when one is missing)."""
+    from reportlab.pdfbase.ttfonts import TTFontFile
+
+    from insrail.report.fonts import CJK_FONT_FILE
+    from insrail.resources import resource
+
+    shown = set(TTFontFile(str(resource(*CJK_FONT_FILE))).charToGlyph)
+    missing = {c for text in ZH_CN.values() for c in text if ord(c) > 0x7F and ord(c) not in shown}
+    assert not missing, "".join(sorted(missing))

@@ -419,7 +419,7 @@ def _printable(sheet: Worksheet, paper: str = "A3", page_header: tuple[str, str,
     sheet.HeaderFooter.oddHeader.center.text = _header_text(survey)
     sheet.HeaderFooter.oddHeader.right.text = "&A"
     sheet.HeaderFooter.oddFooter.left.text = _header_text(software)
-    sheet.HeaderFooter.oddFooter.right.text = "page &P of &N"
+    sheet.HeaderFooter.oddFooter.right.text = t("page {number} of {pages}").format(number="&P", pages="&N")
     if scale is None:
         sheet.page_setup.fitToWidth = 1
         sheet.page_setup.fitToHeight = 0  # as many pages as the rows need
