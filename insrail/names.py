@@ -210,6 +210,8 @@ def rail_direction(rail: str, direction: str) -> str:
         parts = (RAIL_NAMES[rail], DIRECTION_NAMES[direction])
     except KeyError as error:
         raise UnknownName(error.args[0], "rail or direction") from None
+    if all(parts):  # a language may have one word for both: 左轨向 (left rail, lateral), 右高低 (right, vertical)
+        return t(", ".join(parts))
     return joined(t(p) for p in parts)
 
 

@@ -41,6 +41,8 @@ def table_texts() -> set[str]:
     texts = {n.name for n in names.COLUMN_NAMES.values()} | {n.name for n in names.QUANTITY_NAMES.values()}
     texts |= set(names.KIND_NAMES.values()) | {wording for _, wording in names.CHECK_NAMES.values()}
     texts |= set(names.RAIL_NAMES.values()) | set(names.DIRECTION_NAMES.values()) | set(names.SETTING_NAMES.values())
+    texts |= {f"{rail}, {direction}" for rail in names.RAIL_NAMES.values() for direction in names.DIRECTION_NAMES.values()
+              if rail and direction}  # a rail's channel in one word where the language has one (左轨向)
     texts |= {text for choices in names.CHOICE_NAMES.values() for text in choices.values()}
     texts |= set(STRATEGIES.values()) | set(EVENT_NAMES.values()) | {name for name, _ in SEVERITIES}
     texts |= set(REASONS.values()) | set(HEIGHT_MODELS) | {NOT_RECORDED, "none (ellipsoidal heights)"}

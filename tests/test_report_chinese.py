@@ -61,8 +61,8 @@ def test_a_chinese_workbook_has_chinese_sheets_headers_and_notes(chinese, tmp_pa
     texts = {sheet.title: " ".join(str(value) for row in sheet.iter_rows(values_only=True) for value in row
                                    if isinstance(value, str)) for sheet in book.worksheets}
     sleepers = texts["轨枕"]
-    for term in ("轨距", "水平", "超高", "左轨", "横向", "垂向", "短波不平顺", "长波不平顺", "30 m 弦 5 m 检测", "扭曲（三角坑）",
-                 "轨距变化率", "调整量", "里程", "导向轨", "轨枕编号"):
+    for term in ("轨距", "水平", "超高", "左轨向", "右轨向", "左高低", "右高低", "短波不平顺", "长波不平顺", "30 m 弦 5 m 检测",
+                 "扭曲（三角坑）", "轨距变化率", "调整量", "里程", "导向轨", "轨枕编号"):
         assert term in sleepers, term
     assert "调整量" in texts["调整"] and "作业段" in texts["调整"]
     # the processing log lists summary.toml's and project.toml's keys as the files write them

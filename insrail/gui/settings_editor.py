@@ -259,7 +259,7 @@ class SettingsEditor(QDialog):
         kind = spec.kind
         if kind in ("text", "file", "date"):
             widget = QLineEdit()
-            widget.setPlaceholderText("YYYY-MM-DD" if kind == "date" else "none" if spec.optional else "")
+            widget.setPlaceholderText("YYYY-MM-DD" if kind == "date" else tr("none") if spec.optional else "")
             widget.editingFinished.connect(lambda key=spec.key: self._edited(key))
         elif kind in ("number", "int"):
             if kind == "number":

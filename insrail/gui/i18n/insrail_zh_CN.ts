@@ -94,112 +94,112 @@
       <translation>标记</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="63" />
+      <location filename="../../../insrail/gui/explorer.py" line="65" />
       <source>Surveys</source>
       <translation>测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="64" />
+      <location filename="../../../insrail/gui/explorer.py" line="66" />
       <source>Results</source>
       <translation>结果</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="50" />
+      <location filename="../../../insrail/gui/explorer.py" line="52" />
       <source>Project</source>
       <translation>项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="211" />
+      <location filename="../../../insrail/gui/explorer.py" line="213" />
       <source>Property</source>
       <translation>属性</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="211" />
+      <location filename="../../../insrail/gui/explorer.py" line="213" />
       <source>Value</source>
       <translation>值</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="136" />
+      <location filename="../../../insrail/gui/explorer.py" line="138" />
       <source>Write the out-of-date reports again</source>
       <translation>重新生成过期的报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="162" />
+      <location filename="../../../insrail/gui/explorer.py" line="164" />
       <source>folder</source>
       <translation>文件夹</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="162" />
+      <location filename="../../../insrail/gui/explorer.py" line="164" />
       <source>coordinate system</source>
       <translation>坐标系</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="127" />
+      <location filename="../../../insrail/gui/explorer.py" line="129" />
       <source>Show results of {survey}</source>
       <translation>显示 {survey} 的结果</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="128" />
+      <location filename="../../../insrail/gui/explorer.py" line="130" />
       <source>Process {survey} again</source>
       <translation>重新处理 {survey}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="176" />
+      <location filename="../../../insrail/gui/explorer.py" line="178" />
       <source>role</source>
       <translation>用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="176" />
+      <location filename="../../../insrail/gui/explorer.py" line="178" />
       <source>path</source>
       <translation>路径</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="176" />
+      <location filename="../../../insrail/gui/explorer.py" line="178" />
       <source>format</source>
       <translation>格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="177" />
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
       <source>size</source>
       <translation>大小</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="132" />
+      <location filename="../../../insrail/gui/explorer.py" line="134" />
       <source>Write the out-of-date reports of {survey} again</source>
       <translation>重新生成 {survey} 的过期报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="170" />
+      <location filename="../../../insrail/gui/explorer.py" line="172" />
       <source>problem</source>
       <translation>问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="177" />
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
       <source>missing</source>
       <translation>缺失</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <location filename="../../../insrail/gui/explorer.py" line="180" />
       <source>option {name}</source>
       <translation>选项 {name}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="188" />
+      <location filename="../../../insrail/gui/explorer.py" line="190" />
       <source>file</source>
       <translation>文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="189" />
+      <location filename="../../../insrail/gui/explorer.py" line="191" />
       <source>state</source>
       <translation>状态</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="189" />
+      <location filename="../../../insrail/gui/explorer.py" line="191" />
       <source>older than the results: written before the survey was processed again</source>
       <translation>早于结果：生成于重新处理之前</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="190" />
+      <location filename="../../../insrail/gui/explorer.py" line="192" />
       <source>written from the current results</source>
       <translation>按当前结果生成</translation>
     </message>
