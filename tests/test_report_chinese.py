@@ -100,12 +100,12 @@ def test_project_toml_takes_the_report_language_as_a_user_writes_it(tmp_path):
 
 def test_a_chinese_header_wraps_between_characters_at_twice_the_width_of_a_digit():
     """The workbook sizes its header rows by the lines a title wraps to: Chinese has no spaces, wraps between
-    any two characters and each character is two digits wide (one word of 20 characters fills 7 lines of a
-    10-wide column and was sized as one line)."""
-    from insrail.report.excel import BOLD_CHARACTER_WIDTH, _longest_word, _wrapped_lines
+    any two characters and each character is wider than a digit (one word of 20 characters fills 10 lines of
+    a 10-wide column and was sized as one line)."""
+    from insrail.report.excel import BOLD_CHARACTER_WIDTH, CJK_CHARACTER_WIDTH, _longest_word, _wrapped_lines
 
-    title = "轨距与水平实测标准轨距设计超高偏差量调整"  # 20 characters, 40 digits wide
-    per_line = int(9.0 / BOLD_CHARACTER_WIDTH) // 2  # whole characters in the 7 digits of a 10-wide column
-    assert _wrapped_lines(title, 10.0) == -(-20 // per_line) == 7
-    assert _longest_word(title) == 2  # nothing to widen a column for: it breaks anywhere
+    title = "轨距与水平实测标准轨距设计超高偏差量调整"  # 20 characters
+    per_line = int(int(9.0 / BOLD_CHARACTER_WIDTH) // CJK_CHARACTER_WIDTH)  # in the 7 digits of a 10-wide column
+    assert _wrapped_lines(title, 10.0) == -(-20 // per_line) == 10
+    assert _longest_word(title) == CJK_CHARACTER_WIDTH  # nothing to widen a column for: it breaks anywhere
     assert _wrapped_lines("Gauge and cross level", 10.0) == 4  # English: between words, as before (7 a line)
