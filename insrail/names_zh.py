@@ -627,6 +627,21 @@ ZH_CN: dict[str, str] = {
     "Accelerometer scale factor (estimated)": "加速度计比例因子（估计值）",
     "Odometer scale factor (estimated)": "里程计比例因子（估计值）",
     "GNSS minus fused antenna position": "GNSS 减融合后的天线位置",
+    # a joined line section's page (insrail.report.section_page)
+    "each sleeper takes the run with the better predicted accuracy": "每根轨枕取预测精度较好的测次",
+    "each sleeper is the weighted mean of the runs (weights 1/sigma^2)": "每根轨枕取各测次的加权平均（权 1/sigma^2）",
+    "Line section": "线路区段",
+    "Line section: joined runs": "线路区段：拼接的测次",
+    "Runs {runs}, joined on the stationing; in the overlaps {joined}. Sleepers are numbered continuously; the sleeper "
+    "table's source columns say which run each row came from. Differential versines are compared by magnitude (the "
+    "sign of their worst value over the chord placements flips where two placements tie) and not within a chord of "
+    "an overlap's ends.": "测次 {runs} 按里程拼接；重叠段内{joined}。轨枕连续编号；轨枕表的来源列注明每行所属测次。"
+                          "差分正矢按绝对值比较（两个弦位几乎相等处其最不利值的符号会翻转），且不在重叠段两端一个弦长以内比较。",
+    "Overlap {later} - {earlier}: {start:.1f} to {end:.1f} m, {sleepers} sleepers":
+        "重叠段 {later} - {earlier}：{start:.1f} 至 {end:.1f} m，轨枕 {sleepers} 根",
+    "predicted sigma (mm)": "预测标准差（mm）",
+    "> 3 sigma": "> 3 倍标准差",
+    "The runs do not overlap.": "各测次无重叠。",
     # exports (insrail.export): the texts for people; the column names stay
     "design alignment {design}": "设计线形 {design}",
     "the line fitted to the measured centreline (no design alignment; thesis eq. 5.24)": "按实测中线拟合的线形（无设计线形；论文式 5.24）",
