@@ -5,7 +5,8 @@
 
 The window fills the X screen; each picture is taken from the X server with ImageMagick's
 ``import -window root`` (what a surveyor sees, not Qt's offscreen rendering) and named after the
-view and the screen size: ``docs/gui_<view>_<width>x<height>.png``. The docs/ pictures show the
+view and the screen size: ``docs/gui_<view>_<width>x<height>.png``. The application's language follows
+the locale as when it is started (``LANG=zh_CN.UTF-8``: Chinese, the pictures named ``..._zh_CN.png``). The docs/ pictures show the
 demo project with a second simulated run (seed 2) added as survey `short2`, so that the
 repeatability view has two runs to overlay. With a second project whose survey holds raw GNSS
 observations (``[gnss_raw]``), the GNSS page is post-processed and shown too. Without X
@@ -26,6 +27,7 @@ from PySide6.QtCore import QSettings
 from PySide6.QtWidgets import QApplication
 
 from insrail.gui.main_window import MainWindow
+from insrail.gui.translation import chosen_language, install_language, tr
 from insrail.project.results import report_path
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
@@ -46,12 +48,12 @@ def wait(app, busy) -> None:
 
 
 class Camera:
-    def __init__(self, app, size: tuple[int, int]):
-        self.app, self.size = app, size
+    def __init__(self, app, size: tuple[int, int], suffix: str = ""):
+        self.app, self.size, self.suffix = app, size, suffix
         self.x_server = app.platformName() == "xcb" and shutil.which("import") is not None
 
     def save(self, widget, name: str) -> Path:
-        path = DOCS / f"gui_{name}_{self.size[0]}x{self.size[1]}.png"
+        path = DOCS / f"gui_{name}_{self.size[0]}x{self.size[1]}{self.suffix}.png"
         settle(self.app)
         if self.x_server:
             subprocess.run(["import", "-window", "root", str(path)], check=True)
@@ -73,9 +75,11 @@ def main(project: str, raw_gnss_project: str | None = None, track_only: bool = F
     app = QApplication.instance() or QApplication([])
     screen = app.primaryScreen().size()
     size = (screen.width(), screen.height())
-    camera = Camera(app, size)
     with tempfile.TemporaryDirectory() as settings_folder:
-        window = MainWindow(QSettings(str(Path(settings_folder) / "s.ini"), QSettings.IniFormat))
+        settings = QSettings(str(Path(settings_folder) / "s.ini"), QSettings.IniFormat)
+        language = install_language(app, chosen_language(settings))  # the locale's, as insrail gui starts
+        camera = Camera(app, size, "" if language == "en" else f"_{language.replace('-', '_')}")
+        window = MainWindow(settings)
         window.show()
         place(window, size)
         if not track_only:
@@ -109,11 +113,11 @@ def main(project: str, raw_gnss_project: str | None = None, track_only: bool = F
         editor = window.edit_settings()
         place(editor, size, fill=False)
         tabs = [editor.tabs.tabText(k) for k in range(editor.tabs.count())]
-        editor.tabs.setCurrentIndex(tabs.index("Track"))  # design, tolerances, fastener
+        editor.tabs.setCurrentIndex(tabs.index(tr("Track")))  # design, tolerances, fastener
         editor.set_field("track.tolerance_profile", "cn_conventional_160")
         camera.save(editor, "settings")
         editor.undo_stack.undo()
-        editor.tabs.setCurrentIndex(tabs.index("Report"))  # who and what the first page names, the paper
+        editor.tabs.setCurrentIndex(tabs.index(tr("Report")))  # who and what the first page names, the paper
         for key, value in (("report.client", "China Railway Wuhan Group"), ("report.operator", "Li Wei"),
                            ("report.trolley", "GRP 5000 no. 117"), ("report.trolley_calibrated", "2026-03-14"),
                            ("report.imu_calibrated", "2026-13-02")):
@@ -127,7 +131,7 @@ def main(project: str, raw_gnss_project: str | None = None, track_only: bool = F
         place(wizard, size, fill=False)
         wizard.name.setText("New line section")
         wizard.folder.setText(str(Path(settings_folder) / "new project"))
-        while wizard.currentPage().title() != "Trolley geometry":
+        while wizard.currentPage().title() != tr("Trolley geometry"):
             wizard.next()
         wizard.next()  # every lever arm still 0 m: the page says so and waits for a confirmation
         camera.save(wizard, "wizard")

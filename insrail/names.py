@@ -19,14 +19,79 @@ channels, predicted-accuracy figures) never reach a user: a shell asks this modu
 Units are those displayed at the reporting edge: lengths in mm or m, ratios (gauge change rates)
 in per mille (‰). A lookup of an id this module does not know raises :class:`UnknownName`, never
 returns the id: a new column or quantity gets its name here before it is shown.
+
+Languages (:data:`LANGUAGES`): every wording of this module and every text the reports and exports
+print is written in English, in the code, and passed through :func:`t`, which gives it in the
+language in use; the other languages' tables map the English wording to theirs (Simplified Chinese:
+:data:`insrail.names_zh.ZH_CN`, with the field's standard terms: 轨距, 水平, 轨向, 高低, 扭曲, 里程 ...).
+Adding a text is one entry there; ``tests/test_languages.py`` fails on a text without one. A
+template's fields (``"{chord_m:g} m versine"``) are filled after translation. The language in use is
+the report's (``[report] language`` of project.toml, :func:`in_language` while a report is written)
+or, outside one, the process's (:func:`set_language`: the desktop application's).
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from typing import Protocol
+
+# --------------------------------------------------------------------------- languages
+
+#: The languages of the reports and the application (project.toml ``[report] language``), each in its own words.
+LANGUAGES = {"en": "English", "zh-CN": "简体中文 (Simplified Chinese)"}
+DEFAULT_LANGUAGE = "en"
+_process_language = DEFAULT_LANGUAGE
+_report_language: contextvars.ContextVar[str | None] = contextvars.ContextVar("insrail_language", default=None)
+
+
+def language() -> str:
+    """The language texts are given in now (module docstring)."""
+    return _report_language.get() or _process_language
+
+
+def set_language(code: str) -> None:
+    """The process's language (the desktop application's, from the locale or the preferences)."""
+    global _process_language
+    _process_language = code if code in LANGUAGES else DEFAULT_LANGUAGE
+
+
+@contextlib.contextmanager
+def in_language(code: str) -> Iterator[None]:
+    """Texts in ``code`` in this thread while the block runs (a report in its project's language)."""
+    token = _report_language.set(code)
+    try:
+        yield
+    finally:
+        _report_language.reset(token)
+
+
+def language_of_locale(name: str) -> str:
+    """The language for a locale name ("zh_CN", "zh-Hans-CN", "en_US"): Chinese for any Chinese locale."""
+    return "zh-CN" if name.lower().startswith("zh") else DEFAULT_LANGUAGE
+
+
+def _table(code: str) -> dict[str, str]:
+    from insrail.names_zh import ZH_CN  # one module per language; English is the code's own wording
+
+    return {"zh-CN": ZH_CN}[code]
+
+
+def t(text: str) -> str:
+    """``text`` (English, as written in the code) in the language in use; a text the language's table
+    lacks stays English (the tests name it; a report is never refused for a missing word)."""
+    code = language()
+    if code == DEFAULT_LANGUAGE or not text:
+        return text
+    return _table(code).get(text, text)
+
+
+def joined(parts: Iterable[str]) -> str:
+    """Parts of a name joined as the language lists them ("left rail, lateral"; "左轨，横向")."""
+    return ("，" if language() == "zh-CN" else ", ").join(p for p in parts if p)
 
 FOOT_M = 0.3048
 PER_MILLE = "‰"
@@ -46,6 +111,11 @@ class Name:
 
     name: str
     unit: str = ""
+
+    @property
+    def translated(self) -> Name:
+        """This name in the language in use (the tables hold the English wording)."""
+        return Name(t(self.name), self.unit)
 
     @property
     def with_unit(self) -> str:
@@ -109,10 +179,10 @@ def _fields(check: CheckLike) -> dict[str, object]:
     def feet(value):
         return round(value / FOOT_M, 1) if value is not None else None
 
-    base = "sleeper to sleeper" if check.base_m is None else f"{check.base_m:g} m"
+    base = t("sleeper to sleeper") if check.base_m is None else f"{check.base_m:g} m"
     return {"chord_m": check.chord_m, "pair_m": check.pair_m, "back_m": check.back_m, "base_m": check.base_m,
             "chord_ft": feet(check.chord_m), "base_ft": feet(check.base_m), "band": check.band, "base": base,
-            "twist_of": "" if check.relative_to_design else " of the measured cant"}
+            "twist_of": "" if check.relative_to_design else t(" of the measured cant")}
 
 
 def check_name(check: CheckLike) -> str:
@@ -122,7 +192,7 @@ def check_name(check: CheckLike) -> str:
         if check.kind not in KIND_NAMES:
             raise UnknownName(check.kind, "check kind")
         wording = KIND_NAMES[check.kind]
-    return wording.format(**_fields(check))
+    return t(wording).format(**_fields(check))
 
 
 #: Check kinds whose values are neither lengths nor ratios.
@@ -140,13 +210,15 @@ def rail_direction(rail: str, direction: str) -> str:
         parts = (RAIL_NAMES[rail], DIRECTION_NAMES[direction])
     except KeyError as error:
         raise UnknownName(error.args[0], "rail or direction") from None
-    return ", ".join(p for p in parts if p)
+    if all(parts):  # a language may have one word for both: 左轨向 (left rail, lateral), 右高低 (right, vertical)
+        return t(", ".join(parts))
+    return joined(t(p) for p in parts)
 
 
 def channel_name(check: CheckLike, rail: str, direction: str) -> str:
     """One channel of a check: "30 m / 5 m short wave, left rail, lateral"; "Cross level"."""
     detail = rail_direction(rail, direction)
-    return f"{check_name(check)}, {detail}" if detail else check_name(check)
+    return joined((check_name(check), detail))
 
 
 # --------------------------------------------------------------------------- sleepers.csv columns
@@ -208,9 +280,9 @@ def column_name(key: str, checks: Iterable[CheckLike] = ()) -> Name:
     """The display name of a sleepers.csv column; ``checks`` (a profile's checks) name the
     ``check_<check>[_<rail>][_<direction>]_<unit>`` channel columns."""
     if key in COLUMN_NAMES:
-        return COLUMN_NAMES[key]
+        return COLUMN_NAMES[key].translated
     if key.startswith("source_"):  # a joined line section: the run's weight in the row (insrail.project.section)
-        return Name(f"Share of run {key.removeprefix('source_')}")
+        return Name(t("Share of run {survey}").format(survey=key.removeprefix("source_")))
     if key.startswith("check_"):
         # the longest check id first: "twist_3m" must not claim the columns of a check "twist_3m_design"
         for check in sorted(checks, key=lambda c: -len(c.name)):
@@ -250,7 +322,7 @@ QUANTITY_NAMES: dict[str, Name] = {
 def quantity_name(key: str) -> Name:
     """The display name of a quantity that is not a sleepers.csv column (TQI channel, quality figure)."""
     try:
-        return QUANTITY_NAMES[key]
+        return QUANTITY_NAMES[key].translated
     except KeyError:
         raise UnknownName(key, "quantity") from None
 
@@ -317,6 +389,7 @@ SETTING_NAMES = {
     "report.imu": "IMU (make, model, serial number)",
     "report.imu_calibrated": "IMU calibrated on",
     "report.paper": "Paper (landscape)",
+    "report.language": "Language of the reports",
     "track.design": "Design alignment",
     "track.start_station_m": "Start station",
     "track.first_sleeper_number": "First sleeper number",
@@ -336,12 +409,12 @@ def setting_name(key: str) -> str:
     """The words for a key path: its own label, else the nearest enclosing one's with the rest
     in words ("processing.use_nhc" -> "Processing: use nhc")."""
     if key in SETTING_NAMES:
-        return SETTING_NAMES[key]
+        return t(SETTING_NAMES[key])
     parts = key.split(".")
     for cut in range(len(parts) - 1, 0, -1):
         head = ".".join(parts[:cut])
-        if head in SETTING_NAMES:
-            return f"{SETTING_NAMES[head]}: {' '.join(parts[cut:]).replace('_', ' ')}"
+        if head in SETTING_NAMES:  # an unknown key's own words are its id's (a problem names what was written)
+            return f"{t(SETTING_NAMES[head])}: {' '.join(parts[cut:]).replace('_', ' ')}"
     return key.replace(".", ": ").replace("_", " ").capitalize()
 
 
@@ -349,7 +422,7 @@ def setting_name(key: str) -> str:
 
 #: The values of a setting chosen from a list, in words (the settings editor's and the wizard's lists, the
 #: properties panel). The shipped tolerance profiles, fastener types and IMU profiles are named by their own
-#: files' descriptions (:func:`resource_choice`); a file of one's own by its path.
+#: files' descriptions (:func:`resource_name`); a file of one's own by its path.
 CHOICE_NAMES: dict[str, dict[str, str]] = {
     "geodesy.crs.projection_height_convention": {
         "scale_factor": "Scale factor k × (1 + H0 / R)",
@@ -362,6 +435,7 @@ CHOICE_NAMES: dict[str, dict[str, str]] = {
         "quadratic": "Quadratic surface through the benchmarks",
     },
     "trolley.reference_rail": {"left": "Left rail", "right": "Right rail"},
+    "report.language": {"en": "English", "zh-CN": "Simplified Chinese"},
 }
 #: The settings that name a shipped resource (or a file of one's own), and the resources folder it is in.
 RESOURCE_SETTINGS = {"track.tolerance_profile": "tolerance_profiles", "track.fastener": "fastener_types",
@@ -371,14 +445,9 @@ RESOURCE_SETTINGS = {"track.tolerance_profile": "tolerance_profiles", "track.fas
 def choice_name(key: str, value: str) -> str:
     """A value of setting ``key`` chosen from its list, in words ("scale_factor" -> "Scale factor k × (1 + H0 / R)")."""
     try:
-        return CHOICE_NAMES[key][value]
+        return t(CHOICE_NAMES[key][value])
     except KeyError:
         raise UnknownName(f"{key} = {value}", "choice") from None
-
-
-def resource_choice(name: str, description: str) -> str:
-    """A shipped resource in a list: its file's own description, with its name where the file gives none."""
-    return description.strip() or name.replace("_", " ")
 
 
 # --------------------------------------------------------------------------- reports and exports
@@ -394,21 +463,25 @@ class DescribedLike(Protocol):
     description: str
 
 
-def _described(item: DescribedLike) -> str:
-    """The part of a description before its first colon ("WJ-7: lateral ..." -> "WJ-7"), else the whole."""
-    return item.description.split(":", 1)[0].strip()
+def resource_name(name: str, description: str = "", *, short: bool = False) -> str:
+    """A shipped resource (tolerance profile, fastener type, IMU profile) or a file of one's own, in the
+    language in use: its file's description (a list in the application), or with ``short`` the part of it
+    before its first colon as the reports name it ("WJ-7: lateral ..." -> "WJ-7", a shipped fastener type
+    by its standard name); a file without a description by its id in words."""
+    if short and name in FASTENER_NAMES:
+        return FASTENER_NAMES[name]
+    text = description.split(":", 1)[0] if short else description
+    return t(text.strip()) or name.replace("_", " ")
 
 
 def profile_name(profile: DescribedLike) -> str:
-    """A tolerance profile as the reports name it: its description ("High-speed ballastless track, static
-    acceptance (TB 10754-2018)"); a profile file without one by its id in words."""
-    return _described(profile) or profile.name.replace("_", " ")
+    """A tolerance profile as the reports name it ("High-speed ballastless track, static acceptance (TB
+    10754-2018)")."""
+    return resource_name(profile.name, profile.description, short=True)
 
 
 def fastener_name(fastener: DescribedLike | None, stored: str = "") -> str:
-    """A fastener type: "WJ-8" for the shipped ones, else its description's first part; ``stored``: the
-    id recorded in the results when the fastener file is not readable."""
-    key = fastener.name if fastener is not None else stored
-    if key in FASTENER_NAMES:
-        return FASTENER_NAMES[key]
-    return (_described(fastener) if fastener is not None else "") or key.replace("_", " ")
+    """A fastener type as the reports name it ("WJ-8"); ``stored``: the id recorded in the results when the
+    fastener file is not readable."""
+    return (resource_name(fastener.name, fastener.description, short=True) if fastener is not None
+            else resource_name(stored, short=True))

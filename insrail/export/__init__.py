@@ -13,7 +13,9 @@ recomputes geometry, and writes its file atomically:
 * ``csv``          per-sleeper coordinates of centreline and rails (:mod:`insrail.export.points`)
 
 Coordinates are easting, northing and normal height of the engineering CRS; lengths in the
-files are metres, amounts millimetres. Frames and signs as in :mod:`insrail.track`.
+files are metres, amounts millimetres. Frames and signs as in :mod:`insrail.track`. The texts for
+people (the notes of the lift/lining table, the drawing's labels) are in the project's report language
+(``[report] language``); the column names a machine reads are the same in every language.
 """
 
 from __future__ import annotations
@@ -51,7 +53,11 @@ def write_export(project, results, format_name: str, path: Path) -> Path:
     formats = export_formats()
     if format_name not in formats:
         raise ValueError(f"unknown export format {format_name!r} (expected {', '.join(formats)})")
-    content = formats[format_name].render(project, results)
+    from insrail.names import in_language
+    from insrail.project.run_settings import report_language
+
+    with in_language(report_language(project)):  # the texts for people; the column ids stay for the machines
+        content = formats[format_name].render(project, results)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     if isinstance(content, bytes):

@@ -26,7 +26,7 @@ import re
 
 import numpy as np
 
-from insrail.names import channel_name
+from insrail.names import channel_name, t
 from insrail.report.labels import amounts_text, deviation_reference
 from insrail.track.adjustment import load_fastener_type
 from insrail.track.tolerance import load_tolerance_profile
@@ -59,7 +59,7 @@ def _runs(valid: np.ndarray) -> list[tuple[int, int]]:
 
 def amount_text(lining_mm: float, lift_mm: float) -> str:
     """One rail's amounts as the drawing writes them: "lining +2 lift -1" (an amount of 0 left out)."""
-    return " ".join(f"{word} {value:+.0f}" for word, value in (("lining", lining_mm), ("lift", lift_mm))
+    return " ".join(f"{word} {value:+.0f}" for word, value in ((t("lining"), lining_mm), (t("lift"), lift_mm))
                     if np.isfinite(value) and round(value) != 0)
 
 
@@ -125,16 +125,18 @@ def dxf_document(project, results):
             (centre[middle] + [MARKER_RADIUS_M, MARKER_RADIUS_M, 0.0]).tolist())
     if valid.any():
         first = int(np.flatnonzero(valid)[0])
-        heights = "normal heights" if results.summary.get("heights", {}).get("model", "none").split()[0] != "none" \
-            else "ellipsoidal heights"
+        heights = (t("normal heights") if results.summary.get("heights", {}).get("model", "none").split()[0] != "none"
+                   else t("ellipsoidal heights"))
         try:
             fastener = load_fastener_type(project.resource(project.fastener))
         except ValueError:  # edited since processing: the amounts are in the results, the file only names it
             fastener = None
         for line, text in enumerate((
-                f"insrail: {project.name}, survey {results.survey}; {processed_crs_text(project, results.summary)}; {heights}; m",
+                t("insrail: {project}, survey {survey}; {crs}; {heights}; m").format(
+                    project=project.name, survey=results.survey, crs=processed_crs_text(project, results.summary),
+                    heights=heights),
                 f"{ADJUSTMENT_LAYER} [mm]: {amounts_text(results.summary, profile, fastener)}",
-                f"deviations (not drawn): {deviation_reference(results.summary)}")):
+                t("deviations (not drawn): {reference}").format(reference=deviation_reference(results.summary)))):
             space.add_text(text, height=2 * TEXT_HEIGHT_M, dxfattribs={"layer": INFO_LAYER}).set_placement(
                 (centre[first] + [2.0, 2.0 - 3 * TEXT_HEIGHT_M * line, 0.0]).tolist())
     return doc

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from insrail.io.errors import InputError
+from insrail.names import t
 from insrail.report.labels import amounts_text, deviation_reference
 from insrail.track.adjustment import load_fastener_type
 from insrail.track.tolerance import load_tolerance_profile
@@ -65,8 +66,8 @@ def reference_text(project, results) -> str:
     """What the deviations are taken against, from the results' summary."""
     design = results.summary.get("track", {}).get("design", "")
     if design:
-        return f"design alignment {design}"
-    return "the line fitted to the measured centreline (no design alignment; thesis eq. 5.24)"
+        return t("design alignment {design}").format(design=design)
+    return t("the line fitted to the measured centreline (no design alignment; thesis eq. 5.24)")
 
 
 def lift_lining_table(project, results) -> LiftLiningTable:
@@ -84,9 +85,10 @@ def lift_lining_table(project, results) -> LiftLiningTable:
         fastener = None
     metadata = {"project": project.name, "survey": results.survey,
                 "amounts": f"{', '.join(AMOUNT_COLUMNS)}: {amounts_text(results.summary, profile, fastener)}",
-                "deviations": f"{', '.join(DEVIATION_COLUMNS)}: {deviation_reference(results.summary)}, where the "
-                              "rail is (not an instruction)",
-                "reference": reference_text(project, results), "crs": processed_crs_text(project, results.summary), "convention": CONVENTION}
+                "deviations": t("{columns}: {reference}, where the rail is (not an instruction)").format(
+                    columns=", ".join(DEVIATION_COLUMNS), reference=deviation_reference(results.summary)),
+                "reference": reference_text(project, results), "crs": processed_crs_text(project, results.summary),
+                "convention": t(CONVENTION)}
     return LiftLiningTable(metadata, np.asarray(results.number), tuple(results.label), c["station_m"], valid,
                            pair("adjust_vertical_{rail}_mm"), pair("adjust_lateral_{rail}_mm"),
                            pair("vertical_deviation_{rail}_mm"), pair("lateral_deviation_{rail}_mm"),

@@ -17,12 +17,15 @@ def run(project: str | Path | None = None, argv: list[str] | None = None, screen
     from insrail.memory import tune_allocator
     from insrail.gui.main_window import MainWindow
     from insrail.gui.settings import APPLICATION, ORGANISATION, user_settings
+    from insrail.gui.translation import chosen_language, install_language
 
     tune_allocator()
     app = QApplication.instance() or QApplication(argv if argv is not None else sys.argv[:1])
     app.setOrganizationName(ORGANISATION)
     app.setApplicationName(APPLICATION)
-    window = MainWindow(user_settings())
+    settings = user_settings()
+    install_language(app, chosen_language(settings))  # before any window: its texts are translated when made
+    window = MainWindow(settings)
     window.show()
     if project is not None and not window.open_project(project):
         return 1

@@ -10,8 +10,9 @@ from functools import cache
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QComboBox
 
+from insrail.gui.translation import tr
 from insrail.io.errors import InputError
-from insrail.names import CHOICE_NAMES, RESOURCE_SETTINGS, choice_name, resource_choice
+from insrail.names import CHOICE_NAMES, RESOURCE_SETTINGS, choice_name, resource_name
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.track.adjustment import load_fastener_type
 from insrail.track.tolerance import load_tolerance_profile
@@ -31,12 +32,14 @@ def _description(folder: str, name: str) -> str:
 def value_text(key: str, value) -> str:
     """The words for a setting's value on screen: a listed value's name, a shipped resource's
     description, anything else as written."""
+    if isinstance(value, bool):  # a switch: "True" / "False" as the file writes it, in the application's language
+        return tr("True") if value else tr("False")
     text = str(value)
     if key in CHOICE_NAMES and text in CHOICE_NAMES[key]:
         return choice_name(key, text)
     if key in RESOURCE_SETTINGS:
         description = _description(RESOURCE_SETTINGS[key], text)
-        return resource_choice(text, description) if description else text
+        return resource_name(text, description) if description else text
     return text
 
 

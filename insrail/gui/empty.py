@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from PySide6.QtCore import Signal
 from PySide6.QtWidgets import QFrame, QHBoxLayout, QLabel, QPushButton
+from insrail.gui.translation import tr
 
 
 class Banner(QFrame):
@@ -36,14 +37,14 @@ class EmptyState(Banner):
 
     def show_no_project(self) -> None:
         self.survey = ""
-        self.message.setText("No project open. File > New project… creates one from raw files; "
-                             "File > Open project… opens a project.toml.")
+        self.message.setText(tr("No project open. File > New project… creates one from raw files; "
+                             "File > Open project… opens a project.toml."))
         self.process_button.hide()
         self.show()
 
     def show_loading(self, project: str) -> None:
         self.survey = ""
-        self.message.setText(f"Reading the results of {project}…")
+        self.message.setText(tr("Reading the results of {project}…").format(project=project))
         self.process_button.hide()
         self.show()
 
@@ -51,13 +52,13 @@ class EmptyState(Banner):
         """The survey shown has no results (None: the project has no survey at all)."""
         if survey is None:
             self.survey = ""
-            self.message.setText("This project has no survey yet: File > Import raw files… adds one.")
+            self.message.setText(tr("This project has no survey yet: File > Import raw files… adds one."))
             self.process_button.hide()
         else:
             self.survey = survey
-            self.message.setText(f"Survey {survey} has no results yet: the track, plan and navigation views "
-                                 "stay empty until it is processed.")
-            self.process_button.setText(f"Process {survey}")
+            self.message.setText(tr("Survey {survey} has no results yet: the track, plan and navigation views stay "
+                                    "empty until it is processed.").format(survey=survey))
+            self.process_button.setText(tr("Process {survey}").format(survey=survey))
             self.process_button.show()
         self.show()
 
@@ -71,8 +72,8 @@ class StaleReportsBanner(Banner):
     def __init__(self, parent=None):
         super().__init__("stale_reports", "#FDE7E7", parent)
         self.rewrite_button = self.button
-        self.rewrite_button.setToolTip("Write the out-of-date reports again, at their places, from the current "
-                                       "results")
+        self.rewrite_button.setToolTip(tr("Write the out-of-date reports again, at their places, from the current "
+                                       "results"))
         self.rewrite_button.clicked.connect(self.rewriteRequested)
         self.stale: list[str] = []
         self.hide()
@@ -84,10 +85,12 @@ class StaleReportsBanner(Banner):
             self.hide()
             return
         one = len(names) == 1
-        self.message.setText(f"⚠ The report{'' if one else 's'} {' and '.join(names)} of survey {survey} "
-                             f"{'was' if one else 'were'} written before the survey was processed again: "
-                             f"{'it describes' if one else 'they describe'} results that no longer exist.")
-        self.rewrite_button.setText(f"Write {'it' if one else 'them'} again")
+        self.message.setText("⚠ " + (tr("The report {names} of survey {survey} was written before the survey was "
+                                        "processed again: it describes results that no longer exist.") if one else
+                                     tr("The reports {names} of survey {survey} were written before the survey was "
+                                        "processed again: they describe results that no longer exist.")).format(
+            names=tr(" and ").join(names), survey=survey))
+        self.rewrite_button.setText(tr("Write it again") if one else tr("Write them again"))
         self.show()
 
 
@@ -110,7 +113,8 @@ class ResultsOlderThanEventsBanner(Banner):
         if not survey:
             self.hide()
             return
-        self.message.setText(f"⚠ Survey {survey} was processed before its events ({events_file}) changed: its "
-                             "results, plots and exceedances do not show them yet. Process it again.")
-        self.process_button.setText(f"Process {survey}")
+        self.message.setText("⚠ " + tr("Survey {survey} was processed before its events ({events}) changed: its "
+                                       "results, plots and exceedances do not show them yet. Process it again.").format(
+            survey=survey, events=events_file))
+        self.process_button.setText(tr("Process {survey}").format(survey=survey))
         self.show()

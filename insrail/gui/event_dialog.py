@@ -22,6 +22,7 @@ from insrail.io.events import EVENT_KINDS, Event, EventList, event_problems
 from insrail.project.event_marking import DEFAULT_EVENTS_FILE, mark_event
 from insrail.project.model import Project
 from insrail.track.events import KIND_NAMES
+from insrail.gui.translation import tr
 
 PROBLEM_STYLE = "color: #B00020;"
 
@@ -32,7 +33,7 @@ class EventDialog(QDialog):
 
     def __init__(self, project: Project, from_m: float, to_m: float, parent=None):
         super().__init__(parent)
-        self.setWindowTitle("Mark as track event")
+        self.setWindowTitle(tr("Mark as track event"))
         self.project = project
         self.events: EventList | None = None
         self.kind = QComboBox()
@@ -42,9 +43,9 @@ class EventDialog(QDialog):
         low, high = sorted((from_m, to_m))
         self.start = QLineEdit(f"{low:.3f}")
         self.end = QLineEdit(f"{high:.3f}")
-        self.end.setPlaceholderText("empty: a point (a joint, a note)")
+        self.end.setPlaceholderText(tr("empty: a point (a joint, a note)"))
         self.text = QLineEdit()
-        self.text.setPlaceholderText("optional: W12 No. 18 right-hand, LC 3, …")
+        self.text.setPlaceholderText(tr("optional: W12 No. 18 right-hand, LC 3, …"))
         self.problems = {name: QLabel() for name in ("kind", "from", "to", "text")}
         form = QFormLayout()
         for label, field, name in (("Kind", self.kind, "kind"), ("From station [m]", self.start, "from"),
@@ -65,7 +66,7 @@ class EventDialog(QDialog):
         self.general.setTextInteractionFlags(Qt.TextSelectableByMouse)
         self.general.hide()
         self.buttons = QDialogButtonBox(QDialogButtonBox.Ok | QDialogButtonBox.Cancel)
-        self.buttons.button(QDialogButtonBox.Ok).setText("Mark")
+        self.buttons.button(QDialogButtonBox.Ok).setText(tr("Mark"))
         self.buttons.accepted.connect(self.accept)
         self.buttons.rejected.connect(self.reject)
         layout = QVBoxLayout(self)

@@ -14,12 +14,14 @@ from insrail.names import setting_name
 from insrail.project import Project
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE, report_path
 from insrail.report.stale import REPORT_SUFFIXES, report_is_stale
+from insrail.gui.translation import tr
 
 ROLE = Qt.UserRole
 
 
-def flatten(settings: dict, prefix: str = "") -> list[tuple[str, str]]:
-    """Key paths and values of a nested settings table, as the TOML files name them."""
+def flatten(settings: dict, prefix: str = "") -> list[tuple[str, str | bool]]:
+    """Key paths and values of a nested settings table, as the TOML files name them (a switch stays a bool:
+    :func:`insrail.gui.choices.value_text` words it in the application's language)."""
     rows = []
     for key, value in settings.items():
         path = f"{prefix}{key}"
@@ -29,7 +31,8 @@ def flatten(settings: dict, prefix: str = "") -> list[tuple[str, str]]:
             for i, entry in enumerate(value):
                 rows += flatten(entry, f"{path}[{i}].")
         else:
-            rows.append((path, ", ".join(map(str, value)) if isinstance(value, list) else str(value)))
+            rows.append((path, ", ".join(map(str, value)) if isinstance(value, list)
+                         else value if isinstance(value, bool) else str(value)))
     return rows
 
 
@@ -46,7 +49,7 @@ class ProjectExplorer(QTreeWidget):
 
     def __init__(self, parent=None):
         super().__init__(parent)
-        self.setHeaderLabels(["Project"])
+        self.setHeaderLabels([tr("Project")])
         self.project: Project | None = None
         self.currentItemChanged.connect(lambda item, _old: self._describe(item))
         self.itemDoubleClicked.connect(self._activated)
@@ -59,8 +62,8 @@ class ProjectExplorer(QTreeWidget):
         if project is None:
             return
         root = self._item(self, project.name, ("project", None))
-        surveys = self._item(root, "Surveys", ("group", None))
-        results = self._item(root, "Results", ("group", None))
+        surveys = self._item(root, tr("Surveys"), ("group", None))
+        results = self._item(root, tr("Results"), ("group", None))
         for entry in project.surveys:
             survey = self._item(surveys, entry.name, ("survey", entry.name))
             try:
@@ -121,17 +124,18 @@ class ProjectExplorer(QTreeWidget):
         """(text, slot) of what can be done with an item."""
         kind, payload = item.data(0, ROLE)
         if kind == "survey":
-            return [(f"Process {payload}", lambda: self.processRequested.emit(payload))]
+            return [(tr("Process {survey}").format(survey=payload), lambda: self.processRequested.emit(payload))]
         if kind == "results":
-            actions = [(f"Show results of {payload}", lambda: self.resultsActivated.emit(payload)),
-                       (f"Process {payload} again", lambda: self.processRequested.emit(payload))]
+            actions = [(tr("Show results of {survey}").format(survey=payload), lambda: self.resultsActivated.emit(payload)),
+                       (tr("Process {survey} again").format(survey=payload),
+                        lambda: self.processRequested.emit(payload))]
             stale = [item.child(k) for k in range(item.childCount()) if item.child(k).text(0).startswith("⚠")]
             if stale:
-                actions.append((f"Write the out-of-date reports of {payload} again",
+                actions.append((tr("Write the out-of-date reports of {survey} again").format(survey=payload),
                                 lambda: self.rewriteRequested.emit(payload)))
             return actions
         if kind == "report" and item.text(0).startswith("⚠"):
-            return [("Write the out-of-date reports again", lambda: self.rewriteRequested.emit(payload[0]))]
+            return [(tr("Write the out-of-date reports again"), lambda: self.rewriteRequested.emit(payload[0]))]
         return []
 
     def _context_menu(self, position) -> None:
@@ -157,37 +161,37 @@ class ProjectExplorer(QTreeWidget):
         kind, payload = item.data(0, ROLE)
         project = self.project
         if kind == "project":
-            rows = [("folder", str(project.folder.resolve())), ("coordinate system", project.crs.describe())]
+            rows = [(tr("folder"), str(project.folder.resolve())), (tr("coordinate system"), project.crs.describe())]
             rows += rows_in_words(flatten(project.to_settings()))
         elif kind == "survey":
             folder = project.resolve(project.survey(payload).folder)
-            rows = [("folder", str(folder.resolve()))]
+            rows = [(tr("folder"), str(folder.resolve()))]
             try:
                 rows += rows_in_words(flatten(read_toml(folder / MANIFEST_NAME)))
             except (OSError, ValueError) as error:
-                rows.append(("problem", str(error)))
+                rows.append((tr("problem"), str(error)))
         elif kind == "file":
             survey, role = payload
             folder = project.resolve(project.survey(survey).folder)
             file = project.manifest(survey).files[role]
             path = folder / file.path
-            rows = [("role", role), ("path", str(path.resolve())), ("format", file.format),
-                    ("size", f"{path.stat().st_size / 1e6:.2f} MB" if path.is_file() else "missing")]
-            rows += [(f"option {k}", str(v)) for k, v in file.options.items()]
+            rows = [(tr("role"), role), (tr("path"), str(path.resolve())), (tr("format"), file.format),
+                    (tr("size"), f"{path.stat().st_size / 1e6:.2f} MB" if path.is_file() else tr("missing"))]
+            rows += [(tr("option {name}").format(name=k), str(v)) for k, v in file.options.items()]
         elif kind == "gnss_raw":
             raw = project.manifest(payload).raw_gnss
             rows = rows_in_words(flatten({"gnss_raw": raw.to_settings()}))
         elif kind == "results":
             summary = project.folder / RESULTS_FOLDER / payload / SUMMARY_FILE
-            rows = [("folder", str(summary.parent.resolve()))] + rows_in_words(flatten(read_toml(summary)))
+            rows = [(tr("folder"), str(summary.parent.resolve()))] + rows_in_words(flatten(read_toml(summary)))
         elif kind == "report":
             survey, path = payload
             stale = report_is_stale(path, project.folder, survey)
-            rows = [("file", str(path.resolve())),
-                    ("state", "older than the results: written before the survey was processed again" if stale
-                     else "written from the current results")]
+            rows = [(tr("file"), str(path.resolve())),
+                    (tr("state"), tr("older than the results: written before the survey was processed again") if stale
+                     else tr("written from the current results"))]
         elif kind == "error":
-            rows = [("problem", payload)]
+            rows = [(tr("problem"), payload)]
         else:
             rows = []
         self.propertiesChanged.emit(rows)
@@ -206,7 +210,7 @@ def rows_in_words(rows: list[tuple[str, str]]) -> list[tuple[str, str]]:
 class PropertiesPanel(QTreeWidget):
     def __init__(self, parent=None):
         super().__init__(parent)
-        self.setHeaderLabels(["Property", "Value"])
+        self.setHeaderLabels([tr("Property"), tr("Value")])
         self.setRootIsDecorated(False)
         self.setColumnWidth(0, 170)
         self.setWordWrap(True)

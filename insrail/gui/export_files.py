@@ -17,23 +17,24 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress
 from insrail.project.results import report_path
 from insrail.report import write_pdf, write_workbook
 from insrail.report.stale import stale_reports
+from insrail.gui.translation import tr, tr_noop
 
 #: report kind (its suffix) -> (what it is, writer, file dialog filter)
-REPORTS = {"xlsx": ("Excel workbook", write_workbook, "Excel workbook (*.xlsx)"),
-           "pdf": ("PDF report", write_pdf, "PDF report (*.pdf)")}
+REPORTS = {"xlsx": (tr_noop("Excel workbook"), write_workbook, tr_noop("Excel workbook (*.xlsx)")),
+           "pdf": (tr_noop("PDF report"), write_pdf, tr_noop("PDF report (*.pdf)"))}
 #: export format -> (menu text, file filter)
-MENU = {"lift-lining": ("&Lift/lining table…", "Lift/lining table (*.csv)"),
-        "dxf": ("&DXF drawing…", "DXF drawing (*.dxf)"),
-        "landxml": ("Measured lines as &LandXML…", "LandXML (*.xml)"),
-        "csv": ("Sleeper &coordinates…", "CSV (*.csv)")}
+MENU = {"lift-lining": (tr_noop("&Lift/lining table…"), tr_noop("Lift/lining table (*.csv)")),
+        "dxf": (tr_noop("&DXF drawing…"), tr_noop("DXF drawing (*.dxf)")),
+        "landxml": (tr_noop("Measured lines as &LandXML…"), tr_noop("LandXML (*.xml)")),
+        "csv": (tr_noop("Sleeper &coordinates…"), tr_noop("CSV (*.csv)"))}
 
 
 def make_export_actions(window) -> list[QAction]:
     """The actions of File > Export for every export format (enabled like the report exports)."""
     actions = []
     for name, (text, _filter) in MENU.items():
-        action = QAction(text, window)
-        action.setStatusTip(f"Export the survey shown: {export_formats()[name].description}")
+        action = QAction(tr(text), window)
+        action.setStatusTip(tr("Export the survey shown: {what}").format(what=export_formats()[name].description))
         action.triggered.connect(lambda _checked=False, name=name: export_file(window, name))
         actions.append(action)
     return actions
@@ -77,6 +78,7 @@ def export_report(window, kind: str, path: str | Path | None = None):
         return None
     survey, stored, project = window.shown_survey, window.results[window.shown_survey], window.project
     what, writer, file_filter = REPORTS[kind]
+    what, file_filter = tr(what), tr(file_filter)
     path = _chosen_path(window, what, report_path(project.folder, survey, kind), file_filter, kind, path)
     if path is None:
         return None

@@ -47,6 +47,7 @@ from insrail.io.survey import (
     write_manifest,
 )
 from insrail.resources import resources_dir
+from insrail.gui.translation import tr
 
 PREVIEW_LINES = 12
 _ROLE_OF_TYPE = {data_type: role for role, data_type in ROLE_TYPES.items()}
@@ -91,10 +92,10 @@ class ImportWidget(QWidget):
     def __init__(self, parent=None):
         super().__init__(parent)
         self.name = QLineEdit()
-        self.name.setPlaceholderText("letters, digits, '.', '_' or '-'")
+        self.name.setPlaceholderText(tr("letters, digits, '.', '_' or '-'"))
         self.gps_week = QSpinBox()
         self.gps_week.setRange(0, 9999)
-        self.gps_week.setSpecialValueText("from the files")
+        self.gps_week.setSpecialValueText(tr("from the files"))
         self.imu_profile = QComboBox()
         fill(self.imu_profile, "processing.imu_profile", shipped_names("imu_profiles"))
         choose(self.imu_profile, "nav")
@@ -114,32 +115,32 @@ class ImportWidget(QWidget):
         self.problems.setEditTriggers(QAbstractItemView.NoEditTriggers)
         self.folder_trolley: TrolleyGeometry | None = None  # from a survey.toml that was opened
 
-        add = QPushButton("Add files…")
+        add = QPushButton(tr("Add files…"))
         add.clicked.connect(self._browse_files)
-        open_folder = QPushButton("Open survey folder…")
+        open_folder = QPushButton(tr("Open survey folder…"))
         open_folder.clicked.connect(self._browse_folder)
-        remove = QPushButton("Remove")
+        remove = QPushButton(tr("Remove"))
         remove.clicked.connect(self._remove_selected)
-        check = QPushButton("Check files")
+        check = QPushButton(tr("Check files"))
         check.clicked.connect(self.check)
         buttons = QHBoxLayout()
         for button in (add, open_folder, remove, check):
             buttons.addWidget(button)
         buttons.addStretch(1)
         form = QFormLayout()
-        form.addRow("Survey name", self.name)
-        form.addRow("GPS week", self.gps_week)
-        form.addRow("IMU profile", self.imu_profile)
+        form.addRow(tr("Survey name"), self.name)
+        form.addRow(tr("GPS week"), self.gps_week)
+        form.addRow(tr("IMU profile"), self.imu_profile)
         lower = QSplitter(Qt.Horizontal)
         preview_box = QWidget()
         preview_layout = QVBoxLayout(preview_box)
         preview_layout.setContentsMargins(0, 0, 0, 0)
-        preview_layout.addWidget(QLabel("First rows of the selected file"))
+        preview_layout.addWidget(QLabel(tr("First rows of the selected file")))
         preview_layout.addWidget(self.preview)
         problems_box = QWidget()
         problems_layout = QVBoxLayout(problems_box)
         problems_layout.setContentsMargins(0, 0, 0, 0)
-        problems_layout.addWidget(QLabel("Problems found by the readers"))
+        problems_layout.addWidget(QLabel(tr("Problems found by the readers")))
         problems_layout.addWidget(self.problems)
         lower.addWidget(preview_box)
         lower.addWidget(problems_box)
@@ -329,13 +330,13 @@ class ImportDialog(QDialog):
         folder's own, else ``fallback`` (an existing survey's) is written to survey.toml."""
         super().__init__(parent)
         self.fallback = fallback
-        self.setWindowTitle("Import raw files as a survey")
+        self.setWindowTitle(tr("Import raw files as a survey"))
         self.resize(900, 640)
         self.trolley = trolley
         self.widget = ImportWidget()
         self.folder: Path | None = None
         buttons = QDialogButtonBox(QDialogButtonBox.Ok | QDialogButtonBox.Cancel)
-        buttons.button(QDialogButtonBox.Ok).setText("Import")
+        buttons.button(QDialogButtonBox.Ok).setText(tr("Import"))
         buttons.accepted.connect(self.accept)
         buttons.rejected.connect(self.reject)
         layout = QVBoxLayout(self)

@@ -68,6 +68,8 @@ from insrail.project.run_settings import settings_change_lines
 from insrail.report.stale import stale_reports
 from insrail.track.events import KIND_NAMES
 from insrail.track.tolerance import load_tolerance_profile
+from insrail.gui.preferences import PreferencesDialog
+from insrail.gui.translation import tr
 
 PROGRESS_STEPS = 1000
 #: The first window's size (without saved geometry) where the screen has room for it [px].
@@ -85,7 +87,7 @@ class MainWindow(QMainWindow):
         self.modified = False
         self.worker: CoreWorker | None = None  # one core job at a time: processing, export or PPK
         self.job_failure_title = ""
-        self.done_message = "Ready"  # the status bar's text when the job ends
+        self.done_message = tr("Ready")  # the status bar's text when the job ends
         self.shown_survey: str | None = None
         self.results: dict[str, StoredResults] = {}
         self.wizard: NewProjectWizard | None = None
@@ -106,8 +108,8 @@ class MainWindow(QMainWindow):
         self.gnss.surveyChosen.connect(self.show_gnss)
         self.tabs = QTabWidget()
         self.tabs.setDocumentMode(True)
-        for view, title in ((self.track, "Track"), (self.plan, "Plan"), (self.navigation, "Navigation"),
-                            (self.repeatability, "Repeatability"), (self.gnss, "GNSS")):
+        for view, title in ((self.track, tr("Track")), (self.plan, tr("Plan")), (self.navigation, tr("Navigation")),
+                            (self.repeatability, tr("Repeatability")), (self.gnss, tr("GNSS"))):
             self.tabs.addTab(view, title)
         self.tabs.setTabVisible(self.tabs.indexOf(self.gnss), False)  # for surveys with raw GNSS only
         self.empty_state = EmptyState()
@@ -136,20 +138,20 @@ class MainWindow(QMainWindow):
         self.explorer.surveyActivated.connect(self.show_results)
         self.explorer.processRequested.connect(lambda name: self.process([name]))
         self.explorer.rewriteRequested.connect(self.rewrite_reports)
-        self._dock("explorer", "Project", self.explorer, Qt.LeftDockWidgetArea)
-        self._dock("properties", "Properties", self.properties, Qt.LeftDockWidgetArea)
-        self._dock("log", "Log", self.log, Qt.BottomDockWidgetArea)
+        self._dock("explorer", tr("Project"), self.explorer, Qt.LeftDockWidgetArea)
+        self._dock("properties", tr("Properties"), self.properties, Qt.LeftDockWidgetArea)
+        self._dock("log", tr("Log"), self.log, Qt.BottomDockWidgetArea)
 
-        self.status = QLabel("Ready")
+        self.status = QLabel(tr("Ready"))
         self.progress = QProgressBar()
         self.progress.setRange(0, PROGRESS_STEPS)
         self.progress.setMaximumWidth(260)
         self.progress.hide()
-        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button = QPushButton(tr("Cancel"))
         self.cancel_button.clicked.connect(self.cancel_processing)
         self.cancel_button.hide()
-        self.open_folder_button = QPushButton("Open folder")
-        self.open_folder_button.setToolTip("Open the folder of the exported report")
+        self.open_folder_button = QPushButton(tr("Open folder"))
+        self.open_folder_button.setToolTip(tr("Open the folder of the exported report"))
         self.open_folder_button.clicked.connect(self.open_export_folder)
         self.open_folder_button.hide()
         self.statusBar().addWidget(self.status, 1)
@@ -204,36 +206,36 @@ class MainWindow(QMainWindow):
         return action
 
     def _make_actions(self) -> None:
-        self.new_action = self._action("&New project…", self.new_project, QKeySequence.New,
-                                       "Create a project with the wizard")
-        self.open_action = self._action("&Open project…", self.open_project, QKeySequence.Open)
-        self.save_action = self._action("&Save project", self.save_project, QKeySequence.Save)
-        self.import_action = self._action("&Import raw files…", self.import_survey, "Ctrl+I",
-                                          "Add a survey from raw files")
-        self.process_action = self._action("&Process", self.process, "F5", "Process every survey of the project")
-        self.ppk_action = self._action("Post-process &GNSS", self.post_process_gnss, "F6",
-                                       "Run the PPK stage (RTKLIB) of the survey on the GNSS page")
-        self.cancel_action = self._action("&Cancel", self.cancel_processing, "Esc",
-                                          "Stop the running job (processing, export, GNSS)")
-        self.export_xlsx_action = self._action("&Excel workbook…", lambda: self.export_report("xlsx"), "Ctrl+E",
-                                               "Export the crews' Excel workbook of the survey shown")
-        self.export_xlsx_action.setIconText("Export Excel")
-        self.export_pdf_action = self._action("&PDF report…", lambda: self.export_report("pdf"), "Ctrl+Shift+E",
-                                              "Export the PDF survey report of the survey shown")
-        self.export_pdf_action.setIconText("Export PDF")
+        self.new_action = self._action(tr("&New project…"), self.new_project, QKeySequence.New,
+                                       tr("Create a project with the wizard"))
+        self.open_action = self._action(tr("&Open project…"), self.open_project, QKeySequence.Open)
+        self.save_action = self._action(tr("&Save project"), self.save_project, QKeySequence.Save)
+        self.import_action = self._action(tr("&Import raw files…"), self.import_survey, "Ctrl+I",
+                                          tr("Add a survey from raw files"))
+        self.process_action = self._action(tr("&Process"), self.process, "F5", tr("Process every survey of the project"))
+        self.ppk_action = self._action(tr("Post-process &GNSS"), self.post_process_gnss, "F6",
+                                       tr("Run the PPK stage (RTKLIB) of the survey on the GNSS page"))
+        self.cancel_action = self._action(tr("&Cancel"), self.cancel_processing, "Esc",
+                                          tr("Stop the running job (processing, export, GNSS)"))
+        self.export_xlsx_action = self._action(tr("&Excel workbook…"), lambda: self.export_report("xlsx"), "Ctrl+E",
+                                               tr("Export the crews' Excel workbook of the survey shown"))
+        self.export_xlsx_action.setIconText(tr("Export Excel"))
+        self.export_pdf_action = self._action(tr("&PDF report…"), lambda: self.export_report("pdf"), "Ctrl+Shift+E",
+                                              tr("Export the PDF survey report of the survey shown"))
+        self.export_pdf_action.setIconText(tr("Export PDF"))
         self.export_file_actions = make_export_actions(self)  # lift/lining, DXF, LandXML, coordinates
-        self.plan_survey_action = self._action("&Plan survey…", self.plan_survey, "Ctrl+Shift+P",
-                                               "Predict the accuracy of a planned survey (IMU, GNSS, speed, aiding)")
-        self.quit_action = self._action("&Quit", self.close, QKeySequence.Quit)
+        self.plan_survey_action = self._action(tr("&Plan survey…"), self.plan_survey, "Ctrl+Shift+P",
+                                               tr("Predict the accuracy of a planned survey (IMU, GNSS, speed, aiding)"))
+        self.quit_action = self._action(tr("&Quit"), self.close, QKeySequence.Quit)
         self.cancel_action.setEnabled(False)
-        file_menu = self.menuBar().addMenu("&File")
+        file_menu = self.menuBar().addMenu(tr("&File"))
         for action in (self.new_action, self.open_action):
             file_menu.addAction(action)
-        self.recent_menu = file_menu.addMenu("Open &recent")
+        self.recent_menu = file_menu.addMenu(tr("Open &recent"))
         file_menu.addAction(self.save_action)
         file_menu.addSeparator()
         file_menu.addAction(self.import_action)
-        export_menu = file_menu.addMenu("&Export")
+        export_menu = file_menu.addMenu(tr("&Export"))
         export_menu.addAction(self.export_xlsx_action)
         export_menu.addAction(self.export_pdf_action)
         export_menu.addSeparator()
@@ -241,19 +243,19 @@ class MainWindow(QMainWindow):
         file_menu.addSeparator()
         file_menu.addAction(self.quit_action)
         self._make_edit_menu()
-        run_menu = self.menuBar().addMenu("&Run")
+        run_menu = self.menuBar().addMenu(tr("&Run"))
         run_menu.addAction(self.process_action)
         run_menu.addAction(self.ppk_action)
         run_menu.addAction(self.cancel_action)
-        tools_menu = self.menuBar().addMenu("&Tools")
+        tools_menu = self.menuBar().addMenu(tr("&Tools"))
         tools_menu.addAction(self.plan_survey_action)
-        view_menu = self.menuBar().addMenu("&View")
+        view_menu = self.menuBar().addMenu(tr("&View"))
         for dock in self.findChildren(QDockWidget):
             view_menu.addAction(dock.toggleViewAction())
-        help_menu = self.menuBar().addMenu("&Help")
-        self.about_action = self._action("&About insrail", self.about)
+        help_menu = self.menuBar().addMenu(tr("&Help"))
+        self.about_action = self._action(tr("&About insrail"), self.about)
         help_menu.addAction(self.about_action)
-        toolbar = self.addToolBar("Main")
+        toolbar = self.addToolBar(tr("Main"))
         toolbar.setObjectName("main_toolbar")
         for action in (self.new_action, self.open_action, self.save_action, self.import_action, self.process_action,
                        self.cancel_action, None, self.export_xlsx_action, self.export_pdf_action, None,
@@ -267,18 +269,26 @@ class MainWindow(QMainWindow):
         self._enable_project_actions()
 
     def _make_edit_menu(self) -> None:
-        self.settings_action = self._action("Project &settings…", self.edit_settings, "Ctrl+,",
-                                            "Edit the project's settings (coordinate system, trolley, processing, "
-                                            "assessment)")
-        self.undo_action = self.undo_group.createUndoAction(self, "&Undo")
+        self.settings_action = self._action(tr("Project &settings…"), self.edit_settings, "Ctrl+,",
+                                            tr("Edit the project's settings (coordinate system, trolley, processing, "
+                                            "assessment)"))
+        self.undo_action = self.undo_group.createUndoAction(self, tr("&Undo"))
         self.undo_action.setShortcut(QKeySequence.Undo)
-        self.redo_action = self.undo_group.createRedoAction(self, "&Redo")
+        self.redo_action = self.undo_group.createRedoAction(self, tr("&Redo"))
         self.redo_action.setShortcut(QKeySequence.Redo)
-        edit_menu = self.menuBar().addMenu("&Edit")
+        edit_menu = self.menuBar().addMenu(tr("&Edit"))
         for action in (self.undo_action, self.redo_action):
             edit_menu.addAction(action)
         edit_menu.addSeparator()
         edit_menu.addAction(self.settings_action)
+        self.preferences_action = self._action(tr("&Preferences…"), self.edit_preferences, QKeySequence.Preferences,
+                                               tr("The application's language"))
+        edit_menu.addAction(self.preferences_action)
+
+    def edit_preferences(self) -> PreferencesDialog:
+        dialog = PreferencesDialog(self.settings, self)
+        dialog.open()
+        return dialog
 
     def edit_settings(self) -> SettingsEditor | None:
         """The settings editor of the open project (not modal; one at a time)."""
@@ -321,7 +331,7 @@ class MainWindow(QMainWindow):
 
     def _update_title(self) -> None:
         if self.project is None:
-            self.setWindowTitle("no project — insrail")
+            self.setWindowTitle(tr("no project — insrail"))
             return
         self.setWindowTitle(f"{self.project.name}{' *' if self.modified else ''} — "
                             f"{self.project.folder.resolve()} — insrail")
@@ -332,7 +342,7 @@ class MainWindow(QMainWindow):
         """True when it is fine to drop the current project (saved, discarded, or nothing to lose)."""
         if not self.modified or self.project is None:
             return True
-        answer = QMessageBox.question(self, "Unsaved changes", f"Save the changes to {self.project.name}?",
+        answer = QMessageBox.question(self, tr("Unsaved changes"), tr("Save the changes to {project}?").format(project=self.project.name),
                                       QMessageBox.Save | QMessageBox.Discard | QMessageBox.Cancel, QMessageBox.Save)
         if answer == QMessageBox.Save:
             return self.save_project()
@@ -351,13 +361,13 @@ class MainWindow(QMainWindow):
         if not self.maybe_save():
             return False
         if path is None:
-            path, _ = QFileDialog.getOpenFileName(self, "Open project", filter="insrail project (project.toml)")
+            path, _ = QFileDialog.getOpenFileName(self, tr("Open project"), filter=tr("insrail project (project.toml)"))
             if not path:
                 return False
         try:
             project = load_project(path)
         except InputError as error:
-            self._warn("Cannot open the project", str(error))
+            self._warn(tr("Cannot open the project"), str(error))
             return False
         self.set_project(project)
         return True
@@ -392,7 +402,7 @@ class MainWindow(QMainWindow):
         try:
             save_project(self.project)
         except OSError as error:
-            QMessageBox.warning(self, "Cannot save the project", str(error))
+            QMessageBox.warning(self, tr("Cannot save the project"), str(error))
             return False
         self.modified = False
         self._update_title()
@@ -422,7 +432,7 @@ class MainWindow(QMainWindow):
             updated = project_from_settings(document, project.folder, project.path)
         except ProjectError as error:
             self.log.error(str(error))
-            QMessageBox.warning(self, "Cannot add the survey", "\n".join(error.problems))
+            QMessageBox.warning(self, tr("Cannot add the survey"), "\n".join(error.problems))
             return False
         self.set_project(updated, modified=True)
         self.log.info(f"survey {name} imported from {folder.resolve()}")
@@ -439,7 +449,7 @@ class MainWindow(QMainWindow):
         worker = ProcessingWorker(self.project, names, self)
         worker.surveyDone.connect(self._survey_done)
         worker.cancelled.connect(self._processing_cancelled)
-        return self._start(worker, f"processing {', '.join(names)}", "Processing failed")
+        return self._start(worker, f"processing {', '.join(names)}", tr("Processing failed"))
 
     def _processing_cancelled(self) -> None:
         self.log.warning("processing cancelled; previous results kept")
@@ -448,7 +458,7 @@ class MainWindow(QMainWindow):
         """Run a core job with the status bar's progress and Cancel; one job at a time."""
         self.worker = worker
         self.job_failure_title = failure_title
-        self.done_message = "Ready"
+        self.done_message = tr("Ready")
         worker.progressed.connect(self._progressed)
         worker.failed.connect(self._failed)
         worker.finished.connect(self._worker_finished)
@@ -466,7 +476,7 @@ class MainWindow(QMainWindow):
         if self.worker is not None:
             self.worker.cancel()
             self.cancel_button.setEnabled(False)
-            self.status.setText("Cancelling…")
+            self.status.setText(tr("Cancelling…"))
 
     def _progressed(self, fraction: float, message: str) -> None:
         self.progress.setValue(round(fraction * PROGRESS_STEPS))
@@ -570,7 +580,7 @@ class MainWindow(QMainWindow):
             self.track.restore_state(pending)
             if isinstance(pending.get("tab"), int) and self.tabs.isTabVisible(pending["tab"]):
                 self.tabs.setCurrentIndex(pending["tab"])
-        self.status.setText(f"Showing survey {data.survey}")
+        self.status.setText(tr("Showing survey {survey}").format(survey=data.survey))
         self._show_stale_reports()
         self._enable_project_actions()
         if self.loader is not None:  # the trajectory is read once the track view is painted
@@ -671,7 +681,7 @@ class MainWindow(QMainWindow):
     def _exported(self, path: Path) -> None:
         self.exported = path
         self.log.info(f"written {path.resolve()}")
-        self.done_message = f"Written {path.name} in {path.parent.resolve()}"
+        self.done_message = tr("Written {name} in {folder}").format(name=path.name, folder=path.parent.resolve())
         self.open_folder_button.show()
 
     def _export_cancelled(self) -> None:
@@ -718,7 +728,7 @@ class MainWindow(QMainWindow):
         try:
             manifest = project.manifest(name)
         except InputError as error:
-            self._warn("GNSS post-processing failed", str(error))
+            self._warn(tr("GNSS post-processing failed"), str(error))
             return None
         cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
         worker = TaskWorker(f"survey {name}: GNSS", lambda progress, cancel: run_gnss_stage(
@@ -726,7 +736,7 @@ class MainWindow(QMainWindow):
         worker.succeeded.connect(self._gnss_done)
         worker.cancelled.connect(self._gnss_cancelled)
         self.tabs.setCurrentWidget(self.gnss)
-        return self._start(worker, f"post-processing the GNSS of {name}", "GNSS post-processing failed")
+        return self._start(worker, f"post-processing the GNSS of {name}", tr("GNSS post-processing failed"))
 
     def _gnss_done(self, stage: GnssStageResult) -> None:
         summary = stage.summary(self.project.fusion.gnss_quality_policy)
@@ -751,9 +761,8 @@ class MainWindow(QMainWindow):
         return self.plan_dialog
 
     def about(self) -> None:
-        QMessageBox.about(self, "About insrail", f"<b>insrail {__version__}</b><br>Inertial track-geometry "
-                                                 "trolley processing: GNSS/INS/odometer fusion, track geometry, "
-                                                 "reports.")
+        QMessageBox.about(self, tr("About insrail"), f"<b>insrail {__version__}</b><br>" + tr(
+            "Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports."))
 
     # ------------------------------------------------------------------ closing
 

@@ -52,6 +52,7 @@ from insrail.quality.tables import (
     prediction_heading,
     sweep_rows,
 )
+from insrail.gui.translation import tr
 
 NO_SWEEP = "none"
 PROGRESS_STEPS = 1000
@@ -105,7 +106,7 @@ class PlanSurveyDialog(QDialog):
     def __init__(self, parent=None):
         super().__init__(parent)
         plotstyle.configure()
-        self.setWindowTitle("Plan survey — predicted accuracy")
+        self.setWindowTitle(tr("Plan survey — predicted accuracy"))
         self.worker: TaskWorker | None = None
         self.result: Prediction | SweepTable | None = None
         self.running_inputs: PlanInputs | None = None
@@ -114,50 +115,50 @@ class PlanSurveyDialog(QDialog):
         self.imu = QComboBox()
         fill(self.imu, "processing.imu_profile", shipped_names("imu_profiles"))
         choose(self.imu, "nav")
-        self.imu.setToolTip("IMU profile from resources/imu_profiles (bias, random walks)")
+        self.imu.setToolTip(tr("IMU profile from resources/imu_profiles (bias, random walks)"))
         self.gnss_horizontal = spin_box(0.5, 500.0, 1, 10.0, " mm", 1.0)
         self.gnss_vertical = spin_box(0.5, 500.0, 1, 20.0, " mm", 1.0)
         for box in (self.gnss_horizontal, self.gnss_vertical):
-            box.setToolTip("white (epoch-to-epoch) GNSS sigma; the fusion adds its correlated part")
+            box.setToolTip(tr("white (epoch-to-epoch) GNSS sigma; the fusion adds its correlated part"))
         self.speed = spin_box(0.05, 20.0, 2, 1.0, " m/s", 0.25)
         self.length = spin_box(200.0, 100_000.0, 0, 1000.0, " m", 100.0)
-        self.length.setToolTip("track length after a 300 s static alignment (about 1.5 s of computing per km)")
+        self.length.setToolTip(tr("track length after a 300 s static alignment (about 1.5 s of computing per km)"))
         self.outage = spin_box(0.0, 3600.0, 0, 0.0, " s", 10.0)
-        self.outage.setSpecialValueText("none")
-        self.outage.setToolTip("a GNSS outage of this duration in the middle of the run")
+        self.outage.setSpecialValueText(tr("none"))
+        self.outage.setToolTip(tr("a GNSS outage of this duration in the middle of the run"))
         self.smoothed = QComboBox()
         self.smoothed.addItems(["smoothed (RTS)", "forward filter"])
-        self.odometer = QCheckBox("odometer")
-        self.nhc = QCheckBox("non-holonomic constraint (NHC)")
-        self.zupt = QCheckBox("zero-velocity updates at rest (ZUPT)")
+        self.odometer = QCheckBox(tr("odometer"))
+        self.nhc = QCheckBox(tr("non-holonomic constraint (NHC)"))
+        self.zupt = QCheckBox(tr("zero-velocity updates at rest (ZUPT)"))
         for box in (self.odometer, self.nhc, self.zupt):
             box.setChecked(True)
         self.sweep = QComboBox()
         self.sweep.addItems([NO_SWEEP, *SWEEP_VALUES])
-        self.sweep.setToolTip("vary one parameter from the baseline, like the thesis's chapter 3")
+        self.sweep.setToolTip(tr("vary one parameter from the baseline, like the thesis's chapter 3"))
         self.sweep_values = QLineEdit()
         self.sweep.currentTextChanged.connect(self._sweep_chosen)
 
         form = QFormLayout()
-        form.addRow("IMU profile", self.imu)
-        form.addRow("GNSS σ horizontal", self.gnss_horizontal)
-        form.addRow("GNSS σ vertical", self.gnss_vertical)
-        form.addRow("Speed", self.speed)
-        form.addRow("Track length", self.length)
-        form.addRow("GNSS outage mid-run", self.outage)
-        form.addRow("Solution", self.smoothed)
-        aiding = QGroupBox("Aiding")
+        form.addRow(tr("IMU profile"), self.imu)
+        form.addRow(tr("GNSS σ horizontal"), self.gnss_horizontal)
+        form.addRow(tr("GNSS σ vertical"), self.gnss_vertical)
+        form.addRow(tr("Speed"), self.speed)
+        form.addRow(tr("Track length"), self.length)
+        form.addRow(tr("GNSS outage mid-run"), self.outage)
+        form.addRow(tr("Solution"), self.smoothed)
+        aiding = QGroupBox(tr("Aiding"))
         aiding_layout = QVBoxLayout(aiding)
         for box in (self.odometer, self.nhc, self.zupt):
             aiding_layout.addWidget(box)
         sweep_form = QFormLayout()
-        sweep_form.addRow("Sweep", self.sweep)
-        sweep_form.addRow("Values", self.sweep_values)
+        sweep_form.addRow(tr("Sweep"), self.sweep)
+        sweep_form.addRow(tr("Values"), self.sweep_values)
 
-        self.run_button = QPushButton("Run")
+        self.run_button = QPushButton(tr("Run"))
         self.run_button.setDefault(True)
         self.run_button.clicked.connect(self.run)
-        self.cancel_button = QPushButton("Cancel")
+        self.cancel_button = QPushButton(tr("Cancel"))
         self.cancel_button.setEnabled(False)
         self.cancel_button.clicked.connect(self.cancel)
         self.progress = QProgressBar()
@@ -179,7 +180,7 @@ class PlanSurveyDialog(QDialog):
         inputs_layout.addWidget(self.progress)
         inputs_layout.addWidget(self.message)
 
-        self.heading = QLabel("Set the planned run and press Run.")
+        self.heading = QLabel(tr("Set the planned run and press Run."))
         self.heading.setWordWrap(True)
         self.table = QTableWidget()
         self.table.verticalHeader().hide()

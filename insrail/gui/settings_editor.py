@@ -46,7 +46,7 @@ from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import read_manifest
-from insrail.names import RESOURCE_SETTINGS, setting_name
+from insrail.names import LANGUAGES, RESOURCE_SETTINGS, joined, setting_name
 from insrail.project import (
     HEIGHT_MODELS,
     Project,
@@ -61,16 +61,17 @@ from insrail.project.model import (
     ReportSettings,
 )
 from insrail.track.tolerance import shipped_tolerance_profiles
+from insrail.gui.translation import tr, tr_noop
 
-EACH_SURVEY = "(each survey's own)"
+EACH_SURVEY = tr_noop("(each survey's own)")
 #: What a number field of a setting absent from project.toml shows (optional ones: "none").
-NOT_GIVEN = "not given"
+NOT_GIVEN = tr_noop("not given")
 #: The columns of a lever arm: the trolley's body frame b (x forward, y right, z down: FRD).
-FRD_AXES = ("forward", "right", "down")
+FRD_AXES = (tr_noop("forward"), tr_noop("right"), tr_noop("down"))
 #: The columns of the mounting angles.
-RPY_AXES = ("roll", "pitch", "heading")
+RPY_AXES = (tr_noop("roll"), tr_noop("pitch"), tr_noop("heading"))
 #: The processing stages in their order; a change reruns the first stage it feeds and all after it.
-STAGES = ("fusion", "track reconstruction", "assessment", "adjustment")
+STAGES = (tr_noop("fusion"), tr_noop("track reconstruction"), tr_noop("assessment"), tr_noop("adjustment"))
 #: Key path prefix -> the first stage that reads it (none: only the reports change).
 FIRST_STAGE = (("trolley", "fusion"), ("processing", "fusion"), ("geodesy", "track reconstruction"),
                ("track.design", "track reconstruction"), ("track.start_station_m", "track reconstruction"),
@@ -108,41 +109,43 @@ class Field:
 _ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m",
          "imu_to_prism_m")
 FIELDS = (
-    Field("Project", "project.name", "text"),
-    Field("Project", "project.description", "text"),
-    Field("Coordinate system", "geodesy.crs.ellipsoid", "choice", (*ELLIPSOIDS, CUSTOM_ELLIPSOID)),
+    Field(tr_noop("Project"), "project.name", "text"),
+    Field(tr_noop("Project"), "project.description", "text"),
+    Field(tr_noop("Coordinate system"), "geodesy.crs.ellipsoid", "choice", (*ELLIPSOIDS, CUSTOM_ELLIPSOID)),
     # only with ellipsoid = "custom" (the core refuses them beside a named ellipsoid)
-    Field("Coordinate system", "geodesy.crs.a_m", "number", suffix=" m", optional=True),
-    Field("Coordinate system", "geodesy.crs.inverse_flattening", "number", decimals=9, optional=True),
-    Field("Coordinate system", "geodesy.crs.central_meridian_deg", "number", decimals=6, suffix=" °"),
-    Field("Coordinate system", "geodesy.crs.latitude_of_origin_deg", "number", decimals=6, suffix=" °"),
-    Field("Coordinate system", "geodesy.crs.scale_factor", "number", decimals=9),
-    Field("Coordinate system", "geodesy.crs.false_easting_m", "number", suffix=" m"),
-    Field("Coordinate system", "geodesy.crs.false_northing_m", "number", suffix=" m"),
-    Field("Coordinate system", "geodesy.crs.projection_height_m", "number", suffix=" m"),
-    Field("Coordinate system", "geodesy.crs.projection_height_convention", "choice",
+    Field(tr_noop("Coordinate system"), "geodesy.crs.a_m", "number", suffix=" m", optional=True),
+    Field(tr_noop("Coordinate system"), "geodesy.crs.inverse_flattening", "number", decimals=9, optional=True),
+    Field(tr_noop("Coordinate system"), "geodesy.crs.central_meridian_deg", "number", decimals=6, suffix=" °"),
+    Field(tr_noop("Coordinate system"), "geodesy.crs.latitude_of_origin_deg", "number", decimals=6, suffix=" °"),
+    Field(tr_noop("Coordinate system"), "geodesy.crs.scale_factor", "number", decimals=9),
+    Field(tr_noop("Coordinate system"), "geodesy.crs.false_easting_m", "number", suffix=" m"),
+    Field(tr_noop("Coordinate system"), "geodesy.crs.false_northing_m", "number", suffix=" m"),
+    Field(tr_noop("Coordinate system"), "geodesy.crs.projection_height_m", "number", suffix=" m"),
+    Field(tr_noop("Coordinate system"), "geodesy.crs.projection_height_convention", "choice",
           tuple(PROJECTION_HEIGHT_CONVENTIONS)),
-    Field("Heights", "geodesy.height.benchmarks", "file", optional=True),
-    Field("Heights", "geodesy.height.model", "choice", tuple(HEIGHT_MODELS)),
-    *(Field("Trolley", f"trolley.{arm}", "vector", decimals=4, suffix=" m") for arm in _ARMS),
-    Field("Trolley", "trolley.mounting_rpy_deg", "vector", decimals=4, suffix=" °"),
-    Field("Trolley", "trolley.reference_rail", "choice", ("left", "right")),
-    Field("Trolley", "trolley.rail_centre_spacing_m", "number", decimals=4, suffix=" m"),
-    Field("Trolley", "trolley.beam_wheel_spacing_m", "number", decimals=4, suffix=" m", optional=True),
-    Field("Processing", "processing.imu_profile", "choice", lambda: shipped_names("imu_profiles"), optional=True),
-    *(Field("Processing", f"processing.{flag}", "bool") for flag in FUSION_FLAGS),
-    *(Field("Processing", f"processing.{number}", "number", decimals=6) for number in FUSION_NUMBERS),
-    Field("Track", "track.design", "file", optional=True),
-    Field("Track", "track.start_station_m", "number", optional=True),
-    Field("Track", "track.first_sleeper_number", "int"),
-    Field("Track", "track.tolerance_profile", "choice", shipped_tolerance_profiles),
-    Field("Track", "track.fastener", "choice", lambda: shipped_names("fastener_types")),
-    *(Field("Report", f"report.{name}", "text", optional=True)
+    Field(tr_noop("Heights"), "geodesy.height.benchmarks", "file", optional=True),
+    Field(tr_noop("Heights"), "geodesy.height.model", "choice", tuple(HEIGHT_MODELS)),
+    *(Field(tr_noop("Trolley"), f"trolley.{arm}", "vector", decimals=4, suffix=" m") for arm in _ARMS),
+    Field(tr_noop("Trolley"), "trolley.mounting_rpy_deg", "vector", decimals=4, suffix=" °"),
+    Field(tr_noop("Trolley"), "trolley.reference_rail", "choice", ("left", "right")),
+    Field(tr_noop("Trolley"), "trolley.rail_centre_spacing_m", "number", decimals=4, suffix=" m"),
+    Field(tr_noop("Trolley"), "trolley.beam_wheel_spacing_m", "number", decimals=4, suffix=" m", optional=True),
+    Field(tr_noop("Processing"), "processing.imu_profile", "choice", lambda: shipped_names("imu_profiles"),
+          optional=True),
+    *(Field(tr_noop("Processing"), f"processing.{flag}", "bool") for flag in FUSION_FLAGS),
+    *(Field(tr_noop("Processing"), f"processing.{number}", "number", decimals=6) for number in FUSION_NUMBERS),
+    Field(tr_noop("Track"), "track.design", "file", optional=True),
+    Field(tr_noop("Track"), "track.start_station_m", "number", optional=True),
+    Field(tr_noop("Track"), "track.first_sleeper_number", "int"),
+    Field(tr_noop("Track"), "track.tolerance_profile", "choice", shipped_tolerance_profiles),
+    Field(tr_noop("Track"), "track.fastener", "choice", lambda: shipped_names("fastener_types")),
+    *(Field(tr_noop("Report"), f"report.{name}", "text", optional=True)
       for name in ("client", "line_section", "track_name", "operator", "checked_by", "approved_by", "trolley")),
-    Field("Report", "report.trolley_calibrated", "date", optional=True),
-    Field("Report", "report.imu", "text", optional=True),
-    Field("Report", "report.imu_calibrated", "date", optional=True),
-    Field("Report", "report.paper", "choice", PAPER_SIZES, default=ReportSettings().paper),
+    Field(tr_noop("Report"), "report.trolley_calibrated", "date", optional=True),
+    Field(tr_noop("Report"), "report.imu", "text", optional=True),
+    Field(tr_noop("Report"), "report.imu_calibrated", "date", optional=True),
+    Field(tr_noop("Report"), "report.paper", "choice", PAPER_SIZES, default=ReportSettings().paper),
+    Field(tr_noop("Report"), "report.language", "choice", tuple(LANGUAGES), default=ReportSettings().language),
 )
 _MISSING = object()
 
@@ -193,7 +196,7 @@ class SettingsEditor(QDialog):
 
     def __init__(self, project: Project, parent=None):
         super().__init__(parent)
-        self.setWindowTitle(f"Project settings — {project.name}[*]")  # [*]: Qt's mark of unsaved changes
+        self.setWindowTitle(tr("Project settings — {project}").format(project=project.name) + "[*]")  # [*]: Qt's mark of unsaved changes
         self.resize(760, 640)
         self.project = project
         self.original = project.to_settings()
@@ -211,10 +214,10 @@ class SettingsEditor(QDialog):
                 scroll = QScrollArea()
                 scroll.setWidgetResizable(True)
                 scroll.setWidget(page)
-                self.tabs.addTab(scroll, spec.tab)
+                self.tabs.addTab(scroll, tr(spec.tab))
             self._add_field(forms[spec.tab], spec)
-        self.no_trolley = QLabel("Each survey brings its own trolley geometry (its survey.toml).")
-        self.own_trolley = QPushButton("Use one trolley for the whole project (the first survey's)")
+        self.no_trolley = QLabel(tr("Each survey brings its own trolley geometry (its survey.toml)."))
+        self.own_trolley = QPushButton(tr("Use one trolley for the whole project (the first survey's)"))
         self.own_trolley.clicked.connect(self.use_project_trolley)
         forms["Trolley"].insertRow(0, self.no_trolley)
         forms["Trolley"].insertRow(1, self.own_trolley)
@@ -227,7 +230,7 @@ class SettingsEditor(QDialog):
         self.save_button = self.buttons.button(QDialogButtonBox.Save)
         self.save_button.clicked.connect(self.save)
         self.buttons.rejected.connect(self.close)
-        undo, redo = QPushButton("Undo"), QPushButton("Redo")
+        undo, redo = QPushButton(tr("Undo")), QPushButton(tr("Redo"))
         undo.clicked.connect(self.undo_stack.undo)
         redo.clicked.connect(self.undo_stack.redo)
         self.undo_stack.canUndoChanged.connect(undo.setEnabled)
@@ -257,7 +260,7 @@ class SettingsEditor(QDialog):
         kind = spec.kind
         if kind in ("text", "file", "date"):
             widget = QLineEdit()
-            widget.setPlaceholderText("YYYY-MM-DD" if kind == "date" else "none" if spec.optional else "")
+            widget.setPlaceholderText("YYYY-MM-DD" if kind == "date" else tr("none") if spec.optional else "")
             widget.editingFinished.connect(lambda key=spec.key: self._edited(key))
         elif kind in ("number", "int"):
             if kind == "number":
@@ -265,14 +268,14 @@ class SettingsEditor(QDialog):
             else:
                 widget = QSpinBox()
                 widget.setRange(-10**9, 10**9)
-            self._commit_when_left(widget, spec.key, "none" if spec.optional else NOT_GIVEN)
+            self._commit_when_left(widget, spec.key, tr_noop("none") if spec.optional else NOT_GIVEN)
         elif kind == "bool":
             widget = QCheckBox()
             widget.toggled.connect(lambda _on, key=spec.key: self._edited(key))
         elif kind == "choice":
             widget = QComboBox()
             choices = spec.choices() if callable(spec.choices) else list(spec.choices)
-            fill(widget, spec.key, choices, (EACH_SURVEY, EACH_SURVEY) if spec.optional else None)
+            fill(widget, spec.key, choices, (tr(EACH_SURVEY), EACH_SURVEY) if spec.optional else None)
             widget.setEditable(spec.key in RESOURCE_SETTINGS)  # or a file of one's own
             widget.currentTextChanged.connect(lambda _t, key=spec.key: self._edited(key))
         else:  # a vector of three numbers
@@ -314,7 +317,7 @@ class SettingsEditor(QDialog):
         """A number field that commits when left or on Return (and at once on a step of its arrows);
         its lowest value stands for a setting not given and shows ``absent_text``."""
         box.setKeyboardTracking(False)
-        box.setSpecialValueText(absent_text)
+        box.setSpecialValueText(tr(absent_text))
         box.valueChanged.connect(lambda _value: self._edited(key))
 
     @staticmethod
@@ -324,10 +327,10 @@ class SettingsEditor(QDialog):
         row = QHBoxLayout(headings)
         row.setContentsMargins(0, 0, 0, 0)
         for axis in axes:
-            label = QLabel(axis)
+            label = QLabel(tr(axis))
             label.setAlignment(Qt.AlignCenter)
             if axes == FRD_AXES:
-                label.setToolTip("the trolley's body frame b: x forward, y right, z down (FRD)")
+                label.setToolTip(tr("the trolley's body frame b: x forward, y right, z down (FRD)"))
             row.addWidget(label)
         return headings
 
@@ -450,9 +453,9 @@ class SettingsEditor(QDialog):
         try:
             trolley = read_manifest(self.project.resolve(self.project.surveys[0].folder)).trolley
         except (InputError, IndexError) as error:
-            self.general.setText(f"The first survey's trolley geometry cannot be read: {error}")
+            self.general.setText(tr("The first survey's trolley geometry cannot be read: {error}").format(error=error))
             return
-        self.undo_stack.beginMacro("Trolley for the whole project")
+        self.undo_stack.beginMacro(tr("Trolley for the whole project"))
         table = {arm: [float(v) for v in values] for arm, values in trolley.given_lever_arms().items()}
         table.update(reference_rail=trolley.reference_rail, rail_centre_spacing_m=trolley.rail_centre_spacing_m,
                      mounting_rpy_deg=[float(v) for v in np.degrees(trolley.mounting_rpy_rad)])
@@ -493,12 +496,13 @@ class SettingsEditor(QDialog):
         if not changed:
             self.rerun.setText("")
         elif stages:
-            self.rerun.setText(f"Changed: {', '.join(sorted({setting_name(k) for k in changed}))}. Processing again "
-                               f"will run: {', '.join(stages)}" + ("" if stages[0] == STAGES[0] else
-                                                                    " (the earlier stages from the cache)") + ".")
+            self.rerun.setText((tr("Changed: {settings}. Processing again will run: {stages}.") if stages[0] == STAGES[0]
+                                else tr("Changed: {settings}. Processing again will run: {stages} (the earlier stages "
+                                        "from the cache).")).format(
+                settings=joined(sorted({setting_name(k) for k in changed})), stages=joined(tr(s) for s in stages)))
         else:
-            self.rerun.setText(f"Changed: {', '.join(sorted({setting_name(k) for k in changed}))}. Nothing is "
-                               "processed again; the reports show the change when written again.")
+            self.rerun.setText(tr("Changed: {settings}. Nothing is processed again; the reports show the change when "
+                                  "written again.").format(settings=joined(sorted({setting_name(k) for k in changed}))))
         self.save_button.setEnabled(bool(changed) and not self.problems)
         self.setWindowModified(bool(changed))
         return self.problems
@@ -511,7 +515,8 @@ class SettingsEditor(QDialog):
         try:
             save_project(project)
         except OSError as error:
-            self.general.setText(f"Cannot write {self.project.path}: {error.strerror or error}")
+            self.general.setText(tr("Cannot write {path}: {error}").format(path=self.project.path,
+                                                                           error=error.strerror or error))
             return False
         self.project, self.original = project, copy.deepcopy(self.document)
         self.undo_stack.setClean()

@@ -42,7 +42,7 @@ from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import ImportWidget, shipped_names
 from insrail.io.errors import InputError
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, read_manifest
-from insrail.names import setting_name
+from insrail.names import joined, setting_name
 from insrail.project import (
     HEIGHT_MODELS,
     Project,
@@ -53,9 +53,10 @@ from insrail.project import (
 )
 from insrail.project.model import PROJECT_FILE
 from insrail.track.tolerance import DEFAULT_PROFILE, shipped_tolerance_profiles
+from insrail.gui.translation import tr, tr_noop
 
-LEVER_ARMS = tuple((key, setting_name(f"trolley.{key}")) for key in (
-    "imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m", "imu_to_prism_m"))
+LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m",
+              "imu_to_prism_m")
 EACH_SURVEY = "(each survey's own)"
 #: Lever arms every project uses (the prism's only in tunnels with a total station).
 REQUIRED_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m")
@@ -65,7 +66,7 @@ PAGE_KEYS = (("project",), ("geodesy.crs",), ("geodesy.height",), ("trolley",), 
 
 def file_row(edit: QLineEdit, caption: str, pattern: str, parent: QWidget) -> QWidget:
     """A path field with a Browse button."""
-    button = QPushButton("Browse…")
+    button = QPushButton(tr("Browse…"))
 
     def browse() -> None:
         path, _ = QFileDialog.getOpenFileName(parent, caption, filter=pattern)
@@ -106,7 +107,7 @@ class NewProjectWizard(QWizard):
 
     def __init__(self, parent=None, earlier_projects=()):
         super().__init__(parent)
-        self.setWindowTitle("New insrail project")
+        self.setWindowTitle(tr("New insrail project"))
         self.setWizardStyle(QWizard.ClassicStyle)
         self.resize(900, 680)
         self.project: Project | None = None
@@ -126,8 +127,8 @@ class NewProjectWizard(QWizard):
 
     def _new_page(self, title: str, subtitle: str) -> CheckedPage:
         page = CheckedPage(self, len(self.page_notes))
-        page.setTitle(title)
-        page.setSubTitle(subtitle)
+        page.setTitle(tr(title))
+        page.setSubTitle(tr(subtitle))
         self.page_notes.append(note_label())
         return page
 
@@ -138,6 +139,7 @@ class NewProjectWizard(QWizard):
 
     def _row(self, form: QFormLayout, label: str, field, key: str | None = None) -> None:
         """A form row whose field has a note under it for the problems of ``key``."""
+        label = tr(label)
         if key is None:
             form.addRow(label, field)
             return
@@ -155,24 +157,24 @@ class NewProjectWizard(QWizard):
         return page
 
     def _project_page(self) -> QWizardPage:
-        page, form = self._page("Project", "Where the project file (project.toml) and the results are kept.")
-        self.name = QLineEdit("New project")
+        page, form = self._page(tr_noop("Project"), tr_noop("Where the project file (project.toml) and the results are kept."))
+        self.name = QLineEdit(tr("New project"))
         self.folder = QLineEdit()
-        browse = QPushButton("Browse…")
+        browse = QPushButton(tr("Browse…"))
         browse.clicked.connect(lambda: self.folder.setText(
             QFileDialog.getExistingDirectory(self, "Project folder") or self.folder.text()))
         row = QHBoxLayout()
         row.addWidget(self.folder, 1)
         row.addWidget(browse)
         self.description = QLineEdit()
-        self._row(form, "Name", self.name, "project.name")
-        self._row(form, "Folder", row, "folder")
-        self._row(form, "Description", self.description, "project.description")
+        self._row(form, tr_noop("Name"), self.name, "project.name")
+        self._row(form, tr_noop("Folder"), row, "folder")
+        self._row(form, tr_noop("Description"), self.description, "project.description")
         return self._end_page(page, form)
 
     def _crs_page(self) -> QWizardPage:
-        page, form = self._page("Coordinate system", "The engineering (construction) coordinate system: a transverse "
-                                "Mercator projection on the chosen ellipsoid, reduced to the projection height.")
+        page, form = self._page(tr_noop("Coordinate system"), tr_noop("The engineering (construction) coordinate system: a transverse "
+                                "Mercator projection on the chosen ellipsoid, reduced to the projection height."))
         self.ellipsoid = QComboBox()
         self.ellipsoid.addItems(list(ELLIPSOIDS))
         self.central_meridian = spin_box(-180, 180, 6, 114.0, " °")
@@ -184,37 +186,37 @@ class NewProjectWizard(QWizard):
         self.convention = QComboBox()
         fill(self.convention, "geodesy.crs.projection_height_convention", PROJECTION_HEIGHT_CONVENTIONS)
         for label, widget, key in (
-                ("Ellipsoid", self.ellipsoid, "ellipsoid"), ("Central meridian", self.central_meridian,
+                (tr_noop("Ellipsoid"), self.ellipsoid, "ellipsoid"), (tr_noop("Central meridian"), self.central_meridian,
                                                               "central_meridian_deg"),
-                ("Latitude of origin", self.latitude_of_origin, "latitude_of_origin_deg"),
-                ("Scale factor", self.scale_factor, "scale_factor"), ("False easting", self.false_easting,
+                (tr_noop("Latitude of origin"), self.latitude_of_origin, "latitude_of_origin_deg"),
+                (tr_noop("Scale factor"), self.scale_factor, "scale_factor"), (tr_noop("False easting"), self.false_easting,
                                                                       "false_easting_m"),
-                ("False northing", self.false_northing, "false_northing_m"),
-                ("Projection height", self.projection_height, "projection_height_m"),
-                ("Projection height applied as", self.convention, "projection_height_convention")):
+                (tr_noop("False northing"), self.false_northing, "false_northing_m"),
+                (tr_noop("Projection height"), self.projection_height, "projection_height_m"),
+                (tr_noop("Projection height applied as"), self.convention, "projection_height_convention")):
             self._row(form, label, widget, f"geodesy.crs.{key}")
         return self._end_page(page, form)
 
     def _height_page(self) -> QWizardPage:
-        page, form = self._page("Benchmarks", "GNSS-levelling benchmarks (ellipsoidal and normal heights) fit the "
-                                "height anomaly; without them heights stay ellipsoidal.")
+        page, form = self._page(tr_noop("Benchmarks"), tr_noop("GNSS-levelling benchmarks (ellipsoidal and normal heights) fit the "
+                                "height anomaly; without them heights stay ellipsoidal."))
         self.benchmarks = QLineEdit()
         self.height_model = QComboBox()
         fill(self.height_model, "geodesy.height.model", HEIGHT_MODELS)
-        self._row(form, "Benchmarks file", file_row(self.benchmarks, "Benchmarks", "Text (*.txt *.csv);;All (*)", self),
+        self._row(form, tr_noop("Benchmarks file"), file_row(self.benchmarks, "Benchmarks", "Text (*.txt *.csv);;All (*)", self),
                   "geodesy.height.benchmarks")
-        self._row(form, "Height-anomaly model", self.height_model, "geodesy.height.model")
+        self._row(form, tr_noop("Height-anomaly model"), self.height_model, "geodesy.height.model")
         return self._end_page(page, form)
 
     def _trolley_page(self) -> QWizardPage:
-        page = self._new_page("Trolley geometry", "Lever arms from the IMU centre in the IMU body frame (forward, "
-                              "right, down), metres; mounting angles of the IMU in the trolley.")
+        page = self._new_page(tr_noop("Trolley geometry"), tr_noop("Lever arms from the IMU centre in the IMU body frame (forward, "
+                              "right, down), metres; mounting angles of the IMU in the trolley."))
         grid = QGridLayout()
-        for column, axis in enumerate(("forward", "right", "down"), start=1):
+        for column, axis in enumerate((tr("forward"), tr("right"), tr("down")), start=1):
             grid.addWidget(QLabel(axis), 0, column, Qt.AlignCenter)
         self.lever_arms: dict[str, tuple[QDoubleSpinBox, ...]] = {}
-        for row, (key, label) in enumerate(LEVER_ARMS, start=1):
-            grid.addWidget(QLabel(label), row, 0)
+        for row, key in enumerate(LEVER_ARMS, start=1):
+            grid.addWidget(QLabel(setting_name(f"trolley.{key}")), row, 0)  # in the language of the moment
             self.lever_arms[key] = tuple(spin_box(-10, 10, 4, suffix=" m") for _ in range(3))
             for column, box in enumerate(self.lever_arms[key], start=1):
                 grid.addWidget(box, row, column)
@@ -228,18 +230,18 @@ class NewProjectWizard(QWizard):
         self.reference_rail = QComboBox()
         fill(self.reference_rail, "trolley.reference_rail", ("left", "right"))
         self.rail_spacing = spin_box(0.5, 3.0, 4, 1.5, " m")
-        from_survey = QPushButton("Copy from a survey.toml…")
+        from_survey = QPushButton(tr("Copy from a survey.toml…"))
         from_survey.clicked.connect(self._browse_trolley)
         self.earlier = QComboBox()
-        self.earlier.addItem("Copy the trolley of an earlier project…")
+        self.earlier.addItem(tr("Copy the trolley of an earlier project…"))
         self.earlier.addItems(self.earlier_projects)
         self.earlier.setEnabled(bool(self.earlier_projects))
         self.earlier.activated.connect(self._copy_earlier_trolley)
-        self.zero_arms_ok = QCheckBox("These lever arms really are zero")
+        self.zero_arms_ok = QCheckBox(tr("These lever arms really are zero"))
         self.zero_arms_ok.hide()
         form = QFormLayout()
-        self._row(form, "Reference rail", self.reference_rail, "trolley.reference_rail")
-        self._row(form, "Rail centre spacing (cant base)", self.rail_spacing, "trolley.rail_centre_spacing_m")
+        self._row(form, tr_noop("Reference rail"), self.reference_rail, "trolley.reference_rail")
+        self._row(form, tr_noop("Rail centre spacing (cant base)"), self.rail_spacing, "trolley.rail_centre_spacing_m")
         copy_row = QHBoxLayout()
         copy_row.addWidget(self.earlier, 1)
         copy_row.addWidget(from_survey)
@@ -253,10 +255,10 @@ class NewProjectWizard(QWizard):
         return page
 
     def _processing_page(self) -> QWizardPage:
-        page, form = self._page("Processing and assessment", "IMU error model, design alignment, tolerance "
-                                "profile for the assessment and the fastener type for the adjustment.")
+        page, form = self._page(tr_noop("Processing and assessment"), tr_noop("IMU error model, design alignment, tolerance "
+                                "profile for the assessment and the fastener type for the adjustment."))
         self.imu_profile = QComboBox()
-        fill(self.imu_profile, "processing.imu_profile", shipped_names("imu_profiles"), (EACH_SURVEY, EACH_SURVEY))
+        fill(self.imu_profile, "processing.imu_profile", shipped_names("imu_profiles"), (tr(EACH_SURVEY), EACH_SURVEY))
         self.design = QLineEdit()
         self.start_station = spin_box(-1e7, 1e8, 3, 0.0, " m")
         self.tolerance_profile = QComboBox()
@@ -264,21 +266,21 @@ class NewProjectWizard(QWizard):
         choose(self.tolerance_profile, DEFAULT_PROFILE)
         self.fastener = QComboBox()
         fill(self.fastener, "track.fastener", shipped_names("fastener_types"))
-        self._row(form, "IMU profile", self.imu_profile, "processing.imu_profile")
-        self._row(form, "Design alignment", file_row(self.design, "Design alignment",
+        self._row(form, tr_noop("IMU profile"), self.imu_profile, "processing.imu_profile")
+        self._row(form, tr_noop("Design alignment"), file_row(self.design, "Design alignment",
                                                      "Alignment (*.csv *.xml);;All (*)", self), "track.design")
-        self._row(form, "Start station (without a design)", self.start_station, "track.start_station_m")
-        self._row(form, "Tolerance profile", self.tolerance_profile, "track.tolerance_profile")
-        self._row(form, "Fastener type", self.fastener, "track.fastener")
+        self._row(form, tr_noop("Start station (without a design)"), self.start_station, "track.start_station_m")
+        self._row(form, tr_noop("Tolerance profile"), self.tolerance_profile, "track.tolerance_profile")
+        self._row(form, tr_noop("Fastener type"), self.fastener, "track.fastener")
         return self._end_page(page, form)
 
     def _survey_page(self) -> QWizardPage:
-        page = self._new_page("First survey", "The raw files of one trolley run; formats are detected, check "
-                              "them before finishing.")
+        page = self._new_page(tr_noop("First survey"), tr_noop("The raw files of one trolley run; formats are detected, check "
+                              "them before finishing."))
         self.survey = ImportWidget()
-        self.keep_raw = QRadioButton("Keep the raw files where they are")
-        self.copy_raw = QRadioButton("Copy the raw files into the project (surveys/<survey name>/); the raw-data "
-                                     "folder is left as it is")
+        self.keep_raw = QRadioButton(tr("Keep the raw files where they are"))
+        self.copy_raw = QRadioButton(tr("Copy the raw files into the project (surveys/<survey name>/); the raw-data "
+                                     "folder is left as it is"))
         self.keep_raw.setChecked(True)
         choice = QButtonGroup(page)
         for button in (self.keep_raw, self.copy_raw):
@@ -334,7 +336,7 @@ class NewProjectWizard(QWizard):
             project = load_project(path)
             trolley = project.trolley() or read_manifest(project.resolve(project.surveys[0].folder)).trolley
         except (InputError, IndexError) as error:
-            self._show_page_note(3, [f"the trolley of {path} cannot be read: {error}"])
+            self._show_page_note(3, [tr("the trolley of {path} cannot be read: {error}").format(path=path, error=error)])
             return
         self.set_trolley(trolley)
         self._show_page_note(3, [])
@@ -477,7 +479,7 @@ class NewProjectWizard(QWizard):
         zero = [key for key in REQUIRED_ARMS if not any(box.value() for box in self.lever_arms[key])]
         for key in REQUIRED_ARMS:
             note = self.notes[f"trolley.{key}"]
-            note.setText("0 m: is this lever arm measured?" if key in zero else "")
+            note.setText(tr("0 m: is this lever arm measured?") if key in zero else "")
             note.setVisible(key in zero)
         if not zero:
             self.zero_arms_ok.hide()
@@ -485,10 +487,10 @@ class NewProjectWizard(QWizard):
         self.zero_arms_ok.show()
         if self.zero_arms_ok.isChecked():
             return True
-        labels = dict(LEVER_ARMS)
-        self._show_page_note(3, ["Lever arms at 0 m: " + ", ".join(labels[k] for k in zero) + ". A trolley's sensors "
-                                 "are never all at the IMU centre: enter the measured lever arms, copy them from an "
-                                 "earlier project, or confirm below that they really are zero."])
+        self._show_page_note(3, [tr("Lever arms at 0 m: {arms}. A trolley's sensors are never all at the IMU centre: "
+                                    "enter the measured lever arms, copy them from an earlier project, or confirm below "
+                                    "that they really are zero.").format(
+            arms=joined(setting_name(f"trolley.{k}") for k in zero))])
         return False
 
     def _remove_created_folder(self) -> None:
@@ -506,10 +508,10 @@ class NewProjectWizard(QWizard):
         self.problems.clear()
         folder_text = self.folder.text().strip()
         if not folder_text:
-            self.problems.setText("Choose the project folder (first page).")
+            self.problems.setText(tr("Choose the project folder (first page)."))
             return False
         if not self.survey.entries():
-            self.problems.setText("Add the raw files of the first survey.")
+            self.problems.setText(tr("Add the raw files of the first survey."))
             return False
         folder = Path(folder_text)
         copy = self.copy_raw.isChecked()
@@ -529,7 +531,7 @@ class NewProjectWizard(QWizard):
             self.problems.setText(f"{survey_folder} is not empty: choose another survey name.")
             return False
         if self.survey.write_survey(self.trolley(), into=survey_folder if copy else None) is None:
-            self.problems.setText("The survey's files have problems (listed above).")
+            self.problems.setText(tr("The survey's files have problems (listed above)."))
             return False
         folder.mkdir(parents=True, exist_ok=True)
         self.project = project_from_settings(document, folder)

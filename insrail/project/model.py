@@ -36,7 +36,8 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
     [report]             what the reports' first page states and how they print (:class:`ReportSettings`):
                          client, line_section, track_name, operator, checked_by, approved_by, trolley,
                          trolley_calibrated, imu, imu_calibrated (dates: 2026-03-14), paper = "A3" | "A4" (the
-                         workbook's and the PDF's pages, landscape; the crews' adjustment sheet is A4 portrait)
+                         workbook's and the PDF's pages, landscape; the crews' adjustment sheet is A4 portrait),
+                         language = "en" | "zh-CN" (the workbook's, the PDF's and the exports' texts)
 
 Loading checks everything and raises :class:`ProjectError` listing every problem with its key
 path (``surveys[2].folder: not found: runs/x``). Nothing in the file is executed or unpickled.
@@ -68,6 +69,7 @@ from insrail.io.errors import InputError
 from insrail.io.events import read_events
 from insrail.io.survey import MANIFEST_NAME, SurveyManifest, TrolleyGeometry, parse_trolley, read_manifest
 from insrail.io.tomlfile import read_toml
+from insrail.names import DEFAULT_LANGUAGE, LANGUAGES
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.project.control_points import ControlPoint, parse_control_points
@@ -156,6 +158,7 @@ class ReportSettings:
     imu: str = ""
     imu_calibrated: datetime.date | None = None
     paper: str = "A3"  # the workbook's sheets, landscape
+    language: str = DEFAULT_LANGUAGE  # of the workbook, the PDF and the exports (insrail.names.LANGUAGES)
 
     def to_settings(self) -> dict[str, Any]:
         """The non-default entries (an untouched project writes no [report] table)."""
@@ -183,7 +186,7 @@ class AdjustmentSettings:
         """The non-default entries (an untouched project writes no [adjustment] table)."""
         default = AdjustmentSettings()
         return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) != getattr(default, f.name)}
-_REPORT_TEXTS = tuple(f.name for f in fields(ReportSettings) if f.name not in _REPORT_DATES + ("paper",))
+_REPORT_TEXTS = tuple(f.name for f in fields(ReportSettings) if f.name not in _REPORT_DATES + ("paper", "language"))
 
 
 @dataclass(frozen=True)
@@ -530,7 +533,11 @@ def _report(reader: _Reader, table: dict) -> ReportSettings:
     if paper not in PAPER_SIZES:
         reader.add("report.paper", f"expected one of {', '.join(PAPER_SIZES)}, found {paper!r}")
         paper = "A3"
-    return ReportSettings(**values, paper=paper)
+    language = table.get("language", DEFAULT_LANGUAGE)
+    if language not in LANGUAGES:
+        reader.add("report.language", f"expected one of {', '.join(map(repr, LANGUAGES))}, found {language!r}")
+        language = DEFAULT_LANGUAGE
+    return ReportSettings(**values, paper=paper, language=language)
 
 
 def _line_speeds(reader: _Reader, value) -> tuple[LineSpeed, ...]:

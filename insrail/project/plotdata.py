@@ -32,7 +32,7 @@ from insrail.io.formats import read_any
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.tomlfile import read_toml
 from insrail.io.types import GnssSolution
-from insrail.names import check_name, rail_direction
+from insrail.names import check_name, rail_direction, t
 from insrail.nav.earth import Ellipsoid, radii
 from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.trajectory import Trajectory
@@ -130,23 +130,23 @@ def navigation_series(trajectory: Trajectory, ellipsoid: Ellipsoid) -> tuple[Nav
     sigma_position = trajectory.sigma_pos_ned_m  # sigma of down equals sigma of up
     heading = np.unwrap(trajectory.rpy_rad[:, 2])
     attitude = np.rad2deg(np.column_stack([trajectory.rpy_rad[:, :2], heading]))
-    ned, rpy = ("north", "east", "down"), ("roll", "pitch", "heading")
+    ned, rpy = (t("north"), t("east"), t("down")), (t("roll"), t("pitch"), t("heading"))
     degrees_per_hour = np.rad2deg(1.0) * 3600.0
     return (
-        NavSeries("position", "Position from the first epoch", "m", ("north", "east", "up"), position, sigma_position),
-        NavSeries("position_sigma", "Position 1σ", "mm", ned, 1e3 * sigma_position, None),
-        NavSeries("velocity", "Velocity", "m/s", ned, trajectory.vel_ned_mps, trajectory.sigma_vel_ned_mps),
-        NavSeries("attitude", "Attitude", "°", rpy, attitude, np.rad2deg(trajectory.sigma_rpy_rad)),
-        NavSeries("attitude_sigma", "Attitude 1σ", "°", rpy, np.rad2deg(trajectory.sigma_rpy_rad), None),
-        NavSeries("gyro_bias", "Gyro bias (estimated)", "°/h", ("x", "y", "z"),
+        NavSeries("position", t("Position from the first epoch"), "m", (t("north"), t("east"), t("up")), position, sigma_position),
+        NavSeries("position_sigma", t("Position 1σ"), "mm", ned, 1e3 * sigma_position, None),
+        NavSeries("velocity", t("Velocity"), "m/s", ned, trajectory.vel_ned_mps, trajectory.sigma_vel_ned_mps),
+        NavSeries("attitude", t("Attitude"), "°", rpy, attitude, np.rad2deg(trajectory.sigma_rpy_rad)),
+        NavSeries("attitude_sigma", t("Attitude 1σ"), "°", rpy, np.rad2deg(trajectory.sigma_rpy_rad), None),
+        NavSeries("gyro_bias", t("Gyro bias (estimated)"), "°/h", ("x", "y", "z"),
                   degrees_per_hour * trajectory.gyro_bias_radps, None),
-        NavSeries("accel_bias", "Accelerometer bias (estimated)", "mGal", ("x", "y", "z"),
+        NavSeries("accel_bias", t("Accelerometer bias (estimated)"), "mGal", ("x", "y", "z"),
                   1e5 * trajectory.accel_bias_mps2, None),
-        NavSeries("gyro_scale", "Gyro scale factor (estimated)", "ppm", ("x", "y", "z"),
+        NavSeries("gyro_scale", t("Gyro scale factor (estimated)"), "ppm", ("x", "y", "z"),
                   1e6 * trajectory.gyro_scale, None),
-        NavSeries("accel_scale", "Accelerometer scale factor (estimated)", "ppm", ("x", "y", "z"),
+        NavSeries("accel_scale", t("Accelerometer scale factor (estimated)"), "ppm", ("x", "y", "z"),
                   1e6 * trajectory.accel_scale, None),
-        NavSeries("odometer_scale", "Odometer scale factor (estimated)", "ppm", ("odometer",),
+        NavSeries("odometer_scale", t("Odometer scale factor (estimated)"), "ppm", (t("odometer"),),
                   1e6 * trajectory.odometer_scale[:, None], None),
     )
 
@@ -156,12 +156,12 @@ def gnss_residuals(trajectory: Trajectory, gnss: GnssSolution, imu_to_antenna_m:
     """GNSS position minus the fused antenna position (trajectory + C_b^n lever arm) at the GNSS
     epochs inside the trajectory, north/east/down [mm]: how well the solution agrees with each
     fix (a rejected or float epoch stands out), with the fix's own 1-sigma as the band."""
-    t = trajectory.time_s
-    inside = (gnss.time_s >= t[0]) & (gnss.time_s <= t[-1])
+    fused = trajectory.time_s
+    inside = (gnss.time_s >= fused[0]) & (gnss.time_s <= fused[-1])
     time = gnss.time_s[inside]
 
     def at(values):
-        return np.interp(time, t, values)
+        return np.interp(time, fused, values)
 
     lat, lon, h = at(trajectory.lat_rad), at(trajectory.lon_rad), at(trajectory.height_m)
     c_bn = euler_to_dcm(at(trajectory.rpy_rad[:, 0]), at(trajectory.rpy_rad[:, 1]),
@@ -171,7 +171,7 @@ def gnss_residuals(trajectory: Trajectory, gnss: GnssSolution, imu_to_antenna_m:
     difference = np.column_stack([(gnss.lat_rad[inside] - lat) * (meridian + h),
                                   (gnss.lon_rad[inside] - lon) * (normal + h) * np.cos(lat),
                                   -(gnss.height_m[inside] - h)]) - antenna_ned
-    return NavSeries("gnss_residuals", "GNSS minus fused antenna position", "mm", ("north", "east", "down"),
+    return NavSeries("gnss_residuals", t("GNSS minus fused antenna position"), "mm", (t("north"), t("east"), t("down")),
                      1e3 * difference, 1e3 * gnss.sigma_ned_m[inside], time)
 
 
@@ -218,9 +218,9 @@ def chainage_plots(columns: Iterable[str], profile: ToleranceProfile) -> tuple[C
     columns = list(columns)
     rails = tuple(rail_direction(rail, "") for rail in ("left", "right"))
     plots = [
-        ChainagePlot("lateral_deviation", "deviation", "Lateral deviation", "mm",
+        ChainagePlot("lateral_deviation", "deviation", t("Lateral deviation"), "mm",
                      tuple(zip(rails, ("lateral_deviation_left_mm", "lateral_deviation_right_mm")))),
-        ChainagePlot("vertical_deviation", "deviation", "Vertical deviation", "mm",
+        ChainagePlot("vertical_deviation", "deviation", t("Vertical deviation"), "mm",
                      tuple(zip(rails, ("vertical_deviation_left_mm", "vertical_deviation_right_mm")))),
     ]
     for check in profile.checks:
@@ -233,8 +233,8 @@ def chainage_plots(columns: Iterable[str], profile: ToleranceProfile) -> tuple[C
         plots.append(ChainagePlot(f"check_{check.name}", check.kind, check_name(check), unit,
                                   tuple(channels), scale, _limit(check.lower, limit_scale),
                                   _limit(check.upper, limit_scale)))
-    plots.append(ChainagePlot("gauge", "gauge", "Gauge", "mm", (("", "gauge_mm"),)))
-    plots.append(ChainagePlot("cant", "cant", "Cant", "mm", (("measured", "cant_mm"), ("design", "design_cant_mm"))))
+    plots.append(ChainagePlot("gauge", "gauge", t("Gauge"), "mm", (("", "gauge_mm"),)))
+    plots.append(ChainagePlot("cant", "cant", t("Cant"), "mm", ((t("measured"), "cant_mm"), (t("design"), "design_cant_mm"))))
     return tuple(p for p in plots if all(column in columns for _, column in p.curves))
 
 
@@ -426,7 +426,7 @@ class EventSpan:
 
 def event_spans(summary: dict) -> tuple[EventSpan, ...]:
     """The events processing placed on the chainage (summary.toml's ``[[events]]``)."""
-    return tuple(EventSpan(e["station_from_m"], e["station_to_m"], f"{KIND_NAMES[e['kind']]} {e['text']}".strip(),
+    return tuple(EventSpan(e["station_from_m"], e["station_to_m"], f"{t(KIND_NAMES[e['kind']])} {e['text']}".strip(),
                            bool(e["not_assessed"])) for e in summary.get("events", []))
 
 

@@ -33,6 +33,7 @@ from insrail.geodesy.errors import SettingsError
 from insrail.io.survey import SurveyManifest, TrolleyGeometry
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
+from insrail.names import DEFAULT_LANGUAGE
 from insrail.notices import Notice
 from insrail.project.model import FUSION_FLAGS, FUSION_NUMBERS, AdjustmentSettings, HeightSettings, Project
 from insrail.project.stagecache import file_sha256
@@ -87,6 +88,9 @@ class RunSettings:
     design_sha256: str  # "" without a design
     fusion: FusionOptions
     adjustment: AdjustmentSettings
+    #: the language of the reports and exports (``[report] language``; a report's text, not its numbers:
+    #: not in the record, so a change of language writes the reports again without processing again)
+    report_language: str = DEFAULT_LANGUAGE
 
     @property
     def ellipsoid(self) -> Ellipsoid:
@@ -147,7 +151,14 @@ def resolve_run_settings(project: Project, manifest: SurveyManifest) -> RunSetti
         design_sha256=file_sha256(project.resolve(project.design)) if project.design is not None else "",
         fusion=project.fusion,
         adjustment=project.adjustment,
+        report_language=report_language(project),
     )
+
+
+def report_language(project: Project) -> str:
+    """The language the project's reports and exports are written in (``[report] language``, checked when
+    the project was loaded): what :func:`insrail.names.in_language` takes while one is written."""
+    return project.report.language
 
 
 # --------------------------------------------------------------------------- read back

@@ -17,6 +17,7 @@ from reportlab.graphics.shapes import Circle, Drawing, Line, PolyLine, Rect, Str
 from reportlab.lib import colors
 from reportlab.pdfbase.pdfmetrics import stringWidth
 
+from insrail.names import t
 from insrail.report.fonts import font_for, font_runs
 
 SERIES_COLOURS = (colors.HexColor("#1f4e9c"), colors.HexColor("#d9641e"), colors.HexColor("#2b8a3e"))
@@ -182,7 +183,7 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
         if label_axis:
             drawing.add(String(x, bottom - 9, label, fontName=FONT, fontSize=6.5, textAnchor="middle"))
     if label_axis and axis_title:
-        drawing.add(String(left - 17, bottom - 9, axis_title, fontName=FONT, fontSize=6, textAnchor="end",
+        drawing.add(String(left - 17, bottom - 9, axis_title, fontName=font_for(axis_title, FONT), fontSize=6, textAnchor="end",
                            fillColor=colors.HexColor("#555555")))
     if chart.limits is not None:
         for limit in chart.limits:
@@ -202,7 +203,8 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
     drawing.add(Rect(left, bottom, plot_w, plot_h, fillColor=None, strokeColor=colors.black, strokeWidth=0.5))
     title = f"{chart.title} ({chart.unit})" if chart.unit else chart.title
     if chart.limits is not None:
-        title += "   - - limit" + ("   red: exceedances" if chart.exceeding is not None and chart.exceeding[window].any() else "")
+        title += "   - - " + t("limit") + ("   " + t("red: exceedances") if chart.exceeding is not None
+                                             and chart.exceeding[window].any() else "")
     x = left
     for run, font in font_runs(title, "Helvetica-Bold"):
         drawing.add(String(x, height - 10, run, fontName=font, fontSize=8))
@@ -235,7 +237,8 @@ def plan_drawing(east_m: np.ndarray, north_m: np.ndarray, station_m: np.ndarray,
     drawing = Drawing(width, height)
     finite = np.isfinite(east_m) & np.isfinite(north_m)
     if finite.sum() < 2:
-        drawing.add(String(10, height / 2, "no coordinates", fontName=FONT, fontSize=9))
+        words = t("no coordinates")
+        drawing.add(String(10, height / 2, words, fontName=font_for(words, FONT), fontSize=9))
         return drawing
     e0, e1 = east_m[finite].min(), east_m[finite].max()
     n0, n1 = north_m[finite].min(), north_m[finite].max()
@@ -287,7 +290,7 @@ def plan_drawing(east_m: np.ndarray, north_m: np.ndarray, station_m: np.ndarray,
     drawing.add(Line(margin, 12, margin + bar_m * scale, 12, strokeColor=colors.black, strokeWidth=2))
     drawing.add(String(margin + bar_m * scale + 4, 9, f"{bar_m:g} m", fontName=FONT, fontSize=7))
     x = width - margin
-    for colour, name in [(SERIES_COLOURS[0], "centreline")] + [(c, n) for _, c, n in highlight] + \
+    for colour, name in [(SERIES_COLOURS[0], t("centreline"))] + [(c, n) for _, c, n in highlight] + \
             [(m.colour, m.name) for m in marks]:
         drawing.add(String(x, 9, name, fontName=font_for(name, FONT), fontSize=7, fillColor=colour, textAnchor="end"))
         x -= 7 * 0.55 * len(name) + 12

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -34,7 +34,9 @@ from insrail.names import (
     check_name,
     check_unit,
     column_name,
+    joined,
     rail_direction,
+    t,
 )
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.project.model import Project
@@ -48,7 +50,7 @@ from insrail.project.results import (
 )
 from insrail.project.run_settings import RecordedSettings
 from insrail.track.adjustment import FastenerType, load_fastener_type
-from insrail.track.adjustment_parts import materials, parts_text
+from insrail.track.adjustment_parts import PartTable, materials, parts_text
 from insrail.track.events import KIND_NAMES
 from insrail.track.exceedance import RAILS
 from insrail.track.stationing import StationEquations
@@ -106,10 +108,11 @@ class EventRow:
 
     @classmethod
     def of(cls, row: dict) -> EventRow:
-        assessment = ("not assessed" if row["not_assessed"] else
-                      f"assessed with {row['profile']}: {row.get('exceedances', 0)} exceedances" if row["profile"]
-                      else "marked only")
-        return cls(KIND_NAMES[row["kind"]], row["station_from_m"], row["station_to_m"], row["text"], assessment,
+        assessment = (t("not assessed") if row["not_assessed"] else
+                      t("assessed with {profile}: {count} exceedances").format(profile=row["profile"],
+                                                                                count=row.get("exceedances", 0))
+                      if row["profile"] else t("marked only"))
+        return cls(t(KIND_NAMES[row["kind"]]), row["station_from_m"], row["station_to_m"], row["text"], assessment,
                    row["sleepers"], row["source"])
 
     @property
@@ -155,7 +158,7 @@ class ReportContent:
     @property
     def chainage_range(self) -> str:
         if not len(self.results):
-            return "no sleepers"
+            return t("no sleepers")
         return f"{self.results.label[0]} – {self.results.label[-1]}"
 
     @cached_property
@@ -204,7 +207,7 @@ class ChainageAxis:
 
     @property
     def title(self) -> str:
-        return "chainage" if self.prefix is not None else "station m"
+        return t("chainage") if self.prefix is not None else t("station m")
 
     def _offset(self, station: float) -> float:
         if not self.station_m.size:
@@ -244,9 +247,9 @@ def sleeper_repair_text(summary: dict) -> str:
     if not pulses:
         return ""
     if not pulses["pulses"]:
-        return "no detector pulses: a regular grid"
-    return (f"{pulses['pulses']} pulses: {pulses['missed_inserted']} missed sleepers inserted, "
-            f"{pulses['false_rejected']} false pulses rejected")
+        return t("no detector pulses: a regular grid")
+    return t("{pulses} pulses: {missed} missed sleepers inserted, {false} false pulses rejected").format(
+        pulses=pulses["pulses"], missed=pulses["missed_inserted"], false=pulses["false_rejected"])
 
 
 def limits_text(check: Check) -> str:
@@ -258,28 +261,34 @@ def limits_text(check: Check) -> str:
     if np.isfinite(lower) and np.isfinite(upper) and np.isclose(-lower, upper):
         return f"±{upper:.{digits}f} {unit}"
     parts = ([f">= {lower:.{digits}f}"] if np.isfinite(lower) else []) + ([f"<= {upper:.{digits}f}"] if np.isfinite(upper) else [])
-    return " and ".join(parts) + f" {unit}"
+    return t(" and ").join(parts) + f" {unit}"
 
 
 def check_description(check: Check) -> str:
     """What a check measures, in words (for the header block and the PDF)."""
     kind = check.kind
     if kind == "versine":
-        return f"versine, {check.chord_m:g} m chord" + (f" ({check.back_m:g} m back)" if check.back_m else "")
+        return (t("versine, {chord_m:g} m chord").format(chord_m=check.chord_m)
+                + (t(" ({back_m:g} m back)").format(back_m=check.back_m) if check.back_m else ""))
     if kind == "differential_versine":
-        return f"differential versine, {check.chord_m:g} m chord / {check.pair_m:g} m pairs"
+        return t("differential versine, {chord_m:g} m chord / {pair_m:g} m pairs").format(chord_m=check.chord_m,
+                                                                                          pair_m=check.pair_m)
     if kind == "band_peak":
-        return f"band-passed peak, band {check.band}"
+        return t("band-passed peak, band {band}").format(band=check.band)
     if kind == "twist":
-        return f"twist over {check.base_m:g} m" + (" (design cant ramp removed)" if check.relative_to_design else "")
+        return (t("twist over {base_m:g} m").format(base_m=check.base_m)
+                + (t(" (design cant ramp removed)") if check.relative_to_design else ""))
     if kind == "gauge_change_rate":
-        return "gauge change rate " + (f"over {check.base_m:g} m" if check.base_m else "sleeper to sleeper")
-    if kind in ("cant_change_rate", "cant_deficiency_rate"):
-        return f"{kind.replace('_', ' ')} over {check.base_m:g} m"
+        return (t("gauge change rate over {base_m:g} m").format(base_m=check.base_m) if check.base_m
+                else t("gauge change rate sleeper to sleeper"))
+    if kind == "cant_change_rate":
+        return t("cant change rate over {base_m:g} m").format(base_m=check.base_m)
+    if kind == "cant_deficiency_rate":
+        return t("cant deficiency rate over {base_m:g} m").format(base_m=check.base_m)
     if kind == "deviation_change_rate":
-        return f"alignment / height change rate over {check.base_m:g} m"
-    return {"gauge_deviation": "gauge deviation from nominal", "cross_level": "cross-level (measured - design cant)",
-            "cant_deficiency": "cant deficiency at line speed"}[kind]
+        return t("alignment / height change rate over {base_m:g} m").format(base_m=check.base_m)
+    return t({"gauge_deviation": "gauge deviation from nominal", "cross_level": "cross-level (measured - design cant)",
+              "cant_deficiency": "cant deficiency at line speed"}[kind])
 
 
 def load_report_content(project: Project, results: StoredResults) -> ReportContent:
@@ -297,12 +306,13 @@ def load_report_content(project: Project, results: StoredResults) -> ReportConte
         fastener = load_fastener_type(project.resource(project.fastener))
     except ValueError as error:  # a fastener file edited since processing: the amounts are still in the results
         fastener = None
-        notes.append(f"fastener type not readable: {error}")
+        notes.append(t("fastener type not readable: {error}").format(error=error))
     columns = _sleeper_columns(results, profile)
     valid = results.columns["valid"] > 0
     return ReportContent(project, results, profile, fastener, tuple(columns), valid, results.columns["station_m"],
                          notes=tuple(notes), recorded=recorded,
-                         settings_changes=tuple(recorded.changes(project, _first_survey(results))))
+                         # the standard sentence translated; a change's own line names settings as project.toml does
+                         settings_changes=tuple(t(line) for line in recorded.changes(project, _first_survey(results))))
 
 
 def _first_survey(results: StoredResults) -> str:
@@ -331,7 +341,7 @@ def _named(key: str, group: str, values: np.ndarray, number_format: str = "0.0",
            **options) -> Column:
     """A column of a stored (or report-derived) quantity, named by :mod:`insrail.names`."""
     name = column_name(key)
-    return Column(key, group, title if title is not None else _lower_first(name.name), name.unit, values, number_format,
+    return Column(key, t(group), title if title is not None else _lower_first(name.name), name.unit, values, number_format,
                   name=name.name, **options)
 
 
@@ -339,7 +349,7 @@ def _check_column(results: StoredResults, check: Check, rail: str, direction: st
     key = check_column(check.name, check.kind, rail, direction)
     scale, number_format = _display_scale(check.kind)  # limits in SI; the stored values in the column's unit
     stored = PER_MILLE if limit_unit(check.kind) == "ratio" else 1.0
-    return Column(key, group, title, check_unit(check.kind), stored * results.columns[key],
+    return Column(key, t(group), title, check_unit(check.kind), stored * results.columns[key],
                   number_format, limits=(scale * check.lower, scale * check.upper),
                   exceeding=_exceeding(results, check.name, rail, direction), check=check.name,
                   name=channel_name(check, rail, direction))
@@ -379,7 +389,7 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
     used: set[str] = set()
     columns = [
         _named("row", SLEEPER_GROUP, np.arange(1, n + 1), "0", width=6),
-        _named("number", SLEEPER_GROUP, results.number, "0", "number", width=8),
+        _named("number", SLEEPER_GROUP, results.number, "0", t("number"), width=8),
         _named("label", SLEEPER_GROUP, np.array(results.label, dtype=object), "@", width=13),
         _named("station_m", SLEEPER_GROUP, c["station_m"], "0.000", width=11),
         *([_named("chain_zone", SLEEPER_GROUP, c["chain_zone"], "0", width=8)] if "chain_zone" in c else []),
@@ -412,7 +422,7 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
                 [_named("twist_3m_mm", PARAMETER_GROUP, c["twist_3m_mm"])])
     columns += _running_parameter_columns(results, profile, used)
     columns.append(_named("guiding_rail", PARAMETER_GROUP,
-                          np.where(c["guiding_rail_right"] > 0, "R", "L").astype(object), "@", width=8))
+                          np.where(c["guiding_rail_right"] > 0, t("R"), t("L")).astype(object), "@", width=8))
     # the thesis's short- and long-wave columns first, then the profile's other checks in file order
     for chord, pair in ((30.0, 5.0), (300.0, 150.0)):
         check = _find(profile, used, "differential_versine", chord_m=chord, pair_m=pair)
@@ -430,8 +440,9 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
         for rail in RAILS:
             unresolved |= c[f"unresolved_{direction}_{rail}"] > 0
     notes = results.adjustment_notes  # why: fastener range exhausted, conflicting checks (older results: none)
-    flag = (np.array([note or ("yes" if u else "") for note, u in zip(notes, unresolved)], dtype=object) if notes
-            else np.where(unresolved, "yes", "").astype(object))
+    flag = (np.array([adjustment_note(note) or (t("yes") if u else "") for note, u in zip(notes, unresolved)],
+                     dtype=object) if notes
+            else np.where(unresolved, t("yes"), "").astype(object))
     columns.append(_named("unresolved", ADJUSTMENT_GROUP, flag, "@", width=9))
     return columns
 
@@ -457,13 +468,20 @@ def adjustment_work(content: ReportContent) -> AdjustmentWork:
     moving = np.flatnonzero(np.any(amounts != 0, axis=1))
     order = moving[np.argsort(content.station_m[moving], kind="stable")]
     amounts = amounts[order]
-    tables = content.fastener.parts if content.fastener is not None else {}
+    tables = _in_language(content.fastener.parts) if content.fastener is not None else {}
     places = [(key.split("_")[1], RAILS.index(key.split("_")[2])) for key in ADJUSTMENT_KEYS]
     parts = tuple(tuple(parts_text(tables, direction, rail, amount) for (direction, rail), amount in zip(places, row))
                   for row in amounts)
     listed = tuple(materials(tables, amounts[:, :2], amounts[:, 2:]))
     notes = tuple(f"{direction}: {table.note}" for direction, table in tables.items() if table.note)
     return AdjustmentWork(order, amounts, parts, listed, notes)
+
+
+def _in_language(tables: dict[str, PartTable]) -> dict[str, PartTable]:
+    """A fastener's part tables with their parts' names and notes in the report's language."""
+    return {direction: replace(table, note=t(table.note),
+                               positions=tuple(replace(p, name=t(p.name)) for p in table.positions))
+            for direction, table in tables.items()}
 
 
 #: Two sleepers with work further apart than this [m] belong to different work sections, and a section
@@ -489,8 +507,8 @@ class CrewRow:
     @property
     def parts(self) -> tuple[str, ...]:
         """The parts of each amount, named by its direction ("lateral: outer block No. 9→7; ...")."""
-        return tuple(f"{direction}: {text}" for direction, text in (("lateral", self.lateral_parts),
-                                                                   ("vertical", self.vertical_parts)) if text)
+        return tuple(f"{t(direction)}: {text}" for direction, text in (("lateral", self.lateral_parts),
+                                                                      ("vertical", self.vertical_parts)) if text)
 
 
 @dataclass(frozen=True)
@@ -507,7 +525,7 @@ def crew_sections(content: ReportContent, work: AdjustmentWork | None = None) ->
     amount, split into work sections (every amount exactly as in sleepers.csv)."""
     work = work or adjustment_work(content)
     keys = {key: k for k, key in enumerate(ADJUSTMENT_KEYS)}
-    notes = content.column("unresolved").values
+    notes = content.results.adjustment_notes or content.column("unresolved").values  # as the results word them
     rows: list[list[CrewRow]] = []
     previous = first = None
     for position, sleeper in enumerate(work.order):
@@ -523,15 +541,33 @@ def crew_sections(content: ReportContent, work: AdjustmentWork | None = None) ->
                 rows[-1].append(CrewRow(int(sleeper), position + 1, rail, float(lateral), float(vertical),
                                         work.parts[position][keys[f"adjust_lateral_{name}_mm"]],
                                         work.parts[position][keys[f"adjust_vertical_{name}_mm"]],
-                                        rail_note(str(notes[sleeper]), name)))
+                                        adjustment_note(rail_note(str(notes[sleeper]), name))))
     return [WorkSection(number, tuple(section)) for number, section in enumerate(rows, start=1)]
 
 
 def rail_note(note: str, rail: str) -> str:
     """The parts of a sleeper's "checks still failed" note about one rail ("lateral left: ..."; "yes" stays)."""
-    if note in ("", "yes"):
+    if note in ("", "yes", t("yes")):
         return note
     return "; ".join(part for part in note.split("; ") if f" {rail}:" in part)
+
+
+_NOTE_PART = re.compile(r"^(lateral|vertical) (left|right): (.*)$")
+
+
+def adjustment_note(note: str) -> str:
+    """A sleeper's "checks still failed" note of the results ("lateral left: conflicting checks; ...", the
+    reasons of :data:`insrail.track.adjustment.REASONS`) in the report's language."""
+    parts = []
+    for part in note.split("; ") if note else ():
+        match = _NOTE_PART.match(part)
+        if match is None:  # "yes" (results without reasons) or a wording of another version: as written
+            parts.append(t(part))
+            continue
+        direction, rail, why = match.groups()
+        reasons = " + ".join(t(reason) for reason in why.split(" + "))
+        parts.append(f"{joined((t(direction), t(rail + ' rail')))}: {reasons}")
+    return "; ".join(parts)
 
 
 def threshold_text(summary: dict) -> str:
@@ -540,8 +576,10 @@ def threshold_text(summary: dict) -> str:
     if "threshold_mm" not in adjustment:
         return ""
     kept = adjustment.get("below_threshold_sleepers", 0)
-    return (f"Action threshold {adjustment['threshold_mm']:g} mm: every amount is 0 or at least this"
-            + (f", except at {kept} sleepers where a smaller amount is needed to keep the checks" if kept else ""))
+    return (t("Action threshold {threshold:g} mm: every amount is 0 or at least this").format(
+                threshold=adjustment["threshold_mm"])
+            + (t(", except at {count} sleepers where a smaller amount is needed to keep the checks").format(count=kept)
+               if kept else ""))
 
 
 def after_adjustment_text(summary: dict) -> str:
@@ -550,12 +588,12 @@ def after_adjustment_text(summary: dict) -> str:
     after = adjustment.get("after")
     if after is None:
         return ""
-    reasons = ", ".join(f"{name.replace('_', ' ')}: {count}" for name, count in
-                        adjustment.get("unresolved_reasons", {}).items() if count)
+    reasons = joined(f"{t(name.replace('_', ' '))}: {count}" for name, count in  # REASONS' words, as ids
+                     adjustment.get("unresolved_reasons", {}).items() if count)
     before = sum(after.get("by_check_before", {}).values())
-    return (f"After adjustment: {after['exceedances']} exceedances (before {before}), "
-            f"{after.get('new_exceedances', 0)} where the track passed before"
-            + (f"; sleepers still failing: {reasons}" if reasons else ""))
+    return (t("After adjustment: {after} exceedances (before {before}), {new} where the track passed before").format(
+                after=after["exceedances"], before=before, new=after.get("new_exceedances", 0))
+            + (t("; sleepers still failing: {reasons}").format(reasons=reasons) if reasons else ""))
 
 
 def _running_parameter_columns(results: StoredResults, profile: ToleranceProfile, used: set[str]) -> list[Column]:
@@ -599,7 +637,7 @@ def parameter_statistics(content: ReportContent) -> list[ParameterStatistics]:
     """Statistics of every numeric measured column over the valid sleepers, with its exceedances."""
     statistics = []
     for column in content.columns:
-        if column.values.dtype == object or column.group == "Sleeper" or column.key.startswith("adjust_"):
+        if column.values.dtype == object or column.group == t(SLEEPER_GROUP) or column.key.startswith("adjust_"):
             continue
         values = column.values[content.valid]
         values = values[np.isfinite(values)]

@@ -18,6 +18,7 @@ import math
 import re
 import shutil
 import tempfile
+import unicodedata
 import zipfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -34,10 +35,11 @@ from openpyxl.worksheet.pagebreak import Break
 from openpyxl.worksheet.worksheet import Worksheet
 
 from insrail.io.atomic import atomic_write
-from insrail.names import check_name, fastener_name, profile_name, quantity_name
+from insrail.names import check_name, fastener_name, in_language, profile_name, quantity_name, t
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
+from insrail.project.run_settings import report_language
 from insrail.report.content import (
     SEVERITY_RULE,
     Column,
@@ -59,7 +61,6 @@ from insrail.report.content import (
     threshold_text,
 )
 from insrail.report.labels import SIGNS, amounts_text, deviation_reference
-from insrail.track.exceedance import RAILS
 
 EXCEEDANCE_FILL = PatternFill("solid", fgColor="FFC7CE")  # the spreadsheet's usual "bad" red
 INVALID_FILL = PatternFill("solid", fgColor="D9D9D9")
@@ -289,19 +290,41 @@ class _Sheet:
         self.sheet.print_title_rows = f"{first_header_row}:{header_row}"
 
 
-def _longest_word(text: str) -> int:
-    return max((len(word) for word in str(text).split()), default=0)
+#: Chinese characters and punctuation: the spreadsheet wraps a line between any two of them.
+_CJK = re.compile(r"([\u2e80-\u9fff\u3000-\u303f\uff00-\uffef])")
+
+
+def _pieces(word: str) -> list[str]:
+    """The parts of a word no line break splits: the word, or in Chinese each character."""
+    return [piece for piece in _CJK.split(word) if piece]
+
+
+#: Width of a Chinese character in digits of the body font (LibreOffice sets it in the system's CJK font: a
+#: line of the crew sheet's notes held 45 Latin characters and 23 Chinese in 103 digits).
+CJK_CHARACTER_WIDTH = 2.5
+
+
+def _text_width(text: str) -> float:
+    """Width in characters of the body font (a Chinese character: :data:`CJK_CHARACTER_WIDTH`)."""
+    return sum(CJK_CHARACTER_WIDTH if unicodedata.east_asian_width(c) in "WF" else 1 for c in text)
+
+
+def _longest_word(text: str) -> float:
+    return max((_text_width(piece) for word in str(text).split() for piece in _pieces(word)), default=0)
 
 
 def _wrapped_lines(text: str, width: float, character_width: float = BOLD_CHARACTER_WIDTH) -> int:
-    """Lines ``text`` wraps to in a cell ``width`` wide (word wrap as the spreadsheet does it)."""
+    """Lines ``text`` wraps to in a cell ``width`` wide (word wrap as the spreadsheet does it, Chinese
+    between any two characters)."""
     characters = max(int((width - 1.0) / character_width), 1)
     lines, used = 1, 0
     for word in str(text).split():
-        if used and used + 1 + len(word) > characters:
-            lines, used = lines + 1, len(word)
-        else:
-            used += len(word) + (1 if used else 0)
+        for index, piece in enumerate(_pieces(word)):
+            size, gap = _text_width(piece), 1 if used and index == 0 else 0
+            if used and used + gap + size > characters:
+                lines, used = lines + 1, size
+            else:
+                used += gap + size
     return lines
 
 
@@ -401,7 +424,7 @@ def _printable(sheet: Worksheet, paper: str = "A3", page_header: tuple[str, str,
     sheet.HeaderFooter.oddHeader.center.text = _header_text(survey)
     sheet.HeaderFooter.oddHeader.right.text = "&A"
     sheet.HeaderFooter.oddFooter.left.text = _header_text(software)
-    sheet.HeaderFooter.oddFooter.right.text = "page &P of &N"
+    sheet.HeaderFooter.oddFooter.right.text = t("page {number} of {pages}").format(number="&P", pages="&N")
     if scale is None:
         sheet.page_setup.fitToWidth = 1
         sheet.page_setup.fitToHeight = 0  # as many pages as the rows need
@@ -414,8 +437,8 @@ def _printable(sheet: Worksheet, paper: str = "A3", page_header: tuple[str, str,
 
 def page_header(content: ReportContent) -> tuple[str, str, str]:
     """What every printed page of the workbook names: project, survey and chainage, software."""
-    return (content.project.name, f"survey {content.survey} {survey_start(content)}, {content.chainage_range}",
-            content.software)
+    return (content.project.name, t("survey {survey} {start}, {chainage}").format(
+        survey=content.survey, start=survey_start(content), chainage=content.chainage_range), content.software)
 
 
 def _start(sheet: _Sheet, content: ReportContent, widths: list[float], freeze: str | None = None,
@@ -426,38 +449,44 @@ def _start(sheet: _Sheet, content: ReportContent, widths: list[float], freeze: s
 
 def _context(content: ReportContent) -> str:
     """Project, survey, chainage and tolerance profile in one line (above the smaller tables)."""
-    return (f"{content.project.name}, survey {content.survey} {survey_start(content)}, {content.chainage_range}, "
-            f"tolerance profile {profile_name(content.profile)}; {content.software}")
+    return t("{project}, survey {survey} {start}, {chainage}, tolerance profile {profile}; {software}").format(
+        project=content.project.name, survey=content.survey, start=survey_start(content),
+        chainage=content.chainage_range, profile=profile_name(content.profile), software=content.software)
 
 
 def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     project, summary = content.project, content.summary
     track = summary.get("track", {})
     sheet.title(title)
-    sleepers = f"{track.get('sleepers', len(content.results))} ({track.get('valid_sleepers', int(content.valid.sum()))} valid)"
+    sleepers = t("{sleepers} ({valid} valid)").format(sleepers=track.get("sleepers", len(content.results)),
+                                                      valid=track.get("valid_sleepers", int(content.valid.sum())))
     if repair := sleeper_repair_text(summary):
         sleepers += f"; {repair}"
-    sheet.pairs(("Project", project.name), ("Line", project.description or project.name), ("Survey", content.survey))
-    sheet.pairs(("Chainage", content.chainage_range), ("Sleepers", sleepers), ("Survey start", survey_start(content)))
+    sheet.pairs((t("Project"), project.name), (t("Line"), project.description or project.name),
+                (t("Survey"), content.survey))
+    sheet.pairs((t("Chainage"), content.chainage_range), (t("Sleepers"), sleepers),
+                (t("Survey start"), survey_start(content)))
     profile = content.profile
-    sheet.pairs(("Tolerance profile", profile_name(profile)), ("Standard", profile.source),
-                ("Design", content.design or "fitted lines (no design alignment)"))
+    sheet.pairs((t("Tolerance profile"), profile_name(profile)), (t("Standard"), t(profile.source)),
+                (t("Design"), content.design or t("fitted lines (no design alignment)")))
     if content.settings_changes:  # the project says otherwise now: the results stand as processed
-        sheet.pairs(("Settings", "; ".join(content.settings_changes)), anchors=(0, 4))
-    sheet.pairs(("Nominal gauge", f"{1e3 * profile.nominal_gauge_m:.1f} mm"), ("Software", content.software),
-                ("Operator", content.project.report.operator or "not stated"))
+        sheet.pairs((t("Settings"), "; ".join(content.settings_changes)), anchors=(0, 4))
+    sheet.pairs((t("Nominal gauge"), f"{1e3 * profile.nominal_gauge_m:.1f} mm"), (t("Software"), content.software),
+                (t("Operator"), content.project.report.operator or t("not stated")))
 
 
 
 # --------------------------------------------------------------------------- sleepers
 
 def _sleeper_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    _header_block(sheet, content, "Track geometry per sleeper")
-    sheet.pairs(("Legend", sheet.cell("beyond a limit", fill=EXCEEDANCE_FILL)),
-                ("", sheet.cell("invalid sleeper", fill=INVALID_FILL)))
-    long_texts = [sheet.long_pair("Limits", "; ".join(f"{check_name(c)} {limits_text(c)}" for c in content.profile.checks)),
-                  sheet.long_pair("Deviations", f"{deviation_reference(content.summary)}: where the rail is ({SIGNS})"),
-                  sheet.long_pair("Adjustment", amounts_text(content.summary, content.profile, content.fastener))]
+    _header_block(sheet, content, t("Track geometry per sleeper"))
+    sheet.pairs((t("Legend"), sheet.cell(t("beyond a limit"), fill=EXCEEDANCE_FILL)),
+                ("", sheet.cell(t("invalid sleeper"), fill=INVALID_FILL)))
+    long_texts = [sheet.long_pair(t("Limits"), "; ".join(f"{check_name(c)} {limits_text(c)}"
+                                                         for c in content.profile.checks)),
+                  sheet.long_pair(t("Deviations"), t("{reference}: where the rail is ({signs})").format(
+                      reference=deviation_reference(content.summary), signs=t(SIGNS))),
+                  sheet.long_pair(t("Adjustment"), amounts_text(content.summary, content.profile, content.fastener))]
     columns = content.columns
     first_header = sheet.group_header([column.group for column in columns])
     sheet.header([limits_text_for(column) for column in columns])
@@ -524,8 +553,8 @@ def limits_text_for(column: Column) -> str:
     lower, upper = column.limits
     digits = 2 if column.unit == "‰" else 1
     if np.isfinite(lower) and np.isfinite(upper) and np.isclose(-lower, upper):
-        return f"limit ±{upper:.{digits}f}"
-    return "limit " + " / ".join(f"{v:.{digits}f}" for v in (lower, upper) if np.isfinite(v))
+        return t("limit {limits}").format(limits=f"±{upper:.{digits}f}")
+    return t("limit {limits}").format(limits=" / ".join(f"{v:.{digits}f}" for v in (lower, upper) if np.isfinite(v)))
 
 
 # --------------------------------------------------------------------------- adjustment
@@ -558,16 +587,17 @@ def _note(sheet: _Sheet, text: str, widths: Sequence[float], font: Font | None =
 def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
     """The crew's sheet: A4 portrait, 11 pt at 100 %, one line per rail to move, a page per work section."""
     widths = CREW_WIDTHS
-    sheet.title("Adjustment sheet")
-    _note(sheet, "The rails to move, in working order (increasing chainage). " + _context(content), widths)
-    _note(sheet, "Amounts: " + amounts_text(content.summary, content.profile, content.fastener) + ".", widths, BOLD)
+    sheet.title(t("Adjustment sheet"))
+    _note(sheet, t("The rails to move, in working order (increasing chainage). ") + _context(content), widths)
+    _note(sheet, t("Amounts: ") + amounts_text(content.summary, content.profile, content.fastener) + t("."), widths,
+          BOLD)
     for text in (_fastener_line(content), threshold_text(content.summary), after_adjustment_text(content.summary)):
         if text:
             _note(sheet, text, widths)
-    _note(sheet, "Parts: outer = on the field side of the rail foot, inner = on the gauge side; No. 9→11: replace the "
-                 "No. 9 part by a No. 11; shims are added; * size assumed, not a published figure. The Materials sheet "
-                 "sums the parts.", widths)
-    header = sheet.header(list(CREW_TITLES))
+    _note(sheet, t("Parts: outer = on the field side of the rail foot, inner = on the gauge side; No. 9→11: replace "
+                   "the No. 9 part by a No. 11; shims are added; * size assumed, not a published figure. The Materials "
+                   "sheet sums the parts."), widths)
+    header = sheet.header([t(title) for title in CREW_TITLES])
     # at 100 % with the body font's widths; fitted to the page width where a substitute font is wider
     sheet.start(list(widths), f"A{header + 1}", CREW_PAPER, page_header(content), orientation="portrait")
     work = adjustment_work(content)
@@ -581,8 +611,9 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
     for section in work_sections:
         first, last = section.rows[0].sleeper, section.rows[-1].sleeper
         sleepers = len({row.sleeper for row in section.rows})
-        heading = (f"Work section {section.number} of {len(work_sections)}: {labels[first]} – {labels[last]}, "
-                   f"{sleepers} sleepers, {len(section.rows)} rails to move")
+        heading = t("Work section {number} of {count}: {first} – {last}, {sleepers} sleepers, {rails} rails to "
+                    "move").format(number=section.number, count=len(work_sections), first=labels[first],
+                                   last=labels[last], sleepers=sleepers, rails=len(section.rows))
         row_number = sheet.rows + len(heights) + 1
         if section.number > 1:  # each work section starts on a sheet of paper of its own
             sheet.sheet.row_breaks.append(Break(id=row_number - 1))
@@ -592,7 +623,7 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
             styles[k].append(bold)
         heights.append(LINE_HEIGHT_PT + 6.0)
         for row in section.rows:
-            values = [row.count, int(numbers[row.sleeper]), str(labels[row.sleeper]), RAILS[row.rail], row.lateral_mm,
+            values = [row.count, int(numbers[row.sleeper]), str(labels[row.sleeper]), (t("left"), t("right"))[row.rail], row.lateral_mm,
                       row.vertical_mm, "\n".join(row.parts), row.failing]
             for k, (value, style) in enumerate(zip(values, [plain, plain, plain, plain, amount, amount, wrapped, red])):
                 columns[k].append(value)
@@ -601,7 +632,7 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
                         _wrapped_lines(row.failing, widths[7], BODY_CHARACTER_WIDTH))
             heights.append(LINE_HEIGHT_PT * lines + 2.0 if lines > 1 else None)
     if not work_sections:
-        columns[0].append("no rail to move: every check of the tolerance profile passes as measured")
+        columns[0].append(t("no rail to move: every check of the tolerance profile passes as measured"))
         styles[0].append(bold)
         for k in range(1, len(CREW_TITLES)):
             columns[k].append("")
@@ -616,29 +647,32 @@ def _fastener_line(content: ReportContent) -> str:
     """The fastener type, the total movement and how many sleepers still fail (summary.toml [adjustment])."""
     fastener = content.fastener
     adjustment = content.summary.get("adjustment", {})
-    kind = ((fastener.description or f"{fastener.name}, steps of {1e3 * fastener.step_m:g} mm") if fastener
-            else f"{fastener_name(None, adjustment.get('fastener', ''))} (the fastener type file is not readable: no parts)")
-    return (f"Fastener {kind}; total movement {adjustment.get('total_movement_mm', 0.0):.0f} mm at "
-            f"{adjustment.get('sleepers_to_work_on', 0)} sleepers; "
-            f"{adjustment.get('unresolved_sleepers', 0)} sleepers where the checks still fail")
+    kind = ((t(fastener.description) or t("{name}, steps of {step:g} mm").format(name=fastener.name,
+                                                                                  step=1e3 * fastener.step_m))
+            if fastener else t("{name} (the fastener type file is not readable: no parts)").format(
+                name=fastener_name(None, adjustment.get("fastener", ""))))
+    return t("Fastener {kind}; total movement {movement:.0f} mm at {sleepers} sleepers; {failing} sleepers where the "
+             "checks still fail").format(kind=kind, movement=adjustment.get("total_movement_mm", 0.0),
+                                        sleepers=adjustment.get("sleepers_to_work_on", 0),
+                                        failing=adjustment.get("unresolved_sleepers", 0))
 
 
 def _materials_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    _adjustment_header(sheet, content, "Materials list: the fastener parts the adjustment sheet needs")
+    _adjustment_header(sheet, content, t("Materials list: the fastener parts the adjustment sheet needs"))
     work = adjustment_work(content)
     for note in work.notes:
-        sheet.append([sheet.cell(f"No parts for {note}")])
-    sheet.append([sheet.cell("Parts marked * have sizes not taken from published figures: check them against the "
-                             "fastener type file before ordering.", font=BOLD)])
-    titles = ["part", "size", "left rails", "right rails", "total"]
+        sheet.append([sheet.cell(t("No parts for {note}").format(note=note))])
+    sheet.append([sheet.cell(t("Parts marked * have sizes not taken from published figures: check them against the "
+                               "fastener type file before ordering."), font=BOLD)])
+    titles = [t("part"), t("size"), t("left rails"), t("right rails"), t("total")]
     header = sheet.header(titles)
     _start(sheet, content, [40, 10, 10, 10, 10], freeze=f"A{header + 1}")
     for part, size, left, right in work.materials:
         sheet.append([sheet.cell(part), sheet.cell(size), sheet.cell(left), sheet.cell(right),
                       sheet.cell(left + right, font=BOLD)])
     if not work.materials:
-        sheet.append([sheet.cell("no parts: no sleeper to work on" if not work.order.size
-                                 else "no parts listed for this fastener type")])
+        sheet.append([sheet.cell(t("no parts: no sleeper to work on") if not work.order.size
+                                 else t("no parts listed for this fastener type"))])
     progress(1.0, "materials list")
     sheet.finish_table(header, header, len(titles))
 
@@ -646,11 +680,13 @@ def _materials_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgre
 # --------------------------------------------------------------------------- exceedances
 
 def _exceedance_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    sheet.title("Exceedances, the most severe first, each severity in chainage order")
+    sheet.title(t("Exceedances, the most severe first, each severity in chainage order"))
     sheet.append([sheet.cell(_context(content))])
-    sheet.append([sheet.cell(SEVERITY_RULE[0].upper() + SEVERITY_RULE[1:])])
-    titles = ["no.", "severity", "check", "what", "from", "to", "from (m)", "to (m)", "length (m)", "peak", "limit",
-              "unit", "beyond the limit by (%)", "first sleeper", "last sleeper"]
+    rule = t(SEVERITY_RULE)
+    sheet.append([sheet.cell(rule[0].upper() + rule[1:])])
+    titles = [t(title) for title in ("no.", "severity", "check", "what", "from", "to", "from (m)", "to (m)",
+                                     "length (m)", "peak", "limit", "unit", "beyond the limit by (%)", "first sleeper",
+                                     "last sleeper")]
     header = sheet.header(titles)
     _start(sheet, content, [6, 9, 40, 34, 13, 13, 11, 11, 9, 8, 8, 6, 10, 9, 9], freeze=f"D{header + 1}")
     checks = {c.name: c for c in content.profile.checks}
@@ -661,7 +697,7 @@ def _exceedance_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
             index += 1
             peak, limit, unit = exceedance_display(e)
             fmt = "0.000" if unit == "‰" else "0.00"  # enough to see the peak beyond the limit
-            sheet.append([sheet.cell(index), sheet.cell(severity, font=RED_FONT if severity == "severe" else None),
+            sheet.append([sheet.cell(index), sheet.cell(t(severity), font=RED_FONT if severity == "severe" else None),
                           sheet.cell(exceedance_check(content, e)), sheet.cell(check_description(checks[e.check])),
                           sheet.cell(label_of.get(e.first_sleeper, "")), sheet.cell(label_of.get(e.last_sleeper, "")),
                           sheet.cell(e.station_from_m, "0.000"), sheet.cell(e.station_to_m, "0.000"),
@@ -680,9 +716,10 @@ def _events_table(sheet: _Sheet, content: ReportContent) -> None:
         return
     not_assessed = content.summary.get("assessment", {}).get("not_assessed_sleepers", 0)
     sheet.append([])
-    sheet.append([sheet.cell(f"Events: {not_assessed} measured sleepers not assessed with the tolerance profile",
-                             font=BOLD)])
-    sheet.header(["no.", "event", "text", "from (m)", "to (m)", "sleepers", "assessment", "written in"])
+    sheet.append([sheet.cell(t("Events: {count} measured sleepers not assessed with the tolerance profile").format(
+        count=not_assessed), font=BOLD)])
+    sheet.header([t(title) for title in ("no.", "event", "text", "from (m)", "to (m)", "sleepers", "assessment",
+                                         "written in")])
     for index, e in enumerate(content.events, start=1):
         sheet.append([sheet.cell(index), sheet.cell(e.kind), sheet.cell(e.text), sheet.cell(e.station_from_m, "0.000"),
                       sheet.cell(e.station_to_m, "0.000"), sheet.cell(e.sleepers), sheet.cell(e.assessment),
@@ -692,11 +729,11 @@ def _events_table(sheet: _Sheet, content: ReportContent) -> None:
 # --------------------------------------------------------------------------- summary
 
 def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    sheet.title("Summary")
+    sheet.title(t("Summary"))
     sheet.append([sheet.cell(_context(content))])
-    sheet.append([sheet.cell("Statistics per parameter (valid sleepers)", font=BOLD)])
-    titles = ["parameter", "unit", "limit", "valid sleepers", "minimum", "maximum", "mean", "standard deviation",
-              "sleepers beyond", "exceedances"]
+    sheet.append([sheet.cell(t("Statistics per parameter (valid sleepers)"), font=BOLD)])
+    titles = [t(title) for title in ("parameter", "unit", "limit", "valid sleepers", "minimum", "maximum", "mean",
+                                     "standard deviation", "sleepers beyond", "exceedances")]
     sheet.header(titles)
     quality = content.summary.get("track_quality", {})
     channels = list(quality.get("channels", []))
@@ -705,9 +742,12 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     # The survey's predicted accuracy per section (quality.csv, same sections): where the measurement is weak.
     predicted = content.results.quality
     figures = PREDICTED_FIGURES if predicted is not None else ()
-    section_titles = (["from (m)", "to (m)", "from", "to", "sleepers", "valid", "exceedances starting"]
-                      + [f"max |{check_name(check)}| ({columns[0].unit})" for check, columns in checks]
-                      + [f"SD {quantity_name(name).name} (mm)" for name in channels] + (["TQI (mm)"] if channels else [])
+    section_titles = ([t(title) for title in ("from (m)", "to (m)", "from", "to", "sleepers", "valid",
+                                              "exceedances starting")]
+                      + [t("max |{name}| ({unit})").format(name=check_name(check), unit=columns[0].unit)
+                         for check, columns in checks]
+                      + [t("SD {name} (mm)").format(name=quantity_name(name).name) for name in channels]
+                      + ([t("TQI (mm)")] if channels else [])
                       + [f"{quantity_name(name).name} (mm)" for name in figures])
     sheet.header_below(section_titles)
     widths = [44, 9, 12, 10, 10, 10, 10, 11, 10, 11]
@@ -723,9 +763,10 @@ def _summary_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     sheet.append([])
     tqi_start = np.asarray(quality.get("start_m", []), dtype=float)
     section_m = float(quality.get("section_m", SECTION_M))
-    sheet.append([sheet.cell(f"Per {section_m:g} m section: the largest magnitude of every check of the profile "
-                             f"(over its rails and directions), the standard deviations of the TQI channels "
-                             f"({quality.get('band', 'D1')} band for level and alignment) and their sum, the TQI", font=BOLD)])
+    sheet.append([sheet.cell(t("Per {section:g} m section: the largest magnitude of every check of the profile (over "
+                               "its rails and directions), the standard deviations of the TQI channels ({band} band for "
+                               "level and alignment) and their sum, the TQI").format(
+        section=section_m, band=quality.get("band", "D1")), font=BOLD)])
     sheet.header(section_titles)
     starts = np.array([e.station_from_m for e in content.results.exceedances])
     labels = content.column("label").values
@@ -767,7 +808,7 @@ def _flatten(prefix: str, value, rows: list[tuple[str, object]]) -> None:
             for index, item in enumerate(value):
                 _flatten(f"{prefix}[{index}]", item, rows)
         elif len(value) > 12:
-            rows.append((prefix, f"{len(value)} values (see the Summary sheet)"))
+            rows.append((prefix, t("{count} values (see the Summary sheet)").format(count=len(value))))
         else:
             rows.append((prefix, "; ".join("–".join(map(str, v)) if isinstance(v, list) else str(v) for v in value)))
     else:
@@ -775,18 +816,18 @@ def _flatten(prefix: str, value, rows: list[tuple[str, object]]) -> None:
 
 
 def _log_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
-    sheet.title("Processing log")
+    sheet.title(t("Processing log"))
     _start(sheet, content, [42, 90])
     now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
     for label, value in (("Software", content.software), ("Report written", now),
                          ("Project file", str(content.project.path)), ("Results", str(content.results.folder)),
                          *(("Note", note) for note in content.notes)):
-        sheet.pairs((label, value), anchors=(0, 1))
+        sheet.pairs((t(label), value), anchors=(0, 1))
     sheet.append([])
-    for title, document in (("summary.toml (QC figures of the processing)", content.summary),
-                            ("project.toml (settings)", content.project.to_settings())):
+    for title, document in ((t("summary.toml (QC figures of the processing)"), content.summary),
+                            (t("project.toml (settings)"), content.project.to_settings())):
         sheet.append([sheet.cell(title, font=BOLD)])
-        sheet.header(["key", "value"])
+        sheet.header([t("key"), t("value")])
         rows: list[tuple[str, object]] = []
         _flatten("", document, rows)
         for key, value in rows:
@@ -820,18 +861,23 @@ SHEETS: tuple[tuple[str, Callable, float], ...] = (
 def write_workbook(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
                    cancel: CancelToken = None) -> Path:
     """Write the crews' workbook for one survey's results to ``path`` (atomically); returns the path."""
-    step = StepProgress(progress)
-    path = Path(path)
+    with in_language(report_language(project)):
+        return _write_workbook(project, results, Path(path), StepProgress(progress), cancel)
+
+
+def _write_workbook(project: Project, results: StoredResults, path: Path, step: StepProgress,
+                    cancel: CancelToken) -> Path:
     content = load_report_content(project, results)
     workbook = Workbook(write_only=True)
-    workbook.properties.title = f"{project.name} – {results.survey}: track geometry"
+    workbook.properties.title = t("{project} – {survey}: track geometry").format(project=project.name,
+                                                                                 survey=results.survey)
     workbook.properties.creator = content.software
     position = 0.0
     sheets = []
     try:
         for name, build, share in SHEETS:
             check_cancel(cancel)
-            sheets.append(_Sheet(workbook.create_sheet(name)))
+            sheets.append(_Sheet(workbook.create_sheet(t(name))))
             build(sheets[-1], content, step.sub(position, position + share), cancel)
             position += share
         check_cancel(cancel)

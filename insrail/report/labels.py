@@ -17,10 +17,9 @@ from __future__ import annotations
 
 from pathlib import PurePosixPath
 
-from insrail.names import fastener_name, profile_name
+from insrail.names import fastener_name, profile_name, t
 from insrail.track.adjustment import DEFAULT_STRATEGY, STRATEGIES
 
-MINUS = "−"  # U+2212: "measured − design" reads as a difference, not a hyphenated word
 #: The sign of deviations and amounts alike, looking towards increasing chainage.
 SIGNS = "lateral + right, vertical + up, looking towards increasing chainage"
 
@@ -32,33 +31,37 @@ def design_name(summary: dict) -> str:
 
 
 def deviation_reference(summary: dict) -> str:
-    """What the deviations are: "measured − design (design.csv)" or "measured − fitted line"."""
+    """What the deviations are: "measured − design (design.csv)" or "measured − fitted line" (U+2212: it reads
+    as a difference, not a hyphenated word)."""
     design = design_name(summary)
-    return f"measured {MINUS} design ({design})" if design else f"measured {MINUS} fitted line"
+    return (t("measured − design ({design})").format(design=design) if design else t("measured − fitted line"))
 
 
 def deviation_group(summary: dict) -> str:
     """The sleeper table's and the charts' group title of the deviations."""
-    return f"Deviation [{deviation_reference(summary)}]"
+    return t("Deviation [{reference}]").format(reference=deviation_reference(summary))
 
 
 def reference_line(summary: dict) -> str:
     """The line the deviations are taken against, in words ("the design alignment design.csv")."""
     design = design_name(summary)
-    return f"the design alignment {design}" if design else "the line fitted to the measured centreline"
+    return (t("the design alignment {design}").format(design=design) if design
+            else t("the line fitted to the measured centreline"))
 
 
 def amounts_text(summary: dict, profile, fastener) -> str:
     """What moving each rail by its amount achieves, from the results' summary ([adjustment]) and the
     profile and fastener type the amounts were planned with (``fastener`` None: its file is not readable)."""
     adjustment = summary.get("adjustment", {})
-    strategy = STRATEGIES.get(adjustment.get("strategy", DEFAULT_STRATEGY), adjustment.get("strategy", ""))
+    strategy = t(STRATEGIES.get(adjustment.get("strategy", DEFAULT_STRATEGY), adjustment.get("strategy", "")))
     failing = adjustment.get("unresolved_sleepers", 0)
-    verdict = (f"after it the track passes every check of tolerance profile {profile_name(profile)}"
-               + (f" except at {failing} sleepers marked as still failing" if failing else "")
+    verdict = (t("after it the track passes every check of tolerance profile {profile}").format(
+                   profile=profile_name(profile))
+               + (t(" except at {count} sleepers marked as still failing").format(count=failing) if failing else "")
                if "after" in adjustment else  # results of an insrail before the re-assessment: no verdict to state
-               f"planned for tolerance profile {profile_name(profile)}, not re-assessed after the adjustment in "
-               "these results")
-    return (f"move the rail by the amount ({SIGNS}); planned by insrail for fastener "
-            f"{fastener_name(fastener, adjustment.get('fastener', ''))} in whole fastener steps ({strategy}): "
-            f"{verdict}; it does not put the rail onto {reference_line(summary)}")
+               t("planned for tolerance profile {profile}, not re-assessed after the adjustment in these results").format(
+                   profile=profile_name(profile)))
+    return t("move the rail by the amount ({signs}); planned by insrail for fastener {fastener} in whole fastener "
+             "steps ({strategy}): {verdict}; it does not put the rail onto {reference}").format(
+        signs=t(SIGNS), fastener=fastener_name(fastener, adjustment.get("fastener", "")), strategy=strategy,
+        verdict=verdict, reference=reference_line(summary))

@@ -11,6 +11,7 @@ page carries the project and survey, its section or chainage range and "page i o
 
 from __future__ import annotations
 
+import contextlib
 import datetime
 import itertools
 import math
@@ -47,9 +48,13 @@ from insrail.names import (
     check_name,
     column_name,
     fastener_name,
+    in_language,
+    joined,
+    language,
     profile_name,
     quantity_name,
     rail_direction,
+    t,
 )
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.notices import notices_of
@@ -61,7 +66,7 @@ from insrail.project.compare import (
 )
 from insrail.project.model import Project
 from insrail.project.results import SUMMARY_FILE, TRAJECTORY_FILE, StoredResults, check_column, trajectory_section
-from insrail.project.run_settings import NOT_RECORDED
+from insrail.project.run_settings import NOT_RECORDED, report_language
 from insrail.report.charts import (
     EVENT_COLOUR,
     LIMIT_COLOUR,
@@ -219,8 +224,9 @@ class NumberedCanvas(Canvas):
         pages = self._pageNumber - 1
         for number in range(1, pages + 1):
             self.beginForm(self._page_number_form(number))
-            self.setFont("Helvetica", 8)
-            self.drawRightString(self._pagesize[0] - MARGIN, MARGIN - 16, f"page {number} of {pages}")
+            words = t("page {number} of {pages}").format(number=number, pages=pages)
+            self.setFont(font_for(words), 8)
+            self.drawRightString(self._pagesize[0] - MARGIN, MARGIN - 16, words)
             self.endForm()
         super().save()
 
@@ -256,11 +262,12 @@ def _fmt(value, digits: int = 1, unit: str = "") -> str:
 # --------------------------------------------------------------------------- pages
 
 def _not_stated(value) -> str:
-    return str(value) if value else "not stated"
+    return str(value) if value else t("not stated")
 
 
 def _instrument(name: str, calibrated) -> str:
-    return f"{name}; calibrated {calibrated.isoformat()}" if calibrated else f"{name}; calibration date not stated"
+    return (t("{name}; calibrated {date}").format(name=name, date=calibrated.isoformat()) if calibrated
+            else t("{name}; calibration date not stated").format(name=name))
 
 
 def _imu(content: ReportContent) -> str:
@@ -270,30 +277,35 @@ def _imu(content: ReportContent) -> str:
         return project.report.imu
     recorded = content.recorded.record.get("imu_profile")
     if recorded is not None:  # the profile the fusion used
-        return f"not stated; error model {recorded['name']}: {recorded.get('description', '')}".rstrip(": ")
+        return t("not stated; error model {name}: {description}").format(
+            name=recorded["name"], description=t(recorded.get("description", ""))).rstrip(": ")
     name = project.imu_profile
     if name is None:
         try:
             name = project.manifest(content.survey).imu_profile
         except (InputError, OSError, KeyError):
-            return "not stated (survey folder not readable)"
+            return t("not stated (survey folder not readable)")
     try:
         profile = load_imu_profile(project.resource(name))
-        return f"not stated; error model {profile.name}: {profile.description}"
+        return t("not stated; error model {name}: {description}").format(name=profile.name,
+                                                                         description=t(profile.description))
     except (ValueError, OSError):
-        return f"not stated; error model {name}"
+        return t("not stated; error model {name}: {description}").format(name=name, description="").rstrip(": ")
 
 
 def crs_text(crs) -> str:
     """The engineering coordinate system with every parameter a client needs to check it."""
-    projection = (f"Transverse Mercator on {crs.ellipsoid} (a = {crs.semi_major_axis_m:.3f} m, "
-                  f"1/f = {crs.inverse_flattening_value:.9g}); central meridian {crs.central_meridian_deg:g}°, "
-                  f"latitude of origin {crs.latitude_of_origin_deg:g}°, scale factor {crs.scale_factor:.9g}, "
-                  f"false easting {crs.false_easting_m:.3f} m, false northing {crs.false_northing_m:.3f} m")
+    projection = t("Transverse Mercator on {ellipsoid} (a = {a:.3f} m, 1/f = {f:.9g}); central meridian {lon:g}°, "
+                   "latitude of origin {lat:g}°, scale factor {k:.9g}, false easting {east:.3f} m, false northing "
+                   "{north:.3f} m").format(ellipsoid=crs.ellipsoid, a=crs.semi_major_axis_m,
+                                           f=crs.inverse_flattening_value, lon=crs.central_meridian_deg,
+                                           lat=crs.latitude_of_origin_deg, k=crs.scale_factor,
+                                           east=crs.false_easting_m, north=crs.false_northing_m)
     if crs.projection_height_m:
-        convention = ("in the scale factor, mean radius " f"{crs.mean_radius_m:.0f} m"
-                      if crs.projection_height_convention == "scale_factor" else "on the semi-major axis")
-        projection += f"; projection height {crs.projection_height_m:.3f} m ({convention})"
+        convention = (t("in the scale factor, mean radius {radius:.0f} m").format(radius=crs.mean_radius_m)
+                      if crs.projection_height_convention == "scale_factor" else t("on the semi-major axis"))
+        projection += t("; projection height {height:.3f} m ({convention})").format(
+            height=crs.projection_height_m, convention=convention)
     return (f"EPSG:{crs.epsg} {crs.pyproj_crs.name}: " if crs.epsg is not None else "") + projection
 
 
@@ -304,17 +316,17 @@ def height_text(content: ReportContent) -> str:
     recorded = content.recorded.record.get("heights")  # the height model the results were processed with
     benchmarks = (recorded.get("benchmarks") or None) if recorded is not None else project.height.benchmarks
     if benchmarks is None:
-        return f"ellipsoidal heights on {ellipsoid} (no benchmarks in the project: H = h)"
+        return t("ellipsoidal heights on {ellipsoid} (no benchmarks in the project: H = h)").format(ellipsoid=ellipsoid)
     model = recorded.get("model") if recorded is not None else project.height.anomaly.model
     grid = recorded.get("geoid_grid") if recorded is not None else project.height.anomaly.geoid_grid
-    text = (f"normal heights H = h - height anomaly, fitted ({heights.get('model', model)}) on the benchmarks of "
-            f"{benchmarks}")
+    text = t("normal heights H = h - height anomaly, fitted ({model}) on the benchmarks of {benchmarks}").format(
+        model=t(heights.get("model", model)), benchmarks=benchmarks)
     if grid:
-        text += f" over the geoid grid {grid} (remove-restore)"
+        text += t(" over the geoid grid {grid} (remove-restore)").format(grid=grid)
     if "internal_rms_mm" in heights:
-        text += f"; benchmark RMS {heights['internal_rms_mm']:.1f} mm"
+        text += t("; benchmark RMS {rms:.1f} mm").format(rms=heights["internal_rms_mm"])
         if heights.get("loo_rms_mm", -1) >= 0:
-            text += f", leave-one-out {heights['loo_rms_mm']:.1f} mm"
+            text += t(", leave-one-out {rms:.1f} mm").format(rms=heights["loo_rms_mm"])
     return text
 
 
@@ -322,11 +334,12 @@ def _direction_of_travel(content: ReportContent) -> str:
     time = content.results.columns.get("time_s")
     station = content.station_m
     if time is None or station.size < 2 or not np.isfinite(time).any():
-        return "not recorded"
+        return t("not recorded")
     first, last = int(np.nanargmin(time)), int(np.nanargmax(time))
     labels = content.results.label
-    towards = "increasing" if station[last] >= station[first] else "decreasing"
-    return f"towards {towards} chainage ({labels[first]} to {labels[last]})"
+    towards = (t("towards increasing chainage ({first} to {last})") if station[last] >= station[first]
+               else t("towards decreasing chainage ({first} to {last})"))
+    return towards.format(first=labels[first], last=labels[last])
 
 
 def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
@@ -335,21 +348,24 @@ def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
     valid = track.get("valid_sleepers", int(content.valid.sum()))
     length = float(content.station_m[-1] - content.station_m[0]) if content.station_m.size else 0.0
     return [
-        ("Client", _not_stated(report.client)),
-        ("Line section", _not_stated(report.line_section or project.description)),
-        ("Track", _not_stated(report.track_name)),
-        ("Survey", f"{content.survey}, {survey_start(content) or 'date not recorded'}"),
-        ("Direction of travel", _direction_of_travel(content)),
-        ("Chainage", f"{content.chainage_range} ({length:.0f} m, "
-                     + f"{track.get('sleepers', len(content.results))} sleepers, {valid} valid)"),
-        ("Trolley", _instrument(_not_stated(report.trolley), report.trolley_calibrated)),
-        ("IMU", _instrument(_imu(content), report.imu_calibrated)),
-        ("Coordinate system", crs_text(content.crs)),
-        ("Height datum", height_text(content)),
-        ("Design", f"{content.design}; deviations {deviation_reference(content.summary)}" if content.design
-         else f"none: fitted line types, deviations {deviation_reference(content.summary)}"),
-        ("Tolerance profile", f"{profile_name(profile)}; {profile.source}"),
-        ("Operator", _not_stated(report.operator)),
+        (t("Client"), _not_stated(report.client)),
+        (t("Line section"), _not_stated(report.line_section or project.description)),
+        (t("Track"), _not_stated(report.track_name)),
+        (t("Survey"), f"{content.survey}, {survey_start(content) or t('date not recorded')}"),
+        (t("Direction of travel"), _direction_of_travel(content)),
+        (t("Chainage"), t("{chainage} ({length:.0f} m, {sleepers} sleepers, {valid} valid)").format(
+            chainage=content.chainage_range, length=length, sleepers=track.get("sleepers", len(content.results)),
+            valid=valid)),
+        (t("Trolley"), _instrument(_not_stated(report.trolley), report.trolley_calibrated)),
+        (t("IMU"), _instrument(_imu(content), report.imu_calibrated)),
+        (t("Coordinate system"), crs_text(content.crs)),
+        (t("Height datum"), height_text(content)),
+        (t("Design"), t("{design}; deviations {reference}").format(design=content.design,
+                                                                   reference=deviation_reference(content.summary))
+         if content.design else t("none: fitted line types, deviations {reference}").format(
+            reference=deviation_reference(content.summary))),
+        (t("Tolerance profile"), f"{profile_name(profile)}; {t(profile.source)}"),
+        (t("Operator"), _not_stated(report.operator)),
     ]
 
 
@@ -362,8 +378,8 @@ def _exceedance_conclusion(content: ReportContent) -> list[Flowable]:
     total = sum(len(rows) for _, rows in groups)
     valid = int(content.valid.sum())
     if not total:
-        return [Paragraph(f"<b>No sleeper is beyond a limit</b> of tolerance profile {text(profile_name(content.profile))} "
-                          f"({valid} valid sleepers assessed).", BODY)]
+        return [Paragraph(text(t("No sleeper is beyond a limit of tolerance profile {profile} ({valid} valid sleepers "
+                                 "assessed).").format(profile=profile_name(content.profile), valid=valid)), BODY)]
     severities = [name for name, _ in SEVERITIES]
     counts: dict[str, dict[str, int]] = {}
     for name, rows in groups:
@@ -374,14 +390,23 @@ def _exceedance_conclusion(content: ReportContent) -> list[Flowable]:
             for channel, counts_ in ordered[:CONCLUSION_CHANNELS]]
     if len(ordered) > CONCLUSION_CHANNELS:
         rest = ordered[CONCLUSION_CHANNELS:]
-        rows.append([f"{len(rest)} more channels", *(sum(c[name] for _, c in rest) or "" for name in severities),
+        rows.append([t("{count} more channels").format(count=len(rest)),
+                     *(sum(c[name] for _, c in rest) or "" for name in severities),
                      sum(sum(c.values()) for _, c in rest)])
-    rows.append(["all channels", *(sum(len(r) for n, r in groups if n == name) for name in severities), total])
-    summary = ", ".join(f"{len(r)} {name}" for name, r in groups)
-    return [Paragraph(f"<b>{total} exceedance{'s' if total != 1 else ''}</b> (runs of sleepers beyond a limit) in "
-                      f"{valid} valid sleepers: {summary}.", BODY),
-            table(["channel", *severities, "all"], rows, [62 * mm, 15 * mm, 15 * mm, 15 * mm, 13 * mm]),
-            Paragraph(text(SEVERITY_RULE[0].upper() + SEVERITY_RULE[1:] + "."), SMALL)]
+    rows.append([t("all channels"), *(sum(len(r) for n, r in groups if n == name) for name in severities), total])
+    summary = joined(f"{len(r)} {t(name)}" for name, r in groups)
+    return [Paragraph(text((t("{total} exceedance (runs of sleepers beyond a limit) in {valid} valid sleepers: "
+                              "{summary}.") if total == 1 else
+                            t("{total} exceedances (runs of sleepers beyond a limit) in {valid} valid sleepers: "
+                              "{summary}.")).format(total=total, valid=valid, summary=summary)), BODY),
+            table([t("channel"), *(t(name) for name in severities), t("all")], rows,
+                  [62 * mm, 15 * mm, 15 * mm, 15 * mm, 13 * mm]),
+            Paragraph(text(_sentence(t(SEVERITY_RULE))), SMALL)]
+
+
+def _sentence(words: str) -> str:
+    """A clause written as a sentence: capitalised, with its full stop (。 in Chinese)."""
+    return words[:1].upper() + words[1:] + t(".")
 
 
 def accuracy_rows(content: ReportContent) -> list[list[str]]:
@@ -403,8 +428,8 @@ def accuracy_rows(content: ReportContent) -> list[list[str]]:
             if not np.isfinite(sigma).any():
                 continue
             weakest = float(np.nanmax(sigma))
-            verdict = "within the limit" if 3 * weakest <= limit else "NOT within the limit"
-            rows.append([f"{check_name(check)}, {direction}", f"±{limit:.1f}", f"{np.nanmedian(sigma):.2f}",
+            verdict = t("within the limit") if 3 * weakest <= limit else t("NOT within the limit")
+            rows.append([joined((check_name(check), t(direction))), f"±{limit:.1f}", f"{np.nanmedian(sigma):.2f}",
                          f"{3 * weakest:.2f}", verdict])
     return rows
 
@@ -412,29 +437,32 @@ def accuracy_rows(content: ReportContent) -> list[list[str]]:
 def _accuracy_conclusion(content: ReportContent) -> list[Flowable]:
     rows = accuracy_rows(content)
     if not rows:
-        return [Paragraph("Predicted accuracy: not available for these results (processed by an older insrail, or "
-                          "no differential-versine check in the profile).", BODY)]
-    passes = "forward filter and RTS smoother" if content.results.quality.smoothed else "forward filter only"
-    return [table(["check", "limit (mm)", "1σ median (mm)", "3σ weakest (mm)", "predicted"], rows,
+        return [Paragraph(text(t("Predicted accuracy: not available for these results (processed by an older "
+                                 "insrail, or no differential-versine check in the profile).")), BODY)]
+    passes = (t("forward filter and RTS smoother") if content.results.quality.smoothed
+              else t("forward filter only"))
+    return [table([t("check"), t("limit (mm)"), t("1σ median (mm)"), t("3σ weakest (mm)"), t("predicted")], rows,
                   [50 * mm, 17 * mm, 21 * mm, 22 * mm, 26 * mm]),
-            Paragraph(text(f"From the fusion's error model along this survey ({passes}), per 200 m section; a check "
-                           "is met when 3σ of its weakest section is within the limit."), SMALL)]
+            Paragraph(text(t("From the fusion's error model along this survey ({passes}), per 200 m section; a check "
+                             "is met when 3σ of its weakest section is within the limit.").format(passes=passes)), SMALL)]
 
 
 def _adjustment_conclusion(content: ReportContent) -> str:
     adjustment = content.summary.get("adjustment", {})
     amounts = [content.column(key).values for key in ADJUSTMENT_KEYS]
     moving = int(np.count_nonzero(np.any([np.nan_to_num(a) != 0 for a in amounts], axis=0)))
-    fastener = (content.fastener.description or fastener_name(content.fastener) if content.fastener
+    fastener = (t(content.fastener.description) or fastener_name(content.fastener) if content.fastener
                 else fastener_name(None, adjustment.get("fastener", "")))
     unresolved = adjustment.get("unresolved_sleepers", 0)
-    return (f"{moving} sleepers to adjust ({fastener}); largest lateral {_fmt(adjustment.get('max_lateral_mm'), 1, 'mm')}, "
-            f"vertical {_fmt(adjustment.get('max_vertical_mm'), 1, 'mm')}; total movement "
-            f"{_fmt(adjustment.get('total_movement_mm'), 0, 'mm')}; "
-            + (f"<b>{unresolved} sleepers where the checks still fail after adjustment</b>." if unresolved
-               else "every check met after adjustment.")
-            + (f" {escape(after)}." if (after := after_adjustment_text(content.summary)) else "")
-            + (f" {escape(threshold)}." if (threshold := threshold_text(content.summary)) else ""))
+    return (text(t("{moving} sleepers to adjust ({fastener}); largest lateral {lateral}, vertical {vertical}; total "
+                   "movement {total}; ").format(moving=moving, fastener=fastener,
+                                                lateral=_fmt(adjustment.get("max_lateral_mm"), 1, "mm"),
+                                                vertical=_fmt(adjustment.get("max_vertical_mm"), 1, "mm"),
+                                                total=_fmt(adjustment.get("total_movement_mm"), 0, "mm")))
+            + ("<b>" + text(t("{count} sleepers where the checks still fail after adjustment").format(count=unresolved))
+               + "</b>" + text(t(".")) if unresolved else text(t("every check met after adjustment.")))
+            + (" " + text(after + t(".")) if (after := after_adjustment_text(content.summary)) else "")
+            + (" " + text(threshold + t(".")) if (threshold := threshold_text(content.summary)) else ""))
 
 
 SIGN_OFF_STYLE = TableStyle([
@@ -449,10 +477,10 @@ SIGN_OFF_STYLE = TableStyle([
 
 def _sign_off(content: ReportContent) -> Table:
     report = content.project.report
-    rows = [["", "name", "signature", "date"],
-            ["Surveyed and processed by", report.operator, "", ""],
-            ["Checked by", report.checked_by, "", ""],
-            ["Approved by", report.approved_by, "", ""]]
+    rows = [["", t("name"), t("signature"), t("date")],
+            [t("Surveyed and processed by"), report.operator, "", ""],
+            [t("Checked by"), report.checked_by, "", ""],
+            [t("Approved by"), report.approved_by, "", ""]]
     cells = [[_cell(v, BODY) if v else "" for v in row] for row in rows]
     return Table(cells, colWidths=[55 * mm, 75 * mm, 85 * mm, 54 * mm], rowHeights=[5 * mm] + [9 * mm] * 3,
                  style=SIGN_OFF_STYLE, hAlign="LEFT")
@@ -463,59 +491,66 @@ def _settings_line(content: ReportContent) -> list[Flowable]:
     if not content.settings_changes:
         return []
     if content.recorded.missing:
-        return [Paragraph("<b>Settings not recorded</b>: these results were " + text(NOT_RECORDED)
-                          + "; this report states the project's settings as they are now.", BODY)]
-    return [Paragraph("<b>The project has changed since processing</b>; this report states the settings the results "
-                      "were processed with: " + text("; ".join(content.settings_changes)), BODY)]
+        return [Paragraph("<b>" + text(t("Settings not recorded")) + "</b>" + text(
+            t(": these results were {why}; this report states the project's settings as they are now.").format(
+                why=t(NOT_RECORDED))), BODY)]
+    return [Paragraph("<b>" + text(t("The project has changed since processing")) + "</b>" + text(
+        t("; this report states the settings the results were processed with: ") + "; ".join(content.settings_changes)),
+        BODY)]
 
 
 def _notice_line(content: ReportContent) -> list[Flowable]:
     notices = notices_of(content.summary)
     if not notices:
         return []
-    return [Paragraph(f"<b>{len(notices)} warning{'s' if len(notices) != 1 else ''} from processing</b> (see Survey and "
-                      f"processing): " + text("; ".join(n.text() for n in notices[:2])
-                                              + ("; ..." if len(notices) > 2 else "")), BODY)]
+    return [Paragraph("<b>" + text((t("{count} warning from processing") if len(notices) == 1 else
+                                    t("{count} warnings from processing")).format(count=len(notices))) + "</b>"
+                      + text(t(" (see Survey and processing): ") + "; ".join(n.text() for n in notices[:2])
+                             + ("; ..." if len(notices) > 2 else "")), BODY)]
 
 
 def _cover(content: ReportContent) -> list[Flowable]:
     """The page a client signs off: what was surveyed with what, in which coordinate system and heights,
     against which tolerances, the conclusion, and the signatures."""
     project = content.project
-    title = [Paragraph("Track geometry survey report", TITLE),
+    title = [Paragraph(text(t("Track geometry survey report")), TITLE),
              Paragraph(text(project.name) + (f'<font size="10"> &nbsp; {text(project.description)}</font>'
                                               if project.description else ""), H1_COVER)]
-    left = [Paragraph("Survey", H2), key_values(_survey_rows(content), widths=(32 * mm, 100 * mm))]
-    right = [Paragraph("Conclusion", H2), *_settings_line(content), *_notice_line(content), *_exceedance_conclusion(content),
-             Paragraph("Predicted accuracy against the tolerances", H3), *_accuracy_conclusion(content),
-             Paragraph("Adjustment", H3), Paragraph(_adjustment_conclusion(content), BODY)]
+    left = [Paragraph(text(t("Survey")), H2), key_values(_survey_rows(content), widths=(32 * mm, 100 * mm))]
+    right = [Paragraph(text(t("Conclusion")), H2), *_settings_line(content), *_notice_line(content),
+             *_exceedance_conclusion(content),
+             Paragraph(text(t("Predicted accuracy against the tolerances")), H3), *_accuracy_conclusion(content),
+             Paragraph(text(t("Adjustment")), H3), Paragraph(_adjustment_conclusion(content), BODY)]
     page_width, page_height = PAGES["A4"]  # laid out on A4, enlarged on A3
     columns = Table([[left, right]], colWidths=[136 * mm, page_width - 2 * MARGIN - 136 * mm],
                     style=TableStyle([("VALIGN", (0, 0), (-1, -1), "TOP"), ("LEFTPADDING", (0, 0), (-1, -1), 0)]))
     written = f"{content.software}, {datetime.datetime.now(datetime.UTC):%Y-%m-%d %H:%M} UTC"
     page = [*title, columns, Spacer(1, 3 * mm), _sign_off(content),
-            Paragraph(text(f"Report written by {written} from the results of {content.results.folder.name}."), SMALL)]
+            Paragraph(text(t("Report written by {written} from the results of {folder}.").format(
+                written=written, folder=content.results.folder.name)), SMALL)]
     # one page whatever it holds (long names, many channels): shrunk to fit rather than run over
     fitted = KeepInFrame(page_width - 2 * MARGIN, page_height - 2 * MARGIN - 2, page, mode="shrink")
-    return [Heading("Survey report"), Scaled(fitted, (page_size(content)[0] - 2 * MARGIN) / (page_width - 2 * MARGIN)),
+    return [Heading(t("Survey report")), Scaled(fitted, (page_size(content)[0] - 2 * MARGIN) / (page_width - 2 * MARGIN)),
             PageBreak()]
 
 
 def _gnss_rows(gnss: dict) -> list[tuple[str, object]]:
     if not gnss:
-        return [("GNSS", "not recorded in the results (processed by an older insrail)")]
+        return [("GNSS", t("not recorded in the results (processed by an older insrail)"))]
     span = gnss.get("span_s", [0.0, 0.0])
     duration = max(span[1] - span[0], 1e-9)
     expected = duration / gnss["interval_s"] if gnss.get("interval_s") else float("nan")
     outages = gnss.get("outages", [])
     listed = "; ".join(f"{a:.0f} - {b:.0f} s ({b - a:.0f} s)" for a, b in outages[:12])
     if len(outages) > 12:
-        listed += f"; and {len(outages) - 12} more"
+        listed += t("; and {count} more").format(count=len(outages) - 12)
     return [
-        ("GNSS solutions", (f"{gnss['solutions']} at {gnss.get('interval_s', 0):g} s "
-                           f"({100 * gnss['solutions'] / expected:.1f} % of the survey span), {gnss['fixed']} fixed")),
-        ("GNSS outages", f"{len(outages)} longer than 3 s, {gnss.get('outage_total_s', 0):.0f} s in all"
-                         + (f": {listed} (GPS seconds of week)" if outages else "")),
+        (t("GNSS solutions"), t("{solutions} at {interval:g} s ({share:.1f} % of the survey span), {fixed} fixed").format(
+            solutions=gnss["solutions"], interval=gnss.get("interval_s", 0),
+            share=100 * gnss["solutions"] / expected, fixed=gnss["fixed"])),
+        (t("GNSS outages"), t("{count} longer than 3 s, {total:.0f} s in all").format(
+            count=len(outages), total=gnss.get("outage_total_s", 0))
+         + (t(": {listed} (GPS seconds of week)").format(listed=listed) if outages else "")),
     ]
 
 
@@ -534,46 +569,48 @@ def trajectory_statistics(results: StoredResults) -> dict | None:
 def _trajectory_rows(statistics: dict | None, smoother: bool) -> list[tuple[str, object]]:
     """``statistics``: :func:`trajectory_statistics`."""
     if not statistics or not statistics["epochs"]:
-        return [("Trajectory", "not available")]
+        return [(t("Trajectory"), t("not available"))]
     start, end = statistics["start_s"], statistics["end_s"]
     horizontal, vertical = statistics["sigma_horizontal_mm"], statistics["sigma_vertical_mm"]
     rows = [
-        ("Trajectory", (f"{statistics['epochs']} epochs, {start:.1f} - {end:.1f} s of week ({end - start:.0f} s), "
-                       f"{'forward filter and RTS smoother' if smoother else 'forward filter only'}")),
-        ("Position sigma, horizontal", (f"median {horizontal['median']:.1f} mm, 95 % {horizontal['p95']:.1f} mm, "
-                                       f"largest {horizontal['max']:.1f} mm")),
-        ("Position sigma, vertical", (f"median {vertical['median']:.1f} mm, 95 % {vertical['p95']:.1f} mm, "
-                                     f"largest {vertical['max']:.1f} mm")),
+        (t("Trajectory"), t("{epochs} epochs, {start:.1f} - {end:.1f} s of week ({span:.0f} s), {passes}").format(
+            epochs=statistics["epochs"], start=start, end=end, span=end - start,
+            passes=t("forward filter and RTS smoother") if smoother else t("forward filter only"))),
+        *((name, t("median {median:.1f} mm, 95 % {p95:.1f} mm, largest {max:.1f} mm").format(**sigma))
+          for name, sigma in ((t("Position sigma, horizontal"), horizontal), (t("Position sigma, vertical"), vertical))),
     ]
     scale = statistics["odometer_scale"]
     if scale["used"]:  # a state of the filter: 0 throughout when the odometer was not used
         spread = scale["max"] - scale["min"]
-        rows.append(("Odometer scale error", f"{1e3 * scale['last']:+.2f} per mille at the end"
-                     + (f" (from {1e3 * scale['min']:+.2f} to {1e3 * scale['max']:+.2f} along the survey)" if spread > 5e-6 else "")))
+        rows.append((t("Odometer scale error"), t("{last:+.2f} per mille at the end").format(last=1e3 * scale["last"])
+                     + (t(" (from {low:+.2f} to {high:+.2f} along the survey)").format(low=1e3 * scale["min"],
+                                                                                        high=1e3 * scale["max"])
+                        if spread > 5e-6 else "")))
     return rows
 
 
 def _processing(content: ReportContent, trajectory: dict | None) -> list[Flowable]:
     s = content.summary
     survey, fusion, heights = s.get("survey", {}), s.get("fusion", {}), s.get("heights", {})
-    rows = [("IMU", f"{survey.get('imu_epochs', '-')} epochs"), *_gnss_rows(s.get("gnss", {})),
+    rows = [("IMU", t("{epochs} epochs").format(epochs=survey.get("imu_epochs", "-"))), *_gnss_rows(s.get("gnss", {})),
             *_trajectory_rows(trajectory, content.project.fusion.smoother),
-            ("Fusion", (f"{'reused from the cache' if fusion.get('from_cache') else 'computed'}; "
-                       f"{fusion.get('rejections', '-')} measurements rejected, {fusion.get('stops', '-')} stops (ZUPT)")),
-            ("Heights", f"{heights.get('model', '-')} height-anomaly model"
-                        + (f", benchmark RMS {heights['internal_rms_mm']:.1f} mm (leave-one-out "
-                           f"{heights['loo_rms_mm']:.1f} mm)" if "internal_rms_mm" in heights else ""))]
-    rows += [("Sleeper detector", repair)] if (repair := sleeper_repair_text(s)) else []
+            (t("Fusion"), t("{how}; {rejections} measurements rejected, {stops} stops (ZUPT)").format(
+                how=t("reused from the cache") if fusion.get("from_cache") else t("computed"),
+                rejections=fusion.get("rejections", "-"), stops=fusion.get("stops", "-"))),
+            (t("Heights"), t("{model} height-anomaly model").format(model=t(heights.get("model", "-")))
+             + (t(", benchmark RMS {rms:.1f} mm (leave-one-out {loo:.1f} mm)").format(
+                 rms=heights["internal_rms_mm"], loo=heights["loo_rms_mm"]) if "internal_rms_mm" in heights else ""))]
+    rows += [(t("Sleeper detector"), repair)] if (repair := sleeper_repair_text(s)) else []
     rows += _local_control_rows(s.get("local_control"))
-    rows += [("Warning" if notice.severity == "warning" else "Note", notice.text()) for notice in notices_of(s)]
-    rows += [("Note", note) for note in content.notes]
-    story: list[Flowable] = [Heading("Survey and processing"), Paragraph("Survey and processing", H1),
+    rows += [(t("Warning") if notice.severity == "warning" else t("Note"), notice.text()) for notice in notices_of(s)]
+    rows += [(t("Note"), note) for note in content.notes]
+    story: list[Flowable] = [Heading(t("Survey and processing")), Paragraph(text(t("Survey and processing")), H1),
                              key_values(rows, widths=(45 * mm, 215 * mm))]
     story += _local_control_table(s.get("local_control"))
-    story += [Paragraph("Tolerance profile", H2),
+    story += [Paragraph(text(t("Tolerance profile")), H2),
               Paragraph(text(profile_name(content.profile)), BODY)]
     counts = s.get("assessment", {}).get("by_check", {})
-    story.append(table(["check", "what", "limit", "exceedances"],
+    story.append(table([t("check"), t("what"), t("limit"), t("exceedances")],
                        [[check_name(c), check_description(c), limits_text(c), counts.get(c.name, 0)]
                         for c in content.profile.checks],
                        [60 * mm, 110 * mm, 30 * mm, 25 * mm]))
@@ -586,9 +623,10 @@ def _processing(content: ReportContent, trajectory: dict | None) -> list[Flowabl
                         + [_fmt(quality[f"sd_{c}_mm"][k] if quality[f"sd_{c}_mm"][k] >= 0 else None, 2) for c in channels]
                         + [_fmt(quality["tqi_mm"][k] if quality["tqi_mm"][k] >= 0 else None, 2)])
         story += [CondPageBreak(60 * mm),
-                  Paragraph(f"Track quality per {quality['section_m']:g} m section (standard deviations, mm; level and "
-                            f"alignment in the {quality.get('band', 'D1')} band)", H2),
-                  table(["section"] + [quantity_name(c).name for c in channels] + ["TQI"], rows,
+                  Paragraph(text(t("Track quality per {section:g} m section (standard deviations, mm; level and "
+                                   "alignment in the {band} band)").format(section=quality["section_m"],
+                                                                          band=quality.get("band", "D1"))), H2),
+                  table([t("section")] + [quantity_name(c).name for c in channels] + [t("TQI")], rows,
                         [45 * mm] + [24 * mm] * len(channels) + [22 * mm])]
     story += _predicted_accuracy(content)
     story.append(PageBreak())
@@ -600,13 +638,13 @@ def _local_control_rows(local: dict | None) -> list[tuple[str, object]]:
     if not local:
         return []
     p = local["parameters"]
-    what = (f"rotation {p['rotation_deg']:.6f}°, scale {p['scale_ppm']:+.2f} ppm, height shift {p['height_shift_m']:+.4f} m"
+    what = (t("rotation {rotation_deg:.6f}°, scale {scale_ppm:+.2f} ppm, height shift {height_shift_m:+.4f} m")
             if local["model"] == "4-parameter" else
-            f"rotations {p['rx_arcsec']:.2f}\" {p['ry_arcsec']:.2f}\" {p['rz_arcsec']:.2f}\", scale {p['scale_ppm']:+.2f} ppm")
-    line = (f"{local['model']} transformation on {local['points']} common points: {what}; residual RMS "
-            f"{local['rms_mm']:.1f} mm, leave-one-out RMS {_fmt(local.get('loo_rms_mm'), 1)} mm; every coordinate "
-            "in this report is in the local grid")
-    return [("Local control", line)]
+            t('rotations {rx_arcsec:.2f}" {ry_arcsec:.2f}" {rz_arcsec:.2f}", scale {scale_ppm:+.2f} ppm')).format(**p)
+    line = t("{model} transformation on {points} common points: {what}; residual RMS {rms:.1f} mm, leave-one-out RMS "
+             "{loo} mm; every coordinate in this report is in the local grid").format(
+        model=local["model"], points=local["points"], what=what, rms=local["rms_mm"], loo=_fmt(local.get("loo_rms_mm"), 1))
+    return [(t("Local control"), line)]
 
 
 def _local_control_table(local: dict | None) -> list[Flowable]:
@@ -614,8 +652,9 @@ def _local_control_table(local: dict | None) -> list[Flowable]:
         return []
     rows = [[r["name"], *(_fmt(r.get(k), 1) for k in (
         "east_mm", "north_mm", "height_mm", "loo_east_mm", "loo_north_mm", "loo_height_mm"))] for r in local["residuals"]]
-    return [Paragraph("Local control: residuals of the common points (observed - transformed, mm)", H2),
-            table(["point", "east", "north", "height", "leave-one-out east", "north", "height"], rows,
+    return [Paragraph(text(t("Local control: residuals of the common points (observed - transformed, mm)")), H2),
+            table([t(title) for title in ("point", "east", "north", "height", "leave-one-out east", "north", "height")],
+                  rows,
                   [45 * mm] + [30 * mm] * 6)]
 
 
@@ -643,14 +682,15 @@ def _predicted_accuracy(content: ReportContent) -> list[Flowable]:
     weakest = quality.weakest_sections(WEAKEST_LISTED)
     first = int(weakest[0])
     band = (Band(float(quality.station_from_m[first]), float(quality.station_to_m[first]), WEAK_COLOUR,
-                 "weakest section"),)
+                 t("weakest section")),)
     stations, lag5_lat, lag5_ver, lag150_lat, lag150_ver = section_steps(
         quality.station_from_m, quality.station_to_m, quality.sigma_lag5_lateral_mm, quality.sigma_lag5_vertical_mm,
         quality.sigma_lag150_lateral_mm, quality.sigma_lag150_vertical_mm)
-    charts = (StripChart("1-sigma of the 5 m lag difference (30 m / 5 m check)", "mm",
-                         (Series("lateral", lag5_lat), Series("vertical", lag5_ver)), bands=band, include_zero=True),
-              StripChart("1-sigma of the 150 m lag difference (300 m / 150 m check)", "mm",
-                         (Series("lateral", lag150_lat), Series("vertical", lag150_ver)), bands=band,
+    charts = (StripChart(t("1-sigma of the 5 m lag difference (30 m / 5 m check)"), "mm",
+                         (Series(t("lateral"), lag5_lat), Series(t("vertical"), lag5_ver)), bands=band,
+                         include_zero=True),
+              StripChart(t("1-sigma of the 150 m lag difference (300 m / 150 m check)"), "mm",
+                         (Series(t("lateral"), lag150_lat), Series(t("vertical"), lag150_ver)), bands=band,
                          include_zero=True))
     low, high = float(np.nanmin(stations)), float(np.nanmax(stations))
     width = page_size(content)[0] - 2 * MARGIN
@@ -658,20 +698,21 @@ def _predicted_accuracy(content: ReportContent) -> list[Flowable]:
                               ticks=content.chainage.ticks, axis_title=content.chainage.title) for chart in charts]
     figures = ("sigma_lateral_mm", "sigma_vertical_mm", "sigma_lag5_lateral_mm", "sigma_lag5_vertical_mm",
                "sigma_lag150_lateral_mm", "sigma_lag150_vertical_mm")
-    rows = [[f"weakest {rank}" if len(weakest) > 1 else "weakest",
+    rows = [[t("weakest {rank}").format(rank=rank) if len(weakest) > 1 else t("weakest"),
              _section_label(content, quality.station_from_m[k], quality.station_to_m[k])]
             + [_fmt(getattr(quality, name)[k], 2) for name in figures] for rank, k in enumerate(weakest, start=1)]
-    rows.append(["median", f"{len(quality)} sections"]
+    rows.append([t("median"), t("{count} sections").format(count=len(quality))]
                 + [_fmt(float(np.nanmedian(getattr(quality, name))), 2) for name in figures])
-    passes = "forward filter and RTS smoother" if quality.smoothed else "forward filter"
-    return [CondPageBreak(120 * mm), Paragraph("Predicted accuracy per section", H2),
-            Paragraph(text(f"1-sigma of the {passes} from the fusion's error model along this survey's measurements "
-                           f"(its GNSS outages, stops and rejected data); lag differences are the errors behind the "
-                           f"30 m / 5 m and 300 m / 150 m checks. Shaded: the section whose figures stand furthest "
-                           f"above the survey's median."), BODY),
+    passes = t("forward filter and RTS smoother") if quality.smoothed else t("forward filter")
+    return [CondPageBreak(120 * mm), Paragraph(text(t("Predicted accuracy per section")), H2),
+            Paragraph(text(t("1-sigma of the {passes} from the fusion's error model along this survey's measurements "
+                             "(its GNSS outages, stops and rejected data); lag differences are the errors behind the "
+                             "30 m / 5 m and 300 m / 150 m checks. Shaded: the section whose figures stand furthest "
+                             "above the survey's median.").format(passes=passes)), BODY),
             *drawings,
-            table(["1-sigma (mm)", "section", "position lateral", "position vertical", "5 m lag lateral",
-                   "5 m lag vertical", "150 m lag lateral", "150 m lag vertical"], rows,
+            table([t(title) for title in ("1-sigma (mm)", "section", "position lateral", "position vertical",
+                                          "5 m lag lateral", "5 m lag vertical", "150 m lag lateral",
+                                          "150 m lag vertical")], rows,
                   [24 * mm, 45 * mm] + [30 * mm] * 6)]
 
 
@@ -679,12 +720,12 @@ def chart_specs(content: ReportContent) -> list[StripChart]:
     """The quantities drawn along chainage, in the order of the sleeper table, titled with their display names."""
     c = {column.key: column for column in content.columns}
     reference = deviation_reference(content.summary)
-    charts = [StripChart(f"Lateral deviation, {reference}", "mm",
-                         (Series("left rail", c["lateral_deviation_left_mm"].values),
-                          Series("right rail", c["lateral_deviation_right_mm"].values))),
-              StripChart(f"Vertical deviation, {reference}", "mm",
-                         (Series("left rail", c["vertical_deviation_left_mm"].values),
-                          Series("right rail", c["vertical_deviation_right_mm"].values)))]
+    charts = [StripChart(t("Lateral deviation, {reference}").format(reference=reference), "mm",
+                         (Series(t("left rail"), c["lateral_deviation_left_mm"].values),
+                          Series(t("right rail"), c["lateral_deviation_right_mm"].values))),
+              StripChart(t("Vertical deviation, {reference}").format(reference=reference), "mm",
+                         (Series(t("left rail"), c["vertical_deviation_left_mm"].values),
+                          Series(t("right rail"), c["vertical_deviation_right_mm"].values)))]
     profile_checks = {check.name: check for check in content.profile.checks}
     seen = set()
     for column in content.columns:
@@ -694,7 +735,7 @@ def chart_specs(content: ReportContent) -> list[StripChart]:
         seen.add(check.name)
         for direction in check.directions:
             shown = [c[check_column(check.name, check.kind, rail, direction)] for rail in RAILS]
-            charts.append(StripChart(f"{check_name(check)}, {direction}", shown[0].unit,
+            charts.append(StripChart(joined((check_name(check), t(direction))), shown[0].unit,
                                      tuple(Series(rail_direction(rail, ""), col.values) for rail, col in zip(RAILS, shown)),
                                      column.limits, shown[0].exceeding | shown[1].exceeding))
 
@@ -703,14 +744,15 @@ def chart_specs(content: ReportContent) -> list[StripChart]:
 
     gauge = next(col for col in content.columns if col.key == "gauge_deviation_mm" or kind(col) == "gauge_deviation")
     charts.append(StripChart(gauge.name, "mm", (Series(gauge.name, gauge.values),), gauge.limits, gauge.exceeding))
-    charts.append(StripChart("Cant", "mm", (Series("measured", c["cant_mm"].values), Series("design", c["design_cant_mm"].values))))
+    charts.append(StripChart(t("Cant"), "mm", (Series(t("measured"), c["cant_mm"].values),
+                                               Series(t("design"), c["design_cant_mm"].values))))
     track_kinds = ("cross_level", "twist", "gauge_change_rate", "cant_change_rate", "cant_deficiency",
                    "cant_deficiency_rate")
     stored = ("cross_level_mm", "twist_3m_mm", "gauge_change_rate_2_5m_ratio", "cant_change_rate_ratio",
               "cant_deficiency_mm", "cant_deficiency_rate_mm_per_s")
     for column in content.columns:
         if column.key in stored or kind(column) in track_kinds or (
-                column.group == OTHER_CHECKS_GROUP and kind(column) != "gauge_deviation"):
+                column.group == t(OTHER_CHECKS_GROUP) and kind(column) != "gauge_deviation"):
             charts.append(StripChart(column.name, column.unit, (Series(column.name, column.values),), column.limits,
                                      column.exceeding))
     return charts
@@ -757,7 +799,7 @@ def _charts(content: ReportContent, progress: StepProgress, cancel: CancelToken)
         inside = np.flatnonzero((station >= start) & (station < end))
         if not inside.size:
             continue
-        heading = f"Charts {labels[inside[0]]} - {labels[inside[-1]]}"
+        heading = t("Charts {first} - {last}").format(first=labels[inside[0]], last=labels[inside[-1]])
         first = 0
         for on_page in layout:
             story.append(Heading(heading))
@@ -776,7 +818,7 @@ def _plan(content: ReportContent) -> list[Flowable]:
     north = 0.5 * (c["left_N_m"] + c["right_N_m"])
     row_of = {int(n): i for i, n in enumerate(content.results.number)}
     peaks = np.array([row_of[e.first_sleeper] for e in content.results.exceedances], dtype=int)
-    marks = (PlanMark(east[peaks], north[peaks], LIMIT_COLOUR, "exceedance"),) if peaks.size else ()
+    marks = (PlanMark(east[peaks], north[peaks], LIMIT_COLOUR, t("exceedance")),) if peaks.size else ()
     highlight = []
     outages = content.summary.get("gnss", {}).get("outages", [])
     if outages:
@@ -784,10 +826,10 @@ def _plan(content: ReportContent) -> list[Flowable]:
         during = np.zeros(len(time), dtype=bool)
         for a, b in outages:
             during |= (time >= a) & (time <= b)
-        highlight.append((during, OUTAGE_COLOUR, "GNSS outage"))
+        highlight.append((during, OUTAGE_COLOUR, t("GNSS outage")))
     page = page_size(content)
     width, height = page[0] - 2 * MARGIN, page[1] - 2 * MARGIN - 40
-    return [Heading("Plan view"), Paragraph("Plan view (engineering coordinates, stations in m)", H2),
+    return [Heading(t("Plan view")), Paragraph(text(t("Plan view (engineering coordinates, stations in m)")), H2),
             plan_drawing(east, north, content.station_m, width, height, marks, tuple(highlight)), PageBreak()]
 
 
@@ -802,20 +844,22 @@ def _events(content: ReportContent) -> list[Flowable]:
     not_assessed = content.summary.get("assessment", {}).get("not_assessed_sleepers", 0)
     rows = [[e.kind, text(e.text), f"{e.station_from_m:.3f}", f"{e.station_to_m:.3f}", e.sleepers, e.assessment,
              text(e.source)] for e in content.events]
-    return [Paragraph("Events and stretches not assessed", H2),
-            Paragraph(f"{not_assessed} measured sleepers lie in events not assessed with the tolerance profile "
-                      "(greyed in the charts and the workbook, never counted as exceedances).", BODY),
-            table(["event", "text", "from (m)", "to (m)", "sleepers", "assessment", "written in"], rows,
+    return [Paragraph(text(t("Events and stretches not assessed")), H2),
+            Paragraph(text(t("{count} measured sleepers lie in events not assessed with the tolerance profile (greyed "
+                             "in the charts and the workbook, never counted as exceedances).").format(count=not_assessed)),
+                      BODY),
+            table([t(title) for title in ("event", "text", "from (m)", "to (m)", "sleepers", "assessment", "written in")],
+                  rows,
                   [28 * mm, 55 * mm, 22 * mm, 22 * mm, 16 * mm, 60 * mm, 45 * mm])]
 
 
 def _exceedances(content: ReportContent) -> list[Flowable]:
     """The exceedances grouped by severity (the most severe first), each group in chainage order."""
-    story: list[Flowable] = [Heading("Exceedances"), Paragraph("Exceedances", H1)]
+    story: list[Flowable] = [Heading(t("Exceedances")), Paragraph(text(t("Exceedances")), H1)]
     groups = exceedances_by_severity(content)
     if not groups:
-        return story + [Paragraph("No sleeper is beyond a limit of the tolerance profile.", BODY)] + _events(content)
-    story.append(Paragraph(text(SEVERITY_RULE[0].upper() + SEVERITY_RULE[1:] + "."), BODY))
+        return story + [Paragraph(text(t("No sleeper is beyond a limit of the tolerance profile.")), BODY)] + _events(content)
+    story.append(Paragraph(text(_sentence(t(SEVERITY_RULE))), BODY))
     label_of = dict(zip(content.results.number.tolist(), content.results.label))
     widths = [12 * mm, 78 * mm, 30 * mm, 30 * mm, 18 * mm, 18 * mm, 18 * mm, 16 * mm, 18 * mm, 28 * mm]
     index = 0
@@ -827,11 +871,11 @@ def _exceedances(content: ReportContent) -> list[Flowable]:
             digits = 3 if unit == "‰" else 2  # enough to see the peak beyond the limit
             data.append([index, exceedance_check(content, e), label_of.get(e.first_sleeper, ""),
                          label_of.get(e.last_sleeper, ""), f"{e.station_to_m - e.station_from_m:.2f}",
-                         f"{peak:.{digits}f}", f"{limit:.{digits}f}", "per mille" if unit == "‰" else unit,
+                         f"{peak:.{digits}f}", f"{limit:.{digits}f}", t("per mille") if unit == "‰" else unit,
                          _percent(100 * excess_share(e)), f"{e.first_sleeper} - {e.last_sleeper}"])
-        story += [CondPageBreak(30 * mm), Paragraph(f"{severity.capitalize()}: {len(rows)}", H2),
-                  table(["no.", "check", "from", "to", "length (m)", "peak", "limit", "unit", "beyond by", "sleepers"],
-                        data, widths)]
+        story += [CondPageBreak(30 * mm), Paragraph(text(f"{_sentence(t(severity))[:-len(t('.'))]}: {len(rows)}"), H2),
+                  table([t(title) for title in ("no.", "check", "from", "to", "length (m)", "peak", "limit", "unit",
+                                                "beyond by", "sleepers")], data, widths)]
     return story + _events(content)
 
 
@@ -849,18 +893,20 @@ def _amount(value: float) -> str:
 def _adjustment(content: ReportContent) -> list[Flowable]:
     """The amounts per sleeper, the crew sheet's lines (:func:`insrail.report.content.crew_sections`) a sleeper
     to a line, one table per work section."""
-    story: list[Flowable] = [Heading("Adjustment"), Paragraph("Adjustment amounts", H1),
-                             Paragraph(text("Amounts: " + amounts_text(content.summary, content.profile, content.fastener)
-                                            + ". The fastener parts per rail are on the workbook's Adjustment sheet."),
+    story: list[Flowable] = [Heading(t("Adjustment")), Paragraph(text(t("Adjustment amounts")), H1),
+                             Paragraph(text(t("Amounts: ") + amounts_text(content.summary, content.profile,
+                                                                          content.fastener)
+                                            + t(". The fastener parts per rail are on the workbook's Adjustment sheet.")),
                                        BODY),
                              Paragraph(_adjustment_conclusion(content), BODY)]
     work_sections = crew_sections(content)
     if not work_sections:
-        return story + [Paragraph("No rail to move: every check of the tolerance profile passes as measured.", BODY)]
+        return story + [Paragraph(text(t("No rail to move: every check of the tolerance profile passes as measured.")),
+                                  BODY)]
     numbers, labels = content.column("number").values, content.column("label").values
     for section in work_sections:
         first, last = section.rows[0].sleeper, section.rows[-1].sleeper
-        rows: list[list] = [[_cell(title) for title in ADJUSTMENT_TITLES]]
+        rows: list[list] = [[_cell(t(title)) for title in ADJUSTMENT_TITLES]]
         for sleeper, lines in itertools.groupby(section.rows, key=lambda row: row.sleeper):
             by_rail = {row.rail: row for row in lines}
             lateral = [by_rail[rail].lateral_mm if rail in by_rail else 0.0 for rail in (0, 1)]
@@ -869,8 +915,8 @@ def _adjustment(content: ReportContent) -> list[Flowable]:
             rows.append([str(next(iter(by_rail.values())).count), str(int(numbers[sleeper])), text_cell(labels[sleeper]),
                          *(_amount(value) for value in (*lateral, *vertical)), _cell(failing) if failing else ""])
         story += [CondPageBreak(40 * mm),
-                  Paragraph(text(f"Work section {section.number} of {len(work_sections)}: {labels[first]} – "
-                                 f"{labels[last]}"), H2),
+                  Paragraph(text(t("Work section {number} of {count}: {first} – {last}").format(
+                      number=section.number, count=len(work_sections), first=labels[first], last=labels[last])), H2),
                   Table(rows, colWidths=ADJUSTMENT_WIDTHS, repeatRows=1, style=TABLE_STYLE, hAlign="LEFT")]
     return story
 
@@ -886,24 +932,27 @@ def _compared_name(content: ReportContent, column: str) -> str:
     try:
         return column_name(column, content.profile.checks).name
     except UnknownName:  # a check of the profile the runs were compared with, no longer in the project's
-        return f"{column} (a check no longer in tolerance profile {profile_name(content.profile)})"
+        return t("{column} (a check no longer in tolerance profile {profile})").format(
+            column=column, profile=profile_name(content.profile))
 
 
 def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Section:
     """Repeat runs compared by chainage (thesis §5.4.2): statistics per parameter and run, and the
     differences along chainage of the deviations, gauge and cant."""
     def section(content: ReportContent) -> list[Flowable]:
-        story: list[Flowable] = [Heading("Repeatability"), Paragraph("Repeatability of repeat runs", H1), Paragraph(
-            f"Reference run <b>{escape(stored.reference)}</b>, compared: {escape(', '.join(stored.compared))}; "
-            f"{stored.station_m.size} valid sleepers of the reference compared by chainage (each run interpolated "
-            "onto the reference stations, never across a gap of more than two sleepers). A run minus the reference "
-            "carries the noise of both: the repeatability of one run is the pooled standard deviation / &radic;2. "
-            "A mean away from zero is a systematic shift between runs, not noise. Checks marked <i>by magnitude</i> "
-            "(the differential versines) are compared by their absolute value: their worst value over the chord "
-            "placements changes sign between runs wherever two placements of opposite sign nearly tie.", BODY)]
+        story: list[Flowable] = [Heading(t("Repeatability")), Paragraph(text(t("Repeatability of repeat runs")), H1),
+                                 Paragraph(text(t(
+            "Reference run {reference}, compared: {compared}; {count} valid sleepers of the reference compared by "
+            "chainage (each run interpolated onto the reference stations, never across a gap of more than two "
+            "sleepers). A run minus the reference carries the noise of both: the repeatability of one run is the "
+            "pooled standard deviation / √2. A mean away from zero is a systematic shift between runs, not noise. "
+            "Checks marked by magnitude (the differential versines) are compared by their absolute value: their worst "
+            "value over the chord placements changes sign between runs wherever two placements of opposite sign "
+            "nearly tie.").format(reference=stored.reference, compared=", ".join(stored.compared),
+                                  count=stored.station_m.size)), BODY)]
         if stored.written_s < results_written_s:
-            story.append(Paragraph("<b>Note:</b> this comparison was made before the current results of this survey "
-                                   "were written; run <i>insrail compare</i> again to bring it up to date.", BODY))
+            story.append(Paragraph(text(t("Note: this comparison was made before the current results of this survey "
+                                          "were written; run insrail compare again to bring it up to date.")), BODY))
         rows = []
         for parameter, entry in stored.statistics.items():
             for run in stored.compared:
@@ -911,12 +960,13 @@ def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Sec
                 if not stats["count"]:  # e.g. a 300 m chord on a run shorter than 300 m
                     continue
                 shown_name = _compared_name(content, parameter + "_mm") + (
-                    " (by magnitude)" if entry.get("compared") == "magnitude" else "")
+                    t(" (by magnitude)") if entry.get("compared") == "magnitude" else "")
                 rows.append([shown_name, f"{run} - {stored.reference}", stats["count"],
                              *(f"{stats[key]:.2f}" for key in ("mean_mm", "std_mm", "rms_mm", "p95_abs_mm", "max_abs_mm")),
                              f"{entry['single_run_std_mm']:.2f}"])
-        story += [Spacer(1, 4), table(["parameter", "runs", "sleepers", "mean (mm)", "std (mm)", "RMS (mm)",
-                                       "95 % |d| (mm)", "max |d| (mm)", "one run std (mm)"], rows,
+        story += [Spacer(1, 4), table([t(title) for title in ("parameter", "runs", "sleepers", "mean (mm)", "std (mm)",
+                                                              "RMS (mm)", "95 % |d| (mm)", "max |d| (mm)",
+                                                              "one run std (mm)")], rows,
                                       [70 * mm, 45 * mm, 18 * mm, 20 * mm, 20 * mm, 20 * mm, 24 * mm, 24 * mm, 26 * mm]),
                   PageBreak()]
         shown = [name for name in BASE_PARAMETERS if name in stored.difference_mm]
@@ -926,10 +976,10 @@ def _repeatability(stored: StoredRepeatability, results_written_s: float) -> Sec
         page = page_size(content)
         width = page[0] - 2 * MARGIN
         height = (page[1] - 2 * MARGIN - 24) / len(shown) - 2
-        story.append(Heading("Repeatability"))
+        story.append(Heading(t("Repeatability")))
         for name in shown:
             differences = stored.difference_mm[name]
-            chart = StripChart(f"{_compared_name(content, name)}: run minus reference", "mm",
+            chart = StripChart(t("{name}: run minus reference").format(name=_compared_name(content, name)), "mm",
                                tuple(Series(run, values) for run, values in zip(stored.compared, differences)))
             story.append(strip_drawing(chart, station, np.isfinite(differences).any(axis=0), float(station[0]),
                                        float(station[-1]), width, height, ticks=content.chainage.ticks,
@@ -949,8 +999,9 @@ def _on_page(canvas: Canvas, doc) -> None:
     canvas.line(MARGIN, top - 3, page_width - MARGIN, top - 3)
     canvas.setFont(font_for(doc.report_title), 8)
     canvas.drawString(MARGIN, top, doc.report_title)
-    canvas.setFont("Helvetica-Bold", 8)
-    canvas.drawRightString(page_width - MARGIN, top, getattr(canvas, "_insrail_heading", ""))
+    heading = getattr(canvas, "_insrail_heading", "")
+    canvas.setFont(font_for(heading, "Helvetica-Bold"), 8)
+    canvas.drawRightString(page_width - MARGIN, top, heading)
     canvas.setFont(font_for(doc.report_footer), 8)
     canvas.drawString(MARGIN, MARGIN - 16, doc.report_footer)
     canvas.restoreState()
@@ -977,8 +1028,29 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     ``sections`` are added after the plan view, each a function of the report content returning
     flowables; the repeatability of repeat runs follows by itself when the project's last
     comparison (``insrail compare``) includes this survey."""
-    step = StepProgress(progress)
-    path = Path(path)
+    with in_language(report_language(project)), _wrapped_as_the_language_writes():
+        return _write_pdf(project, results, Path(path), StepProgress(progress), cancel, sections)
+
+
+#: The paragraph styles, wrapped between words in English and between any two characters in Chinese (no spaces).
+_STYLES = (BODY, SMALL, H1, H1_COVER, H2, H3, TITLE)
+
+
+@contextlib.contextmanager
+def _wrapped_as_the_language_writes():
+    wrap = "CJK" if language() == "zh-CN" else None
+    before = [style.wordWrap for style in _STYLES]
+    for style in _STYLES:
+        style.wordWrap = wrap
+    try:
+        yield
+    finally:
+        for style, value in zip(_STYLES, before):
+            style.wordWrap = value
+
+
+def _write_pdf(project: Project, results: StoredResults, path: Path, step: StepProgress, cancel: CancelToken,
+               sections: Sequence[Section]) -> Path:
     content = load_report_content(project, results)
     step(0.02, "the trajectory's statistics")
     trajectory = trajectory_statistics(results)
@@ -997,10 +1069,13 @@ def write_pdf(project: Project, results: StoredResults, path, progress: Progress
     with atomic_write(path, "wb") as handle:
         page = page_size(content)
         doc = BaseDocTemplate(handle, pagesize=page, leftMargin=MARGIN, rightMargin=MARGIN, topMargin=MARGIN,
-                              bottomMargin=MARGIN, title=f"{project.name} - {results.survey}: track geometry survey report",
+                              bottomMargin=MARGIN, title=t("{project} - {survey}: track geometry survey report").format(
+                                  project=project.name, survey=results.survey),
                               author=content.software, creator=content.software)
-        doc.report_title = f"{project.name} - survey {results.survey} - {profile_name(content.profile)}"
-        doc.report_footer = f"{content.software}; results {results.folder.name}"
+        doc.report_title = t("{project} - survey {survey} - {profile}").format(
+            project=project.name, survey=results.survey, profile=profile_name(content.profile))
+        doc.report_footer = t("{software}; results {folder}").format(software=content.software,
+                                                                      folder=results.folder.name)
         frame = Frame(MARGIN, MARGIN, page[0] - 2 * MARGIN, page[1] - 2 * MARGIN, leftPadding=0, rightPadding=0,
                       topPadding=0, bottomPadding=0)
         doc.addPageTemplates([PageTemplate("page", frames=[frame], onPageEnd=_on_page)])

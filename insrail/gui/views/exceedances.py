@@ -10,11 +10,13 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt
 
-from insrail.names import DIRECTION_NAMES, RAIL_NAMES
+from insrail.names import DIRECTION_NAMES, RAIL_NAMES, t
 from insrail.project.results import ExceedanceRow
 from insrail.report.content import exceedance_display
+from insrail.gui.translation import tr, tr_noop
 
-COLUMNS = ("Check", "Rail", "Direction", "From [m]", "To [m]", "Peak", "Limit", "Unit", "Sleepers")
+COLUMNS = (tr_noop("Check"), tr_noop("Rail"), tr_noop("Direction"), tr_noop("From [m]"), tr_noop("To [m]"),
+           tr_noop("Peak"), tr_noop("Limit"), tr_noop("Unit"), tr_noop("Sleepers"))
 #: The columns holding numbers (right-aligned, sorted by value).
 NUMERIC = frozenset({3, 4, 5, 6, 8})
 #: The column the table starts sorted by: along the track, as walked.
@@ -38,8 +40,8 @@ class ExceedanceModel(QAbstractTableModel):
         self._rows = tuple(rows)
         self._names = tuple(check_names.get(e.check, e.kind.replace("_", " ")) for e in self._rows)
         self._keys = (np.array(self._names, dtype=object),
-                      np.array([RAIL_NAMES.get(e.rail, e.rail) for e in self._rows], dtype=object),
-                      np.array([DIRECTION_NAMES.get(e.direction, e.direction) for e in self._rows], dtype=object),
+                      np.array([t(RAIL_NAMES.get(e.rail, e.rail)) for e in self._rows], dtype=object),
+                      np.array([t(DIRECTION_NAMES.get(e.direction, e.direction)) for e in self._rows], dtype=object),
                       np.array([e.station_from_m for e in self._rows], dtype=float),
                       np.array([e.station_to_m for e in self._rows], dtype=float),
                       np.abs(np.array([e.peak for e in self._rows], dtype=float)),
@@ -80,7 +82,7 @@ class ExceedanceModel(QAbstractTableModel):
 
     def headerData(self, section: int, orientation, role=Qt.DisplayRole):
         if role == Qt.DisplayRole and orientation == Qt.Horizontal:
-            return COLUMNS[section]
+            return tr(COLUMNS[section])
         return None
 
     def data(self, index: QModelIndex, role=Qt.DisplayRole):

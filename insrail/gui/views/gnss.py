@@ -29,6 +29,7 @@ from insrail.gui import plotstyle
 from insrail.io.survey_gnss import RawGnss
 from insrail.project.control_points import ControlPoint
 from insrail.project.plotdata import PpkView, quality_epochs
+from insrail.gui.translation import tr
 
 #: Colours of the RTKLIB qualities (fix, float, single; others grey), as in the surveyor's PPK tools.
 QUALITY_COLOURS = {1: "#009E73", 2: "#E69F00", 5: "#D55E00"}
@@ -154,7 +155,7 @@ class GnssView(QWidget):
         self.survey.currentTextChanged.connect(lambda name: name and self.surveyChosen.emit(name))
         self.run_button = QToolButton()
         self.run_button.setToolButtonStyle(Qt.ToolButtonTextOnly)
-        self.headline = QLabel("Not post-processed yet: Run > Post-process GNSS.")
+        self.headline = QLabel(tr("Not post-processed yet: Run > Post-process GNSS."))
         self.headline.setWordWrap(True)  # the page must not widen the window's minimum
         self.inputs = KeyValueTree("Input")
         self.qc = KeyValueTree("QC")
@@ -173,7 +174,7 @@ class GnssView(QWidget):
         self.plots.ci.layout.setRowStretchFactor(1, 3)
 
         top = QHBoxLayout()
-        top.addWidget(QLabel("Survey"))
+        top.addWidget(QLabel(tr("Survey")))
         top.addWidget(self.survey)
         top.addWidget(self.run_button)
         top.addSpacing(16)
@@ -214,7 +215,7 @@ class GnssView(QWidget):
             item.clear()
         if view is None:
             self.qc.clear()
-            self.headline.setText("Not post-processed yet: Run > Post-process GNSS.")
+            self.headline.setText(tr("Not post-processed yet: Run > Post-process GNSS."))
             return
         qc = view.report["qc"]
         gaps = len(qc["gaps"])

@@ -18,6 +18,7 @@ from insrail.project.plotdata import (
     series_bands,
     series_lines,
 )
+from insrail.gui.translation import tr
 
 DEFAULT_SERIES = ("position", "velocity", "attitude", "position_sigma")
 
@@ -76,7 +77,7 @@ class NavigationView(DrawWhenShown, QWidget):
         for row, s in enumerate(shown):
             item = self.plots.addPlot(row=row, col=0)
             plotstyle.make_fluid(item)
-            title = f"{s.title} [{s.unit}]" + (", 1σ band" if s.sigma is not None else "")
+            title = f"{s.title} [{s.unit}]" + (tr(", 1σ band") if s.sigma is not None else "")
             item.setTitle(plotstyle.titled(title, s.labels), size="8pt")
             item.setLabel("left", s.unit)
             item.getAxis("left").setWidth(56)
@@ -93,5 +94,5 @@ class NavigationView(DrawWhenShown, QWidget):
                 item.setXLink(self.items[shown[0].key])
             item.getAxis("bottom").setStyle(showValues=row == len(shown) - 1)
             if row == len(shown) - 1:
-                item.setLabel("bottom", "GPS time of week [s]")
+                item.setLabel("bottom", tr("GPS time of week [s]"))
             self.items[s.key] = item

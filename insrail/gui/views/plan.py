@@ -11,6 +11,7 @@ from PySide6.QtWidgets import QGraphicsItem, QGraphicsSimpleTextItem
 from insrail.gui import plotstyle
 from insrail.gui.lazy import DrawWhenShown
 from insrail.project.plotdata import PlanData
+from insrail.gui.translation import tr
 
 #: The GNSS fixes' dots [px].
 GNSS_DOT_PX = 5
@@ -109,7 +110,7 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
             return points - self.origin
 
         self.curves = {"trajectory": item.plot(*local(data.trajectory_en_m).T, pen=pg.mkPen("#A0A0A0", width=1),
-                                               name="trajectory (IMU)"),
+                                               name=tr("trajectory (IMU)")),
                        "gnss": PointsItem(*local(data.gnss_en_m).T, plotstyle.COLOURS[2], GNSS_DOT_PX)}
         item.addItem(self.curves["gnss"])
         item.legend.addItem(pg.ScatterPlotItem(symbol="o", size=GNSS_DOT_PX, pen=None, brush=plotstyle.COLOURS[2]),
@@ -118,7 +119,7 @@ class PlanView(DrawWhenShown, pg.PlotWidget):
                                               name="centreline")
         for index, outage in enumerate(data.outages_en_m):
             self.curves[f"outage{index}"] = item.plot(*local(outage).T, pen=pg.mkPen("#C00000", width=4),
-                                                      name="GNSS outage" if index == 0 else None)
+                                                      name=tr("GNSS outage") if index == 0 else None)
         if len(data.benchmark_en_m):
             self.curves["benchmarks"] = item.plot(*local(data.benchmark_en_m).T, pen=None, symbol="t1", symbolSize=12,
                                                   symbolBrush=plotstyle.COLOURS[4], name="benchmarks")

@@ -13,6 +13,7 @@ from PySide6.QtWidgets import QComboBox, QHBoxLayout, QLabel, QVBoxLayout, QWidg
 from insrail.gui import plotstyle
 from insrail.gui.lazy import DrawWhenShown
 from insrail.names import CheckLike, UnknownName, column_name
+from insrail.gui.translation import tr
 
 #: Columns worth overlaying: values in mm or ratios (not coordinates, times, flags).
 _UNITS = ("_mm", "_ratio")
@@ -30,9 +31,9 @@ class RepeatabilityView(DrawWhenShown, QWidget):
         self.item = self.plot.getPlotItem()
         plotstyle.make_fluid(self.item)
         # no grid: pyqtgraph's grid triples the time of a frame
-        self.item.setLabel("bottom", "chainage [m]")
+        self.item.setLabel("bottom", tr("chainage [m]"))
         top = QHBoxLayout()
-        top.addWidget(QLabel("Parameter:"))
+        top.addWidget(QLabel(tr("Parameter:")))
         top.addWidget(self.parameter)
         top.addWidget(self.note, 1)
         layout = QVBoxLayout(self)
@@ -62,8 +63,8 @@ class RepeatabilityView(DrawWhenShown, QWidget):
         self.parameter.blockSignals(False)
         if current is not None and self.parameter.findData(current) >= 0:
             self.parameter.setCurrentIndex(self.parameter.findData(current))
-        self.note.setText(f"{len(runs)} run{'s' if len(runs) != 1 else ''}"
-                          + ("" if len(runs) > 1 else ": process more surveys of this track to compare them"))
+        self.note.setText((tr("{count} runs") if len(runs) != 1 else tr("{count} run")).format(count=len(runs))
+                          + ("" if len(runs) > 1 else tr(": process more surveys of this track to compare them")))
         self.request_draw(now=not runs)
 
     def _draw(self) -> None:

@@ -51,11 +51,12 @@ from insrail.project.plotdata import (
 )
 from insrail.project.results import ExceedanceRow
 from insrail.report.content import ChainageAxis
+from insrail.gui.translation import tr
 
 #: Checks whose plot starts hidden unless they have exceedances: each repeats what another plot
 #: shows (gauge, cant) or is a shorter-chord version of one shown; the Plots menu brings them back.
 HIDDEN_KINDS = ("gauge_deviation", "gauge_change_rate", "versine", "cross_level")
-READOUT_HINT = "Move the mouse over the plots to read every value at a sleeper."
+READOUT_HINT = tr("Move the mouse over the plots to read every value at a sleeper.")
 #: Each plot keeps at least this height [px]; more plots than fit scroll.
 MIN_PLOT_HEIGHT = 150
 #: Panning and zooming stop this far beyond the first and last sleeper [m].
@@ -176,7 +177,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             item = self._pool[row]
             band = bands.get(spec.key)
             item.setTitle(plotstyle.titled(f"{spec.title} [{spec.unit}]", [label for label, _ in spec.curves],
-                                           f"±{BAND_SIGMAS:g}σ predicted" if band is not None else ""), size="8pt")
+                                           tr("±{sigmas:g}σ predicted").format(sigmas=BAND_SIGMAS) if band is not None else ""), size="8pt")
             if band is not None:
                 edges = [pg.PlotCurveItem(band.station_m, sign * band.half_width, pen=None) for sign in (1.0, -1.0)]
                 fill = pg.FillBetweenItem(*edges, brush=plotstyle.BAND_BRUSH)  # a step per 200 m: a few points
@@ -380,28 +381,28 @@ class TrackView(DrawWhenShown, QWidget):
         self.readout.setTextInteractionFlags(Qt.TextSelectableByMouse)
         self.readout.setFixedHeight(self._readout_height())
         self.goto = QLineEdit()
-        self.goto.setPlaceholderText("Go to: #sleeper, K1+234.5 or station")
-        self.goto.setToolTip("Go to a sleeper (#123), a chainage as printed on the sleepers (K1+234.5) or a "
-                             "station in metres; Enter")
+        self.goto.setPlaceholderText(tr("Go to: #sleeper, K1+234.5 or station"))
+        self.goto.setToolTip(tr("Go to a sleeper (#123), a chainage as printed on the sleepers (K1+234.5) or a "
+                             "station in metres; Enter"))
         self.goto.setMaximumWidth(260)
         self.goto.returnPressed.connect(lambda: self.go_to(self.goto.text()))
-        self.measure_button = QToolButton(text="Measure")
+        self.measure_button = QToolButton(text=tr("Measure"))
         self.measure_button.setCheckable(True)
-        self.measure_button.setToolTip("Measuring tool: click two points of a plot to read the chainage and "
-                                       "value differences between them")
+        self.measure_button.setToolTip(tr("Measuring tool: click two points of a plot to read the chainage and "
+                                       "value differences between them"))
         self.measure_button.toggled.connect(self._measure_toggled)
         self.measure_label = QLabel()
         self.measure_label.setTextFormat(Qt.RichText)
         self.measure_label.setWordWrap(True)
         self.measure_label.setTextInteractionFlags(Qt.TextSelectableByMouse)
         self.measure_label.hide()
-        self.mark_event_button = QToolButton(text="Mark as track event…")
-        self.mark_event_button.setToolTip("Mark the span between the two measured points as a turnout, level "
+        self.mark_event_button = QToolButton(text=tr("Mark as track event…"))
+        self.mark_event_button.setToolTip(tr("Mark the span between the two measured points as a turnout, level "
                                           "crossing, bridge, joint, stretch not to assess or note in the "
-                                          "project's event file")
+                                          "project's event file"))
         self.mark_event_button.clicked.connect(self.request_mark_event)
         self.mark_event_button.hide()
-        self.choose_plots = QToolButton(text="Plots")
+        self.choose_plots = QToolButton(text=tr("Plots"))
         self.choose_plots.setPopupMode(QToolButton.InstantPopup)
         self.choose_plots.setMenu(QMenu(self.choose_plots))
         self.exceedance_model = ExceedanceModel(self)
@@ -629,7 +630,7 @@ class TrackView(DrawWhenShown, QWidget):
         row = locate(text, self._station, self._numbers, self._labels)
         if row is None:
             self.goto.setStyleSheet("background: #FFE0E0;")
-            self.goto.setToolTip(f"{text!r} is no sleeper number, chainage or station of this survey")
+            self.goto.setToolTip(tr("{text} is no sleeper number, chainage or station of this survey").format(text=repr(text)))
             return False
         self.goto.setStyleSheet("")
         station = float(self._station[row])
@@ -644,7 +645,8 @@ class TrackView(DrawWhenShown, QWidget):
         if not len(self._station):
             return
         i = nearest_sleeper(self._station, station)
-        parts = [f"<b>{self._labels[i]}</b> sleeper {self._numbers[i]} ({self._station[i]:.3f} m)"]
+        parts = [tr("<b>{label}</b> sleeper {number} ({station:.3f} m)").format(label=self._labels[i], number=self._numbers[i],
+                                                                    station=self._station[i])]
         for spec in self._specs:
             if spec.key not in self._visible:
                 continue
@@ -658,7 +660,7 @@ class TrackView(DrawWhenShown, QWidget):
         self.plots.mark_measure([])
         self.mark_event_button.hide()
         self.measure_label.setVisible(on)
-        self.measure_label.setText("Measuring: click the first point in a plot." if on else "")
+        self.measure_label.setText(tr("Measuring: click the first point in a plot.") if on else "")
 
     def _plot_clicked(self, key: str, station: float) -> None:
         if self.measure_button.isChecked():
@@ -675,7 +677,7 @@ class TrackView(DrawWhenShown, QWidget):
         self.plots.mark_measure([s for _, s in self._measured])
         self.mark_event_button.setVisible(len(self._measured) == 2)
         if len(self._measured) == 1:
-            self.measure_label.setText("Measuring: click the second point.")
+            self.measure_label.setText(tr("Measuring: click the second point."))
             return
         (_, a), (key, b) = self._measured
         spec = next(s for s in self._specs if s.key == key)
@@ -684,8 +686,10 @@ class TrackView(DrawWhenShown, QWidget):
                            for (label, va), (_, vb) in zip(plot_values(spec, self._columns, first),
                                                            plot_values(spec, self._columns, second)))
         self.measure_label.setText(
-            f"Δ chainage <b>{b - a:+.3f} m</b> (sleeper {self._numbers[first]} {self._labels[first]} → "
-            f"{self._numbers[second]} {self._labels[second]}) &nbsp;|&nbsp; <b>{spec.title}</b>: {deltas} {spec.unit}")
+            tr("Δ chainage <b>{length:+.3f} m</b> (sleeper {first} {first_label} → {second} {second_label})").format(
+                length=b - a, first=self._numbers[first], first_label=self._labels[first],
+                second=self._numbers[second], second_label=self._labels[second])
+            + f" &nbsp;|&nbsp; <b>{spec.title}</b>: {deltas} {spec.unit}")
 
     def measured_span(self) -> tuple[float, float] | None:
         """The stations of the measuring tool's two points, smaller first; None before two are set."""

@@ -1,0 +1,1307 @@
+<?xml version="1.0" encoding="utf-8"?>
+<!DOCTYPE TS>
+<TS version="2.1" language="zh_CN">
+  <context>
+    <name>insrail</name>
+    <message>
+      <location filename="../../../insrail/gui/choices.py" line="36" />
+      <source>True</source>
+      <translation>是</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/choices.py" line="36" />
+      <source>False</source>
+      <translation>否</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="40" />
+      <source>No project open. File &gt; New project… creates one from raw files; File &gt; Open project… opens a project.toml.</source>
+      <translation>未打开项目。“文件 &gt; 新建项目…”从原始数据创建项目；“文件 &gt; 打开项目…”打开 project.toml。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="75" />
+      <source>Write the out-of-date reports again, at their places, from the current results</source>
+      <translation>按当前结果在原位置重新生成过期的报告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="55" />
+      <source>This project has no survey yet: File &gt; Import raw files… adds one.</source>
+      <translation>此项目尚无测量：“文件 &gt; 导入原始数据…”添加测量。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="93" />
+      <source>Write it again</source>
+      <translation>重新生成</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="93" />
+      <source>Write them again</source>
+      <translation>全部重新生成</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="47" />
+      <source>Reading the results of {project}…</source>
+      <translation>正在读取 {project} 的结果…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="119" />
+      <source>Process {survey}</source>
+      <translation>处理 {survey}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="59" />
+      <source>Survey {survey} has no results yet: the track, plan and navigation views stay empty until it is processed.</source>
+      <translation>测量 {survey} 尚无结果：处理之前，轨道、平面和导航视图为空。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="116" />
+      <source>Survey {survey} was processed before its events ({events}) changed: its results, plots and exceedances do not show them yet. Process it again.</source>
+      <translation>测量 {survey} 在其线路事件（{events}）修改之前处理：其结果、曲线和超限尚未反映这些事件。请重新处理。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="88" />
+      <source>The report {names} of survey {survey} was written before the survey was processed again: it describes results that no longer exist.</source>
+      <translation>测量 {survey} 的报告 {names} 生成于重新处理之前：其内容对应的结果已不存在。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="90" />
+      <source>The reports {names} of survey {survey} were written before the survey was processed again: they describe results that no longer exist.</source>
+      <translation>测量 {survey} 的报告 {names} 生成于重新处理之前：其内容对应的结果已不存在。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/empty.py" line="92" />
+      <source> and </source>
+      <translation>、</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="36" />
+      <source>Mark as track event</source>
+      <translation>标记为线路事件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="46" />
+      <source>empty: a point (a joint, a note)</source>
+      <translation>留空：单点（接头、备注）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="48" />
+      <source>optional: W12 No. 18 right-hand, LC 3, …</source>
+      <translation>可选：W12 18号右开道岔、LC 3 …</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="69" />
+      <source>Mark</source>
+      <translation>标记</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="65" />
+      <source>Surveys</source>
+      <translation>测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="66" />
+      <source>Results</source>
+      <translation>结果</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="52" />
+      <source>Project</source>
+      <translation>项目</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="213" />
+      <source>Property</source>
+      <translation>属性</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="213" />
+      <source>Value</source>
+      <translation>值</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="138" />
+      <source>Write the out-of-date reports again</source>
+      <translation>重新生成过期的报告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="164" />
+      <source>folder</source>
+      <translation>文件夹</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="164" />
+      <source>coordinate system</source>
+      <translation>坐标系</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="129" />
+      <source>Show results of {survey}</source>
+      <translation>显示 {survey} 的结果</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="130" />
+      <source>Process {survey} again</source>
+      <translation>重新处理 {survey}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <source>role</source>
+      <translation>用途</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <source>path</source>
+      <translation>路径</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <source>format</source>
+      <translation>格式</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
+      <source>size</source>
+      <translation>大小</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="134" />
+      <source>Write the out-of-date reports of {survey} again</source>
+      <translation>重新生成 {survey} 的过期报告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="172" />
+      <source>problem</source>
+      <translation>问题</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
+      <source>missing</source>
+      <translation>缺失</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="180" />
+      <source>option {name}</source>
+      <translation>选项 {name}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="190" />
+      <source>file</source>
+      <translation>文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="191" />
+      <source>state</source>
+      <translation>状态</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="191" />
+      <source>older than the results: written before the survey was processed again</source>
+      <translation>早于结果：生成于重新处理之前</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="192" />
+      <source>written from the current results</source>
+      <translation>按当前结果生成</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="23" />
+      <source>Excel workbook</source>
+      <translation>Excel 工作簿</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="23" />
+      <source>Excel workbook (*.xlsx)</source>
+      <translation>Excel 工作簿 (*.xlsx)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="24" />
+      <source>PDF report</source>
+      <translation>PDF 报告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="24" />
+      <source>PDF report (*.pdf)</source>
+      <translation>PDF 报告 (*.pdf)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="26" />
+      <source>&amp;Lift/lining table…</source>
+      <translation>起拨道量表(&amp;L)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="26" />
+      <source>Lift/lining table (*.csv)</source>
+      <translation>起拨道量表 (*.csv)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="27" />
+      <source>&amp;DXF drawing…</source>
+      <translation>DXF 图(&amp;D)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="27" />
+      <source>DXF drawing (*.dxf)</source>
+      <translation>DXF 图 (*.dxf)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="28" />
+      <source>Measured lines as &amp;LandXML…</source>
+      <translation>实测线形 LandXML(&amp;L)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="28" />
+      <source>LandXML (*.xml)</source>
+      <translation>LandXML (*.xml)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="29" />
+      <source>Sleeper &amp;coordinates…</source>
+      <translation>轨枕坐标(&amp;C)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="29" />
+      <source>CSV (*.csv)</source>
+      <translation>CSV (*.csv)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="37" />
+      <source>Export the survey shown: {what}</source>
+      <translation>导出当前测量：{what}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="95" />
+      <source>letters, digits, '.', '_' or '-'</source>
+      <translation>字母、数字、“.”、“_”或“-”</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="98" />
+      <source>from the files</source>
+      <translation>取自文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="118" />
+      <source>Add files…</source>
+      <translation>添加文件…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="120" />
+      <source>Open survey folder…</source>
+      <translation>打开测量文件夹…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="122" />
+      <source>Remove</source>
+      <translation>移除</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="124" />
+      <source>Check files</source>
+      <translation>检查文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="131" />
+      <source>Survey name</source>
+      <translation>测量名称</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="132" />
+      <source>GPS week</source>
+      <translation>GPS 周</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="133" />
+      <source>IMU profile</source>
+      <translation>IMU 误差模型</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="333" />
+      <source>Import raw files as a survey</source>
+      <translation>导入原始数据为测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="339" />
+      <source>Import</source>
+      <translation>导入</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="138" />
+      <source>First rows of the selected file</source>
+      <translation>所选文件的前几行</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="143" />
+      <source>Problems found by the readers</source>
+      <translation>读取时发现的问题</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="90" />
+      <source>Ready</source>
+      <translation>就绪</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="142" />
+      <source>Properties</source>
+      <translation>属性</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="143" />
+      <source>Log</source>
+      <translation>日志</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="150" />
+      <source>Cancel</source>
+      <translation>取消</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="153" />
+      <source>Open folder</source>
+      <translation>打开文件夹</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="154" />
+      <source>Open the folder of the exported report</source>
+      <translation>打开导出报告所在的文件夹</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="209" />
+      <source>&amp;New project…</source>
+      <translation>新建项目(&amp;N)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="210" />
+      <source>Create a project with the wizard</source>
+      <translation>用向导创建项目</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="211" />
+      <source>&amp;Open project…</source>
+      <translation>打开项目(&amp;O)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="212" />
+      <source>&amp;Save project</source>
+      <translation>保存项目(&amp;S)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="213" />
+      <source>&amp;Import raw files…</source>
+      <translation>导入原始数据(&amp;I)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="214" />
+      <source>Add a survey from raw files</source>
+      <translation>从原始数据添加测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="215" />
+      <source>&amp;Process</source>
+      <translation>处理(&amp;P)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="215" />
+      <source>Process every survey of the project</source>
+      <translation>处理项目的全部测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="216" />
+      <source>Post-process &amp;GNSS</source>
+      <translation>GNSS 后处理(&amp;G)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="217" />
+      <source>Run the PPK stage (RTKLIB) of the survey on the GNSS page</source>
+      <translation>对 GNSS 页的测量运行 PPK 后处理（RTKLIB）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="218" />
+      <source>&amp;Cancel</source>
+      <translation>取消(&amp;C)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="219" />
+      <source>Stop the running job (processing, export, GNSS)</source>
+      <translation>停止正在运行的任务（处理、导出、GNSS）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="220" />
+      <source>&amp;Excel workbook…</source>
+      <translation>Excel 工作簿(&amp;E)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="221" />
+      <source>Export the crews' Excel workbook of the survey shown</source>
+      <translation>导出当前测量的作业班组 Excel 工作簿</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="222" />
+      <source>Export Excel</source>
+      <translation>导出 Excel</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="223" />
+      <source>&amp;PDF report…</source>
+      <translation>PDF 报告(&amp;P)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="224" />
+      <source>Export the PDF survey report of the survey shown</source>
+      <translation>导出当前测量的 PDF 测量报告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="225" />
+      <source>Export PDF</source>
+      <translation>导出 PDF</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="227" />
+      <source>&amp;Plan survey…</source>
+      <translation>测量规划(&amp;P)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="228" />
+      <source>Predict the accuracy of a planned survey (IMU, GNSS, speed, aiding)</source>
+      <translation>预测计划测量的精度（IMU、GNSS、速度、辅助观测）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="229" />
+      <source>&amp;Quit</source>
+      <translation>退出(&amp;Q)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="231" />
+      <source>&amp;File</source>
+      <translation>文件(&amp;F)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="234" />
+      <source>Open &amp;recent</source>
+      <translation>最近打开(&amp;R)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="238" />
+      <source>&amp;Export</source>
+      <translation>导出(&amp;E)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="246" />
+      <source>&amp;Run</source>
+      <translation>运行(&amp;R)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="250" />
+      <source>&amp;Tools</source>
+      <translation>工具(&amp;T)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="252" />
+      <source>&amp;View</source>
+      <translation>视图(&amp;V)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="255" />
+      <source>&amp;Help</source>
+      <translation>帮助(&amp;H)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="256" />
+      <source>&amp;About insrail</source>
+      <translation>关于 insrail(&amp;A)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="258" />
+      <source>Main</source>
+      <translation>主工具栏</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="272" />
+      <source>Project &amp;settings…</source>
+      <translation>项目设置(&amp;S)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="273" />
+      <source>Edit the project's settings (coordinate system, trolley, processing, assessment)</source>
+      <translation>编辑项目设置（坐标系、小车、数据处理、评估）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="275" />
+      <source>&amp;Undo</source>
+      <translation>撤销(&amp;U)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="277" />
+      <source>&amp;Redo</source>
+      <translation>重做(&amp;R)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="279" />
+      <source>&amp;Edit</source>
+      <translation>编辑(&amp;E)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="284" />
+      <source>&amp;Preferences…</source>
+      <translation>首选项(&amp;P)…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="285" />
+      <source>The application's language</source>
+      <translation>应用程序的语言</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="345" />
+      <source>Unsaved changes</source>
+      <translation>未保存的修改</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="452" />
+      <source>Processing failed</source>
+      <translation>处理失败</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="739" />
+      <source>GNSS post-processing failed</source>
+      <translation>GNSS 后处理失败</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="764" />
+      <source>About insrail</source>
+      <translation>关于 insrail</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="111" />
+      <source>Track</source>
+      <translation>轨道</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="111" />
+      <source>Plan</source>
+      <translation>平面</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="111" />
+      <source>Navigation</source>
+      <translation>导航</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="112" />
+      <source>Repeatability</source>
+      <translation>重复性</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="112" />
+      <source>GNSS</source>
+      <translation>GNSS</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="334" />
+      <source>no project — insrail</source>
+      <translation>无项目 — insrail</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="364" />
+      <source>Open project</source>
+      <translation>打开项目</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="479" />
+      <source>Cancelling…</source>
+      <translation>正在取消…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="684" />
+      <source>Written {name} in {folder}</source>
+      <translation>已写入 {name}，位于 {folder}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="764" />
+      <source>Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports.</source>
+      <translation>惯性轨道几何测量小车数据处理：GNSS/INS/里程计组合导航、轨道几何、报告。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="345" />
+      <source>Save the changes to {project}?</source>
+      <translation>保存对 {project} 的修改？</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="364" />
+      <source>insrail project (project.toml)</source>
+      <translation>insrail 项目 (project.toml)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="370" />
+      <source>Cannot open the project</source>
+      <translation>无法打开项目</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="405" />
+      <source>Cannot save the project</source>
+      <translation>无法保存项目</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="435" />
+      <source>Cannot add the survey</source>
+      <translation>无法添加测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="583" />
+      <source>Showing survey {survey}</source>
+      <translation>正在显示测量 {survey}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="109" />
+      <source>Plan survey — predicted accuracy</source>
+      <translation>测量规划 — 预测精度</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="118" />
+      <source>IMU profile from resources/imu_profiles (bias, random walks)</source>
+      <translation>resources/imu_profiles 中的 IMU 误差模型（零偏、随机游走）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="125" />
+      <source>track length after a 300 s static alignment (about 1.5 s of computing per km)</source>
+      <translation>300 s 静态对准后的线路长度（每公里约计算 1.5 s）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="127" />
+      <source>none</source>
+      <translation>无</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="128" />
+      <source>a GNSS outage of this duration in the middle of the run</source>
+      <translation>在测量中段的此时长 GNSS 中断</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="131" />
+      <source>odometer</source>
+      <translation>里程计</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="132" />
+      <source>non-holonomic constraint (NHC)</source>
+      <translation>非完整约束（NHC）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="133" />
+      <source>zero-velocity updates at rest (ZUPT)</source>
+      <translation>静止时零速修正（ZUPT）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="138" />
+      <source>vary one parameter from the baseline, like the thesis's chapter 3</source>
+      <translation>从基准变化一个参数（如论文第 3 章）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="144" />
+      <source>GNSS σ horizontal</source>
+      <translation>GNSS σ 水平</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="145" />
+      <source>GNSS σ vertical</source>
+      <translation>GNSS σ 高程</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="146" />
+      <source>Speed</source>
+      <translation>速度</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="147" />
+      <source>Track length</source>
+      <translation>线路长度</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="148" />
+      <source>GNSS outage mid-run</source>
+      <translation>中段 GNSS 中断</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="149" />
+      <source>Solution</source>
+      <translation>解算</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="150" />
+      <source>Aiding</source>
+      <translation>辅助观测</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="155" />
+      <source>Sweep</source>
+      <translation>参数扫描</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="156" />
+      <source>Values</source>
+      <translation>取值</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="158" />
+      <source>Run</source>
+      <translation>运行</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="183" />
+      <source>Set the planned run and press Run.</source>
+      <translation>设置计划测量后按“运行”。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="122" />
+      <source>white (epoch-to-epoch) GNSS sigma; the fusion adds its correlated part</source>
+      <translation>GNSS 白噪声（历元间）标准差；融合另加其相关部分</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/preferences.py" line="18" />
+      <source>Preferences</source>
+      <translation>首选项</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/preferences.py" line="21" />
+      <source>As the system (locale)</source>
+      <translation>跟随系统（区域设置）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/preferences.py" line="26" />
+      <source>Language</source>
+      <translation>语言</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/preferences.py" line="27" />
+      <source>The language changes when insrail is started again. The reports keep their project's language (Project settings, Report).</source>
+      <translation>重新启动 insrail 后语言生效。报告使用其项目的语言（项目设置 &gt; 报告）。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="66" />
+      <source>(each survey's own)</source>
+      <translation>（各测量自带）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="68" />
+      <source>not given</source>
+      <translation>未给定</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="70" />
+      <source>forward</source>
+      <translation>前</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="70" />
+      <source>right</source>
+      <translation>右</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="70" />
+      <source>down</source>
+      <translation>下</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="72" />
+      <source>roll</source>
+      <translation>横滚</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="72" />
+      <source>pitch</source>
+      <translation>俯仰</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="72" />
+      <source>heading</source>
+      <translation>航向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="74" />
+      <source>fusion</source>
+      <translation>组合导航</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="74" />
+      <source>track reconstruction</source>
+      <translation>轨道重建</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="74" />
+      <source>assessment</source>
+      <translation>评估</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="74" />
+      <source>adjustment</source>
+      <translation>调整量计算</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="114" />
+      <source>Coordinate system</source>
+      <translation>坐标系</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="126" />
+      <source>Heights</source>
+      <translation>高程</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="129" />
+      <source>Trolley</source>
+      <translation>小车</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="132" />
+      <source>Processing</source>
+      <translation>数据处理</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="143" />
+      <source>Report</source>
+      <translation>报告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="218" />
+      <source>Each survey brings its own trolley geometry (its survey.toml).</source>
+      <translation>每个测量使用自己的小车几何参数（其 survey.toml）。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="219" />
+      <source>Use one trolley for the whole project (the first survey's)</source>
+      <translation>整个项目使用同一小车（取第一个测量的）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="457" />
+      <source>Trolley for the whole project</source>
+      <translation>整个项目使用同一小车</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="232" />
+      <source>Undo</source>
+      <translation>撤销</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="232" />
+      <source>Redo</source>
+      <translation>重做</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="332" />
+      <source>the trolley's body frame b: x forward, y right, z down (FRD)</source>
+      <translation>小车载体坐标系 b：x 向前，y 向右，z 向下（前右下）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="198" />
+      <source>Project settings — {project}</source>
+      <translation>项目设置 — {project}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="455" />
+      <source>The first survey's trolley geometry cannot be read: {error}</source>
+      <translation>无法读取第一个测量的小车几何参数：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="501" />
+      <source>Changed: {settings}. Nothing is processed again; the reports show the change when written again.</source>
+      <translation>已修改：{settings}。无需重新处理；重新生成报告时即体现此修改。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="515" />
+      <source>Cannot write {path}: {error}</source>
+      <translation>无法写入 {path}：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="496" />
+      <source>Changed: {settings}. Processing again will run: {stages}.</source>
+      <translation>已修改：{settings}。重新处理将运行：{stages}。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/settings_editor.py" line="497" />
+      <source>Changed: {settings}. Processing again will run: {stages} (the earlier stages from the cache).</source>
+      <translation>已修改：{settings}。重新处理将运行：{stages}（之前的步骤取自缓存）。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
+      <source>Check</source>
+      <translation>检测项</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
+      <source>Rail</source>
+      <translation>钢轨</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
+      <source>Direction</source>
+      <translation>方向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
+      <source>From [m]</source>
+      <translation>起点 [m]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
+      <source>To [m]</source>
+      <translation>终点 [m]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/exceedances.py" line="19" />
+      <source>Peak</source>
+      <translation>峰值</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/exceedances.py" line="19" />
+      <source>Limit</source>
+      <translation>限值</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/exceedances.py" line="19" />
+      <source>Unit</source>
+      <translation>单位</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/exceedances.py" line="19" />
+      <source>Sleepers</source>
+      <translation>轨枕</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="158" />
+      <source>Not post-processed yet: Run &gt; Post-process GNSS.</source>
+      <translation>尚未后处理：“运行 &gt; GNSS 后处理”。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="177" />
+      <source>Survey</source>
+      <translation>测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/navigation.py" line="80" />
+      <source>, 1σ band</source>
+      <translation>，1σ 带</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/navigation.py" line="97" />
+      <source>GPS time of week [s]</source>
+      <translation>GPS 周内秒 [s]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/plan.py" line="113" />
+      <source>trajectory (IMU)</source>
+      <translation>轨迹（IMU）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/plan.py" line="122" />
+      <source>GNSS outage</source>
+      <translation>GNSS 中断</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/repeatability.py" line="34" />
+      <source>chainage [m]</source>
+      <translation>里程 [m]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/repeatability.py" line="36" />
+      <source>Parameter:</source>
+      <translation>参数：</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/repeatability.py" line="67" />
+      <source>: process more surveys of this track to compare them</source>
+      <translation>：处理本线路的更多测量以进行比较</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/repeatability.py" line="66" />
+      <source>{count} runs</source>
+      <translation>{count} 个测次</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/repeatability.py" line="66" />
+      <source>{count} run</source>
+      <translation>{count} 个测次</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="59" />
+      <source>Move the mouse over the plots to read every value at a sleeper.</source>
+      <translation>将鼠标移到曲线上可读取该轨枕处的全部数值。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="384" />
+      <source>Go to: #sleeper, K1+234.5 or station</source>
+      <translation>转到：#轨枕号、K1+234.5 或里程</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="385" />
+      <source>Go to a sleeper (#123), a chainage as printed on the sleepers (K1+234.5) or a station in metres; Enter</source>
+      <translation>转到轨枕（#123）、轨枕上标注的里程（K1+234.5）或以米计的里程；回车</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="391" />
+      <source>Measuring tool: click two points of a plot to read the chainage and value differences between them</source>
+      <translation>量测工具：在曲线上点击两点，读取两点间的里程差和数值差</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="400" />
+      <source>Mark the span between the two measured points as a turnout, level crossing, bridge, joint, stretch not to assess or note in the project's event file</source>
+      <translation>在项目的事件文件中将两量测点之间标记为道岔、平交道口、桥梁、接头、不评估地段或备注</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="389" />
+      <source>Measure</source>
+      <translation>量测</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="399" />
+      <source>Mark as track event…</source>
+      <translation>标记为线路事件…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="405" />
+      <source>Plots</source>
+      <translation>曲线</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="663" />
+      <source>Measuring: click the first point in a plot.</source>
+      <translation>量测：在曲线上点击第一点。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="680" />
+      <source>Measuring: click the second point.</source>
+      <translation>量测：点击第二点。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="648" />
+      <source>&lt;b&gt;{label}&lt;/b&gt; sleeper {number} ({station:.3f} m)</source>
+      <translation>&lt;b&gt;{label}&lt;/b&gt; 轨枕 {number}（{station:.3f} m）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="633" />
+      <source>{text} is no sleeper number, chainage or station of this survey</source>
+      <translation>{text} 不是本测量的轨枕号、里程或测站</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="689" />
+      <source>Δ chainage &lt;b&gt;{length:+.3f} m&lt;/b&gt; (sleeper {first} {first_label} → {second} {second_label})</source>
+      <translation>Δ 里程 &lt;b&gt;{length:+.3f} m&lt;/b&gt;（轨枕 {first} {first_label} → {second} {second_label}）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="180" />
+      <source>±{sigmas:g}σ predicted</source>
+      <translation>预测 ±{sigmas:g}σ</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="69" />
+      <source>Browse…</source>
+      <translation>浏览…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="110" />
+      <source>New insrail project</source>
+      <translation>新建 insrail 项目</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="160" />
+      <source>Where the project file (project.toml) and the results are kept.</source>
+      <translation>项目文件（project.toml）和结果的存放位置。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="161" />
+      <source>New project</source>
+      <translation>新项目</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="170" />
+      <source>Name</source>
+      <translation>名称</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="171" />
+      <source>Folder</source>
+      <translation>文件夹</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="172" />
+      <source>Description</source>
+      <translation>说明</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="176" />
+      <source>The engineering (construction) coordinate system: a transverse Mercator projection on the chosen ellipsoid, reduced to the projection height.</source>
+      <translation>工程（施工）坐标系：所选椭球上的横轴墨卡托（高斯-克吕格）投影，归算到投影面高程。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="201" />
+      <source>Benchmarks</source>
+      <translation>水准点</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="201" />
+      <source>GNSS-levelling benchmarks (ellipsoidal and normal heights) fit the height anomaly; without them heights stay ellipsoidal.</source>
+      <translation>GNSS 水准点（大地高与正常高）用于拟合高程异常；没有水准点时高程为大地高。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="206" />
+      <source>Benchmarks file</source>
+      <translation>水准点文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="208" />
+      <source>Height-anomaly model</source>
+      <translation>高程异常模型</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="212" />
+      <source>Trolley geometry</source>
+      <translation>小车几何参数</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="212" />
+      <source>Lever arms from the IMU centre in the IMU body frame (forward, right, down), metres; mounting angles of the IMU in the trolley.</source>
+      <translation>IMU 中心至各传感器的杆臂，IMU 载体坐标系（前、右、下），单位 m；IMU 在小车上的安装角。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="233" />
+      <source>Copy from a survey.toml…</source>
+      <translation>从 survey.toml 复制…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="236" />
+      <source>Copy the trolley of an earlier project…</source>
+      <translation>复制以往项目的小车…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="240" />
+      <source>These lever arms really are zero</source>
+      <translation>这些杆臂确实为零</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="243" />
+      <source>Reference rail</source>
+      <translation>基准轨</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="244" />
+      <source>Rail centre spacing (cant base)</source>
+      <translation>两轨中心距（超高基长）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="258" />
+      <source>Processing and assessment</source>
+      <translation>数据处理与评估</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="258" />
+      <source>IMU error model, design alignment, tolerance profile for the assessment and the fastener type for the adjustment.</source>
+      <translation>IMU 误差模型、设计线形、评估用的容许偏差标准及调整用的扣件类型。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="270" />
+      <source>Design alignment</source>
+      <translation>设计线形</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="272" />
+      <source>Start station (without a design)</source>
+      <translation>起点里程（无设计线形时）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="273" />
+      <source>Tolerance profile</source>
+      <translation>容许偏差标准</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="274" />
+      <source>Fastener type</source>
+      <translation>扣件类型</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="278" />
+      <source>First survey</source>
+      <translation>第一个测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="278" />
+      <source>The raw files of one trolley run; formats are detected, check them before finishing.</source>
+      <translation>一次小车推行的原始数据；格式自动识别，完成前请检查。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="281" />
+      <source>Keep the raw files where they are</source>
+      <translation>原始数据保留在原位置</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="282" />
+      <source>Copy the raw files into the project (surveys/&lt;survey name&gt;/); the raw-data folder is left as it is</source>
+      <translation>将原始数据复制到项目中（surveys/&lt;测量名称&gt;/）；原始数据文件夹保持不变</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="189" />
+      <source>Ellipsoid</source>
+      <translation>椭球</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="189" />
+      <source>Central meridian</source>
+      <translation>中央子午线</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="191" />
+      <source>Latitude of origin</source>
+      <translation>原点纬度</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="192" />
+      <source>Scale factor</source>
+      <translation>比例因子</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="192" />
+      <source>False easting</source>
+      <translation>东偏移</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="194" />
+      <source>False northing</source>
+      <translation>北偏移</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="195" />
+      <source>Projection height</source>
+      <translation>投影面高程</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="196" />
+      <source>Projection height applied as</source>
+      <translation>投影面高程的处理方式</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="511" />
+      <source>Choose the project folder (first page).</source>
+      <translation>请选择项目文件夹（第一页）。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="514" />
+      <source>Add the raw files of the first survey.</source>
+      <translation>请添加第一个测量的原始数据。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="534" />
+      <source>The survey's files have problems (listed above).</source>
+      <translation>测量文件有问题（见上方列表）。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="482" />
+      <source>0 m: is this lever arm measured?</source>
+      <translation>0 m：此杆臂是否已实测？</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="490" />
+      <source>Lever arms at 0 m: {arms}. A trolley's sensors are never all at the IMU centre: enter the measured lever arms, copy them from an earlier project, or confirm below that they really are zero.</source>
+      <translation>杆臂为 0 m：{arms}。小车的传感器不可能都位于 IMU 中心：请输入实测杆臂、从以往项目复制，或在下方确认其确实为零。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="339" />
+      <source>the trolley of {path} cannot be read: {error}</source>
+      <translation>无法读取 {path} 的小车参数：{error}</translation>
+    </message>
+  </context>
+</TS>

@@ -1,0 +1,123 @@
+"""The desktop application in Chinese and English: every text of insrail/gui marked for translation has
+its Chinese in the Qt Linguist file, the shipped .qm is the .ts compiled, the language follows the locale
+unless the preferences chose one, and a Chinese window shows no English menu, tab, button or label."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import string
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("pytestqt")
+from PySide6.QtCore import QSettings
+from PySide6.QtWidgets import QAbstractButton, QApplication, QDockWidget, QLabel, QTabWidget
+
+from insrail import names
+from insrail.gui.translation import LANGUAGE_KEY, chosen_language, install_language, qm_file
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "installer"))
+import gui_translations  # noqa: E402
+
+TS = gui_translations.TS_FILES["zh_CN"]
+#: Latin words a Chinese window may show: the program's name, formats and abbreviations written so in Chinese.
+LATIN = {"insrail", "Excel", "LandXML", "project.toml", "survey.toml", "English", "Simplified", "Chinese"}
+WORD = re.compile(r"[A-Za-z][A-Za-z_.]*[a-z][A-Za-z_.]*")
+
+
+def english(text: str) -> set[str]:
+    return {word for word in WORD.findall(text.replace("&", "")) if word not in LATIN}
+
+
+def test_every_gui_text_has_its_chinese_in_the_ts_file():
+    texts = gui_translations.gui_texts()
+    translations = gui_translations.read_ts(TS)
+    missing = {text: f"{file}:{line}" for text, (file, line) in texts.items() if not translations.get(text)}
+    assert not missing, f"untranslated in {TS.name} (run python installer/gui_translations.py, translate):\n" + "\n".join(
+        f"  {where}: {text!r}" for text, where in missing.items())
+
+    def fields(text):
+        return sorted(name for _, name, _, _ in string.Formatter().parse(text) if name is not None)
+
+    assert {t: z for t, z in translations.items() if t in texts and fields(t) != fields(z)} == {}
+
+
+def test_the_shipped_qm_is_the_ts_compiled(tmp_path):
+    if shutil.which("pyside6-lrelease", path=str(Path(sys.executable).parent)) is None:
+        pytest.skip("pyside6-lrelease not beside this Python")
+    gui_translations.compile_ts(TS, tmp_path / "fresh.qm")
+    assert (tmp_path / "fresh.qm").read_bytes() == qm_file("zh-CN").read_bytes(), \
+        "insrail_zh_CN.qm is older than its .ts: run python installer/gui_translations.py"
+
+
+def test_the_language_follows_the_locale_unless_the_preferences_chose_one(tmp_path):
+    settings = QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat)
+    assert chosen_language(settings, "zh_CN") == "zh-CN"
+    assert chosen_language(settings, "zh_TW") == "zh-CN"
+    assert chosen_language(settings, "en_US") == "en"
+    assert chosen_language(settings, "de_DE") == "en"
+    settings.setValue(LANGUAGE_KEY, "en")
+    assert chosen_language(settings, "zh_CN") == "en"
+    settings.setValue(LANGUAGE_KEY, "zh-CN")
+    assert chosen_language(settings, "en_US") == "zh-CN"
+
+
+def shown_texts(window) -> list[str]:
+    """Every text of the window's menus, toolbar, tabs, docks, buttons and labels."""
+    texts = []
+
+    def menu_texts(menu):
+        for action in menu.actions():
+            texts.append(action.text())
+            if action.menu() is not None:
+                menu_texts(action.menu())
+
+    for action in window.menuBar().actions():
+        texts.append(action.text())
+        menu_texts(action.menu())
+    for tabs in window.findChildren(QTabWidget):
+        texts += [tabs.tabText(k) for k in range(tabs.count())]
+    texts += [dock.windowTitle() for dock in window.findChildren(QDockWidget)]
+    texts += [button.text() for button in window.findChildren(QAbstractButton)]
+    texts += [label.text() for label in window.findChildren(QLabel)]
+    return [text for text in texts if text]
+
+
+@pytest.fixture
+def chinese():
+    app = QApplication.instance()
+    install_language(app, "zh-CN")
+    yield
+    install_language(app, "en")
+
+
+def test_a_chinese_window_has_no_english_menu_tab_or_button(qtbot, tmp_path, chinese):
+    from insrail.gui.main_window import MainWindow
+    from insrail.gui.preferences import PreferencesDialog
+
+    window = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat))
+    qtbot.addWidget(window)
+    texts = shown_texts(window)
+    assert "文件(&F)" in texts and "轨道" in texts and "处理(&P)" in texts
+    assert {text: english(text) for text in texts if english(text)} == {}
+    preferences = PreferencesDialog(window.settings, window)
+    qtbot.addWidget(preferences)
+    assert {text: english(text) for text in shown_texts_of(preferences) if english(text)} == {}
+    assert names.language() == "zh-CN"  # the display names of insrail.names follow
+
+
+def shown_texts_of(dialog) -> list[str]:
+    return [w.text() for w in dialog.findChildren(QAbstractButton) + dialog.findChildren(QLabel) if w.text()]
+
+
+def test_an_english_window_is_english(qtbot, tmp_path):
+    from insrail.gui.main_window import MainWindow
+
+    window = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat))
+    qtbot.addWidget(window)
+    texts = shown_texts(window)
+    assert "&File" in texts and "Track" in texts
+    assert not [text for text in texts if re.search(r"[\u4e00-\u9fff]", text)]

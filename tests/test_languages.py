@@ -1,0 +1,123 @@
+"""Every text a user reads exists in every language (insrail.names: the reports' tables; the .ts: the
+desktop application), and a Chinese report carries the field's standard terms and no English words."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import insrail
+from insrail import names
+from insrail.names_zh import ZH_CN
+
+PACKAGE = Path(insrail.__file__).parent
+
+
+def translated_literals(folder: Path, function: str = "t") -> dict[str, str]:
+    """Every string literal passed to ``function(...)`` under ``folder``: text -> where (file:line)."""
+    found = {}
+    for path in sorted(folder.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == function
+                    and node.args and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)):
+                found.setdefault(node.args[0].value, f"{path.relative_to(PACKAGE.parent)}:{node.lineno}")
+    return found
+
+
+def table_texts() -> set[str]:
+    """The English wording of every display-name table (translated where it is looked up)."""
+    from insrail.project.model import HEIGHT_MODELS
+    from insrail.project.run_settings import NOT_RECORDED
+    from insrail.track.adjustment import REASONS, STRATEGIES
+    from insrail.track.events import KIND_NAMES as EVENT_NAMES
+    from insrail.report.content import SEVERITIES, SEVERITY_RULE, ADJUSTMENT_GROUP, GAUGE_LEVEL_GROUP, \
+        OTHER_CHECKS_GROUP, PARAMETER_GROUP, SLEEPER_GROUP
+    from insrail.report.labels import SIGNS
+    from insrail.report.excel import CREW_TITLES, SHEETS
+    from insrail.report.pdf import ADJUSTMENT_TITLES
+
+    texts = {n.name for n in names.COLUMN_NAMES.values()} | {n.name for n in names.QUANTITY_NAMES.values()}
+    texts |= set(names.KIND_NAMES.values()) | {wording for _, wording in names.CHECK_NAMES.values()}
+    texts |= set(names.RAIL_NAMES.values()) | set(names.DIRECTION_NAMES.values()) | set(names.SETTING_NAMES.values())
+    texts |= {f"{rail}, {direction}" for rail in names.RAIL_NAMES.values() for direction in names.DIRECTION_NAMES.values()
+              if rail and direction}  # a rail's channel in one word where the language has one (左轨向)
+    texts |= {text for choices in names.CHOICE_NAMES.values() for text in choices.values()}
+    texts |= set(STRATEGIES.values()) | set(EVENT_NAMES.values()) | {name for name, _ in SEVERITIES}
+    texts |= set(REASONS.values()) | set(HEIGHT_MODELS) | {NOT_RECORDED, "none (ellipsoidal heights)"}
+    texts |= {SEVERITY_RULE, SIGNS, ADJUSTMENT_GROUP, GAUGE_LEVEL_GROUP, OTHER_CHECKS_GROUP, PARAMETER_GROUP,
+              SLEEPER_GROUP, *CREW_TITLES, *ADJUSTMENT_TITLES, *(name for name, _, _ in SHEETS)}
+    return texts - {""}
+
+
+def shipped_resource_texts() -> set[str]:
+    """The shipped tolerance profiles', fastener types' and IMU profiles' descriptions and fastener parts."""
+    from insrail.nav.imu_profile import load_imu_profile
+    from insrail.track.adjustment import load_fastener_type
+    from insrail.track.tolerance import load_tolerance_profile, shipped_tolerance_profiles
+    from insrail.resources import resource
+
+    texts = set()
+    for name in shipped_tolerance_profiles():
+        profile = load_tolerance_profile(name)
+        texts |= {profile.description.split(":")[0].strip(), profile.source}
+    for path in sorted(resource("fastener_types").glob("*.toml")):
+        fastener = load_fastener_type(path.stem)
+        texts.add(fastener.description)
+        for table in fastener.parts.values():
+            texts |= {table.note} | {position.name for position in table.positions}
+    for path in sorted(resource("imu_profiles").glob("*.toml")):
+        texts.add(load_imu_profile(path.stem).description)
+    return texts - {""}
+
+
+def test_every_report_text_has_its_chinese():
+    literals = translated_literals(PACKAGE)
+    missing = {text: where for text, where in literals.items() if text not in ZH_CN}
+    missing.update({text: "a display-name table" for text in table_texts() | shipped_resource_texts()
+                    if text not in ZH_CN})
+    assert not missing, "no Chinese in insrail/names_zh.py for:\n" + "\n".join(
+        f"  {where}: {text!r}" for text, where in sorted(missing.items(), key=lambda item: item[1]))
+
+
+def test_chinese_texts_keep_the_fields_of_their_english():
+    """A template's fields ({count}, {chord_m:g}) are the same in both languages: a translation that drops one
+    would print a wrong or missing number."""
+    import string
+
+    def fields(text):
+        return sorted(f"{name}:{spec}" for _, name, spec, _ in string.Formatter().parse(text) if name is not None)
+
+    wrong = {en: zh for en, zh in ZH_CN.items() if fields(en) != fields(zh)}
+    assert not wrong, wrong
+    assert all(zh.strip() for zh in ZH_CN.values())
+
+
+def test_no_function_hides_the_translation_function_under_a_variable_of_its_name():
+    """A local variable ``t`` (a time) in a function that calls ``t("...")`` makes the call fail at run time
+    (the GNSS residual plot did): every module calling t() keeps the name free in its function scopes."""
+    offenders = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for function in (n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))):
+            body = [n for statement in function.body for n in ast.walk(statement)]
+            calls = any(isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "t" for n in body)
+            binds = [n.lineno for n in body if isinstance(n, ast.Name) and n.id == "t" and isinstance(n.ctx, ast.Store)]
+            binds += [function.lineno for a in function.args.args if a.arg == "t"]
+            if calls and binds:
+                offenders.append(f"{path.relative_to(PACKAGE.parent)}:{binds[0]}")
+    assert not offenders, offenders
+
+
+def test_the_embedded_font_has_every_character_of_the_chinese_texts():
+    """The PDF sets Chinese in the shipped CJK subset: a character of a translation outside it prints as a box
+    (regenerate the subset with installer/cjk_font_subset.py when one is missing)."""
+    from reportlab.pdfbase.ttfonts import TTFontFile
+
+    from insrail.report.fonts import CJK_FONT_FILE
+    from insrail.resources import resource
+
+    shown = set(TTFontFile(str(resource(*CJK_FONT_FILE))).charToGlyph)
+    missing = {c for text in ZH_CN.values() for c in text if ord(c) > 0x7F and ord(c) not in shown}
+    assert not missing, "".join(sorted(missing))

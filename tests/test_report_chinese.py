@@ -1,0 +1,111 @@
+"""A report in Chinese ([report] language = "zh-CN"): the PDF and the workbook read back (pdftotext,
+openpyxl) carry the field's standard terms, embed the CJK font, and hold no English word of insrail's own;
+project.toml takes the language as a user writes it."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from dataclasses import replace
+
+import openpyxl
+import pytest
+from report_support import processed_project, stored
+
+from insrail.project import ProjectError, load_project
+from insrail.project.model import ReportSettings
+from insrail.report import write_pdf, write_workbook
+
+#: The terms of the thesis and TB 10754 a Chinese report must use (issue 38).
+TERMS = ("轨距", "水平", "超高", "轨向", "高低", "扭曲", "三角坑", "轨距变化率", "30 m 弦 5 m 检测", "调整量", "里程")
+#: What may stay in Latin letters: the user's own names, file names, units, standards and abbreviations a
+#: Chinese railway document writes so (GNSS, IMU, TQI, RTS, ZUPT, WJ-8, TB 10754, insrail).
+LATIN = {"insrail", "mm", "km", "ppm", "ft", "deg", "sqrt", "GPST", "Synthetic", "line", "Test", "down", "track",
+         "run1", "csv", "toml", "surveys", "design", "results", "summary", "project", "reports", "thesis", "Chen",
+         "TB", "WJ", "No", "Helvetica"}
+WORD = re.compile(r"[A-Za-z][A-Za-z_.\d]*[a-z][A-Za-z_.\d]*")
+
+
+@pytest.fixture(scope="module")
+def chinese(tmp_path_factory):
+    project = processed_project(tmp_path_factory.mktemp("zh"))
+    return replace(project, report=ReportSettings(language="zh-CN"))
+
+
+def english_words(text: str) -> set[str]:
+    """Words in Latin letters with a lower-case letter (abbreviations in capitals are names) not allowed."""
+    return {word for word in WORD.findall(text) if word.split(".")[0] not in LATIN and word not in LATIN}
+
+
+@pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdffonts") is None,
+                    reason="poppler-utils not installed; .ci/run installs it")
+def test_a_chinese_pdf_uses_the_standard_terms_embeds_its_font_and_has_no_english(chinese, tmp_path):
+    path = write_pdf(chinese, stored(chinese), tmp_path / "report.pdf")
+    pages = subprocess.run(["pdftotext", "-layout", str(path), "-"], capture_output=True, text=True,
+                           check=True).stdout
+    text = " ".join(pages.split())
+    for term in TERMS + ("轨道几何测量报告", "结论", "超限", "左轨", "右轨", "第 1 页"):
+        assert term in text, term
+    # the notices of processing are the pipeline's own words (English, as the CLI prints them)
+    assert english_words(text) == set()
+    fonts = subprocess.run(["pdffonts", str(path)], capture_output=True, text=True, check=True).stdout
+    cjk = [line for line in fonts.splitlines() if "WenQuanYi" in line]
+    assert cjk and all(line.split()[-5] == "yes" for line in cjk), fonts  # the "emb" column
+
+
+def test_a_chinese_workbook_has_chinese_sheets_headers_and_notes(chinese, tmp_path):
+    path = write_workbook(chinese, stored(chinese), tmp_path / "report.xlsx")
+    book = openpyxl.load_workbook(path, read_only=True)
+    assert book.sheetnames == ["汇总", "轨枕", "调整", "材料", "超限", "处理记录"]
+    texts = {sheet.title: " ".join(str(value) for row in sheet.iter_rows(values_only=True) for value in row
+                                   if isinstance(value, str)) for sheet in book.worksheets}
+    sleepers = texts["轨枕"]
+    for term in ("轨距", "水平", "超高", "左轨向", "右轨向", "左高低", "右高低", "短波不平顺", "长波不平顺", "30 m 弦 5 m 检测",
+                 "扭曲（三角坑）", "轨距变化率", "调整量", "里程", "导向轨", "轨枕编号"):
+        assert term in sleepers, term
+    assert "调整量" in texts["调整"] and "作业段" in texts["调整"]
+    # the processing log lists summary.toml's and project.toml's keys as the files write them
+    for title in ("汇总", "轨枕", "调整", "材料", "超限"):
+        assert english_words(texts[title]) == set(), title
+
+
+USER_PROJECT = """[project]
+name = "K12"
+
+[geodesy.crs]
+ellipsoid = "CGCS2000"
+central_meridian_deg = 114.0
+
+[track]
+start_station_m = 0.0
+
+[[surveys]]
+name = "run1"
+folder = "run1"
+"""
+
+
+def test_project_toml_takes_the_report_language_as_a_user_writes_it(tmp_path):
+    (tmp_path / "run1").mkdir()
+    (tmp_path / "run1" / "survey.toml").touch()
+    (tmp_path / "project.toml").write_text(USER_PROJECT)
+    assert load_project(tmp_path).report.language == "en"
+    (tmp_path / "project.toml").write_text(USER_PROJECT + '\n[report]\nlanguage = "zh-CN"\n')
+    assert load_project(tmp_path).report.language == "zh-CN"
+    (tmp_path / "project.toml").write_text(USER_PROJECT + '\n[report]\nlanguage = "chinese"\n')
+    with pytest.raises(ProjectError, match=r"report\.language: expected one of 'en', 'zh-CN', found 'chinese'"):
+        load_project(tmp_path)
+
+
+def test_a_chinese_header_wraps_between_characters_at_twice_the_width_of_a_digit():
+    """The workbook sizes its header rows by the lines a title wraps to: Chinese has no spaces, wraps between
+    any two characters and each character is wider than a digit (one word of 20 characters fills 10 lines of
+    a 10-wide column and was sized as one line)."""
+    from insrail.report.excel import BOLD_CHARACTER_WIDTH, CJK_CHARACTER_WIDTH, _longest_word, _wrapped_lines
+
+    title = "轨距与水平实测标准轨距设计超高偏差量调整"  # 20 characters
+    per_line = int(int(9.0 / BOLD_CHARACTER_WIDTH) // CJK_CHARACTER_WIDTH)  # in the 7 digits of a 10-wide column
+    assert _wrapped_lines(title, 10.0) == -(-20 // per_line) == 10
+    assert _longest_word(title) == CJK_CHARACTER_WIDTH  # nothing to widen a column for: it breaks anywhere
+    assert _wrapped_lines("Gauge and cross level", 10.0) == 4  # English: between words, as before (7 a line)
