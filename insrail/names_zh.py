@@ -130,6 +130,7 @@ ZH_CN: dict[str, str] = {
     "Mounting roll, pitch, heading": "安装横滚、俯仰、航向",
     "Reference rail": "基准轨",
     "Rail centre spacing": "两轨中心距",
+    "Gauge beam wheel spacing (curve correction)": "轨距测量梁轮距（曲线修正）",
     "Processing": "数据处理",
     "IMU profile": "IMU 误差模型",
     "Use the GNSS velocity": "使用 GNSS 速度",
