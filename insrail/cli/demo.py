@@ -56,6 +56,9 @@ DEMO_EVENTS = (("turnout", 1300.0, 1369.0, "No. 18"), ("level_crossing", 1800.0,
 LONG_DEMO_EVENTS = (("turnout", 22300.0, 22369.0, "No. 18"), ("level_crossing", 27800.0, 27808.0, "of the service road"))
 #: The simulator presets the demo offers, each with its events.
 PRESET_EVENTS = {"short": DEMO_EVENTS, "long": LONG_DEMO_EVENTS, "ballasted": BALLASTED_EVENTS}
+#: The tolerance profile of a preset whose line is not the default profile's: the ballasted line is
+#: accepted after tamping with the conventional line's maintenance checks.
+PRESET_PROFILES = {"ballasted": "cn_conventional_160"}
 
 
 def demo_events(project, events=DEMO_EVENTS):
@@ -94,6 +97,13 @@ def run(args: argparse.Namespace) -> int:
     print(f"insrail demo: simulated a {result.length_m:.0f} m trolley survey ({result.duration_s:.0f} s of data)")
     print(f"Survey folder: {result.folder.resolve()}")
     project = demo_events(project_for_simulated_survey(args.out, survey_dir, name="insrail demo"), PRESET_EVENTS[name])
+    if name in PRESET_PROFILES:
+        from dataclasses import replace
+
+        from insrail.project.model import save_project
+
+        project = replace(project, tolerance_profile=PRESET_PROFILES[name])
+        save_project(project)
     print(f"Project file: {project.path.resolve()}")
     results = process(project, name, progress=lambda f, m: bar(0.25 + 0.75 * f, m))
     elapsed = bar.done()
