@@ -5,6 +5,7 @@ re-designed line is the next survey's design (processed with it)."""
 import shutil
 import subprocess
 import sys
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -59,7 +60,7 @@ def test_ballasted_survey_redesign_passes_on_the_truth_and_its_design_processes_
     design = read_design(run.folder / "design.xml")  # the project's own alignment reader
     assert design.horizontal.start_station_m <= station[5] and design.vertical is not None
     shutil.copyfile(run.folder / "design.xml", tmp_path / "after_tamping.xml")
-    save_project(load_project(tmp_path).__class__(**{**project.__dict__, "design": "after_tamping.xml"}))
+    save_project(replace(project, design="after_tamping.xml"))
     results = process(load_project(tmp_path), "ballasted")
     ok = np.isfinite(results.table.vertical_deviation_m[:, 0])
     assert ok.sum() > 1800
