@@ -82,7 +82,7 @@ class RedesignRun:
     summary: dict
 
 
-def _geometry(columns: dict[str, np.ndarray], number: np.ndarray) -> tuple[SleeperGeometry, np.ndarray]:
+def measured_geometry(columns: dict[str, np.ndarray], number: np.ndarray) -> tuple[SleeperGeometry, np.ndarray]:
     """The measured geometry of every sleeper with a measurement (those inside events too: the chords
     read them) and which sleepers the profile judges (``valid``)."""
     pair = lambda name: 1e-3 * np.column_stack([columns[f"{name}_left_mm"], columns[f"{name}_right_mm"]])  # noqa: E731
@@ -196,7 +196,7 @@ def tamping_csv_text(rows: tuple[TampingRow, ...], survey: str, profile_name: st
 def run_redesign(project: Project, survey: str) -> RedesignRun:
     """Re-design ``survey`` (processed) and write ``results/<survey>/redesign/``."""
     stored = load_results(project.folder, survey)
-    geometry, assessed = _geometry(stored.columns, stored.number)
+    geometry, assessed = measured_geometry(stored.columns, stored.number)
     profile = load_tolerance_profile(project.resource(project.tolerance_profile))
     settings = resolve_settings(project.redesign, stored.summary.get("events", []))
     result = redesign(geometry, profile, settings, assessed)

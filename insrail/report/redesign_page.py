@@ -18,9 +18,9 @@ from insrail.report.pdf import BODY, H1, H2, MARGIN, Heading, page_size, table, 
 def redesign_page(content: ReportContent) -> list[Flowable]:
     """Nothing for a survey without a re-design."""
     from insrail.export.tamping import read_tamping
-    from insrail.project.redesign import REDESIGN_FOLDER, SUMMARY_FILE, TAMPING_FILE, _geometry
+    from insrail.project.redesign import REDESIGN_FOLDER, SUMMARY_FILE, TAMPING_FILE, measured_geometry
     from insrail.track.exceedance import assess
-    from insrail.track.redesign import moved
+    from insrail.track.redesign import judged_only, moved
 
     folder = content.results.folder / REDESIGN_FOLDER
     if not (folder / SUMMARY_FILE).is_file():
@@ -47,15 +47,14 @@ def redesign_page(content: ReportContent) -> list[Flowable]:
                     [90 * mm, 25 * mm, 25 * mm, 25 * mm])]
     sleepers = np.array([not m for m in tamping.mark])
     columns = content.results.columns
-    geometry, judged = _geometry(columns, content.results.number)
+    geometry, judged = measured_geometry(columns, content.results.number)
     station = columns["station_m"]
     lift = np.column_stack([np.interp(station, tamping.station_m[sleepers], tamping.values[k][sleepers])
                             for k in ("lift_left", "lift_right")]) * 1e-3
     slew = np.interp(station, tamping.station_m[sleepers], tamping.values["slew"][sleepers]) * 1e-3
     profile = content.profile
-    blank = lambda g: g.__class__(**{**g.__dict__, **{k: np.where(judged.reshape(-1, *([1] * (v.ndim - 1))), v, np.nan)  # noqa: E731
-                                                     for k, v in g.__dict__.items() if k.endswith("deviation_m")}})
-    before, after = assess(blank(geometry), profile), assess(blank(moved(geometry, lift, slew)), profile)
+    before = assess(judged_only(geometry, judged), profile)
+    after = assess(judged_only(moved(geometry, lift, slew), judged), profile)
     page = page_size(content)
     width = page[0] - 2 * MARGIN
     for b, a in zip(before.channels, after.channels):

@@ -338,9 +338,9 @@ def redesign(geometry: SleeperGeometry, profile: ToleranceProfile, settings: Red
     slew = np.where(np.abs(slew) < 1e-9, 0.0, slew)
 
     judged = (vertical_measured & lateral_measured) if assessed is None else np.asarray(assessed, bool)
-    masked = _judged(geometry, judged)
+    masked = judged_only(geometry, judged)
     before = assess(masked, profile)
-    after = assess(_judged(moved(geometry, lift, slew), judged), profile)
+    after = assess(judged_only(moved(geometry, lift, slew), judged), profile)
     cannot = tuple(Stretch(e.first_index, e.last_index, e.station_from_m, e.station_to_m,
                            f"{e.check} {e.rail} {e.direction}".strip(), e.peak) for e in after.exceedances)
     active = _active(geometry.station_m, lift, slew, fixed, settings)
@@ -349,7 +349,7 @@ def redesign(geometry: SleeperGeometry, profile: ToleranceProfile, settings: Red
                     max(rounds_v, rounds_l))
 
 
-def _judged(geometry: SleeperGeometry, judged: np.ndarray) -> SleeperGeometry:
+def judged_only(geometry: SleeperGeometry, judged: np.ndarray) -> SleeperGeometry:
     """The geometry with the sleepers the profile does not judge left out (NaN)."""
     blank = lambda a: np.where(judged.reshape(-1, *([1] * (a.ndim - 1))), a, np.nan)  # noqa: E731
     return replace(geometry, lateral_deviation_m=blank(geometry.lateral_deviation_m),
