@@ -235,3 +235,66 @@ def test_adjustment_action_threshold(tmp_path):
         with pytest.raises(ProjectError, match=message):
             load_project(tmp_path)
         save_project(chosen)
+
+
+def _with_redesign(tmp_path, table: str):
+    make_folder(tmp_path)
+    (tmp_path / "project.toml").write_text(textwrap.dedent("""
+        [geodesy.crs]
+        ellipsoid = "CGCS2000"
+        central_meridian_deg = 114.3
+        [track]
+        start_station_m = 1000.0
+        [[surveys]]
+        name = "a"
+        folder = "surveys/a"
+    """) + textwrap.dedent(table))
+
+
+def test_redesign_table_as_a_user_writes_it_and_its_round_trip(tmp_path):
+    _with_redesign(tmp_path, """
+        [redesign]
+        max_slew_mm = 15
+        [[redesign.fixed]]
+        from_m = 1640.0
+        to_m = 1660.0
+        [[redesign.fixed]]
+        from_m = 1700.0
+        to_m = 1710.0
+        tolerance_mm = 2
+    """)
+    project = load_project(tmp_path)
+    assert project.redesign.max_slew_mm == 15.0 and project.redesign.lift_only and project.redesign.fix_events
+    assert [(f.from_m, f.to_m, f.tolerance_mm) for f in project.redesign.fixed] == [(1640.0, 1660.0, 0.0),
+                                                                                    (1700.0, 1710.0, 2.0)]
+    save_project(project)
+    assert load_project(tmp_path).redesign == project.redesign
+    from insrail.project.redesign import resolve_settings
+
+    events = [{"kind": "bridge", "station_from_m": 1500.0, "station_to_m": 1540.0, "text": "Xiaohe"},
+              {"kind": "joint", "station_from_m": 1600.0, "station_to_m": 1600.0, "text": ""}]
+    settings = resolve_settings(project.redesign, events)
+    assert settings.max_slew_m == pytest.approx(0.015)
+    assert [(f.from_m, f.source) for f in settings.fixed] == [(1640.0, "redesign.fixed[0]"), (1700.0, "redesign.fixed[1]"),
+                                                              (1500.0, "bridge Xiaohe")]
+    assert settings.fixed[1].tolerance_m == pytest.approx(0.002)
+
+
+def test_redesign_table_problems_name_their_keys(tmp_path):
+    _with_redesign(tmp_path, """
+        [redesign]
+        lift_only = "yes"
+        max_lift_mm = -5
+        min_lift_mm = 80
+        speed = 3
+        [[redesign.fixed]]
+        from_m = 1660.0
+        to_m = 1640.0
+        [[redesign.fixed]]
+        from_m = 1700.0
+    """)
+    with pytest.raises(ProjectError) as caught:
+        load_project(tmp_path)
+    keys = {problem.split(":")[0] for problem in caught.value.problems}
+    assert {"redesign.lift_only", "redesign.max_lift_mm", "redesign.min_lift_mm", "redesign.speed",
+            "redesign.fixed[0]", "redesign.fixed[1]"} <= keys

@@ -22,6 +22,7 @@ COMMANDS = [
     ("report", "insrail.cli.report"),
     ("export", "insrail.cli.export"),
     ("section", "insrail.cli.section"),
+    ("redesign", "insrail.cli.redesign"),
     ("batch", "insrail.cli.batch"),
     ("compare", "insrail.cli.compare"),
     ("ppk", "insrail.cli.ppk"),

@@ -11,6 +11,8 @@ recomputes geometry, and writes its file atomically:
   markers, one layer each, in the engineering CRS (:mod:`insrail.export.dxf`, with ezdxf)
 * ``landxml``      the measured centreline and rails as LandXML 1.2 3D lines (:mod:`insrail.export.landxml`)
 * ``csv``          per-sleeper coordinates of centreline and rails (:mod:`insrail.export.points`)
+* ``tamping``, ``tamping-template``  the tamping re-design's lift and slew (``insrail redesign``) in the
+  generic layout or a user's template (:mod:`insrail.export.tamping`)
 
 Coordinates are easting, northing and normal height of the engineering CRS; lengths in the
 files are metres, amounts millimetres. Frames and signs as in :mod:`insrail.track`. The texts for
@@ -37,7 +39,7 @@ class ExportFormat:
 
 def export_formats() -> dict[str, ExportFormat]:
     """Every export format by its name (``insrail export --format NAME``)."""
-    from insrail.export import dxf, landxml, liftlining, points
+    from insrail.export import dxf, landxml, liftlining, points, tamping
 
     return {f.name: f for f in (
         ExportFormat("lift-lining", "_lift_lining.csv", "planned lift/lining and deviations per sleeper and rail",
@@ -45,11 +47,16 @@ def export_formats() -> dict[str, ExportFormat]:
         ExportFormat("dxf", ".dxf", "CAD drawing: rails, centreline, sleepers, amounts, exceedances", dxf.format_dxf),
         ExportFormat("landxml", "_centreline.xml", "measured centreline and rails, LandXML 1.2", landxml.format_landxml_lines),
         ExportFormat("csv", "_points.csv", "per-sleeper coordinates of centreline and rails", points.format_points),
+        ExportFormat("tamping", "_tamping.csv", "the tamping re-design's lift and slew, generic layout",
+                     tamping.format_generic),
+        ExportFormat("tamping-template", "_tamping.txt", "the tamping re-design's lift and slew in a template's layout",
+                     tamping.format_template),
     )}
 
 
-def write_export(project, results, format_name: str, path: Path) -> Path:
-    """Render one export of ``results`` (a :class:`~insrail.project.results.StoredResults`) to ``path``."""
+def write_export(project, results, format_name: str, path: Path, **options) -> Path:
+    """Render one export of ``results`` (a :class:`~insrail.project.results.StoredResults`) to ``path``;
+    ``options`` go to the format's renderer (``template`` of ``tamping-template``)."""
     formats = export_formats()
     if format_name not in formats:
         raise ValueError(f"unknown export format {format_name!r} (expected {', '.join(formats)})")
@@ -57,7 +64,7 @@ def write_export(project, results, format_name: str, path: Path) -> Path:
     from insrail.project.run_settings import report_language
 
     with in_language(report_language(project)):  # the texts for people; the column ids stay for the machines
-        content = formats[format_name].render(project, results)
+        content = formats[format_name].render(project, results, **options)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     if isinstance(content, bytes):

@@ -30,6 +30,10 @@ folder; a tolerance profile, fastener type or IMU profile is a shipped name or a
     [adjustment]         how the fastener adjustment amounts are computed (:class:`AdjustmentSettings`):
                          strategy = "least_movement" (default) | "guiding_rail_first", threshold_mm = 2
                          (the action threshold: each amount 0 or at least this; default one fastener step)
+    [redesign]           the tamping re-design (:class:`RedesignTable`, docs/tamping.md): lift_only = true,
+                         min_lift_mm = 0, max_lift_mm = 50, max_slew_mm = 30, margin_mm = 0.5, fix_events = true
+                         (turnouts, level crossings and bridges of the events are fixed), and
+                         [[redesign.fixed]] from_m, to_m, tolerance_mm (optional): stretches not to move
     [[surveys]]          name, folder (holding a survey.toml)
     [[sections]]         name, surveys = ["run1", "run2"], from_m, to_m (optional), overlap = "best" | "mean":
                          a line section joined from several runs (insrail.project.section)
@@ -51,7 +55,7 @@ import datetime
 import re
 import tomllib
 from collections.abc import MutableMapping
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -92,7 +96,8 @@ HEIGHT_MODELS = ("auto", "constant", "plane", "quadratic")
 FUSION_FLAGS = ("use_gnss_velocity", "use_odometer", "use_nhc", "use_zupt", "smoother")
 FUSION_NUMBERS = ("update_rate_hz", "gnss_sigma_scale", "gnss_sigma_floor_m", "gnss_correlated_tau_s",
                   "odometer_sigma_mps", "nhc_sigma_mps", "zupt_sigma_mps", "min_static_s")
-_TOP_LEVEL = ("project", "geodesy", "trolley", "processing", "track", "adjustment", "surveys", "sections", "report")
+_TOP_LEVEL = ("project", "geodesy", "trolley", "processing", "track", "adjustment", "redesign", "surveys", "sections",
+              "report")
 #: How a line section joins its runs where they overlap (insrail.project.section).
 OVERLAP_RULES = ("best", "mean")
 #: Paper sizes of the workbook's printout (landscape).
@@ -186,6 +191,38 @@ class AdjustmentSettings:
         """The non-default entries (an untouched project writes no [adjustment] table)."""
         default = AdjustmentSettings()
         return {f.name: getattr(self, f.name) for f in fields(self) if getattr(self, f.name) != getattr(default, f.name)}
+@dataclass(frozen=True)
+class FixedTable:
+    """One ``[[redesign.fixed]]`` entry as written: a stretch of chainage the tamping must not move."""
+
+    from_m: float
+    to_m: float
+    tolerance_mm: float = 0.0
+
+
+@dataclass(frozen=True)
+class RedesignTable:
+    """The ``[redesign]`` table as written (millimetres); :func:`insrail.project.redesign.resolve_settings`
+    resolves it with the survey's events into :class:`insrail.track.redesign.RedesignSettings`."""
+
+    lift_only: bool = True
+    min_lift_mm: float = 0.0
+    max_lift_mm: float = 50.0
+    max_slew_mm: float = 30.0
+    margin_mm: float = 0.5
+    fix_events: bool = True
+    fixed: tuple[FixedTable, ...] = ()
+
+    def to_settings(self) -> dict[str, Any]:
+        """The non-default entries (an untouched project writes no [redesign] table)."""
+        default = RedesignTable()
+        out = {f.name: getattr(self, f.name) for f in fields(self)
+               if f.name != "fixed" and getattr(self, f.name) != getattr(default, f.name)}
+        if self.fixed:
+            out["fixed"] = [{k: v for k, v in asdict(f).items() if k != "tolerance_mm" or v} for f in self.fixed]
+        return out
+
+
 _REPORT_TEXTS = tuple(f.name for f in fields(ReportSettings) if f.name not in _REPORT_DATES + ("paper", "language"))
 
 
@@ -211,6 +248,7 @@ class Project:
     control_points: tuple[ControlPoint, ...] = ()
     report: ReportSettings = field(default_factory=ReportSettings)
     adjustment: AdjustmentSettings = field(default_factory=AdjustmentSettings)
+    redesign: RedesignTable = field(default_factory=RedesignTable)
     local_control: LocalControl | None = None
     sections: tuple[SectionEntry, ...] = ()
     line_speeds: tuple[LineSpeed, ...] = ()  # one range from -inf to inf: a single line speed
@@ -302,6 +340,8 @@ class Project:
         document["track"] = track
         if self.adjustment.to_settings():
             document["adjustment"] = self.adjustment.to_settings()
+        if self.redesign.to_settings():
+            document["redesign"] = self.redesign.to_settings()
         document["surveys"] = [{"name": s.name, "folder": s.folder} for s in self.surveys]
         if self.sections:
             document["sections"] = [s.to_settings() for s in self.sections]
@@ -434,6 +474,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     sections = _sections(reader, document.get("sections", []), surveys)
     report = _report(reader, reader.table(document, "report"))
     adjustment = _adjustment(reader, reader.table(document, "adjustment"))
+    redesign = _redesign(reader, reader.table(document, "redesign"))
     reader.raise_if_any(path or Path(folder) / PROJECT_FILE)
     return Project(
         folder=Path(folder), name=name, description=description, crs=crs, height=height, surveys=surveys,
@@ -443,6 +484,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
         first_sleeper_number=first_number,
         tolerance_profile=tolerance, fastener=fastener, control_points=control_points, report=report,
         line_speeds=line_speeds, local_control=local_control, sections=sections, adjustment=adjustment,
+        redesign=redesign,
     )
 
 
@@ -506,6 +548,54 @@ def _adjustment(reader: _Reader, table: dict) -> AdjustmentSettings:
         reader.add("adjustment.threshold_mm", f"expected at most {MAX_THRESHOLD_MM:g} mm, found {threshold:g}")
         threshold = None
     return AdjustmentSettings(strategy=strategy, threshold_mm=threshold)
+
+
+def _redesign(reader: _Reader, table: dict) -> RedesignTable:
+    reader.known(table, "redesign", tuple(f.name for f in fields(RedesignTable)))
+    values: dict[str, Any] = {}
+    for key in ("lift_only", "fix_events"):
+        if key in table:
+            if isinstance(table[key], bool):
+                values[key] = table[key]
+            else:
+                reader.add(f"redesign.{key}", f"expected true or false, found {table[key]!r}")
+    for key in ("min_lift_mm", "max_lift_mm", "max_slew_mm", "margin_mm"):
+        if key in table:
+            value = reader.number(table, f"redesign.{key}")
+            if value is not None and value < 0:
+                reader.add(f"redesign.{key}", f"expected a distance of 0 mm or more, found {value:g}")
+            elif value is not None:
+                values[key] = value
+    settings = RedesignTable(**values)
+    if settings.min_lift_mm > settings.max_lift_mm:
+        reader.add("redesign.min_lift_mm", f"{settings.min_lift_mm:g} mm is more than max_lift_mm "
+                                           f"({settings.max_lift_mm:g} mm)")
+    entries = table.get("fixed", [])
+    if not isinstance(entries, list):
+        reader.add("redesign.fixed", "expected [[redesign.fixed]] entries with from_m and to_m")
+        entries = []
+    fixed = []
+    for i, entry in enumerate(entries):
+        key = f"redesign.fixed[{i}]"
+        if not isinstance(entry, dict):
+            reader.add(key, "expected a table with from_m, to_m and optionally tolerance_mm")
+            continue
+        reader.known(entry, key, ("from_m", "to_m", "tolerance_mm"))
+        missing = [k for k in ("from_m", "to_m") if k not in entry]
+        if missing:
+            reader.add(key, f"missing {' and '.join(missing)}")
+            continue
+        start, end = reader.number(entry, f"{key}.from_m"), reader.number(entry, f"{key}.to_m")
+        tolerance = reader.number(entry, f"{key}.tolerance_mm") if "tolerance_mm" in entry else 0.0
+        if None in (start, end, tolerance):
+            continue
+        if not start < end:
+            reader.add(key, f"from_m ({start:g}) must be below to_m ({end:g})")
+        elif tolerance < 0:
+            reader.add(f"{key}.tolerance_mm", f"expected 0 mm or more, found {tolerance:g}")
+        else:
+            fixed.append(FixedTable(start, end, tolerance))
+    return replace(settings, fixed=tuple(fixed))
 
 
 #: The largest action threshold [mm] the settings accept (beyond it hardly any amount could be listed).

@@ -643,6 +643,56 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
     progress(1.0, "adjustment sheet")
 
 
+TAMPING_TITLES = ("chainage", "station (m)", "lift left (mm)", "lift right (mm)", "slew (mm)", "cant after (mm)", "mark")
+TAMPING_WIDTHS = (13, 11, 9, 9, 9, 9, 40)
+#: Sleepers moved less than this [mm] (and the marks among them) close a work section of the Tamping sheet.
+TAMPING_SECTION_GAP_MM = 0.5
+#: Runs of moved sleepers this few rows apart (about 12 m) are one work section.
+TAMPING_SECTION_JOIN = 20
+
+
+def _tamping_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
+    """The tamping re-design (``insrail redesign``) for the machine's crew: A4 portrait, the stretches to
+    tamp as work sections, each sleeper moved with its lift, slew and the cant after the job, and the marks."""
+    from insrail.export.tamping import read_tamping
+    from insrail.project.redesign import REDESIGN_FOLDER, TAMPING_FILE
+
+    table = read_tamping(content.results.folder / REDESIGN_FOLDER / TAMPING_FILE)
+    widths = TAMPING_WIDTHS
+    sheet.title("Tamping sheet")
+    _note(sheet, "The tamping re-design, in working order (increasing chainage). " + _context(content), widths)
+    _note(sheet, f"{table.metadata.get('amounts', '')}. Signs: {table.metadata.get('convention', '')}.", widths, BOLD)
+    header = sheet.header(list(TAMPING_TITLES))
+    sheet.start(list(widths), f"A{header + 1}", CREW_PAPER, page_header(content), orientation="portrait")
+    values = table.values
+    moved = np.max(np.abs([values["lift_left"], values["lift_right"], values["slew"]]), axis=0) >= TAMPING_SECTION_GAP_MM
+    runs = np.flatnonzero(np.diff(np.concatenate([[0], moved.astype(int), [0]])))
+    sections: list[list[int]] = []
+    for first, last in zip(runs[::2], runs[1::2] - 1):  # runs closer than TAMPING_SECTION_JOIN rows: one section
+        if sections and first - sections[-1][1] <= TAMPING_SECTION_JOIN:
+            sections[-1][1] = last
+        else:
+            sections.append([first, last])
+    amount = "0.0"
+    for number, (first, last) in enumerate(sections, start=1):
+        row = sheet.append([sheet.cell(f"Work section {number} of {len(sections)}: {table.label[first]} – "
+                                       f"{table.label[last]}, {last - first + 1} rows", font=BOLD)])
+        if number > 1:
+            sheet.sheet.row_breaks.append(Break(id=row - 1))
+        for i in range(first, last + 1):
+            sheet.append([sheet.cell(table.label[i]), sheet.cell(table.station_m[i], "0.000"),
+                          *(sheet.cell(values[k][i], amount) for k in ("lift_left", "lift_right", "slew", "cant")),
+                          sheet.cell(table.mark[i])])
+    marks = [i for i, m in enumerate(table.mark) if m]
+    sheet.append([sheet.cell("Marks of the re-designed line and the fixed stretches", font=BOLD)])
+    for i in marks:
+        sheet.append([sheet.cell(table.label[i]), sheet.cell(table.station_m[i], "0.000"),
+                      *(sheet.cell(values[k][i], amount) for k in ("lift_left", "lift_right", "slew", "cant")),
+                      sheet.cell(table.mark[i])])
+    sheet.sheet.print_title_rows = f"{header}:{header}"
+    progress(1.0, "tamping sheet")
+
+
 def _fastener_line(content: ReportContent) -> str:
     """The fastener type, the total movement and how many sleepers still fail (summary.toml [adjustment])."""
     fastener = content.fastener
@@ -874,8 +924,11 @@ def _write_workbook(project: Project, results: StoredResults, path: Path, step: 
     workbook.properties.creator = content.software
     position = 0.0
     sheets = []
+    chosen = list(SHEETS)
+    if (results.folder / "redesign" / "tamping.csv").is_file():  # a re-designed survey: its sheet before the log
+        chosen.insert(len(chosen) - 1, ("Tamping", _tamping_sheet, 0.02))
     try:
-        for name, build, share in SHEETS:
+        for name, build, share in chosen:
             check_cancel(cancel)
             sheets.append(_Sheet(workbook.create_sheet(t(name))))
             build(sheets[-1], content, step.sub(position, position + share), cancel)

@@ -1061,6 +1061,9 @@ def _write_pdf(project: Project, results: StoredResults, path: Path, step: StepP
     story = _cover(content) + _processing(content, trajectory)
     story += _charts(content, step.sub(0.05, 0.45), cancel)
     story += _plan(content)
+    from insrail.report.redesign_page import redesign_page  # here: it imports this module's styles
+
+    sections = (*sections, redesign_page)
     for section in sections:
         story += section(content) + [PageBreak()]
     story += _exceedances(content) + [PageBreak()] + _adjustment(content)

@@ -85,3 +85,19 @@ def trajectory_errors(trajectory: Trajectory, truth: np.ndarray, ell: earth.Elli
         rpy_rad=rpy,
         moving=np.abs(station - station[0]) > 1.0,
     )
+
+
+def truth_rail_deviations(truth, station_m: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The true track's rails against the design at the sleepers nearest ``station_m`` (the simulator's
+    ``truth/sleepers.csv``, :class:`insrail.sim.truth.SleeperTruth`): (lateral (n, 2), vertical (n, 2),
+    gauge, cant, design cant) [m], rails [left, right] with the signs of ``insrail.track``. A rail's
+    deviation is the centreline's irregularity with half the gauge (lateral: a wider gauge moves the
+    left rail left) or half the cross-level (vertical: a positive one raises the left rail) on it."""
+    stations = truth["station"]
+    nearest = np.clip(np.searchsorted(stations, station_m), 1, stations.size - 1)
+    nearest -= (station_m - stations[nearest - 1]) < (stations[nearest] - station_m)
+    lateral, vertical = truth["lateral"][nearest], truth["vertical"][nearest]
+    half_gauge, half_cross = 0.5 * truth["gauge_deviation"][nearest], 0.5 * truth["cross_level"][nearest]
+    return (np.column_stack([lateral - half_gauge, lateral + half_gauge]),
+            np.column_stack([vertical + half_cross, vertical - half_cross]),
+            truth["gauge"][nearest], truth["cant"][nearest], truth["design_cant"][nearest])

@@ -46,6 +46,12 @@ class Irregularity:
             out[inside] += bump.amplitude_m * np.sin(np.pi * x[inside]) ** 4
         return out.reshape(s.shape)
 
+    def plus(self, other: Irregularity) -> Irregularity:
+        """The sum of two irregularities (their sinusoids and bumps together)."""
+        return Irregularity(np.concatenate([self.wavenumber_rad_per_m, other.wavenumber_rad_per_m]),
+                            np.concatenate([self.amplitude_m, other.amplitude_m]),
+                            np.concatenate([self.phase_rad, other.phase_rad]), self.bumps + other.bumps)
+
     @property
     def random_rms_m(self) -> float:
         """RMS of the random (sinusoid) part."""

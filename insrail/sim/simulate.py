@@ -75,12 +75,22 @@ def true_track(config: ScenarioConfig, rng: np.random.Generator) -> TrueTrack:
     irr = config.irregularities
     band = dict(shortest_wavelength_m=irr.band_m[0], longest_wavelength_m=irr.band_m[1])
     gauge_band = dict(shortest_wavelength_m=irr.gauge_band_m[0], longest_wavelength_m=irr.gauge_band_m[1])
+    lateral = random_irregularity(rng, irr.lateral_rms_m, bumps=irr.lateral_bumps, **band)
+    vertical = random_irregularity(rng, irr.vertical_rms_m, bumps=irr.vertical_bumps, **band)
+    gauge = random_irregularity(rng, irr.gauge_rms_m, bumps=irr.gauge_bumps, **gauge_band)
+    cross_level = random_irregularity(rng, irr.cross_level_rms_m, bumps=irr.cross_level_bumps, **gauge_band)
+    long_band = dict(shortest_wavelength_m=irr.long_wave_band_m[0], longest_wavelength_m=irr.long_wave_band_m[1],
+                     components=60)
+    if irr.long_wave_lateral_rms_m > 0.0:
+        lateral = lateral.plus(random_irregularity(rng, irr.long_wave_lateral_rms_m, **long_band))
+    if irr.long_wave_vertical_rms_m > 0.0:
+        vertical = vertical.plus(random_irregularity(rng, irr.long_wave_vertical_rms_m, **long_band))
     return TrueTrack(
         design=design_alignment(config.design),
-        lateral=random_irregularity(rng, irr.lateral_rms_m, bumps=irr.lateral_bumps, **band),
-        vertical=random_irregularity(rng, irr.vertical_rms_m, bumps=irr.vertical_bumps, **band),
-        gauge=random_irregularity(rng, irr.gauge_rms_m, bumps=irr.gauge_bumps, **gauge_band),
-        cross_level=random_irregularity(rng, irr.cross_level_rms_m, bumps=irr.cross_level_bumps, **gauge_band),
+        lateral=lateral,
+        vertical=vertical,
+        gauge=gauge,
+        cross_level=cross_level,
         nominal_gauge_m=irr.nominal_gauge_m,
         cant_base_m=config.trolley.rail_centre_spacing_m,
     )
