@@ -24,7 +24,7 @@ def _results(tmp_path: Path):
     folder = tmp_path / "results" / "run1"
     (folder / REDESIGN_FOLDER).mkdir(parents=True)
     (folder / REDESIGN_FOLDER / TAMPING_FILE).write_text(tamping_csv_text(ROWS, "run1", "cn_conventional_160"))
-    return SimpleNamespace(folder=folder, survey="run1"), SimpleNamespace(name="line 3 tamping")
+    return SimpleNamespace(folder=folder, survey="run1"), SimpleNamespace(name="line 3 tamping", report=SimpleNamespace(language="en"))
 
 
 def test_generic_layout_reads_back_with_its_conventions(tmp_path):
