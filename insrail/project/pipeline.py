@@ -69,7 +69,8 @@ from insrail.nav.self_calibration import fuse_consistent
 from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
-from insrail.project.design_heading import design_azimuth_for, uses_design
+from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
+from insrail.project.relative_survey import relative_notices, relative_section, without_deviations
 from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
@@ -295,6 +296,8 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
         settings["prism_geodesy"] = _geodesy_settings(run)
     if uses_design(project, run.imu_profile):  # its azimuth may give the start heading
         settings["design"] = [run.design_sha256, _geodesy_settings(run)["crs"]]
+    if manifest.relative:  # its frame starts on the design at the start station, or on the CRS's meridian
+        settings["relative_frame"] = [run.design_sha256, _geodesy_settings(run)["crs"], project.start_station_m]
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
 
@@ -360,11 +363,13 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
     store = None
     cache.mkdir(parents=True, exist_ok=True)
     try:  # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
-        design = design_azimuth_for(project, read_design(project.resolve(run.design)) if run.design else None,
-                                    profile)
+        alignment = read_design(project.resolve(run.design)) if run.design else None
+        design = design_azimuth_for(project, alignment, profile)
+        frame = relative_frame(project, alignment, run.crs) if manifest.relative else None
         # the trajectory is streamed into the cache as the smoother makes it (sealed below)
         result, options, store, _ = fuse_consistent(
-            survey.imu, lambda options: replace(aiding_for(survey, options, profile, fixes), design_azimuth=design),
+            survey.imu, lambda options: replace(aiding_for(survey, options, profile, fixes), design_azimuth=design,
+                                                relative=frame),
             profile, run.fusion, run.ellipsoid, new_store=SmootherStore if run.fusion.smoother else None, fuse=fuse,
             progress=progress.sub(0.05, 0.87), cancel=cancel, trajectory_file=path)
         check_cancel(cancel)
@@ -620,6 +625,13 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                           line_fit_files)))
     quality = _section_quality(trajectory_file, recon)
     summary["quality"] = quality_section(quality)
+    if manifest.relative:  # every output says so; the chord checks where the error growth allows
+        summary["survey"]["kind"] = "relative"
+        frame = relative_frame(project, read_design(project.resolve(run.design)) if run.design else None, run.crs)
+        summary["relative"] = relative_section(frame.source, profile, quality)
+        summary["notices"] += [n.to_dict() for n in relative_notices(profile, quality)]
+        table = without_deviations(table)
+        recon = replace(recon, table=table)
     summary["files"]["quality"] = QUALITY_FILE
     summary["trajectory"] = trajectory_section(trajectory_file)  # the report's figures, read here in chunks
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {

@@ -39,6 +39,7 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
 from insrail.report.content import (
+    RELATIVE_SURVEY_TEXT,
     SEVERITY_RULE,
     Column,
     ReportContent,
@@ -55,7 +56,9 @@ from insrail.report.content import (
     parameter_statistics,
     sections,
     sleeper_repair_text,
+    is_relative,
     survey_start,
+    survey_title,
     threshold_text,
 )
 from insrail.report.labels import SIGNS, amounts_text, deviation_reference
@@ -414,7 +417,7 @@ def _printable(sheet: Worksheet, paper: str = "A3", page_header: tuple[str, str,
 
 def page_header(content: ReportContent) -> tuple[str, str, str]:
     """What every printed page of the workbook names: project, survey and chainage, software."""
-    return (content.project.name, f"survey {content.survey} {survey_start(content)}, {content.chainage_range}",
+    return (content.project.name, f"survey {survey_title(content)} {survey_start(content)}, {content.chainage_range}",
             content.software)
 
 
@@ -426,7 +429,7 @@ def _start(sheet: _Sheet, content: ReportContent, widths: list[float], freeze: s
 
 def _context(content: ReportContent) -> str:
     """Project, survey, chainage and tolerance profile in one line (above the smaller tables)."""
-    return (f"{content.project.name}, survey {content.survey} {survey_start(content)}, {content.chainage_range}, "
+    return (f"{content.project.name}, survey {survey_title(content)} {survey_start(content)}, {content.chainage_range}, "
             f"tolerance profile {profile_name(content.profile)}; {content.software}")
 
 
@@ -437,7 +440,9 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     sleepers = f"{track.get('sleepers', len(content.results))} ({track.get('valid_sleepers', int(content.valid.sum()))} valid)"
     if repair := sleeper_repair_text(summary):
         sleepers += f"; {repair}"
-    sheet.pairs(("Project", project.name), ("Line", project.description or project.name), ("Survey", content.survey))
+    sheet.pairs(("Project", project.name), ("Line", project.description or project.name), ("Survey", survey_title(content)))
+    if is_relative(summary):
+        sheet.pairs(("Survey kind", RELATIVE_SURVEY_TEXT))
     sheet.pairs(("Chainage", content.chainage_range), ("Sleepers", sleepers), ("Survey start", survey_start(content)))
     profile = content.profile
     sheet.pairs(("Tolerance profile", profile_name(profile)), ("Standard", profile.source),

@@ -79,6 +79,7 @@ from insrail.report.content import (
     ADJUSTMENT_KEYS,
     OTHER_CHECKS_GROUP,
     RAIL_KINDS,
+    RELATIVE_SURVEY_TEXT,
     SEVERITIES,
     SEVERITY_RULE,
     ReportContent,
@@ -92,7 +93,9 @@ from insrail.report.content import (
     limits_text,
     load_report_content,
     sleeper_repair_text,
+    is_relative,
     survey_start,
+    survey_title,
     threshold_text,
 )
 from insrail.report.fonts import font_for, font_runs, helvetica_can_show
@@ -338,7 +341,8 @@ def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
         ("Client", _not_stated(report.client)),
         ("Line section", _not_stated(report.line_section or project.description)),
         ("Track", _not_stated(report.track_name)),
-        ("Survey", f"{content.survey}, {survey_start(content) or 'date not recorded'}"),
+        ("Survey", f"{survey_title(content)}, {survey_start(content) or 'date not recorded'}"),
+        *((("Survey kind", RELATIVE_SURVEY_TEXT),) if is_relative(content.summary) else ()),
         ("Direction of travel", _direction_of_travel(content)),
         ("Chainage", f"{content.chainage_range} ({length:.0f} m, "
                      + f"{track.get('sleepers', len(content.results))} sleepers, {valid} valid)"),
