@@ -111,3 +111,14 @@ def test_a_relative_survey_without_a_design_runs_in_a_local_frame(tmp_path):
     assert code == 1
     assert "relative survey in a local frame (no design)" in out and "give the project a design alignment" in out
     assert not list((built.project / "results" / ".cache").glob("fusion-*.npy"))
+
+
+def test_predict_relative_states_the_shape_and_no_absolute_position():
+    code, out = insrail("predict", "--relative", "--length", "240")
+    assert code == 0, out
+    assert "relative survey (no GNSS, no prism: odometer, NHC and stops), 1 m/s, 240 m, a 10 s stop every 60 m" in out
+    assert "absolute position" not in out
+    lag5 = [float(line.split()[-4]) for line in out.splitlines() if "(5 m lag)" in line]
+    assert len(lag5) == 2 and all(value < 0.5 for value in lag5), out  # the fusion states 0.30/0.31 mm on 420 m
+    code, out = insrail("predict", "--relative", "--outage", "30")
+    assert code == 2 and "--relative has no GNSS" in out
