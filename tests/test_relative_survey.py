@@ -122,3 +122,11 @@ def test_predict_relative_states_the_shape_and_no_absolute_position():
     assert len(lag5) == 2 and all(value < 0.5 for value in lag5), out  # the fusion states 0.30/0.31 mm on 420 m
     code, out = insrail("predict", "--relative", "--outage", "30")
     assert code == 2 and "--relative has no GNSS" in out
+
+
+def test_insrail_fuse_runs_a_relative_survey_in_a_local_frame(relative_on_design, tmp_path):
+    built, _ = relative_on_design
+    code, out = insrail("fuse", str(built.project / "survey"), "--out", str(tmp_path / "fused"))
+    assert code == 0, out
+    assert "relative survey (no GNSS, no prism fixes): the trajectory starts on a local frame" in out
+    assert (tmp_path / "fused" / "trajectory.npy").is_file()

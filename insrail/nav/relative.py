@@ -54,6 +54,11 @@ class RelativeFrame:
     sigma_azimuth_rad: float
     source: str  # for messages: "the design at station 1020.000 m" or "a local frame"
 
+    @classmethod
+    def local(cls, lon_rad: float = 0.0, where: str = "") -> RelativeFrame:
+        """A local frame at longitude ``lon_rad`` (it only names the frame), its latitude from the earth rate."""
+        return cls(None, lon_rad, 0.0, None, math.pi, f"a local frame{where}")
+
 
 def latitude_from_earth_rate(f_b: np.ndarray, w_b: np.ndarray, profile, ell: earth.Ellipsoid) -> tuple[float, float]:
     """(latitude [rad], 1-sigma) from the mean specific force and angular rate at rest: the earth rate's

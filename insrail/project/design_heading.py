@@ -52,8 +52,7 @@ def relative_frame(project, design, crs):
     from insrail.nav.relative import RelativeFrame  # the fusion's type; imported where a relative survey needs it
 
     if design is None or project.local_control is not None:
-        lon = math.radians(float(crs.central_meridian_deg or 0.0))  # a longitude only names the frame
-        return RelativeFrame(None, lon, 0.0, None, math.pi, "a local frame on the central meridian")
+        return RelativeFrame.local(math.radians(float(crs.central_meridian_deg or 0.0)), " on the central meridian")
     plan = design.horizontal
     station = project.start_station_m if project.start_station_m is not None else float(plan.start_station_m)
     station = min(max(station, float(plan.start_station_m)), float(plan.end_station_m))

@@ -92,6 +92,7 @@ from insrail.report.content import (
     excess_share,
     limits_text,
     load_report_content,
+    mounting_text,
     sleeper_repair_text,
     is_relative,
     survey_start,
@@ -568,6 +569,7 @@ def _processing(content: ReportContent, trajectory: dict | None) -> list[Flowabl
                         + (f", benchmark RMS {heights['internal_rms_mm']:.1f} mm (leave-one-out "
                            f"{heights['loo_rms_mm']:.1f} mm)" if "internal_rms_mm" in heights else ""))]
     rows += [("Sleeper detector", repair)] if (repair := sleeper_repair_text(s)) else []
+    rows += [("IMU mounting", mounting)] if (mounting := mounting_text(s)) else []
     rows += _local_control_rows(s.get("local_control"))
     rows += [("Warning" if notice.severity == "warning" else "Note", notice.text()) for notice in notices_of(s)]
     rows += [("Note", note) for note in content.notes]
