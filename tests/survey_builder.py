@@ -57,6 +57,11 @@ PRISM_STATIONS_M = tuple(float(s) for s in np.arange(FIRST_STATION_M, LAST_STATI
 #: A custom ellipsoid (no named one): the `custom` level's a and 1/f.
 CUSTOM_ELLIPSOID = {"a_m": 6378160.0, "inverse_flattening": 298.25}
 SURVEY_NAME = "run1"
+#: The position level of a relative survey (no GNSS, no prism: IMU, odometer and stops; not one of the
+#: matrix's FACTORS, its own tests build it): a stop of RELATIVE_STOP_S every RELATIVE_STOP_SPACING_M (seed 000)
+RELATIVE = "none"
+RELATIVE_STOP_SPACING_M = 60.0
+RELATIVE_STOP_S = 10.0
 
 
 @dataclass(frozen=True)
@@ -77,7 +82,7 @@ class Cell:
 
     @property
     def gnss(self) -> bool:
-        return self.position != "prism"
+        return self.position not in ("prism", RELATIVE)
 
     @property
     def prism(self) -> bool:
@@ -120,13 +125,20 @@ def scenario(cell: Cell) -> ScenarioConfig:
         name=f"matrix-{cell.cell_id}",
         design=DESIGN,
         motion=MotionSpec(start_station_m=FIRST_STATION_M, end_station_m=LAST_STATION_M, static_start_s=60.0,
-                          static_end_s=20.0, reverse=cell.direction == "against"),
+                          static_end_s=20.0, reverse=cell.direction == "against",
+                          stops=relative_stops() if cell.position == RELATIVE else ()),
         gnss=GnssSpec(),
         prism=PrismSpec(stations_m=PRISM_STATIONS_M if cell.prism else ()),
         geodetic=replace(base.geodetic, crs=crs_settings(cell.ellipsoid)),
         trolley=trolley_geometry(cell.trolley),
         imu_profile=cell.imu,
     )
+
+
+def relative_stops() -> tuple[tuple[float, float], ...]:
+    """The stops of a relative survey: every RELATIVE_STOP_SPACING_M between the run's ends."""
+    inner = np.arange(FIRST_STATION_M + RELATIVE_STOP_SPACING_M, LAST_STATION_M - 1.0, RELATIVE_STOP_SPACING_M)
+    return tuple((float(s), RELATIVE_STOP_S) for s in inner)
 
 
 # --- raw files as a user has them ------------------------------------------------------------
@@ -226,6 +238,8 @@ def project_toml(cell: Cell, config: ScenarioConfig) -> str:
     if cell.gnss and cell.prism:
         lines += ["[geodesy.height]", 'benchmarks = "survey/benchmarks.txt"', ""]
     lines.append("[track]")
+    if cell.position == RELATIVE and cell.design != "fitted":  # where on the design the relative run starts
+        lines.append(f"start_station_m = {LAST_STATION_M if cell.direction == 'against' else FIRST_STATION_M}")
     if cell.design == "csv":
         lines.append('design = "design.csv"')
     elif cell.design == "landxml":

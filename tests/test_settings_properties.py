@@ -96,6 +96,8 @@ def configurations(draw, valid_only=False):
     for role, key_path in (("gnss", "files"), ("gauge", "files.gauge")):  # no position source; no gauge
         if fault == key_path:
             roles.discard(role)
+            if role == "gnss":  # with an odometer and no position source it is a relative survey
+                roles.discard("odometer")
             refused.add(key_path)
     files = {role: {"path": RAW_FILES[role][0], "format": RAW_FILES[role][1]} for role in sorted(roles)}
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 from insrail.cli.progressbar import TerminalProgress
@@ -59,6 +59,7 @@ def run(args: argparse.Namespace) -> int:
     from insrail.io.survey import read_survey
     from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, aiding_for
     from insrail.nav.imu_profile import load_imu_profile
+    from insrail.nav.relative import RelativeFrame
     from insrail.nav.self_calibration import fuse_consistent
     from insrail.nav.trajectory import write_kfgins_imu_errors, write_kfgins_nav, write_kfgins_std
     from insrail.project.model import load_project
@@ -100,7 +101,10 @@ def run(args: argparse.Namespace) -> int:
     try:
         profile = load_imu_profile(args.imu_profile or survey.manifest.imu_profile)
         # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
-        result, options, _, _ = fuse_consistent(survey.imu, lambda o: aiding_for(survey, o, profile, fixes), profile, options,
+        # a relative survey (no position source) runs in a local frame: no project, no design here
+        frame = RelativeFrame.local() if survey.manifest.relative else None
+        result, options, _, _ = fuse_consistent(survey.imu, lambda o: replace(aiding_for(survey, o, profile, fixes),
+                                                                              relative=frame), profile, options,
                                                 ellipsoid, output_every=every,
                                                 progress=lambda f, m: bar(0.05 + 0.85 * f, m),
                                                 trajectory_file=staged["trajectory.npy"],
@@ -189,8 +193,6 @@ def _prism_fixes(survey, project_path: Path | None):
     """(survey with its raw total-station observations placed, the prism fixes as position fixes or
     None, the project's ellipsoid or None, the notices of placing them): module docstring. Raises
     ValueError for a survey whose only position source is fixes that cannot be placed."""
-    from dataclasses import replace
-
     from insrail.notices import Notice
     from insrail.project.model import load_project
     from insrail.project.pipeline import fit_heights, prism_fixes

@@ -28,6 +28,7 @@ COMMANDS = [
     ("ppk", "insrail.cli.ppk"),
     ("gui", "insrail.cli.gui"),
     ("predict", "insrail.cli.predict"),
+    ("calibrate", "insrail.cli.calibrate"),
 ]
 #: The sub-commands that write or read a project's results under its lock (insrail.project.lock).
 LOCKING_COMMANDS = ("process", "report", "export", "section", "demo")

@@ -12,6 +12,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
+
+import numpy as np
 
 from insrail.cli.progressbar import TerminalProgress
 from insrail.quality.tables import SWEEP_VALUES
@@ -52,6 +55,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--outage", type=_number(0.0, 1e6, low_included=True), default=0.0,
                    help="a GNSS outage of this many seconds mid-run")
     p.add_argument("--no-nhc", action="store_true", help="without the non-holonomic constraint")
+    p.add_argument("--relative", action="store_true",
+                   help="a relative survey: no GNSS, no prism; odometer, NHC and stops (see --stop-every)")
+    p.add_argument("--stop-every", type=_number(0.0, 1e6), default=60.0, metavar="M",
+                   help="with --relative: a stop every M metres (default 60, seed 000)")
+    p.add_argument("--stop-s", type=_number(0.0, 3600.0), default=10.0, metavar="S",
+                   help="with --relative: each stop's duration [s] (default 10)")
     p.add_argument("--sweep", choices=sorted(SWEEP_VALUES), help="vary one parameter from the baseline")
     p.add_argument("--values", type=float, nargs="+", help="values of the swept parameter (default: a typical range)")
     group = p.add_mutually_exclusive_group()
@@ -71,9 +80,14 @@ def run(args: argparse.Namespace) -> int:
         sweep_table,
     )
 
-    gnss = GnssQuality(*args.gnss_sigma)
+    gnss = None if args.relative else GnssQuality(*args.gnss_sigma)
     aiding = FusionOptions(smoother=args.smoothed, use_nhc=not args.no_nhc)
     outages = ((0.5 * args.length, args.outage),) if args.outage > 0 else ()
+    if args.relative and (args.sweep or outages):
+        print("insrail predict: --relative has no GNSS: no --outage, and no --sweep", file=sys.stderr)
+        return 2
+    stops = (tuple((float(s), args.stop_s) for s in np.arange(args.stop_every, args.length - 1.0, args.stop_every))
+             if args.relative else ())
     bar = TerminalProgress("predict")
     if args.sweep:
         values = args.values or SWEEP_VALUES[args.sweep]
@@ -83,9 +97,9 @@ def run(args: argparse.Namespace) -> int:
         print("\n".join(sweep_table(table, args.smoothed, bool(outages))))
         return 0
     prediction = predict(args.imu, gnss, aiding, speed_mps=args.speed, length_m=args.length, outages=outages,
-                         progress=bar)
+                         stops=stops, progress=bar)
     elapsed = bar.done()
     figures = prediction.smoothed if args.smoothed else prediction.forward
     print(f"{prediction_heading(prediction, args.smoothed)} ({elapsed:.1f} s)")
-    print("\n".join(accuracy_table(accuracy_rows(figures, bool(outages)))))
+    print("\n".join(accuracy_table(accuracy_rows(figures, bool(outages), relative=args.relative))))
     return 0

@@ -81,7 +81,8 @@ def describe(results, checks=()) -> list[str]:
                       f"fusion inflated {gnss['fusion_inflated_epochs']}, excluded {gnss['fusion_excluded_epochs']}; "
                       f"base {gnss['base']['point']}")]
     return [
-        f"Survey {results.survey}: results in {results.folder.resolve()}",
+        f"Survey {results.survey}{' (relative survey)' if s['survey'].get('kind') == 'relative' else ''}: "
+        f"results in {results.folder.resolve()}",
         *gnss_lines,
         (f"  fusion: {'reused from the cache' if s['fusion']['from_cache'] else 'computed'}, "
          f"{s['fusion']['rejections']} measurements rejected{prism_text}; {height_line}"),

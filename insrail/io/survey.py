@@ -123,6 +123,7 @@ class SurveyManifest:
     table, which replaces the gnss role) or total-station prism fixes (prism, a survey in a
     tunnel; or total_station, the raw pointings of free stations, with cpiii, the points they are
     resected on). Without an odometer the along-track scale comes from the position source alone.
+    With an odometer and no position source at all it is a relative survey (:attr:`relative`).
     """
 
     name: str
@@ -132,6 +133,12 @@ class SurveyManifest:
     gps_week: int | None = None
     description: str = ""
     raw_gnss: RawGnss | None = None
+
+    @property
+    def relative(self) -> bool:
+        """A relative survey: no position source at all, the odometer and the stops carry it
+        (``insrail.nav.relative``); it measures the track's shape, not its coordinates."""
+        return self.raw_gnss is None and not any(role in self.files for role in POSITION_ROLES)
 
 
 @dataclass(frozen=True)
@@ -233,10 +240,11 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
     if raw_gnss and "gnss" in table:
         problems.append("files.gnss: give either a GNSS solution [files.gnss] or raw observations "
                         "[gnss_raw], not both")
-    if not raw_gnss and not any(role in table for role in POSITION_ROLES):
+    if not raw_gnss and not any(role in table for role in POSITION_ROLES) and "odometer" not in table:
         problems.append("files: no position source: give a GNSS solution [files.gnss], raw GNSS observations "
                         "[gnss_raw], total-station prism fixes [files.prism] or raw total-station observations "
-                        "[files.total_station]")
+                        "[files.total_station]; or, for a relative survey (gauge, cant, twist and chord checks, no "
+                        "coordinates), the odometer [files.odometer] with stops about every 60 m")
     if ("total_station" in table) != ("cpiii" in table):
         problems.append("files.total_station: the raw total-station observations need the CPIII points they are "
                         "resected on [files.cpiii], and the CPIII points are used only with them"

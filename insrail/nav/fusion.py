@@ -98,6 +98,7 @@ from insrail.nav.measurements import (
     Zupt,
     schedule,
 )
+from insrail.nav.relative import RelativeFrame, start_track
 from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.startup import PositionTrack, StartupError, heading_at_reset, initial_state
 from insrail.nav.trajectory import (
@@ -1104,6 +1105,8 @@ class Aiding:
     trolley: TrolleyGeometry
     gnss_quality: dict = field(default_factory=dict)  # per quality flag: epochs, sigma factor, used
     design_azimuth: object = None  # the design's azimuth at a position, for the start (insrail.nav.startup)
+    #: a relative survey's start frame (no GNSS, no prism fixes: insrail.nav.relative); None: positions are aided
+    relative: RelativeFrame | None = None
 
 
 _ALL_TIME_S = np.array([-1e12, 1e12])
@@ -1251,9 +1254,12 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
         track = PositionTrack.from_gnss(gnss, trolley.imu_to_antenna_m)
     elif fixes is not None:
         track = PositionTrack.from_fixes(fixes)
+    elif aiding.relative is not None and aiding.odometer is not None:
+        track = None  # a relative survey: its start point is placed once the stops are known
     else:
-        raise ValueError("the survey has neither GNSS nor total-station prism fixes: nothing gives its position")
-    track = track.within(imu.time_s[0], imu.time_s[-1])
+        raise ValueError("the survey has neither GNSS nor total-station prism fixes, nor an odometer for a relative "
+                         "survey: nothing gives its position or its distance run")
+    track = track.within(imu.time_s[0], imu.time_s[-1]) if track is not None else None
     positions = None
     if aiding.odometer is None and len(track) > 1:
         positions = (track.time_s, track.local_ned(ellipsoid)[:, :2], track.horizontal_sigma_m())
@@ -1275,8 +1281,8 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
         where = "the odometer wheel's contact" if trolley.imu_to_odometer_m is not None else "the IMU"
         notices.append(Notice("fusion", "no trolley.imu_to_reference_rail_m (a survey not on rails): the "
                               f"non-holonomic constraint is applied at {where}", severity="info"))
-    track = track.within(t[0], t[-1])
-    if len(track) == 0:
+    track = track.within(t[0], t[-1]) if track is not None else None
+    if track is not None and len(track) == 0:
         where = gnss.source if gnss is not None and gnss.source else track.source
         raise ValueError(
             f"{where}: no {track.source} epoch lies within the IMU data "
@@ -1306,6 +1312,8 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                 "and without an odometer or GNSS nothing else finds the stops the zero-velocity updates and the "
                 "alignment rest on; add the odometer's file to the survey, or, if the unit is quieter than "
                 f"'{profile.name}' says, set survey.imu_profile to the profile of its data sheet")
+    if track is None:
+        track, options = _relative_start(aiding.relative, imu, stops, c_vb, profile, options, ellipsoid, notices)
     start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid, aiding.design_azimuth)
     notices.extend(start.notices)
     every = max(int(round(1.0 / (options.update_rate_hz * dt0))), 1)
@@ -1321,6 +1329,16 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     on_rail = holds_to_rail(aiding.measurements)
     return _Setup(imu, dt0, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
                   noise, gqg, play_drift(options, aiding.measurements), gates, track if on_rail else None, c_vb)
+
+
+def _relative_start(frame: RelativeFrame, imu, stops, c_vb, profile, options: FusionOptions, ellipsoid,
+                    notices: list) -> tuple[PositionTrack, FusionOptions]:
+    """A relative survey's one-point start track and the options the start takes its heading from
+    (``relative.start_track``; a heading the user gave stands)."""
+    found = start_track(frame, imu, stops, c_vb, profile, options.min_static_s, ellipsoid)
+    notices.extend(found.notices)
+    heading = found.heading_rad if options.initial_heading_rad is None else options.initial_heading_rad
+    return found.track, replace(options, initial_heading_rad=heading, initial_sigma_heading_rad=found.sigma_heading_rad)
 
 
 def realign_at_reset(reset: FilterReset, nav: np.ndarray, setup: _Setup, options: FusionOptions,

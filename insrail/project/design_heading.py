@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from insrail.nav.startup import finds_north
+from insrail.nav.startup import DESIGN_TRACK_SIGMA_RAD, finds_north
 
 
 def uses_design(project, profile) -> bool:
@@ -42,3 +42,22 @@ def design_azimuth_for(project, design, profile):
         return grid + gamma, float(plan.curvature_at(station)), station, offset
 
     return design_azimuth
+
+
+def relative_frame(project, design, crs):
+    """The start frame of a relative survey (``insrail.nav.relative.RelativeFrame``): the design's point,
+    height and true azimuth at the project's start station (``track.start_station_m``, else the design's
+    first station) where the project has a design (not on a local grid: its rotation is fitted after
+    the fusion), else a local frame on the CRS's central meridian, its latitude from the earth rate."""
+    from insrail.nav.relative import RelativeFrame  # the fusion's type; imported where a relative survey needs it
+
+    if design is None or project.local_control is not None:
+        return RelativeFrame.local(math.radians(float(crs.central_meridian_deg or 0.0)), " on the central meridian")
+    plan = design.horizontal
+    station = project.start_station_m if project.start_station_m is not None else float(plan.start_station_m)
+    station = min(max(station, float(plan.start_station_m)), float(plan.end_station_m))
+    east, north = plan.point_at(station)
+    lat, lon = (float(v) for v in crs.to_geodetic(float(east), float(north)))
+    height = float(design.vertical.elevation_at(station)) if design.vertical is not None else 0.0
+    azimuth = float(plan.azimuth_at(station)) + float(crs.meridian_convergence_rad(lat, lon))
+    return RelativeFrame(lat, lon, height, azimuth, DESIGN_TRACK_SIGMA_RAD, f"the design at station {station:.3f} m")

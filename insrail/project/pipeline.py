@@ -65,12 +65,15 @@ from insrail.memory import release_free_memory
 from insrail.nav.fusion import SmootherStore, aiding_for, fuse
 from insrail.nav.integrity import UntrustedSolution
 from insrail.nav.measurements import PositionFix
+from insrail.nav.mounting import MountingEstimate, not_estimated
 from insrail.nav.self_calibration import fuse_consistent
 from insrail.nav.shocks import NHC_RELAXED_S, detect_shocks
 from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
-from insrail.project.design_heading import design_azimuth_for, uses_design
+from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
+from insrail.project.mounting_stage import mounting_notices, roll_check, with_mounting, yaw_pitch_pass
+from insrail.project.relative_survey import relative_notices, relative_section, without_deviations
 from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
@@ -298,6 +301,8 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
         settings["prism_geodesy"] = _geodesy_settings(run)
     if uses_design(project, run.imu_profile):  # its azimuth may give the start heading
         settings["design"] = [run.design_sha256, _geodesy_settings(run)["crs"]]
+    if manifest.relative:  # its frame starts on the design at the start station, or on the CRS's meridian
+        settings["relative_frame"] = [run.design_sha256, _geodesy_settings(run)["crs"], project.start_station_m]
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
 
@@ -367,14 +372,26 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
     store = None
     cache.mkdir(parents=True, exist_ok=True)
     try:  # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
-        design = design_azimuth_for(project, read_design(project.resolve(run.design)) if run.design else None,
-                                    profile)
+        alignment = read_design(project.resolve(run.design)) if run.design else None
+        design = design_azimuth_for(project, alignment, profile)
+        frame = relative_frame(project, alignment, run.crs) if manifest.relative else None
+
+        def build_aiding(options):
+            return replace(aiding_for(survey, options, profile, fixes, shocks.nhc_relaxed_s()), design_azimuth=design,
+                           relative=frame)
+
+        # the IMU's mounting from the survey (where GNSS gives the direction of travel), applied where it
+        # differs from the given one beyond 3 sigma: the NHC then holds the right axes to the rail
+        mounting = (yaw_pitch_pass(survey, build_aiding, profile, run.fusion, run.ellipsoid, fuse,
+                                   progress=progress.sub(0.05, 0.3), cancel=cancel)
+                    if run.fusion.use_nhc else not_estimated(manifest.trolley.mounting_rpy_rad, "the NHC is off"))
+        survey = replace(survey, manifest=with_mounting(survey.manifest, mounting.applied_rpy_rad()))
+        checked += mounting_notices(mounting, "survey.toml")
         # the trajectory is streamed into the cache as the smoother makes it (sealed below)
         result, options, store, _ = fuse_consistent(
-            survey.imu, lambda options: replace(aiding_for(survey, options, profile, fixes, shocks.nhc_relaxed_s()),
-                                                design_azimuth=design),
+            survey.imu, build_aiding,
             profile, run.fusion, run.ellipsoid, new_store=SmootherStore if run.fusion.smoother else None, fuse=fuse,
-            progress=progress.sub(0.05, 0.87), cancel=cancel, trajectory_file=path)
+            progress=progress.sub(0.3 if survey.gnss is not None else 0.05, 0.87), cancel=cancel, trajectory_file=path)
         check_cancel(cancel)
         if not result.integrity.trusted:
             raise UntrustedSolution(result.integrity.failure())
@@ -383,7 +400,7 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
                 "trajectory_epochs": len(result.trajectory), "prism_fixes": 0 if fixes is None else len(fixes.time_s),
                 "notices": [*(n.to_dict() for n in checked), *(n.to_dict() for n in result.info["notices"])],
                 "alignment": result.info["alignment"],
-                "resets": len(result.resets), "integrity": result.integrity.to_dict(),
+                "resets": len(result.resets), "integrity": result.integrity.to_dict(), "mounting": mounting.to_dict(),
                 "calibration": result.info["calibration"],
                 "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
                 "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]],
@@ -573,12 +590,23 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                                              step.sub(0.04, 0.8), cancel)
     release_free_memory()
     check_cancel(cancel)
+    mounting = MountingEstimate.from_dict(fusion_info.get("mounting"), manifest.trolley.mounting_rpy_rad)
+    manifest = with_mounting(manifest, mounting.applied_rpy_rad())  # the fusion's, for the rails
 
     step(0.82, "rails, chainage and sleepers")
     local = fit_local(project.local_control) if project.local_control is not None else None
     recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
                                                        track_key(project, run, key), height_fit, cancel, local,
                                                        fusion_info)
+    # the roll of the mounting from the cant against the design's: beyond 3 sigma the rails are placed again
+    roll = roll_check(manifest, recon.table, run.design is not None)
+    if roll.significant[0]:
+        manifest = with_mounting(manifest, roll.applied_rpy_rad())
+        recon, extras, track_cached = _reconstructed_track(
+            project, run, manifest, folder, fresh, trajectory_file,
+            track_key(project, run, f"{key}-roll-{roll.applied_rpy_rad()[0]:.9f}"), height_fit, cancel, local,
+            fusion_info)
+    mounting = mounting.combined(roll)
     del fresh
     release_free_memory()
     check_cancel(cancel)
@@ -616,6 +644,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     gnss_summary = fusion_info.pop("gnss", None)  # cached with the fusion: the GNSS file is not re-read
     summary = _summary(project, run, entry.name, manifest, fusion_info, track_cached, height_fit, height_warnings,
                        table, assessment, adjustment, after_adjustment, time.monotonic() - started)
+    summary["fusion"]["mounting"] = mounting.to_dict()
     if gnss_summary is not None:
         summary["gnss"] = gnss_summary
     if gnss is not None:
@@ -628,6 +657,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                                 *_notices(fusion_info, height_warnings, summary.get("ppk")),
                                                 *(local.notices() if local is not None else []),
                                                 *speed_notices(profile, table, curvature, speed),
+                                                *(mounting_notices(roll, "survey.toml", "track")
+                                                  if np.isfinite(roll.sigma_rad[0]) else []),
                                                 *_line_fit_notices(extras.line, table)]]
     if local is not None:
         summary["local_control"] = local.summary()
@@ -647,6 +678,13 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                           line_fit_files)))
     quality = _section_quality(trajectory_file, recon)
     summary["quality"] = quality_section(quality)
+    if manifest.relative:  # every output says so; the chord checks where the error growth allows
+        summary["survey"]["kind"] = "relative"
+        frame = relative_frame(project, read_design(project.resolve(run.design)) if run.design else None, run.crs)
+        summary["relative"] = relative_section(frame.source, profile, quality)
+        summary["notices"] += [n.to_dict() for n in relative_notices(profile, quality)]
+        table = without_deviations(table)
+        recon = replace(recon, table=table)
     summary["files"]["quality"] = QUALITY_FILE
     summary["trajectory"] = trajectory_section(trajectory_file)  # the report's figures, read here in chunks
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {

@@ -40,6 +40,7 @@ from insrail.nav.error_model import (
 from insrail.nav.fusion import FusionOptions, aiding_sources, initial_covariance, play_drift
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import NavSnapshot, schedule
+from insrail.nav.relative import FRAME_HEADING_SIGMA_RAD, START_SIGMA_M
 from insrail.nav.rotation import euler_to_dcm
 from insrail.progress import CancelToken, ProgressFn
 from insrail.quality.covariance import CovarianceProfile, PassCovariance, analyse
@@ -202,7 +203,7 @@ def _snapshot(lat, h, vel_ned, accel_ned, c_bn, dt, ell) -> NavSnapshot:
 
 def predict(
     profile: ImuProfile | str = "nav",
-    gnss: GnssQuality = GnssQuality(),
+    gnss: GnssQuality | None = GnssQuality(),
     aiding: FusionOptions = FusionOptions(),
     speed_mps: float = 1.0,
     length_m: float = 1000.0,
@@ -226,21 +227,23 @@ def predict(
     stops   : (station [m], duration [s]) of stops (ZUPTs)
     aiding  : the fusion's options: which aids, their sigmas, the update rate, forward only
               (``smoother=False``) or smoothed
+    gnss    : None for a relative survey (no position source: ``insrail.nav.relative``), started as the
+              fusion starts one: position and heading exact, the frame's own
     """
     if isinstance(profile, str):
         profile = load_imu_profile(profile)
     if speed_mps <= 0.0 or length_m <= LONG_LAG_M:
         raise ValueError(f"need a positive speed and a run longer than {LONG_LAG_M:g} m "
                          f"(got {speed_mps} m/s, {length_m} m)")
-    if aiding.update_rate_hz < gnss.rate_hz:
+    if gnss is not None and aiding.update_rate_hz < gnss.rate_hz:
         raise ValueError("the GNSS rate cannot exceed the filter's update rate")
     trolley = trolley or default_trolley()
     dt = 1.0 / aiding.update_rate_hz
     plan = _plan(speed_mps, length_m, stops, static_start_s, static_end_s, ramp_s, dt)
     m = len(plan.time_s)
 
-    gnss_every = int(round(aiding.update_rate_hz / gnss.rate_hz))
-    has_gnss = np.arange(m) % gnss_every == 0
+    gnss_every = int(round(aiding.update_rate_hz / gnss.rate_hz)) if gnss is not None else 1
+    has_gnss = (np.arange(m) % gnss_every == 0) & (gnss is not None)
     outages_s = []
     for station, duration in outages:
         k = int(np.searchsorted(plan.station_m, station))
@@ -255,10 +258,10 @@ def predict(
     heading = math.radians(heading_deg)
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
     c_bn = euler_to_dcm(0.0, 0.0, heading) @ c_vb
-    file_sigma = gnss.file_sigma_ned_m(aiding)
+    file_sigma = gnss.file_sigma_ned_m(aiding) if gnss is not None else np.full(3, START_SIGMA_M)
     gnss_epochs = np.flatnonzero(has_gnss)
     k = len(gnss_epochs)
-    planned_gnss = GnssSolution(plan.time_s[gnss_epochs], np.full(k, lat), np.zeros(k), np.full(k, h),
+    planned_gnss = None if gnss is None else GnssSolution(plan.time_s[gnss_epochs], np.full(k, lat), np.zeros(k), np.full(k, h),
                                 np.tile(file_sigma, (k, 1)), np.ones(k, dtype=int), np.zeros(k, dtype=int),
                                 np.full(k, np.nan))
     planned_odometer = OdometerData(plan.time_s, plan.station_m, odometer_pulse_m)
@@ -292,7 +295,7 @@ def predict(
         return phi, q, updates
 
     P0 = initial_covariance(profile, aiding, np.maximum(file_sigma, 0.005), 0.005, aiding.initial_sigma_level_rad,
-                            aiding.initial_sigma_heading_rad)
+                            aiding.initial_sigma_heading_rad if gnss is not None else FRAME_HEADING_SIGMA_RAD)
     # the evaluation counts the trolley as moving once it is 1 m from its start
     moving = plan.station_m > 1.0
     anchor_stations = np.arange(1.0, length_m, anchor_spacing_m)

@@ -67,23 +67,30 @@ class FigureRow:
         return {None: "", True: "ok", False: EXCEEDS}[self.within_limit]
 
 
-def figure_names(with_outage: bool) -> list[str]:
-    """The figures a table shows: the outage rows only when the run has an outage."""
-    return [name for name in ROWS if with_outage or not name.startswith("outage")]
+def figure_names(with_outage: bool, relative: bool = False) -> list[str]:
+    """The figures a table shows: the outage rows only when the run has an outage, no absolute position
+    for a relative survey (its position is its start's frame)."""
+    return [name for name in ROWS if (with_outage or not name.startswith("outage"))
+            and not (relative and name.startswith("position"))]
 
 
-def accuracy_rows(figures: AccuracyFigures, with_outage: bool) -> list[FigureRow]:
+def accuracy_rows(figures: AccuracyFigures, with_outage: bool, relative: bool = False) -> list[FigureRow]:
     values = figures.as_dict()
-    return [FigureRow(name, ROWS[name][0], values[name], ROWS[name][1]) for name in figure_names(with_outage)]
+    return [FigureRow(name, ROWS[name][0], values[name], ROWS[name][1])
+            for name in figure_names(with_outage, relative)]
 
 
 def prediction_heading(prediction: Prediction, smoothed: bool) -> str:
     """What was predicted: pass, IMU, GNSS sigmas, speed, length and outages."""
     inputs = prediction.inputs
     gnss = inputs["gnss"]
-    text = (f"Predicted accuracy, {'smoothed' if smoothed else 'forward'} solution: IMU {inputs['imu']}, "
-            f"GNSS {1e3 * gnss.white_horizontal_m:g}/{1e3 * gnss.white_vertical_m:g} mm, "
+    source = ("relative survey (no GNSS, no prism: odometer, NHC and stops), " if gnss is None else
+              f"GNSS {1e3 * gnss.white_horizontal_m:g}/{1e3 * gnss.white_vertical_m:g} mm, ")
+    text = (f"Predicted accuracy, {'smoothed' if smoothed else 'forward'} solution: IMU {inputs['imu']}, {source}"
             f"{inputs['speed_mps']:g} m/s, {inputs['length_m']:g} m")
+    if gnss is None and inputs["stops"]:
+        spacing = inputs["stops"][1][0] - inputs["stops"][0][0] if len(inputs["stops"]) > 1 else inputs["stops"][0][0]
+        text += f", a {inputs['stops'][0][1]:g} s stop every {spacing:g} m"
     for station, duration in inputs["outages"]:
         text += f", {duration:g} s outage at {station:g} m"
     return text

@@ -704,6 +704,37 @@ def exceedance_display(row: ExceedanceRow) -> tuple[float, float, str]:
 GPS_EPOCH = np.datetime64("1980-01-06T00:00:00", "s")
 
 
+#: what a relative survey (summary.toml ``[survey] kind = "relative"``) measures, on every report
+RELATIVE_SURVEY_TEXT = ("relative survey: no GNSS, no prism fixes (IMU, odometer and stops); gauge, cant, twist and "
+                        "the chord checks are measured, coordinates and deviations from the design are not")
+
+
+def is_relative(summary: dict) -> bool:
+    return summary.get("survey", {}).get("kind") == "relative"
+
+
+def survey_title(content: ReportContent) -> str:
+    """The survey's name, with "(relative survey)" after it for a relative one."""
+    return f"{content.survey} (relative survey)" if is_relative(content.summary) else content.survey
+
+
+def mounting_text(summary: dict) -> str | None:
+    """The IMU mounting the survey was processed with and the survey's estimate (summary.toml
+    ``[fusion.mounting]``), or None for results without it."""
+    mounting = summary.get("fusion", {}).get("mounting")
+    if not mounting:
+        return None
+    parts = []
+    for axis in ("roll", "pitch", "yaw"):
+        entry = mounting[axis]
+        parts.append(f"{axis} {entry['estimate_deg']:+.3f}° ± {entry['sigma_deg']:.3f}°"
+                     + (" (applied)" if entry["applied"] else "") if "estimate_deg" in entry
+                     else f"{axis} not estimated ({entry['not_estimated']})")
+    applied = ", ".join(f"{v:+.3f}" for v in mounting["applied_rpy_deg"])
+    given = ", ".join(f"{v:+.3f}" for v in mounting["given_rpy_deg"])
+    return f"processed with roll, pitch, yaw [{applied}]° (survey.toml [{given}]°); estimated from the survey: " + "; ".join(parts)
+
+
 def survey_start(content: ReportContent) -> str:
     """Date and GPS time of the first sleeper ("2025-08-21 16:05 GPST"), or "" without the GPS week."""
     week = content.summary.get("survey", {}).get("gps_week")

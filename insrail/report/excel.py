@@ -41,6 +41,7 @@ from insrail.project.model import Project
 from insrail.project.results import StoredResults
 from insrail.project.run_settings import report_language
 from insrail.report.content import (
+    RELATIVE_SURVEY_TEXT,
     SEVERITY_RULE,
     Column,
     ReportContent,
@@ -57,7 +58,9 @@ from insrail.report.content import (
     parameter_statistics,
     sections,
     sleeper_repair_text,
+    is_relative,
     survey_start,
+    survey_title,
     threshold_text,
 )
 from insrail.report.labels import SIGNS, amounts_text, deviation_reference
@@ -438,7 +441,7 @@ def _printable(sheet: Worksheet, paper: str = "A3", page_header: tuple[str, str,
 def page_header(content: ReportContent) -> tuple[str, str, str]:
     """What every printed page of the workbook names: project, survey and chainage, software."""
     return (content.project.name, t("survey {survey} {start}, {chainage}").format(
-        survey=content.survey, start=survey_start(content), chainage=content.chainage_range), content.software)
+        survey=survey_title(content), start=survey_start(content), chainage=content.chainage_range), content.software)
 
 
 def _start(sheet: _Sheet, content: ReportContent, widths: list[float], freeze: str | None = None,
@@ -450,7 +453,7 @@ def _start(sheet: _Sheet, content: ReportContent, widths: list[float], freeze: s
 def _context(content: ReportContent) -> str:
     """Project, survey, chainage and tolerance profile in one line (above the smaller tables)."""
     return t("{project}, survey {survey} {start}, {chainage}, tolerance profile {profile}; {software}").format(
-        project=content.project.name, survey=content.survey, start=survey_start(content),
+        project=content.project.name, survey=survey_title(content), start=survey_start(content),
         chainage=content.chainage_range, profile=profile_name(content.profile), software=content.software)
 
 
@@ -463,7 +466,9 @@ def _header_block(sheet: _Sheet, content: ReportContent, title: str) -> None:
     if repair := sleeper_repair_text(summary):
         sleepers += f"; {repair}"
     sheet.pairs((t("Project"), project.name), (t("Line"), project.description or project.name),
-                (t("Survey"), content.survey))
+                (t("Survey"), survey_title(content)))
+    if is_relative(summary):
+        sheet.pairs((t("Survey kind"), t(RELATIVE_SURVEY_TEXT)))
     sheet.pairs((t("Chainage"), content.chainage_range), (t("Sleepers"), sleepers),
                 (t("Survey start"), survey_start(content)))
     profile = content.profile

@@ -84,6 +84,7 @@ from insrail.report.content import (
     ADJUSTMENT_KEYS,
     OTHER_CHECKS_GROUP,
     RAIL_KINDS,
+    RELATIVE_SURVEY_TEXT,
     SEVERITIES,
     SEVERITY_RULE,
     ReportContent,
@@ -96,8 +97,11 @@ from insrail.report.content import (
     excess_share,
     limits_text,
     load_report_content,
+    mounting_text,
     sleeper_repair_text,
+    is_relative,
     survey_start,
+    survey_title,
     threshold_text,
 )
 from insrail.report.fonts import font_for, font_runs, helvetica_can_show
@@ -351,7 +355,8 @@ def _survey_rows(content: ReportContent) -> list[tuple[str, object]]:
         (t("Client"), _not_stated(report.client)),
         (t("Line section"), _not_stated(report.line_section or project.description)),
         (t("Track"), _not_stated(report.track_name)),
-        (t("Survey"), f"{content.survey}, {survey_start(content) or t('date not recorded')}"),
+        (t("Survey"), f"{survey_title(content)}, {survey_start(content) or t('date not recorded')}"),
+        *(((t("Survey kind"), t(RELATIVE_SURVEY_TEXT)),) if is_relative(content.summary) else ()),
         (t("Direction of travel"), _direction_of_travel(content)),
         (t("Chainage"), t("{chainage} ({length:.0f} m, {sleepers} sleepers, {valid} valid)").format(
             chainage=content.chainage_range, length=length, sleepers=track.get("sleepers", len(content.results)),
@@ -601,6 +606,7 @@ def _processing(content: ReportContent, trajectory: dict | None) -> list[Flowabl
              + (t(", benchmark RMS {rms:.1f} mm (leave-one-out {loo:.1f} mm)").format(
                  rms=heights["internal_rms_mm"], loo=heights["loo_rms_mm"]) if "internal_rms_mm" in heights else ""))]
     rows += [(t("Sleeper detector"), repair)] if (repair := sleeper_repair_text(s)) else []
+    rows += [(t("IMU mounting"), mounting)] if (mounting := mounting_text(s)) else []
     rows += _local_control_rows(s.get("local_control"))
     rows += [(t("Warning") if notice.severity == "warning" else t("Note"), notice.text()) for notice in notices_of(s)]
     rows += [(t("Note"), note) for note in content.notes]

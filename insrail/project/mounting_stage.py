@@ -1,0 +1,87 @@
+"""The IMU mounting calibration in the processing (``insrail.nav.mounting``): where it runs and what it
+leaves for the stages after it.
+
+* Yaw and pitch, before the fusion, where the survey has GNSS (the velocity's direction must come from
+  positions, not from the NHC): a smoothed pass without the NHC at the update rate
+  (:func:`yaw_pitch_pass`). An axis more than 3 sigma off survey.toml's is applied to the trolley the
+  fusion and the track use; ``fusion_log``/summary ``[fusion.mounting]`` records the estimate.
+* Roll, after the track, where there is a design (its cant is the reference): :func:`roll_check`; a
+  roll more than 3 sigma off is applied and the rails placed again.
+Each applied axis is a warning naming survey.toml's key and the value to give it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from insrail.nav.mounting import (
+    AXES,
+    SIGNIFICANT_SIGMAS,
+    MountingEstimate,
+    not_estimated,
+    roll_from_cant,
+    yaw_pitch_from_velocity,
+)
+from insrail.notices import Notice
+
+#: the calibration pass's trajectory holds the update epochs (10 Hz): enough for the velocity's direction
+UPDATE_RATE_OUTPUT_HZ = 10.0
+
+
+def yaw_pitch_pass(survey, build_aiding, profile, options, ellipsoid, fuse, progress=None, cancel=None
+                   ) -> MountingEstimate:
+    """Yaw and pitch of the mounting from a smoothed fusion pass without the NHC (``build_aiding(options)``:
+    the survey's aiding for the options); not estimated without GNSS."""
+    trolley = survey.manifest.trolley
+    if survey.gnss is None:
+        return not_estimated(trolley.mounting_rpy_rad, "no GNSS: only the NHC gives the direction of travel in "
+                                                       "the IMU's axes")
+    pass_options = replace(options, use_nhc=False, smoother=True, estimate_play=False)
+    dt = float(np.median(np.diff(survey.imu.time_s[:1000])))
+    every = max(int(round(1.0 / (UPDATE_RATE_OUTPUT_HZ * dt))), 1)
+    try:  # a survey the pass cannot fuse is the main fusion's to refuse or to fuse: its mounting stays as given
+        result = fuse(survey.imu, build_aiding(pass_options), profile, pass_options, ellipsoid, output_every=every,
+                      progress=progress, cancel=cancel)
+    except ValueError as error:
+        return not_estimated(trolley.mounting_rpy_rad, f"the pass without the NHC failed: {error}")
+    if not result.integrity.trusted:
+        return not_estimated(trolley.mounting_rpy_rad, "the pass without the NHC is not consistent")
+    rail_point = trolley.imu_to_reference_rail_m if trolley.imu_to_reference_rail_m is not None else np.zeros(3)
+    return yaw_pitch_from_velocity(result.trajectory, trolley.mounting_rpy_rad, rail_point)
+
+
+def with_mounting(manifest, rpy_rad):
+    """The manifest with its trolley's mounting replaced."""
+    return replace(manifest, trolley=replace(manifest.trolley, mounting_rpy_rad=np.asarray(rpy_rad, dtype=float)))
+
+
+def roll_check(manifest, table, design_cant_available: bool) -> MountingEstimate:
+    """The roll of the mounting from the sleeper table's cant against the design's (not estimated without
+    a design)."""
+    trolley = manifest.trolley
+    if not design_cant_available:
+        return not_estimated(trolley.mounting_rpy_rad, "no design cant to compare the cant with")
+    return roll_from_cant(trolley.mounting_rpy_rad, table.cant_m, table.design_cant_m, trolley.rail_centre_spacing_m,
+                          table.valid)
+
+
+def mounting_notices(estimate: MountingEstimate, source: str, stage: str = "fusion") -> list[Notice]:
+    """An info notice with the estimate; a warning when an axis is applied, naming the key and value to
+    give (``source``: the file that gave the mounting; ``stage``: the notice's)."""
+    notices = [Notice(stage, estimate.text(), severity="info")]
+    applied = [AXES[i] for i in range(3) if estimate.significant[i]]
+    if applied:
+        values = ", ".join(f"{v:.3f}" for v in np.degrees(estimate.applied_rpy_rad()))
+        apart = ", ".join(f"{AXES[i]} by {math.degrees(abs(estimate.rpy_rad[i] - estimate.given_rpy_rad[i])):.3f} deg "
+                          f"({abs(estimate.rpy_rad[i] - estimate.given_rpy_rad[i]) / estimate.sigma_rad[i]:.0f} sigma)"
+                          for i in range(3) if estimate.significant[i])
+        notices.append(Notice(
+            stage, f"the IMU mounting the survey shows differs from {source}'s trolley.mounting_rpy_deg by more than "
+            f"{SIGNIFICANT_SIGMAS:g} sigma ({apart}): the survey is processed with the estimate; give "
+            f"trolley.mounting_rpy_deg = [{values}]"
+            + (" (the roll takes the track's mean cross-level for the design's)" if "roll" in applied else ""),
+            severity="warning"))
+    return notices

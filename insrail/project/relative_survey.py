@@ -1,0 +1,95 @@
+"""What the results of a relative survey (``insrail.nav.relative``: no GNSS, no prism fixes) hold.
+
+Its trajectory is the track's shape in a frame of its own (the start's point and azimuth), drifting
+with the IMU over the run. Gauge, cant, twist and the chord checks are relative quantities and are
+reported; the deviations from the design (and so nothing that reads them as the rail's place on the
+line) are not: the sleeper table's deviation columns are left empty. The rail coordinates stay in the
+table, named in ``summary.toml [relative]`` as the survey's own frame, for the plots' shape.
+
+A chord check can be assessed in a section only where the stated 1-sigma of its error (the 5 m lag's
+for chords up to :data:`SHORT_CHORD_M`, the 150 m lag's for longer ones: ``insrail.quality``) is
+small beside its limit: three of them within it (:data:`SIGMAS_IN_LIMIT`). Elsewhere a warning names
+the check and the sections; ``[relative.sections]`` gives each section's figures and verdicts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from insrail.notices import Notice
+
+#: a chord check up to this chord [m] has the 5 m lag's error, a longer one the 150 m lag's
+SHORT_CHORD_M = 30.0
+#: a check is assessed where its limit holds this many 1-sigma of its stated error
+SIGMAS_IN_LIMIT = 3.0
+CHORD_KINDS = ("versine", "differential_versine")
+
+
+def _limit_m(check) -> float:
+    return float(min(abs(check.lower), abs(check.upper)))
+
+
+def _lag_figure(check, quality, direction: str) -> np.ndarray:
+    lag = "lag5" if (check.chord_m or 0.0) <= SHORT_CHORD_M else "lag150"
+    return getattr(quality, f"sigma_{lag}_{direction}_m")
+
+
+def chord_verdicts(profile, quality) -> dict[str, np.ndarray]:
+    """Per chord check of ``profile``: per section of ``quality`` (``SectionQuality``) whether it can be
+    assessed (both of its directions' stated 1-sigma within its limit / :data:`SIGMAS_IN_LIMIT`)."""
+    verdicts = {}
+    for check in profile.checks:
+        if check.kind not in CHORD_KINDS:
+            continue
+        sigma = np.max([_lag_figure(check, quality, d) for d in (check.directions or ("lateral", "vertical"))], axis=0)
+        verdicts[check.name] = np.isfinite(sigma) & (SIGMAS_IN_LIMIT * sigma <= _limit_m(check))
+    return verdicts
+
+
+def relative_notices(profile, quality) -> list[Notice]:
+    """A warning for each chord check that cannot be assessed in some sections (see the module docstring)."""
+    notices = []
+    for check in profile.checks:
+        if check.kind not in CHORD_KINDS:
+            continue
+        assessed = chord_verdicts(profile, quality)[check.name]
+        if assessed.all():
+            continue
+        sigma = np.max([_lag_figure(check, quality, d) for d in (check.directions or ("lateral", "vertical"))], axis=0)
+        where = ", ".join(f"{a:.0f}-{b:.0f} m ({f'{1e3 * s:.2f} mm' if np.isfinite(s) else 'too short for its lag'})"
+                          for a, b, s, ok in zip(quality.station_from_m, quality.station_to_m, sigma, assessed) if not ok)
+        notices.append(Notice("track", f"relative survey: the {check.name} check cannot be assessed in "
+                              f"{(~assessed).sum()} of {len(assessed)} sections, where the stated 1-sigma of its error "
+                              f"exceeds 1/{SIGMAS_IN_LIMIT:g} of its {1e3 * _limit_m(check):g} mm limit: {where}; its "
+                              "exceedances there are not measured ones", station_m=float(quality.station_from_m[0])))
+    return notices
+
+
+def relative_section(frame: str, profile, quality) -> dict:
+    """summary.toml's ``[relative]``: the frame, what is and is not measured, and per section the stated
+    1-sigma of the chord checks' errors [mm] and whether each chord check is assessed there."""
+    verdicts = chord_verdicts(profile, quality)
+    sections = []
+    for i in range(len(quality.station_from_m)):
+        row = {"station_from_m": float(quality.station_from_m[i]), "station_to_m": float(quality.station_to_m[i])}
+        for name in ("sigma_lag5_lateral_m", "sigma_lag5_vertical_m", "sigma_lag150_lateral_m",
+                     "sigma_lag150_vertical_m", "sigma_cross_level_m"):
+            value = float(getattr(quality, name)[i])
+            row[name[:-2] + "_mm"] = round(1e3 * value, 3) if np.isfinite(value) else -1.0
+        row["assessed"] = [name for name, ok in verdicts.items() if ok[i]]
+        row["not_assessed"] = [name for name, ok in verdicts.items() if not ok[i]]
+        sections.append(row)
+    return {"frame": frame,
+            "measured": "gauge, cant, twist and the chord checks (versines, short and long wave where assessed)",
+            "not_measured": "coordinates on the line and deviations from the design (the sleeper table's deviation "
+                            "columns are empty; its rail coordinates are in the survey's own frame, which drifts "
+                            "with the IMU)",
+            "sections": sections}
+
+
+def without_deviations(table):
+    """The sleeper table as a relative survey writes it: no deviations from the design."""
+    return replace(table, lateral_deviation_m=np.full_like(table.lateral_deviation_m, np.nan),
+                   vertical_deviation_m=np.full_like(table.vertical_deviation_m, np.nan))
