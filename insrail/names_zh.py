@@ -130,6 +130,8 @@ ZH_CN: dict[str, str] = {
     "Mounting roll, pitch, heading": "安装横滚、俯仰、航向",
     "Reference rail": "基准轨",
     "Rail centre spacing": "两轨中心距",
+    "No adjustment amounts: a relative survey (no GNSS, no prism fixes) knows the track's shape, not its place against the design; amounts would move the rails by the IMU's drift":
+        "无调整量：相对测量（无 GNSS、无棱镜定位）只测得轨道形状，不知其相对设计线形的位置；调整量会按惯导漂移移动钢轨",
     "Gauge beam wheel spacing (curve correction)": "轨距测量梁轮距（曲线修正）",
     "Processing": "数据处理",
     "IMU profile": "IMU 误差模型",

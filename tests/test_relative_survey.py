@@ -96,6 +96,29 @@ def test_every_output_of_a_relative_survey_says_so(relative_on_design):
     assert f"{SURVEY_NAME} (relative survey)" in text and "relative survey: no GNSS, no prism fixes" in text
 
 
+def test_a_relative_survey_gives_the_crew_no_adjustment_amounts(relative_on_design, tmp_path):
+    """A fastener amount moves a rail towards the design by its deviation, which in a relative survey holds
+    the IMU's drift (150 m lag sigmas of several mm): no amount anywhere, and every place that would give
+    one says why."""
+    built, processed = relative_on_design
+    assert "adjustment: none, relative survey" in processed
+    results = built.project / "results" / SURVEY_NAME
+    summary = tomllib.loads((results / "summary.toml").read_text())
+    assert summary["adjustment"]["withheld"].startswith("relative survey: no adjustment amounts")
+    with open(results / "sleepers.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    for name in ("adjust_lateral_left_mm", "adjust_vertical_right_mm"):
+        assert all(row[name] in ("", "nan") for row in rows), f"{name}: an amount from the drift"
+    code, out = insrail("export", str(built.project), "--format", "lift-lining", "--out", str(tmp_path / "ll.csv"))
+    assert code == 1 and "no lift/lining table: relative survey" in out, out
+    assert not (tmp_path / "ll.csv").exists()
+    workbook = openpyxl.load_workbook(built.project / "reports" / f"track_geometry_{SURVEY_NAME}.xlsx", read_only=True)
+    cells = [v for sheet in workbook.worksheets for row in sheet.iter_rows(values_only=True) for v in row
+             if isinstance(v, str)]
+    assert any(v.startswith("No adjustment amounts: a relative survey") for v in cells)
+    assert not any(v.startswith("Fastener ") and "total movement" in v for v in cells)
+
+
 def test_a_relative_survey_without_a_design_runs_in_a_local_frame(tmp_path):
     """A navigation-grade unit finds north and its latitude from the earth rate: the survey runs in a local
     frame and says so; a tactical unit, which cannot, is refused before the fusion naming what to give."""

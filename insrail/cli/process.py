@@ -95,7 +95,8 @@ def describe(results, checks=()) -> list[str]:
         *(f"  {'warning' if notice.severity == 'warning' else 'note'}: {notice.text()}" for notice in notices_of(s)),
         *_quality_lines(s.get("quality")),
         f"  {assessment['tolerance_profile']}: {assessment['exceedances']} exceedances ({by_check})",
-        (f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "
+        (f"  adjustment: none, {adjustment['withheld']}" if "withheld" in adjustment else
+         f"  adjustment ({adjustment['fastener']}): max lateral {adjustment['max_lateral_mm']:.1f} mm, "
          f"max vertical {adjustment['max_vertical_mm']:.1f} mm, {adjustment['unresolved_sleepers']} sleepers unresolved"),
         *after_adjustment_lines(adjustment, checks),
         "  files: " + ", ".join(dict.fromkeys([*s["files"].values(), "summary.toml"])),

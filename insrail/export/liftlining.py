@@ -71,7 +71,11 @@ def reference_text(project, results) -> str:
 
 
 def lift_lining_table(project, results) -> LiftLiningTable:
-    """The table of a processed survey's stored results (:class:`~insrail.project.results.StoredResults`)."""
+    """The table of a processed survey's stored results (:class:`~insrail.project.results.StoredResults`);
+    a relative survey's results have no amounts to give (an error saying why)."""
+    if "withheld" in results.summary.get("adjustment", {}):
+        raise InputError(results.folder / "summary.toml", None,
+                         f"no lift/lining table: {results.summary['adjustment']['withheld']}")
     c = results.columns
     valid = c["valid"] > 0
 

@@ -73,7 +73,13 @@ from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
 from insrail.project.mounting_stage import mounting_notices, roll_check, with_mounting, yaw_pitch_pass
-from insrail.project.relative_survey import relative_notices, relative_section, without_deviations
+from insrail.project.relative_survey import (
+    relative_notices,
+    relative_section,
+    withheld_adjustment_section,
+    without_amounts,
+    without_deviations,
+)
 from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
@@ -685,6 +691,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         summary["notices"] += [n.to_dict() for n in relative_notices(profile, quality)]
         table = without_deviations(table)
         recon = replace(recon, table=table)
+        adjustment = without_amounts(adjustment)
+        summary["adjustment"] = withheld_adjustment_section(adjustment)
     summary["files"]["quality"] = QUALITY_FILE
     summary["trajectory"] = trajectory_section(trajectory_file)  # the report's figures, read here in chunks
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {

@@ -3,7 +3,9 @@
 Its trajectory is the track's shape in a frame of its own (the start's point and azimuth), drifting
 with the IMU over the run. Gauge, cant, twist and the chord checks are relative quantities and are
 reported; the deviations from the design (and so nothing that reads them as the rail's place on the
-line) are not: the sleeper table's deviation columns are left empty. The rail coordinates stay in the
+line) are not: the sleeper table's deviation columns are left empty, and so are its adjustment amounts
+(a fastener amount moves the rail towards the design by its deviation, which here holds the IMU's drift:
+150 m lag sigmas of several mm; ``summary.toml [adjustment] withheld`` says why). The rail coordinates stay in the
 table, named in ``summary.toml [relative]`` as the survey's own frame, for the plots' shape.
 
 A chord check can be assessed in a section only where the stated 1-sigma of its error (the 5 m lag's
@@ -93,3 +95,24 @@ def without_deviations(table):
     """The sleeper table as a relative survey writes it: no deviations from the design."""
     return replace(table, lateral_deviation_m=np.full_like(table.lateral_deviation_m, np.nan),
                    vertical_deviation_m=np.full_like(table.vertical_deviation_m, np.nan))
+
+
+#: why a relative survey gives no adjustment amounts (summary.toml ``[adjustment] withheld``; the reports
+#: and ``insrail process`` print it in the report's language)
+AMOUNTS_WITHHELD = ("relative survey: no adjustment amounts, they would move the rails by the IMU's drift "
+                    "against the design; the crew needs a survey with GNSS or prism fixes")
+
+
+def without_amounts(adjustment):
+    """The adjustment as a relative survey writes it: no amounts (NaN), nothing flagged as unresolved."""
+    return replace(adjustment, lateral_m=np.full_like(adjustment.lateral_m, np.nan),
+                   vertical_m=np.full_like(adjustment.vertical_m, np.nan),
+                   unresolved_lateral=np.zeros_like(adjustment.unresolved_lateral),
+                   unresolved_vertical=np.zeros_like(adjustment.unresolved_vertical),
+                   reason_lateral=np.zeros_like(adjustment.reason_lateral),
+                   reason_vertical=np.zeros_like(adjustment.reason_vertical))
+
+
+def withheld_adjustment_section(adjustment) -> dict:
+    """summary.toml's ``[adjustment]`` of a relative survey: the fastener and why there are no amounts."""
+    return {"fastener": adjustment.fastener, "withheld": AMOUNTS_WITHHELD}

@@ -63,7 +63,7 @@ from insrail.report.content import (
     survey_title,
     threshold_text,
 )
-from insrail.report.labels import SIGNS, amounts_text, deviation_reference
+from insrail.report.labels import SIGNS, amounts_text, amounts_withheld_text, deviation_reference
 
 EXCEEDANCE_FILL = PatternFill("solid", fgColor="FFC7CE")  # the spreadsheet's usual "bad" red
 INVALID_FILL = PatternFill("solid", fgColor="D9D9D9")
@@ -700,6 +700,8 @@ def _tamping_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
 
 def _fastener_line(content: ReportContent) -> str:
     """The fastener type, the total movement and how many sleepers still fail (summary.toml [adjustment])."""
+    if (withheld := amounts_withheld_text(content.summary)) is not None:
+        return withheld
     fastener = content.fastener
     adjustment = content.summary.get("adjustment", {})
     kind = ((t(fastener.description) or t("{name}, steps of {step:g} mm").format(name=fastener.name,

@@ -49,9 +49,20 @@ def reference_line(summary: dict) -> str:
             else t("the line fitted to the measured centreline"))
 
 
+def amounts_withheld_text(summary: dict) -> str | None:
+    """Why the results hold no adjustment amounts (a relative survey: summary.toml ``[adjustment] withheld``),
+    in the report's language; None where they hold amounts."""
+    if "withheld" not in summary.get("adjustment", {}):
+        return None
+    return t("No adjustment amounts: a relative survey (no GNSS, no prism fixes) knows the track's shape, not its "
+             "place against the design; amounts would move the rails by the IMU's drift")
+
+
 def amounts_text(summary: dict, profile, fastener) -> str:
     """What moving each rail by its amount achieves, from the results' summary ([adjustment]) and the
     profile and fastener type the amounts were planned with (``fastener`` None: its file is not readable)."""
+    if (withheld := amounts_withheld_text(summary)) is not None:
+        return withheld
     adjustment = summary.get("adjustment", {})
     strategy = t(STRATEGIES.get(adjustment.get("strategy", DEFAULT_STRATEGY), adjustment.get("strategy", "")))
     failing = adjustment.get("unresolved_sleepers", 0)

@@ -105,7 +105,7 @@ from insrail.report.content import (
     threshold_text,
 )
 from insrail.report.fonts import font_for, font_runs, helvetica_can_show
-from insrail.report.labels import amounts_text, deviation_reference
+from insrail.report.labels import amounts_text, amounts_withheld_text, deviation_reference
 from insrail.track.exceedance import RAILS
 
 #: [report] paper -> the page (landscape), width and height in points
@@ -453,6 +453,8 @@ def _accuracy_conclusion(content: ReportContent) -> list[Flowable]:
 
 
 def _adjustment_conclusion(content: ReportContent) -> str:
+    if (withheld := amounts_withheld_text(content.summary)) is not None:
+        return "<b>" + text(withheld + t(".")) + "</b>"
     adjustment = content.summary.get("adjustment", {})
     amounts = [content.column(key).values for key in ADJUSTMENT_KEYS]
     moving = int(np.count_nonzero(np.any([np.nan_to_num(a) != 0 for a in amounts], axis=0)))
