@@ -20,10 +20,11 @@ import pytest
 
 from insrail.cli.main import main
 from insrail.io.errors import InputError
-from insrail.project import load_project, process
+from insrail.project import load_project, pipeline, process
 from insrail.project import results as results_module
 from insrail.project.demo import project_for_simulated_survey
 from insrail.project.lock import project_run
+from insrail.project.pipeline import fusion_key
 from insrail.project.results import load_results
 from insrail.sim.scenario import GnssSpec, preset
 from insrail.sim.simulate import simulate
@@ -505,6 +506,45 @@ def test_two_concurrent_runs_of_one_project_both_succeed_one_after_the_other(tin
         worker.join()
     assert [run.wait(600) for run in runs] == [0, 0], [log.read_text()[-2000:] for log in logs]
     assert_same_results(project, tiny)
+
+
+@pytest.mark.parametrize("name, file_format, refusal", [
+    ("imu.txt", "kfgins-imu", r"imu.txt, line 1: binary data \(a NUL byte\), not a text file"),
+    ("imu.npy", "imu-npy", r"imu.npy: not a readable NumPy .npy file"),
+])
+def test_a_disk_image_named_as_the_imu_file_is_refused_before_it_is_hashed(tiny, tmp_path, name, file_format,
+                                                                           refusal):
+    """The cache key hashes the raw files before anything reads them: a 5 GB image is refused at
+    its first block, not after hashing it all (57 s before)."""
+    project = copy_of(tiny, tmp_path)
+    survey = project / "surveys" / SURVEY
+    (survey / "imu.npy").unlink()
+    with open(survey / name, "wb") as handle:
+        handle.truncate(5 << 30)  # sparse: no disk used
+    manifest = survey / "survey.toml"
+    manifest.write_text(manifest.read_text().replace('path = "imu.npy"\nformat = "imu-npy"',
+                                                     f'path = "{name}"\nformat = "{file_format}"'))
+    loaded = load_project(project)
+    read = []
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(pipeline.hashlib, "sha256", lambda *a, _new=pipeline.hashlib.sha256: Counting(_new(*a), read))
+        with pytest.raises(InputError, match=refusal):
+            fusion_key(loaded, loaded.manifest(SURVEY), survey)
+    assert sum(read) < 64 << 20  # of the 5 GiB
+
+
+class Counting:
+    """A hash that counts the bytes it is given."""
+
+    def __init__(self, digest, counts: list[int]):
+        self.digest, self.counts = digest, counts
+
+    def update(self, data: bytes) -> None:
+        self.counts.append(len(data))
+        self.digest.update(data)
+
+    def hexdigest(self) -> str:
+        return self.digest.hexdigest()
 
 
 # --------------------------------------------------------------------------- files outside the project

@@ -54,6 +54,7 @@ from insrail.geodesy.height_anomaly import HeightAnomalyFit, fit_height_anomaly
 from insrail.io.atomic import atomic_write
 from insrail.io.control import read_benchmarks
 from insrail.io.errors import InputError
+from insrail.io.formats import get_format
 from insrail.io.survey import (
     MANIFEST_NAME,
     SurveyManifest,
@@ -259,12 +260,6 @@ def read_design(path: Path) -> DesignAlignment:
     return read_landxml(path) if path.suffix.lower() == ".xml" else read_alignment_csv(path)
 
 
-def _hash_file(digest, path: Path) -> None:
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-
-
 def _geodesy_settings(run: RunSettings) -> dict:
     """What the engineering coordinates depend on: CRS, benchmarks (contents) and height model."""
     settings = {"crs": run.crs.to_settings(), "height": run.height.anomaly.to_settings()}
@@ -285,7 +280,7 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
     fused = {role: entry for role, entry in manifest.files.items() if role != EVENTS_ROLE}  # events: assessment only
     for role in sorted(fused):
         digest.update(role.encode())
-        _hash_file(digest, folder / manifest.files[role].path)
+        get_format(fused[role].format).scan(folder / fused[role].path, digest.update)  # refused before hashed whole
     trolley = {k: np.asarray(v).tolist() if not isinstance(v, str) else v
                for k, v in asdict(run.trolley).items()}
     settings = {"version": CACHE_VERSION, "gps_week": manifest.gps_week, "trolley": trolley,
