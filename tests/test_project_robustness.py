@@ -23,7 +23,7 @@ from insrail.io.errors import InputError
 from insrail.project import load_project, pipeline, process
 from insrail.project import results as results_module
 from insrail.project.demo import project_for_simulated_survey
-from insrail.project.lock import project_run
+from insrail.project.lock import cache_entry, project_run
 from insrail.project.pipeline import fusion_key
 from insrail.project.results import load_results
 from insrail.sim.scenario import GnssSpec, preset
@@ -545,6 +545,36 @@ class Counting:
 
     def hexdigest(self) -> str:
         return self.digest.hexdigest()
+
+
+def test_two_surveys_with_identical_data_run_at_once_compute_their_shared_fusion_once(tiny, tmp_path):
+    """One survey copied under a second name (a batch of both): the same cache key, two survey
+    locks; the second to look the fusion up waits for the first and reuses it instead of writing
+    the same cache files at the same time."""
+    project = copy_of(tiny, tmp_path)
+    shutil.rmtree(project / "results")
+    shutil.copytree(project / "surveys" / SURVEY, project / "surveys" / "twin")
+    settings = project / "project.toml"
+    settings.write_text('[[surveys]]\nname = "twin"\nfolder = "surveys/twin"\n\n' + settings.read_text())
+    loaded = load_project(project)
+    keys = {fusion_key(loaded, loaded.manifest(name), project / "surveys" / name) for name in (SURVEY, "twin")}
+    assert len(keys) == 1
+    logs = [tmp_path / f"{name}.err" for name in (SURVEY, "twin")]
+    with project_run(project, []), cache_entry(project, f"fusion-{keys.pop()}"):  # as a third run computing it
+        runs = [subprocess.Popen([sys.executable, "-m", "insrail", "process", str(project), "--survey", name],
+                                 stdout=subprocess.PIPE, stderr=log.open("w"), text=True)
+                for name, log in zip((SURVEY, "twin"), logs)]
+        deadline = time.monotonic() + 300
+        while not all("cache-fusion-" in log.read_text() for log in logs):  # both wait for the entry
+            assert time.monotonic() < deadline and all(run.poll() is None for run in runs), \
+                [log.read_text()[-2000:] for log in logs]
+            time.sleep(0.2)
+    outputs = [run.communicate(timeout=900)[0] for run in runs]
+    assert [run.returncode for run in runs] == [0, 0], [log.read_text()[-2000:] for log in logs]
+    assert sorted("fusion: computed" in out for out in outputs) == [False, True], outputs
+    assert all("waiting for the run started at " in log.read_text() for log in logs)
+    sleepers = [(project / "results" / name / "sleepers.csv").read_text() for name in (SURVEY, "twin")]
+    assert sleepers[0] == sleepers[1]
 
 
 # --------------------------------------------------------------------------- files outside the project

@@ -74,7 +74,7 @@ from insrail.project.design_heading import design_azimuth_for, uses_design
 from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
-from insrail.project.lock import project_run
+from insrail.project.lock import cache_entry, project_run
 from insrail.project.model import Project
 from insrail.project.clocks import check_clocks
 from insrail.project.plausibility import (
@@ -473,15 +473,16 @@ def _adjustment(project: Project, run: RunSettings, geometry: SleeperGeometry, p
                    geometry.design_cant_m, geometry.station_m):
         digest.update(np.ascontiguousarray(values).tobytes())
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"adjustment-{digest.hexdigest()[:32]}.npz"
-    cached = cached_dataclass("adjustment", path, Adjustment)
-    if cached is not None:
-        lateral, vertical = cached.lateral_m, cached.vertical_m
-    else:
-        lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=progress, cancel=cancel,
-                                             threshold_m=run.adjustment.threshold_m)
-    after, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
-    if cached is None:
-        save_dataclass(path, adjustment)
+    with cache_entry(project.folder, path.stem, progress, cancel):
+        cached = cached_dataclass("adjustment", path, Adjustment)
+        if cached is not None:
+            lateral, vertical = cached.lateral_m, cached.vertical_m
+        else:
+            lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=progress,
+                                                 cancel=cancel, threshold_m=run.adjustment.threshold_m)
+        after, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
+        if cached is None:
+            save_dataclass(path, adjustment)
     return after, adjustment
 
 
@@ -540,17 +541,19 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     step(0.04, "height model")
     height_fit = fit_heights(project)
     key = fusion_key(project, manifest, folder, gnss.pos_sha256 if gnss else "", run)
-    fresh, trajectory_file, fusion_info = _fused_trajectory(project, run, manifest, folder, key, height_fit,
-                                                             gnss.solution if gnss else None,
-                                                             step.sub(0.04, 0.8), cancel)
+    with cache_entry(project.folder, f"fusion-{key}", step.sub(0.04, 0.8), cancel):
+        fresh, trajectory_file, fusion_info = _fused_trajectory(project, run, manifest, folder, key, height_fit,
+                                                                 gnss.solution if gnss else None,
+                                                                 step.sub(0.04, 0.8), cancel)
     release_free_memory()
     check_cancel(cancel)
 
     step(0.82, "rails, chainage and sleepers")
     local = fit_local(project.local_control) if project.local_control is not None else None
-    recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
-                                                       track_key(project, run, key), height_fit, cancel, local,
-                                                       fusion_info)
+    reconstruction_key = track_key(project, run, key)
+    with cache_entry(project.folder, f"track-{reconstruction_key}", step.sub(0.82, 0.88), cancel):
+        recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
+                                                           reconstruction_key, height_fit, cancel, local, fusion_info)
     del fresh
     release_free_memory()
     check_cancel(cancel)
