@@ -433,6 +433,11 @@ def test_report_to_a_missing_folder_fails_before_building(tiny, tmp_path, monkey
     monkeypatch.setattr(report, "write_pdf", never)
     assert main(["report", str(tiny), "--xlsx", "/nonexistent/x.xlsx"]) == 1
     assert "insrail: --xlsx /nonexistent/x.xlsx: the folder /nonexistent does not exist" in capsys.readouterr().err
+    fifo = tmp_path / "report.pdf"
+    os.mkfifo(fifo)
+    assert main(["report", str(tiny), "--pdf", str(fifo)]) == 1  # a device or FIFO: refused before building too
+    assert (f"insrail: --pdf {fifo}: a FIFO (named pipe), not a regular file: refused as an output (nothing written)"
+            in capsys.readouterr().err)
 
 
 def test_a_design_nested_100000_deep_is_an_error_not_a_recursion(tiny, tmp_path, capsys):
