@@ -123,6 +123,7 @@ from insrail.project.stagecache import (
     cached_dataclass,
     clean_leftovers,
     collect_cache_notices,
+    file_sha256,
     intact,
     load_dataclass,
     save_dataclass,
@@ -294,10 +295,11 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
     return digest.hexdigest()[:32]
 
 
-def track_key(project: Project, run: RunSettings, fusion: str) -> str:
+def track_key(project: Project, run: RunSettings, fusion: str, events_sha256: str = "") -> str:
     """Hash of everything the track reconstruction depends on beyond the fusion (whose key holds
     the raw files, gauge and sleeper pulses included, and the trolley): the run settings' geodesy
-    and design, and the project's stationing."""
+    and design, the project's stationing and, without a design, the event files (``events_sha256``,
+    :func:`events_sha256`: their stretches are left out of the line fit)."""
     digest = hashlib.sha256(fusion.encode())
     settings = {"version": CACHE_VERSION, "layout": TRACK_CACHE_LAYOUT, "geodesy": _geodesy_settings(run),
                 "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number,
@@ -306,8 +308,17 @@ def track_key(project: Project, run: RunSettings, fusion: str) -> str:
         settings["local_control"] = project.local_control.to_settings()
     if run.design is not None:
         settings["design"] = [run.design, run.design_sha256]
+    else:
+        settings["events"] = events_sha256
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
+
+
+def events_sha256(project: Project, manifest: SurveyManifest, folder: Path) -> str:
+    """The contents of the survey's and the project's event files ("" without either)."""
+    paths = ([folder / manifest.files[EVENTS_ROLE].path] if EVENTS_ROLE in manifest.files else []) + (
+        [project.resolve(project.events)] if project.events is not None else [])
+    return hashlib.sha256("".join(file_sha256(path) for path in paths).encode()).hexdigest() if paths else ""
 
 
 def prism_fixes(project: Project, prism: PrismObservations, trolley: TrolleyGeometry,
@@ -443,6 +454,8 @@ def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyMan
     if design is None:
         info = fusion_info or {}
         flagged = flag_gap_sleepers(flag_sleepers(recon.table, info.get("integrity")), info.get("imu_gaps_s", []))
+        # a turnout, a level crossing or a stretch not to assess is no part of the line's geometry either
+        flagged = apply_events(replace(recon, table=flagged), survey_events(project, manifest, folder, recon)).table
         recon = finished_reconstruction(recon.sleepers, recon.table, {"epochs": recon.epochs}, True,
                                         cant_base_m=manifest.trolley.rail_centre_spacing_m, fit_rows=flagged.valid)
     extras = TrackExtras(attitude, FittedLine.of(recon) if run.design is None else None)
@@ -550,7 +563,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
 
     step(0.82, "rails, chainage and sleepers")
     local = fit_local(project.local_control) if project.local_control is not None else None
-    reconstruction_key = track_key(project, run, key)
+    reconstruction_key = track_key(project, run, key, events_sha256(project, manifest, folder))
     with cache_entry(project.folder, f"track-{reconstruction_key}", step.sub(0.82, 0.88), cancel):
         recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
                                                            reconstruction_key, height_fit, cancel, local, fusion_info)
