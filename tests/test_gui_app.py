@@ -32,6 +32,7 @@ from insrail.project.demo import project_for_simulated_survey
 from insrail.project.plotdata import exceedance_window
 from insrail.track.tolerance import load_tolerance_profile
 from tests.test_gui_track import scroll_to
+from tests.test_project_lock import hold_in_child
 
 RAW_FILES = ("imu.npy", "gnss.pos", "odometer.txt", "gauge.txt", "sleepers.txt", "benchmarks.txt")
 
@@ -580,6 +581,29 @@ def test_reports_older_than_the_results_are_marked_and_written_again_in_one_clic
     assert window.stale_banner.isHidden()
     results_item = window.explorer.findItems("Results", Qt.MatchRecursive)[0].child(0)
     assert [results_item.child(k).text(0) for k in range(results_item.childCount())] == [p.name for p in reports]
+
+
+def test_an_export_while_another_process_holds_the_survey_waits_in_its_worker(window, qtbot, demo_project, tmp_path,
+                                                                              monkeypatch):
+    root = processed_copy(demo_project, tmp_path / "copy")
+    assert window.open_project(root)
+    wait_views(window, qtbot)
+    shown = []
+    monkeypatch.setattr(QMessageBox, "warning", lambda *args: shown.append(args[1:]))
+    target = tmp_path / "report.xlsx"
+    holder = hold_in_child(root, "short")  # a command-line run of the survey
+    try:
+        assert window.export_report("xlsx", target) is not None
+        # the GUI thread runs these waits' event loops: it is never the one waiting for the lock
+        qtbot.waitUntil(lambda: f"by PID {holder.pid}" in window.status.text(), timeout=30_000)
+        assert window.status.text().startswith("waiting for the run started at ")
+        qtbot.wait(500)
+        assert window.worker is not None and not target.exists()
+    finally:
+        holder.kill()
+        holder.wait()
+    qtbot.waitUntil(lambda: window.worker is None, timeout=120_000)
+    assert target.read_bytes()[:4] == b"PK\x03\x04" and shown == []
 
 
 def test_cancel_an_export_writes_nothing(window, qtbot, demo_project, tmp_path):

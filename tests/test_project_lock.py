@@ -16,7 +16,7 @@ import pytest
 
 from insrail.progress import Cancelled
 from insrail.project import lock
-from insrail.project.lock import LOCK_FOLDER, ProjectBusy, project_run, waiting_policy
+from insrail.project.lock import LOCK_FOLDER, ProjectBusy, cache_entry, project_run, waiting_policy
 
 
 def hold_in_child(project, survey: str):
@@ -103,3 +103,29 @@ def test_a_project_this_user_may_only_read_is_not_locked(tmp_path, monkeypatch):
     monkeypatch.setattr(lock, "_open", lambda path: (_ for _ in ()).throw(OSError(errno.EIO, "I/O error", str(path))))
     with pytest.raises(OSError, match="I/O error"), project_run(tmp_path, ["north"]):
         pass
+
+
+def test_a_cache_entry_held_by_another_process_is_waited_for_and_its_lock_removed_only_by_a_run_alone(tmp_path):
+    code = ("import sys, time\nfrom insrail.project.lock import cache_entry, project_run\n"
+            "with project_run(sys.argv[1], []), cache_entry(sys.argv[1], 'fusion-abc'):\n"
+            "    print('held', flush=True)\n    time.sleep(600)\n")
+    child = subprocess.Popen([sys.executable, "-c", code, str(tmp_path)], stdout=subprocess.PIPE, text=True)
+    entry_lock = tmp_path / LOCK_FOLDER / "cache-fusion-abc.lock"
+    try:
+        assert child.stdout.readline().strip() == "held"
+        with waiting_policy(wait=False), pytest.raises(ProjectBusy, match=f"the cache entry fusion-abc is in use by "
+                                                                          f"the run started at .* by PID {child.pid}"):
+            with project_run(tmp_path, ["north"]), cache_entry(tmp_path, "fusion-abc"):
+                pass
+        assert entry_lock.exists()  # that run was not alone: the lock file stays
+        messages = []
+        threading.Timer(1.0, child.kill).start()
+        with waiting_policy(wait=True, announce=messages.append), project_run(tmp_path, ["north"]):
+            with cache_entry(tmp_path, "fusion-abc"):
+                assert f"by PID {os.getpid()}" in entry_lock.read_text()
+        assert len(messages) == 1 and f"by PID {child.pid}" in messages[0] and str(entry_lock) in messages[0]
+    finally:
+        child.kill()
+        child.wait()
+    with project_run(tmp_path, ["north"]):  # alone: nobody can hold or wait for an entry
+        assert not entry_lock.exists()

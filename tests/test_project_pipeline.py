@@ -455,6 +455,36 @@ def test_without_a_design_the_line_fit_is_cached_with_the_track(processed, monke
     assert all((damaged.folder / name).read_bytes() == first[name] for name in undated)
 
 
+def test_without_a_design_event_stretches_are_left_out_of_the_line_fit(processed, monkeypatch, capsys):
+    """A turnout (a level crossing, a stretch not to assess) is no part of the line's geometry: the fit
+    takes none of its sleepers, a bridge's it takes; an edited event file fits the line again."""
+    project, with_design = processed
+    first = round(float(with_design.table.station_m[0]), 1)  # as the event file gives the stations
+    undesigned = replace(project, design=None, start_station_m=first, events="fit_events.txt")
+    events = project.folder / "fit_events.txt"
+    events.write_text(f"turnout, {first + 100:.1f}, {first + 170:.1f}, station_m, , W1\n"
+                      f"bridge, {first + 300:.1f}, {first + 340:.1f}, station_m, , B1\n")
+    fit_rows = []
+    real = pipeline.finished_reconstruction
+    monkeypatch.setattr(pipeline, "finished_reconstruction",
+                        lambda *a, **k: fit_rows.append(k.get("fit_rows")) or real(*a, **k))
+    results = process(undesigned, "short")
+    assert results.reconstruction.fitted is not None and len(fit_rows) == 1
+    station = results.table.station_m
+    in_turnout = (station >= first + 100) & (station <= first + 170)
+    on_bridge = (station >= first + 300) & (station <= first + 340)
+    assert in_turnout.sum() > 100 and not fit_rows[0][in_turnout].any()
+    assert fit_rows[0][on_bridge].mean() > 0.9 and fit_rows[0][~in_turnout].mean() > 0.9
+
+    assert process(undesigned, "short").summary["track"]["from_cache"]
+    events.write_text(f"turnout, {first + 200:.1f}, {first + 270:.1f}, station_m, , W1\n")
+    moved = process(undesigned, "short")
+    assert not moved.summary["track"]["from_cache"] and len(fit_rows) == 2
+    assert fit_rows[1][in_turnout].mean() > 0.9
+    main(["process", str(project.folder)])  # restore the design results for the other tests
+    capsys.readouterr()
+
+
 def test_a_bridged_imu_gap_reaches_the_summary_the_cli_and_the_pdf(short_nav_survey, tmp_path, capsys):
     """Notices of the fusion (an IMU gap bridged, a corrupt record removed) are in summary.toml, the
     `process` output and the PDF's processing page (insrail.notices)."""

@@ -20,10 +20,11 @@ import pytest
 
 from insrail.cli.main import main
 from insrail.io.errors import InputError
-from insrail.project import load_project, process
+from insrail.project import load_project, pipeline, process
 from insrail.project import results as results_module
 from insrail.project.demo import project_for_simulated_survey
-from insrail.project.lock import project_run
+from insrail.project.lock import cache_entry, project_run
+from insrail.project.pipeline import fusion_key
 from insrail.project.results import load_results
 from insrail.sim.scenario import GnssSpec, preset
 from insrail.sim.simulate import simulate
@@ -432,6 +433,11 @@ def test_report_to_a_missing_folder_fails_before_building(tiny, tmp_path, monkey
     monkeypatch.setattr(report, "write_pdf", never)
     assert main(["report", str(tiny), "--xlsx", "/nonexistent/x.xlsx"]) == 1
     assert "insrail: --xlsx /nonexistent/x.xlsx: the folder /nonexistent does not exist" in capsys.readouterr().err
+    fifo = tmp_path / "report.pdf"
+    os.mkfifo(fifo)
+    assert main(["report", str(tiny), "--pdf", str(fifo)]) == 1  # a device or FIFO: refused before building too
+    assert (f"insrail: --pdf {fifo}: a FIFO (named pipe), not a regular file: refused as an output (nothing written)"
+            in capsys.readouterr().err)
 
 
 def test_a_design_nested_100000_deep_is_an_error_not_a_recursion(tiny, tmp_path, capsys):
@@ -505,6 +511,75 @@ def test_two_concurrent_runs_of_one_project_both_succeed_one_after_the_other(tin
         worker.join()
     assert [run.wait(600) for run in runs] == [0, 0], [log.read_text()[-2000:] for log in logs]
     assert_same_results(project, tiny)
+
+
+@pytest.mark.parametrize("name, file_format, refusal", [
+    ("imu.txt", "kfgins-imu", r"imu.txt, line 1: binary data \(a NUL byte\), not a text file"),
+    ("imu.npy", "imu-npy", r"imu.npy: not a readable NumPy .npy file"),
+])
+def test_a_disk_image_named_as_the_imu_file_is_refused_before_it_is_hashed(tiny, tmp_path, name, file_format,
+                                                                           refusal):
+    """The cache key hashes the raw files before anything reads them: a 5 GB image is refused at
+    its first block, not after hashing it all (57 s before)."""
+    project = copy_of(tiny, tmp_path)
+    survey = project / "surveys" / SURVEY
+    (survey / "imu.npy").unlink()
+    with open(survey / name, "wb") as handle:
+        handle.truncate(5 << 30)  # sparse: no disk used
+    manifest = survey / "survey.toml"
+    manifest.write_text(manifest.read_text().replace('path = "imu.npy"\nformat = "imu-npy"',
+                                                     f'path = "{name}"\nformat = "{file_format}"'))
+    loaded = load_project(project)
+    read = []
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(pipeline.hashlib, "sha256", lambda *a, _new=pipeline.hashlib.sha256: Counting(_new(*a), read))
+        with pytest.raises(InputError, match=refusal):
+            fusion_key(loaded, loaded.manifest(SURVEY), survey)
+    assert sum(read) < 64 << 20  # of the 5 GiB
+
+
+class Counting:
+    """A hash that counts the bytes it is given."""
+
+    def __init__(self, digest, counts: list[int]):
+        self.digest, self.counts = digest, counts
+
+    def update(self, data: bytes) -> None:
+        self.counts.append(len(data))
+        self.digest.update(data)
+
+    def hexdigest(self) -> str:
+        return self.digest.hexdigest()
+
+
+def test_two_surveys_with_identical_data_run_at_once_compute_their_shared_fusion_once(tiny, tmp_path):
+    """One survey copied under a second name (a batch of both): the same cache key, two survey
+    locks; the second to look the fusion up waits for the first and reuses it instead of writing
+    the same cache files at the same time."""
+    project = copy_of(tiny, tmp_path)
+    shutil.rmtree(project / "results")
+    shutil.copytree(project / "surveys" / SURVEY, project / "surveys" / "twin")
+    settings = project / "project.toml"
+    settings.write_text('[[surveys]]\nname = "twin"\nfolder = "surveys/twin"\n\n' + settings.read_text())
+    loaded = load_project(project)
+    keys = {fusion_key(loaded, loaded.manifest(name), project / "surveys" / name) for name in (SURVEY, "twin")}
+    assert len(keys) == 1
+    logs = [tmp_path / f"{name}.err" for name in (SURVEY, "twin")]
+    with project_run(project, []), cache_entry(project, f"fusion-{keys.pop()}"):  # as a third run computing it
+        runs = [subprocess.Popen([sys.executable, "-m", "insrail", "process", str(project), "--survey", name],
+                                 stdout=subprocess.PIPE, stderr=log.open("w"), text=True)
+                for name, log in zip((SURVEY, "twin"), logs)]
+        deadline = time.monotonic() + 300
+        while not all("cache-fusion-" in log.read_text() for log in logs):  # both wait for the entry
+            assert time.monotonic() < deadline and all(run.poll() is None for run in runs), \
+                [log.read_text()[-2000:] for log in logs]
+            time.sleep(0.2)
+    outputs = [run.communicate(timeout=900)[0] for run in runs]
+    assert [run.returncode for run in runs] == [0, 0], [log.read_text()[-2000:] for log in logs]
+    assert sorted("fusion: computed" in out for out in outputs) == [False, True], outputs
+    assert all("waiting for the run started at " in log.read_text() for log in logs)
+    sleepers = [(project / "results" / name / "sleepers.csv").read_text() for name in (SURVEY, "twin")]
+    assert sleepers[0] == sleepers[1]
 
 
 # --------------------------------------------------------------------------- files outside the project

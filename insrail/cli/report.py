@@ -18,6 +18,7 @@ import sys
 from pathlib import Path
 
 from insrail.cli.progressbar import TerminalProgress
+from insrail.io.atomic import NotARegularFile, check_output_path
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -65,6 +66,10 @@ def _unwritable(path: Path | None) -> str | None:
         return f"the folder {folder} does not exist"
     if path.is_dir():
         return "is a folder: give a file name"
+    try:
+        check_output_path(path)
+    except NotARegularFile as error:  # a device or FIFO: refused now, not after building the report
+        return error.strerror
     if not os.access(folder, os.W_OK | os.X_OK):
         return f"no permission to write in {folder}"
     return None

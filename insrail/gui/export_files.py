@@ -14,6 +14,7 @@ from PySide6.QtWidgets import QFileDialog
 
 from insrail.export import default_export_path, export_formats, write_export
 from insrail.progress import CancelToken, ProgressFn, StepProgress
+from insrail.project.lock import project_run
 from insrail.project.results import report_path
 from insrail.report import write_pdf, write_workbook
 from insrail.report.stale import stale_reports
@@ -56,15 +57,20 @@ def _chosen_path(window, what: str, default: Path, file_filter: str, suffix: str
     return path if path.suffix.lower() == f".{suffix}" else path.with_name(f"{path.name}.{suffix}")
 
 
-def _start_writing(window, subject: str, message: str, write: Callable[[ProgressFn, CancelToken], Path]):
-    """Run ``write`` in a worker; a file system error is worded about the file the user chose."""
+def _start_writing(window, survey: str, subject: str, message: str, write: Callable[[ProgressFn, CancelToken], Path]):
+    """Run ``write`` in a worker holding ``survey``'s lock, as the command line's report and export
+    do (a run of the survey started elsewhere is waited for in the worker, with its message in the
+    status bar, and can be cancelled); a file system error is worded about the file the user chose."""
     from insrail.gui.worker import TaskWorker
 
+    folder = window.project.folder
+
     def task(progress, cancel) -> Path:
-        try:
-            return write(progress, cancel)
-        except OSError as error:
-            raise OSError(f"cannot write the file: {error.strerror or error}") from error
+        with project_run(folder, [survey], progress, cancel):
+            try:
+                return write(progress, cancel)
+            except OSError as error:
+                raise OSError(f"cannot write the file: {error.strerror or error}") from error
 
     worker = TaskWorker(subject, task, window)
     worker.succeeded.connect(window._exported)
@@ -82,7 +88,7 @@ def export_report(window, kind: str, path: str | Path | None = None):
     path = _chosen_path(window, what, report_path(project.folder, survey, kind), file_filter, kind, path)
     if path is None:
         return None
-    return _start_writing(window, f"{what} {path}", f"exporting the {what.lower()} of {survey} to {path}",
+    return _start_writing(window, survey, f"{what} {path}", f"exporting the {what.lower()} of {survey} to {path}",
                           lambda progress, cancel: writer(project, stored, path, progress, cancel))
 
 
@@ -103,7 +109,8 @@ def export_file(window, format_name: str, path: str | Path | None = None):
         progress(0.0, f"writing {path.name}")
         return write_export(project, stored, format_name, path)
 
-    return _start_writing(window, f"{what} {path}", f"exporting the {what.lower()} of {survey} to {path}", write)
+    return _start_writing(window, survey, f"{what} {path}", f"exporting the {what.lower()} of {survey} to {path}",
+                          write)
 
 
 def rewrite_stale_reports(window, survey: str | None = None):
@@ -125,4 +132,5 @@ def rewrite_stale_reports(window, survey: str | None = None):
         return stale[-1]
 
     names = ", ".join(path.name for path in stale)
-    return _start_writing(window, f"reports of {survey}", f"writing {names} again from the results of {survey}", write)
+    return _start_writing(window, survey, f"reports of {survey}", f"writing {names} again from the results of {survey}",
+                          write)

@@ -59,6 +59,7 @@ from insrail.project import (
 )
 from insrail.project.event_marking import results_older_than_events
 from insrail.project.gnss_stage import GnssStageResult, run_gnss_stage
+from insrail.project.lock import project_run
 from insrail.project.model import project_from_settings
 from insrail.project.pipeline import CACHE_FOLDER
 from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
@@ -731,8 +732,12 @@ class MainWindow(QMainWindow):
             self._warn(tr("GNSS post-processing failed"), str(error))
             return None
         cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
-        worker = TaskWorker(f"survey {name}: GNSS", lambda progress, cancel: run_gnss_stage(
-            project, folder, manifest, cache, progress, cancel), self)
+
+        def task(progress, cancel) -> GnssStageResult:
+            with project_run(project.folder, [name], progress, cancel):  # as processing the survey does
+                return run_gnss_stage(project, folder, manifest, cache, progress, cancel)
+
+        worker = TaskWorker(f"survey {name}: GNSS", task, self)
         worker.succeeded.connect(self._gnss_done)
         worker.cancelled.connect(self._gnss_cancelled)
         self.tabs.setCurrentWidget(self.gnss)

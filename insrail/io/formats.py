@@ -17,7 +17,15 @@ import numpy as np
 
 from insrail.io import control, events, gnss, gsi, imu, odometer, rtklib, total_station, track_sensors
 from insrail.io.errors import InputError
-from insrail.io.textparse import COMMENT_MARKERS, bounded_lines, header_value, is_number, split_fields, strip_comment
+from insrail.io.textparse import (
+    COMMENT_MARKERS,
+    bounded_lines,
+    check_text_file,
+    header_value,
+    is_number,
+    split_fields,
+    strip_comment,
+)
 from insrail.io.types import (
     Benchmarks,
     ControlPoints,
@@ -31,9 +39,19 @@ from insrail.io.types import (
 )
 
 
+def _scan_text(path: Path, each_block: Callable[[bytes], object]) -> None:
+    check_text_file(path, each_block=each_block)
+
+
 @dataclass(frozen=True)
 class FileFormat:
-    """One raw-data format: its registry name, reader, writer and the type the reader returns."""
+    """One raw-data format: its registry name, reader, writer and the type the reader returns.
+
+    ``scan(path, each_block)`` reads the file once in blocks, refusing it (InputError) at the first
+    block that shows it is not of this kind, and hands each block to ``each_block``: the cache key
+    hashes a raw file this way, so a disk image named as an IMU file is refused in a moment instead
+    of after hashing all of it. Every format is text (:func:`check_text_file`) but the binary ones.
+    """
 
     name: str
     read: Callable[..., Any]
@@ -43,6 +61,7 @@ class FileFormat:
     #: (option, why) for options that are each of the right type but together no valid setting
     #: (a calibration slope of 0, a key another needs): survey.toml names them by key before reading
     check_options: Callable[[dict], list[tuple[str, str]]] | None = None
+    scan: Callable[[Path, Callable[[bytes], object]], None] = _scan_text
 
     def options(self) -> dict[str, inspect.Parameter]:
         """The reader's keyword options (everything after the path)."""
@@ -58,7 +77,7 @@ FORMATS: dict[str, FileFormat] = {f.name: f for f in (
     FileFormat("kfgins-imu", imu.read_imu_kfgins, imu.write_imu_kfgins, ImuIncrements,
                "IMU increments, KF-GINS 7-column text"),
     FileFormat("imu-npy", imu.read_imu_npy, imu.write_imu_npy, ImuIncrements,
-               "IMU increments, NumPy .npy structured array"),
+               "IMU increments, NumPy .npy structured array", scan=imu.scan_imu_npy),
     FileFormat("imu-rates-csv", imu.read_imu_rates_csv, None, ImuIncrements,
                "IMU rates (specific force, angular rate) from a foreign logger, CSV/text"),
     FileFormat("kfgins-gnss", gnss.read_gnss_kfgins, gnss.write_gnss_kfgins, GnssSolution,

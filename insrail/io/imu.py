@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import mmap
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -121,6 +122,34 @@ def _npy_header(path: Path, handle) -> tuple[tuple[int, ...], bool, np.dtype]:
         raise InputError(path, None, f"not a readable NumPy .npy file ({exc})") from None
 
 
+def _imu_npy_layout(path: Path, handle) -> tuple[int, np.dtype]:
+    """(records, dtype) of an IMU .npy file (see :func:`read_imu_npy`), the handle left at its first record."""
+    shape, fortran, dtype = _npy_header(path, handle)
+    expected = ", ".join(f"{name} {IMU_NPY_DTYPE.fields[name][0].str}" for name in IMU_NPY_DTYPE.names)
+    if dtype.names is None or len(shape) != 1:
+        raise InputError(path, None, f"expected a 1-D structured array with fields {expected}, "
+                         f"found dtype {dtype} with shape {shape}")
+    for name in IMU_NPY_DTYPE.names:
+        want = IMU_NPY_DTYPE.fields[name][0]
+        have = dtype.fields.get(name)
+        if have is None or have[0].shape != want.shape or have[0].base.kind != "f":
+            raise InputError(path, None, f"field {name!r}: expected {want.base} with shape {want.shape}; "
+                             f"the file's fields are {dtype}")
+    if shape[0] == 0:
+        raise InputError(path, None, "empty file: no records")
+    return shape[0], dtype
+
+
+def scan_imu_npy(path: Path, each_block: Callable[[bytes], object]) -> None:
+    """Refuse ``path`` by its header when it is not an IMU .npy, before any of its records is read;
+    then hand its bytes to ``each_block`` (a cache key's hash), block by block."""
+    with open(path, "rb") as handle:
+        _imu_npy_layout(path, handle)
+        handle.seek(0)
+        for block in iter(lambda: handle.read(1 << 24), b""):
+            each_block(block)
+
+
 def read_imu_npy(path: str | Path) -> ImuIncrements:
     """Binary IMU increments: a .npy structured array with fields
     ``time_s`` (f8), ``dtheta_rad`` (f8, 3), ``dvel_mps`` (f8, 3), little-endian.
@@ -137,20 +166,7 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
     if not path.exists():
         raise InputError(path, None, "file not found")
     with open(path, "rb") as handle:
-        shape, fortran, dtype = _npy_header(path, handle)
-        expected = ", ".join(f"{name} {IMU_NPY_DTYPE.fields[name][0].str}" for name in IMU_NPY_DTYPE.names)
-        if dtype.names is None or len(shape) != 1:
-            raise InputError(path, None, f"expected a 1-D structured array with fields {expected}, "
-                             f"found dtype {dtype} with shape {shape}")
-        for name in IMU_NPY_DTYPE.names:
-            want = IMU_NPY_DTYPE.fields[name][0]
-            have = dtype.fields.get(name)
-            if have is None or have[0].shape != want.shape or have[0].base.kind != "f":
-                raise InputError(path, None, f"field {name!r}: expected {want.base} with shape {want.shape}; "
-                                 f"the file's fields are {dtype}")
-        n = shape[0]
-        if n == 0:
-            raise InputError(path, None, "empty file: no records")
+        n, dtype = _imu_npy_layout(path, handle)
 
         def fail(index: int, message: str):
             raise InputError(path, index, message, unit="index")

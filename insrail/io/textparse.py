@@ -32,7 +32,7 @@ import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from typing import Collection, Iterator, NoReturn, Sequence
+from typing import Callable, Collection, Iterator, NoReturn, Sequence
 
 import numpy as np
 
@@ -139,10 +139,13 @@ def _too_long() -> str:
     return f"line longer than the limit of {MAX_LINE_CHARS:,} characters: not a text table of this kind"
 
 
-def check_text_file(path: Path, max_lines: int = MAX_LINES) -> int:
+def check_text_file(path: Path, max_lines: int = MAX_LINES, each_block: Callable[[bytes], object] | None = None
+                    ) -> int:
     """Refuse ``path`` when it is binary, has an overlong line or more than ``max_lines`` lines
-    (see the module docstring); one pass in blocks of :data:`_SCAN_BLOCK` bytes. Returns the
-    number of lines (a last line without a line end counts)."""
+    (see the module docstring); one pass in blocks of :data:`_SCAN_BLOCK` bytes, each handed to
+    ``each_block`` once it passed (a cache key hashes the file in the same pass, and a disk image
+    is refused at its first block, not after hashing gigabytes). Returns the number of lines (a
+    last line without a line end counts)."""
     lineno, run = 1, 0  # the current line, and the bytes of it seen so far
     with open(path, "rb") as handle:
         for block in iter(lambda: handle.read(_SCAN_BLOCK), b""):
@@ -161,6 +164,8 @@ def check_text_file(path: Path, max_lines: int = MAX_LINES) -> int:
             if lineno - 1 > max_lines:
                 raise InputError(path, max_lines + 1, f"more than the limit of {max_lines:,} lines: not a "
                                  "plausible survey file (a 200 Hz IMU records 17 million lines a day)")
+            if each_block is not None:
+                each_block(block)
     return lineno if run else lineno - 1
 
 

@@ -48,6 +48,7 @@ from insrail.io.types import GnssSolution
 from insrail.nav.fusion import gnss_by_quality
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.control_points import resolve_control_point
+from insrail.project.lock import cache_entry
 from insrail.project.model import Project
 from insrail.project.stagecache import intact, seal
 from insrail.resources import resource
@@ -129,21 +130,23 @@ def _base_position(project: Project, folder: Path, raw: RawGnss) -> tuple[BasePo
                   "derivation": resolved.derivation, "warnings": list(resolved.warnings)}
 
 
-def _converted_log(cache: Path, folder: Path, raw: RawGnss) -> tuple[Path, tuple[Path, ...]]:
+def _converted_log(project_folder: Path, cache: Path, folder: Path, raw: RawGnss, progress: ProgressFn | None,
+                   cancel: CancelToken) -> tuple[Path, tuple[Path, ...]]:
     """The rover log as RINEX (observations, navigation files), converted once per log contents."""
     digest = hashlib.sha256()
     _hash_files(digest, folder, [raw.rover_log])
     digest.update(str(raw.rover_log_format).encode())
     target = cache / f"rinex-{digest.hexdigest()[:32]}"
-    if target.is_dir() and not intact("receiver log conversion", *_converted_files(target)):
-        shutil.rmtree(target, ignore_errors=True)
-    if not target.is_dir():
-        staging = Path(tempfile.mkdtemp(prefix=".rinex-", dir=cache))
-        try:
-            seal(*convert_to_rinex(folder / raw.rover_log, staging, raw.rover_log_format))
-            os.replace(staging, target)
-        finally:
-            shutil.rmtree(staging, ignore_errors=True)
+    with cache_entry(project_folder, target.name, progress, cancel):
+        if target.is_dir() and not intact("receiver log conversion", *_converted_files(target)):
+            shutil.rmtree(target, ignore_errors=True)
+        if not target.is_dir():
+            staging = Path(tempfile.mkdtemp(prefix=".rinex-", dir=cache))
+            try:
+                seal(*convert_to_rinex(folder / raw.rover_log, staging, raw.rover_log_format))
+                os.replace(staging, target)
+            finally:
+                shutil.rmtree(staging, ignore_errors=True)
     stem = Path(raw.rover_log).stem
     navigation = target / f"{stem}.nav"
     return target / f"{stem}.obs", (navigation,) if navigation.is_file() else ()
@@ -182,41 +185,42 @@ def run_gnss_stage(project: Project, folder: Path, manifest: SurveyManifest, cac
     base, base_report = _base_position(project, folder, raw)
     key = _ppk_key(folder, raw, base)
     pos_file, qc_file = cache / f"ppk-{key}.pos", cache / f"ppk-{key}.toml"
-    from_cache = intact("GNSS solution", pos_file, qc_file)
-    if from_cache:
-        step(1.0, "GNSS solution reused from the cache")
-        report = tomllib.loads(qc_file.read_text(encoding="utf-8"))
-    else:
-        step(0.0, "GNSS: preparing the observations")
-        navigation = [folder / n for n in raw.navigation]
-        if raw.rover_log is not None:
-            rover, log_navigation = _converted_log(cache, folder, raw)
-            navigation += log_navigation
+    with cache_entry(project.folder, pos_file.stem, progress, cancel):  # one run computes it, another reuses it
+        from_cache = intact("GNSS solution", pos_file, qc_file)
+        if from_cache:
+            step(1.0, "GNSS solution reused from the cache")
+            report = tomllib.loads(qc_file.read_text(encoding="utf-8"))
         else:
-            rover = folder / raw.rover
-        check_cancel(cancel)
-        overrides = {}
-        if raw.antex is not None:
-            # Phase-centre offsets and variations of both antennas; "*" takes the type from the RINEX
-            # header (ANT # / TYPE), base_antenna_type (BasePosition) overrides it for the base.
-            overrides = {"file-rcvantfile": str(folder / raw.antex), "ant1-anttype": "*", "ant2-anttype": "*"}
-        with warnings.catch_warnings():  # kept in the QC report and the summary instead
-            for category in (ApproximateBaseWarning, LongBaselineWarning):
-                warnings.simplefilter("ignore", category)
-            result = ppk(rover, folder / raw.base, navigation, pos_file, base_position=base,
-                         config=None if raw.config is None else folder / raw.config,
-                         options_overrides=overrides, precise_files=[folder / p for p in raw.precise],
-                         progress=step.sub(0.05, 0.95), cancel=cancel)
-        report = {"base": base_report, "warnings": list(result.warnings), "rtklib_seconds": result.elapsed_s,
-                  **({"baseline_m": result.baseline_m} if result.baseline_m is not None else {}),
-                  "qc": _qc_report(result.qc)}
-        try:
-            with atomic_write(qc_file, "wb") as handle:
-                tomli_w.dump(report, handle)
-            seal(pos_file, qc_file)
-        except BaseException:
-            pos_file.unlink(missing_ok=True)  # a .pos without its report is never taken for a cache entry
-            raise
+            step(0.0, "GNSS: preparing the observations")
+            navigation = [folder / n for n in raw.navigation]
+            if raw.rover_log is not None:
+                rover, log_navigation = _converted_log(project.folder, cache, folder, raw, progress, cancel)
+                navigation += log_navigation
+            else:
+                rover = folder / raw.rover
+            check_cancel(cancel)
+            overrides = {}
+            if raw.antex is not None:
+                # Phase-centre offsets and variations of both antennas; "*" takes the type from the RINEX
+                # header (ANT # / TYPE), base_antenna_type (BasePosition) overrides it for the base.
+                overrides = {"file-rcvantfile": str(folder / raw.antex), "ant1-anttype": "*", "ant2-anttype": "*"}
+            with warnings.catch_warnings():  # kept in the QC report and the summary instead
+                for category in (ApproximateBaseWarning, LongBaselineWarning):
+                    warnings.simplefilter("ignore", category)
+                result = ppk(rover, folder / raw.base, navigation, pos_file, base_position=base,
+                             config=None if raw.config is None else folder / raw.config,
+                             options_overrides=overrides, precise_files=[folder / p for p in raw.precise],
+                             progress=step.sub(0.05, 0.95), cancel=cancel)
+            report = {"base": base_report, "warnings": list(result.warnings), "rtklib_seconds": result.elapsed_s,
+                      **({"baseline_m": result.baseline_m} if result.baseline_m is not None else {}),
+                      "qc": _qc_report(result.qc)}
+            try:
+                with atomic_write(qc_file, "wb") as handle:
+                    tomli_w.dump(report, handle)
+                seal(pos_file, qc_file)
+            except BaseException:
+                pos_file.unlink(missing_ok=True)  # a .pos without its report is never taken for a cache entry
+                raise
     solution = read_rtklib_pos(pos_file)
     pos_sha256 = hashlib.sha256(pos_file.read_bytes()).hexdigest()
     step(1.0, "GNSS solution ready")

@@ -14,6 +14,14 @@ them when their process dies, so the lock of a run that was killed is never in t
   command into the file, which is what a second run shows while it waits ("waiting for the run
   started at ... by PID ..."); with :func:`waiting_policy` (``--no-wait``) it raises
   :class:`ProjectBusy` instead.
+* one lock per cache entry (``cache-<entry>.lock``, :func:`cache_entry`), held *exclusively* while a
+  run looks the entry up and, when absent, computes and writes it: two surveys with identical data
+  (one survey copied under two names, a batch) share cache keys, and the second waits and reuses
+  the entry instead of writing the same files at the same time. Taken inside the project lock and
+  after the survey locks (a run never waits for a survey while holding an entry: no deadlock).
+  These files are removed by a run that finds no other run of the project (nobody can hold or
+  wait for one then); a lock file is never removed otherwise, since a run that opened it before
+  its removal and one that opens it after would each get a lock of their own.
 
 A thread that already holds a survey's lock may take it again (the CLI's ``report`` of a survey
 being processed in the same call); another thread of the same process waits like another process.
@@ -41,6 +49,7 @@ except ImportError:  # Windows
     fcntl = None
 
 LOCK_FOLDER = Path("results") / ".locks"
+CACHE_LOCK_PREFIX = "cache-"
 #: How often [s] a waiting run tries the lock again (and looks at its cancel token).
 POLL_S = 0.25
 
@@ -91,15 +100,17 @@ def _holder(fd: int) -> str:
     return text or "another run of this project"
 
 
-def _acquire(fd: int, path: Path, survey: str, project_folder: Path, progress: ProgressFn | None,
+def _acquire(fd: int, path: Path, what: str, project_folder: Path, progress: ProgressFn | None,
              cancel: CancelToken) -> None:
-    """Take a survey's lock, waiting (with a message) or raising :class:`ProjectBusy` as the caller chose."""
+    """Take ``what``'s lock (a survey's, a cache entry's) exclusively, waiting (with a message) or
+    raising :class:`ProjectBusy` as the caller chose; then name this run as its holder."""
     how = fcntl.LOCK_EX
     if _try(fd, how):
+        _name_holder(fd)
         return
     holder = _holder(fd)
     if not _wait.get():
-        raise ProjectBusy(project_folder, f"survey {survey} is in use by {holder}")
+        raise ProjectBusy(project_folder, f"{what} is in use by {holder}")
     message = f"waiting for {holder} to finish ({path})"
     announce = _announce.get()
     if announce is not None:
@@ -109,6 +120,14 @@ def _acquire(fd: int, path: Path, survey: str, project_folder: Path, progress: P
     while not _try(fd, how):
         check_cancel(cancel)
         time.sleep(POLL_S)
+    _name_holder(fd)
+
+
+def _name_holder(fd: int) -> None:
+    """What a run waiting for this lock is shown: this run's start, PID and command line."""
+    started = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime())
+    os.ftruncate(fd, 0)
+    os.pwrite(fd, f"the run started at {started} by PID {os.getpid()} ({command_line()})".encode(), 0)
 
 
 def _survey_lock_file(project_folder: Path, survey: str) -> Path:
@@ -138,8 +157,11 @@ def project_run(project_folder: Path, surveys: Iterable[str], progress: Progress
         return
     with contextlib.ExitStack() as stack:
         stack.callback(os.close, project_fd)
-        if when_alone is not None and _try(project_fd, fcntl.LOCK_EX):
-            when_alone()
+        if _try(project_fd, fcntl.LOCK_EX):  # no other run of the project: nobody holds or waits for an entry
+            for entry_lock in (project_folder / LOCK_FOLDER).glob(f"{CACHE_LOCK_PREFIX}*.lock"):
+                entry_lock.unlink(missing_ok=True)
+            if when_alone is not None:
+                when_alone()
         fcntl.flock(project_fd, fcntl.LOCK_SH)  # from exclusive: converted; else waits for a cleaning run (short)
         for survey in sorted(set(surveys)):  # always in one order: two runs of several surveys cannot deadlock
             path = _survey_lock_file(project_folder, survey)
@@ -151,14 +173,39 @@ def project_run(project_folder: Path, surveys: Iterable[str], progress: Progress
                     continue
             fd = _open(path)
             stack.callback(os.close, fd)
-            _acquire(fd, path, survey, project_folder, progress, cancel)
-            started = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime())
-            os.ftruncate(fd, 0)
-            os.pwrite(fd, f"the run started at {started} by PID {os.getpid()} ({command_line()})".encode(), 0)
+            _acquire(fd, path, f"survey {survey}", project_folder, progress, cancel)
             with _held_guard:
                 _held[key] = 1
             stack.callback(_release, key, fd)
         yield
+
+
+@contextlib.contextmanager
+def cache_entry(project_folder: Path, entry: str, progress: ProgressFn | None = None,
+                cancel: CancelToken = None) -> Iterator[None]:
+    """Hold the lock of the cache entry ``entry`` (its file name without suffix, ``fusion-<key>``)
+    for the block, in which the caller looks it up and, when absent, computes and writes it (see
+    the module docstring). Call it inside :func:`project_run`."""
+    if fcntl is None:
+        yield
+        return
+    project_folder = Path(project_folder).resolve()
+    path = project_folder / LOCK_FOLDER / f"{CACHE_LOCK_PREFIX}{quote(entry, safe='')}.lock"
+    try:
+        fd = _open(path)
+    except OSError as err:
+        if err.errno not in (errno.EACCES, errno.EPERM, errno.EROFS):
+            raise
+        yield  # a project this user may only read: no entry can be written either
+        return
+    try:
+        _acquire(fd, path, f"the cache entry {entry}", project_folder, progress, cancel)
+        try:
+            yield
+        finally:
+            os.ftruncate(fd, 0)
+    finally:
+        os.close(fd)
 
 
 def _release(key: tuple[Path, int], fd: int | None) -> None:

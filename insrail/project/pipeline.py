@@ -54,6 +54,7 @@ from insrail.geodesy.height_anomaly import HeightAnomalyFit, fit_height_anomaly
 from insrail.io.atomic import atomic_write
 from insrail.io.control import read_benchmarks
 from insrail.io.errors import InputError
+from insrail.io.formats import get_format
 from insrail.io.survey import (
     MANIFEST_NAME,
     SurveyManifest,
@@ -83,7 +84,7 @@ from insrail.project.relative_survey import (
 from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
-from insrail.project.lock import project_run
+from insrail.project.lock import cache_entry, project_run
 from insrail.project.model import Project
 from insrail.project.clocks import check_clocks
 from insrail.project.plausibility import (
@@ -132,6 +133,7 @@ from insrail.project.stagecache import (
     cached_dataclass,
     clean_leftovers,
     collect_cache_notices,
+    file_sha256,
     intact,
     load_dataclass,
     save_dataclass,
@@ -179,7 +181,7 @@ from insrail.track.sleepers import AnchorError
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 17  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma; 16: a track heading's 1-sigma holds the trolley's yaw against the chord; 17: the NHC relaxed over rail joints' shocks, listed in the fusion's info
+CACHE_VERSION = 18  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma; 16: a track heading's 1-sigma holds the trolley's yaw against the chord; 17: the NHC relaxed over rail joints' shocks, listed in the fusion's info; 18: the IMU mounting estimated (a pass without the NHC), a reset after a gap a last resort (the gap's error grown), relative surveys
 #: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
 #: entry 52 MB instead of 370 MB, read back in a rerun); 3, the epochs' stations in their own
 #: file (track-<key>.epochs.npy), read by parts; 4, without a design the line-type fit always
@@ -270,12 +272,6 @@ def read_design(path: Path) -> DesignAlignment:
     return read_landxml(path) if path.suffix.lower() == ".xml" else read_alignment_csv(path)
 
 
-def _hash_file(digest, path: Path) -> None:
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-
-
 def _geodesy_settings(run: RunSettings) -> dict:
     """What the engineering coordinates depend on: CRS, benchmarks (contents) and height model."""
     settings = {"crs": run.crs.to_settings(), "height": run.height.anomaly.to_settings()}
@@ -296,7 +292,7 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
     fused = {role: entry for role, entry in manifest.files.items() if role != EVENTS_ROLE}  # events: assessment only
     for role in sorted(fused):
         digest.update(role.encode())
-        _hash_file(digest, folder / manifest.files[role].path)
+        get_format(fused[role].format).scan(folder / fused[role].path, digest.update)  # refused before hashed whole
     # the beam's wheel spacing corrects the gauge after the fusion: the track key holds it
     trolley = {k: np.asarray(v).tolist() if not isinstance(v, str) else v
                for k, v in asdict(run.trolley).items() if k != "beam_wheel_spacing_m"}
@@ -313,10 +309,11 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
     return digest.hexdigest()[:32]
 
 
-def track_key(project: Project, run: RunSettings, fusion: str) -> str:
+def track_key(project: Project, run: RunSettings, fusion: str, events_sha256: str = "") -> str:
     """Hash of everything the track reconstruction depends on beyond the fusion (whose key holds
     the raw files, gauge and sleeper pulses included, and the trolley): the run settings' geodesy
-    and design, and the project's stationing."""
+    and design, the project's stationing and, without a design, the event files (``events_sha256``,
+    :func:`events_sha256`: their stretches are left out of the line fit)."""
     digest = hashlib.sha256(fusion.encode())
     settings = {"version": CACHE_VERSION, "layout": TRACK_CACHE_LAYOUT, "geodesy": _geodesy_settings(run),
                 "start_station_m": project.start_station_m, "first_sleeper_number": project.first_sleeper_number,
@@ -327,8 +324,17 @@ def track_key(project: Project, run: RunSettings, fusion: str) -> str:
         settings["local_control"] = project.local_control.to_settings()
     if run.design is not None:
         settings["design"] = [run.design, run.design_sha256]
+    else:
+        settings["events"] = events_sha256
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
+
+
+def events_sha256(project: Project, manifest: SurveyManifest, folder: Path) -> str:
+    """The contents of the survey's and the project's event files ("" without either)."""
+    paths = ([folder / manifest.files[EVENTS_ROLE].path] if EVENTS_ROLE in manifest.files else []) + (
+        [project.resolve(project.events)] if project.events is not None else [])
+    return hashlib.sha256("".join(file_sha256(path) for path in paths).encode()).hexdigest() if paths else ""
 
 
 def prism_fixes(project: Project, prism: PrismObservations, trolley: TrolleyGeometry,
@@ -482,6 +488,8 @@ def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyMan
     if design is None:
         info = fusion_info or {}
         flagged = flag_gap_sleepers(flag_sleepers(recon.table, info.get("integrity")), info.get("imu_gaps_s", []))
+        # a turnout, a level crossing or a stretch not to assess is no part of the line's geometry either
+        flagged = apply_events(replace(recon, table=flagged), survey_events(project, manifest, folder, recon)).table
         recon = finished_reconstruction(recon.sleepers, recon.table, {"epochs": recon.epochs}, True,
                                         cant_base_m=manifest.trolley.rail_centre_spacing_m, fit_rows=flagged.valid)
     extras = TrackExtras(attitude, FittedLine.of(recon) if run.design is None else None)
@@ -524,15 +532,16 @@ def _adjustment(project: Project, run: RunSettings, geometry: SleeperGeometry, p
                    geometry.design_cant_m, geometry.station_m):
         digest.update(np.ascontiguousarray(values).tobytes())
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"adjustment-{digest.hexdigest()[:32]}.npz"
-    cached = cached_dataclass("adjustment", path, Adjustment)
-    if cached is not None:
-        lateral, vertical = cached.lateral_m, cached.vertical_m
-    else:
-        lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=progress, cancel=cancel,
-                                             threshold_m=run.adjustment.threshold_m)
-    after, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
-    if cached is None:
-        save_dataclass(path, adjustment)
+    with cache_entry(project.folder, path.stem, progress, cancel):
+        cached = cached_dataclass("adjustment", path, Adjustment)
+        if cached is not None:
+            lateral, vertical = cached.lateral_m, cached.vertical_m
+        else:
+            lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=progress,
+                                                 cancel=cancel, threshold_m=run.adjustment.threshold_m)
+        after, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
+        if cached is None:
+            save_dataclass(path, adjustment)
     return after, adjustment
 
 
@@ -591,9 +600,10 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     step(0.04, "height model")
     height_fit = fit_heights(project)
     key = fusion_key(project, manifest, folder, gnss.pos_sha256 if gnss else "", run)
-    fresh, trajectory_file, fusion_info = _fused_trajectory(project, run, manifest, folder, key, height_fit,
-                                                             gnss.solution if gnss else None,
-                                                             step.sub(0.04, 0.8), cancel)
+    with cache_entry(project.folder, f"fusion-{key}", step.sub(0.04, 0.8), cancel):
+        fresh, trajectory_file, fusion_info = _fused_trajectory(project, run, manifest, folder, key, height_fit,
+                                                                 gnss.solution if gnss else None,
+                                                                 step.sub(0.04, 0.8), cancel)
     release_free_memory()
     check_cancel(cancel)
     mounting = MountingEstimate.from_dict(fusion_info.get("mounting"), manifest.trolley.mounting_rpy_rad)
@@ -601,17 +611,20 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
 
     step(0.82, "rails, chainage and sleepers")
     local = fit_local(project.local_control) if project.local_control is not None else None
-    recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
-                                                       track_key(project, run, key), height_fit, cancel, local,
-                                                       fusion_info)
+    events_key = events_sha256(project, manifest, folder)
+    reconstruction_key = track_key(project, run, key, events_key)
+    with cache_entry(project.folder, f"track-{reconstruction_key}", step.sub(0.82, 0.88), cancel):
+        recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
+                                                           reconstruction_key, height_fit, cancel, local, fusion_info)
     # the roll of the mounting from the cant against the design's: beyond 3 sigma the rails are placed again
     roll = roll_check(manifest, recon.table, run.design is not None)
     if roll.significant[0]:
         manifest = with_mounting(manifest, roll.applied_rpy_rad())
-        recon, extras, track_cached = _reconstructed_track(
-            project, run, manifest, folder, fresh, trajectory_file,
-            track_key(project, run, f"{key}-roll-{roll.applied_rpy_rad()[0]:.9f}"), height_fit, cancel, local,
-            fusion_info)
+        reconstruction_key = track_key(project, run, f"{key}-roll-{roll.applied_rpy_rad()[0]:.9f}", events_key)
+        with cache_entry(project.folder, f"track-{reconstruction_key}", step.sub(0.82, 0.88), cancel):
+            recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
+                                                               reconstruction_key, height_fit, cancel, local,
+                                                               fusion_info)
     mounting = mounting.combined(roll)
     del fresh
     release_free_memory()
