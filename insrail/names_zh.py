@@ -737,4 +737,23 @@ ZH_CN: dict[str, str] = {
     "{sign} = left rail higher": "{sign} = 左轨较高",
     "station": "测站里程",
     "station (negated)": "测站里程（取负）",
+    # the predicted accuracy (insrail.quality.tables): the Plan survey dialog's rows, verdicts and heading
+    "absolute position, lateral": "绝对位置，横向",
+    "absolute position, vertical": "绝对位置，垂向",
+    "cant (1500 mm x roll)": "超高（1500 mm × 横滚角）",
+    "30 m/5 m alignment (5 m lag)": "30 m 弦 5 m 检测轨向（5 m 间隔）",
+    "30 m/5 m vertical (5 m lag)": "30 m 弦 5 m 检测高低（5 m 间隔）",
+    "300 m/150 m alignment (150 m lag)": "300 m 弦 150 m 检测轨向（150 m 间隔）",
+    "300 m/150 m vertical (150 m lag)": "300 m 弦 150 m 检测高低（150 m 间隔）",
+    "outage: lateral sigma growth": "失锁：横向标准差增长",
+    "outage: vertical sigma growth": "失锁：垂向标准差增长",
+    "ok": "合格",
+    "exceeds the limit at 3 sigma": "3 倍标准差超出限值",
+    "relative survey (no GNSS, no prism: odometer, NHC and stops)": "相对测量（无 GNSS、无棱镜：里程计、非完整约束与停车点）",
+    "Predicted accuracy, {solution} solution: IMU {imu}, {source}, {speed_mps:g} m/s, {length_m:g} m":
+        "预测精度，{solution}解：IMU {imu}，{source}，{speed_mps:g} m/s，{length_m:g} m",
+    "smoothed": "平滑",
+    "forward": "前向",
+    ", a {stop_s:g} s stop every {spacing_m:g} m": "，每 {spacing_m:g} m 停车 {stop_s:g} s",
+    ", {duration_s:g} s outage at {station_m:g} m": "，{station_m:g} m 处失锁 {duration_s:g} s",
 }

@@ -649,6 +649,31 @@
       <translation>正在显示测量 {survey}</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="61" />
+      <source>5 m lag lateral</source>
+      <translation>5 m 间隔横向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="61" />
+      <source>5 m lag vertical</source>
+      <translation>5 m 间隔垂向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
+      <source>150 m lag lateral</source>
+      <translation>150 m 间隔横向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
+      <source>150 m lag vertical</source>
+      <translation>150 m 间隔垂向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="63" />
+      <source>cant</source>
+      <translation>超高</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/plan_survey.py" line="109" />
       <source>Plan survey — predicted accuracy</source>
       <translation>测量规划 — 预测精度</translation>
@@ -749,9 +774,59 @@
       <translation>设置计划测量后按“运行”。</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="259" />
+      <source>predicting…</source>
+      <translation>正在预测…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="278" />
+      <source>cancelled</source>
+      <translation>已取消</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="315" />
+      <source>done</source>
+      <translation>完成</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/plan_survey.py" line="122" />
       <source>white (epoch-to-epoch) GNSS sigma; the fusion adds its correlated part</source>
       <translation>GNSS 白噪声（历元间）标准差；融合另加其相关部分</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="309" />
+      <source>smoothed solution</source>
+      <translation>平滑解</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="309" />
+      <source>forward solution</source>
+      <translation>前向解</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
+      <source>Figure</source>
+      <translation>指标</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
+      <source>Limit [mm]</source>
+      <translation>限值 [mm]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
+      <source>3σ against the limit</source>
+      <translation>3σ 与限值比较</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="343" />
+      <source>Figure, 1σ [mm]</source>
+      <translation>指标，1σ [mm]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="310" />
+      <source>{solution}, 1 sigma [mm], {parameter} in {unit}; the plot shows 3 sigma against the limits</source>
+      <translation>{solution}，1 倍标准差 [mm]，{parameter} 单位 {unit}；图中为 3 倍标准差与限值比较</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/preferences.py" line="18" />
@@ -849,72 +924,72 @@
       <translation>小车</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="132" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="133" />
       <source>Processing</source>
       <translation>数据处理</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="143" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="144" />
       <source>Report</source>
       <translation>报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="218" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="219" />
       <source>Each survey brings its own trolley geometry (its survey.toml).</source>
       <translation>每个测量使用自己的小车几何参数（其 survey.toml）。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="219" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="220" />
       <source>Use one trolley for the whole project (the first survey's)</source>
       <translation>整个项目使用同一小车（取第一个测量的）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="457" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="458" />
       <source>Trolley for the whole project</source>
       <translation>整个项目使用同一小车</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="232" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="233" />
       <source>Undo</source>
       <translation>撤销</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="232" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="233" />
       <source>Redo</source>
       <translation>重做</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="332" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="333" />
       <source>the trolley's body frame b: x forward, y right, z down (FRD)</source>
       <translation>小车载体坐标系 b：x 向前，y 向右，z 向下（前右下）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="198" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="199" />
       <source>Project settings — {project}</source>
       <translation>项目设置 — {project}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="455" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="456" />
       <source>The first survey's trolley geometry cannot be read: {error}</source>
       <translation>无法读取第一个测量的小车几何参数：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="501" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="504" />
       <source>Changed: {settings}. Nothing is processed again; the reports show the change when written again.</source>
       <translation>已修改：{settings}。无需重新处理；重新生成报告时即体现此修改。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="515" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="518" />
       <source>Cannot write {path}: {error}</source>
       <translation>无法写入 {path}：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="496" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="499" />
       <source>Changed: {settings}. Processing again will run: {stages}.</source>
       <translation>已修改：{settings}。重新处理将运行：{stages}。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="497" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="500" />
       <source>Changed: {settings}. Processing again will run: {stages} (the earlier stages from the cache).</source>
       <translation>已修改：{settings}。重新处理将运行：{stages}（之前的步骤取自缓存）。</translation>
     </message>
