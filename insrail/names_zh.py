@@ -756,4 +756,7 @@ ZH_CN: dict[str, str] = {
     "forward": "前向",
     ", a {stop_s:g} s stop every {spacing_m:g} m": "，每 {spacing_m:g} m 停车 {stop_s:g} s",
     ", {duration_s:g} s outage at {station_m:g} m": "，{station_m:g} m 处失锁 {duration_s:g} s",
+    # the event kinds' effect (insrail.io.events.EVENT_KINDS: the event dialog's tooltip)
+    "not assessed unless the event names a tolerance profile for it": "不评估，除非该事件指定了其容许偏差标准",
+    "marked": "仅标注",
 }

@@ -121,3 +121,19 @@ def test_an_english_window_is_english(qtbot, tmp_path):
     texts = shown_texts(window)
     assert "&File" in texts and "Track" in texts
     assert not [text for text in texts if re.search(r"[\u4e00-\u9fff]", text)]
+
+
+def test_the_event_dialog_in_chinese_names_the_kinds_fields_and_problems_in_chinese(qtbot, chinese):
+    from types import SimpleNamespace
+
+    from insrail.gui.event_dialog import EventDialog
+
+    dialog = EventDialog(SimpleNamespace(events=None), 120.0, 100.0)
+    qtbot.addWidget(dialog)
+    kinds = [dialog.kind.itemText(i) for i in range(dialog.kind.count())]
+    assert kinds[:3] == ["道岔", "平交道口", "桥梁"]
+    dialog.start.setText("abc")
+    texts = shown_texts_of(dialog) + kinds + dialog.kind.toolTip().splitlines()
+    assert "应为以米计的测站里程，实为 'abc'" in texts and "类型" in texts
+    names_typed = {"events.txt", "abc"}  # the event file's name and what was typed
+    assert {text: english(text) - names_typed for text in texts if english(text) - names_typed} == {}

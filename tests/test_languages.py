@@ -39,6 +39,7 @@ def table_texts() -> set[str]:
     from insrail.report.content import RELATIVE_SURVEY_TEXT, REDESIGN_BOUNDS, TAMPING_MARKS
     from insrail.project.redesign import TAMPING_AMOUNTS, TAMPING_CONVENTION
     from insrail.quality.tables import EXCEEDS, ROWS as FIGURE_ROWS
+    from insrail.io.events import EVENT_KINDS
     from insrail.report.pdf import ADJUSTMENT_TITLES
 
     texts = {n.name for n in names.COLUMN_NAMES.values()} | {n.name for n in names.QUANTITY_NAMES.values()}
@@ -53,7 +54,7 @@ def table_texts() -> set[str]:
               SLEEPER_GROUP, *CREW_TITLES, *ADJUSTMENT_TITLES, *(name for name, _, _ in SHEETS)}
     texts |= {TAMPING_SHEET[0], *TAMPING_TITLES, *TAMPING_MARKS.values(), *REDESIGN_BOUNDS, TAMPING_AMOUNTS,
               TAMPING_CONVENTION, RELATIVE_SURVEY_TEXT}
-    texts |= {label for label, _ in FIGURE_ROWS.values()} | {EXCEEDS}
+    texts |= {label for label, _ in FIGURE_ROWS.values()} | {EXCEEDS} | set(EVENT_KINDS.values())
     return texts - {""}
 
 

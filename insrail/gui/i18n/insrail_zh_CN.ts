@@ -74,24 +74,74 @@
       <translation>、</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/event_dialog.py" line="36" />
+      <location filename="../../../insrail/gui/event_dialog.py" line="37" />
       <source>Mark as track event</source>
       <translation>标记为线路事件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/event_dialog.py" line="46" />
+      <location filename="../../../insrail/gui/event_dialog.py" line="47" />
       <source>empty: a point (a joint, a note)</source>
       <translation>留空：单点（接头、备注）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/event_dialog.py" line="48" />
+      <location filename="../../../insrail/gui/event_dialog.py" line="49" />
       <source>optional: W12 No. 18 right-hand, LC 3, …</source>
       <translation>可选：W12 18号右开道岔、LC 3 …</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/event_dialog.py" line="69" />
+      <location filename="../../../insrail/gui/event_dialog.py" line="70" />
       <source>Mark</source>
       <translation>标记</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="52" />
+      <source>Kind</source>
+      <translation>类型</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="52" />
+      <source>From station [m]</source>
+      <translation>起点测站里程 [m]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="53" />
+      <source>To station [m]</source>
+      <translation>终点测站里程 [m]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="53" />
+      <source>Note</source>
+      <translation>说明</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="60" />
+      <source>{file} (new; the project will name it)</source>
+      <translation>{file}（新建；项目将引用它）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="61" />
+      <source>Appended to the project's event file {file}; the surveys need processing again to assess with it.</source>
+      <translation>追加到项目的事件文件 {file}；各测量需重新处理才能据此评估。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="106" />
+      <source>a station is needed</source>
+      <translation>需要测站里程</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="109" />
+      <source>expected a finite station, found {text}</source>
+      <translation>应为有限的测站里程，实为 {text}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="125" />
+      <source>Not marked: {error}</source>
+      <translation>未标记：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="105" />
+      <source>expected a station in metres, found {text}</source>
+      <translation>应为以米计的测站里程，实为 {text}</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/explorer.py" line="65" />
