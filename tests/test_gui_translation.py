@@ -137,3 +137,24 @@ def test_the_event_dialog_in_chinese_names_the_kinds_fields_and_problems_in_chin
     assert "应为以米计的测站里程，实为 'abc'" in texts and "类型" in texts
     names_typed = {"events.txt", "abc"}  # the event file's name and what was typed
     assert {text: english(text) - names_typed for text in texts if english(text) - names_typed} == {}
+
+
+def test_the_gnss_pages_qc_in_chinese_has_chinese_keys_and_wording(qtbot, chinese):
+    from types import SimpleNamespace
+
+    from insrail.gui.views.gnss import qc_rows
+
+    qc = {"epochs": 600, "first_s": 0.0, "last_s": 599.0, "interval_s": 1.0, "fix_rate": 0.95, "ratio_min": 3.1,
+          "ratio_p05": 4.2, "ratio_median": 20.0, "epochs_by_quality": {"fix": 570, "float": 30},
+          "sigma_by_quality_m": {"fix": {"horizontal_median_m": 0.008, "horizontal_p95_m": 0.012,
+                                         "vertical_median_m": 0.015, "vertical_p95_m": 0.02}},
+          "gaps": [{"start_s": 100.0, "end_s": 116.0, "duration_s": 16.0}]}
+    report = {"qc": qc, "base": {"point": "CPII-BASE", "approximate": True, "derivation": "project control point"},
+              "warnings": [], "baseline_m": 2500.0}
+    groups = qc_rows(SimpleNamespace(report=report, fusion=None))
+    assert [group for group, _ in groups] == ["解算", "各解类型历元数", "各解类型标准差", "中断（1）", "基准站", "警告"]
+    texts = [text for _, rows in groups for row in rows for text in row]
+    assert "600 个，历时 599 s（间隔 1 s）" in texts and "CPII-BASE（近似）" in texts and "至 +116 s（16 s）" in texts
+    # the quality names and the base's derivation are the PPK stage's own words
+    allowed = {"fix", "float", "project", "control", "point", "mm", "km"}
+    assert {text: english(text) - allowed for text in texts if english(text) - allowed} == {}

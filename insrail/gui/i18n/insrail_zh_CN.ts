@@ -1089,14 +1089,239 @@
       <translation>轨枕</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="158" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="60" />
+      <source>base (RINEX)</source>
+      <translation>基准站（RINEX）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="61" />
+      <source>navigation</source>
+      <translation>导航星历</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="62" />
+      <source>precise</source>
+      <translation>精密星历</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="81" />
+      <source>Files</source>
+      <translation>文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="81" />
+      <source>Base</source>
+      <translation>基准站</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="88" />
+      <source>epochs</source>
+      <translation>历元</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="90" />
+      <source>fix rate</source>
+      <translation>固定率</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="91" />
+      <source>ratio of fixed epochs</source>
+      <translation>固定解历元的比率检验值</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="108" />
+      <source>point</source>
+      <translation>点</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="114" />
+      <source>derivation</source>
+      <translation>来源</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="116" />
+      <source>Epochs by quality</source>
+      <translation>各解类型历元数</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="116" />
+      <source>Sigma by quality</source>
+      <translation>各解类型标准差</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="118" />
+      <source>Warnings</source>
+      <translation>警告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="161" />
       <source>Not post-processed yet: Run &gt; Post-process GNSS.</source>
       <translation>尚未后处理：“运行 &gt; GNSS 后处理”。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="177" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="163" />
+      <source>Input</source>
+      <translation>输入</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="164" />
+      <source>QC</source>
+      <translation>质量检查</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="174" />
+      <source>time from the first epoch [s]</source>
+      <translation>自首历元起的时间 [s]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="225" />
+      <source>&lt;b&gt;Fix rate {fix_rate:.1f} %&lt;/b&gt; of {epochs} epochs, 1 gap</source>
+      <translation>{epochs} 个历元中&lt;b&gt;固定率 {fix_rate:.1f} %&lt;/b&gt;，1 处中断</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="225" />
+      <source>&lt;b&gt;Fix rate {fix_rate:.1f} %&lt;/b&gt; of {epochs} epochs, {gaps} gaps</source>
+      <translation>{epochs} 个历元中&lt;b&gt;固定率 {fix_rate:.1f} %&lt;/b&gt;，{gaps} 处中断</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="56" />
+      <source>rover (RINEX)</source>
+      <translation>流动站（RINEX）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="58" />
+      <source>rover log</source>
+      <translation>流动站原始记录</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="66" />
+      <source>RTKLIB config</source>
+      <translation>RTKLIB 配置</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="66" />
+      <source>trolley defaults (resources/gnss)</source>
+      <translation>小车默认配置（resources/gnss）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="68" />
+      <source>base point</source>
+      <translation>基准点</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="68" />
+      <source>RINEX header APPROX POSITION (metre level)</source>
+      <translation>RINEX 文件头 APPROX POSITION（米级）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="79" />
+      <source>antenna height (ARP)</source>
+      <translation>天线高（ARP）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="80" />
+      <source>antenna type</source>
+      <translation>天线类型</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="94" />
+      <source>RTKLIB time</source>
+      <translation>RTKLIB 耗时</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="110" />
+      <source>baseline</source>
+      <translation>基线长</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="112" />
+      <source>mark lat, lon, h</source>
+      <translation>标志点纬度、经度、大地高</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="180" />
       <source>Survey</source>
       <translation>测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="253" />
+      <source>Position σ [mm]</source>
+      <translation>位置 σ [mm]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="52" />
+      <source>{file} (missing)</source>
+      <translation>{file}（缺失）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="72" />
+      <source>coordinates</source>
+      <translation>坐标</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="72" />
+      <source>not in the project's control points</source>
+      <translation>不在项目的控制点中</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="88" />
+      <source>{epochs} over {span_s:.0f} s (interval {interval_s:g} s)</source>
+      <translation>{epochs} 个，历时 {span_s:.0f} s（间隔 {interval_s:g} s）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="91" />
+      <source>min {min}, 5 % {p05}, median {median}</source>
+      <translation>最小 {min}，5 % 分位 {p05}，中位数 {median}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="98" />
+      <source>; fusion: {use}</source>
+      <translation>；组合解算：{use}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="100" />
+      <source>horizontal median {h_median:.1f} mm, 95 % {h_p95:.1f} mm; vertical median {v_median:.1f} mm, 95 % {v_p95:.1f} mm</source>
+      <translation>水平中位数 {h_median:.1f} mm，95 % 分位 {h_p95:.1f} mm；垂直中位数 {v_median:.1f} mm，95 % 分位 {v_p95:.1f} mm</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="105" />
+      <source>to +{end_s:.0f} s ({duration_s:.0f} s)</source>
+      <translation>至 +{end_s:.0f} s（{duration_s:.0f} s）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="108" />
+      <source> (approximate)</source>
+      <translation>（近似）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="117" />
+      <source>Gaps ({count})</source>
+      <translation>中断（{count}）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="247" />
+      <source>&lt;b&gt;Solution quality&lt;/b&gt;</source>
+      <translation>&lt;b&gt;解的质量&lt;/b&gt;</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="253" />
+      <source>horizontal</source>
+      <translation>水平</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="253" />
+      <source>vertical</source>
+      <translation>垂直</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="75" />
+      <source>lat, lon, h</source>
+      <translation>纬度、经度、大地高</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="78" />
+      <source>E, N, H (normal)</source>
+      <translation>东、北坐标，正常高</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/views/navigation.py" line="80" />
