@@ -158,3 +158,22 @@ def test_the_gnss_pages_qc_in_chinese_has_chinese_keys_and_wording(qtbot, chines
     # the quality names and the base's derivation are the PPK stage's own words
     allowed = {"fix", "float", "project", "control", "point", "mm", "km"}
     assert {text: english(text) - allowed for text in texts if english(text) - allowed} == {}
+
+
+def test_the_importers_headers_and_problems_in_chinese(qtbot, chinese, tmp_path):
+    """The importer's own words are Chinese; a reader's error keeps its file, line and message verbatim."""
+    from insrail.gui.importer import ImportWidget, preview
+
+    widget = ImportWidget()
+    qtbot.addWidget(widget)
+    unknown = tmp_path / "notes.xyz"
+    unknown.write_text("nothing a reader knows\n")
+    widget.add_files([unknown])
+    messages = [problem.message for problem in widget.check()]
+    assert "没有用途为 imu 的文件" in " ".join(messages) and "请选择此文件的用途" in messages
+    headers = [widget.problems.horizontalHeaderItem(i).text() for i in range(3)]
+    assert headers == ["文件", "行", "问题"]
+    assert {message: english(message) for message in messages if english(message) - {"imu", "gnss", "prism"}} == {}
+    broken = tmp_path / "imu.npy"
+    broken.write_bytes(b"not numpy")
+    assert preview(broken).startswith("不是可读取的 .npy 文件：")

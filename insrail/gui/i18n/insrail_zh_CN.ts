@@ -364,14 +364,54 @@
       <translation>IMU 误差模型</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="333" />
+      <location filename="../../../insrail/gui/importer.py" line="219" />
+      <source>Raw files of one survey</source>
+      <translation>一次测量的原始文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="256" />
+      <source>ok</source>
+      <translation>正常</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="336" />
       <source>Import raw files as a survey</source>
       <translation>导入原始数据为测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="339" />
+      <location filename="../../../insrail/gui/importer.py" line="342" />
       <source>Import</source>
       <translation>导入</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <source>File</source>
+      <translation>文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <source>Role</source>
+      <translation>用途</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <source>Format</source>
+      <translation>格式</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <source>Check</source>
+      <translation>检测项</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="112" />
+      <source>Line</source>
+      <translation>行</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="112" />
+      <source>What is wrong</source>
+      <translation>问题</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/importer.py" line="138" />
@@ -382,6 +422,91 @@
       <location filename="../../../insrail/gui/importer.py" line="143" />
       <source>Problems found by the readers</source>
       <translation>读取时发现的问题</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="259" />
+      <source>no role</source>
+      <translation>未指定用途</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="75" />
+      <source>cannot read: {error}</source>
+      <translation>无法读取：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="224" />
+      <source>Survey folder (with {file})</source>
+      <translation>测量文件夹（含 {file}）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="252" />
+      <source>no file gives the position: give a GNSS solution (gnss) or total-station prism fixes (prism)</source>
+      <translation>没有提供位置的文件：请给出 GNSS 解（gnss）或全站仪棱镜定位（prism）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="262" />
+      <source>duplicate role</source>
+      <translation>用途重复</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="302" />
+      <source>no trolley geometry: enter it in the project</source>
+      <translation>无小车几何参数：请在项目中填写</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="305" />
+      <source>enter a survey name</source>
+      <translation>请输入测量名称</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="67" />
+      <source>not a readable .npy file: {error}</source>
+      <translation>不是可读取的 .npy 文件：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="70" />
+      <source>{count} records</source>
+      <translation>{count} 条记录</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="258" />
+      <source>choose the role of this file</source>
+      <translation>请选择此文件的用途</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="265" />
+      <source>no format</source>
+      <translation>未识别格式</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="269" />
+      <source>format does not fit the role</source>
+      <translation>格式与用途不符</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="249" />
+      <source>no file has the role {role} (required: {required})</source>
+      <translation>没有用途为 {role} 的文件（必需：{required}）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="264" />
+      <source>format not recognised: choose one</source>
+      <translation>未识别格式：请选择</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="261" />
+      <source>more than one file has the role {role}</source>
+      <translation>多个文件的用途为 {role}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="318" />
+      <source>cannot copy into {folder}: {error}</source>
+      <translation>无法复制到 {folder}：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="267" />
+      <source>format {format} does not hold {role} data</source>
+      <translation>格式 {format} 不含 {role} 数据</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/main_window.py" line="90" />
@@ -1042,11 +1167,6 @@
       <location filename="../../../insrail/gui/settings_editor.py" line="500" />
       <source>Changed: {settings}. Processing again will run: {stages} (the earlier stages from the cache).</source>
       <translation>已修改：{settings}。重新处理将运行：{stages}（之前的步骤取自缓存）。</translation>
-    </message>
-    <message>
-      <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
-      <source>Check</source>
-      <translation>检测项</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
