@@ -657,4 +657,108 @@ ZH_CN: dict[str, str] = {
     "ellipsoidal heights": "大地高",
     "insrail: {project}, survey {survey}; {crs}; {heights}; m": "insrail：{project}，测量 {survey}；{crs}；{heights}；m",
     "deviations (not drawn): {reference}": "偏差量（未绘出）：{reference}",
+    # relative surveys and the IMU mounting (insrail.report.content)
+    "Survey kind": "测量类型",
+    "relative survey: no GNSS, no prism fixes (IMU, odometer and stops); gauge, cant, twist and the chord checks are "
+    "measured, coordinates and deviations from the design are not":
+        "相对测量：无 GNSS、无棱镜定位（IMU、里程计与停车点）；测量轨距、超高、扭曲及弦测检测，不测坐标及与设计的偏差",
+    "{survey} (relative survey)": "{survey}（相对测量）",
+    "IMU mounting": "IMU 安装角",
+    "yaw": "航向",
+    "{axis} {estimate:+.3f}° ± {sigma:.3f}°": "{axis} {estimate:+.3f}° ± {sigma:.3f}°",
+    " (applied)": "（已采用）",
+    "{axis} not estimated ({reason})": "{axis} 未估计（{reason}）",
+    "; ": "；",
+    "processed with roll, pitch, yaw [{applied}]° (survey.toml [{given}]°); estimated from the survey: {estimates}":
+        "解算采用横滚、俯仰、航向角 [{applied}]°（survey.toml 中为 [{given}]°）；由本次测量估计：{estimates}",
+    "the NHC is off": "未启用非完整约束（NHC）",
+    "no GNSS: only the NHC gives the direction of travel in the IMU's axes":
+        "无 GNSS：仅非完整约束（NHC）给出 IMU 坐标系中的行进方向",
+    "the pass without the NHC is not consistent": "不加非完整约束（NHC）的解算不自洽",
+    "no design cant to compare the cant with": "无设计超高可供比较",
+    "fused before the mounting calibration": "解算早于安装角标定",
+    # tamping re-design (insrail redesign): the PDF's section, the Tamping sheet, the template exports' notes
+    "Tamping": "捣固",
+    "Tamping re-design": "捣固重新设计",
+    "Tamping sheet": "捣固作业表",
+    "The least lift and slew per sleeper after which the track passes the chord checks of {profile} (each held "
+    "{margin_mm:g} mm inside its limit): {direction}, lift {min_lift_mm:g} to {max_lift_mm:g} mm, slew at most "
+    "{max_slew_mm:g} mm; largest lift {lift_mm:.1f} mm at {lift_at_m:.1f} m, largest slew {slew_mm:.1f} mm at "
+    "{slew_at_m:.1f} m, {sleepers} sleepers moved; exceedances {before} before, {after} after the job. Signs: "
+    "{convention}.":
+        "每根轨枕处使线路通过 {profile} 各弦测检测（各留 {margin_mm:g} mm 余量）的最小起道量与拨道量：{direction}，"
+        "起道 {min_lift_mm:g} 至 {max_lift_mm:g} mm，拨道不超过 {max_slew_mm:g} mm；最大起道 {lift_mm:.1f} mm，位于 "
+        "{lift_at_m:.1f} m；最大拨道 {slew_mm:.1f} mm，位于 {slew_at_m:.1f} m；移动轨枕 {sleepers} 根；超限：作业前 "
+        "{before} 处，作业后 {after} 处。符号：{convention}。",
+    "lift only": "只起不落",
+    "lift or lower": "可起可落",
+    "Fixed stretches": "固定点区段",
+    "tolerance (mm)": "允许偏差（mm）",
+    "value (mm)": "数值（mm）",
+    "none": "无",
+    "Where a bound holds, and what cannot pass": "受限区段及无法通过的检测",
+    "cannot pass: {what}": "无法通过：{what}",
+    "lift at max_lift": "起道达到最大起道量",
+    "slew at max_slew": "拨道达到最大拨道量",
+    "lift at min_lift": "起道达到最小起道量",
+    "fixed stretch": "固定点区段",
+    "{channel}: before (measured) and after the job": "{channel}：作业前（实测）与作业后",
+    "before": "作业前",
+    "after": "作业后",
+    "The tamping re-design, in working order (increasing chainage). ": "捣固重新设计，按作业顺序（里程增加方向）。",
+    "{amounts}. Signs: {convention}.": "{amounts}。符号：{convention}。",
+    "lift_left_mm, lift_right_mm, slew_mm: move the rail (the track) by the amount after which the track passes the "
+    "profile's chord checks (docs/tamping.md); cant_mm = the cant after the job":
+        "左轨起道、右轨起道、拨道：钢轨（线路）按此量移动后即通过容许偏差标准的各项弦测检测；作业后超高：作业完成后的超高",
+    "mm; lift + up; slew + to the right looking towards increasing chainage; cant + left rail higher; mark: "
+    "TS/SC/CS/ST, PVI of the re-designed line, fixed start/end":
+        "mm；面向里程增加方向：起道向上为正，拨道向右为正；超高左轨高为正；标记：重新设计线形的直缓/缓圆/圆缓/缓直点、"
+        "变坡点，固定点起点/终点",
+    "station (m)": "测站里程（m）",
+    "lift left (mm)": "左轨起道（mm）",
+    "lift right (mm)": "右轨起道（mm）",
+    "slew (mm)": "拨道（mm）",
+    "cant after (mm)": "作业后超高（mm）",
+    "mark": "标记",
+    "Work section {number} of {count}: {first} – {last}, {rows} rows": "作业段 {number}/{count}：{first} – {last}，共 {rows} 行",
+    "Marks of the re-designed line and the fixed stretches": "重新设计线形的特征点及固定点区段",
+    "TS (tangent to spiral)": "直缓点",
+    "SC (spiral to curve)": "缓圆点",
+    "CS (curve to spiral)": "圆缓点",
+    "ST (spiral to tangent)": "缓直点",
+    "PC (tangent to curve)": "直圆点",
+    "PT (curve to tangent)": "圆直点",
+    "SS (spiral to spiral)": "缓和曲线连接点",
+    "POT (tangent to tangent)": "直线连接点",
+    "PVI (vertical intersection)": "变坡点",
+    "fixed start ({source})": "固定点起点（{source}）",
+    "fixed end ({source})": "固定点终点（{source}）",
+    "{template}: tamping amounts of {project}, survey {survey} (insrail)": "{template}：{project} 捣固量，测量 {survey}（insrail）",
+    "{sign} = rail up": "{sign} = 钢轨抬高",
+    "{sign} = track to the right looking towards increasing chainage": "{sign} = 面向里程增加方向线路向右",
+    "{sign} = left rail higher": "{sign} = 左轨较高",
+    "station": "测站里程",
+    "station (negated)": "测站里程（取负）",
+    # the predicted accuracy (insrail.quality.tables): the Plan survey dialog's rows, verdicts and heading
+    "absolute position, lateral": "绝对位置，横向",
+    "absolute position, vertical": "绝对位置，垂向",
+    "cant (1500 mm x roll)": "超高（1500 mm × 横滚角）",
+    "30 m/5 m alignment (5 m lag)": "30 m 弦 5 m 检测轨向（5 m 间隔）",
+    "30 m/5 m vertical (5 m lag)": "30 m 弦 5 m 检测高低（5 m 间隔）",
+    "300 m/150 m alignment (150 m lag)": "300 m 弦 150 m 检测轨向（150 m 间隔）",
+    "300 m/150 m vertical (150 m lag)": "300 m 弦 150 m 检测高低（150 m 间隔）",
+    "outage: lateral sigma growth": "失锁：横向标准差增长",
+    "outage: vertical sigma growth": "失锁：垂向标准差增长",
+    "ok": "合格",
+    "exceeds the limit at 3 sigma": "3 倍标准差超出限值",
+    "relative survey (no GNSS, no prism: odometer, NHC and stops)": "相对测量（无 GNSS、无棱镜：里程计、非完整约束与停车点）",
+    "Predicted accuracy, {solution} solution: IMU {imu}, {source}, {speed_mps:g} m/s, {length_m:g} m":
+        "预测精度，{solution}解：IMU {imu}，{source}，{speed_mps:g} m/s，{length_m:g} m",
+    "smoothed": "平滑",
+    "forward": "前向",
+    ", a {stop_s:g} s stop every {spacing_m:g} m": "，每 {spacing_m:g} m 停车 {stop_s:g} s",
+    ", {duration_s:g} s outage at {station_m:g} m": "，{station_m:g} m 处失锁 {duration_s:g} s",
+    # the event kinds' effect (insrail.io.events.EVENT_KINDS: the event dialog's tooltip)
+    "not assessed unless the event names a tolerance profile for it": "不评估，除非该事件指定了其容许偏差标准",
+    "marked": "仅标注",
 }

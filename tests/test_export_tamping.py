@@ -66,6 +66,21 @@ def test_template_layout_units_signs_spacing_read_back(tmp_path):
     assert back["slew"][1] == pytest.approx(expected, abs=0.05)
 
 
+def test_a_template_layouts_notes_are_in_the_report_language_and_its_columns_are_not(tmp_path):
+    results, project = _results(tmp_path)
+    project.report.language = "zh-CN"
+    template_path = tmp_path / "machine.toml"
+    template_path.write_text('[[columns]]\nfield = "station"\n[[columns]]\nfield = "lift_left"\n'
+                             '[[columns]]\nfield = "slew"\nsign = -1\n[[columns]]\nfield = "cant"\n')
+    template = load_template(template_path)
+    text = write_export(project, results, "tamping-template", tmp_path / "out.txt", template=template).read_text()
+    assert text.startswith("# machine：line 3 tamping 捣固量，测量 run1（insrail）")
+    assert "# lift_left [mm]: + = 钢轨抬高" in text and "# slew [mm]: - = 面向里程增加方向线路向右" in text
+    assert "# cant [mm]: + = 左轨较高" in text and "# station [m]: 测站里程" in text
+    assert "station,lift_left,slew,cant" in text
+    assert np.allclose(read_template_export(tmp_path / "out.txt", template)["slew"], [r.slew_mm for r in ROWS])
+
+
 @pytest.mark.parametrize("text, key", [
     ('[[columns]]\nfield = "lift"\n', "columns[0].field"),
     ('[[columns]]\nfield = "slew"\nunit = "inch"\n', "columns[0].unit"),

@@ -121,3 +121,59 @@ def test_an_english_window_is_english(qtbot, tmp_path):
     texts = shown_texts(window)
     assert "&File" in texts and "Track" in texts
     assert not [text for text in texts if re.search(r"[\u4e00-\u9fff]", text)]
+
+
+def test_the_event_dialog_in_chinese_names_the_kinds_fields_and_problems_in_chinese(qtbot, chinese):
+    from types import SimpleNamespace
+
+    from insrail.gui.event_dialog import EventDialog
+
+    dialog = EventDialog(SimpleNamespace(events=None), 120.0, 100.0)
+    qtbot.addWidget(dialog)
+    kinds = [dialog.kind.itemText(i) for i in range(dialog.kind.count())]
+    assert kinds[:3] == ["道岔", "平交道口", "桥梁"]
+    dialog.start.setText("abc")
+    texts = shown_texts_of(dialog) + kinds + dialog.kind.toolTip().splitlines()
+    assert "应为以米计的测站里程，实为 'abc'" in texts and "类型" in texts
+    names_typed = {"events.txt", "abc"}  # the event file's name and what was typed
+    assert {text: english(text) - names_typed for text in texts if english(text) - names_typed} == {}
+
+
+def test_the_gnss_pages_qc_in_chinese_has_chinese_keys_and_wording(qtbot, chinese):
+    from types import SimpleNamespace
+
+    from insrail.gui.views.gnss import qc_rows
+
+    qc = {"epochs": 600, "first_s": 0.0, "last_s": 599.0, "interval_s": 1.0, "fix_rate": 0.95, "ratio_min": 3.1,
+          "ratio_p05": 4.2, "ratio_median": 20.0, "epochs_by_quality": {"fix": 570, "float": 30},
+          "sigma_by_quality_m": {"fix": {"horizontal_median_m": 0.008, "horizontal_p95_m": 0.012,
+                                         "vertical_median_m": 0.015, "vertical_p95_m": 0.02}},
+          "gaps": [{"start_s": 100.0, "end_s": 116.0, "duration_s": 16.0}]}
+    report = {"qc": qc, "base": {"point": "CPII-BASE", "approximate": True, "derivation": "project control point"},
+              "warnings": [], "baseline_m": 2500.0}
+    groups = qc_rows(SimpleNamespace(report=report, fusion=None))
+    assert [group for group, _ in groups] == ["解算", "各解类型历元数", "各解类型标准差", "中断（1）", "基准站", "警告"]
+    texts = [text for _, rows in groups for row in rows for text in row]
+    assert "600 个，历时 599 s（间隔 1 s）" in texts and "CPII-BASE（近似）" in texts and "至 +116 s（16 s）" in texts
+    # the quality names and the base's derivation are the PPK stage's own words
+    allowed = {"fix", "float", "project", "control", "point", "mm", "km"}
+    assert {text: english(text) - allowed for text in texts if english(text) - allowed} == {}
+
+
+def test_the_importers_headers_and_problems_in_chinese(qtbot, chinese, tmp_path):
+    """The importer's own words are Chinese; a reader's error keeps its file, line and message verbatim."""
+    from insrail.gui.importer import ImportWidget, preview
+
+    widget = ImportWidget()
+    qtbot.addWidget(widget)
+    unknown = tmp_path / "notes.xyz"
+    unknown.write_text("nothing a reader knows\n")
+    widget.add_files([unknown])
+    messages = [problem.message for problem in widget.check()]
+    assert "没有用途为 imu 的文件" in " ".join(messages) and "请选择此文件的用途" in messages
+    headers = [widget.problems.horizontalHeaderItem(i).text() for i in range(3)]
+    assert headers == ["文件", "行", "问题"]
+    assert {message: english(message) for message in messages if english(message) - {"imu", "gnss", "prism"}} == {}
+    broken = tmp_path / "imu.npy"
+    broken.write_bytes(b"not numpy")
+    assert preview(broken).startswith("不是可读取的 .npy 文件：")

@@ -35,7 +35,11 @@ def table_texts() -> set[str]:
     from insrail.report.content import SEVERITIES, SEVERITY_RULE, ADJUSTMENT_GROUP, GAUGE_LEVEL_GROUP, \
         OTHER_CHECKS_GROUP, PARAMETER_GROUP, SLEEPER_GROUP
     from insrail.report.labels import SIGNS
-    from insrail.report.excel import CREW_TITLES, SHEETS
+    from insrail.report.excel import CREW_TITLES, SHEETS, TAMPING_SHEET, TAMPING_TITLES
+    from insrail.report.content import RELATIVE_SURVEY_TEXT, REDESIGN_BOUNDS, TAMPING_MARKS
+    from insrail.project.redesign import TAMPING_AMOUNTS, TAMPING_CONVENTION
+    from insrail.quality.tables import EXCEEDS, ROWS as FIGURE_ROWS
+    from insrail.io.events import EVENT_KINDS
     from insrail.report.pdf import ADJUSTMENT_TITLES
 
     texts = {n.name for n in names.COLUMN_NAMES.values()} | {n.name for n in names.QUANTITY_NAMES.values()}
@@ -48,6 +52,9 @@ def table_texts() -> set[str]:
     texts |= set(REASONS.values()) | set(HEIGHT_MODELS) | {NOT_RECORDED, "none (ellipsoidal heights)"}
     texts |= {SEVERITY_RULE, SIGNS, ADJUSTMENT_GROUP, GAUGE_LEVEL_GROUP, OTHER_CHECKS_GROUP, PARAMETER_GROUP,
               SLEEPER_GROUP, *CREW_TITLES, *ADJUSTMENT_TITLES, *(name for name, _, _ in SHEETS)}
+    texts |= {TAMPING_SHEET[0], *TAMPING_TITLES, *TAMPING_MARKS.values(), *REDESIGN_BOUNDS, TAMPING_AMOUNTS,
+              TAMPING_CONVENTION, RELATIVE_SURVEY_TEXT}
+    texts |= {label for label, _ in FIGURE_ROWS.values()} | {EXCEEDS} | set(EVENT_KINDS.values())
     return texts - {""}
 
 

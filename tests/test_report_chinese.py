@@ -14,16 +14,19 @@ import pytest
 from report_support import processed_project, stored
 
 from insrail.project import ProjectError, load_project
+from insrail.project.redesign import REDESIGN_FOLDER, SUMMARY_FILE, TAMPING_FILE, TampingRow, tamping_csv_text
+from insrail.project.results import summary_toml
 from insrail.project.model import ReportSettings
 from insrail.report import write_pdf, write_workbook
 
 #: The terms of the thesis and TB 10754 a Chinese report must use (issue 38).
 TERMS = ("轨距", "水平", "超高", "轨向", "高低", "扭曲", "三角坑", "轨距变化率", "30 m 弦 5 m 检测", "调整量", "里程")
 #: What may stay in Latin letters: the user's own names, file names, units, standards and abbreviations a
-#: Chinese railway document writes so (GNSS, IMU, TQI, RTS, ZUPT, WJ-8, TB 10754, insrail).
+#: Chinese railway document writes so (GNSS, IMU, TQI, RTS, ZUPT, WJ-8, TB 10754, insrail), and project.toml's
+#: keys as the file writes them (a fixed stretch of the re-design from ``redesign.fixed[0]``).
 LATIN = {"insrail", "mm", "km", "ppm", "ft", "deg", "sqrt", "GPST", "Synthetic", "line", "Test", "down", "track",
-         "run1", "csv", "toml", "surveys", "design", "results", "summary", "project", "reports", "thesis", "Chen",
-         "TB", "WJ", "No", "Helvetica"}
+         "run1", "csv", "toml", "surveys", "survey", "design", "results", "summary", "project", "reports", "thesis", "Chen",
+         "TB", "WJ", "No", "Helvetica", "redesign"}
 WORD = re.compile(r"[A-Za-z][A-Za-z_.\d]*[a-z][A-Za-z_.\d]*")
 
 
@@ -31,6 +34,11 @@ WORD = re.compile(r"[A-Za-z][A-Za-z_.\d]*[a-z][A-Za-z_.\d]*")
 def chinese(tmp_path_factory):
     project = processed_project(tmp_path_factory.mktemp("zh"))
     return replace(project, report=ReportSettings(language="zh-CN"))
+
+
+def pdf_text(path) -> str:
+    pages = subprocess.run(["pdftotext", "-layout", str(path), "-"], capture_output=True, text=True, check=True).stdout
+    return " ".join(pages.split())
 
 
 def english_words(text: str) -> set[str]:
@@ -42,9 +50,7 @@ def english_words(text: str) -> set[str]:
                     reason="poppler-utils not installed; .ci/run installs it")
 def test_a_chinese_pdf_uses_the_standard_terms_embeds_its_font_and_has_no_english(chinese, tmp_path):
     path = write_pdf(chinese, stored(chinese), tmp_path / "report.pdf")
-    pages = subprocess.run(["pdftotext", "-layout", str(path), "-"], capture_output=True, text=True,
-                           check=True).stdout
-    text = " ".join(pages.split())
+    text = pdf_text(path)
     for term in TERMS + ("轨道几何测量报告", "结论", "超限", "左轨", "右轨", "第 1 页"):
         assert term in text, term
     # the notices of processing are the pipeline's own words (English, as the CLI prints them)
@@ -109,3 +115,84 @@ def test_a_chinese_header_wraps_between_characters_at_twice_the_width_of_a_digit
     assert _wrapped_lines(title, 10.0) == -(-20 // per_line) == 10
     assert _longest_word(title) == CJK_CHARACTER_WIDTH  # nothing to widen a column for: it breaks anywhere
     assert _wrapped_lines("Gauge and cross level", 10.0) == 4  # English: between words, as before (7 a line)
+
+
+def _redesigned(project) -> None:
+    """``insrail redesign``'s files for survey run1 as the re-design writes them (its summary.toml and tamping.csv,
+    filled by hand: the re-design's solve is tests/test_project_redesign.py's), with every kind of mark and bound."""
+    results = stored(project)
+    station, label = results.columns["station_m"], results.label
+    at = [0, 200, 400, 600, 800]
+    marks = ("TS", "SC", "PVI", "fixed start (redesign.fixed[0])", "fixed end (turnout W12)")
+    rows = [TampingRow(float(station[i]), label[i], 3.0 + i % 5, 2.5, -1.5 + i % 3, 1.0, "") for i in range(len(label))]
+    rows += [TampingRow(float(station[i]), label[i], 0.0, 0.0, 0.0, 1.0, mark) for i, mark in zip(at, marks)]
+    rows.sort(key=lambda row: (row.station_m, row.mark != ""))
+    stretch = {"from_m": float(station[10]), "to_m": float(station[20]), "value_mm": 40.0}
+    summary = {
+        "survey": "run1", "profile": project.tolerance_profile,
+        "settings": {"lift_only": True, "min_lift_mm": 0.0, "max_lift_mm": 40.0, "max_slew_mm": 30.0, "margin_mm": 0.5,
+                     "fixed": [{"from_m": float(station[600]), "to_m": float(station[620]), "tolerance_mm": 0.0,
+                                "source": "redesign.fixed[0]"},
+                               {"from_m": float(station[800]), "to_m": float(station[810]), "tolerance_mm": 0.0,
+                                "source": "turnout W12"}]},
+        "movement": {"largest_lift_mm": 7.0, "largest_lift_at_m": float(station[4]), "smallest_lift_mm": 2.5,
+                     "largest_slew_mm": 1.5, "largest_slew_at_m": float(station[2]), "total_movement_m": 1.2,
+                     "sleepers_moved": len(label)},
+        "exceedances": {"before": 12, "after": 1},
+        "active": [dict(stretch, what=what) for what in ("lift at max_lift", "slew at max_slew", "fixed stretch")],
+        "cannot_pass": [dict(stretch, what="short_wave_30m_5m left lateral")],
+    }
+    folder = results.folder / REDESIGN_FOLDER
+    folder.mkdir()
+    (folder / SUMMARY_FILE).write_bytes(summary_toml(summary))
+    (folder / TAMPING_FILE).write_text(tamping_csv_text(tuple(rows), "run1", project.tolerance_profile), encoding="utf-8")
+
+
+@pytest.fixture(scope="module")
+def redesigned(tmp_path_factory):
+    project = processed_project(tmp_path_factory.mktemp("zh-redesign"))
+    _redesigned(project)
+    return replace(project, report=ReportSettings(language="zh-CN"))
+
+
+def test_a_chinese_workbook_of_a_redesigned_survey_has_a_tamping_sheet_without_english(redesigned, tmp_path):
+    path = write_workbook(redesigned, stored(redesigned), tmp_path / "report.xlsx")
+    book = openpyxl.load_workbook(path, read_only=True)
+    assert book.sheetnames[-2:] == ["捣固", "处理记录"]
+    tamping = " ".join(str(value) for row in book["捣固"].iter_rows(values_only=True) for value in row
+                       if isinstance(value, str))
+    for term in ("起道", "拨道", "超高", "里程", "直缓点", "缓圆点", "变坡点", "固定点起点（redesign.fixed[0]）",
+                 "固定点终点（道岔 W12）", "作业段 1/"):
+        assert term in tamping, term
+    assert english_words(tamping) == set()
+
+
+@pytest.mark.skipif(shutil.which("pdftotext") is None, reason="poppler-utils not installed; .ci/run installs it")
+def test_a_chinese_pdf_of_a_redesigned_survey_has_no_english(redesigned, tmp_path):
+    text = pdf_text(write_pdf(redesigned, stored(redesigned), tmp_path / "report.pdf"))
+    for term in ("捣固重新设计", "起道", "拨道", "固定点区段", "只起不落", "起道达到最大起道量", "无法通过：短波不平顺", "作业前"):
+        assert term in text, term
+    assert english_words(text) == set()
+
+
+def test_a_chinese_report_of_a_relative_survey_names_it_and_its_mounting_without_english(chinese, tmp_path):
+    """A relative survey (no GNSS, no prism) with the IMU mounting estimated from the survey."""
+    results = stored(chinese)
+    summary = {**results.summary, "survey": {**results.summary["survey"], "kind": "relative"},
+               "fusion": {**results.summary["fusion"], "mounting": {
+                   "given_rpy_deg": [0.0, 0.0, 0.0], "applied_rpy_deg": [0.0, 0.512, 0.0],
+                   "roll": {"not_estimated": "no design cant to compare the cant with"},
+                   "pitch": {"estimate_deg": 0.512, "sigma_deg": 0.02, "applied": True},
+                   "yaw": {"not_estimated": "no GNSS: only the NHC gives the direction of travel in the IMU's axes"}}}}
+    relative = replace(results, summary=summary)
+    book = openpyxl.load_workbook(write_workbook(chinese, relative, tmp_path / "report.xlsx"), read_only=True)
+    texts = " ".join(str(value) for sheet in book.worksheets if sheet.title != "处理记录"
+                     for row in sheet.iter_rows(values_only=True) for value in row if isinstance(value, str))
+    assert "run1（相对测量）" in texts and "相对测量：无 GNSS" in texts
+    assert english_words(texts) == set()
+    if shutil.which("pdftotext") is None:
+        return
+    text = pdf_text(write_pdf(chinese, relative, tmp_path / "report.pdf"))
+    for term in ("run1（相对测量）", "相对测量：无 GNSS", "IMU 安装角", "俯仰 +0.512°", "（已采用）", "横滚 未估计（无设计超高"):
+        assert term in text, term
+    assert english_words(text) == set()

@@ -14,7 +14,8 @@ values in the program's tables, not a file's bytes; ``docs/formats.md``). So:
   interpolated, the marks kept); read back by :func:`read_template_export`.
 
 Every file states its sign conventions in its first lines (``#`` lines, or the template's
-``comment`` prefix).
+``comment`` prefix); a template's lines are in the report language, tamping.csv's (insrail's own
+file, read back) in English.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from insrail.io.errors import InputError
+from insrail.names import t
 from insrail.project.redesign import REDESIGN_FOLDER, TAMPING_FILE, TAMPING_HEADER
 
 #: Fields a template column may take, and the unit each is converted from (station m, amounts mm).
@@ -166,17 +168,16 @@ def _resampled(table: TampingTable, spacing_m: float) -> TampingTable:
 
 
 def _conventions(template: Template) -> list[str]:
+    """Each column's unit and sign in words (the report language's: these lines are for people)."""
+    meanings = {"lift_left": t("{sign} = rail up"), "lift_right": t("{sign} = rail up"),
+                "slew": t("{sign} = track to the right looking towards increasing chainage"),
+                "cant": t("{sign} = left rail higher")}
     parts = []
     for c in template.columns:
-        if c.field in ("lift_left", "lift_right"):
-            parts.append(f"{c.title} [{c.unit}]: {'+' if c.sign > 0 else '-'} = rail up")
-        elif c.field == "slew":
-            parts.append(f"{c.title} [{c.unit}]: {'+' if c.sign > 0 else '-'} = track to the right looking towards "
-                         "increasing chainage")
-        elif c.field == "cant":
-            parts.append(f"{c.title} [{c.unit}]: {'+' if c.sign > 0 else '-'} = left rail higher")
+        if c.field in meanings:
+            parts.append(f"{c.title} [{c.unit}]: " + meanings[c.field].format(sign="+" if c.sign > 0 else "-"))
         elif c.field == "station":
-            parts.append(f"{c.title} [{c.unit}]: station{' (negated)' if c.sign < 0 else ''}")
+            parts.append(f"{c.title} [{c.unit}]: " + (t("station (negated)") if c.sign < 0 else t("station")))
     return parts
 
 
@@ -188,7 +189,8 @@ def _number(value: float, decimals: int) -> str:
 def format_template(project, results, template: Template) -> str:
     """tamping.csv in the template's layout."""
     table = _resampled(read_tamping(_tamping_file(results)), template.spacing_m)
-    lines = [f"{template.comment} {template.name}: tamping amounts of {project.name}, survey {results.survey} (insrail)"]
+    lines = [f"{template.comment} " + t("{template}: tamping amounts of {project}, survey {survey} (insrail)").format(
+        template=template.name, project=project.name, survey=results.survey)]
     lines += [f"{template.comment} {part}" for part in _conventions(template)]
     if template.header:
         lines.append(template.separator.join(c.title for c in template.columns))

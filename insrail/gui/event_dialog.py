@@ -21,6 +21,7 @@ from insrail.io.errors import InputError
 from insrail.io.events import EVENT_KINDS, Event, EventList, event_problems
 from insrail.project.event_marking import DEFAULT_EVENTS_FILE, mark_event
 from insrail.project.model import Project
+from insrail.names import t
 from insrail.track.events import KIND_NAMES
 from insrail.gui.translation import tr
 
@@ -38,8 +39,8 @@ class EventDialog(QDialog):
         self.events: EventList | None = None
         self.kind = QComboBox()
         for kind in EVENT_KINDS:
-            self.kind.addItem(KIND_NAMES[kind].capitalize(), kind)
-        self.kind.setToolTip("\n".join(f"{KIND_NAMES[k].capitalize()}: {what}" for k, what in EVENT_KINDS.items()))
+            self.kind.addItem(t(KIND_NAMES[kind]).capitalize(), kind)
+        self.kind.setToolTip("\n".join(f"{t(KIND_NAMES[k]).capitalize()}: {t(what)}" for k, what in EVENT_KINDS.items()))
         low, high = sorted((from_m, to_m))
         self.start = QLineEdit(f"{low:.3f}")
         self.end = QLineEdit(f"{high:.3f}")
@@ -48,17 +49,17 @@ class EventDialog(QDialog):
         self.text.setPlaceholderText(tr("optional: W12 No. 18 right-hand, LC 3, …"))
         self.problems = {name: QLabel() for name in ("kind", "from", "to", "text")}
         form = QFormLayout()
-        for label, field, name in (("Kind", self.kind, "kind"), ("From station [m]", self.start, "from"),
-                                   ("To station [m]", self.end, "to"), ("Note", self.text, "text")):
+        for label, field, name in ((tr("Kind"), self.kind, "kind"), (tr("From station [m]"), self.start, "from"),
+                                   (tr("To station [m]"), self.end, "to"), (tr("Note"), self.text, "text")):
             form.addRow(label, field)
             problem = self.problems[name]
             problem.setStyleSheet(PROBLEM_STYLE)
             problem.setWordWrap(True)
             problem.hide()
             form.addRow("", problem)
-        target = project.events or f"{DEFAULT_EVENTS_FILE} (new; the project will name it)"
-        self.where = QLabel(f"Appended to the project's event file {target}; the surveys need processing "
-                            "again to assess with it.")
+        target = project.events or tr("{file} (new; the project will name it)").format(file=DEFAULT_EVENTS_FILE)
+        self.where = QLabel(tr("Appended to the project's event file {file}; the surveys need processing again to "
+                               "assess with it.").format(file=target))
         self.where.setWordWrap(True)
         self.general = QLabel()
         self.general.setStyleSheet(PROBLEM_STYLE)
@@ -101,10 +102,11 @@ class EventDialog(QDialog):
             try:
                 value = float(text)
             except ValueError:
-                problems[name] = f"expected a station in metres, found {text!r}" if text else "a station is needed"
+                problems[name] = (tr("expected a station in metres, found {text}").format(text=repr(text)) if text
+                                  else tr("a station is needed"))
                 continue
             if not math.isfinite(value):
-                problems[name] = f"expected a finite station, found {text!r}"
+                problems[name] = tr("expected a finite station, found {text}").format(text=repr(text))
         event = self.typed_event()
         if not problems and event is not None:
             problems = event_problems(event)
@@ -120,7 +122,7 @@ class EventDialog(QDialog):
         try:
             self.project, self.events = mark_event(self.project, self.typed_event())
         except (InputError, OSError, ValueError) as error:
-            self.general.setText(f"Not marked: {error}")
+            self.general.setText(tr("Not marked: {error}").format(error=error))
             self.general.show()
             return
         super().accept()

@@ -64,15 +64,15 @@ def preview(path: Path, lines: int = PREVIEW_LINES) -> str:
         try:
             records = np.load(path, mmap_mode="r", allow_pickle=False)
         except (ValueError, OSError) as error:
-            return f"not a readable .npy file: {error}"
+            return tr("not a readable .npy file: {error}").format(error=error)
         names = records.dtype.names or ("value",)
         rows = [" ".join(names)] + [str(records[i]) for i in range(min(lines, len(records)))]
-        return f"{len(records)} records\n" + "\n".join(rows)
+        return tr("{count} records").format(count=len(records)) + "\n" + "\n".join(rows)
     try:
         with open(path, encoding="utf-8", errors="replace") as handle:
             return "".join(line for _, line in zip(range(lines), handle))
     except OSError as error:
-        return f"cannot read: {error}"
+        return tr("cannot read: {error}").format(error=error)
 
 
 @dataclass(frozen=True)
@@ -100,7 +100,7 @@ class ImportWidget(QWidget):
         fill(self.imu_profile, "processing.imu_profile", shipped_names("imu_profiles"))
         choose(self.imu_profile, "nav")
         self.files = QTableWidget(0, 4)
-        self.files.setHorizontalHeaderLabels(["File", "Role", "Format", "Check"])
+        self.files.setHorizontalHeaderLabels([tr("File"), tr("Role"), tr("Format"), tr("Check")])
         self.files.setSelectionBehavior(QAbstractItemView.SelectRows)
         self.files.verticalHeader().setVisible(False)
         self.files.horizontalHeader().setSectionResizeMode(_FILE, QHeaderView.Stretch)
@@ -109,7 +109,7 @@ class ImportWidget(QWidget):
         self.preview.setFont(QFont("monospace", 8))
         self.preview.setLineWrapMode(QPlainTextEdit.NoWrap)
         self.problems = QTableWidget(0, 3)
-        self.problems.setHorizontalHeaderLabels(["File", "Line", "What is wrong"])
+        self.problems.setHorizontalHeaderLabels([tr("File"), tr("Line"), tr("What is wrong")])
         self.problems.verticalHeader().setVisible(False)
         self.problems.horizontalHeader().setStretchLastSection(True)
         self.problems.setEditTriggers(QAbstractItemView.NoEditTriggers)
@@ -216,12 +216,12 @@ class ImportWidget(QWidget):
                  self.files.cellWidget(row, _FORMAT).currentText()) for row in range(self.files.rowCount())]
 
     def _browse_files(self) -> None:
-        paths, _ = QFileDialog.getOpenFileNames(self, "Raw files of one survey")
+        paths, _ = QFileDialog.getOpenFileNames(self, tr("Raw files of one survey"))
         if paths:
             self.add_files(paths)
 
     def _browse_folder(self) -> None:
-        folder = QFileDialog.getExistingDirectory(self, f"Survey folder (with {MANIFEST_NAME})")
+        folder = QFileDialog.getExistingDirectory(self, tr("Survey folder (with {file})").format(file=MANIFEST_NAME))
         if folder:
             try:
                 self.load_survey_folder(folder)
@@ -246,25 +246,27 @@ class ImportWidget(QWidget):
         for role in REQUIRED_ROLES:
             if role not in roles:
                 required = ", ".join(REQUIRED_ROLES)
-                problems.append(Problem("", None, f"no file has the role {role} (required: {required})"))
+                problems.append(Problem("", None, tr("no file has the role {role} (required: {required})").format(
+                    role=role, required=required)))
         if not any(role in roles for role in POSITION_ROLES):
-            problems.append(Problem("", None, "no file gives the position: give a GNSS solution (gnss) or "
-                                    "total-station prism fixes (prism)"))
+            problems.append(Problem("", None, tr("no file gives the position: give a GNSS solution (gnss) or "
+                                                 "total-station prism fixes (prism)")))
         weeks = set()
         for row, (path, role, name) in enumerate(self.entries()):
-            status = "ok"
+            status = tr("ok")
             if not role:
-                problems.append(Problem(path.name, None, "choose the role of this file"))
-                status = "no role"
+                problems.append(Problem(path.name, None, tr("choose the role of this file")))
+                status = tr("no role")
             elif roles.count(role) > 1:
-                problems.append(Problem(path.name, None, f"more than one file has the role {role}"))
-                status = "duplicate role"
+                problems.append(Problem(path.name, None, tr("more than one file has the role {role}").format(role=role)))
+                status = tr("duplicate role")
             elif not name:
-                problems.append(Problem(path.name, None, "format not recognised: choose one"))
-                status = "no format"
+                problems.append(Problem(path.name, None, tr("format not recognised: choose one")))
+                status = tr("no format")
             elif FORMATS[name].data_type is not ROLE_TYPES[role]:
-                problems.append(Problem(path.name, None, f"format {name} does not hold {role} data"))
-                status = "format does not fit the role"
+                problems.append(Problem(path.name, None, tr("format {format} does not hold {role} data").format(format=name,
+                                                                                                         role=role)))
+                status = tr("format does not fit the role")
             else:
                 try:
                     data = read_any(path, name)
@@ -297,10 +299,10 @@ class ImportWidget(QWidget):
         raw-data folder left untouched; None (problems shown) if not possible."""
         problems = self.check()
         if trolley is None:
-            problems.append(Problem("", None, "no trolley geometry: enter it in the project"))
+            problems.append(Problem("", None, tr("no trolley geometry: enter it in the project")))
         name = self.name.text().strip()
         if not name:
-            problems.append(Problem("", None, "enter a survey name"))
+            problems.append(Problem("", None, tr("enter a survey name")))
         if problems:
             self._show_problems(problems)
             return None
@@ -313,7 +315,8 @@ class ImportWidget(QWidget):
                     (into / file.path).parent.mkdir(parents=True, exist_ok=True)
                     shutil.copy2(path, into / file.path)
             except OSError as error:
-                self._show_problems([Problem(str(path), None, f"cannot copy into {into}: {error.strerror or error}")])
+                self._show_problems([Problem(str(path), None, tr("cannot copy into {folder}: {error}").format(
+                    folder=into, error=error.strerror or error))])
                 return None
             folder = into
         manifest = SurveyManifest(name=name, files=files, trolley=trolley, imu_profile=chosen(self.imu_profile),

@@ -44,7 +44,6 @@ from insrail.nav.fusion import FusionOptions
 from insrail.quality import GnssQuality, Prediction, SweepTable, predict, sweep
 from insrail.quality.sweep import PARAMETERS
 from insrail.quality.tables import (
-    EXCEEDS,
     ROWS,
     SWEEP_VALUES,
     FigureRow,
@@ -52,15 +51,16 @@ from insrail.quality.tables import (
     prediction_heading,
     sweep_rows,
 )
-from insrail.gui.translation import tr
+from insrail.gui.translation import tr, tr_noop
 
 NO_SWEEP = "none"
 PROGRESS_STEPS = 1000
 OK_COLOUR, EXCEEDS_COLOUR = QColor("#1B7F3B"), QColor("#C00000")
 #: The figures the sweep plot draws (their 3 sigma against the limits of their checks), with short
 #: labels: a long title would widen the plot beyond the dialog.
-SWEEP_PLOT = {"lag5_lateral_m": "5 m lag lateral", "lag5_vertical_m": "5 m lag vertical",
-              "lag150_lateral_m": "150 m lag lateral", "lag150_vertical_m": "150 m lag vertical", "cant_m": "cant"}
+SWEEP_PLOT = {"lag5_lateral_m": tr_noop("5 m lag lateral"), "lag5_vertical_m": tr_noop("5 m lag vertical"),
+              "lag150_lateral_m": tr_noop("150 m lag lateral"), "lag150_vertical_m": tr_noop("150 m lag vertical"),
+              "cant_m": tr_noop("cant")}
 
 
 @dataclass(frozen=True)
@@ -256,7 +256,7 @@ class PlanSurveyDialog(QDialog):
         self.worker.cancelled.connect(self._cancelled)
         self.worker.finished.connect(self._finished)
         self.progress.setValue(0)
-        self._say("predicting…")
+        self._say(tr("predicting…"))
         self.run_button.setEnabled(False)
         self.cancel_button.setEnabled(True)
         self.worker.start()
@@ -275,7 +275,7 @@ class PlanSurveyDialog(QDialog):
         self._say(message, error=True)
 
     def _cancelled(self) -> None:
-        self._say("cancelled")
+        self._say(tr("cancelled"))
 
     def _say(self, message: str, error: bool = False) -> None:
         self.message.setStyleSheet("color: #C00000" if error else "")
@@ -306,20 +306,20 @@ class PlanSurveyDialog(QDialog):
             self._fill_figures(accuracy_rows(result.smoothed if smoothed else result.forward, with_outage))
             self.plot.hide()
         else:
-            pass_name = "smoothed" if smoothed else "forward"
-            self.heading.setText(f"{pass_name} solution, 1 sigma [mm], {result.parameter} in {result.unit}; "
-                                 f"the plot shows 3 sigma against the limits")
+            solution = tr("smoothed solution") if smoothed else tr("forward solution")
+            self.heading.setText(tr("{solution}, 1 sigma [mm], {parameter} in {unit}; the plot shows 3 sigma against "
+                                    "the limits").format(solution=solution, parameter=result.parameter, unit=result.unit))
             rows = sweep_rows(result, smoothed, with_outage)
             self._fill_sweep(result, rows)
             self._plot_sweep(result, rows)
-        self._say("done")
+        self._say(tr("done"))
 
     def _fill_figures(self, rows: list[FigureRow]) -> None:
         table = self.table
         table.clear()
         table.setColumnCount(5)
         table.setRowCount(len(rows))
-        table.setHorizontalHeaderLabels(["Figure", "1σ [mm]", "3σ [mm]", "Limit [mm]", "3σ against the limit"])
+        table.setHorizontalHeaderLabels([tr("Figure"), "1σ [mm]", "3σ [mm]", tr("Limit [mm]"), tr("3σ against the limit")])
         for r, row in enumerate(rows):
             table.setItem(r, 0, _cell(row.label, Qt.AlignLeft | Qt.AlignVCenter))
             table.setItem(r, 1, _cell(_mm(row.sigma_mm)))
@@ -340,7 +340,7 @@ class PlanSurveyDialog(QDialog):
         figures = rows[0][1]
         table.setColumnCount(2 + len(rows))
         table.setRowCount(len(figures))
-        table.setHorizontalHeaderLabels(["Figure, 1σ [mm]", "Limit [mm]",
+        table.setHorizontalHeaderLabels([tr("Figure, 1σ [mm]"), tr("Limit [mm]"),
                                          *(f"{value:g} {result.unit}" for value, _ in rows)])
         for r, figure in enumerate(figures):
             table.setItem(r, 0, _cell(figure.label, Qt.AlignLeft | Qt.AlignVCenter))
@@ -350,7 +350,7 @@ class PlanSurveyDialog(QDialog):
                 cell = _cell(_mm(row.sigma_mm))
                 if row.within_limit is False:
                     cell.setForeground(EXCEEDS_COLOUR)
-                    cell.setToolTip(f"3σ {row.three_sigma_mm:.3f} mm: {EXCEEDS}")
+                    cell.setToolTip(f"3σ {row.three_sigma_mm:.3f} mm: {row.verdict}")
                 table.setItem(r, c, cell)
         header = table.horizontalHeader()
         header.setSectionResizeMode(QHeaderView.ResizeToContents)
@@ -371,7 +371,7 @@ class PlanSurveyDialog(QDialog):
         for limit in sorted({ROWS[name][1] for name in SWEEP_PLOT}):
             item.addItem(pg.InfiniteLine(limit, angle=0, pen=plotstyle.LIMIT_PEN,
                                          label=f"{limit:g} mm", labelOpts={"position": 0.04, "color": "#C00000"}))
-        item.setTitle(plotstyle.titled("3σ [mm]", list(SWEEP_PLOT.values())), size="8pt")
+        item.setTitle(plotstyle.titled("3σ [mm]", [tr(label) for label in SWEEP_PLOT.values()]), size="8pt")
         item.setLabel("bottom", f"{result.parameter} [{result.unit}]")
         item.setLabel("left", "3σ [mm]")
         self.plot.show()

@@ -171,6 +171,11 @@ def _summary(survey: str, profile_name: str, result: Redesign, fit_problem: str)
     }
 
 
+#: tamping.csv's notes for people (the reports give them in their language: insrail.names_zh has them)
+TAMPING_AMOUNTS = ("lift_left_mm, lift_right_mm, slew_mm: move the rail (the track) by the amount after which the "
+                   "track passes the profile's chord checks (docs/tamping.md); cant_mm = the cant after the job")
+TAMPING_CONVENTION = ("mm; lift + up; slew + to the right looking towards increasing chainage; cant + left rail higher; "
+                      "mark: TS/SC/CS/ST, PVI of the re-designed line, fixed start/end")
 TAMPING_HEADER = ["station_m", "label", "lift_left_mm", "lift_right_mm", "slew_mm", "cant_mm", "mark"]
 
 
@@ -180,10 +185,8 @@ def tamping_csv_text(rows: tuple[TampingRow, ...], survey: str, profile_name: st
         "# insrail tamping 1",
         f"# survey = {survey}",
         f"# profile = {profile_name}",
-        "# amounts = lift_left_mm, lift_right_mm, slew_mm: move the rail (the track) by the amount after which "
-        "the track passes the profile's chord checks (docs/tamping.md); cant_mm = the cant after the job",
-        "# convention = mm; lift + up; slew + to the right looking towards increasing chainage; "
-        "cant + left rail higher; mark: TS/SC/CS/ST, PVI of the re-designed line, fixed start/end",
+        f"# amounts = {TAMPING_AMOUNTS}",
+        f"# convention = {TAMPING_CONVENTION}",
         ",".join(TAMPING_HEADER),
     ]
     for r in rows:

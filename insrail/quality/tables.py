@@ -4,6 +4,8 @@ One source for every shell: ``insrail predict`` prints :func:`accuracy_table` an
 :func:`sweep_table`; the GUI's Plan survey dialog shows :func:`accuracy_rows` and
 :func:`sweep_rows` in a table widget. A figure passes when its 3 sigma is within the limit
 of the check it stands for (2 mm for the 30 m/5 m chords and cant, 10 mm for 300 m/150 m).
+The labels, verdicts and headings are in the language in use (:func:`insrail.names.t`: the
+desktop application's; the command line's is English).
 """
 
 from __future__ import annotations
@@ -11,6 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
+
+from insrail.names import t
 
 if TYPE_CHECKING:  # the command line parser reads SWEEP_VALUES without loading the fusion
     from insrail.quality.prediction import AccuracyFigures, Prediction
@@ -64,7 +68,7 @@ class FigureRow:
 
     @property
     def verdict(self) -> str:
-        return {None: "", True: "ok", False: EXCEEDS}[self.within_limit]
+        return {None: "", True: t("ok"), False: t(EXCEEDS)}[self.within_limit]
 
 
 def figure_names(with_outage: bool, relative: bool = False) -> list[str]:
@@ -76,7 +80,7 @@ def figure_names(with_outage: bool, relative: bool = False) -> list[str]:
 
 def accuracy_rows(figures: AccuracyFigures, with_outage: bool, relative: bool = False) -> list[FigureRow]:
     values = figures.as_dict()
-    return [FigureRow(name, ROWS[name][0], values[name], ROWS[name][1])
+    return [FigureRow(name, t(ROWS[name][0]), values[name], ROWS[name][1])
             for name in figure_names(with_outage, relative)]
 
 
@@ -84,15 +88,16 @@ def prediction_heading(prediction: Prediction, smoothed: bool) -> str:
     """What was predicted: pass, IMU, GNSS sigmas, speed, length and outages."""
     inputs = prediction.inputs
     gnss = inputs["gnss"]
-    source = ("relative survey (no GNSS, no prism: odometer, NHC and stops), " if gnss is None else
-              f"GNSS {1e3 * gnss.white_horizontal_m:g}/{1e3 * gnss.white_vertical_m:g} mm, ")
-    text = (f"Predicted accuracy, {'smoothed' if smoothed else 'forward'} solution: IMU {inputs['imu']}, {source}"
-            f"{inputs['speed_mps']:g} m/s, {inputs['length_m']:g} m")
+    source = (t("relative survey (no GNSS, no prism: odometer, NHC and stops)") if gnss is None else
+              f"GNSS {1e3 * gnss.white_horizontal_m:g}/{1e3 * gnss.white_vertical_m:g} mm")
+    text = t("Predicted accuracy, {solution} solution: IMU {imu}, {source}, {speed_mps:g} m/s, {length_m:g} m").format(
+        solution=t("smoothed") if smoothed else t("forward"), imu=inputs["imu"], source=source,
+        speed_mps=inputs["speed_mps"], length_m=inputs["length_m"])
     if gnss is None and inputs["stops"]:
         spacing = inputs["stops"][1][0] - inputs["stops"][0][0] if len(inputs["stops"]) > 1 else inputs["stops"][0][0]
-        text += f", a {inputs['stops'][0][1]:g} s stop every {spacing:g} m"
+        text += t(", a {stop_s:g} s stop every {spacing_m:g} m").format(stop_s=inputs["stops"][0][1], spacing_m=spacing)
     for station, duration in inputs["outages"]:
-        text += f", {duration:g} s outage at {station:g} m"
+        text += t(", {duration_s:g} s outage at {station_m:g} m").format(duration_s=duration, station_m=station)
     return text
 
 

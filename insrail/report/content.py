@@ -715,7 +715,7 @@ def is_relative(summary: dict) -> bool:
 
 def survey_title(content: ReportContent) -> str:
     """The survey's name, with "(relative survey)" after it for a relative one."""
-    return f"{content.survey} (relative survey)" if is_relative(content.summary) else content.survey
+    return t("{survey} (relative survey)").format(survey=content.survey) if is_relative(content.summary) else content.survey
 
 
 def mounting_text(summary: dict) -> str | None:
@@ -727,12 +727,16 @@ def mounting_text(summary: dict) -> str | None:
     parts = []
     for axis in ("roll", "pitch", "yaw"):
         entry = mounting[axis]
-        parts.append(f"{axis} {entry['estimate_deg']:+.3f}° ± {entry['sigma_deg']:.3f}°"
-                     + (" (applied)" if entry["applied"] else "") if "estimate_deg" in entry
-                     else f"{axis} not estimated ({entry['not_estimated']})")
+        if "estimate_deg" in entry:
+            estimate = t("{axis} {estimate:+.3f}° ± {sigma:.3f}°").format(
+                axis=t(axis), estimate=entry["estimate_deg"], sigma=entry["sigma_deg"])
+            parts.append(estimate + (t(" (applied)") if entry["applied"] else ""))
+        else:
+            parts.append(t("{axis} not estimated ({reason})").format(axis=t(axis), reason=t(entry["not_estimated"])))
     applied = ", ".join(f"{v:+.3f}" for v in mounting["applied_rpy_deg"])
     given = ", ".join(f"{v:+.3f}" for v in mounting["given_rpy_deg"])
-    return f"processed with roll, pitch, yaw [{applied}]° (survey.toml [{given}]°); estimated from the survey: " + "; ".join(parts)
+    return t("processed with roll, pitch, yaw [{applied}]° (survey.toml [{given}]°); estimated from the survey: "
+             "{estimates}").format(applied=applied, given=given, estimates=t("; ").join(parts))
 
 
 def survey_start(content: ReportContent) -> str:
@@ -743,3 +747,44 @@ def survey_start(content: ReportContent) -> str:
         return ""
     moment = GPS_EPOCH + np.timedelta64(int(week) * 7 * 86400 + int(np.nanmin(time)), "s")
     return str(moment).replace("T", " ")[:16] + " GPST"
+
+
+# --------------------------------------------------------------------------- tamping re-design (insrail redesign)
+
+#: tamping.csv's marks of the re-designed line's key points (insrail.track.alignment's joint labels) in words.
+TAMPING_MARKS = {"TS": "TS (tangent to spiral)", "SC": "SC (spiral to curve)", "CS": "CS (curve to spiral)",
+                 "ST": "ST (spiral to tangent)", "PC": "PC (tangent to curve)", "PT": "PT (curve to tangent)",
+                 "SS": "SS (spiral to spiral)", "POT": "POT (tangent to tangent)", "PVI": "PVI (vertical intersection)"}
+#: the bounds a re-design's active stretches name (insrail.track.redesign._active), as summary.toml writes them
+REDESIGN_BOUNDS = ("lift at max_lift", "slew at max_slew", "lift at min_lift", "fixed stretch")
+
+
+def fixed_source_name(source: str) -> str:
+    """Where a fixed stretch came from: a key of project.toml as written (``redesign.fixed[0]``), or an event
+    of the survey (its kind's name and its text)."""
+    from insrail.track.events import KIND_NAMES
+
+    kind, _, text = source.partition(" ")
+    return f"{t(KIND_NAMES[kind])} {text}".strip() if kind in KIND_NAMES else source
+
+
+def tamping_mark_name(mark: str) -> str:
+    """A mark of tamping.csv (``TS``, ``PVI``, ``fixed start (turnout W12)``) in the report's language."""
+    if mark.endswith(")"):
+        if mark.startswith("fixed start ("):
+            return t("fixed start ({source})").format(source=fixed_source_name(mark[len("fixed start ("):-1]))
+        if mark.startswith("fixed end ("):
+            return t("fixed end ({source})").format(source=fixed_source_name(mark[len("fixed end ("):-1]))
+    return t(TAMPING_MARKS[mark]) if mark in TAMPING_MARKS else mark
+
+
+def redesign_bound_name(what: str, profile: ToleranceProfile) -> str:
+    """What holds a stretch of a re-design (a bound of REDESIGN_BOUNDS) or fails there after the job (summary.toml
+    writes "<check id> <rail> <direction>"): the display name."""
+    if what in REDESIGN_BOUNDS:
+        return t(what)
+    name, *channel = what.split(" ")
+    check = next((c for c in profile.checks if c.name == name), None)
+    if check is None or len(channel) > 2:
+        return what  # a profile changed since the re-design: the id as written
+    return channel_name(check, *(channel + ["", ""])[:2]) if channel else check_name(check)

@@ -61,6 +61,7 @@ from insrail.report.content import (
     is_relative,
     survey_start,
     survey_title,
+    tamping_mark_name,
     threshold_text,
 )
 from insrail.report.labels import SIGNS, amounts_text, amounts_withheld_text, deviation_reference
@@ -664,10 +665,12 @@ def _tamping_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
 
     table = read_tamping(content.results.folder / REDESIGN_FOLDER / TAMPING_FILE)
     widths = TAMPING_WIDTHS
-    sheet.title("Tamping sheet")
-    _note(sheet, "The tamping re-design, in working order (increasing chainage). " + _context(content), widths)
-    _note(sheet, f"{table.metadata.get('amounts', '')}. Signs: {table.metadata.get('convention', '')}.", widths, BOLD)
-    header = sheet.header(list(TAMPING_TITLES))
+    sheet.title(t("Tamping sheet"))
+    _note(sheet, t("The tamping re-design, in working order (increasing chainage). ") + _context(content), widths)
+    _note(sheet, t("{amounts}. Signs: {convention}.").format(amounts=t(table.metadata.get("amounts", "")),
+                                                             convention=t(table.metadata.get("convention", ""))),
+          widths, BOLD)
+    header = sheet.header([t(title) for title in TAMPING_TITLES])
     sheet.start(list(widths), f"A{header + 1}", CREW_PAPER, page_header(content), orientation="portrait")
     values = table.values
     moved = np.max(np.abs([values["lift_left"], values["lift_right"], values["slew"]]), axis=0) >= TAMPING_SECTION_GAP_MM
@@ -680,20 +683,21 @@ def _tamping_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
             sections.append([first, last])
     amount = "0.0"
     for number, (first, last) in enumerate(sections, start=1):
-        row = sheet.append([sheet.cell(f"Work section {number} of {len(sections)}: {table.label[first]} – "
-                                       f"{table.label[last]}, {last - first + 1} rows", font=BOLD)])
+        row = sheet.append([sheet.cell(t("Work section {number} of {count}: {first} – {last}, {rows} rows").format(
+            number=number, count=len(sections), first=table.label[first], last=table.label[last],
+            rows=last - first + 1), font=BOLD)])
         if number > 1:
             sheet.sheet.row_breaks.append(Break(id=row - 1))
         for i in range(first, last + 1):
             sheet.append([sheet.cell(table.label[i]), sheet.cell(table.station_m[i], "0.000"),
                           *(sheet.cell(values[k][i], amount) for k in ("lift_left", "lift_right", "slew", "cant")),
-                          sheet.cell(table.mark[i])])
+                          sheet.cell(tamping_mark_name(table.mark[i]))])
     marks = [i for i, m in enumerate(table.mark) if m]
-    sheet.append([sheet.cell("Marks of the re-designed line and the fixed stretches", font=BOLD)])
+    sheet.append([sheet.cell(t("Marks of the re-designed line and the fixed stretches"), font=BOLD)])
     for i in marks:
         sheet.append([sheet.cell(table.label[i]), sheet.cell(table.station_m[i], "0.000"),
                       *(sheet.cell(values[k][i], amount) for k in ("lift_left", "lift_right", "slew", "cant")),
-                      sheet.cell(table.mark[i])])
+                      sheet.cell(tamping_mark_name(table.mark[i]))])
     sheet.sheet.print_title_rows = f"{header}:{header}"
     progress(1.0, "tamping sheet")
 
@@ -913,6 +917,8 @@ SHEETS: tuple[tuple[str, Callable, float], ...] = (
     ("Exceedances", _exceedance_sheet, 0.04),
     ("Processing log", _log_sheet, 0.01),
 )
+#: The sheet of a re-designed survey (``insrail redesign``), before the Processing log.
+TAMPING_SHEET = ("Tamping", _tamping_sheet, 0.02)
 
 
 def write_workbook(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
@@ -933,7 +939,7 @@ def _write_workbook(project: Project, results: StoredResults, path: Path, step: 
     sheets = []
     chosen = list(SHEETS)
     if (results.folder / "redesign" / "tamping.csv").is_file():  # a re-designed survey: its sheet before the log
-        chosen.insert(len(chosen) - 1, ("Tamping", _tamping_sheet, 0.02))
+        chosen.insert(len(chosen) - 1, TAMPING_SHEET)
     try:
         for name, build, share in chosen:
             check_cancel(cancel)

@@ -10,8 +10,9 @@ import numpy as np
 from reportlab.lib.units import mm
 from reportlab.platypus import Flowable, PageBreak, Paragraph
 
+from insrail.names import channel_name, profile_name, t
 from insrail.report.charts import Series, StripChart, strip_drawing
-from insrail.report.content import ReportContent
+from insrail.report.content import ReportContent, fixed_source_name, redesign_bound_name
 from insrail.report.pdf import BODY, H1, H2, MARGIN, Heading, page_size, table, text
 
 
@@ -28,22 +29,33 @@ def redesign_page(content: ReportContent) -> list[Flowable]:
     summary = tomllib.loads((folder / SUMMARY_FILE).read_text(encoding="utf-8"))
     tamping = read_tamping(folder / TAMPING_FILE)
     settings, movement, count = summary["settings"], summary["movement"], summary["exceedances"]
-    story: list[Flowable] = [PageBreak(), Heading("Tamping re-design"), Paragraph("Tamping re-design", H1), Paragraph(text(
-        f"The least lift and slew per sleeper after which the track passes the chord checks of {summary['profile']} "
-        f"(each held {settings['margin_mm']:g} mm inside its limit): {'lift only' if settings['lift_only'] else 'lift or lower'}, "
-        f"lift {settings['min_lift_mm']:g} to {settings['max_lift_mm']:g} mm, slew at most {settings['max_slew_mm']:g} mm; "
-        f"largest lift {movement['largest_lift_mm']:.1f} mm at {movement['largest_lift_at_m']:.1f} m, largest slew "
-        f"{movement['largest_slew_mm']:.1f} mm at {movement['largest_slew_at_m']:.1f} m, {movement['sleepers_moved']} "
-        f"sleepers moved; exceedances {count['before']} before, {count['after']} after the job. Signs: "
-        f"{tamping.metadata.get('convention', '')}."), BODY)]
-    rows = [[f"{f['from_m']:.1f}", f"{f['to_m']:.1f}", f"{f['tolerance_mm']:g}", f["source"]] for f in settings["fixed"]]
-    story += [Paragraph("Fixed stretches", H2),
-              table(["from (m)", "to (m)", "tolerance (mm)", "from"], rows or [["-", "-", "-", "none"]],
+    heading = t("Tamping re-design")
+    story: list[Flowable] = [PageBreak(), Heading(heading), Paragraph(heading, H1), Paragraph(text(t(
+        "The least lift and slew per sleeper after which the track passes the chord checks of {profile} (each held "
+        "{margin_mm:g} mm inside its limit): {direction}, lift {min_lift_mm:g} to {max_lift_mm:g} mm, slew at most "
+        "{max_slew_mm:g} mm; largest lift {lift_mm:.1f} mm at {lift_at_m:.1f} m, largest slew {slew_mm:.1f} mm at "
+        "{slew_at_m:.1f} m, {sleepers} sleepers moved; exceedances {before} before, {after} after the job. Signs: "
+        "{convention}.").format(
+        profile=profile_name(content.profile) if content.profile.name == summary["profile"] else summary["profile"],
+        margin_mm=settings["margin_mm"],
+        direction=t("lift only") if settings["lift_only"] else t("lift or lower"),
+        min_lift_mm=settings["min_lift_mm"], max_lift_mm=settings["max_lift_mm"], max_slew_mm=settings["max_slew_mm"],
+        lift_mm=movement["largest_lift_mm"], lift_at_m=movement["largest_lift_at_m"],
+        slew_mm=movement["largest_slew_mm"], slew_at_m=movement["largest_slew_at_m"],
+        sleepers=movement["sleepers_moved"], before=count["before"], after=count["after"],
+        convention=t(tamping.metadata.get("convention", "")))), BODY)]
+    rows = [[f"{f['from_m']:.1f}", f"{f['to_m']:.1f}", f"{f['tolerance_mm']:g}", fixed_source_name(f["source"])]
+            for f in settings["fixed"]]
+    story += [Paragraph(t("Fixed stretches"), H2),
+              table([t("from (m)"), t("to (m)"), t("tolerance (mm)"), t("from")], rows or [["-", "-", "-", t("none")]],
                     [25 * mm, 25 * mm, 28 * mm, 100 * mm])]
-    bound = [[s["what"], f"{s['from_m']:.1f}", f"{s['to_m']:.1f}", f"{s['value_mm']:.1f}"]
-             for s in summary["active"] + [dict(c, what=f"cannot pass: {c['what']}") for c in summary["cannot_pass"]]]
-    story += [Paragraph("Where a bound holds, and what cannot pass", H2),
-              table(["what", "from (m)", "to (m)", "value (mm)"], bound or [["none", "-", "-", "-"]],
+    profile = content.profile
+    bound = [[redesign_bound_name(s["what"], profile), f"{s['from_m']:.1f}", f"{s['to_m']:.1f}", f"{s['value_mm']:.1f}"]
+             for s in summary["active"]]
+    bound += [[t("cannot pass: {what}").format(what=redesign_bound_name(c["what"], profile)), f"{c['from_m']:.1f}",
+               f"{c['to_m']:.1f}", f"{c['value_mm']:.1f}"] for c in summary["cannot_pass"]]
+    story += [Paragraph(t("Where a bound holds, and what cannot pass"), H2),
+              table([t("what"), t("from (m)"), t("to (m)"), t("value (mm)")], bound or [[t("none"), "-", "-", "-"]],
                     [90 * mm, 25 * mm, 25 * mm, 25 * mm])]
     sleepers = np.array([not m for m in tamping.mark])
     columns = content.results.columns
@@ -52,16 +64,17 @@ def redesign_page(content: ReportContent) -> list[Flowable]:
     lift = np.column_stack([np.interp(station, tamping.station_m[sleepers], tamping.values[k][sleepers])
                             for k in ("lift_left", "lift_right")]) * 1e-3
     slew = np.interp(station, tamping.station_m[sleepers], tamping.values["slew"][sleepers]) * 1e-3
-    profile = content.profile
     before = assess(judged_only(geometry, judged), profile)
     after = assess(judged_only(moved(geometry, lift, slew), judged), profile)
     page = page_size(content)
     width = page[0] - 2 * MARGIN
+    checks = {check.name: check for check in profile.checks}
     for b, a in zip(before.channels, after.channels):
         if b.kind not in ("versine", "differential_versine") or b.rail != "left":
             continue
-        chart = StripChart(f"{b.check}, {b.direction}, left rail: before (measured) and after the job", "mm",
-                           (Series("before", 1e3 * b.values), Series("after", 1e3 * a.values)),
+        chart = StripChart(t("{channel}: before (measured) and after the job").format(channel=channel_name(
+                               checks[b.check], b.rail, b.direction)), "mm",
+                           (Series(t("before"), 1e3 * b.values), Series(t("after"), 1e3 * a.values)),
                            limits=(1e3 * b.lower, 1e3 * b.upper))
         story.append(strip_drawing(chart, station, judged, float(station[0]), float(station[-1]), width, 48 * mm,
                                    ticks=content.chainage.ticks, axis_title=content.chainage.title))

@@ -74,24 +74,74 @@
       <translation>、</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/event_dialog.py" line="36" />
+      <location filename="../../../insrail/gui/event_dialog.py" line="37" />
       <source>Mark as track event</source>
       <translation>标记为线路事件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/event_dialog.py" line="46" />
+      <location filename="../../../insrail/gui/event_dialog.py" line="47" />
       <source>empty: a point (a joint, a note)</source>
       <translation>留空：单点（接头、备注）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/event_dialog.py" line="48" />
+      <location filename="../../../insrail/gui/event_dialog.py" line="49" />
       <source>optional: W12 No. 18 right-hand, LC 3, …</source>
       <translation>可选：W12 18号右开道岔、LC 3 …</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/event_dialog.py" line="69" />
+      <location filename="../../../insrail/gui/event_dialog.py" line="70" />
       <source>Mark</source>
       <translation>标记</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="52" />
+      <source>Kind</source>
+      <translation>类型</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="52" />
+      <source>From station [m]</source>
+      <translation>起点测站里程 [m]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="53" />
+      <source>To station [m]</source>
+      <translation>终点测站里程 [m]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="53" />
+      <source>Note</source>
+      <translation>说明</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="60" />
+      <source>{file} (new; the project will name it)</source>
+      <translation>{file}（新建；项目将引用它）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="61" />
+      <source>Appended to the project's event file {file}; the surveys need processing again to assess with it.</source>
+      <translation>追加到项目的事件文件 {file}；各测量需重新处理才能据此评估。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="106" />
+      <source>a station is needed</source>
+      <translation>需要测站里程</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="109" />
+      <source>expected a finite station, found {text}</source>
+      <translation>应为有限的测站里程，实为 {text}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="125" />
+      <source>Not marked: {error}</source>
+      <translation>未标记：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/event_dialog.py" line="105" />
+      <source>expected a station in metres, found {text}</source>
+      <translation>应为以米计的测站里程，实为 {text}</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/explorer.py" line="65" />
@@ -314,14 +364,54 @@
       <translation>IMU 误差模型</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="333" />
+      <location filename="../../../insrail/gui/importer.py" line="219" />
+      <source>Raw files of one survey</source>
+      <translation>一次测量的原始文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="256" />
+      <source>ok</source>
+      <translation>正常</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="336" />
       <source>Import raw files as a survey</source>
       <translation>导入原始数据为测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="339" />
+      <location filename="../../../insrail/gui/importer.py" line="342" />
       <source>Import</source>
       <translation>导入</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <source>File</source>
+      <translation>文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <source>Role</source>
+      <translation>用途</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <source>Format</source>
+      <translation>格式</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <source>Check</source>
+      <translation>检测项</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="112" />
+      <source>Line</source>
+      <translation>行</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="112" />
+      <source>What is wrong</source>
+      <translation>问题</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/importer.py" line="138" />
@@ -332,6 +422,91 @@
       <location filename="../../../insrail/gui/importer.py" line="143" />
       <source>Problems found by the readers</source>
       <translation>读取时发现的问题</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="259" />
+      <source>no role</source>
+      <translation>未指定用途</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="75" />
+      <source>cannot read: {error}</source>
+      <translation>无法读取：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="224" />
+      <source>Survey folder (with {file})</source>
+      <translation>测量文件夹（含 {file}）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="252" />
+      <source>no file gives the position: give a GNSS solution (gnss) or total-station prism fixes (prism)</source>
+      <translation>没有提供位置的文件：请给出 GNSS 解（gnss）或全站仪棱镜定位（prism）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="262" />
+      <source>duplicate role</source>
+      <translation>用途重复</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="302" />
+      <source>no trolley geometry: enter it in the project</source>
+      <translation>无小车几何参数：请在项目中填写</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="305" />
+      <source>enter a survey name</source>
+      <translation>请输入测量名称</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="67" />
+      <source>not a readable .npy file: {error}</source>
+      <translation>不是可读取的 .npy 文件：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="70" />
+      <source>{count} records</source>
+      <translation>{count} 条记录</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="258" />
+      <source>choose the role of this file</source>
+      <translation>请选择此文件的用途</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="265" />
+      <source>no format</source>
+      <translation>未识别格式</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="269" />
+      <source>format does not fit the role</source>
+      <translation>格式与用途不符</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="249" />
+      <source>no file has the role {role} (required: {required})</source>
+      <translation>没有用途为 {role} 的文件（必需：{required}）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="264" />
+      <source>format not recognised: choose one</source>
+      <translation>未识别格式：请选择</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="261" />
+      <source>more than one file has the role {role}</source>
+      <translation>多个文件的用途为 {role}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="318" />
+      <source>cannot copy into {folder}: {error}</source>
+      <translation>无法复制到 {folder}：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="267" />
+      <source>format {format} does not hold {role} data</source>
+      <translation>格式 {format} 不含 {role} 数据</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/main_window.py" line="90" />
@@ -649,6 +824,31 @@
       <translation>正在显示测量 {survey}</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="61" />
+      <source>5 m lag lateral</source>
+      <translation>5 m 间隔横向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="61" />
+      <source>5 m lag vertical</source>
+      <translation>5 m 间隔垂向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
+      <source>150 m lag lateral</source>
+      <translation>150 m 间隔横向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
+      <source>150 m lag vertical</source>
+      <translation>150 m 间隔垂向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="63" />
+      <source>cant</source>
+      <translation>超高</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/plan_survey.py" line="109" />
       <source>Plan survey — predicted accuracy</source>
       <translation>测量规划 — 预测精度</translation>
@@ -749,9 +949,59 @@
       <translation>设置计划测量后按“运行”。</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="259" />
+      <source>predicting…</source>
+      <translation>正在预测…</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="278" />
+      <source>cancelled</source>
+      <translation>已取消</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="315" />
+      <source>done</source>
+      <translation>完成</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/plan_survey.py" line="122" />
       <source>white (epoch-to-epoch) GNSS sigma; the fusion adds its correlated part</source>
       <translation>GNSS 白噪声（历元间）标准差；融合另加其相关部分</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="309" />
+      <source>smoothed solution</source>
+      <translation>平滑解</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="309" />
+      <source>forward solution</source>
+      <translation>前向解</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
+      <source>Figure</source>
+      <translation>指标</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
+      <source>Limit [mm]</source>
+      <translation>限值 [mm]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
+      <source>3σ against the limit</source>
+      <translation>3σ 与限值比较</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="343" />
+      <source>Figure, 1σ [mm]</source>
+      <translation>指标，1σ [mm]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="310" />
+      <source>{solution}, 1 sigma [mm], {parameter} in {unit}; the plot shows 3 sigma against the limits</source>
+      <translation>{solution}，1 倍标准差 [mm]，{parameter} 单位 {unit}；图中为 3 倍标准差与限值比较</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/preferences.py" line="18" />
@@ -849,79 +1099,74 @@
       <translation>小车</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="132" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="133" />
       <source>Processing</source>
       <translation>数据处理</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="143" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="144" />
       <source>Report</source>
       <translation>报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="218" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="219" />
       <source>Each survey brings its own trolley geometry (its survey.toml).</source>
       <translation>每个测量使用自己的小车几何参数（其 survey.toml）。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="219" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="220" />
       <source>Use one trolley for the whole project (the first survey's)</source>
       <translation>整个项目使用同一小车（取第一个测量的）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="457" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="458" />
       <source>Trolley for the whole project</source>
       <translation>整个项目使用同一小车</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="232" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="233" />
       <source>Undo</source>
       <translation>撤销</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="232" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="233" />
       <source>Redo</source>
       <translation>重做</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="332" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="333" />
       <source>the trolley's body frame b: x forward, y right, z down (FRD)</source>
       <translation>小车载体坐标系 b：x 向前，y 向右，z 向下（前右下）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="198" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="199" />
       <source>Project settings — {project}</source>
       <translation>项目设置 — {project}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="455" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="456" />
       <source>The first survey's trolley geometry cannot be read: {error}</source>
       <translation>无法读取第一个测量的小车几何参数：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="501" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="504" />
       <source>Changed: {settings}. Nothing is processed again; the reports show the change when written again.</source>
       <translation>已修改：{settings}。无需重新处理；重新生成报告时即体现此修改。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="515" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="518" />
       <source>Cannot write {path}: {error}</source>
       <translation>无法写入 {path}：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="496" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="499" />
       <source>Changed: {settings}. Processing again will run: {stages}.</source>
       <translation>已修改：{settings}。重新处理将运行：{stages}。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="497" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="500" />
       <source>Changed: {settings}. Processing again will run: {stages} (the earlier stages from the cache).</source>
       <translation>已修改：{settings}。重新处理将运行：{stages}（之前的步骤取自缓存）。</translation>
-    </message>
-    <message>
-      <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
-      <source>Check</source>
-      <translation>检测项</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/views/exceedances.py" line="18" />
@@ -964,14 +1209,239 @@
       <translation>轨枕</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="158" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="60" />
+      <source>base (RINEX)</source>
+      <translation>基准站（RINEX）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="61" />
+      <source>navigation</source>
+      <translation>导航星历</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="62" />
+      <source>precise</source>
+      <translation>精密星历</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="81" />
+      <source>Files</source>
+      <translation>文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="81" />
+      <source>Base</source>
+      <translation>基准站</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="88" />
+      <source>epochs</source>
+      <translation>历元</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="90" />
+      <source>fix rate</source>
+      <translation>固定率</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="91" />
+      <source>ratio of fixed epochs</source>
+      <translation>固定解历元的比率检验值</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="108" />
+      <source>point</source>
+      <translation>点</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="114" />
+      <source>derivation</source>
+      <translation>来源</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="116" />
+      <source>Epochs by quality</source>
+      <translation>各解类型历元数</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="116" />
+      <source>Sigma by quality</source>
+      <translation>各解类型标准差</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="118" />
+      <source>Warnings</source>
+      <translation>警告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="161" />
       <source>Not post-processed yet: Run &gt; Post-process GNSS.</source>
       <translation>尚未后处理：“运行 &gt; GNSS 后处理”。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="177" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="163" />
+      <source>Input</source>
+      <translation>输入</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="164" />
+      <source>QC</source>
+      <translation>质量检查</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="174" />
+      <source>time from the first epoch [s]</source>
+      <translation>自首历元起的时间 [s]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="225" />
+      <source>&lt;b&gt;Fix rate {fix_rate:.1f} %&lt;/b&gt; of {epochs} epochs, 1 gap</source>
+      <translation>{epochs} 个历元中&lt;b&gt;固定率 {fix_rate:.1f} %&lt;/b&gt;，1 处中断</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="225" />
+      <source>&lt;b&gt;Fix rate {fix_rate:.1f} %&lt;/b&gt; of {epochs} epochs, {gaps} gaps</source>
+      <translation>{epochs} 个历元中&lt;b&gt;固定率 {fix_rate:.1f} %&lt;/b&gt;，{gaps} 处中断</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="56" />
+      <source>rover (RINEX)</source>
+      <translation>流动站（RINEX）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="58" />
+      <source>rover log</source>
+      <translation>流动站原始记录</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="66" />
+      <source>RTKLIB config</source>
+      <translation>RTKLIB 配置</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="66" />
+      <source>trolley defaults (resources/gnss)</source>
+      <translation>小车默认配置（resources/gnss）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="68" />
+      <source>base point</source>
+      <translation>基准点</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="68" />
+      <source>RINEX header APPROX POSITION (metre level)</source>
+      <translation>RINEX 文件头 APPROX POSITION（米级）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="79" />
+      <source>antenna height (ARP)</source>
+      <translation>天线高（ARP）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="80" />
+      <source>antenna type</source>
+      <translation>天线类型</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="94" />
+      <source>RTKLIB time</source>
+      <translation>RTKLIB 耗时</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="110" />
+      <source>baseline</source>
+      <translation>基线长</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="112" />
+      <source>mark lat, lon, h</source>
+      <translation>标志点纬度、经度、大地高</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="180" />
       <source>Survey</source>
       <translation>测量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="253" />
+      <source>Position σ [mm]</source>
+      <translation>位置 σ [mm]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="52" />
+      <source>{file} (missing)</source>
+      <translation>{file}（缺失）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="72" />
+      <source>coordinates</source>
+      <translation>坐标</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="72" />
+      <source>not in the project's control points</source>
+      <translation>不在项目的控制点中</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="88" />
+      <source>{epochs} over {span_s:.0f} s (interval {interval_s:g} s)</source>
+      <translation>{epochs} 个，历时 {span_s:.0f} s（间隔 {interval_s:g} s）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="91" />
+      <source>min {min}, 5 % {p05}, median {median}</source>
+      <translation>最小 {min}，5 % 分位 {p05}，中位数 {median}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="98" />
+      <source>; fusion: {use}</source>
+      <translation>；组合解算：{use}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="100" />
+      <source>horizontal median {h_median:.1f} mm, 95 % {h_p95:.1f} mm; vertical median {v_median:.1f} mm, 95 % {v_p95:.1f} mm</source>
+      <translation>水平中位数 {h_median:.1f} mm，95 % 分位 {h_p95:.1f} mm；垂直中位数 {v_median:.1f} mm，95 % 分位 {v_p95:.1f} mm</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="105" />
+      <source>to +{end_s:.0f} s ({duration_s:.0f} s)</source>
+      <translation>至 +{end_s:.0f} s（{duration_s:.0f} s）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="108" />
+      <source> (approximate)</source>
+      <translation>（近似）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="117" />
+      <source>Gaps ({count})</source>
+      <translation>中断（{count}）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="247" />
+      <source>&lt;b&gt;Solution quality&lt;/b&gt;</source>
+      <translation>&lt;b&gt;解的质量&lt;/b&gt;</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="253" />
+      <source>horizontal</source>
+      <translation>水平</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="253" />
+      <source>vertical</source>
+      <translation>垂直</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="75" />
+      <source>lat, lon, h</source>
+      <translation>纬度、经度、大地高</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="78" />
+      <source>E, N, H (normal)</source>
+      <translation>东、北坐标，正常高</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/views/navigation.py" line="80" />

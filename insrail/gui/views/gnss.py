@@ -49,76 +49,79 @@ def input_rows(raw: RawGnss, folder, base: ControlPoint | None) -> list[tuple[st
     """(group, [(key, value)]) of the raw inputs: files with their state, the base point."""
 
     def file(name: str) -> str:
-        return name if (folder / name).is_file() else f"{name} (missing)"
+        return name if (folder / name).is_file() else tr("{file} (missing)").format(file=name)
 
     files = []
     if raw.rover is not None:
-        files.append(("rover (RINEX)", file(raw.rover)))
+        files.append((tr("rover (RINEX)"), file(raw.rover)))
     else:
-        files.append(("rover log", file(raw.rover_log) + (f" ({raw.rover_log_format})" if raw.rover_log_format
+        files.append((tr("rover log"), file(raw.rover_log) + (f" ({raw.rover_log_format})" if raw.rover_log_format
                                                            else "")))
-    files.append(("base (RINEX)", file(raw.base)))
-    files += [("navigation", file(name)) for name in raw.navigation]
-    files += [("precise", file(name)) for name in raw.precise]
-    files += [(key, file(name)) for key, name in (("antex", raw.antex), ("RTKLIB config", raw.config))
+    files.append((tr("base (RINEX)"), file(raw.base)))
+    files += [(tr("navigation"), file(name)) for name in raw.navigation]
+    files += [(tr("precise"), file(name)) for name in raw.precise]
+    files += [(key, file(name)) for key, name in (("antex", raw.antex), (tr("RTKLIB config"), raw.config))
               if name is not None]
     if raw.config is None:
-        files.append(("RTKLIB config", "trolley defaults (resources/gnss)"))
+        files.append((tr("RTKLIB config"), tr("trolley defaults (resources/gnss)")))
     if raw.base_from_header:
-        point = [("base point", "RINEX header APPROX POSITION (metre level)")]
+        point = [(tr("base point"), tr("RINEX header APPROX POSITION (metre level)"))]
     else:
-        point = [("base point", raw.base_point)]
+        point = [(tr("base point"), raw.base_point)]
         if base is None:
-            point.append(("coordinates", "not in the project's control points"))
+            point.append((tr("coordinates"), tr("not in the project's control points")))
         elif base.geodetic is not None:
             lat, lon, h = base.geodetic
-            point.append(("lat, lon, h", f"{lat:.9f}°, {lon:.9f}°, {h:.4f} m"))
+            point.append((tr("lat, lon, h"), f"{lat:.9f}°, {lon:.9f}°, {h:.4f} m"))
         else:
             east, north, height = base.engineering
-            point.append(("E, N, H (normal)", f"{east:.4f}, {north:.4f}, {height:.4f} m"))
-        point.append(("antenna height (ARP)", f"{raw.base_antenna_height_m:.4f} m"))
-        point.append(("antenna type", raw.base_antenna_type or "not given"))
-    return [("Files", files), ("Base", point)]
+            point.append((tr("E, N, H (normal)"), f"{east:.4f}, {north:.4f}, {height:.4f} m"))
+        point.append((tr("antenna height (ARP)"), f"{raw.base_antenna_height_m:.4f} m"))
+        point.append((tr("antenna type"), raw.base_antenna_type or tr("not given")))
+    return [(tr("Files"), files), (tr("Base"), point)]
 
 
 def qc_rows(view: PpkView) -> list[tuple[str, list[tuple[str, str]]]]:
     """(group, [(key, value)]) of the QC report: solution, qualities, sigmas, gaps, base, warnings."""
     report, qc = view.report, view.report["qc"]
     epochs = qc["epochs"]
-    solution = [("epochs", f"{epochs} over {qc['last_s'] - qc['first_s']:.0f} s (interval {qc['interval_s']:g} s)"),
-                ("fix rate", _percent(qc["fix_rate"], 1.0)),
-                ("ratio of fixed epochs", (f"min {_number(qc['ratio_min'])}, 5 % {_number(qc['ratio_p05'])}, "
-                                          f"median {_number(qc['ratio_median'])}"))]
+    solution = [(tr("epochs"), tr("{epochs} over {span_s:.0f} s (interval {interval_s:g} s)").format(
+                    epochs=epochs, span_s=qc["last_s"] - qc["first_s"], interval_s=qc["interval_s"])),
+                (tr("fix rate"), _percent(qc["fix_rate"], 1.0)),
+                (tr("ratio of fixed epochs"), tr("min {min}, 5 % {p05}, median {median}").format(
+                    min=_number(qc["ratio_min"]), p05=_number(qc["ratio_p05"]), median=_number(qc["ratio_median"])))]
     if "rtklib_seconds" in report:
-        solution.append(("RTKLIB time", f"{report['rtklib_seconds']:.1f} s"))
+        solution.append((tr("RTKLIB time"), f"{report['rtklib_seconds']:.1f} s"))
     fusion = (view.fusion or {}).get("fusion_by_quality", {})
     qualities = []
     for name, count in qc["epochs_by_quality"].items():
-        use = f"; fusion: {fusion[name]['use']}" if name in fusion else ""
+        use = tr("; fusion: {use}").format(use=fusion[name]["use"]) if name in fusion else ""
         qualities.append((name, f"{count} ({_percent(count, epochs)}){use}"))
-    sigmas = [(name, (f"horizontal median {1e3 * s['horizontal_median_m']:.1f} mm, 95 % "
-                     f"{1e3 * s['horizontal_p95_m']:.1f} mm; vertical median {1e3 * s['vertical_median_m']:.1f} mm, "
-                     f"95 % {1e3 * s['vertical_p95_m']:.1f} mm"))
+    sigmas = [(name, tr("horizontal median {h_median:.1f} mm, 95 % {h_p95:.1f} mm; vertical median {v_median:.1f} mm, "
+                        "95 % {v_p95:.1f} mm").format(
+        h_median=1e3 * s["horizontal_median_m"], h_p95=1e3 * s["horizontal_p95_m"],
+        v_median=1e3 * s["vertical_median_m"], v_p95=1e3 * s["vertical_p95_m"]))
               for name, s in qc["sigma_by_quality_m"].items()]
-    gaps = [(f"+{g['start_s'] - qc['first_s']:.0f} s", (f"to +{g['end_s'] - qc['first_s']:.0f} s "
-                                                        f"({g['duration_s']:.0f} s)")) for g in qc["gaps"]]
+    gaps = [(f"+{g['start_s'] - qc['first_s']:.0f} s", tr("to +{end_s:.0f} s ({duration_s:.0f} s)").format(
+        end_s=g["end_s"] - qc["first_s"], duration_s=g["duration_s"])) for g in qc["gaps"]]
     base = report["base"]
-    base_rows = [("point", base["point"] + (" (approximate)" if base["approximate"] else ""))]
+    base_rows = [(tr("point"), base["point"] + (tr(" (approximate)") if base["approximate"] else ""))]
     if "baseline_m" in report:
-        base_rows.append(("baseline", f"{report['baseline_m'] / 1e3:.3f} km"))
+        base_rows.append((tr("baseline"), f"{report['baseline_m'] / 1e3:.3f} km"))
     if "lat_deg" in base:
-        base_rows.append(("mark lat, lon, h", (f"{base['lat_deg']:.9f}°, {base['lon_deg']:.9f}°, "
-                                              f"{base['ellipsoidal_height_m']:.4f} m")))
-    base_rows.append(("derivation", base["derivation"]))
-    warnings = [(f"{i + 1}", text) for i, text in enumerate(report["warnings"])] or [("", "none")]
-    return [("Solution", solution), ("Epochs by quality", qualities), ("Sigma by quality", sigmas),
-            (f"Gaps ({len(gaps)})", gaps or [("", "none")]), ("Base", base_rows), ("Warnings", warnings)]
+        base_rows.append((tr("mark lat, lon, h"), (f"{base['lat_deg']:.9f}°, {base['lon_deg']:.9f}°, "
+                                                  f"{base['ellipsoidal_height_m']:.4f} m")))
+    base_rows.append((tr("derivation"), base["derivation"]))
+    warnings = [(f"{i + 1}", text) for i, text in enumerate(report["warnings"])] or [("", tr("none"))]
+    return [(tr("Solution"), solution), (tr("Epochs by quality"), qualities), (tr("Sigma by quality"), sigmas),
+            (tr("Gaps ({count})").format(count=len(gaps)), gaps or [("", tr("none"))]), (tr("Base"), base_rows),
+            (tr("Warnings"), warnings)]
 
 
 class KeyValueTree(QTreeWidget):
     def __init__(self, title: str, parent=None):
         super().__init__(parent)
-        self.setHeaderLabels([title, "Value"])
+        self.setHeaderLabels([title, tr("Value")])
         self.setColumnWidth(0, 160)
         self.setWordWrap(True)
 
@@ -157,8 +160,8 @@ class GnssView(QWidget):
         self.run_button.setToolButtonStyle(Qt.ToolButtonTextOnly)
         self.headline = QLabel(tr("Not post-processed yet: Run > Post-process GNSS."))
         self.headline.setWordWrap(True)  # the page must not widen the window's minimum
-        self.inputs = KeyValueTree("Input")
-        self.qc = KeyValueTree("QC")
+        self.inputs = KeyValueTree(tr("Input"))
+        self.qc = KeyValueTree(tr("QC"))
         self.plots = pg.GraphicsLayoutWidget()
         self.quality_plot = self.plots.addPlot(row=0, col=0)
         self.sigma_plot = self.plots.addPlot(row=1, col=0)
@@ -168,7 +171,7 @@ class GnssView(QWidget):
             item.getAxis("left").setWidth(56)
         self.quality_plot.invertY(True)  # fix on top
         self.quality_plot.setMouseEnabled(y=False)
-        self.sigma_plot.setLabel("bottom", "time from the first epoch [s]")
+        self.sigma_plot.setLabel("bottom", tr("time from the first epoch [s]"))
         self.sigma_plot.setLabel("left", "mm")
         self.plots.ci.layout.setRowStretchFactor(0, 2)
         self.plots.ci.layout.setRowStretchFactor(1, 3)
@@ -219,8 +222,9 @@ class GnssView(QWidget):
             return
         qc = view.report["qc"]
         gaps = len(qc["gaps"])
-        self.headline.setText(f"<b>Fix rate {100.0 * qc['fix_rate']:.1f} %</b> of {qc['epochs']} epochs, "
-                              f"{gaps} gap{'' if gaps == 1 else 's'}{source}")
+        headline = tr("<b>Fix rate {fix_rate:.1f} %</b> of {epochs} epochs, 1 gap") if gaps == 1 else tr(
+            "<b>Fix rate {fix_rate:.1f} %</b> of {epochs} epochs, {gaps} gaps")
+        self.headline.setText(headline.format(fix_rate=100.0 * qc["fix_rate"], epochs=qc["epochs"], gaps=gaps) + source)
         self.qc.show_groups(qc_rows(view))
         self._plot(view)
 
@@ -240,13 +244,13 @@ class GnssView(QWidget):
         self.quality_plot.getAxis("left").setTicks([ticks])
         flags = [flag for flag, _ in ticks]
         self.quality_plot.setYRange(min(flags) - 0.5, max(flags) + 0.5, padding=0)
-        self.quality_plot.setTitle("<b>Solution quality</b>&nbsp;&nbsp;&nbsp;" + "&nbsp;&nbsp;".join(labels),
+        self.quality_plot.setTitle(tr("<b>Solution quality</b>") + "&nbsp;&nbsp;&nbsp;" + "&nbsp;&nbsp;".join(labels),
                                    size="8pt")
         sigma = solution.sigma_ned_m
         horizontal_mm = 1e3 * np.hypot(sigma[:, 0], sigma[:, 1])
         for index, values in enumerate((horizontal_mm, 1e3 * sigma[:, 2])):
             self.sigma_plot.plot(solution.time_s - first, values, pen=plotstyle.pen(index, 1.5), connect="finite")
-        self.sigma_plot.setTitle(plotstyle.titled("Position σ [mm]", ["horizontal", "vertical"]), size="8pt")
+        self.sigma_plot.setTitle(plotstyle.titled(tr("Position σ [mm]"), [tr("horizontal"), tr("vertical")]), size="8pt")
         for gap in solution.gaps:
             for item in (self.quality_plot, self.sigma_plot):
                 region = pg.LinearRegionItem((gap.start_s - first, gap.end_s - first), movable=False, brush=GAP_BRUSH,
