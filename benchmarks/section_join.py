@@ -22,7 +22,7 @@ import numpy as np
 CUT_M = (20050.0, 25400.0, 24900.0, 30250.0)  # run 1 from, to; run 2 from, to: 500 m overlap
 
 
-def _survey(folder: Path, start: float, end: float, seed: int) -> Path:
+def simulated_run(folder: Path, start: float, end: float, seed: int) -> Path:
     from insrail.sim.scenario import preset
     from insrail.sim.simulate import simulate
 
@@ -47,8 +47,8 @@ def main() -> None:
     args = parser.parse_args()
     root = args.workdir
     started = time.perf_counter()
-    first = _survey(root / "surveys" / "run1", CUT_M[0], CUT_M[1], seed=1)
-    _survey(root / "surveys" / "run2", CUT_M[2], CUT_M[3], seed=2)
+    first = simulated_run(root / "surveys" / "run1", CUT_M[0], CUT_M[1], seed=1)
+    simulated_run(root / "surveys" / "run2", CUT_M[2], CUT_M[3], seed=2)
     print(f"simulated in {time.perf_counter() - started:.0f} s")
     project = project_for_simulated_survey(root, first, name="long section")
     project = replace(project, surveys=(SurveyEntry("run1", "surveys/run1"), SurveyEntry("run2", "surveys/run2")),

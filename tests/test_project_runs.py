@@ -87,6 +87,66 @@ def test_dask_batch_gives_the_single_runs_results(tiny_projects, tmp_path):
     assert_same_results(tiny_projects, copies)
 
 
+#: Four runs of one track, 150 m each with 50 m of overlap: a line section.
+SECTION_RUNS = (("run1", 1100.0), ("run2", 1200.0), ("run3", 1300.0), ("run4", 1400.0))
+
+
+@pytest.fixture(scope="module")
+def section_project(tmp_path_factory):
+    """A project of four runs joined into the section `line`, processed and joined locally (one survey
+    after the other, `insrail section`): the result a distributed batch must give."""
+    from insrail.project.model import SectionEntry
+    from insrail.project.section import join_section
+
+    root = tmp_path_factory.mktemp("section")
+    for seed, (name, start) in enumerate(SECTION_RUNS, start=1):
+        config = tiny_scenario()
+        config = replace(config, motion=replace(config.motion, start_station_m=start, end_station_m=start + 150.0))
+        simulate(config, seed, root / "surveys" / name, imu_format="npy", track_seed=11)
+    project = project_for_simulated_survey(root, root / "surveys" / "run1", name="line")
+    project = replace(project, surveys=tuple(SurveyEntry(name, f"surveys/{name}") for name, _ in SECTION_RUNS),
+                      sections=(SectionEntry("line", tuple(name for name, _ in SECTION_RUNS)),))
+    save_project(project)
+    project = load_project(root)
+    for name, _ in SECTION_RUNS:
+        process(project, name)
+    join_section(project, "line")
+    return project
+
+
+def test_a_section_batched_on_a_two_worker_dask_cluster_is_the_local_join(section_project, tmp_path, capsys):
+    """`insrail batch PROJECT --section line --scheduler ADDRESS`: the four runs processed by two worker
+    processes, then joined here; the joined section's files are byte for byte those of the local run."""
+    from distributed import LocalCluster
+
+    (copy,) = fresh_copies([section_project], tmp_path)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        code = main(["batch", str(copy), "--section", "line", "--scheduler", cluster.scheduler_address,
+                     "--no-reports"])
+        workers = {info["id"] for info in cluster.scheduler_info["workers"].values()}
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert len(workers) == 2
+    assert "4 of 4 surveys processed" in out and "section line: " in out
+    for name in ("sleepers.csv", "exceedances.csv", "quality.csv"):
+        local = section_project.folder / "results" / "line" / name
+        assert (copy / "results" / "line" / name).read_bytes() == local.read_bytes(), name
+    assert not (copy / "reports").exists() or not list((copy / "reports").glob("track_geometry_line.*"))
+
+
+def test_a_section_batch_with_a_failed_run_is_not_joined(section_project, tmp_path, capsys):
+    (copy,) = fresh_copies([section_project], tmp_path)
+    (copy / "surveys" / "run3" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
+    assert main(["batch", str(copy), "--section", "line", "--workers", "2", "--no-reports"]) == 1
+    out = capsys.readouterr()
+    assert "3 of 4 surveys processed, 1 failed" in out.out and "gauge.txt" in out.out
+    assert "section line not joined: a run failed" in out.err
+    assert not (copy / "results" / "line").exists()
+    assert main(["batch", str(copy), "--section", "nope"]) == 1
+    assert "no section named nope" in capsys.readouterr().err
+    assert main(["batch", str(copy), str(copy), "--section", "line"]) == 2
+
+
 def test_batch_cli_reports_a_failed_survey_and_goes_on(tiny_projects, tmp_path, capsys):
     good, broken = fresh_copies(tiny_projects[:2], tmp_path)
     (broken / "surveys" / "tiny" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")

@@ -62,7 +62,6 @@ def run(args: argparse.Namespace) -> int:
     from insrail.nav.relative import RelativeFrame
     from insrail.nav.self_calibration import fuse_consistent
     from insrail.nav.trajectory import write_kfgins_imu_errors, write_kfgins_nav, write_kfgins_std
-    from insrail.project.model import load_project
 
     options = FusionOptions(
         smoother=not args.no_smoother,
@@ -76,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     )
     bar = TerminalProgress("fuse")
     # a project's [trolley] replaces the survey's own, which may then be left out
-    project_trolley = args.project is not None and load_project(args.project).trolley_settings is not None
+    project_trolley = args.project is not None and _project_trolley_given(args.project)
     survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m), trolley_from_project=project_trolley)
     try:
         survey, fixes, project_ellipsoid, placed = _prism_fixes(survey, args.project)
@@ -193,10 +192,7 @@ def _prism_fixes(survey, project_path: Path | None):
     """(survey with its raw total-station observations placed, the prism fixes as position fixes or
     None, the project's ellipsoid or None, the notices of placing them): module docstring. Raises
     ValueError for a survey whose only position source is fixes that cannot be placed."""
-    from insrail.notices import Notice
-    from insrail.project.model import load_project
-    from insrail.project.pipeline import fit_heights, prism_fixes
-    from insrail.project.total_station import with_total_station_fixes
+    from dataclasses import replace
 
     count = sum(len(getattr(survey, role)) for role in ("prism", "total_station") if getattr(survey, role) is not None)
     if project_path is None:
@@ -207,6 +203,11 @@ def _prism_fixes(survey, project_path: Path | None):
             print(f"note: the survey's {count} total-station observation(s) are not used: their engineering "
                   "coordinates need a project's CRS and height model (--project PROJECT); fused on GNSS alone")
         return survey, None, None, []
+    from insrail.notices import Notice  # the project's pipeline (and its tracks) only for --project
+    from insrail.project.model import load_project
+    from insrail.project.pipeline import fit_heights, prism_fixes
+    from insrail.project.total_station import with_total_station_fixes
+
     project = load_project(project_path)
     trolley = project.trolley(set(survey.manifest.files))
     if trolley is not None:
@@ -218,3 +219,11 @@ def _prism_fixes(survey, project_path: Path | None):
     placed = [*placed, Notice("fuse", f"{len(fixes.time_s)} total-station prism fix(es) placed by project "
                                       f"{project.name} ({project.crs.describe()})", severity="info")]
     return survey, fixes, project.crs.reference_ellipsoid, placed
+
+
+def _project_trolley_given(project: Path) -> bool:
+    """Whether the project gives the [trolley] (the project model, and the track code it imports, are
+    loaded only for --project)."""
+    from insrail.project.model import load_project
+
+    return load_project(project).trolley_settings is not None

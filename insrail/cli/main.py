@@ -34,7 +34,12 @@ COMMANDS = [
 LOCKING_COMMANDS = ("process", "report", "export", "section", "demo")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The parser; only the sub-command named first in ``argv`` gets its options (the others are
+    listed with their one-line help), so building it imports no more than that command needs: a
+    command's options may need its core (``simulate --preset`` the simulator's presets, ``predict
+    --sweep`` the quality tables), and ``insrail fuse`` or ``insrail --help`` must not pay for them.
+    ``argv`` None: every command's options (the full parser, for documentation and tests)."""
     import importlib
 
     parser = argparse.ArgumentParser(
@@ -43,9 +48,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"insrail {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    chosen = argv[0] if argv else None
     for name, module_name in COMMANDS:
         module = importlib.import_module(module_name)
         p = sub.add_parser(name, help=module.__doc__.strip().splitlines()[0], description=module.__doc__)
+        if argv is not None and name != chosen:
+            continue
         module.add_arguments(p)
         if name in LOCKING_COMMANDS:
             p.add_argument("--no-wait", action="store_true",
@@ -56,7 +64,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     tune_allocator()
-    parser = build_parser()
+    if argv is None:
+        argv = sys.argv[1:]
+    parser = build_parser(argv)
     args = parser.parse_args(argv)
     if not getattr(args, "run", None):
         parser.print_help()

@@ -17,7 +17,6 @@ import sys
 import numpy as np
 
 from insrail.cli.progressbar import TerminalProgress
-from insrail.quality.tables import SWEEP_VALUES
 
 
 def _number(low: float, high: float, low_included: bool = False):
@@ -47,6 +46,8 @@ def _imu_profile(text: str) -> str:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
+    from insrail.quality.tables import SWEEP_VALUES  # imports the quality package (numba): only for predict
+
     p.add_argument("--imu", default="nav", type=_imu_profile, help="IMU profile name or .toml (default: nav)")
     p.add_argument("--gnss-sigma", type=_number(0.0, 100.0), nargs=2, metavar=("H", "V"), default=(0.010, 0.020),
                    help="white GNSS sigma horizontal and vertical [m] (default 0.010 0.020)")
@@ -74,6 +75,7 @@ def run(args: argparse.Namespace) -> int:
     from insrail.quality.prediction import GnssQuality, predict
     from insrail.quality.sweep import sweep
     from insrail.quality.tables import (
+        SWEEP_VALUES,
         accuracy_rows,
         accuracy_table,
         prediction_heading,

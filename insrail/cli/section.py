@@ -23,25 +23,61 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-reports", action="store_true", help="join only; write no workbook and PDF")
 
 
-def run(args: argparse.Namespace) -> int:
-    from insrail.cli.report import default_paths
-    from insrail.project import load_project
-    from insrail.project.lock import project_run
-    from insrail.project.results import load_results
-    from insrail.project.section import join_section
-    from insrail.report import write_pdf, write_workbook
-    from insrail.report.section_page import section_page
-
-    project = load_project(args.project)
-    names = args.section or [s.name for s in project.sections]
+def section_names(project, given: list[str] | None) -> list[str] | None:
+    """The sections to join (``given``, default every section), or None after naming on stderr what is
+    wrong (no sections, or an unknown name)."""
+    names = given or [s.name for s in project.sections]
     if not names:
         print(f"insrail: {project.path}: no [[sections]] defined", file=sys.stderr)
-        return 1
+        return None
     known = {s.name for s in project.sections}
     unknown = [n for n in names if n not in known]
     if unknown:
         print(f"insrail: {project.path}: no section named {', '.join(unknown)} (sections: "
               f"{', '.join(sorted(known)) or 'none'})", file=sys.stderr)
+        return None
+    return names
+
+
+def show_section(result) -> None:
+    """The joined section's sleepers, overlaps and warnings, on stdout."""
+    print(f"section {result.name}: {result.summary['track']['sleepers']} sleepers from {', '.join(result.summary['section']['surveys'])}"
+          f"; results in {result.folder.resolve()}")
+    for overlap in result.overlaps:
+        parts = [f"{p.removesuffix('_mm')} {v['std_mm']:.2f}" for p, v in overlap["parameters"].items()
+                 if "30m_5m" in p or "short_wave" in p]
+        print(f"  overlap {overlap['runs'][0]}/{overlap['runs'][1]} {overlap['from_m']:.0f}-{overlap['to_m']:.0f} m, "
+              f"{overlap['sleepers']} sleepers" + (f"; 30 m/5 m difference std (mm): {', '.join(parts)}" if parts else ""))
+    for notice in result.summary["notices"]:
+        if notice["stage"] == "section":
+            print(f"  warning: {notice['message']}")
+
+
+def write_section_reports(project, name: str) -> None:
+    """The joined section's workbook and PDF (PROJECT/reports/track_geometry_<name>.xlsx and .pdf)."""
+    from insrail.cli.report import default_paths
+    from insrail.project.lock import project_run
+    from insrail.project.results import load_results
+    from insrail.report import write_pdf, write_workbook
+    from insrail.report.section_page import section_page
+
+    xlsx, pdf = default_paths(project.folder, name)
+    with project_run(project.folder, [name]):  # no run replaces the results while they are read
+        results = load_results(project.folder, name)
+        for path, writer, kwargs in ((xlsx, write_workbook, {}), (pdf, write_pdf, {"sections": (section_page,)})):
+            bar = TerminalProgress(f"{name} {path.suffix[1:]}")
+            writer(project, results, path, progress=bar, **kwargs)
+            bar.done()
+            print(f"{name}: {path.resolve()}")
+
+
+def run(args: argparse.Namespace) -> int:
+    from insrail.project import load_project
+    from insrail.project.section import join_section
+
+    project = load_project(args.project)
+    names = section_names(project, args.section)
+    if names is None:
         return 1
     for name in names:
         bar = TerminalProgress(f"section {name}")
@@ -52,24 +88,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"insrail: section {name}: {err}", file=sys.stderr)
             return 1
         bar.done()
-        print(f"section {name}: {result.summary['track']['sleepers']} sleepers from {', '.join(result.summary['section']['surveys'])}"
-              f"; results in {result.folder.resolve()}")
-        for overlap in result.overlaps:
-            parts = [f"{p.removesuffix('_mm')} {v['std_mm']:.2f}" for p, v in overlap["parameters"].items()
-                     if "30m_5m" in p or "short_wave" in p]
-            print(f"  overlap {overlap['runs'][0]}/{overlap['runs'][1]} {overlap['from_m']:.0f}-{overlap['to_m']:.0f} m, "
-                  f"{overlap['sleepers']} sleepers" + (f"; 30 m/5 m difference std (mm): {', '.join(parts)}" if parts else ""))
-        for notice in result.summary["notices"]:
-            if notice["stage"] == "section":
-                print(f"  warning: {notice['message']}")
-        if args.no_reports:
-            continue
-        xlsx, pdf = default_paths(project.folder, name)
-        with project_run(project.folder, [name]):  # no run replaces the results while they are read
-            results = load_results(project.folder, name)
-            for path, writer, kwargs in ((xlsx, write_workbook, {}), (pdf, write_pdf, {"sections": (section_page,)})):
-                bar = TerminalProgress(f"{name} {path.suffix[1:]}")
-                writer(project, results, path, progress=bar, **kwargs)
-                bar.done()
-                print(f"{name}: {path.resolve()}")
+        show_section(result)
+        if not args.no_reports:
+            write_section_reports(project, name)
     return 0

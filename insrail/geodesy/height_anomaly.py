@@ -27,16 +27,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
-from scipy.interpolate import CubicSpline
-from scipy.spatial import ConvexHull, QhullError
 
 from insrail.geodesy._validation import Problems
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import FitError, GeodesyError
 from insrail.geodesy.geoid import GeoidGrid, PlaneGeoid
+
+if TYPE_CHECKING:  # scipy.interpolate and scipy.spatial are imported when a model is fitted, not by
+    from scipy.interpolate import CubicSpline  # the project model and the reports that only name them
 
 MODELS = ("constant", "plane", "quadratic", "spline")
 _SURFACE_PARAMETERS = {"constant": 1, "plane": 3, "quadratic": 6}
@@ -85,6 +86,8 @@ class ChainageSplineModel:
     _spline: CubicSpline = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        from scipy.interpolate import CubicSpline
+
         object.__setattr__(self, "_spline", CubicSpline(self.chainage_m, self.values_m, bc_type="not-a-knot"))
 
     def zeta_m(self, east_m, north_m, chainage_m=None) -> np.ndarray:
@@ -329,6 +332,8 @@ def _select(candidates: list[CandidateFit]) -> CandidateFit:
 def _hull_excess_m(benchmarks_en: np.ndarray, east_m, north_m) -> np.ndarray:
     """Distance [m] by which each point lies outside the benchmarks' convex hull (≤ 0 inside);
     +inf everywhere when the benchmarks have no 2-D hull (collinear or fewer than 3)."""
+    from scipy.spatial import ConvexHull, QhullError
+
     east, north = np.broadcast_arrays(np.asarray(east_m, dtype=float), np.asarray(north_m, dtype=float))
     try:
         hull = ConvexHull(benchmarks_en)

@@ -12,7 +12,6 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
@@ -311,6 +310,8 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
         gps_week, time_s = on_time_tag(path, tag, stamps)
     else:
         gps_week, time_s = None, stamps
+
+    from scipy.spatial.transform import Rotation  # scipy.spatial (and scipy.sparse): only for rates files
 
     sensor_to_body = Rotation.from_euler("ZYX", np.asarray(sensor_rpy_deg, dtype=float)[::-1],
                                          degrees=True).as_matrix()

@@ -6,21 +6,19 @@ names, and ``results/<survey>/`` written by :func:`process` (see :mod:`insrail.p
 processes many projects in parallel, locally or on a Dask cluster (:mod:`insrail.project.batch`).
 """
 
-from insrail.project.batch import BatchOutcome, run_batch
-from insrail.project.compare import compare_surveys
-from insrail.project.model import (
-    HEIGHT_MODELS,
-    PROJECT_FILE,
-    HeightSettings,
-    Project,
-    ProjectError,
-    SurveyEntry,
-    load_project,
-    project_from_settings,
-    save_project,
-)
-from insrail.project.pipeline import SurveyResults, fit_heights, process, read_design
-from insrail.project.results import StoredResults, load_results
+from insrail.lazy import lazy_exports
+
+# Each name's submodule is imported when the name is first used: `insrail fuse` imports the lock
+# (insrail.project.lock) without the pipeline, the tracks and the quality it does not use.
+_EXPORTS = {
+    "batch": ["BatchOutcome", "run_batch"],
+    "compare": ["compare_surveys"],
+    "model": ["HEIGHT_MODELS", "PROJECT_FILE", "HeightSettings", "Project", "ProjectError", "SurveyEntry",
+              "load_project", "project_from_settings", "save_project"],
+    "pipeline": ["SurveyResults", "fit_heights", "process", "read_design"],
+    "results": ["StoredResults", "load_results"],
+}
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = [
     "HEIGHT_MODELS",

@@ -16,6 +16,11 @@ TLS: a ``tls://`` address and Dask's security settings (``distributed.comm.tls.*
 ``distributed.comm.require-encryption: true``) from a Dask configuration file given as
 ``security`` (:func:`dask_security`), as ``distributed.security.Security`` reads them.
 
+A line section (:mod:`insrail.project.section`) is batched with :func:`run_section_batch`: its runs
+are the tasks (on the cores or the cluster, as above), and once every run is processed the section
+is joined here, in the coordinating process, from the result files the workers wrote; the joined
+section is the one ``insrail process`` of each run and ``insrail section`` give.
+
 Cancelling (the ``cancel`` token, or Ctrl-C in the CLI) stops scheduling: tasks not started are
 dropped, running ones are left to finish (or are interrupted by the same Ctrl-C, which leaves
 their previous results in place), and :class:`insrail.progress.Cancelled` is raised.
@@ -29,10 +34,14 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from multiprocessing import get_context
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from insrail.io.errors import InputError
 from insrail.progress import Cancelled, CancelToken, ProgressFn, is_cancelled
-from insrail.project.model import PROJECT_FILE, load_project
+from insrail.project.model import PROJECT_FILE, Project, load_project
+
+if TYPE_CHECKING:
+    from insrail.project.section import SectionResult
 
 #: How often [s] the coordinator looks at the cancel token while tasks run.
 POLL_S = 0.2
@@ -74,6 +83,13 @@ def batch_tasks(projects: list[str | Path]) -> tuple[list[BatchTask], list[Batch
             continue
         tasks += [BatchTask(project.path, survey.name) for survey in project.surveys]
     return tasks, failed
+
+
+def section_tasks(project: Project, sections: list[str]) -> list[BatchTask]:
+    """One task per run of the named sections (a run shared by two sections once, in section order).
+    KeyError for a section the project does not define."""
+    surveys = dict.fromkeys(survey for name in sections for survey in project.section(name).surveys)
+    return [BatchTask(project.path, survey) for survey in surveys]
 
 
 def run_task(task: BatchTask) -> BatchOutcome:
@@ -137,8 +153,16 @@ def run_batch(projects: list[str | Path], workers: int | None = None, scheduler:
     workers decide the parallelism; ``security``: a ``distributed.security.Security``, see
     :func:`dask_security`); outcomes in task order, projects that failed to load first. ``progress`` gets one call per finished task
     with the fraction done and ``"<project>/<survey>: done in 12.3 s"`` or ``"...: FAILED: why"``."""
-    tasks, outcomes = batch_tasks(projects)
-    total = len(tasks) + len(outcomes)
+    tasks, failed = batch_tasks(projects)
+    return _run_tasks(tasks, failed, workers, scheduler, progress, cancel, security)
+
+
+def _run_tasks(tasks: list[BatchTask], failed: list[BatchOutcome], workers, scheduler,
+               progress: ProgressFn | None, cancel: CancelToken, security) -> list[BatchOutcome]:
+    """Run ``tasks`` after reporting ``failed`` (projects that did not load); outcomes in task order,
+    ``failed`` first."""
+    outcomes: list[BatchOutcome] = []
+    total = len(tasks) + len(failed)
 
     def report(outcome: BatchOutcome) -> None:
         outcomes.append(outcome)
@@ -146,15 +170,29 @@ def run_batch(projects: list[str | Path], workers: int | None = None, scheduler:
             state = f"done in {outcome.elapsed_s:.1f} s" if outcome.ok else f"FAILED: {outcome.detail}"
             progress(len(outcomes) / total, f"{outcome.label}: {state}")
 
-    for failed in list(outcomes):
-        outcomes.remove(failed)
-        report(failed)
+    for outcome in failed:
+        report(outcome)
     if tasks and scheduler is not None:
         _run_on_dask(tasks, scheduler, report, cancel, security)
     elif tasks:
         _run_locally(tasks, workers, report, cancel)
     order = {(t.project_file, t.survey): i for i, t in enumerate(tasks)}
     return sorted(outcomes, key=lambda o: order.get((o.project_file, o.survey), -1))
+
+
+def run_section_batch(project: Project, sections: list[str], workers: int | None = None,
+                      scheduler: str | None = None, progress: ProgressFn | None = None,
+                      cancel: CancelToken = None, security=None) -> tuple[list[BatchOutcome], list[SectionResult]]:
+    """Process the runs of the project's ``sections`` as :func:`run_batch` does (locally or on the Dask
+    cluster at ``scheduler``), then join each section here (:func:`insrail.project.section.join_section`).
+    When a run failed no section is joined (its outcome says why): the section results are then empty."""
+    from insrail.project.section import join_section
+
+    tasks = section_tasks(project, sections)
+    outcomes = _run_tasks(tasks, [], workers, scheduler, progress, cancel, security)
+    if not all(o.ok for o in outcomes):
+        return outcomes, []
+    return outcomes, [join_section(project, name, cancel=cancel) for name in sections]
 
 
 def _outcome(future, task: BatchTask) -> BatchOutcome:

@@ -1,0 +1,55 @@
+"""`insrail --help` and `insrail fuse` import only what they use (a fresh interpreter per command,
+its sys.modules read after the command returns): the simulator, the quality tables, the reports,
+the GUI and the cluster are never loaded for them, and --help loads no numerical library."""
+
+import subprocess
+import sys
+
+import pytest
+
+#: Run ``insrail ARGS...`` in this interpreter, then write the names of the imported modules to FILE.
+RUN_AND_LIST = """
+import sys
+from insrail.cli.main import main
+try:
+    code = main(sys.argv[2:])
+except SystemExit as stop:
+    code = stop.code
+open(sys.argv[1], "w").write("\\n".join(sorted(sys.modules)))
+sys.exit(code)
+"""
+#: Modules neither command uses (prefixes: a package and its submodules).
+NEVER = ("insrail.sim", "insrail.quality", "insrail.report", "insrail.gui", "insrail.track", "insrail.export",
+         "openpyxl", "reportlab", "PySide6", "distributed", "dask", "scipy.stats", "scipy.signal", "scipy.spatial",
+         "scipy.sparse")
+
+
+def imported_by(tmp_path, *args: str) -> set[str]:
+    listing = tmp_path / "modules.txt"
+    done = subprocess.run([sys.executable, "-c", RUN_AND_LIST, str(listing), *args], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return set(listing.read_text().split())
+
+
+def loaded(modules: set[str], prefixes) -> list[str]:
+    return sorted(m for m in modules if any(m == p or m.startswith(p + ".") for p in prefixes))
+
+
+def test_help_imports_no_numerical_library_and_no_core(tmp_path):
+    modules = imported_by(tmp_path, "--help")
+    assert loaded(modules, NEVER + ("numpy", "numba", "scipy", "pyproj", "insrail.nav", "insrail.project")) == []
+
+
+@pytest.mark.parametrize("command", ["process", "simulate", "predict"])
+def test_a_commands_help_imports_no_other_commands_core(tmp_path, command):
+    modules = imported_by(tmp_path, command, "--help")
+    others = {"process": ("insrail.sim", "insrail.quality"), "simulate": ("insrail.quality",),
+              "predict": ("insrail.sim",)}[command]
+    assert loaded(modules, others) == []
+
+
+def test_fuse_imports_only_the_reader_and_the_filter(short_nav_survey, tmp_path):
+    modules = imported_by(tmp_path, "fuse", str(short_nav_survey), "--out", str(tmp_path / "out"),
+                          "--no-smoother", "--rate", "10")
+    assert "insrail.nav.fusion" in modules  # it did fuse
+    assert loaded(modules, NEVER) == []
