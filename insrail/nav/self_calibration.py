@@ -67,7 +67,7 @@ MAX_PLAY_PASSES = 3
 PLAY_RANGE = 100.0
 #: below this square speed [m^2/s^2] an NHC row says nothing about the play
 MIN_PLAY_SPEED2 = 0.1**2
-#: rows left out around a rejected observation, a removed IMU record or a bridged gap [s]
+#: rows left out around a removed IMU record or a bridged gap [s]
 SUSPECT_MARGIN_S = 2.0
 #: a row whose square innovation exceeds PLAY_TRIM^2 x what the median row implies is an outlier
 PLAY_TRIM = 5.0
@@ -114,10 +114,9 @@ def play_from_innovations(result) -> tuple[float, float] | None:
     2 B v^2 x the drift per metre. The filter's part makes it an upper bound.
 
     Only the innovations of a filter that tracks the trolley say what its play is: the rows at rest
-    (below :data:`MIN_PLAY_SPEED2`), those inside a suspect or not-valid stretch of the pass's
-    integrity verdict (a reset's reconvergence after a fault the screening could not see), within
-    :data:`SUSPECT_MARGIN_S` of any rejected observation or of an IMU record the screening removed or
-    a gap it bridged are left out (:func:`_play_rows`). Of the rest, a row beyond :data:`PLAY_TRIM`
+    (below :data:`MIN_PLAY_SPEED2`), those rejected, inside a filter reset's suspect time (its
+    reconvergence after a fault the screening could not see) or within :data:`SUSPECT_MARGIN_S` of an
+    IMU record the screening removed or a gap it bridged are left out (:func:`_play_rows`). Of the rest, a row beyond :data:`PLAY_TRIM`
     times the 1-sigma its median implies is an outlier, not play: the estimate is the drift of the
     others (a fault of one record made the plain mean square 25-30 x the profile's play)."""
     from insrail.nav.error_model import trolley_play_band_per_m
@@ -148,9 +147,10 @@ def _play_rows(result) -> tuple[np.ndarray, np.ndarray] | None:
     forward = result.forward
     speed2 = np.interp(record.time_s, forward.time_s, np.sum(np.square(forward.vel_ned_mps), axis=1))
     take = nhc & (speed2 >= MIN_PLAY_SPEED2)
-    suspect = list(result.integrity.not_valid_intervals()) if result.integrity is not None else []
+    # a reset's suspect time, not a not-valid section: a section is not valid where the play the pass ran
+    # with is too small for its innovations, which is what the estimate is for
+    suspect = list(result.integrity.suspect_s) if result.integrity is not None else []
     margin = SUSPECT_MARGIN_S
-    suspect += [(t - margin, t + margin) for t in record.time_s[np.isfinite(record.nis) & ~record.accepted]]
     suspect += [(o.time_s - margin, o.time_s + margin) for o in result.info.get("imu_outliers", ())]
     suspect += [(g.start_s - margin, g.end_s + margin) for g in result.info.get("imu_gaps", ())]
     if suspect:

@@ -69,6 +69,7 @@ from insrail.nav.self_calibration import fuse_consistent
 from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project import assessable
 from insrail.project.design_heading import design_azimuth_for, uses_design
 from insrail.project.gap_sleepers import flag_gap_sleepers
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
@@ -577,7 +578,12 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                            table.gauge_m, table.cant_m, table.design_cant_m, valid=table.valid,
                                            sleeper_number=table.number, curvature_1pm=curvature, line_speed_mps=speed)
     profile = run.tolerance_profile
-    assessment = assess(geometry, profile)
+    quality = _section_quality(trajectory_file, recon)
+    unresolved = assessable.not_assessable(profile, quality, table.station_m)
+    everything = assessment = assess(geometry, profile)
+    if unresolved:
+        assessment = assess(geometry, profile, not_assessed=assessable.masks(unresolved))
+    not_listed = assessable.left_out(unresolved, everything, assessment)
     in_turnouts, turnout_counts = assess_turnouts(project, geometry, measured, events)
     release_free_memory()
     check_cancel(cancel)
@@ -602,6 +608,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                                 *_notices(fusion_info, height_warnings, summary.get("ppk")),
                                                 *(local.notices() if local is not None else []),
                                                 *speed_notices(profile, table, curvature, speed),
+                                                *assessable.notices(unresolved, not_listed),
                                                 *_line_fit_notices(extras.line, table)]]
     if local is not None:
         summary["local_control"] = local.summary()
@@ -618,7 +625,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         summary["track"]["line_fit"] = extras.line.section()
         summary["files"].update(dict(zip(("fitted_alignment_csv", "fitted_alignment_landxml", "line_fit_report"),
                                           line_fit_files)))
-    quality = _section_quality(trajectory_file, recon)
+    summary["assessment"]["not_assessable"] = assessable.summary_section(unresolved, not_listed)
     summary["quality"] = quality_section(quality)
     summary["files"]["quality"] = QUALITY_FILE
     summary["trajectory"] = trajectory_section(trajectory_file)  # the report's figures, read here in chunks
