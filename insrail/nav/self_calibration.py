@@ -70,7 +70,9 @@ MIN_PLAY_SPEED2 = 0.1**2
 #: rows left out around a removed IMU record or a bridged gap [s]
 SUSPECT_MARGIN_S = 2.0
 #: a row whose square innovation exceeds PLAY_TRIM^2 x what the median row implies is an outlier
-PLAY_TRIM = 5.0
+PLAY_TRIM = 10.0
+#: suspect times leaving fewer than this share of the moving rows are not left out
+SUSPECT_MOSTLY = 0.5
 #: fewer rows than this left (5 s of travel at 10 Hz): the survey does not say what its play is
 MIN_PLAY_ROWS = 50
 #: the median of chi-square with one degree of freedom
@@ -116,7 +118,9 @@ def play_from_innovations(result) -> tuple[float, float] | None:
     Only the innovations of a filter that tracks the trolley say what its play is: the rows at rest
     (below :data:`MIN_PLAY_SPEED2`), those rejected, inside a filter reset's suspect time (its
     reconvergence after a fault the screening could not see) or within :data:`SUSPECT_MARGIN_S` of an
-    IMU record the screening removed or a gap it bridged are left out (:func:`_play_rows`). Of the rest, a row beyond :data:`PLAY_TRIM`
+    IMU record the screening removed or a gap it bridged are left out (:func:`_play_rows`), unless that
+    leaves less than :data:`SUSPECT_MOSTLY` of the moving rows (a pass reset throughout: its noise is too
+    small for the unit, which the estimate is to find). Of the rest, a row beyond :data:`PLAY_TRIM`
     times the 1-sigma its median implies is an outlier, not play: the estimate is the drift of the
     others (a fault of one record made the plain mean square 25-30 x the profile's play)."""
     from insrail.nav.error_model import trolley_play_band_per_m
@@ -146,7 +150,8 @@ def _play_rows(result) -> tuple[np.ndarray, np.ndarray] | None:
            & (record.dof >= 2))
     forward = result.forward
     speed2 = np.interp(record.time_s, forward.time_s, np.sum(np.square(forward.vel_ned_mps), axis=1))
-    take = nhc & (speed2 >= MIN_PLAY_SPEED2)
+    moving = nhc & (speed2 >= MIN_PLAY_SPEED2)
+    take = moving.copy()
     # a reset's suspect time, not a not-valid section: a section is not valid where the play the pass ran
     # with is too small for its innovations, which is what the estimate is for
     suspect = list(result.integrity.suspect_s) if result.integrity is not None else []
@@ -159,6 +164,10 @@ def _play_rows(result) -> tuple[np.ndarray, np.ndarray] | None:
         starts, ends = starts[order], np.maximum.accumulate(ends[order])
         before = np.searchsorted(starts, record.time_s, side="right") - 1
         take &= ~((before >= 0) & (record.time_s <= ends[np.maximum(before, 0)]))
+    if take.sum() < SUSPECT_MOSTLY * moving.sum():
+        # resets over most of the survey are the pass's noise too small for the unit (a MEMS unit's first pass
+        # with a trolley's play), not faults: its rows are what the estimate must see
+        take = moving
     if take.sum() < MIN_PLAY_ROWS:
         return None
     dof = record.dof[take]

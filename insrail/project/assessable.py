@@ -2,10 +2,10 @@
 
 A check of the tolerance profile whose value the survey states a 1-sigma for (``quality.csv``: the
 30 m/5 m differential versine by the 5 m lag, the 300 m/150 m one by the 150 m lag, a 10 m versine
-by the 5 m lag (:func:`stated_figure`), the cross-level by its own) can only tell a track outside its limit from the survey's noise where that 1-sigma is
-well inside the limit. Where the noise alone crosses the limit more often than one independent value
-in twenty (the stated 1-sigma above the limit / :data:`RESOLVE_SIGMAS`: a MEMS survey's 3.4 mm
-against the 2 mm of the 30 m/5 m check listed 283 exceedances that meant nothing), the check is not
+by the 5 m lag (:func:`stated_figure`), the cross-level by its own) cannot tell a track outside its
+limit from the survey's noise where that 1-sigma is above the limit (x :data:`RESOLVE_SIGMAS`): the noise
+alone then crosses the limit at a third of independent values or more (a MEMS survey's 3.4 mm against the
+2 mm of the 30 m/5 m check listed 250 exceedances that meant nothing). There the check is not
 assessed over the 200 m sections concerned: its values there are left out of ``sleepers.csv`` and
 its exceedances out of ``exceedances.csv``, and a warning names the check, the stations, the stated
 1-sigma against the limit and how many exceedances were left out (CLI, summary, PDF, GUI log).
@@ -29,8 +29,10 @@ from insrail.quality.survey import SectionQuality
 from insrail.track.exceedance import Assessment
 from insrail.track.tolerance import Check, ToleranceProfile
 
-#: a check is assessable where its stated 1-sigma is within its limit / RESOLVE_SIGMAS
-RESOLVE_SIGMAS = 2.0
+#: a check is assessable where its stated 1-sigma is within its limit / RESOLVE_SIGMAS. Not 2 or 3 (the
+#: plan's 3 sigma rule, insrail.quality.tables): a weak section's real exceedance well beyond the limit
+#: is still found and listed (tests/test_project_pipeline.py's injected bumps)
+RESOLVE_SIGMAS = 1.0
 #: a differential versine whose pair length is within this of a stated lag [m] has that lag's figure
 _PAIR_TOLERANCE_M = 0.5
 
