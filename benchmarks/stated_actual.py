@@ -1,6 +1,7 @@
 """Stated against actual accuracy of a fused survey, per figure, IMU grade and trolley play.
 
-    python benchmarks/stated_actual.py [--grades nav tactical] [--seeds 3 4] [--length 600] [--workdir DIR]
+    python benchmarks/stated_actual.py [--grades nav tactical] [--play on off] [--seeds 3 4] [--length 600]
+                                       [--workdir DIR]
 
 For each grade, with the simulator's trolley play and without it (``--no-play`` of ``insrail simulate``),
 and each seed: simulates a stretch of the `short` line (from station 1100 m, ``--length`` metres at 1 m/s,
@@ -81,6 +82,8 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grades", nargs="+", default=["nav", "tactical"])
     parser.add_argument("--seeds", nargs="+", type=int, default=[3])
+    parser.add_argument("--play", nargs="+", choices=("on", "off"), default=["on", "off"],
+                        help="with the simulator's trolley play, without it, or both (default)")
     parser.add_argument("--length", type=float, default=600.0, help="surveyed length [m] (default 600)")
     parser.add_argument("--workdir", type=Path, default=None)
     args = parser.parse_args(argv)
@@ -88,7 +91,7 @@ def main(argv: list[str] | None = None) -> None:
     print(f"{'grade':<9} {'play':<6} " + " ".join(f"{f:>20}" for f in FIGURES))
     print(f"{'':<9} {'':<6} " + " ".join(f"{'stated/actual mm (x)':>20}" for _ in FIGURES))
     for grade in args.grades:
-        for play in (True, False):
+        for play in (setting == "on" for setting in args.play):
             runs = [one_survey(workdir, grade, play, seed, args.length) for seed in args.seeds]
             cells = []
             for f in FIGURES:

@@ -67,3 +67,51 @@ def test_a_trolley_with_the_profiles_play_keeps_it():
     assert not calibration.play_estimated and calibration.passes == 1
     assert options.play_drift_m2_per_m == pytest.approx((0.025e-6, 0.025e-6))
     assert actual <= 1.25 * stated
+
+
+def _tiny_with_a_fault(tmp_path):
+    """The `tiny` stretch (150 m of the `short` line, navigation grade, with the simulator's play) and a copy
+    of it whose one IMU record 35 ms before a sleeper carries 3 mrad more roll and 0.07 m/s more vertical
+    velocity: below the screening (its test of single records switched off by the caller), seen by the
+    aiding only, which resets the filter."""
+    import shutil
+
+    from insrail.sim.scenario import GnssSpec, preset
+    from insrail.sim.simulate import simulate
+    from insrail.sim.truth import read_sleeper_truth
+
+    short = preset("short")
+    config = replace(short, name="tiny", gnss=GnssSpec(),
+                     motion=replace(short.motion, start_station_m=1100.0, end_station_m=1250.0, stops=(),
+                                    static_start_s=60.0, static_end_s=10.0))
+    clean = shared_build.built_once("play-tiny", lambda out: simulate(config, seed=1, out_dir=out, imu_format="npy"))
+    faulty = tmp_path / "fault"
+    shutil.copytree(clean, faulty)
+    records = np.load(faulty / "imu.npy")
+    fault = int(np.searchsorted(records["time_s"], read_sleeper_truth(faulty / "truth" / "sleepers.csv")["pass_time"][20]
+                                - 0.035))
+    records["dtheta_rad"][fault, 0] += 3e-3
+    records["dvel_mps"][fault, 2] += 0.07
+    np.save(faulty / "imu.npy", records)
+    return clean, faulty
+
+
+def test_a_fault_seen_by_the_aiding_does_not_change_the_estimated_play(tmp_path, monkeypatch):
+    """Before, the NHC innovations of the filter converging again after the fault's reset made the play
+    estimated 25-30 x the profile's, and the whole survey was smoothed with it: now the rows of the reset's
+    suspect time and the outliers are left out, and the estimate is the clean survey's."""
+    from insrail.nav import imu_screening
+    from insrail.nav.fusion import fuse
+
+    monkeypatch.setattr(imu_screening, "QUIET_SPIKE_SIGMAS", np.inf)
+    estimates = []
+    for folder in _tiny_with_a_fault(tmp_path):
+        survey = read_survey(folder)
+        profile = load_imu_profile(survey.manifest.imu_profile)
+        options = FusionOptions(estimate_play=False)
+        result = fuse(survey.imu, aiding_for(survey, options, profile, None), profile, options, CGCS2000)
+        estimates.append(np.array(play_from_innovations(result)))
+    clean, faulty = estimates
+    assert len(result.resets) >= 1  # the fault was seen
+    assert np.all(clean > 0.5 * 0.025e-6) and np.all(clean < 2 * 0.025e-6)  # the simulator's play
+    assert np.all(faulty / clean < 1.5) and np.all(faulty / clean > 1 / 1.5)

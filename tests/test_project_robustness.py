@@ -642,20 +642,20 @@ def test_a_gyro_and_an_accelerometer_spike_below_the_envelope_leave_no_wrong_val
     assert any("spike below the envelope" in n["message"] for n in notices(project)) is screened
     after = np.flatnonzero(truth["pass_time"][rows] > records["time_s"][fault])[0]  # the sleeper 35 ms after it
     assert bool(valid[after]) is screened or "filter reset" in str(sleepers["not_assessed"][after])
-    if not screened:
-        # the 30 m/5 m checks are not yet held where only the aiding saw the fault: its NHC innovations raise
-        # the trolley play estimated from them 25-30 x (nav/self_calibration.play_from_innovations), which
-        # changes the smoothing of the whole survey (up to 6.5 mm added to a valid sleeper's 30 m/5 m check
-        # 5 s before the fault, 1-2 mm 70 s away); the fusion's to mend
-        return
     # the 30 m/5 m checks against the clean run's (the clean run itself is up to 1.3 mm off the checks of
-    # the truth's deviations here, the survey's own noise): the spike adds less than 1 mm where valid
+    # the truth's deviations here, the survey's own noise): the spike adds less than 1 mm where valid.
+    # Where only the aiding saw it, that holds beyond a chord (30 m) after the fault: the play estimated from
+    # the NHC innovations leaves the reset's time out (it was 25-30 x the profile's, and changed the checks
+    # 1-2 mm 70 s away); the smoother still carries the reset's correction back over the valid sleepers before
+    # the fault (5-6 mm added to the checks whose chord reaches there), a defect of the fusion's reset
+    # (nav/fusion.py)
+    held = np.ones(len(sleepers), dtype=bool) if screened else sleepers["station_m"] > sleepers["station_m"][after] + 30
     clean = read_csv(results_of(tiny) / "sleepers.csv")
     assert np.allclose(clean["station_m"], sleepers["station_m"], rtol=0, atol=0.01)  # the same sleepers
     for rail in ("left", "right"):
         for direction in ("lateral", "vertical"):
             column = f"check_short_wave_30m_5m_{rail}_{direction}_mm"
             added_mm = sleepers[column] - clean[column]
-            measured = valid & np.isfinite(added_mm)
+            measured = valid & np.isfinite(added_mm) & held
             assert measured.sum() > 0.5 * len(sleepers)
             assert np.abs(added_mm[measured]).max() < 1.0, (rail, direction)

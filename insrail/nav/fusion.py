@@ -739,7 +739,7 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
                     dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, play, gnss_decay_tau, gap_j, gap_q,
                     first, source, observation, kinds, params, rows, row_first, gates,
                     nav_buf, nav_base, rec_buf, rec_fill, record, sensor_hist, sigma_hist, hist_base,
-                    nis_out, dof_out, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu):
+                    nis_out, dof_out, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu_out):
     """Run the forward filter from pos = [segment j, entry e, phase] (phase 0: segment j not
     yet propagated) until an event; returns (event, entry) and leaves pos where to resume.
     dtheta, dvel, dt: a chunk of the IMU record, IMU epochs imu_span[0] .. imu_span[1] - 1 (a
@@ -802,6 +802,8 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
             nis, ok = kalman.update_in_place(x, P, z, H, R, m, gates[m], event_nu)
             nis_out[e] = nis
             dof_out[e] = m
+            for a in range(m):
+                nu_out[e, a] = event_nu[a]
             if not ok:
                 return EVENT_REJECTED, e
             used[k] += 1
@@ -1377,6 +1379,7 @@ class _ForwardPass:
     statistics: dict
     rejections: list
     resets: list
+    innovation: np.ndarray  # per schedule entry, its rows (MAX_ROWS, NaN beyond its dof), float32
 
 
 def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, store: SmootherStore | None,
@@ -1427,6 +1430,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
             hist_base[0] += done
 
     nis = np.full(n_entries, np.nan)
+    nu = np.full((n_entries, meas.MAX_ROWS), np.nan, dtype=np.float32)
     dof = np.zeros(n_entries, dtype=np.int64)
     accepted = np.zeros(n_entries, dtype=bool)
     k_src = len(sources)
@@ -1457,7 +1461,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
             dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, setup.play, gnss_tau, gap_j, gap_q,
             plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
             nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist, hist_base,
-            nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu)
+            nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu)
         if event == EVENT_DONE:
             break
         if event == EVENT_NEED_IMU:
@@ -1503,7 +1507,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
         statistics[sources[k].name] = MeasurementStats(
             int(used[k]), int(rejected[k]), sum_sq[k, :dof_k].copy() if used[k] else None, float(sum_nis[k]),
             int(sum_dof[k])).summary()
-    return _ForwardPass(history, nis, dof, accepted, statistics, rejections, resets)
+    return _ForwardPass(history, nis, dof, accepted, statistics, rejections, resets, nu)
 
 
 def _fill_imu_chunk(imu: ImuIncrements, dt0: float, start: int, dtheta, dvel, dt, span) -> None:
@@ -1623,7 +1627,7 @@ def fuse(
     timeline = UpdateTimeline(time_s=t[epochs], measurements={m.name: m for m in sources}, applied=applied,
                               initial_covariance=setup.P0)
     innovations = InnovationRecord(tuple(m.name for m in sources), obs_time, plan.source.copy(), forward_pass.nis,
-                                   forward_pass.dof, accepted, obs_trusted)
+                                   forward_pass.dof, accepted, obs_trusted, forward_pass.innovation)
     lat_e, lon_e = at_updates.lat_rad, at_updates.lon_rad
     r_m, r_n = earth.radii(lat_e[0], ellipsoid)
     station = integrity.travelled_m((lat_e - lat_e[0]) * r_m, (lon_e - lon_e[0]) * r_n * math.cos(lat_e[0]))

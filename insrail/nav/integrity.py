@@ -68,6 +68,9 @@ class InnovationRecord:
     dof: np.ndarray
     accepted: np.ndarray
     trusted: np.ndarray
+    #: (n, rows) the innovation of each observation's rows in its model's units (NaN beyond its
+    #: degrees of freedom; float32: what the variance estimates of ``insrail.nav.self_calibration`` need)
+    innovation: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

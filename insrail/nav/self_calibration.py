@@ -65,8 +65,18 @@ PLAY_TOLERANCE = 1.5
 MAX_PLAY_PASSES = 3
 #: the estimate stays within this factor of the profile's play either way
 PLAY_RANGE = 100.0
-#: below this mean square speed [m^2/s^2] the survey says nothing about its play
+#: below this square speed [m^2/s^2] an NHC row says nothing about the play
 MIN_PLAY_SPEED2 = 0.1**2
+#: rows left out around a removed IMU record or a bridged gap [s]
+SUSPECT_MARGIN_S = 2.0
+#: a row whose square innovation exceeds PLAY_TRIM^2 x what the median row implies is an outlier
+PLAY_TRIM = 10.0
+#: suspect times leaving fewer than this share of the moving rows are not left out
+SUSPECT_MOSTLY = 0.5
+#: fewer rows than this left (5 s of travel at 10 Hz): the survey does not say what its play is
+MIN_PLAY_ROWS = 50
+#: the median of chi-square with one degree of freedom
+CHI2_1_MEDIAN = 0.454936423119572
 
 
 @dataclass(frozen=True)
@@ -102,19 +112,71 @@ def play_from_innovations(result) -> tuple[float, float] | None:
     where it cannot tell (no NHC, a trolley hardly moving). The NHC row's innovation is the rail
     point's velocity across the track in the trolley frame, v x yaw (pitch) of the play, plus the
     filter's own uncertainty; for the play's flat spectrum over the band B
-    (:func:`insrail.nav.error_model.trolley_play_band_per_m`) its mean square over the updates is
-    2 B mean(v^2) x the drift per metre. The filter's part makes it an upper bound."""
+    (:func:`insrail.nav.error_model.trolley_play_band_per_m`) its mean square at speed v is
+    2 B v^2 x the drift per metre. The filter's part makes it an upper bound.
+
+    Only the innovations of a filter that tracks the trolley say what its play is: the rows at rest
+    (below :data:`MIN_PLAY_SPEED2`), those rejected, inside a filter reset's suspect time (its
+    reconvergence after a fault the screening could not see) or within :data:`SUSPECT_MARGIN_S` of an
+    IMU record the screening removed or a gap it bridged are left out (:func:`_play_rows`), unless that
+    leaves less than :data:`SUSPECT_MOSTLY` of the moving rows (a pass reset throughout: its noise is too
+    small for the unit, which the estimate is to find). Of the rest, a row beyond :data:`PLAY_TRIM`
+    times the 1-sigma its median implies is an outlier, not play: the estimate is the drift of the
+    others (a fault of one record made the plain mean square 25-30 x the profile's play)."""
     from insrail.nav.error_model import trolley_play_band_per_m
 
-    stats = result.statistics.get(NHC_SOURCE)
-    if stats is None or stats["used"] == 0 or len(stats["innovation_rms"]) < 2 or result.forward is None:
+    found = _play_rows(result)
+    if found is None:
         return None
-    speed2 = float(np.mean(np.sum(np.square(result.forward.vel_ned_mps), axis=1)))
-    if not speed2 >= MIN_PLAY_SPEED2:
+    nu2, speed2 = found
+    reach = 2.0 * trolley_play_band_per_m() * speed2
+    drift = []
+    for component in nu2.T:
+        ratio = component / reach
+        typical = float(np.median(ratio)) / CHI2_1_MEDIAN  # the drift the bulk of the rows shows
+        kept = ratio <= PLAY_TRIM**2 * typical
+        drift.append(float(np.sum(component[kept]) / np.sum(reach[kept])) if typical > 0 else 0.0)
+    return drift[0], drift[1]
+
+
+def _play_rows(result) -> tuple[np.ndarray, np.ndarray] | None:
+    """(squared lateral and vertical NHC innovations (n, 2), the squared speed at each (n,)) of the
+    rows :func:`play_from_innovations` takes, or None when too few are left."""
+    record = result.innovations
+    if (record is None or record.innovation is None or NHC_SOURCE not in record.names or result.forward is None
+            or len(result.forward.time_s) < 2):
         return None
-    rms = np.asarray(stats["innovation_rms"][-2:], dtype=float)  # the NHC's lateral and vertical rows
-    drift = rms**2 / (2.0 * trolley_play_band_per_m() * speed2)
-    return float(drift[0]), float(drift[1])
+    nhc = ((record.source == record.names.index(NHC_SOURCE)) & record.accepted & record.trusted
+           & (record.dof >= 2))
+    forward = result.forward
+    speed2 = np.interp(record.time_s, forward.time_s, np.sum(np.square(forward.vel_ned_mps), axis=1))
+    moving = nhc & (speed2 >= MIN_PLAY_SPEED2)
+    take = moving.copy()
+    # a reset's suspect time, not a not-valid section: a section is not valid where the play the pass ran
+    # with is too small for its innovations, which is what the estimate is for
+    suspect = list(result.integrity.suspect_s) if result.integrity is not None else []
+    margin = SUSPECT_MARGIN_S
+    suspect += [(o.time_s - margin, o.time_s + margin) for o in result.info.get("imu_outliers", ())]
+    suspect += [(g.start_s - margin, g.end_s + margin) for g in result.info.get("imu_gaps", ())]
+    if suspect:
+        starts, ends = np.array([[a, b] for a, b, *_ in suspect]).T
+        order = np.argsort(starts)
+        starts, ends = starts[order], np.maximum.accumulate(ends[order])
+        before = np.searchsorted(starts, record.time_s, side="right") - 1
+        take &= ~((before >= 0) & (record.time_s <= ends[np.maximum(before, 0)]))
+    if take.sum() < SUSPECT_MOSTLY * moving.sum():
+        # resets over most of the survey are the pass's noise too small for the unit (a MEMS unit's first pass
+        # with a trolley's play), not faults: its rows are what the estimate must see
+        take = moving
+    if take.sum() < MIN_PLAY_ROWS:
+        return None
+    dof = record.dof[take]
+    rows = np.arange(record.innovation.shape[1])[None, :]
+    nu = np.asarray(record.innovation[take], dtype=float)
+    # the NHC's lateral and vertical rows are its model's last two (an odometer row before them)
+    lateral = nu[rows == (dof - 2)[:, None]]
+    vertical = nu[rows == (dof - 1)[:, None]]
+    return np.column_stack([lateral, vertical]) ** 2, speed2[take]
 
 
 @dataclass(frozen=True)

@@ -72,6 +72,7 @@ from insrail.nav.shocks import NHC_RELAXED_S, detect_shocks
 from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project import assessable
 from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
 from insrail.project.mounting_stage import mounting_notices, roll_check, with_mounting, yaw_pitch_pass
 from insrail.project.relative_survey import (
@@ -650,7 +651,12 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                            table.gauge_m, table.cant_m, table.design_cant_m, valid=table.valid,
                                            sleeper_number=table.number, curvature_1pm=curvature, line_speed_mps=speed)
     profile = run.tolerance_profile
-    assessment = assess(geometry, profile)
+    quality = _section_quality(trajectory_file, recon)
+    unresolved = assessable.not_assessable(profile, quality, table.station_m)
+    everything = assessment = assess(geometry, profile)
+    if unresolved:
+        assessment = assess(geometry, profile, not_assessed=assessable.masks(unresolved))
+    not_listed = assessable.left_out(unresolved, everything, assessment)
     in_turnouts, turnout_counts = assess_turnouts(project, geometry, measured, events)
     release_free_memory()
     check_cancel(cancel)
@@ -676,6 +682,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                                 *_notices(fusion_info, height_warnings, summary.get("ppk")),
                                                 *(local.notices() if local is not None else []),
                                                 *speed_notices(profile, table, curvature, speed),
+                                                *assessable.notices(unresolved, not_listed),
                                                 *(mounting_notices(roll, "survey.toml", "track")
                                                   if np.isfinite(roll.sigma_rad[0]) else []),
                                                 *_line_fit_notices(extras.line, table)]]
@@ -695,7 +702,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         summary["track"]["line_fit"] = extras.line.section()
         summary["files"].update(dict(zip(("fitted_alignment_csv", "fitted_alignment_landxml", "line_fit_report"),
                                           line_fit_files)))
-    quality = _section_quality(trajectory_file, recon)
+    summary["assessment"]["not_assessable"] = assessable.summary_section(unresolved, not_listed)
     summary["quality"] = quality_section(quality)
     if manifest.relative:  # every output says so; the chord checks where the error growth allows
         summary["survey"]["kind"] = "relative"

@@ -13,7 +13,7 @@ crosses and the first and last sleeper numbers.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -218,12 +218,18 @@ def exceedance_runs(values: np.ndarray, lower: float, upper: float) -> list[tupl
     return runs
 
 
-def assess(geometry: SleeperGeometry, profile: ToleranceProfile) -> Assessment:
-    """Every check of ``profile`` on ``geometry``: channel values and exceedances in station order."""
+def assess(geometry: SleeperGeometry, profile: ToleranceProfile,
+           not_assessed: Mapping[tuple[str, str], np.ndarray] | None = None) -> Assessment:
+    """Every check of ``profile`` on ``geometry``: channel values and exceedances in station order.
+    ``not_assessed``: (check name, direction) -> the sleepers (n,) where that check cannot be told
+    (its values there NaN, no exceedance found there); direction "" for a check of the whole track."""
     channels = []
     exceedances = []
     for check in profile.checks:
         for rail, direction, values in SIGNALS[check.kind](geometry, check, profile.nominal_gauge_m):
+            left_out = (not_assessed or {}).get((check.name, direction))
+            if left_out is not None:
+                values = np.where(left_out, np.nan, values)
             channels.append(Channel(check.name, check.kind, rail, direction, values, check.lower, check.upper))
             for first, last, peak in exceedance_runs(values, check.lower, check.upper):
                 exceedances.append(
