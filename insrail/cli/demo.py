@@ -20,7 +20,7 @@ from insrail.cli.progressbar import TerminalProgress
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", type=Path, default=Path("insrail-demo"), help="demo folder (default: ./insrail-demo)")
     p.add_argument("--seed", type=int, default=1, help="random seed of the simulated survey (default: 1)")
-    p.add_argument("--preset", choices=tuple(PRESET_EVENTS), default="short",
+    p.add_argument("--preset", choices=PRESETS, default="short",
                    help="the simulated survey: short (1.2 km, the default), long (10 km) or ballasted (the short line "
                         "due for tamping: 10-30 mm long waves and dips, a bridge and a level crossing; docs/tamping.md)")
 
@@ -47,15 +47,22 @@ def truth_comparison(table, truth) -> dict[str, float]:
     }
 
 
-from insrail.sim.scenario import BALLASTED_EVENTS  # noqa: E402  (the preset's own fixed stretches)
-
 #: The demo's track events, on the `short` design's chainage: a turnout (the length of a No. 18 turnout)
 #: and a level crossing, both left out of the assessment (docs/formats.md "Track events").
 DEMO_EVENTS = (("turnout", 1300.0, 1369.0, "No. 18"), ("level_crossing", 1800.0, 1808.0, "of the service road"))
 #: The same on the `long` design's chainage (its survey runs from 20 050 to 30 250 m).
 LONG_DEMO_EVENTS = (("turnout", 22300.0, 22369.0, "No. 18"), ("level_crossing", 27800.0, 27808.0, "of the service road"))
-#: The simulator presets the demo offers, each with its events.
-PRESET_EVENTS = {"short": DEMO_EVENTS, "long": LONG_DEMO_EVENTS, "ballasted": BALLASTED_EVENTS}
+#: The simulator presets the demo offers (the ballasted preset's events are the simulator's own fixed
+#: stretches, sim.scenario.BALLASTED_EVENTS, looked up when it runs: `insrail --help` imports no simulator).
+PRESETS = ("short", "long", "ballasted")
+
+
+def preset_events(name: str) -> tuple:
+    """The track events of a demo preset."""
+    if name == "ballasted":
+        from insrail.sim.scenario import BALLASTED_EVENTS
+        return BALLASTED_EVENTS
+    return {"short": DEMO_EVENTS, "long": LONG_DEMO_EVENTS}[name]
 #: The tolerance profile of a preset whose line is not the default profile's: the ballasted line is
 #: accepted after tamping with the conventional line's maintenance checks.
 PRESET_PROFILES = {"ballasted": "cn_conventional_160"}
@@ -96,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
                       progress=lambda f, m: bar(0.25 * f, m))
     print(f"insrail demo: simulated a {result.length_m:.0f} m trolley survey ({result.duration_s:.0f} s of data)")
     print(f"Survey folder: {result.folder.resolve()}")
-    project = demo_events(project_for_simulated_survey(args.out, survey_dir, name="insrail demo"), PRESET_EVENTS[name])
+    project = demo_events(project_for_simulated_survey(args.out, survey_dir, name="insrail demo"), preset_events(name))
     if name in PRESET_PROFILES:
         from dataclasses import replace
 

@@ -14,8 +14,6 @@ import argparse
 import math
 import sys
 
-import numpy as np
-
 from insrail.cli.progressbar import TerminalProgress
 
 
@@ -88,6 +86,8 @@ def run(args: argparse.Namespace) -> int:
     if args.relative and (args.sweep or outages):
         print("insrail predict: --relative has no GNSS: no --outage, and no --sweep", file=sys.stderr)
         return 2
+    import numpy as np  # only when predicting: `insrail --help` imports no numerical library
+
     stops = (tuple((float(s), args.stop_s) for s in np.arange(args.stop_every, args.length - 1.0, args.stop_every))
              if args.relative else ())
     bar = TerminalProgress("predict")

@@ -69,11 +69,14 @@ def roll_check(manifest, table, design_cant_available: bool) -> MountingEstimate
 
 
 def mounting_notices(estimate: MountingEstimate, source: str, stage: str = "fusion") -> list[Notice]:
-    """An info notice with the estimate; a warning when an axis is applied, naming the key and value to
-    give (``source``: the file that gave the mounting; ``stage``: the notice's)."""
-    notices = [Notice(stage, estimate.text(), severity="info")]
+    """A warning when an axis is applied, naming the estimate, the key and the value to give (``source``:
+    the file that gave the mounting; ``stage``: the notice's); nothing where the survey agrees with the
+    given mounting (a clean survey says nothing: the estimate is in summary.toml [fusion.mounting] and
+    the PDF)."""
+    notices = []
     applied = [AXES[i] for i in range(3) if estimate.significant[i]]
     if applied:
+        notices.append(Notice(stage, estimate.text(), severity="info"))
         values = ", ".join(f"{v:.3f}" for v in np.degrees(estimate.applied_rpy_rad()))
         apart = ", ".join(f"{AXES[i]} by {math.degrees(abs(estimate.rpy_rad[i] - estimate.given_rpy_rad[i])):.3f} deg "
                           f"({abs(estimate.rpy_rad[i] - estimate.given_rpy_rad[i]) / estimate.sigma_rad[i]:.0f} sigma)"
