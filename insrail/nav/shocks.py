@@ -6,7 +6,11 @@ hold for that instant; the thesis finds these instants from the accelerometer re
 the NHC off there. A shock is a burst of vertical specific force no push or walk makes: after
 removing the specific force's moving mean over :data:`BASELINE_S`, a sample beyond
 max(:data:`SHOCK_FLOOR_MPS2`, :data:`NOISE_FACTOR` x the record's robust noise). Samples closer
-than :data:`SEPARATION_S` belong to one shock, placed at its largest sample.
+than :data:`SEPARATION_S` belong to one shock, placed at its largest sample. A wheel's shock rings
+(the frame and the wheel bounce for tens of milliseconds), so a lone sample with no neighbour within
+:data:`RINGING_SAMPLES` beyond half the threshold is no shock but a fault of that one record: relaxing
+the NHC there would hide it from the integrity checks that find it (the IMU screening and the
+innovations, insrail.nav.integrity).
 
 The body frame is FRD; specific force f^b = dvel / dt with the record's nominal interval (a
 sample after a gap holds one nominal interval, insrail.io).
@@ -31,6 +35,8 @@ SHOCK_FLOOR_MPS2 = 1.5
 NOISE_FACTOR = 10.0
 #: Samples beyond the threshold closer than this are one shock (its ringing) [s].
 SEPARATION_S = 0.3
+#: A shock has at least one neighbour this close (samples) beyond half the threshold: its ringing.
+RINGING_SAMPLES = 2
 #: The NHC is relaxed this long either side of a shock: the wheel's bounce and the frame's ringing [s].
 NHC_RELAXED_S = 0.25
 
@@ -68,5 +74,10 @@ def detect_shocks(imu: ImuIncrements) -> Shocks:
         return Shocks(np.zeros(0), np.zeros(0), threshold)
     starts = np.concatenate([[0], np.flatnonzero(np.diff(time_s[beyond]) > SEPARATION_S) + 1])
     peaks = np.array([group[np.argmax(np.abs(change[group]))] for group in np.split(beyond, starts[1:])])
+    ringing = np.abs(change) > 0.5 * threshold
+    peaks = np.array([peak for peak in peaks if ringing[max(peak - RINGING_SAMPLES, 0):peak].any()
+                      or ringing[peak + 1:peak + 1 + RINGING_SAMPLES].any()], dtype=int)
+    if not len(peaks):
+        return Shocks(np.zeros(0), np.zeros(0), threshold)
     # an increment integrates over the interval ending at its time stamp: the shock at its middle
     return Shocks(time_s[peaks] - 0.5 * dt, change[peaks], threshold)
