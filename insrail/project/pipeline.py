@@ -78,8 +78,8 @@ from insrail.project.mounting_stage import mounting_notices, roll_check, with_mo
 from insrail.project.relative_survey import (
     relative_notices,
     relative_section,
+    no_amounts,
     withheld_adjustment_section,
-    without_amounts,
     without_deviations,
 )
 from insrail.project.gap_sleepers import flag_gap_sleepers
@@ -661,7 +661,10 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     release_free_memory()
     check_cancel(cancel)
     step(0.9, "adjustment amounts")
-    after_adjustment, adjustment = _adjustment(project, run, geometry, step.sub(0.9, 0.97), cancel)
+    if manifest.relative:  # its deviations hold the IMU's drift: no amounts to plan (relative_survey)
+        adjustment, after_adjustment = no_amounts(len(table.station_m), run.fastener.name), assessment
+    else:
+        after_adjustment, adjustment = _adjustment(project, run, geometry, step.sub(0.9, 0.97), cancel)
     release_free_memory()
     check_cancel(cancel)
 
@@ -711,8 +714,6 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         summary["notices"] += [n.to_dict() for n in relative_notices(profile, quality)]
         table = without_deviations(table)
         recon = replace(recon, table=table)
-        adjustment = without_amounts(adjustment)
-        summary["adjustment"] = withheld_adjustment_section(adjustment)
     summary["files"]["quality"] = QUALITY_FILE
     summary["trajectory"] = trajectory_section(trajectory_file)  # the report's figures, read here in chunks
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
@@ -818,7 +819,8 @@ def _summary(project, run, name, manifest, fusion_info, track_cached, height_fit
                   "station_to_m": float(table.station_m[-1]) if len(table) else 0.0},
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),
                        "by_check": counts},
-        "adjustment": adjustment_section(adjustment, assessment, after_adjustment, run.adjustment, run.fastener),
+        "adjustment": (withheld_adjustment_section(adjustment) if manifest.relative else
+                       adjustment_section(adjustment, assessment, after_adjustment, run.adjustment, run.fastener)),
         "files": {"trajectory": TRAJECTORY_FILE, "sleepers": SLEEPERS_FILE, "exceedances": EXCEEDANCES_FILE},
         SETTINGS_SECTION: run.record(),
     }

@@ -21,6 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 from insrail.notices import Notice
+from insrail.track.adjustment import Adjustment
 
 #: a chord check up to this chord [m] has the 5 m lag's error, a longer one the 150 m lag's
 SHORT_CHORD_M = 30.0
@@ -103,14 +104,13 @@ AMOUNTS_WITHHELD = ("relative survey: no adjustment amounts, they would move the
                     "against the design; the crew needs a survey with GNSS or prism fixes")
 
 
-def without_amounts(adjustment):
-    """The adjustment as a relative survey writes it: no amounts (NaN), nothing flagged as unresolved."""
-    return replace(adjustment, lateral_m=np.full_like(adjustment.lateral_m, np.nan),
-                   vertical_m=np.full_like(adjustment.vertical_m, np.nan),
-                   unresolved_lateral=np.zeros_like(adjustment.unresolved_lateral),
-                   unresolved_vertical=np.zeros_like(adjustment.unresolved_vertical),
-                   reason_lateral=np.zeros_like(adjustment.reason_lateral),
-                   reason_vertical=np.zeros_like(adjustment.reason_vertical))
+def no_amounts(sleepers: int, fastener: str):
+    """The adjustment of a relative survey: no amounts (NaN) at any of its ``sleepers``, none unresolved."""
+    empty = np.zeros((sleepers, 2), dtype=bool)
+    return Adjustment(lateral_m=np.full((sleepers, 2), np.nan), vertical_m=np.full((sleepers, 2), np.nan),
+                      unresolved_lateral=empty, unresolved_vertical=empty.copy(), fastener=fastener,
+                      reason_lateral=np.zeros((sleepers, 2), dtype=np.uint8),
+                      reason_vertical=np.zeros((sleepers, 2), dtype=np.uint8))
 
 
 def withheld_adjustment_section(adjustment) -> dict:
