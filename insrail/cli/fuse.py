@@ -79,6 +79,11 @@ def run(args: argparse.Namespace) -> int:
     survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m), trolley_from_project=project_trolley)
     try:
         survey, fixes, project_ellipsoid, placed = _prism_fixes(survey, args.project)
+        if survey.odometer_right is not None:  # the second odometer on the first's scale, its slips left out
+            from insrail.project.odometer_pair_stage import with_odometer_pair
+            from insrail.project.plausibility import file_labels
+            survey, pair_notices, _ = with_odometer_pair(survey, file_labels(survey))
+            placed = [*placed, *pair_notices]
     except ValueError as err:
         if isinstance(err, InputError):
             raise

@@ -46,6 +46,10 @@ class TrolleyGeometry:
 
     imu_to_antenna_m          : to the GNSS antenna phase centre
     imu_to_odometer_m         : to the contact point of the odometer wheel with the rail top
+                                (``imu_to_odometer_left_m`` in survey.toml is the same key)
+    imu_to_odometer_right_m   : to the contact point of the second odometer's wheel, on the other
+                                rail (``[files.odometer_right]``): its lateral (y) offset from the
+                                first wheel is the spacing of the two rails' running points
     imu_to_prism_m            : to the total-station prism centre
     imu_to_sleeper_detector_m : to the sleeper detector's sensing point
     imu_to_reference_rail_m   : to the top-of-rail point above the gauge face of the
@@ -65,6 +69,7 @@ class TrolleyGeometry:
 
     imu_to_antenna_m: np.ndarray | None = None
     imu_to_odometer_m: np.ndarray | None = None
+    imu_to_odometer_right_m: np.ndarray | None = None
     imu_to_prism_m: np.ndarray | None = None
     imu_to_sleeper_detector_m: np.ndarray | None = None
     imu_to_reference_rail_m: np.ndarray | None = None
@@ -117,8 +122,10 @@ def on_imu_clock(data, time_offset_s: float):
 class SurveyManifest:
     """Contents of ``survey.toml``.
 
-    files maps a role (``imu gnss odometer gauge sleepers prism total_station cpiii benchmarks
-    events``) to a :class:`SurveyFile`. Only imu is required; the survey also needs a source of
+    files maps a role (``imu gnss odometer odometer_right gauge sleepers prism total_station cpiii
+    benchmarks events``) to a :class:`SurveyFile`; ``[files.odometer_left]`` in survey.toml is read as
+    the role ``odometer`` (the first odometer; ``odometer_right`` is a second one on the other rail,
+    :mod:`insrail.nav.odometer_pair`). Only imu is required; the survey also needs a source of
     position: a GNSS solution (gnss), raw GNSS observations (``raw_gnss``, the ``[gnss_raw]``
     table, which replaces the gnss role) or total-station prism fixes (prism, a survey in a
     tunnel; or total_station, the raw pointings of free stations, with cpiii, the points they are
@@ -150,6 +157,7 @@ class SurveyData:
     imu: ImuIncrements
     gnss: GnssSolution | None = None  # None: a survey without GNSS (prism fixes only)
     odometer: OdometerData | None = None  # None: no odometer (along-track scale from the positions)
+    odometer_right: OdometerData | None = None  # a second odometer, on the other rail (with the first only)
     gauge: GaugeData | None = None
     sleepers: SleeperPulses | None = None
     prism: PrismObservations | None = None
@@ -166,6 +174,7 @@ ROLE_TYPES: dict[str, type] = {
     "imu": ImuIncrements,
     "gnss": GnssSolution,
     "odometer": OdometerData,
+    "odometer_right": OdometerData,
     "gauge": GaugeData,
     "sleepers": SleeperPulses,
     "prism": PrismObservations,
@@ -176,24 +185,29 @@ ROLE_TYPES: dict[str, type] = {
 }
 REQUIRED_ROLES = ("imu",)
 #: roles whose files may name a ``time_offset_s`` (the IMU's clock is the reference the others are put on)
-TIMED_ROLES = ("gnss", "odometer", "gauge", "sleepers", "prism", "total_station")
+TIMED_ROLES = ("gnss", "odometer", "odometer_right", "gauge", "sleepers", "prism", "total_station")
 #: roles of which a survey needs at least one (``[gnss_raw]`` counts as gnss): where the trolley is
 POSITION_ROLES = ("gnss", "prism", "total_station")
-LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_prism_m",
+LEVER_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_odometer_right_m", "imu_to_prism_m",
               "imu_to_sleeper_detector_m", "imu_to_reference_rail_m")
 #: The lever arms the fusion uses (``insrail fuse`` and ``insrail process``), each with the roles
 #: whose data need it: reading survey.toml requires one only when the survey holds such data.
 FUSION_LEVER_ARMS = {"imu_to_antenna_m": ("gnss",), "imu_to_odometer_m": ("odometer",),
+                     "imu_to_odometer_right_m": ("odometer_right",),
                      "imu_to_prism_m": ("prism", "total_station")}
 #: The lever arms only the track reconstruction (``insrail process``) uses, and why: a survey that is
 #: only fused (a walk, a road test) need not give them. None: needed by every processed survey.
 TRACK_LEVER_ARMS = {"imu_to_reference_rail_m": (None, "the rails are placed from the reference rail's point"),
                     "imu_to_sleeper_detector_m": ("sleepers",
                                                   "the sleeper pulses are placed on the track at the detector")}
+#: left/right names survey.toml accepts for the first odometer's role and lever arm (a survey of one
+#: odometer keeps ``[files.odometer]`` and ``imu_to_odometer_m``)
+ROLE_ALIASES = {"odometer_left": "odometer"}
+TROLLEY_ALIASES = {"imu_to_odometer_left_m": "imu_to_odometer_m"}
 #: a clock offset beyond a minute is not a latency but another time scale (leap seconds: 18 s)
 MAX_GIVEN_TIME_OFFSET_S = 60.0
 _SURVEY_KEYS = ("name", "gps_week", "imu_profile", "description")
-_TROLLEY_KEYS = LEVER_ARMS + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m", "beam_wheel_spacing_m")
+_TROLLEY_KEYS = LEVER_ARMS + tuple(TROLLEY_ALIASES) + ("reference_rail", "mounting_rpy_deg", "rail_centre_spacing_m", "beam_wheel_spacing_m")
 #: The longest twin-wheel beam a trolley carries [m]: a spacing beyond it is a unit slip (mm as m)
 MAX_BEAM_WHEEL_SPACING_M = 3.0
 
@@ -229,11 +243,27 @@ def _option_problem(hint, value) -> str | None:
     return f"expected {' or '.join(k.__name__ for k in allowed if k is not type(None))}, found {value!r}"
 
 
+def _with_aliases(table: dict, aliases: dict[str, str], what: str, problems: list[str]) -> dict:
+    """``table`` with each alias key renamed to the key it names; both given is a problem."""
+    table = dict(table)
+    for alias, key in aliases.items():
+        if alias in table:
+            if key in table:
+                problems.append(f"{what}.{alias}: the same as {what}.{key}; give one of them")
+            table[key] = table.pop(alias)
+    return table
+
+
 def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = False) -> dict[str, SurveyFile]:
     files: dict[str, SurveyFile] = {}
     if not isinstance(table, dict):
         problems.append("files: missing table [files.<role>] (the imu role is required)")
         return files
+    table = _with_aliases(table, ROLE_ALIASES, "files", problems)
+    if "odometer_right" in table and "odometer" not in table:
+        problems.append("files.odometer_right: a second odometer needs the first, [files.odometer] (or "
+                        "[files.odometer_left]); a survey with one odometer gives it as [files.odometer], on "
+                        "whichever rail, with its lever arm trolley.imu_to_odometer_m")
     for role in REQUIRED_ROLES:
         if role not in table:
             problems.append(f"files.{role}: missing (required role)")
@@ -253,7 +283,7 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
     for role, entry in table.items():
         key = f"files.{role}"
         if role not in ROLE_TYPES:
-            problems.append(f"{key}: unknown role (expected one of {', '.join(ROLE_TYPES)})")
+            problems.append(f"{key}: unknown role (expected one of {', '.join([*ROLE_TYPES, *ROLE_ALIASES])})")
             continue
         if not isinstance(entry, dict):
             problems.append(f"{key}: expected a table with path and format")
@@ -305,6 +335,7 @@ def parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometr
     if not isinstance(table, dict):
         problems.append("trolley: missing table [trolley] (lever arms and reference rail)")
         return None
+    table = _with_aliases(table, TROLLEY_ALIASES, "trolley", problems)
     for key in table:
         if key not in _TROLLEY_KEYS:
             problems.append(f"trolley.{key}: unknown key (expected {', '.join(_TROLLEY_KEYS)})")
@@ -510,7 +541,7 @@ def read_survey(folder: str | Path, progress: ProgressFn | None = None,
 
     problems: list[str] = []
     loaded = {role: _with_week(data, role, manifest.gps_week, problems) for role, data in loaded.items()}
-    for role in ("gnss", "odometer", "gauge", "sleepers", "prism", "total_station"):
+    for role in TIMED_ROLES:
         if role in loaded:
             _check_time_overlap(loaded["imu"], loaded[role], role, manifest.files.get(role), problems)
     if problems:

@@ -98,6 +98,8 @@ class OdometerData:
     distance_m : (n,) cumulative distance [m] as the sensor reports it, i.e. still
                  carrying the sensor's scale-factor error
     pulse_length_m : length of one pulse [m] when the file held pulse counts, else None
+    left_out   : stretches whose speeds the fusion does not use (a wheel's slip, found against a
+                 second odometer and bridged by it: ``insrail.nav.odometer_pair``)
     """
 
     time_s: np.ndarray
@@ -105,6 +107,7 @@ class OdometerData:
     pulse_length_m: float | None = None
     gaps: tuple[Gap, ...] = ()
     source: Path | None = None
+    left_out: tuple[Gap, ...] = ()
 
     def __len__(self) -> int:
         return len(self.time_s)

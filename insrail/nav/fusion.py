@@ -1135,12 +1135,14 @@ def nhc_point_m(trolley: TrolleyGeometry) -> np.ndarray:
 
 def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: ImuProfile, gnss: GnssSolution | None,
                    odometer: OdometerData | None, position_fixes: PositionFix | None = None,
-                   nhc_relaxed_s: tuple[np.ndarray, np.ndarray] | None = None) -> tuple:
+                   nhc_relaxed_s: tuple[np.ndarray, np.ndarray] | None = None,
+                   odometer_right: OdometerData | None = None) -> tuple:
     """The aiding sources as ``options`` selects them, in the order the filter applies them at
     an update epoch: GNSS positions (and velocities), total-station fixes, odometer/NHC, ZUPT.
     The fusion and the accuracy prediction (``insrail.quality.prediction``) both build theirs here.
     ``nhc_relaxed_s``: (start, end) of the intervals where the NHC does not hold (rail joints'
-    shocks, ``insrail.nav.shocks``)."""
+    shocks, ``insrail.nav.shocks``). ``odometer_right``: a second odometer on the other rail, on the
+    first one's scale (``insrail.nav.odometer_pair``), its speed a source of its own beside the first's."""
     sources: list = []
     if gnss is not None:
         sources.append(GnssPosition(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
@@ -1163,10 +1165,22 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
             sigma_nhc_mps=options.nhc_sigma_mps if use_odometer else max(options.nhc_sigma_mps,
                                                                           NHC_SIGMA_WITHOUT_ODOMETER_MPS),
             use_odometer=use_odometer, use_nhc=options.use_nhc,
+            odometer_left_out_s=left_out_s(odometer.left_out if odometer is not None else ()),
             **({} if nhc_relaxed_s is None else {"nhc_relaxed_s": nhc_relaxed_s})))
+    if use_odometer and odometer_right is not None:
+        sources.append(OdometerNhc.from_distance(
+            odometer_right.time_s, odometer_right.distance_m, euler_to_dcm(*trolley.mounting_rpy_rad),
+            trolley.lever_arm_m("imu_to_odometer_right_m"), nhc_point_m(trolley), options.odometer_sigma_mps,
+            odometer_right.pulse_length_m or 0.001, use_nhc=False, name="odometer_right",
+            odometer_left_out_s=left_out_s(odometer_right.left_out)))
     if options.use_zupt:
         sources.append(Zupt(np.zeros(0), options.zupt_sigma_mps, gyro_white_noise=max(profile.gyro_arw, 1e-7)))
     return tuple(sources)
+
+
+def left_out_s(stretches) -> tuple[np.ndarray, np.ndarray]:
+    """(start, end) [s] arrays of an odometer's left-out stretches (``OdometerData.left_out``)."""
+    return (np.array([g.start_s for g in stretches], dtype=float), np.array([g.end_s for g in stretches], dtype=float))
 
 
 def aiding_for(survey: SurveyData, options: FusionOptions, profile: ImuProfile,
@@ -1175,8 +1189,8 @@ def aiding_for(survey: SurveyData, options: FusionOptions, profile: ImuProfile,
     """What a survey aids the filter with (:func:`aiding_sources`), its GNSS after the quality policy."""
     gnss, gnss_quality = (None, {}) if survey.gnss is None else gnss_by_quality(survey.gnss, options.gnss_quality_policy)
     trolley = survey.manifest.trolley
-    return Aiding(aiding_sources(options, trolley, profile, gnss, survey.odometer, position_fixes, nhc_relaxed_s), gnss,
-                  survey.odometer, trolley, gnss_quality)
+    return Aiding(aiding_sources(options, trolley, profile, gnss, survey.odometer, position_fixes, nhc_relaxed_s,
+                                 survey.odometer_right), gnss, survey.odometer, trolley, gnss_quality)
 
 
 def fuse_survey(survey: SurveyData, options: FusionOptions = FusionOptions(), profile: ImuProfile | None = None,

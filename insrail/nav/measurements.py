@@ -343,6 +343,11 @@ class OdometerNhc:
     nhc_relaxed_s: tuple[np.ndarray, np.ndarray] = (_NO_TIMES, _NO_TIMES)
     nhc_relaxed_factor: float = 100.0
     nhc_scale: np.ndarray | None = None
+    #: (start, end) [s] of the stretches whose odometer speeds are not used (the wheel slipped there,
+    #: ``insrail.nav.odometer_pair``): an update whose segment meets one has no speed row (and, without
+    #: the NHC, is not scheduled); ``speed_used`` says so per observation once scheduled
+    odometer_left_out_s: tuple[np.ndarray, np.ndarray] = (_NO_TIMES, _NO_TIMES)
+    speed_used: np.ndarray | None = None
 
     @classmethod
     def from_distance(cls, time_s, distance_m, dcm_vehicle_from_body, odometer_lever_arm_m, nhc_lever_arm_m,
@@ -365,21 +370,18 @@ class OdometerNhc:
         speed = np.diff(d) / span
         sigma = odometer_speed_sigma(span, self.pulse_length_m, self.sigma_odometer_mps)
         valid = (times[:-1] >= self.odometer_time_s[0]) & (times[1:] <= self.odometer_time_s[-1])
+        used = ~_segments_meeting(self.odometer_left_out_s, times)
+        if not self.use_nhc:  # a speed alone: nothing to apply where it is left out
+            valid &= used
         i = np.flatnonzero(valid).astype(np.int64)
-        # a segment meets a relaxed interval when it starts before the interval ends and ends after it starts
-        start, end = (np.asarray(edge, dtype=float) for edge in self.nhc_relaxed_s)
-        order = np.argsort(start)
-        start, end = start[order], np.maximum.accumulate(end[order]) if len(end) else end
-        before = np.searchsorted(start, times[1:], side="left")  # intervals starting before the segment's end
-        relaxed = (before > 0) & (end[np.maximum(before - 1, 0)] > times[:-1]) if len(start) else np.zeros(len(span), bool)
-        scale = np.where(relaxed, self.nhc_relaxed_factor, 1.0)
-        return (replace(self, time_s=times[1:], speed_mps=speed, sigma_speed_mps=sigma, nhc_scale=scale),
-                i + 1, i)
+        scale = np.where(_segments_meeting(self.nhc_relaxed_s, times), self.nhc_relaxed_factor, 1.0)
+        return (replace(self, time_s=times[1:], speed_mps=speed, sigma_speed_mps=sigma, nhc_scale=scale,
+                        speed_used=used), i + 1, i)
 
     def model(self, nav: NavSnapshot, i: int):
         rows, z, sig = [], [], []
         frame = _VehicleFrame.at(nav, self.dcm_vehicle_from_body)
-        if self.use_odometer:
+        if self.use_odometer and (self.speed_used is None or self.speed_used[i]):
             v_mean, H_odo = frame.velocity_rows(self.odometer_lever_arm_m, nav.mean_vel_ned)
             corrected = self.speed_mps[i] / (1.0 + nav.odometer_scale)
             # odometer state = residual scale error s - s_hat; the corrected speed d / (1 + s_hat)
@@ -401,7 +403,20 @@ class OdometerNhc:
                           *np.asarray(self.odometer_lever_arm_m, float), *np.asarray(self.nhc_lever_arm_m, float),
                           self.sigma_nhc_mps, float(self.use_odometer), float(self.use_nhc)],
                          [self.time_s, self.speed_mps, np.square(self.sigma_speed_mps),
-                          np.ones(len(self.time_s)) if self.nhc_scale is None else self.nhc_scale])
+                          np.ones(len(self.time_s)) if self.nhc_scale is None else self.nhc_scale,
+                          np.ones(len(self.time_s)) if self.speed_used is None else self.speed_used])
+
+
+def _segments_meeting(intervals: tuple[np.ndarray, np.ndarray], times: np.ndarray) -> np.ndarray:
+    """Per segment times[k] .. times[k + 1] whether it meets one of the (start, end) intervals: it
+    starts before the interval ends and ends after it starts."""
+    start, end = (np.asarray(edge, dtype=float) for edge in intervals)
+    if not len(start):
+        return np.zeros(len(times) - 1, dtype=bool)
+    order = np.argsort(start)
+    start, end = start[order], np.maximum.accumulate(end[order])
+    before = np.searchsorted(start, times[1:], side="left")  # intervals starting before the segment's end
+    return (before > 0) & (end[np.maximum(before - 1, 0)] > times[:-1])
 
 
 @dataclass(frozen=True)
@@ -731,7 +746,7 @@ def _odometer_nhc_model(ctx, params, obs, z, H, r):
                 ctx[CTX_OMEGA_IB + 2] - (ctx[CTX_C_BN + 2] * ctx[CTX_OMEGA_IN] + ctx[CTX_C_BN + 5] * ctx[CTX_OMEGA_IN + 1]
                                          + ctx[CTX_C_BN + 8] * ctx[CTX_OMEGA_IN + 2]))
     m = 0
-    if params[16] != 0.0:
+    if params[16] != 0.0 and obs[4] != 0.0:
         lever = (params[9], params[10], params[11])
         mean_vel = (ctx[CTX_MEAN_VEL], ctx[CTX_MEAN_VEL + 1], ctx[CTX_MEAN_VEL + 2])
         v = _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, mean_vel, 0, H, 0)

@@ -75,6 +75,7 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project import assessable
 from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
 from insrail.project.mounting_stage import mounting_notices, roll_check, with_mounting, yaw_pitch_pass
+from insrail.project.odometer_pair_stage import with_odometer_pair
 from insrail.project.relative_survey import (
     relative_notices,
     relative_section,
@@ -373,7 +374,8 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
     survey = replace(survey, manifest=manifest)
     clocks = check_clocks(survey, file_labels(survey))  # first: a time-scale mix-up also upsets the other checks
     survey, checked = check_survey(survey, nominal_gauge_m(project))
-    checked = [*clocks, *checked]
+    survey, pair_notices, odometer_pair = with_odometer_pair(survey, file_labels(survey))
+    checked = [*clocks, *checked, *pair_notices]
     checked = [*placed, *gnss_free_run_notices(survey), *checked]
     fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
              if survey.prism is not None and len(survey.prism) else None)
@@ -416,6 +418,7 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
                 "resets": len(result.resets), "integrity": result.integrity.to_dict(), "mounting": mounting.to_dict(),
                 "calibration": result.info["calibration"],
                 "along_track_scale": "odometer" if survey.odometer is not None else "GNSS positions only (no odometer)",
+                **({"odometer_pair": odometer_pair} if odometer_pair is not None else {}),
                 "imu_gaps_s": [[gap.start_s, gap.end_s] for gap in result.info["imu_gaps"]],
                 "shocks": {"time_s": shocks.time_s.tolist(), "peak_mps2": shocks.peak_mps2.tolist(),
                            "threshold_mps2": shocks.threshold_mps2}}

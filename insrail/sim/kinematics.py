@@ -126,7 +126,8 @@ class TrolleyKinematics:
 
         dtheta and dvel are in the body frame. The wheel path is the distance travelled
         over each interval by the point at ``wheel_lever_arm_body_m`` from the IMU (the
-        odometer wheel's contact with the rail), None when no lever arm is given. The
+        odometer wheel's contact with the rail), None when no lever arm is given; for k lever
+        arms (a (k, 3) array: two odometers) one column each, (n, k). The
         quadrature weights use ``dt`` itself: an interval length taken as the difference of
         two GPS times of week (about 2e5 s) would be off by up to 3e-11 s, a systematic
         micro-Gal in the increments.
@@ -141,8 +142,10 @@ class TrolleyKinematics:
         dvel = (st.specific_force_body_mps2 * w).reshape(n, m, 3).sum(axis=1)
         wheel_path = None
         if wheel_lever_arm_body_m is not None:
-            speed = np.linalg.norm(self._point_velocity(st, wheel_lever_arm_body_m), axis=1)
-            wheel_path = (speed * w[:, 0]).reshape(n, m).sum(axis=1)
+            levers = np.asarray(wheel_lever_arm_body_m, dtype=float)
+            paths = [(np.linalg.norm(self._point_velocity(st, lever), axis=1) * w[:, 0]).reshape(n, m).sum(axis=1)
+                     for lever in np.atleast_2d(levers)]
+            wheel_path = paths[0] if levers.ndim == 1 else np.column_stack(paths)
         return dtheta, dvel, wheel_path
 
     def _point_velocity(self, st: KinematicState, lever_arm_body_m) -> np.ndarray:

@@ -95,11 +95,28 @@ class GnssSpec:
 
 
 @dataclass(frozen=True)
+class OdometerSlip:
+    """A wheel that slips over a stretch: between the two stations it counts ``fraction`` less than it
+    rolls (0.05: 5 %)."""
+
+    wheel: str = "right"  # "left" (the first odometer) or "right" (the second)
+    from_station_m: float = 0.0
+    to_station_m: float = 0.0
+    fraction: float = 0.05
+
+
+@dataclass(frozen=True)
 class OdometerSpec:
     rate_hz: float = 10.0
     scale_factor_error: float = 0.0015  # reported distance = (1 + error) * true distance
     pulse_length_m: float = 0.001
     form: str = "distance"  # "distance" or "pulses"
+    #: a second odometer on the other rail ([files.odometer_right]), its wheel's contact point (b frame [m];
+    #: the default trolley's first wheel is at y = -0.60, the rails 1.5 m apart) and scale-factor error
+    second: bool = False
+    right_lever_arm_m: tuple[float, float, float] = (0.45, 0.90, 0.31)
+    right_scale_factor_error: float = 0.0025
+    slip: OdometerSlip | None = None
 
 
 @dataclass(frozen=True)

@@ -137,6 +137,9 @@ def simulate(
     if imu_format not in ("text", "npy"):
         raise ValueError("imu_format must be 'text' or 'npy'")
     step = StepProgress(progress)
+    if config.odometer.second and config.trolley.imu_to_odometer_right_m is None:  # the second wheel's lever arm
+        config = replace(config, trolley=replace(config.trolley,
+                                                 imu_to_odometer_right_m=np.array(config.odometer.right_lever_arm_m)))
     # a ninth stream for the trolley play leaves the first eight (and older truths) unchanged
     streams = np.random.SeedSequence(seed).spawn(9)
     rng_track, rng_motion, rng_imu, rng_gnss, rng_odo, rng_sleeper, rng_misc, rng_noise, rng_play = (
@@ -205,14 +208,16 @@ def simulate(
         imu_errors = replace(imu_errors, accel_bias_turn_on=np.array(config.accel_bias_turn_on_mps2, dtype=float))
     dtheta = np.empty((n, 3))
     dvel = np.empty((n, 3))
-    wheel = np.empty(n)
+    wheels = (np.stack([trolley.imu_to_odometer_m, trolley.imu_to_odometer_right_m]) if config.odometer.second
+              else trolley.imu_to_odometer_m)
+    wheel = np.empty((n, 2) if config.odometer.second else n)
     truth = np.empty(n, dtype=NAV_TRUTH_DTYPE)
     imu_step = step.sub(0.05, 0.85)
     for start in range(0, n, CHUNK_EPOCHS):
         check_cancel(cancel)
         sl = slice(start, min(start + CHUNK_EPOCHS, n))
         tt = t[sl]
-        d_theta, d_vel, d_wheel = kin.increments(tt, dt, trolley.imu_to_odometer_m)
+        d_theta, d_vel, d_wheel = kin.increments(tt, dt, wheels)
         dtheta[sl], dvel[sl] = sensors.corrupt_increments(
             rng_noise, profile_imu, imu_errors, sl, np.full(len(tt), dt), d_theta, d_vel
         )
@@ -225,7 +230,10 @@ def simulate(
         truth["station_m"][sl] = path_of(profile.evaluate(tt)[0])
         imu_step(sl.stop / n, f"IMU {sl.stop}/{n} epochs")
     wheel[0] = 0.0
-    wheel_distance = np.cumsum(wheel)  # true distance of the odometer wheel since the first epoch
+    # true distance of the odometer wheel (and of the second one) since the first epoch
+    wheel_distance = np.cumsum(wheel, axis=0)
+    wheel_distance, right_distance = ((wheel_distance[:, 0], wheel_distance[:, 1]) if config.odometer.second
+                                      else (wheel_distance, None))
     station_at_imu = truth["station_m"]
     path_at_imu = path_of(station_at_imu)  # non-decreasing in time: invertible
     joint_station, joint_time = _joint_passings(config, t, path_at_imu, path_of)
@@ -279,8 +287,17 @@ def simulate(
     ocfg = config.odometer
     t_odo = t[0] + np.arange(0.0, t[-1] - t[0], 1.0 / ocfg.rate_hz)
     odo_true = np.interp(t_odo, t, wheel_distance)
-    odo_reported = sensors.quantise((1.0 + ocfg.scale_factor_error) * odo_true, ocfg.pulse_length_m)
+    slip_station = np.interp(t_odo, t, station_at_imu)
+    odo_reported = sensors.quantise((1.0 + ocfg.scale_factor_error) * _slipped(odo_true, slip_station, ocfg.slip, "left"),
+                                    ocfg.pulse_length_m)
     odometer = OdometerData(time_s=t_odo, distance_m=odo_reported, pulse_length_m=ocfg.pulse_length_m)
+    slip_time_s = () if ocfg.slip is None else _station_inverse(
+        t, path_at_imu, np.sort(path_of(np.array([ocfg.slip.from_station_m, ocfg.slip.to_station_m]))))
+    odometer_right = None
+    if right_distance is not None:
+        right_true = _slipped(np.interp(t_odo, t, right_distance), slip_station, ocfg.slip, "right")
+        odometer_right = OdometerData(time_s=t_odo, pulse_length_m=ocfg.pulse_length_m, distance_m=sensors.quantise(
+            (1.0 + ocfg.right_scale_factor_error) * right_true, ocfg.pulse_length_m))
 
     gc = config.gauge
     t_gauge = t[0] + np.arange(0.0, t[-1] - t[0], 1.0 / gc.rate_hz)
@@ -333,7 +350,7 @@ def simulate(
     os.chmod(tmp, 0o755)  # mkdtemp makes it private; the survey is an ordinary folder
     try:
         files = _write_survey(
-            tmp, config, seed, imu, imu_format, gnss, odometer, gauge, sleepers, prism, benchmarks
+            tmp, config, seed, imu, imu_format, gnss, odometer, gauge, sleepers, prism, benchmarks, odometer_right
         )
         truth_dir = tmp / "truth"
         truth_dir.mkdir()
@@ -345,7 +362,7 @@ def simulate(
             truth_dir / "sleepers.csv", sleeper_truth, np.arange(len(nominal)), pass_time, detected
         )
         files["truth_errors"] = _write_error_truth(truth_dir, config, imu_errors, t, outage_intervals, false_times,
-                                                    (joint_station, joint_time))
+                                                    (joint_station, joint_time), slip_time_s)
         files.update(_write_design(truth_dir, track.design))
         files["scenario"] = _write_scenario(truth_dir / "scenario.toml", config, seed, crs, track_seed)
         if out_dir.exists():
@@ -391,7 +408,19 @@ def _benchmarks(config: ScenarioConfig, track: TrueTrack, crs, rng: np.random.Ge
     )
 
 
-def _write_survey(folder, config, seed, imu, imu_format, gnss, odometer, gauge, sleepers, prism, benchmarks):
+def _slipped(distance_m: np.ndarray, station_m: np.ndarray, slip, wheel: str) -> np.ndarray:
+    """A wheel's counted distance: its rolled ``distance_m`` less what it did not count while slipping
+    (``OdometerSlip``: between its stations, by the reference point's ``station_m``) when it is this ``wheel``."""
+    if slip is None or slip.wheel != wheel:
+        return distance_m
+    low, high = sorted((slip.from_station_m, slip.to_station_m))
+    inside = (station_m[1:] > low) & (station_m[1:] <= high)
+    lost = np.concatenate([[0.0], np.cumsum(slip.fraction * np.diff(distance_m) * inside)])
+    return distance_m - lost
+
+
+def _write_survey(folder, config, seed, imu, imu_format, gnss, odometer, gauge, sleepers, prism, benchmarks,
+                  odometer_right=None):
     """Write the raw files and survey.toml; returns {role: path}."""
     if imu_format == "text":
         entries = {"imu": SurveyFile("imu.txt", "kfgins-imu")}
@@ -407,6 +436,9 @@ def _write_survey(folder, config, seed, imu, imu_format, gnss, odometer, gauge, 
     else:
         entries["odometer"] = SurveyFile("odometer.txt", "odometer-distance")
         write_odometer_distance(folder / "odometer.txt", odometer)
+    if odometer_right is not None:
+        entries["odometer_right"] = SurveyFile("odometer_right.txt", "odometer-distance")
+        write_odometer_distance(folder / "odometer_right.txt", odometer_right)
     entries["gauge"] = SurveyFile("gauge.txt", "gauge-mm")
     write_gauge_mm(folder / "gauge.txt", gauge)
     entries["sleepers"] = SurveyFile("sleepers.txt", "sleeper-times")
@@ -458,7 +490,7 @@ def _add_joint_shocks(joints, t: np.ndarray, dt: float, joint_time_s: np.ndarray
         dvel[k] += joints.shock_mps2(sub.ravel()).reshape(len(k), _SHOCK_SUBSTEPS, 3).mean(axis=1) * dt
 
 
-def _write_error_truth(folder: Path, config, errors, t, outages, false_times, joints) -> Path:
+def _write_error_truth(folder: Path, config, errors, t, outages, false_times, joints, slip_time_s=()) -> Path:
     deg_h = np.rad2deg(1.0) * 3600.0
     content = {
         "gyro_bias_turn_on_deg_per_h": (errors.gyro_bias_turn_on * deg_h).tolist(),
@@ -466,6 +498,13 @@ def _write_error_truth(folder: Path, config, errors, t, outages, false_times, jo
         "gyro_scale_factor_ppm": (errors.gyro_scale_factor * 1e6).tolist(),
         "accel_scale_factor_ppm": (errors.accel_scale_factor * 1e6).tolist(),
         "odometer_scale_factor_error": config.odometer.scale_factor_error,
+        **({"odometer_right_scale_factor_error": config.odometer.right_scale_factor_error} if config.odometer.second
+           else {}),
+        **({"odometer_slip": {"wheel": config.odometer.slip.wheel, "fraction": config.odometer.slip.fraction,
+                              "from_station_m": config.odometer.slip.from_station_m,
+                              "to_station_m": config.odometer.slip.to_station_m,
+                              "time_s": [float(v) for v in slip_time_s]}}
+           if config.odometer.slip is not None else {}),
         "gnss_outages_s": [list(o) for o in outages],
         "false_sleeper_pulse_times_s": false_times.tolist(),
         "joint_stations_m": joints[0].tolist(),

@@ -1,0 +1,89 @@
+"""A survey's second odometer (``[files.odometer_right]``), checked and compared with the first before
+the fusion: the checks the first odometer has (scale against GNSS, direction, clock) and the wheels'
+spacing across the track, then :func:`insrail.nav.odometer_pair.compare_odometers`: a slipping wheel's
+stretches left out (the other wheel bridges them), each named in a notice."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+from insrail.io.errors import InputError
+from insrail.io.survey import MANIFEST_NAME, SurveyData
+from insrail.nav.odometer_pair import OdometerPair, compare_odometers
+from insrail.nav.rotation import euler_to_dcm
+from insrail.notices import Notice
+from insrail.project.clocks import MAX_OFFSET_S, NOTICE_OFFSET_S, estimate_odometer_offset
+from insrail.project.plausibility import check_odometer, check_odometer_direction, read_as
+
+#: how far [m] the wheels' lateral spacing may lie from the rail-centre spacing: each runs somewhere
+#: on its rail's head (about 0.07 m wide)
+MAX_SPACING_OFFSET_M = 0.15
+#: a relative scale of the two wheels beyond this is not wear but a wrong pulse length or wheel
+MAX_RELATIVE_SCALE = 0.02
+
+
+def with_odometer_pair(survey: SurveyData, labels: dict[str, str]) -> tuple[SurveyData, list[Notice], dict | None]:
+    """The survey with its two odometers ready for the fusion (the right one on the left one's scale,
+    slipping stretches left out), the notices, and the ``[fusion.odometer_pair]`` table; unchanged
+    (and None) without a second odometer. ``labels``: the files by role
+    (:func:`insrail.project.plausibility.file_labels`). InputError naming the file or survey.toml
+    for a second odometer that cannot be right."""
+    right = survey.odometer_right
+    if right is None or survey.odometer is None:
+        return survey, [], None
+    label, left_label = labels["odometer_right"], labels["odometer"]
+    path = right.source or Path(label)
+    trolley = survey.manifest.trolley
+    c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
+    lever_left, lever_right = trolley.lever_arm_m("imu_to_odometer_m"), trolley.lever_arm_m("imu_to_odometer_right_m")
+    spacing = float((c_vb @ (lever_right - lever_left))[1])
+    if abs(abs(spacing) - trolley.rail_centre_spacing_m) > MAX_SPACING_OFFSET_M:
+        raise InputError(survey.folder / MANIFEST_NAME, None,
+                         f"trolley.imu_to_odometer_right_m: the two odometer wheels lie {abs(spacing):.3f} m apart across "
+                         f"the track (the lever arms' y, in the trolley frame); on the two rails they run about "
+                         f"trolley.rail_centre_spacing_m = {trolley.rail_centre_spacing_m:g} m apart (within "
+                         f"{MAX_SPACING_OFFSET_M:g} m)")
+    notices: list[Notice] = []
+    if survey.gnss is not None:
+        notices += check_odometer(right, survey.gnss, label, labels["gnss"])
+    notices += check_odometer_direction(survey.imu, right, label)
+    offset = estimate_odometer_offset(survey.imu, right, trolley.mounting_rpy_rad)
+    if offset is not None and abs(offset.offset_s) >= NOTICE_OFFSET_S:
+        where = "late" if offset.offset_s > 0 else "early"
+        text = (f"{label}: its time stamps run {abs(offset.offset_s):.2f} s {where} against the IMU's clock (from "
+                f"{offset.method}); give time_offset_s in [files.odometer_right] of survey.toml if it is the "
+                "sensor's latency")
+        if abs(offset.offset_s) >= MAX_OFFSET_S:
+            raise InputError(path, None, f"{read_as(label)}{text.partition(': ')[2]}; an offset of {MAX_OFFSET_S:g} s "
+                             "or more is refused")
+        notices.append(Notice("time", text, file=str(path)))
+    pair = compare_odometers(survey.imu, survey.odometer, right, lever_left, lever_right, c_vb)
+    if abs(pair.relative_scale) > MAX_RELATIVE_SCALE:
+        raise InputError(path, None, f"{read_as(label)}the right wheel counts {100 * pair.relative_scale:+.2f} % against "
+                         f"the left one ({left_label}) where both roll; two wheels on the rails differ by far less: "
+                         "likely a wrong pulse length or another survey's file")
+    notices += slip_notices(pair, label, left_label, right.source, survey.odometer.source)
+    survey = replace(survey, odometer=pair.left, odometer_right=pair.right)
+    return survey, notices, pair.to_dict()
+
+
+def slip_notices(pair: OdometerPair, right_label: str, left_label: str, right_path: Path | None,
+                 left_path: Path | None) -> list[Notice]:
+    """One notice per slipping stretch: the file, the times, the distance travelled and the slip."""
+    notices = []
+    for slip in pair.slips:
+        where = (f"from {slip.start_s:.1f} to {slip.end_s:.1f} s (travelled {slip.from_m:.1f}-{slip.to_m:.1f} m "
+                 "from the start)")
+        counted = f"{100 * abs(slip.slip):.1f} % {'less' if slip.slip > 0 else 'more'} than it rolled"
+        if slip.wheel == "either":
+            text = (f"{left_label} and {right_label}: the two wheels disagree by {counted} {where}, and the IMU cannot "
+                    "tell which one slipped: both odometers' speeds are left out there, the INS with the NHC bridges it")
+            path = left_path
+        else:
+            bad, good = (left_label, right_label) if slip.wheel == "left" else (right_label, left_label)
+            text = (f"{bad}: the wheel slipped {where}, counting {counted}: its speeds are left out there, the other "
+                    f"wheel ({good}) carries the along-track speed")
+            path = left_path if slip.wheel == "left" else right_path
+        notices.append(Notice("odometer", text, file=str(path or ""), time_s=slip.start_s))
+    return notices
