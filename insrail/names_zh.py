@@ -677,6 +677,17 @@ ZH_CN: dict[str, str] = {
     "the pass without the NHC is not consistent": "不加非完整约束（NHC）的解算不自洽",
     "no design cant to compare the cant with": "无设计超高可供比较",
     "fused before the mounting calibration": "解算早于安装角标定",
+    # the second odometer (insrail.report.content.odometer_pair_text)
+    "Two odometers": "双里程计",
+    "the right wheel counts {scale:+.2f} per mille against the left one (put on its scale)":
+        "右轮计程相对左轮 {scale:+.2f}‰（已归算到左轮比例）",
+    "the wheels disagree by {slip:.1f} % from {start:.1f} to {end:.1f} s ({low:.0f}-{high:.0f} m travelled): both left "
+    "out there": "两轮计程相差 {slip:.1f}%（{start:.1f} 至 {end:.1f} s，行程 {low:.0f}-{high:.0f} m）：该段两轮均不采用",
+    "{wheel} slipped {slip:.1f} % from {start:.1f} to {end:.1f} s ({low:.0f}-{high:.0f} m travelled): left out there, "
+    "bridged by the other wheel": "{wheel}打滑 {slip:.1f}%（{start:.1f} 至 {end:.1f} s，行程 {low:.0f}-{high:.0f} m）：该段不采用，由另一轮衔接",
+    "left wheel": "左轮",
+    "right wheel": "右轮",
+    "no slip found": "未发现打滑",
     # tamping re-design (insrail redesign): the PDF's section, the Tamping sheet, the template exports' notes
     "Tamping": "捣固",
     "Tamping re-design": "捣固重新设计",

@@ -166,11 +166,23 @@ def _variant(built, tmp_path: Path, name: str) -> Path:
     return project
 
 
+def _as_single(project: Path, simulated: Path, right_lever: tuple[float, float, float]) -> None:
+    """The survey with the (slipping) right wheel's record as its only odometer."""
+    survey = project / "survey"
+    record = np.loadtxt(simulated / "odometer_right.txt", comments="#")
+    np.savetxt(survey / "odometer.txt", record, fmt="%.3f %.3f")
+    lines = (survey / "survey.toml").read_text().splitlines()
+    lines = [f"imu_to_odometer_m = [{right_lever[0]}, {right_lever[1]}, {right_lever[2]}]"
+             if line.startswith("imu_to_odometer_m") else line for line in lines]
+    (survey / "survey.toml").write_text("\n".join(lines) + "\n")
+
+
 @pytest.mark.slow
 def test_a_wheel_slipping_5_percent_is_bridged_by_the_other_to_the_result_of_a_good_odometer(tmp_path):
-    """One simulated run, its right wheel slipping 5 % over 150 m (stations 1150-1300), processed four ways:
+    """One simulated run, its right wheel slipping 5 % over 150 m (stations 1150-1300), processed three ways:
     the left (good) odometer alone; both, the right slipping; the slipping one alone. With both, the slip is
-    found on the right wheel, named, and the result is the good odometer's."""
+    found on the right wheel, named, and the result is the good odometer's. The same run with both wheels
+    good is processed too (the numbers in docs/fusion.md, "Two odometers")."""
     config = scenario(CELL)
     config = replace(config, odometer=replace(config.odometer, second=True, slip=SLIP))
     built = build_cell(CELL, tmp_path / "sim", seed=7, config=config)
@@ -192,8 +204,28 @@ def test_a_wheel_slipping_5_percent_is_bridged_by_the_other_to_the_result_of_a_g
     start, end = truth["odometer_slip"]["time_s"]
     assert slips[0]["start_s"] <= start + 0.2 and slips[0]["end_s"] >= end - 0.2
     notices = [n for n in _summary(pair).get("notices", []) if n["stage"] == "odometer"]
-    assert notices and "5.0 %" in notices[0]["message"] and notices[0]["file"].endswith("odometer_right.txt")
+    assert len(notices) == 1 and notices[0]["file"].endswith("odometer_right.txt"), notices
+    assert f"{slips[0]['slip_percent']:.1f} % less than it rolled" in notices[0]["message"]
 
-    good, bridged = _errors(single, built), _errors(pair, built)
+    slipping_alone = _variant(built, tmp_path, "slipping")
+    _as_single(slipping_alone, simulated, RIGHT_WHEEL_M)
+    code, out_alone = _insrail("process", str(slipping_alone))
+
+    good_config = replace(config, odometer=replace(config.odometer, slip=None))
+    good_built = build_cell(CELL, tmp_path / "good", seed=7, config=good_config)
+    good_pair = good_built.project
+    _with_second_odometer(good_pair, tmp_path / "good" / "sim", RIGHT_WHEEL_M)
+    assert _insrail("process", str(good_pair))[0] == 0
+    assert "odometer_pair" in _summary(good_pair)["fusion"] and not _summary(good_pair)["fusion"]["odometer_pair"]["slips"]
+
+    errors = {name: _errors(project, built) for name, project in
+              (("one good", single), ("two good", good_pair), ("two, right slipping", pair))}
+    if code == 0:
+        errors["slipping alone"] = _errors(slipping_alone, built)
+    for name, values in errors.items():
+        print(name, {k: round(v, 4) for k, v in values.items()})
+    print("slipping alone: exit", code, [n["message"] for n in (_summary(slipping_alone).get("notices", [])
+                                                                 if code == 0 else [])], out_alone[-2000:])
+    good, bridged = errors["one good"], errors["two, right slipping"]
     for key in good:
         assert bridged[key] <= 1.1 * good[key] + 0.02, (key, good, bridged)

@@ -154,7 +154,8 @@ def compare_odometers(imu: ImuIncrements, left: OdometerData, right: OdometerDat
     share = np.where(moving, rate / np.where(moving, speed, 1.0), 0.0)
     # four read distances in a window's difference, each off by up to a pulse (uniform)
     pulse_m = max(left.pulse_length_m or 0.001, right.pulse_length_m or 0.001)
-    threshold = np.maximum(SLIP_THRESHOLD, PULSE_SIGMAS * pulse_m / np.sqrt(3.0) / WINDOW_S / np.abs(speed))
+    threshold = np.maximum(SLIP_THRESHOLD, PULSE_SIGMAS * pulse_m / np.sqrt(3.0) / WINDOW_S
+                           / np.maximum(np.abs(speed), MIN_SPEED_MPS))
     # the scale difference from the median, then from all the distance where neither wheel slips
     relative_scale = float(np.median(share[moving]))
     for _ in range(2):

@@ -739,6 +739,29 @@ def mounting_text(summary: dict) -> str | None:
              "{estimates}").format(applied=applied, given=given, estimates=t("; ").join(parts))
 
 
+def odometer_pair_text(summary: dict) -> str | None:
+    """The two odometers compared (summary.toml ``[fusion.odometer_pair]``, ``insrail.nav.odometer_pair``):
+    their relative scale and each slipping stretch; None for a survey with one odometer."""
+    pair = summary.get("fusion", {}).get("odometer_pair")
+    if not pair:
+        return None
+    parts = [t("the right wheel counts {scale:+.2f} per mille against the left one (put on its scale)").format(
+        scale=1e3 * pair["relative_scale"])]
+    for slip in pair.get("slips", []):
+        where = dict(slip=abs(slip["slip_percent"]), start=slip["start_s"], end=slip["end_s"], low=slip["from_m"],
+                     high=slip["to_m"])
+        if slip["wheel"] == "either":
+            parts.append(t("the wheels disagree by {slip:.1f} % from {start:.1f} to {end:.1f} s ({low:.0f}-{high:.0f} m "
+                           "travelled): both left out there").format(**where))
+        else:
+            parts.append(t("{wheel} slipped {slip:.1f} % from {start:.1f} to {end:.1f} s ({low:.0f}-{high:.0f} m "
+                           "travelled): left out there, bridged by the other wheel").format(
+                wheel=t(f"{slip['wheel']} wheel"), **where))
+    if len(parts) == 1:
+        parts.append(t("no slip found"))
+    return t("; ").join(parts)
+
+
 def survey_start(content: ReportContent) -> str:
     """Date and GPS time of the first sleeper ("2025-08-21 16:05 GPST"), or "" without the GPS week."""
     week = content.summary.get("survey", {}).get("gps_week")

@@ -98,6 +98,7 @@ from insrail.report.content import (
     limits_text,
     load_report_content,
     mounting_text,
+    odometer_pair_text,
     sleeper_repair_text,
     is_relative,
     survey_start,
@@ -609,6 +610,7 @@ def _processing(content: ReportContent, trajectory: dict | None) -> list[Flowabl
                  rms=heights["internal_rms_mm"], loo=heights["loo_rms_mm"]) if "internal_rms_mm" in heights else ""))]
     rows += [(t("Sleeper detector"), repair)] if (repair := sleeper_repair_text(s)) else []
     rows += [(t("IMU mounting"), mounting)] if (mounting := mounting_text(s)) else []
+    rows += [(t("Two odometers"), pair)] if (pair := odometer_pair_text(s)) else []
     rows += _local_control_rows(s.get("local_control"))
     rows += [(t("Warning") if notice.severity == "warning" else t("Note"), notice.text()) for notice in notices_of(s)]
     rows += [(t("Note"), note) for note in content.notes]
