@@ -352,6 +352,7 @@ SETTING_NAMES = {
     "trolley": "Trolley geometry",
     "trolley.imu_to_antenna_m": "IMU → GNSS antenna",
     "trolley.imu_to_odometer_m": "IMU → odometer wheel contact",
+    "trolley.imu_to_odometer_right_m": "IMU → second (right) odometer wheel contact",
     "trolley.imu_to_reference_rail_m": "IMU → reference rail gauge point",
     "trolley.imu_to_sleeper_detector_m": "IMU → sleeper detector",
     "trolley.imu_to_prism_m": "IMU → prism",

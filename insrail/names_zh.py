@@ -124,6 +124,7 @@ ZH_CN: dict[str, str] = {
     "Trolley geometry": "小车几何参数",
     "IMU → GNSS antenna": "IMU → GNSS 天线",
     "IMU → odometer wheel contact": "IMU → 里程计轮接触点",
+    "IMU → second (right) odometer wheel contact": "IMU → 第二（右侧）里程计轮接触点",
     "IMU → reference rail gauge point": "IMU → 基准轨轨距点",
     "IMU → sleeper detector": "IMU → 轨枕传感器",
     "IMU → prism": "IMU → 棱镜",

@@ -120,6 +120,9 @@ def test_each_compiled_model_is_its_python_model():
                          np.array([0.1, 0.7, 0.4]), np.array([0.0011])),
         replace(meas.OdometerNhc(np.array([1000.0]), np.array([1.31]), np.eye(3), lever, lever, np.array([0.001])),
                 use_odometer=False),
+        # its speed left out there (a slipping wheel, nav.odometer_pair): the NHC rows alone
+        replace(meas.OdometerNhc(np.array([1000.0]), np.array([1.31]), np.eye(3), lever, lever, np.array([0.001])),
+                speed_used=np.array([False])),
         meas.Zupt(np.array([1000.0]), 0.001, 2e-6),
     ]
     z, H, r = np.zeros(meas.MAX_ROWS), np.zeros((meas.MAX_ROWS, N_STATES)), np.zeros(meas.MAX_ROWS)

@@ -211,6 +211,11 @@ def test_a_slipping_wheel_is_named_and_bridged_by_the_other_through_insrail_proc
     assert len(notices) == 1 and notices[0]["file"].endswith("odometer_right.txt"), notices
     assert f"{slips[0]['slip_percent']:.1f} % less than it rolled" in notices[0]["message"]
     assert "right wheel slipped" in odometer_pair_text(summary)  # the PDF's "Two odometers" row
+    # on the chainage: a note event over the stretch (150 m from station 1150), as on the charts
+    events = [e for e in summary["events"] if e["source"] == "odometer comparison"]
+    assert len(events) == 1 and events[0]["kind"] == "note", summary["events"]
+    assert events[0]["station_from_m"] <= 1150.5 and events[0]["station_to_m"] >= 1299.5
+    assert events[0]["station_to_m"] - events[0]["station_from_m"] < 155
 
 
 def _as_single(project: Path, simulated: Path, right_lever: tuple[float, float, float]) -> None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from insrail.cli.progressbar import TerminalProgress
@@ -36,6 +37,8 @@ def run(args: argparse.Namespace) -> int:
 
     bar = TerminalProgress("calibrate")
     survey = read_survey(args.survey, progress=lambda f, m: bar(0.05 * f, m))
+    # one odometer serves the pass; a second is used once compared with the first (insrail process, fuse)
+    survey = replace(survey, odometer_right=None)
     try:
         profile = load_imu_profile(args.imu_profile or survey.manifest.imu_profile)
         estimate = yaw_pitch_pass(survey, lambda o: aiding_for(survey, o, profile), profile, FusionOptions(),

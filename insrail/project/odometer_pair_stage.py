@@ -1,7 +1,8 @@
 """A survey's second odometer (``[files.odometer_right]``), checked and compared with the first before
 the fusion: the checks the first odometer has (scale against GNSS, direction, clock) and the wheels'
 spacing across the track, then :func:`insrail.nav.odometer_pair.compare_odometers`: a slipping wheel's
-stretches left out (the other wheel bridges them), each named in a notice."""
+stretches left out (the other wheel bridges them), each named in a notice and, once the track is
+reconstructed, placed on its chainage as a ``note`` event (:func:`slip_events`)."""
 
 from __future__ import annotations
 
@@ -9,12 +10,15 @@ from dataclasses import replace
 from pathlib import Path
 
 from insrail.io.errors import InputError
+from insrail.io.events import Event
 from insrail.io.survey import MANIFEST_NAME, SurveyData
 from insrail.nav.odometer_pair import OdometerPair, compare_odometers
 from insrail.nav.rotation import euler_to_dcm
 from insrail.notices import Notice
 from insrail.project.clocks import MAX_OFFSET_S, NOTICE_OFFSET_S, estimate_odometer_offset
 from insrail.project.plausibility import check_odometer, check_odometer_direction, read_as
+from insrail.track.events import TrackEvent, place_event_on
+from insrail.track.sleeper_table import TrackReconstruction
 
 #: how far [m] the wheels' lateral spacing may lie from the rail-centre spacing: each runs somewhere
 #: on its rail's head (about 0.07 m wide)
@@ -35,6 +39,10 @@ def with_odometer_pair(survey: SurveyData, labels: dict[str, str]) -> tuple[Surv
     label, left_label = labels["odometer_right"], labels["odometer"]
     path = right.source or Path(label)
     trolley = survey.manifest.trolley
+    if trolley.imu_to_odometer_right_m is None:  # a project's [trolley] in force that leaves it out
+        raise InputError(survey.folder / MANIFEST_NAME, None, "trolley.imu_to_odometer_right_m: missing, and "
+                         "files.odometer_right is given (the second wheel's contact point: 3 numbers [m], IMU body "
+                         "frame FRD; in project.toml's [trolley] when the project gives one)")
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
     lever_left, lever_right = trolley.lever_arm_m("imu_to_odometer_m"), trolley.lever_arm_m("imu_to_odometer_right_m")
     spacing = float((c_vb @ (lever_right - lever_left))[1])
@@ -66,6 +74,29 @@ def with_odometer_pair(survey: SurveyData, labels: dict[str, str]) -> tuple[Surv
     notices += slip_notices(pair, label, left_label, right.source, survey.odometer.source)
     survey = replace(survey, odometer=pair.left, odometer_right=pair.right)
     return survey, notices, pair.to_dict()
+
+
+#: Where a slip's event says it came from (summary.toml ``[[events]] source``).
+SLIP_SOURCE = "odometer comparison"
+
+
+def slip_events(odometer_pair: dict | None, recon: TrackReconstruction) -> tuple[TrackEvent, ...]:
+    """Each slipping stretch of the fusion's ``[fusion.odometer_pair]`` (None: one odometer) as a ``note``
+    event on the survey's chainage: it marks the track (the charts, the events table, summary.toml
+    ``[[events]]``) and leaves the assessment alone."""
+    if not odometer_pair:
+        return ()
+    track = recon.epochs.station_track()
+    events = []
+    for slip in odometer_pair.get("slips", []):
+        start, end = max(slip["start_s"], track.first_time_s), min(slip["end_s"], track.last_time_s)
+        if start > end:
+            continue
+        what = (f"the {slip['wheel']} odometer wheel slipped {abs(slip['slip_percent']):.1f} %: its speeds left out, "
+                "the other wheel bridging" if slip["wheel"] != "either" else
+                f"the odometer wheels disagree by {abs(slip['slip_percent']):.1f} %: both left out")
+        events.append(place_event_on(Event("note", start, end, "time_s", text=what), track, None, SLIP_SOURCE))
+    return tuple(events)
 
 
 def slip_notices(pair: OdometerPair, right_label: str, left_label: str, right_path: Path | None,

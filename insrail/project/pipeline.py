@@ -75,7 +75,7 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project import assessable
 from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
 from insrail.project.mounting_stage import mounting_notices, roll_check, with_mounting, yaw_pitch_pass
-from insrail.project.odometer_pair_stage import with_odometer_pair
+from insrail.project.odometer_pair_stage import slip_events, with_odometer_pair
 from insrail.project.relative_survey import (
     relative_notices,
     relative_section,
@@ -638,7 +638,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     recon = replace(recon, table=flag_sleepers(recon.table, fusion_info.get("integrity")))
     shocks = fusion_info.pop("shocks")  # listed as joints, not in summary.toml's [fusion]
     joints = detected_joints(shocks, recon)
-    events = tuple(sorted(survey_events(project, manifest, folder, recon) + joints,
+    events = tuple(sorted(survey_events(project, manifest, folder, recon) + joints
+                          + slip_events(fusion_info.get("odometer_pair"), recon),
                           key=lambda e: (e.station_from_m, e.station_to_m)))
     recon = apply_events(recon, events)
     recon = replace(recon, table=flag_gap_sleepers(recon.table, fusion_info.get("imu_gaps_s", [])))
