@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from insrail.cli.main import main
-from insrail.io.survey import ManifestError, read_manifest
+from insrail.io.survey import ManifestError, read_manifest, write_manifest
 from survey_builder import FIRST_STATION_M, SURVEY_NAME, Cell, build_cell, truth_errors
 
 #: a navigation-grade unit (it gyrocompasses; the position is the design's until GNSS arrives), GNSS as
@@ -92,6 +92,8 @@ def test_start_is_read_from_survey_toml_and_refused_when_wrong(tmp_path):
     start = read_manifest(tmp_path).start
     assert (start.station_m, start.offset_m, start.height_m, start.facing_increasing) == (1020.5, 0.01, 0.0, False)
     assert math.isclose(start.sigma_m, 0.02)
+    write_manifest(tmp_path, read_manifest(tmp_path))  # written back as read (the GUI's and the simulator's writer)
+    assert read_manifest(tmp_path).start == start
     (tmp_path / "survey.toml").write_text(base + "[start]\nstaton_m = 1020.5\nfacing = \"up\"\n")
     with pytest.raises(ManifestError) as error:
         read_manifest(tmp_path)
