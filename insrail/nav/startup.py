@@ -504,13 +504,14 @@ def _known_start(imu: ImuIncrements, known: KnownStart, stops, odometer: Odomete
                                "[files.odometer]) or a static start")
         roll, pitch, heading = roll_v, pitch_v, heading_v
         c_bn = euler_to_dcm(roll_v, pitch_v, heading_v) @ c_vb
-        speed = float(abs(np.interp(t[0] + 1.0, odometer.time_s, odometer.distance_m)
-                          - np.interp(t[0], odometer.time_s, odometer.distance_m)))
+        # along the trolley's x axis, signed as the odometer counts (backwards decreases)
+        speed = float(np.interp(t[0] + 1.0, odometer.time_s, odometer.distance_m)
+                      - np.interp(t[0], odometer.time_s, odometer.distance_m))
         vel = speed * euler_to_dcm(roll_v, pitch_v, heading_v)[:, 0]
         method, sigma_heading, sigma_vel, sigma_level = "known", known.sigma_heading_rad, 0.05, known.sigma_level_rad
         notices.append(Notice("fusion", f"moving start on {known.source}: position and attitude from the design "
                               f"({_sigmas(known)}, {math.degrees(sigma_level):.2f} deg level, {math.degrees(sigma_heading):.2f} deg "
-                              f"heading), speed {speed:.2f} m/s from the odometer", time_s=float(t[0]), severity="info"))
+                              f"heading), speed {speed:+.2f} m/s from the odometer", time_s=float(t[0]), severity="info"))
     d_lat, d_lon, d_h = earth.ned_to_geodetic_delta(c_bn @ np.asarray(known.lever_arm_m, float), known.lat_rad,
                                                     known.height_m, ell)
     nav = np.zeros(_kernels.NAV_SIZE)
