@@ -86,15 +86,29 @@ def test_the_report_names_the_estimate(surveys):
     assert "IMU mounting" in text and "estimated from the survey: roll +0.05" in text
 
 
-def test_calibrate_prints_the_mounting_for_the_survey_toml(surveys):
+def test_calibrate_prints_the_mounting_for_the_survey_toml(surveys, tmp_path):
+    """In its project (with a design) all three axes within 0.03 deg of the truth, roll included; the survey
+    alone (copied out of the project) gives pitch and yaw and keeps its roll, saying why."""
     cell, _ = surveys["wrong"]
+    truth = np.degrees(cell.config.trolley.mounting_rpy_rad)
+
+    def printed(out):
+        line = next(line for line in out.splitlines() if line.startswith("mounting_rpy_deg = ["))
+        return [float(v) for v in line.split("[")[1].split("]")[0].split(",")], line
+
     code, out = insrail("calibrate", str(cell.project / "survey"))
     assert code == 0, out
-    line = next(line for line in out.splitlines() if line.startswith("mounting_rpy_deg = ["))
-    values = [float(v) for v in line.split("[")[1].split("]")[0].split(",")]
-    truth = np.degrees(cell.config.trolley.mounting_rpy_rad)
+    values, line = printed(out)
+    assert all(abs(values[i] - truth[i]) < 0.03 for i in range(3)), (values, truth)
+    assert "as given" not in line and "processed in" in out
+    alone = tmp_path / "alone"
+    shutil.copytree(cell.project / "survey", alone)
+    code, out = insrail("calibrate", str(alone))
+    assert code == 0, out
+    values, line = printed(out)
     assert abs(values[1] - truth[1]) < 0.03 and abs(values[2] - truth[2]) < 0.03
     assert values[0] == pytest.approx(truth[0] + WRONG_DEG, abs=1e-4) and "roll as given" in line
+    assert "the roll needs the design's cant" in out
 
 
 def test_the_roll_is_the_mean_cant_against_the_designs():

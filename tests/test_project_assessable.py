@@ -79,3 +79,31 @@ def test_a_check_beyond_the_stated_accuracy_is_not_assessed_and_said_so_everywhe
         text = " ".join(subprocess.run(["pdftotext", str(pdf), "-"], capture_output=True, text=True,
                                        check=True).stdout.split())
         assert "not assessable at the stated 1-sigma" in text
+
+
+def _quality(lag5_m: float, lag150_m: float):
+    from insrail.quality.survey import SectionQuality
+
+    one = np.array([0.2e-3])
+    return SectionQuality(np.array([1000.0]), np.array([1200.0]), one, one, np.array([lag5_m]), np.array([lag5_m]),
+                          np.array([lag150_m]), np.array([lag150_m]), one, one, True)
+
+
+def test_one_rule_judges_every_survey_and_a_relative_ones_sections():
+    """Issue 37: the relative survey's rule (3 sigma within the limit) and the pipeline's (1 sigma above it)
+    were two; a relative survey's 300 m/150 m check at 4.9 mm against 10 mm was declared not assessed but its
+    exceedances were still listed (the pipeline's rule masked nothing). One rule now: both agree, and the
+    sleepers of such a section are masked."""
+    from insrail.project.assessable import decides, not_assessable
+    from insrail.project.relative_survey import chord_verdicts
+    from insrail.track.tolerance import load_tolerance_profile
+
+    profile = load_tolerance_profile("cn_hsr_ballastless")
+    quality = _quality(0.3e-3, 4.9e-3)  # a navigation-grade relative survey on stops every 60 m (420 m)
+    found = {(n.check, n.direction): n for n in not_assessable(profile, quality, np.array([1100.0, 1150.0]))}
+    assert ("long_wave_300m_150m", "lateral") in found and found[("long_wave_300m_150m", "lateral")].sleepers.all()
+    assert ("short_wave_30m_5m", "lateral") not in found
+    verdicts = chord_verdicts(profile, quality)
+    assert not verdicts["long_wave_300m_150m"][0] and verdicts["short_wave_30m_5m"][0]
+    # the rule itself: 3 sigma within the limit; a section without a figure is not assessable
+    assert list(decides([0.6e-3, 0.7e-3, np.nan], 2e-3)) == [True, False, False]

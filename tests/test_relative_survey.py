@@ -40,6 +40,8 @@ def _cell(design: str, imu: str = "nav") -> Cell:
 def relative_on_design(tmp_path_factory):
     cell = _cell("csv")
     built = build_cell(cell, tmp_path_factory.mktemp("relative"), seed=zlib.crc32(cell.cell_id.encode()))
+    toml = built.project / "survey" / "survey.toml"  # the user says where on the design the run starts
+    toml.write_text(toml.read_text() + "\n[start]\nstation_m = 1020.0\nsigma_m = 0.01\n")
     code, processed = insrail("process", str(built.project))
     assert code == 0, processed
     code, reported = insrail("report", str(built.project))
@@ -78,10 +80,34 @@ def test_every_output_of_a_relative_survey_says_so(relative_on_design):
     # the 150 m lag of a 420 m run on stops alone: 3-5 mm stated, beyond a third of the 10 mm limit
     assert all("long_wave_300m_150m" in s["not_assessed"] for s in sections)
     assert any("long_wave_300m_150m check cannot be assessed" in n["message"] for n in summary["notices"])
+    # one rule (insrail.project.assessable): a check not assessed has no values and no exceedances listed
+    # (before, the pipeline's own 1-sigma rule assessed it and listed them)
+    flagged = {(n["check"], n["direction"]) for n in summary["assessment"]["not_assessable"]}
+    assert {("long_wave_300m_150m", "lateral"), ("long_wave_300m_150m", "vertical")} <= flagged
+    with open(results / "exceedances.csv", newline="") as handle:
+        assert not [row for row in csv.DictReader(handle) if row["check"] == "long_wave_300m_150m"]
+    # started on the design with a 10 mm 1-sigma: nothing absolute, and the figures that say why
+    absolute = summary["relative"]["absolute"]
+    assert absolute["start_sigma_mm"] == 10.0 and absolute["end_sigma_mm"] > 500.0  # 0.1 deg over 420 m
+    assert absolute["reported"].startswith("nothing absolute")
+    assert any(n["message"].startswith("relative survey started on the design at station 1020.000 m")
+               for n in summary["notices"])
     with open(results / "sleepers.csv", newline="") as handle:
         rows = list(csv.DictReader(handle))
     for name in ("lateral_deviation_left_mm", "vertical_deviation_right_mm"):
         assert all(row[name] == "" for row in rows), f"{name}: deviations from the design are absolute"
+    # the 300 m/150 m check's values are left out wherever the rule says it cannot be assessed (the 150 m lag's
+    # vertical 1-sigma of 4.8-4.9 mm everywhere; its lateral one of 3.0 mm decides in the first section only)
+    station = np.array([float(row["station_m"]) for row in rows])
+    for entry in summary["assessment"]["not_assessable"]:
+        if entry["check"] != "long_wave_300m_150m":
+            continue
+        inside = np.zeros(len(rows), dtype=bool)
+        for start, end in entry["stretches_m"]:
+            inside |= (station >= start) & (station <= end)
+        for rail in ("left", "right"):
+            name = f"check_long_wave_300m_150m_{rail}_{entry['direction']}_mm"
+            assert inside.sum() > 100 and all(rows[i][name] == "" for i in np.flatnonzero(inside)), name
     assert all(row["gauge_mm"] != "" for row in rows if row["valid"] == "1")
     reports = built.project / "reports"
     workbook = openpyxl.load_workbook(reports / f"track_geometry_{SURVEY_NAME}.xlsx", read_only=True)

@@ -95,6 +95,10 @@ def run(args: argparse.Namespace) -> int:
         print(f"insrail fuse: --ellipsoid {args.ellipsoid} conflicts with the project's CRS on {project_ellipsoid.name}: "
               "leave it out with --project", file=sys.stderr)
         return 2
+    if survey.manifest.start is not None:  # the design is the project's: fuse reads none
+        print(f"insrail fuse: survey {survey.manifest.name}: survey.toml [start] (station "
+              f"{survey.manifest.start.station_m:g} m) is not used: the start on the design needs the project's design "
+              "(insrail process); the fusion starts from the positions", file=sys.stderr)
     every = max(int(round(survey.imu.rate_hz / args.rate)), 1) if args.rate > 0 else 1
     ellipsoid = project_ellipsoid or ELLIPSOIDS[args.ellipsoid or "CGCS2000"]
     args.out.mkdir(parents=True, exist_ok=True)

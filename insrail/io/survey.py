@@ -118,6 +118,27 @@ def on_imu_clock(data, time_offset_s: float):
     return dataclasses.replace(data, **shifted)
 
 
+#: the 1-sigma [m] of a start on the design where survey.toml gives none: a trolley set on a station marked
+#: on the track (a centimetre along it) on a track within a centimetre or two of its design
+START_SIGMA_M = 0.02
+
+
+@dataclass(frozen=True)
+class SurveyStart:
+    """Where the survey starts on the project's design (``[start]`` of survey.toml; thesis 5.3.1.1): the
+    trolley's track centre at ``station_m``, ``offset_m`` right of the design's centreline and
+    ``height_m`` above its profile, the trolley facing increasing stations (``facing_increasing``) or not;
+    ``sigma_m`` the 1-sigma of that place in each axis (the station marked on the track, the track
+    against its design). The fusion starts there from the design's position, azimuth, grade and cant
+    (``insrail.project.design_start``), without waiting for GNSS or a prism fix."""
+
+    station_m: float
+    offset_m: float = 0.0
+    height_m: float = 0.0
+    sigma_m: float = START_SIGMA_M
+    facing_increasing: bool = True
+
+
 @dataclass(frozen=True)
 class SurveyManifest:
     """Contents of ``survey.toml``.
@@ -140,6 +161,7 @@ class SurveyManifest:
     gps_week: int | None = None
     description: str = ""
     raw_gnss: RawGnss | None = None
+    start: SurveyStart | None = None  # [start]: the survey starts on a known station of the design
 
     @property
     def relative(self) -> bool:
@@ -399,8 +421,9 @@ def read_manifest(folder: str | Path, trolley_from_project: bool = False) -> Sur
 
     problems: list[str] = []
     for key in document:
-        if key not in ("survey", "files", "trolley", "gnss_raw"):
-            problems.append(f"{key}: unknown table (expected [survey], [files.<role>], [trolley], [gnss_raw])")
+        if key not in ("survey", "files", "trolley", "gnss_raw", "start"):
+            problems.append(f"{key}: unknown table (expected [survey], [files.<role>], [trolley], [gnss_raw], "
+                            "[start])")
     survey = document.get("survey")
     if not isinstance(survey, dict):
         problems.append("survey: missing table [survey] (name, gps_week, imu_profile, description)")
@@ -433,11 +456,43 @@ def read_manifest(folder: str | Path, trolley_from_project: bool = False) -> Sur
             problems.append(f"survey.imu_profile: file not found: {imu_profile} (a .toml path is relative to the "
                             "survey folder; or name a shipped profile)")
         imu_profile = str(resolved)
+    start = parse_start(document["start"], problems) if "start" in document else None
     if problems:
         raise ManifestError(path, problems)
     return SurveyManifest(name=name, files=files, trolley=trolley,
                           imu_profile=imu_profile, gps_week=gps_week,
-                          description=survey.get("description", ""), raw_gnss=raw_gnss)
+                          description=survey.get("description", ""), raw_gnss=raw_gnss, start=start)
+
+
+_START_KEYS = ("station_m", "offset_m", "height_m", "sigma_m", "facing")
+
+
+def parse_start(table, problems: list[str]) -> SurveyStart | None:
+    """survey.toml's ``[start]`` as :class:`SurveyStart` (problems appended as ``start.<key>: ...``)."""
+    if not isinstance(table, dict):
+        problems.append("start: expected a table [start] with station_m")
+        return None
+    found = len(problems)
+    for key in table:
+        if key not in _START_KEYS:
+            problems.append(f"start.{key}: unknown key (expected {', '.join(_START_KEYS)})")
+    if not _is_number(table.get("station_m")):
+        problems.append(f"start.station_m: expected the design station [m] the trolley starts on, found "
+                        f"{table.get('station_m')!r}")
+    for key in ("offset_m", "height_m"):
+        if key in table and not (_is_number(table[key]) and abs(table[key]) <= 10.0):
+            problems.append(f"start.{key}: expected metres from the design (within 10 m), found {table[key]!r}")
+    sigma = table.get("sigma_m", START_SIGMA_M)
+    if not (_is_number(sigma) and 0.001 <= sigma <= 10.0):
+        problems.append(f"start.sigma_m: expected the 1-sigma [m] of the start point, 0.001 .. 10, found {sigma!r}")
+    facing = table.get("facing", "increasing")
+    if facing not in ("increasing", "decreasing"):
+        problems.append(f"start.facing: expected \"increasing\" or \"decreasing\" (the stations the trolley's x axis "
+                        f"points to), found {facing!r}")
+    if len(problems) > found:
+        return None
+    return SurveyStart(float(table["station_m"]), float(table.get("offset_m", 0.0)), float(table.get("height_m", 0.0)),
+                       float(sigma), facing == "increasing")
 
 
 def manifest_to_toml(manifest: SurveyManifest) -> str:
@@ -460,6 +515,10 @@ def manifest_to_toml(manifest: SurveyManifest) -> str:
     document = {"survey": survey, "files": files, "trolley": trolley}
     if manifest.raw_gnss is not None:
         document["gnss_raw"] = manifest.raw_gnss.to_settings()
+    if manifest.start is not None:
+        start = manifest.start
+        document["start"] = {"station_m": start.station_m, "offset_m": start.offset_m, "height_m": start.height_m,
+                             "sigma_m": start.sigma_m, "facing": "increasing" if start.facing_increasing else "decreasing"}
     return tomli_w.dumps(document)
 
 

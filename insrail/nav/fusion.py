@@ -100,7 +100,7 @@ from insrail.nav.measurements import (
 )
 from insrail.nav.relative import RelativeFrame, start_track
 from insrail.nav.rotation import euler_to_dcm
-from insrail.nav.startup import PositionTrack, StartupError, heading_at_reset, initial_state
+from insrail.nav.startup import KnownStart, PositionTrack, StartupError, heading_at_reset, initial_state
 from insrail.nav.trajectory import (
     TRAJECTORY_DTYPE,
     Trajectory,
@@ -1109,6 +1109,9 @@ class Aiding:
     design_azimuth: object = None  # the design's azimuth at a position, for the start (insrail.nav.startup)
     #: a relative survey's start frame (no GNSS, no prism fixes: insrail.nav.relative); None: positions are aided
     relative: RelativeFrame | None = None
+    #: where the trolley starts without a position fix (the design at survey.toml's [start]): the filter
+    #: starts there at the first IMU record (insrail.nav.startup.KnownStart); None: from the positions
+    known_start: KnownStart | None = None
 
 
 _ALL_TIME_S = np.array([-1e12, 1e12])
@@ -1330,7 +1333,8 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                 f"'{profile.name}' says, set survey.imu_profile to the profile of its data sheet")
     if track is None:
         track, options = _relative_start(aiding.relative, imu, stops, c_vb, profile, options, ellipsoid, notices)
-    start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid, aiding.design_azimuth)
+    start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid, aiding.design_azimuth,
+                          known=aiding.known_start)
     notices.extend(start.notices)
     every = max(int(round(1.0 / (options.update_rate_hz * dt0))), 1)
     epochs = update_grid(t, start.epoch, every, aiding.measurements)

@@ -20,7 +20,7 @@ Frames: n = NED, b = IMU body FRD, v = trolley frame; angles in radians.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -53,6 +53,11 @@ class RelativeFrame:
     azimuth_rad: float | None
     sigma_azimuth_rad: float
     source: str  # for messages: "the design at station 1020.000 m" or "a local frame"
+    #: from the IMU to the frame's point on the trolley, b frame [m] (the track centre of a start on the design,
+    #: survey.toml [start]); zero: the IMU is the point
+    lever_arm_m: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    #: the 1-sigma [m] of the frame's point against the line (survey.toml [start] sigma_m); 0: not on the line
+    sigma_m: float = 0.0
 
     @classmethod
     def local(cls, lon_rad: float = 0.0, where: str = "") -> RelativeFrame:
@@ -147,7 +152,7 @@ def start_track(frame: RelativeFrame, imu: ImuIncrements, stops, c_vb: np.ndarra
                               f"running {direction}", severity="info"))
     t0 = float(t[0]) + 0.5 * (static[1] - float(t[0]))
     track = PositionTrack(np.array([t0]), np.array([lat]), np.array([frame.lon_rad]), np.array([frame.height_m]),
-                          np.full((1, 3), START_SIGMA_M), np.zeros(3), "relative start")
+                          np.full((1, 3), START_SIGMA_M), np.asarray(frame.lever_arm_m, float), "relative start")
     notices.append(Notice("fusion", f"relative survey (no GNSS, no prism fixes): the trajectory starts on {frame.source}; "
                           "gauge, cant, twist and the chord checks are measured, coordinates and deviations from the "
                           "design are not", severity="info"))

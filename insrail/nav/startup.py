@@ -26,6 +26,12 @@ change of curvature can leave), and the chord length with the smallest 1-sigma i
 chords on tight curves, long ones on straights. The trolley's heading from it adds the trolley's
 yaw against the chord (:data:`TROLLEY_YAW_SIGMA_RAD`).
 
+A **known start** (:class:`KnownStart`: the design's point, azimuth, grade and cant at the station the
+survey starts on, thesis 5.3.1.1) starts the filter at the first IMU record without any position: at
+a static start the tilt is levelled and the heading gyrocompassed where the unit finds north, else
+the design's azimuth is taken; at a moving start the whole attitude is the design's and the
+velocity the odometer's along it. GNSS or prism fixes arriving later aid it from their first epoch.
+
 A trolley pushed with its IMU x axis against the direction of travel is recognised at a static
 start by the sign of the IMU's forward velocity change when it sets off.
 
@@ -131,6 +137,24 @@ def _on_design(candidate: DesignAzimuth, heading_rad: float, sigma_rad: float, w
     if candidate.sigma_rad >= sigma_rad:
         return None
     return float(_wrap(turned)), candidate.sigma_rad
+
+
+@dataclass(frozen=True)
+class KnownStart:
+    """The trolley's place and attitude at the start without a position fix: a point on the trolley
+    (``lever_arm_m`` from the IMU, b frame) at ``lat_rad, lon_rad, height_m`` with 1-sigma
+    ``sigma_ned_m``; the trolley frame v's roll, pitch and heading [rad] there with their 1-sigma;
+    ``source`` for messages ("the design at station 1020.000 m")."""
+
+    lat_rad: float
+    lon_rad: float
+    height_m: float
+    lever_arm_m: np.ndarray
+    sigma_ned_m: np.ndarray
+    rpy_v_rad: tuple[float, float, float]
+    sigma_level_rad: float
+    sigma_heading_rad: float
+    source: str
 
 
 @dataclass(frozen=True)
@@ -346,10 +370,13 @@ class StartupError(ValueError):
 
 
 def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: OdometerData | None, c_vb: np.ndarray,
-                  profile, options, ell: earth.Ellipsoid, design=None) -> Start:
+                  profile, options, ell: earth.Ellipsoid, design=None, known: KnownStart | None = None) -> Start:
     """The filter's start (see the module docstring). ``track``: the positions inside the IMU
     span; ``options``: :class:`insrail.nav.fusion.FusionOptions`; ``design``: see
-    :func:`design_heading`. Raises :class:`StartupError`."""
+    :func:`design_heading`; ``known``: a :class:`KnownStart`, which then gives the start (the track
+    aids the filter only). Raises :class:`StartupError`."""
+    if known is not None:
+        return _known_start(imu, known, stops, odometer, c_vb, profile, options, ell)
     t = imu.time_s
     ned = track.local_ned(ell)
     sigma_h = track.horizontal_sigma_m()
@@ -431,6 +458,73 @@ def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: Odo
                  sigma_pos_ned_m=np.maximum(track.sigma_ned_m[i0], MIN_START_SIGMA_M), sigma_vel_mps=sigma_vel,
                  sigma_level_rad=sigma_level, sigma_heading_rad=float(sigma_heading), notices=tuple(notices),
                  levelled_at=(float(lat0 - d_lat), float(h0 - d_h), c_bn) if method.startswith("static") else None)
+
+
+def _sigmas(known: KnownStart) -> str:
+    """The known start's position 1-sigma, for its notice."""
+    horizontal, vertical = float(known.sigma_ned_m[0]), float(known.sigma_ned_m[2])
+    return (f"1-sigma {horizontal:.3f} m" if vertical == horizontal else
+            f"1-sigma {horizontal:.3f} m horizontal, {vertical:g} m in height")
+
+
+def _known_start(imu: ImuIncrements, known: KnownStart, stops, odometer: OdometerData | None, c_vb: np.ndarray,
+                 profile, options, ell: earth.Ellipsoid) -> Start:
+    """The start on a :class:`KnownStart` at the first IMU record (see the module docstring)."""
+    t = imu.time_s
+    roll_v, pitch_v, heading_v = known.rpy_v_rad
+    static = stops[0] if stops and stops[0][0] <= t[0] + 5.0 else None
+    notices = []
+    if static is not None and static[1] - static[0] >= options.min_static_s:
+        roll, pitch, _, w = static_levelling(imu, 1, int(np.searchsorted(t, static[1])), gravity_tolerance_mps2(profile))
+        sigma_compass = gyrocompass_sigma_rad(math.hypot(profile.gyro_bias_turn_on, profile.gyro_bias_gm_sigma),
+                                              profile.gyro_arw, static[1] - static[0], known.lat_rad, ell)
+        compass = None
+        if options.initial_heading_rad is None and sigma_compass < min(known.sigma_heading_rad, MAX_GYROCOMPASS_SIGMA_RAD):
+            try:
+                compass = gyrocompass(roll, pitch, w, known.lat_rad, ell)
+            except ValueError:
+                compass = None
+        if options.initial_heading_rad is not None:
+            method, heading, sigma_heading, how = ("static+given", options.initial_heading_rad,
+                                                   options.initial_sigma_heading_rad, "as given")
+        elif compass is not None:
+            method, heading, sigma_heading, how = "static+known", compass, sigma_compass, "by gyrocompassing"
+        else:  # the heading of b whose trolley x axis has the design's azimuth (b turned from v about the vertical)
+            c_bn = euler_to_dcm(0.0, 0.0, heading_v) @ c_vb
+            method, heading, sigma_heading = "static+known", float(np.arctan2(c_bn[1, 0], c_bn[0, 0])), known.sigma_heading_rad
+            how = f"from {known.source}"
+        c_bn = euler_to_dcm(roll, pitch, heading)
+        vel, sigma_vel, sigma_level = np.zeros(3), 0.005, options.initial_sigma_level_rad
+        notices.append(Notice("fusion", f"static start on {known.source}: position from the design ({_sigmas(known)}), heading "
+                              f"{math.degrees(heading) % 360:.2f} deg {how} (1-sigma {math.degrees(sigma_heading):.2f} deg)",
+                              time_s=float(t[0]), severity="info"))
+    else:
+        if odometer is None:
+            raise StartupError(f"a moving start on {known.source} needs the odometer's speed (survey.toml "
+                               "[files.odometer]) or a static start")
+        roll, pitch, heading = roll_v, pitch_v, heading_v
+        c_bn = euler_to_dcm(roll_v, pitch_v, heading_v) @ c_vb
+        # along the trolley's x axis, signed as the odometer counts (backwards decreases)
+        speed = float(np.interp(t[0] + 1.0, odometer.time_s, odometer.distance_m)
+                      - np.interp(t[0], odometer.time_s, odometer.distance_m))
+        vel = speed * euler_to_dcm(roll_v, pitch_v, heading_v)[:, 0]
+        method, sigma_heading, sigma_vel, sigma_level = "known", known.sigma_heading_rad, 0.05, known.sigma_level_rad
+        notices.append(Notice("fusion", f"moving start on {known.source}: position and attitude from the design "
+                              f"({_sigmas(known)}, {math.degrees(sigma_level):.2f} deg level, {math.degrees(sigma_heading):.2f} deg "
+                              f"heading), speed {speed:+.2f} m/s from the odometer", time_s=float(t[0]), severity="info"))
+    d_lat, d_lon, d_h = earth.ned_to_geodetic_delta(c_bn @ np.asarray(known.lever_arm_m, float), known.lat_rad,
+                                                    known.height_m, ell)
+    nav = np.zeros(_kernels.NAV_SIZE)
+    lat0, h0 = known.lat_rad - d_lat, known.height_m - d_h
+    nav[0:4] = q_ne_from_lat_lon(lat0, known.lon_rad - d_lon)
+    nav[4] = h0
+    nav[5:8] = vel
+    nav[8:12] = dcm_to_quat(c_bn)
+    rpy = dcm_to_euler(c_bn)
+    return Start(epoch=0, nav=nav, method=method, rpy_rad=(float(rpy[0]), float(rpy[1]), float(rpy[2])),
+                 sigma_pos_ned_m=np.maximum(np.asarray(known.sigma_ned_m, float), MIN_START_SIGMA_M),
+                 sigma_vel_mps=sigma_vel, sigma_level_rad=sigma_level, sigma_heading_rad=float(sigma_heading),
+                 notices=tuple(notices), levelled_at=(float(lat0), float(h0), c_bn) if method.startswith("static") else None)
 
 
 #: the window [s] over which the attitude of a moving start is levelled

@@ -44,13 +44,22 @@ def design_azimuth_for(project, design, profile):
     return design_azimuth
 
 
-def relative_frame(project, design, crs):
-    """The start frame of a relative survey (``insrail.nav.relative.RelativeFrame``): the design's point,
-    height and true azimuth at the project's start station (``track.start_station_m``, else the design's
-    first station) where the project has a design (not on a local grid: its rotation is fitted after
-    the fusion), else a local frame on the CRS's central meridian, its latitude from the earth rate."""
+def relative_frame(project, design, crs, start=None, trolley=None, height_fit=None):
+    """The start frame of a relative survey (``insrail.nav.relative.RelativeFrame``): with survey.toml's
+    ``start`` (:class:`insrail.io.survey.SurveyStart`) the trolley's track centre on the design there
+    (``insrail.project.design_start``: point, azimuth of the trolley's facing, its 1-sigma); else the
+    design's point, height and true azimuth at the project's start station (``track.start_station_m``,
+    else the design's first station) where the project has a design (not on a local grid: its rotation is
+    fitted after the fusion), else a local frame on the CRS's central meridian, its latitude from the earth
+    rate."""
     from insrail.nav.relative import RelativeFrame  # the fusion's type; imported where a relative survey needs it
 
+    if start is not None:
+        from insrail.project.design_start import known_start
+
+        known = known_start(project, design, crs, start, trolley, height_fit)
+        return RelativeFrame(known.lat_rad, known.lon_rad, known.height_m, known.rpy_v_rad[2], known.sigma_heading_rad,
+                             known.source, lever_arm_m=known.lever_arm_m, sigma_m=float(start.sigma_m))
     if design is None or project.local_control is not None:
         return RelativeFrame.local(math.radians(float(crs.central_meridian_deg or 0.0)), " on the central meridian")
     plan = design.horizontal

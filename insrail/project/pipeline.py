@@ -74,9 +74,11 @@ from insrail.notices import Notice
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project import assessable
 from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
+from insrail.project.design_start import known_start
 from insrail.project.mounting_stage import mounting_notices, roll_check, with_mounting, yaw_pitch_pass
 from insrail.project.odometer_pair_stage import slip_events, with_odometer_pair
 from insrail.project.relative_survey import (
+    absolute_notice,
     relative_notices,
     relative_section,
     no_amounts,
@@ -307,6 +309,8 @@ def fusion_key(project: Project, manifest: SurveyManifest, folder: Path, gnss_sh
         settings["design"] = [run.design_sha256, _geodesy_settings(run)["crs"]]
     if manifest.relative:  # its frame starts on the design at the start station, or on the CRS's meridian
         settings["relative_frame"] = [run.design_sha256, _geodesy_settings(run)["crs"], project.start_station_m]
+    if manifest.start is not None:  # the filter starts on the design there (design_start)
+        settings["start"] = [asdict(manifest.start), run.design_sha256, _geodesy_settings(run)]
     digest.update(json.dumps(settings, sort_keys=True, default=str).encode())
     return digest.hexdigest()[:32]
 
@@ -389,11 +393,14 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
     try:  # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
         alignment = read_design(project.resolve(run.design)) if run.design else None
         design = design_azimuth_for(project, alignment, profile)
-        frame = relative_frame(project, alignment, run.crs) if manifest.relative else None
+        frame = (relative_frame(project, alignment, run.crs, manifest.start, manifest.trolley, height_fit)
+                 if manifest.relative else None)
+        known = (known_start(project, alignment, run.crs, manifest.start, manifest.trolley, height_fit)
+                 if manifest.start is not None and not manifest.relative else None)
 
         def build_aiding(options):
             return replace(aiding_for(survey, options, profile, fixes, shocks.nhc_relaxed_s()), design_azimuth=design,
-                           relative=frame)
+                           relative=frame, known_start=known)
 
         # the IMU's mounting from the survey (where GNSS gives the direction of travel), applied where it
         # differs from the given one beyond 3 sigma: the NHC then holds the right axes to the rail
@@ -713,9 +720,11 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     summary["quality"] = quality_section(quality)
     if manifest.relative:  # every output says so; the chord checks where the error growth allows
         summary["survey"]["kind"] = "relative"
-        frame = relative_frame(project, read_design(project.resolve(run.design)) if run.design else None, run.crs)
-        summary["relative"] = relative_section(frame.source, profile, quality)
-        summary["notices"] += [n.to_dict() for n in relative_notices(profile, quality)]
+        frame = relative_frame(project, read_design(project.resolve(run.design)) if run.design else None, run.crs,
+                               manifest.start, manifest.trolley, height_fit)
+        summary["relative"] = relative_section(frame, profile, quality)
+        summary["notices"] += [n.to_dict() for n in (*relative_notices(profile, quality),
+                                                     *absolute_notice(frame, quality))]
         table = without_deviations(table)
         recon = replace(recon, table=table)
     summary["files"]["quality"] = QUALITY_FILE

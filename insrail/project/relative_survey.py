@@ -8,10 +8,11 @@ line) are not: the sleeper table's deviation columns are left empty, and so are 
 150 m lag sigmas of several mm; ``summary.toml [adjustment] withheld`` says why). The rail coordinates stay in the
 table, named in ``summary.toml [relative]`` as the survey's own frame, for the plots' shape.
 
-A chord check can be assessed in a section only where the stated 1-sigma of its error (the 5 m lag's
-for chords up to :data:`SHORT_CHORD_M`, the 150 m lag's for longer ones: ``insrail.quality``) is
-small beside its limit: three of them within it (:data:`SIGMAS_IN_LIMIT`). Elsewhere a warning names
-the check and the sections; ``[relative.sections]`` gives each section's figures and verdicts.
+A chord check is assessed per section by the one rule of ``insrail.project.assessable`` (:func:`decides`:
+three of its stated 1-sigma within its limit; the 5 m lag's for the 30 m/5 m check and the 10 m versine,
+the 150 m lag's for the 300 m/150 m check), which also leaves its values and exceedances out where it is
+not. Here a warning names the check and the sections; ``[relative.sections]`` gives each section's figures
+and verdicts (a section with no figure, too short for its lag, not assessed).
 """
 
 from __future__ import annotations
@@ -21,58 +22,64 @@ from dataclasses import replace
 import numpy as np
 
 from insrail.notices import Notice
+from insrail.project.assessable import RESOLVE_SIGMAS, check_limit_m, decides, section_sigma_m
 from insrail.track.adjustment import Adjustment
 
-#: a chord check up to this chord [m] has the 5 m lag's error, a longer one the 150 m lag's
-SHORT_CHORD_M = 30.0
-#: a check is assessed where its limit holds this many 1-sigma of its stated error
-SIGMAS_IN_LIMIT = 3.0
 CHORD_KINDS = ("versine", "differential_versine")
 
 
-def _limit_m(check) -> float:
-    return float(min(abs(check.lower), abs(check.upper)))
-
-
-def _lag_figure(check, quality, direction: str) -> np.ndarray:
-    lag = "lag5" if (check.chord_m or 0.0) <= SHORT_CHORD_M else "lag150"
-    return getattr(quality, f"sigma_{lag}_{direction}_m")
-
-
-def chord_verdicts(profile, quality) -> dict[str, np.ndarray]:
-    """Per chord check of ``profile``: per section of ``quality`` (``SectionQuality``) whether it can be
-    assessed (both of its directions' stated 1-sigma within its limit / :data:`SIGMAS_IN_LIMIT`)."""
-    verdicts = {}
+def _chord_sigmas(profile, quality) -> dict[str, tuple[object, np.ndarray]]:
+    """Per chord check of ``profile`` with a stated figure: (the check, the larger of its directions' stated
+    1-sigma per section; ``assessable.section_sigma_m``)."""
+    found = {}
     for check in profile.checks:
         if check.kind not in CHORD_KINDS:
             continue
-        sigma = np.max([_lag_figure(check, quality, d) for d in (check.directions or ("lateral", "vertical"))], axis=0)
-        verdicts[check.name] = np.isfinite(sigma) & (SIGMAS_IN_LIMIT * sigma <= _limit_m(check))
-    return verdicts
+        sigmas = [section_sigma_m(check, quality, d) for d in (check.directions or ("lateral", "vertical"))]
+        if any(s is None for s in sigmas):
+            continue
+        found[check.name] = (check, np.max(sigmas, axis=0))
+    return found
+
+
+def chord_verdicts(profile, quality) -> dict[str, np.ndarray]:
+    """Per chord check of ``profile`` with a stated figure: per section of ``quality`` (``SectionQuality``)
+    whether it can be assessed (``assessable.decides``)."""
+    return {name: decides(sigma, check_limit_m(check)) for name, (check, sigma) in _chord_sigmas(profile, quality).items()}
 
 
 def relative_notices(profile, quality) -> list[Notice]:
     """A warning for each chord check that cannot be assessed in some sections (see the module docstring)."""
     notices = []
-    for check in profile.checks:
-        if check.kind not in CHORD_KINDS:
-            continue
-        assessed = chord_verdicts(profile, quality)[check.name]
+    for name, (check, sigma) in _chord_sigmas(profile, quality).items():
+        assessed = decides(sigma, check_limit_m(check))
         if assessed.all():
             continue
-        sigma = np.max([_lag_figure(check, quality, d) for d in (check.directions or ("lateral", "vertical"))], axis=0)
         where = ", ".join(f"{a:.0f}-{b:.0f} m ({f'{1e3 * s:.2f} mm' if np.isfinite(s) else 'too short for its lag'})"
                           for a, b, s, ok in zip(quality.station_from_m, quality.station_to_m, sigma, assessed) if not ok)
-        notices.append(Notice("track", f"relative survey: the {check.name} check cannot be assessed in "
+        notices.append(Notice("track", f"relative survey: the {name} check cannot be assessed in "
                               f"{(~assessed).sum()} of {len(assessed)} sections, where the stated 1-sigma of its error "
-                              f"exceeds 1/{SIGMAS_IN_LIMIT:g} of its {1e3 * _limit_m(check):g} mm limit: {where}; its "
-                              "exceedances there are not measured ones", station_m=float(quality.station_from_m[0])))
+                              f"exceeds 1/{RESOLVE_SIGMAS:g} of its {1e3 * check_limit_m(check):g} mm limit: {where}; "
+                              "its values and exceedances there are left out", station_m=float(quality.station_from_m[0])))
     return notices
 
 
-def relative_section(frame: str, profile, quality) -> dict:
+def absolute_sigma_m(frame, length_m: float) -> float:
+    """The 1-sigma [m] of a relative survey's position against the line ``length_m`` from a start on the design
+    (survey.toml ``[start]``): the start point's and the azimuth's times the distance (the IMU's drift comes on
+    top); NaN for a frame not placed on the line."""
+    if not frame.sigma_m:
+        return float("nan")
+    return float(np.hypot(frame.sigma_m, length_m * frame.sigma_azimuth_rad))
+
+
+def relative_section(frame, profile, quality) -> dict:
     """summary.toml's ``[relative]``: the frame, what is and is not measured, and per section the stated
-    1-sigma of the chord checks' errors [mm] and whether each chord check is assessed there."""
+    1-sigma of the chord checks' errors [mm] and whether each chord check is assessed there. A frame started
+    on the design (survey.toml ``[start]``) adds ``[relative.absolute]``: the start's 1-sigma and the
+    position's at the run's end (:func:`absolute_sigma_m`), and why nothing absolute is reported: at its
+    best, at the start point itself, a deviation from the design would hold the start's 1-sigma, tens of
+    times the millimetre an amount for the crew is given to."""
     verdicts = chord_verdicts(profile, quality)
     sections = []
     for i in range(len(quality.station_from_m)):
@@ -84,12 +91,40 @@ def relative_section(frame: str, profile, quality) -> dict:
         row["assessed"] = [name for name, ok in verdicts.items() if ok[i]]
         row["not_assessed"] = [name for name, ok in verdicts.items() if not ok[i]]
         sections.append(row)
-    return {"frame": frame,
-            "measured": "gauge, cant, twist and the chord checks (versines, short and long wave where assessed)",
-            "not_measured": "coordinates on the line and deviations from the design (the sleeper table's deviation "
-                            "columns are empty; its rail coordinates are in the survey's own frame, which drifts "
-                            "with the IMU)",
-            "sections": sections}
+    section = {"frame": frame.source,
+               "measured": "gauge, cant, twist and the chord checks (versines, short and long wave where assessed)",
+               "not_measured": "coordinates on the line and deviations from the design (the sleeper table's deviation "
+                               "columns are empty; its rail coordinates are in the survey's own frame, which drifts "
+                               "with the IMU)",
+               "sections": sections}
+    if frame.sigma_m and len(quality.station_from_m):
+        length = float(quality.station_to_m[-1] - quality.station_from_m[0])
+        end = absolute_sigma_m(frame, length)
+        section["absolute"] = {
+            "start_sigma_mm": round(1e3 * frame.sigma_m, 3),
+            "azimuth_sigma_deg": round(float(np.degrees(frame.sigma_azimuth_rad)), 4),
+            "end_sigma_mm": round(1e3 * end, 1), "length_m": round(length, 1),
+            "reported": "nothing absolute: " + ABSOLUTE_NOT_REPORTED.format(
+                start=1e3 * frame.sigma_m, end=1e3 * end, length=length)}
+    return section
+
+
+#: why a relative survey started on the design reports no coordinates or deviations (summary.toml
+#: ``[relative.absolute] reported`` and its notice)
+ABSOLUTE_NOT_REPORTED = ("the trajectory starts on the design with a 1-sigma of {start:.0f} mm and reaches "
+                         "{end:.0f} mm at {length:.0f} m from the azimuth's alone (the IMU's drift on top), "
+                         "so no deviation from the design nor any adjustment amount is given")
+
+
+def absolute_notice(frame, quality) -> list[Notice]:
+    """The warning of a relative survey started on the design: what its start's 1-sigma allows (nothing
+    absolute; :func:`relative_section`)."""
+    if not frame.sigma_m or not len(quality.station_from_m):
+        return []
+    length = float(quality.station_to_m[-1] - quality.station_from_m[0])
+    return [Notice("track", "relative survey started on " + frame.source + ": " + ABSOLUTE_NOT_REPORTED.format(
+        start=1e3 * frame.sigma_m, end=1e3 * absolute_sigma_m(frame, length), length=length),
+        station_m=float(quality.station_from_m[0]))]
 
 
 def without_deviations(table):
