@@ -251,13 +251,15 @@ class GapReturn:
     sigma_position_m: tuple[float, float, float]
     sigma_velocity_mps: tuple[float, float, float]
     distance_m: float = 0.0  # between the source's positions at the gap's ends (0: not a position source)
+    accepted: bool = False  # the return passed the gate, far off (:func:`loud_returns`): no reset to avoid
 
     def message(self) -> str:
         off = (f"{max(self.sigma_position_m):.3g} m" if max(self.sigma_position_m) > 0
                else f"{max(self.sigma_velocity_mps):.3g} m/s")
+        instead = ("accepted, but beyond the 1-sigma the filter held" if self.accepted else "instead of a filter reset")
         return (f"{self.source} back after a gap of {self.end_s - self.start_s:.1f} s at t = {self.end_s:.1f} s, "
-                f"{off} off the dead reckoning: the uncertainty grown over the gap to that (instead of a filter "
-                "reset) and the gap bridged by the smoother")
+                f"{off} off the dead reckoning: the uncertainty grown over the gap to that ({instead}) and the gap "
+                "bridged by the smoother")
 
 
 def _moved_m(source, start_s: float, end_s: float) -> float:
@@ -351,7 +353,7 @@ def loud_returns(sources, record_time_s, record_source, accepted, nis, dof, inno
             pos = tuple(peak.tolist()) if source.position_innovation else (0.0, 0.0, 0.0)
             vel = (0.0, 0.0, 0.0) if source.position_innovation else tuple(peak.tolist())
             moved = _moved_m(source, float(times[i]), float(times[i + 1])) if source.position_innovation else 0.0
-            found[key] = GapReturn(source.name, float(times[i]), float(times[i + 1]), pos, vel, moved)
+            found[key] = GapReturn(source.name, float(times[i]), float(times[i + 1]), pos, vel, moved, accepted=True)
     return tuple(sorted(found.values(), key=lambda g: g.start_s))
 
 
