@@ -14,7 +14,10 @@ epoch is compared with that fix. Printed per survey and window length, over the 
 
 - median / max horizontal error [m] of the fixes in stretches the fusion calls valid,
 - the median stated horizontal 1-sigma there (sqrt(sigma_N^2 + sigma_E^2) of the trajectory),
-- the share of those within 3 sigma (horizontal error <= 3 x that 1-sigma),
+- the share of those within 3 sigma (horizontal error <= 3 x that 1-sigma), and within 3 sigma of the
+  difference (``fix+``: the fix's own horizontal 1-sigma from the file, times the GNSS sigma scale the
+  fusion settled on, added in quadrature: a held-out fix is a reference with its own error, which near the
+  gap's ends, where the trajectory's 1-sigma falls to the fixes', is as large as the trajectory's),
 - the share of all held-out fixes the fusion marked not valid (inside a not-valid interval of the
   integrity verdict, or the whole survey refused), and how many fixes and windows were held out.
 
@@ -57,6 +60,12 @@ def held_out(gnss, t0: float, t1: float):
 
 def antenna_errors(traj, gnss, mask, lever_m, ellipsoid):
     """(horizontal error [m], stated horizontal 1-sigma [m], times) at the fixed epochs of ``gnss`` in ``mask``."""
+    error, sigma, t, _ = antenna_errors_and_fix_sigma(traj, gnss, mask, lever_m, ellipsoid)
+    return error, sigma, t
+
+
+def antenna_errors_and_fix_sigma(traj, gnss, mask, lever_m, ellipsoid):
+    """:func:`antenna_errors` and the fixes' own horizontal 1-sigma [m] (the file's)."""
     from insrail.nav.earth import radii
     from insrail.nav.rotation import euler_to_dcm
 
@@ -69,7 +78,7 @@ def antenna_errors(traj, gnss, mask, lever_m, ellipsoid):
     d_n = (lat - gnss.lat_rad[pick]) * r_m + lever[:, 0]
     d_e = (lon - gnss.lon_rad[pick]) * r_n * np.cos(lat) + lever[:, 1]
     sigma = np.hypot(*(np.interp(t, traj.time_s, traj.sigma_pos_ned_m[:, k]) for k in range(2)))
-    return np.hypot(d_n, d_e), sigma, t
+    return np.hypot(d_n, d_e), sigma, t, np.hypot(gnss.sigma_ned_m[pick, 0], gnss.sigma_ned_m[pick, 1])
 
 
 def one_window(survey, profile, ellipsoid, t0: float, t1: float) -> dict:
@@ -81,17 +90,18 @@ def one_window(survey, profile, ellipsoid, t0: float, t1: float) -> dict:
     cut = replace(survey, gnss=gnss)
     with contextlib.redirect_stdout(io.StringIO()):
         try:
-            result, _, _, _ = fuse_consistent(cut.imu, lambda o: aiding_for(cut, o, profile, None), profile,
+            result, settled, _, _ = fuse_consistent(cut.imu, lambda o: aiding_for(cut, o, profile, None), profile,
                                               FusionOptions(), ellipsoid)
         except ValueError as err:  # refused: every held-out fix not valid
             return {"refused": str(err)}
-    error, sigma, t = antenna_errors(result.trajectory, survey.gnss, removed,
-                                     survey.manifest.trolley.lever_arm_m("imu_to_antenna_m"), ellipsoid)
+    error, sigma, t, fix_sigma = antenna_errors_and_fix_sigma(
+        result.trajectory, survey.gnss, removed, survey.manifest.trolley.lever_arm_m("imu_to_antenna_m"), ellipsoid)
     verdict = result.integrity
     invalid = np.zeros(len(t), dtype=bool) if verdict.trusted else np.ones(len(t), dtype=bool)
     for start, end, _ in verdict.not_valid_intervals():
         invalid |= (t >= start) & (t <= end)
-    return {"error": error, "sigma": sigma, "invalid": invalid, "resets": len(result.resets)}
+    return {"error": error, "sigma": sigma, "invalid": invalid, "resets": len(result.resets),
+            "difference_sigma": np.hypot(sigma, settled.gnss_sigma_scale * fix_sigma)}
 
 
 def survey_table(folder: Path, windows, placements: int, profile_name: str | None, ellipsoid) -> list[str]:
@@ -106,13 +116,13 @@ def survey_table(folder: Path, windows, placements: int, profile_name: str | Non
     t_last = min(survey.gnss.time_s[-1], survey.imu.time_s[-1]) - 5.0
     lines = [f"{folder} ({profile.name}, {len(survey.imu)} IMU epochs, {len(survey.gnss)} GNSS epochs)",
              f"  {'window':>6s} {'windows':>7s} {'fixes':>5s} {'median m':>9s} {'max m':>8s} {'sigma m':>8s} "
-             f"{'in 3 sigma':>10s} {'not valid':>9s} {'resets':>6s}"]
+             f"{'in 3 sigma':>10s} {'fix+':>5s} {'not valid':>9s} {'resets':>6s}"]
     for length in windows:
         if t_last - length <= t_first:
             lines.append(f"  {length:5.0f}s  the GNSS span is too short")
             continue
         starts = np.linspace(t_first, t_last - length, placements)
-        errors, sigmas, invalid, resets, refused = [], [], [], 0, 0
+        errors, sigmas, both, invalid, resets, refused = [], [], [], [], 0, 0
         for t0 in starts:
             out = one_window(survey, profile, ellipsoid, float(t0), float(t0 + length))
             if "refused" in out:
@@ -120,20 +130,23 @@ def survey_table(folder: Path, windows, placements: int, profile_name: str | Non
                 continue
             errors.append(out["error"])
             sigmas.append(out["sigma"])
+            both.append(out["difference_sigma"])
             invalid.append(out["invalid"])
             resets += out["resets"]
         if not errors:
             lines.append(f"  {length:5.0f}s {placements:7d}  every window refused")
             continue
         e, s, bad = np.concatenate(errors), np.concatenate(sigmas), np.concatenate(invalid)
+        s_both = np.concatenate(both)
         valid = ~bad
         fmt = (lambda x: f"{x:9.3f}") if valid.any() else (lambda x: f"{'-':>9s}")
         median = fmt(float(np.median(e[valid])) if valid.any() else math.nan)
         worst = float(np.max(e[valid])) if valid.any() else math.nan
         sigma = float(np.median(s[valid])) if valid.any() else math.nan
         within = float(np.mean(e[valid] <= 3.0 * s[valid])) if valid.any() else math.nan
+        within_both = float(np.mean(e[valid] <= 3.0 * s_both[valid])) if valid.any() else math.nan
         lines.append(f"  {length:5.0f}s {placements:7d} {len(e):5d} {median} {worst:8.3f} {sigma:8.3f} "
-                     f"{within:10.2f} {np.mean(bad):9.2f} {resets:6d}"
+                     f"{within:10.2f} {within_both:5.2f} {np.mean(bad):9.2f} {resets:6d}"
                      + (f"  ({refused} window(s) refused)" if refused else ""))
     return lines
 

@@ -16,7 +16,12 @@ stamps run against the IMU's clock* [s] (negative: early), the quantity ``time_o
 * sleeper detector: the pulses' distances along the odometer lie one sleeper spacing apart only at
   the right time shift while the speed changes (a shift δ moves a step between pulses by δ times
   the speed change over it); put on the IMU's clock through the odometer's offset. A file that fits
-  no shift (another survey, another run) is refused by :func:`check_sleeper_match`.
+  no shift (another survey, another run) is refused by :func:`check_sleeper_match`;
+* gauge: not estimated. Its readings are a function of the distance alone, and only the stops tell a
+  time shift from the track's own gauge changes: a trolley's smooth start moves it 4 mm in the first
+  0.3 s and 50 mm in the first second (the simulated 150 m survey), over which the gauge changes by
+  0.01-0.02 mm against the sensor's 0.1 mm noise. A late gauge places its values v x offset along the
+  track (1.2 m at 1.2 m/s and 1 s); a known latency is given as ``time_offset_s`` of ``[files.gauge]``.
 
 An offset of :data:`NOTICE_OFFSET_S` or more is a notice, one of :data:`MAX_OFFSET_S` or more an
 error naming the file and the offset (give it as ``time_offset_s`` when it is a known latency);
