@@ -94,8 +94,8 @@ def test_motion_too_rough_for_the_below_envelope_test_removes_nothing_by_it_and_
 
 
 def test_the_compiled_neighbour_medians_are_numpys_with_ties_and_nans():
-    """The below-envelope test's compiled medians (10 neighbours: the mean of the middle two) equal
-    np.median's bit for bit, NaN where a window holds one."""
+    """The below-envelope test's compiled moving medians (10 neighbours: the mean of the middle two) equal
+    np.median's, NaN where a window holds one (a zero's sign aside: numpy orders -0.0/0.0 ties its own way)."""
     from insrail.nav._screening_kernels import neighbour_median_and_spread
 
     rng = np.random.default_rng(7)
