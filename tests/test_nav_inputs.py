@@ -93,6 +93,25 @@ def test_motion_too_rough_for_the_below_envelope_test_removes_nothing_by_it_and_
     assert len(notices) == 1 and "too rough to tell a single faulty record" in notices[0].message
 
 
+def test_the_compiled_neighbour_medians_are_numpys_with_ties_and_nans():
+    """The below-envelope test's compiled moving medians (10 neighbours: the mean of the middle two) equal
+    np.median's, NaN where a window holds one (a zero's sign aside: numpy orders -0.0/0.0 ties its own way)."""
+    from insrail.nav._screening_kernels import neighbour_median_and_spread
+
+    rng = np.random.default_rng(7)
+    rates = np.round(rng.normal(size=(3000, 3)), 1)  # rounded: many ties
+    rates[rng.integers(0, 3000, 40)] = np.nan
+    rates[rng.integers(0, 3000, 40), 2] = np.nan
+    windows = np.lib.stride_tricks.sliding_window_view(rates, 11, axis=0)
+    neighbours = np.concatenate([windows[..., :5], windows[..., 6:]], axis=-1)
+    reference = np.median(neighbours, axis=-1)
+    spread = 1.4826 * np.median(np.abs(neighbours - reference[..., None]), axis=-1)
+    got_reference, got_spread = neighbour_median_and_spread(rates, 5)
+    assert np.isnan(reference).any()
+    assert np.array_equal(got_reference, reference, equal_nan=True)
+    assert np.array_equal(got_spread, spread, equal_nan=True)
+
+
 def test_a_file_far_outside_the_envelope_is_an_error_naming_it():
     imu = walking_imu()
     wrong_unit = ImuIncrements(imu.time_s, imu.dtheta_rad * 100.0, imu.dvel_mps, source=imu.source)  # deg as rad

@@ -276,6 +276,19 @@ def test_an_odometer_clock_03_s_late_is_a_notice_naming_the_file_and_the_offset(
     assert "late against the IMU's clock" in out and "time_offset_s = 0.3" in out
 
 
+def test_the_clock_check_correlation_is_scipy_signals_bit_for_bit():
+    """The odometer clock's cross-correlation is done without scipy.signal (it imports scipy.stats):
+    the same numbers as scipy.signal.correlate(..., method="fft")."""
+    from scipy.signal import correlate
+
+    from insrail.project.clocks import _correlate_full
+
+    rng = np.random.default_rng(11)
+    for n, m in ((4999, 4999), (3001, 2000), (5, 7)):
+        a, b = rng.normal(size=n), rng.normal(size=m)
+        assert np.array_equal(_correlate_full(a, b), correlate(a, b, mode="full", method="fft"))
+
+
 def test_a_given_time_offset_is_applied_and_nothing_said(tiny, tmp_path):
     """A known latency written as time_offset_s, as a user writes it: the 1 s odometer is accepted and
     fused as the clean one (no filter reset, every sleeper valid)."""

@@ -64,7 +64,7 @@ StillnessTest = Callable[[np.ndarray, float], np.ndarray]
 NEIGHBOURS = 5
 #: a record this many times its neighbours' spread (and the profile's noise per record) off their median
 QUIET_SPIKE_SIGMAS = 100.0
-#: records the below-envelope test reads at a time at most (its windows hold 10 values per record)
+#: records the below-envelope test reads at a time at most (rates, medians and spreads: 9 values per record)
 QUIET_CHUNK = 1 << 16
 #: notices listing single records; the rest are summed up in one more
 MAX_LISTED = 10
@@ -220,6 +220,8 @@ def _spikes_below_envelope(time_s: np.ndarray, increments: np.ndarray, nominal: 
     max(their neighbours' spread, ``noise``) off the neighbours' median (module docstring); records
     already ``removed`` neither vote nor are tested again (a median next to them is not formed);
     ``chunk`` records at a time."""
+    from insrail.nav._screening_kernels import neighbour_median_and_spread  # numba: only when screening
+
     n = len(time_s)
     width = 2 * NEIGHBOURS + 1
     out = []
@@ -230,11 +232,8 @@ def _spikes_below_envelope(time_s: np.ndarray, increments: np.ndarray, nominal: 
         with np.errstate(invalid="ignore", over="ignore"):
             rates = increments[lo:hi] / _intervals(time_s, np.arange(lo, hi), nominal)[:, None]
             rates[removed[lo:hi] | ~np.isfinite(rates).all(axis=1)] = np.nan
-            windows = np.lib.stride_tricks.sliding_window_view(rates, width, axis=0)  # (m, 3, width)
-            neighbours = np.concatenate([windows[..., :NEIGHBOURS], windows[..., NEIGHBOURS + 1:]], axis=-1)
-            reference = np.median(neighbours, axis=-1)
-            spread = 1.4826 * np.median(np.abs(neighbours - reference[..., None]), axis=-1)
-            centre = windows[..., NEIGHBOURS]
+            reference, spread = neighbour_median_and_spread(rates, NEIGHBOURS)  # (m, 3) each
+            centre = rates[NEIGHBOURS:hi - lo - NEIGHBOURS]
             spike = np.abs(centre - reference) > QUIET_SPIKE_SIGMAS * np.maximum(spread, noise)
         release_pages(increments)
         index = np.arange(lo + NEIGHBOURS, hi - NEIGHBOURS)

@@ -120,7 +120,8 @@ def not_estimated(given_rpy_rad, why: str) -> MountingEstimate:
 def _block_sigma(time_s: np.ndarray, values: np.ndarray, block: float) -> float:
     """1-sigma of the mean of ``values`` from the spread of its block means (at least two blocks)."""
     index = np.floor((time_s - time_s[0]) / block).astype(int)
-    means = np.array([values[index == k].mean() for k in np.unique(index)])
+    # time runs forward: each block is one contiguous stretch (its mean over the same values in order)
+    means = np.array([part.mean() for part in np.split(values, np.flatnonzero(np.diff(index)) + 1)])
     if len(means) < 2:
         return math.inf
     return float(np.std(means, ddof=1) / math.sqrt(len(means)))
@@ -134,7 +135,7 @@ def yaw_pitch_from_velocity(trajectory, given_rpy_rad, rail_point_m: np.ndarray)
     rpy = np.asarray(trajectory.rpy_rad, dtype=float)
     heading = np.unwrap(rpy[:, 2])
     turn = np.gradient(heading, t) if len(t) > 2 else np.zeros(len(t))
-    c_bn = np.array([euler_to_dcm(*row) for row in rpy])
+    c_bn = euler_to_dcm(rpy[:, 0], rpy[:, 1], rpy[:, 2])
     arm_n = c_bn @ np.asarray(rail_point_m, dtype=float)
     # the turn rate about the vertical (down) times the lever arm: what the rail point moves besides the IMU
     vel = np.asarray(trajectory.vel_ned_mps, dtype=float) + np.column_stack(

@@ -103,6 +103,17 @@ def _imu_forward_velocity(imu: ImuIncrements, mounting_rpy_rad: np.ndarray, time
     return v0 + (v1 - v0) * np.clip((times - t0) / (t1 - t0), 0.0, 1.0)
 
 
+def _correlate_full(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """scipy.signal.correlate(a, b, mode="full", method="fft") of two real series, bit for bit (its
+    FFT product, done here: scipy.signal imports scipy.stats, about a second of every processing)."""
+    from scipy import fft
+
+    size = a.size + b.size - 1
+    shape = [fft.next_fast_len(size, True)]
+    product = fft.rfftn(a, shape, axes=[0]) * fft.rfftn(b[::-1].conj(), shape, axes=[0])
+    return fft.irfftn(product, shape, axes=[0])[:size].copy()
+
+
 def estimate_odometer_offset(imu: ImuIncrements, odometer: OdometerData,
                              mounting_rpy_rad: np.ndarray) -> ClockOffset | None:
     """The odometer's time offset against the IMU from their accelerations; None when the survey's
@@ -127,12 +138,9 @@ def estimate_odometer_offset(imu: ImuIncrements, odometer: OdometerData,
     unshifted = odometer_acceleration(0.0)
     if min(np.std(unshifted), np.std(imu_acceleration)) < MIN_ACCELERATION_RMS_MPS2:
         return None
-    # imported here: scipy.signal pulls in scipy.stats (about a second) that other commands never use
-    from scipy.signal import correlate
-
     lags = int(round(SEARCH_S / GRID_STEP_S))
     # full[k] = sum_n odometer[n + k - (N - 1)] * imu[n]: the odometer lagging by k - (N - 1) samples
-    full = correlate(unshifted, imu_acceleration, mode="full", method="fft")
+    full = _correlate_full(unshifted, imu_acceleration)
     centre = len(inner) - 1
     window = full[centre - lags:centre + lags + 1]
     coarse = (int(np.argmax(np.abs(window))) - lags) * GRID_STEP_S

@@ -1,0 +1,107 @@
+"""Compiled (numba) moving medians of the IMU screening's below-envelope test
+(:func:`insrail.nav.imu_screening._spikes_below_envelope`).
+
+np.median over a (records, 3, 10) window view sorts a copy of every window and was about a tenth
+of `insrail fuse`'s CPU time. Here the ten neighbours of a record are kept sorted as the record
+advances (two values leave, two enter), and their absolute departures from the median are taken in
+order outwards from it (the sorted values on either side of the median give them sorted). The values
+are np.median's: the mean of the two middle values ((a + b) / 2, as np.mean of two), NaN where a
+window holds a NaN (the sign of a median of exactly zero between a -0.0 and a 0.0 aside: numpy's
+partition orders such ties its own way).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, inline="always")
+def _insert(window: np.ndarray, size: int, value: float) -> None:
+    """``value`` into the sorted ``window[:size]`` (NaN kept as +inf: counted apart by the caller)."""
+    v = np.inf if np.isnan(value) else value
+    j = size - 1
+    while j >= 0 and window[j] > v:
+        window[j + 1] = window[j]
+        j -= 1
+    window[j + 1] = v
+
+
+@njit(cache=True, inline="always")
+def _remove(window: np.ndarray, size: int, value: float) -> None:
+    """One entry equal to ``value`` (bit for bit, so a -0.0 is not taken for a 0.0) out of ``window[:size]``."""
+    v = np.inf if np.isnan(value) else value
+    negative = np.signbit(v)
+    at = size - 1
+    for i in range(size):
+        if window[i] == v and np.signbit(window[i]) == negative:
+            at = i
+            break
+    for i in range(at, size - 1):
+        window[i] = window[i + 1]
+
+
+@njit(cache=True, inline="always")
+def _middle(window: np.ndarray, count: int) -> float:
+    half = count // 2
+    if count % 2:
+        return window[half]
+    return (window[half - 1] + window[half]) / 2.0
+
+
+@njit(cache=True)
+def neighbour_median_and_spread(rates: np.ndarray, neighbours: int) -> tuple[np.ndarray, np.ndarray]:
+    """For each record r of ``rates`` (m, 3) with ``neighbours`` records on either side (rows
+    ``neighbours`` .. m - neighbours - 1) and each axis: the median of the 2 x ``neighbours``
+    records around it (itself left out) and 1.4826 x their median absolute departure from it;
+    (m - 2 neighbours, 3) each."""
+    m = rates.shape[0] - 2 * neighbours
+    count = 2 * neighbours
+    reference = np.empty((max(m, 0), 3))
+    spread = np.empty((max(m, 0), 3))
+    window = np.empty(count + 1)
+    departures = np.empty(count)
+    for axis in range(3):
+        size, nans = 0, 0
+        for r in range(m):
+            centre = r + neighbours
+            if r == 0:
+                for i in range(centre - neighbours, centre + neighbours + 1):
+                    if i != centre:
+                        nans += np.isnan(rates[i, axis])
+                        _insert(window, size, rates[i, axis])
+                        size += 1
+            else:  # the window moves by one: its first record and the new centre leave, the old centre and the next enter
+                for leaving in (centre - neighbours - 1, centre):
+                    nans -= np.isnan(rates[leaving, axis])
+                    _remove(window, size, rates[leaving, axis])
+                    size -= 1
+                for entering in (centre - 1, centre + neighbours):
+                    nans += np.isnan(rates[entering, axis])
+                    _insert(window, size, rates[entering, axis])
+                    size += 1
+            if nans:
+                reference[r, axis] = np.nan
+                spread[r, axis] = np.nan
+                continue
+            ref = _middle(window, count)
+            # |x - ref| in increasing order: from the middle outwards, the nearer of the two sides first
+            lo, hi = count // 2 - 1, count // 2
+            for k in range(count):
+                if lo < 0:
+                    departures[k] = np.abs(window[hi] - ref)
+                    hi += 1
+                elif hi >= count:
+                    departures[k] = np.abs(window[lo] - ref)
+                    lo -= 1
+                else:
+                    below, above = np.abs(window[lo] - ref), np.abs(window[hi] - ref)
+                    if below <= above:
+                        departures[k] = below
+                        lo -= 1
+                    else:
+                        departures[k] = above
+                        hi += 1
+            reference[r, axis] = ref
+            spread[r, axis] = 1.4826 * _middle(departures, count)
+    return reference, spread
