@@ -30,6 +30,7 @@ import numpy as np
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import GeodesyError
 from insrail.geodesy.height_anomaly import HeightAnomalyFit
+from insrail.notices import Phrase
 
 GEODETIC_KEYS = ("lat_deg", "lon_deg", "ellipsoidal_height_m")
 ENGINEERING_KEYS = ("east_m", "north_m", "normal_height_m")
@@ -60,7 +61,7 @@ class ResolvedPoint:
     lon_rad: float
     height_m: float
     derivation: str
-    warnings: tuple[str, ...] = ()  # e.g. the height anomaly extrapolated at the point
+    warnings: tuple[Phrase, ...] = ()  # e.g. the height anomaly extrapolated at the point
 
 
 def parse_control_points(table: Any, key_path: str, problems: list[str]) -> tuple[ControlPoint, ...]:
@@ -120,7 +121,7 @@ def resolve_control_point(point: ControlPoint, crs: EngineeringCRS,
             derivation = (f"engineering E/N through the CRS; h = H + zeta = {normal_height:.4f} m {zeta:+.4f} m "
                           f"(height anomaly model {height_fit.model_name})")
             try:  # a surface model says when the point lies outside the benchmarks' hull
-                warnings = tuple(f"control point {point.name}: {w}"
+                warnings = tuple(Phrase("control point {point}: {warning}", {"point": point.name, "warning": w})
                                  for w in height_fit.warnings_for(np.array([east]), np.array([north])))
             except GeodesyError:  # a spline in chainage: the point's chainage is not known here
                 warnings = ()

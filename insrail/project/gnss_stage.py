@@ -46,6 +46,7 @@ from insrail.io.survey import MANIFEST_NAME, SurveyManifest
 from insrail.io.survey_gnss import RawGnss
 from insrail.io.types import GnssSolution
 from insrail.nav.fusion import gnss_by_quality
+from insrail.notices import Phrase, phrase_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.control_points import resolve_control_point
 from insrail.project.lock import cache_entry
@@ -92,7 +93,11 @@ class GnssStageResult:
                 "epochs_by_quality": dict(self.qc.epochs_by_quality),
                 "fusion_inflated_epochs": inflated, "fusion_excluded_epochs": excluded,
                 "fusion_by_quality": fusion, "base": self.report["base"],
-                "warnings": [*self.report["base"].get("warnings", []), *self.report["warnings"]]}
+                "warnings": [str(warning) for warning in self.warnings()]}
+
+    def warnings(self) -> list[Phrase]:
+        """The base's and the solution's warnings (the QC report keeps them as phrases: :mod:`insrail.notices`)."""
+        return [phrase_of(w) for w in (*self.report["base"].get("warnings", []), *self.report["warnings"])]
 
 
 def _hash_files(digest, folder: Path, names) -> None:
@@ -127,7 +132,7 @@ def _base_position(project: Project, folder: Path, raw: RawGnss) -> tuple[BasePo
     return base, {"point": resolved.name, "approximate": False, "lat_deg": math.degrees(resolved.lat_rad),
                   "lon_deg": math.degrees(resolved.lon_rad), "ellipsoidal_height_m": resolved.height_m,
                   "antenna_height_m": raw.base_antenna_height_m, "antenna_type": raw.base_antenna_type,
-                  "derivation": resolved.derivation, "warnings": list(resolved.warnings)}
+                  "derivation": resolved.derivation, "warnings": [w.to_dict() for w in resolved.warnings]}
 
 
 def _converted_log(project_folder: Path, cache: Path, folder: Path, raw: RawGnss, progress: ProgressFn | None,
@@ -211,7 +216,7 @@ def run_gnss_stage(project: Project, folder: Path, manifest: SurveyManifest, cac
                              config=None if raw.config is None else folder / raw.config,
                              options_overrides=overrides, precise_files=[folder / p for p in raw.precise],
                              progress=step.sub(0.05, 0.95), cancel=cancel)
-            report = {"base": base_report, "warnings": list(result.warnings), "rtklib_seconds": result.elapsed_s,
+            report = {"base": base_report, "warnings": [w.to_dict() for w in result.warnings], "rtklib_seconds": result.elapsed_s,
                       **({"baseline_m": result.baseline_m} if result.baseline_m is not None else {}),
                       "qc": _qc_report(result.qc)}
             try:

@@ -20,7 +20,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 from insrail.track.adjustment import Adjustment
 
 #: a chord check up to this chord [m] has the 5 m lag's error, a longer one the 150 m lag's
@@ -61,12 +61,15 @@ def relative_notices(profile, quality) -> list[Notice]:
         if assessed.all():
             continue
         sigma = np.max([_lag_figure(check, quality, d) for d in (check.directions or ("lateral", "vertical"))], axis=0)
-        where = ", ".join(f"{a:.0f}-{b:.0f} m ({f'{1e3 * s:.2f} mm' if np.isfinite(s) else 'too short for its lag'})"
-                          for a, b, s, ok in zip(quality.station_from_m, quality.station_to_m, sigma, assessed) if not ok)
-        notices.append(Notice("track", f"relative survey: the {check.name} check cannot be assessed in "
-                              f"{(~assessed).sum()} of {len(assessed)} sections, where the stated 1-sigma of its error "
-                              f"exceeds 1/{SIGMAS_IN_LIMIT:g} of its {1e3 * _limit_m(check):g} mm limit: {where}; its "
-                              "exceedances there are not measured ones", station_m=float(quality.station_from_m[0])))
+        where = [Phrase("{from_m:.0f}-{to_m:.0f} m ({sigma_mm:.2f} mm)", {"from_m": a, "to_m": b, "sigma_mm": 1e3 * s})
+                 if np.isfinite(s) else Phrase("{from_m:.0f}-{to_m:.0f} m (too short for its lag)", {"from_m": a, "to_m": b})
+                 for a, b, s, ok in zip(quality.station_from_m, quality.station_to_m, sigma, assessed) if not ok]
+        notices.append(Notice("track", "relative survey: the {check} check cannot be assessed in {count} of {sections} "
+                              "sections, where the stated 1-sigma of its error exceeds 1/{sigmas:g} of its {limit_mm:g} mm "
+                              "limit: {where}; its exceedances there are not measured ones",
+                              station_m=float(quality.station_from_m[0]),
+                              fields={"check": check.name, "count": int((~assessed).sum()), "sections": len(assessed),
+                                      "sigmas": SIGMAS_IN_LIMIT, "limit_mm": 1e3 * _limit_m(check), "where": where}))
     return notices
 
 
