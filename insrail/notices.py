@@ -15,22 +15,28 @@ An error (the result would be wrong) is an exception, not a notice: ``InputError
 file and the unit where they matter; ``file``, ``time_s`` (the survey's time scale, GPS seconds
 of week) and ``station_m`` (chainage) locate it when known.
 
-Languages. A notice is written once, in English, and read in the report's language:
+Languages: a notice is written once, in English, and read in the report's language.
 
-* ``message`` is a **template**, a string literal with ``{fields}`` (``"IMU gap of {gap_s:.3f} s
-  after t = {time_s:.4f} s"``), never an f-string; its values go in ``fields`` (a dict:
-  ``Notice("imu", "IMU gap of {gap_s:.3f} s ...", fields={"gap_s": 0.02, ...})``). The template
-  has its Chinese in ``insrail/names_zh.py`` like every report text (``tests/test_languages.py``
-  walks every ``Notice(...)`` and ``Phrase(...)`` of the package and fails on an f-string, a
-  variable or a template without its entry).
-* A field's value is a number (formatted by the template's spec), a string shown **verbatim**
-  (a file name, a survey's or a point's name, a key of survey.toml: never English words of
-  insrail's own), a :class:`Phrase` (a part of the sentence in words, given in the language too)
-  or a list of those (joined as the language lists them).
-* :meth:`Notice.text` is the English (the CLI, the GUI's log, summary.toml's ``message``);
-  :meth:`Notice.said` the text in the language in use (:func:`insrail.names.t`): the PDF and the
-  workbook call it inside their ``names.in_language``. summary.toml keeps ``template`` and
-  ``fields`` beside the English ``message``, so a report written later reads it in its language.
+* Its second argument, ``template``, is a string literal with ``{fields}``, never an f-string; the
+  values go in ``fields``::
+
+      Notice("imu", "{file}: IMU gap of {gap_s:.3f} s after t = {time_s:.4f} s", file=name,
+             fields={"file": name, "gap_s": gap, "time_s": start})
+
+  The template (and the stage word) has its Chinese in ``insrail/names_zh.py``, like every report
+  text; ``tests/test_languages.py`` walks every ``Notice(...)`` and ``Phrase(...)`` of the package and
+  fails on a message written as an f-string or a concatenation, and on a template without its entry.
+  Chinese keeps the template's fields (``{gap_s:.3f}``), in the order its sentence needs.
+* A field's value is a number (formatted by the template), a string shown **verbatim** (a file name,
+  a survey's or a point's name, a key of survey.toml: never English words of insrail's own), a
+  :class:`Phrase` (a part of the sentence in words: a template and its fields, translated too; a
+  helper that words a reason returns one) or a list of those (joined as the language lists them).
+  A template without fields is shown as it is (braces in it are text).
+* :attr:`Notice.message` and :meth:`Notice.text` are the English (the CLI, the GUI's log, tests,
+  summary.toml's ``message``); :meth:`Notice.said` is the text in the language in use
+  (:func:`insrail.names.t`; a report's inside :func:`insrail.names.in_language`). summary.toml keeps
+  ``template`` and ``fields`` beside the English ``message``, so a report written later says it in
+  its language; a notice written without them stays English.
 """
 
 from __future__ import annotations
@@ -70,6 +76,10 @@ class Phrase:
 
     def __str__(self) -> str:
         return self._rendered(False)
+
+    def __contains__(self, text: str) -> bool:
+        """``"gap" in phrase``: in its English, as in the string it replaces."""
+        return text in str(self)
 
     def to_dict(self) -> dict:
         return {"template": self.template, **({"fields": _stored(self.fields)} if self.fields else {})}
@@ -118,7 +128,7 @@ def _restored(fields: Mapping) -> dict:
 @dataclass(frozen=True)
 class Notice:
     stage: str
-    message: str | Phrase  # the English template (module docstring); a Phrase brings its fields
+    template: str | Phrase  # the English template (module docstring); a Phrase brings its fields
     file: str = ""
     time_s: float | None = None
     station_m: float | None = None
@@ -128,18 +138,23 @@ class Notice:
     def __post_init__(self):
         if self.severity not in SEVERITIES:
             raise ValueError(f"notice severity {self.severity!r}: expected one of {', '.join(SEVERITIES)}")
-        if isinstance(self.message, Phrase):
-            object.__setattr__(self, "fields", {**self.message.fields, **self.fields})
-            object.__setattr__(self, "message", self.message.template)
+        if isinstance(self.template, Phrase):
+            object.__setattr__(self, "fields", {**self.template.fields, **self.fields})
+            object.__setattr__(self, "template", self.template.template)
         object.__setattr__(self, "fields", dict(self.fields))
         self.phrase()  # a template whose fields do not fit fails where the notice is made
 
     def phrase(self) -> Phrase:
-        return Phrase(self.message, self.fields)
+        return Phrase(self.template, self.fields)
+
+    @property
+    def message(self) -> str:
+        """The message in English (its template filled in)."""
+        return str(self.phrase())
 
     def text(self) -> str:
         """One line for a log or the CLI, in English: ``stage: message``."""
-        return f"{self.stage}: {self.phrase()}"
+        return f"{self.stage}: {self.message}"
 
     def said(self) -> str:
         """:meth:`text` in the language in use (a report's: :func:`insrail.names.in_language`)."""
@@ -150,9 +165,9 @@ class Notice:
     def to_dict(self) -> dict:
         """The ``[[notices]]`` table (TOML has no null: unknown places are left out): ``message`` in English,
         and the template and its fields for a report in another language."""
-        table = {"stage": self.stage, "severity": self.severity, "message": str(self.phrase())}
+        table = {"stage": self.stage, "severity": self.severity, "message": self.message}
         if self.fields:
-            table |= {"template": self.message, "fields": _stored(self.fields)}
+            table |= {"template": self.template, "fields": _stored(self.fields)}
         if self.file:
             table["file"] = self.file
         if self.time_s is not None and math.isfinite(self.time_s):
@@ -168,7 +183,7 @@ class Notice:
             template, fields = str(table["template"]), _restored(table.get("fields", {}))
         else:  # written without fields (or by an insrail before the templates): the English
             template, fields = str(table.get("message", "")), {}
-        return cls(stage=str(table.get("stage", "")), message=template, fields=fields,
+        return cls(stage=str(table.get("stage", "")), template=template, fields=fields,
                    file=str(table.get("file", "")), time_s=table.get("time_s"), station_m=table.get("station_m"),
                    severity=str(table.get("severity", "warning")))
 

@@ -1647,7 +1647,7 @@ def fuse(
                         tuple(setup.stops), timeline=timeline, resets=tuple(resets), innovations=innovations,
                         integrity=verdict,
                         info={"update_epochs": m_epochs, "alignment_rpy_rad": start.rpy_rad,
-                              "alignment": start.method, "warnings": [str(n.phrase()) for n in notices if n.severity == "warning"],
+                              "alignment": start.method, "warnings": [n.message for n in notices if n.severity == "warning"],
                               "notices": notices, "gnss_quality": aiding.gnss_quality,
                               "imu_outliers": setup.outliers, "imu_gaps": imu.gaps, "gap_returns": returns})
 

@@ -252,7 +252,7 @@ def fuse_consistent(imu, build_aiding, profile, options, ellipsoid, new_store=No
     calibration = Calibration(passes, nhc_dropped, options.gnss_sigma_scale, tuple(notices),
                               tuple(options.play_drift_m2_per_m), tuple(profile_play), options.nhc_sigma_mps, estimated)
     result.info["notices"] = [*result.info.get("notices", []), *notices]
-    result.info["warnings"] = [*result.info.get("warnings", []), *(str(n.phrase()) for n in notices)]
+    result.info["warnings"] = [*result.info.get("warnings", []), *(n.message for n in notices)]
     result.info["calibration"] = calibration.to_dict()
     return result, options, store, calibration
 
