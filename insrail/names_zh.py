@@ -1015,4 +1015,11 @@ ZH_CN: dict[str, str] = {
     "{sigmas:g} x the predicted {predicted_mm:.2f} mm":
         "测次 {runs} 在重叠段（{from_m:.0f}-{to_m:.0f} m）的 {parameter} 相差 {rms_mm:.2f} mm RMS，超过预计 "
         "{predicted_mm:.2f} mm 的 {sigmas:g} 倍",
+    # the parameters a survey plan sweeps (insrail.names.QUANTITY_NAMES)
+    "Gyro bias": "陀螺零偏",
+    "Accelerometer bias": "加速度计零偏",
+    "Gyro angle random walk": "陀螺角度随机游走",
+    "Accelerometer velocity random walk": "加速度计速度随机游走",
+    "GNSS position 1σ": "GNSS 定位 1σ",
+    "Pushing speed": "推行速度",
 }

@@ -749,8 +749,8 @@ class MainWindow(QMainWindow):
         self.gnss.set_ppk(PpkView(stage.report, stage.solution, summary), source)
         self.log.info(f"GNSS of {self.gnss.survey.currentText()}: fix rate {100.0 * stage.qc.fix_rate:.1f} % of "
                       f"{stage.qc.epochs} epochs{source}")
-        for warning in stage.report["warnings"]:
-            self.log.warning(warning)
+        for warning in stage.warnings():
+            self.log.warning(str(warning))
 
     def _gnss_cancelled(self) -> None:
         self.log.warning("GNSS post-processing cancelled")

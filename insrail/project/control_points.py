@@ -60,7 +60,7 @@ class ResolvedPoint:
     lat_rad: float
     lon_rad: float
     height_m: float
-    derivation: str
+    derivation: Phrase
     warnings: tuple[Phrase, ...] = ()  # e.g. the height anomaly extrapolated at the point
 
 
@@ -110,7 +110,7 @@ def resolve_control_point(point: ControlPoint, crs: EngineeringCRS,
     """The point on the ellipsoid (see the module docstring for the height path)."""
     if point.geodetic is not None:
         lat, lon, h = math.radians(point.geodetic[0]), math.radians(point.geodetic[1]), point.geodetic[2]
-        derivation = "geodetic coordinates from the project"
+        derivation = Phrase("geodetic coordinates from the project")
         warnings = ()
     else:
         east, north, normal_height = point.engineering
@@ -118,8 +118,9 @@ def resolve_control_point(point: ControlPoint, crs: EngineeringCRS,
         lat, lon = float(lat_a), float(lon_a)
         if height_fit is not None:
             zeta = float(np.asarray(height_fit.zeta_m(np.array([east]), np.array([north])))[0])
-            derivation = (f"engineering E/N through the CRS; h = H + zeta = {normal_height:.4f} m {zeta:+.4f} m "
-                          f"(height anomaly model {height_fit.model_name})")
+            derivation = Phrase("engineering E/N through the CRS; h = H + zeta = {normal_m:.4f} m {zeta_m:+.4f} m (height "
+                                "anomaly model {model})",
+                                {"normal_m": normal_height, "zeta_m": zeta, "model": height_fit.model_name})
             try:  # a surface model says when the point lies outside the benchmarks' hull
                 warnings = tuple(Phrase("control point {point}: {warning}", {"point": point.name, "warning": w})
                                  for w in height_fit.warnings_for(np.array([east]), np.array([north])))
@@ -127,6 +128,6 @@ def resolve_control_point(point: ControlPoint, crs: EngineeringCRS,
                 warnings = ()
         else:
             zeta, warnings = 0.0, ()
-            derivation = "engineering E/N through the CRS; no benchmarks in the project: H taken as ellipsoidal"
+            derivation = Phrase("engineering E/N through the CRS; no benchmarks in the project: H taken as ellipsoidal")
         h = normal_height + zeta
     return ResolvedPoint(point.name, lat, lon, h, derivation, warnings)

@@ -88,11 +88,13 @@ class GnssStageResult:
                   for name, u in used.items()}
         inflated = sum(u["epochs"] for u in used.values() if u["used"] and u["sigma_factor"] != 1.0)
         excluded = sum(u["epochs"] for u in used.values() if not u["used"])
+        base = self.report["base"]  # its texts as phrases (insrail.notices): summary.toml has them in English
         return {"source": "ppk", "from_cache": self.from_cache, "file": GNSS_POS_FILE, "qc_file": GNSS_QC_FILE,
                 "epochs": self.qc.epochs, "fix_rate": self.qc.fix_rate,
                 "epochs_by_quality": dict(self.qc.epochs_by_quality),
                 "fusion_inflated_epochs": inflated, "fusion_excluded_epochs": excluded,
-                "fusion_by_quality": fusion, "base": self.report["base"],
+                "fusion_by_quality": fusion, "base": {**base, "derivation": str(phrase_of(base["derivation"])),
+                                                      "warnings": [str(phrase_of(w)) for w in base.get("warnings", [])]},
                 "warnings": [str(warning) for warning in self.warnings()]}
 
     def warnings(self) -> list[Phrase]:
@@ -112,7 +114,7 @@ def _base_position(project: Project, folder: Path, raw: RawGnss) -> tuple[BasePo
     """The base receiver's mark, antenna height and type; None for the RINEX header position."""
     if raw.base_from_header:
         return None, {"point": raw.base_point, "approximate": True,
-                      "derivation": f"APPROX POSITION XYZ of {raw.base}: metre level"}
+                      "derivation": Phrase("APPROX POSITION XYZ of {file}: metre level", {"file": raw.base}).to_dict()}
     point = project.control_point(raw.base_point)
     if point is None:
         known = ", ".join(p.name for p in project.control_points) or "none"
@@ -132,7 +134,7 @@ def _base_position(project: Project, folder: Path, raw: RawGnss) -> tuple[BasePo
     return base, {"point": resolved.name, "approximate": False, "lat_deg": math.degrees(resolved.lat_rad),
                   "lon_deg": math.degrees(resolved.lon_rad), "ellipsoidal_height_m": resolved.height_m,
                   "antenna_height_m": raw.base_antenna_height_m, "antenna_type": raw.base_antenna_type,
-                  "derivation": resolved.derivation, "warnings": [w.to_dict() for w in resolved.warnings]}
+                  "derivation": resolved.derivation.to_dict(), "warnings": [w.to_dict() for w in resolved.warnings]}
 
 
 def _converted_log(project_folder: Path, cache: Path, folder: Path, raw: RawGnss, progress: ProgressFn | None,
