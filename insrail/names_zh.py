@@ -1022,4 +1022,11 @@ ZH_CN: dict[str, str] = {
     "Accelerometer velocity random walk": "加速度计速度随机游走",
     "GNSS position 1σ": "GNSS 定位 1σ",
     "Pushing speed": "推行速度",
+    # how a GNSS base's coordinates were found (insrail.project.control_points, the PPK view)
+    "geodetic coordinates from the project": "项目中的大地坐标",
+    "engineering E/N through the CRS; h = H + zeta = {normal_m:.4f} m {zeta_m:+.4f} m (height anomaly model {model})":
+        "工程坐标 E/N 经坐标系换算；h = H + ζ = {normal_m:.4f} m {zeta_m:+.4f} m（高程异常模型 {model}）",
+    "engineering E/N through the CRS; no benchmarks in the project: H taken as ellipsoidal":
+        "工程坐标 E/N 经坐标系换算；项目无水准点：H 作为椭球高",
+    "APPROX POSITION XYZ of {file}: metre level": "{file} 的 APPROX POSITION XYZ：米级",
 }

@@ -1365,7 +1365,7 @@
     </message>
     <message>
       <location filename="../../../insrail/gui/views/gnss.py" line="53" />
-      <source>sigma × {factor}</source>
+      <source>sigma x {factor}</source>
       <translation>σ × {factor}</translation>
     </message>
     <message>

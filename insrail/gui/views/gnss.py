@@ -50,7 +50,7 @@ def fusion_use(use: str) -> str:
     if use == "excluded":
         return tr("excluded")
     factor = use.removeprefix("sigma x ")
-    return tr("sigma × {factor}").format(factor=factor) if factor != use else use
+    return tr("sigma x {factor}").format(factor=factor) if factor != use else use
 GAP_BRUSH = pg.mkBrush(213, 94, 0, 40)
 
 
