@@ -1029,4 +1029,11 @@ ZH_CN: dict[str, str] = {
     "engineering E/N through the CRS; no benchmarks in the project: H taken as ellipsoidal":
         "工程坐标 E/N 经坐标系换算；项目无水准点：H 作为椭球高",
     "APPROX POSITION XYZ of {file}: metre level": "{file} 的 APPROX POSITION XYZ：米级",
+    # the fusion's integrity (summary.toml [fusion.integrity] summary)
+    "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{missed}"
+    "{inconsistent}": "{sections} 个 {section_m:.0f} m 区段中 {consistent} 个与其 1σ 一致{bad}{resets}{missed}{inconsistent}",
+    "; not valid: {share_pct:.0f} % of the length": "；无效：占长度的 {share_pct:.0f} %",
+    "; {count} filter reset(s)": "；滤波器重置 {count} 次",
+    "; {count} position fix(es) missed by the trajectory beyond their 1-sigma ({share_pct:.0f} % of the length)":
+        "；轨迹偏离 {count} 个定位点超过其 1σ（占长度的 {share_pct:.0f} %）",
 }

@@ -112,20 +112,19 @@ class FusionIntegrity:
                  f"{self.reasons[k]}")) for k in np.flatnonzero(~self.valid)]
         return out + list(self.suspect_s) + list(self.missed_s)
 
-    def summary(self) -> str:
+    def summary(self) -> Phrase:
         bad = int(np.sum(~self.valid))
-        text = (f"{len(self.valid) - bad} of {len(self.valid)} sections of {SECTION_M:.0f} m consistent with their "
-                f"1-sigma")
-        if bad:
-            text += f"; not valid: {100 * self.invalid_share:.0f} % of the length"
-        if self.suspect_s:
-            text += f"; {len(self.suspect_s)} filter reset(s)"
-        if self.missed_s:
-            text += (f"; {len(self.missed_s)} position fix(es) missed by the trajectory beyond their 1-sigma "
-                     f"({100 * self.missed_share:.0f} % of the length)")
-        if self.inconsistent:
-            text += f"; inconsistent: {self.inconsistent}"
-        return text
+        return Phrase(
+            "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{missed}"
+            "{inconsistent}",
+            {"consistent": len(self.valid) - bad, "sections": len(self.valid), "section_m": SECTION_M,
+             "bad": Phrase("; not valid: {share_pct:.0f} % of the length", {"share_pct": 100 * self.invalid_share})
+             if bad else Phrase(""),
+             "resets": Phrase("; {count} filter reset(s)", {"count": len(self.suspect_s)}) if self.suspect_s else Phrase(""),
+             "missed": Phrase("; {count} position fix(es) missed by the trajectory beyond their 1-sigma ({share_pct:.0f} % "
+                              "of the length)", {"count": len(self.missed_s), "share_pct": 100 * self.missed_share})
+             if self.missed_s else Phrase(""),
+             "inconsistent": f"; inconsistent: {self.inconsistent}" if self.inconsistent else ""})
 
     def failure(self) -> str:
         """Why the survey cannot be trusted (for :class:`UntrustedSolution`)."""
@@ -152,11 +151,12 @@ class FusionIntegrity:
                   "by hand or shaken: mems_handheld) and the GNSS solution's time scale and sigmas")
 
     def to_dict(self) -> dict:
-        """For fusion_log.toml and summary.toml (no NaN: TOML readers choke on it)."""
+        """For fusion_log.toml and summary.toml (no NaN: TOML readers choke on it); ``summary`` a phrase's table
+        (:mod:`insrail.notices`: the report says it in its language)."""
         def clean(x):
             return [round(float(v), 3) if np.isfinite(v) else -1.0 for v in x]
 
-        return {"trusted": self.trusted, "invalid_share": round(self.invalid_share, 4), "summary": self.summary(),
+        return {"trusted": self.trusted, "invalid_share": round(self.invalid_share, 4), "summary": self.summary().to_dict(),
                 "sources": list(self.names),
                 "not_valid": [{"station_from_m": round(float(self.station_from_m[k]), 1),
                                "station_to_m": round(float(self.station_to_m[k]), 1),

@@ -36,7 +36,7 @@ from openpyxl.worksheet.worksheet import Worksheet
 
 from insrail.io.atomic import atomic_write
 from insrail.names import check_name, fastener_name, in_language, profile_name, quantity_name, t
-from insrail.notices import notices_of
+from insrail.notices import notices_of, phrase_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
@@ -862,7 +862,9 @@ def _largest_magnitude(columns: list[Column], rows: np.ndarray) -> float:
 # --------------------------------------------------------------------------- processing log
 
 def _flatten(prefix: str, value, rows: list[tuple[str, object]]) -> None:
-    if isinstance(value, dict):
+    if isinstance(value, dict) and isinstance(value.get("template"), str) and set(value) <= {"template", "fields"}:
+        rows.append((prefix, phrase_of(value).said()))  # a text of insrail's own, kept as a phrase (insrail.notices)
+    elif isinstance(value, dict):
         for key, item in value.items():
             if key != "warnings":  # a stage's warnings are notices, listed in the report's language below
                 _flatten(f"{prefix}.{key}" if prefix else str(key), item, rows)
