@@ -1834,9 +1834,34 @@
       <translation>杆臂为 0 m：{arms}。小车的传感器不可能都位于 IMU 中心：请输入实测杆臂、从以往项目复制，或在下方确认其确实为零。</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/wizard.py" line="531" />
+      <source>{folder} is not empty: choose another survey name.</source>
+      <translation>{folder} 不为空：请另选测量名称。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="308" />
+      <source>The files and survey.toml go into {folder}.</source>
+      <translation>文件及 survey.toml 将放入 {folder}。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="310" />
+      <source>survey.toml (the description of the survey's files) will be written into the raw-data folder {folder}.</source>
+      <translation>survey.toml（测量文件的说明）将写入原始数据文件夹 {folder}。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="469" />
+      <source>created the folder {folder}</source>
+      <translation>已创建文件夹 {folder}</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/wizard.py" line="339" />
       <source>the trolley of {path} cannot be read: {error}</source>
       <translation>无法读取 {path} 的小车参数：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="528" />
+      <source>The project has problems; go back and correct them:</source>
+      <translation>项目存在问题；请返回更正：</translation>
     </message>
   </context>
 </TS>
