@@ -128,7 +128,7 @@ class PlanSurveyDialog(QDialog):
         self.outage.setSpecialValueText(tr("none"))
         self.outage.setToolTip(tr("a GNSS outage of this duration in the middle of the run"))
         self.smoothed = QComboBox()
-        self.smoothed.addItems(["smoothed (RTS)", "forward filter"])
+        self.smoothed.addItems([tr("smoothed (RTS)"), tr("forward filter")])
         self.odometer = QCheckBox(tr("odometer"))
         self.nhc = QCheckBox(tr("non-holonomic constraint (NHC)"))
         self.zupt = QCheckBox(tr("zero-velocity updates at rest (ZUPT)"))

@@ -984,6 +984,16 @@
       <translation>GNSS 白噪声（历元间）标准差；融合另加其相关部分</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="131" />
+      <source>smoothed (RTS)</source>
+      <translation>平滑解（RTS）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="131" />
+      <source>forward filter</source>
+      <translation>前向滤波</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/plan_survey.py" line="314" />
       <source>smoothed solution</source>
       <translation>平滑解</translation>
