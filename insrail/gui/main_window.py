@@ -493,7 +493,7 @@ class MainWindow(QMainWindow):
         folder = self.project.folder / RESULTS_FOLDER / name
         summary = read_toml(folder / SUMMARY_FILE)
         for notice in notices_of(summary):
-            self.log.warning(f"{name}: {notice.text()}")
+            self.log.warning(f"{name}: {notice.said()}")  # in the application's language
         for path in stale_reports(self.project.folder, name):
             self.log.warning(f"{name}: {path.name} is older than these results: the banner over the views "
                              "writes it again")

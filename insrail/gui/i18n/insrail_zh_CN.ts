@@ -159,97 +159,112 @@
       <translation>项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="213" />
+      <location filename="../../../insrail/gui/explorer.py" line="214" />
       <source>Property</source>
       <translation>属性</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="213" />
+      <location filename="../../../insrail/gui/explorer.py" line="214" />
       <source>Value</source>
       <translation>值</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="138" />
+      <location filename="../../../insrail/gui/explorer.py" line="96" />
+      <source>written before the survey was processed again: it describes results that no longer exist</source>
+      <translation>生成于测量重新处理之前：其内容对应的结果已不存在</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="139" />
       <source>Write the out-of-date reports again</source>
       <translation>重新生成过期的报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="164" />
+      <location filename="../../../insrail/gui/explorer.py" line="165" />
       <source>folder</source>
       <translation>文件夹</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="164" />
+      <location filename="../../../insrail/gui/explorer.py" line="165" />
       <source>coordinate system</source>
       <translation>坐标系</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="129" />
+      <location filename="../../../insrail/gui/explorer.py" line="94" />
+      <source>⚠ {name} (older than the results)</source>
+      <translation>⚠ {name}（早于结果）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="98" />
+      <source>written from the current results: {path}</source>
+      <translation>由当前结果生成：{path}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="130" />
       <source>Show results of {survey}</source>
       <translation>显示 {survey} 的结果</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="130" />
+      <location filename="../../../insrail/gui/explorer.py" line="131" />
       <source>Process {survey} again</source>
       <translation>重新处理 {survey}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
       <source>role</source>
       <translation>用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
       <source>path</source>
       <translation>路径</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
       <source>format</source>
       <translation>格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="179" />
+      <location filename="../../../insrail/gui/explorer.py" line="180" />
       <source>size</source>
       <translation>大小</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="134" />
+      <location filename="../../../insrail/gui/explorer.py" line="135" />
       <source>Write the out-of-date reports of {survey} again</source>
       <translation>重新生成 {survey} 的过期报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="172" />
+      <location filename="../../../insrail/gui/explorer.py" line="173" />
       <source>problem</source>
       <translation>问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="179" />
+      <location filename="../../../insrail/gui/explorer.py" line="180" />
       <source>missing</source>
       <translation>缺失</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="180" />
+      <location filename="../../../insrail/gui/explorer.py" line="181" />
       <source>option {name}</source>
       <translation>选项 {name}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="190" />
+      <location filename="../../../insrail/gui/explorer.py" line="191" />
       <source>file</source>
       <translation>文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="191" />
+      <location filename="../../../insrail/gui/explorer.py" line="192" />
       <source>state</source>
       <translation>状态</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="191" />
+      <location filename="../../../insrail/gui/explorer.py" line="192" />
       <source>older than the results: written before the survey was processed again</source>
       <translation>早于结果：生成于重新处理之前</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="192" />
+      <location filename="../../../insrail/gui/explorer.py" line="193" />
       <source>written from the current results</source>
       <translation>按当前结果生成</translation>
     </message>
