@@ -754,22 +754,47 @@
       <translation>应用程序的语言</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="346" />
+      <location filename="../../../insrail/gui/main_window.py" line="347" />
       <source>Unsaved changes</source>
       <translation>未保存的修改</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="453" />
+      <location filename="../../../insrail/gui/main_window.py" line="454" />
       <source>Processing failed</source>
       <translation>处理失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="744" />
+      <location filename="../../../insrail/gui/main_window.py" line="457" />
+      <source>processing cancelled; previous results kept</source>
+      <translation>处理已取消；保留之前的结果</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="690" />
+      <source>export cancelled; nothing written</source>
+      <translation>导出已取消；未写入任何文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="745" />
       <source>GNSS post-processing failed</source>
       <translation>GNSS 后处理失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="769" />
+      <location filename="../../../insrail/gui/main_window.py" line="749" />
+      <source> (from the cache)</source>
+      <translation>（取自缓存）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="749" />
+      <source> (computed now)</source>
+      <translation>（本次计算）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="757" />
+      <source>GNSS post-processing cancelled</source>
+      <translation>GNSS 后处理已取消</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="770" />
       <source>About insrail</source>
       <translation>关于 insrail</translation>
     </message>
@@ -799,59 +824,99 @@
       <translation>GNSS</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="335" />
+      <location filename="../../../insrail/gui/main_window.py" line="336" />
       <source>no project — insrail</source>
       <translation>无项目 — insrail</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="365" />
+      <location filename="../../../insrail/gui/main_window.py" line="366" />
       <source>Open project</source>
       <translation>打开项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="480" />
+      <location filename="../../../insrail/gui/main_window.py" line="481" />
       <source>Cancelling…</source>
       <translation>正在取消…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="685" />
+      <location filename="../../../insrail/gui/main_window.py" line="686" />
       <source>Written {name} in {folder}</source>
       <translation>已写入 {name}，位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="769" />
+      <location filename="../../../insrail/gui/main_window.py" line="770" />
       <source>Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports.</source>
       <translation>惯性轨道几何测量小车数据处理：GNSS/INS/里程计组合导航、轨道几何、报告。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="346" />
+      <location filename="../../../insrail/gui/main_window.py" line="312" />
+      <source>settings saved to {path}; {rerun}</source>
+      <translation>设置已保存至 {path}；{rerun}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="347" />
       <source>Save the changes to {project}?</source>
       <translation>保存对 {project} 的修改？</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="365" />
+      <location filename="../../../insrail/gui/main_window.py" line="366" />
       <source>insrail project (project.toml)</source>
       <translation>insrail 项目 (project.toml)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="371" />
+      <location filename="../../../insrail/gui/main_window.py" line="372" />
       <source>Cannot open the project</source>
       <translation>无法打开项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="406" />
+      <location filename="../../../insrail/gui/main_window.py" line="388" />
+      <source>project {name}: {path}</source>
+      <translation>项目 {name}：{path}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="407" />
       <source>Cannot save the project</source>
       <translation>无法保存项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="436" />
+      <location filename="../../../insrail/gui/main_window.py" line="411" />
+      <source>saved {path}</source>
+      <translation>已保存 {path}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="437" />
       <source>Cannot add the survey</source>
       <translation>无法添加测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="584" />
+      <location filename="../../../insrail/gui/main_window.py" line="440" />
+      <source>survey {name} imported from {folder}</source>
+      <translation>测量 {name} 已从 {folder} 导入</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="501" />
+      <source>{survey}: {count} exceedances, results in {folder}</source>
+      <translation>{survey}：超限 {count} 处，结果位于 {folder}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="585" />
       <source>Showing survey {survey}</source>
       <translation>正在显示测量 {survey}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="685" />
+      <source>written {path}</source>
+      <translation>已写入 {path}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="751" />
+      <source>GNSS of {survey}: fix rate {rate:.1f} % of {epochs} epochs{source}</source>
+      <translation>测量 {survey} 的 GNSS：{epochs} 个历元中固定率 {rate:.1f} %{source}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="499" />
+      <source>{survey}: {file} is older than these results: the banner over the views writes it again</source>
+      <translation>{survey}：{file} 早于当前结果：视图上方的提示栏可重新生成</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/plan_survey.py" line="62" />
