@@ -329,9 +329,24 @@
       <translation>CSV (*.csv)</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/export_files.py" line="79" />
+      <source>Export failed</source>
+      <translation>导出失败</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="92" />
+      <source>exporting the {what} of {survey} to {path}</source>
+      <translation>正在将测量 {survey} 的{what}导出至 {path}</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/export_files.py" line="38" />
       <source>Export the survey shown: {what}</source>
       <translation>导出当前测量：{what}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="52" />
+      <source>Export the {what} of {survey}</source>
+      <translation>导出测量 {survey} 的{what}</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/importer.py" line="54" />
