@@ -316,6 +316,13 @@ QUANTITY_NAMES: dict[str, Name] = {
     "sigma_lag150_vertical_mm": Name("Predicted 1σ, 150 m lag difference, vertical", "mm"),
     "sigma_cross_level_mm": Name("Predicted 1σ, cross-level (cant)", "mm"),
     "sigma_along_track_mm": Name("Predicted 1σ, along-track position", "mm"),
+    # the parameters a survey plan sweeps (insrail.quality.sweep.PARAMETERS, in their units there)
+    "gyro_bias": Name("Gyro bias", "deg/h"),
+    "accel_bias": Name("Accelerometer bias", "mGal"),
+    "arw": Name("Gyro angle random walk", "deg/sqrt(h)"),
+    "vrw": Name("Accelerometer velocity random walk", "m/s/sqrt(h)"),
+    "gnss_sigma": Name("GNSS position 1σ", "m"),
+    "speed": Name("Pushing speed", "m/s"),
 }
 
 

@@ -773,4 +773,279 @@ ZH_CN: dict[str, str] = {
     # the event kinds' effect (insrail.io.events.EVENT_KINDS: the event dialog's tooltip)
     "not assessed unless the event names a tolerance profile for it": "不评估，除非该事件指定了其容许偏差标准",
     "marked": "仅标注",
+    # ------------------------------------------------------------------ notices (insrail.notices: templates)
+    "{stage}: {message}": "{stage}：{message}",
+    # the stages
+    "imu": "IMU",
+    "fusion": "组合导航",
+    "gnss": "GNSS",
+    "heights": "高程",
+    "track": "轨道",
+    "survey": "测量",
+    "time": "时间同步",
+    "geodesy": "坐标基准",
+    "gauge": "轨距",
+    "cache": "缓存",
+    "fuse": "组合导航",
+    "total station": "全站仪",
+    # the aiding sources, the states a filter reset widens, an IMU outlier's reasons and quantities
+    "gnss_position": "GNSS 位置",
+    "gnss_velocity": "GNSS 速度",
+    "odometer_nhc": "里程计与非完整约束",
+    "zupt": "零速修正（ZUPT）",
+    "position_fix": "棱镜定位",
+    "position": "位置",
+    "velocity": "速度",
+    "attitude": "姿态",
+    "sensor errors": "传感器误差",
+    "odometer scale": "里程计比例因子",
+    "GNSS error": "GNSS 误差",
+    "not finite": "非有限值",
+    "beyond range": "超出量程",
+    "spike": "尖峰",
+    "spike below the envelope": "包络内尖峰",
+    "specific force": "比力",
+    "angular rate": "角速度",
+    "GNSS": "GNSS",
+    "GNSS positions": "GNSS 位置",
+    "prism fixes": "棱镜定位点",
+    "relative start": "相对测量起点",
+    "the IMU": "IMU 处",
+    "the odometer wheel's contact": "里程计轮的接触点",
+    "a local frame": "局部坐标系",
+    "a local frame on the central meridian": "中央子午线上的局部坐标系",
+    "the design at station {station_m:.3f} m": "里程 {station_m:.3f} m 处的设计线形",
+    "the whole survey": "整个测段",
+    "stations {from_m:.1f} to {to_m:.1f} m": "里程 {from_m:.1f} 至 {to_m:.1f} m",
+    "before its first": "在第一个之前",
+    "beyond its last": "在最后一个之后",
+    "{reasons}": "{reasons}",
+    "{check} {direction}": "{check} {direction}",
+    # the IMU
+    "{source}IMU gap of {gap_s:.3f} s after t = {time_s:.4f} s: {missing} missing samples bridged by interpolation{aiding}":
+        "{source}IMU 数据在 t = {time_s:.4f} s 之后中断 {gap_s:.3f} s：缺失的 {missing} 个采样已插值补齐{aiding}",
+    "; across it the trajectory rests on the aiding (odometer, NHC, GNSS) and the interpolated motion":
+        "；其间轨迹依靠辅助观测（里程计、NHC、GNSS）与插值的运动",
+    "{where}IMU record {record} at t = {time_s:.4f} s removed as an outlier: {what}; bridged":
+        "{where}IMU 第 {record} 条记录（t = {time_s:.4f} s）作为粗差剔除：{what}；已插值补齐",
+    "{quantity} {axis} is {value}": "{quantity} {axis} 为 {value}",
+    "{quantity} {axis} {value:.4g} {unit} against {reference:.4g} {unit} around it ({reason})":
+        "{quantity} {axis} 为 {value:.4g} {unit}，其邻近为 {reference:.4g} {unit}（{reason}）",
+    "{where}{count} of {records} IMU records depart from their neighbours by more than {sigmas:g} x their spread: the "
+    "motion is too rough to tell a single faulty record inside the envelope from it; none removed by that test, and "
+    "such a fault would be seen only by the aiding":
+        "{where}{records} 条 IMU 记录中有 {count} 条偏离相邻记录超过其离散度的 {sigmas:g} 倍：运动过于剧烈，无法从中分辨包络内的"
+        "单条错误记录；该检验未剔除任何记录，此类错误只能由辅助观测发现",
+    "{where}{count} more IMU records removed as outliers between t = {first_s:.4f} and {last_s:.4f} s and bridged (all "
+    "listed in the fusion log)":
+        "{where}另有 {count} 条 IMU 记录在 t = {first_s:.4f} 至 {last_s:.4f} s 之间作为粗差剔除并插值补齐（均列于组合导航日志）",
+    # the fusion
+    "no odometer in the survey: the along-track scale comes from the {source} only": "测量无里程计：沿线方向的尺度仅来自{source}",
+    "no trolley.imu_to_reference_rail_m (a survey not on rails): the non-holonomic constraint is applied at {where}":
+        "未给出 trolley.imu_to_reference_rail_m（非轨道上的测量）：非完整约束施加于{where}",
+    "no odometer: across the {source} outage of {outage_s:.0f} s after t = {time_s:.1f} s the along-track position rests "
+    "on the IMU alone":
+        "无里程计：t = {time_s:.1f} s 之后 {source} 中断 {outage_s:.0f} s，其间沿线位置仅依靠 IMU",
+    "filter reset at t = {time_s:.1f} s: {source}{others} rejected for {rejected_s:.1f} s ({rejected} in a row){turned}; "
+    "{states} uncertainty widened and the measurements re-admitted":
+        "t = {time_s:.1f} s 滤波器重置：{source}{others}连续 {rejected_s:.1f} s 被拒（连续 {rejected} 次）{turned}；"
+        "{states}的不确定度放大，观测重新接纳",
+    " (and {sources})": "（及 {sources}）",
+    "; heading re-aligned to the track by {turned_deg:+.1f} deg": "；航向按轨道重新对准 {turned_deg:+.1f}°",
+    "{source} back after a gap of {gap_s:.1f} s at t = {time_s:.1f} s, {off} off the dead reckoning: the uncertainty "
+    "grown over the gap to that (instead of a filter reset) and the gap bridged by the smoother":
+        "{source}中断 {gap_s:.1f} s 后于 t = {time_s:.1f} s 恢复，与航位推算相差 {off}：中断期间的不确定度已相应放大"
+        "（代替滤波器重置），中断由平滑器桥接",
+    "not valid from t = {time_from_s:.1f} s to {time_to_s:.1f} s (travelled {station_from_m:.0f}-{station_to_m:.0f} m): "
+    "{why}; its sleepers are not assessed":
+        "t = {time_from_s:.1f} s 至 {time_to_s:.1f} s 无效（行程 {station_from_m:.0f}-{station_to_m:.0f} m）：{why}；"
+        "其间轨枕不评估",
+    "not valid from t = {time_from_s:.1f} s to {time_to_s:.1f} s: {why}; its sleepers are not assessed":
+        "t = {time_from_s:.1f} s 至 {time_to_s:.1f} s 无效：{why}；其间轨枕不评估",
+    "{source} {share_pct:.0f} % rejected": "{source} {share_pct:.0f} % 被拒",
+    "{source} residuals {ratio:.1f} x their 1-sigma": "{source} 残差为其 1σ 的 {ratio:.1f} 倍",
+    "the trajectory misses the {source} at t = {time_s:.1f} s by {off_m:.3f} m, {ratio:.0f} x its 1-sigma":
+        "轨迹在 t = {time_s:.1f} s 偏离{source} {off_m:.3f} m，为其 1σ 的 {ratio:.0f} 倍",
+    "trolley play estimated from the NHC innovations: {play} mm^2 per metre run lateral/vertical (the profile "
+    "resources/trolley_play.toml: {profile_play}), NHC 1-sigma {nhc_sigma_mmps:.3g} mm/s; the stated accuracy uses them":
+        "由 NHC 新息估计小车晃动：横向/垂向每米行程 {play} mm²（配置 resources/trolley_play.toml：{profile_play}），"
+        "NHC 1σ {nhc_sigma_mmps:.3g} mm/s；所述精度采用这些值",
+    "the non-holonomic constraint does not hold: {share_pct:.0f} % of its {rows} rows rejected, with no odometer to blame "
+    "(a hand-held device, or a vehicle that slides); fused again without it (insrail fuse --no-nhc does so from the "
+    "start)":
+        "非完整约束不成立：{rows} 行中 {share_pct:.0f} % 被拒，且无里程计可归咎（手持设备或打滑的车辆）；已不用该约束重新组合"
+        "（insrail fuse --no-nhc 从一开始即如此）",
+    "the GNSS positions disagree with their stated sigmas: {share_pct:.0f} % of {fixes} fixes rejected, NIS {nis:.2f} x "
+    "its degrees of freedom (median {median_nis:.2f}); fused again with the file's sigmas x {scale:.2f} (calibrated "
+    "from the innovations; --gnss-sigma-scale sets a factor from the start)":
+        "GNSS 位置与其标称 σ 不符：{fixes} 个定位点中 {share_pct:.0f} % 被拒，NIS 为其自由度的 {nis:.2f} 倍（中位数 "
+        "{median_nis:.2f}）；已按文件 σ 乘以 {scale:.2f} 重新组合（由新息标定；--gnss-sigma-scale 可从一开始给定系数）",
+    # the start of the fusion
+    "{source} track's chord": "{source}轨迹的弦",
+    "{source} track of the first motion": "{source}首次运动的轨迹",
+    "the design's azimuth at the start (station {station_m:.1f} m, {offset_m:+.2f} m off it) is {apart_deg:.2f} deg "
+    "from the {what}, more than 3 x their 1-sigma ({limit_deg:.2f} deg): not used for the start":
+        "起点处的设计方位角（里程 {station_m:.1f} m，偏离 {offset_m:+.2f} m）与{what}相差 {apart_deg:.2f}°，超过其 1σ 的 3 倍"
+        "（{limit_deg:.2f}°）：不用于起始对准",
+    "moving start: initial attitude by matching the IMU to the {source} velocities over {window_s:.0f} s, heading "
+    "{heading_deg:.2f} deg (1-sigma {sigma_deg:.2f} deg)":
+        "动态起始：将 IMU 与{source}速度在 {window_s:.0f} s 内匹配得到初始姿态，航向 {heading_deg:.2f}°（1σ {sigma_deg:.2f}°）",
+    "the design's azimuth at station {station_m:.1f} m, the direction from the {source} track":
+        "里程 {station_m:.1f} m 处的设计方位角，方向取自{source}轨迹",
+    "the {source} track over {chord_m:g} m chords": "{source}轨迹的 {chord_m:g} m 弦",
+    "moving start: initial heading {heading_deg:.2f} deg from {where} (1-sigma {sigma_deg:.2f} deg)":
+        "动态起始：初始航向 {heading_deg:.2f}°，取自{where}（1σ {sigma_deg:.2f}°）",
+    "a {profile} gyro does not resolve the earth rate": "{profile} 陀螺分辨不出地球自转角速度",
+    "gyrocompass 1-sigma {sigma_deg:.1f} deg with the {profile} profile": "以 {profile} 配置陀螺寻北的 1σ 为 {sigma_deg:.1f}°",
+    "the design's azimuth at station {station_m:.1f} m, the direction from the {source} track of the first motion":
+        "里程 {station_m:.1f} m 处的设计方位角，方向取自{source}首次运动的轨迹",
+    "the {source} track of the first motion over {chord_m:g} m chords": "{source}首次运动轨迹的 {chord_m:g} m 弦",
+    "static start: heading {heading_deg:.2f} deg from {where} (1-sigma {sigma_deg:.2f} deg), not by gyrocompassing "
+    "({reason}){backwards}":
+        "静态起始：航向 {heading_deg:.2f}°，取自{where}（1σ {sigma_deg:.2f}°），未采用陀螺寻北（{reason}）{backwards}",
+    "; the trolley set off backwards": "；小车倒向出发",
+    # a relative survey's start
+    "relative survey in a local frame: latitude {lat_deg:.2f} deg from the earth rate at the static start (1-sigma "
+    "{sigma_deg:.2f} deg)":
+        "局部坐标系中的相对测量：纬度 {lat_deg:.2f}°，由静态起始时的地球自转角速度求得（1σ {sigma_deg:.2f}°）",
+    "relative survey: heading {heading_deg:.2f} deg by gyrocompassing (1-sigma {sigma_deg:.3f} deg: the frame's azimuth)":
+        "相对测量：陀螺寻北得航向 {heading_deg:.2f}°（1σ {sigma_deg:.3f}°：坐标系的方位角）",
+    "towards increasing stationing (taken: the gyros do not tell)": "朝里程增加方向（假定：陀螺无法判别）",
+    "towards increasing stationing (coarse gyrocompass)": "朝里程增加方向（粗略陀螺寻北）",
+    "against increasing stationing (coarse gyrocompass)": "朝里程减小方向（粗略陀螺寻北）",
+    "relative survey: heading {heading_deg:.2f} deg from {frame} (1-sigma {sigma_deg:.2f} deg: the frame's azimuth), "
+    "the trolley running {direction}":
+        "相对测量：航向 {heading_deg:.2f}°，取自{frame}（1σ {sigma_deg:.2f}°：坐标系的方位角），小车{direction}运行",
+    "relative survey (no GNSS, no prism fixes): the trajectory starts on {frame}; gauge, cant, twist and the chord "
+    "checks are measured, coordinates and deviations from the design are not":
+        "相对测量（无 GNSS、无棱镜定位）：轨迹起始于{frame}；测量轨距、超高、扭曲及弦测检查，不测量坐标及相对设计的偏差",
+    # the IMU mounting
+    "IMU mounting from the survey: {axes}": "由测量数据估计的 IMU 安装角：{axes}",
+    "{axis} {estimate_deg:+.3f} deg (1-sigma {sigma_deg:.4f}, given {given_deg:+.3f})":
+        "{axis} {estimate_deg:+.3f}°（1σ {sigma_deg:.4f}，给定 {given_deg:+.3f}）",
+    "{axis} by {apart_deg:.3f} deg ({sigmas:.0f} sigma)": "{axis} 相差 {apart_deg:.3f}°（{sigmas:.0f} σ）",
+    "the IMU mounting the survey shows differs from {source}'s trolley.mounting_rpy_deg by more than {sigmas:g} sigma "
+    "({apart}): the survey is processed with the estimate; give trolley.mounting_rpy_deg = [{values}]{roll}":
+        "测量数据显示的 IMU 安装角与 {source} 的 trolley.mounting_rpy_deg 相差超过 {sigmas:g} σ（{apart}）：本次测量按估计值"
+        "处理；请给出 trolley.mounting_rpy_deg = [{values}]{roll}",
+    " (the roll takes the track's mean cross-level for the design's)": "（横滚以轨道的平均水平作为设计值）",
+    # the pipeline's checks of the input
+    "files.{role}: {entry} lies outside the project and the survey folder ({path}): check that it is the file meant":
+        "files.{role}：{entry} 位于项目及测量文件夹之外（{path}）：请确认是所需文件",
+    "the cached {stage} {file} was damaged ({reason}): recomputed": "缓存的 {stage} {file} 已损坏（{reason}）：已重新计算",
+    "it has no checksum (a run stopped while writing it, or an older insrail wrote it)":
+        "缺少校验和（写入时运行中断，或由旧版 insrail 写入）",
+    "it is empty": "文件为空",
+    "its contents do not match its checksum (truncated or altered)": "内容与校验和不符（被截断或被修改）",
+    "the CRS is on {ellipsoid}: GNSS positions are taken in its datum; a GNSS solution computed with WGS84's formulas "
+    "from a base given in that datum reads baselines {scale_ppm:+.1f} ppm long ({at_5km_mm:+.0f} mm at 5 km from the "
+    "base): lengths and chainage read that much long, absolute positions need common points ([geodesy.local]) or a "
+    "solution made on this ellipsoid":
+        "坐标系基于 {ellipsoid}：GNSS 位置按该基准取用；用 WGS84 公式、由该基准下给出的基站解算的 GNSS 结果，基线偏长 "
+        "{scale_ppm:+.1f} ppm（距基站 5 km 处 {at_5km_mm:+.0f} mm）：长度与里程相应偏长，绝对位置需要公共点"
+        "（[geodesy.local]）或在该椭球上解算的结果",
+    "{label}: {count} gauge reading(s) more than {offset_mm:.0f} mm from the median {median_mm:.1f} mm removed as "
+    "outliers ({listed}{more})":
+        "{label}：{count} 个轨距读数偏离中位数 {median_mm:.1f} mm 超过 {offset_mm:.0f} mm，作为粗差剔除（{listed}{more}）",
+    " and {more} more": "，另有 {more} 个",
+    "{sleepers}: the sleeper pulses lie {scatter_pct:.1f} % (RMS) off whole sleeper spacings along the odometer "
+    "({odometer}), more than sleepers are laid to: a file of another run, or a detector that misses, doubles or "
+    "delays pulses":
+        "{sleepers}：轨枕脉冲沿里程计（{odometer}）偏离整数轨枕间距 {scatter_pct:.1f} %（RMS），超过轨枕铺设的精度："
+        "可能是另一次测量的文件，或检测器漏计、重计或延迟脉冲",
+    "its time stamps run {seconds:.2f} s late against the IMU's clock (±{sigma_s:.2f} s, from {method}{given})":
+        "其时间标记比 IMU 时钟晚 {seconds:.2f} s（±{sigma_s:.2f} s，由{method}求得{given}）",
+    "its time stamps run {seconds:.2f} s early against the IMU's clock (±{sigma_s:.2f} s, from {method}{given})":
+        "其时间标记比 IMU 时钟早 {seconds:.2f} s（±{sigma_s:.2f} s，由{method}求得{given}）",
+    "; after the time_offset_s = {given_s:g} s given": "；已计入给定的 time_offset_s = {given_s:g} s",
+    "{label}: {text}: check the time synchronisation, or give the offset as time_offset_s = {offset_s:.2f} in "
+    "[files.{role}] of survey.toml if it is the sensor's latency":
+        "{label}：{text}：请检查时间同步；若为传感器的延迟，请在 survey.toml 的 [files.{role}] 中给出 time_offset_s = "
+        "{offset_s:.2f}",
+    "its acceleration against the IMU's, r = {r:.3f}": "其加速度与 IMU 加速度的相关（r = {r:.3f}）",
+    "its speed against the odometer's, r = {r:.3f}{added}": "其速度与里程计速度的相关（r = {r:.3f}）{added}",
+    "the spacing of its pulses along the odometer{added}": "其脉冲沿里程计的间距{added}",
+    ", the odometer's offset against the IMU added": "，并加上里程计相对 IMU 的时差",
+    "the odometer's and the GNSS's accelerations and speeds, which agree": "里程计与 GNSS 一致的加速度和速度",
+    # heights, the GNSS solution, control
+    "height anomaly extrapolated at {count} of {total} points: chainage {from_m:.1f} to {to_m:.1f} m is outside the "
+    "benchmarks' span {lo_m:.1f} to {hi_m:.1f} m (up to {beyond_m:.1f} m beyond)":
+        "{total} 个点中 {count} 个的高程异常为外推：里程 {from_m:.1f} 至 {to_m:.1f} m 超出水准点范围 {lo_m:.1f} 至 {hi_m:.1f} m"
+        "（最远超出 {beyond_m:.1f} m）",
+    "height anomaly extrapolated at {count} of {total} points: the benchmarks have no 2-D hull (collinear), so every "
+    "point off their line is extrapolated":
+        "{total} 个点中 {count} 个的高程异常为外推：水准点共线，无二维凸包，偏离其连线的点均为外推",
+    "height anomaly extrapolated at {count} of {total} points: they lie outside the benchmarks' convex hull, up to "
+    "{beyond_m:.1f} m beyond it":
+        "{total} 个点中 {count} 个的高程异常为外推：这些点位于水准点凸包之外，最远超出 {beyond_m:.1f} m",
+    "control point {point}: {warning}": "控制点 {point}：{warning}",
+    "base position from the RTKLIB options: ant2-postype = {postype}": "基站位置取自 RTKLIB 选项：ant2-postype = {postype}",
+    "base position from the RINEX header of {file} (APPROX POSITION XYZ {xyz}): approximate, metre level; every rover "
+    "position carries its error. Give the control point's coordinates for survey work.":
+        "基站位置取自 {file} 的 RINEX 文件头（APPROX POSITION XYZ {xyz}）：为米级近似值，每个流动站位置都带有该误差。"
+        "测量作业请给出控制点坐标。",
+    "baseline {baseline_km:.1f} km is longer than the {short_km:.0f} km of short-baseline PPK: expect slower fixing and "
+    "larger errors; use a nearer base":
+        "基线 {baseline_km:.1f} km 超过短基线 PPK 的 {short_km:.0f} km：固定将更慢、误差更大；请使用更近的基站",
+    "local control point {point}: the other points predict it {off_mm:.1f} mm off (leave-one-out; E/N/H {enh} mm): "
+    "check its coordinates in [geodesy.local.points]":
+        "局部控制点 {point}：其余各点推算其偏差 {off_mm:.1f} mm（留一法；E/N/H {enh} mm）：请检查其在 "
+        "[geodesy.local.points] 中的坐标",
+    "set-up {setup} (line {line}): CPIII point {point} does not fit (leave-one-out residual {plan_mm:.1f} mm in plan, "
+    "{height_mm:.1f} mm in height, {ratio:.1f} times the limit of the test against its 1-sigma): left out; check its "
+    "coordinates":
+        "设站 {setup}（第 {line} 行）：CPIII 点 {point} 不符（留一法残差平面 {plan_mm:.1f} mm、高程 {height_mm:.1f} mm，"
+        "为按其 1σ 检验限值的 {ratio:.1f} 倍）：已剔除；请检查其坐标",
+    "the run goes on {run_m:.0f} m {where} prism fix (at {time_s:.1f} s) with no GNSS: the sleepers there rest on the "
+    "INS and the odometer alone, their position 1-sigma growing with the distance (sleepers.csv, quality.csv); start "
+    "and end a survey without GNSS on a fix":
+        "测量在无 GNSS 的情况下于棱镜定位点（{time_s:.1f} s）{where}继续行进 {run_m:.0f} m：该段轨枕仅依靠惯导与里程计，"
+        "其位置 1σ 随距离增大（sleepers.csv、quality.csv）；无 GNSS 的测量应在定位点上开始和结束",
+    "{count} total-station prism fix(es) placed by project {project} ({crs})":
+        "由项目 {project}（{crs}）放置了 {count} 个全站仪棱镜定位点",
+    # the track
+    "{checks} not checked at {count} sleepers between {from_m:.1f} m and {to_m:.1f} m: {what}":
+        "{checks} 在 {from_m:.1f} m 至 {to_m:.1f} m 之间的 {count} 根轨枕处未检查：{what}",
+    "no line speed ([track] line_speed_kmh in project.toml)": "无线路速度（project.toml 的 [track] line_speed_kmh）",
+    "no curvature (no design alignment and no fitted line there)": "无曲率（该处无设计线形，也无拟合线形）",
+    "no line-type fit over {where} (no fitted alignment, no deviations \"measured - best\"): {error}":
+        "{where}无线形拟合（无拟合线形，无“实测 − 最优”偏差）：{error}",
+    "{check}: not assessable at the stated 1-sigma {sigma_mm:.2f} mm (quality.csv) against its limit {limit_mm:.1f} mm "
+    "(the survey's noise alone would cross it) over {where}: {sleepers} sleepers not assessed for it, {exceedances} "
+    "exceedances there not listed; a better IMU, slower pushing or more control makes it assessable":
+        "{check}：在 {where} 所述 1σ {sigma_mm:.2f} mm（quality.csv）相对其限值 {limit_mm:.1f} mm 不可评估（仅测量噪声即可"
+        "超限）：{sleepers} 根轨枕未就此评估，该处 {exceedances} 处超限未列出；更好的 IMU、更慢的推行速度或更多控制点可使其"
+        "可评估",
+    "relative survey: the {check} check cannot be assessed in {count} of {sections} sections, where the stated 1-sigma "
+    "of its error exceeds 1/{sigmas:g} of its {limit_mm:g} mm limit: {where}; its exceedances there are not measured "
+    "ones":
+        "相对测量：{check} 检查在 {sections} 个区段中的 {count} 个不可评估，这些区段所述误差 1σ 超过其 {limit_mm:g} mm 限值的 "
+        "1/{sigmas:g}：{where}；这些区段的超限并非实测所得",
+    "{from_m:.0f}-{to_m:.0f} m ({sigma_mm:.2f} mm)": "{from_m:.0f}-{to_m:.0f} m（{sigma_mm:.2f} mm）",
+    "{from_m:.0f}-{to_m:.0f} m (too short for its lag)": "{from_m:.0f}-{to_m:.0f} m（短于其滞后距离）",
+    "runs {runs} differ by {rms_mm:.2f} mm RMS in {parameter} over their overlap ({from_m:.0f}-{to_m:.0f} m), more than "
+    "{sigmas:g} x the predicted {predicted_mm:.2f} mm":
+        "测次 {runs} 在重叠段（{from_m:.0f}-{to_m:.0f} m）的 {parameter} 相差 {rms_mm:.2f} mm RMS，超过预计 "
+        "{predicted_mm:.2f} mm 的 {sigmas:g} 倍",
+    # the parameters a survey plan sweeps (insrail.names.QUANTITY_NAMES)
+    "Gyro bias": "陀螺零偏",
+    "Accelerometer bias": "加速度计零偏",
+    "Gyro angle random walk": "陀螺角度随机游走",
+    "Accelerometer velocity random walk": "加速度计速度随机游走",
+    "GNSS position 1σ": "GNSS 定位 1σ",
+    "Pushing speed": "推行速度",
+    # how a GNSS base's coordinates were found (insrail.project.control_points, the PPK view)
+    "geodetic coordinates from the project": "项目中的大地坐标",
+    "engineering E/N through the CRS; h = H + zeta = {normal_m:.4f} m {zeta_m:+.4f} m (height anomaly model {model})":
+        "工程坐标 E/N 经坐标系换算；h = H + ζ = {normal_m:.4f} m {zeta_m:+.4f} m（高程异常模型 {model}）",
+    "engineering E/N through the CRS; no benchmarks in the project: H taken as ellipsoidal":
+        "工程坐标 E/N 经坐标系换算；项目无水准点：H 作为椭球高",
+    "APPROX POSITION XYZ of {file}: metre level": "{file} 的 APPROX POSITION XYZ：米级",
+    # the fusion's integrity (summary.toml [fusion.integrity] summary)
+    "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{missed}"
+    "{inconsistent}": "{sections} 个 {section_m:.0f} m 区段中 {consistent} 个与其 1σ 一致{bad}{resets}{missed}{inconsistent}",
+    "; not valid: {share_pct:.0f} % of the length": "；无效：占长度的 {share_pct:.0f} %",
+    "; {count} filter reset(s)": "；滤波器重置 {count} 次",
+    "; {count} position fix(es) missed by the trajectory beyond their 1-sigma ({share_pct:.0f} % of the length)":
+        "；轨迹偏离 {count} 个定位点超过其 1σ（占长度的 {share_pct:.0f} %）",
 }

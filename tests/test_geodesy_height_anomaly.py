@@ -109,13 +109,13 @@ def test_warnings_for_points_outside_hull_and_chainage_span():
     far_e, far_n = corridor_point(np.array([5000.0, 5000.0]), np.array([0.0, 2000.0]))
     assert plane.warnings_for(far_e[:1], far_n[:1]) == []
     (message,) = plane.warnings_for(far_e, far_n)
-    assert "1 of 2 points" in message and "convex hull" in message
+    assert "1 of 2 points" in str(message) and "convex hull" in str(message)
 
     spline = fit_height_anomaly(en, zeta, model="spline", chainage_m=chainage)
     beyond = np.array([chainage[0] + 10.0, chainage[-1] + 500.0])
     e, n = corridor_point(beyond, 0.0)
     (message,) = spline.warnings_for(e, n, beyond)
-    assert "1 of 2 points" in message and "outside the benchmarks' span" in message
+    assert "1 of 2 points" in str(message) and "outside the benchmarks' span" in str(message)
     # beyond the end benchmarks the spline continues along its end tangent, not as a cubic
     s = chainage[-1] + np.array([100.0, 200.0, 300.0])
     assert np.diff(spline.zeta_m(None, None, s), 2) == pytest.approx(0.0, abs=1e-12)

@@ -68,7 +68,8 @@ def test_plan_survey_sweep_table_and_plot(window, qtbot):
     dialog = window.plan_survey()
     dialog.length.setValue(200.0)
     dialog.smoothed.setCurrentIndex(1)  # forward filter
-    dialog.sweep.setCurrentText("speed")
+    dialog.sweep.setCurrentIndex(dialog.sweep.findData("speed"))
+    assert dialog.sweep.currentText() == "Pushing speed"  # the parameter in words (insrail.names)
     assert dialog.sweep_values.placeholderText().startswith("0.25 0.5 1 2 5")
     dialog.sweep_values.setText("1 x")
     assert dialog.run() is None and "sweep values" in dialog.message.text()

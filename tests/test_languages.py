@@ -128,3 +128,67 @@ def test_the_embedded_font_has_every_character_of_the_chinese_texts():
     shown = set(TTFontFile(str(resource(*CJK_FONT_FILE))).charToGlyph)
     missing = {c for text in ZH_CN.values() for c in text if ord(c) > 0x7F and ord(c) not in shown}
     assert not missing, "".join(sorted(missing))
+
+
+def _literals(node) -> list[str] | None:
+    """The string literals a template argument can take (a literal, or either side of ``a if c else b``);
+    None for anything else (an f-string, a concatenation, a variable)."""
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return [node.value]
+    if isinstance(node, ast.IfExp):
+        body, orelse = _literals(node.body), _literals(node.orelse)
+        return None if body is None or orelse is None else body + orelse
+    return None
+
+
+def notice_templates() -> tuple[dict[str, str], list[str]]:
+    """Every template of a notice (insrail.notices): the literal message of ``Notice(...)`` (and its stage) and the
+    literal template of ``Phrase(...)``: text -> where; and where a notice's message is an f-string or a
+    concatenation (an English sentence no table can translate). A message or template given by a variable or a
+    call is a Phrase made elsewhere (walked there) or a word of :func:`phrase_vocabulary`."""
+    found, sentences = {}, []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("Notice", "Phrase")):
+                continue
+            where = f"{path.relative_to(PACKAGE.parent)}:{node.lineno}"
+            arguments = list(node.args) + [k.value for k in node.keywords if k.arg in ("message", "template")]
+            if node.func.id == "Notice":
+                stage, arguments = _literals(node.args[0]) if node.args else None, arguments[1:]
+                for text in stage or ():
+                    found.setdefault(text, where)
+            if not arguments:
+                continue
+            texts = _literals(arguments[0])
+            if texts is None and isinstance(arguments[0], (ast.JoinedStr, ast.BinOp)):
+                sentences.append(where)
+            for text in texts or ():
+                found.setdefault(text, where)
+    return {text: where for text, where in found.items() if text}, sentences
+
+
+def phrase_vocabulary() -> set[str]:
+    """The words a Phrase takes from a variable: the aiding sources, the states a filter reset widens, the IMU's
+    axes of mounting and their reasons, an IMU outlier's reasons, a check's directions."""
+    from insrail.nav import measurements
+    from insrail.nav.fusion import RESET_STATES
+    from insrail.nav.imu_screening import OUTLIER_REASONS
+    from insrail.nav.mounting import AXES
+
+    sources = {cls.name for cls in vars(measurements).values()
+               if isinstance(cls, type) and isinstance(getattr(cls, "name", None), str)}
+    return (sources | {label for label, _, _ in RESET_STATES} | set(AXES) | set(OUTLIER_REASONS)
+            | set(names.DIRECTION_NAMES) | {"{stage}: {message}"}) - {""}
+
+
+def test_every_notice_is_a_template_with_its_chinese():
+    """A notice reaches the PDF and the workbook: its message is a template (never an f-string: its numbers and
+    names go in ``fields``) and every template, stage and word of it has its Chinese (insrail/notices.py)."""
+    templates, sentences = notice_templates()
+    assert not sentences, "notices written as f-strings or concatenations (make them templates):\n" + "\n".join(sentences)
+    assert len(templates) > 80  # the walk finds them (the package has over a hundred)
+    missing = {text: where for text, where in templates.items() if text not in ZH_CN}
+    missing |= {text: "a word of a phrase (test_languages.phrase_vocabulary)" for text in phrase_vocabulary()
+                if text not in ZH_CN}
+    assert not missing, "no Chinese in insrail/names_zh.py for:\n" + "\n".join(
+        f"  {where}: {text!r}" for text, where in sorted(missing.items(), key=lambda item: item[1]))

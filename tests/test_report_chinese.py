@@ -7,6 +7,7 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
+import tomllib
 from dataclasses import replace
 
 import openpyxl
@@ -30,9 +31,41 @@ LATIN = {"insrail", "mm", "km", "ppm", "ft", "deg", "sqrt", "GPST", "Synthetic",
 WORD = re.compile(r"[A-Za-z][A-Za-z_.\d]*[a-z][A-Za-z_.\d]*")
 
 
+def processing_notices() -> list[dict]:
+    """Notices as the pipeline's stages make them (summary.toml's ``[[notices]]``), one of each kind of field:
+    numbers, a file name, phrases within phrases, a list of phrases, a key of survey.toml."""
+    import numpy as np
+
+    from insrail.geodesy.height_anomaly import fit_height_anomaly
+    from insrail.nav.fusion import FilterReset, GapReturn
+    from insrail.nav.imu_screening import Outlier
+    from insrail.nav.mounting import MountingEstimate
+    from insrail.notices import Notice
+    from insrail.project.mounting_stage import mounting_notices
+
+    reset = FilterReset(230100.0, "gnss_position", 4.0, 20, 230096.0, ("odometer_nhc",), ("position", "velocity"), (1.0,) * 6,
+                        0.02)
+    gap = GapReturn("gnss_position", 230200.0, 230230.0, (0.3, 0.3, 0.5), (0.01, 0.01, 0.01))
+    outlier = Outlier(230300.0, 41, "angular rate", "z", 2.0, 0.01, "spike")
+    mounting = MountingEstimate(np.zeros(3), np.radians([0.0, 0.5, 0.0]), np.radians([np.nan, 0.02, 0.05]),
+                                {"roll": "no design cant to compare the cant with"})
+    rng = np.random.default_rng(1)
+    benchmarks = rng.uniform(0.0, 1000.0, (6, 2))
+    heights = fit_height_anomaly(benchmarks, 0.001 * benchmarks[:, 0], model="plane")
+    notices = [Notice("fusion", reset.message(), time_s=reset.time_s), Notice("fusion", gap.message(), severity="info"),
+               Notice("imu", outlier.describe("imu.txt"), file="imu.txt", time_s=outlier.time_s),
+               *mounting_notices(mounting, "survey.toml"),
+               *(Notice("heights", w) for w in heights.warnings_for(np.array([5000.0]), np.array([5000.0])))]
+    return [notice.to_dict() for notice in notices]
+
+
 @pytest.fixture(scope="module")
 def chinese(tmp_path_factory):
     project = processed_project(tmp_path_factory.mktemp("zh"))
+    results = stored(project)
+    summary = tomllib.loads((results.folder / "summary.toml").read_text(encoding="utf-8"))
+    summary["notices"] = processing_notices()
+    (results.folder / "summary.toml").write_bytes(summary_toml(summary))
     return replace(project, report=ReportSettings(language="zh-CN"))
 
 
@@ -42,8 +75,10 @@ def pdf_text(path) -> str:
 
 
 def english_words(text: str) -> set[str]:
-    """Words in Latin letters with a lower-case letter (abbreviations in capitals are names) not allowed."""
-    return {word for word in WORD.findall(text) if word.split(".")[0] not in LATIN and word not in LATIN}
+    """Words in Latin letters with a lower-case letter (abbreviations in capitals are names) not allowed; a word
+    with an underscore or a dot is a key or a file name (``trolley.mounting_rpy_deg``, ``imu.txt``), as written."""
+    return {word for word in WORD.findall(text) if word.split(".")[0] not in LATIN and word not in LATIN
+            and "_" not in word and "." not in word}
 
 
 @pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdffonts") is None,
@@ -53,7 +88,7 @@ def test_a_chinese_pdf_uses_the_standard_terms_embeds_its_font_and_has_no_englis
     text = pdf_text(path)
     for term in TERMS + ("轨道几何测量报告", "结论", "超限", "左轨", "右轨", "第 1 页"):
         assert term in text, term
-    # the notices of processing are the pipeline's own words (English, as the CLI prints them)
+    assert "滤波器重置" in text and "作为粗差剔除" in text and "高程异常为外推" in text  # the notices, in Chinese
     assert english_words(text) == set()
     fonts = subprocess.run(["pdffonts", str(path)], capture_output=True, text=True, check=True).stdout
     cjk = [line for line in fonts.splitlines() if "WenQuanYi" in line]
@@ -71,9 +106,15 @@ def test_a_chinese_workbook_has_chinese_sheets_headers_and_notes(chinese, tmp_pa
                  "扭曲（三角坑）", "轨距变化率", "调整量", "里程", "导向轨", "轨枕编号"):
         assert term in sleepers, term
     assert "调整量" in texts["调整"] and "作业段" in texts["调整"]
-    # the processing log lists summary.toml's and project.toml's keys as the files write them
     for title in ("汇总", "轨枕", "调整", "材料", "超限"):
         assert english_words(texts[title]) == set(), title
+    # the processing log: summary.toml's and project.toml's keys as the files write them, their values and the
+    # notices in Chinese
+    log = [(key, value) for key, value in book["处理记录"].iter_rows(min_row=1, max_col=2, values_only=True)]
+    values = " ".join(value for _, value in log  # a sentence: not an id, a path or a list of ids ("a; b")
+                      if isinstance(value, str) and " " in value.replace("; ", ""))
+    assert "滤波器重置" in values and "安装角" in values
+    assert english_words(values) == set()
 
 
 USER_PROJECT = """[project]

@@ -225,8 +225,9 @@ def _prism_fixes(survey, project_path: Path | None):
         return survey, None, project.crs.reference_ellipsoid, []
     survey, placed = with_total_station_fixes(survey)
     fixes = prism_fixes(project, survey.prism, survey.manifest.trolley, fit_heights(project))
-    placed = [*placed, Notice("fuse", f"{len(fixes.time_s)} total-station prism fix(es) placed by project "
-                                      f"{project.name} ({project.crs.describe()})", severity="info")]
+    placed = [*placed, Notice("fuse", "{count} total-station prism fix(es) placed by project {project} ({crs})",
+                              severity="info", fields={"count": len(fixes.time_s), "project": project.name,
+                                                       "crs": project.crs.describe()})]
     return survey, fixes, project.crs.reference_ellipsoid, placed
 
 

@@ -35,6 +35,7 @@ from insrail.geodesy._validation import Problems
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import FitError, GeodesyError
 from insrail.geodesy.geoid import GeoidGrid, PlaneGeoid
+from insrail.notices import Phrase
 
 if TYPE_CHECKING:  # scipy.interpolate and scipy.spatial are imported when a model is fitted, not by
     from scipy.interpolate import CubicSpline  # the project model and the reports that only name them
@@ -157,7 +158,7 @@ class HeightAnomalyFit:
             return (s < self.benchmark_chainage_m.min()) | (s > self.benchmark_chainage_m.max())
         return _hull_excess_m(self.benchmarks_en, east_m, north_m) > _HULL_TOLERANCE_M
 
-    def warnings_for(self, east_m, north_m, chainage_m=None) -> list[str]:
+    def warnings_for(self, east_m, north_m, chainage_m=None) -> list[Phrase]:
         """Warnings for the points where ζ is extrapolated (empty when all are covered)."""
         outside = self.extrapolation_mask(east_m, north_m, chainage_m)
         if not outside.any():
@@ -167,15 +168,16 @@ class HeightAnomalyFit:
             s = np.asarray(chainage_m, dtype=float)[outside]
             lo, hi = self.benchmark_chainage_m.min(), self.benchmark_chainage_m.max()
             beyond = max(lo - s.min(), s.max() - hi)
-            return [f"height anomaly extrapolated at {count} of {total} points: chainage {s.min():.1f} to "
-                    f"{s.max():.1f} m is outside the benchmarks' span {lo:.1f} to {hi:.1f} m "
-                    f"(up to {beyond:.1f} m beyond)"]
+            return [Phrase("height anomaly extrapolated at {count} of {total} points: chainage {from_m:.1f} to {to_m:.1f} m "
+                           "is outside the benchmarks' span {lo_m:.1f} to {hi_m:.1f} m (up to {beyond_m:.1f} m beyond)",
+                           {"count": count, "total": total, "from_m": s.min(), "to_m": s.max(), "lo_m": lo, "hi_m": hi,
+                            "beyond_m": beyond})]
         excess = _hull_excess_m(self.benchmarks_en, east_m, north_m)[outside]
         if np.isinf(excess).all():
-            return [f"height anomaly extrapolated at {count} of {total} points: the benchmarks have no "
-                    "2-D hull (collinear), so every point off their line is extrapolated"]
-        return [f"height anomaly extrapolated at {count} of {total} points: they lie outside the "
-                f"benchmarks' convex hull, up to {excess.max():.1f} m beyond it"]
+            return [Phrase("height anomaly extrapolated at {count} of {total} points: the benchmarks have no 2-D hull "
+                           "(collinear), so every point off their line is extrapolated", {"count": count, "total": total})]
+        return [Phrase("height anomaly extrapolated at {count} of {total} points: they lie outside the benchmarks' convex "
+                       "hull, up to {beyond_m:.1f} m beyond it", {"count": count, "total": total, "beyond_m": excess.max()})]
 
     def report(self) -> str:
         """Plain-text summary for the processing log and reports."""

@@ -39,6 +39,7 @@ from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.timescale import calendar_to_week_seconds
 from insrail.io.types import GnssSolution
 from insrail.nav.earth import ecef_to_geodetic, geodetic_to_ecef
+from insrail.notices import Phrase
 from insrail.progress import Cancelled, CancelToken, ProgressFn, StepProgress, is_cancelled
 
 # insrail reads lat/lon/height .pos files with RTKLIB's header; the user cannot change these.
@@ -147,7 +148,7 @@ class PpkResult:
     base: RinexObsInfo
     base_from_header: bool
     baseline_m: float | None
-    warnings: tuple[str, ...]
+    warnings: tuple[Phrase, ...]
     elapsed_s: float
 
 
@@ -284,27 +285,29 @@ def _base_options(options: dict[str, str], rover: RinexObsInfo, base: RinexObsIn
     if forced:
         raise OptionError(f"insrail needs {FORCED_OUTPUT_OPTIONS}: cannot use {forced}")
     options.update(FORCED_OUTPUT_OPTIONS)
-    notes: list[str] = []
+    notes: list[Phrase] = []
     if base_position is not None:
         options.update(base_position.rtklib_options())
     elif options.get("ant2-postype", "rinexhead") not in ("rinexhead", "4"):
-        notes.append(f"base position from the RTKLIB options: ant2-postype = {options['ant2-postype']}")
+        notes.append(Phrase("base position from the RTKLIB options: ant2-postype = {postype}",
+                            {"postype": str(options["ant2-postype"])}))
     else:
         if base.approx_position_ecef_m is None:
             raise InputError(base_obs, None, "unknown base position: the RINEX header has no APPROX POSITION XYZ; "
                              "give the base position (control point coordinates)")
         options["ant2-postype"] = "rinexhead"
-        message = (f"base position from the RINEX header of {base_obs.name} (APPROX POSITION XYZ "
-                   f"{base.approx_position_ecef_m}): approximate, metre level; every rover position "
-                   "carries its error. Give the control point's coordinates for survey work.")
-        warnings.warn(message, ApproximateBaseWarning, stacklevel=3)
+        message = Phrase("base position from the RINEX header of {file} (APPROX POSITION XYZ {xyz}): approximate, "
+                         "metre level; every rover position carries its error. Give the control point's coordinates "
+                         "for survey work.", {"file": base_obs.name, "xyz": str(base.approx_position_ecef_m)})
+        warnings.warn(str(message), ApproximateBaseWarning, stacklevel=3)
         notes.append(message)
     base_from_header = options.get("ant2-postype") in ("rinexhead", "4")
     baseline_m = _baseline_m(rover, base, base_position)
     if baseline_m is not None and baseline_m > MAX_SHORT_BASELINE_M:
-        message = (f"baseline {baseline_m / 1e3:.1f} km is longer than the {MAX_SHORT_BASELINE_M / 1e3:.0f} km "
-                   "of short-baseline PPK: expect slower fixing and larger errors; use a nearer base")
-        warnings.warn(message, LongBaselineWarning, stacklevel=3)
+        message = Phrase("baseline {baseline_km:.1f} km is longer than the {short_km:.0f} km of short-baseline PPK: "
+                         "expect slower fixing and larger errors; use a nearer base",
+                         {"baseline_km": baseline_m / 1e3, "short_km": MAX_SHORT_BASELINE_M / 1e3})
+        warnings.warn(str(message), LongBaselineWarning, stacklevel=3)
         notes.append(message)
     return options, notes, base_from_header, baseline_m
 

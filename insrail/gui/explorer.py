@@ -91,10 +91,11 @@ class ProjectExplorer(QTreeWidget):
             if not path.is_file():
                 continue
             stale = report_is_stale(path, self.project.folder, survey)
-            item = self._item(results, f"⚠ {path.name} (older than the results)" if stale else path.name,
-                              ("report", (survey, path)))
-            item.setToolTip(0, "written before the survey was processed again: it describes results that no longer "
-                               "exist" if stale else f"written from the current results: {path.resolve()}")
+            item = self._item(results, tr("⚠ {name} (older than the results)").format(name=path.name) if stale
+                              else path.name, ("report", (survey, path)))
+            item.setToolTip(0, tr("written before the survey was processed again: it describes results that no longer "
+                                  "exist") if stale else
+                            tr("written from the current results: {path}").format(path=path.resolve()))
 
     def mark_reports(self) -> None:
         """List and mark the reports again (written, or made out of date by processing)."""

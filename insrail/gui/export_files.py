@@ -49,7 +49,8 @@ def _chosen_path(window, what: str, default: Path, file_filter: str, suffix: str
     """``path``, or the file the user picks (the dialog starts at ``default``), ending in ``.suffix``."""
     if path is None:
         default.parent.mkdir(exist_ok=True)  # the dialog opens in the project's reports folder
-        path, _ = QFileDialog.getSaveFileName(window, f"Export the {what.lower()} of {window.shown_survey}",
+        path, _ = QFileDialog.getSaveFileName(window, tr("Export the {what} of {survey}").format(
+                                                  what=what.lower(), survey=window.shown_survey),
                                               str(default), file_filter)
         if not path:
             return None
@@ -75,7 +76,7 @@ def _start_writing(window, survey: str, subject: str, message: str, write: Calla
     worker = TaskWorker(subject, task, window)
     worker.succeeded.connect(window._exported)
     worker.cancelled.connect(window._export_cancelled)
-    return window._start(worker, message, "Export failed")
+    return window._start(worker, message, tr("Export failed"))
 
 
 def export_report(window, kind: str, path: str | Path | None = None):
@@ -88,7 +89,7 @@ def export_report(window, kind: str, path: str | Path | None = None):
     path = _chosen_path(window, what, report_path(project.folder, survey, kind), file_filter, kind, path)
     if path is None:
         return None
-    return _start_writing(window, survey, f"{what} {path}", f"exporting the {what.lower()} of {survey} to {path}",
+    return _start_writing(window, survey, f"{what} {path}", tr("exporting the {what} of {survey} to {path}").format(what=what.lower(), survey=survey, path=path),
                           lambda progress, cancel: writer(project, stored, path, progress, cancel))
 
 
@@ -109,7 +110,7 @@ def export_file(window, format_name: str, path: str | Path | None = None):
         progress(0.0, f"writing {path.name}")
         return write_export(project, stored, format_name, path)
 
-    return _start_writing(window, survey, f"{what} {path}", f"exporting the {what.lower()} of {survey} to {path}",
+    return _start_writing(window, survey, f"{what} {path}", tr("exporting the {what} of {survey} to {path}").format(what=what.lower(), survey=survey, path=path),
                           write)
 
 

@@ -47,9 +47,11 @@ from insrail.io.survey import (
     write_manifest,
 )
 from insrail.resources import resources_dir
-from insrail.gui.translation import tr
+from insrail.gui.translation import tr, tr_noop
 
 PREVIEW_LINES = 12
+#: What a reader's error counts in (InputError.unit) as the status column says it; the message is the reader's
+READ_UNITS = {"line": tr_noop("line"), "row": tr_noop("row")}
 _ROLE_OF_TYPE = {data_type: role for role, data_type in ROLE_TYPES.items()}
 _FILE, _ROLE, _FORMAT, _STATUS = range(4)
 
@@ -273,7 +275,9 @@ class ImportWidget(QWidget):
                     weeks.add(getattr(data, "gps_week", None))
                 except InputError as error:
                     problems.append(Problem(error.path.name, error.line, error.message))
-                    status = f"{error.unit} {error.line}: {error.message}" if error.line else error.message
+                    status = (tr("{unit} {line}: {message}").format(unit=tr(READ_UNITS.get(error.unit, error.unit)),
+                                                                     line=error.line, message=error.message)
+                              if error.line else error.message)
             self.files.item(row, _STATUS).setText(status)
         weeks.discard(None)
         if self.gps_week.value() == 0 and len(weeks) == 1:

@@ -309,7 +309,8 @@ class MainWindow(QMainWindow):
         return self.settings_editor
 
     def _settings_saved(self, project: Project) -> None:
-        self.log.info(f"settings saved to {project.path.resolve()}; {self.settings_editor.rerun.text()}")
+        self.log.info(tr("settings saved to {path}; {rerun}").format(path=project.path.resolve(),
+                                                                     rerun=self.settings_editor.rerun.text()))
         self.set_project(project, modified=self.modified)  # the editor stays open on the saved project
 
     def _fill_recent(self) -> None:
@@ -384,7 +385,7 @@ class MainWindow(QMainWindow):
         remember_project(self.settings, project.path)
         self._fill_recent()
         self.explorer.set_project(project)
-        self.log.info(f"project {project.name}: {project.path.resolve()}")
+        self.log.info(tr("project {name}: {path}").format(name=project.name, path=project.path.resolve()))
         self.results.clear()
         self.shown_survey = None
         self._clear_views()
@@ -407,7 +408,7 @@ class MainWindow(QMainWindow):
             return False
         self.modified = False
         self._update_title()
-        self.log.info(f"saved {self.project.path.resolve()}")
+        self.log.info(tr("saved {path}").format(path=self.project.path.resolve()))
         return True
 
     def import_survey(self) -> ImportDialog | None:
@@ -436,7 +437,7 @@ class MainWindow(QMainWindow):
             QMessageBox.warning(self, tr("Cannot add the survey"), "\n".join(error.problems))
             return False
         self.set_project(updated, modified=True)
-        self.log.info(f"survey {name} imported from {folder.resolve()}")
+        self.log.info(tr("survey {name} imported from {folder}").format(name=name, folder=folder.resolve()))
         return True
 
     # ------------------------------------------------------------------ processing
@@ -453,7 +454,7 @@ class MainWindow(QMainWindow):
         return self._start(worker, f"processing {', '.join(names)}", tr("Processing failed"))
 
     def _processing_cancelled(self) -> None:
-        self.log.warning("processing cancelled; previous results kept")
+        self.log.warning(tr("processing cancelled; previous results kept"))
 
     def _start(self, worker: CoreWorker, message: str, failure_title: str) -> CoreWorker:
         """Run a core job with the status bar's progress and Cancel; one job at a time."""
@@ -493,12 +494,12 @@ class MainWindow(QMainWindow):
         folder = self.project.folder / RESULTS_FOLDER / name
         summary = read_toml(folder / SUMMARY_FILE)
         for notice in notices_of(summary):
-            self.log.warning(f"{name}: {notice.text()}")
+            self.log.warning(f"{name}: {notice.said()}")  # in the application's language
         for path in stale_reports(self.project.folder, name):
-            self.log.warning(f"{name}: {path.name} is older than these results: the banner over the views "
-                             "writes it again")
-        self.log.info(f"{name}: {summary['assessment']['exceedances']} exceedances, results in "
-                      f"{folder.resolve()}")
+            self.log.warning(tr("{survey}: {file} is older than these results: the banner over the views writes it "
+                                "again").format(survey=name, file=path.name))
+        self.log.info(tr("{survey}: {count} exceedances, results in {folder}").format(
+            survey=name, count=summary["assessment"]["exceedances"], folder=folder.resolve()))
 
     def _failed(self, message: str) -> None:
         self._warn(self.job_failure_title, message)
@@ -681,12 +682,12 @@ class MainWindow(QMainWindow):
 
     def _exported(self, path: Path) -> None:
         self.exported = path
-        self.log.info(f"written {path.resolve()}")
+        self.log.info(tr("written {path}").format(path=path.resolve()))
         self.done_message = tr("Written {name} in {folder}").format(name=path.name, folder=path.parent.resolve())
         self.open_folder_button.show()
 
     def _export_cancelled(self) -> None:
-        self.log.warning("export cancelled; nothing written")
+        self.log.warning(tr("export cancelled; nothing written"))
 
     def open_export_folder(self) -> None:
         """Open the folder of the last exported report in the desktop's file manager."""
@@ -745,15 +746,15 @@ class MainWindow(QMainWindow):
 
     def _gnss_done(self, stage: GnssStageResult) -> None:
         summary = stage.summary(self.project.fusion.gnss_quality_policy)
-        source = " (from the cache)" if stage.from_cache else " (computed now)"
+        source = tr(" (from the cache)") if stage.from_cache else tr(" (computed now)")
         self.gnss.set_ppk(PpkView(stage.report, stage.solution, summary), source)
-        self.log.info(f"GNSS of {self.gnss.survey.currentText()}: fix rate {100.0 * stage.qc.fix_rate:.1f} % of "
-                      f"{stage.qc.epochs} epochs{source}")
-        for warning in stage.report["warnings"]:
-            self.log.warning(warning)
+        self.log.info(tr("GNSS of {survey}: fix rate {rate:.1f} % of {epochs} epochs{source}").format(
+            survey=self.gnss.survey.currentText(), rate=100.0 * stage.qc.fix_rate, epochs=stage.qc.epochs, source=source))
+        for warning in stage.warnings():
+            self.log.warning(warning.said())
 
     def _gnss_cancelled(self) -> None:
-        self.log.warning("GNSS post-processing cancelled")
+        self.log.warning(tr("GNSS post-processing cancelled"))
 
     # ------------------------------------------------------------------ tools and help
 

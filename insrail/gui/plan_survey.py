@@ -40,6 +40,7 @@ from insrail.gui.choices import choose, chosen, fill
 from insrail.gui.forms import spin_box
 from insrail.gui.importer import shipped_names
 from insrail.gui.worker import TaskWorker
+from insrail.names import quantity_name
 from insrail.nav.fusion import FusionOptions
 from insrail.quality import GnssQuality, Prediction, SweepTable, predict, sweep
 from insrail.quality.sweep import PARAMETERS
@@ -127,17 +128,19 @@ class PlanSurveyDialog(QDialog):
         self.outage.setSpecialValueText(tr("none"))
         self.outage.setToolTip(tr("a GNSS outage of this duration in the middle of the run"))
         self.smoothed = QComboBox()
-        self.smoothed.addItems(["smoothed (RTS)", "forward filter"])
+        self.smoothed.addItems([tr("smoothed (RTS)"), tr("forward filter")])
         self.odometer = QCheckBox(tr("odometer"))
         self.nhc = QCheckBox(tr("non-holonomic constraint (NHC)"))
         self.zupt = QCheckBox(tr("zero-velocity updates at rest (ZUPT)"))
         for box in (self.odometer, self.nhc, self.zupt):
             box.setChecked(True)
         self.sweep = QComboBox()
-        self.sweep.addItems([NO_SWEEP, *SWEEP_VALUES])
+        self.sweep.addItem(tr("none"), NO_SWEEP)
+        for parameter in SWEEP_VALUES:  # the parameter's name in words, its id the item's data
+            self.sweep.addItem(quantity_name(parameter).name, parameter)
         self.sweep.setToolTip(tr("vary one parameter from the baseline, like the thesis's chapter 3"))
         self.sweep_values = QLineEdit()
-        self.sweep.currentTextChanged.connect(self._sweep_chosen)
+        self.sweep.currentIndexChanged.connect(lambda _: self._sweep_chosen(self.sweep.currentData()))
 
         form = QFormLayout()
         form.addRow(tr("IMU profile"), self.imu)
@@ -217,18 +220,20 @@ class PlanSurveyDialog(QDialog):
         if sweeping:
             unit = PARAMETERS[parameter][0]
             self.sweep_values.setPlaceholderText(f"{' '.join(f'{v:g}' for v in SWEEP_VALUES[parameter])}  [{unit}]")
-            self.sweep_values.setToolTip(f"values in {unit}, separated by spaces; empty: the typical range shown")
+            self.sweep_values.setToolTip(tr("values in {unit}, separated by spaces; empty: the typical range shown").format(
+                unit=unit))
 
     def inputs(self) -> PlanInputs:
         """The inputs as entered; ValueError names a field that cannot be read."""
-        parameter = self.sweep.currentText()
+        parameter = self.sweep.currentData()
         values: tuple[float, ...] = ()
         if parameter != NO_SWEEP:
             text = self.sweep_values.text().strip()
             try:
                 values = tuple(float(v) for v in re.split(r"[\s,;]+", text)) if text else SWEEP_VALUES[parameter]
             except ValueError:
-                raise ValueError(f"sweep values: expected numbers separated by spaces, found {text!r}") from None
+                raise ValueError(tr("sweep values: expected numbers separated by spaces, found {text}").format(
+                    text=repr(text))) from None
         return PlanInputs(
             imu=chosen(self.imu),
             gnss=GnssQuality(1e-3 * self.gnss_horizontal.value(), 1e-3 * self.gnss_vertical.value()),
@@ -308,7 +313,8 @@ class PlanSurveyDialog(QDialog):
         else:
             solution = tr("smoothed solution") if smoothed else tr("forward solution")
             self.heading.setText(tr("{solution}, 1 sigma [mm], {parameter} in {unit}; the plot shows 3 sigma against "
-                                    "the limits").format(solution=solution, parameter=result.parameter, unit=result.unit))
+                                    "the limits").format(solution=solution, parameter=quantity_name(result.parameter).name,
+                                                        unit=result.unit))
             rows = sweep_rows(result, smoothed, with_outage)
             self._fill_sweep(result, rows)
             self._plot_sweep(result, rows)
@@ -372,6 +378,6 @@ class PlanSurveyDialog(QDialog):
             item.addItem(pg.InfiniteLine(limit, angle=0, pen=plotstyle.LIMIT_PEN,
                                          label=f"{limit:g} mm", labelOpts={"position": 0.04, "color": "#C00000"}))
         item.setTitle(plotstyle.titled("3σ [mm]", [tr(label) for label in SWEEP_PLOT.values()]), size="8pt")
-        item.setLabel("bottom", f"{result.parameter} [{result.unit}]")
+        item.setLabel("bottom", f"{quantity_name(result.parameter).name} [{result.unit}]")
         item.setLabel("left", "3σ [mm]")
         self.plot.show()

@@ -305,10 +305,10 @@ class NewProjectWizard(QWizard):
         if not self.survey.entries():
             self.raw_note.setText("")
         elif self.copy_raw.isChecked():
-            self.raw_note.setText(f"The files and survey.toml go into {self.survey_target()}.")
+            self.raw_note.setText(tr("The files and survey.toml go into {folder}.").format(folder=self.survey_target()))
         else:
-            self.raw_note.setText(f"survey.toml (the description of the survey's files) will be written into the "
-                                  f"raw-data folder {self.survey.survey_folder()}.")
+            self.raw_note.setText(tr("survey.toml (the description of the survey's files) will be written into the "
+                                     "raw-data folder {folder}.").format(folder=self.survey.survey_folder()))
 
     def survey_target(self) -> Path:
         """Where the copied raw files go: <project>/surveys/<survey name>."""
@@ -466,7 +466,7 @@ class NewProjectWizard(QWizard):
             else:
                 self.created_folder = folder
                 note.setStyleSheet("")
-                note.setText(f"created the folder {folder.resolve()}")
+                note.setText(tr("created the folder {folder}").format(folder=folder.resolve()))
                 note.show()
                 return True
         note.setStyleSheet(NOTE_STYLE)
@@ -525,10 +525,10 @@ class NewProjectWizard(QWizard):
         except ProjectError as error:
             blocking = [in_words(p) for p in error.problems if not p.startswith(not_yet_written)]
             if blocking:
-                self.problems.setText("The project has problems; go back and correct them:\n" + "\n".join(blocking))
+                self.problems.setText(tr("The project has problems; go back and correct them:") + "\n" + "\n".join(blocking))
                 return False
         if copy and survey_folder.exists() and any(survey_folder.iterdir()):
-            self.problems.setText(f"{survey_folder} is not empty: choose another survey name.")
+            self.problems.setText(tr("{folder} is not empty: choose another survey name.").format(folder=survey_folder))
             return False
         if self.survey.write_survey(self.trolley(), into=survey_folder if copy else None) is None:
             self.problems.setText(tr("The survey's files have problems (listed above)."))

@@ -108,7 +108,7 @@ from insrail.nav.trajectory import (
     load_trajectory,
     trajectory_from_records,
 )
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 
 
@@ -208,13 +208,15 @@ class FilterReset:
     sigma: tuple[float, ...]
     heading_turned_rad: float = 0.0
 
-    def message(self) -> str:
-        others = f" (and {', '.join(self.also_rejected)})" if self.also_rejected else ""
-        turned = (f"; heading re-aligned to the track by {math.degrees(self.heading_turned_rad):+.1f} deg"
-                  if self.heading_turned_rad else "")
-        return (f"filter reset at t = {self.time_s:.1f} s: {self.source}{others} rejected for {self.rejected_s:.1f} s "
-                f"({self.rejected} in a row){turned}; {', '.join(self.states)} uncertainty widened and the measurements "
-                "re-admitted")
+    def message(self) -> Phrase:
+        others = (Phrase(" (and {sources})", {"sources": [Phrase(source) for source in self.also_rejected]})
+                  if self.also_rejected else Phrase(""))
+        turned = (Phrase("; heading re-aligned to the track by {turned_deg:+.1f} deg",
+                         {"turned_deg": math.degrees(self.heading_turned_rad)}) if self.heading_turned_rad else Phrase(""))
+        return Phrase("filter reset at t = {time_s:.1f} s: {source}{others} rejected for {rejected_s:.1f} s ({rejected} in "
+                      "a row){turned}; {states} uncertainty widened and the measurements re-admitted",
+                      {"time_s": self.time_s, "source": Phrase(self.source), "others": others, "rejected_s": self.rejected_s,
+                       "rejected": self.rejected, "turned": turned, "states": [Phrase(state) for state in self.states]})
 
     def floors(self) -> np.ndarray:
         """Per error state the 1-sigma its variance is raised to (NaN: left as it is)."""
@@ -253,13 +255,15 @@ class GapReturn:
     distance_m: float = 0.0  # between the source's positions at the gap's ends (0: not a position source)
     accepted: bool = False  # the return passed the gate, far off (:func:`loud_returns`): no reset to avoid
 
-    def message(self) -> str:
+    def message(self) -> Phrase:
         off = (f"{max(self.sigma_position_m):.3g} m" if max(self.sigma_position_m) > 0
                else f"{max(self.sigma_velocity_mps):.3g} m/s")
-        instead = ("accepted, but beyond the 1-sigma the filter held" if self.accepted else "instead of a filter reset")
-        return (f"{self.source} back after a gap of {self.end_s - self.start_s:.1f} s at t = {self.end_s:.1f} s, "
-                f"{off} off the dead reckoning: the uncertainty grown over the gap to that ({instead}) and the gap "
-                "bridged by the smoother")
+        instead = (Phrase("accepted, but beyond the 1-sigma the filter held") if self.accepted
+                   else Phrase("instead of a filter reset"))
+        return Phrase("{source} back after a gap of {gap_s:.1f} s at t = {time_s:.1f} s, {off} off the dead reckoning: "
+                      "the uncertainty grown over the gap to that ({instead}) and the gap bridged by the smoother",
+                      {"source": Phrase(self.source), "gap_s": self.end_s - self.start_s, "time_s": self.end_s,
+                       "off": off, "instead": instead})
 
 
 def _moved_m(source, start_s: float, end_s: float) -> float:
@@ -1339,12 +1343,13 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     dt0 = float(np.median(np.diff(t[: min(n, 1000)])))
 
     if aiding.odometer is None:
-        notices.append(Notice("fusion", "no odometer in the survey: the along-track scale comes from the "
-                              f"{'GNSS positions' if gnss is not None else 'prism fixes'} only", severity="info"))
+        notices.append(Notice("fusion", "no odometer in the survey: the along-track scale comes from the {source} only",
+                              severity="info",
+                              fields={"source": Phrase("GNSS positions" if gnss is not None else "prism fixes")}))
     if options.use_nhc and trolley.imu_to_reference_rail_m is None:
-        where = "the odometer wheel's contact" if trolley.imu_to_odometer_m is not None else "the IMU"
+        where = Phrase("the odometer wheel's contact" if trolley.imu_to_odometer_m is not None else "the IMU")
         notices.append(Notice("fusion", "no trolley.imu_to_reference_rail_m (a survey not on rails): the "
-                              f"non-holonomic constraint is applied at {where}", severity="info"))
+                              "non-holonomic constraint is applied at {where}", severity="info", fields={"where": where}))
     track = track.within(t[0], t[-1]) if track is not None else None
     if track is not None and len(track) == 0:
         where = gnss.source if gnss is not None and gnss.source else track.source
@@ -1356,9 +1361,10 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
         outage = np.flatnonzero(np.diff(track.time_s) > UNAIDED_OUTAGE_S)
         for i in outage:
             notices.append(Notice(
-                "fusion", f"no odometer: across the {track.source} outage of {track.time_s[i + 1] - track.time_s[i]:.0f} s "
-                f"after t = {track.time_s[i]:.1f} s the along-track position rests on the IMU alone",
-                time_s=float(track.time_s[i])))
+                "fusion", "no odometer: across the {source} outage of {outage_s:.0f} s after t = {time_s:.1f} s the "
+                "along-track position rests on the IMU alone", time_s=float(track.time_s[i]),
+                fields={"source": track.source, "outage_s": track.time_s[i + 1] - track.time_s[i],
+                        "time_s": track.time_s[i]}))
     gyro_quiet, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, 1.0 / dt0)
     positions = None
     if aiding.odometer is None and gnss is not None:
@@ -1717,13 +1723,16 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
     stretch around a position fix the trajectory misses (their sleepers are not assessed): notices
     with their times."""
     notices = [Notice("fusion", reset.message(), time_s=reset.time_s) for reset in resets]
-    notices += [Notice("fusion", f"not valid from t = {verdict.time_from_s[k]:.1f} s to {verdict.time_to_s[k]:.1f} s "
-                                 f"(travelled {verdict.station_from_m[k]:.0f}-{verdict.station_to_m[k]:.0f} m): "
-                                 f"{verdict.reasons[k]}; its sleepers are not assessed",
-                       time_s=float(verdict.time_from_s[k]))
+    notices += [Notice("fusion", "not valid from t = {time_from_s:.1f} s to {time_to_s:.1f} s (travelled "
+                                 "{station_from_m:.0f}-{station_to_m:.0f} m): {why}; its sleepers are not assessed",
+                       time_s=float(verdict.time_from_s[k]),
+                       fields={"time_from_s": verdict.time_from_s[k], "time_to_s": verdict.time_to_s[k],
+                               "station_from_m": verdict.station_from_m[k], "station_to_m": verdict.station_to_m[k],
+                               "why": verdict.reasons[k]})
                 for k in np.flatnonzero(~verdict.valid)]
-    notices += [Notice("fusion", f"not valid from t = {start:.1f} s to {end:.1f} s: {why}; its sleepers are not assessed",
-                       time_s=start) for start, end, why in verdict.missed_s]
+    notices += [Notice("fusion", "not valid from t = {time_from_s:.1f} s to {time_to_s:.1f} s: {why}; its sleepers are not "
+                                 "assessed", time_s=start, fields={"time_from_s": start, "time_to_s": end, "why": why})
+                for start, end, why in verdict.missed_s]
     return notices
 
 

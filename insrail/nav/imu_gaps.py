@@ -19,13 +19,14 @@ from dataclasses import replace
 import numpy as np
 
 from insrail.io.types import GAP_FACTOR, Gap, ImuIncrements
+from insrail.notices import Phrase
 
 #: gaps longer than this [s] are bridged with the warning that the aiding carries the solution
 LONG_GAP_S = 1.0
 
 
 def bridge_gaps(imu: ImuIncrements, max_gap_s: float = 5.0, long_gap_s: float = LONG_GAP_S
-                ) -> tuple[ImuIncrements, list[str]]:
+                ) -> tuple[ImuIncrements, list[Phrase]]:
     """(the increments on a gap-free time grid, one warning per bridged gap)."""
     t = imu.time_s
     if len(t) < 3:
@@ -59,12 +60,11 @@ def bridge_gaps(imu: ImuIncrements, max_gap_s: float = 5.0, long_gap_s: float = 
         pieces_t.append(t[k + 1 : k + 2])
         pieces_th.append(scale * imu.dtheta_rad[k + 1 : k + 2])
         pieces_dv.append(scale * imu.dvel_mps[k + 1 : k + 2])
-        message = (f"{source}IMU gap of {step[k]:.3f} s after t = {t[k]:.4f} s: {missing} missing samples bridged "
-                   "by interpolation")
-        if step[k] > long_gap_s:
-            message += ("; across it the trajectory rests on the aiding (odometer, NHC, GNSS) and the "
-                        "interpolated motion")
-        warnings.append(message)
+        warnings.append(Phrase("{source}IMU gap of {gap_s:.3f} s after t = {time_s:.4f} s: {missing} missing samples "
+                               "bridged by interpolation{aiding}",
+                               {"source": source, "gap_s": step[k], "time_s": t[k], "missing": missing,
+                                "aiding": Phrase("; across it the trajectory rests on the aiding (odometer, NHC, GNSS) "
+                                                 "and the interpolated motion" if step[k] > long_gap_s else "")}))
         last = k + 2
     pieces_t.append(t[last:])
     pieces_th.append(imu.dtheta_rad[last:])

@@ -55,7 +55,7 @@ from insrail.io.imu import release_pages
 from insrail.io.types import GAP_FACTOR, ImuIncrements
 from insrail.nav.alignment import GRAVITY_MPS2, gravity_tolerance_mps2, stop_thresholds
 from insrail.nav.imu_profile import ImuProfile
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 
 #: ``(times [s], window [s]) -> still flags``: whether the aiding lets the platform rest there
 StillnessTest = Callable[[np.ndarray, float], np.ndarray]
@@ -70,6 +70,10 @@ QUIET_CHUNK = 1 << 16
 MAX_LISTED = 10
 
 
+#: why a record is removed (an outlier's ``reason``)
+OUTLIER_REASONS = ("not finite", "beyond range", "spike", "spike below the envelope")
+
+
 @dataclass(frozen=True)
 class Outlier:
     """One removed IMU record: its time, what was wrong and by how much."""
@@ -80,17 +84,20 @@ class Outlier:
     axis: str  # "x", "y", "z"
     value: float  # [m/s^2] or [rad/s]; NaN/inf when not finite
     reference: float  # the median of its neighbours, same unit
-    reason: str  # "not finite", "beyond range", "spike", "spike below the envelope"
+    reason: str  # one of OUTLIER_REASONS
 
-    def describe(self, source: str) -> str:
+    def describe(self, source: str) -> Phrase:
         unit, scale = ("m/s^2", 1.0) if self.quantity == "specific force" else ("deg/s", 180.0 / np.pi)
-        where = f"{source}: " if source else ""
+        quantity = Phrase("specific force" if self.quantity == "specific force" else "angular rate")
         if self.reason == "not finite":
-            what = f"{self.quantity} {self.axis} is {self.value}"
+            what = Phrase("{quantity} {axis} is {value}", {"quantity": quantity, "axis": self.axis, "value": str(self.value)})
         else:
-            what = (f"{self.quantity} {self.axis} {scale * self.value:.4g} {unit} against {scale * self.reference:.4g} "
-                    f"{unit} around it ({self.reason})")
-        return f"{where}IMU record {self.index + 1} at t = {self.time_s:.4f} s removed as an outlier: {what}; bridged"
+            what = Phrase("{quantity} {axis} {value:.4g} {unit} against {reference:.4g} {unit} around it ({reason})",
+                          {"quantity": quantity, "axis": self.axis, "value": scale * self.value, "unit": unit,
+                           "reference": scale * self.reference, "reason": Phrase(self.reason)})
+        return Phrase("{where}IMU record {record} at t = {time_s:.4f} s removed as an outlier: {what}; bridged",
+                      {"where": f"{source}: " if source else "", "record": self.index + 1, "time_s": self.time_s,
+                       "what": what})
 
 
 def _intervals(time_s: np.ndarray, index: np.ndarray, nominal: float) -> np.ndarray:
@@ -193,10 +200,12 @@ def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.
             if k not in quiet:
                 quiet[k] = Outlier(float(imu.time_s[k]), k, quantity, "xyz"[axis], value, ref, "spike below the envelope")
     if len(quiet) > max_fraction * n:
-        notices.append(Notice("imu", f"{source + ': ' if source else ''}{len(quiet)} of {n} IMU records depart from their "
-                              f"neighbours by more than {QUIET_SPIKE_SIGMAS:g} x their spread: the motion is too rough to "
-                              "tell a single faulty record inside the envelope from it; none removed by that test, and "
-                              "such a fault would be seen only by the aiding", file=source))
+        notices.append(Notice("imu", "{where}{count} of {records} IMU records depart from their neighbours by more than "
+                              "{sigmas:g} x their spread: the motion is too rough to tell a single faulty record inside "
+                              "the envelope from it; none removed by that test, and such a fault would be seen only by "
+                              "the aiding", file=source,
+                              fields={"where": source + ": " if source else "", "count": len(quiet), "records": n,
+                                      "sigmas": QUIET_SPIKE_SIGMAS}))
     else:
         found.update(quiet)
         bad[list(quiet)] = True
@@ -206,9 +215,11 @@ def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.
     notices += [Notice("imu", o.describe(source), file=source, time_s=o.time_s) for o in outliers[:MAX_LISTED]]
     if len(outliers) > MAX_LISTED:
         rest = outliers[MAX_LISTED:]
-        notices.append(Notice("imu", f"{source + ': ' if source else ''}{len(rest)} more IMU records removed as outliers "
-                              f"between t = {rest[0].time_s:.4f} and {rest[-1].time_s:.4f} s and bridged (all listed "
-                              "in the fusion log)", file=source, time_s=rest[0].time_s))
+        notices.append(Notice("imu", "{where}{count} more IMU records removed as outliers between t = {first_s:.4f} and "
+                              "{last_s:.4f} s and bridged (all listed in the fusion log)", file=source,
+                              time_s=rest[0].time_s,
+                              fields={"where": source + ": " if source else "", "count": len(rest),
+                                      "first_s": rest[0].time_s, "last_s": rest[-1].time_s}))
     keep = ~bad
     screened = replace(imu, time_s=imu.time_s[keep], dtheta_rad=imu.dtheta_rad[keep], dvel_mps=imu.dvel_mps[keep])
     return screened, outliers, notices

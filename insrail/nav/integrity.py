@@ -42,6 +42,7 @@ import numpy as np
 
 from insrail.nav import earth
 from insrail.nav.rotation import euler_to_dcm
+from insrail.notices import Phrase
 
 MIN_OBSERVATIONS = 5
 MAX_REJECTED_SHARE = 0.2
@@ -89,15 +90,15 @@ class FusionIntegrity:
     rejected_share: np.ndarray
     nis_per_dof: np.ndarray
     valid: np.ndarray
-    reasons: tuple[str, ...]
-    suspect_s: tuple[tuple[float, float, str], ...]
+    reasons: tuple[Phrase, ...]
+    suspect_s: tuple[tuple[float, float, Phrase], ...]
     invalid_share: float  # of the travelled length
     #: why the whole survey is inconsistent though its sections are not (``insrail.nav.self_calibration``:
     #: the GNSS positions still disagreeing with the solution when its passes ran out); "" when not
     inconsistent: str = ""
     #: (start, end, why) in seconds of week around each position fix the trajectory misses
     #: (:func:`missed_fixes`) and their share of the travelled length
-    missed_s: tuple[tuple[float, float, str], ...] = ()
+    missed_s: tuple[tuple[float, float, Phrase], ...] = ()
     missed_share: float = 0.0
 
     @property
@@ -111,20 +112,19 @@ class FusionIntegrity:
                  f"{self.reasons[k]}")) for k in np.flatnonzero(~self.valid)]
         return out + list(self.suspect_s) + list(self.missed_s)
 
-    def summary(self) -> str:
+    def summary(self) -> Phrase:
         bad = int(np.sum(~self.valid))
-        text = (f"{len(self.valid) - bad} of {len(self.valid)} sections of {SECTION_M:.0f} m consistent with their "
-                f"1-sigma")
-        if bad:
-            text += f"; not valid: {100 * self.invalid_share:.0f} % of the length"
-        if self.suspect_s:
-            text += f"; {len(self.suspect_s)} filter reset(s)"
-        if self.missed_s:
-            text += (f"; {len(self.missed_s)} position fix(es) missed by the trajectory beyond their 1-sigma "
-                     f"({100 * self.missed_share:.0f} % of the length)")
-        if self.inconsistent:
-            text += f"; inconsistent: {self.inconsistent}"
-        return text
+        return Phrase(
+            "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{missed}"
+            "{inconsistent}",
+            {"consistent": len(self.valid) - bad, "sections": len(self.valid), "section_m": SECTION_M,
+             "bad": Phrase("; not valid: {share_pct:.0f} % of the length", {"share_pct": 100 * self.invalid_share})
+             if bad else Phrase(""),
+             "resets": Phrase("; {count} filter reset(s)", {"count": len(self.suspect_s)}) if self.suspect_s else Phrase(""),
+             "missed": Phrase("; {count} position fix(es) missed by the trajectory beyond their 1-sigma ({share_pct:.0f} % "
+                              "of the length)", {"count": len(self.missed_s), "share_pct": 100 * self.missed_share})
+             if self.missed_s else Phrase(""),
+             "inconsistent": f"; inconsistent: {self.inconsistent}" if self.inconsistent else ""})
 
     def failure(self) -> str:
         """Why the survey cannot be trusted (for :class:`UntrustedSolution`)."""
@@ -151,22 +151,23 @@ class FusionIntegrity:
                   "by hand or shaken: mems_handheld) and the GNSS solution's time scale and sigmas")
 
     def to_dict(self) -> dict:
-        """For fusion_log.toml and summary.toml (no NaN: TOML readers choke on it)."""
+        """For fusion_log.toml and summary.toml (no NaN: TOML readers choke on it); ``summary`` a phrase's table
+        (:mod:`insrail.notices`: the report says it in its language)."""
         def clean(x):
             return [round(float(v), 3) if np.isfinite(v) else -1.0 for v in x]
 
-        return {"trusted": self.trusted, "invalid_share": round(self.invalid_share, 4), "summary": self.summary(),
+        return {"trusted": self.trusted, "invalid_share": round(self.invalid_share, 4), "summary": self.summary().to_dict(),
                 "sources": list(self.names),
                 "not_valid": [{"station_from_m": round(float(self.station_from_m[k]), 1),
                                "station_to_m": round(float(self.station_to_m[k]), 1),
                                "time_from_s": round(float(self.time_from_s[k]), 3),
-                               "time_to_s": round(float(self.time_to_s[k]), 3), "reason": self.reasons[k],
+                               "time_to_s": round(float(self.time_to_s[k]), 3), "reason": str(self.reasons[k]),
                                "nis_per_dof": clean(self.nis_per_dof[k]),
                                "rejected_share": clean(self.rejected_share[k])}
                               for k in np.flatnonzero(~self.valid)],
-                "suspect": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": why}
+                "suspect": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why)}
                             for a, b, why in self.suspect_s],
-                "missed_fixes": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": why}
+                "missed_fixes": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why)}
                                  for a, b, why in self.missed_s],
                 "missed_share": round(self.missed_share, 4)}
 
@@ -185,7 +186,7 @@ def last_agreement_s(record: InnovationRecord, source: str, first_rejected_s: fl
     return float(record.time_s[agreed].max()) if agreed.any() else first_rejected_s
 
 
-def missed_fixes(trajectory, fixes, gate: float, ellipsoid) -> tuple[tuple[float, float, str], ...]:
+def missed_fixes(trajectory, fixes, gate: float, ellipsoid) -> tuple[tuple[float, float, Phrase], ...]:
     """(start, end, why) around every fix of the ``PositionFix`` sources ``fixes`` that ``trajectory``
     misses: the point at the fix's lever arm, interpolated to its time, off the fix by a normalised
     squared residual beyond ``gate`` (the filter's 3-row chi-square gate) against the fix's variance
@@ -219,8 +220,9 @@ def missed_fixes(trajectory, fixes, gate: float, ellipsoid) -> tuple[tuple[float
             off = float(np.linalg.norm(residual[k]))
             out.append((float(before[-1]) if len(before) else float(t[0]),
                         float(after[0]) if len(after) else float(t[-1]),
-                        f"the trajectory misses the {fix.name} at t = {ts[k]:.1f} s by {off:.3f} m, "
-                        f"{math.sqrt(nis[k]):.0f} x its 1-sigma"))
+                        Phrase("the trajectory misses the {source} at t = {time_s:.1f} s by {off_m:.3f} m, {ratio:.0f} x "
+                               "its 1-sigma", {"source": Phrase(fix.name), "time_s": ts[k], "off_m": off,
+                                                "ratio": math.sqrt(nis[k])})))
     return tuple(sorted(out))
 
 
@@ -267,10 +269,12 @@ def assess(record: InnovationRecord, time_s: np.ndarray, station_m: np.ndarray, 
     too_large = enough & (nis_per_dof > MAX_NIS_PER_DOF)
     reasons = []
     for k in range(n):
-        why = [f"{record.names[s]} {100 * share[k, s]:.0f} % rejected" for s in np.flatnonzero(too_many_rejected[k])]
-        why += [f"{record.names[s]} residuals {math.sqrt(nis_per_dof[k, s]):.1f} x their 1-sigma"
+        why = [Phrase("{source} {share_pct:.0f} % rejected", {"source": Phrase(record.names[s]), "share_pct": 100 * share[k, s]})
+               for s in np.flatnonzero(too_many_rejected[k])]
+        why += [Phrase("{source} residuals {ratio:.1f} x their 1-sigma",
+                       {"source": Phrase(record.names[s]), "ratio": math.sqrt(nis_per_dof[k, s])})
                 for s in np.flatnonzero(too_large[k] & ~too_many_rejected[k])]
-        reasons.append(", ".join(why))
+        reasons.append(Phrase("{reasons}", {"reasons": why}))
     valid = ~(too_many_rejected | too_large).any(axis=1)
     time_from = np.array([time_s[epoch_section == k].min() if np.any(epoch_section == k) else np.nan for k in range(n)])
     time_to = np.array([time_s[epoch_section == k].max() if np.any(epoch_section == k) else np.nan for k in range(n)])

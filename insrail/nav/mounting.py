@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from insrail.nav.rotation import euler_to_dcm
+from insrail.notices import Phrase
 
 #: moving epochs: the rail point's speed above this [m/s]
 MIN_SPEED_MPS = 0.3
@@ -100,16 +101,19 @@ class MountingEstimate:
                 out[axis] = {"not_estimated": self.why.get(axis, "")}
         return out
 
-    def text(self) -> str:
-        """One line: each axis's estimate and 1-sigma, or why not."""
+    def text(self) -> Phrase:
+        """One line: each axis's estimate and 1-sigma, or why not (a why is one of the texts of names_zh.py)."""
         parts = []
         for i, axis in enumerate(AXES):
             if np.isfinite(self.sigma_rad[i]):
-                parts.append(f"{axis} {math.degrees(self.rpy_rad[i]):+.3f} deg (1-sigma {math.degrees(self.sigma_rad[i]):.4f}, "
-                             f"given {math.degrees(self.given_rpy_rad[i]):+.3f})")
+                parts.append(Phrase("{axis} {estimate_deg:+.3f} deg (1-sigma {sigma_deg:.4f}, given {given_deg:+.3f})",
+                                    {"axis": Phrase(axis), "estimate_deg": math.degrees(self.rpy_rad[i]),
+                                     "sigma_deg": math.degrees(self.sigma_rad[i]),
+                                     "given_deg": math.degrees(self.given_rpy_rad[i])}))
             else:
-                parts.append(f"{axis} not estimated ({self.why.get(axis, '')})")
-        return "IMU mounting from the survey: " + ", ".join(parts)
+                parts.append(Phrase("{axis} not estimated ({reason})",
+                                    {"axis": Phrase(axis), "reason": Phrase(self.why.get(axis, ""))}))
+        return Phrase("IMU mounting from the survey: {axes}", {"axes": parts})
 
 
 def not_estimated(given_rpy_rad, why: str) -> MountingEstimate:

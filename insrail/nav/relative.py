@@ -29,7 +29,7 @@ from insrail.nav import earth
 from insrail.nav.alignment import gravity_tolerance_mps2, gyrocompass, gyrocompass_sigma_rad, static_levelling
 from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.startup import PositionTrack, StartupError, finds_north
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 
 #: 1-sigma [m] of the start point and [rad] of the start heading the filter is given: the start defines
 #: the frame, so its errors are those of the frame (a shift and a turn of the whole survey, which no
@@ -52,7 +52,7 @@ class RelativeFrame:
     height_m: float
     azimuth_rad: float | None
     sigma_azimuth_rad: float
-    source: str  # for messages: "the design at station 1020.000 m" or "a local frame"
+    source: Phrase  # for messages: "the design at station 1020.000 m" or "a local frame"
     #: from the IMU to the frame's point on the trolley, b frame [m] (the track centre of a start on the design,
     #: survey.toml [start]); zero: the IMU is the point
     lever_arm_m: np.ndarray = field(default_factory=lambda: np.zeros(3))
@@ -60,9 +60,11 @@ class RelativeFrame:
     sigma_m: float = 0.0
 
     @classmethod
-    def local(cls, lon_rad: float = 0.0, where: str = "") -> RelativeFrame:
-        """A local frame at longitude ``lon_rad`` (it only names the frame), its latitude from the earth rate."""
-        return cls(None, lon_rad, 0.0, None, math.pi, f"a local frame{where}")
+    def local(cls, lon_rad: float = 0.0, on_meridian: bool = False) -> RelativeFrame:
+        """A local frame at longitude ``lon_rad`` (it only names the frame: ``on_meridian``, the CRS's central
+        meridian), its latitude from the earth rate."""
+        return cls(None, lon_rad, 0.0, None, math.pi,
+                   Phrase("a local frame on the central meridian" if on_meridian else "a local frame"))
 
 
 def latitude_from_earth_rate(f_b: np.ndarray, w_b: np.ndarray, profile, ell: earth.Ellipsoid) -> tuple[float, float]:
@@ -109,9 +111,9 @@ def start_track(frame: RelativeFrame, imu: ImuIncrements, stops, c_vb: np.ndarra
                 "relative survey in a local frame (no design): the latitude and north come from the earth rate, which "
                 f"a {profile.name} gyro does not resolve; give the project a design alignment (its start point and "
                 "azimuth start the frame)")
-        notices.append(Notice("fusion", f"relative survey in a local frame: latitude {math.degrees(lat):.2f} deg from "
-                              f"the earth rate at the static start (1-sigma {math.degrees(sigma_lat):.2f} deg)",
-                              severity="info"))
+        notices.append(Notice("fusion", "relative survey in a local frame: latitude {lat_deg:.2f} deg from the earth "
+                              "rate at the static start (1-sigma {sigma_deg:.2f} deg)", severity="info",
+                              fields={"lat_deg": math.degrees(lat), "sigma_deg": math.degrees(sigma_lat)}))
     duration = static[1] - static[0]
     sigma_compass = gyrocompass_sigma_rad(math.hypot(profile.gyro_bias_turn_on, profile.gyro_bias_gm_sigma),
                                           profile.gyro_arw, duration, lat, ell)
@@ -121,9 +123,9 @@ def start_track(frame: RelativeFrame, imu: ImuIncrements, stops, c_vb: np.ndarra
         except ValueError as error:
             raise StartupError(f"relative survey: {error}") from None
         sigma = sigma_compass
-        notices.append(Notice("fusion", f"relative survey: heading {math.degrees(heading) % 360:.2f} deg by "
-                              f"gyrocompassing (1-sigma {math.degrees(sigma):.3f} deg: the frame's azimuth)",
-                              severity="info"))
+        notices.append(Notice("fusion", "relative survey: heading {heading_deg:.2f} deg by gyrocompassing (1-sigma "
+                              "{sigma_deg:.3f} deg: the frame's azimuth)", severity="info",
+                              fields={"heading_deg": math.degrees(heading) % 360, "sigma_deg": math.degrees(sigma)}))
     else:
         if frame.azimuth_rad is None:
             raise StartupError(
@@ -131,7 +133,7 @@ def start_track(frame: RelativeFrame, imu: ImuIncrements, stops, c_vb: np.ndarra
                 f"{duration:.0f} s static start, and nothing else gives the heading the earth rate is taken off with; "
                 "give the project a design alignment (its start point and azimuth start the frame)")
         heading_v = frame.azimuth_rad
-        direction = "towards increasing stationing (taken: the gyros do not tell)"
+        direction = Phrase("towards increasing stationing (taken: the gyros do not tell)")
         if sigma_compass < math.radians(30.0):  # the coarse compass tells which way along the line
             try:
                 compass = gyrocompass(roll, pitch, w_b, lat, ell)
@@ -143,17 +145,19 @@ def start_track(frame: RelativeFrame, imu: ImuIncrements, stops, c_vb: np.ndarra
                 along = math.cos(math.atan2(forward[1], forward[0]) - heading_v)
                 if along < 0.0:
                     heading_v += math.pi
-                direction = ("against" if along < 0.0 else "towards") + " increasing stationing (coarse gyrocompass)"
+                direction = Phrase("against increasing stationing (coarse gyrocompass)" if along < 0.0 else
+                                   "towards increasing stationing (coarse gyrocompass)")
         c_bn = euler_to_dcm(0.0, 0.0, heading_v) @ c_vb  # b turned from v about (nearly) the vertical
         heading = float(math.atan2(c_bn[1, 0], c_bn[0, 0]))
         sigma = frame.sigma_azimuth_rad
-        notices.append(Notice("fusion", f"relative survey: heading {math.degrees(heading) % 360:.2f} deg from "
-                              f"{frame.source} (1-sigma {math.degrees(sigma):.2f} deg: the frame's azimuth), the trolley "
-                              f"running {direction}", severity="info"))
+        notices.append(Notice("fusion", "relative survey: heading {heading_deg:.2f} deg from {frame} (1-sigma "
+                              "{sigma_deg:.2f} deg: the frame's azimuth), the trolley running {direction}", severity="info",
+                              fields={"heading_deg": math.degrees(heading) % 360, "frame": frame.source,
+                                      "sigma_deg": math.degrees(sigma), "direction": direction}))
     t0 = float(t[0]) + 0.5 * (static[1] - float(t[0]))
     track = PositionTrack(np.array([t0]), np.array([lat]), np.array([frame.lon_rad]), np.array([frame.height_m]),
-                          np.full((1, 3), START_SIGMA_M), np.asarray(frame.lever_arm_m, float), "relative start")
-    notices.append(Notice("fusion", f"relative survey (no GNSS, no prism fixes): the trajectory starts on {frame.source}; "
+                          np.full((1, 3), START_SIGMA_M), np.asarray(frame.lever_arm_m, float), Phrase("relative start"))
+    notices.append(Notice("fusion", "relative survey (no GNSS, no prism fixes): the trajectory starts on {frame}; "
                           "gauge, cant, twist and the chord checks are measured, coordinates and deviations from the "
-                          "design are not", severity="info"))
+                          "design are not", severity="info", fields={"frame": frame.source}))
     return RelativeStart(track, float(heading), FRAME_HEADING_SIGMA_RAD, tuple(notices))

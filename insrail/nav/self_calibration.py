@@ -244,11 +244,11 @@ def fuse_consistent(imu, build_aiding, profile, options, ellipsoid, new_store=No
         nhc_dropped |= options.use_nhc and not changed.use_nhc
         options = changed
     if estimated:
-        notices.append(Notice("fusion", "trolley play estimated from the NHC innovations: "
-                              f"{_mm2(options.play_drift_m2_per_m)} mm^2 per metre run lateral/vertical (the profile "
-                              f"resources/trolley_play.toml: {_mm2(profile_play)}), NHC 1-sigma "
-                              f"{1e3 * options.nhc_sigma_mps:.3g} mm/s; the stated accuracy uses them",
-                              severity="info"))
+        notices.append(Notice("fusion", "trolley play estimated from the NHC innovations: {play} mm^2 per metre run "
+                              "lateral/vertical (the profile resources/trolley_play.toml: {profile_play}), NHC 1-sigma "
+                              "{nhc_sigma_mmps:.3g} mm/s; the stated accuracy uses them", severity="info",
+                              fields={"play": _mm2(options.play_drift_m2_per_m), "profile_play": _mm2(profile_play),
+                                      "nhc_sigma_mmps": 1e3 * options.nhc_sigma_mps}))
     calibration = Calibration(passes, nhc_dropped, options.gnss_sigma_scale, tuple(notices),
                               tuple(options.play_drift_m2_per_m), tuple(profile_play), options.nhc_sigma_mps, estimated)
     result.info["notices"] = [*result.info.get("notices", []), *notices]
@@ -293,9 +293,9 @@ def _next_options(result, aiding, options, notices: list[Notice]):
     nhc = consistency(result, NHC_SOURCE)
     if aiding.odometer is None and options.use_nhc and nhc is not None and nhc.rejected_share > NHC_MAX_REJECTED:
         notices.append(Notice(
-            "fusion", f"the non-holonomic constraint does not hold: {100 * nhc.rejected_share:.0f} % of its "
-            f"{nhc.observations} rows rejected, with no odometer to blame (a hand-held device, or a vehicle that "
-            "slides); fused again without it (insrail fuse --no-nhc does so from the start)"))
+            "fusion", "the non-holonomic constraint does not hold: {share_pct:.0f} % of its {rows} rows rejected, with no "
+            "odometer to blame (a hand-held device, or a vehicle that slides); fused again without it (insrail fuse "
+            "--no-nhc does so from the start)", fields={"share_pct": 100 * nhc.rejected_share, "rows": nhc.observations}))
         return replace(options, use_nhc=False)
     gnss = consistency(result, GNSS_SOURCE)
     if gnss is None or (gnss.rejected_share <= GNSS_MAX_REJECTED and gnss.nis_per_dof <= GNSS_MAX_NIS_PER_DOF):
@@ -307,8 +307,9 @@ def _next_options(result, aiding, options, notices: list[Notice]):
     step = min(max(math.sqrt(gnss.robust_nis_per_dof), MIN_STEP), MAX_STEP, MAX_GNSS_SCALE / options.gnss_sigma_scale)
     scale = options.gnss_sigma_scale * step
     notices.append(Notice(
-        "fusion", f"the GNSS positions disagree with their stated sigmas: {100 * gnss.rejected_share:.0f} % of "
-        f"{gnss.observations} fixes rejected, NIS {gnss.nis_per_dof:.2f} x its degrees of freedom (median "
-        f"{gnss.robust_nis_per_dof:.2f}); fused again with the file's sigmas x {scale:.2f} (calibrated from the "
-        "innovations; --gnss-sigma-scale sets a factor from the start)"))
+        "fusion", "the GNSS positions disagree with their stated sigmas: {share_pct:.0f} % of {fixes} fixes rejected, "
+        "NIS {nis:.2f} x its degrees of freedom (median {median_nis:.2f}); fused again with the file's sigmas x "
+        "{scale:.2f} (calibrated from the innovations; --gnss-sigma-scale sets a factor from the start)",
+        fields={"share_pct": 100 * gnss.rejected_share, "fixes": gnss.observations, "nis": gnss.nis_per_dof,
+                "median_nis": gnss.robust_nis_per_dof, "scale": scale}))
     return replace(options, gnss_sigma_scale=scale)

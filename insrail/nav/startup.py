@@ -58,7 +58,7 @@ from insrail.nav.rotation import (
     quat_to_dcm,
     rotvec_to_quat,
 )
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 
 #: chord lengths [m] tried for the track heading
 CHORDS_M = (0.5, 1.0, 2.0, 3.0, 5.0, 10.0, 20.0, 40.0)
@@ -120,7 +120,7 @@ def design_heading(design, lat_rad: float, lon_rad: float, sigma_along_m: float)
     return DesignAzimuth(azimuth, math.hypot(DESIGN_TRACK_SIGMA_RAD, curvature * sigma_along_m), station, offset)
 
 
-def _on_design(candidate: DesignAzimuth, heading_rad: float, sigma_rad: float, what: str, notices: list,
+def _on_design(candidate: DesignAzimuth, heading_rad: float, sigma_rad: float, what: Phrase, notices: list,
                time_s: float) -> tuple[float, float] | None:
     """(heading, 1-sigma) of the design candidate turned to the direction of ``heading_rad`` (the
     track chord's, of 1-sigma ``sigma_rad``), when it agrees with it and is the better; None otherwise
@@ -129,10 +129,11 @@ def _on_design(candidate: DesignAzimuth, heading_rad: float, sigma_rad: float, w
     apart = abs(float(_wrap(heading_rad - turned)))
     limit = 3.0 * math.hypot(sigma_rad, candidate.sigma_rad)
     if apart > limit:
-        notices.append(Notice("fusion", f"the design's azimuth at the start (station {candidate.station_m:.1f} m, "
-                              f"{candidate.offset_m:+.2f} m off it) is {math.degrees(apart):.2f} deg from the {what}, "
-                              f"more than 3 x their 1-sigma ({math.degrees(limit):.2f} deg): not used for the start",
-                              time_s=time_s))
+        notices.append(Notice("fusion", "the design's azimuth at the start (station {station_m:.1f} m, {offset_m:+.2f} m "
+                              "off it) is {apart_deg:.2f} deg from the {what}, more than 3 x their 1-sigma ({limit_deg:.2f} "
+                              "deg): not used for the start", time_s=time_s,
+                              fields={"station_m": candidate.station_m, "offset_m": candidate.offset_m,
+                                      "apart_deg": math.degrees(apart), "what": what, "limit_deg": math.degrees(limit)}))
         return None
     if candidate.sigma_rad >= sigma_rad:
         return None
@@ -168,19 +169,19 @@ class PositionTrack:
     height_m: np.ndarray
     sigma_ned_m: np.ndarray  # (n, 3)
     lever_arm_m: np.ndarray
-    source: str  # "GNSS" or "prism fixes", for messages
+    source: Phrase  # "GNSS" or "prism fixes", for messages
 
     @classmethod
     def from_gnss(cls, gnss: GnssSolution, lever_arm_m: np.ndarray) -> PositionTrack:
         return cls(gnss.time_s, gnss.lat_rad, gnss.lon_rad, gnss.height_m, gnss.sigma_ned_m,
-                   np.asarray(lever_arm_m, dtype=float), "GNSS")
+                   np.asarray(lever_arm_m, dtype=float), Phrase("GNSS"))
 
     @classmethod
     def from_fixes(cls, fixes) -> PositionTrack:
         """From :class:`insrail.nav.measurements.PositionFix` (isotropic 1-sigma per fix)."""
         sigma = np.repeat(np.asarray(fixes.sigma_m, dtype=float)[:, None], 3, axis=1)
         return cls(np.asarray(fixes.time_s), np.asarray(fixes.lat), np.asarray(fixes.lon), np.asarray(fixes.h), sigma,
-                   np.asarray(fixes.lever_arm_m, dtype=float), "prism fixes")
+                   np.asarray(fixes.lever_arm_m, dtype=float), Phrase("prism fixes"))
 
     def __len__(self) -> int:
         return len(self.time_s)
@@ -414,25 +415,30 @@ def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: Odo
             method, sigma_heading = "matched", matched.sigma_heading_rad
             roll, pitch, heading = matched.rpy_rad
             mounting = np.eye(3)  # velocity matching gives the attitude of b itself
-            notices.append(Notice("fusion", f"moving start: initial attitude by matching the IMU to the {track.source} "
-                                  f"velocities over {matched.window_s:.0f} s, heading {math.degrees(heading) % 360:.2f} "
-                                  f"deg (1-sigma {math.degrees(sigma_heading):.2f} deg)",
-                                  time_s=float(track.time_s[i0]), severity="info"))
+            notices.append(Notice("fusion", "moving start: initial attitude by matching the IMU to the {source} velocities "
+                                  "over {window_s:.0f} s, heading {heading_deg:.2f} deg (1-sigma {sigma_deg:.2f} deg)",
+                                  time_s=float(track.time_s[i0]), severity="info",
+                                  fields={"source": track.source, "window_s": matched.window_s,
+                                          "heading_deg": math.degrees(heading) % 360,
+                                          "sigma_deg": math.degrees(sigma_heading)}))
         else:
             method, heading = "track", direction.heading_rad
             sigma_heading = math.hypot(direction.sigma_heading_rad, TROLLEY_YAW_SIGMA_RAD)
             candidate = design_heading(design, track.lat_rad[i0], track.lon_rad[i0], float(sigma_h[i0]))
             on_design = None if candidate is None else _on_design(
-                candidate, heading, sigma_heading, f"{track.source} track's chord", notices, float(track.time_s[i0]))
+                candidate, heading, sigma_heading, Phrase("{source} track's chord", {"source": track.source}), notices,
+                float(track.time_s[i0]))
             if on_design is not None:
                 method, (heading, sigma_heading) = "design", on_design
             roll, pitch = _moving_levelling(imu, track, ned, i0, heading, c_vb)
-            where = (f"the design's azimuth at station {candidate.station_m:.1f} m, the direction from the "
-                     f"{track.source} track" if on_design is not None else
-                     f"the {track.source} track over {direction.chord_m:g} m chords")
-            notices.append(Notice("fusion", f"moving start: initial heading {math.degrees(heading) % 360:.2f} deg from "
-                                  f"{where} (1-sigma {math.degrees(sigma_heading):.2f} deg)",
-                                  time_s=float(track.time_s[i0]), severity="info"))
+            where = (Phrase("the design's azimuth at station {station_m:.1f} m, the direction from the {source} track",
+                            {"station_m": candidate.station_m, "source": track.source}) if on_design is not None else
+                     Phrase("the {source} track over {chord_m:g} m chords",
+                            {"source": track.source, "chord_m": direction.chord_m}))
+            notices.append(Notice("fusion", "moving start: initial heading {heading_deg:.2f} deg from {where} (1-sigma "
+                                  "{sigma_deg:.2f} deg)", time_s=float(track.time_s[i0]), severity="info",
+                                  fields={"heading_deg": math.degrees(heading) % 360, "where": where,
+                                          "sigma_deg": math.degrees(sigma_heading)}))
         t_start = float(track.time_s[i0])
         if odometer is not None:  # a trolley on rails: the odometer's speed along the travel direction
             speed = _speed_at(track, ned, i0, odometer)
@@ -569,7 +575,7 @@ def _static_heading(imu, track, ned, sigma_h, static, roll, pitch, w, odometer, 
         except ValueError as err:
             why = str(err)
     else:
-        why = f"a {profile.name} gyro does not resolve the earth rate"
+        why = Phrase("a {profile} gyro does not resolve the earth rate", {"profile": profile.name})
     if compass is not None and sigma_compass <= MAX_GYROCOMPASS_SIGMA_RAD:
         return "static", compass, max(options.initial_sigma_heading_rad, sigma_compass)
     moving = first_motion(track, ned, static[1], odometer)
@@ -587,24 +593,28 @@ def _static_heading(imu, track, ned, sigma_h, static, roll, pitch, w, odometer, 
             "(the trolley never moves far enough); give the initial heading (--heading)")
     # The track's direction is that of the trolley frame v, forward or backward.
     backward = _sets_off_backwards(imu, track, ned, moving, roll, pitch, c_vb, ell)
-    heading_v, source = direction.heading_rad + (math.pi if backward else 0.0), ""
+    heading_v, source = direction.heading_rad + (math.pi if backward else 0.0), None
     sigma_v = math.hypot(direction.sigma_heading_rad, TROLLEY_YAW_SIGMA_RAD)
     candidate = design_heading(design, track.lat_rad[0], track.lon_rad[0], float(sigma_h[0]))
     on_design = None if candidate is None else _on_design(
-        candidate, heading_v, sigma_v, f"{track.source} track of the first motion", notices, float(track.time_s[moving]))
+        candidate, heading_v, sigma_v, Phrase("{source} track of the first motion", {"source": track.source}), notices,
+        float(track.time_s[moving]))
     if on_design is not None and not (compass is not None and sigma_compass <= on_design[1]):
-        (heading_v, sigma_v), source = on_design, f"the design's azimuth at station {candidate.station_m:.1f} m, "
+        (heading_v, sigma_v), source = on_design, candidate
     # heading of b: the mounting rotates b against v about (nearly) the vertical
     c_bn = euler_to_dcm(0.0, 0.0, heading_v) @ c_vb
     heading_b = float(np.arctan2(c_bn[1, 0], c_bn[0, 0]))
-    reason = why or f"gyrocompass 1-sigma {math.degrees(sigma_compass):.1f} deg with the {profile.name} profile"
-    where = (f"{source}the direction from the {track.source} track of the first motion" if source else
-             f"the {track.source} track of the first motion over {direction.chord_m:g} m chords")
+    reason = why or Phrase("gyrocompass 1-sigma {sigma_deg:.1f} deg with the {profile} profile",
+                           {"sigma_deg": math.degrees(sigma_compass), "profile": profile.name})
+    where = (Phrase("the design's azimuth at station {station_m:.1f} m, the direction from the {source} track of the "
+                    "first motion", {"station_m": source.station_m, "source": track.source}) if source else
+             Phrase("the {source} track of the first motion over {chord_m:g} m chords",
+                    {"source": track.source, "chord_m": direction.chord_m}))
     notices.append(Notice(
-        "fusion", f"static start: heading {math.degrees(heading_b) % 360:.2f} deg from {where} (1-sigma "
-        f"{math.degrees(sigma_v):.2f} deg), "
-        f"not by gyrocompassing ({reason})" + ("; the trolley set off backwards" if backward else ""),
-        time_s=float(track.time_s[moving]), severity="info"))
+        "fusion", "static start: heading {heading_deg:.2f} deg from {where} (1-sigma {sigma_deg:.2f} deg), not by "
+        "gyrocompassing ({reason}){backwards}", time_s=float(track.time_s[moving]), severity="info",
+        fields={"heading_deg": math.degrees(heading_b) % 360, "where": where, "sigma_deg": math.degrees(sigma_v),
+                "reason": reason, "backwards": Phrase("; the trolley set off backwards" if backward else "")}))
     return ("static+design" if source else "static+track"), heading_b, sigma_v
 
 

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 from insrail.quality.prediction import LONG_LAG_M, SHORT_LAG_M
 from insrail.quality.survey import SectionQuality
 from insrail.track.exceedance import Assessment
@@ -160,12 +160,17 @@ def left_out(found: list[NotAssessable], everything: Assessment, assessed: Asses
 
 def notices(found: list[NotAssessable], dropped: list[int]) -> list[Notice]:
     """A warning per check and direction not assessed somewhere."""
-    return [Notice("assessment", f"{n.label()}: not assessable at the stated 1-sigma {1e3 * n.sigma_m:.2f} mm (quality.csv) "
-                                 f"against its limit {1e3 * n.limit_m:.1f} mm ({RESOLVE_SIGMAS:g} sigma beyond it: the "
-                                 f"survey's noise alone would cross it) over {n.where()}: "
-                                 f"{int(n.sleepers.sum())} sleepers not assessed for it, {k} exceedances there not "
+    return [Notice("assessment", "{check}: not assessable at the stated 1-sigma {sigma_mm:.2f} mm (quality.csv) "
+                                 "against its limit {limit_mm:.1f} mm ({sigmas:g} sigma beyond it: the survey's noise "
+                                 "alone would cross it) over {where}: {sleepers} sleepers not assessed for it, "
+                                 "{exceedances} exceedances there not "
                                  "listed; a better IMU, slower pushing or more control makes it assessable",
-                   station_m=n.stretches_m[0][0])
+                   station_m=n.stretches_m[0][0],
+                   fields={"check": Phrase("{check} {direction}", {"check": n.check, "direction": Phrase(n.direction)})
+                           if n.direction else n.check,
+                           "sigma_mm": 1e3 * n.sigma_m, "limit_mm": 1e3 * n.limit_m, "sigmas": RESOLVE_SIGMAS,
+                           "where": n.where(),
+                           "sleepers": int(n.sleepers.sum()), "exceedances": k})
             for n, k in zip(found, dropped)]
 
 

@@ -41,7 +41,7 @@ from insrail.io.errors import InputError, ManifestError
 from insrail.io.survey import MANIFEST_NAME, SurveyData
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData, SleeperPulses
 from insrail.nav.rotation import euler_to_dcm
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 from insrail.project.plausibility import GPS_MINUS_UTC_S, distance_at, gnss_track, read_as, running_sum_at
 
 NOTICE_OFFSET_S = 0.2
@@ -70,7 +70,7 @@ class ClockOffset:
     role: str
     offset_s: float
     sigma_s: float
-    method: str
+    method: Phrase
 
 
 # --------------------------------------------------------------------------- odometer against the IMU
@@ -167,7 +167,8 @@ def estimate_odometer_offset(imu: ImuIncrements, odometer: OdometerData,
     if abs(correlation) < MIN_CORRELATION or not slope.any():
         return None
     sigma = float(np.sqrt(cost / (gain**2 * (slope @ slope))))
-    return ClockOffset("odometer", offset, sigma, f"its acceleration against the IMU's, r = {abs(correlation):.3f}")
+    return ClockOffset("odometer", offset, sigma, Phrase("its acceleration against the IMU's, r = {r:.3f}",
+                                                         {"r": abs(correlation)}))
 
 
 # --------------------------------------------------------------------------- GNSS against the odometer
@@ -304,15 +305,17 @@ def clock_offsets(survey: SurveyData) -> tuple[list[ClockOffset], float]:
     if survey.gnss is not None and (gnss := estimate_gnss_odometer_offset(survey.odometer, survey.gnss)):
         offset, sigma, correlation = gnss
         if correlation >= MIN_CORRELATION:
-            method = (f"its speed against the odometer's, r = {correlation:.3f}"
-                      + (", the odometer's offset against the IMU added" if odometer is not None else ""))
+            method = Phrase("its speed against the odometer's, r = {r:.3f}{added}",
+                            {"r": correlation, "added": Phrase(", the odometer's offset against the IMU added"
+                                                               if odometer is not None else "")})
             found.append(ClockOffset("gnss", base - offset, float(np.hypot(sigma, odometer.sigma_s if odometer else 0.0)),
                                      method))
     if survey.sleepers is not None and (sleepers := estimate_sleeper_odometer_offset(survey.sleepers, survey.odometer)):
         offset, sigma, scatter = sleepers
         found.append(ClockOffset("sleepers", base - offset, float(np.hypot(sigma, odometer.sigma_s if odometer else 0.0)),
-                                 "the spacing of its pulses along the odometer"
-                                 + (", the odometer's offset against the IMU added" if odometer is not None else "")))
+                                 Phrase("the spacing of its pulses along the odometer{added}",
+                                        {"added": Phrase(", the odometer's offset against the IMU added"
+                                                         if odometer is not None else "")})))
     return [offset for offset in found if offset.sigma_s <= MAX_SIGMA_S], scatter
 
 
@@ -334,10 +337,11 @@ def check_clocks(survey: SurveyData, labels: dict[str, str]) -> list[Notice]:
     notices = []
     if scatter > MAX_SLEEPER_SCATTER:
         path = survey.sleepers.source or Path(labels["sleepers"])
-        notices.append(Notice("time", f"{labels['sleepers']}: the sleeper pulses lie {100 * scatter:.1f} % (RMS) off whole "
-                              f"sleeper spacings along the odometer ({labels['odometer']}), more than sleepers are laid "
-                              "to: a file of another run, or a detector that misses, doubles or delays pulses",
-                              file=str(path)))
+        notices.append(Notice("time", "{sleepers}: the sleeper pulses lie {scatter_pct:.1f} % (RMS) off whole sleeper "
+                              "spacings along the odometer ({odometer}), more than sleepers are laid to: a file of "
+                              "another run, or a detector that misses, doubles or delays pulses", file=str(path),
+                              fields={"sleepers": labels["sleepers"], "scatter_pct": 100 * scatter,
+                                      "odometer": labels["odometer"]}))
     offsets = {offset.role: offset for offset in found}
     odometer, gnss = offsets.get("odometer"), offsets.get("gnss")
     if (odometer is not None and gnss is not None and abs(odometer.offset_s) >= NOTICE_OFFSET_S
@@ -345,7 +349,7 @@ def check_clocks(survey: SurveyData, labels: dict[str, str]) -> list[Notice]:
         # the odometer and the GNSS agree with each other: the IMU's stamps are the odd ones
         sleepers = offsets.get("sleepers")
         offsets = {"imu": ClockOffset("imu", -0.5 * (odometer.offset_s + gnss.offset_s), max(odometer.sigma_s, gnss.sigma_s),
-                                      "the odometer's and the GNSS's accelerations and speeds, which agree")}
+                                      Phrase("the odometer's and the GNSS's accelerations and speeds, which agree"))}
         if sleepers is not None:
             offsets["sleepers"] = ClockOffset("sleepers", sleepers.offset_s - odometer.offset_s, sleepers.sigma_s,
                                               sleepers.method)
@@ -359,13 +363,18 @@ def check_clocks(survey: SurveyData, labels: dict[str, str]) -> list[Notice]:
         path = getattr(data, "source", None) or (survey.folder / entry.path if entry else Path(role))
         label = labels.get(role, path.name)
         given = entry.time_offset_s if entry is not None else 0.0
-        where = "late" if seconds > 0 else "early"
-        text = (f"its time stamps run {abs(seconds):.2f} s {where} against the IMU's clock (±{max(offset.sigma_s, ESTIMATE_FLOOR_S):.2f} s, "
-                f"from {offset.method}" + (f"; after the time_offset_s = {given:g} s given" if given else "") + ")")
+        text = Phrase("its time stamps run {seconds:.2f} s late against the IMU's clock (±{sigma_s:.2f} s, from "
+                      "{method}{given})" if seconds > 0 else
+                      "its time stamps run {seconds:.2f} s early against the IMU's clock (±{sigma_s:.2f} s, from "
+                      "{method}{given})",
+                      {"seconds": abs(seconds), "sigma_s": max(offset.sigma_s, ESTIMATE_FLOOR_S), "method": offset.method,
+                       "given": Phrase("; after the time_offset_s = {given_s:g} s given", {"given_s": given}) if given
+                       else Phrase("")})
         if abs(seconds) < MAX_OFFSET_S:
-            notices.append(Notice("time", f"{label}: {text}: check the time synchronisation, or give the offset as "
-                                  f"time_offset_s = {given + seconds:.2f} in [files.{role}] of survey.toml if it is the "
-                                  "sensor's latency", file=str(path)))
+            notices.append(Notice("time", "{label}: {text}: check the time synchronisation, or give the offset as "
+                                  "time_offset_s = {offset_s:.2f} in [files.{role}] of survey.toml if it is the "
+                                  "sensor's latency", file=str(path),
+                                  fields={"label": label, "text": text, "offset_s": given + seconds, "role": role}))
             continue
         remedy = (f"if it is the sensor's known latency, give time_offset_s = {given + seconds:.2f} in [files.{role}] "
                   f"of survey.toml" if role != "imu" else "the IMU's clock is the reference the others are put on")

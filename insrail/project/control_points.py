@@ -30,6 +30,7 @@ import numpy as np
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import GeodesyError
 from insrail.geodesy.height_anomaly import HeightAnomalyFit
+from insrail.notices import Phrase
 
 GEODETIC_KEYS = ("lat_deg", "lon_deg", "ellipsoidal_height_m")
 ENGINEERING_KEYS = ("east_m", "north_m", "normal_height_m")
@@ -59,8 +60,8 @@ class ResolvedPoint:
     lat_rad: float
     lon_rad: float
     height_m: float
-    derivation: str
-    warnings: tuple[str, ...] = ()  # e.g. the height anomaly extrapolated at the point
+    derivation: Phrase
+    warnings: tuple[Phrase, ...] = ()  # e.g. the height anomaly extrapolated at the point
 
 
 def parse_control_points(table: Any, key_path: str, problems: list[str]) -> tuple[ControlPoint, ...]:
@@ -109,7 +110,7 @@ def resolve_control_point(point: ControlPoint, crs: EngineeringCRS,
     """The point on the ellipsoid (see the module docstring for the height path)."""
     if point.geodetic is not None:
         lat, lon, h = math.radians(point.geodetic[0]), math.radians(point.geodetic[1]), point.geodetic[2]
-        derivation = "geodetic coordinates from the project"
+        derivation = Phrase("geodetic coordinates from the project")
         warnings = ()
     else:
         east, north, normal_height = point.engineering
@@ -117,15 +118,16 @@ def resolve_control_point(point: ControlPoint, crs: EngineeringCRS,
         lat, lon = float(lat_a), float(lon_a)
         if height_fit is not None:
             zeta = float(np.asarray(height_fit.zeta_m(np.array([east]), np.array([north])))[0])
-            derivation = (f"engineering E/N through the CRS; h = H + zeta = {normal_height:.4f} m {zeta:+.4f} m "
-                          f"(height anomaly model {height_fit.model_name})")
+            derivation = Phrase("engineering E/N through the CRS; h = H + zeta = {normal_m:.4f} m {zeta_m:+.4f} m (height "
+                                "anomaly model {model})",
+                                {"normal_m": normal_height, "zeta_m": zeta, "model": height_fit.model_name})
             try:  # a surface model says when the point lies outside the benchmarks' hull
-                warnings = tuple(f"control point {point.name}: {w}"
+                warnings = tuple(Phrase("control point {point}: {warning}", {"point": point.name, "warning": w})
                                  for w in height_fit.warnings_for(np.array([east]), np.array([north])))
             except GeodesyError:  # a spline in chainage: the point's chainage is not known here
                 warnings = ()
         else:
             zeta, warnings = 0.0, ()
-            derivation = "engineering E/N through the CRS; no benchmarks in the project: H taken as ellipsoidal"
+            derivation = Phrase("engineering E/N through the CRS; no benchmarks in the project: H taken as ellipsoidal")
         h = normal_height + zeta
     return ResolvedPoint(point.name, lat, lon, h, derivation, warnings)

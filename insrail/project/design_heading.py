@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 
 from insrail.nav.startup import DESIGN_TRACK_SIGMA_RAD, finds_north
+from insrail.notices import Phrase
 
 
 def uses_design(project, profile) -> bool:
@@ -61,7 +62,7 @@ def relative_frame(project, design, crs, start=None, trolley=None, height_fit=No
         return RelativeFrame(known.lat_rad, known.lon_rad, known.height_m, known.rpy_v_rad[2], known.sigma_heading_rad,
                              known.source, lever_arm_m=known.lever_arm_m, sigma_m=float(start.sigma_m))
     if design is None or project.local_control is not None:
-        return RelativeFrame.local(math.radians(float(crs.central_meridian_deg or 0.0)), " on the central meridian")
+        return RelativeFrame.local(math.radians(float(crs.central_meridian_deg or 0.0)), on_meridian=True)
     plan = design.horizontal
     station = project.start_station_m if project.start_station_m is not None else float(plan.start_station_m)
     station = min(max(station, float(plan.start_station_m)), float(plan.end_station_m))
@@ -69,4 +70,5 @@ def relative_frame(project, design, crs, start=None, trolley=None, height_fit=No
     lat, lon = (float(v) for v in crs.to_geodetic(float(east), float(north)))
     height = float(design.vertical.elevation_at(station)) if design.vertical is not None else 0.0
     azimuth = float(plan.azimuth_at(station)) + float(crs.meridian_convergence_rad(lat, lon))
-    return RelativeFrame(lat, lon, height, azimuth, DESIGN_TRACK_SIGMA_RAD, f"the design at station {station:.3f} m")
+    return RelativeFrame(lat, lon, height, azimuth, DESIGN_TRACK_SIGMA_RAD,
+                         Phrase("the design at station {station_m:.3f} m", {"station_m": station}))

@@ -46,6 +46,7 @@ from insrail.io.survey import MANIFEST_NAME, SurveyManifest
 from insrail.io.survey_gnss import RawGnss
 from insrail.io.types import GnssSolution
 from insrail.nav.fusion import gnss_by_quality
+from insrail.notices import Phrase, phrase_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.control_points import resolve_control_point
 from insrail.project.lock import cache_entry
@@ -87,12 +88,18 @@ class GnssStageResult:
                   for name, u in used.items()}
         inflated = sum(u["epochs"] for u in used.values() if u["used"] and u["sigma_factor"] != 1.0)
         excluded = sum(u["epochs"] for u in used.values() if not u["used"])
+        base = self.report["base"]  # its texts as phrases (insrail.notices): summary.toml has them in English
         return {"source": "ppk", "from_cache": self.from_cache, "file": GNSS_POS_FILE, "qc_file": GNSS_QC_FILE,
                 "epochs": self.qc.epochs, "fix_rate": self.qc.fix_rate,
                 "epochs_by_quality": dict(self.qc.epochs_by_quality),
                 "fusion_inflated_epochs": inflated, "fusion_excluded_epochs": excluded,
-                "fusion_by_quality": fusion, "base": self.report["base"],
-                "warnings": [*self.report["base"].get("warnings", []), *self.report["warnings"]]}
+                "fusion_by_quality": fusion, "base": {**base, "derivation": str(phrase_of(base["derivation"])),
+                                                      "warnings": [str(phrase_of(w)) for w in base.get("warnings", [])]},
+                "warnings": [str(warning) for warning in self.warnings()]}
+
+    def warnings(self) -> list[Phrase]:
+        """The base's and the solution's warnings (the QC report keeps them as phrases: :mod:`insrail.notices`)."""
+        return [phrase_of(w) for w in (*self.report["base"].get("warnings", []), *self.report["warnings"])]
 
 
 def _hash_files(digest, folder: Path, names) -> None:
@@ -107,7 +114,7 @@ def _base_position(project: Project, folder: Path, raw: RawGnss) -> tuple[BasePo
     """The base receiver's mark, antenna height and type; None for the RINEX header position."""
     if raw.base_from_header:
         return None, {"point": raw.base_point, "approximate": True,
-                      "derivation": f"APPROX POSITION XYZ of {raw.base}: metre level"}
+                      "derivation": Phrase("APPROX POSITION XYZ of {file}: metre level", {"file": raw.base}).to_dict()}
     point = project.control_point(raw.base_point)
     if point is None:
         known = ", ".join(p.name for p in project.control_points) or "none"
@@ -127,7 +134,7 @@ def _base_position(project: Project, folder: Path, raw: RawGnss) -> tuple[BasePo
     return base, {"point": resolved.name, "approximate": False, "lat_deg": math.degrees(resolved.lat_rad),
                   "lon_deg": math.degrees(resolved.lon_rad), "ellipsoidal_height_m": resolved.height_m,
                   "antenna_height_m": raw.base_antenna_height_m, "antenna_type": raw.base_antenna_type,
-                  "derivation": resolved.derivation, "warnings": list(resolved.warnings)}
+                  "derivation": resolved.derivation.to_dict(), "warnings": [w.to_dict() for w in resolved.warnings]}
 
 
 def _converted_log(project_folder: Path, cache: Path, folder: Path, raw: RawGnss, progress: ProgressFn | None,
@@ -211,7 +218,7 @@ def run_gnss_stage(project: Project, folder: Path, manifest: SurveyManifest, cac
                              config=None if raw.config is None else folder / raw.config,
                              options_overrides=overrides, precise_files=[folder / p for p in raw.precise],
                              progress=step.sub(0.05, 0.95), cancel=cancel)
-            report = {"base": base_report, "warnings": list(result.warnings), "rtklib_seconds": result.elapsed_s,
+            report = {"base": base_report, "warnings": [w.to_dict() for w in result.warnings], "rtklib_seconds": result.elapsed_s,
                       **({"baseline_m": result.baseline_m} if result.baseline_m is not None else {}),
                       "qc": _qc_report(result.qc)}
             try:

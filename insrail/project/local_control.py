@@ -151,10 +151,11 @@ class LocalFit:
             if size[worst] <= LOO_WARNING_M:
                 return notices
             point = fit.control.points[worst]
-            notices.append(Notice("geodesy", f"local control point {point.name}: the other points predict it "
-                                             f"{1e3 * size[worst]:.1f} mm off (leave-one-out; E/N/H "
-                                             f"{', '.join(f'{1e3 * v:.1f}' for v in loo[worst] if np.isfinite(v))} mm): "
-                                             "check its coordinates in [geodesy.local.points]"))
+            notices.append(Notice("geodesy", "local control point {point}: the other points predict it {off_mm:.1f} mm off "
+                                             "(leave-one-out; E/N/H {enh} mm): check its coordinates in "
+                                             "[geodesy.local.points]",
+                                  fields={"point": point.name, "off_mm": 1e3 * size[worst],
+                                          "enh": ", ".join(f"{1e3 * v:.1f}" for v in loo[worst] if np.isfinite(v))}))
             if len(fit.control.points) <= minimum:
                 return notices
             rest = tuple(p for p in fit.control.points if p is not point)

@@ -25,7 +25,7 @@ from insrail.nav.mounting import (
     roll_from_cant,
     yaw_pitch_from_velocity,
 )
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 
 #: the calibration pass's trajectory holds the update epochs (10 Hz): enough for the velocity's direction
 UPDATE_RATE_OUTPUT_HZ = 10.0
@@ -78,13 +78,16 @@ def mounting_notices(estimate: MountingEstimate, source: str, stage: str = "fusi
     if applied:
         notices.append(Notice(stage, estimate.text(), severity="info"))
         values = ", ".join(f"{v:.3f}" for v in np.degrees(estimate.applied_rpy_rad()))
-        apart = ", ".join(f"{AXES[i]} by {math.degrees(abs(estimate.rpy_rad[i] - estimate.given_rpy_rad[i])):.3f} deg "
-                          f"({abs(estimate.rpy_rad[i] - estimate.given_rpy_rad[i]) / estimate.sigma_rad[i]:.0f} sigma)"
-                          for i in range(3) if estimate.significant[i])
+        apart = [Phrase("{axis} by {apart_deg:.3f} deg ({sigmas:.0f} sigma)",
+                        {"axis": Phrase(AXES[i]),
+                         "apart_deg": math.degrees(abs(estimate.rpy_rad[i] - estimate.given_rpy_rad[i])),
+                         "sigmas": abs(estimate.rpy_rad[i] - estimate.given_rpy_rad[i]) / estimate.sigma_rad[i]})
+                 for i in range(3) if estimate.significant[i]]
         notices.append(Notice(
-            stage, f"the IMU mounting the survey shows differs from {source}'s trolley.mounting_rpy_deg by more than "
-            f"{SIGNIFICANT_SIGMAS:g} sigma ({apart}): the survey is processed with the estimate; give "
-            f"trolley.mounting_rpy_deg = [{values}]"
-            + (" (the roll takes the track's mean cross-level for the design's)" if "roll" in applied else ""),
-            severity="warning"))
+            stage, "the IMU mounting the survey shows differs from {source}'s trolley.mounting_rpy_deg by more than "
+            "{sigmas:g} sigma ({apart}): the survey is processed with the estimate; give trolley.mounting_rpy_deg = "
+            "[{values}]{roll}", severity="warning",
+            fields={"source": source, "sigmas": SIGNIFICANT_SIGMAS, "apart": apart, "values": values,
+                    "roll": Phrase(" (the roll takes the track's mean cross-level for the design's)" if "roll" in applied
+                                   else "")}))
     return notices

@@ -70,7 +70,7 @@ from insrail.nav.mounting import MountingEstimate, not_estimated
 from insrail.nav.self_calibration import fuse_consistent
 from insrail.nav.shocks import NHC_RELAXED_S, detect_shocks
 from insrail.nav.trajectory import Trajectory, load_trajectory
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project import assessable
 from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
@@ -185,7 +185,7 @@ from insrail.track.sleepers import AnchorError
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 19  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma; 16: a track heading's 1-sigma holds the trolley's yaw against the chord; 17: the NHC relaxed over rail joints' shocks, listed in the fusion's info; 18: the IMU mounting estimated (a pass without the NHC), a reset after a gap a last resort (the gap's error grown), relative surveys; 19: a gap return accepted far off grown as a reset's
+CACHE_VERSION = 20  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma; 16: a track heading's 1-sigma holds the trolley's yaw against the chord; 17: the NHC relaxed over rail joints' shocks, listed in the fusion's info; 18: the IMU mounting estimated (a pass without the NHC), a reset after a gap a last resort (the gap's error grown), relative surveys; 19: a gap return accepted far off grown as a reset's; 20: notices as templates and fields (read in the report's language)
 #: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
 #: entry 52 MB instead of 370 MB, read back in a rerun); 3, the epochs' stations in their own
 #: file (track-<key>.epochs.npy), read by parts; 4, without a design the line-type fit always
@@ -693,7 +693,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     summary["track"]["parameters"] = parameters_section(
         bases, project.line_speeds, "design" if run.design is not None else "fitted" if curvature is not None else "none")
     summary["notices"] = [n.to_dict() for n in [*outside_notices(project, folder, manifest), *cache_notices, *run.notices(),
-                                                *_notices(fusion_info, height_warnings, summary.get("ppk")),
+                                                *_notices(fusion_info, height_warnings, gnss.warnings() if gnss is not None else []),
                                                 *(local.notices() if local is not None else []),
                                                 *speed_notices(profile, table, curvature, speed),
                                                 *assessable.notices(unresolved, not_listed),
@@ -788,8 +788,9 @@ def outside_notices(project: Project, folder: Path, manifest: SurveyManifest) ->
     for role, entry in manifest.files.items():
         path = (folder / entry.path).resolve()
         if not any(path.is_relative_to(place) for place in inside):
-            notices.append(Notice("survey", f"files.{role}: {entry.path} lies outside the project and the survey "
-                                  f"folder ({path}): check that it is the file meant", file=str(path)))
+            notices.append(Notice("survey", "files.{role}: {entry} lies outside the project and the survey folder "
+                                  "({path}): check that it is the file meant", file=str(path),
+                                  fields={"role": role, "entry": str(entry.path), "path": str(path)}))
     return notices
 
 
@@ -799,15 +800,16 @@ def _line_fit_notices(line: FittedLine | None, table: SleeperTable) -> list[Noti
     if line is None or line.section().get("fitted", True):
         return []
     stations = table.station_m[np.isfinite(table.station_m)]
-    where = f"stations {stations.min():.1f} to {stations.max():.1f} m" if stations.size else "the whole survey"
-    return [Notice("track", f"no line-type fit over {where} (no fitted alignment, no deviations "
-                            f"\"measured - best\"): {line.section()['error']}",
-                   station_m=float(stations.min()) if stations.size else None)]
+    where = (Phrase("stations {from_m:.1f} to {to_m:.1f} m", {"from_m": stations.min(), "to_m": stations.max()})
+             if stations.size else Phrase("the whole survey"))
+    return [Notice("track", "no line-type fit over {where} (no fitted alignment, no deviations \"measured - best\"): "
+                            "{error}", station_m=float(stations.min()) if stations.size else None,
+                   fields={"where": where, "error": line.section()["error"]})]
 
 
-def _notices(fusion_info: dict, height_warnings: list[str], ppk: dict | None) -> list[Notice]:
+def _notices(fusion_info: dict, height_warnings: list[Phrase], ppk_warnings: list[Phrase]) -> list[Notice]:
     """Every stage's notices, in pipeline order (:mod:`insrail.notices`)."""
-    notices = [Notice("gnss", w) for w in (ppk or {}).get("warnings", [])]
+    notices = [Notice("gnss", w) for w in ppk_warnings]
     notices += [Notice.from_dict(table) for table in fusion_info.get("notices", [])]
     notices += [Notice("heights", w) for w in height_warnings]
     return notices
@@ -825,7 +827,7 @@ def _summary(project, run, name, manifest, fusion_info, track_cached, height_fit
         "fusion": {"prism_fixes": 0, **{k: v for k, v in fusion_info.items() if k != "notices"}},
         "heights": ({"model": height_fit.model_name, "internal_rms_mm": 1e3 * height_fit.internal_rms_m,
                      "loo_rms_mm": 1e3 * height_fit.loo_rms_m if np.isfinite(height_fit.loo_rms_m) else -1.0,
-                     "warnings": height_warnings}
+                     "warnings": [str(w) for w in height_warnings]}
                     if height_fit is not None else {"model": "none (ellipsoidal heights)"}),
         "track": {"design": run.design or "", "from_cache": track_cached, "sleepers": len(table), "valid_sleepers": int(table.valid.sum()),
                   "station_from_m": float(table.station_m[0]) if len(table) else 0.0,

@@ -46,7 +46,7 @@ from insrail.io.types import (
 )
 from insrail.nav.earth import geodetic_to_ecef
 from insrail.nav.imu_profile import load_imu_profile
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 
 MAX_HEIGHT_ANOMALY_M = 150.0
 MAX_ANOMALY_SPREAD_M = 5.0
@@ -171,10 +171,12 @@ def clean_gauge(gauge: GaugeData | None, nominal_gauge_m: float, label: str) -> 
                          f"{1e3 * MAX_GAUGE_OFFSET_M:.0f} mm from the median {1e3 * median:.1f} mm: a faulty gauge "
                          "sensor; repair or remove the record")
     listed = ", ".join(f"{t:.3f} s: {1e3 * v:.1f} mm" for t, v in zip(gauge.time_s[outlier][:5], values[outlier][:5]))
-    more = f" and {int(outlier.sum()) - 5} more" if outlier.sum() > 5 else ""
-    notice = Notice("gauge", f"{label}: {int(outlier.sum())} gauge reading(s) more than {1e3 * MAX_GAUGE_OFFSET_M:.0f} "
-                    f"mm from the median {1e3 * median:.1f} mm removed as outliers ({listed}{more})",
-                    file=str(path), time_s=float(gauge.time_s[outlier][0]))
+    more = (Phrase(" and {more} more", {"more": int(outlier.sum()) - 5}) if outlier.sum() > 5 else Phrase(""))
+    notice = Notice("gauge", "{label}: {count} gauge reading(s) more than {offset_mm:.0f} mm from the median "
+                    "{median_mm:.1f} mm removed as outliers ({listed}{more})",
+                    file=str(path), time_s=float(gauge.time_s[outlier][0]),
+                    fields={"label": label, "count": int(outlier.sum()), "offset_mm": 1e3 * MAX_GAUGE_OFFSET_M,
+                            "median_mm": 1e3 * median, "listed": listed, "more": more})
     keep = ~outlier
     return replace(gauge, time_s=gauge.time_s[keep], gauge_m=values[keep]), [notice]
 

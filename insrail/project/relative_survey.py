@@ -21,7 +21,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 from insrail.project.assessable import RESOLVE_SIGMAS, check_limit_m, decides, section_sigma_m
 from insrail.track.adjustment import Adjustment
 
@@ -55,12 +55,15 @@ def relative_notices(profile, quality) -> list[Notice]:
         assessed = decides(sigma, check_limit_m(check))
         if assessed.all():
             continue
-        where = ", ".join(f"{a:.0f}-{b:.0f} m ({f'{1e3 * s:.2f} mm' if np.isfinite(s) else 'too short for its lag'})"
-                          for a, b, s, ok in zip(quality.station_from_m, quality.station_to_m, sigma, assessed) if not ok)
-        notices.append(Notice("track", f"relative survey: the {name} check cannot be assessed in "
-                              f"{(~assessed).sum()} of {len(assessed)} sections, where the stated 1-sigma of its error "
-                              f"exceeds 1/{RESOLVE_SIGMAS:g} of its {1e3 * check_limit_m(check):g} mm limit: {where}; "
-                              "its values and exceedances there are left out", station_m=float(quality.station_from_m[0])))
+        where = [Phrase("{from_m:.0f}-{to_m:.0f} m ({sigma_mm:.2f} mm)", {"from_m": a, "to_m": b, "sigma_mm": 1e3 * s})
+                 if np.isfinite(s) else Phrase("{from_m:.0f}-{to_m:.0f} m (too short for its lag)", {"from_m": a, "to_m": b})
+                 for a, b, s, ok in zip(quality.station_from_m, quality.station_to_m, sigma, assessed) if not ok]
+        notices.append(Notice("track", "relative survey: the {check} check cannot be assessed in {count} of {sections} "
+                              "sections, where the stated 1-sigma of its error exceeds 1/{sigmas:g} of its {limit_mm:g} mm "
+                              "limit: {where}; its values and exceedances there are left out",
+                              station_m=float(quality.station_from_m[0]),
+                              fields={"check": name, "count": int((~assessed).sum()), "sections": len(assessed),
+                                      "sigmas": RESOLVE_SIGMAS, "limit_mm": 1e3 * check_limit_m(check), "where": where}))
     return notices
 
 
@@ -91,7 +94,7 @@ def relative_section(frame, profile, quality) -> dict:
         row["assessed"] = [name for name, ok in verdicts.items() if ok[i]]
         row["not_assessed"] = [name for name, ok in verdicts.items() if not ok[i]]
         sections.append(row)
-    section = {"frame": frame.source,
+    section = {"frame": str(frame.source),
                "measured": "gauge, cant, twist and the chord checks (versines, short and long wave where assessed)",
                "not_measured": "coordinates on the line and deviations from the design (the sleeper table's deviation "
                                "columns are empty; its rail coordinates are in the survey's own frame, which drifts "
@@ -105,14 +108,14 @@ def relative_section(frame, profile, quality) -> dict:
             "azimuth_sigma_deg": round(float(np.degrees(frame.sigma_azimuth_rad)), 4),
             "end_sigma_mm": round(1e3 * end, 1), "length_m": round(length, 1),
             "reported": "nothing absolute: " + ABSOLUTE_NOT_REPORTED.format(
-                start=1e3 * frame.sigma_m, end=1e3 * end, length=length)}
+                start_mm=1e3 * frame.sigma_m, end_mm=1e3 * end, length_m=length)}
     return section
 
 
 #: why a relative survey started on the design reports no coordinates or deviations (summary.toml
 #: ``[relative.absolute] reported`` and its notice)
-ABSOLUTE_NOT_REPORTED = ("the trajectory starts on the design with a 1-sigma of {start:.0f} mm and reaches "
-                         "{end:.0f} mm at {length:.0f} m from the azimuth's alone (the IMU's drift on top), "
+ABSOLUTE_NOT_REPORTED = ("the trajectory starts on the design with a 1-sigma of {start_mm:.0f} mm and reaches "
+                         "{end_mm:.0f} mm at {length_m:.0f} m from the azimuth's alone (the IMU's drift on top), "
                          "so no deviation from the design nor any adjustment amount is given")
 
 
@@ -122,9 +125,11 @@ def absolute_notice(frame, quality) -> list[Notice]:
     if not frame.sigma_m or not len(quality.station_from_m):
         return []
     length = float(quality.station_to_m[-1] - quality.station_from_m[0])
-    return [Notice("track", "relative survey started on " + frame.source + ": " + ABSOLUTE_NOT_REPORTED.format(
-        start=1e3 * frame.sigma_m, end=1e3 * absolute_sigma_m(frame, length), length=length),
-        station_m=float(quality.station_from_m[0]))]
+    return [Notice("track", "relative survey started on {frame}: {why}", station_m=float(quality.station_from_m[0]),
+                   fields={"frame": frame.source,
+                           "why": Phrase(ABSOLUTE_NOT_REPORTED, {"start_mm": 1e3 * frame.sigma_m,
+                                                                 "end_mm": 1e3 * absolute_sigma_m(frame, length),
+                                                                 "length_m": length})})]
 
 
 def without_deviations(table):

@@ -103,11 +103,12 @@ class RunSettings:
         scale = wgs84_baseline_scale_ppm(self.ellipsoid)
         if abs(scale) <= BASELINE_SCALE_NOTICE_PPM:
             return []
-        return [Notice("geodesy", f"the CRS is on {self.ellipsoid.describe()}: GNSS positions are taken in its datum; "
-                                  f"a GNSS solution computed with WGS84's formulas from a base given in that datum "
-                                  f"reads baselines {scale:+.1f} ppm long ({scale * 5.0:+.0f} mm at 5 km from the "
-                                  "base): lengths and chainage read that much long, absolute positions need common "
-                                  "points ([geodesy.local]) or a solution made on this ellipsoid")]
+        return [Notice("geodesy", "the CRS is on {ellipsoid}: GNSS positions are taken in its datum; a GNSS solution "
+                                  "computed with WGS84's formulas from a base given in that datum reads baselines "
+                                  "{scale_ppm:+.1f} ppm long ({at_5km_mm:+.0f} mm at 5 km from the base): lengths and "
+                                  "chainage read that much long, absolute positions need common points "
+                                  "([geodesy.local]) or a solution made on this ellipsoid",
+                       fields={"ellipsoid": self.ellipsoid.describe(), "scale_ppm": scale, "at_5km_mm": scale * 5.0})]
 
     def record(self) -> dict[str, Any]:
         """The ``[settings]`` table of summary.toml (plain TOML data; :class:`RecordedSettings` reads it)."""

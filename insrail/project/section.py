@@ -340,10 +340,13 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
     for overlap in overlaps:
         for parameter, values in overlap["parameters"].items():
             if values.get("exceeds"):
-                notices.append(Notice("section", f"runs {' and '.join(overlap['runs'])} differ by {values['rms_mm']:.2f} mm "
-                                                 f"RMS in {parameter} over their overlap ({overlap['from_m']:.0f}-"
-                                                 f"{overlap['to_m']:.0f} m), more than {NOTICE_SIGMAS:g} x the predicted "
-                                                 f"{values['predicted_sigma_mm']:.2f} mm", station_m=overlap["from_m"]))
+                notices.append(Notice("section", "runs {runs} differ by {rms_mm:.2f} mm RMS in {parameter} over their "
+                                                 "overlap ({from_m:.0f}-{to_m:.0f} m), more than {sigmas:g} x the "
+                                                 "predicted {predicted_mm:.2f} mm", station_m=overlap["from_m"],
+                                      fields={"runs": list(overlap["runs"]), "rms_mm": values["rms_mm"],
+                                              "parameter": parameter, "from_m": overlap["from_m"],
+                                              "to_m": overlap["to_m"], "sigmas": NOTICE_SIGMAS,
+                                              "predicted_mm": values["predicted_sigma_mm"]}))
     for run in runs:
         notices += [Notice.from_dict(n) for n in run.summary.get("notices", [])]
     counts: dict[str, int] = {}

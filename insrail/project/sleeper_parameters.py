@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 from insrail.track.alignment import DesignAlignment
 from insrail.track.parameters import (
     LineSpeed,
@@ -127,11 +127,12 @@ def speed_notices(profile: ToleranceProfile, table: SleeperTable, curvature_1pm:
     missing_speed = valid & (~np.isfinite(speed_mps) if speed_mps is not None else True)
     missing_curvature = valid & (~np.isfinite(curvature_1pm) if curvature_1pm is not None else True)
     notices = []
-    for mask, what in ((missing_speed, "no line speed ([track] line_speed_kmh in project.toml)"),
-                       (missing_curvature, "no curvature (no design alignment and no fitted line there)")):
+    for mask, what in ((missing_speed, Phrase("no line speed ([track] line_speed_kmh in project.toml)")),
+                       (missing_curvature, Phrase("no curvature (no design alignment and no fitted line there)"))):
         if mask.any():
             station = table.station_m[mask]
-            notices.append(Notice("track", f"{', '.join(checks)} not checked at {int(mask.sum())} sleepers between "
-                                           f"{station[0]:.1f} m and {station[-1]:.1f} m: {what}",
-                                  station_m=float(station[0])))
+            notices.append(Notice("track", "{checks} not checked at {count} sleepers between {from_m:.1f} m and "
+                                           "{to_m:.1f} m: {what}", station_m=float(station[0]),
+                                  fields={"checks": ", ".join(checks), "count": int(mask.sum()), "from_m": station[0],
+                                          "to_m": station[-1], "what": what}))
     return notices

@@ -32,7 +32,7 @@ import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 
 CHECKSUM_SUFFIX = ".sha256"
 _notices: contextvars.ContextVar[list[Notice] | None] = contextvars.ContextVar("cache_notices", default=None)
@@ -57,18 +57,18 @@ def seal(*paths: Path) -> None:
             handle.write(f"{file_sha256(path)}  {path.name}\n")
 
 
-def _damage(path: Path) -> str | None:
+def _damage(path: Path) -> Phrase | str | None:
     """What is wrong with a cache file ('' when it is absent, None when intact)."""
     if not path.is_file():
         return ""
     try:
         recorded = _sidecar(path).read_text(encoding="ascii").split()[0]
     except (OSError, UnicodeDecodeError, IndexError):
-        return "it has no checksum (a run stopped while writing it, or an older insrail wrote it)"
+        return Phrase("it has no checksum (a run stopped while writing it, or an older insrail wrote it)")
     if path.stat().st_size == 0:
-        return "it is empty"
+        return Phrase("it is empty")
     if file_sha256(path) != recorded:
-        return "its contents do not match its checksum (truncated or altered)"
+        return Phrase("its contents do not match its checksum (truncated or altered)")
     return None
 
 
@@ -79,9 +79,10 @@ def discard(*paths: Path) -> None:
             item.unlink(missing_ok=True)
 
 
-def note_damaged(stage: str, path: Path, reason: str) -> None:
+def note_damaged(stage: str, path: Path, reason: Phrase | str) -> None:
     """Tell the survey's summary that a cache entry was recomputed."""
-    notice = Notice("cache", f"the cached {stage} {path.name} was damaged ({reason}): recomputed", file=str(path))
+    notice = Notice("cache", "the cached {stage} {file} was damaged ({reason}): recomputed", file=str(path),
+                    fields={"stage": stage, "file": path.name, "reason": reason})
     collected = _notices.get()
     if collected is not None:
         collected.append(notice)

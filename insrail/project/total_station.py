@@ -46,7 +46,7 @@ from insrail.io.errors import InputError
 from insrail.io.survey import SurveyData
 from insrail.io.total_station import PRISM_TARGET
 from insrail.io.types import ControlPoints, PrismObservations, TotalStationObservations
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 
 MIN_SIGMA_M = 0.0005
 #: The worst residual RMS a set-up on CPIII points can have: the pointing gives 0.5 mm at 100 m, the
@@ -121,12 +121,14 @@ def prism_fixes_from_observations(observations: TotalStationObservations, points
                                                                           observations.target[on_points]]])))
         for point in station.points:
             if not point.used:
-                notices.append(Notice("total station", (
-                    f"set-up {setup} (line {line}): CPIII point {point.name} does not fit (leave-one-out residual "
-                    f"{1e3 * point.left_out_residual_plan_m:.1f} mm in plan, {1e3 * point.left_out_residual_height_m:.1f} "
-                    f"mm in height, {point.test_ratio:.1f} times the limit of the test against its 1-sigma): left "
-                    f"out; check its coordinates"),
-                    file=str(source), time_s=float(observations.time_s[rows[0]])))
+                notices.append(Notice(
+                    "total station", "set-up {setup} (line {line}): CPIII point {point} does not fit (leave-one-out "
+                    "residual {plan_mm:.1f} mm in plan, {height_mm:.1f} mm in height, {ratio:.1f} times the limit of the "
+                    "test against its 1-sigma): left out; check its coordinates",
+                    file=str(source), time_s=float(observations.time_s[rows[0]]),
+                    fields={"setup": setup, "line": line, "point": point.name,
+                            "plan_mm": 1e3 * point.left_out_residual_plan_m,
+                            "height_mm": 1e3 * point.left_out_residual_height_m, "ratio": point.test_ratio}))
         if not on_prism.size:
             continue
         placed = station.place(_polar(observations, on_prism))
@@ -171,11 +173,12 @@ def gnss_free_run_notices(survey: SurveyData) -> list[Notice]:
     notices = []
     odometer = survey.odometer
     at_first, at_last = np.interp([first, last], odometer.time_s, odometer.distance_m)
-    for run, where, time_s in ((at_first - odometer.distance_m.min(), "before its first", first),
-                               (odometer.distance_m.max() - at_last, "beyond its last", last)):
+    for run, where, time_s in ((at_first - odometer.distance_m.min(), Phrase("before its first"), first),
+                               (odometer.distance_m.max() - at_last, Phrase("beyond its last"), last)):
         if run > UNCOVERED_RUN_M:
-            notices.append(Notice("total station", f"the run goes on {run:.0f} m {where} prism fix (at {time_s:.1f} s) "
+            notices.append(Notice("total station", "the run goes on {run_m:.0f} m {where} prism fix (at {time_s:.1f} s) "
                                   "with no GNSS: the sleepers there rest on the INS and the odometer alone, their "
                                   "position 1-sigma growing with the distance (sleepers.csv, quality.csv); start and "
-                                  "end a survey without GNSS on a fix", time_s=time_s))
+                                  "end a survey without GNSS on a fix", time_s=time_s,
+                                  fields={"run_m": run, "where": where, "time_s": time_s}))
     return notices

@@ -36,6 +36,7 @@ from openpyxl.worksheet.worksheet import Worksheet
 
 from insrail.io.atomic import atomic_write
 from insrail.names import check_name, fastener_name, in_language, profile_name, quantity_name, t
+from insrail.notices import notices_of, phrase_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
@@ -861,9 +862,12 @@ def _largest_magnitude(columns: list[Column], rows: np.ndarray) -> float:
 # --------------------------------------------------------------------------- processing log
 
 def _flatten(prefix: str, value, rows: list[tuple[str, object]]) -> None:
-    if isinstance(value, dict):
+    if isinstance(value, dict) and isinstance(value.get("template"), str) and set(value) <= {"template", "fields"}:
+        rows.append((prefix, phrase_of(value).said()))  # a text of insrail's own, kept as a phrase (insrail.notices)
+    elif isinstance(value, dict):
         for key, item in value.items():
-            _flatten(f"{prefix}.{key}" if prefix else str(key), item, rows)
+            if key != "warnings":  # a stage's warnings are notices, listed in the report's language below
+                _flatten(f"{prefix}.{key}" if prefix else str(key), item, rows)
     elif isinstance(value, list):
         if value and all(isinstance(item, dict) for item in value):
             for index, item in enumerate(value):
@@ -872,8 +876,10 @@ def _flatten(prefix: str, value, rows: list[tuple[str, object]]) -> None:
             rows.append((prefix, t("{count} values (see the Summary sheet)").format(count=len(value))))
         else:
             rows.append((prefix, "; ".join("–".join(map(str, v)) if isinstance(v, list) else str(v) for v in value)))
+    elif isinstance(value, str):  # a sentence of insrail's own in the language; a name or an id (no space) as it is
+        rows.append((prefix, t(value) if " " in value else value))
     else:
-        rows.append((prefix, value if isinstance(value, (int, float, str, bool)) else str(value)))
+        rows.append((prefix, value if isinstance(value, (int, float, bool)) else str(value)))
 
 
 def _log_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
@@ -890,7 +896,8 @@ def _log_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, ca
         sheet.append([sheet.cell(title, font=BOLD)])
         sheet.header([t("key"), t("value")])
         rows: list[tuple[str, object]] = []
-        _flatten("", document, rows)
+        _flatten("", {key: value for key, value in document.items() if key != "notices"}, rows)
+        rows += [(f"notices[{index}]", notice.said()) for index, notice in enumerate(notices_of(document))]
         for key, value in rows:
             sheet.append([sheet.cell(key), sheet.cell(value, "0.000" if isinstance(value, float) else None)])
         sheet.append([])

@@ -513,7 +513,7 @@ def _notice_line(content: ReportContent) -> list[Flowable]:
         return []
     return [Paragraph("<b>" + text((t("{count} warning from processing") if len(notices) == 1 else
                                     t("{count} warnings from processing")).format(count=len(notices))) + "</b>"
-                      + text(t(" (see Survey and processing): ") + "; ".join(n.text() for n in notices[:2])
+                      + text(t(" (see Survey and processing): ") + t("; ").join(n.said() for n in notices[:2])
                              + ("; ..." if len(notices) > 2 else "")), BODY)]
 
 
@@ -612,7 +612,7 @@ def _processing(content: ReportContent, trajectory: dict | None) -> list[Flowabl
     rows += [(t("IMU mounting"), mounting)] if (mounting := mounting_text(s)) else []
     rows += [(t("Two odometers"), pair)] if (pair := odometer_pair_text(s)) else []
     rows += _local_control_rows(s.get("local_control"))
-    rows += [(t("Warning") if notice.severity == "warning" else t("Note"), notice.text()) for notice in notices_of(s)]
+    rows += [(t("Warning") if notice.severity == "warning" else t("Note"), notice.said()) for notice in notices_of(s)]
     rows += [(t("Note"), note) for note in content.notes]
     story: list[Flowable] = [Heading(t("Survey and processing")), Paragraph(text(t("Survey and processing")), H1),
                              key_values(rows, widths=(45 * mm, 215 * mm))]

@@ -159,849 +159,979 @@
       <translation>项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="213" />
+      <location filename="../../../insrail/gui/explorer.py" line="214" />
       <source>Property</source>
       <translation>属性</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="213" />
+      <location filename="../../../insrail/gui/explorer.py" line="214" />
       <source>Value</source>
       <translation>值</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="138" />
+      <location filename="../../../insrail/gui/explorer.py" line="96" />
+      <source>written before the survey was processed again: it describes results that no longer exist</source>
+      <translation>生成于测量重新处理之前：其内容对应的结果已不存在</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="139" />
       <source>Write the out-of-date reports again</source>
       <translation>重新生成过期的报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="164" />
+      <location filename="../../../insrail/gui/explorer.py" line="165" />
       <source>folder</source>
       <translation>文件夹</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="164" />
+      <location filename="../../../insrail/gui/explorer.py" line="165" />
       <source>coordinate system</source>
       <translation>坐标系</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="129" />
+      <location filename="../../../insrail/gui/explorer.py" line="94" />
+      <source>⚠ {name} (older than the results)</source>
+      <translation>⚠ {name}（早于结果）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="98" />
+      <source>written from the current results: {path}</source>
+      <translation>由当前结果生成：{path}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/explorer.py" line="130" />
       <source>Show results of {survey}</source>
       <translation>显示 {survey} 的结果</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="130" />
+      <location filename="../../../insrail/gui/explorer.py" line="131" />
       <source>Process {survey} again</source>
       <translation>重新处理 {survey}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
       <source>role</source>
       <translation>用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
       <source>path</source>
       <translation>路径</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="178" />
+      <location filename="../../../insrail/gui/explorer.py" line="179" />
       <source>format</source>
       <translation>格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="179" />
+      <location filename="../../../insrail/gui/explorer.py" line="180" />
       <source>size</source>
       <translation>大小</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="134" />
+      <location filename="../../../insrail/gui/explorer.py" line="135" />
       <source>Write the out-of-date reports of {survey} again</source>
       <translation>重新生成 {survey} 的过期报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="172" />
+      <location filename="../../../insrail/gui/explorer.py" line="173" />
       <source>problem</source>
       <translation>问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="179" />
+      <location filename="../../../insrail/gui/explorer.py" line="180" />
       <source>missing</source>
       <translation>缺失</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="180" />
+      <location filename="../../../insrail/gui/explorer.py" line="181" />
       <source>option {name}</source>
       <translation>选项 {name}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="190" />
+      <location filename="../../../insrail/gui/explorer.py" line="191" />
       <source>file</source>
       <translation>文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="191" />
+      <location filename="../../../insrail/gui/explorer.py" line="192" />
       <source>state</source>
       <translation>状态</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="191" />
+      <location filename="../../../insrail/gui/explorer.py" line="192" />
       <source>older than the results: written before the survey was processed again</source>
       <translation>早于结果：生成于重新处理之前</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/explorer.py" line="192" />
+      <location filename="../../../insrail/gui/explorer.py" line="193" />
       <source>written from the current results</source>
       <translation>按当前结果生成</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="23" />
+      <location filename="../../../insrail/gui/export_files.py" line="24" />
       <source>Excel workbook</source>
       <translation>Excel 工作簿</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="23" />
+      <location filename="../../../insrail/gui/export_files.py" line="24" />
       <source>Excel workbook (*.xlsx)</source>
       <translation>Excel 工作簿 (*.xlsx)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="24" />
+      <location filename="../../../insrail/gui/export_files.py" line="25" />
       <source>PDF report</source>
       <translation>PDF 报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="24" />
+      <location filename="../../../insrail/gui/export_files.py" line="25" />
       <source>PDF report (*.pdf)</source>
       <translation>PDF 报告 (*.pdf)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="26" />
+      <location filename="../../../insrail/gui/export_files.py" line="27" />
       <source>&amp;Lift/lining table…</source>
       <translation>起拨道量表(&amp;L)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="26" />
+      <location filename="../../../insrail/gui/export_files.py" line="27" />
       <source>Lift/lining table (*.csv)</source>
       <translation>起拨道量表 (*.csv)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="27" />
+      <location filename="../../../insrail/gui/export_files.py" line="28" />
       <source>&amp;DXF drawing…</source>
       <translation>DXF 图(&amp;D)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="27" />
+      <location filename="../../../insrail/gui/export_files.py" line="28" />
       <source>DXF drawing (*.dxf)</source>
       <translation>DXF 图 (*.dxf)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="28" />
+      <location filename="../../../insrail/gui/export_files.py" line="29" />
       <source>Measured lines as &amp;LandXML…</source>
       <translation>实测线形 LandXML(&amp;L)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="28" />
+      <location filename="../../../insrail/gui/export_files.py" line="29" />
       <source>LandXML (*.xml)</source>
       <translation>LandXML (*.xml)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="29" />
+      <location filename="../../../insrail/gui/export_files.py" line="30" />
       <source>Sleeper &amp;coordinates…</source>
       <translation>轨枕坐标(&amp;C)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="29" />
+      <location filename="../../../insrail/gui/export_files.py" line="30" />
       <source>CSV (*.csv)</source>
       <translation>CSV (*.csv)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="37" />
+      <location filename="../../../insrail/gui/export_files.py" line="79" />
+      <source>Export failed</source>
+      <translation>导出失败</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="92" />
+      <source>exporting the {what} of {survey} to {path}</source>
+      <translation>正在将测量 {survey} 的{what}导出至 {path}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="38" />
       <source>Export the survey shown: {what}</source>
       <translation>导出当前测量：{what}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="95" />
+      <location filename="../../../insrail/gui/export_files.py" line="52" />
+      <source>Export the {what} of {survey}</source>
+      <translation>导出测量 {survey} 的{what}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="54" />
+      <source>line</source>
+      <translation>行</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="54" />
+      <source>row</source>
+      <translation>记录</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="97" />
       <source>letters, digits, '.', '_' or '-'</source>
       <translation>字母、数字、“.”、“_”或“-”</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="98" />
+      <location filename="../../../insrail/gui/importer.py" line="100" />
       <source>from the files</source>
       <translation>取自文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="118" />
+      <location filename="../../../insrail/gui/importer.py" line="120" />
       <source>Add files…</source>
       <translation>添加文件…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="120" />
+      <location filename="../../../insrail/gui/importer.py" line="122" />
       <source>Open survey folder…</source>
       <translation>打开测量文件夹…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="122" />
+      <location filename="../../../insrail/gui/importer.py" line="124" />
       <source>Remove</source>
       <translation>移除</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="124" />
+      <location filename="../../../insrail/gui/importer.py" line="126" />
       <source>Check files</source>
       <translation>检查文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="131" />
+      <location filename="../../../insrail/gui/importer.py" line="133" />
       <source>Survey name</source>
       <translation>测量名称</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="132" />
+      <location filename="../../../insrail/gui/importer.py" line="134" />
       <source>GPS week</source>
       <translation>GPS 周</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="133" />
+      <location filename="../../../insrail/gui/importer.py" line="135" />
       <source>IMU profile</source>
       <translation>IMU 误差模型</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="219" />
+      <location filename="../../../insrail/gui/importer.py" line="221" />
       <source>Raw files of one survey</source>
       <translation>一次测量的原始文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="256" />
+      <location filename="../../../insrail/gui/importer.py" line="258" />
       <source>ok</source>
       <translation>正常</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="336" />
+      <location filename="../../../insrail/gui/importer.py" line="340" />
       <source>Import raw files as a survey</source>
       <translation>导入原始数据为测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="342" />
+      <location filename="../../../insrail/gui/importer.py" line="346" />
       <source>Import</source>
       <translation>导入</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <location filename="../../../insrail/gui/importer.py" line="105" />
       <source>File</source>
       <translation>文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <location filename="../../../insrail/gui/importer.py" line="105" />
       <source>Role</source>
       <translation>用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <location filename="../../../insrail/gui/importer.py" line="105" />
       <source>Format</source>
       <translation>格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="103" />
+      <location filename="../../../insrail/gui/importer.py" line="105" />
       <source>Check</source>
       <translation>检测项</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="112" />
+      <location filename="../../../insrail/gui/importer.py" line="114" />
       <source>Line</source>
       <translation>行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="112" />
+      <location filename="../../../insrail/gui/importer.py" line="114" />
       <source>What is wrong</source>
       <translation>问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="138" />
+      <location filename="../../../insrail/gui/importer.py" line="140" />
       <source>First rows of the selected file</source>
       <translation>所选文件的前几行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="143" />
+      <location filename="../../../insrail/gui/importer.py" line="145" />
       <source>Problems found by the readers</source>
       <translation>读取时发现的问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="259" />
+      <location filename="../../../insrail/gui/importer.py" line="261" />
       <source>no role</source>
       <translation>未指定用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="75" />
+      <location filename="../../../insrail/gui/importer.py" line="77" />
       <source>cannot read: {error}</source>
       <translation>无法读取：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="224" />
+      <location filename="../../../insrail/gui/importer.py" line="226" />
       <source>Survey folder (with {file})</source>
       <translation>测量文件夹（含 {file}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="252" />
+      <location filename="../../../insrail/gui/importer.py" line="254" />
       <source>no file gives the position: give a GNSS solution (gnss) or total-station prism fixes (prism)</source>
       <translation>没有提供位置的文件：请给出 GNSS 解（gnss）或全站仪棱镜定位（prism）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="262" />
+      <location filename="../../../insrail/gui/importer.py" line="264" />
       <source>duplicate role</source>
       <translation>用途重复</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="302" />
+      <location filename="../../../insrail/gui/importer.py" line="306" />
       <source>no trolley geometry: enter it in the project</source>
       <translation>无小车几何参数：请在项目中填写</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="305" />
+      <location filename="../../../insrail/gui/importer.py" line="309" />
       <source>enter a survey name</source>
       <translation>请输入测量名称</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="67" />
+      <location filename="../../../insrail/gui/importer.py" line="69" />
       <source>not a readable .npy file: {error}</source>
       <translation>不是可读取的 .npy 文件：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="70" />
+      <location filename="../../../insrail/gui/importer.py" line="72" />
       <source>{count} records</source>
       <translation>{count} 条记录</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="258" />
+      <location filename="../../../insrail/gui/importer.py" line="260" />
       <source>choose the role of this file</source>
       <translation>请选择此文件的用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="265" />
+      <location filename="../../../insrail/gui/importer.py" line="267" />
       <source>no format</source>
       <translation>未识别格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="269" />
+      <location filename="../../../insrail/gui/importer.py" line="271" />
       <source>format does not fit the role</source>
       <translation>格式与用途不符</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="249" />
+      <location filename="../../../insrail/gui/importer.py" line="251" />
       <source>no file has the role {role} (required: {required})</source>
       <translation>没有用途为 {role} 的文件（必需：{required}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="264" />
+      <location filename="../../../insrail/gui/importer.py" line="266" />
       <source>format not recognised: choose one</source>
       <translation>未识别格式：请选择</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="261" />
+      <location filename="../../../insrail/gui/importer.py" line="263" />
       <source>more than one file has the role {role}</source>
       <translation>多个文件的用途为 {role}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="318" />
+      <location filename="../../../insrail/gui/importer.py" line="322" />
       <source>cannot copy into {folder}: {error}</source>
       <translation>无法复制到 {folder}：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="267" />
+      <location filename="../../../insrail/gui/importer.py" line="269" />
       <source>format {format} does not hold {role} data</source>
       <translation>格式 {format} 不含 {role} 数据</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="90" />
+      <location filename="../../../insrail/gui/importer.py" line="278" />
+      <source>{unit} {line}: {message}</source>
+      <translation>第 {line} {unit}：{message}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="91" />
       <source>Ready</source>
       <translation>就绪</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="142" />
+      <location filename="../../../insrail/gui/main_window.py" line="143" />
       <source>Properties</source>
       <translation>属性</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="143" />
+      <location filename="../../../insrail/gui/main_window.py" line="144" />
       <source>Log</source>
       <translation>日志</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="150" />
+      <location filename="../../../insrail/gui/main_window.py" line="151" />
       <source>Cancel</source>
       <translation>取消</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="153" />
+      <location filename="../../../insrail/gui/main_window.py" line="154" />
       <source>Open folder</source>
       <translation>打开文件夹</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="154" />
+      <location filename="../../../insrail/gui/main_window.py" line="155" />
       <source>Open the folder of the exported report</source>
       <translation>打开导出报告所在的文件夹</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="209" />
+      <location filename="../../../insrail/gui/main_window.py" line="210" />
       <source>&amp;New project…</source>
       <translation>新建项目(&amp;N)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="210" />
+      <location filename="../../../insrail/gui/main_window.py" line="211" />
       <source>Create a project with the wizard</source>
       <translation>用向导创建项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="211" />
+      <location filename="../../../insrail/gui/main_window.py" line="212" />
       <source>&amp;Open project…</source>
       <translation>打开项目(&amp;O)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="212" />
+      <location filename="../../../insrail/gui/main_window.py" line="213" />
       <source>&amp;Save project</source>
       <translation>保存项目(&amp;S)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="213" />
+      <location filename="../../../insrail/gui/main_window.py" line="214" />
       <source>&amp;Import raw files…</source>
       <translation>导入原始数据(&amp;I)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="214" />
+      <location filename="../../../insrail/gui/main_window.py" line="215" />
       <source>Add a survey from raw files</source>
       <translation>从原始数据添加测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="215" />
+      <location filename="../../../insrail/gui/main_window.py" line="216" />
       <source>&amp;Process</source>
       <translation>处理(&amp;P)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="215" />
+      <location filename="../../../insrail/gui/main_window.py" line="216" />
       <source>Process every survey of the project</source>
       <translation>处理项目的全部测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="216" />
+      <location filename="../../../insrail/gui/main_window.py" line="217" />
       <source>Post-process &amp;GNSS</source>
       <translation>GNSS 后处理(&amp;G)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="217" />
+      <location filename="../../../insrail/gui/main_window.py" line="218" />
       <source>Run the PPK stage (RTKLIB) of the survey on the GNSS page</source>
       <translation>对 GNSS 页的测量运行 PPK 后处理（RTKLIB）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="218" />
+      <location filename="../../../insrail/gui/main_window.py" line="219" />
       <source>&amp;Cancel</source>
       <translation>取消(&amp;C)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="219" />
+      <location filename="../../../insrail/gui/main_window.py" line="220" />
       <source>Stop the running job (processing, export, GNSS)</source>
       <translation>停止正在运行的任务（处理、导出、GNSS）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="220" />
+      <location filename="../../../insrail/gui/main_window.py" line="221" />
       <source>&amp;Excel workbook…</source>
       <translation>Excel 工作簿(&amp;E)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="221" />
+      <location filename="../../../insrail/gui/main_window.py" line="222" />
       <source>Export the crews' Excel workbook of the survey shown</source>
       <translation>导出当前测量的作业班组 Excel 工作簿</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="222" />
+      <location filename="../../../insrail/gui/main_window.py" line="223" />
       <source>Export Excel</source>
       <translation>导出 Excel</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="223" />
+      <location filename="../../../insrail/gui/main_window.py" line="224" />
       <source>&amp;PDF report…</source>
       <translation>PDF 报告(&amp;P)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="224" />
+      <location filename="../../../insrail/gui/main_window.py" line="225" />
       <source>Export the PDF survey report of the survey shown</source>
       <translation>导出当前测量的 PDF 测量报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="225" />
+      <location filename="../../../insrail/gui/main_window.py" line="226" />
       <source>Export PDF</source>
       <translation>导出 PDF</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="227" />
+      <location filename="../../../insrail/gui/main_window.py" line="228" />
       <source>&amp;Plan survey…</source>
       <translation>测量规划(&amp;P)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="228" />
+      <location filename="../../../insrail/gui/main_window.py" line="229" />
       <source>Predict the accuracy of a planned survey (IMU, GNSS, speed, aiding)</source>
       <translation>预测计划测量的精度（IMU、GNSS、速度、辅助观测）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="229" />
+      <location filename="../../../insrail/gui/main_window.py" line="230" />
       <source>&amp;Quit</source>
       <translation>退出(&amp;Q)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="231" />
+      <location filename="../../../insrail/gui/main_window.py" line="232" />
       <source>&amp;File</source>
       <translation>文件(&amp;F)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="234" />
+      <location filename="../../../insrail/gui/main_window.py" line="235" />
       <source>Open &amp;recent</source>
       <translation>最近打开(&amp;R)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="238" />
+      <location filename="../../../insrail/gui/main_window.py" line="239" />
       <source>&amp;Export</source>
       <translation>导出(&amp;E)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="246" />
+      <location filename="../../../insrail/gui/main_window.py" line="247" />
       <source>&amp;Run</source>
       <translation>运行(&amp;R)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="250" />
+      <location filename="../../../insrail/gui/main_window.py" line="251" />
       <source>&amp;Tools</source>
       <translation>工具(&amp;T)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="252" />
+      <location filename="../../../insrail/gui/main_window.py" line="253" />
       <source>&amp;View</source>
       <translation>视图(&amp;V)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="255" />
+      <location filename="../../../insrail/gui/main_window.py" line="256" />
       <source>&amp;Help</source>
       <translation>帮助(&amp;H)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="256" />
+      <location filename="../../../insrail/gui/main_window.py" line="257" />
       <source>&amp;About insrail</source>
       <translation>关于 insrail(&amp;A)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="258" />
+      <location filename="../../../insrail/gui/main_window.py" line="259" />
       <source>Main</source>
       <translation>主工具栏</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="272" />
+      <location filename="../../../insrail/gui/main_window.py" line="273" />
       <source>Project &amp;settings…</source>
       <translation>项目设置(&amp;S)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="273" />
+      <location filename="../../../insrail/gui/main_window.py" line="274" />
       <source>Edit the project's settings (coordinate system, trolley, processing, assessment)</source>
       <translation>编辑项目设置（坐标系、小车、数据处理、评估）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="275" />
+      <location filename="../../../insrail/gui/main_window.py" line="276" />
       <source>&amp;Undo</source>
       <translation>撤销(&amp;U)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="277" />
+      <location filename="../../../insrail/gui/main_window.py" line="278" />
       <source>&amp;Redo</source>
       <translation>重做(&amp;R)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="279" />
+      <location filename="../../../insrail/gui/main_window.py" line="280" />
       <source>&amp;Edit</source>
       <translation>编辑(&amp;E)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="284" />
+      <location filename="../../../insrail/gui/main_window.py" line="285" />
       <source>&amp;Preferences…</source>
       <translation>首选项(&amp;P)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="285" />
+      <location filename="../../../insrail/gui/main_window.py" line="286" />
       <source>The application's language</source>
       <translation>应用程序的语言</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="345" />
+      <location filename="../../../insrail/gui/main_window.py" line="347" />
       <source>Unsaved changes</source>
       <translation>未保存的修改</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="452" />
+      <location filename="../../../insrail/gui/main_window.py" line="454" />
       <source>Processing failed</source>
       <translation>处理失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="739" />
+      <location filename="../../../insrail/gui/main_window.py" line="457" />
+      <source>processing cancelled; previous results kept</source>
+      <translation>处理已取消；保留之前的结果</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="690" />
+      <source>export cancelled; nothing written</source>
+      <translation>导出已取消；未写入任何文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="745" />
       <source>GNSS post-processing failed</source>
       <translation>GNSS 后处理失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="764" />
+      <location filename="../../../insrail/gui/main_window.py" line="749" />
+      <source> (from the cache)</source>
+      <translation>（取自缓存）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="749" />
+      <source> (computed now)</source>
+      <translation>（本次计算）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="757" />
+      <source>GNSS post-processing cancelled</source>
+      <translation>GNSS 后处理已取消</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="770" />
       <source>About insrail</source>
       <translation>关于 insrail</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="111" />
+      <location filename="../../../insrail/gui/main_window.py" line="112" />
       <source>Track</source>
       <translation>轨道</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="111" />
+      <location filename="../../../insrail/gui/main_window.py" line="112" />
       <source>Plan</source>
       <translation>平面</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="111" />
+      <location filename="../../../insrail/gui/main_window.py" line="112" />
       <source>Navigation</source>
       <translation>导航</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="112" />
+      <location filename="../../../insrail/gui/main_window.py" line="113" />
       <source>Repeatability</source>
       <translation>重复性</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="112" />
+      <location filename="../../../insrail/gui/main_window.py" line="113" />
       <source>GNSS</source>
       <translation>GNSS</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="334" />
+      <location filename="../../../insrail/gui/main_window.py" line="336" />
       <source>no project — insrail</source>
       <translation>无项目 — insrail</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="364" />
+      <location filename="../../../insrail/gui/main_window.py" line="366" />
       <source>Open project</source>
       <translation>打开项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="479" />
+      <location filename="../../../insrail/gui/main_window.py" line="481" />
       <source>Cancelling…</source>
       <translation>正在取消…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="684" />
+      <location filename="../../../insrail/gui/main_window.py" line="686" />
       <source>Written {name} in {folder}</source>
       <translation>已写入 {name}，位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="764" />
+      <location filename="../../../insrail/gui/main_window.py" line="770" />
       <source>Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports.</source>
       <translation>惯性轨道几何测量小车数据处理：GNSS/INS/里程计组合导航、轨道几何、报告。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="345" />
+      <location filename="../../../insrail/gui/main_window.py" line="312" />
+      <source>settings saved to {path}; {rerun}</source>
+      <translation>设置已保存至 {path}；{rerun}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="347" />
       <source>Save the changes to {project}?</source>
       <translation>保存对 {project} 的修改？</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="364" />
+      <location filename="../../../insrail/gui/main_window.py" line="366" />
       <source>insrail project (project.toml)</source>
       <translation>insrail 项目 (project.toml)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="370" />
+      <location filename="../../../insrail/gui/main_window.py" line="372" />
       <source>Cannot open the project</source>
       <translation>无法打开项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="405" />
+      <location filename="../../../insrail/gui/main_window.py" line="388" />
+      <source>project {name}: {path}</source>
+      <translation>项目 {name}：{path}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="407" />
       <source>Cannot save the project</source>
       <translation>无法保存项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="435" />
+      <location filename="../../../insrail/gui/main_window.py" line="411" />
+      <source>saved {path}</source>
+      <translation>已保存 {path}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="437" />
       <source>Cannot add the survey</source>
       <translation>无法添加测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="583" />
+      <location filename="../../../insrail/gui/main_window.py" line="440" />
+      <source>survey {name} imported from {folder}</source>
+      <translation>测量 {name} 已从 {folder} 导入</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="501" />
+      <source>{survey}: {count} exceedances, results in {folder}</source>
+      <translation>{survey}：超限 {count} 处，结果位于 {folder}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="585" />
       <source>Showing survey {survey}</source>
       <translation>正在显示测量 {survey}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="61" />
+      <location filename="../../../insrail/gui/main_window.py" line="685" />
+      <source>written {path}</source>
+      <translation>已写入 {path}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="751" />
+      <source>GNSS of {survey}: fix rate {rate:.1f} % of {epochs} epochs{source}</source>
+      <translation>测量 {survey} 的 GNSS：{epochs} 个历元中固定率 {rate:.1f} %{source}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="499" />
+      <source>{survey}: {file} is older than these results: the banner over the views writes it again</source>
+      <translation>{survey}：{file} 早于当前结果：视图上方的提示栏可重新生成</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
       <source>5 m lag lateral</source>
       <translation>5 m 间隔横向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="61" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
       <source>5 m lag vertical</source>
       <translation>5 m 间隔垂向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="63" />
       <source>150 m lag lateral</source>
       <translation>150 m 间隔横向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="63" />
       <source>150 m lag vertical</source>
       <translation>150 m 间隔垂向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="63" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="64" />
       <source>cant</source>
       <translation>超高</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="109" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="110" />
       <source>Plan survey — predicted accuracy</source>
       <translation>测量规划 — 预测精度</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="118" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="119" />
       <source>IMU profile from resources/imu_profiles (bias, random walks)</source>
       <translation>resources/imu_profiles 中的 IMU 误差模型（零偏、随机游走）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="125" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="126" />
       <source>track length after a 300 s static alignment (about 1.5 s of computing per km)</source>
       <translation>300 s 静态对准后的线路长度（每公里约计算 1.5 s）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="127" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="128" />
       <source>none</source>
       <translation>无</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="128" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="129" />
       <source>a GNSS outage of this duration in the middle of the run</source>
       <translation>在测量中段的此时长 GNSS 中断</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="131" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="132" />
       <source>odometer</source>
       <translation>里程计</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="132" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="133" />
       <source>non-holonomic constraint (NHC)</source>
       <translation>非完整约束（NHC）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="133" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="134" />
       <source>zero-velocity updates at rest (ZUPT)</source>
       <translation>静止时零速修正（ZUPT）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="138" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="141" />
       <source>vary one parameter from the baseline, like the thesis's chapter 3</source>
       <translation>从基准变化一个参数（如论文第 3 章）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="144" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="147" />
       <source>GNSS σ horizontal</source>
       <translation>GNSS σ 水平</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="145" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="148" />
       <source>GNSS σ vertical</source>
       <translation>GNSS σ 高程</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="146" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="149" />
       <source>Speed</source>
       <translation>速度</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="147" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="150" />
       <source>Track length</source>
       <translation>线路长度</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="148" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="151" />
       <source>GNSS outage mid-run</source>
       <translation>中段 GNSS 中断</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="149" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="152" />
       <source>Solution</source>
       <translation>解算</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="150" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="153" />
       <source>Aiding</source>
       <translation>辅助观测</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="155" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="158" />
       <source>Sweep</source>
       <translation>参数扫描</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="156" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="159" />
       <source>Values</source>
       <translation>取值</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="158" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="161" />
       <source>Run</source>
       <translation>运行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="183" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="186" />
       <source>Set the planned run and press Run.</source>
       <translation>设置计划测量后按“运行”。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="259" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="264" />
       <source>predicting…</source>
       <translation>正在预测…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="278" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="283" />
       <source>cancelled</source>
       <translation>已取消</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="315" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="321" />
       <source>done</source>
       <translation>完成</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="122" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="123" />
       <source>white (epoch-to-epoch) GNSS sigma; the fusion adds its correlated part</source>
       <translation>GNSS 白噪声（历元间）标准差；融合另加其相关部分</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="309" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="131" />
+      <source>smoothed (RTS)</source>
+      <translation>平滑解（RTS）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="131" />
+      <source>forward filter</source>
+      <translation>前向滤波</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="314" />
       <source>smoothed solution</source>
       <translation>平滑解</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="309" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="314" />
       <source>forward solution</source>
       <translation>前向解</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="328" />
       <source>Figure</source>
       <translation>指标</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="328" />
       <source>Limit [mm]</source>
       <translation>限值 [mm]</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="328" />
       <source>3σ against the limit</source>
       <translation>3σ 与限值比较</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="343" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="349" />
       <source>Figure, 1σ [mm]</source>
       <translation>指标，1σ [mm]</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="310" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="223" />
+      <source>values in {unit}, separated by spaces; empty: the typical range shown</source>
+      <translation>以 {unit} 为单位的数值，以空格分隔；留空：采用所示的典型范围</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="315" />
       <source>{solution}, 1 sigma [mm], {parameter} in {unit}; the plot shows 3 sigma against the limits</source>
       <translation>{solution}，1 倍标准差 [mm]，{parameter} 单位 {unit}；图中为 3 倍标准差与限值比较</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="235" />
+      <source>sweep values: expected numbers separated by spaces, found {text}</source>
+      <translation>扫描取值：应为以空格分隔的数字，实为 {text}</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/preferences.py" line="18" />
@@ -1209,237 +1339,277 @@
       <translation>轨枕</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="60" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="39" />
+      <source>fix</source>
+      <translation>固定解</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="39" />
+      <source>float</source>
+      <translation>浮点解</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="39" />
+      <source>sbas</source>
+      <translation>SBAS</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="39" />
+      <source>dgps</source>
+      <translation>伪距差分（DGPS）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="40" />
+      <source>single</source>
+      <translation>单点定位</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="40" />
+      <source>ppp</source>
+      <translation>精密单点定位（PPP）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="51" />
+      <source>excluded</source>
+      <translation>不采用</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="77" />
       <source>base (RINEX)</source>
       <translation>基准站（RINEX）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="61" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="78" />
       <source>navigation</source>
       <translation>导航星历</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="62" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="79" />
       <source>precise</source>
       <translation>精密星历</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="81" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="98" />
       <source>Files</source>
       <translation>文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="81" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="98" />
       <source>Base</source>
       <translation>基准站</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="88" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="105" />
       <source>epochs</source>
       <translation>历元</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="90" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="107" />
       <source>fix rate</source>
       <translation>固定率</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="91" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="108" />
       <source>ratio of fixed epochs</source>
       <translation>固定解历元的比率检验值</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="108" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="125" />
       <source>point</source>
       <translation>点</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="114" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="131" />
       <source>derivation</source>
       <translation>来源</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="116" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="133" />
       <source>Epochs by quality</source>
       <translation>各解类型历元数</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="116" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="133" />
       <source>Sigma by quality</source>
       <translation>各解类型标准差</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="118" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="135" />
       <source>Warnings</source>
       <translation>警告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="161" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="178" />
       <source>Not post-processed yet: Run &gt; Post-process GNSS.</source>
       <translation>尚未后处理：“运行 &gt; GNSS 后处理”。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="163" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="180" />
       <source>Input</source>
       <translation>输入</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="164" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="181" />
       <source>QC</source>
       <translation>质量检查</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="174" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="191" />
       <source>time from the first epoch [s]</source>
       <translation>自首历元起的时间 [s]</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="225" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="242" />
       <source>&lt;b&gt;Fix rate {fix_rate:.1f} %&lt;/b&gt; of {epochs} epochs, 1 gap</source>
       <translation>{epochs} 个历元中&lt;b&gt;固定率 {fix_rate:.1f} %&lt;/b&gt;，1 处中断</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="225" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="242" />
       <source>&lt;b&gt;Fix rate {fix_rate:.1f} %&lt;/b&gt; of {epochs} epochs, {gaps} gaps</source>
       <translation>{epochs} 个历元中&lt;b&gt;固定率 {fix_rate:.1f} %&lt;/b&gt;，{gaps} 处中断</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="56" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="53" />
+      <source>sigma x {factor}</source>
+      <translation>σ × {factor}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/gnss.py" line="73" />
       <source>rover (RINEX)</source>
       <translation>流动站（RINEX）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="58" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="75" />
       <source>rover log</source>
       <translation>流动站原始记录</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="66" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="83" />
       <source>RTKLIB config</source>
       <translation>RTKLIB 配置</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="66" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="83" />
       <source>trolley defaults (resources/gnss)</source>
       <translation>小车默认配置（resources/gnss）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="68" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="85" />
       <source>base point</source>
       <translation>基准点</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="68" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="85" />
       <source>RINEX header APPROX POSITION (metre level)</source>
       <translation>RINEX 文件头 APPROX POSITION（米级）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="79" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="96" />
       <source>antenna height (ARP)</source>
       <translation>天线高（ARP）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="80" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="97" />
       <source>antenna type</source>
       <translation>天线类型</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="94" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="111" />
       <source>RTKLIB time</source>
       <translation>RTKLIB 耗时</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="110" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="127" />
       <source>baseline</source>
       <translation>基线长</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="112" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="129" />
       <source>mark lat, lon, h</source>
       <translation>标志点纬度、经度、大地高</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="180" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="197" />
       <source>Survey</source>
       <translation>测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="253" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="270" />
       <source>Position σ [mm]</source>
       <translation>位置 σ [mm]</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="52" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="69" />
       <source>{file} (missing)</source>
       <translation>{file}（缺失）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="72" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="89" />
       <source>coordinates</source>
       <translation>坐标</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="72" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="89" />
       <source>not in the project's control points</source>
       <translation>不在项目的控制点中</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="88" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="105" />
       <source>{epochs} over {span_s:.0f} s (interval {interval_s:g} s)</source>
       <translation>{epochs} 个，历时 {span_s:.0f} s（间隔 {interval_s:g} s）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="91" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="108" />
       <source>min {min}, 5 % {p05}, median {median}</source>
       <translation>最小 {min}，5 % 分位 {p05}，中位数 {median}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="98" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="115" />
       <source>; fusion: {use}</source>
       <translation>；组合解算：{use}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="100" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="117" />
       <source>horizontal median {h_median:.1f} mm, 95 % {h_p95:.1f} mm; vertical median {v_median:.1f} mm, 95 % {v_p95:.1f} mm</source>
       <translation>水平中位数 {h_median:.1f} mm，95 % 分位 {h_p95:.1f} mm；垂直中位数 {v_median:.1f} mm，95 % 分位 {v_p95:.1f} mm</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="105" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="122" />
       <source>to +{end_s:.0f} s ({duration_s:.0f} s)</source>
       <translation>至 +{end_s:.0f} s（{duration_s:.0f} s）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="108" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="125" />
       <source> (approximate)</source>
       <translation>（近似）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="117" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="134" />
       <source>Gaps ({count})</source>
       <translation>中断（{count}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="247" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="264" />
       <source>&lt;b&gt;Solution quality&lt;/b&gt;</source>
       <translation>&lt;b&gt;解的质量&lt;/b&gt;</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="253" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="270" />
       <source>horizontal</source>
       <translation>水平</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="253" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="270" />
       <source>vertical</source>
       <translation>垂直</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="75" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="92" />
       <source>lat, lon, h</source>
       <translation>纬度、经度、大地高</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/gnss.py" line="78" />
+      <location filename="../../../insrail/gui/views/gnss.py" line="95" />
       <source>E, N, H (normal)</source>
       <translation>东、北坐标，正常高</translation>
     </message>
@@ -1769,9 +1939,34 @@
       <translation>杆臂为 0 m：{arms}。小车的传感器不可能都位于 IMU 中心：请输入实测杆臂、从以往项目复制，或在下方确认其确实为零。</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/wizard.py" line="531" />
+      <source>{folder} is not empty: choose another survey name.</source>
+      <translation>{folder} 不为空：请另选测量名称。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="308" />
+      <source>The files and survey.toml go into {folder}.</source>
+      <translation>文件及 survey.toml 将放入 {folder}。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="310" />
+      <source>survey.toml (the description of the survey's files) will be written into the raw-data folder {folder}.</source>
+      <translation>survey.toml（测量文件的说明）将写入原始数据文件夹 {folder}。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="469" />
+      <source>created the folder {folder}</source>
+      <translation>已创建文件夹 {folder}</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/wizard.py" line="339" />
       <source>the trolley of {path} cannot be read: {error}</source>
       <translation>无法读取 {path} 的小车参数：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="528" />
+      <source>The project has problems; go back and correct them:</source>
+      <translation>项目存在问题；请返回更正：</translation>
     </message>
   </context>
 </TS>

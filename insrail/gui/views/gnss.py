@@ -28,12 +28,29 @@ from PySide6.QtWidgets import (
 from insrail.gui import plotstyle
 from insrail.io.survey_gnss import RawGnss
 from insrail.project.control_points import ControlPoint
+from insrail.notices import phrase_of
 from insrail.project.plotdata import PpkView, quality_epochs
-from insrail.gui.translation import tr
+from insrail.gui.translation import tr, tr_noop
 
 #: Colours of the RTKLIB qualities (fix, float, single; others grey), as in the surveyor's PPK tools.
 QUALITY_COLOURS = {1: "#009E73", 2: "#E69F00", 5: "#D55E00"}
 OTHER_QUALITY_COLOUR = "#7F7F7F"
+#: The RTKLIB qualities' names (insrail.gnss.qc.QUALITY_NAMES) as the view shows them, in the application's language.
+QUALITY_LABELS = {"fix": tr_noop("fix"), "float": tr_noop("float"), "sbas": tr_noop("sbas"), "dgps": tr_noop("dgps"),
+                  "single": tr_noop("single"), "ppp": tr_noop("ppp")}
+
+
+def quality_label(name: str) -> str:
+    """An RTKLIB quality's name ("fix", "float", ...) in the application's language ("固定解", ...)."""
+    return tr(QUALITY_LABELS[name]) if name in QUALITY_LABELS else name
+
+
+def fusion_use(use: str) -> str:
+    """What the fusion does with a quality's epochs (summary.toml ``fusion_by_quality.*.use``) in words."""
+    if use == "excluded":
+        return tr("excluded")
+    factor = use.removeprefix("sigma x ")
+    return tr("sigma x {factor}").format(factor=factor) if factor != use else use
 GAP_BRUSH = pg.mkBrush(213, 94, 0, 40)
 
 
@@ -95,9 +112,9 @@ def qc_rows(view: PpkView) -> list[tuple[str, list[tuple[str, str]]]]:
     fusion = (view.fusion or {}).get("fusion_by_quality", {})
     qualities = []
     for name, count in qc["epochs_by_quality"].items():
-        use = tr("; fusion: {use}").format(use=fusion[name]["use"]) if name in fusion else ""
-        qualities.append((name, f"{count} ({_percent(count, epochs)}){use}"))
-    sigmas = [(name, tr("horizontal median {h_median:.1f} mm, 95 % {h_p95:.1f} mm; vertical median {v_median:.1f} mm, "
+        use = tr("; fusion: {use}").format(use=fusion_use(fusion[name]["use"])) if name in fusion else ""
+        qualities.append((quality_label(name), f"{count} ({_percent(count, epochs)}){use}"))
+    sigmas = [(quality_label(name), tr("horizontal median {h_median:.1f} mm, 95 % {h_p95:.1f} mm; vertical median {v_median:.1f} mm, "
                         "95 % {v_p95:.1f} mm").format(
         h_median=1e3 * s["horizontal_median_m"], h_p95=1e3 * s["horizontal_p95_m"],
         v_median=1e3 * s["vertical_median_m"], v_p95=1e3 * s["vertical_p95_m"]))
@@ -111,8 +128,8 @@ def qc_rows(view: PpkView) -> list[tuple[str, list[tuple[str, str]]]]:
     if "lat_deg" in base:
         base_rows.append((tr("mark lat, lon, h"), (f"{base['lat_deg']:.9f}°, {base['lon_deg']:.9f}°, "
                                                   f"{base['ellipsoidal_height_m']:.4f} m")))
-    base_rows.append((tr("derivation"), base["derivation"]))
-    warnings = [(f"{i + 1}", text) for i, text in enumerate(report["warnings"])] or [("", tr("none"))]
+    base_rows.append((tr("derivation"), phrase_of(base["derivation"]).said()))
+    warnings = [(f"{i + 1}", phrase_of(text).said()) for i, text in enumerate(report["warnings"])] or [("", tr("none"))]
     return [(tr("Solution"), solution), (tr("Epochs by quality"), qualities), (tr("Sigma by quality"), sigmas),
             (tr("Gaps ({count})").format(count=len(gaps)), gaps or [("", tr("none"))]), (tr("Base"), base_rows),
             (tr("Warnings"), warnings)]
@@ -239,8 +256,8 @@ class GnssView(QWidget):
             colour = QUALITY_COLOURS.get(flag, OTHER_QUALITY_COLOUR)
             self.quality_plot.plot(time_s - first, np.full(len(time_s), flag), pen=None, symbol="s", symbolSize=4,
                                    symbolPen=None, symbolBrush=colour)
-            ticks.append((flag, name))
-            labels.append(f"<span style='color:{colour}'>■ {name} {len(time_s)}</span>")
+            ticks.append((flag, quality_label(name)))
+            labels.append(f"<span style='color:{colour}'>■ {quality_label(name)} {len(time_s)}</span>")
         self.quality_plot.getAxis("left").setTicks([ticks])
         flags = [flag for flag, _ in ticks]
         self.quality_plot.setYRange(min(flags) - 0.5, max(flags) + 0.5, padding=0)

@@ -51,12 +51,12 @@ from insrail.project.plotdata import (
 )
 from insrail.project.results import ExceedanceRow
 from insrail.report.content import ChainageAxis
-from insrail.gui.translation import tr
+from insrail.gui.translation import tr, tr_noop
 
 #: Checks whose plot starts hidden unless they have exceedances: each repeats what another plot
 #: shows (gauge, cant) or is a shorter-chord version of one shown; the Plots menu brings them back.
 HIDDEN_KINDS = ("gauge_deviation", "gauge_change_rate", "versine", "cross_level")
-READOUT_HINT = tr("Move the mouse over the plots to read every value at a sleeper.")
+READOUT_HINT = tr_noop("Move the mouse over the plots to read every value at a sleeper.")  # tr() where shown
 #: Each plot keeps at least this height [px]; more plots than fit scroll.
 MIN_PLOT_HEIGHT = 150
 #: Panning and zooming stop this far beyond the first and last sleeper [m].
@@ -493,7 +493,7 @@ class TrackView(DrawWhenShown, QWidget):
         self._fill_plots_menu()
         self.request_draw(now=not len(self._station))
         self._fill_table()
-        self._set_readout(READOUT_HINT if len(self._station) else "")
+        self._set_readout(tr(READOUT_HINT) if len(self._station) else "")
         if state is not None:
             self.restore_state(state)
 
