@@ -853,9 +853,11 @@ ZH_CN: dict[str, str] = {
     " (and {sources})": "（及 {sources}）",
     "; heading re-aligned to the track by {turned_deg:+.1f} deg": "；航向按轨道重新对准 {turned_deg:+.1f}°",
     "{source} back after a gap of {gap_s:.1f} s at t = {time_s:.1f} s, {off} off the dead reckoning: the uncertainty "
-    "grown over the gap to that (instead of a filter reset) and the gap bridged by the smoother":
+    "grown over the gap to that ({instead}) and the gap bridged by the smoother":
         "{source}中断 {gap_s:.1f} s 后于 t = {time_s:.1f} s 恢复，与航位推算相差 {off}：中断期间的不确定度已相应放大"
-        "（代替滤波器重置），中断由平滑器桥接",
+        "（{instead}），中断由平滑器桥接",
+    "instead of a filter reset": "代替滤波器重置",
+    "accepted, but beyond the 1-sigma the filter held": "已接纳，但超出滤波器所持的 1σ",
     "not valid from t = {time_from_s:.1f} s to {time_to_s:.1f} s (travelled {station_from_m:.0f}-{station_to_m:.0f} m): "
     "{why}; its sleepers are not assessed":
         "t = {time_from_s:.1f} s 至 {time_to_s:.1f} s 无效（行程 {station_from_m:.0f}-{station_to_m:.0f} m）：{why}；"
@@ -1011,16 +1013,16 @@ ZH_CN: dict[str, str] = {
     "no line-type fit over {where} (no fitted alignment, no deviations \"measured - best\"): {error}":
         "{where}无线形拟合（无拟合线形，无“实测 − 最优”偏差）：{error}",
     "{check}: not assessable at the stated 1-sigma {sigma_mm:.2f} mm (quality.csv) against its limit {limit_mm:.1f} mm "
-    "(the survey's noise alone would cross it) over {where}: {sleepers} sleepers not assessed for it, {exceedances} "
+    "({sigmas:g} sigma beyond it: the survey's noise alone would cross it) over {where}: {sleepers} sleepers not assessed for it, {exceedances} "
     "exceedances there not listed; a better IMU, slower pushing or more control makes it assessable":
-        "{check}：在 {where} 所述 1σ {sigma_mm:.2f} mm（quality.csv）相对其限值 {limit_mm:.1f} mm 不可评估（仅测量噪声即可"
-        "超限）：{sleepers} 根轨枕未就此评估，该处 {exceedances} 处超限未列出；更好的 IMU、更慢的推行速度或更多控制点可使其"
+        "{check}：在 {where} 所述 1σ {sigma_mm:.2f} mm（quality.csv）相对其限值 {limit_mm:.1f} mm 不可评估（其 {sigmas:g} 倍"
+        "超出限值：仅测量噪声即可超限）：{sleepers} 根轨枕未就此评估，该处 {exceedances} 处超限未列出；更好的 IMU、更慢的推行速度或更多控制点可使其"
         "可评估",
     "relative survey: the {check} check cannot be assessed in {count} of {sections} sections, where the stated 1-sigma "
-    "of its error exceeds 1/{sigmas:g} of its {limit_mm:g} mm limit: {where}; its exceedances there are not measured "
-    "ones":
+    "of its error exceeds 1/{sigmas:g} of its {limit_mm:g} mm limit: {where}; its values and exceedances "
+    "there are left out":
         "相对测量：{check} 检查在 {sections} 个区段中的 {count} 个不可评估，这些区段所述误差 1σ 超过其 {limit_mm:g} mm 限值的 "
-        "1/{sigmas:g}：{where}；这些区段的超限并非实测所得",
+        "1/{sigmas:g}：{where}；这些区段的数值与超限均不列出",
     "{from_m:.0f}-{to_m:.0f} m ({sigma_mm:.2f} mm)": "{from_m:.0f}-{to_m:.0f} m（{sigma_mm:.2f} mm）",
     "{from_m:.0f}-{to_m:.0f} m (too short for its lag)": "{from_m:.0f}-{to_m:.0f} m（短于其滞后距离）",
     "runs {runs} differ by {rms_mm:.2f} mm RMS in {parameter} over their overlap ({from_m:.0f}-{to_m:.0f} m), more than "
@@ -1048,4 +1050,27 @@ ZH_CN: dict[str, str] = {
     "; {count} filter reset(s)": "；滤波器重置 {count} 次",
     "; {count} position fix(es) missed by the trajectory beyond their 1-sigma ({share_pct:.0f} % of the length)":
         "；轨迹偏离 {count} 个定位点超过其 1σ（占长度的 {share_pct:.0f} %）",
+    # a start on the design (survey.toml [start])
+    "1-sigma {sigma_m:.3f} m": "1σ {sigma_m:.3f} m",
+    "1-sigma {sigma_m:.3f} m horizontal, {vertical_m:g} m in height": "平面 1σ {sigma_m:.3f} m，高程 {vertical_m:g} m",
+    "as given": "按给定值",
+    "by gyrocompassing": "由陀螺寻北",
+    "from {source}": "取自{source}",
+    "static start on {source}: position from the design ({sigmas}), heading {heading_deg:.2f} deg {how} (1-sigma "
+    "{sigma_deg:.2f} deg)":
+        "于{source}静态起始：位置取自设计（{sigmas}），航向 {heading_deg:.2f}° {how}（1σ {sigma_deg:.2f}°）",
+    "moving start on {source}: position and attitude from the design ({sigmas}, {level_deg:.2f} deg level, "
+    "{heading_deg:.2f} deg heading), speed {speed_mps:+.2f} m/s from the odometer":
+        "于{source}动态起始：位置与姿态取自设计（{sigmas}，水平角 {level_deg:.2f}°，航向 {heading_deg:.2f}°），"
+        "速度 {speed_mps:+.2f} m/s 取自里程计",
+    "the design at station {station_m:.3f} m{offset}{height}{facing}": "设计线形里程 {station_m:.3f} m 处{offset}{height}{facing}",
+    ", {offset_m:+.3f} m right": "，右偏 {offset_m:+.3f} m",
+    ", {height_m:+.3f} m above": "，高出 {height_m:+.3f} m",
+    ", facing decreasing stations": "，面向里程减小方向",
+    "relative survey started on {frame}: {why}": "相对测量起始于{frame}：{why}",
+    "the trajectory starts on the design with a 1-sigma of {start_mm:.0f} mm and reaches {end_mm:.0f} mm at "
+    "{length_m:.0f} m from the azimuth's alone (the IMU's drift on top), so no deviation from the design nor any "
+    "adjustment amount is given":
+        "轨迹起始于设计线形，1σ 为 {start_mm:.0f} mm，仅方位角误差即使其在 {length_m:.0f} m 处达到 {end_mm:.0f} mm"
+        "（另加 IMU 漂移），故不给出相对设计的偏差，也不给出任何调整量",
 }

@@ -155,7 +155,7 @@ class KnownStart:
     rpy_v_rad: tuple[float, float, float]
     sigma_level_rad: float
     sigma_heading_rad: float
-    source: str
+    source: Phrase
 
 
 @dataclass(frozen=True)
@@ -466,11 +466,12 @@ def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: Odo
                  levelled_at=(float(lat0 - d_lat), float(h0 - d_h), c_bn) if method.startswith("static") else None)
 
 
-def _sigmas(known: KnownStart) -> str:
+def _sigmas(known: KnownStart) -> Phrase:
     """The known start's position 1-sigma, for its notice."""
     horizontal, vertical = float(known.sigma_ned_m[0]), float(known.sigma_ned_m[2])
-    return (f"1-sigma {horizontal:.3f} m" if vertical == horizontal else
-            f"1-sigma {horizontal:.3f} m horizontal, {vertical:g} m in height")
+    return (Phrase("1-sigma {sigma_m:.3f} m", {"sigma_m": horizontal}) if vertical == horizontal else
+            Phrase("1-sigma {sigma_m:.3f} m horizontal, {vertical_m:g} m in height",
+                   {"sigma_m": horizontal, "vertical_m": vertical}))
 
 
 def _known_start(imu: ImuIncrements, known: KnownStart, stops, odometer: OdometerData | None, c_vb: np.ndarray,
@@ -492,18 +493,20 @@ def _known_start(imu: ImuIncrements, known: KnownStart, stops, odometer: Odomete
                 compass = None
         if options.initial_heading_rad is not None:
             method, heading, sigma_heading, how = ("static+given", options.initial_heading_rad,
-                                                   options.initial_sigma_heading_rad, "as given")
+                                                   options.initial_sigma_heading_rad, Phrase("as given"))
         elif compass is not None:
-            method, heading, sigma_heading, how = "static+known", compass, sigma_compass, "by gyrocompassing"
+            method, heading, sigma_heading, how = "static+known", compass, sigma_compass, Phrase("by gyrocompassing")
         else:  # the heading of b whose trolley x axis has the design's azimuth (b turned from v about the vertical)
             c_bn = euler_to_dcm(0.0, 0.0, heading_v) @ c_vb
             method, heading, sigma_heading = "static+known", float(np.arctan2(c_bn[1, 0], c_bn[0, 0])), known.sigma_heading_rad
-            how = f"from {known.source}"
+            how = Phrase("from {source}", {"source": known.source})
         c_bn = euler_to_dcm(roll, pitch, heading)
         vel, sigma_vel, sigma_level = np.zeros(3), 0.005, options.initial_sigma_level_rad
-        notices.append(Notice("fusion", f"static start on {known.source}: position from the design ({_sigmas(known)}), heading "
-                              f"{math.degrees(heading) % 360:.2f} deg {how} (1-sigma {math.degrees(sigma_heading):.2f} deg)",
-                              time_s=float(t[0]), severity="info"))
+        notices.append(Notice("fusion", "static start on {source}: position from the design ({sigmas}), heading "
+                              "{heading_deg:.2f} deg {how} (1-sigma {sigma_deg:.2f} deg)", time_s=float(t[0]), severity="info",
+                              fields={"source": known.source, "sigmas": _sigmas(known),
+                                      "heading_deg": math.degrees(heading) % 360, "how": how,
+                                      "sigma_deg": math.degrees(sigma_heading)}))
     else:
         if odometer is None:
             raise StartupError(f"a moving start on {known.source} needs the odometer's speed (survey.toml "
@@ -515,9 +518,12 @@ def _known_start(imu: ImuIncrements, known: KnownStart, stops, odometer: Odomete
                       - np.interp(t[0], odometer.time_s, odometer.distance_m))
         vel = speed * euler_to_dcm(roll_v, pitch_v, heading_v)[:, 0]
         method, sigma_heading, sigma_vel, sigma_level = "known", known.sigma_heading_rad, 0.05, known.sigma_level_rad
-        notices.append(Notice("fusion", f"moving start on {known.source}: position and attitude from the design "
-                              f"({_sigmas(known)}, {math.degrees(sigma_level):.2f} deg level, {math.degrees(sigma_heading):.2f} deg "
-                              f"heading), speed {speed:+.2f} m/s from the odometer", time_s=float(t[0]), severity="info"))
+        notices.append(Notice("fusion", "moving start on {source}: position and attitude from the design ({sigmas}, "
+                              "{level_deg:.2f} deg level, {heading_deg:.2f} deg heading), speed {speed_mps:+.2f} m/s from "
+                              "the odometer", time_s=float(t[0]), severity="info",
+                              fields={"source": known.source, "sigmas": _sigmas(known),
+                                      "level_deg": math.degrees(sigma_level), "heading_deg": math.degrees(sigma_heading),
+                                      "speed_mps": speed}))
     d_lat, d_lon, d_h = earth.ned_to_geodetic_delta(c_bn @ np.asarray(known.lever_arm_m, float), known.lat_rad,
                                                     known.height_m, ell)
     nav = np.zeros(_kernels.NAV_SIZE)

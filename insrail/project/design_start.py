@@ -31,6 +31,7 @@ import math
 import numpy as np
 
 from insrail.nav.rotation import euler_to_dcm
+from insrail.notices import Phrase
 from insrail.nav.startup import DESIGN_TRACK_SIGMA_RAD, KnownStart, StartupError
 
 #: the vertical 1-sigma [m] of a start on the design without a height model: the height anomaly between the
@@ -85,10 +86,11 @@ def known_start(project, design, crs, start, trolley, height_fit=None) -> KnownS
     c_vb = euler_to_dcm(*trolley.mounting_rpy_rad)
     lever = np.asarray(trolley.imu_to_reference_rail_m, float) + c_vb.T @ np.array([0.0, across, 0.0])
     sigma = float(start.sigma_m)
-    where = f"the design at station {start.station_m:.3f} m" + (
-        f", {start.offset_m:+.3f} m right" if start.offset_m else "") + (
-        f", {start.height_m:+.3f} m above" if start.height_m else "") + (
-        "" if start.facing_increasing else ", facing decreasing stations")
+    where = Phrase("the design at station {station_m:.3f} m{offset}{height}{facing}", {
+        "station_m": start.station_m,
+        "offset": Phrase(", {offset_m:+.3f} m right", {"offset_m": start.offset_m}) if start.offset_m else "",
+        "height": Phrase(", {height_m:+.3f} m above", {"height_m": start.height_m}) if start.height_m else "",
+        "facing": "" if start.facing_increasing else Phrase(", facing decreasing stations")})
     vertical = sigma if height_fit is not None else UNKNOWN_ANOMALY_SIGMA_M
     return KnownStart(lat, lon, height, lever, np.array([sigma, sigma, vertical]), (roll, pitch, heading),
                       DESIGN_TRACK_SIGMA_RAD, math.hypot(DESIGN_TRACK_SIGMA_RAD, curvature * sigma), where)
