@@ -126,11 +126,23 @@ def not_assessable(profile: ToleranceProfile, quality: SectionQuality | None, st
             beyond = np.isfinite(sigma) & ~decides(sigma, limit)  # no figure: no value of the check there
             if not beyond.any():
                 continue
-            stretches = tuple((float(quality.station_from_m[k]), float(quality.station_to_m[k]))
+            # the first and last sections also hold the sleepers before and after them (``section``)
+            first, last = _ends(station, quality)
+            stretches = tuple((first if k == 0 else float(quality.station_from_m[k]),
+                               last if k == len(beyond) - 1 else float(quality.station_to_m[k]))
                               for k in np.flatnonzero(beyond))
             out.append(NotAssessable(check.name, direction, beyond[section] & np.isfinite(station),
                                      float(np.nanmax(sigma[beyond])), limit, _joined(stretches)))
     return out
+
+
+def _ends(station: np.ndarray, quality: SectionQuality) -> tuple[float, float]:
+    """The first section's start and the last's end, widened to the sleepers beyond them."""
+    finite = station[np.isfinite(station)]
+    first, last = float(quality.station_from_m[0]), float(quality.station_to_m[-1])
+    if not len(finite):
+        return first, last
+    return min(first, float(finite.min())), max(last, float(finite.max()))
 
 
 def _joined(stretches: tuple[tuple[float, float], ...]) -> tuple[tuple[float, float], ...]:
