@@ -37,6 +37,7 @@ class FakeResult:
 @dataclass
 class FakeAiding:
     odometer: object
+    gnss: object = None
 
 
 class FakeStore:

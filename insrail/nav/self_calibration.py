@@ -137,7 +137,9 @@ def play_from_innovations(result) -> tuple[float, float] | None:
     point's velocity across the track in the trolley frame, v x yaw (pitch) of the play, plus the
     filter's own uncertainty; for the play's flat spectrum over the band B
     (:func:`insrail.nav.error_model.trolley_play_band_per_m`) its mean square at speed v is
-    2 B v^2 x the drift per metre. The filter's part makes it an upper bound.
+    2 B v^2 x the drift per metre, over the filter's own part H P- H^T, which the forward filter records
+    (without that record, e.g. a result of an older fusion, the estimate is an upper bound: a tactical
+    unit's own uncertainty made it 2x the simulator's play).
 
     Only the innovations of a filter that tracks the trolley say what its play is: the rows at rest
     (below :data:`MIN_PLAY_SPEED2`), those rejected, inside a filter reset's suspect time (its
@@ -152,9 +154,9 @@ def play_from_innovations(result) -> tuple[float, float] | None:
     found = _play_rows(result)
     if found is None:
         return None
-    nu2, speed2 = found
+    nu2, speed2, own = found
     reach = 2.0 * trolley_play_band_per_m() * speed2
-    return variance_component(nu2[:, 0], reach), variance_component(nu2[:, 1], reach)
+    return tuple(variance_component(nu2[:, k], reach, None if own is None else own[:, k]) for k in range(2))
 
 
 def variance_component(nu2: np.ndarray, unit: np.ndarray, explained: np.ndarray | None = None) -> float:
@@ -173,9 +175,10 @@ def variance_component(nu2: np.ndarray, unit: np.ndarray, explained: np.ndarray 
     return max(float(np.sum(nu2[kept] - explained[kept]) / np.sum(unit[kept])), 0.0)
 
 
-def _play_rows(result) -> tuple[np.ndarray, np.ndarray] | None:
-    """(squared lateral and vertical NHC innovations (n, 2), the squared speed at each (n,)) of the
-    rows :func:`play_from_innovations` takes, or None when too few are left."""
+def _play_rows(result) -> tuple[np.ndarray, np.ndarray, np.ndarray | None] | None:
+    """(squared lateral and vertical NHC innovations (n, 2), the squared speed at each (n,), the filter's
+    own part of their variance (n, 2) or None where not recorded) of the rows
+    :func:`play_from_innovations` takes, or None when too few are left."""
     record = result.innovations
     if (record is None or record.innovation is None or NHC_SOURCE not in record.names or result.forward is None
             or len(result.forward.time_s) < 2):
@@ -185,11 +188,15 @@ def _play_rows(result) -> tuple[np.ndarray, np.ndarray] | None:
         return None
     dof = record.dof[take]
     rows = np.arange(record.innovation.shape[1])[None, :]
-    nu = np.asarray(record.innovation[take], dtype=float)
     # the NHC's lateral and vertical rows are its model's last two (an odometer row before them)
-    lateral = nu[rows == (dof - 2)[:, None]]
-    vertical = nu[rows == (dof - 1)[:, None]]
-    return np.column_stack([lateral, vertical]) ** 2, speed2[take]
+    lateral, vertical = rows == (dof - 2)[:, None], rows == (dof - 1)[:, None]
+
+    def nhc_rows(values):
+        values = np.asarray(values[take], dtype=float)
+        return np.column_stack([values[lateral], values[vertical]])
+
+    own = getattr(record, "filter_variance", None)
+    return nhc_rows(record.innovation) ** 2, speed2[take], None if own is None else nhc_rows(own)
 
 
 def _usable(result, name: str, moving: bool, min_dof: int, trusted: bool = True, accepted: bool = True):
