@@ -37,7 +37,8 @@ filter measures (its normalised innovations, ``insrail.nav.integrity``):
   excess of the rows' squared innovations over the filter's part per unit of R (:func:`variance_component`,
   the play's estimate with the filter's part known, outliers trimmed the same way; rejected rows count: the
   gate cuts the large innovations of a noise stated too small). A factor on the 1-sigma beyond
-  :data:`NOISE_TOLERANCE` either way is applied (``odometer_sigma_scale``, ``zupt_sigma_scale``, the GNSS
+  :data:`NOISE_TOLERANCE` is applied (only ever widening: a filter pessimistic elsewhere takes too much of
+  the innovations for its own part, so a narrower estimate is stated, not applied) (``odometer_sigma_scale``, ``zupt_sigma_scale``, the GNSS
   class's factor of ``gnss_quality_policy``; at most :data:`NOISE_RANGE` x the profile's either way) and the
   survey fused again, within the play's :data:`MAX_PLAY_PASSES`. Where the filter's own uncertainty makes up
   most of the innovations (the ZUPT of a still trolley: 2 um/s against its velocity's uncertainty) the survey
@@ -138,8 +139,9 @@ def play_from_innovations(result) -> tuple[float, float] | None:
     filter's own uncertainty; for the play's flat spectrum over the band B
     (:func:`insrail.nav.error_model.trolley_play_band_per_m`) its mean square at speed v is
     2 B v^2 x the drift per metre, over the filter's own part H P- H^T, which the forward filter records
-    (without that record, e.g. a result of an older fusion, the estimate is an upper bound: a tactical
-    unit's own uncertainty made it 2x the simulator's play).
+    (the upper bound left it in: a tactical unit's own uncertainty made it 2x the simulator's play). Where
+    that part is more than 1 - :data:`MIN_NOISE_SHARE` of the rows' mean square (a MEMS unit; a trolley
+    without play, whose play is then at the floor either way), or not recorded, the upper bound stands.
 
     Only the innovations of a filter that tracks the trolley say what its play is: the rows at rest
     (below :data:`MIN_PLAY_SPEED2`), those rejected, inside a filter reset's suspect time (its
@@ -156,7 +158,14 @@ def play_from_innovations(result) -> tuple[float, float] | None:
         return None
     nu2, speed2, own = found
     reach = 2.0 * trolley_play_band_per_m() * speed2
-    return tuple(variance_component(nu2[:, k], reach, None if own is None else own[:, k]) for k in range(2))
+    drift = []
+    for k in range(2):
+        # where the filter's own part is most of the rows' variance (a MEMS unit) the survey cannot part the
+        # play from it: the upper bound, not the floor the difference would give (the NHC then held so tight
+        # that the fusion failed)
+        mostly_own = own is None or np.sum(own[:, k]) > (1.0 - MIN_NOISE_SHARE) * np.sum(nu2[:, k])
+        drift.append(variance_component(nu2[:, k], reach, None if mostly_own else own[:, k]))
+    return tuple(drift)
 
 
 def variance_component(nu2: np.ndarray, unit: np.ndarray, explained: np.ndarray | None = None) -> float:
@@ -438,12 +447,17 @@ def _quality_flag(key: str) -> int:
 
 
 def _noise_options(found: dict[str, NoiseEstimate], options, profile_options):
-    """The options of a pass with the aiding noises ``found`` (an estimate's factor beyond
-    :data:`NOISE_TOLERANCE` either way; the result at most :data:`NOISE_RANGE` x the profile's either
-    way), or None when ``options`` ran with them already (and are those of the pass)."""
+    """The options of a pass with the aiding noises ``found`` widened where an estimate's factor is beyond
+    :data:`NOISE_TOLERANCE` (the result at most :data:`NOISE_RANGE` x the profile's), or None when
+    ``options`` ran with them already (and are those of the pass). A narrower estimate is stated, not
+    applied: the stated accuracy stays on the safe side."""
     changes = {}
     for key, estimate in found.items():
-        if 1.0 / NOISE_TOLERANCE <= estimate.factor <= NOISE_TOLERANCE:
+        # only ever widened: a filter whose own uncertainty is pessimistic elsewhere (a first pass with the
+        # profile's play on a trolley without any) takes too much of the innovations for itself, and the
+        # narrower noise then fails the survey (simulator, tactical grade without play: the odometer
+        # estimated at 0.19-0.64 of its true noise, 257 rejections and a reset, the 5 m lag 3x worse)
+        if estimate.factor <= NOISE_TOLERANCE:
             continue
         factor = float(np.clip(_noise_factor(key, options, profile_options) * estimate.factor, 1.0 / NOISE_RANGE,
                                NOISE_RANGE))
