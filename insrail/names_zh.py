@@ -1073,4 +1073,13 @@ ZH_CN: dict[str, str] = {
     "adjustment amount is given":
         "轨迹起始于设计线形，1σ 为 {start_mm:.0f} mm，仅方位角误差即使其在 {length_m:.0f} m 处达到 {end_mm:.0f} mm"
         "（另加 IMU 漂移），故不给出相对设计的偏差，也不给出任何调整量",
+    # noise estimated from the innovations (self-calibration)
+    "{source} noise estimated from its innovations: {sigma:.3g} {unit} (1-sigma, RMS), {given} {profile_sigma:.3g} "
+    "{unit}; fused with {given} x {applied:.2f}, the stated accuracy uses it":
+        "{source}噪声由其新息估计：{sigma:.3g} {unit}（1σ，均方根），{given} {profile_sigma:.3g} {unit}；"
+        "融合时采用{given} × {applied:.2f}，所述精度已采用",
+    "the file's": "文件给定值",
+    "the profile's": "配置给定值",
+    "GNSS {quality}": "GNSS {quality}",
+    "ZUPT": "零速修正",
 }

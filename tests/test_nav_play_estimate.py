@@ -63,8 +63,11 @@ def test_a_trolley_without_play_is_fused_with_the_play_its_innovations_show():
 
 
 def test_a_trolley_with_the_profiles_play_keeps_it():
+    """...and the odometer's and the GNSS's noise as the profile states them: one pass."""
     _, options, calibration, stated, actual = _fused(_survey(play=True), estimate=True)
     assert not calibration.play_estimated and calibration.passes == 1
+    noise = calibration.to_dict()["noise"]
+    assert {key: found["applied_factor"] for key, found in noise.items()} == {"odometer": 1.0, "gnss_fix": 1.0}
     assert options.play_drift_m2_per_m == pytest.approx((0.025e-6, 0.025e-6))
     assert actual <= 1.25 * stated
 
@@ -115,3 +118,28 @@ def test_a_fault_seen_by_the_aiding_does_not_change_the_estimated_play(tmp_path,
     assert len(result.resets) >= 1  # the fault was seen
     assert np.all(clean > 0.5 * 0.025e-6) and np.all(clean < 2 * 0.025e-6)  # the simulator's play
     assert np.all(faulty / clean < 1.5) and np.all(faulty / clean > 1 / 1.5)
+
+
+def test_the_odometers_and_the_gnss_noise_come_from_the_survey():
+    """The odometer stated 4x too good: the innovations show it, the survey is fused again with the noise
+    they show, the calibration and a notice say so, and the covariance analysis runs on it. The GNSS fixes
+    stated 3x too poor (a class's factor): the estimate says so, but a noise is only ever widened (the stated
+    accuracy stays on the safe side). The ZUPT's noise hides under the filter's own uncertainty: not estimated."""
+    folder = _survey(play=True)
+    survey = read_survey(folder)
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    policy = tuple((q, None if f is None else (3.0 * f if q == 1 else f)) for q, f in FusionOptions().gnss_quality_policy)
+    told = FusionOptions(odometer_sigma_scale=0.25, gnss_quality_policy=policy)
+    result, options, _, calibration = fuse_consistent(
+        survey.imu, lambda o: aiding_for(survey, o, profile, None), profile, told, CGCS2000)
+    assert 1 / 1.5 <= options.odometer_sigma_scale <= 1.5
+    assert dict(options.gnss_quality_policy)[1] == 3.0
+    noise = calibration.to_dict()["noise"]
+    assert set(noise) == {"odometer", "gnss_fix"}
+    assert 2.5 < noise["odometer"]["applied_factor"] < 6.0 and noise["gnss_fix"]["applied_factor"] == 1.0
+    assert noise["gnss_fix"]["estimated_sigma_mm"] < 0.5 * noise["gnss_fix"]["profile_sigma_mm"]
+    assert noise["odometer"]["estimated_sigma_mm_per_s"] == pytest.approx(4.1, rel=0.3)  # the pulses' 1 mm per 0.1 s
+    said = [n.message for n in result.info["notices"]]
+    assert any(m.startswith("odometer noise estimated from its innovations") for m in said)
+    odometer = result.timeline.measurements["odometer_nhc"]
+    assert odometer.sigma_speed_scale == options.odometer_sigma_scale  # what the covariance replay reads

@@ -37,6 +37,7 @@ class FakeResult:
 @dataclass
 class FakeAiding:
     odometer: object
+    gnss: object = None
 
 
 class FakeStore:
@@ -88,7 +89,8 @@ def test_a_consistent_survey_is_fused_once_and_nothing_said():
     assert len(passes) == 1 and used == FusionOptions() and calibration.notices == ()
     assert result.info["calibration"] == {"passes": 1, "nhc_dropped": False, "gnss_sigma_scale": 1.0,
                                           "play_estimated": False, "play_drift_mm2_per_m": [0.025, 0.025],
-                                          "profile_play_drift_mm2_per_m": [0.025, 0.025], "nhc_sigma_mm_per_s": 0.45}
+                                          "profile_play_drift_mm2_per_m": [0.025, 0.025], "nhc_sigma_mm_per_s": 0.45,
+                                          "noise": {}}
     assert store is stores[0] and not store.closed
 
 

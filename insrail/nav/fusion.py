@@ -137,6 +137,11 @@ class FusionOptions:
     # the NHC innovations are 0.33 mm/s RMS (the trolley's play), the thesis's Table 3-2 says
     # 0.1 mm/s/sqrt(Hz), i.e. 0.3 mm/s at 10 Hz; tighter than 0.45 mm/s the solution follows the play.
     odometer_sigma_mps: float = 0.0005  # plus the pulse quantisation over the segment
+    #: factors on the odometer's and the ZUPT's 1-sigma (the survey's own, ``insrail.nav.self_calibration``)
+    odometer_sigma_scale: float = 1.0
+    zupt_sigma_scale: float = 1.0
+    #: the odometer's, the ZUPT's and the GNSS classes' noise from the innovations, fused again with it
+    estimate_noise: bool = True
     nhc_sigma_mps: float = 0.00045
     #: The trolley's play as position process noise where the NHC holds the trolley to the rail:
     #: (lateral, vertical) drift variance per metre run [m^2/m], ``resources/trolley_play.toml``.
@@ -788,7 +793,8 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
                     dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, play, gnss_decay_tau, gap_j, gap_q,
                     first, source, observation, kinds, params, rows, row_first, gates,
                     nav_buf, nav_base, rec_buf, rec_fill, record, sensor_hist, sigma_hist, hist_base,
-                    nis_out, dof_out, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu_out):
+                    nis_out, dof_out, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu_out,
+                    hph_out, r_out):
     """Run the forward filter from pos = [segment j, entry e, phase] (phase 0: segment j not
     yet propagated) until an event; returns (event, entry) and leaves pos where to resume.
     dtheta, dvel, dt: a chunk of the IMU record, IMU epochs imu_span[0] .. imu_span[1] - 1 (a
@@ -848,6 +854,16 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
             for a in range(m):
                 for c in range(m):
                     R[a, c] = r[a] if a == c else 0.0
+            # each row's innovation variance: the filter's part H P- H^T and the noise R (the noise estimates
+            # of insrail.nav.self_calibration take the innovations' excess over the filter's part)
+            for a in range(m):
+                hph = 0.0
+                for c in range(n):
+                    if H[a, c] != 0.0:
+                        for c2 in range(n):
+                            hph += H[a, c] * P[c, c2] * H[a, c2]
+                hph_out[e, a] = hph
+                r_out[e, a] = r[a]
             nis, ok = kalman.update_in_place(x, P, z, H, R, m, gates[m], event_nu)
             nis_out[e] = nis
             dof_out[e] = m
@@ -1216,7 +1232,7 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
             (odometer.pulse_length_m if odometer is not None else None) or 0.001,
             sigma_nhc_mps=options.nhc_sigma_mps if use_odometer else max(options.nhc_sigma_mps,
                                                                           NHC_SIGMA_WITHOUT_ODOMETER_MPS),
-            use_odometer=use_odometer, use_nhc=options.use_nhc,
+            use_odometer=use_odometer, use_nhc=options.use_nhc, sigma_speed_scale=options.odometer_sigma_scale,
             odometer_left_out_s=left_out_s(odometer.left_out if odometer is not None else ()),
             **({} if nhc_relaxed_s is None else {"nhc_relaxed_s": nhc_relaxed_s})))
     if use_odometer and odometer_right is not None:
@@ -1226,7 +1242,8 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
             odometer_right.pulse_length_m or 0.001, use_nhc=False, name="odometer_right",
             odometer_left_out_s=left_out_s(odometer_right.left_out)))
     if options.use_zupt:
-        sources.append(Zupt(np.zeros(0), options.zupt_sigma_mps, gyro_white_noise=max(profile.gyro_arw, 1e-7)))
+        sources.append(Zupt(np.zeros(0), options.zupt_sigma_mps, gyro_white_noise=max(profile.gyro_arw, 1e-7),
+                            sigma_scale=options.zupt_sigma_scale))
     return tuple(sources)
 
 
@@ -1449,6 +1466,8 @@ class _ForwardPass:
     rejections: list
     resets: list
     innovation: np.ndarray  # per schedule entry, its rows (MAX_ROWS, NaN beyond its dof), float32
+    filter_variance: np.ndarray  # the same rows' H P- H^T
+    noise_variance: np.ndarray  # the same rows' R
 
 
 def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, store: SmootherStore | None,
@@ -1500,6 +1519,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
 
     nis = np.full(n_entries, np.nan)
     nu = np.full((n_entries, meas.MAX_ROWS), np.nan, dtype=np.float32)
+    hph, noise = np.full_like(nu, np.nan), np.full_like(nu, np.nan)
     dof = np.zeros(n_entries, dtype=np.int64)
     accepted = np.zeros(n_entries, dtype=bool)
     k_src = len(sources)
@@ -1530,7 +1550,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
             dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, setup.play, gnss_tau, gap_j, gap_q,
             plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
             nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist, hist_base,
-            nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu)
+            nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu, hph, noise)
         if event == EVENT_DONE:
             break
         if event == EVENT_NEED_IMU:
@@ -1576,7 +1596,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
         statistics[sources[k].name] = MeasurementStats(
             int(used[k]), int(rejected[k]), sum_sq[k, :dof_k].copy() if used[k] else None, float(sum_nis[k]),
             int(sum_dof[k])).summary()
-    return _ForwardPass(history, nis, dof, accepted, statistics, rejections, resets, nu)
+    return _ForwardPass(history, nis, dof, accepted, statistics, rejections, resets, nu, hph, noise)
 
 
 def _fill_imu_chunk(imu: ImuIncrements, dt0: float, start: int, dtheta, dvel, dt, span) -> None:
@@ -1698,7 +1718,8 @@ def fuse(
     timeline = UpdateTimeline(time_s=t[epochs], measurements={m.name: m for m in sources}, applied=applied,
                               initial_covariance=setup.P0)
     innovations = InnovationRecord(tuple(m.name for m in sources), obs_time, plan.source.copy(), forward_pass.nis,
-                                   forward_pass.dof, accepted, obs_trusted, forward_pass.innovation)
+                                   forward_pass.dof, accepted, obs_trusted, forward_pass.innovation,
+                                   forward_pass.filter_variance, forward_pass.noise_variance)
     lat_e, lon_e = at_updates.lat_rad, at_updates.lon_rad
     r_m, r_n = earth.radii(lat_e[0], ellipsoid)
     station = integrity.travelled_m((lat_e - lat_e[0]) * r_m, (lon_e - lon_e[0]) * r_n * math.cos(lat_e[0]))

@@ -72,6 +72,10 @@ class InnovationRecord:
     #: (n, rows) the innovation of each observation's rows in its model's units (NaN beyond its
     #: degrees of freedom; float32: what the variance estimates of ``insrail.nav.self_calibration`` need)
     innovation: np.ndarray | None = None
+    #: (n, rows) each row's innovation variance as the filter modelled it: its own part H P- H^T and the
+    #: measurement noise R (float32; the noise estimates of ``insrail.nav.self_calibration``)
+    filter_variance: np.ndarray | None = None
+    noise_variance: np.ndarray | None = None
 
 
 @dataclass(frozen=True)

@@ -337,6 +337,8 @@ class OdometerNhc:
     odometer_distance_m: np.ndarray | None = None
     sigma_odometer_mps: float = 0.001
     pulse_length_m: float = 0.001
+    #: a factor on the speeds' 1-sigma (the survey's own noise, ``insrail.nav.self_calibration``)
+    sigma_speed_scale: float = 1.0
     #: (start, end) [s] of the intervals where the NHC does not hold (a rail joint's shock,
     #: ``insrail.nav.shocks``): an update whose segment meets one takes the NHC 1-sigma times
     #: ``nhc_relaxed_factor``; ``nhc_scale`` is that factor per observation once scheduled
@@ -368,7 +370,7 @@ class OdometerNhc:
         d = np.interp(times, self.odometer_time_s, self.odometer_distance_m)
         span = np.diff(times)
         speed = np.diff(d) / span
-        sigma = odometer_speed_sigma(span, self.pulse_length_m, self.sigma_odometer_mps)
+        sigma = self.sigma_speed_scale * odometer_speed_sigma(span, self.pulse_length_m, self.sigma_odometer_mps)
         valid = (times[:-1] >= self.odometer_time_s[0]) & (times[1:] <= self.odometer_time_s[-1])
         used = ~_segments_meeting(self.odometer_left_out_s, times)
         if not self.use_nhc:  # a speed alone: nothing to apply where it is left out
@@ -437,6 +439,8 @@ class Zupt:
     stop_motion: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
     #: per observation (update epoch, once scheduled) the velocity rows' 1-sigma [m/s]
     sigma_mps: np.ndarray | None = None
+    #: a factor on the velocity rows' 1-sigma (the survey's own noise, ``insrail.nav.self_calibration``)
+    sigma_scale: float = 1.0
     name: str = "zupt"
     resets: ClassVar[tuple[str, ...]] = ("velocity",)
     position_innovation: ClassVar[bool] = False
@@ -456,7 +460,8 @@ class Zupt:
             k = np.maximum(np.searchsorted(start, update_time_s, side="right") - 1, 0)
             inside = (update_time_s >= start[k]) & (update_time_s <= end[k])
             motion[inside] = sigma[k[inside]]
-        return replace(self, time_s=update_time_s, sigma_mps=np.hypot(self.sigma_velocity_mps, motion)), j, j
+        sigma = self.sigma_scale * np.hypot(self.sigma_velocity_mps, motion)
+        return replace(self, time_s=update_time_s, sigma_mps=sigma), j, j
 
     def _sigma(self) -> np.ndarray:
         return self.sigma_mps if self.sigma_mps is not None else np.full(len(self.time_s), self.sigma_velocity_mps)

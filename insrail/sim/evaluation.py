@@ -51,15 +51,30 @@ class TrajectoryErrors:
 
     def lag_difference_sigma_m(self, lag_m: float) -> tuple[float, float]:
         """1-sigma of e(s + lag) - e(s) for the lateral and the vertical error, sampled at
-        sleeper spacing along the travelled stations (with or against the stationing)."""
+        sleeper spacing along the travelled stations (with or against the stationing), about
+        its mean over the survey (the part a survey's constant slope of its error leaves)."""
+        differences = self._lag_differences(lag_m)
+        return (float("nan"), float("nan")) if differences is None else tuple(float(np.std(d)) for d in differences)
+
+    def lag_difference_rms_m(self, lag_m: float) -> tuple[float, float]:
+        """RMS of e(s + lag) - e(s) for the lateral and the vertical error (sampled as in
+        :meth:`lag_difference_sigma_m`), its mean over the survey included: what a stated
+        1-sigma of the lag difference (``insrail.quality``) describes. A survey's error slope
+        (a heading error, the GNSS's correlated error drifting) is one draw per survey, so
+        only many surveys judge it."""
+        differences = self._lag_differences(lag_m)
+        return ((float("nan"), float("nan")) if differences is None
+                else tuple(float(np.sqrt(np.mean(np.square(d)))) for d in differences))
+
+    def _lag_differences(self, lag_m: float) -> tuple[np.ndarray, np.ndarray] | None:
         s = self.station_m if self.station_m[-1] >= self.station_m[0] else -self.station_m
         grid = np.arange(s[self.moving][0] + 1.0, s[-1] - 1.0, SLEEPER_SPACING_M)
         k = np.searchsorted(s, grid)  # first epoch reaching each station (travelled stations never decrease)
         lag = int(round(lag_m / SLEEPER_SPACING_M))
         if len(k) <= lag:
-            return float("nan"), float("nan")
+            return None
         lat, ver = self.lateral_m[k], self.vertical_m[k]
-        return float(np.std(lat[lag:] - lat[:-lag])), float(np.std(ver[lag:] - ver[:-lag]))
+        return lat[lag:] - lat[:-lag], ver[lag:] - ver[:-lag]
 
 
 def trajectory_errors(trajectory: Trajectory, truth: np.ndarray, ell: earth.Ellipsoid = earth.WGS84) -> TrajectoryErrors:
