@@ -1036,4 +1036,10 @@ ZH_CN: dict[str, str] = {
     "; {count} filter reset(s)": "；滤波器重置 {count} 次",
     "; {count} position fix(es) missed by the trajectory beyond their 1-sigma ({share_pct:.0f} % of the length)":
         "；轨迹偏离 {count} 个定位点超过其 1σ（占长度的 {share_pct:.0f} %）",
+    # a relative survey's summary.toml [relative] (the processing log says them)
+    "gauge, cant, twist and the chord checks (versines, short and long wave where assessed)":
+        "轨距、超高、扭曲及弦测检查（正矢，可评估处的短波与长波不平顺）",
+    "coordinates on the line and deviations from the design (the sleeper table's deviation columns are empty; its rail "
+    "coordinates are in the survey's own frame, which drifts with the IMU)":
+        "线路坐标及相对设计的偏差（轨枕表的偏差列为空；其钢轨坐标位于测量自身的坐标系中，随 IMU 漂移）",
 }

@@ -73,7 +73,7 @@ def relative_notices(profile, quality) -> list[Notice]:
     return notices
 
 
-def relative_section(frame: str, profile, quality) -> dict:
+def relative_section(frame: Phrase, profile, quality) -> dict:
     """summary.toml's ``[relative]``: the frame, what is and is not measured, and per section the stated
     1-sigma of the chord checks' errors [mm] and whether each chord check is assessed there."""
     verdicts = chord_verdicts(profile, quality)
@@ -87,7 +87,7 @@ def relative_section(frame: str, profile, quality) -> dict:
         row["assessed"] = [name for name, ok in verdicts.items() if ok[i]]
         row["not_assessed"] = [name for name, ok in verdicts.items() if not ok[i]]
         sections.append(row)
-    return {"frame": frame,
+    return {"frame": frame.to_dict(),  # a phrase's table (insrail.notices): the report says it in its language
             "measured": "gauge, cant, twist and the chord checks (versines, short and long wave where assessed)",
             "not_measured": "coordinates on the line and deviations from the design (the sleeper table's deviation "
                             "columns are empty; its rail coordinates are in the survey's own frame, which drifts "
