@@ -1042,4 +1042,5 @@ ZH_CN: dict[str, str] = {
     "coordinates on the line and deviations from the design (the sleeper table's deviation columns are empty; its rail "
     "coordinates are in the survey's own frame, which drifts with the IMU)":
         "线路坐标及相对设计的偏差（轨枕表的偏差列为空；其钢轨坐标位于测量自身的坐标系中，随 IMU 漂移）",
+    "{first} and {second}": "{first} 与 {second}",
 }
