@@ -1082,4 +1082,12 @@ ZH_CN: dict[str, str] = {
     "the profile's": "配置给定值",
     "GNSS {quality}": "GNSS {quality}",
     "ZUPT": "零速修正",
+    # a relative survey's summary.toml [relative] (the processing log says them)
+    "gauge, cant, twist and the chord checks (versines, short and long wave where assessed)":
+        "轨距、超高、扭曲及弦测检查（正矢，可评估处的短波与长波不平顺）",
+    "coordinates on the line and deviations from the design (the sleeper table's deviation columns are empty; its rail "
+    "coordinates are in the survey's own frame, which drifts with the IMU)":
+        "线路坐标及相对设计的偏差（轨枕表的偏差列为空；其钢轨坐标位于测量自身的坐标系中，随 IMU 漂移）",
+    "{first} and {second}": "{first} 与 {second}",
+    "nothing absolute: {why}": "不给出任何绝对量：{why}",
 }

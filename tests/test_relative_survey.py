@@ -17,6 +17,7 @@ import openpyxl
 import pytest
 
 from insrail.cli.main import main
+from insrail.notices import phrase_of
 from survey_builder import RELATIVE, SURVEY_NAME, Cell, build_cell, rms, truth_errors
 
 #: seed 000's claim for a ZUPT-aided navigation-grade INS with stops every 60 m: 30 m/5 m to about 1 mm
@@ -74,7 +75,7 @@ def test_every_output_of_a_relative_survey_says_so(relative_on_design):
     results = built.project / "results" / SURVEY_NAME
     summary = tomllib.loads((results / "summary.toml").read_text())
     assert summary["survey"]["kind"] == "relative"
-    assert summary["relative"]["frame"] == "the design at station 1020.000 m"
+    assert str(phrase_of(summary["relative"]["frame"])) == "the design at station 1020.000 m"
     sections = summary["relative"]["sections"]
     assert sections and all("short_wave_30m_5m" in s["assessed"] for s in sections)
     # the 150 m lag of a 420 m run on stops alone: 3-5 mm stated, beyond a third of the 10 mm limit
@@ -153,7 +154,7 @@ def test_a_relative_survey_without_a_design_runs_in_a_local_frame(tmp_path):
     assert code == 0, out
     assert "(relative survey)" in out and "latitude 30." in out  # the line lies at 30.5 deg N
     summary = tomllib.loads((built.project / "results" / SURVEY_NAME / "summary.toml").read_text())
-    assert summary["relative"]["frame"] == "a local frame on the central meridian"
+    assert str(phrase_of(summary["relative"]["frame"])) == "a local frame on the central meridian"
 
     built = build_cell(_cell("fitted", "tactical"), tmp_path / "tactical", seed=5)
     code, out = insrail("process", str(built.project))

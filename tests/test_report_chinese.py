@@ -237,3 +237,28 @@ def test_a_chinese_report_of_a_relative_survey_names_it_and_its_mounting_without
     for term in ("run1（相对测量）", "相对测量：无 GNSS", "IMU 安装角", "俯仰 +0.512°", "（已采用）", "横滚 未估计（无设计超高"):
         assert term in text, term
     assert english_words(text) == set()
+
+
+def _cjk_system_font() -> bool:
+    fonts = subprocess.run(["fc-list", ":lang=zh"], capture_output=True, text=True, check=False) if shutil.which("fc-list") \
+        else None
+    return bool(fonts and fonts.stdout.strip())
+
+
+@pytest.mark.slow  # LibreOffice sets every sheet: minutes on a loaded machine
+@pytest.mark.skipif(shutil.which("soffice") is None or shutil.which("pdffonts") is None or not _cjk_system_font(),
+                    reason="LibreOffice, poppler-utils or a CJK system font (fonts-wqy-microhei) missing; .ci/run "
+                           "installs them")
+def test_libreoffice_renders_a_chinese_workbook_in_a_cjk_font(chinese, tmp_path):
+    """The workbook names no font file: LibreOffice sets its Chinese in a system CJK font (boxes without one)."""
+    path = write_workbook(chinese, stored(chinese), tmp_path / "report.xlsx")
+    result = subprocess.run(["soffice", f"-env:UserInstallation=file://{tmp_path}/profile", "--headless", "--convert-to",
+                             "pdf", "--outdir", str(tmp_path / "pdf"), str(path)],
+                            capture_output=True, text=True, timeout=300, check=False)
+    assert result.returncode == 0, result.stderr
+    rendered = tmp_path / "pdf" / "report.pdf"
+    fonts = subprocess.run(["pdffonts", str(rendered)], capture_output=True, text=True, check=True).stdout
+    assert any(word in fonts for word in ("WenQuanYi", "NotoSansCJK", "NotoSerifCJK", "Droid")), fonts
+    text = pdf_text(rendered)
+    for term in ("汇总", "轨距", "水平", "轨向", "高低", "调整量", "里程"):
+        assert term in text, term

@@ -93,7 +93,7 @@ class GnssStageResult:
                 "epochs": self.qc.epochs, "fix_rate": self.qc.fix_rate,
                 "epochs_by_quality": dict(self.qc.epochs_by_quality),
                 "fusion_inflated_epochs": inflated, "fusion_excluded_epochs": excluded,
-                "fusion_by_quality": fusion, "base": {**base, "derivation": str(phrase_of(base["derivation"])),
+                "fusion_by_quality": fusion, "base": {**base, **({"derivation": str(phrase_of(base["derivation"]))} if "derivation" in base else {}),
                                                       "warnings": [str(phrase_of(w)) for w in base.get("warnings", [])]},
                 "warnings": [str(warning) for warning in self.warnings()]}
 

@@ -94,7 +94,7 @@ def relative_section(frame, profile, quality) -> dict:
         row["assessed"] = [name for name, ok in verdicts.items() if ok[i]]
         row["not_assessed"] = [name for name, ok in verdicts.items() if not ok[i]]
         sections.append(row)
-    section = {"frame": str(frame.source),
+    section = {"frame": frame.source.to_dict(),  # a phrase's table (insrail.notices): the report says it in its language
                "measured": "gauge, cant, twist and the chord checks (versines, short and long wave where assessed)",
                "not_measured": "coordinates on the line and deviations from the design (the sleeper table's deviation "
                                "columns are empty; its rail coordinates are in the survey's own frame, which drifts "
@@ -107,8 +107,8 @@ def relative_section(frame, profile, quality) -> dict:
             "start_sigma_mm": round(1e3 * frame.sigma_m, 3),
             "azimuth_sigma_deg": round(float(np.degrees(frame.sigma_azimuth_rad)), 4),
             "end_sigma_mm": round(1e3 * end, 1), "length_m": round(length, 1),
-            "reported": "nothing absolute: " + ABSOLUTE_NOT_REPORTED.format(
-                start_mm=1e3 * frame.sigma_m, end_mm=1e3 * end, length_m=length)}
+            "reported": Phrase("nothing absolute: {why}", {"why": Phrase(ABSOLUTE_NOT_REPORTED, {
+                "start_mm": 1e3 * frame.sigma_m, "end_mm": 1e3 * end, "length_m": length})}).to_dict()}
     return section
 
 

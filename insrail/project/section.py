@@ -41,7 +41,7 @@ import numpy as np
 import tomli_w
 
 from insrail.io.errors import InputError
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.compare import worst_over_placements
 from insrail.project.lock import project_run
@@ -343,7 +343,10 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
                 notices.append(Notice("section", "runs {runs} differ by {rms_mm:.2f} mm RMS in {parameter} over their "
                                                  "overlap ({from_m:.0f}-{to_m:.0f} m), more than {sigmas:g} x the "
                                                  "predicted {predicted_mm:.2f} mm", station_m=overlap["from_m"],
-                                      fields={"runs": list(overlap["runs"]), "rms_mm": values["rms_mm"],
+                                      fields={"runs": Phrase("{first} and {second}", dict(zip(("first", "second"),
+                                                                                               overlap["runs"])))
+                                              if len(overlap["runs"]) == 2 else list(overlap["runs"]),
+                                              "rms_mm": values["rms_mm"],
                                               "parameter": parameter, "from_m": overlap["from_m"],
                                               "to_m": overlap["to_m"], "sigmas": NOTICE_SIGMAS,
                                               "predicted_mm": values["predicted_sigma_mm"]}))
