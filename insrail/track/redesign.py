@@ -253,11 +253,8 @@ class _Programme(adjustment_programme._Programme):
         if status != type(status).kOk:
             raise RuntimeError(f"tamping re-design: HiGHS refused rows ({status})")
 
-    def solve(self, first: bool = False) -> np.ndarray:
-        """The corrections [units] per sleeper column. ``first``: the programme with the long chords'
-        rows written whole, solved by the interior point method (seconds where the dual simplex
-        takes minutes), its crossover leaving the basis the later rounds restart from."""
-        self.highs.setOptionValue("solver", "ipm" if first else "simplex")
+    def solve(self) -> np.ndarray:
+        """The corrections [units] per sleeper column."""
         # the limit is on each solve (HiGHS counts the run time of the object)
         self.highs.setOptionValue("time_limit", self.highs.getRunTime() + SOLVE_TIME_LIMIT_S)
         self.highs.run()
@@ -414,7 +411,7 @@ def _solve_direction(families: tuple[list, list], n: int, lower_m: np.ndarray, u
     start = np.clip(0.0, *bounds) / UNIT_M  # the movement the bounds force on their own
     amounts = np.column_stack([start[:n], start[n:]])
     if sliding:
-        x = programme.solve(first=True)
+        x = programme.solve()
         amounts = np.column_stack([x[:n], x[n:]])
     half = np.zeros(n)  # no rounding to steps: no margin for it
     for rounds in range(1, MAX_ROUNDS + 1):
