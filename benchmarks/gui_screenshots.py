@@ -10,7 +10,7 @@ the locale as when it is started (``LANG=zh_CN.UTF-8``: Chinese, the pictures na
 demo project with a second simulated run (seed 2) added as survey `short2`, so that the
 repeatability view has two runs to overlay. With a second project whose survey holds raw GNSS
 observations (``[gnss_raw]``), the GNSS page is post-processed and shown too. Without X
-(``QT_QPA_PLATFORM=offscreen``) the window grabs itself instead, at 1366 x 768. ``--track-only`` takes the track
+(``QT_QPA_PLATFORM=offscreen``) the window grabs itself instead. ``--track-only`` takes the track
 view's two pictures (track, track_measure) and nothing else (the project is left as it is).
 ``--redesign`` runs Run > Re-design for tamping on the project's first survey (the ballasted demo,
 ``insrail demo --preset ballasted``) and takes the re-design view alone (``gui_redesign_...png``).
@@ -84,8 +84,7 @@ def redesign_picture(app, window, camera) -> None:
 def main(project: str, raw_gnss_project: str | None = None, track_only: bool = False, redesign: bool = False) -> None:
     app = QApplication.instance() or QApplication([])
     screen = app.primaryScreen().size()
-    # offscreen (no X server here): the laptop screen the docs' pictures are taken at
-    size = (1366, 768) if app.platformName() == "offscreen" else (screen.width(), screen.height())
+    size = (screen.width(), screen.height())
     with tempfile.TemporaryDirectory() as settings_folder:
         settings = QSettings(str(Path(settings_folder) / "s.ini"), QSettings.IniFormat)
         language = install_language(app, chosen_language(settings))  # the locale's, as insrail gui starts
