@@ -12,6 +12,8 @@ repeatability view has two runs to overlay. With a second project whose survey h
 observations (``[gnss_raw]``), the GNSS page is post-processed and shown too. Without X
 (``QT_QPA_PLATFORM=offscreen``) the window grabs itself instead. ``--track-only`` takes the track
 view's two pictures (track, track_measure) and nothing else (the project is left as it is).
+``--redesign`` runs Run > Re-design for tamping on the project's first survey (the ballasted demo,
+``insrail demo --preset ballasted``) and takes the re-design view alone (``gui_redesign_...png``).
 """
 
 from __future__ import annotations
@@ -71,7 +73,15 @@ def place(widget, size: tuple[int, int], fill: bool = True) -> None:
         widget.move(max((size[0] - widget.width()) // 2, 0), max((size[1] - widget.height()) // 2, 0))
 
 
-def main(project: str, raw_gnss_project: str | None = None, track_only: bool = False) -> None:
+def redesign_picture(app, window, camera) -> None:
+    """The re-design view after Run > Re-design for tamping (the worker's progress in the status bar)."""
+    window.redesign()
+    wait(app, lambda: window.worker is not None)
+    window.tabs.setCurrentWidget(window.redesign_view)
+    camera.save(window, "redesign")
+
+
+def main(project: str, raw_gnss_project: str | None = None, track_only: bool = False, redesign: bool = False) -> None:
     app = QApplication.instance() or QApplication([])
     screen = app.primaryScreen().size()
     size = (screen.width(), screen.height())
@@ -82,10 +92,15 @@ def main(project: str, raw_gnss_project: str | None = None, track_only: bool = F
         window = MainWindow(settings)
         window.show()
         place(window, size)
-        if not track_only:
+        if not track_only and not redesign:
             camera.save(window, "empty")  # no project open: what the window says
         window.open_project(project)
         wait(app, lambda: window.loader is not None)
+        if redesign:
+            redesign_picture(app, window, camera)
+            window.modified = False
+            window.close()
+            return
         for name, view in (("track", window.track), ("plan", window.plan), ("navigation", window.navigation),
                            ("repeatability", window.repeatability)):
             if track_only and name != "track":
@@ -171,5 +186,5 @@ def main(project: str, raw_gnss_project: str | None = None, track_only: bool = F
 
 
 if __name__ == "__main__":
-    arguments = [a for a in sys.argv[1:] if a != "--track-only"]
-    main(*arguments[:2], track_only="--track-only" in sys.argv[1:])
+    arguments = [a for a in sys.argv[1:] if a not in ("--track-only", "--redesign")]
+    main(*arguments[:2], track_only="--track-only" in sys.argv[1:], redesign="--redesign" in sys.argv[1:])

@@ -1,13 +1,14 @@
 """The tamping re-design on the simulated ballasted survey, checked on the simulator's true track.
 
-    python benchmarks/tamping.py [--workdir DIR] [--seed N]
+    python benchmarks/tamping.py [--workdir DIR] [--seed N] [--profile NAME]
 
 Simulates and processes the ``ballasted`` demo project into ``DIR`` unless a processed one is there
 (``insrail demo --preset ballasted``), re-designs it (``insrail redesign``, timed), and prints the
 movements (largest lift and slew, sleepers moved, total), where the bounds hold, the stretches that
 cannot pass, and the profile's exceedances before and after the job on the measured track and on
 the TRUE track (the simulator's rails moved by the same amounts) outside the events the profile
-does not judge. Then processes the survey again with the re-designed line (redesign/design.xml) as
+does not judge (``--profile``: re-design against another tolerance profile than the project's,
+e.g. the default high-speed ``cn_hsr_ballastless`` with its 300 m / 150 m check). Then processes the survey again with the re-designed line (redesign/design.xml) as
 its design: the deviations from it are the corrections with the sign turned, to the fit's residual.
 """
 
@@ -29,6 +30,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--workdir", type=Path, default=Path(tempfile.gettempdir()) / "insrail-tamping-benchmark")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--profile", help="tolerance profile to re-design against (default: the project's)")
     args = parser.parse_args()
 
     from insrail.project import load_project, process
@@ -46,6 +48,9 @@ def main() -> int:
         subprocess.run([sys.executable, "-m", "insrail", "demo", "--preset", "ballasted", "--seed", str(args.seed),
                         "--out", str(project_dir)], check=True, stdout=subprocess.DEVNULL)
     project = load_project(project_dir)
+    saved = project
+    if args.profile:
+        project = replace(project, tolerance_profile=args.profile)
     started, cpu = time.perf_counter(), time.process_time()
     run = run_redesign(project, "ballasted")
     wall, cpu = time.perf_counter() - started, time.process_time() - cpu
@@ -94,7 +99,7 @@ def main() -> int:
     try:
         results = process(next_project, "ballasted")
     finally:
-        save_project(project)
+        save_project(saved)
     table = results.table
     corrections = np.interp(table.station_m, run.result.station_m, run.result.lift_m.mean(axis=1))
     residual = table.vertical_deviation_m.mean(axis=1) + corrections

@@ -41,6 +41,7 @@ from insrail.gui.settings_editor import SettingsEditor
 from insrail.gui.views.gnss import GnssView, input_rows
 from insrail.gui.views.navigation import NavigationView
 from insrail.gui.views.plan import PlanView
+from insrail.gui.views.redesign import RedesignView
 from insrail.gui.views.repeatability import RepeatabilityView
 from insrail.gui.views.track import TrackView
 from insrail.gui.viewstate import load_view_state, save_view_state
@@ -62,7 +63,8 @@ from insrail.project.gnss_stage import GnssStageResult, run_gnss_stage
 from insrail.project.lock import project_run
 from insrail.project.model import project_from_settings
 from insrail.project.pipeline import CACHE_FOLDER
-from insrail.project.plotdata import PpkView, TrackData, TrajectoryViews, stored_ppk
+from insrail.project.plotdata import PpkView, RedesignPlot, TrackData, TrajectoryViews, redesign_plot, stored_ppk
+from insrail.project.redesign import run_redesign
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
 from insrail.report.content import ChainageAxis
 from insrail.project.run_settings import settings_change_lines
@@ -107,10 +109,12 @@ class MainWindow(QMainWindow):
         self.repeatability = RepeatabilityView()
         self.gnss = GnssView()
         self.gnss.surveyChosen.connect(self.show_gnss)
+        self.redesign_view = RedesignView()
         self.tabs = QTabWidget()
         self.tabs.setDocumentMode(True)
         for view, title in ((self.track, tr("Track")), (self.plan, tr("Plan")), (self.navigation, tr("Navigation")),
-                            (self.repeatability, tr("Repeatability")), (self.gnss, tr("GNSS"))):
+                            (self.repeatability, tr("Repeatability")), (self.redesign_view, tr("Re-design")),
+                            (self.gnss, tr("GNSS"))):
             self.tabs.addTab(view, title)
         self.tabs.setTabVisible(self.tabs.indexOf(self.gnss), False)  # for surveys with raw GNSS only
         self.empty_state = EmptyState()
@@ -216,6 +220,9 @@ class MainWindow(QMainWindow):
         self.process_action = self._action(tr("&Process"), self.process, "F5", tr("Process every survey of the project"))
         self.ppk_action = self._action(tr("Post-process &GNSS"), self.post_process_gnss, "F6",
                                        tr("Run the PPK stage (RTKLIB) of the survey on the GNSS page"))
+        self.redesign_action = self._action(tr("Re-design for &tamping"), self.redesign, "F7",
+                                            tr("Compute the lift and slew per sleeper of the survey shown after which "
+                                               "the track passes the tolerance profile (a tamping machine's job)"))
         self.cancel_action = self._action(tr("&Cancel"), self.cancel_processing, "Esc",
                                           tr("Stop the running job (processing, export, GNSS)"))
         self.export_xlsx_action = self._action(tr("&Excel workbook…"), lambda: self.export_report("xlsx"), "Ctrl+E",
@@ -247,6 +254,7 @@ class MainWindow(QMainWindow):
         run_menu = self.menuBar().addMenu(tr("&Run"))
         run_menu.addAction(self.process_action)
         run_menu.addAction(self.ppk_action)
+        run_menu.addAction(self.redesign_action)
         run_menu.addAction(self.cancel_action)
         tools_menu = self.menuBar().addMenu(tr("&Tools"))
         tools_menu.addAction(self.plan_survey_action)
@@ -324,7 +332,8 @@ class MainWindow(QMainWindow):
         for action in (self.save_action, self.import_action, self.process_action):
             action.setEnabled(has_project and not busy)
         self.settings_action.setEnabled(has_project)
-        for action in (self.export_xlsx_action, self.export_pdf_action, *self.export_file_actions):
+        for action in (self.export_xlsx_action, self.export_pdf_action, self.redesign_action,
+                       *self.export_file_actions):
             action.setEnabled(self.shown_survey in self.results and not busy)
         self.ppk_action.setEnabled(has_project and bool(self.gnss.survey.currentText()) and not busy)
         for action in (self.new_action, self.open_action):
@@ -528,6 +537,7 @@ class MainWindow(QMainWindow):
         self.plan.clear_data()
         self.navigation.clear()
         self.repeatability.set_runs({})
+        self.redesign_view.set_data(None)
 
     def _request_views(self, show: str | None) -> None:
         """Read the results (those not yet read) and the views of survey ``show`` (None: the first
@@ -577,6 +587,7 @@ class MainWindow(QMainWindow):
         self.empty_state.hide()
         self.track.set_results(data.station_m, data.number, data.label, data.columns, data.plots,
                                data.exceedances, data.bands, data.survey, data.events, chainage)
+        self.redesign_view.set_data(data.redesign)
         pending, self._pending_view = self._pending_view, None
         if pending is not None and pending.get("survey") == data.survey:
             self.track.restore_state(pending)
@@ -755,6 +766,40 @@ class MainWindow(QMainWindow):
 
     def _gnss_cancelled(self) -> None:
         self.log.warning(tr("GNSS post-processing cancelled"))
+
+    # ------------------------------------------------------------------ tamping re-design
+
+    def redesign(self) -> TaskWorker | None:
+        """Re-design the survey shown for a tamping machine (``insrail redesign``) in a worker; the
+        re-design view shows it when written."""
+        name = self.shown_survey
+        if self.project is None or self.worker is not None or name not in self.results:
+            return None
+        project, stored = self.project, self.results[name]
+
+        def task(progress, cancel) -> tuple[dict, RedesignPlot | None]:
+            with project_run(project.folder, [name], progress, cancel):
+                run = run_redesign(project, name, progress, cancel)
+            return run.summary, redesign_plot(stored)
+
+        worker = TaskWorker(f"survey {name}: tamping re-design", task, self)
+        worker.succeeded.connect(self._redesign_done)
+        worker.cancelled.connect(lambda: self.log.warning("tamping re-design cancelled; nothing written"))
+        return self._start(worker, f"re-designing {name} for tamping", tr("Tamping re-design failed"))
+
+    def _redesign_done(self, answer: tuple[dict, RedesignPlot | None]) -> None:
+        summary, plot = answer
+        self.redesign_view.set_data(plot)
+        self.tabs.setCurrentWidget(self.redesign_view)
+        movement, count = summary["movement"], summary["exceedances"]
+        self.log.info(f"{summary['survey']} re-designed: largest lift {movement['largest_lift_mm']:.1f} mm, largest "
+                      f"slew {movement['largest_slew_mm']:.1f} mm; exceedances of {summary['profile']}: "
+                      f"{count['before']} before, {count['after']} after the job")
+        for stretch in summary["cannot_pass"]:
+            self.log.warning(f"{summary['survey']}: cannot pass under the constraints: {stretch['what']} "
+                             f"{stretch['from_m']:.1f}-{stretch['to_m']:.1f} m (peak {stretch['value_mm']:.2f} mm)")
+        if summary["design"]["problem"]:
+            self.log.warning(f"{summary['survey']}: {summary['design']['problem']}")
 
     # ------------------------------------------------------------------ tools and help
 

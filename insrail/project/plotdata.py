@@ -13,6 +13,7 @@ The desktop application only draws; every derived value it shows comes from here
 * :func:`track_data`, :func:`trajectory_views`: everything the views of one survey draw, computed
   off the GUI thread in two steps (the sleepers first: the track view paints before the large
   trajectory file is read);
+* :func:`redesign_plot`: the tamping re-design (measured and re-designed track, lift and slew);
 * :class:`Envelope`: a band (1-sigma around a series) as min/max per pixel column at any zoom, from a
   pyramid computed once, so a band over millions of epochs draws a few thousand points per frame.
 """
@@ -431,6 +432,57 @@ def event_spans(summary: dict) -> tuple[EventSpan, ...]:
 
 
 @dataclass(frozen=True)
+class RedesignPlot:
+    """What the re-design view draws for one survey (``insrail redesign``'s files): the measured
+    track and the track after the job (deviations from the design, the mean of the two rails [mm]),
+    the lift of each rail and the slew per sleeper [mm], the fixed stretches and the marks."""
+
+    survey: str
+    station_m: np.ndarray
+    measured_mm: dict[str, np.ndarray]  # "vertical", "lateral"
+    after_mm: dict[str, np.ndarray]
+    lift_left_mm: np.ndarray
+    lift_right_mm: np.ndarray
+    slew_mm: np.ndarray
+    fixed: tuple[tuple[float, float, str], ...]  # (from, to, where it came from)
+    marks: tuple[tuple[float, str], ...]  # (station, TS/SC/CS/ST/PVI)
+    profile: str
+    largest_lift_mm: float
+    largest_slew_mm: float
+    exceedances_before: int
+    exceedances_after: int
+    cannot_pass: int
+
+
+def redesign_plot(stored: StoredResults) -> RedesignPlot | None:
+    """The survey's re-design as the view draws it (None: not re-designed since it was processed)."""
+    from insrail.export.tamping import read_tamping
+    from insrail.project.redesign import REDESIGN_FOLDER, SUMMARY_FILE as REDESIGN_SUMMARY, TAMPING_FILE
+
+    folder = stored.folder / REDESIGN_FOLDER
+    if not (folder / REDESIGN_SUMMARY).is_file():
+        return None
+    summary = read_toml(folder / REDESIGN_SUMMARY)
+    table = read_tamping(folder / TAMPING_FILE)
+    sleeper = np.array([mark == "" for mark in table.mark])
+    station = stored.columns["station_m"]
+    amount = {name: np.interp(station, table.station_m[sleeper], values[sleeper], left=np.nan, right=np.nan)
+              for name, values in table.values.items()}
+    measured = {direction: np.nanmean(np.column_stack([stored.columns[f"{direction}_deviation_{rail}_mm"]
+                                                        for rail in ("left", "right")]), axis=1)
+                for direction in ("vertical", "lateral")}
+    after = {"vertical": measured["vertical"] + 0.5 * (amount["lift_left"] + amount["lift_right"]),
+             "lateral": measured["lateral"] + amount["slew"]}
+    marks = tuple((float(s), mark) for s, mark in zip(table.station_m, table.mark)
+                  if mark and not mark.startswith("fixed"))
+    movement, count = summary["movement"], summary["exceedances"]
+    return RedesignPlot(stored.survey, station, measured, after, amount["lift_left"], amount["lift_right"],
+                        amount["slew"], tuple((f["from_m"], f["to_m"], f["source"]) for f in summary["settings"]["fixed"]),
+                        marks, summary["profile"], movement["largest_lift_mm"], movement["largest_slew_mm"],
+                        count["before"], count["after"], len(summary["cannot_pass"]))
+
+
+@dataclass(frozen=True)
 class TrackData:
     """What the track view draws for one survey (arrays one per sleeper, in chainage order)."""
 
@@ -443,6 +495,7 @@ class TrackData:
     exceedances: tuple[ExceedanceRow, ...]
     bands: dict[str, QualityBand]
     events: tuple[EventSpan, ...] = ()
+    redesign: RedesignPlot | None = None  # the tamping re-design, if the survey has one
 
 
 def track_data(project: Project, stored: StoredResults) -> TrackData:
@@ -450,7 +503,7 @@ def track_data(project: Project, stored: StoredResults) -> TrackData:
     plots = chainage_plots(stored.columns, profile)
     return TrackData(stored.survey, stored.columns["station_m"], stored.number, stored.label, stored.columns,
                      plots, stored.exceedances, quality_bands(plots, profile, stored.quality),
-                     event_spans(stored.summary))
+                     event_spans(stored.summary), redesign_plot(stored))
 
 
 @dataclass(frozen=True)

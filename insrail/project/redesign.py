@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from insrail.io.atomic import atomic_write
+from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project, RedesignTable
 from insrail.project.pipeline import read_design
 from insrail.project.results import exceedances_csv, load_results, summary_toml
@@ -196,19 +197,26 @@ def tamping_csv_text(rows: tuple[TampingRow, ...], survey: str, profile_name: st
     return "\n".join(lines) + "\n"
 
 
-def run_redesign(project: Project, survey: str) -> RedesignRun:
-    """Re-design ``survey`` (processed) and write ``results/<survey>/redesign/``."""
+def run_redesign(project: Project, survey: str, progress: ProgressFn | None = None,
+                 cancel: CancelToken = None) -> RedesignRun:
+    """Re-design ``survey`` (processed) and write ``results/<survey>/redesign/`` (nothing when cancelled)."""
+    step = StepProgress(progress)
+    step(0.0, "reading the results")
     stored = load_results(project.folder, survey)
     geometry, assessed = measured_geometry(stored.columns, stored.number)
     profile = load_tolerance_profile(project.resource(project.tolerance_profile))
     settings = resolve_settings(project.redesign, stored.summary.get("events", []))
-    result = redesign(geometry, profile, settings, assessed)
+    result = redesign(geometry, profile, settings, assessed, StepProgress(progress, 0.05, 0.7), cancel)
+    check_cancel(cancel)
+    step(0.7, "fitting the line types to the track after the job")
     station, east, north, height, cant = _centre_after(stored.columns, result)
     fit, problem = None, ""
     try:
         fit = fit_alignment(station, east, north, height, cant_m=cant, name=f"{survey} after tamping")
     except (LineFitError, ValueError) as error:
         problem = f"no design fitted to the track after the job: {error}"
+    check_cancel(cancel)
+    step(0.95, "writing the re-design")
     cant_after = 1e-3 * stored.columns["cant_mm"] + result.cant_change_m()
     rows = tamping_rows(result, cant_after, _labeller(project), fit)
     folder = stored.folder / REDESIGN_FOLDER

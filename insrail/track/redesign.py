@@ -37,6 +37,7 @@ import numpy as np
 import highspy._core as highspy_core
 from scipy import sparse
 
+from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.track import adjustment_programme
 from insrail.track.adjustment_programme import _ChordRows as ChordRows
 from insrail.track.adjustment_programme import _TrackRowFamily as TrackRowFamily
@@ -53,10 +54,22 @@ EXCESS_PENALTY = 1000.0
 MAX_ROUNDS = 100
 #: A solve of the programme taking longer than this [s] is stopped and said so (RedesignError).
 SOLVE_TIME_LIMIT_S = 300.0
+#: The re-design's HiGHS options over the fastener programme's: steepest-edge pricing (its
+#: programme, with the long chords' rows, is ten times the fastener programme's size).
+REDESIGN_OPTIONS = {"simplex_dual_edge_weight_strategy": 2}
 #: The corrections are linear between knots every this many sleepers (2.5 m at 0.625 m): a tamping
 #: machine's lift and slew are smooth along the track, and a quarter of the variables keeps the
 #: 300 m chord's rows, which couple sleepers 480 apart, solvable in seconds.
 KNOT_SPACING = 4
+#: Bounds of the sliding extremes of :class:`_SlidingChord` [units]: 10 m, never reached; bounded,
+#: they sit at a bound when out of the basis, which the dual simplex handles far better than free ones.
+EXTREME_BOUND = 1.0e5
+#: A differential versine with at least this many chord starts per pair (the 300 m / 150 m
+#: check's 241) is written whole in the sparse form of :class:`_SlidingChord`; a shorter one (the
+#: 30 m / 5 m check's 41) enters row by row as the solution violates it.
+SLIDING_STARTS = 100
+#: ... in groups of this many chord starts and pairs (one knot spacing).
+SLIDING_GROUP = KNOT_SPACING
 
 
 class RedesignError(ValueError):
@@ -161,7 +174,7 @@ class _Programme(adjustment_programme._Programme):
 
     def __init__(self, basis: sparse.csr_array, lower: np.ndarray, upper: np.ndarray):
         self.highs = highspy_core._Highs()
-        for key, value in {**adjustment_programme.HIGHS_OPTIONS, "time_limit": SOLVE_TIME_LIMIT_S}.items():
+        for key, value in {**adjustment_programme.HIGHS_OPTIONS, **REDESIGN_OPTIONS}.items():
             self.highs.setOptionValue(key, value)
         self.infinity = highspy_core.kHighsInf
         self.optimal = highspy_core.HighsModelStatus.kOptimal
@@ -213,19 +226,130 @@ class _Programme(adjustment_programme._Programme):
                            np.full(side.size, -np.inf), sign * (bound[side] - offset[side]))
         return int(fresh.sum())
 
+    def add_free(self, count: int) -> np.ndarray:
+        """``count`` free variables costing nothing (the sliding extremes of :class:`_SlidingChord`)."""
+        return self._add_variables(np.zeros(count), np.full(count, -EXTREME_BOUND), np.full(count, EXTREME_BOUND))
+
+    def add_slack(self, count: int) -> np.ndarray:
+        """``count`` excess variables (>= 0) costing :data:`EXCESS_PENALTY` each."""
+        return self._add_variables(np.full(count, EXCESS_PENALTY), np.zeros(count), np.full(count, np.inf))
+
+    def add_rows(self, on_sleepers: sparse.csr_array, others: np.ndarray, other_values: np.ndarray,
+                 upper: np.ndarray) -> None:
+        """Rows ``on_sleepers @ correction + other_values . variables[others] <= upper`` (the
+        corrections per sleeper column, through the knots)."""
+        count = others.shape[0]
+        if not count:
+            return
+        on_knots = (on_sleepers @ self.basis).tocoo()
+        row = np.concatenate([on_knots.row, on_knots.row, np.repeat(np.arange(count), others.shape[1])])
+        column = np.concatenate([on_knots.col, on_knots.col + self.size, others.ravel()])
+        value = np.concatenate([on_knots.data, -on_knots.data, np.broadcast_to(other_values, others.shape).ravel()])
+        matrix = sparse.csr_array((value, (row, column)), shape=(count, self.variables))
+        matrix.sum_duplicates()
+        status = self.highs.addRows(count, np.full(count, -self.infinity), np.clip(upper, -self.infinity, self.infinity),
+                                    matrix.nnz, matrix.indptr[:-1].astype(np.int32), matrix.indices.astype(np.int32),
+                                    matrix.data)
+        if status != type(status).kOk:
+            raise RuntimeError(f"tamping re-design: HiGHS refused rows ({status})")
+
     def solve(self) -> np.ndarray:
         """The corrections [units] per sleeper column."""
+        # the limit is on each solve (HiGHS counts the run time of the object)
+        self.highs.setOptionValue("time_limit", self.highs.getRunTime() + SOLVE_TIME_LIMIT_S)
         self.highs.run()
         status = self.highs.getModelStatus()
         if status == highspy_core.HighsModelStatus.kTimeLimit:
             raise RedesignError(f"the tamping re-design's linear programme found no solution in {SOLVE_TIME_LIMIT_S:g} s "
-                                f"({self.variables} variables): the profile's long chords (300 m) over this much "
-                                "irregularity make it too large; re-design with a profile of the line's maintenance "
-                                "checks (docs/tamping.md)")
+                                f"({self.variables} variables); re-design a shorter stretch (docs/tamping.md)")
         if status != self.optimal:
             raise RuntimeError(f"tamping re-design: the linear programme failed ({self.highs.modelStatusToString(status)})")
         x = np.asarray(self.highs.getSolution().col_value)
         return self.basis @ (x[: self.size] - x[self.size: 2 * self.size])
+
+
+class _SlidingChord:
+    """Every row of one long differential versine (chord m, pair p) on one rail, sparse: the sliding
+    maximum (and minimum) of the chord term over each pair's chord starts.
+
+    A pair k passes when ``|D(k) + S(i)| <= limit`` for every chord start i of its window
+    ``k - (m - p) .. k`` (thesis eq. 2.2; :func:`insrail.track.irregularity.differential_versine_grid`),
+    that is ``D(k) + max S <= limit`` and ``-D(k) - min S <= limit``. The chord starts and the pairs
+    are taken in groups of ``group`` sleepers: U(g) >= S(i) for every start i of group g, V(h) >=
+    D(k) for every pair k of group h (exact rows, one per sleeper). Cut the groups of starts into
+    blocks as long as a window: a window is a suffix of one block and a prefix of the next. Per
+    block, P(g) >= U(j) for j from the block's start to g (rows ``P(g) >= U(g)``, ``P(g) >= P(g-1)``)
+    and Q(g) >= U(j) for j from g to the block's end, so ``V(h) + Q(a) <= limit`` and ``V(h) + P(e)
+    <= limit`` (a, e the ends of the groups holding the windows of group h's pairs) hold every chord
+    start of every pair of the group. With ``group`` 1 that is exactly the check; with a larger group
+    a pair is also held against the chord starts of its window's end groups beyond the window (at
+    most ``group - 1`` sleepers each way: a 300 m chord moved by less than 2.5 m), which only asks
+    more. Per pair and side a few rows of a few entries instead of m - p + 1 rows."""
+
+    def __init__(self, check: RailCheck, rail: int, deviation: np.ndarray, n: int, group: int):
+        self.check, self.rail, self.n, self.group = check, rail, n, group
+        self.d = deviation
+
+    def rows(self, programme: _Programme, limit: float) -> None:
+        m, p, n, size = self.check.first_steps, self.check.second_steps, self.n, self.group
+        if n <= m:
+            return
+        r = p / m
+        d, column, width = self.d, self.rail * n, programme.basis.shape[0]
+        starts = n - m
+        chord = np.flatnonzero(np.isfinite(d[m:]) & np.isfinite(d[:starts]))
+        pair = np.flatnonzero(np.isfinite(d[: n - p]) & np.isfinite(d[p:]))
+        first = np.maximum(pair - (m - p), 0)
+        last = np.minimum(pair, starts - 1)
+        counted = np.concatenate([[0], np.cumsum(np.isin(np.arange(starts), chord))])
+        pair, first, last = (a[counted[last + 1] > counted[first]] for a in (pair, first, last))  # a chord holds them
+        if not pair.size:
+            return
+        groups = (starts - 1) // size + 1
+        pair_group = pair // size
+        owners = np.unique(pair_group)
+        slot = np.searchsorted(owners, pair_group)
+        window_first = np.full(owners.size, groups)
+        window_last = np.full(owners.size, -1)
+        np.minimum.at(window_first, slot, first // size)
+        np.maximum.at(window_last, slot, last // size)
+        block = int(np.max(window_last - window_first)) + 1
+        g = np.arange(groups)
+        block_start = g // block * block
+        block_end = np.minimum(block_start + block, groups) - 1
+        inner = np.flatnonzero(g > block_start)
+        none = sparse.csr_array((inner.size, width))
+        chord_terms = sparse.csr_array((np.tile([r, -r], chord.size), (np.repeat(np.arange(chord.size), 2),
+                                        np.column_stack([chord + m, chord]).ravel() + column)), shape=(chord.size, width))
+        pair_terms = sparse.csr_array((np.tile([1.0, -1.0], pair.size), (np.repeat(np.arange(pair.size), 2),
+                                       np.column_stack([pair, pair + p]).ravel() + column)), shape=(pair.size, width))
+        for sign in (1.0, -1.0):
+            extreme, prefix, suffix = (programme.add_free(groups) for _ in range(3))
+            pairs = programme.add_free(owners.size)
+            # U(g) >= sign * S(i), V(h) >= sign * D(k): sign * terms - U <= -sign * measured
+            programme.add_rows(sign * chord_terms, extreme[chord // size][:, None], np.array([-1.0]),
+                               -sign * r * (d[chord + m] - d[chord]))
+            programme.add_rows(sign * pair_terms, pairs[slot][:, None], np.array([-1.0]),
+                               -sign * (d[pair] - d[pair + p]))
+            nothing = sparse.csr_array((groups, width))
+            for aux in (prefix, suffix):  # P(g), Q(g) >= U(g)
+                programme.add_rows(nothing, np.column_stack([extreme, aux]), np.array([1.0, -1.0]), np.zeros(groups))
+            # P(g) >= P(g-1) and Q(g-1) >= Q(g) within a block
+            programme.add_rows(none, np.column_stack([prefix[inner - 1], prefix[inner]]), np.array([1.0, -1.0]),
+                               np.zeros(inner.size))
+            programme.add_rows(none, np.column_stack([suffix[inner], suffix[inner - 1]]), np.array([1.0, -1.0]),
+                               np.zeros(inner.size))
+            # V(h) with the window's extreme: across two blocks Q(a) and P(e); within one block
+            # Q(a) where the window reaches the block's end, else P(e) (from the block's start: more)
+            split = block_start[window_first] != block_start[window_last]
+            use_suffix = split | (block_end[window_last] == window_last)
+            use_prefix = split | ~use_suffix
+            slack = programme.add_slack(owners.size)
+            for use, aux in ((use_suffix, suffix[window_first]), (use_prefix, prefix[window_last])):
+                count = int(use.sum())
+                programme.add_rows(sparse.csr_array((count, width)),
+                                   np.column_stack([pairs[use], aux[use], slack[use]]), np.array([1.0, 1.0, -1.0]),
+                                   np.full(count, limit))
 
 
 def _knot_basis(n: int, spacing: int) -> sparse.csr_array:
@@ -255,19 +379,26 @@ def _knot_bounds(basis: sparse.csr_array, lower: np.ndarray, upper: np.ndarray) 
     return np.minimum(knot_lower, knot_upper), knot_upper
 
 
-def _families(deviation_m: np.ndarray, valid: np.ndarray, checks: list[RailCheck], track=None) -> list:
-    """The row families of one direction: each chord check on each rail, and the track rows."""
-    families = [ChordRows(index, check, rail, deviation_m / UNIT_M, valid, UNIT_M)
-                for index, (check, rail) in enumerate((c, r) for c in checks for r in (0, 1))]
+def _families(deviation_m: np.ndarray, valid: np.ndarray, checks: list[RailCheck], track=None) -> tuple[list, list]:
+    """The row families of one direction: (the versines, the short differential versines and the
+    track rows, entering as the solution violates them; each long differential versine on each rail,
+    written whole in :class:`_SlidingChord`'s sparse form).""" 
+    deviation = np.where(valid[:, None], deviation_m, np.nan) / UNIT_M
+    long = [c for c in checks if c.kind == "differential_versine" and c.first_steps - c.second_steps >= SLIDING_STARTS]
+    generated = [ChordRows(index, check, rail, deviation, valid, UNIT_M)
+                 for index, (check, rail) in enumerate((c, r) for c in checks if c not in long for r in (0, 1))]
     if track is not None and track.size:
-        families.append(TrackRowFamily(len(families), track))
-    return families
+        generated.append(TrackRowFamily(len(generated), track))
+    sliding = [_SlidingChord(check, rail, deviation[:, rail], deviation.shape[0], SLIDING_GROUP)
+               for check in long for rail in (0, 1)]
+    return generated, sliding
 
 
-def _solve_direction(families: list, n: int, lower_m: np.ndarray, upper_m: np.ndarray,
-                     per_rail: bool) -> tuple[np.ndarray, int]:
+def _solve_direction(families: tuple[list, list], n: int, lower_m: np.ndarray, upper_m: np.ndarray,
+                     per_rail: bool, cancel: CancelToken = None) -> tuple[np.ndarray, int]:
     """Corrections [m] (n, 2) of one direction (``per_rail`` False: one per sleeper for both rails)
     and the rounds of constraint generation it took."""
+    generated, sliding = families
     knots = _knot_basis(n, KNOT_SPACING)
     if per_rail:
         basis = sparse.block_diag([knots, knots], format="csr")
@@ -275,12 +406,18 @@ def _solve_direction(families: list, n: int, lower_m: np.ndarray, upper_m: np.nd
         basis = sparse.vstack([knots, knots], format="csr")
     bounds = (lower_m, upper_m) if per_rail else (np.tile(lower_m, 2), np.tile(upper_m, 2))
     programme = _Programme(basis, *_knot_bounds(basis, bounds[0] / UNIT_M, bounds[1] / UNIT_M))
+    for family in sliding:
+        family.rows(programme, family.check.limit_m / UNIT_M)
     start = np.clip(0.0, *bounds) / UNIT_M  # the movement the bounds force on their own
     amounts = np.column_stack([start[:n], start[n:]])
+    if sliding:
+        x = programme.solve()
+        amounts = np.column_stack([x[:n], x[n:]])
     half = np.zeros(n)  # no rounding to steps: no margin for it
     for rounds in range(1, MAX_ROUNDS + 1):
+        check_cancel(cancel)
         added = 0
-        for family in families:
+        for family in generated:
             rows = family.violated(amounts, half, (0, n))
             if rows is not None:
                 added += programme.add(family.family, rows.key, rows.columns, np.asarray(rows.coefficients),
@@ -310,10 +447,12 @@ def _bounds(settings: RedesignSettings, fixed: np.ndarray, tolerance: np.ndarray
 
 
 def redesign(geometry: SleeperGeometry, profile: ToleranceProfile, settings: RedesignSettings,
-             assessed: np.ndarray | None = None) -> Redesign:
+             assessed: np.ndarray | None = None, progress: ProgressFn | None = None,
+             cancel: CancelToken = None) -> Redesign:
     """The corrections (module docstring) for ``geometry`` (deviations of every measured sleeper,
     those inside events too: the chords reach across them) under ``settings``; ``assessed``: the
     sleepers the profile judges (event stretches are not), by default every measured one."""
+    progress = StepProgress(progress)
     n = geometry.station_m.size
     vertical_measured = np.all(np.isfinite(geometry.vertical_deviation_m), axis=1) & np.isfinite(geometry.cant_m)
     lateral_measured = np.all(np.isfinite(geometry.lateral_deviation_m), axis=1)
@@ -327,10 +466,13 @@ def redesign(geometry: SleeperGeometry, profile: ToleranceProfile, settings: Red
     lateral_deviation = np.where(lateral_measured[:, None], geometry.lateral_deviation_m, np.nan)
     vertical = _families(vertical_deviation, vertical_measured, held["vertical"],
                          track_rows(geometry, profile, "vertical", UNIT_M))
+    progress(0.0, "tamping re-design: the lifts")
     lift, rounds_v = _solve_direction(vertical, n, np.concatenate([lift_low, lift_low]),
-                                      np.concatenate([lift_high, lift_high]), per_rail=True)
+                                      np.concatenate([lift_high, lift_high]), per_rail=True, cancel=cancel)
+    progress(0.5, "tamping re-design: the slews")
     lateral = _families(lateral_deviation, lateral_measured, held["lateral"])
-    slew2, rounds_l = _solve_direction(lateral, n, -slew_limit, slew_limit, per_rail=False)
+    slew2, rounds_l = _solve_direction(lateral, n, -slew_limit, slew_limit, per_rail=False, cancel=cancel)
+    progress(1.0, "tamping re-design: the track after the job")
     lift = np.where(vertical_measured[:, None], lift, np.nan)
     slew = np.where(lateral_measured, slew2[:, 0], np.nan)
     # round-off of the solver (1e-9 of a unit) must not read as a lowering or a slew past the limit

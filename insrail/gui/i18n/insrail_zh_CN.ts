@@ -554,382 +554,402 @@
       <translation>第 {line} {unit}：{message}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="91" />
+      <location filename="../../../insrail/gui/main_window.py" line="93" />
       <source>Ready</source>
       <translation>就绪</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="143" />
+      <location filename="../../../insrail/gui/main_window.py" line="147" />
       <source>Properties</source>
       <translation>属性</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="144" />
+      <location filename="../../../insrail/gui/main_window.py" line="148" />
       <source>Log</source>
       <translation>日志</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="151" />
+      <location filename="../../../insrail/gui/main_window.py" line="155" />
       <source>Cancel</source>
       <translation>取消</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="154" />
+      <location filename="../../../insrail/gui/main_window.py" line="158" />
       <source>Open folder</source>
       <translation>打开文件夹</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="155" />
+      <location filename="../../../insrail/gui/main_window.py" line="159" />
       <source>Open the folder of the exported report</source>
       <translation>打开导出报告所在的文件夹</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="210" />
+      <location filename="../../../insrail/gui/main_window.py" line="214" />
       <source>&amp;New project…</source>
       <translation>新建项目(&amp;N)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="211" />
+      <location filename="../../../insrail/gui/main_window.py" line="215" />
       <source>Create a project with the wizard</source>
       <translation>用向导创建项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="212" />
+      <location filename="../../../insrail/gui/main_window.py" line="216" />
       <source>&amp;Open project…</source>
       <translation>打开项目(&amp;O)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="213" />
+      <location filename="../../../insrail/gui/main_window.py" line="217" />
       <source>&amp;Save project</source>
       <translation>保存项目(&amp;S)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="214" />
+      <location filename="../../../insrail/gui/main_window.py" line="218" />
       <source>&amp;Import raw files…</source>
       <translation>导入原始数据(&amp;I)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="215" />
+      <location filename="../../../insrail/gui/main_window.py" line="219" />
       <source>Add a survey from raw files</source>
       <translation>从原始数据添加测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="216" />
+      <location filename="../../../insrail/gui/main_window.py" line="220" />
       <source>&amp;Process</source>
       <translation>处理(&amp;P)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="216" />
+      <location filename="../../../insrail/gui/main_window.py" line="220" />
       <source>Process every survey of the project</source>
       <translation>处理项目的全部测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="217" />
+      <location filename="../../../insrail/gui/main_window.py" line="221" />
       <source>Post-process &amp;GNSS</source>
       <translation>GNSS 后处理(&amp;G)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="218" />
+      <location filename="../../../insrail/gui/main_window.py" line="222" />
       <source>Run the PPK stage (RTKLIB) of the survey on the GNSS page</source>
       <translation>对 GNSS 页的测量运行 PPK 后处理（RTKLIB）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="219" />
+      <location filename="../../../insrail/gui/main_window.py" line="223" />
+      <source>Re-design for &amp;tamping</source>
+      <translation>捣固整道设计(&amp;T)</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="224" />
+      <source>Compute the lift and slew per sleeper of the survey shown after which the track passes the tolerance profile (a tamping machine's job)</source>
+      <translation>计算所显示测量每根轨枕的起道量和拨道量，使作业后的线路满足容许偏差标准（捣固车作业）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="226" />
       <source>&amp;Cancel</source>
       <translation>取消(&amp;C)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="220" />
+      <location filename="../../../insrail/gui/main_window.py" line="227" />
       <source>Stop the running job (processing, export, GNSS)</source>
       <translation>停止正在运行的任务（处理、导出、GNSS）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="221" />
+      <location filename="../../../insrail/gui/main_window.py" line="228" />
       <source>&amp;Excel workbook…</source>
       <translation>Excel 工作簿(&amp;E)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="222" />
+      <location filename="../../../insrail/gui/main_window.py" line="229" />
       <source>Export the crews' Excel workbook of the survey shown</source>
       <translation>导出当前测量的作业班组 Excel 工作簿</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="223" />
+      <location filename="../../../insrail/gui/main_window.py" line="230" />
       <source>Export Excel</source>
       <translation>导出 Excel</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="224" />
+      <location filename="../../../insrail/gui/main_window.py" line="231" />
       <source>&amp;PDF report…</source>
       <translation>PDF 报告(&amp;P)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="225" />
+      <location filename="../../../insrail/gui/main_window.py" line="232" />
       <source>Export the PDF survey report of the survey shown</source>
       <translation>导出当前测量的 PDF 测量报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="226" />
+      <location filename="../../../insrail/gui/main_window.py" line="233" />
       <source>Export PDF</source>
       <translation>导出 PDF</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="228" />
+      <location filename="../../../insrail/gui/main_window.py" line="235" />
       <source>&amp;Plan survey…</source>
       <translation>测量规划(&amp;P)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="229" />
+      <location filename="../../../insrail/gui/main_window.py" line="236" />
       <source>Predict the accuracy of a planned survey (IMU, GNSS, speed, aiding)</source>
       <translation>预测计划测量的精度（IMU、GNSS、速度、辅助观测）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="230" />
+      <location filename="../../../insrail/gui/main_window.py" line="237" />
       <source>&amp;Quit</source>
       <translation>退出(&amp;Q)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="232" />
+      <location filename="../../../insrail/gui/main_window.py" line="239" />
       <source>&amp;File</source>
       <translation>文件(&amp;F)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="235" />
+      <location filename="../../../insrail/gui/main_window.py" line="242" />
       <source>Open &amp;recent</source>
       <translation>最近打开(&amp;R)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="239" />
+      <location filename="../../../insrail/gui/main_window.py" line="246" />
       <source>&amp;Export</source>
       <translation>导出(&amp;E)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="247" />
+      <location filename="../../../insrail/gui/main_window.py" line="254" />
       <source>&amp;Run</source>
       <translation>运行(&amp;R)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="251" />
+      <location filename="../../../insrail/gui/main_window.py" line="259" />
       <source>&amp;Tools</source>
       <translation>工具(&amp;T)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="253" />
+      <location filename="../../../insrail/gui/main_window.py" line="261" />
       <source>&amp;View</source>
       <translation>视图(&amp;V)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="256" />
+      <location filename="../../../insrail/gui/main_window.py" line="264" />
       <source>&amp;Help</source>
       <translation>帮助(&amp;H)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="257" />
+      <location filename="../../../insrail/gui/main_window.py" line="265" />
       <source>&amp;About insrail</source>
       <translation>关于 insrail(&amp;A)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="259" />
+      <location filename="../../../insrail/gui/main_window.py" line="267" />
       <source>Main</source>
       <translation>主工具栏</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="273" />
+      <location filename="../../../insrail/gui/main_window.py" line="281" />
       <source>Project &amp;settings…</source>
       <translation>项目设置(&amp;S)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="274" />
+      <location filename="../../../insrail/gui/main_window.py" line="282" />
       <source>Edit the project's settings (coordinate system, trolley, processing, assessment)</source>
       <translation>编辑项目设置（坐标系、小车、数据处理、评估）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="276" />
+      <location filename="../../../insrail/gui/main_window.py" line="284" />
       <source>&amp;Undo</source>
       <translation>撤销(&amp;U)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="278" />
+      <location filename="../../../insrail/gui/main_window.py" line="286" />
       <source>&amp;Redo</source>
       <translation>重做(&amp;R)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="280" />
+      <location filename="../../../insrail/gui/main_window.py" line="288" />
       <source>&amp;Edit</source>
       <translation>编辑(&amp;E)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="285" />
+      <location filename="../../../insrail/gui/main_window.py" line="293" />
       <source>&amp;Preferences…</source>
       <translation>首选项(&amp;P)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="286" />
+      <location filename="../../../insrail/gui/main_window.py" line="294" />
       <source>The application's language</source>
       <translation>应用程序的语言</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="347" />
+      <location filename="../../../insrail/gui/main_window.py" line="356" />
       <source>Unsaved changes</source>
       <translation>未保存的修改</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="454" />
+      <location filename="../../../insrail/gui/main_window.py" line="463" />
       <source>Processing failed</source>
       <translation>处理失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="457" />
+      <location filename="../../../insrail/gui/main_window.py" line="466" />
       <source>processing cancelled; previous results kept</source>
       <translation>处理已取消；保留之前的结果</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="690" />
+      <location filename="../../../insrail/gui/main_window.py" line="701" />
       <source>export cancelled; nothing written</source>
       <translation>导出已取消；未写入任何文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="745" />
+      <location filename="../../../insrail/gui/main_window.py" line="756" />
       <source>GNSS post-processing failed</source>
       <translation>GNSS 后处理失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="749" />
+      <location filename="../../../insrail/gui/main_window.py" line="760" />
       <source> (from the cache)</source>
       <translation>（取自缓存）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="749" />
+      <location filename="../../../insrail/gui/main_window.py" line="760" />
       <source> (computed now)</source>
       <translation>（本次计算）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="757" />
+      <location filename="../../../insrail/gui/main_window.py" line="768" />
       <source>GNSS post-processing cancelled</source>
       <translation>GNSS 后处理已取消</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="770" />
+      <location filename="../../../insrail/gui/main_window.py" line="788" />
+      <source>Tamping re-design failed</source>
+      <translation>捣固整道设计失败</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="815" />
       <source>About insrail</source>
       <translation>关于 insrail</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="112" />
+      <location filename="../../../insrail/gui/main_window.py" line="115" />
       <source>Track</source>
       <translation>轨道</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="112" />
+      <location filename="../../../insrail/gui/main_window.py" line="115" />
       <source>Plan</source>
       <translation>平面</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="112" />
+      <location filename="../../../insrail/gui/main_window.py" line="115" />
       <source>Navigation</source>
       <translation>导航</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="113" />
+      <location filename="../../../insrail/gui/main_window.py" line="116" />
       <source>Repeatability</source>
       <translation>重复性</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="113" />
+      <location filename="../../../insrail/gui/main_window.py" line="116" />
+      <source>Re-design</source>
+      <translation>整道设计</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="117" />
       <source>GNSS</source>
       <translation>GNSS</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="336" />
+      <location filename="../../../insrail/gui/main_window.py" line="345" />
       <source>no project — insrail</source>
       <translation>无项目 — insrail</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="366" />
+      <location filename="../../../insrail/gui/main_window.py" line="375" />
       <source>Open project</source>
       <translation>打开项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="481" />
+      <location filename="../../../insrail/gui/main_window.py" line="490" />
       <source>Cancelling…</source>
       <translation>正在取消…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="686" />
+      <location filename="../../../insrail/gui/main_window.py" line="697" />
       <source>Written {name} in {folder}</source>
       <translation>已写入 {name}，位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="770" />
+      <location filename="../../../insrail/gui/main_window.py" line="815" />
       <source>Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports.</source>
       <translation>惯性轨道几何测量小车数据处理：GNSS/INS/里程计组合导航、轨道几何、报告。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="312" />
+      <location filename="../../../insrail/gui/main_window.py" line="320" />
       <source>settings saved to {path}; {rerun}</source>
       <translation>设置已保存至 {path}；{rerun}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="347" />
+      <location filename="../../../insrail/gui/main_window.py" line="356" />
       <source>Save the changes to {project}?</source>
       <translation>保存对 {project} 的修改？</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="366" />
+      <location filename="../../../insrail/gui/main_window.py" line="375" />
       <source>insrail project (project.toml)</source>
       <translation>insrail 项目 (project.toml)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="372" />
+      <location filename="../../../insrail/gui/main_window.py" line="381" />
       <source>Cannot open the project</source>
       <translation>无法打开项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="388" />
+      <location filename="../../../insrail/gui/main_window.py" line="397" />
       <source>project {name}: {path}</source>
       <translation>项目 {name}：{path}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="407" />
+      <location filename="../../../insrail/gui/main_window.py" line="416" />
       <source>Cannot save the project</source>
       <translation>无法保存项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="411" />
+      <location filename="../../../insrail/gui/main_window.py" line="420" />
       <source>saved {path}</source>
       <translation>已保存 {path}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="437" />
+      <location filename="../../../insrail/gui/main_window.py" line="446" />
       <source>Cannot add the survey</source>
       <translation>无法添加测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="440" />
+      <location filename="../../../insrail/gui/main_window.py" line="449" />
       <source>survey {name} imported from {folder}</source>
       <translation>测量 {name} 已从 {folder} 导入</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="501" />
+      <location filename="../../../insrail/gui/main_window.py" line="510" />
       <source>{survey}: {count} exceedances, results in {folder}</source>
       <translation>{survey}：超限 {count} 处，结果位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="585" />
+      <location filename="../../../insrail/gui/main_window.py" line="596" />
       <source>Showing survey {survey}</source>
       <translation>正在显示测量 {survey}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="685" />
+      <location filename="../../../insrail/gui/main_window.py" line="696" />
       <source>written {path}</source>
       <translation>已写入 {path}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="751" />
+      <location filename="../../../insrail/gui/main_window.py" line="762" />
       <source>GNSS of {survey}: fix rate {rate:.1f} % of {epochs} epochs{source}</source>
       <translation>测量 {survey} 的 GNSS：{epochs} 个历元中固定率 {rate:.1f} %{source}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="499" />
+      <location filename="../../../insrail/gui/main_window.py" line="508" />
       <source>{survey}: {file} is older than these results: the banner over the views writes it again</source>
       <translation>{survey}：{file} 早于当前结果：视图上方的提示栏可重新生成</translation>
     </message>
@@ -1634,9 +1654,59 @@
       <translation>GNSS 中断</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/repeatability.py" line="34" />
+      <location filename="../../../insrail/gui/views/redesign.py" line="40" />
       <source>chainage [m]</source>
       <translation>里程 [m]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="68" />
+      <source>measured</source>
+      <translation>实测</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="68" />
+      <source>after tamping</source>
+      <translation>捣固后</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="51" />
+      <source>No re-design of this survey: Run &gt; Re-design for tamping computes the lift and slew after which the track passes the tolerance profile.</source>
+      <translation>此测量尚无整道设计：“运行 &gt; 捣固整道设计”计算起道量和拨道量，使作业后的线路满足容许偏差标准。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="70" />
+      <source>Vertical (mean of the rails) [mm]</source>
+      <translation>高低（两轨平均）[mm]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="72" />
+      <source>Lateral (mean of the rails) [mm]</source>
+      <translation>轨向（两轨平均）[mm]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="74" />
+      <source>Lift and slew [mm]</source>
+      <translation>起道量和拨道量 [mm]</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="54" />
+      <source>Survey {survey}, profile {profile}: largest lift {lift:.1f} mm, largest slew {slew:.1f} mm; exceedances {before} before, {after} after the job; {cannot} stretches cannot pass under the constraints.</source>
+      <translation>测量 {survey}，容许偏差标准 {profile}：最大起道量 {lift:.1f} mm，最大拨道量 {slew:.1f} mm；超限作业前 {before} 处，作业后 {after} 处；{cannot} 段在约束下无法达标。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="74" />
+      <source>lift left rail</source>
+      <translation>左轨起道量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="75" />
+      <source>lift right rail</source>
+      <translation>右轨起道量</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/redesign.py" line="75" />
+      <source>slew</source>
+      <translation>拨道量</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/views/repeatability.py" line="36" />
