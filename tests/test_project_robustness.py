@@ -68,6 +68,14 @@ def notices(project: Path) -> list[dict]:
     return tomllib.loads((results_of(project) / "summary.toml").read_text())["notices"]
 
 
+def said_of_the_input(project: Path) -> list[dict]:
+    """The notices but the one a clean survey this short always has: its 150 m lag's stated 1-sigma (a
+    survey of about 150 m holds one or no such lag) cannot resolve the 300 m/150 m check's 10 mm limit
+    (insrail.project.assessable), whatever its input."""
+    return [n for n in notices(project)
+            if not (n["stage"] == "assessment" and n["message"].startswith("long_wave_300m_150m"))]
+
+
 def assert_same_results(project: Path, reference: Path) -> None:
     """The same sleepers and exceedances (to the last printed digit: a recomputed stage may round
     a micrometre differently)."""
@@ -296,7 +304,7 @@ def test_a_given_time_offset_is_applied_and_nothing_said(tiny, tmp_path):
     rewrite_numbers(survey_folder(project) / "odometer.txt", 0, lambda t: t + 1.0)
     _edit_manifest('path = "odometer.txt"\n', 'path = "odometer.txt"\ntime_offset_s = 1.0\n')(project)
     assert main(["process", str(project)]) == 0
-    assert notices(project) == []
+    assert said_of_the_input(project) == []
     assert_same_results(project, tiny)
 
 
@@ -308,7 +316,7 @@ def test_a_given_gauge_latency_is_applied(tiny, tmp_path):
     rewrite_numbers(survey_folder(project) / "gauge.txt", 0, lambda t: t + 1.0)
     _edit_manifest('path = "gauge.txt"\n', 'path = "gauge.txt"\ntime_offset_s = 1.0\n')(project)
     assert main(["process", str(project)]) == 0
-    assert notices(project) == []
+    assert said_of_the_input(project) == []
     assert_same_results(project, tiny)
 
 
@@ -346,7 +354,7 @@ def test_on_a_clean_survey_the_checks_change_nothing_and_say_nothing(tiny, tmp_p
     for entry in cache_of(checked).iterdir():
         entry.unlink()
     process(load_project(checked), SURVEY)
-    assert notices(checked) == notices(unchecked) == []
+    assert said_of_the_input(checked) == said_of_the_input(unchecked) == []
     for name in ("sleepers.csv", "exceedances.csv", "trajectory.npy", "quality.csv"):
         assert (results_of(checked) / name).read_bytes() == (results_of(unchecked) / name).read_bytes()
 
@@ -677,10 +685,15 @@ def test_a_gyro_and_an_accelerometer_spike_below_the_envelope_leave_no_wrong_val
     held = np.ones(len(sleepers), dtype=bool) if screened else sleepers["station_m"] > sleepers["station_m"][after] + 30
     clean = read_csv(results_of(tiny) / "sleepers.csv")
     assert np.allclose(clean["station_m"], sleepers["station_m"], rtol=0, atol=0.01)  # the same sleepers
+    # Or the check is not assessed where the reset's stated 1-sigma cannot resolve its limit (values empty,
+    # said so): a column left empty throughout is read as booleans, so it is taken as numbers here.
+    said = {n["message"].split(":")[0] for n in notices(project) if n["stage"] == "assessment"}
     for rail in ("left", "right"):
         for direction in ("lateral", "vertical"):
             column = f"check_short_wave_30m_5m_{rail}_{direction}_mm"
-            added_mm = sleepers[column] - clean[column]
+            spiked = np.asarray(sleepers[column], dtype=float) if sleepers[column].dtype.kind == "f" else \
+                np.full(len(sleepers), np.nan)
+            added_mm = spiked - clean[column]
             measured = valid & np.isfinite(added_mm) & held
-            assert measured.sum() > 0.5 * len(sleepers)
-            assert np.abs(added_mm[measured]).max() < 1.0, (rail, direction)
+            assert measured.sum() > 0.5 * len(sleepers) or f"short_wave_30m_5m {direction}" in said, (rail, direction)
+            assert np.abs(added_mm[measured]).max(initial=0.0) < 1.0, (rail, direction)
