@@ -52,7 +52,9 @@ def window(qtbot, tmp_path):
 
     settings = QSettings(str(tmp_path / "settings.ini"), QSettings.IniFormat)  # never the user's settings
     main = MainWindow(settings)
-    qtbot.addWidget(main)
+    # pytest-qt closes its widgets before this fixture's teardown: closing must never ask (a modal question
+    # would block the test run), even after a failed test left the project modified
+    qtbot.addWidget(main, before_close_func=lambda widget: setattr(widget, "modified", False))
     main.resize(1400, 900)
     main.show()
     yield main

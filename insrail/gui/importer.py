@@ -52,7 +52,9 @@ from insrail.gui.translation import tr, tr_noop
 PREVIEW_LINES = 12
 #: What a reader's error counts in (InputError.unit) as the status column says it; the message is the reader's
 READ_UNITS = {"line": tr_noop("line"), "row": tr_noop("row")}
-_ROLE_OF_TYPE = {data_type: role for role, data_type in ROLE_TYPES.items()}
+#: the role a file of a data type is guessed to have: the first role of that type (an odometer file is the
+#: first odometer; a second one, odometer_right, is chosen by hand)
+_ROLE_OF_TYPE = {data_type: role for role, data_type in reversed(ROLE_TYPES.items())}
 _FILE, _ROLE, _FORMAT, _STATUS = range(4)
 
 
