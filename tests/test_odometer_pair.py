@@ -218,17 +218,6 @@ def test_a_slipping_wheel_is_named_and_bridged_by_the_other_through_insrail_proc
     assert events[0]["station_to_m"] - events[0]["station_from_m"] < 155
 
 
-def _as_single(project: Path, simulated: Path, right_lever: tuple[float, float, float]) -> None:
-    """The survey with the (slipping) right wheel's record as its only odometer."""
-    survey = project / "survey"
-    record = np.loadtxt(simulated / "odometer_right.txt", comments="#")
-    np.savetxt(survey / "odometer.txt", record, fmt="%.3f %.3f")
-    lines = (survey / "survey.toml").read_text().splitlines()
-    lines = [f"imu_to_odometer_m = [{right_lever[0]}, {right_lever[1]}, {right_lever[2]}]"
-             if line.startswith("imu_to_odometer_m") else line for line in lines]
-    (survey / "survey.toml").write_text("\n".join(lines) + "\n")
-
-
 @pytest.mark.slow
 def test_with_the_other_wheel_bridging_the_result_is_a_good_odometers(slipping_run, tmp_path):
     """The slipping run processed four ways against the truth (the numbers in docs/fusion.md, "Two

@@ -90,7 +90,7 @@ def test_every_output_of_a_relative_survey_says_so(relative_on_design):
     # started on the design with a 10 mm 1-sigma: nothing absolute, and the figures that say why
     absolute = summary["relative"]["absolute"]
     assert absolute["start_sigma_mm"] == 10.0 and absolute["end_sigma_mm"] > 500.0  # 0.1 deg over 420 m
-    assert absolute["reported"].startswith("nothing absolute")
+    assert absolute["reported"]["template"].startswith("nothing absolute")  # a phrase: said in the report's language
     assert any(n["message"].startswith("relative survey started on the design at station 1020.000 m")
                for n in summary["notices"])
     with open(results / "sleepers.csv", newline="") as handle:
