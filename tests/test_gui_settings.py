@@ -147,6 +147,7 @@ def test_numbers_typed_key_by_key_are_saved_exactly_as_typed(window, small_proje
              (field["geodesy.crs.false_easting_m"], "500123.125"),
              (field["trolley.imu_to_prism_m"].boxes[0], "0.125"),
              (field["trolley.imu_to_prism_m"].boxes[2], "-1.45"),
+             (field["trolley.imu_to_odometer_right_m"].boxes[1], "0.7425"),
              (field["trolley.mounting_rpy_deg"].boxes[1], "-0.25"),
              (field["processing.gnss_sigma_floor_m"], "0.0125"),
              (field["track.first_sleeper_number"], "1201")]
@@ -160,6 +161,7 @@ def test_numbers_typed_key_by_key_are_saved_exactly_as_typed(window, small_proje
     crs, trolley = saved["geodesy"]["crs"], saved["trolley"]
     assert (crs["false_northing_m"], crs["false_easting_m"]) == (45.5, 500123.125)
     assert (trolley["imu_to_prism_m"][0], trolley["imu_to_prism_m"][2]) == (0.125, -1.45)
+    assert trolley["imu_to_odometer_right_m"] == [0.0, 0.7425, 0.0]  # the second odometer's wheel
     assert trolley["mounting_rpy_deg"][1] == -0.25
     assert saved["processing"]["gnss_sigma_floor_m"] == 0.0125
     assert saved["track"]["first_sleeper_number"] == 1201

@@ -1,8 +1,14 @@
 """Import of raw files as a survey: format detection, a preview of the first rows, reader errors shown
-as file, line and what is wrong; the result is a survey folder described by ``survey.toml``."""
+as file, line and what is wrong; the result is a survey folder described by ``survey.toml``.
+
+A survey folder opened here keeps everything its ``survey.toml`` says that the form does not show: a
+file's reader options and ``time_offset_s`` (a sensor's latency), the description and ``[gnss_raw]``.
+Importing it unchanged leaves the file as the user wrote it (comments included); the form shows and
+edits the optional ``[start]`` on the design."""
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import shutil
 from dataclasses import dataclass
@@ -18,6 +24,7 @@ from PySide6.QtWidgets import (
     QDialogButtonBox,
     QFileDialog,
     QFormLayout,
+    QGroupBox,
     QHBoxLayout,
     QHeaderView,
     QLabel,
@@ -40,12 +47,16 @@ from insrail.io.survey import (
     POSITION_ROLES,
     REQUIRED_ROLES,
     ROLE_TYPES,
+    START_SIGMA_M,
     SurveyFile,
     SurveyManifest,
+    SurveyStart,
     TrolleyGeometry,
+    manifest_to_toml,
     read_manifest,
     write_manifest,
 )
+from insrail.gui.forms import spin_box
 from insrail.resources import resources_dir
 from insrail.gui.translation import tr, tr_noop
 
@@ -118,6 +129,25 @@ class ImportWidget(QWidget):
         self.problems.horizontalHeader().setStretchLastSection(True)
         self.problems.setEditTriggers(QAbstractItemView.NoEditTriggers)
         self.folder_trolley: TrolleyGeometry | None = None  # from a survey.toml that was opened
+        # the survey.toml that was opened, with its folder: what the form does not show is kept from it
+        self.opened: tuple[SurveyManifest, Path] | None = None
+        self._week_from_files: int | None = None  # the GPS week check() took from the files
+        self.start = QGroupBox(tr("Starts on a station of the design (before the first position fix)"))
+        self.start.setCheckable(True)
+        self.start.setChecked(False)
+        self.start_station = spin_box(-1e7, 1e7, 3, suffix=" m")
+        self.start_offset = spin_box(-10.0, 10.0, 3, suffix=" m")
+        self.start_height = spin_box(-10.0, 10.0, 3, suffix=" m")
+        self.start_sigma = spin_box(0.001, 10.0, 3, START_SIGMA_M, suffix=" m")
+        self.start_facing = QComboBox()
+        self.start_facing.addItem(tr("increasing stations"), True)
+        self.start_facing.addItem(tr("decreasing stations"), False)
+        start_form = QFormLayout(self.start)
+        start_form.addRow(tr("Station"), self.start_station)
+        start_form.addRow(tr("Offset right of the centreline"), self.start_offset)
+        start_form.addRow(tr("Height above the profile"), self.start_height)
+        start_form.addRow(tr("1-sigma of the start point"), self.start_sigma)
+        start_form.addRow(tr("The trolley faces"), self.start_facing)
 
         add = QPushButton(tr("Add files…"))
         add.clicked.connect(self._browse_files)
@@ -150,6 +180,7 @@ class ImportWidget(QWidget):
         lower.addWidget(problems_box)
         layout = QVBoxLayout(self)
         layout.addLayout(form)
+        layout.addWidget(self.start)
         layout.addLayout(buttons)
         layout.addWidget(self.files, 2)
         layout.addWidget(lower, 2)
@@ -202,9 +233,11 @@ class ImportWidget(QWidget):
         self.changed.emit()
 
     def load_survey_folder(self, folder: str | Path) -> None:
-        """Take the files, name, week, IMU profile and trolley from an existing ``survey.toml``."""
+        """Take the files, name, week, IMU profile, trolley and start from an existing ``survey.toml``;
+        the rest of it is kept for :meth:`write_survey`."""
         folder = Path(folder)
         manifest = read_manifest(folder)
+        self.opened = (manifest, folder.resolve())
         self.files.setRowCount(0)
         paths = {role: str(folder / f.path) for role, f in manifest.files.items()}
         self.add_files(list(paths.values()), roles={p: r for r, p in paths.items()},
@@ -213,6 +246,23 @@ class ImportWidget(QWidget):
         self.gps_week.setValue(manifest.gps_week or 0)
         choose(self.imu_profile, manifest.imu_profile)
         self.folder_trolley = manifest.trolley
+        self._show_start(manifest.start)
+
+    def _show_start(self, start: SurveyStart | None) -> None:
+        self.start.setChecked(start is not None)
+        if start is not None:
+            self.start_station.setValue(start.station_m)
+            self.start_offset.setValue(start.offset_m)
+            self.start_height.setValue(start.height_m)
+            self.start_sigma.setValue(start.sigma_m)
+            self.start_facing.setCurrentIndex(self.start_facing.findData(start.facing_increasing))
+
+    def survey_start(self) -> SurveyStart | None:
+        """The ``[start]`` the form gives (None: the survey waits for its first position fix)."""
+        if not self.start.isChecked():
+            return None
+        return SurveyStart(self.start_station.value(), self.start_offset.value(), self.start_height.value(),
+                           self.start_sigma.value(), bool(self.start_facing.currentData()))
 
     def entries(self) -> list[tuple[Path, str, str]]:
         """(path, role, format) of every row."""
@@ -252,7 +302,7 @@ class ImportWidget(QWidget):
                 required = ", ".join(REQUIRED_ROLES)
                 problems.append(Problem("", None, tr("no file has the role {role} (required: {required})").format(
                     role=role, required=required)))
-        if not any(role in roles for role in POSITION_ROLES):
+        if not any(role in roles for role in POSITION_ROLES) and self._raw_gnss() is None:
             problems.append(Problem("", None, tr("no file gives the position: give a GNSS solution (gnss) or "
                                                  "total-station prism fixes (prism)")))
         weeks = set()
@@ -284,6 +334,7 @@ class ImportWidget(QWidget):
         weeks.discard(None)
         if self.gps_week.value() == 0 and len(weeks) == 1:
             self.gps_week.setValue(weeks.pop())
+            self._week_from_files = self.gps_week.value()
         self._show_problems(problems)
         return problems
 
@@ -295,9 +346,43 @@ class ImportWidget(QWidget):
                 self.problems.setItem(row, column, QTableWidgetItem(text))
         self.problems.resizeColumnsToContents()
 
+    def _raw_gnss(self):
+        """The opened survey's ``[gnss_raw]`` (raw GNSS observations instead of a gnss file), or None."""
+        return self.opened[0].raw_gnss if self.opened is not None else None
+
+    def _raw_gnss_paths(self) -> list[Path]:
+        raw, folder = self._raw_gnss(), self.opened[1] if self.opened is not None else None
+        return [] if raw is None else [(folder / name).resolve() for name in raw.input_files()]
+
     def survey_folder(self) -> Path:
-        """The folder of the survey: the one holding all its files."""
-        return Path(os.path.commonpath([str(p.resolve().parent) for p, _, _ in self.entries()]))
+        """The folder of the survey: the one holding all its files (the raw GNSS files included)."""
+        paths = [p.resolve() for p, _, _ in self.entries()] + self._raw_gnss_paths()
+        return Path(os.path.commonpath([str(p.parent) for p in paths]))
+
+    def _kept(self, path: Path, role: str, fmt: str, relative: str) -> SurveyFile:
+        """The file as survey.toml will give it: the opened survey's options and time offset kept for the
+        same file read the same way (a sensor's latency must not be lost on the way into a project)."""
+        if self.opened is not None:
+            manifest, folder = self.opened
+            before = manifest.files.get(role)
+            if before is not None and before.format == fmt and (folder / before.path).resolve() == path.resolve():
+                return dataclasses.replace(before, path=relative)
+        return SurveyFile(relative, fmt)
+
+    def _moved_raw_gnss(self, folder: Path):
+        """``[gnss_raw]`` with its paths relative to the survey's new folder."""
+        raw = self._raw_gnss()
+        if raw is None:
+            return None
+        old = self.opened[1]
+
+        def moved(name):
+            return os.path.relpath((old / name).resolve(), folder).replace(os.sep, "/")
+
+        changes = {key: moved(getattr(raw, key)) for key in ("base", "rover", "rover_log", "antex", "config")
+                   if getattr(raw, key) is not None}
+        changes.update(navigation=tuple(map(moved, raw.navigation)), precise=tuple(map(moved, raw.precise)))
+        return dataclasses.replace(raw, **changes)
 
     def write_survey(self, trolley: TrolleyGeometry | None, into: Path | None = None) -> Path | None:
         """Check the files and write ``survey.toml`` beside them, or (``into``) copy them into that
@@ -313,22 +398,37 @@ class ImportWidget(QWidget):
             self._show_problems(problems)
             return None
         folder = self.survey_folder()
-        files = {role: SurveyFile(os.path.relpath(path.resolve(), folder).replace(os.sep, "/"), fmt)
+        files = {role: self._kept(path, role, fmt, os.path.relpath(path.resolve(), folder).replace(os.sep, "/"))
                  for path, role, fmt in self.entries()}
         if into is not None:
+            copies = [path.resolve() for path, _, _ in self.entries()] + self._raw_gnss_paths()
             try:
-                for (path, _role, _fmt), file in zip(self.entries(), files.values()):
-                    (into / file.path).parent.mkdir(parents=True, exist_ok=True)
-                    shutil.copy2(path, into / file.path)
+                for path in copies:
+                    target = into / os.path.relpath(path, folder)
+                    target.parent.mkdir(parents=True, exist_ok=True)
+                    shutil.copy2(path, target)
             except OSError as error:
                 self._show_problems([Problem(str(path), None, tr("cannot copy into {folder}: {error}").format(
                     folder=into, error=error.strerror or error))])
                 return None
             folder = into
+        raw_gnss = self._moved_raw_gnss(self.survey_folder())
+        description = self.opened[0].description if self.opened is not None else ""
+        gps_week = self.gps_week.value() or None
+        if self.opened is not None and self.opened[0].gps_week is None and gps_week == self._week_from_files:
+            gps_week = None  # the files say it; the opened survey.toml did not need to
         manifest = SurveyManifest(name=name, files=files, trolley=trolley, imu_profile=chosen(self.imu_profile),
-                                  gps_week=self.gps_week.value() or None)
-        write_manifest(folder, manifest)
+                                  gps_week=gps_week, description=description,
+                                  raw_gnss=raw_gnss, start=self.survey_start())
+        if not self._unchanged(manifest, folder):
+            write_manifest(folder, manifest)
         return folder
+
+    def _unchanged(self, manifest: SurveyManifest, folder: Path) -> bool:
+        """The opened survey.toml says the same in the same place: it stays as its user wrote it."""
+        if self.opened is None or self.opened[1] != folder.resolve():
+            return False
+        return manifest_to_toml(manifest) == manifest_to_toml(self.opened[0])
 
 
 class ImportDialog(QDialog):

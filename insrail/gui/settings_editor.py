@@ -106,8 +106,8 @@ class Field:
     default: str | None = None
 
 
-_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_reference_rail_m", "imu_to_sleeper_detector_m",
-         "imu_to_prism_m")
+_ARMS = ("imu_to_antenna_m", "imu_to_odometer_m", "imu_to_odometer_right_m", "imu_to_reference_rail_m",
+         "imu_to_sleeper_detector_m", "imu_to_prism_m")
 FIELDS = (
     Field(tr_noop("Project"), "project.name", "text"),
     Field(tr_noop("Project"), "project.description", "text"),

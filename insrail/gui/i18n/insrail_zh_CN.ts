@@ -349,207 +349,247 @@
       <translation>导出测量 {survey} 的{what}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="54" />
+      <location filename="../../../insrail/gui/importer.py" line="65" />
       <source>line</source>
       <translation>行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="54" />
+      <location filename="../../../insrail/gui/importer.py" line="65" />
       <source>row</source>
       <translation>记录</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="97" />
+      <location filename="../../../insrail/gui/importer.py" line="110" />
       <source>letters, digits, '.', '_' or '-'</source>
       <translation>字母、数字、“.”、“_”或“-”</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="100" />
+      <location filename="../../../insrail/gui/importer.py" line="113" />
       <source>from the files</source>
       <translation>取自文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="120" />
+      <location filename="../../../insrail/gui/importer.py" line="134" />
+      <source>Starts on a station of the design (before the first position fix)</source>
+      <translation>从设计线路上的已知里程起测（首个定位之前）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="142" />
+      <source>increasing stations</source>
+      <translation>里程增加方向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="143" />
+      <source>decreasing stations</source>
+      <translation>里程减小方向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="145" />
+      <source>Station</source>
+      <translation>里程</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="146" />
+      <source>Offset right of the centreline</source>
+      <translation>偏离线路中线（向右）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="147" />
+      <source>Height above the profile</source>
+      <translation>高于设计纵断面</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="148" />
+      <source>1-sigma of the start point</source>
+      <translation>起测点中误差（1σ）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="149" />
+      <source>The trolley faces</source>
+      <translation>小车朝向</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/importer.py" line="151" />
       <source>Add files…</source>
       <translation>添加文件…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="122" />
+      <location filename="../../../insrail/gui/importer.py" line="153" />
       <source>Open survey folder…</source>
       <translation>打开测量文件夹…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="124" />
+      <location filename="../../../insrail/gui/importer.py" line="155" />
       <source>Remove</source>
       <translation>移除</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="126" />
+      <location filename="../../../insrail/gui/importer.py" line="157" />
       <source>Check files</source>
       <translation>检查文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="133" />
+      <location filename="../../../insrail/gui/importer.py" line="164" />
       <source>Survey name</source>
       <translation>测量名称</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="134" />
+      <location filename="../../../insrail/gui/importer.py" line="165" />
       <source>GPS week</source>
       <translation>GPS 周</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="135" />
+      <location filename="../../../insrail/gui/importer.py" line="166" />
       <source>IMU profile</source>
       <translation>IMU 误差模型</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="221" />
+      <location filename="../../../insrail/gui/importer.py" line="272" />
       <source>Raw files of one survey</source>
       <translation>一次测量的原始文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="258" />
+      <location filename="../../../insrail/gui/importer.py" line="309" />
       <source>ok</source>
       <translation>正常</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="340" />
+      <location filename="../../../insrail/gui/importer.py" line="437" />
       <source>Import raw files as a survey</source>
       <translation>导入原始数据为测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="346" />
+      <location filename="../../../insrail/gui/importer.py" line="443" />
       <source>Import</source>
       <translation>导入</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="105" />
+      <location filename="../../../insrail/gui/importer.py" line="118" />
       <source>File</source>
       <translation>文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="105" />
+      <location filename="../../../insrail/gui/importer.py" line="118" />
       <source>Role</source>
       <translation>用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="105" />
+      <location filename="../../../insrail/gui/importer.py" line="118" />
       <source>Format</source>
       <translation>格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="105" />
+      <location filename="../../../insrail/gui/importer.py" line="118" />
       <source>Check</source>
       <translation>检测项</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="114" />
+      <location filename="../../../insrail/gui/importer.py" line="127" />
       <source>Line</source>
       <translation>行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="114" />
+      <location filename="../../../insrail/gui/importer.py" line="127" />
       <source>What is wrong</source>
       <translation>问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="140" />
+      <location filename="../../../insrail/gui/importer.py" line="171" />
       <source>First rows of the selected file</source>
       <translation>所选文件的前几行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="145" />
+      <location filename="../../../insrail/gui/importer.py" line="176" />
       <source>Problems found by the readers</source>
       <translation>读取时发现的问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="261" />
+      <location filename="../../../insrail/gui/importer.py" line="312" />
       <source>no role</source>
       <translation>未指定用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="77" />
+      <location filename="../../../insrail/gui/importer.py" line="90" />
       <source>cannot read: {error}</source>
       <translation>无法读取：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="226" />
+      <location filename="../../../insrail/gui/importer.py" line="277" />
       <source>Survey folder (with {file})</source>
       <translation>测量文件夹（含 {file}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="254" />
+      <location filename="../../../insrail/gui/importer.py" line="305" />
       <source>no file gives the position: give a GNSS solution (gnss) or total-station prism fixes (prism)</source>
       <translation>没有提供位置的文件：请给出 GNSS 解（gnss）或全站仪棱镜定位（prism）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="264" />
+      <location filename="../../../insrail/gui/importer.py" line="315" />
       <source>duplicate role</source>
       <translation>用途重复</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="306" />
+      <location filename="../../../insrail/gui/importer.py" line="391" />
       <source>no trolley geometry: enter it in the project</source>
       <translation>无小车几何参数：请在项目中填写</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="309" />
+      <location filename="../../../insrail/gui/importer.py" line="394" />
       <source>enter a survey name</source>
       <translation>请输入测量名称</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="69" />
+      <location filename="../../../insrail/gui/importer.py" line="82" />
       <source>not a readable .npy file: {error}</source>
       <translation>不是可读取的 .npy 文件：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="72" />
+      <location filename="../../../insrail/gui/importer.py" line="85" />
       <source>{count} records</source>
       <translation>{count} 条记录</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="260" />
+      <location filename="../../../insrail/gui/importer.py" line="311" />
       <source>choose the role of this file</source>
       <translation>请选择此文件的用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="267" />
+      <location filename="../../../insrail/gui/importer.py" line="318" />
       <source>no format</source>
       <translation>未识别格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="271" />
+      <location filename="../../../insrail/gui/importer.py" line="322" />
       <source>format does not fit the role</source>
       <translation>格式与用途不符</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="251" />
+      <location filename="../../../insrail/gui/importer.py" line="302" />
       <source>no file has the role {role} (required: {required})</source>
       <translation>没有用途为 {role} 的文件（必需：{required}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="266" />
+      <location filename="../../../insrail/gui/importer.py" line="317" />
       <source>format not recognised: choose one</source>
       <translation>未识别格式：请选择</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="263" />
+      <location filename="../../../insrail/gui/importer.py" line="314" />
       <source>more than one file has the role {role}</source>
       <translation>多个文件的用途为 {role}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="322" />
+      <location filename="../../../insrail/gui/importer.py" line="409" />
       <source>cannot copy into {folder}: {error}</source>
       <translation>无法复制到 {folder}：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="269" />
+      <location filename="../../../insrail/gui/importer.py" line="320" />
       <source>format {format} does not hold {role} data</source>
       <translation>格式 {format} 不含 {role} 数据</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="278" />
+      <location filename="../../../insrail/gui/importer.py" line="329" />
       <source>{unit} {line}: {message}</source>
       <translation>第 {line} {unit}：{message}</translation>
     </message>
