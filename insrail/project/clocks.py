@@ -248,10 +248,10 @@ def check_sleeper_match(pulses: SleeperPulses | None, odometer: OdometerData, sl
             "time scale" if scores[best] >= MIN_SLEEPER_MATCH else
             ": a file of another survey or run, or a detector that misses or doubles pulses")
     path = pulses.source or Path(sleepers_label)
-    raise InputError(path, None, f"{read_as(sleepers_label)}only {100 * match:.0f} % of consecutive sleeper pulses lie one "
-                     f"sleeper spacing ({spacing:.3f} m, the median) apart along the odometer distance "
-                     f"({odometer_label}); expected at least {100 * MIN_SLEEPER_MATCH:.0f} % and no better match "
-                     f"at another time{hint}")
+    raise InputError(path, None, "{read_as}only {value:.0f} % of consecutive sleeper pulses lie one "
+                     "sleeper spacing ({spacing:.3f} m, the median) apart along the odometer distance "
+                     "({odometer_label}); expected at least {value2:.0f} % and no better match "
+                     "at another time{hint}", fields={"read_as": read_as(sleepers_label), "value": 100 * match, "spacing": spacing, "odometer_label": odometer_label, "value2": 100 * MIN_SLEEPER_MATCH, "hint": hint})
 
 
 def estimate_sleeper_odometer_offset(pulses: SleeperPulses, odometer: OdometerData
@@ -378,10 +378,12 @@ def check_clocks(survey: SurveyData, labels: dict[str, str]) -> list[Notice]:
             continue
         remedy = (f"if it is the sensor's known latency, give time_offset_s = {given + seconds:.2f} in [files.{role}] "
                   f"of survey.toml" if role != "imu" else "the IMU's clock is the reference the others are put on")
-        problems.append(InputError(path, None, f"{read_as(label)}{text}; an offset of {MAX_OFFSET_S:g} s or more "
-                                   f"is refused: likely {_cause(seconds, role)}; {remedy}"))
+        problems.append(InputError(path, None, "{read_as}{text}; an offset of {max_offset_s:g} s or more "
+                                   "is refused: likely {_cause}; {remedy}", fields={"read_as": read_as(label), "text": text, "max_offset_s": MAX_OFFSET_S, "_cause": _cause(seconds, role), "remedy": remedy}))
     if len(problems) == 1:
         raise problems[0]
     if problems:
-        raise ManifestError(survey.folder / MANIFEST_NAME, [str(problem) for problem in problems])
+        raise ManifestError(survey.folder / MANIFEST_NAME, [Phrase("{file}: {message}", {"file": str(problem.path),
+                                                                                        "message": problem.phrase})
+                                                            for problem in problems])
     return notices
