@@ -142,14 +142,14 @@ def read_lift_lining(path: str | Path) -> LiftLiningTable:
         metadata[key.strip()] = value.strip()
         row += 1
     if row >= len(lines) or lines[row].split(",") != HEADER:
-        raise InputError(path, row + 1, "expected the header {join}", fields={"join": ','.join(HEADER)})
+        raise InputError(path, row + 1, "expected the header {header}", fields={"header": ','.join(HEADER)})
     numbers, chainages, values = [], [], []
     for line_number, line in enumerate(lines[row + 1:], start=row + 2):
         fields = line.split(",")
         if len(fields) != len(HEADER):
-            raise InputError(path, line_number, "expected {count} fields ({join}), found {count2}", fields={"count": len(HEADER), "join": ','.join(HEADER), "count2": len(fields)})
+            raise InputError(path, line_number, "expected {count} fields ({header}), found {found}", fields={"count": len(HEADER), "header": ','.join(HEADER), "found": len(fields)})
         if fields[3] not in ("0", "1"):
-            raise InputError(path, line_number, "valid: expected 0 or 1, found {fields!r}", fields={"fields": fields[3]})
+            raise InputError(path, line_number, "valid: expected 0 or 1, found {valid!r}", fields={"valid": fields[3]})
         try:
             numbers.append(int(fields[0]))
             values.append([float(cell) if cell else np.nan for cell in fields[2:]])

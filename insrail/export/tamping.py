@@ -62,7 +62,7 @@ def read_tamping(path: str | Path) -> TampingTable:
             metadata[key.strip()] = value.strip()
         elif not header_seen:
             if line.split(",") != TAMPING_HEADER:
-                raise InputError(path, number, "expected the header {join}", fields={"join": ','.join(TAMPING_HEADER)})
+                raise InputError(path, number, "expected the header {header}", fields={"header": ','.join(TAMPING_HEADER)})
             header_seen = True
         else:
             parts = line.split(",", 6)
@@ -128,7 +128,7 @@ def load_template(path: str | Path) -> Template:
     for i, entry in enumerate(entries):
         field = entry.get("field") if isinstance(entry, dict) else None
         if field not in FIELDS:
-            raise InputError(path, None, "columns[{i}].field: expected one of {fields}, found {field!r}", fields={"i": i, "fields": list(FIELDS), "field": field})
+            raise InputError(path, None, "columns[{i}].field: expected one of {known}, found {field!r}", fields={"i": i, "known": list(FIELDS), "field": field})
         base = FIELDS[field]
         unit = entry.get("unit", base)
         if (base and unit not in UNITS[base]) or (not base and unit):

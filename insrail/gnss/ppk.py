@@ -185,7 +185,7 @@ def _check_inputs(rover_obs: Path, base_obs: Path, nav_files: Sequence[Path],
     start, end = max(rover.first_s, base.first_s), min(rover.last_s, base.last_s)
     if start >= end:
         raise InputError(base_obs, None, "base and rover do not overlap in time: base "
-                         "{_span}, rover {file} {_span2}", fields={"_span": _span(base), "file": rover_obs.name, "_span2": _span(rover)})
+                         "{base_span}, rover {file} {rover_span}", fields={"base_span": _span(base), "file": rover_obs.name, "rover_span": _span(rover)})
     return rover, base
 
 

@@ -61,7 +61,7 @@ def _version_and_type(path: Path, header: list[str]) -> tuple[float, str]:
     try:
         version = float(first[:9])
     except ValueError:
-        raise InputError(path, 1, "unreadable RINEX version {strip!r}", fields={"strip": first[:9].strip()}) from None
+        raise InputError(path, 1, "unreadable RINEX version {version!r}", fields={"version": first[:9].strip()}) from None
     return version, first[20:21].upper()
 
 
@@ -95,8 +95,8 @@ def read_obs_info(path: str | Path) -> RinexObsInfo:
         except ValueError:
             raise InputError(path, number, "unreadable {label}: expected three F14.4 numbers", fields={"label": label}) from None
         if not all(map(math.isfinite, xyz)):
-            raise InputError(path, number, "{label}: non-finite value {strip!r}: expected three "
-                             "F14.4 numbers in metres", fields={"label": label, "strip": line[:42].strip()})
+            raise InputError(path, number, "{label}: non-finite value {text!r}: expected three "
+                             "F14.4 numbers in metres", fields={"label": label, "text": line[:42].strip()})
     pattern = _EPOCH_RINEX3 if version >= 3 else _EPOCH_RINEX2
     tags = pattern.findall(body)
     if not tags:

@@ -65,11 +65,11 @@ class _BoundedOutput:
     def write(self, data) -> int:
         self.written += len(data)
         if self.written > self.limit:
-            raise InputError(self.source, None, "inflates to more than {value:,.0f} MiB "
+            raise InputError(self.source, None, "inflates to more than {limit_mib:,.0f} MiB "
                              "({st_size:,} bytes compressed; the limit is "
                              "{max_decompression_ratio} times the compressed size, at least "
-                             "{value2} MiB, at most {value3} GiB): "
-                             "not a plausible RINEX file (a damaged or hostile archive?)", fields={"value": self.limit / 2**20, "st_size": self.source.stat().st_size, "max_decompression_ratio": MAX_DECOMPRESSION_RATIO, "value2": MIN_DECOMPRESSED_LIMIT >> 20, "value3": MAX_DECOMPRESSED_BYTES >> 30})
+                             "{min_mib} MiB, at most {max_gib} GiB): "
+                             "not a plausible RINEX file (a damaged or hostile archive?)", fields={"limit_mib": self.limit / 2**20, "st_size": self.source.stat().st_size, "max_decompression_ratio": MAX_DECOMPRESSION_RATIO, "min_mib": MIN_DECOMPRESSED_LIMIT >> 20, "max_gib": MAX_DECOMPRESSED_BYTES >> 30})
         return self.handle.write(data)
 
 
@@ -172,8 +172,8 @@ def _restore_hatanaka(source: Path, target: Path) -> None:
         raise InputError(source, None, "Compact RINEX (Hatanaka) and the hatanaka package is not installed: "
                          "pip install hatanaka, or restore it with CRX2RNX first") from None
     if target.stat().st_size > MAX_DECOMPRESSED_BYTES // 4:  # restored in memory, about 4 times larger
-        raise InputError(source, None, "Compact RINEX of more than {value} GiB: "
-                         "restore it with CRX2RNX first", fields={"value": (MAX_DECOMPRESSED_BYTES // 4) >> 30})
+        raise InputError(source, None, "Compact RINEX of more than {limit_gib} GiB: "
+                         "restore it with CRX2RNX first", fields={"limit_gib": (MAX_DECOMPRESSED_BYTES // 4) >> 30})
     try:
         plain = hatanaka.crx2rnx(target.read_bytes())
     except hatanaka.HatanakaException as err:

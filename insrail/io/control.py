@@ -47,7 +47,7 @@ def read_benchmarks(path: str | Path) -> Benchmarks:
     for values, limit, name in ((lat_deg, 90.0, "latitude"), (lon_deg, 360.0, "longitude")):
         bad = np.flatnonzero(np.abs(values) > limit)
         if bad.size:
-            table.fail(bad[0], "{name} {values} deg out of range", fields={"name": name, "values": values[bad[0]]})
+            table.fail(bad[0], "{name} {value} deg out of range", fields={"name": name, "value": values[bad[0]]})
     return Benchmarks(point_id=ids, lat_rad=np.radians(lat_deg), lon_rad=np.radians(lon_deg),
                       h_m=table.numbers(3), normal_height_m=table.numbers(4), source=table.path)
 

@@ -73,3 +73,9 @@ class ProblemsError(InputError):
 
 class ManifestError(ProblemsError):
     """``survey.toml`` (or the files it names) has problems; ``problems`` lists all of them."""
+
+
+def said(error: BaseException) -> str:
+    """An error as the user reads it in the language in use: an :class:`InputError` said (:meth:`InputError.said`),
+    any other in its own words."""
+    return error.said() if isinstance(error, InputError) else str(error)

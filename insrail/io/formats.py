@@ -136,7 +136,7 @@ def read_any(path: str | Path, format: str | None = None, **options) -> Any:
     unknown = unknown_options(file_format, options)
     if unknown:
         raise InputError(path, None, "unknown option {unknown!r} for format {name} "
-                         "(known: {value})", fields={"unknown": unknown[0], "name": name, "value": ', '.join(file_format.options()) or 'none'})
+                         "(known: {known})", fields={"unknown": unknown[0], "name": name, "known": ', '.join(file_format.options()) or 'none'})
     return file_format.read(path, **options)
 
 

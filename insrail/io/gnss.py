@@ -38,7 +38,7 @@ def check_sigmas(table: NumericTable, sigmas: np.ndarray, what: str) -> None:
     """Standard deviations must not be negative."""
     negative = np.flatnonzero((sigmas < 0).any(axis=1))
     if negative.size:
-        table.fail(negative[0], "negative {what} standard deviation {min}", fields={"what": what, "min": sigmas[negative[0]].min()})
+        table.fail(negative[0], "negative {what} standard deviation {sigma}", fields={"what": what, "sigma": sigmas[negative[0]].min()})
 
 
 def read_gnss_kfgins(path: str | Path) -> GnssSolution:

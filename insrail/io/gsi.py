@@ -216,8 +216,8 @@ def read_total_station_gsi(path: str | Path, prism_prefix: str = PRISM_TARGET) -
     prism = np.flatnonzero(table["target"] == PRISM_TARGET)
     late = prism[1:][np.diff(table["time_s"][prism]) <= 0]
     if late.size:
-        raise InputError(path, int(table["line"][late[0]]), "word {time}: prism time {table} s is "
-                         "not after the previous prism pointing's: times must increase", fields={"time": TIME, "table": table['time_s'][late[0]]})
+        raise InputError(path, int(table["line"][late[0]]), "word {time}: prism time {time_s} s is "
+                         "not after the previous prism pointing's: times must increase", fields={"time": TIME, "time_s": table['time_s'][late[0]]})
     for name in dict.fromkeys(table["setup"]):  # an untimed CPIII pointing: its set-up's first time
         mine = table["setup"] == name
         timed = mine & np.isfinite(table["time_s"])
@@ -306,7 +306,7 @@ def read_cpiii_gsi(path: str | Path) -> ControlPoints:
         point = block.text(POINT_ID)
         if point in seen:
             block.fail("word {position}: point {point} is given twice (first on line "
-                       "{seen})", fields={"position": block.words[POINT_ID].position, "point": point, "seen": seen[point]})
+                       "{first_line})", fields={"position": block.words[POINT_ID].position, "point": point, "first_line": seen[point]})
         seen[point] = block.line
         ids.append(point)
         coordinates.append([block.length(w) for w in TARGET_ENH])

@@ -53,12 +53,12 @@ def _check_increment_magnitudes(path: Path, time_s: np.ndarray, dtheta_norm: np.
     turn_rate = float(np.median(dtheta_norm, overwrite_input=True)) / interval
     if specific_force > _MAX_MEDIAN_SPECIFIC_FORCE_MPS2:
         raise InputError(path, None, "velocity increments imply a median specific force of "
-                         "{specific_force:.0f} m/s^2 at {value:.0f} Hz: the file seems to hold "
-                         "accelerations (m/s^2), expected velocity increments (m/s)", fields={"specific_force": specific_force, "value": 1 / interval})
+                         "{specific_force:.0f} m/s^2 at {rate_hz:.0f} Hz: the file seems to hold "
+                         "accelerations (m/s^2), expected velocity increments (m/s)", fields={"specific_force": specific_force, "rate_hz": 1 / interval})
     if turn_rate > _MAX_MEDIAN_TURN_RATE_RADPS:
         raise InputError(path, None, "angle increments imply a median turn rate of {turn_rate:.0f} "
-                         "rad/s at {value:.0f} Hz: the file seems to hold angular rates, "
-                         "expected angle increments (rad)", fields={"turn_rate": turn_rate, "value": 1 / interval})
+                         "rad/s at {rate_hz:.0f} Hz: the file seems to hold angular rates, "
+                         "expected angle increments (rad)", fields={"turn_rate": turn_rate, "rate_hz": 1 / interval})
 
 
 def read_imu_kfgins(path: str | Path) -> ImuIncrements:
@@ -177,7 +177,7 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
                 count = min(NPY_READ_CHUNK, n - start)
                 records = np.fromfile(handle, dtype=dtype, count=count)
                 if len(records) != count:
-                    raise InputError(path, None, "the file ends after {value} of its {n} records", fields={"value": start + len(records), "n": n})
+                    raise InputError(path, None, "the file ends after {read} of its {n} records", fields={"read": start + len(records), "n": n})
                 checked = np.empty(count, dtype=_INCREMENTS_DTYPE)
                 for name in IMU_NPY_DTYPE.names:
                     values = np.asarray(records[name], dtype=np.float64)
@@ -189,7 +189,7 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
                     finite = np.isfinite(values.reshape(count, -1)).all(axis=1)
                     if not finite.all():
                         index = start + int(np.argmin(finite))
-                        fail(index, "{name} is {values}: expected finite numbers", fields={"name": name, "values": values[index - start]})
+                        fail(index, "{name} is {value}: expected finite numbers", fields={"name": name, "value": values[index - start]})
                 try:
                     copy.write(memoryview(checked).cast("B"))
                 except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
@@ -227,7 +227,7 @@ def _whole_records(path: Path) -> str:
     try:
         lines = path.read_text(encoding="utf-8", errors="replace").split("\n")
     except OSError as exc:
-        raise InputError(path, None, "cannot be read: {value}", fields={"value": exc.strerror or exc}) from None
+        raise InputError(path, None, "cannot be read: {reason}", fields={"reason": exc.strerror or exc}) from None
     filled = [i for i, line in enumerate(lines) if line.strip()]
     if len(filled) < 3:
         return "\n".join(lines)
@@ -300,7 +300,7 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
         for index in indices:
             if not 0 <= int(index) < width:
                 raise InputError(path, None, "option {option}: column index {index} does not exist, "
-                                 "the file has {width} columns (indices 0 to {value})", fields={"option": option, "index": index, "width": width, "value": width - 1})
+                                 "the file has {width} columns (indices 0 to {last})", fields={"option": option, "index": index, "width": width, "last": width - 1})
     stamps = check_table_time(table, time_column)
     if len(stamps) < 2:
         raise InputError(path, None, "need at least 2 samples to integrate rates into increments")

@@ -306,7 +306,7 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
     for role, entry in table.items():
         key = f"files.{role}"
         if role not in ROLE_TYPES:
-            problems.append(Phrase("{key}: unknown role (expected one of {value})", {"key": key, "value": list([*ROLE_TYPES, *ROLE_ALIASES])}))
+            problems.append(Phrase("{key}: unknown role (expected one of {roles})", {"key": key, "roles": list([*ROLE_TYPES, *ROLE_ALIASES])}))
             continue
         if not isinstance(entry, dict):
             problems.append(Phrase("{key}: expected a table with path and format", {"key": key}))
@@ -361,7 +361,7 @@ def parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometr
     table = _with_aliases(table, TROLLEY_ALIASES, "trolley", problems)
     for key in table:
         if key not in _TROLLEY_KEYS:
-            problems.append(Phrase("trolley.{key}: unknown key (expected {_trolley_keys})", {"key": key, "_trolley_keys": list(_TROLLEY_KEYS)}))
+            problems.append(Phrase("trolley.{key}: unknown key (expected {keys})", {"key": key, "keys": list(_TROLLEY_KEYS)}))
     arms: dict[str, np.ndarray | None] = {}
     for key in LEVER_ARMS:
         if key not in table:
@@ -400,8 +400,8 @@ def track_lever_arm_problems(trolley: TrolleyGeometry, roles: set[str]) -> list[
     for key, (role, why) in TRACK_LEVER_ARMS.items():
         if getattr(trolley, key) is None and (role is None or role in roles):
             given = f"files.{role} is given: " if role is not None else ""
-            problems.append(Phrase("trolley.{key}: missing; insrail process needs it because {given}{why} "
-                            "(3 numbers [m], IMU body frame FRD)", {"key": key, "given": given, "why": why}))
+            problems.append(f"trolley.{key}: missing; insrail process needs it because {given}{why} "
+                            "(3 numbers [m], IMU body frame FRD)")
     return problems
 
 
@@ -431,7 +431,7 @@ def read_manifest(folder: str | Path, trolley_from_project: bool = False) -> Sur
         survey = {}
     for key in survey:
         if key not in _SURVEY_KEYS:
-            problems.append(Phrase("survey.{key}: unknown key (expected {_survey_keys})", {"key": key, "_survey_keys": list(_SURVEY_KEYS)}))
+            problems.append(Phrase("survey.{key}: unknown key (expected {keys})", {"key": key, "keys": list(_SURVEY_KEYS)}))
     name = survey.get("name")
     if not isinstance(name, str) or not name:
         problems.append(Phrase("survey.name: expected a non-empty text"))
@@ -476,10 +476,10 @@ def parse_start(table, problems: list[str]) -> SurveyStart | None:
     found = len(problems)
     for key in table:
         if key not in _START_KEYS:
-            problems.append(Phrase("start.{key}: unknown key (expected {_start_keys})", {"key": key, "_start_keys": list(_START_KEYS)}))
+            problems.append(Phrase("start.{key}: unknown key (expected {keys})", {"key": key, "keys": list(_START_KEYS)}))
     if not _is_number(table.get("station_m")):
         problems.append(Phrase("start.station_m: expected the design station [m] the trolley starts on, found "
-                        "{get!r}", {"get": table.get('station_m')}))
+                        "{value!r}", {"value": table.get('station_m')}))
     for key in ("offset_m", "height_m"):
         if key in table and not (_is_number(table[key]) and abs(table[key]) <= 10.0):
             problems.append(Phrase("start.{key}: expected metres from the design (within 10 m), found {table!r}", {"key": key, "table": table[key]}))

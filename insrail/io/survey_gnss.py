@@ -84,7 +84,7 @@ def parse_raw_gnss(folder: Path, table, problems: list[str]) -> RawGnss | None:
     before = len(problems)
     for key in table:
         if key not in _KEYS:
-            problems.append(Phrase("gnss_raw.{key}: unknown key (expected {_keys})", {"key": key, "_keys": list(_KEYS)}))
+            problems.append(Phrase("gnss_raw.{key}: unknown key (expected {keys})", {"key": key, "keys": list(_KEYS)}))
 
     def file(key: str, required: bool = False) -> str | None:
         value = table.get(key)

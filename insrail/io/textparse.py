@@ -110,8 +110,9 @@ def quoted(token: str) -> str:
     return f"{len(token)} characters of text (not shown)"
 
 
-def _column_label(col: int, names: Sequence[str]) -> str:
-    return f"column {col + 1} ({names[col]})" if col < len(names) else f"column {col + 1}"
+def _column_label(col: int, names: Sequence[str]) -> Phrase:
+    return (Phrase("column {number} ({name})", {"number": col + 1, "name": names[col]}) if col < len(names)
+            else Phrase("column {number}", {"number": col + 1}))
 
 
 @dataclass(frozen=True)
@@ -255,10 +256,10 @@ def _diagnose(path: Path, text: str | None, layout: _Layout, columns: Collection
             return InputError(path, lineno, "expected {wanted} columns, found {count}", fields={"wanted": wanted, "count": len(fields)})
         for col, token in enumerate(fields):
             if not token:
-                return InputError(path, lineno, "{_column_label} is empty", fields={"_column_label": _column_label(col, names)})
+                return InputError(path, lineno, "{column} is empty", fields={"column": _column_label(col, names)})
             if not is_number(token):
                 return InputError(path, lineno,
-                                  "{_column_label}: expected a number, found {quoted}", fields={"_column_label": _column_label(col, names), "quoted": quoted(token)})
+                                  "{column}: expected a number, found {quoted}", fields={"column": _column_label(col, names), "quoted": quoted(token)})
     return InputError(path, None, "could not be parsed as numbers ({parser_message})", fields={"parser_message": parser_message})
 
 
@@ -316,7 +317,7 @@ def read_numeric_table(path: str | Path, *, columns: Collection[int] | None = No
         if values is None:
             values = _load_general(path, text, layout, columns, names)
     except OSError as exc:
-        raise InputError(path, None, "cannot be read: {value}", fields={"value": exc.strerror or exc}) from None
+        raise InputError(path, None, "cannot be read: {reason}", fields={"reason": exc.strerror or exc}) from None
 
     table = NumericTable(path, values, names, header, layout.comments, layout, text)
     if values.shape[0] == 0:
@@ -327,7 +328,7 @@ def read_numeric_table(path: str | Path, *, columns: Collection[int] | None = No
     finite = np.isfinite(values)
     if not finite.all():
         row, col = np.argwhere(~finite)[0]
-        table.fail(row, "{_column_label} is {values}: expected a finite number", fields={"_column_label": _column_label(col, names), "values": values[row, col]})
+        table.fail(row, "{column} is {value}: expected a finite number", fields={"column": _column_label(col, names), "value": values[row, col]})
     return table
 
 
@@ -391,13 +392,14 @@ class TokenTable:
         """Column ``col`` as finite floats; rows lacking it are an error."""
         out = np.empty(len(self.rows))
         for i, (row, lineno) in enumerate(zip(self.rows, self.line_numbers)):
-            label = _column_label(col, self.column_names)
             try:
                 value = float(row[col])
             except ValueError:
-                raise InputError(self.path, lineno, "{label}: expected a number, found {quoted}", fields={"label": label, "quoted": quoted(row[col])}) from None
+                raise InputError(self.path, lineno, "{label}: expected a number, found {quoted}", fields={
+                    "label": _column_label(col, self.column_names), "quoted": quoted(row[col])}) from None
             if not math.isfinite(value):
-                raise InputError(self.path, lineno, "{label} is {value}: expected a finite number", fields={"label": label, "value": value})
+                raise InputError(self.path, lineno, "{label} is {value}: expected a finite number", fields={
+                    "label": _column_label(col, self.column_names), "value": value})
             out[i] = value
         return out
 
@@ -442,7 +444,7 @@ def read_token_table(path: str | Path, *, min_columns: int, max_columns: int,
             rows.append(fields)
             line_numbers.append(lineno)
     except OSError as exc:
-        raise InputError(path, None, "cannot be read: {value}", fields={"value": exc.strerror or exc}) from None
+        raise InputError(path, None, "cannot be read: {reason}", fields={"reason": exc.strerror or exc}) from None
     if not rows:
         raise InputError(path, None, "empty file: no data lines")
     names = tuple(column_names) or layout.header

@@ -60,10 +60,10 @@ def read_time_tag(path: str | Path) -> TimeTag:
         raise InputError(path, None, "file not found: the record's RTKLIB time tag (<file>.tag) is needed to put "
                          "its logger clock on GPST") from None
     except OSError as exc:
-        raise InputError(path, None, "cannot be read: {value}", fields={"value": exc.strerror or exc}) from None
+        raise InputError(path, None, "cannot be read: {reason}", fields={"reason": exc.strerror or exc}) from None
     if not data.startswith(MAGIC) or len(data) < _FIXED:
         raise InputError(path, None, "not an RTKLIB time tag: expected a {header_bytes}-byte header starting "
-                         "{decode!r} and the start time", fields={"header_bytes": HEADER_BYTES, "decode": MAGIC.decode()})
+                         "{magic!r} and the start time", fields={"header_bytes": HEADER_BYTES, "magic": MAGIC.decode()})
     tick_f = int(np.frombuffer(data, "<u4", 1, HEADER_BYTES)[0])
     start = int(np.frombuffer(data, "<u4", 1, HEADER_BYTES + 4)[0])
     fraction = float(np.frombuffer(data, "<f8", 1, HEADER_BYTES + 8)[0])

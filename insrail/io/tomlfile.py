@@ -18,7 +18,7 @@ def read_toml(path: str | Path) -> dict:
     path = Path(path)
     try:
         if path.stat().st_size > MAX_TOML_BYTES:
-            raise InputError(path, None, "larger than the limit of {value} MiB for a settings file", fields={"value": MAX_TOML_BYTES >> 20})
+            raise InputError(path, None, "larger than the limit of {limit_mib} MiB for a settings file", fields={"limit_mib": MAX_TOML_BYTES >> 20})
         return tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         # tomllib says "... (at line 7, column 3)"; lift the line into the error's place.

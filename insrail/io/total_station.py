@@ -48,7 +48,7 @@ def read_total_station_polar(path: str | Path, angle_unit: str = "gon") -> Total
     for name, values, low, high in (("Hz", hz, 0.0, full_circle), ("V", zenith, 0.0, full_circle / 2)):
         bad = np.flatnonzero((values < low) | (values >= high) if name == "Hz" else (values <= low) | (values >= high))
         if bad.size:
-            table.fail(bad[0], "{name} = {values} {angle_unit} is outside {low:g}..{high:g} {angle_unit}", fields={"name": name, "values": values[bad[0]], "angle_unit": angle_unit, "low": low, "high": high})
+            table.fail(bad[0], "{name} = {value} {angle_unit} is outside {low:g}..{high:g} {angle_unit}", fields={"name": name, "value": values[bad[0]], "angle_unit": angle_unit, "low": low, "high": high})
     bad = np.flatnonzero(~(slope > 0))
     if bad.size:
         table.fail(bad[0], "slope distance D = {slope} m: expected a positive distance", fields={"slope": slope[bad[0]]})

@@ -131,7 +131,7 @@ def dask_security(config_file: str | Path):
     for key, value in (("ca-file", tls.get("ca-file")), ("client.cert", (tls.get("client") or {}).get("cert")),
                        ("client.key", (tls.get("client") or {}).get("key"))):
         if isinstance(value, str) and "-----BEGIN" not in value and not Path(value).expanduser().is_file():
-            raise InputError(path, None, "distributed.comm.tls.{key}: file not found: {value}", fields={"key": key, "value": value})
+            raise InputError(path, None, "distributed.comm.tls.{key}: file not found: {file}", fields={"key": key, "file": value})
     with dask.config.set(_dotted(document)):  # key by key: Dask's other defaults stay
         return Security()
 

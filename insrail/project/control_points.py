@@ -97,7 +97,7 @@ def parse_control_points(table: Any, key_path: str, problems: list[str]) -> tupl
         if len(values) != 3:
             continue
         if keys is GEODETIC_KEYS and not (abs(values[0]) <= 90.0 and abs(values[1]) <= 180.0):
-            problems.append(Phrase("{key}: latitude {values} / longitude {values2} out of range (degrees)", {"key": key, "values": values[0], "values2": values[1]}))
+            problems.append(Phrase("{key}: latitude {lat} / longitude {lon} out of range (degrees)", {"key": key, "lat": values[0], "lon": values[1]}))
             continue
         point = ControlPoint(name, geodetic=tuple(values)) if keys is GEODETIC_KEYS else ControlPoint(
             name, engineering=tuple(values))

@@ -203,7 +203,7 @@ def parse_local_control(table: Any, key_path: str, problems: list[str]) -> Local
     for name, entry in raw.items():
         where = f"{key_path}.points.{name}"
         if not isinstance(entry, dict):
-            problems.append(Phrase("{where}: expected a table of {value}", {"where": where, "value": list(ENGINEERING + LOCAL)}))
+            problems.append(Phrase("{where}: expected a table of {keys}", {"where": where, "keys": list(ENGINEERING + LOCAL)}))
             continue
         required = ENGINEERING + LOCAL[:2] + ((LOCAL[2],) if model == "7-parameter" else ())
         missing = [k for k in required if k not in entry]

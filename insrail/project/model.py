@@ -395,7 +395,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     reader = _Reader(Path(folder))
     for key in document:
         if key not in _TOP_LEVEL:
-            reader.add(key, Phrase("unknown table (expected {_top_level})", {"_top_level": list(_TOP_LEVEL)}))
+            reader.add(key, Phrase("unknown table (expected {tables})", {"tables": list(_TOP_LEVEL)}))
     meta = reader.table(document, "project")
     reader.known(meta, "project", ("name", "description"))
     name = reader.text(meta, "project.name", Path(folder).resolve().name)
@@ -504,8 +504,8 @@ def _sections(reader: _Reader, table, surveys: tuple[SurveyEntry, ...]) -> tuple
             reader.add(f"{key}.name", Phrase("expected a name of letters, digits, '.', '_' or '-', found {name!r}", {"name": name}))
             ok = False
         elif name in known or name in seen:
-            reader.add(f"{key}.name", Phrase("{name!r} is already the name of a {value} "
-                                      "(both name a results folder)", {"name": name, "value": 'survey' if name in known else 'section'}))
+            reader.add(f"{key}.name", Phrase("{name!r} is already the name of a {kind} "
+                                      "(both name a results folder)", {"name": name, "kind": 'survey' if name in known else 'section'}))
             ok = False
         seen.add(name)
         if not isinstance(runs, list) or not runs or not all(isinstance(r, str) for r in runs):
@@ -538,7 +538,7 @@ def _adjustment(reader: _Reader, table: dict) -> AdjustmentSettings:
     reader.known(table, "adjustment", tuple(f.name for f in fields(AdjustmentSettings)))
     strategy = table.get("strategy", DEFAULT_STRATEGY)
     if strategy not in STRATEGIES:
-        reader.add("adjustment.strategy", Phrase("expected {join}, found {strategy!r}", {"join": ' or '.join(repr(s) for s in STRATEGIES), "strategy": strategy}))
+        reader.add("adjustment.strategy", Phrase("expected {strategies}, found {strategy!r}", {"strategies": ' or '.join(repr(s) for s in STRATEGIES), "strategy": strategy}))
         strategy = DEFAULT_STRATEGY
     threshold = reader.number(table, "adjustment.threshold_mm", positive=True) if "threshold_mm" in table else None
     if threshold is not None and threshold > MAX_THRESHOLD_MM:
@@ -580,7 +580,7 @@ def _redesign(reader: _Reader, table: dict) -> RedesignTable:
         reader.known(entry, key, ("from_m", "to_m", "tolerance_mm"))
         missing = [k for k in ("from_m", "to_m") if k not in entry]
         if missing:
-            reader.add(key, Phrase("missing {join}", {"join": ' and '.join(missing)}))
+            reader.add(key, Phrase("missing {keys}", {"keys": ' and '.join(missing)}))
             continue
         start, end = reader.number(entry, f"{key}.from_m"), reader.number(entry, f"{key}.to_m")
         tolerance = reader.number(entry, f"{key}.tolerance_mm") if "tolerance_mm" in entry else 0.0
@@ -622,7 +622,7 @@ def _report(reader: _Reader, table: dict) -> ReportSettings:
         paper = "A3"
     language = table.get("language", DEFAULT_LANGUAGE)
     if language not in LANGUAGES:
-        reader.add("report.language", Phrase("expected one of {map}, found {language!r}", {"map": list(map(repr, LANGUAGES)), "language": language}))
+        reader.add("report.language", Phrase("expected one of {languages}, found {language!r}", {"languages": list(map(repr, LANGUAGES)), "language": language}))
         language = DEFAULT_LANGUAGE
     return ReportSettings(**values, paper=paper, language=language)
 

@@ -68,9 +68,9 @@ def with_odometer_pair(survey: SurveyData, labels: dict[str, str]) -> tuple[Surv
         notices.append(Notice("time", text, file=str(path)))
     pair = compare_odometers(survey.imu, survey.odometer, right, lever_left, lever_right, c_vb)
     if abs(pair.relative_scale) > MAX_RELATIVE_SCALE:
-        raise InputError(path, None, "{read_as}the right wheel counts {value:+.2f} % against "
+        raise InputError(path, None, "{read_as}the right wheel counts {scale_pct:+.2f} % against "
                          "the left one ({left_label}) where both roll; two wheels on the rails differ by far less: "
-                         "likely a wrong pulse length or another survey's file", fields={"read_as": read_as(label), "value": 100 * pair.relative_scale, "left_label": left_label})
+                         "likely a wrong pulse length or another survey's file", fields={"read_as": read_as(label), "scale_pct": 100 * pair.relative_scale, "left_label": left_label})
     notices += slip_notices(pair, label, left_label, right.source, survey.odometer.source)
     survey = replace(survey, odometer=pair.left, odometer_right=pair.right)
     return survey, notices, pair.to_dict()

@@ -72,10 +72,10 @@ def describe(path: Path | None, format_name: str | None) -> str:
     return f"{name} ({fmt.description})" if fmt is not None else name
 
 
-def read_as(label: str) -> str:
+def read_as(label: str) -> Phrase:
     """The start of a message about the file itself (its name is already in front): its unit."""
     _, _, what = label.partition(" (")
-    return f"read as {what[:-1]}: " if what else ""
+    return Phrase("read as {format}: ", {"format": what[:-1]}) if what else Phrase("")
 
 
 def nominal_gauge_m(project) -> float:
@@ -111,8 +111,8 @@ def check_benchmarks(benchmarks: Benchmarks) -> None:
     offset = float(np.median(zeta - undulation))
     if abs(offset) > MAX_EGM96_OFFSET_M:
         swapped = abs(float(np.median(-zeta - undulation))) <= MAX_EGM96_OFFSET_M
-        cause = ("h and H are swapped (the file's columns are id lat lon h H)" if swapped else
-                 "heights in another datum or unit, or H is not a normal height")
+        cause = Phrase("h and H are swapped (the file's columns are id lat lon h H)" if swapped else
+                       "heights in another datum or unit, or H is not a normal height")
         raise InputError(path, None, "height anomaly h - H = {median:.3f} m at the benchmarks, but the geoid "
                          "(EGM96) lies at {median2:.3f} m there, {offset:+.1f} m apart "
                          "(local height datums differ from EGM96 by a few metres at most): likely {cause}", fields={"median": median, "median2": float(np.median(undulation)), "offset": offset, "cause": cause})
@@ -129,8 +129,8 @@ def check_trolley(trolley: TrolleyGeometry, source: Path, nominal_gauge_m: float
         raise InputError(source, None, "; ".join(map(str, missing)))
     for name, arm in trolley.given_lever_arms().items():
         if np.max(np.abs(arm)) > MAX_LEVER_ARM_M:
-            raise InputError(source, None, "trolley.{name} = {tolist} m: a lever arm on a trolley is at most "
-                             "{max_lever_arm_m:g} m (b frame, metres): millimetres given as metres?", fields={"name": name, "tolist": str(arm.tolist()), "max_lever_arm_m": MAX_LEVER_ARM_M})
+            raise InputError(source, None, "trolley.{name} = {arm} m: a lever arm on a trolley is at most "
+                             "{max_lever_arm_m:g} m (b frame, metres): millimetres given as metres?", fields={"name": name, "arm": str(arm.tolist()), "max_lever_arm_m": MAX_LEVER_ARM_M})
     low, high = (nominal_gauge_m + band for band in RAIL_HEAD_BAND_M)
     spacing = float(trolley.rail_centre_spacing_m)
     if not low <= spacing <= high:
@@ -161,17 +161,18 @@ def clean_gauge(gauge: GaugeData | None, nominal_gauge_m: float, label: str) -> 
     median = float(np.median(values[finite])) if finite.any() else float("nan")
     if not abs(median - nominal_gauge_m) <= MAX_GAUGE_OFFSET_M:
         ratio = median / nominal_gauge_m
-        hint = f" (x{ratio:.3g} the nominal: another unit?)" if np.isfinite(ratio) and (ratio > 2 or ratio < 0.5) else ""
-        raise InputError(path, None, "{read_as}median gauge {value:.1f} mm against the nominal "
-                         "{value2:.0f} mm of the tolerance profile{hint}; the file must hold the "
-                         "gauge in mm", fields={"read_as": read_as(label), "value": 1e3 * median, "value2": 1e3 * nominal_gauge_m, "hint": hint})
+        hint = (Phrase(" (x{ratio:.3g} the nominal: another unit?)", {"ratio": ratio})
+                if np.isfinite(ratio) and (ratio > 2 or ratio < 0.5) else Phrase(""))
+        raise InputError(path, None, "{read_as}median gauge {median_mm:.1f} mm against the nominal "
+                         "{nominal_mm:.0f} mm of the tolerance profile{hint}; the file must hold the "
+                         "gauge in mm", fields={"read_as": read_as(label), "median_mm": 1e3 * median, "nominal_mm": 1e3 * nominal_gauge_m, "hint": hint})
     outlier = ~finite | (np.abs(values - median) > MAX_GAUGE_OFFSET_M)
     if not outlier.any():
         return gauge, []
     if outlier.mean() > MAX_GAUGE_OUTLIER_SHARE:
-        raise InputError(path, None, "{read_as}{sum} of {count} readings lie more than "
-                         "{value:.0f} mm from the median {value2:.1f} mm: a faulty gauge "
-                         "sensor; repair or remove the record", fields={"read_as": read_as(label), "sum": int(outlier.sum()), "count": len(values), "value": 1e3 * MAX_GAUGE_OFFSET_M, "value2": 1e3 * median})
+        raise InputError(path, None, "{read_as}{outliers} of {count} readings lie more than "
+                         "{max_offset_mm:.0f} mm from the median {median_mm:.1f} mm: a faulty gauge "
+                         "sensor; repair or remove the record", fields={"read_as": read_as(label), "outliers": int(outlier.sum()), "count": len(values), "max_offset_mm": 1e3 * MAX_GAUGE_OFFSET_M, "median_mm": 1e3 * median})
     listed = ", ".join(f"{t:.3f} s: {1e3 * v:.1f} mm" for t, v in zip(gauge.time_s[outlier][:5], values[outlier][:5]))
     more = (Phrase(" and {more} more", {"more": int(outlier.sum()) - 5}) if outlier.sum() > 5 else Phrase(""))
     notice = Notice("gauge", "{label}: {count} gauge reading(s) more than {offset_mm:.0f} mm from the median "
@@ -216,20 +217,21 @@ def check_odometer(odometer: OdometerData, gnss: GnssSolution, odometer_label: s
     path = odometer.source or Path(odometer_label)
     if abs(scale - 1.0) > MAX_SCALE_ERROR:
         if 700 < scale < 1400:
-            cause = "a distance in millimetres"
+            cause = Phrase("a distance in millimetres")
         elif odometer.pulse_length_m is not None:
-            cause = f"a wrong pulse length (pulse_length_m = {odometer.pulse_length_m:g} m)"
+            cause = Phrase("a wrong pulse length (pulse_length_m = {pulse_length_m:g} m)",
+                           {"pulse_length_m": odometer.pulse_length_m})
         else:
-            cause = "a distance in another unit, or a wrong calibration"
+            cause = Phrase("a distance in another unit, or a wrong calibration")
         raise InputError(path, None, "{read_as}the odometer travels {scale:.4g} m per metre of GNSS "
-                         "({gnss_label}) over {sum} windows of {scale_window_s:g} s; expected 1 within "
-                         "{value:.0f} %: likely {cause}", fields={"read_as": read_as(odometer_label), "scale": scale, "gnss_label": gnss_label, "sum": int(usable.sum()), "scale_window_s": SCALE_WINDOW_S, "value": 100 * MAX_SCALE_ERROR, "cause": cause})
+                         "({gnss_label}) over {windows} windows of {scale_window_s:g} s; expected 1 within "
+                         "{max_error_pct:.0f} %: likely {cause}", fields={"read_as": read_as(odometer_label), "scale": scale, "gnss_label": gnss_label, "windows": int(usable.sum()), "scale_window_s": SCALE_WINDOW_S, "max_error_pct": 100 * MAX_SCALE_ERROR, "cause": cause})
     ratio = odo_travel[usable] / gnss_travel[usable]
     disagree = float(np.mean(np.abs(ratio / scale - 1.0) > 0.1))
     if disagree > MAX_SPEED_DISAGREEMENT_SHARE:
         raise InputError(path, None, "{read_as}the odometer's speed disagrees with the GNSS speed "
-                         "({gnss_label}) by more than 10 % in {value:.0f} % of the moving windows: a slipping "
-                         "wheel, a wrong time scale or another survey's file", fields={"read_as": read_as(odometer_label), "gnss_label": gnss_label, "value": 100 * disagree})
+                         "({gnss_label}) by more than 10 % in {disagree_pct:.0f} % of the moving windows: a slipping "
+                         "wheel, a wrong time scale or another survey's file", fields={"read_as": read_as(odometer_label), "gnss_label": gnss_label, "disagree_pct": 100 * disagree})
     return []
 
 

@@ -854,7 +854,7 @@ def _numeric(row: list[str]) -> bool:
 def _read_exceedances(path: Path) -> tuple[ExceedanceRow, ...]:
     lines = _lines(path)
     if not lines or lines[0].split(",") != EXCEEDANCE_HEADER:
-        raise InputError(path, 1, "expected the header {join}", fields={"join": ','.join(EXCEEDANCE_HEADER)})
+        raise InputError(path, 1, "expected the header {header}", fields={"header": ','.join(EXCEEDANCE_HEADER)})
     rows = []
     for line_number, line in enumerate(lines[1:], start=2):
         fields = line.split(",")
@@ -864,7 +864,7 @@ def _read_exceedances(path: Path) -> tuple[ExceedanceRow, ...]:
                                       float(limit), int(first), int(last)))
         except ValueError:
             raise InputError(path, line_number, "expected {count} fields: "
-                                                "{join}", fields={"count": len(EXCEEDANCE_HEADER), "join": ','.join(EXCEEDANCE_HEADER)}) from None
+                                                "{header}", fields={"count": len(EXCEEDANCE_HEADER), "header": ','.join(EXCEEDANCE_HEADER)}) from None
     return tuple(rows)
 
 
@@ -872,7 +872,7 @@ def _read_quality(path: Path, smoothed: bool) -> StoredQuality:
     lines = _lines(path)
     header = lines[0].split(",") if lines else []
     if len(header) < len(QUALITY_HEADER_OLDEST) or header != QUALITY_HEADER[: len(header)]:
-        raise InputError(path, 1, "expected the header {join}", fields={"join": ','.join(QUALITY_HEADER)})
+        raise InputError(path, 1, "expected the header {header}", fields={"header": ','.join(QUALITY_HEADER)})
     values = np.full((len(lines) - 1, len(QUALITY_HEADER)), np.nan)
     for row, line in enumerate(lines[1:]):
         fields = line.split(",")
@@ -882,5 +882,5 @@ def _read_quality(path: Path, smoothed: bool) -> StoredQuality:
             values[row, : len(header)] = [float(cell) if cell else np.nan for cell in fields]
         except ValueError:
             raise InputError(path, row + 2, "expected {count} numbers (or empty cells): "
-                                            "{join}", fields={"count": len(header), "join": ','.join(header)}) from None
+                                            "{header}", fields={"count": len(header), "header": ','.join(header)}) from None
     return StoredQuality(smoothed, *(values[:, i] for i in range(len(QUALITY_HEADER))))

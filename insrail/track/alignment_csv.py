@@ -96,7 +96,7 @@ def _split_sections(path: Path, text: str) -> dict[str, _Section]:
             key = cells[0].lower()
             if key not in _ALIGNMENT_KEYS:
                 expected = ", ".join(_ALIGNMENT_KEYS)
-                raise InputError(path, number, "unknown key {cells!r}; expected one of {expected}", fields={"cells": cells[0], "expected": expected})
+                raise InputError(path, number, "unknown key {key!r}; expected one of {expected}", fields={"key": cells[0], "expected": expected})
             if any(row.cells.get("key") == key for row in current.rows):
                 raise InputError(path, number, "key {key!r} given twice", fields={"key": key})
             current.rows.append(_Row(number, {"key": key, "value": cells[1]}))
@@ -116,7 +116,7 @@ def _split_sections(path: Path, text: str) -> dict[str, _Section]:
             continue
         if len(cells) > len(header):
             raise InputError(path, number, "expected at most {count} fields ({header}), "
-                             "found {count2}", fields={"count": len(header), "header": list(header), "count2": len(cells)})
+                             "found {found}", fields={"count": len(header), "header": list(header), "found": len(cells)})
         current.rows.append(_Row(number, dict(zip(header, cells + [""] * (len(header) - len(cells))))))
     return sections
 
@@ -159,7 +159,7 @@ def _horizontal_element(path: Path, row: _Row):
             return Clothoid(length, radius_start, radius_end, turn)
     except ValueError as err:
         raise InputError(path, line, str(err)) from None
-    raise InputError(path, line, "type: expected line, clothoid or arc, found {get!r}", fields={"get": cells.get('type', '')})
+    raise InputError(path, line, "type: expected line, clothoid or arc, found {type!r}", fields={"type": cells.get('type', '')})
 
 
 def _station(path: Path, line: int, column: str, text: str, equations: StationEquations) -> float:

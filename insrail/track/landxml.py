@@ -111,7 +111,7 @@ class _Document:
         except OSError as err:
             raise InputError(path, None, "cannot read the LandXML file: {err}", fields={"err": err}) from None
         except expat.ExpatError as err:
-            raise InputError(path, err.lineno, "not well-formed XML: {errorstring}", fields={"errorstring": expat.ErrorString(err.code)}) from None
+            raise InputError(path, err.lineno, "not well-formed XML: {reason}", fields={"reason": expat.ErrorString(err.code)}) from None
         self.root = builder.close()
         self._name_paths(self.root, "")
 
@@ -405,7 +405,7 @@ def _check_units(doc: _Document) -> None:
             if system.tag == "Imperial":
                 raise doc.error(system, "imperial units are not supported; export in metres")
             if system.tag == "Metric" and system.get("linearUnit", "meter") != "meter":
-                raise doc.error(system, "linearUnit must be 'meter', got {get!r}", fields={"get": system.get('linearUnit')})
+                raise doc.error(system, "linearUnit must be 'meter', got {unit!r}", fields={"unit": system.get('linearUnit')})
 
 
 def read_landxml_alignments(
@@ -449,7 +449,7 @@ def read_landxml(path: str | Path, name: str | None = None, **options) -> Design
     for alignment in alignments:
         if alignment.name == name:
             return alignment
-    raise InputError(path, None, "no alignment named {name!r} (found {files})", fields={"name": name, "files": [a.name for a in alignments]})
+    raise InputError(path, None, "no alignment named {name!r} (found {names})", fields={"name": name, "names": [a.name for a in alignments]})
 
 
 # --------------------------------------------------------------------------- writing
