@@ -311,8 +311,8 @@ def test_void_qt_calls_do_not_exhaust_none():
     assert sys.getrefcount(None) > 2**39 or sys.getrefcount(None) >= before
 
 
-def test_a_reader_error_while_processing_is_reported_with_file_and_line(window, qtbot, demo_project, tmp_path,
-                                                                       monkeypatch):
+def broken_gauge_project(demo_project, tmp_path):
+    """The demo project with a gauge record whose line 10 holds "1435.x"."""
     root = tmp_path / "broken"
     link_tree(demo_project / "surveys", root / "surveys")
     shutil.copy(demo_project / "project.toml", root / "project.toml")
@@ -321,6 +321,12 @@ def test_a_reader_error_while_processing_is_reported_with_file_and_line(window, 
     gauge.unlink()  # a hard link to the shared demo: replace it, never write through it
     lines[9] = "230400.4 1435.x"
     gauge.write_text("\n".join(lines) + "\n")
+    return root
+
+
+def test_a_reader_error_while_processing_is_reported_with_file_and_line(window, qtbot, demo_project, tmp_path,
+                                                                       monkeypatch):
+    root = broken_gauge_project(demo_project, tmp_path)
     shown = []
     monkeypatch.setattr(QMessageBox, "warning", lambda *args: shown.append(args[2]))
     assert window.open_project(root)
@@ -328,6 +334,28 @@ def test_a_reader_error_while_processing_is_reported_with_file_and_line(window, 
     qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
     assert shown and "gauge.txt, line 10" in shown[0]
     assert "error: survey short:" in window.log.toPlainText()
+    assert not (root / "results" / "short").exists()
+
+
+def test_a_chinese_window_says_a_reader_error_in_chinese_with_the_file_name_as_it_is(window, qtbot, demo_project,
+                                                                                     tmp_path, monkeypatch):
+    from PySide6.QtWidgets import QApplication
+
+    from insrail.gui.translation import install_language
+
+    root = broken_gauge_project(demo_project, tmp_path)
+    shown = []
+    monkeypatch.setattr(QMessageBox, "warning", lambda *args: shown.append(args[2]))
+    install_language(QApplication.instance(), "zh-CN")
+    try:
+        assert window.open_project(root)
+        window.process()
+        qtbot.waitUntil(lambda: window.worker is None, timeout=30_000)
+    finally:
+        install_language(QApplication.instance(), "en")
+    assert shown and "gauge.txt，第 10 行：第 2 列" in shown[0], shown
+    assert "应为数值，实为 '1435.x'" in shown[0] and "expected" not in shown[0]
+    assert "gauge.txt，第 10 行" in window.log.toPlainText()
     assert not (root / "results" / "short").exists()
 
 

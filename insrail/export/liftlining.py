@@ -75,7 +75,7 @@ def lift_lining_table(project, results) -> LiftLiningTable:
     a relative survey's results have no amounts to give (an error saying why)."""
     if "withheld" in results.summary.get("adjustment", {}):
         raise InputError(results.folder / "summary.toml", None,
-                         f"no lift/lining table: {results.summary['adjustment']['withheld']}")
+                         "no lift/lining table: {summary}", fields={"summary": results.summary['adjustment']['withheld']})
     c = results.columns
     valid = c["valid"] > 0
 
@@ -127,12 +127,12 @@ def read_lift_lining(path: str | Path) -> LiftLiningTable:
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
     except (OSError, UnicodeDecodeError) as error:
-        raise InputError(path, None, f"cannot read the lift/lining table: {error}") from None
+        raise InputError(path, None, "cannot read the lift/lining table: {error}", fields={"error": error}) from None
     if lines and lines[0] == "# insrail lift-lining 1":
         raise InputError(path, 1, "a version 1 table (amounts = -deviation, from an insrail before the amounts were "
                                   "the planned adjustment): export it again")
     if not lines or lines[0] != MAGIC:
-        raise InputError(path, 1, f"expected the first line {MAGIC!r}")
+        raise InputError(path, 1, "expected the first line {magic!r}", fields={"magic": MAGIC})
     metadata: dict[str, str] = {}
     row = 1
     while row < len(lines) and lines[row].startswith("#"):
@@ -142,14 +142,14 @@ def read_lift_lining(path: str | Path) -> LiftLiningTable:
         metadata[key.strip()] = value.strip()
         row += 1
     if row >= len(lines) or lines[row].split(",") != HEADER:
-        raise InputError(path, row + 1, f"expected the header {','.join(HEADER)}")
+        raise InputError(path, row + 1, "expected the header {header}", fields={"header": ','.join(HEADER)})
     numbers, chainages, values = [], [], []
     for line_number, line in enumerate(lines[row + 1:], start=row + 2):
         fields = line.split(",")
         if len(fields) != len(HEADER):
-            raise InputError(path, line_number, f"expected {len(HEADER)} fields ({','.join(HEADER)}), found {len(fields)}")
+            raise InputError(path, line_number, "expected {count} fields ({header}), found {found}", fields={"count": len(HEADER), "header": ','.join(HEADER), "found": len(fields)})
         if fields[3] not in ("0", "1"):
-            raise InputError(path, line_number, f"valid: expected 0 or 1, found {fields[3]!r}")
+            raise InputError(path, line_number, "valid: expected 0 or 1, found {valid!r}", fields={"valid": fields[3]})
         try:
             numbers.append(int(fields[0]))
             values.append([float(cell) if cell else np.nan for cell in fields[2:]])

@@ -62,12 +62,12 @@ def read_tamping(path: str | Path) -> TampingTable:
             metadata[key.strip()] = value.strip()
         elif not header_seen:
             if line.split(",") != TAMPING_HEADER:
-                raise InputError(path, number, f"expected the header {','.join(TAMPING_HEADER)}")
+                raise InputError(path, number, "expected the header {header}", fields={"header": ','.join(TAMPING_HEADER)})
             header_seen = True
         else:
             parts = line.split(",", 6)
             if len(parts) != 7:
-                raise InputError(path, number, f"expected 7 fields, found {len(parts)}")
+                raise InputError(path, number, "expected 7 fields, found {count}", fields={"count": len(parts)})
             try:
                 rows.append((float(parts[0]), parts[1], *map(float, parts[2:6]), parts[6].strip('"')))
             except ValueError:
@@ -120,7 +120,7 @@ def load_template(path: str | Path) -> Template:
     except FileNotFoundError:
         raise InputError(path, None, "template not found") from None
     except tomllib.TOMLDecodeError as error:
-        raise InputError(path, None, f"not valid TOML: {error}") from None
+        raise InputError(path, None, "not valid TOML: {error}", fields={"error": error}) from None
     entries = data.get("columns")
     if not isinstance(entries, list) or not entries:
         raise InputError(path, None, "columns: expected [[columns]] entries with field (and title, unit, sign)")
@@ -128,15 +128,15 @@ def load_template(path: str | Path) -> Template:
     for i, entry in enumerate(entries):
         field = entry.get("field") if isinstance(entry, dict) else None
         if field not in FIELDS:
-            raise InputError(path, None, f"columns[{i}].field: expected one of {', '.join(FIELDS)}, found {field!r}")
+            raise InputError(path, None, "columns[{i}].field: expected one of {known}, found {field!r}", fields={"i": i, "known": list(FIELDS), "field": field})
         base = FIELDS[field]
         unit = entry.get("unit", base)
         if (base and unit not in UNITS[base]) or (not base and unit):
             allowed = ", ".join(UNITS[base]) if base else "no unit"
-            raise InputError(path, None, f"columns[{i}].unit: expected {allowed} for {field}, found {unit!r}")
+            raise InputError(path, None, "columns[{i}].unit: expected {allowed} for {field}, found {unit!r}", fields={"i": i, "allowed": allowed, "field": field, "unit": unit})
         sign = entry.get("sign", 1)
         if sign not in (1, -1) or (not base and sign != 1):
-            raise InputError(path, None, f"columns[{i}].sign: expected 1 or -1 (numbers only), found {sign!r}")
+            raise InputError(path, None, "columns[{i}].sign: expected 1 or -1 (numbers only), found {sign!r}", fields={"i": i, "sign": sign})
         columns.append(Column(field, str(entry.get("title", field)), unit, float(sign)))
     comment = data.get("comment", "#")
     if not isinstance(comment, str) or not comment.strip():
@@ -144,9 +144,9 @@ def load_template(path: str | Path) -> Template:
     spacing = data.get("spacing_m", 0.0)
     decimals = data.get("decimals", 1)
     if not isinstance(spacing, (int, float)) or spacing < 0:
-        raise InputError(path, None, f"spacing_m: expected 0 (every row) or a positive distance, found {spacing!r}")
+        raise InputError(path, None, "spacing_m: expected 0 (every row) or a positive distance, found {spacing!r}", fields={"spacing": spacing})
     if not isinstance(decimals, int) or not 0 <= decimals <= 4:
-        raise InputError(path, None, f"decimals: expected 0 to 4, found {decimals!r}")
+        raise InputError(path, None, "decimals: expected 0 to 4, found {decimals!r}", fields={"decimals": decimals})
     return Template(path, str(data.get("name", path.stem)), tuple(columns), str(data.get("separator", ",")),
                     decimals, bool(data.get("header", True)), comment, float(spacing))
 

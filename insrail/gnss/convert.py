@@ -41,8 +41,8 @@ def format_from_extension(path: Path) -> str:
     for name, (_, extensions) in RECEIVER_FORMATS.items():
         if suffix in extensions:
             return name
-    raise InputError(path, None, f"cannot tell the receiver format from the extension {suffix!r}: give the "
-                     f"format, one of {', '.join(RECEIVER_FORMATS)}")
+    raise InputError(path, None, "cannot tell the receiver format from the extension {suffix!r}: give the "
+                     "format, one of {receiver_formats}", fields={"suffix": suffix, "receiver_formats": list(RECEIVER_FORMATS)})
 
 
 def _rnxopt():
@@ -80,8 +80,8 @@ def convert_to_rinex(log_path: str | Path, out_dir: str | Path, format: str | No
         raise InputError(out_dir, None, "output folder does not exist")
     name = format.lower() if format else format_from_extension(log_path)
     if name not in RECEIVER_FORMATS:
-        raise InputError(log_path, None, f"unknown receiver format {format!r}: expected one of "
-                         f"{', '.join(RECEIVER_FORMATS)}")
+        raise InputError(log_path, None, "unknown receiver format {format!r}: expected one of "
+                         "{receiver_formats}", fields={"format": format, "receiver_formats": list(RECEIVER_FORMATS)})
     targets = (out_dir / f"{log_path.stem}.obs", out_dir / f"{log_path.stem}.nav")
     with rtklib_workdir() as workdir:
         log = stage_file(log_path, workdir, "receiver", RECEIVER_FORMATS[name][1][0])
@@ -89,8 +89,8 @@ def convert_to_rinex(log_path: str | Path, out_dir: str | Path, format: str | No
         slots = [str(p) for p in produced] + [""] * (_OUTPUT_SLOTS - len(produced))
         status = pyrtklib.convrnx(getattr(pyrtklib, RECEIVER_FORMATS[name][0]), _rnxopt(), str(log), slots)
         if status != 1 or not _has_records(produced[0]):
-            raise InputError(log_path, None, f"unreadable receiver log: RTKLIB decoded no observations as "
-                             f"{name} (check the format)")
+            raise InputError(log_path, None, "unreadable receiver log: RTKLIB decoded no observations as "
+                             "{name} (check the format)", fields={"name": name})
         read_obs_info(produced[0])  # the RINEX written must be one insrail reads back
         written = [targets[0]]
         install_output(produced[0], targets[0])

@@ -95,7 +95,7 @@ def parse_config(path: str | Path) -> dict[str, str]:
             continue
         key, sep, value = line.partition("=")
         if not sep:
-            raise InputError(path, number, f"expected 'key = value', found {line!r}")
+            raise InputError(path, number, "expected 'key = value', found {line!r}", fields={"line": line})
         key, value = key.strip(), value.strip()
         problem = check_option(key, value, table)
         if problem:

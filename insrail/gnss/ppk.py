@@ -170,7 +170,7 @@ def _as_user_file(original: Path, staged: Path, check):
     try:
         info = check(staged)
     except InputError as err:
-        raise InputError(original, err.line, err.message, unit=err.unit) from None
+        raise InputError(original, err.line, err.phrase, unit=err.unit) from None
     return None if info is None else replace(info, path=original)
 
 
@@ -185,7 +185,7 @@ def _check_inputs(rover_obs: Path, base_obs: Path, nav_files: Sequence[Path],
     start, end = max(rover.first_s, base.first_s), min(rover.last_s, base.last_s)
     if start >= end:
         raise InputError(base_obs, None, "base and rover do not overlap in time: base "
-                         f"{_span(base)}, rover {rover_obs.name} {_span(rover)}")
+                         "{base_span}, rover {file} {rover_span}", fields={"base_span": _span(base), "file": rover_obs.name, "rover_span": _span(rover)})
     return rover, base
 
 
@@ -247,7 +247,7 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
     nav_paths = [Path(p) for p in nav_files]
     precise_paths = [Path(p) for p in precise_files]
     if not out_pos.parent.is_dir():
-        raise InputError(out_pos, None, f"output folder {out_pos.parent} does not exist")
+        raise InputError(out_pos, None, "output folder {parent} does not exist", fields={"parent": out_pos.parent})
     report(0.0, "checking the input files")
     with rtklib_workdir() as workdir:
         staged = _stage_inputs(workdir, rover_obs, base_obs, nav_paths, precise_paths)
@@ -267,7 +267,7 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
             solution = read_rtklib_pos(produced)
         except InputError as err:
             raise InputError(rover_obs, None, "RTKLIB produced no usable solution (check the navigation "
-                             f"files, the time span and the options): {err.message}") from None
+                             "files, the time span and the options): {message}", fields={"message": err.message}) from None
         install_output(produced, out_pos)
     solution = replace(solution, source=out_pos)
     qc = gnss_qc(solution)

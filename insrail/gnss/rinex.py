@@ -61,7 +61,7 @@ def _version_and_type(path: Path, header: list[str]) -> tuple[float, str]:
     try:
         version = float(first[:9])
     except ValueError:
-        raise InputError(path, 1, f"unreadable RINEX version {first[:9].strip()!r}") from None
+        raise InputError(path, 1, "unreadable RINEX version {version!r}", fields={"version": first[:9].strip()}) from None
     return version, first[20:21].upper()
 
 
@@ -80,7 +80,7 @@ def read_obs_info(path: str | Path) -> RinexObsInfo:
     header, body = _header(path)
     version, file_type = _version_and_type(path, header)
     if file_type != "O":
-        raise InputError(path, 1, f"expected a RINEX observation file (type O), found type {file_type!r}")
+        raise InputError(path, 1, "expected a RINEX observation file (type O), found type {file_type!r}", fields={"file_type": file_type})
     approx = None
     delta = (0.0, 0.0, 0.0)
     for number, line in enumerate(header, 1):
@@ -93,10 +93,10 @@ def read_obs_info(path: str | Path) -> RinexObsInfo:
             elif label == "ANTENNA: DELTA H/E/N":
                 xyz = delta = tuple(float(line[i:i + 14]) for i in (0, 14, 28))
         except ValueError:
-            raise InputError(path, number, f"unreadable {label}: expected three F14.4 numbers") from None
+            raise InputError(path, number, "unreadable {label}: expected three F14.4 numbers", fields={"label": label}) from None
         if not all(map(math.isfinite, xyz)):
-            raise InputError(path, number, f"{label}: non-finite value {line[:42].strip()!r}: expected three "
-                             "F14.4 numbers in metres")
+            raise InputError(path, number, "{label}: non-finite value {text!r}: expected three "
+                             "F14.4 numbers in metres", fields={"label": label, "text": line[:42].strip()})
     pattern = _EPOCH_RINEX3 if version >= 3 else _EPOCH_RINEX2
     tags = pattern.findall(body)
     if not tags:
@@ -111,6 +111,6 @@ def check_navigation(path: str | Path) -> None:
     header, body = _header(path)
     _version, file_type = _version_and_type(path, header)
     if file_type not in ("N", "G", "H", "L", "C", "J", "I", "E", "B"):
-        raise InputError(path, 1, f"expected a RINEX navigation file (type N, G, ...), found type {file_type!r}")
+        raise InputError(path, 1, "expected a RINEX navigation file (type N, G, ...), found type {file_type!r}", fields={"file_type": file_type})
     if not body.strip():
         raise InputError(path, None, "no navigation data: the file holds a header and no ephemerides")

@@ -65,11 +65,11 @@ class _BoundedOutput:
     def write(self, data) -> int:
         self.written += len(data)
         if self.written > self.limit:
-            raise InputError(self.source, None, f"inflates to more than {self.limit / 2**20:,.0f} MiB "
-                             f"({self.source.stat().st_size:,} bytes compressed; the limit is "
-                             f"{MAX_DECOMPRESSION_RATIO} times the compressed size, at least "
-                             f"{MIN_DECOMPRESSED_LIMIT >> 20} MiB, at most {MAX_DECOMPRESSED_BYTES >> 30} GiB): "
-                             "not a plausible RINEX file (a damaged or hostile archive?)")
+            raise InputError(self.source, None, "inflates to more than {limit_mib:,.0f} MiB "
+                             "({st_size:,} bytes compressed; the limit is "
+                             "{max_decompression_ratio} times the compressed size, at least "
+                             "{min_mib} MiB, at most {max_gib} GiB): "
+                             "not a plausible RINEX file (a damaged or hostile archive?)", fields={"limit_mib": self.limit / 2**20, "st_size": self.source.stat().st_size, "max_decompression_ratio": MAX_DECOMPRESSION_RATIO, "min_mib": MIN_DECOMPRESSED_LIMIT >> 20, "max_gib": MAX_DECOMPRESSED_BYTES >> 30})
         return self.handle.write(data)
 
 
@@ -117,7 +117,7 @@ def stage_file(source: str | Path, workdir: Path, stem: str, default_suffix: str
     try:
         magic = _magic(source)
     except OSError as err:
-        raise InputError(source, None, f"cannot read the file: {err.strerror}") from None
+        raise InputError(source, None, "cannot read the file: {strerror}", fields={"strerror": err.strerror}) from None
     name = source.name
     if magic[:2] in (_GZIP_MAGIC, _COMPRESS_MAGIC):
         name = _decompressed_name(source)
@@ -128,7 +128,7 @@ def stage_file(source: str | Path, workdir: Path, stem: str, default_suffix: str
             with gzip.open(source, "rb") as packed, open(target, "wb") as plain:
                 shutil.copyfileobj(packed, _BoundedOutput(plain, source, limit), 1 << 20)
         except (OSError, EOFError, zlib.error) as err:
-            raise InputError(source, None, f"damaged gzip file: {err}") from None
+            raise InputError(source, None, "damaged gzip file: {err}", fields={"err": err}) from None
     elif magic[:2] == _COMPRESS_MAGIC:
         _uncompress_z(source, target, limit)
     elif magic == _ZIP_MAGIC:
@@ -155,7 +155,7 @@ def _uncompress_z(source: Path, target: Path, limit: int) -> None:
     except InputError:
         raise
     except (OSError, ValueError) as err:
-        raise InputError(source, None, f"damaged .Z (compress) file: {err}") from None
+        raise InputError(source, None, "damaged .Z (compress) file: {err}", fields={"err": err}) from None
 
 
 def _is_compact_rinex(path: Path) -> bool:
@@ -172,12 +172,12 @@ def _restore_hatanaka(source: Path, target: Path) -> None:
         raise InputError(source, None, "Compact RINEX (Hatanaka) and the hatanaka package is not installed: "
                          "pip install hatanaka, or restore it with CRX2RNX first") from None
     if target.stat().st_size > MAX_DECOMPRESSED_BYTES // 4:  # restored in memory, about 4 times larger
-        raise InputError(source, None, f"Compact RINEX of more than {(MAX_DECOMPRESSED_BYTES // 4) >> 30} GiB: "
-                         "restore it with CRX2RNX first")
+        raise InputError(source, None, "Compact RINEX of more than {limit_gib} GiB: "
+                         "restore it with CRX2RNX first", fields={"limit_gib": (MAX_DECOMPRESSED_BYTES // 4) >> 30})
     try:
         plain = hatanaka.crx2rnx(target.read_bytes())
     except hatanaka.HatanakaException as err:
-        raise InputError(source, None, f"damaged Compact RINEX (Hatanaka) file: {err}") from None
+        raise InputError(source, None, "damaged Compact RINEX (Hatanaka) file: {err}", fields={"err": err}) from None
     target.unlink()  # may be a link to the user's file: never write through it
     target.write_bytes(plain)
 

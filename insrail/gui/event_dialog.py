@@ -17,7 +17,7 @@ from PySide6.QtWidgets import (
     QVBoxLayout,
 )
 
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, said
 from insrail.io.events import EVENT_KINDS, Event, EventList, event_problems
 from insrail.project.event_marking import DEFAULT_EVENTS_FILE, mark_event
 from insrail.project.model import Project
@@ -122,7 +122,7 @@ class EventDialog(QDialog):
         try:
             self.project, self.events = mark_event(self.project, self.typed_event())
         except (InputError, OSError, ValueError) as error:
-            self.general.setText(tr("Not marked: {error}").format(error=error))
+            self.general.setText(tr("Not marked: {error}").format(error=said(error)))
             self.general.show()
             return
         super().accept()

@@ -69,7 +69,7 @@ class ProjectExplorer(QTreeWidget):
             try:
                 manifest = project.manifest(entry.name)
             except InputError as error:
-                self._item(survey, f"⚠ {error.message.splitlines()[0]}", ("error", str(error)))
+                self._item(survey, f"⚠ {error.said_message().splitlines()[0]}", ("error", error.said()))
                 continue
             for role, file in manifest.files.items():
                 self._item(survey, f"{role}: {file.path}", ("file", (entry.name, role)))

@@ -9,7 +9,7 @@ import re
 
 from insrail.names import setting_name
 
-_PROBLEM = re.compile(r"^(?P<key>[A-Za-z0-9_.\[\]]+): (?P<message>.*)$", re.DOTALL)
+_PROBLEM = re.compile(r"^(?P<key>[A-Za-z0-9_.\[\]]+)(?:: |：)(?P<message>.*)$", re.DOTALL)  # said in English or Chinese
 _INDEX = re.compile(r"\[\d+\]")
 
 

@@ -326,10 +326,11 @@ class ImportWidget(QWidget):
                     data = read_any(path, name)
                     weeks.add(getattr(data, "gps_week", None))
                 except InputError as error:
-                    problems.append(Problem(error.path.name, error.line, error.message))
+                    message = error.said_message()  # in the window's language, its names and values verbatim
+                    problems.append(Problem(error.path.name, error.line, message))
                     status = (tr("{unit} {line}: {message}").format(unit=tr(READ_UNITS.get(error.unit, error.unit)),
-                                                                     line=error.line, message=error.message)
-                              if error.line else error.message)
+                                                                     line=error.line, message=message)
+                              if error.line else message)
             self.files.item(row, _STATUS).setText(status)
         weeks.discard(None)
         if self.gps_week.value() == 0 and len(weeks) == 1:

@@ -13,7 +13,7 @@ import traceback
 
 from PySide6.QtCore import QThread, Signal
 
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, said
 from insrail.project import Project, load_results
 from insrail.project.plotdata import track_data, trajectory_views
 from insrail.project.results import RESULTS_FOLDER, SUMMARY_FILE
@@ -48,7 +48,7 @@ class ResultsLoader(QThread):
         try:
             self._load()
         except (InputError, ValueError, OSError) as error:
-            self.failed.emit(self.request, str(error))
+            self.failed.emit(self.request, said(error))
         except Exception as error:  # noqa: BLE001 (a defect: the window must survive it and say what happened)
             traceback.print_exc()
             self.failed.emit(self.request, f"internal error {type(error).__name__}: {error} "
@@ -63,7 +63,7 @@ class ResultsLoader(QThread):
                 try:
                     results[name] = load_results(project.folder, name)
                 except InputError as error:
-                    self.failed.emit(self.request, str(error))
+                    self.failed.emit(self.request, error.said())
             if self._stop.is_set():
                 return
         self.resultsLoaded.emit(self.request, results)

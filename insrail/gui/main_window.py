@@ -47,7 +47,7 @@ from insrail.gui.views.track import TrackView
 from insrail.gui.viewstate import load_view_state, save_view_state
 from insrail.gui.wizard import NewProjectWizard
 from insrail.gui.worker import CoreWorker, ProcessingWorker, TaskWorker
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, said
 from insrail.io.survey import read_manifest
 from insrail.io.tomlfile import read_toml
 from insrail.notices import notices_of
@@ -378,7 +378,7 @@ class MainWindow(QMainWindow):
         try:
             project = load_project(path)
         except InputError as error:
-            self._warn(tr("Cannot open the project"), str(error))
+            self._warn(tr("Cannot open the project"), error.said())
             return False
         self.set_project(project)
         return True
@@ -428,7 +428,7 @@ class MainWindow(QMainWindow):
         try:
             fallback = read_manifest(self.project.resolve(self.project.surveys[0].folder)).trolley
         except InputError as error:
-            self.log.warning(f"first survey's trolley geometry unavailable: {error}")
+            self.log.warning(f"first survey's trolley geometry unavailable: {error.said()}")
         dialog = ImportDialog(self.project.trolley(), fallback, self)
         dialog.accepted.connect(lambda: self.add_survey(dialog.widget.name.text().strip(), dialog.folder))
         dialog.show()
@@ -442,8 +442,8 @@ class MainWindow(QMainWindow):
         try:
             updated = project_from_settings(document, project.folder, project.path)
         except ProjectError as error:
-            self.log.error(str(error))
-            QMessageBox.warning(self, tr("Cannot add the survey"), "\n".join(error.problems))
+            self.log.error(error.said())
+            QMessageBox.warning(self, tr("Cannot add the survey"), "\n".join(problem.said() for problem in error.phrases))
             return False
         self.set_project(updated, modified=True)
         self.log.info(tr("survey {name} imported from {folder}").format(name=name, folder=folder.resolve()))
@@ -633,7 +633,7 @@ class MainWindow(QMainWindow):
         try:
             checks = load_tolerance_profile(self.project.resource(self.project.tolerance_profile)).checks
         except (InputError, ValueError, OSError) as error:
-            self.log.warning(f"the check channels are shown by their columns: {error}")
+            self.log.warning(f"the check channels are shown by their columns: {said(error)}")
             checks = ()
         self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()},
                                     checks)
@@ -727,7 +727,7 @@ class MainWindow(QMainWindow):
         try:
             self.gnss.set_ppk(stored_ppk(project, name), " (from the processed results)")
         except InputError as error:
-            self.log.error(str(error))
+            self.log.error(error.said())
             self.gnss.set_ppk(None)
         self._enable_project_actions()
 
@@ -741,7 +741,7 @@ class MainWindow(QMainWindow):
         try:
             manifest = project.manifest(name)
         except InputError as error:
-            self._warn(tr("GNSS post-processing failed"), str(error))
+            self._warn(tr("GNSS post-processing failed"), error.said())
             return None
         cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
 

@@ -44,7 +44,7 @@ from insrail.gui.choices import choose, chosen, fill
 from insrail.gui.fields import split_problem
 from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import shipped_names
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, said
 from insrail.io.survey import read_manifest
 from insrail.names import LANGUAGES, RESOURCE_SETTINGS, joined, setting_name
 from insrail.project import (
@@ -453,7 +453,8 @@ class SettingsEditor(QDialog):
         try:
             trolley = read_manifest(self.project.resolve(self.project.surveys[0].folder)).trolley
         except (InputError, IndexError) as error:
-            self.general.setText(tr("The first survey's trolley geometry cannot be read: {error}").format(error=error))
+            self.general.setText(tr("The first survey's trolley geometry cannot be read: {error}").format(
+                error=said(error)))
             return
         self.undo_stack.beginMacro(tr("Trolley for the whole project"))
         table = {arm: [float(v) for v in values] for arm, values in trolley.given_lever_arms().items()}
@@ -472,7 +473,7 @@ class SettingsEditor(QDialog):
             project_from_settings(self.document, self.project.folder, self.project.path)
             self.problems = []
         except ProjectError as error:
-            self.problems = list(error.problems)
+            self.problems = [problem.said() for problem in error.phrases]  # in the window's language
         for note in self.notes.values():
             note.hide()
             note.clear()

@@ -40,7 +40,7 @@ from insrail.gui.choices import choose, chosen, fill
 from insrail.gui.fields import in_words, split_problem
 from insrail.gui.forms import NOTE_STYLE, spin_box
 from insrail.gui.importer import ImportWidget, shipped_names
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, said
 from insrail.io.survey import MANIFEST_NAME, TrolleyGeometry, read_manifest
 from insrail.names import joined, setting_name
 from insrail.project import (
@@ -336,7 +336,8 @@ class NewProjectWizard(QWizard):
             project = load_project(path)
             trolley = project.trolley() or read_manifest(project.resolve(project.surveys[0].folder)).trolley
         except (InputError, IndexError) as error:
-            self._show_page_note(3, [tr("the trolley of {path} cannot be read: {error}").format(path=path, error=error)])
+            self._show_page_note(3, [tr("the trolley of {path} cannot be read: {error}").format(path=path,
+                                                                                                error=said(error))])
             return
         self.set_trolley(trolley)
         self._show_page_note(3, [])
@@ -357,7 +358,7 @@ class NewProjectWizard(QWizard):
             try:
                 self.set_trolley(read_manifest(Path(path).parent).trolley)
             except InputError as error:
-                self._show_page_note(3, [str(error)])
+                self._show_page_note(3, [error.said()])
 
     # ------------------------------------------------------------------ the result
 
@@ -433,7 +434,7 @@ class NewProjectWizard(QWizard):
         try:
             project_from_settings(self.settings(folder, survey, survey_folder), folder)
         except ProjectError as error:
-            return list(error.problems)
+            return [problem.said() for problem in error.phrases]  # in the window's language
         return []
 
     def check_page(self, index: int) -> bool:
@@ -523,7 +524,8 @@ class NewProjectWizard(QWizard):
         try:
             project_from_settings(document, folder)
         except ProjectError as error:
-            blocking = [in_words(p) for p in error.problems if not p.startswith(not_yet_written)]
+            blocking = [in_words(phrase.said()) for phrase, english in zip(error.phrases, error.problems)
+                        if not english.startswith(not_yet_written)]
             if blocking:
                 self.problems.setText(tr("The project has problems; go back and correct them:") + "\n" + "\n".join(blocking))
                 return False

@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 from PySide6.QtCore import QThread, Signal
 
 from insrail.gnss.ppk import GnssProcessingError
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, said
 from insrail.progress import Cancelled, CancelToken, ProgressFn
 from insrail.project import Project, process
 
@@ -48,7 +48,7 @@ class CoreWorker(QThread):
         except Cancelled:
             self.cancelled.emit()
         except EXPECTED_ERRORS as error:
-            self.failed.emit(f"{self.subject}: {error}")
+            self.failed.emit(f"{self.subject}: {said(error)}")  # a reader's error in the window's language
         except Exception as error:  # noqa: BLE001 (a defect: the window must survive it and say what happened)
             traceback.print_exc()
             self.failed.emit(f"{self.subject}: internal error {type(error).__name__}: {error} "

@@ -33,7 +33,7 @@ def read_prism_enu(path: str | Path) -> PrismObservations:
     sigma = table.numbers(4)
     negative = np.flatnonzero(sigma < 0)
     if negative.size:
-        table.fail(negative[0], f"negative standard deviation {sigma[negative[0]]}")
+        table.fail(negative[0], "negative standard deviation {sigma}", fields={"sigma": sigma[negative[0]]})
     return PrismObservations(time_s=time_s, east_m=table.numbers(1), north_m=table.numbers(2),
                              height_m=table.numbers(3), sigma_m=sigma, point_id=table.texts(5),
                              source=table.path)
@@ -47,7 +47,7 @@ def read_benchmarks(path: str | Path) -> Benchmarks:
     for values, limit, name in ((lat_deg, 90.0, "latitude"), (lon_deg, 360.0, "longitude")):
         bad = np.flatnonzero(np.abs(values) > limit)
         if bad.size:
-            table.fail(bad[0], f"{name} {values[bad[0]]} deg out of range")
+            table.fail(bad[0], "{name} {value} deg out of range", fields={"name": name, "value": values[bad[0]]})
     return Benchmarks(point_id=ids, lat_rad=np.radians(lat_deg), lon_rad=np.radians(lon_deg),
                       h_m=table.numbers(3), normal_height_m=table.numbers(4), source=table.path)
 

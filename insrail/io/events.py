@@ -66,9 +66,9 @@ def _number(path: Path, line: int, column: str, text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise InputError(path, line, f"{column}: expected a number, found {quoted(text)}") from None
+        raise InputError(path, line, "{column}: expected a number, found {quoted}", fields={"column": column, "quoted": quoted(text)}) from None
     if not math.isfinite(value):
-        raise InputError(path, line, f"{column}: expected a finite number, found {quoted(text)}")
+        raise InputError(path, line, "{column}: expected a finite number, found {quoted}", fields={"column": column, "quoted": quoted(text)})
     return value
 
 
@@ -80,7 +80,7 @@ def read_events(path: str | Path) -> EventList:
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
     except UnicodeDecodeError as error:
-        raise InputError(path, None, f"not UTF-8 text ({error.reason} at byte {error.start})") from None
+        raise InputError(path, None, "not UTF-8 text ({reason} at byte {start})", fields={"reason": error.reason, "start": error.start}) from None
     events = []
     for number, raw in enumerate(lines, start=1):
         if not raw.strip() or raw.lstrip().startswith("#"):
@@ -89,19 +89,19 @@ def read_events(path: str | Path) -> EventList:
         if tuple(f.lower() for f in fields) == HEADER:
             continue
         if len(fields) < 4:
-            raise InputError(path, number, f"expected at least 4 fields ({', '.join(HEADER)}), found {len(fields)}")
+            raise InputError(path, number, "expected at least 4 fields ({header}), found {count}", fields={"header": list(HEADER), "count": len(fields)})
         fields += [""] * (len(HEADER) - len(fields))
         kind, start_text, end_text, unit, profile, text = fields
         if kind not in EVENT_KINDS:
-            raise InputError(path, number, f"kind: expected one of {', '.join(EVENT_KINDS)}, found {quoted(kind)}")
+            raise InputError(path, number, "kind: expected one of {event_kinds}, found {quoted}", fields={"event_kinds": list(EVENT_KINDS), "quoted": quoted(kind)})
         if unit not in UNITS:
-            raise InputError(path, number, f"unit: expected one of {', '.join(UNITS)}, found {quoted(unit)}")
+            raise InputError(path, number, "unit: expected one of {units}, found {quoted}", fields={"units": list(UNITS), "quoted": quoted(unit)})
         start = _number(path, number, "from", start_text)
         end = start if end_text == "" else _number(path, number, "to", end_text)
         if end < start:
-            raise InputError(path, number, f"to ({end:g}) is before from ({start:g}): give the smaller value first")
+            raise InputError(path, number, "to ({end:g}) is before from ({start:g}): give the smaller value first", fields={"end": end, "start": start})
         if profile and kind != "turnout":
-            raise InputError(path, number, f"profile: only a turnout is assessed with a profile of its own, not a {kind}")
+            raise InputError(path, number, "profile: only a turnout is assessed with a profile of its own, not a {kind}", fields={"kind": kind})
         events.append(Event(kind, start, end, unit, profile, text, number))
     return EventList(tuple(events), str(path))
 

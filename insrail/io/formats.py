@@ -130,13 +130,13 @@ def read_any(path: str | Path, format: str | None = None, **options) -> Any:
     if name is None:
         if not path.exists():
             raise InputError(path, None, "file not found")
-        raise InputError(path, None, "format not recognised: name it explicitly (one of "
-                         + ", ".join(FORMATS) + ")")
+        raise InputError(path, None, "format not recognised: name it explicitly (one of {formats})",
+                         fields={"formats": list(FORMATS)})
     file_format = get_format(name)
     unknown = unknown_options(file_format, options)
     if unknown:
-        raise InputError(path, None, f"unknown option {unknown[0]!r} for format {name} "
-                         f"(known: {', '.join(file_format.options()) or 'none'})")
+        raise InputError(path, None, "unknown option {unknown!r} for format {name} "
+                         "(known: {known})", fields={"unknown": unknown[0], "name": name, "known": ', '.join(file_format.options()) or 'none'})
     return file_format.read(path, **options)
 
 

@@ -28,17 +28,17 @@ def check_geodetic(table: NumericTable, lat_deg: np.ndarray, lon_deg: np.ndarray
     """Latitudes within +-90 deg and longitudes within -180..360 deg, else InputError."""
     bad_lat = np.flatnonzero(np.abs(lat_deg) > 90.0)
     if bad_lat.size:
-        table.fail(bad_lat[0], f"latitude {lat_deg[bad_lat[0]]} deg: expected -90 to 90 degrees")
+        table.fail(bad_lat[0], "latitude {lat_deg} deg: expected -90 to 90 degrees", fields={"lat_deg": lat_deg[bad_lat[0]]})
     bad_lon = np.flatnonzero((lon_deg < -180.0) | (lon_deg > 360.0))
     if bad_lon.size:
-        table.fail(bad_lon[0], f"longitude {lon_deg[bad_lon[0]]} deg: expected -180 to 360 degrees")
+        table.fail(bad_lon[0], "longitude {lon_deg} deg: expected -180 to 360 degrees", fields={"lon_deg": lon_deg[bad_lon[0]]})
 
 
 def check_sigmas(table: NumericTable, sigmas: np.ndarray, what: str) -> None:
     """Standard deviations must not be negative."""
     negative = np.flatnonzero((sigmas < 0).any(axis=1))
     if negative.size:
-        table.fail(negative[0], f"negative {what} standard deviation {sigmas[negative[0]].min()}")
+        table.fail(negative[0], "negative {what} standard deviation {sigma}", fields={"what": what, "sigma": sigmas[negative[0]].min()})
 
 
 def read_gnss_kfgins(path: str | Path) -> GnssSolution:

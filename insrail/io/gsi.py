@@ -85,15 +85,15 @@ class _Block:
         for position, text in enumerate(content.lstrip("*").split(), start=1):
             match = _WORD.match(text)
             if match is None:
-                self.fail(f"word {position} ({quoted(text)}): expected a GSI word: a two-digit word index, four "
-                          "characters of information, a sign and the data")
+                self.fail("word {position} ({quoted}): expected a GSI word: a two-digit word index, four "
+                          "characters of information, a sign and the data", fields={"position": position, "quoted": quoted(text)})
             word = _Word(match[1], match[2], match[3] == "-", match[4], position, text)
             if word.index in self.words:
-                self.fail(f"word {position} ({text}): word index {word.index} appears twice in the block")
+                self.fail("word {position} ({text}): word index {index} appears twice in the block", fields={"position": position, "text": text, "index": word.index})
             self.words[word.index] = word
 
-    def fail(self, message: str) -> NoReturn:
-        raise InputError(self.path, self.line, message)
+    def fail(self, message: str, fields: dict | None = None) -> NoReturn:
+        raise InputError(self.path, self.line, message, fields=fields)
 
     def has(self, *indices: str) -> list[str]:
         return [i for i in indices if i in self.words]
@@ -108,13 +108,13 @@ class _Block:
         if unit in units:
             return units[unit]
         known = ", ".join(sorted(units))
-        self.fail(f"word {word.position} ({word.text}): {what} in "
-                  f"{_REFUSED.get(unit, 'unit ' + repr(unit))} is not read: expected unit digit (position 6) "
-                  f"{known}{' or ' + SEXAGESIMAL if what == 'an angle' else ''}")
+        self.fail("word {position} ({text}): {what} in "
+                  "{get} is not read: expected unit digit (position 6) "
+                  "{known}{value}", fields={"position": word.position, "text": word.text, "what": what, "get": _REFUSED.get(unit, 'unit ' + repr(unit)), "known": known, "value": ' or ' + SEXAGESIMAL if what == 'an angle' else ''})
 
     def _digits(self, word: _Word) -> int:
         if not word.data.isdigit():
-            self.fail(f"word {word.position} ({word.text}): expected digits after the sign, found {quoted(word.data)}")
+            self.fail("word {position} ({text}): expected digits after the sign, found {quoted}", fields={"position": word.position, "text": word.text, "quoted": quoted(word.data)})
         return -int(word.data) if word.negative else int(word.data)
 
     def length(self, index: str) -> float:
@@ -131,8 +131,8 @@ class _Block:
             seconds = value % 1000 / 10.0
             minutes = value // 1000 % 100
             if minutes >= 60 or seconds >= 60:
-                self.fail(f"word {word.position} ({word.text}): expected DDDMMSSs with minutes and seconds "
-                          "below 60")
+                self.fail("word {position} ({text}): expected DDDMMSSs with minutes and seconds "
+                          "below 60", fields={"position": word.position, "text": word.text})
             return sign * math.radians(value // 100_000 + minutes / 60.0 + seconds / 3600.0)
         return self._digits(word) * self._unit(word, ANGLE_UNITS, "an angle")
 
@@ -144,7 +144,7 @@ class _Block:
         except ValueError:
             value = math.nan
         if not math.isfinite(value):
-            self.fail(f"word {word.position} ({word.text}): expected a number, found {quoted(word.data)}")
+            self.fail("word {position} ({text}): expected a number, found {quoted}", fields={"position": word.position, "text": word.text, "quoted": quoted(word.data)})
         return -value if word.negative else value
 
 
@@ -180,32 +180,32 @@ def read_total_station_gsi(path: str | Path, prism_prefix: str = PRISM_TARGET) -
         if not measured:
             if block.has(*STATION):
                 if POINT_ID not in block.words:
-                    block.fail(f"a station block (words {', '.join(block.has(*STATION))}) needs the set-up's "
-                               f"name in word {POINT_ID}")
+                    block.fail("a station block (words {has}) needs the set-up's "
+                               "name in word {point_id}", fields={"has": list(block.has(*STATION)), "point_id": POINT_ID})
                 setup = block.text(POINT_ID)
             continue
         missing = [w for w in (POINT_ID, HZ, V, SLOPE) if w not in block.words]
         if missing:
-            block.fail(f"a pointing needs words 11 (point id), 21 (Hz), 22 (V) and 31 (slope distance): "
-                       f"word {', '.join(missing)} missing")
+            block.fail("a pointing needs words 11 (point id), 21 (Hz), 22 (V) and 31 (slope distance): "
+                       "word {missing} missing", fields={"missing": list(missing)})
         if setup is None:
             block.fail("a pointing before any station block: expected a block with the set-up's name (word 11) "
                        "and its station words 84-86 or 88 first")
         hz, zenith, slope = block.angle(HZ), block.angle(V), block.length(SLOPE)
         if not 0.0 <= hz < full:
-            block.fail(f"word {block.words[HZ].position} ({block.words[HZ].text}): Hz outside the full circle")
+            block.fail("word {position} ({text}): Hz outside the full circle", fields={"position": block.words[HZ].position, "text": block.words[HZ].text})
         if not 0.0 < zenith < full or zenith == math.pi:
-            block.fail(f"word {block.words[V].position} ({block.words[V].text}): V = {math.degrees(zenith):.5f} deg "
-                       "is not a zenith angle of face I or II")
+            block.fail("word {position} ({text}): V = {degrees:.5f} deg "
+                       "is not a zenith angle of face I or II", fields={"position": block.words[V].position, "text": block.words[V].text, "degrees": math.degrees(zenith)})
         if zenith > math.pi:  # face II: the telescope transited, the circle read half a turn on
             zenith, hz = full - zenith, (hz + math.pi) % full
         if not slope > 0.0:
-            block.fail(f"word {block.words[SLOPE].position} ({block.words[SLOPE].text}): expected a positive "
-                       "slope distance")
+            block.fail("word {position} ({text}): expected a positive "
+                       "slope distance", fields={"position": block.words[SLOPE].position, "text": block.words[SLOPE].text})
         target = block.text(POINT_ID)
         is_prism = target.lower().startswith(prism_prefix.lower())
         if is_prism and TIME not in block.words:
-            block.fail(f"prism pointing {target}: expected its time [s of GPS week] in word {TIME} (remark 1)")
+            block.fail("prism pointing {target}: expected its time [s of GPS week] in word {time} (remark 1)", fields={"target": target, "time": TIME})
         for key, value in (("setup", setup), ("target", PRISM_TARGET if is_prism else target),
                            ("time_s", block.number(TIME) if TIME in block.words else math.nan), ("hz_rad", hz),
                            ("zenith_rad", zenith), ("slope_m", slope), ("line", block.line)):
@@ -216,8 +216,8 @@ def read_total_station_gsi(path: str | Path, prism_prefix: str = PRISM_TARGET) -
     prism = np.flatnonzero(table["target"] == PRISM_TARGET)
     late = prism[1:][np.diff(table["time_s"][prism]) <= 0]
     if late.size:
-        raise InputError(path, int(table["line"][late[0]]), f"word {TIME}: prism time {table['time_s'][late[0]]} s is "
-                         "not after the previous prism pointing's: times must increase")
+        raise InputError(path, int(table["line"][late[0]]), "word {time}: prism time {time_s} s is "
+                         "not after the previous prism pointing's: times must increase", fields={"time": TIME, "time_s": table['time_s'][late[0]]})
     for name in dict.fromkeys(table["setup"]):  # an untimed CPIII pointing: its set-up's first time
         mine = table["setup"] == name
         timed = mine & np.isfinite(table["time_s"])
@@ -302,11 +302,11 @@ def read_cpiii_gsi(path: str | Path) -> ControlPoints:
             continue
         if len(present) < 3 or POINT_ID not in block.words:
             missing = [w for w in (POINT_ID, *TARGET_ENH) if w not in block.words]
-            block.fail(f"a point needs words 11 (id), 81 (E), 82 (N) and 83 (H): word {', '.join(missing)} missing")
+            block.fail("a point needs words 11 (id), 81 (E), 82 (N) and 83 (H): word {missing} missing", fields={"missing": list(missing)})
         point = block.text(POINT_ID)
         if point in seen:
-            block.fail(f"word {block.words[POINT_ID].position}: point {point} is given twice (first on line "
-                       f"{seen[point]})")
+            block.fail("word {position}: point {point} is given twice (first on line "
+                       "{first_line})", fields={"position": block.words[POINT_ID].position, "point": point, "first_line": seen[point]})
         seen[point] = block.line
         ids.append(point)
         coordinates.append([block.length(w) for w in TARGET_ENH])

@@ -52,13 +52,13 @@ def _check_increment_magnitudes(path: Path, time_s: np.ndarray, dtheta_norm: np.
     specific_force = float(np.median(dvel_norm, overwrite_input=True)) / interval
     turn_rate = float(np.median(dtheta_norm, overwrite_input=True)) / interval
     if specific_force > _MAX_MEDIAN_SPECIFIC_FORCE_MPS2:
-        raise InputError(path, None, f"velocity increments imply a median specific force of "
-                         f"{specific_force:.0f} m/s^2 at {1 / interval:.0f} Hz: the file seems to hold "
-                         "accelerations (m/s^2), expected velocity increments (m/s)")
+        raise InputError(path, None, "velocity increments imply a median specific force of "
+                         "{specific_force:.0f} m/s^2 at {rate_hz:.0f} Hz: the file seems to hold "
+                         "accelerations (m/s^2), expected velocity increments (m/s)", fields={"specific_force": specific_force, "rate_hz": 1 / interval})
     if turn_rate > _MAX_MEDIAN_TURN_RATE_RADPS:
-        raise InputError(path, None, f"angle increments imply a median turn rate of {turn_rate:.0f} "
-                         f"rad/s at {1 / interval:.0f} Hz: the file seems to hold angular rates, "
-                         "expected angle increments (rad)")
+        raise InputError(path, None, "angle increments imply a median turn rate of {turn_rate:.0f} "
+                         "rad/s at {rate_hz:.0f} Hz: the file seems to hold angular rates, "
+                         "expected angle increments (rad)", fields={"turn_rate": turn_rate, "rate_hz": 1 / interval})
 
 
 def read_imu_kfgins(path: str | Path) -> ImuIncrements:
@@ -118,7 +118,7 @@ def _npy_header(path: Path, handle) -> tuple[tuple[int, ...], bool, np.dtype]:
         read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
         return read_header(handle)
     except (ValueError, OSError, EOFError) as exc:
-        raise InputError(path, None, f"not a readable NumPy .npy file ({exc})") from None
+        raise InputError(path, None, "not a readable NumPy .npy file ({exc})", fields={"exc": exc}) from None
 
 
 def _imu_npy_layout(path: Path, handle) -> tuple[int, np.dtype]:
@@ -126,14 +126,14 @@ def _imu_npy_layout(path: Path, handle) -> tuple[int, np.dtype]:
     shape, fortran, dtype = _npy_header(path, handle)
     expected = ", ".join(f"{name} {IMU_NPY_DTYPE.fields[name][0].str}" for name in IMU_NPY_DTYPE.names)
     if dtype.names is None or len(shape) != 1:
-        raise InputError(path, None, f"expected a 1-D structured array with fields {expected}, "
-                         f"found dtype {dtype} with shape {shape}")
+        raise InputError(path, None, "expected a 1-D structured array with fields {expected}, "
+                         "found dtype {dtype} with shape {shape}", fields={"expected": expected, "dtype": dtype, "shape": str(shape)})
     for name in IMU_NPY_DTYPE.names:
         want = IMU_NPY_DTYPE.fields[name][0]
         have = dtype.fields.get(name)
         if have is None or have[0].shape != want.shape or have[0].base.kind != "f":
-            raise InputError(path, None, f"field {name!r}: expected {want.base} with shape {want.shape}; "
-                             f"the file's fields are {dtype}")
+            raise InputError(path, None, "field {name!r}: expected {base} with shape {shape}; "
+                             "the file's fields are {dtype}", fields={"name": name, "base": want.base, "shape": str(want.shape), "dtype": dtype})
     if shape[0] == 0:
         raise InputError(path, None, "empty file: no records")
     return shape[0], dtype
@@ -167,8 +167,8 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
     with open(path, "rb") as handle:
         n, dtype = _imu_npy_layout(path, handle)
 
-        def fail(index: int, message: str):
-            raise InputError(path, index, message, unit="index")
+        def fail(index: int, message: str, fields: dict | None = None):
+            raise InputError(path, index, message, unit="index", fields=fields)
 
         time_s = np.empty(n)
         norms = {"dtheta_rad": np.empty(n), "dvel_mps": np.empty(n)}
@@ -177,7 +177,7 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
                 count = min(NPY_READ_CHUNK, n - start)
                 records = np.fromfile(handle, dtype=dtype, count=count)
                 if len(records) != count:
-                    raise InputError(path, None, f"the file ends after {start + len(records)} of its {n} records")
+                    raise InputError(path, None, "the file ends after {read} of its {n} records", fields={"read": start + len(records), "n": n})
                 checked = np.empty(count, dtype=_INCREMENTS_DTYPE)
                 for name in IMU_NPY_DTYPE.names:
                     values = np.asarray(records[name], dtype=np.float64)
@@ -189,7 +189,7 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
                     finite = np.isfinite(values.reshape(count, -1)).all(axis=1)
                     if not finite.all():
                         index = start + int(np.argmin(finite))
-                        fail(index, f"{name} is {values[index - start]}: expected finite numbers")
+                        fail(index, "{name} is {value}: expected finite numbers", fields={"name": name, "value": values[index - start]})
                 try:
                     copy.write(memoryview(checked).cast("B"))
                 except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
@@ -227,7 +227,7 @@ def _whole_records(path: Path) -> str:
     try:
         lines = path.read_text(encoding="utf-8", errors="replace").split("\n")
     except OSError as exc:
-        raise InputError(path, None, f"cannot be read: {exc.strerror or exc}") from None
+        raise InputError(path, None, "cannot be read: {reason}", fields={"reason": exc.strerror or exc}) from None
     filled = [i for i, line in enumerate(lines) if line.strip()]
     if len(filled) < 3:
         return "\n".join(lines)
@@ -247,17 +247,17 @@ def on_time_tag(path: Path, tag: TimeTag, counter_ms: np.ndarray) -> tuple[int, 
     counter_span_s = (float(counter_ms[-1]) - float(counter_ms[0])) / 1e3
     rate = tag.span_s / counter_span_s if counter_span_s > 0 else np.inf
     if not abs(rate - 1.0) <= MAX_TAG_RATE_ERROR:
-        raise InputError(tag.path, None, f"the time tag spans {tag.span_s:.3f} s but the record {path.name} counts "
-                         f"{counter_span_s:.3f} s (time column in ms): not this record's tag, or the time column is not "
-                         "the logger's millisecond counter")
+        raise InputError(tag.path, None, "the time tag spans {span_s:.3f} s but the record {file} counts "
+                         "{counter_span_s:.3f} s (time column in ms): not this record's tag, or the time column is not "
+                         "the logger's millisecond counter", fields={"span_s": tag.span_s, "file": path.name, "counter_span_s": counter_span_s})
     week, start = unix_gpst_to_week_seconds(np.array([float(tag.start_unix_gpst_s)]))
     return week, start[0] + tag.start_fraction_s + (counter_ms - counter_ms[0]) / 1e3 * rate
 
 
 def _choice(path: Path, option: str, value: str, allowed) -> None:
     if value not in allowed:
-        raise InputError(path, None, f"option {option} = {value!r}: expected one of "
-                         + ", ".join(repr(a) for a in allowed))
+        raise InputError(path, None, "option {option} = {value!r}: expected one of {allowed}",
+                         fields={"option": option, "value": value, "allowed": [repr(a) for a in allowed]})
 
 
 def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
@@ -289,7 +289,7 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
               "gyro_columns": list(gyro_columns)}
     for option, indices in wanted.items():
         if option != "time_column" and len(indices) != 3:
-            raise InputError(path, None, f"option {option}: expected 3 column indices, found {len(indices)}")
+            raise InputError(path, None, "option {option}: expected 3 column indices, found {count}", fields={"option": option, "count": len(indices)})
     if len(sensor_rpy_deg) != 3:
         raise InputError(path, None, "option sensor_rpy_deg: expected 3 angles (roll, pitch, yaw)")
 
@@ -299,8 +299,8 @@ def read_imu_rates_csv(path: str | Path, *, time_column: int = 0,
     for option, indices in wanted.items():
         for index in indices:
             if not 0 <= int(index) < width:
-                raise InputError(path, None, f"option {option}: column index {index} does not exist, "
-                                 f"the file has {width} columns (indices 0 to {width - 1})")
+                raise InputError(path, None, "option {option}: column index {index} does not exist, "
+                                 "the file has {width} columns (indices 0 to {last})", fields={"option": option, "index": index, "width": width, "last": width - 1})
     stamps = check_table_time(table, time_column)
     if len(stamps) < 2:
         raise InputError(path, None, "need at least 2 samples to integrate rates into increments")

@@ -44,14 +44,14 @@ def read_odometer_pulses(path: str | Path, pulse_length_m: float | None = None) 
             pulse_length_m = float(from_header)
         except ValueError:
             raise InputError(table.path, None,
-                             f"header pulse_length_m = {from_header!r}: expected a number") from None
+                             "header pulse_length_m = {from_header!r}: expected a number", fields={"from_header": from_header}) from None
     if not (np.isfinite(pulse_length_m) and pulse_length_m > 0):
-        raise InputError(table.path, None, f"pulse_length_m = {pulse_length_m}: expected a positive length")
+        raise InputError(table.path, None, "pulse_length_m = {pulse_length_m}: expected a positive length", fields={"pulse_length_m": pulse_length_m})
     time_s = check_table_time(table)
     counts = table.values[:, 1]
     fractional = np.flatnonzero(counts != np.round(counts))
     if fractional.size:
-        table.fail(fractional[0], f"pulse count {counts[fractional[0]]}: expected an integer")
+        table.fail(fractional[0], "pulse count {counts}: expected an integer", fields={"counts": counts[fractional[0]]})
     return OdometerData(time_s=time_s.copy(), distance_m=counts * pulse_length_m,
                         pulse_length_m=float(pulse_length_m), gaps=find_gaps(time_s), source=table.path)
 

@@ -73,8 +73,8 @@ def _numbers(path: Path, number: int, text: str, start: int, count: int) -> list
         try:
             values.append(float(field) if field else 0.0)
         except ValueError:
-            raise InputError(path, number, f"expected a number in columns {start + 19 * k + 1}-"
-                                           f"{start + 19 * (k + 1)}, found {field!r}") from None
+            raise InputError(path, number, "expected a number in columns {first}-"
+                                           "{last}, found {field!r}", fields={"first": start + 19 * k + 1, "last": start + 19 * (k + 1), "field": field}) from None
     return values
 
 
@@ -89,7 +89,7 @@ def read_gps_ephemerides(path: str | Path) -> GpsEphemerides:
     try:
         version = float(lines[0][:9])
     except ValueError:
-        raise InputError(path, 1, f"unreadable RINEX version {lines[0][:9].strip()!r}") from None
+        raise InputError(path, 1, "unreadable RINEX version {version!r}", fields={"version": lines[0][:9].strip()}) from None
     file_type, system = lines[0][20:21].upper(), lines[0][40:41].upper()
     if file_type != "N" or (version >= 3 and system not in ("G", "M")):
         raise InputError(path, 1, "expected a RINEX navigation file with GPS ephemerides (type N, system G or M)")

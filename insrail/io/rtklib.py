@@ -68,8 +68,8 @@ def _column_header(path: Path, text: str) -> tuple[str, bool]:
         if fields and fields[0] in ("GPST", "UTC", "JST"):
             if "latitude(deg)" in fields or "latitude(d'\")" in fields:
                 return fields[0], "latitude(d'\")" in fields
-            raise InputError(path, None, f"solution form {' '.join(fields[1:4])!r} is not supported: "
-                             "expected latitude/longitude/height (RTKLIB out-solformat=llh)")
+            raise InputError(path, None, "solution form {form!r} is not supported: "
+                             "expected latitude/longitude/height (RTKLIB out-solformat=llh)", fields={"form": ' '.join(fields[1:4])})
     return "GPST", False
 
 
@@ -143,7 +143,7 @@ def read_rtklib_pos(path: str | Path) -> GnssSolution:
     quality, num_sats = solution[:, 0], solution[:, 1]
     bad_q = np.flatnonzero((quality != np.round(quality)) | (quality < 0) | (quality > _MAX_QUALITY))
     if bad_q.size:
-        table.fail(bad_q[0], f"Q = {quality[bad_q[0]]}: expected an integer 0 to {_MAX_QUALITY}")
+        table.fail(bad_q[0], "Q = {quality}: expected an integer 0 to {max_quality}", fields={"quality": quality[bad_q[0]], "max_quality": _MAX_QUALITY})
     check_sigmas(table, solution[:, 2:5], "position")
 
     vel_ned = sigma_vel = None

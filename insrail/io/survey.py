@@ -37,6 +37,7 @@ from insrail.io.types import (
     SleeperPulses,
     TotalStationObservations,
 )
+from insrail.notices import Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 
 
@@ -271,7 +272,7 @@ def _with_aliases(table: dict, aliases: dict[str, str], what: str, problems: lis
     for alias, key in aliases.items():
         if alias in table:
             if key in table:
-                problems.append(f"{what}.{alias}: the same as {what}.{key}; give one of them")
+                problems.append(Phrase("{what}.{alias}: the same as {what}.{key}; give one of them", {"what": what, "alias": alias, "key": key}))
             table[key] = table.pop(alias)
     return table
 
@@ -279,24 +280,24 @@ def _with_aliases(table: dict, aliases: dict[str, str], what: str, problems: lis
 def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = False) -> dict[str, SurveyFile]:
     files: dict[str, SurveyFile] = {}
     if not isinstance(table, dict):
-        problems.append("files: missing table [files.<role>] (the imu role is required)")
+        problems.append(Phrase("files: missing table [files.<role>] (the imu role is required)"))
         return files
     table = _with_aliases(table, ROLE_ALIASES, "files", problems)
     if "odometer_right" in table and "odometer" not in table:
-        problems.append("files.odometer_right: a second odometer needs the first, [files.odometer] (or "
+        problems.append(Phrase("files.odometer_right: a second odometer needs the first, [files.odometer] (or "
                         "[files.odometer_left]); a survey with one odometer gives it as [files.odometer], on "
-                        "whichever rail, with its lever arm trolley.imu_to_odometer_m")
+                        "whichever rail, with its lever arm trolley.imu_to_odometer_m"))
     for role in REQUIRED_ROLES:
         if role not in table:
-            problems.append(f"files.{role}: missing (required role)")
+            problems.append(Phrase("files.{role}: missing (required role)", {"role": role}))
     if raw_gnss and "gnss" in table:
-        problems.append("files.gnss: give either a GNSS solution [files.gnss] or raw observations "
-                        "[gnss_raw], not both")
+        problems.append(Phrase("files.gnss: give either a GNSS solution [files.gnss] or raw observations "
+                        "[gnss_raw], not both"))
     if not raw_gnss and not any(role in table for role in POSITION_ROLES) and "odometer" not in table:
-        problems.append("files: no position source: give a GNSS solution [files.gnss], raw GNSS observations "
+        problems.append(Phrase("files: no position source: give a GNSS solution [files.gnss], raw GNSS observations "
                         "[gnss_raw], total-station prism fixes [files.prism] or raw total-station observations "
                         "[files.total_station]; or, for a relative survey (gauge, cant, twist and chord checks, no "
-                        "coordinates), the odometer [files.odometer] with stops about every 60 m")
+                        "coordinates), the odometer [files.odometer] with stops about every 60 m"))
     if ("total_station" in table) != ("cpiii" in table):
         problems.append("files.total_station: the raw total-station observations need the CPIII points they are "
                         "resected on [files.cpiii], and the CPIII points are used only with them"
@@ -305,40 +306,40 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
     for role, entry in table.items():
         key = f"files.{role}"
         if role not in ROLE_TYPES:
-            problems.append(f"{key}: unknown role (expected one of {', '.join([*ROLE_TYPES, *ROLE_ALIASES])})")
+            problems.append(Phrase("{key}: unknown role (expected one of {roles})", {"key": key, "roles": list([*ROLE_TYPES, *ROLE_ALIASES])}))
             continue
         if not isinstance(entry, dict):
-            problems.append(f"{key}: expected a table with path and format")
+            problems.append(Phrase("{key}: expected a table with path and format", {"key": key}))
             continue
         options = {k: v for k, v in entry.items() if k not in ("path", "format", "time_offset_s")}
         path, name = entry.get("path"), entry.get("format")
         time_offset_s = entry.get("time_offset_s", 0.0)
         if "time_offset_s" in entry and role not in TIMED_ROLES:
-            problems.append(f"{key}.time_offset_s: only the files of {', '.join(TIMED_ROLES)} take one (the IMU's "
-                            "clock is the survey's time reference)")
+            problems.append(Phrase("{key}.time_offset_s: only the files of {timed_roles} take one (the IMU's "
+                            "clock is the survey's time reference)", {"key": key, "timed_roles": list(TIMED_ROLES)}))
         elif not (_is_number(time_offset_s) and abs(time_offset_s) <= MAX_GIVEN_TIME_OFFSET_S):
-            problems.append(f"{key}.time_offset_s: expected the seconds the file's time stamps run late against the "
-                            f"IMU's clock (a number within ±{MAX_GIVEN_TIME_OFFSET_S:g} s), found {time_offset_s!r}")
+            problems.append(Phrase("{key}.time_offset_s: expected the seconds the file's time stamps run late against the "
+                            "IMU's clock (a number within ±{max_given_time_offset_s:g} s), found {time_offset_s!r}", {"key": key, "max_given_time_offset_s": MAX_GIVEN_TIME_OFFSET_S, "time_offset_s": time_offset_s}))
             time_offset_s = 0.0
         if not isinstance(path, str) or not path:
-            problems.append(f"{key}.path: expected a file name relative to the survey folder")
+            problems.append(Phrase("{key}.path: expected a file name relative to the survey folder", {"key": key}))
         elif not (folder / path).is_file():
-            problems.append(f"{key}.path: file not found: {path}")
+            problems.append(Phrase("{key}.path: file not found: {path}", {"key": key, "path": path}))
         if not isinstance(name, str):
-            problems.append(f"{key}.format: expected a format name ({', '.join(FORMATS)})")
+            problems.append(Phrase("{key}.format: expected a format name ({formats})", {"key": key, "formats": list(FORMATS)}))
         elif name not in FORMATS:
-            problems.append(f"{key}.format: unknown format {name!r} (expected one of {', '.join(FORMATS)})")
+            problems.append(Phrase("{key}.format: unknown format {name!r} (expected one of {formats})", {"key": key, "name": name, "formats": list(FORMATS)}))
         elif FORMATS[name].data_type is not ROLE_TYPES[role]:
             fitting = [f for f, spec in FORMATS.items() if spec.data_type is ROLE_TYPES[role]]
-            problems.append(f"{key}.format: {name} does not hold {role} data (use one of {', '.join(fitting)})")
+            problems.append(Phrase("{key}.format: {name} does not hold {role} data (use one of {fitting})", {"key": key, "name": name, "role": role, "fitting": list(fitting)}))
         else:
             hints = FORMATS[name].option_hints()
             for option, value in options.items():
                 if option not in hints:
                     known = ", ".join(hints) or "none"
-                    problems.append(f"{key}.{option}: unknown option for format {name} (known: {known})")
+                    problems.append(Phrase("{key}.{option}: unknown option for format {name} (known: {known})", {"key": key, "option": option, "name": name, "known": known}))
                 elif (why := _option_problem(hints[option], value)) is not None:
-                    problems.append(f"{key}.{option}: {why}")
+                    problems.append(Phrase("{key}.{option}: {why}", {"key": key, "option": option, "why": why}))
             if FORMATS[name].check_options is not None and all(
                     option in hints and _option_problem(hints[option], value) is None
                     for option, value in options.items()):
@@ -355,37 +356,37 @@ def parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometr
     track is reconstructed, :func:`track_lever_arm_problems`). Problems are appended to ``problems``
     as ``trolley.<key>: ...``; None when there are any."""
     if not isinstance(table, dict):
-        problems.append("trolley: missing table [trolley] (lever arms and reference rail)")
+        problems.append(Phrase("trolley: missing table [trolley] (lever arms and reference rail)"))
         return None
     table = _with_aliases(table, TROLLEY_ALIASES, "trolley", problems)
     for key in table:
         if key not in _TROLLEY_KEYS:
-            problems.append(f"trolley.{key}: unknown key (expected {', '.join(_TROLLEY_KEYS)})")
+            problems.append(Phrase("trolley.{key}: unknown key (expected {keys})", {"key": key, "keys": list(_TROLLEY_KEYS)}))
     arms: dict[str, np.ndarray | None] = {}
     for key in LEVER_ARMS:
         if key not in table:
             users = [role for role in FUSION_LEVER_ARMS.get(key, ()) if role in roles]
             if users:
-                problems.append(f"trolley.{key}: missing (required with files.{users[0]}; 3 numbers [m], IMU body "
-                                "frame FRD)")
+                problems.append(Phrase("trolley.{key}: missing (required with files.{users}; 3 numbers [m], IMU body "
+                                "frame FRD)", {"key": key, "users": users[0]}))
             arms[key] = None
             continue
         arms[key] = _vector3(table[key])
         if arms[key] is None:
-            problems.append(f"trolley.{key}: expected 3 numbers [m], found {table[key]!r}")
+            problems.append(Phrase("trolley.{key}: expected 3 numbers [m], found {table!r}", {"key": key, "table": table[key]}))
     reference_rail = table.get("reference_rail", "left")
     if reference_rail not in ("left", "right"):
-        problems.append(f"trolley.reference_rail: expected \"left\" or \"right\", found {reference_rail!r}")
+        problems.append(Phrase("trolley.reference_rail: expected \"left\" or \"right\", found {reference_rail!r}", {"reference_rail": reference_rail}))
     mounting = _vector3(table.get("mounting_rpy_deg", [0.0, 0.0, 0.0]))
     if mounting is None:
-        problems.append(f"trolley.mounting_rpy_deg: expected 3 numbers [deg], found {table['mounting_rpy_deg']!r}")
+        problems.append(Phrase("trolley.mounting_rpy_deg: expected 3 numbers [deg], found {table!r}", {"table": table['mounting_rpy_deg']}))
     spacing = table.get("rail_centre_spacing_m", 1.5)
     if not (_is_number(spacing) and spacing > 0):
-        problems.append(f"trolley.rail_centre_spacing_m: expected a positive number [m], found {spacing!r}")
+        problems.append(Phrase("trolley.rail_centre_spacing_m: expected a positive number [m], found {spacing!r}", {"spacing": spacing}))
     beam = table.get("beam_wheel_spacing_m", 0.0)
     if not (_is_number(beam) and 0.0 <= beam <= MAX_BEAM_WHEEL_SPACING_M):
-        problems.append(f"trolley.beam_wheel_spacing_m: expected the spacing of the twin-wheel beam's side wheels, "
-                        f"0 .. {MAX_BEAM_WHEEL_SPACING_M:g} m (0: no curve correction), found {beam!r}")
+        problems.append(Phrase("trolley.beam_wheel_spacing_m: expected the spacing of the twin-wheel beam's side wheels, "
+                        "0 .. {max_beam_wheel_spacing_m:g} m (0: no curve correction), found {beam!r}", {"max_beam_wheel_spacing_m": MAX_BEAM_WHEEL_SPACING_M, "beam": beam}))
     if problems:
         return None
     return TrolleyGeometry(**arms, reference_rail=reference_rail, mounting_rpy_rad=np.radians(mounting),
@@ -422,25 +423,25 @@ def read_manifest(folder: str | Path, trolley_from_project: bool = False) -> Sur
     problems: list[str] = []
     for key in document:
         if key not in ("survey", "files", "trolley", "gnss_raw", "start"):
-            problems.append(f"{key}: unknown table (expected [survey], [files.<role>], [trolley], [gnss_raw], "
-                            "[start])")
+            problems.append(Phrase("{key}: unknown table (expected [survey], [files.<role>], [trolley], [gnss_raw], "
+                            "[start])", {"key": key}))
     survey = document.get("survey")
     if not isinstance(survey, dict):
-        problems.append("survey: missing table [survey] (name, gps_week, imu_profile, description)")
+        problems.append(Phrase("survey: missing table [survey] (name, gps_week, imu_profile, description)"))
         survey = {}
     for key in survey:
         if key not in _SURVEY_KEYS:
-            problems.append(f"survey.{key}: unknown key (expected {', '.join(_SURVEY_KEYS)})")
+            problems.append(Phrase("survey.{key}: unknown key (expected {keys})", {"key": key, "keys": list(_SURVEY_KEYS)}))
     name = survey.get("name")
     if not isinstance(name, str) or not name:
-        problems.append("survey.name: expected a non-empty text")
+        problems.append(Phrase("survey.name: expected a non-empty text"))
     gps_week = survey.get("gps_week")
     if gps_week is not None and not (isinstance(gps_week, int) and not isinstance(gps_week, bool)
                                      and gps_week >= 0):
-        problems.append(f"survey.gps_week: expected a whole GPS week number, found {gps_week!r}")
+        problems.append(Phrase("survey.gps_week: expected a whole GPS week number, found {gps_week!r}", {"gps_week": gps_week}))
     for key in ("imu_profile", "description"):
         if key in survey and not isinstance(survey[key], str):
-            problems.append(f"survey.{key}: expected text, found {survey[key]!r}")
+            problems.append(Phrase("survey.{key}: expected text, found {survey!r}", {"key": key, "survey": survey[key]}))
     raw_gnss = parse_raw_gnss(folder, document["gnss_raw"], problems) if "gnss_raw" in document else None
     files = _parse_files(folder, document.get("files"), problems, raw_gnss="gnss_raw" in document)
     roles = set(files) | ({"gnss"} if "gnss_raw" in document else set())
@@ -453,8 +454,8 @@ def read_manifest(folder: str | Path, trolley_from_project: bool = False) -> Sur
         # a profile file of the survey's own: relative to the survey folder, wherever the user runs from
         resolved = (folder / imu_profile).resolve()
         if not resolved.is_file():
-            problems.append(f"survey.imu_profile: file not found: {imu_profile} (a .toml path is relative to the "
-                            "survey folder; or name a shipped profile)")
+            problems.append(Phrase("survey.imu_profile: file not found: {imu_profile} (a .toml path is relative to the "
+                            "survey folder; or name a shipped profile)", {"imu_profile": imu_profile}))
         imu_profile = str(resolved)
     start = parse_start(document["start"], problems) if "start" in document else None
     if problems:
@@ -470,25 +471,25 @@ _START_KEYS = ("station_m", "offset_m", "height_m", "sigma_m", "facing")
 def parse_start(table, problems: list[str]) -> SurveyStart | None:
     """survey.toml's ``[start]`` as :class:`SurveyStart` (problems appended as ``start.<key>: ...``)."""
     if not isinstance(table, dict):
-        problems.append("start: expected a table [start] with station_m")
+        problems.append(Phrase("start: expected a table [start] with station_m"))
         return None
     found = len(problems)
     for key in table:
         if key not in _START_KEYS:
-            problems.append(f"start.{key}: unknown key (expected {', '.join(_START_KEYS)})")
+            problems.append(Phrase("start.{key}: unknown key (expected {keys})", {"key": key, "keys": list(_START_KEYS)}))
     if not _is_number(table.get("station_m")):
-        problems.append(f"start.station_m: expected the design station [m] the trolley starts on, found "
-                        f"{table.get('station_m')!r}")
+        problems.append(Phrase("start.station_m: expected the design station [m] the trolley starts on, found "
+                        "{value!r}", {"value": table.get('station_m')}))
     for key in ("offset_m", "height_m"):
         if key in table and not (_is_number(table[key]) and abs(table[key]) <= 10.0):
-            problems.append(f"start.{key}: expected metres from the design (within 10 m), found {table[key]!r}")
+            problems.append(Phrase("start.{key}: expected metres from the design (within 10 m), found {table!r}", {"key": key, "table": table[key]}))
     sigma = table.get("sigma_m", START_SIGMA_M)
     if not (_is_number(sigma) and 0.001 <= sigma <= 10.0):
-        problems.append(f"start.sigma_m: expected the 1-sigma [m] of the start point, 0.001 .. 10, found {sigma!r}")
+        problems.append(Phrase("start.sigma_m: expected the 1-sigma [m] of the start point, 0.001 .. 10, found {sigma!r}", {"sigma": sigma}))
     facing = table.get("facing", "increasing")
     if facing not in ("increasing", "decreasing"):
-        problems.append(f"start.facing: expected \"increasing\" or \"decreasing\" (the stations the trolley's x axis "
-                        f"points to), found {facing!r}")
+        problems.append(Phrase("start.facing: expected \"increasing\" or \"decreasing\" (the stations the trolley's x axis "
+                        "points to), found {facing!r}", {"facing": facing}))
     if len(problems) > found:
         return None
     return SurveyStart(float(table["station_m"]), float(table.get("offset_m", 0.0)), float(table.get("height_m", 0.0)),
@@ -545,9 +546,9 @@ def _check_time_overlap(imu: ImuIncrements, other, role: str, entry: SurveyFile 
     if other.time_s[-1] < imu.time_s[0] or other.time_s[0] > imu.time_s[-1]:
         name = f" ({entry.path})" if entry is not None else ""
         problems.append(
-            f"files.{role}{name}: time span {other.time_s[0]:.3f}..{other.time_s[-1]:.3f} s does not overlap "
-            f"the IMU's {imu.time_s[0]:.3f}..{imu.time_s[-1]:.3f} s (different time scales, or a file of another "
-            "day or run?)")
+            Phrase("files.{role}{name}: time span {time_s:.3f}..{time_s2:.3f} s does not overlap "
+            "the IMU's {time_s3:.3f}..{time_s4:.3f} s (different time scales, or a file of another "
+            "day or run?)", {"role": role, "name": name, "time_s": other.time_s[0], "time_s2": other.time_s[-1], "time_s3": imu.time_s[0], "time_s4": imu.time_s[-1]}))
 
 
 def _with_week(data, role: str, gps_week: int | None, problems: list[str]):
@@ -557,8 +558,8 @@ def _with_week(data, role: str, gps_week: int | None, problems: list[str]):
     if data.gps_week is None:
         return dataclasses.replace(data, gps_week=gps_week)
     if data.gps_week != gps_week:
-        problems.append(f"files.{role}: data is from GPS week {data.gps_week}, "
-                        f"survey.gps_week says {gps_week}")
+        problems.append(Phrase("files.{role}: data is from GPS week {gps_week}, "
+                        "survey.gps_week says {gps_week2}", {"role": role, "gps_week": data.gps_week, "gps_week2": gps_week}))
     return data
 
 

@@ -30,6 +30,8 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from insrail.notices import Phrase
+
 BASE_FROM_RINEX_HEADER = "rinex-header"
 _KEYS = ("rover", "rover_log", "rover_log_format", "base", "navigation", "precise", "antex", "config",
          "base_point", "base_antenna_height_m", "base_antenna_type")
@@ -77,24 +79,24 @@ class RawGnss:
 def parse_raw_gnss(folder: Path, table, problems: list[str]) -> RawGnss | None:
     """Validate a ``[gnss_raw]`` table (files relative to ``folder``); problems go to ``problems``."""
     if not isinstance(table, dict):
-        problems.append("gnss_raw: expected a table (rover, base, navigation, base_point, ...)")
+        problems.append(Phrase("gnss_raw: expected a table (rover, base, navigation, base_point, ...)"))
         return None
     before = len(problems)
     for key in table:
         if key not in _KEYS:
-            problems.append(f"gnss_raw.{key}: unknown key (expected {', '.join(_KEYS)})")
+            problems.append(Phrase("gnss_raw.{key}: unknown key (expected {keys})", {"key": key, "keys": list(_KEYS)}))
 
     def file(key: str, required: bool = False) -> str | None:
         value = table.get(key)
         if value is None:
             if required:
-                problems.append(f"gnss_raw.{key}: missing (a file name relative to the survey folder)")
+                problems.append(Phrase("gnss_raw.{key}: missing (a file name relative to the survey folder)", {"key": key}))
             return None
         if not isinstance(value, str) or not value:
-            problems.append(f"gnss_raw.{key}: expected a file name relative to the survey folder, found {value!r}")
+            problems.append(Phrase("gnss_raw.{key}: expected a file name relative to the survey folder, found {value!r}", {"key": key, "value": value}))
             return None
         if not (folder / value).is_file():
-            problems.append(f"gnss_raw.{key}: file not found: {value}")
+            problems.append(Phrase("gnss_raw.{key}: file not found: {value}", {"key": key, "value": value}))
         return value
 
     def files(key: str, required: bool) -> tuple[str, ...]:
@@ -108,42 +110,42 @@ def parse_raw_gnss(folder: Path, table, problems: list[str]) -> RawGnss | None:
         names = []
         for i, name in enumerate(value):
             if not isinstance(name, str) or not name:
-                problems.append(f"gnss_raw.{key}[{i}]: expected a file name, found {name!r}")
+                problems.append(Phrase("gnss_raw.{key}[{i}]: expected a file name, found {name!r}", {"key": key, "i": i, "name": name}))
             elif not (folder / name).is_file():
-                problems.append(f"gnss_raw.{key}[{i}]: file not found: {name}")
+                problems.append(Phrase("gnss_raw.{key}[{i}]: file not found: {name}", {"key": key, "i": i, "name": name}))
             else:
                 names.append(name)
         return tuple(names)
 
     rover, rover_log = file("rover"), file("rover_log")
     if ("rover" in table) == ("rover_log" in table):
-        problems.append("gnss_raw.rover: give either rover (RINEX observations) or rover_log (a receiver log)")
+        problems.append(Phrase("gnss_raw.rover: give either rover (RINEX observations) or rover_log (a receiver log)"))
     log_format = table.get("rover_log_format")
     if log_format is not None and (not isinstance(log_format, str) or "rover_log" not in table):
-        problems.append(f"gnss_raw.rover_log_format: expected a receiver format name with rover_log, "
-                        f"found {log_format!r}")
+        problems.append(Phrase("gnss_raw.rover_log_format: expected a receiver format name with rover_log, "
+                        "found {log_format!r}", {"log_format": log_format}))
     base = file("base", required=True)
     navigation = files("navigation", required=rover_log is None)
     precise = files("precise", required=False)
     antex, config = file("antex"), file("config")
     base_point = table.get("base_point")
     if not isinstance(base_point, str) or not base_point:
-        problems.append(f"gnss_raw.base_point: expected a control point name of the project or "
-                        f"\"{BASE_FROM_RINEX_HEADER}\", found {base_point!r}")
+        problems.append(Phrase("gnss_raw.base_point: expected a control point name of the project or "
+                        "\"{base_from_rinex_header}\", found {base_point!r}", {"base_from_rinex_header": BASE_FROM_RINEX_HEADER, "base_point": base_point}))
     height = table.get("base_antenna_height_m")
     if height is not None and (isinstance(height, bool) or not isinstance(height, (int, float))
                                or not math.isfinite(height) or not -1.0 <= height <= 100.0):
-        problems.append(f"gnss_raw.base_antenna_height_m: expected a height above the mark in metres, found {height!r}")
+        problems.append(Phrase("gnss_raw.base_antenna_height_m: expected a height above the mark in metres, found {height!r}", {"height": height}))
     if base_point == BASE_FROM_RINEX_HEADER and height is not None:
-        problems.append("gnss_raw.base_antenna_height_m: not used with base_point = \"rinex-header\" "
-                        "(the header's ANTENNA: DELTA H applies); remove it or name a control point")
+        problems.append(Phrase("gnss_raw.base_antenna_height_m: not used with base_point = \"rinex-header\" "
+                        "(the header's ANTENNA: DELTA H applies); remove it or name a control point"))
     elif isinstance(base_point, str) and base_point and base_point != BASE_FROM_RINEX_HEADER and height is None:
-        problems.append("gnss_raw.base_antenna_height_m: missing (the base antenna's reference point above "
-                        f"control point {base_point}, metres)")
+        problems.append(Phrase("gnss_raw.base_antenna_height_m: missing (the base antenna's reference point above "
+                        "control point {base_point}, metres)", {"base_point": base_point}))
     antenna_type = table.get("base_antenna_type", "")
     if not isinstance(antenna_type, str) or len(antenna_type) > 20:
-        problems.append(f"gnss_raw.base_antenna_type: expected an ANTEX antenna name (up to 20 characters), "
-                        f"found {antenna_type!r}")
+        problems.append(Phrase("gnss_raw.base_antenna_type: expected an ANTEX antenna name (up to 20 characters), "
+                        "found {antenna_type!r}", {"antenna_type": antenna_type}))
     if len(problems) > before:
         return None
     return RawGnss(base=base, navigation=navigation, base_point=base_point, rover=rover, rover_log=rover_log,

@@ -38,6 +38,7 @@ import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
+from insrail.notices import Phrase
 from insrail.io.types import GAP_FACTOR, Gap
 
 COMMENT_MARKERS = ("#", "%")
@@ -46,8 +47,8 @@ MAX_LINES = 100_000_000
 MAX_QUOTED_CHARS = 24
 _SCAN_BLOCK = 1 << 24
 _NEWLINE = 10
-_BINARY = ("binary data (a NUL byte), not a text file: a disk image, an archive or a file in UTF-16? "
-           "Save text as UTF-8 or ASCII")
+_BINARY = Phrase("binary data (a NUL byte), not a text file: a disk image, an archive or a file in UTF-16? "
+                 "Save text as UTF-8 or ASCII")
 
 _WRITE_CHUNK_ROWS = 20_000
 # latin-1 decodes any byte: numbers are ASCII, and a comment in another 8-bit
@@ -97,7 +98,7 @@ def header_gps_week(path: Path, comments: Sequence[str]) -> int | None:
     try:
         return int(value)
     except ValueError:
-        raise InputError(path, None, f"header gps_week = {value!r}: expected an integer") from None
+        raise InputError(path, None, "header gps_week = {value!r}: expected an integer", fields={"value": value}) from None
 
 
 def quoted(token: str) -> str:
@@ -109,8 +110,9 @@ def quoted(token: str) -> str:
     return f"{len(token)} characters of text (not shown)"
 
 
-def _column_label(col: int, names: Sequence[str]) -> str:
-    return f"column {col + 1} ({names[col]})" if col < len(names) else f"column {col + 1}"
+def _column_label(col: int, names: Sequence[str]) -> Phrase:
+    return (Phrase("column {number} ({name})", {"number": col + 1, "name": names[col]}) if col < len(names)
+            else Phrase("column {number}", {"number": col + 1}))
 
 
 @dataclass(frozen=True)
@@ -135,8 +137,9 @@ def bounded_lines(handle, path: Path) -> Iterator[tuple[int, str]]:
         yield lineno, raw
 
 
-def _too_long() -> str:
-    return f"line longer than the limit of {MAX_LINE_CHARS:,} characters: not a text table of this kind"
+def _too_long() -> Phrase:
+    return Phrase("line longer than the limit of {max_line_chars:,} characters: not a text table of this kind",
+                  {"max_line_chars": MAX_LINE_CHARS})
 
 
 def check_text_file(path: Path, max_lines: int = MAX_LINES, each_block: Callable[[bytes], object] | None = None
@@ -162,8 +165,8 @@ def check_text_file(path: Path, max_lines: int = MAX_LINES, each_block: Callable
                 raise InputError(path, lineno + ends.size, _too_long())
             lineno += ends.size
             if lineno - 1 > max_lines:
-                raise InputError(path, max_lines + 1, f"more than the limit of {max_lines:,} lines: not a "
-                                 "plausible survey file (a 200 Hz IMU records 17 million lines a day)")
+                raise InputError(path, max_lines + 1, "more than the limit of {max_lines:,} lines: not a "
+                                 "plausible survey file (a 200 Hz IMU records 17 million lines a day)", fields={"max_lines": max_lines})
             if each_block is not None:
                 each_block(block)
     return lineno if run else lineno - 1
@@ -226,8 +229,8 @@ class NumericTable:
     def line_of_row(self, row: int) -> int:
         return int(self.line_numbers[row])
 
-    def fail(self, row: int, message: str) -> NoReturn:
-        raise InputError(self.path, self.line_of_row(row), message)
+    def fail(self, row: int, message: str, fields: dict | None = None) -> NoReturn:
+        raise InputError(self.path, self.line_of_row(row), message, fields=fields)
 
     def column(self, col: int) -> np.ndarray:
         return self.values[:, col]
@@ -250,14 +253,14 @@ def _diagnose(path: Path, text: str | None, layout: _Layout, columns: Collection
         allowed = expected if expected is not None else [first_count]
         if len(fields) not in allowed:
             wanted = " or ".join(str(c) for c in allowed)
-            return InputError(path, lineno, f"expected {wanted} columns, found {len(fields)}")
+            return InputError(path, lineno, "expected {wanted} columns, found {count}", fields={"wanted": wanted, "count": len(fields)})
         for col, token in enumerate(fields):
             if not token:
-                return InputError(path, lineno, f"{_column_label(col, names)} is empty")
+                return InputError(path, lineno, "{column} is empty", fields={"column": _column_label(col, names)})
             if not is_number(token):
                 return InputError(path, lineno,
-                                  f"{_column_label(col, names)}: expected a number, found {quoted(token)}")
-    return InputError(path, None, f"could not be parsed as numbers ({parser_message})")
+                                  "{column}: expected a number, found {quoted}", fields={"column": _column_label(col, names), "quoted": quoted(token)})
+    return InputError(path, None, "could not be parsed as numbers ({parser_message})", fields={"parser_message": parser_message})
 
 
 def _load(path: Path, text: str | None, layout: _Layout, comments) -> np.ndarray:
@@ -314,18 +317,18 @@ def read_numeric_table(path: str | Path, *, columns: Collection[int] | None = No
         if values is None:
             values = _load_general(path, text, layout, columns, names)
     except OSError as exc:
-        raise InputError(path, None, f"cannot be read: {exc.strerror or exc}") from None
+        raise InputError(path, None, "cannot be read: {reason}", fields={"reason": exc.strerror or exc}) from None
 
     table = NumericTable(path, values, names, header, layout.comments, layout, text)
     if values.shape[0] == 0:
         raise InputError(path, None, "empty file: no data lines")
     if columns is not None and values.shape[1] not in columns:
         wanted = " or ".join(str(c) for c in sorted(columns))
-        table.fail(0, f"expected {wanted} columns, found {values.shape[1]}")
+        table.fail(0, "expected {wanted} columns, found {shape}", fields={"wanted": wanted, "shape": values.shape[1]})
     finite = np.isfinite(values)
     if not finite.all():
         row, col = np.argwhere(~finite)[0]
-        table.fail(row, f"{_column_label(col, names)} is {values[row, col]}: expected a finite number")
+        table.fail(row, "{column} is {value}: expected a finite number", fields={"column": _column_label(col, names), "value": values[row, col]})
     return table
 
 
@@ -341,9 +344,9 @@ def check_time_order(time_s: np.ndarray, fail, unit: str = "line", where=lambda 
     row = int(bad[0]) + 1
     previous = f"{unit} {where(row - 1)}"
     if step[bad[0]] == 0:
-        fail(row, f"duplicate time stamp {time_s[row]:.6f} (same as {previous})")
-    fail(row, f"time stamp {time_s[row]:.6f} is earlier than {time_s[row - 1]:.6f} on {previous}: "
-              "time stamps must increase")
+        fail(row, "duplicate time stamp {time_s:.6f} (same as {previous})", fields={"time_s": time_s[row], "previous": previous})
+    fail(row, "time stamp {time_s:.6f} is earlier than {time_s2:.6f} on {previous}: "
+              "time stamps must increase", fields={"time_s": time_s[row], "time_s2": time_s[row - 1], "previous": previous})
 
 
 def check_table_time(table: NumericTable, col: int = 0) -> np.ndarray:
@@ -382,20 +385,21 @@ class TokenTable:
     def line_of_row(self, row: int) -> int:
         return self.line_numbers[row]
 
-    def fail(self, row: int, message: str) -> NoReturn:
-        raise InputError(self.path, self.line_numbers[row], message)
+    def fail(self, row: int, message: str, fields: dict | None = None) -> NoReturn:
+        raise InputError(self.path, self.line_numbers[row], message, fields=fields)
 
     def numbers(self, col: int) -> np.ndarray:
         """Column ``col`` as finite floats; rows lacking it are an error."""
         out = np.empty(len(self.rows))
         for i, (row, lineno) in enumerate(zip(self.rows, self.line_numbers)):
-            label = _column_label(col, self.column_names)
             try:
                 value = float(row[col])
             except ValueError:
-                raise InputError(self.path, lineno, f"{label}: expected a number, found {quoted(row[col])}") from None
+                raise InputError(self.path, lineno, "{label}: expected a number, found {quoted}", fields={
+                    "label": _column_label(col, self.column_names), "quoted": quoted(row[col])}) from None
             if not math.isfinite(value):
-                raise InputError(self.path, lineno, f"{label} is {value}: expected a finite number")
+                raise InputError(self.path, lineno, "{label} is {value}: expected a finite number", fields={
+                    "label": _column_label(col, self.column_names), "value": value})
             out[i] = value
         return out
 
@@ -406,7 +410,7 @@ class TokenTable:
         seen: dict[str, int] = {}
         for row, point in enumerate(ids):
             if point in seen:
-                self.fail(row, f"{what} {point!r} appears twice (also on line {self.line_of_row(seen[point])})")
+                self.fail(row, "{what} {point!r} appears twice (also on line {line_of_row})", fields={"what": what, "point": point, "line_of_row": self.line_of_row(seen[point])})
             seen[point] = row
         return ids
 
@@ -436,11 +440,11 @@ def read_token_table(path: str | Path, *, min_columns: int, max_columns: int,
             if not min_columns <= len(fields) <= max_columns:
                 wanted = (f"{min_columns}" if min_columns == max_columns
                           else f"{min_columns} to {max_columns}")
-                raise InputError(path, lineno, f"expected {wanted} columns, found {len(fields)}")
+                raise InputError(path, lineno, "expected {wanted} columns, found {count}", fields={"wanted": wanted, "count": len(fields)})
             rows.append(fields)
             line_numbers.append(lineno)
     except OSError as exc:
-        raise InputError(path, None, f"cannot be read: {exc.strerror or exc}") from None
+        raise InputError(path, None, "cannot be read: {reason}", fields={"reason": exc.strerror or exc}) from None
     if not rows:
         raise InputError(path, None, "empty file: no data lines")
     names = tuple(column_names) or layout.header

@@ -60,21 +60,21 @@ def read_time_tag(path: str | Path) -> TimeTag:
         raise InputError(path, None, "file not found: the record's RTKLIB time tag (<file>.tag) is needed to put "
                          "its logger clock on GPST") from None
     except OSError as exc:
-        raise InputError(path, None, f"cannot be read: {exc.strerror or exc}") from None
+        raise InputError(path, None, "cannot be read: {reason}", fields={"reason": exc.strerror or exc}) from None
     if not data.startswith(MAGIC) or len(data) < _FIXED:
-        raise InputError(path, None, f"not an RTKLIB time tag: expected a {HEADER_BYTES}-byte header starting "
-                         f"{MAGIC.decode()!r} and the start time")
+        raise InputError(path, None, "not an RTKLIB time tag: expected a {header_bytes}-byte header starting "
+                         "{magic!r} and the start time", fields={"header_bytes": HEADER_BYTES, "magic": MAGIC.decode()})
     tick_f = int(np.frombuffer(data, "<u4", 1, HEADER_BYTES)[0])
     start = int(np.frombuffer(data, "<u4", 1, HEADER_BYTES + 4)[0])
     fraction = float(np.frombuffer(data, "<f8", 1, HEADER_BYTES + 8)[0])
     body = data[_FIXED:]
     pairs = _pairs(body, 4) or _pairs(body, 8)
     if pairs is None or not len(pairs[0]):
-        raise InputError(path, None, f"{len(body)} bytes of ticks and file positions after the header: expected pairs "
-                         "of uint32 tick and uint32 (or uint64) file position, both never decreasing")
+        raise InputError(path, None, "{count} bytes of ticks and file positions after the header: expected pairs "
+                         "of uint32 tick and uint32 (or uint64) file position, both never decreasing", fields={"count": len(body)})
     ticks, positions = pairs
     if ticks[0] >= tick_f > 0:
         ticks = ticks - tick_f
     if not (0.0 <= fraction < 1.0):
-        raise InputError(path, None, f"start time fraction {fraction!r}: expected 0 <= fraction < 1")
+        raise InputError(path, None, "start time fraction {fraction!r}: expected 0 <= fraction < 1", fields={"fraction": fraction})
     return TimeTag(path, start, fraction, ticks, positions)

@@ -18,11 +18,11 @@ def read_toml(path: str | Path) -> dict:
     path = Path(path)
     try:
         if path.stat().st_size > MAX_TOML_BYTES:
-            raise InputError(path, None, f"larger than the limit of {MAX_TOML_BYTES >> 20} MiB for a settings file")
+            raise InputError(path, None, "larger than the limit of {limit_mib} MiB for a settings file", fields={"limit_mib": MAX_TOML_BYTES >> 20})
         return tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         # tomllib says "... (at line 7, column 3)"; lift the line into the error's place.
         match = re.search(r"\(at line (\d+), column \d+\)", str(exc))
-        raise InputError(path, int(match.group(1)) if match else None, f"not valid TOML: {exc}") from None
+        raise InputError(path, int(match.group(1)) if match else None, "not valid TOML: {exc}", fields={"exc": exc}) from None
     except UnicodeDecodeError as exc:
-        raise InputError(path, None, f"not UTF-8 text: {exc}") from None
+        raise InputError(path, None, "not UTF-8 text: {exc}", fields={"exc": exc}) from None

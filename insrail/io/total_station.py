@@ -48,15 +48,15 @@ def read_total_station_polar(path: str | Path, angle_unit: str = "gon") -> Total
     for name, values, low, high in (("Hz", hz, 0.0, full_circle), ("V", zenith, 0.0, full_circle / 2)):
         bad = np.flatnonzero((values < low) | (values >= high) if name == "Hz" else (values <= low) | (values >= high))
         if bad.size:
-            table.fail(bad[0], f"{name} = {values[bad[0]]} {angle_unit} is outside {low:g}..{high:g} {angle_unit}")
+            table.fail(bad[0], "{name} = {value} {angle_unit} is outside {low:g}..{high:g} {angle_unit}", fields={"name": name, "value": values[bad[0]], "angle_unit": angle_unit, "low": low, "high": high})
     bad = np.flatnonzero(~(slope > 0))
     if bad.size:
-        table.fail(bad[0], f"slope distance D = {slope[bad[0]]} m: expected a positive distance")
+        table.fail(bad[0], "slope distance D = {slope} m: expected a positive distance", fields={"slope": slope[bad[0]]})
     setup, target = table.texts(0), table.texts(1)
     prism = np.flatnonzero(target == PRISM_TARGET)
     if prism.size and np.any(np.diff(time_s[prism]) <= 0):
         row = prism[1:][np.diff(time_s[prism]) <= 0][0]
-        table.fail(row, f"prism time {time_s[row]} s is not after the previous prism pointing's: times must increase")
+        table.fail(row, "prism time {time_s} s is not after the previous prism pointing's: times must increase", fields={"time_s": time_s[row]})
     return TotalStationObservations(setup=setup, target=target, time_s=time_s, hz_rad=hz * unit,
                                     zenith_rad=zenith * unit, slope_m=slope,
                                     line=np.array([table.line_of_row(k) for k in range(len(setup))]),
@@ -82,7 +82,7 @@ def read_cpiii_enh(path: str | Path) -> ControlPoints:
     seen: dict[str, int] = {}
     for row, point in enumerate(ids):
         if point in seen:
-            table.fail(row, f"point {point} is given twice (first on line {table.line_of_row(seen[point])})")
+            table.fail(row, "point {point} is given twice (first on line {line_of_row})", fields={"point": point, "line_of_row": table.line_of_row(seen[point])})
         seen[point] = row
     return ControlPoints(point_id=ids, east_m=table.numbers(1), north_m=table.numbers(2), height_m=table.numbers(3),
                          source=table.path)

@@ -30,8 +30,8 @@ def read_gauge_mm(path: str | Path) -> GaugeData:
     time_s = check_table_time(table)
     gauge_mm = table.values[:, 1]
     if np.median(gauge_mm) < _MIN_PLAUSIBLE_GAUGE_MM:
-        raise InputError(table.path, None, f"median gauge {np.median(gauge_mm):g} mm is implausible: "
-                         "expected millimetres (is the file in metres?)")
+        raise InputError(table.path, None, "median gauge {median:g} mm is implausible: "
+                         "expected millimetres (is the file in metres?)", fields={"median": np.median(gauge_mm)})
     return GaugeData(time_s=time_s.copy(), gauge_m=gauge_mm / 1000.0, gaps=find_gaps(time_s),
                      source=table.path)
 
@@ -88,12 +88,12 @@ def read_gauge_volts(path: str | Path, k_mm_per_v: float | None = None, b_mm: fl
         low, high = TEMPERATURE_RANGE_C
         outside = np.flatnonzero((temperature_c < low) | (temperature_c > high))
         if len(outside):
-            table.fail(int(outside[0]), f"temperature {temperature_c[outside[0]]:g}: expected degrees Celsius, "
-                       f"{low:g} .. {high:g}")
+            table.fail(int(outside[0]), "temperature {temperature_c:g}: expected degrees Celsius, "
+                       "{low:g} .. {high:g}", fields={"temperature_c": temperature_c[outside[0]], "low": low, "high": high})
         gauge_mm = gauge_mm + temperature_coefficient_mm_per_c * (temperature_c - calibration_temperature_c)
     if np.median(gauge_mm) < _MIN_PLAUSIBLE_GAUGE_MM:
-        raise InputError(table.path, None, f"the calibration gives a median gauge of {np.median(gauge_mm):g} mm: "
-                         "expected millimetres (k_mm_per_v in mm/V and b_mm in mm)")
+        raise InputError(table.path, None, "the calibration gives a median gauge of {median:g} mm: "
+                         "expected millimetres (k_mm_per_v in mm/V and b_mm in mm)", fields={"median": np.median(gauge_mm)})
     return GaugeData(time_s=time_s.copy(), gauge_m=gauge_mm / 1000.0, gaps=find_gaps(time_s), source=table.path)
 
 

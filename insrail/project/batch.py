@@ -121,9 +121,9 @@ def dask_security(config_file: str | Path):
     try:
         document = yaml.safe_load(path.read_text(encoding="utf-8"))
     except OSError as err:
-        raise InputError(path, None, f"cannot read the Dask security settings: {err.strerror}") from None
+        raise InputError(path, None, "cannot read the Dask security settings: {strerror}", fields={"strerror": err.strerror}) from None
     except yaml.YAMLError as err:
-        raise InputError(path, None, f"not a Dask YAML configuration file: {err}") from None
+        raise InputError(path, None, "not a Dask YAML configuration file: {err}", fields={"err": err}) from None
     if not isinstance(document, dict) or not isinstance(document.get("distributed", {}).get("comm"), dict):
         raise InputError(path, None, "expected Dask settings under distributed.comm (tls: ca-file, client: cert, "
                          "key; require-encryption)")
@@ -131,7 +131,7 @@ def dask_security(config_file: str | Path):
     for key, value in (("ca-file", tls.get("ca-file")), ("client.cert", (tls.get("client") or {}).get("cert")),
                        ("client.key", (tls.get("client") or {}).get("key"))):
         if isinstance(value, str) and "-----BEGIN" not in value and not Path(value).expanduser().is_file():
-            raise InputError(path, None, f"distributed.comm.tls.{key}: file not found: {value}")
+            raise InputError(path, None, "distributed.comm.tls.{key}: file not found: {file}", fields={"key": key, "file": value})
     with dask.config.set(_dotted(document)):  # key by key: Dask's other defaults stay
         return Security()
 

@@ -244,14 +244,14 @@ def check_sleeper_match(pulses: SleeperPulses | None, odometer: OdometerData, sl
     clearly_shifted = abs(offsets[best]) > 1.0 and scores[best] - match > 0.1
     if match >= MIN_SLEEPER_MATCH and not clearly_shifted:
         return
-    hint = (f"; shifted by {offsets[best]:+.1f} s they would match ({100 * scores[best]:.0f} %): a file on another "
-            "time scale" if scores[best] >= MIN_SLEEPER_MATCH else
-            ": a file of another survey or run, or a detector that misses or doubles pulses")
+    hint = (Phrase("; shifted by {shift_s:+.1f} s they would match ({score_pct:.0f} %): a file on another time scale",
+                   {"shift_s": offsets[best], "score_pct": 100 * scores[best]}) if scores[best] >= MIN_SLEEPER_MATCH else
+            Phrase(": a file of another survey or run, or a detector that misses or doubles pulses"))
     path = pulses.source or Path(sleepers_label)
-    raise InputError(path, None, f"{read_as(sleepers_label)}only {100 * match:.0f} % of consecutive sleeper pulses lie one "
-                     f"sleeper spacing ({spacing:.3f} m, the median) apart along the odometer distance "
-                     f"({odometer_label}); expected at least {100 * MIN_SLEEPER_MATCH:.0f} % and no better match "
-                     f"at another time{hint}")
+    raise InputError(path, None, "{read_as}only {match_pct:.0f} % of consecutive sleeper pulses lie one "
+                     "sleeper spacing ({spacing:.3f} m, the median) apart along the odometer distance "
+                     "({odometer_label}); expected at least {min_match_pct:.0f} % and no better match "
+                     "at another time{hint}", fields={"read_as": read_as(sleepers_label), "match_pct": 100 * match, "spacing": spacing, "odometer_label": odometer_label, "min_match_pct": 100 * MIN_SLEEPER_MATCH, "hint": hint})
 
 
 def estimate_sleeper_odometer_offset(pulses: SleeperPulses, odometer: OdometerData
@@ -319,12 +319,12 @@ def clock_offsets(survey: SurveyData) -> tuple[list[ClockOffset], float]:
     return [offset for offset in found if offset.sigma_s <= MAX_SIGMA_S], scatter
 
 
-def _cause(offset_s: float, role: str) -> str:
+def _cause(offset_s: float, role: str) -> Phrase:
     seconds = abs(offset_s)
     if role == "gnss" and round(seconds) in GPS_MINUS_UTC_S and abs(seconds - round(seconds)) < 0.3:
-        return (f"{round(seconds)} s is GPS - UTC (leap seconds): GNSS times in UTC read as GPST (an RTKLIB .pos "
-                "written in UTC, or without its header)")
-    return "the loggers' clocks are not synchronised, or a file of another survey"
+        return Phrase("{leap_s} s is GPS - UTC (leap seconds): GNSS times in UTC read as GPST (an RTKLIB .pos "
+                      "written in UTC, or without its header)", {"leap_s": round(seconds)})
+    return Phrase("the loggers' clocks are not synchronised, or a file of another survey")
 
 
 def check_clocks(survey: SurveyData, labels: dict[str, str]) -> list[Notice]:
@@ -376,12 +376,15 @@ def check_clocks(survey: SurveyData, labels: dict[str, str]) -> list[Notice]:
                                   "sensor's latency", file=str(path),
                                   fields={"label": label, "text": text, "offset_s": given + seconds, "role": role}))
             continue
-        remedy = (f"if it is the sensor's known latency, give time_offset_s = {given + seconds:.2f} in [files.{role}] "
-                  f"of survey.toml" if role != "imu" else "the IMU's clock is the reference the others are put on")
-        problems.append(InputError(path, None, f"{read_as(label)}{text}; an offset of {MAX_OFFSET_S:g} s or more "
-                                   f"is refused: likely {_cause(seconds, role)}; {remedy}"))
+        remedy = (Phrase("if it is the sensor's known latency, give time_offset_s = {offset_s:.2f} in [files.{role}] "
+                         "of survey.toml", {"offset_s": given + seconds, "role": role}) if role != "imu"
+                  else Phrase("the IMU's clock is the reference the others are put on"))
+        problems.append(InputError(path, None, "{read_as}{text}; an offset of {max_offset_s:g} s or more "
+                                   "is refused: likely {cause}; {remedy}", fields={"read_as": read_as(label), "text": text, "max_offset_s": MAX_OFFSET_S, "cause": _cause(seconds, role), "remedy": remedy}))
     if len(problems) == 1:
         raise problems[0]
     if problems:
-        raise ManifestError(survey.folder / MANIFEST_NAME, [str(problem) for problem in problems])
+        raise ManifestError(survey.folder / MANIFEST_NAME, [Phrase("{file}: {message}", {"file": str(problem.path),
+                                                                                        "message": problem.phrase})
+                                                            for problem in problems])
     return notices

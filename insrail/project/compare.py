@@ -156,7 +156,7 @@ def load_repeatability(project_folder: Path) -> StoredRepeatability | None:
         reference, compared = summary["reference"], tuple(summary["compared"])
         statistics = summary["parameters"]
     except (tomllib.TOMLDecodeError, KeyError, TypeError) as error:
-        raise InputError(summary_path, None, f"not a repeatability summary written by insrail compare ({error})") from None
+        raise InputError(summary_path, None, "not a repeatability summary written by insrail compare ({error})", fields={"error": error}) from None
     if not csv_path.is_file():
         raise InputError(csv_path, None, "missing: run insrail compare again")
     with open(csv_path, newline="", encoding="utf-8") as handle:
@@ -166,7 +166,7 @@ def load_repeatability(project_folder: Path) -> StoredRepeatability | None:
         values = np.array([[float(v) if v else np.nan for i, v in enumerate(row) if i != 1] for row in body],
                           dtype=float).reshape(len(body), len(header) - 1)
     except ValueError as error:
-        raise InputError(csv_path, None, f"expected numbers after the label column ({error})") from None
+        raise InputError(csv_path, None, "expected numbers after the label column ({error})", fields={"error": error}) from None
     column = {name: i for i, name in enumerate(header[:1] + header[2:])}
     difference = {}
     for parameter in statistics:
@@ -174,7 +174,7 @@ def load_repeatability(project_folder: Path) -> StoredRepeatability | None:
         keys = [f"{run}_minus_{reference}_{name}" for run in compared]
         missing = [k for k in keys if k not in column]
         if missing:
-            raise InputError(csv_path, 1, f"no column {missing[0]!r} although repeatability.toml lists {parameter!r}")
+            raise InputError(csv_path, 1, "no column {missing!r} although repeatability.toml lists {parameter!r}", fields={"missing": missing[0], "parameter": parameter})
         difference[name] = np.array([values[:, column[k]] for k in keys])
     return StoredRepeatability(reference, compared, values[:, 0], tuple(row[1] for row in body), difference,
                                statistics, summary_path.stat().st_mtime)

@@ -67,37 +67,37 @@ class ResolvedPoint:
 def parse_control_points(table: Any, key_path: str, problems: list[str]) -> tuple[ControlPoint, ...]:
     """Validate ``[<key_path>.<name>]`` tables; every problem with its key path goes to ``problems``."""
     if not isinstance(table, dict):
-        problems.append(f"{key_path}: expected tables [{key_path}.<name>]")
+        problems.append(Phrase("{key_path}: expected tables [{key_path}.<name>]", {"key_path": key_path}))
         return ()
     points = []
     for name, entry in table.items():
         key = f"{key_path}.{name}"
         if not isinstance(entry, dict):
-            problems.append(f"{key}: expected a table with {', '.join(GEODETIC_KEYS)} or {', '.join(ENGINEERING_KEYS)}")
+            problems.append(Phrase("{key}: expected a table with {geodetic_keys} or {engineering_keys}", {"key": key, "geodetic_keys": list(GEODETIC_KEYS), "engineering_keys": list(ENGINEERING_KEYS)}))
             continue
         unknown = [k for k in entry if k not in GEODETIC_KEYS + ENGINEERING_KEYS]
         for k in unknown:
-            problems.append(f"{key}.{k}: unknown key (expected {', '.join(GEODETIC_KEYS)} or "
-                            f"{', '.join(ENGINEERING_KEYS)})")
+            problems.append(Phrase("{key}.{k}: unknown key (expected {geodetic_keys} or "
+                            "{engineering_keys})", {"key": key, "k": k, "geodetic_keys": list(GEODETIC_KEYS), "engineering_keys": list(ENGINEERING_KEYS)}))
         kinds = [keys for keys in (GEODETIC_KEYS, ENGINEERING_KEYS) if any(k in entry for k in keys)]
         if len(kinds) != 1:
-            problems.append(f"{key}: give either {', '.join(GEODETIC_KEYS)} (geodetic) or "
-                            f"{', '.join(ENGINEERING_KEYS)} (engineering system)")
+            problems.append(Phrase("{key}: give either {geodetic_keys} (geodetic) or "
+                            "{engineering_keys} (engineering system)", {"key": key, "geodetic_keys": list(GEODETIC_KEYS), "engineering_keys": list(ENGINEERING_KEYS)}))
             continue
         keys = kinds[0]
         values = []
         for k in keys:
             value = entry.get(k)
             if value is None:
-                problems.append(f"{key}.{k}: missing")
+                problems.append(Phrase("{key}.{k}: missing", {"key": key, "k": k}))
             elif isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-                problems.append(f"{key}.{k}: expected a number, found {value!r}")
+                problems.append(Phrase("{key}.{k}: expected a number, found {value!r}", {"key": key, "k": k, "value": value}))
             else:
                 values.append(float(value))
         if len(values) != 3:
             continue
         if keys is GEODETIC_KEYS and not (abs(values[0]) <= 90.0 and abs(values[1]) <= 180.0):
-            problems.append(f"{key}: latitude {values[0]} / longitude {values[1]} out of range (degrees)")
+            problems.append(Phrase("{key}: latitude {lat} / longitude {lon} out of range (degrees)", {"key": key, "lat": values[0], "lon": values[1]}))
             continue
         point = ControlPoint(name, geodetic=tuple(values)) if keys is GEODETIC_KEYS else ControlPoint(
             name, engineering=tuple(values))

@@ -123,7 +123,7 @@ def check_against(results: StoredResults, reference: ReferencePoints, rail: str,
     order = np.argsort(station, kind="stable")
     station, points = station[order], points[order]
     if len(station) < 2:
-        raise InputError(results.folder, None, f"fewer than two valid sleepers with the {rail} rail: nothing to compare")
+        raise InputError(results.folder, None, "fewer than two valid sleepers with the {rail} rail: nothing to compare", fields={"rail": rail})
     at = reference.chainage_m
     upper = np.clip(np.searchsorted(station, at, side="left"), 1, max(len(station) - 1, 1))
     lower = upper - 1

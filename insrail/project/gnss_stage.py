@@ -118,9 +118,9 @@ def _base_position(project: Project, folder: Path, raw: RawGnss) -> tuple[BasePo
     point = project.control_point(raw.base_point)
     if point is None:
         known = ", ".join(p.name for p in project.control_points) or "none"
-        raise InputError(folder / MANIFEST_NAME, None, f"gnss_raw.base_point: unknown control point "
-                         f"{raw.base_point!r}: not in the project's [geodesy.control_points] (known: {known}); "
-                         "or write base_point = \"rinex-header\" for the approximate header position")
+        raise InputError(folder / MANIFEST_NAME, None, "gnss_raw.base_point: unknown control point "
+                         "{base_point!r}: not in the project's [geodesy.control_points] (known: {known}); "
+                         "or write base_point = \"rinex-header\" for the approximate header position", fields={"base_point": raw.base_point, "known": known})
     from insrail.project.pipeline import fit_heights  # the pipeline imports this module
 
     resolved = resolve_control_point(point, project.crs, fit_heights(project))

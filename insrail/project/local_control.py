@@ -38,7 +38,7 @@ from insrail.geodesy.similarity import (
     fit_helmert_7,
     fit_similarity_2d,
 )
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 
 MODELS = ("4-parameter", "7-parameter")
 ENGINEERING = ("east_m", "north_m", "height_m")
@@ -187,35 +187,35 @@ def parse_local_control(table: Any, key_path: str, problems: list[str]) -> Local
     if table is None:
         return None
     if not isinstance(table, dict):
-        problems.append(f"{key_path}: expected a table with model and points")
+        problems.append(Phrase("{key_path}: expected a table with model and points", {"key_path": key_path}))
         return None
     unknown = sorted(set(table) - {"model", "points"})
     problems.extend(f"{key_path}.{key}: unknown key (expected model, points)" for key in unknown)
     model = table.get("model", "4-parameter")
     if model not in MODELS:
-        problems.append(f"{key_path}.model: expected one of {', '.join(MODELS)}, found {model!r}")
+        problems.append(Phrase("{key_path}.model: expected one of {models}, found {model!r}", {"key_path": key_path, "models": list(MODELS), "model": model}))
         return None
     raw = table.get("points")
     if not isinstance(raw, dict) or not raw:
-        problems.append(f"{key_path}.points: expected [{key_path}.points.<name>] tables, one per common point")
+        problems.append(Phrase("{key_path}.points: expected [{key_path}.points.<name>] tables, one per common point", {"key_path": key_path}))
         return None
     points, before = [], len(problems)
     for name, entry in raw.items():
         where = f"{key_path}.points.{name}"
         if not isinstance(entry, dict):
-            problems.append(f"{where}: expected a table of {', '.join(ENGINEERING + LOCAL)}")
+            problems.append(Phrase("{where}: expected a table of {keys}", {"where": where, "keys": list(ENGINEERING + LOCAL)}))
             continue
         required = ENGINEERING + LOCAL[:2] + ((LOCAL[2],) if model == "7-parameter" else ())
         missing = [k for k in required if k not in entry]
         unknown = sorted(set(entry) - set(ENGINEERING + LOCAL))
         if missing:
-            problems.append(f"{where}: missing {', '.join(missing)}")
+            problems.append(Phrase("{where}: missing {missing}", {"where": where, "missing": list(missing)}))
         problems.extend(f"{where}.{k}: unknown key (expected {', '.join(ENGINEERING + LOCAL)})" for k in unknown)
         values = {}
         for key in ENGINEERING + LOCAL:
             value = entry.get(key, math.nan)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or (key in entry and not math.isfinite(value)):
-                problems.append(f"{where}.{key}: expected a number of metres, found {value!r}")
+                problems.append(Phrase("{where}.{key}: expected a number of metres, found {value!r}", {"where": where, "key": key, "value": value}))
                 value = math.nan
             values[key] = float(value)
         points.append(LocalPoint(name, tuple(values[k] for k in ENGINEERING), tuple(values[k] for k in LOCAL)))
@@ -223,12 +223,12 @@ def parse_local_control(table: Any, key_path: str, problems: list[str]) -> Local
         return None
     heights = [math.isnan(p.local_enh_m[2]) for p in points]
     if any(heights) and not all(heights):
-        problems.append(f"{key_path}.points: local_height_m is given for some points only (all or none)")
+        problems.append(Phrase("{key_path}.points: local_height_m is given for some points only (all or none)", {"key_path": key_path}))
         return None
     control = LocalControl(model, tuple(points))
     try:
         fit_local(control)
     except FitError as error:
-        problems.append(f"{key_path}: {error}")
+        problems.append(Phrase("{key_path}: {error}", {"key_path": key_path, "error": error}))
         return None
     return control

@@ -69,11 +69,12 @@ from insrail.geodesy.errors import GeoidGridError, SettingsError
 from insrail.geodesy.geoid import GeoidGrid
 from insrail.geodesy.height_anomaly import HeightAnomalySettings
 from insrail.io.atomic import atomic_write
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, ProblemsError
 from insrail.io.events import read_events
 from insrail.io.survey import MANIFEST_NAME, SurveyManifest, TrolleyGeometry, parse_trolley, read_manifest
 from insrail.io.tomlfile import read_toml
 from insrail.names import DEFAULT_LANGUAGE, LANGUAGES
+from insrail.notices import Phrase
 from insrail.nav.fusion import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.project.control_points import ControlPoint, parse_control_points
@@ -105,13 +106,8 @@ PAPER_SIZES = ("A3", "A4")
 _SURVEY_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")  # used as a results folder name
 
 
-class ProjectError(InputError):
+class ProjectError(ProblemsError):
     """``project.toml`` has problems; ``problems`` lists every one, each starting with its key path."""
-
-    def __init__(self, path: str | Path, problems: list[str]):
-        self.problems = tuple(problems)
-        count = len(self.problems)
-        super().__init__(path, None, f"{count} problem{'s' if count != 1 else ''}:\n  " + "\n  ".join(self.problems))
 
 
 @dataclass(frozen=True)
@@ -299,7 +295,7 @@ class Project:
         problems: list[str] = []
         trolley = parse_trolley(self.trolley_settings, set() if roles is None else roles, problems)
         if roles is not None and problems:
-            raise InputError(self.path, None, "; ".join(problems))
+            raise InputError(self.path, None, "; ".join(map(str, problems)))
         return trolley
 
     def to_settings(self) -> dict[str, Any]:
@@ -399,7 +395,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     reader = _Reader(Path(folder))
     for key in document:
         if key not in _TOP_LEVEL:
-            reader.add(key, f"unknown table (expected {', '.join(_TOP_LEVEL)})")
+            reader.add(key, Phrase("unknown table (expected {tables})", {"tables": list(_TOP_LEVEL)}))
     meta = reader.table(document, "project")
     reader.known(meta, "project", ("name", "description"))
     name = reader.text(meta, "project.name", Path(folder).resolve().name)
@@ -409,7 +405,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
     reader.known(geodesy, "geodesy", ("crs", "height", "control_points", "local"))
     crs = None
     if "crs" not in geodesy:
-        reader.add("geodesy.crs", "missing table (the engineering coordinate system)")
+        reader.add("geodesy.crs", Phrase("missing table (the engineering coordinate system)"))
     else:
         try:
             crs = EngineeringCRS.from_settings(geodesy["crs"], "geodesy.crs")
@@ -436,7 +432,7 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
             if isinstance(processing[key], bool):
                 options[key] = processing[key]
             else:
-                reader.add(f"processing.{key}", f"expected true or false, found {processing[key]!r}")
+                reader.add(f"processing.{key}", Phrase("expected true or false, found {processing!r}", {"processing": processing[key]}))
     for key in FUSION_NUMBERS:
         if key in processing:
             value = reader.number(processing, f"processing.{key}", positive=True)
@@ -456,17 +452,18 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
         _check_design(reader, design)
     start_station = reader.number(track, "track.start_station_m") if "start_station_m" in track else None
     if design is None and "design" not in track and "start_station_m" not in track:
-        reader.add("track.start_station_m", "missing: without a design alignment the start station is needed")
+        reader.add("track.start_station_m", Phrase("missing: without a design alignment the start station is needed"))
     stationing = track.get("stationing_direction", WITH_TRAVEL)
     if stationing != WITH_TRAVEL:
         if "stationing_direction" in track and reader.number(track, "track.stationing_direction") is None:
             stationing = WITH_TRAVEL
-            reader.problems[-1] += f' or "{WITH_TRAVEL}"'
+            reader.problems[-1] = Phrase('{problem} or "{with_travel}"', {"problem": reader.problems[-1],
+                                                                        "with_travel": WITH_TRAVEL})
         else:
             stationing = float(stationing)
     first_number = track.get("first_sleeper_number", 1)
     if not isinstance(first_number, int) or isinstance(first_number, bool):
-        reader.add("track.first_sleeper_number", f"expected a whole number, found {first_number!r}")
+        reader.add("track.first_sleeper_number", Phrase("expected a whole number, found {first_number!r}", {"first_number": first_number}))
     tolerance = reader.loadable(track, "track.tolerance_profile", load_tolerance_profile, DEFAULT_PROFILE)
     fastener = reader.loadable(track, "track.fastener", load_fastener_type, DEFAULT_FASTENER)
 
@@ -491,46 +488,46 @@ def project_from_settings(document: dict, folder: Path, path: Path | None = None
 def _sections(reader: _Reader, table, surveys: tuple[SurveyEntry, ...]) -> tuple[SectionEntry, ...]:
     """``[[sections]]``: name, surveys (of this project), optional from_m/to_m, overlap = "best" | "mean"."""
     if not isinstance(table, list):
-        reader.add("sections", "expected [[sections]] entries with name and surveys")
+        reader.add("sections", Phrase("expected [[sections]] entries with name and surveys"))
         return ()
     known = {s.name for s in surveys}
     entries, seen = [], set()
     for i, entry in enumerate(table):
         key = f"sections[{i}]"
         if not isinstance(entry, dict):
-            reader.add(key, "expected a table with name and surveys")
+            reader.add(key, Phrase("expected a table with name and surveys"))
             continue
         reader.known(entry, key, ("name", "surveys", "from_m", "to_m", "overlap"))
         name, runs = entry.get("name"), entry.get("surveys")
         ok = True
         if not isinstance(name, str) or not _SURVEY_NAME.match(name):
-            reader.add(f"{key}.name", f"expected a name of letters, digits, '.', '_' or '-', found {name!r}")
+            reader.add(f"{key}.name", Phrase("expected a name of letters, digits, '.', '_' or '-', found {name!r}", {"name": name}))
             ok = False
         elif name in known or name in seen:
-            reader.add(f"{key}.name", f"{name!r} is already the name of a {'survey' if name in known else 'section'} "
-                                      "(both name a results folder)")
+            reader.add(f"{key}.name", Phrase("{name!r} is already the name of a {kind} "
+                                      "(both name a results folder)", {"name": name, "kind": 'survey' if name in known else 'section'}))
             ok = False
         seen.add(name)
         if not isinstance(runs, list) or not runs or not all(isinstance(r, str) for r in runs):
-            reader.add(f"{key}.surveys", "expected a list of the project's survey names")
+            reader.add(f"{key}.surveys", Phrase("expected a list of the project's survey names"))
             ok = False
         else:
             for run in runs:
                 if run not in known:
-                    reader.add(f"{key}.surveys", f"no survey named {run!r} (surveys: {', '.join(sorted(known))})")
+                    reader.add(f"{key}.surveys", Phrase("no survey named {run!r} (surveys: {known})", {"run": run, "known": sorted(known)}))
                     ok = False
             if len(set(runs)) != len(runs):
-                reader.add(f"{key}.surveys", "a survey is named twice")
+                reader.add(f"{key}.surveys", Phrase("a survey is named twice"))
                 ok = False
         bounds = {k: reader.number(entry, f"{key}.{k}") for k in ("from_m", "to_m") if k in entry}
         if None in bounds.values():
             ok = False
         elif len(bounds) == 2 and not bounds["from_m"] < bounds["to_m"]:
-            reader.add(key, f"from_m ({bounds['from_m']}) must be below to_m ({bounds['to_m']})")
+            reader.add(key, Phrase("from_m ({bounds}) must be below to_m ({bounds2})", {"bounds": bounds['from_m'], "bounds2": bounds['to_m']}))
             ok = False
         overlap = entry.get("overlap", "best")
         if overlap not in OVERLAP_RULES:
-            reader.add(f"{key}.overlap", f"expected one of {', '.join(OVERLAP_RULES)}, found {overlap!r}")
+            reader.add(f"{key}.overlap", Phrase("expected one of {overlap_rules}, found {overlap!r}", {"overlap_rules": list(OVERLAP_RULES), "overlap": overlap}))
             ok = False
         if ok:
             entries.append(SectionEntry(name, tuple(runs), bounds.get("from_m"), bounds.get("to_m"), overlap))
@@ -541,11 +538,11 @@ def _adjustment(reader: _Reader, table: dict) -> AdjustmentSettings:
     reader.known(table, "adjustment", tuple(f.name for f in fields(AdjustmentSettings)))
     strategy = table.get("strategy", DEFAULT_STRATEGY)
     if strategy not in STRATEGIES:
-        reader.add("adjustment.strategy", f"expected {' or '.join(repr(s) for s in STRATEGIES)}, found {strategy!r}")
+        reader.add("adjustment.strategy", Phrase("expected {strategies}, found {strategy!r}", {"strategies": ' or '.join(repr(s) for s in STRATEGIES), "strategy": strategy}))
         strategy = DEFAULT_STRATEGY
     threshold = reader.number(table, "adjustment.threshold_mm", positive=True) if "threshold_mm" in table else None
     if threshold is not None and threshold > MAX_THRESHOLD_MM:
-        reader.add("adjustment.threshold_mm", f"expected at most {MAX_THRESHOLD_MM:g} mm, found {threshold:g}")
+        reader.add("adjustment.threshold_mm", Phrase("expected at most {max_threshold_mm:g} mm, found {threshold:g}", {"max_threshold_mm": MAX_THRESHOLD_MM, "threshold": threshold}))
         threshold = None
     return AdjustmentSettings(strategy=strategy, threshold_mm=threshold)
 
@@ -558,41 +555,41 @@ def _redesign(reader: _Reader, table: dict) -> RedesignTable:
             if isinstance(table[key], bool):
                 values[key] = table[key]
             else:
-                reader.add(f"redesign.{key}", f"expected true or false, found {table[key]!r}")
+                reader.add(f"redesign.{key}", Phrase("expected true or false, found {table!r}", {"table": table[key]}))
     for key in ("min_lift_mm", "max_lift_mm", "max_slew_mm", "margin_mm"):
         if key in table:
             value = reader.number(table, f"redesign.{key}")
             if value is not None and value < 0:
-                reader.add(f"redesign.{key}", f"expected a distance of 0 mm or more, found {value:g}")
+                reader.add(f"redesign.{key}", Phrase("expected a distance of 0 mm or more, found {value:g}", {"value": value}))
             elif value is not None:
                 values[key] = value
     settings = RedesignTable(**values)
     if settings.min_lift_mm > settings.max_lift_mm:
-        reader.add("redesign.min_lift_mm", f"{settings.min_lift_mm:g} mm is more than max_lift_mm "
-                                           f"({settings.max_lift_mm:g} mm)")
+        reader.add("redesign.min_lift_mm", Phrase("{min_lift_mm:g} mm is more than max_lift_mm "
+                                           "({max_lift_mm:g} mm)", {"min_lift_mm": settings.min_lift_mm, "max_lift_mm": settings.max_lift_mm}))
     entries = table.get("fixed", [])
     if not isinstance(entries, list):
-        reader.add("redesign.fixed", "expected [[redesign.fixed]] entries with from_m and to_m")
+        reader.add("redesign.fixed", Phrase("expected [[redesign.fixed]] entries with from_m and to_m"))
         entries = []
     fixed = []
     for i, entry in enumerate(entries):
         key = f"redesign.fixed[{i}]"
         if not isinstance(entry, dict):
-            reader.add(key, "expected a table with from_m, to_m and optionally tolerance_mm")
+            reader.add(key, Phrase("expected a table with from_m, to_m and optionally tolerance_mm"))
             continue
         reader.known(entry, key, ("from_m", "to_m", "tolerance_mm"))
         missing = [k for k in ("from_m", "to_m") if k not in entry]
         if missing:
-            reader.add(key, f"missing {' and '.join(missing)}")
+            reader.add(key, Phrase("missing {keys}", {"keys": ' and '.join(missing)}))
             continue
         start, end = reader.number(entry, f"{key}.from_m"), reader.number(entry, f"{key}.to_m")
         tolerance = reader.number(entry, f"{key}.tolerance_mm") if "tolerance_mm" in entry else 0.0
         if None in (start, end, tolerance):
             continue
         if not start < end:
-            reader.add(key, f"from_m ({start:g}) must be below to_m ({end:g})")
+            reader.add(key, Phrase("from_m ({start:g}) must be below to_m ({end:g})", {"start": start, "end": end}))
         elif tolerance < 0:
-            reader.add(f"{key}.tolerance_mm", f"expected 0 mm or more, found {tolerance:g}")
+            reader.add(f"{key}.tolerance_mm", Phrase("expected 0 mm or more, found {tolerance:g}", {"tolerance": tolerance}))
         else:
             fixed.append(FixedTable(start, end, tolerance))
     return replace(settings, fixed=tuple(fixed))
@@ -611,21 +608,21 @@ def _report(reader: _Reader, table: dict) -> ReportSettings:
             try:
                 value = datetime.date.fromisoformat(value)
             except ValueError:
-                reader.add(f"report.{key}", f"expected a date like 2026-03-14, found {value!r}")
+                reader.add(f"report.{key}", Phrase("expected a date like 2026-03-14, found {value!r}", {"value": value}))
                 value = None
         elif isinstance(value, datetime.datetime):
             value = value.date()
         elif value is not None and not isinstance(value, datetime.date):
-            reader.add(f"report.{key}", f"expected a date like 2026-03-14, found {value!r}")
+            reader.add(f"report.{key}", Phrase("expected a date like 2026-03-14, found {value!r}", {"value": value}))
             value = None
         values[key] = value
     paper = table.get("paper", "A3")
     if paper not in PAPER_SIZES:
-        reader.add("report.paper", f"expected one of {', '.join(PAPER_SIZES)}, found {paper!r}")
+        reader.add("report.paper", Phrase("expected one of {paper_sizes}, found {paper!r}", {"paper_sizes": list(PAPER_SIZES), "paper": paper}))
         paper = "A3"
     language = table.get("language", DEFAULT_LANGUAGE)
     if language not in LANGUAGES:
-        reader.add("report.language", f"expected one of {', '.join(map(repr, LANGUAGES))}, found {language!r}")
+        reader.add("report.language", Phrase("expected one of {languages}, found {language!r}", {"languages": list(map(repr, LANGUAGES)), "language": language}))
         language = DEFAULT_LANGUAGE
     return ReportSettings(**values, paper=paper, language=language)
 
@@ -642,14 +639,14 @@ def _line_speeds(reader: _Reader, value) -> tuple[LineSpeed, ...]:
     for i, entry in enumerate(value):
         where = f"{key}[{i}]"
         if not isinstance(entry, dict) or set(entry) != {"from_m", "to_m", "kmh"}:
-            reader.add(where, f"expected a table {{from_m = ..., to_m = ..., kmh = ...}}, found {entry!r}")
+            reader.add(where, Phrase("expected a table {{from_m = ..., to_m = ..., kmh = ...}}, found {entry!r}", {"entry": entry}))
             continue
         start, end = reader.number(entry, f"{where}.from_m"), reader.number(entry, f"{where}.to_m")
         speed = reader.number(entry, f"{where}.kmh", positive=True)
         if None in (start, end, speed):
             continue
         if not start < end:
-            reader.add(where, f"from_m ({start}) must be below to_m ({end})")
+            reader.add(where, Phrase("from_m ({start}) must be below to_m ({end})", {"start": start, "end": end}))
             continue
         ranges.append(LineSpeed(start, end, speed))
     return tuple(ranges)
@@ -660,7 +657,7 @@ def _height(reader: _Reader, table: dict) -> HeightSettings:
     benchmarks = reader.file(table, "geodesy.height.benchmarks")
     model = table.get("model", "auto")
     if model not in HEIGHT_MODELS:
-        reader.add("geodesy.height.model", f"expected one of {', '.join(HEIGHT_MODELS)}, found {model!r}")
+        reader.add("geodesy.height.model", Phrase("expected one of {height_models}, found {model!r}", {"height_models": list(HEIGHT_MODELS), "model": model}))
         model = "auto"
     anomaly = HeightAnomalySettings()
     try:
@@ -691,16 +688,16 @@ def _sleeper_anchor(reader: _Reader, table) -> SleeperAnchor | None:
         return None
     key = "track.sleeper_anchor"
     if not isinstance(table, dict):
-        reader.add(key, f"expected a table {{number = ..., station_m = ...}} or {{number = ..., time_s = ...}}, found {table!r}")
+        reader.add(key, Phrase("expected a table {{number = ..., station_m = ...}} or {{number = ..., time_s = ...}}, found {table!r}", {"table": table}))
         return None
     reader.known(table, key, ("number", "station_m", "time_s"))
     number = table.get("number")
     if not isinstance(number, int) or isinstance(number, bool):
-        reader.add(f"{key}.number", f"expected a whole number, found {number!r}")
+        reader.add(f"{key}.number", Phrase("expected a whole number, found {number!r}", {"number": number}))
         return None
     given = [name for name in ("station_m", "time_s") if name in table]
     if len(given) != 1:
-        reader.add(key, "give exactly one of station_m (chainage) or time_s (GPS seconds of week)")
+        reader.add(key, Phrase("give exactly one of station_m (chainage) or time_s (GPS seconds of week)"))
         return None
     value = reader.number(table, f"{key}.{given[0]}")
     return None if value is None else SleeperAnchor(number, **{given[0]: value})
@@ -715,33 +712,33 @@ def _check_events(reader: _Reader, events: str) -> None:
         return
     for event in listed.events:
         if event.unit != "station_m":
-            reader.add("track.events", f"{events}, line {event.line}: a project's events are in chainage (station_m); "
-                       f"an event in {event.unit} belongs in its survey's event file")
+            reader.add("track.events", Phrase("{events}, line {line}: a project's events are in chainage (station_m); "
+                       "an event in {unit} belongs in its survey's event file", {"events": events, "line": event.line, "unit": event.unit}))
 
 
 def _surveys(reader: _Reader, table) -> tuple[SurveyEntry, ...]:
     if not isinstance(table, list) or not table:
-        reader.add("surveys", "expected at least one [[surveys]] entry with name and folder")
+        reader.add("surveys", Phrase("expected at least one [[surveys]] entry with name and folder"))
         return ()
     entries, seen = [], set()
     for i, entry in enumerate(table):
         key = f"surveys[{i}]"
         if not isinstance(entry, dict):
-            reader.add(key, "expected a table with name and folder")
+            reader.add(key, Phrase("expected a table with name and folder"))
             continue
         reader.known(entry, key, ("name", "folder"))
         name, folder = entry.get("name"), entry.get("folder")
         if not isinstance(name, str) or not _SURVEY_NAME.match(name):
-            reader.add(f"{key}.name", f"expected a name of letters, digits, '.', '_' or '-', found {name!r}")
+            reader.add(f"{key}.name", Phrase("expected a name of letters, digits, '.', '_' or '-', found {name!r}", {"name": name}))
         elif name in seen:
-            reader.add(f"{key}.name", f"duplicate survey name {name!r}")
+            reader.add(f"{key}.name", Phrase("duplicate survey name {name!r}", {"name": name}))
         seen.add(name)
         if not isinstance(folder, str) or not folder:
-            reader.add(f"{key}.folder", "expected a folder path relative to the project")
+            reader.add(f"{key}.folder", Phrase("expected a folder path relative to the project"))
         elif not (reader.folder / folder).is_dir():
-            reader.add(f"{key}.folder", f"not found: {folder}")
+            reader.add(f"{key}.folder", Phrase("not found: {folder}", {"folder": folder}))
         elif not (reader.folder / folder / MANIFEST_NAME).is_file():
-            reader.add(f"{key}.folder", f"no {MANIFEST_NAME} in {folder}")
+            reader.add(f"{key}.folder", Phrase("no {manifest_name} in {folder}", {"manifest_name": MANIFEST_NAME, "folder": folder}))
         if isinstance(name, str) and isinstance(folder, str):
             entries.append(SurveyEntry(name, folder))
     return tuple(entries)
@@ -755,7 +752,7 @@ class _Reader:
         self.problems: list[str] = []
 
     def add(self, key: str, message: str) -> None:
-        self.problems.append(f"{key}: {message}")
+        self.problems.append(Phrase("{key}: {message}", {"key": key, "message": message}))
 
     def raise_if_any(self, path: Path) -> None:
         if self.problems:

@@ -48,10 +48,10 @@ def with_odometer_pair(survey: SurveyData, labels: dict[str, str]) -> tuple[Surv
     spacing = float((c_vb @ (lever_right - lever_left))[1])
     if abs(abs(spacing) - trolley.rail_centre_spacing_m) > MAX_SPACING_OFFSET_M:
         raise InputError(survey.folder / MANIFEST_NAME, None,
-                         f"trolley.imu_to_odometer_right_m: the two odometer wheels lie {abs(spacing):.3f} m apart across "
-                         f"the track (the lever arms' y, in the trolley frame); on the two rails they run about "
-                         f"trolley.rail_centre_spacing_m = {trolley.rail_centre_spacing_m:g} m apart (within "
-                         f"{MAX_SPACING_OFFSET_M:g} m)")
+                         "trolley.imu_to_odometer_right_m: the two odometer wheels lie {spacing:.3f} m apart across "
+                         "the track (the lever arms' y, in the trolley frame); on the two rails they run about "
+                         "trolley.rail_centre_spacing_m = {rail_centre_spacing_m:g} m apart (within "
+                         "{max_spacing_offset_m:g} m)", fields={"spacing": abs(spacing), "rail_centre_spacing_m": trolley.rail_centre_spacing_m, "max_spacing_offset_m": MAX_SPACING_OFFSET_M})
     notices: list[Notice] = []
     if survey.gnss is not None:
         notices += check_odometer(right, survey.gnss, label, labels["gnss"])
@@ -63,14 +63,14 @@ def with_odometer_pair(survey: SurveyData, labels: dict[str, str]) -> tuple[Surv
                 f"{offset.method}); give time_offset_s in [files.odometer_right] of survey.toml if it is the "
                 "sensor's latency")
         if abs(offset.offset_s) >= MAX_OFFSET_S:
-            raise InputError(path, None, f"{read_as(label)}{text.partition(': ')[2]}; an offset of {MAX_OFFSET_S:g} s "
-                             "or more is refused")
+            raise InputError(path, None, "{read_as}{partition}; an offset of {max_offset_s:g} s "
+                             "or more is refused", fields={"read_as": read_as(label), "partition": text.partition(': ')[2], "max_offset_s": MAX_OFFSET_S})
         notices.append(Notice("time", text, file=str(path)))
     pair = compare_odometers(survey.imu, survey.odometer, right, lever_left, lever_right, c_vb)
     if abs(pair.relative_scale) > MAX_RELATIVE_SCALE:
-        raise InputError(path, None, f"{read_as(label)}the right wheel counts {100 * pair.relative_scale:+.2f} % against "
-                         f"the left one ({left_label}) where both roll; two wheels on the rails differ by far less: "
-                         "likely a wrong pulse length or another survey's file")
+        raise InputError(path, None, "{read_as}the right wheel counts {scale_pct:+.2f} % against "
+                         "the left one ({left_label}) where both roll; two wheels on the rails differ by far less: "
+                         "likely a wrong pulse length or another survey's file", fields={"read_as": read_as(label), "scale_pct": 100 * pair.relative_scale, "left_label": left_label})
     notices += slip_notices(pair, label, left_label, right.source, survey.odometer.source)
     survey = replace(survey, odometer=pair.left, odometer_right=pair.right)
     return survey, notices, pair.to_dict()

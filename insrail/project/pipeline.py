@@ -495,7 +495,7 @@ def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyMan
             beam_wheel_spacing_m=manifest.trolley.beam_wheel_spacing_m, spool_folder=path.parent,
             epochs_file=epochs_path, check=lambda: check_cancel(cancel), fit_line=False)
     except AnchorError as error:
-        raise InputError(project.path, None, f"track.sleeper_anchor: {error}") from None
+        raise InputError(project.path, None, "track.sleeper_anchor: {error}", fields={"error": error}) from None
     if design is None:
         info = fusion_info or {}
         flagged = flag_gap_sleepers(flag_sleepers(recon.table, info.get("integrity")), info.get("imu_gaps_s", []))

@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from insrail.io.errors import InputError
+from insrail.notices import Phrase
 from insrail.io.formats import FORMATS
 from insrail.io.imu import release_pages
 from insrail.io.survey import MANIFEST_NAME, SurveyData, TrolleyGeometry, track_lever_arm_problems
@@ -71,10 +72,10 @@ def describe(path: Path | None, format_name: str | None) -> str:
     return f"{name} ({fmt.description})" if fmt is not None else name
 
 
-def read_as(label: str) -> str:
+def read_as(label: str) -> Phrase:
     """The start of a message about the file itself (its name is already in front): its unit."""
     _, _, what = label.partition(" (")
-    return f"read as {what[:-1]}: " if what else ""
+    return Phrase("read as {format}: ", {"format": what[:-1]}) if what else Phrase("")
 
 
 def nominal_gauge_m(project) -> float:
@@ -97,24 +98,24 @@ def check_benchmarks(benchmarks: Benchmarks) -> None:
     columns = "columns id lat lon h H: h ellipsoidal, H normal height, metres"
     worst = int(np.argmax(np.abs(zeta)))
     if abs(zeta[worst]) > MAX_HEIGHT_ANOMALY_M:
-        raise InputError(path, None, f"benchmark {benchmarks.point_id[worst]}: height anomaly h - H = "
-                         f"{zeta[worst]:.3f} m, beyond the ±{MAX_HEIGHT_ANOMALY_M:.0f} m of the geoid anywhere on "
-                         f"Earth ({columns}): a height in another unit or datum?")
+        raise InputError(path, None, "benchmark {point_id}: height anomaly h - H = "
+                         "{zeta:.3f} m, beyond the ±{max_height_anomaly_m:.0f} m of the geoid anywhere on "
+                         "Earth ({columns}): a height in another unit or datum?", fields={"point_id": benchmarks.point_id[worst], "zeta": zeta[worst], "max_height_anomaly_m": MAX_HEIGHT_ANOMALY_M, "columns": columns})
     median = float(np.median(zeta))
     off = np.abs(zeta - median)
     if len(zeta) >= 3 and off.max() > MAX_ANOMALY_SPREAD_M:
         bad = int(np.argmax(off))
-        raise InputError(path, None, f"benchmark {benchmarks.point_id[bad]}: height anomaly h - H = {zeta[bad]:.3f} m "
-                         f"against {median:.3f} m at the others ({columns}): h and H swapped on its line, or a typo?")
+        raise InputError(path, None, "benchmark {point_id}: height anomaly h - H = {zeta:.3f} m "
+                         "against {median:.3f} m at the others ({columns}): h and H swapped on its line, or a typo?", fields={"point_id": benchmarks.point_id[bad], "zeta": zeta[bad], "median": median, "columns": columns})
     undulation = np.asarray(GeoidGrid.egm96().undulation_m(benchmarks.lat_rad, benchmarks.lon_rad), dtype=float)
     offset = float(np.median(zeta - undulation))
     if abs(offset) > MAX_EGM96_OFFSET_M:
         swapped = abs(float(np.median(-zeta - undulation))) <= MAX_EGM96_OFFSET_M
-        cause = ("h and H are swapped (the file's columns are id lat lon h H)" if swapped else
-                 "heights in another datum or unit, or H is not a normal height")
-        raise InputError(path, None, f"height anomaly h - H = {median:.3f} m at the benchmarks, but the geoid "
-                         f"(EGM96) lies at {float(np.median(undulation)):.3f} m there, {offset:+.1f} m apart "
-                         f"(local height datums differ from EGM96 by a few metres at most): likely {cause}")
+        cause = Phrase("h and H are swapped (the file's columns are id lat lon h H)" if swapped else
+                       "heights in another datum or unit, or H is not a normal height")
+        raise InputError(path, None, "height anomaly h - H = {median:.3f} m at the benchmarks, but the geoid "
+                         "(EGM96) lies at {median2:.3f} m there, {offset:+.1f} m apart "
+                         "(local height datums differ from EGM96 by a few metres at most): likely {cause}", fields={"median": median, "median2": float(np.median(undulation)), "offset": offset, "cause": cause})
 
 
 # --------------------------------------------------------------------------- trolley
@@ -125,18 +126,19 @@ def check_trolley(trolley: TrolleyGeometry, source: Path, nominal_gauge_m: float
     (lever arms not given are not numbers and are not checked as such)."""
     missing = track_lever_arm_problems(trolley, roles)
     if missing:
-        raise InputError(source, None, "; ".join(missing))
+        raise InputError(source, None, "; ".join(map(str, missing)))
     for name, arm in trolley.given_lever_arms().items():
         if np.max(np.abs(arm)) > MAX_LEVER_ARM_M:
-            raise InputError(source, None, f"trolley.{name} = {arm.tolist()} m: a lever arm on a trolley is at most "
-                             f"{MAX_LEVER_ARM_M:g} m (b frame, metres): millimetres given as metres?")
+            raise InputError(source, None, "trolley.{name} = {arm} m: a lever arm on a trolley is at most "
+                             "{max_lever_arm_m:g} m (b frame, metres): millimetres given as metres?", fields={"name": name, "arm": str(arm.tolist()), "max_lever_arm_m": MAX_LEVER_ARM_M})
     low, high = (nominal_gauge_m + band for band in RAIL_HEAD_BAND_M)
     spacing = float(trolley.rail_centre_spacing_m)
     if not low <= spacing <= high:
-        raise InputError(source, None, f"trolley.rail_centre_spacing_m = {spacing:g} m: the distance between the "
-                         f"rail centres (the cant base) is the gauge plus one rail head, {low:.3f} .. {high:.3f} m "
-                         f"for the {1e3 * nominal_gauge_m:.0f} mm gauge of the tolerance profile"
-                         + (": millimetres given as metres?" if spacing > 100 * high else ""))
+        raise InputError(source, None, "trolley.rail_centre_spacing_m = {spacing:g} m: the distance between the "
+                         "rail centres (the cant base) is the gauge plus one rail head, {low:.3f} .. {high:.3f} m "
+                         "for the {gauge_mm:.0f} mm gauge of the tolerance profile{hint}",
+                         fields={"spacing": spacing, "low": low, "high": high, "gauge_mm": 1e3 * nominal_gauge_m,
+                                 "hint": Phrase(": millimetres given as metres?" if spacing > 100 * high else "")})
 
 
 def check_imu_profile(name_or_path: str, source: Path, key: str) -> None:
@@ -144,7 +146,7 @@ def check_imu_profile(name_or_path: str, source: Path, key: str) -> None:
     try:
         load_imu_profile(name_or_path)
     except (ValueError, OSError) as err:
-        raise InputError(source, None, f"{key}: {err}") from None
+        raise InputError(source, None, "{key}: {err}", fields={"key": key, "err": err}) from None
 
 
 # --------------------------------------------------------------------------- gauge
@@ -159,17 +161,18 @@ def clean_gauge(gauge: GaugeData | None, nominal_gauge_m: float, label: str) -> 
     median = float(np.median(values[finite])) if finite.any() else float("nan")
     if not abs(median - nominal_gauge_m) <= MAX_GAUGE_OFFSET_M:
         ratio = median / nominal_gauge_m
-        hint = f" (x{ratio:.3g} the nominal: another unit?)" if np.isfinite(ratio) and (ratio > 2 or ratio < 0.5) else ""
-        raise InputError(path, None, f"{read_as(label)}median gauge {1e3 * median:.1f} mm against the nominal "
-                         f"{1e3 * nominal_gauge_m:.0f} mm of the tolerance profile{hint}; the file must hold the "
-                         "gauge in mm")
+        hint = (Phrase(" (x{ratio:.3g} the nominal: another unit?)", {"ratio": ratio})
+                if np.isfinite(ratio) and (ratio > 2 or ratio < 0.5) else Phrase(""))
+        raise InputError(path, None, "{read_as}median gauge {median_mm:.1f} mm against the nominal "
+                         "{nominal_mm:.0f} mm of the tolerance profile{hint}; the file must hold the "
+                         "gauge in mm", fields={"read_as": read_as(label), "median_mm": 1e3 * median, "nominal_mm": 1e3 * nominal_gauge_m, "hint": hint})
     outlier = ~finite | (np.abs(values - median) > MAX_GAUGE_OFFSET_M)
     if not outlier.any():
         return gauge, []
     if outlier.mean() > MAX_GAUGE_OUTLIER_SHARE:
-        raise InputError(path, None, f"{read_as(label)}{int(outlier.sum())} of {len(values)} readings lie more than "
-                         f"{1e3 * MAX_GAUGE_OFFSET_M:.0f} mm from the median {1e3 * median:.1f} mm: a faulty gauge "
-                         "sensor; repair or remove the record")
+        raise InputError(path, None, "{read_as}{outliers} of {count} readings lie more than "
+                         "{max_offset_mm:.0f} mm from the median {median_mm:.1f} mm: a faulty gauge "
+                         "sensor; repair or remove the record", fields={"read_as": read_as(label), "outliers": int(outlier.sum()), "count": len(values), "max_offset_mm": 1e3 * MAX_GAUGE_OFFSET_M, "median_mm": 1e3 * median})
     listed = ", ".join(f"{t:.3f} s: {1e3 * v:.1f} mm" for t, v in zip(gauge.time_s[outlier][:5], values[outlier][:5]))
     more = (Phrase(" and {more} more", {"more": int(outlier.sum()) - 5}) if outlier.sum() > 5 else Phrase(""))
     notice = Notice("gauge", "{label}: {count} gauge reading(s) more than {offset_mm:.0f} mm from the median "
@@ -214,20 +217,21 @@ def check_odometer(odometer: OdometerData, gnss: GnssSolution, odometer_label: s
     path = odometer.source or Path(odometer_label)
     if abs(scale - 1.0) > MAX_SCALE_ERROR:
         if 700 < scale < 1400:
-            cause = "a distance in millimetres"
+            cause = Phrase("a distance in millimetres")
         elif odometer.pulse_length_m is not None:
-            cause = f"a wrong pulse length (pulse_length_m = {odometer.pulse_length_m:g} m)"
+            cause = Phrase("a wrong pulse length (pulse_length_m = {pulse_length_m:g} m)",
+                           {"pulse_length_m": odometer.pulse_length_m})
         else:
-            cause = "a distance in another unit, or a wrong calibration"
-        raise InputError(path, None, f"{read_as(odometer_label)}the odometer travels {scale:.4g} m per metre of GNSS "
-                         f"({gnss_label}) over {int(usable.sum())} windows of {SCALE_WINDOW_S:g} s; expected 1 within "
-                         f"{100 * MAX_SCALE_ERROR:.0f} %: likely {cause}")
+            cause = Phrase("a distance in another unit, or a wrong calibration")
+        raise InputError(path, None, "{read_as}the odometer travels {scale:.4g} m per metre of GNSS "
+                         "({gnss_label}) over {windows} windows of {scale_window_s:g} s; expected 1 within "
+                         "{max_error_pct:.0f} %: likely {cause}", fields={"read_as": read_as(odometer_label), "scale": scale, "gnss_label": gnss_label, "windows": int(usable.sum()), "scale_window_s": SCALE_WINDOW_S, "max_error_pct": 100 * MAX_SCALE_ERROR, "cause": cause})
     ratio = odo_travel[usable] / gnss_travel[usable]
     disagree = float(np.mean(np.abs(ratio / scale - 1.0) > 0.1))
     if disagree > MAX_SPEED_DISAGREEMENT_SHARE:
-        raise InputError(path, None, f"{read_as(odometer_label)}the odometer's speed disagrees with the GNSS speed "
-                         f"({gnss_label}) by more than 10 % in {100 * disagree:.0f} % of the moving windows: a slipping "
-                         "wheel, a wrong time scale or another survey's file")
+        raise InputError(path, None, "{read_as}the odometer's speed disagrees with the GNSS speed "
+                         "({gnss_label}) by more than 10 % in {disagree_pct:.0f} % of the moving windows: a slipping "
+                         "wheel, a wrong time scale or another survey's file", fields={"read_as": read_as(odometer_label), "gnss_label": gnss_label, "disagree_pct": 100 * disagree})
     return []
 
 
@@ -260,10 +264,10 @@ def check_odometer_direction(imu: ImuIncrements, odometer: OdometerData, odomete
             votes.append(np.sign(gained) == np.sign(odometer_speed))
     if len(votes) and not any(votes):
         path = odometer.source or Path(odometer_label)
-        raise InputError(path, None, f"{read_as(odometer_label)}the odometer counts backwards: at {len(votes)} "
+        raise InputError(path, None, "{read_as}the odometer counts backwards: at {count} "
                          "start(s) from rest the IMU moved forwards along its x axis while the distance decreased "
                          "(a reversed odometer, or the sign of its counts); the distance must grow as the trolley "
-                         "moves along the IMU's x axis")
+                         "moves along the IMU's x axis", fields={"read_as": read_as(odometer_label), "count": len(votes)})
     return []
 
 

@@ -687,11 +687,11 @@ def load_results(project_folder: Path, survey: str) -> StoredResults:
     recover_results(folder.parent, survey, clean=False)
     summary_path = folder / SUMMARY_FILE
     if not summary_path.is_file():
-        raise InputError(folder, None, f"no results for survey {survey!r}: process it first")
+        raise InputError(folder, None, "no results for survey {survey!r}: process it first", fields={"survey": survey})
     try:
         summary = tomllib.loads(summary_path.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
-        raise InputError(summary_path, None, f"not a valid summary file ({error})") from None
+        raise InputError(summary_path, None, "not a valid summary file ({error})", fields={"error": error}) from None
     number, label, columns, not_assessed, notes = _read_sleepers(folder / SLEEPERS_FILE)
     quality_path = folder / QUALITY_FILE
     quality = (_read_quality(quality_path, summary.get("quality", {}).get("pass", "smoothed") == "smoothed")
@@ -781,7 +781,7 @@ def _parse_rows(path: Path, names: list[str], texts: int) -> table_cache.Sleeper
     width = len(names) + 2 + texts
     for line_number, row in enumerate(rows, start=2):
         if len(row) != width:
-            raise InputError(path, line_number, f"expected {width} fields, found {len(row)}")
+            raise InputError(path, line_number, "expected {width} fields, found {count}", fields={"width": width, "count": len(row)})
     if not rows:
         return np.zeros(0, int), (), {name: np.zeros(0) for name in names}, (), ()
     cells = np.array([row[2:len(names) + 2] for row in rows])
@@ -854,7 +854,7 @@ def _numeric(row: list[str]) -> bool:
 def _read_exceedances(path: Path) -> tuple[ExceedanceRow, ...]:
     lines = _lines(path)
     if not lines or lines[0].split(",") != EXCEEDANCE_HEADER:
-        raise InputError(path, 1, f"expected the header {','.join(EXCEEDANCE_HEADER)}")
+        raise InputError(path, 1, "expected the header {header}", fields={"header": ','.join(EXCEEDANCE_HEADER)})
     rows = []
     for line_number, line in enumerate(lines[1:], start=2):
         fields = line.split(",")
@@ -863,8 +863,8 @@ def _read_exceedances(path: Path) -> tuple[ExceedanceRow, ...]:
             rows.append(ExceedanceRow(check, kind, rail, direction, unit, float(s0), float(s1), float(peak),
                                       float(limit), int(first), int(last)))
         except ValueError:
-            raise InputError(path, line_number, f"expected {len(EXCEEDANCE_HEADER)} fields: "
-                                                f"{','.join(EXCEEDANCE_HEADER)}") from None
+            raise InputError(path, line_number, "expected {count} fields: "
+                                                "{header}", fields={"count": len(EXCEEDANCE_HEADER), "header": ','.join(EXCEEDANCE_HEADER)}) from None
     return tuple(rows)
 
 
@@ -872,7 +872,7 @@ def _read_quality(path: Path, smoothed: bool) -> StoredQuality:
     lines = _lines(path)
     header = lines[0].split(",") if lines else []
     if len(header) < len(QUALITY_HEADER_OLDEST) or header != QUALITY_HEADER[: len(header)]:
-        raise InputError(path, 1, f"expected the header {','.join(QUALITY_HEADER)}")
+        raise InputError(path, 1, "expected the header {header}", fields={"header": ','.join(QUALITY_HEADER)})
     values = np.full((len(lines) - 1, len(QUALITY_HEADER)), np.nan)
     for row, line in enumerate(lines[1:]):
         fields = line.split(",")
@@ -881,6 +881,6 @@ def _read_quality(path: Path, smoothed: bool) -> StoredQuality:
                 raise ValueError
             values[row, : len(header)] = [float(cell) if cell else np.nan for cell in fields]
         except ValueError:
-            raise InputError(path, row + 2, f"expected {len(header)} numbers (or empty cells): "
-                                            f"{','.join(header)}") from None
+            raise InputError(path, row + 2, "expected {count} numbers (or empty cells): "
+                                            "{header}", fields={"count": len(header), "header": ','.join(header)}) from None
     return StoredQuality(smoothed, *(values[:, i] for i in range(len(QUALITY_HEADER))))

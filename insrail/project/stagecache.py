@@ -191,7 +191,7 @@ def load_dataclass(path: Path, cls):
         with np.load(path, allow_pickle=False) as arrays:
             return _build(cls, "", {name: arrays[name] for name in arrays.files})
     except (KeyError, ValueError, TypeError, OSError, EOFError, zipfile.BadZipFile) as error:
-        raise InputError(path, None, f"damaged cache file ({error}): delete it to recompute") from None
+        raise InputError(path, None, "damaged cache file ({error}): delete it to recompute", fields={"error": error}) from None
 
 
 def cached_dataclass(stage: str, path: Path, cls):

@@ -66,21 +66,22 @@ def _length(metres: float) -> str:
     return f"{metres:.1f} m" if metres >= 1.0 else f"{1e3 * metres:.0f} mm"
 
 
-def _unit_hint(observations: PolarObservations, known_enh_m: np.ndarray) -> str:
+def _unit_hint(observations: PolarObservations, known_enh_m: np.ndarray) -> Phrase:
     """What the numbers of a set-up that does not fit show: units mixed up, or points that are not those named."""
     level_gon = 200.0 / np.pi * np.median(observations.zenith_rad)
     if abs(level_gon - 90.0) < 5.0:  # CPIII points lie near the instrument's height: 100 gon, 90 degrees
-        return (f"its zenith angles are about {level_gon:.0f} where points at the instrument's height read 100 gon: "
-                "angles in degrees read as gon? (set the reader option angle_unit = \"deg\")")
+        return Phrase("its zenith angles are about {level_gon:.0f} where points at the instrument's height read 100 gon: "
+                      "angles in degrees read as gon? (set the reader option angle_unit = \"deg\")", {"level_gon": level_gon})
     horizontal = observations.slope_m * np.sin(observations.zenith_rad)
     measured = np.column_stack([horizontal * np.sin(observations.hz_rad), horizontal * np.cos(observations.hz_rad)])
     ratio = np.median(_spacings(known_enh_m[:, :2])) / np.median(_spacings(measured))
     if ratio > 100.0:
-        return (f"the CPIII points lie {ratio:.0f} times farther apart than measured: coordinates in millimetres? "
-                "(the CPIII file holds metres)")
+        return Phrase("the CPIII points lie {ratio:.0f} times farther apart than measured: coordinates in millimetres? "
+                      "(the CPIII file holds metres)", {"ratio": ratio})
     if ratio < 0.01:
-        return f"the CPIII points lie {1 / ratio:.0f} times closer together than measured: distances in millimetres?"
-    return "check that the CPIII file and the observations belong together (point names, units)"
+        return Phrase("the CPIII points lie {ratio:.0f} times closer together than measured: distances in millimetres?",
+                      {"ratio": 1 / ratio})
+    return Phrase("check that the CPIII file and the observations belong together (point names, units)")
 
 
 def _spacings(plan_m: np.ndarray) -> np.ndarray:
@@ -105,20 +106,22 @@ def prism_fixes_from_observations(observations: TotalStationObservations, points
         unknown = [str(t) for t in observations.target[on_points] if str(t) not in known]
         if unknown:
             row = on_points[[str(t) for t in observations.target[on_points]].index(unknown[0])]
-            raise InputError(source, int(observations.line[row]), f"set-up {setup}: CPIII point {unknown[0]} is not "
-                             f"in the CPIII file {points.source or ''}".rstrip())
+            raise InputError(source, int(observations.line[row]), "set-up {setup}: CPIII point {point} is not "
+                             "in the CPIII file {file}", fields={"setup": setup, "point": unknown[0],
+                                                                 "file": points.source or ""})
         try:
             station = resect(_polar(observations, on_points),
                              coordinates[[known[str(t)] for t in observations.target[on_points]]], significance)
         except ValueError as error:
-            raise InputError(source, line, f"set-up {setup}: {error}") from None
+            raise InputError(source, line, "set-up {setup}: {error}", fields={"setup": setup, "error": error}) from None
         fit = max(station.rms_plan_m, station.rms_height_m)
         if not fit <= MAX_SETUP_RMS_M:
             raise InputError(source, line, (
-                f"set-up {setup}: the CPIII points fit the observations to {_length(fit)} RMS, more than the "
-                f"{1e3 * MAX_SETUP_RMS_M:.0f} mm a total station gives: "
-                + _unit_hint(_polar(observations, on_points), coordinates[[known[str(t)] for t in
-                                                                          observations.target[on_points]]])))
+                "set-up {setup}: the CPIII points fit the observations to {fit} RMS, more than the "
+                "{max_setup_rms_mm:.0f} mm a total station gives: {hint}"), fields={
+                "setup": setup, "fit": _length(fit), "max_setup_rms_mm": 1e3 * MAX_SETUP_RMS_M,
+                "hint": _unit_hint(_polar(observations, on_points), coordinates[[known[str(t)] for t in
+                                                                                  observations.target[on_points]]])})
         for point in station.points:
             if not point.used:
                 notices.append(Notice(

@@ -62,7 +62,7 @@ def survey_events(project: Project, manifest: SurveyManifest, folder: Path,
                 try:
                     load_tolerance_profile(project.resource(event.profile))
                 except (ValueError, OSError) as error:
-                    raise InputError(events.source, event.line, f"profile: {error}") from None
+                    raise InputError(events.source, event.line, "profile: {error}", fields={"error": error}) from None
     return tuple(sorted(placed, key=lambda e: (e.station_from_m, e.station_to_m)))
 
 

@@ -81,10 +81,10 @@ def _split_sections(path: Path, text: str) -> dict[str, _Section]:
         if len(cells) == 1 and cells[0].startswith("[") and cells[0].endswith("]"):
             name = cells[0][1:-1].strip().lower()
             if name != "alignment" and name not in _TABLE_COLUMNS:
-                raise InputError(path, number, f"unknown section [{name}]; expected [alignment], "
-                                 + ", ".join(f"[{s}]" for s in _TABLE_COLUMNS))
+                raise InputError(path, number, "unknown section [{name}]; expected [alignment], {sections}",
+                                 fields={"name": name, "sections": [f"[{s}]" for s in _TABLE_COLUMNS]})
             if name in sections:
-                raise InputError(path, number, f"section [{name}] appears twice (first on line {sections[name].line})")
+                raise InputError(path, number, "section [{name}] appears twice (first on line {line})", fields={"name": name, "line": sections[name].line})
             current = sections[name] = _Section(name, number, [])
             header = None
             continue
@@ -92,13 +92,13 @@ def _split_sections(path: Path, text: str) -> dict[str, _Section]:
             raise InputError(path, number, "expected a section header such as [alignment] before any data")
         if current.name == "alignment":
             if len(cells) != 2:
-                raise InputError(path, number, f"expected 'key, value' in [alignment], found {len(cells)} fields")
+                raise InputError(path, number, "expected 'key, value' in [alignment], found {count} fields", fields={"count": len(cells)})
             key = cells[0].lower()
             if key not in _ALIGNMENT_KEYS:
                 expected = ", ".join(_ALIGNMENT_KEYS)
-                raise InputError(path, number, f"unknown key {cells[0]!r}; expected one of {expected}")
+                raise InputError(path, number, "unknown key {key!r}; expected one of {expected}", fields={"key": cells[0], "expected": expected})
             if any(row.cells.get("key") == key for row in current.rows):
-                raise InputError(path, number, f"key {key!r} given twice")
+                raise InputError(path, number, "key {key!r} given twice", fields={"key": key})
             current.rows.append(_Row(number, {"key": key, "value": cells[1]}))
             continue
         if header is None:
@@ -106,17 +106,17 @@ def _split_sections(path: Path, text: str) -> dict[str, _Section]:
             allowed = _TABLE_COLUMNS[current.name]
             for column in header:
                 if column not in allowed:
-                    raise InputError(path, number, f"unknown column {column!r} in [{current.name}]; expected "
-                                     + ", ".join(allowed))
+                    raise InputError(path, number, "unknown column {column!r} in [{section}]; expected {allowed}",
+                                     fields={"column": column, "section": current.name, "allowed": list(allowed)})
             if len(set(header)) != len(header):
-                raise InputError(path, number, f"a column is named twice in the header of [{current.name}]")
+                raise InputError(path, number, "a column is named twice in the header of [{file}]", fields={"file": current.name})
             missing = [c for c in _REQUIRED_COLUMNS[current.name] if c not in header]
             if missing:
-                raise InputError(path, number, f"[{current.name}] header lacks column(s) {', '.join(missing)}")
+                raise InputError(path, number, "[{file}] header lacks column(s) {missing}", fields={"file": current.name, "missing": list(missing)})
             continue
         if len(cells) > len(header):
-            raise InputError(path, number, f"expected at most {len(header)} fields ({', '.join(header)}), "
-                             f"found {len(cells)}")
+            raise InputError(path, number, "expected at most {count} fields ({header}), "
+                             "found {found}", fields={"count": len(header), "header": list(header), "found": len(cells)})
         current.rows.append(_Row(number, dict(zip(header, cells + [""] * (len(header) - len(cells))))))
     return sections
 
@@ -125,9 +125,9 @@ def _number(path: Path, line: int, column: str, text: str, *, allow_inf: bool = 
     try:
         value = float(text)
     except ValueError:
-        raise InputError(path, line, f"{column}: expected a number, found {text!r}") from None
+        raise InputError(path, line, "{column}: expected a number, found {text!r}", fields={"column": column, "text": text}) from None
     if math.isnan(value) or (math.isinf(value) and not allow_inf):
-        raise InputError(path, line, f"{column}: expected a finite number, found {text!r}")
+        raise InputError(path, line, "{column}: expected a finite number, found {text!r}", fields={"column": column, "text": text})
     return value
 
 
@@ -159,7 +159,7 @@ def _horizontal_element(path: Path, row: _Row):
             return Clothoid(length, radius_start, radius_end, turn)
     except ValueError as err:
         raise InputError(path, line, str(err)) from None
-    raise InputError(path, line, f"type: expected line, clothoid or arc, found {cells.get('type', '')!r}")
+    raise InputError(path, line, "type: expected line, clothoid or arc, found {type!r}", fields={"type": cells.get('type', '')})
 
 
 def _station(path: Path, line: int, column: str, text: str, equations: StationEquations) -> float:
@@ -167,7 +167,7 @@ def _station(path: Path, line: int, column: str, text: str, equations: StationEq
         try:
             return equations.parse_label(text)
         except ValueError as err:
-            raise InputError(path, line, f"{column}: {err}") from None
+            raise InputError(path, line, "{column}: {err}", fields={"column": column, "err": err}) from None
     return _number(path, line, column, text)
 
 
@@ -177,17 +177,17 @@ def read_alignment_csv(path: str | Path) -> DesignAlignment:
     try:
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as err:
-        raise InputError(path, None, f"cannot read the element table: {err}") from None
+        raise InputError(path, None, "cannot read the element table: {err}", fields={"err": err}) from None
     sections = _split_sections(path, text)
     for required in ("alignment", "horizontal"):
         if required not in sections:
-            raise InputError(path, None, f"section [{required}] is missing")
+            raise InputError(path, None, "section [{required}] is missing", fields={"required": required})
 
     head = sections["alignment"]
     values = {row.cells["key"]: row for row in head.rows}
     for key in ("start_station_m", "start_east_m", "start_north_m"):
         if key not in values:
-            raise InputError(path, head.line, f"[alignment] lacks {key}")
+            raise InputError(path, head.line, "[alignment] lacks {key}", fields={"key": key})
     if ("start_azimuth_deg" in values) == ("start_azimuth_gon" in values):
         raise InputError(path, head.line, "[alignment] needs exactly one of start_azimuth_deg or start_azimuth_gon")
 

@@ -46,6 +46,7 @@ import numpy as np
 
 import insrail
 from insrail.io.errors import InputError
+from insrail.notices import Phrase
 from insrail.io.atomic import atomic_write
 from insrail.track.alignment import Arc, Clothoid, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.errors import DesignError
@@ -61,9 +62,12 @@ _STANDARD_GAUGE_M = 1.435  # Cant@gauge; insrail's cant is referred to the 1.5 m
 class LandXMLError(InputError):
     """Bad LandXML: the file, the line, the element path and what was expected."""
 
-    def __init__(self, path: str | Path, line: int | None, element_path: str, message: str):
+    def __init__(self, path: str | Path, line: int | None, element_path: str, message: str,
+                 fields: dict | None = None):
         self.element_path = element_path
-        super().__init__(path, line, f"{element_path}: {message}" if element_path else message)
+        phrase = Phrase(message, fields or {})
+        super().__init__(path, line, Phrase("{element_path}: {message}", {"element_path": element_path, "message": phrase})
+                         if element_path else phrase)
 
 
 # --------------------------------------------------------------------------- parsing
@@ -89,8 +93,8 @@ class _Document:
         def start(tag, attributes):
             depth[0] += 1
             if depth[0] > MAX_DEPTH:  # a LandXML alignment is about 8 deep; the tree walks below recurse
-                raise InputError(path, parser.CurrentLineNumber, f"elements nested more than {MAX_DEPTH} deep: "
-                                 "not a LandXML alignment file")
+                raise InputError(path, parser.CurrentLineNumber, "elements nested more than {max_depth} deep: "
+                                 "not a LandXML alignment file", fields={"max_depth": MAX_DEPTH})
             element = builder.start(_local(tag), {_local(k): v for k, v in attributes.items()})
             self.lines[id(element)] = parser.CurrentLineNumber  # ids stay unique: the tree holds every element
 
@@ -105,9 +109,9 @@ class _Document:
             with open(path, "rb") as stream:
                 parser.ParseFile(stream)
         except OSError as err:
-            raise InputError(path, None, f"cannot read the LandXML file: {err}") from None
+            raise InputError(path, None, "cannot read the LandXML file: {err}", fields={"err": err}) from None
         except expat.ExpatError as err:
-            raise InputError(path, err.lineno, f"not well-formed XML: {expat.ErrorString(err.code)}") from None
+            raise InputError(path, err.lineno, "not well-formed XML: {reason}", fields={"reason": expat.ErrorString(err.code)}) from None
         self.root = builder.close()
         self._name_paths(self.root, "")
 
@@ -129,13 +133,14 @@ class _Document:
             self.paths[id(child)] = path
             self._name_paths(child, path)
 
-    def error(self, element: ET.Element, message: str) -> LandXMLError:
-        return LandXMLError(self.path, self.lines.get(id(element)), self.paths.get(id(element), element.tag), message)
+    def error(self, element: ET.Element, message: str, fields: dict | None = None) -> LandXMLError:
+        return LandXMLError(self.path, self.lines.get(id(element)), self.paths.get(id(element), element.tag), message,
+                            fields)
 
     def attribute(self, element: ET.Element, name: str) -> str:
         value = element.get(name)
         if value is None:
-            raise self.error(element, f"missing attribute {name!r}")
+            raise self.error(element, "missing attribute {name!r}", fields={"name": name})
         return value.strip()
 
     def number(self, element: ET.Element, name: str, *, allow_inf: bool = False, required: bool = True) -> float | None:
@@ -147,21 +152,21 @@ class _Document:
         try:
             value = float(text)
         except ValueError:
-            raise self.error(element, f"attribute {name!r} is not a number: {text!r}") from None
+            raise self.error(element, "attribute {name!r} is not a number: {text!r}", fields={"name": name, "text": text}) from None
         if not math.isfinite(value):
-            raise self.error(element, f"attribute {name!r} must be finite, got {text!r}")
+            raise self.error(element, "attribute {name!r} must be finite, got {text!r}", fields={"name": name, "text": text})
         return value
 
     def numbers(self, element: ET.Element, count: int, meaning: str) -> list[float]:
         fields = (element.text or "").split()
         if len(fields) < count:
-            raise self.error(element, f"expected {meaning}, found {element.text!r}")
+            raise self.error(element, "expected {meaning}, found {text!r}", fields={"meaning": meaning, "text": element.text})
         try:
             values = [float(f) for f in fields[:count]]
         except ValueError:
-            raise self.error(element, f"expected {meaning} as numbers, found {element.text!r}") from None
+            raise self.error(element, "expected {meaning} as numbers, found {text!r}", fields={"meaning": meaning, "text": element.text}) from None
         if not all(math.isfinite(v) for v in values):
-            raise self.error(element, f"expected finite {meaning}, found {element.text!r}")
+            raise self.error(element, "expected finite {meaning}, found {text!r}", fields={"meaning": meaning, "text": element.text})
         return values
 
     def point(self, element: ET.Element, child: str, required: bool = True) -> np.ndarray | None:
@@ -169,7 +174,7 @@ class _Document:
         found = [c for c in element if c.tag == child]
         if not found:
             if required:
-                raise self.error(element, f"missing child element <{child}>")
+                raise self.error(element, "missing child element <{child}>", fields={"child": child})
             return None
         north, east = self.numbers(found[0], 2, "'north east' coordinates")
         return np.array([east, north])
@@ -177,7 +182,7 @@ class _Document:
     def rotation(self, element: ET.Element) -> str:
         rot = self.attribute(element, "rot")
         if rot not in ("cw", "ccw"):
-            raise self.error(element, f"attribute 'rot' must be 'cw' or 'ccw', got {rot!r}")
+            raise self.error(element, "attribute 'rot' must be 'cw' or 'ccw', got {rot!r}", fields={"rot": rot})
         return "right" if rot == "cw" else "left"
 
 
@@ -206,13 +211,13 @@ def _parse_element(doc: _Document, node: ET.Element, tolerance_m: float) -> _Par
             length = float(np.hypot(*chord))
             given = doc.number(node, "length", required=False)
             if given is not None and abs(given - length) > tolerance_m:
-                raise doc.error(node, f"length {given} does not match the distance Start-End {length:.4f} m")
+                raise doc.error(node, "length {given} does not match the distance Start-End {length:.4f} m", fields={"given": given, "length": length})
             return _ParsedElement(node, Line(given if given is not None else length), start, end, _azimuth(chord))
         if node.tag == "Curve":
             turn = doc.rotation(node)
             crv_type = node.get("crvType", "arc")
             if crv_type != "arc":
-                raise doc.error(node, f"only crvType='arc' is supported, got {crv_type!r}")
+                raise doc.error(node, "only crvType='arc' is supported, got {crv_type!r}", fields={"crv_type": crv_type})
             center = doc.point(node, "Center")
             radius = doc.number(node, "radius", required=False)
             radial = start - center
@@ -220,7 +225,7 @@ def _parse_element(doc: _Document, node: ET.Element, tolerance_m: float) -> _Par
             if radius is None:
                 radius = distance
             elif abs(radius - distance) > tolerance_m:
-                raise doc.error(node, f"radius {radius} does not match the distance Center-Start {distance:.4f} m")
+                raise doc.error(node, "radius {radius} does not match the distance Center-Start {distance:.4f} m", fields={"radius": radius, "distance": distance})
             length = doc.number(node, "length", required=False)
             if length is None:
                 swept = (_azimuth(end - center) - _azimuth(radial)) * (1 if turn == "right" else -1)
@@ -231,7 +236,7 @@ def _parse_element(doc: _Document, node: ET.Element, tolerance_m: float) -> _Par
         if node.tag == "Spiral":
             spi_type = doc.attribute(node, "spiType")
             if spi_type != "clothoid":
-                raise doc.error(node, f"only spiType='clothoid' is supported, got {spi_type!r}")
+                raise doc.error(node, "only spiType='clothoid' is supported, got {spi_type!r}", fields={"spi_type": spi_type})
             element = Clothoid(
                 doc.number(node, "length"),
                 doc.number(node, "radiusStart", allow_inf=True),
@@ -244,7 +249,7 @@ def _parse_element(doc: _Document, node: ET.Element, tolerance_m: float) -> _Par
         if isinstance(err, LandXMLError):
             raise
         raise doc.error(node, str(err)) from None
-    raise doc.error(node, f"unsupported geometry element <{node.tag}>; expected Line, Spiral or Curve")
+    raise doc.error(node, "unsupported geometry element <{tag}>; expected Line, Spiral or Curve", fields={"tag": node.tag})
 
 
 _DIRECTION_UNITS = {"radians": 1.0, "decimal degrees": math.pi / 180.0, "grads": math.pi / 200.0}
@@ -274,7 +279,7 @@ def _horizontal(doc: _Document, alignment_node: ET.Element, position_tolerance_m
                 azimuth_tolerance_rad: float) -> HorizontalAlignment:
     geometry = [c for c in alignment_node if c.tag == "CoordGeom"]
     if len(geometry) != 1:
-        raise doc.error(alignment_node, f"expected one <CoordGeom>, found {len(geometry)}")
+        raise doc.error(alignment_node, "expected one <CoordGeom>, found {count}", fields={"count": len(geometry)})
     parsed = [_parse_element(doc, node, position_tolerance_m) for node in geometry[0]]
     if not parsed:
         raise doc.error(geometry[0], "no Line, Spiral or Curve elements")
@@ -295,20 +300,20 @@ def _horizontal(doc: _Document, alignment_node: ET.Element, position_tolerance_m
     for item, placed in zip(parsed, horizontal.placed_elements):
         gap = float(np.hypot(item.start[0] - placed.start_east_m, item.start[1] - placed.start_north_m))
         if gap > position_tolerance_m:
-            raise doc.error(item.node, f"Start is {gap:.4f} m away from the end of the previous element (gap)")
+            raise doc.error(item.node, "Start is {gap:.4f} m away from the end of the previous element (gap)", fields={"gap": gap})
         if item.start_azimuth is not None:
             kink = _angle_difference(item.start_azimuth, placed.start_azimuth_rad)
             if kink > azimuth_tolerance_rad:
-                raise doc.error(item.node, f"start direction differs from the previous element's end direction by "
-                                f"{kink:.3e} rad (kink)")
+                raise doc.error(item.node, "start direction differs from the previous element's end direction by "
+                                "{kink:.3e} rad (kink)", fields={"kink": kink})
         miss = float(np.hypot(item.end[0] - placed.end_east_m, item.end[1] - placed.end_north_m))
         if miss > position_tolerance_m:
-            raise doc.error(item.node, f"End is {miss:.4f} m away from the end computed from the element's "
-                            "length and radii")
+            raise doc.error(item.node, "End is {miss:.4f} m away from the end computed from the element's "
+                            "length and radii", fields={"miss": miss})
     declared = doc.number(alignment_node, "length")
     if abs(declared - horizontal.length_m) > position_tolerance_m:
-        raise doc.error(alignment_node, f"length {declared} differs from the sum of the element lengths "
-                        f"{horizontal.length_m:.4f} m")
+        raise doc.error(alignment_node, "length {declared} differs from the sum of the element lengths "
+                        "{length_m:.4f} m", fields={"declared": declared, "length_m": horizontal.length_m})
     return horizontal
 
 
@@ -333,8 +338,8 @@ def _station_equations(doc: _Document, alignment_node: ET.Element, start_station
     for node, internal in zip(nodes, result.internal_stations_m):
         given = doc.number(node, "staInternal", required=False)
         if given is not None and abs(given - internal) > DEFAULT_POSITION_TOLERANCE_M:
-            raise doc.error(node, f"staInternal {given} does not match {internal:.4f} m implied by staStart "
-                            f"{start_station} and the equations before it")
+            raise doc.error(node, "staInternal {given} does not match {internal:.4f} m implied by staStart "
+                            "{start_station} and the equations before it", fields={"given": given, "internal": internal, "start_station": start_station})
     return result
 
 
@@ -343,17 +348,17 @@ def _profile(doc: _Document, alignment_node: ET.Element, profile_name: str | Non
     if profile_name is not None:
         candidates = [a for a in candidates if a.get("name") == profile_name]
         if not candidates:
-            raise doc.error(alignment_node, f"no <ProfAlign name={profile_name!r}>")
+            raise doc.error(alignment_node, "no <ProfAlign name={profile_name!r}>", fields={"profile_name": profile_name})
     if not candidates:
         return None
     if len(candidates) > 1:
         names = ", ".join(repr(a.get("name")) for a in candidates)
-        raise doc.error(alignment_node, f"several <ProfAlign> ({names}); choose one by name")
+        raise doc.error(alignment_node, "several <ProfAlign> ({names}); choose one by name", fields={"names": names})
     profile = candidates[0]
     pvis, nodes = [], []
     for node in profile:
         if node.tag not in ("PVI", "ParaCurve", "CircCurve"):
-            raise doc.error(node, f"unsupported profile element <{node.tag}>; expected PVI, ParaCurve or CircCurve")
+            raise doc.error(node, "unsupported profile element <{tag}>; expected PVI, ParaCurve or CircCurve", fields={"tag": node.tag})
         station, elevation = doc.numbers(node, 2, "'station elevation'")
         try:
             if node.tag == "PVI":
@@ -378,7 +383,7 @@ def _cant(doc: _Document, alignment_node: ET.Element) -> CantTable | None:
     if not cants:
         return None
     if len(cants) > 1:
-        raise doc.error(alignment_node, f"expected at most one <Cant>, found {len(cants)}")
+        raise doc.error(alignment_node, "expected at most one <Cant>, found {count}", fields={"count": len(cants)})
     nodes = [c for c in cants[0] if c.tag == "CantStation"]
     stations, values = [], []
     for node in nodes:
@@ -386,7 +391,7 @@ def _cant(doc: _Document, alignment_node: ET.Element) -> CantTable | None:
         applied = doc.number(node, "appliedCant")
         curvature = doc.attribute(node, "curvature")
         if curvature not in ("cw", "ccw"):
-            raise doc.error(node, f"attribute 'curvature' must be 'cw' or 'ccw', got {curvature!r}")
+            raise doc.error(node, "attribute 'curvature' must be 'cw' or 'ccw', got {curvature!r}", fields={"curvature": curvature})
         values.append((applied if curvature == "cw" else -applied) / 1000.0)
     try:
         return CantTable(stations, values)
@@ -400,7 +405,7 @@ def _check_units(doc: _Document) -> None:
             if system.tag == "Imperial":
                 raise doc.error(system, "imperial units are not supported; export in metres")
             if system.tag == "Metric" and system.get("linearUnit", "meter") != "meter":
-                raise doc.error(system, f"linearUnit must be 'meter', got {system.get('linearUnit')!r}")
+                raise doc.error(system, "linearUnit must be 'meter', got {unit!r}", fields={"unit": system.get('linearUnit')})
 
 
 def read_landxml_alignments(
@@ -413,7 +418,7 @@ def read_landxml_alignments(
     """Every ``Alignments/Alignment`` of a LandXML 1.2 file, in file order."""
     doc = _Document(Path(path))
     if doc.root.tag != "LandXML":
-        raise doc.error(doc.root, f"the root element is <{doc.root.tag}>, expected <LandXML>")
+        raise doc.error(doc.root, "the root element is <{tag}>, expected <LandXML>", fields={"tag": doc.root.tag})
     _check_units(doc)
     nodes = [a for group in doc.root if group.tag == "Alignments" for a in group if a.tag == "Alignment"]
     if not nodes:
@@ -439,12 +444,12 @@ def read_landxml(path: str | Path, name: str | None = None, **options) -> Design
     if name is None:
         if len(alignments) > 1:
             names = ", ".join(repr(a.name) for a in alignments)
-            raise InputError(path, None, f"the file holds several alignments ({names}); choose one by name")
+            raise InputError(path, None, "the file holds several alignments ({names}); choose one by name", fields={"names": names})
         return alignments[0]
     for alignment in alignments:
         if alignment.name == name:
             return alignment
-    raise InputError(path, None, f"no alignment named {name!r} (found {', '.join(a.name for a in alignments)})")
+    raise InputError(path, None, "no alignment named {name!r} (found {names})", fields={"name": name, "names": [a.name for a in alignments]})
 
 
 # --------------------------------------------------------------------------- writing
