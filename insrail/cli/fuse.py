@@ -59,6 +59,7 @@ def run(args: argparse.Namespace) -> int:
     from insrail.io.survey import read_survey
     from insrail.nav.fusion import QUALITY_NAMES, FusionOptions, aiding_for
     from insrail.nav.imu_profile import load_imu_profile
+    from insrail.nav.pass_memo import PassMemo
     from insrail.nav.relative import RelativeFrame
     from insrail.nav.self_calibration import fuse_consistent
     from insrail.nav.trajectory import write_kfgins_imu_errors, write_kfgins_nav, write_kfgins_std
@@ -116,7 +117,8 @@ def run(args: argparse.Namespace) -> int:
                                                 ellipsoid, output_every=every,
                                                 progress=lambda f, m: bar(0.05 + 0.85 * f, m),
                                                 trajectory_file=staged["trajectory.npy"],
-                                                forward_file=staged.get("forward_trajectory.npy"))
+                                                forward_file=staged.get("forward_trajectory.npy"),
+                                                memo=PassMemo())  # each pass's IMU screening made once
     except BaseException as err:
         for path in staged.values():
             path.unlink(missing_ok=True)

@@ -98,6 +98,7 @@ from insrail.nav.measurements import (
     Zupt,
     schedule,
 )
+from insrail.nav.pass_memo import PassMemo
 from insrail.nav.relative import RelativeFrame, start_track
 from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.startup import KnownStart, PositionTrack, StartupError, heading_at_reset, initial_state
@@ -1326,8 +1327,23 @@ class _Setup:
     c_vb: np.ndarray  # C_b^v, the trolley's mounting
 
 
+def _screened(imu: ImuIncrements, profile: ImuProfile, odometer: OdometerData | None, positions, max_gap_s: float,
+              source_file: str) -> tuple[ImuIncrements, tuple, tuple[Notice, ...]]:
+    """The records screened (:func:`screen_imu`) and their gaps bridged: (records, outliers, notices)."""
+    # the unit check's rest is where the odometer or the positions let the trolley stand still
+    imu, outliers, notices = screen_imu(imu, profile, aiding_still=partial(aiding_still, odometer=odometer,
+                                                                           positions=positions))
+    imu, warnings = bridge_gaps(imu, max_gap_s)
+    removed = np.array([o.time_s for o in outliers])
+    notices += [Notice("imu", w, file=source_file, time_s=gap.start_s) for gap, w in zip(imu.gaps, warnings)
+                if not np.any((removed > gap.start_s) & (removed < gap.end_s))]  # a removed record says so itself
+    return imu, outliers, tuple(notices)
+
+
 def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: FusionOptions,
-             ellipsoid: earth.Ellipsoid) -> _Setup:
+             ellipsoid: earth.Ellipsoid, memo: PassMemo | None = None) -> _Setup:
+    memo = memo if memo is not None else PassMemo()
+    records = imu
     noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
     gqg = noise_matrix(noise)
     trolley = aiding.trolley
@@ -1348,13 +1364,10 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     positions = None
     if aiding.odometer is None and len(track) > 1:
         positions = (track.time_s, track.local_ned(ellipsoid)[:, :2], track.horizontal_sigma_m())
-    # the unit check's rest is where the odometer or the positions let the trolley stand still
-    imu, outliers, notices = screen_imu(imu, profile, aiding_still=partial(aiding_still, odometer=aiding.odometer,
-                                                                           positions=positions))
-    imu, warnings = bridge_gaps(imu, options.max_imu_gap_s)
-    removed = np.array([o.time_s for o in outliers])
-    notices += [Notice("imu", w, file=source_file, time_s=gap.start_s) for gap, w in zip(imu.gaps, warnings)
-                if not np.any((removed > gap.start_s) & (removed < gap.end_s))]  # a removed record says so itself
+    imu, outliers, notices = memo.get(
+        "screening", (records, profile, aiding.odometer, positions, options.max_imu_gap_s, source_file),
+        partial(_screened, records, profile, aiding.odometer, positions, options.max_imu_gap_s, source_file))
+    notices = list(notices)
     n = len(imu)
     t = imu.time_s
     dt0 = float(np.median(np.diff(t[: min(n, 1000)])))
@@ -1386,8 +1399,9 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     positions = None
     if aiding.odometer is None and gnss is not None:
         positions = (track.time_s, track.local_ned(ellipsoid)[:, :2], track.horizontal_sigma_m())
-    stops = detect_stops(imu, aiding.odometer, max_gyro_std_radps=gyro_quiet, positions=positions,
-                         max_accel_std_mps2=None if aiding.odometer is not None else accel_quiet)
+    stops = list(memo.get("stops", (imu, aiding.odometer, positions, gyro_quiet, accel_quiet),
+                          partial(detect_stops, imu, aiding.odometer, max_gyro_std_radps=gyro_quiet, positions=positions,
+                                  max_accel_std_mps2=None if aiding.odometer is not None else accel_quiet)))
     if aiding.odometer is None and gnss is None:
         moved = stop_with_moving_fixes(stops, (track.time_s, track.local_ned(ellipsoid)[:, :2],
                                                track.horizontal_sigma_m()))
@@ -1630,6 +1644,7 @@ def fuse(
     trajectory_file: Path | None = None,
     forward_file: Path | None = None,
     full_forward: bool = False,
+    memo: PassMemo | None = None,
 ) -> FusionResult:
     """Fuse IMU increments with a list of aiding sources into a trajectory.
 
@@ -1646,11 +1661,13 @@ def fuse(
     forward_file, full_forward : the forward solution at every ``output_every``-th epoch, streamed
                      into ``forward_file`` or held in memory; by default ``result.forward`` holds it
                      at the update epochs only (what the covariance analysis linearises on)
+    memo           : a :class:`~insrail.nav.pass_memo.PassMemo` shared by the passes over one survey:
+                     the IMU screening, gap bridging and stops made once for all of them
     """
     if covariance_store is not None and covariance_store.count:
         raise ValueError(f"the covariance store already holds {covariance_store.count} records: pass an empty one")
     step = StepProgress(progress)
-    setup = _prepare(imu, aiding, profile, options, ellipsoid)
+    setup = _prepare(imu, aiding, profile, options, ellipsoid, memo)
     imu, epochs, t = setup.imu, setup.epochs, setup.imu.time_s
     plan, notices = setup.plan, setup.notices
     bridged_q = setup.bridged_q

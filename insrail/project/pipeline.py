@@ -44,7 +44,7 @@ import json
 import time
 import tomllib
 from dataclasses import asdict, dataclass, replace
-from functools import cached_property
+from functools import cached_property, partial
 from pathlib import Path
 
 import numpy as np
@@ -67,6 +67,7 @@ from insrail.nav.fusion import SmootherStore, aiding_for, fuse
 from insrail.nav.integrity import UntrustedSolution
 from insrail.nav.measurements import PositionFix
 from insrail.nav.mounting import MountingEstimate, not_estimated
+from insrail.nav.pass_memo import PassMemo
 from insrail.nav.self_calibration import fuse_consistent
 from insrail.nav.shocks import NHC_RELAXED_S, detect_shocks
 from insrail.nav.trajectory import Trajectory, load_trajectory
@@ -402,9 +403,12 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
             return replace(aiding_for(survey, options, profile, fixes, shocks.nhc_relaxed_s()), design_azimuth=design,
                            relative=frame, known_start=known)
 
+        # every pass screens the same IMU records: once for all (the screened records dropped after the passes)
+        memo = PassMemo()
+        fuse_pass = partial(fuse, memo=memo)
         # the IMU's mounting from the survey (where GNSS gives the direction of travel), applied where it
         # differs from the given one beyond 3 sigma: the NHC then holds the right axes to the rail
-        mounting = (yaw_pitch_pass(survey, build_aiding, profile, run.fusion, run.ellipsoid, fuse,
+        mounting = (yaw_pitch_pass(survey, build_aiding, profile, run.fusion, run.ellipsoid, fuse_pass,
                                    progress=progress.sub(0.05, 0.3), cancel=cancel)
                     if run.fusion.use_nhc else not_estimated(manifest.trolley.mounting_rpy_rad, "the NHC is off"))
         survey = replace(survey, manifest=with_mounting(survey.manifest, mounting.applied_rpy_rad()))
@@ -412,8 +416,9 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
         # the trajectory is streamed into the cache as the smoother makes it (sealed below)
         result, options, store, _ = fuse_consistent(
             survey.imu, build_aiding,
-            profile, run.fusion, run.ellipsoid, new_store=SmootherStore if run.fusion.smoother else None, fuse=fuse,
+            profile, run.fusion, run.ellipsoid, new_store=SmootherStore if run.fusion.smoother else None, fuse=fuse_pass,
             progress=progress.sub(0.3 if survey.gnss is not None else 0.05, 0.87), cancel=cancel, trajectory_file=path)
+        memo.clear()
         check_cancel(cancel)
         if not result.integrity.trusted:
             raise UntrustedSolution(result.integrity.failure())
