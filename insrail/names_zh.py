@@ -301,6 +301,10 @@ ZH_CN: dict[str, str] = {
     "fewer than two valid sleepers with the {rail} rail: nothing to compare": "{rail} 轨的有效轨枕少于两根：无可比较",
     "gnss_raw.base_point: unknown control point {base_point!r}: not in the project's [geodesy.control_points] (known: {known}); or write base_point = \"rinex-header\" for the approximate header position":
         "gnss_raw.base_point：未知控制点 {base_point!r}：不在项目的 [geodesy.control_points] 中（已有：{known}）；或写 base_point = \"rinex-header\" 以采用文件头的近似位置",
+    "gnss_raw.{key}: expected a list of file names relative to the survey folder{least}": "gnss_raw.{key}：应为相对于测量文件夹的文件名列表{least}",
+    " (at least one)": "（至少一个）",
+    "{key_path}.{key}: unknown key (expected model, points)": "{key_path}.{key}：未知的键（应为 model、points）",
+    "{where}.{key}: unknown key (expected {keys})": "{where}.{key}：未知的键（应为 {keys}）",
     "{key_path}: expected a table with model and points": "{key_path}：应为含 model 和 points 的表",
     "{key_path}.model: expected one of {models}, found {model!r}": "{key_path}.model：应为 {models} 之一，实为 {model!r}",
     "{key_path}.points: expected [{key_path}.points.<name>] tables, one per common point": "{key_path}.points：应为 [{key_path}.points.<name>] 表，每个公共点一个",

@@ -279,3 +279,32 @@ def test_an_input_error_is_said_in_the_language_in_use():
     with names.in_language("zh-CN"):
         said = manifest.said()
     assert "files.gnss.path" in said and "gnss.pos" in said and "file not found" not in said
+
+
+def test_every_template_is_given_the_fields_it_names():
+    """A template written with its fields in one call (``InputError(..., "... {count}", fields={"count": n})``,
+    ``Phrase("... {count}", {"count": n})``, a notice's): a field named but not given would turn a reader's error
+    (or a notice) into a KeyError, where it is raised."""
+    import string
+
+    checked, wrong = 0, []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Call):
+                continue
+            name = node.func.id if isinstance(node.func, ast.Name) else getattr(node.func, "attr", None)
+            if name not in ("InputError", "LandXMLError", "fail", "error", "Phrase", "Notice"):
+                continue
+            arguments = node.args[1:] if name == "Notice" else node.args  # a notice's first is its stage
+            template = next((a.value for a in arguments if isinstance(a, ast.Constant) and isinstance(a.value, str)), None)
+            fields = next((k.value for k in node.keywords if k.arg == "fields"), None)
+            if name == "Phrase" and fields is None and len(node.args) > 1:
+                fields = node.args[1]
+            if template is None or not isinstance(fields, ast.Dict) or any(key is None for key in fields.keys):
+                continue
+            named = {field for _, field, _, _ in string.Formatter().parse(template) if field}
+            checked += 1
+            if named != {key.value for key in fields.keys}:
+                wrong.append(f"{path.relative_to(PACKAGE.parent)}:{node.lineno}: {sorted(named)}")
+    assert checked > 200
+    assert not wrong, wrong

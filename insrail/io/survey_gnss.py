@@ -104,8 +104,8 @@ def parse_raw_gnss(folder: Path, table, problems: list[str]) -> RawGnss | None:
         if isinstance(value, str):
             value = [value]
         if not isinstance(value, list) or (required and not value):
-            problems.append(f"gnss_raw.{key}: expected a list of file names relative to the survey folder"
-                            + (" (at least one)" if required else ""))
+            problems.append(Phrase("gnss_raw.{key}: expected a list of file names relative to the survey folder{least}",
+                                   {"key": key, "least": Phrase(" (at least one)" if required else "")}))
             return ()
         names = []
         for i, name in enumerate(value):

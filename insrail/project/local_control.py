@@ -190,7 +190,8 @@ def parse_local_control(table: Any, key_path: str, problems: list[str]) -> Local
         problems.append(Phrase("{key_path}: expected a table with model and points", {"key_path": key_path}))
         return None
     unknown = sorted(set(table) - {"model", "points"})
-    problems.extend(f"{key_path}.{key}: unknown key (expected model, points)" for key in unknown)
+    problems.extend(Phrase("{key_path}.{key}: unknown key (expected model, points)", {"key_path": key_path, "key": key})
+                    for key in unknown)
     model = table.get("model", "4-parameter")
     if model not in MODELS:
         problems.append(Phrase("{key_path}.model: expected one of {models}, found {model!r}", {"key_path": key_path, "models": list(MODELS), "model": model}))
@@ -210,7 +211,8 @@ def parse_local_control(table: Any, key_path: str, problems: list[str]) -> Local
         unknown = sorted(set(entry) - set(ENGINEERING + LOCAL))
         if missing:
             problems.append(Phrase("{where}: missing {missing}", {"where": where, "missing": list(missing)}))
-        problems.extend(f"{where}.{k}: unknown key (expected {', '.join(ENGINEERING + LOCAL)})" for k in unknown)
+        problems.extend(Phrase("{where}.{key}: unknown key (expected {keys})",
+                               {"where": where, "key": k, "keys": list(ENGINEERING + LOCAL)}) for k in unknown)
         values = {}
         for key in ENGINEERING + LOCAL:
             value = entry.get(key, math.nan)
