@@ -36,6 +36,32 @@ def test_the_grown_noise_reaches_the_rejected_offset_at_the_gap_end_and_nothing_
     np.testing.assert_allclose(heading * 20.0**2 / 3.0, 2.0**2, rtol=1e-9)
 
 
+def _fix_returns(fix_times_s, rejected_from_s, reset_s):
+    """gap_returns for prism fixes at ``fix_times_s`` (1 mm, 1 m apart per second northward), accepted before
+    ``rejected_from_s`` and rejected from there (1 m off north) to a filter reset at ``reset_s``."""
+    from insrail.nav.measurements import PositionFix
+
+    times = np.asarray(fix_times_s, dtype=float)
+    n = len(times)
+    fixes = PositionFix(times, 0.5 + times / 6.4e6, np.full(n, 2.0), np.full(n, 30.0), np.full(n, 0.001), np.zeros(3))
+    rejected = times >= rejected_from_s
+    rejections = [fusion.Rejection(float(t), fixes.name, 1e6, 16.3, (1.0, 0.0, 0.0)) for t in times[rejected]]
+    reset = fusion.FilterReset(reset_s, fixes.name, reset_s - rejected_from_s, int(rejected.sum()), rejected_from_s,
+                               (), ("position",), (1.0, 1.0, 1.0))
+    return fusion.gap_returns([reset], rejections, [fixes], times, np.zeros(n, dtype=np.int64), ~rejected)
+
+
+def test_a_fix_back_after_its_usual_interval_is_no_gap_return_one_back_after_a_silence_is():
+    """Sparse prism fixes (every 60 s) are silent between any two of them: a fix rejected at its usual interval
+    is the gate's and the resets' to judge, not a gap return whose growth frees the dead reckoning between every
+    two fixes (the matrix's prism-only MEMS tunnel: refused, fixes missed by metres). Fixes once a second silent
+    for 15 s are a gap return, grown to the rejected offset."""
+    assert _fix_returns(np.arange(0.0, 241.0, 60.0), 120.0, 180.0) == ()
+    dense = np.concatenate([np.arange(0.0, 60.5, 1.0), np.arange(75.0, 80.5, 1.0)])
+    (grown,) = _fix_returns(dense, 75.0, 80.0)
+    assert (grown.start_s, grown.end_s, grown.sigma_position_m) == (60.0, 75.0, (1.0, 0.0, 0.0))
+
+
 @pytest.fixture(scope="module")
 def walk(tmp_path_factory):
     from insrail.io.survey import read_survey

@@ -284,8 +284,13 @@ def _moved_m(source, start_s: float, end_s: float) -> float:
 def gap_returns(resets, rejections, sources, record_time_s, record_source, accepted,
                 grown: tuple[GapReturn, ...] = ()) -> tuple[GapReturn, ...]:
     """The gap returns (:class:`GapReturn`) among a forward pass's ``resets``: a reset whose source, or one
-    rejected with it, is a GNSS or prism source silent for more than GAP_RETURN_S between its last accepted
-    observation and the run's first rejection. Its growth: the largest rejected position (velocity)
+    rejected with it, is a GNSS or prism source silent for more than GAP_RETURN_S (and DENSE_GAP_FACTOR of its
+    usual interval) between its last accepted observation and the run's first rejection. Sparse prism fixes
+    are silent between any two of them: growing the white acceleration over each such "gap" frees the dead
+    reckoning's velocity (and heading) to the odometer and NHC between every two fixes, and a MEMS unit's then
+    misses the next fix by metres (the configuration matrix's prism-only MEMS tunnel: its first fix after the
+    start 0.9 m off without the growth, 4.2 m with it, its last 25 m off after three passes); their own gate and
+    resets judge them. Its growth: the largest rejected position (velocity)
     innovation per axis from that rejection to the reset; where ``grown`` already grew the same gap, at
     least twice that. ``record_*``: every gated observation's time and source index and whether accepted
     (``integrity.InnovationRecord``'s order); ``grown`` are kept as they are."""
@@ -306,7 +311,8 @@ def gap_returns(resets, rejections, sources, record_time_s, record_source, accep
                 continue
             end = float(record_time_s[after].min())
             seen = np.sort(record_time_s[mine & (record_time_s >= start) & (record_time_s <= end)])
-            if len(seen) < 2 or np.max(np.diff(seen)) <= GAP_RETURN_S:
+            usual = float(np.median(np.diff(np.sort(record_time_s[mine])))) if np.count_nonzero(mine) > 2 else 0.0
+            if len(seen) < 2 or np.max(np.diff(seen)) <= max(GAP_RETURN_S, DENSE_GAP_FACTOR * usual):
                 continue
             peak = np.zeros(3)
             for r in rejections:
