@@ -116,7 +116,8 @@ def section_project(tmp_path_factory):
 
 def test_a_section_batched_on_a_two_worker_dask_cluster_is_the_local_join(section_project, tmp_path, capsys):
     """`insrail batch PROJECT --section line --scheduler ADDRESS`: the four runs processed by two worker
-    processes, then joined here; the joined section's files are byte for byte those of the local run."""
+    processes, then joined here with the adjustment's parts solved by the workers; the joined
+    section's files are byte for byte those of the local run."""
     from distributed import LocalCluster
 
     (copy,) = fresh_copies([section_project], tmp_path)
@@ -124,9 +125,11 @@ def test_a_section_batched_on_a_two_worker_dask_cluster_is_the_local_join(sectio
         code = main(["batch", str(copy), "--section", "line", "--scheduler", cluster.scheduler_address,
                      "--no-reports"])
         workers = {info["id"] for info in cluster.scheduler_info["workers"].values()}
+        tasks = set(cluster.scheduler.task_prefixes)
     out = capsys.readouterr().out
     assert code == 0, out
     assert len(workers) == 2
+    assert {"run_task", "solve_part_in_zone"} <= tasks, tasks
     assert "4 of 4 surveys processed" in out and "section line: " in out
     for name in ("sleepers.csv", "exceedances.csv", "quality.csv"):
         local = section_project.folder / "results" / "line" / name

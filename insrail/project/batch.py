@@ -18,8 +18,10 @@ TLS: a ``tls://`` address and Dask's security settings (``distributed.comm.tls.*
 
 A line section (:mod:`insrail.project.section`) is batched with :func:`run_section_batch`: its runs
 are the tasks (on the cores or the cluster, as above), and once every run is processed the section
-is joined here, in the coordinating process, from the result files the workers wrote; the joined
-section is the one ``insrail process`` of each run and ``insrail section`` give.
+is joined here, in the coordinating process, from the result files the workers wrote; on a cluster
+the join's adjustment (most of the join's work) goes back to the workers, its independent parts as
+tasks (:func:`insrail.track.adjustment.optimise_amounts`). The joined section is the one ``insrail
+process`` of each run and ``insrail section`` give.
 
 Cancelling (the ``cancel`` token, or Ctrl-C in the CLI) stops scheduling: tasks not started are
 dropped, running ones are left to finish (or are interrupted by the same Ctrl-C, which leaves
@@ -192,7 +194,11 @@ def run_section_batch(project: Project, sections: list[str], workers: int | None
     outcomes = _run_tasks(tasks, [], workers, scheduler, progress, cancel, security)
     if not all(o.ok for o in outcomes):
         return outcomes, []
-    return outcomes, [join_section(project, name, cancel=cancel) for name in sections]
+    if scheduler is None:
+        return outcomes, [join_section(project, name, cancel=cancel) for name in sections]
+    with _dask_client(scheduler, security) as client:  # the join's adjustment solved on the cluster's workers
+        executor = client.get_executor(pure=False)
+        return outcomes, [join_section(project, name, cancel=cancel, executor=executor) for name in sections]
 
 
 def _outcome(future, task: BatchTask) -> BatchOutcome:
@@ -229,13 +235,18 @@ def _run_locally(tasks, workers, report, cancel) -> None:
             raise
 
 
-def _run_on_dask(tasks, scheduler, report, cancel, security=None) -> None:
+def _dask_client(scheduler: str, security=None):
     try:
         from distributed import Client
-        from distributed import wait as dask_wait
     except ImportError:
         raise RuntimeError("a Dask scheduler needs the 'distributed' package: pip install insrail[cluster]") from None
-    with Client(scheduler, timeout="10s", security=security) as client:
+    return Client(scheduler, timeout="10s", security=security)
+
+
+def _run_on_dask(tasks, scheduler, report, cancel, security=None) -> None:
+    with _dask_client(scheduler, security) as client:
+        from distributed import wait as dask_wait
+
         pending = {client.submit(run_task, task, pure=False): task for task in tasks}
         try:
             while pending:

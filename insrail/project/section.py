@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 import time
+from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -273,15 +274,18 @@ def _joined_quality(runs: list[StoredResults]) -> str:
 
 
 def join_section(project: Project, name: str, progress: ProgressFn | None = None,
-                 cancel: CancelToken = None) -> SectionResult:
+                 cancel: CancelToken = None, executor: Executor | None = None) -> SectionResult:
     """Join the section's processed runs and write ``<project>/results/<name>/`` (module docstring);
-    the section's and its surveys' results locked meanwhile (:mod:`insrail.project.lock`)."""
+    the section's and its surveys' results locked meanwhile (:mod:`insrail.project.lock`).
+    ``executor``: where the adjustment's independent parts are solved (a Dask cluster's, see
+    :func:`insrail.track.adjustment.optimise_amounts`; default: threads here), the same amounts either way."""
     entry = project.section(name)
     with project_run(project.folder, [name, *entry.surveys], progress, cancel):
-        return _join_section(project, entry, name, progress, cancel)
+        return _join_section(project, entry, name, progress, cancel, executor)
 
 
-def _join_section(project: Project, entry: SectionEntry, name: str, progress: ProgressFn | None, cancel: CancelToken) -> SectionResult:
+def _join_section(project: Project, entry: SectionEntry, name: str, progress: ProgressFn | None, cancel: CancelToken,
+                  executor: Executor | None) -> SectionResult:
     step = StepProgress(progress)
     started = time.monotonic()
     runs = []
@@ -330,7 +334,7 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
     fastener = load_fastener_type(project.resource(project.fastener))
     strategy = project.adjustment.strategy
     lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=step.sub(0.6, 0.95),
-                                         cancel=cancel, threshold_m=project.adjustment.threshold_m)
+                                         cancel=cancel, threshold_m=project.adjustment.threshold_m, executor=executor)
     after_adjustment, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
     columns = {k: (v, _format(k)) for k, v in c.items()}
     columns |= sleeper_check_columns(assessment, adjustment)

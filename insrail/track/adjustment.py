@@ -31,13 +31,14 @@ from __future__ import annotations
 
 import os
 import tomllib
-from concurrent.futures import ThreadPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Executor, ThreadPoolExecutor, wait
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from insrail.progress import CancelToken, ProgressFn
+from insrail.progress import CancelToken, ProgressFn, check_cancel
 from insrail.resources import resources_dir
 from insrail.track.adjustment_programme import (
     DirectionProblem,
@@ -67,7 +68,7 @@ STRATEGIES = {
 }
 DEFAULT_STRATEGY = "least_movement"
 #: Bumped when the programme's amounts for the same input change (joins the pipeline's cache key).
-PROGRAMME_VERSION = 3
+PROGRAMME_VERSION = 4  # 4: the windows of a round solved colour after colour (adjustment.colours), not left to right
 #: Track-level checks the programme holds (:func:`insrail.track.adjustment_programme.track_rows`).
 TRACK_KINDS = ("gauge_deviation", "gauge_change_rate", "cross_level", "twist")
 #: Why a sleeper still fails a check after the adjustment (bits of Adjustment.reason_*).
@@ -82,6 +83,9 @@ MAX_SWEEPS = 4
 WINDOW_PAD = 2
 #: How often [s] the progress of the channels (solved in parallel threads) is reported.
 PROGRESS_INTERVAL_S = 0.2
+#: Sleepers beyond its windows that solving a part may read (track rows' bases) or change (the
+#: rounding repair): parts of a round lie further apart than the longest chord and twice this.
+PART_MARGIN = 64
 
 
 @dataclass(frozen=True)
@@ -271,18 +275,156 @@ def _share(progress, done: int, size: int, total: int):
     return lambda fraction, message: progress((done + fraction * size) / total, message)
 
 
+@dataclass(frozen=True)
+class Part:
+    """Windows [start, stop) of one round, in order, solved one after the other; ``zone``: the sleepers
+    that solving them may read or change (the windows widened by :data:`PART_MARGIN`)."""
+
+    windows: tuple[tuple[int, int], ...]
+    zone: tuple[int, int]
+
+    @property
+    def size(self) -> int:
+        return sum(stop - start for start, stop in self.windows)
+
+
+def _part_gap(checks: list[RailCheck]) -> int:
+    """Sleepers between windows that do not see each other: the longest chord and twice :data:`PART_MARGIN`."""
+    return max((check.reach_steps for check in checks), default=0) + 2 * PART_MARGIN
+
+
+def independent_parts(problem: DirectionProblem, checks: list[RailCheck], windows: list[tuple[int, int]]) -> list[Part]:
+    """The round's windows (in order) grouped into parts that do not see each other: windows closer
+    than the longest chord plus twice :data:`PART_MARGIN` are one part. A window's programme reads
+    the amounts within a chord of its sleepers (and its track rows' bases), and its rounding repair
+    changes a few sleepers beyond it: parts further apart neither read nor change each other's
+    sleepers, so solving them side by side gives the amounts of solving every window in order."""
+    n = problem.deviation.shape[0]
+    gap = _part_gap(checks)
+    groups: list[list[tuple[int, int]]] = []
+    for window in windows:
+        if groups and window[0] - groups[-1][-1][1] < gap:
+            groups[-1].append(window)
+        else:
+            groups.append([window])
+    return [Part(tuple(group), (max(0, group[0][0] - PART_MARGIN), min(n, group[-1][1] + PART_MARGIN)))
+            for group in groups]
+
+
+def solve_part(problem: DirectionProblem, amounts: np.ndarray, checks: list[RailCheck], part: Part, progress=None,
+               cancel=None) -> np.ndarray:
+    """Amounts [steps] (n, 2) with the part's windows solved one after the other, each by a linear
+    programme (:func:`insrail.track.adjustment_programme.solve_free`) rounded to whole steps and
+    repaired where the rounding broke a hard track row; the other sleepers keep ``amounts``."""
+    n = amounts.shape[0]
+    done = 0
+    for start, stop in part.windows:
+        free = np.zeros(n, bool)
+        free[start:stop] = problem.valid[start:stop]
+        continuous = solve_free(problem, amounts, free, checks, _share(progress, done, stop - start, part.size), cancel)
+        amounts = np.where(free[:, None], round_amounts(continuous, problem.low, problem.high, problem.valid), amounts)
+        amounts = repair_rounding(problem, amounts, continuous, (start, stop))
+        done += stop - start
+    return amounts
+
+
+def solve_part_in_zone(problem: DirectionProblem, amounts: np.ndarray, checks: list[RailCheck], part: Part,
+                       progress=None, cancel=None) -> tuple[np.ndarray, bool]:
+    """A task of a round (run where the executor runs it, a Dask worker or a thread): the amounts of
+    the part's zone after :func:`solve_part`, and whether it changed a sleeper outside its zone (it
+    then did not stay independent: the caller solves the round in order)."""
+    solved = solve_part(problem, amounts, checks, part, progress, cancel)
+    start, stop = part.zone
+    outside = bool(np.any(solved[:start] != amounts[:start]) or np.any(solved[stop:] != amounts[stop:]))
+    return solved[start:stop], outside
+
+
+def _reads_within_zone(problem: DirectionProblem, part: Part) -> bool:
+    """Whether the track rows touching the part's windows read only sleepers of its zone (bases across
+    a long stretch of invalid sleepers may reach further)."""
+    first, last = problem.rows.first, problem.rows.last
+    start, stop = part.windows[0][0], part.windows[-1][1]
+    owners = np.flatnonzero((first < stop) & (last >= start))
+    return not owners.size or (first[owners].min() >= part.zone[0] and last[owners].max() < part.zone[1])
+
+
+def _solve_parts(problem: DirectionProblem, amounts: np.ndarray, checks: list[RailCheck], parts: list[Part],
+                 executor: Executor | None, progress, cancel, tasks_see_cancel: bool) -> np.ndarray:
+    """The round's amounts: the parts solved side by side as tasks of ``executor`` (the largest first;
+    ``tasks_see_cancel``: the tasks run in this process and may be given the cancel token and the
+    progress), each task's zone taken into the amounts; in order, here, without an executor or when
+    the parts are not independent after all (:func:`solve_part_in_zone`): the same amounts."""
+    total = sum(part.size for part in parts)
+    if executor is None or not all(_reads_within_zone(problem, part) for part in parts):
+        done = 0
+        for part in parts:
+            amounts = solve_part(problem, amounts, checks, part, _share(progress, done, part.size, total), cancel)
+            done += part.size
+        return amounts
+    futures = {}
+    for part in sorted(parts, key=lambda p: p.size, reverse=True):
+        hooks = (_share(progress, 0, part.size, total), cancel) if tasks_see_cancel else ()
+        futures[executor.submit(solve_part_in_zone, problem, amounts, checks, part, *hooks)] = part
+    try:
+        waiting = set(futures)
+        while waiting:
+            check_cancel(cancel)
+            finished, waiting = wait(waiting, timeout=PROGRESS_INTERVAL_S, return_when=FIRST_COMPLETED)
+            if progress is not None and finished:
+                progress(sum(futures[f].size for f in futures if f.done()) / total, "adjustment amounts")
+    except BaseException:
+        for future in futures:
+            future.cancel()
+        raise
+    result = amounts.copy()
+    for future, part in futures.items():
+        zone, outside = future.result()
+        if outside:
+            return _solve_parts(problem, amounts, checks, parts, None, progress, cancel, tasks_see_cancel)
+        result[part.zone[0]:part.zone[1]] = zone  # the zones lie apart (a chord at least)
+    return result
+
+
+def colours(windows: list[tuple[int, int]], checks: list[RailCheck]) -> list[list[tuple[int, int]]]:
+    """The round's windows in colours, solved colour after colour (the amounts of the colours before
+    held): each window takes the first colour whose last window lies a part's gap before it
+    (:func:`independent_parts`), so that the windows of one colour are independent parts, solved
+    side by side. The colours follow from the windows alone: the amounts do not depend on how many
+    workers solve them."""
+    gap = _part_gap(checks)
+    classes: list[list[tuple[int, int]]] = []
+    for window in windows:
+        for members in classes:
+            if window[0] - members[-1][1] >= gap:
+                members.append(window)
+                break
+        else:
+            classes.append([window])
+    return classes
+
+
+def _colour_progress(progress, colour: int, count: int):
+    if progress is None:
+        return None
+    return lambda fraction, message: progress((colour + fraction) / count, message)
+
+
 def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], progress=None, cancel=None,
-                        threshold: float = 1.0) -> np.ndarray:
+                        threshold: float = 1.0, executor: Executor | None = None,
+                        tasks_see_cancel: bool = True) -> np.ndarray:
     """Amounts [steps] (n, 2) of one direction.
 
     Only the sleepers near exceedances are moved (two reaches of the check around each
     exceeding value), window after window, each by a linear programme
     (:func:`insrail.track.adjustment_programme.solve_free`: every chord check of both rails and
     every track row held, the rows entering as they are found violated; the windows solved
-    before are held where their rows reach into the next one). Each solution is rounded to whole
-    steps and the rounding repaired where it broke a hard track row. The line
-    is then checked again: windows around exceedances that the previous round did not already
-    try are solved again, until there are none. Last, amounts below the action ``threshold``
+    before are held where their rows reach into the next one). The windows go colour after
+    colour (:func:`colours`: the windows of a colour lie a chord apart, so they do not see each
+    other): the independent parts of a colour (:func:`independent_parts`) are solved side by side
+    on ``executor`` (one after the other without one), the same amounts either way. Each
+    solution is rounded to whole steps and the rounding repaired where it broke a hard track row.
+    The line is then checked again: windows around exceedances that the previous round did not
+    already try are solved again, until there are none. Last, amounts below the action ``threshold``
     [steps] are taken out where the checks allow (:func:`insrail.track.adjustment_programme.apply_threshold`).
     """
     n = problem.deviation.shape[0]
@@ -296,17 +438,10 @@ def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], prog
             break
         tried[state.trouble] = True
         sweep_progress = _sweep_progress(progress, sweep)
-        total = sum(stop - start for start, stop in windows)
-        done = 0
-        for start, stop in windows:
-            free = np.zeros(n, bool)
-            free[start:stop] = problem.valid[start:stop]
-            continuous = solve_free(problem, amounts, free, checks, _share(sweep_progress, done, stop - start, total),
-                                    cancel)
-            amounts = np.where(free[:, None], round_amounts(continuous, problem.low, problem.high, problem.valid),
-                               amounts)
-            amounts = repair_rounding(problem, amounts, continuous, (start, stop))
-            done += stop - start
+        classes = colours(windows, checks)
+        for colour, members in enumerate(classes):
+            amounts = _solve_parts(problem, amounts, checks, independent_parts(problem, checks, members), executor,
+                                   _colour_progress(sweep_progress, colour, len(classes)), cancel, tasks_see_cancel)
     # the threshold's integer programmes report in the last tenth (monotonic with the rounds after the first)
     threshold_progress = (None if progress is None
                           else lambda fraction, message: progress(0.9 + 0.1 * fraction, message))
@@ -341,14 +476,18 @@ def threshold_steps(fastener: FastenerType, threshold_m: float | None) -> float:
 def optimise_amounts(
     geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, strategy: str = DEFAULT_STRATEGY,
     progress: ProgressFn | None = None, cancel: CancelToken = None, threshold_m: float | None = None,
+    executor: Executor | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(lateral, vertical) amounts [m] (n, 2) of :func:`optimise_adjustment`, not yet re-assessed.
     Each amount is 0 or at least the action threshold ``threshold_m`` (rounded up to whole steps;
     None: one step) where the checks allow it (:func:`below_threshold_count` counts the others).
 
-    The two directions are independent and HiGHS releases the GIL while it solves: one thread
-    each, the heavier submitted first; ``progress`` is called from the calling thread, ``cancel``
-    is checked before every programme is solved (see :mod:`insrail.progress`)."""
+    The two directions are independent: one thread each, the heavier submitted first. The
+    independent parts of each round (:func:`independent_parts`) are solved as tasks of
+    ``executor`` (e.g. a Dask client's ``get_executor()``: the parts run on the cluster's workers),
+    by default by threads here (HiGHS releases the GIL while it solves); the amounts are the same
+    either way. ``progress`` is called from the calling thread, ``cancel`` is checked before every
+    programme is solved here and while the executor's tasks run (see :mod:`insrail.progress`)."""
     problems = {d: direction_problem(geometry, profile, fastener, d, strategy) for d in DIRECTIONS}
     checks = {d: rail_checks(profile, d) for d in DIRECTIONS}
     done = {d: 0.0 for d in DIRECTIONS}
@@ -358,14 +497,16 @@ def optimise_amounts(
             done[direction] = max(done[direction], fraction)  # a second round starts again from 0
 
         return _optimise_direction(problems[direction], checks[direction], direction_progress, cancel,
-                                   threshold_steps(fastener, threshold_m))
+                                   threshold_steps(fastener, threshold_m), parts_executor, local)
 
     def expected_work(direction: str) -> int:
         state = _state(problems[direction], np.zeros(problems[direction].deviation.shape), checks[direction])
         return int(state.pad.sum())
 
     order = sorted(DIRECTIONS, key=expected_work, reverse=True)
-    with ThreadPoolExecutor(min(len(order), os.cpu_count() or 1)) as pool:
+    local = executor is None
+    with ThreadPoolExecutor(min(len(order), os.cpu_count() or 1)) as pool, \
+            ThreadPoolExecutor(os.cpu_count() or 1) if local else nullcontext(executor) as parts_executor:
         futures = {direction: pool.submit(solve, direction) for direction in order}
         while not wait(futures.values(), timeout=PROGRESS_INTERVAL_S).done.issuperset(futures.values()):
             if progress is not None:
