@@ -424,7 +424,7 @@ ZH_CN: dict[str, str] = {
     "section [{required}] is missing": "缺少节 [{required}]",
     "[alignment] lacks {key}": "[alignment] 缺少 {key}",
     "[alignment] needs exactly one of start_azimuth_deg or start_azimuth_gon": "[alignment] 需要 start_azimuth_deg 或 start_azimuth_gon 二者之一",
-    "unknown section [{name}]; expected [alignment], {sections}": "未知节 [{name}]；应为 [alignment]、{sections}",
+    "unknown section [{name}]; expected [alignment], {sections}": "未知节 [{name}]；应为 [alignment]，{sections}",
     "section [{name}] appears twice (first on line {line})": "节 [{name}] 出现两次（首次在第 {line} 行）",
     "expected a section header such as [alignment] before any data": "数据之前应有 [alignment] 等节标题",
     "expected 'key, value' in [alignment], found {count} fields": "[alignment] 中应为“key, value”，实有 {count} 个字段",
