@@ -7,16 +7,23 @@ one track (same track seed, own noise seeds), the `.npy` IMU. For each cluster s
 the project (no results, no cache) goes through `insrail batch PROJECT --section km20-30 --scheduler
 ADDRESS --no-reports` on a `distributed.LocalCluster` of that many single-threaded worker processes,
 started and warmed (insrail imported, numba's cache loaded) before the clock starts: a real cluster's
-workers outlive a batch. Prints each wall time, the speed-up over one worker, the machine's load
-average before each run (the speed-up needs idle cores), and whether every joined section equals
-the first one byte for byte (sleepers.csv, exceedances.csv, quality.csv). Simulated surveys are kept
-in DIR (default /tmp/insrail-section-batch).
+workers outlive a batch. The runs and the join's adjustment parts run on the workers; the rest of the
+join here. Prints each wall time, the speed-up over one worker, the machine's load average before
+and after each run (the wall speed-up needs idle cores), and whether every joined section equals
+the first one byte for byte (sleepers.csv, exceedances.csv, quality.csv).
+
+On a loaded machine the wall times say little; so it also prints the CPU time (user + system) each
+worker process and this process spent on the batch, and the wall time an idle machine would take,
+estimated as the busiest worker's CPU plus this process's: a lower bound, as it counts no worker
+waiting for another (between the adjustment's colours). Simulated surveys are kept in DIR (default
+/tmp/insrail-section-batch).
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import resource
 import shutil
 import time
 from dataclasses import replace
@@ -29,6 +36,12 @@ RUNS = (("run1", 20050.0, 22700.0), ("run2", 22600.0, 25250.0), ("run3", 25150.0
         ("run4", 27700.0, 30250.0))
 SECTION = "km20-30"
 JOINED_FILES = ("sleepers.csv", "exceedances.csv", "quality.csv")
+
+
+def _cpu_s() -> float:
+    """User + system CPU time of this process so far (all its threads)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
 
 
 def _warm() -> str:
@@ -62,7 +75,7 @@ def main() -> None:
     save_project(project)
     load_project(root / "source")  # the project as saved is valid
 
-    walls, joined = {}, {}
+    walls, idle, joined = {}, {}, {}
     for workers in args.workers:
         copy = root / f"workers{workers}"
         shutil.rmtree(copy, ignore_errors=True)
@@ -70,20 +83,26 @@ def main() -> None:
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
             with Client(cluster) as client:
                 pids = client.run(_warm)
-            load = os.getloadavg()[0]
-            started = time.perf_counter()
-            code = cli(["batch", str(copy), "--section", SECTION, "--scheduler", cluster.scheduler_address,
-                        "--no-reports"])
-            walls[workers] = time.perf_counter() - started
+                before = client.run(_cpu_s)
+                load = os.getloadavg()[0]
+                started, here = time.perf_counter(), _cpu_s()
+                code = cli(["batch", str(copy), "--section", SECTION, "--scheduler", cluster.scheduler_address,
+                            "--no-reports"])
+                walls[workers], here = time.perf_counter() - started, _cpu_s() - here
+                spent = {worker: cpu - before[worker] for worker, cpu in client.run(_cpu_s).items()}
         if code != 0:
             raise SystemExit(f"insrail batch exited with {code} on {workers} worker(s)")
         joined[workers] = [(copy / "results" / SECTION / name).read_bytes() for name in JOINED_FILES]
-        print(f"{workers} worker(s) ({len(set(pids.values()))} processes): {walls[workers]:.1f} s wall, "
-              f"load average before {load:.2f}")
+        idle[workers] = max(spent.values()) + here
+        print(f"{workers} worker(s) ({len(set(pids.values()))} processes): {walls[workers]:.1f} s wall, load average "
+              f"before {load:.2f}, after {os.getloadavg()[0]:.2f}; CPU s per worker "
+              f"{' '.join(f'{v:.1f}' for v in sorted(spent.values(), reverse=True))}, here {here:.1f}; "
+              f"idle-machine estimate {idle[workers]:.1f} s")
     first = args.workers[0]
     for workers in args.workers[1:]:
-        print(f"{workers} workers: speed-up {walls[first] / walls[workers]:.2f}x over {first}; joined section "
-              f"identical: {joined[workers] == joined[first]}")
+        print(f"{workers} workers: speed-up {walls[first] / walls[workers]:.2f}x over {first} (wall), "
+              f"{idle[first] / idle[workers]:.2f}x (idle-machine estimate from CPU); joined section identical: "
+              f"{joined[workers] == joined[first]}")
 
 
 if __name__ == "__main__":

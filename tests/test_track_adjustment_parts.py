@@ -6,6 +6,7 @@ from __future__ import annotations
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
+import pytest
 
 import insrail.track.adjustment as adjustment
 from insrail.track.adjustment import (
@@ -84,3 +85,17 @@ def test_parts_side_by_side_give_the_amounts_of_one_after_the_other(monkeypatch)
     monkeypatch.setattr(adjustment, "solve_part_in_zone", lambda *args: (solve(*args)[0], True))
     for direction, amounts in zip(adjustment.DIRECTIONS, optimise_amounts(geometry, profile, fastener)):
         np.testing.assert_array_equal(amounts, in_order[direction], err_msg=direction)
+
+
+def test_cancelled_while_the_executor_solves_the_parts():
+    from insrail.progress import Cancelled
+
+    calls = []
+
+    def cancel():
+        calls.append(1)
+        return len(calls) > 3  # after the parts were submitted
+
+    with CountingExecutor() as executor, pytest.raises(Cancelled):
+        optimise_amounts(kinked_track([400, 1900], 2400), load_tolerance_profile(), load_fastener_type(),
+                         cancel=cancel, executor=executor)
