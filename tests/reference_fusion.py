@@ -123,7 +123,7 @@ def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1, gap_
             time_s=t[b - 1], lat=float(lat), lon=float(lon), h=float(nav[4]), vel_ned=nav[5:8].copy(),
             c_bn=quat_to_dcm(nav[8:12]), omega_ib_b=sums[10:13] / dt[b - 1], f_b=sums[13:16] / dt[b - 1],
             mean_vel_ned=sums[0:3] / seg, mean_omega_ib_b=sums[3:6] / seg, segment_s=seg,
-            odometer_scale=odo_scale, ellipsoid=ellipsoid, gnss_error_ned_m=gnss_error.copy(),
+            odometer_scale=odo_scale, rate_span_s=dt[b - 1], ellipsoid=ellipsoid, gnss_error_ned_m=gnss_error.copy(),
         )
         F = dynamics_matrix(snap.lat, snap.h, snap.vel_ned, snap.c_bn, sums[6:9] / seg, sums[3:6] / seg,
                             setup.noise, ellipsoid)

@@ -102,7 +102,7 @@ def _snapshot_context(rng):
     snap = meas.NavSnapshot(
         time_s=1000.0, lat=lat_c, lon=lon_c, h=h, vel_ned=nav[5:8].copy(), c_bn=c_bn, omega_ib_b=sums[10:13] / 0.005,
         f_b=sums[13:16] / 0.005, mean_vel_ned=sums[0:3] / 0.1, mean_omega_ib_b=sums[3:6] / 0.1, segment_s=0.1,
-        odometer_scale=0.0012, ellipsoid=ell, gnss_error_ned_m=gnss_error)
+        odometer_scale=0.0012, rate_span_s=0.005, ellipsoid=ell, gnss_error_ned_m=gnss_error)
     return ctx, snap, earth_c
 
 
@@ -117,7 +117,7 @@ def test_each_compiled_model_is_its_python_model():
                          np.array([0.001]), lever),
         meas.GnssVelocity(np.array([1000.0]), np.array([[1.0, 0.5, 0.0]]), np.array([[0.01, 0.001, 0.02]]), lever),
         meas.OdometerNhc(np.array([1000.0]), np.array([1.31]), euler_to_dcm(0.001, -0.002, 0.003), lever,
-                         np.array([0.1, 0.7, 0.4]), np.array([0.0011])),
+                         np.array([0.1, 0.7, 0.4]), np.array([0.0011]), gyro_white_noise=3e-5),
         replace(meas.OdometerNhc(np.array([1000.0]), np.array([1.31]), np.eye(3), lever, lever, np.array([0.001])),
                 use_odometer=False),
         # its speed left out there (a slipping wheel, nav.odometer_pair): the NHC rows alone

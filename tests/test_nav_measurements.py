@@ -6,6 +6,9 @@ the change of the innovation is compared with H x. A wrong sign or a missing ter
 block of H fails this.
 """
 
+import math
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -24,7 +27,7 @@ def true_state():
     return NavSnapshot(
         time_s=1000.0, lat=0.53, lon=1.99, h=40.0, vel_ned=vel, c_bn=c_bn, omega_ib_b=omega,
         f_b=np.array([0.1, 0.05, -9.79]), mean_vel_ned=vel * 0.999, mean_omega_ib_b=omega * 1.01,
-        segment_s=0.1, odometer_scale=0.0012,
+        segment_s=0.1, odometer_scale=0.0012, rate_span_s=0.005,
     )
 
 
@@ -46,6 +49,7 @@ def perturbed(nav: NavSnapshot, x: np.ndarray) -> NavSnapshot:
         mean_omega_ib_b=mean_omega_hat,
         segment_s=nav.segment_s,
         odometer_scale=nav.odometer_scale - x[ODO],
+        rate_span_s=nav.rate_span_s,
     )
 
 
@@ -111,6 +115,22 @@ def test_odometer_nhc_jacobian(use_odometer, use_nhc):
     check_linearisation(m)
     z, H, R = m.model(true_state(), 0)
     assert len(z) == int(use_odometer) + 2 * int(use_nhc)
+
+
+def test_the_nhc_rows_noise_holds_the_gyros_white_noise_through_the_lever_arm():
+    """The NHC point's velocity takes the last IMU record's rate through the lever arm: its white noise
+    (a tactical unit's 0.1 deg/sqrt(h) over a 5 ms record) moves the rows by what their R adds to the
+    play's 1-sigma, measured here on 20000 noisy rates."""
+    arw, span = math.radians(0.1) / 60.0, 0.005
+    m = OdometerNhc(np.array([1000.0]), np.array([1.31]), np.eye(3), np.array([0.45, -0.6, 0.31]),
+                    np.array([0.1, -0.6, 0.31]), np.array([0.004]), sigma_nhc_mps=0.0001, gyro_white_noise=arw)
+    nav = true_state()
+    z0, _, R = m.model(nav, 0)
+    rates = nav.omega_ib_b + RNG.normal(0.0, arw / math.sqrt(span), (20000, 3))
+    z = np.array([m.model(replace(nav, omega_ib_b=w), 0)[0] for w in rates])
+    np.testing.assert_allclose(np.var(z[:, 1:], axis=0), np.diag(R)[1:] - 0.0001**2, rtol=0.05)
+    assert 0.2e-3 < math.sqrt(np.diag(R)[2] - 0.0001**2) < 0.3e-3  # vertical, the rail point 0.6 m beside the IMU
+    assert np.diag(m.model(replace(nav, rate_span_s=0.02), 0)[2])[2] < np.diag(R)[2]  # a rate over a longer record
 
 
 def test_zupt_jacobian():

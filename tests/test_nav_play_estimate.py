@@ -143,3 +143,32 @@ def test_the_odometers_and_the_gnss_noise_come_from_the_survey():
     assert any(m.startswith("odometer noise estimated from its innovations") for m in said)
     odometer = result.timeline.measurements["odometer_nhc"]
     assert odometer.sigma_speed_scale == options.odometer_sigma_scale  # what the covariance replay reads
+
+
+def test_where_the_filters_own_part_is_most_of_the_innovations_the_play_is_bounded_by_what_the_survey_shows():
+    """A tactical trolley without play: the NHC rows' innovations are the filter's own part and the gyro's
+    noise through the lever arm, correlated over seconds. The plain upper bound took all of them for play
+    (0.02 mm^2/m, the stated 5 m lags 1.2x pessimistic); the upper confidence limit of the difference is
+    near the floor, and with a play under that filter it still covers it."""
+    from insrail.nav.self_calibration import PLAY_BLOCK_ROWS, play_upper_limit, variance_component
+
+    rng = np.random.default_rng(7)
+    rows = 2000
+    unit = np.full(rows, 2 * 2.0 * 1.0**2)  # 2 B v^2 at 1 m/s: the play's variance per row per m^2/m
+    own, other = np.full(rows, 0.25e-3**2), np.full(rows, 0.25e-3**2)  # H P- H^T, the gyro's noise [m^2/s^2]
+    # innovations correlated over some rows (an AR(1) at 10 Hz) with that variance
+    white = rng.standard_normal(rows)
+    correlated = np.empty(rows)
+    correlated[0] = white[0]
+    for k in range(1, rows):
+        correlated[k] = 0.5 * correlated[k - 1] + np.sqrt(1 - 0.5**2) * white[k]
+    nu2 = (own + other) * correlated**2
+    plain = variance_component(nu2, unit, other)
+    limit = play_upper_limit(nu2, unit, own + other)
+    assert plain > 0.5 * 0.025e-6 and limit < 0.2 * plain and limit < 0.2 * 0.025e-6
+    true_play = 0.3 * own[0] / unit[0]  # 30 % of the filter's own part: mostly own still
+    covered = [play_upper_limit((own + other + true_play * unit) * rng.chisquare(1, rows), unit, own + other)
+               for _ in range(20)]
+    assert np.mean(np.array(covered) >= true_play) >= 0.9 and np.median(covered) < 2 * true_play
+    assert play_upper_limit(nu2[: PLAY_BLOCK_ROWS], unit[: PLAY_BLOCK_ROWS], own[: PLAY_BLOCK_ROWS]) == pytest.approx(
+        variance_component(nu2[: PLAY_BLOCK_ROWS], unit[: PLAY_BLOCK_ROWS]))  # one block: the plain bound

@@ -1239,7 +1239,7 @@ def aiding_sources(options: FusionOptions, trolley: TrolleyGeometry, profile: Im
             (odometer.pulse_length_m if odometer is not None else None) or 0.001,
             sigma_nhc_mps=options.nhc_sigma_mps if use_odometer else max(options.nhc_sigma_mps,
                                                                           NHC_SIGMA_WITHOUT_ODOMETER_MPS),
-            use_odometer=use_odometer, use_nhc=options.use_nhc, sigma_speed_scale=options.odometer_sigma_scale,
+            gyro_white_noise=profile.gyro_arw, use_odometer=use_odometer, use_nhc=options.use_nhc, sigma_speed_scale=options.odometer_sigma_scale,
             odometer_left_out_s=left_out_s(odometer.left_out if odometer is not None else ()),
             **({} if nhc_relaxed_s is None else {"nhc_relaxed_s": nhc_relaxed_s})))
     if use_odometer and odometer_right is not None:

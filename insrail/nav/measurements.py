@@ -53,6 +53,7 @@ class NavSnapshot:
     """The INS solution at an update epoch (compensated sensor values).
 
     omega_ib_b, f_b : angular rate [rad/s] and specific force [m/s^2] of the last epoch
+    rate_span_s     : the interval omega_ib_b is the mean of (the last IMU record's) [s]: its white noise
     mean_vel_ned    : mean NED velocity over the segment since the previous update [m/s]
     mean_omega_ib_b : mean compensated angular rate over that segment [rad/s]
     segment_s       : length of that segment [s]
@@ -72,6 +73,7 @@ class NavSnapshot:
     mean_omega_ib_b: np.ndarray
     segment_s: float
     odometer_scale: float
+    rate_span_s: float
     ellipsoid: earth.Ellipsoid = earth.WGS84
     gnss_error_ned_m: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
@@ -326,6 +328,11 @@ class OdometerNhc:
     nhc_lever_arm_m: np.ndarray
     sigma_speed_mps: np.ndarray
     sigma_nhc_mps: float = 0.002
+    #: the gyro's white noise [rad/sqrt(s)]: the NHC point's velocity takes the last record's rate
+    #: through the lever arm, so its rows carry that rate's noise, gyro_white_noise^2 / rate_span_s
+    #: through the lever (a tactical unit's 0.1 deg/sqrt(h) at 200 Hz: 0.25 mm/s vertically for
+    #: a rail point 0.6 m beside the IMU, more than a trolley without play shows otherwise)
+    gyro_white_noise: float = 0.0
     use_odometer: bool = True
     use_nhc: bool = True
     name: str = "odometer_nhc"
@@ -396,14 +403,16 @@ class OdometerNhc:
             v_ref, H_nhc = frame.velocity_rows(self.nhc_lever_arm_m, nav.vel_ned)
             rows.extend(H_nhc[1:3])
             z.extend(v_ref[1:3])
-            sig.extend([self.sigma_nhc_mps * (1.0 if self.nhc_scale is None else self.nhc_scale[i])] * 2)
+            play = self.sigma_nhc_mps * (1.0 if self.nhc_scale is None else self.nhc_scale[i])
+            rate = self.gyro_white_noise**2 / nav.rate_span_s * np.sum(np.square(H_nhc[1:3, BG : BG + 3]), axis=1)
+            sig.extend(np.sqrt(play**2 + rate))
         return np.array(z), np.array(rows).reshape(len(z), N_STATES), np.diag(np.square(sig))
 
     def compiled(self) -> CompiledModel:
         return _compiled(MODEL_ODOMETER_NHC,
                          [*np.asarray(self.dcm_vehicle_from_body, float).ravel(),
                           *np.asarray(self.odometer_lever_arm_m, float), *np.asarray(self.nhc_lever_arm_m, float),
-                          self.sigma_nhc_mps, float(self.use_odometer), float(self.use_nhc)],
+                          self.sigma_nhc_mps, float(self.use_odometer), float(self.use_nhc), self.gyro_white_noise],
                          [self.time_s, self.speed_mps, np.square(self.sigma_speed_mps),
                           np.ones(len(self.time_s)) if self.nhc_scale is None else self.nhc_scale,
                           np.ones(len(self.time_s)) if self.speed_used is None else self.speed_used])
@@ -569,7 +578,8 @@ CTX_GNSS_ERROR = 30  # (3)
 CTX_RM_H, CTX_RN_H = 33, 34  # radii plus height
 CTX_OMEGA_IN = 35  # (3) omega_in^n
 CTX_EARTH_RATE = 38  # (3) omega_ie^n
-CTX_SIZE = 41
+CTX_RATE_SPAN = 41  # the interval CTX_OMEGA_IB is the mean of
+CTX_SIZE = 42
 
 MAX_ROWS = 6
 MODEL_PARAMS = 20
@@ -631,6 +641,7 @@ def fill_context(ctx, nav, sums, dt_last, odo_scale, gnss_error, time_s, earth):
         ctx[CTX_MEAN_OMEGA + a] = sums[3 + a] / seg
         ctx[CTX_GNSS_ERROR + a] = gnss_error[a]
     ctx[CTX_SEGMENT] = seg
+    ctx[CTX_RATE_SPAN] = dt_last
     ctx[CTX_ODO_SCALE] = odo_scale
     sl, cl = math.sin(lat), math.cos(lat)
     r_m, r_n = _kernels.radii(sl, earth)
@@ -765,7 +776,9 @@ def _odometer_nhc_model(ctx, params, obs, z, H, r):
         vel = (ctx[CTX_VEL], ctx[CTX_VEL + 1], ctx[CTX_VEL + 2])
         for axis in (1, 2):
             z[m] = _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, vel, axis, H, m)
-            r[m] = (params[15] * obs[3]) ** 2
+            # the play's noise and the last record's rate noise through the lever arm (OdometerNhc.gyro_white_noise)
+            rate = params[18] * params[18] / ctx[CTX_RATE_SPAN] * (H[m, BG] ** 2 + H[m, BG + 1] ** 2 + H[m, BG + 2] ** 2)
+            r[m] = (params[15] * obs[3]) ** 2 + rate
             m += 1
     return m
 

@@ -102,6 +102,12 @@ NOISE_RANGE = 10.0
 MIN_NOISE_SHARE = 0.2
 #: the median of chi-square with one degree of freedom
 CHI2_1_MEDIAN = 0.454936423119572
+#: rows per block of the play's confidence limit: 10 s at 10 Hz, longer than a filter's velocity error
+#: stays correlated, so the blocks' sums are about independent
+PLAY_BLOCK_ROWS = 100
+#: the play's upper confidence limit where the filter's own part is most of the NHC innovations:
+#: this many standard errors above the estimate (one-sided 98 %)
+PLAY_CONFIDENCE_SIGMAS = 2.0
 
 
 @dataclass(frozen=True)
@@ -139,9 +145,15 @@ def play_from_innovations(result) -> tuple[float, float] | None:
     filter's own uncertainty; for the play's flat spectrum over the band B
     (:func:`insrail.nav.error_model.trolley_play_band_per_m`) its mean square at speed v is
     2 B v^2 x the drift per metre, over the filter's own part H P- H^T, which the forward filter records
-    (the upper bound left it in: a tactical unit's own uncertainty made it 2x the simulator's play). Where
-    that part is more than 1 - :data:`MIN_NOISE_SHARE` of the rows' mean square (a MEMS unit; a trolley
-    without play, whose play is then at the floor either way), or not recorded, the upper bound stands.
+    (the upper bound left it in: a tactical unit's own uncertainty made it 2x the simulator's play), and
+    over the rows' noise that is not the play: the gyro's white noise through the NHC point's lever arm
+    (``OdometerNhc.gyro_white_noise``; a tactical unit's made a trolley without play look like 0.009
+    mm^2/m vertically). Where the filter's own part is more than 1 - :data:`MIN_NOISE_SHARE` of the rows'
+    mean square (a MEMS unit; a trolley without play: its innovations are then the filter's own) the
+    difference is uncertain, and the estimate is its upper confidence limit (:func:`play_upper_limit`:
+    the difference would put a MEMS unit's play at its floor and fail the fusion; the plain upper bound
+    kept a tactical trolley without play at 0.02 mm^2/m, its stated 5 m lags 1.2x pessimistic); where the
+    filter's part is not recorded, the upper bound.
 
     Only the innovations of a filter that tracks the trolley say what its play is: the rows at rest
     (below :data:`MIN_PLAY_SPEED2`), those rejected, inside a filter reset's suspect time (its
@@ -156,15 +168,20 @@ def play_from_innovations(result) -> tuple[float, float] | None:
     found = _play_rows(result)
     if found is None:
         return None
-    nu2, speed2, own = found
+    nu2, speed2, own, other = found
     reach = 2.0 * trolley_play_band_per_m() * speed2
     drift = []
     for k in range(2):
-        # where the filter's own part is most of the rows' variance (a MEMS unit) the survey cannot part the
-        # play from it: the upper bound, not the floor the difference would give (the NHC then held so tight
-        # that the fusion failed)
-        mostly_own = own is None or np.sum(own[:, k]) > (1.0 - MIN_NOISE_SHARE) * np.sum(nu2[:, k])
-        drift.append(variance_component(nu2[:, k], reach, None if mostly_own else own[:, k]))
+        if own is None:
+            drift.append(variance_component(nu2[:, k], reach, other[:, k]))
+        elif np.sum(own[:, k]) > (1.0 - MIN_NOISE_SHARE) * np.sum(nu2[:, k]):
+            # the filter's own part is most of the rows' variance (a MEMS unit, a trolley without play): the
+            # survey bounds the play from above, not at the floor the difference may give (the NHC then held
+            # so tight that a MEMS unit's fusion failed)
+            drift.append(min(play_upper_limit(nu2[:, k], reach, own[:, k] + other[:, k]),
+                             variance_component(nu2[:, k], reach, other[:, k])))
+        else:
+            drift.append(variance_component(nu2[:, k], reach, own[:, k] + other[:, k]))
     return tuple(drift)
 
 
@@ -175,18 +192,44 @@ def variance_component(nu2: np.ndarray, unit: np.ndarray, explained: np.ndarray 
     c is an upper bound). A row beyond :data:`PLAY_TRIM` times the 1-sigma the median row implies is an
     outlier (a fault, not noise) and left out; c = sum(nu^2 - explained) / sum(unit) over the others,
     never below 0."""
+    kept, explained = _trimmed(nu2, unit, explained)
+    if kept is None:
+        return 0.0
+    return max(float(np.sum(nu2[kept] - explained[kept]) / np.sum(unit[kept])), 0.0)
+
+
+def play_upper_limit(nu2: np.ndarray, unit: np.ndarray, explained: np.ndarray) -> float:
+    """The upper confidence limit of :func:`variance_component`'s factor: its estimate (never below 0) plus
+    :data:`PLAY_CONFIDENCE_SIGMAS` standard errors, these from the scatter of the excess nu^2 - explained
+    summed over blocks of :data:`PLAY_BLOCK_ROWS` consecutive rows (the innovations of a filter are
+    correlated over seconds; whole blocks about not). Fewer than two blocks: the plain upper bound."""
+    kept, explained = _trimmed(nu2, unit, explained)
+    if kept is None:
+        return 0.0
+    excess, total = nu2[kept] - explained[kept], float(np.sum(unit[kept]))
+    blocks = len(excess) // PLAY_BLOCK_ROWS
+    if blocks < 2:
+        return variance_component(nu2, unit)
+    sums = excess[: blocks * PLAY_BLOCK_ROWS].reshape(blocks, PLAY_BLOCK_ROWS).sum(axis=1)
+    standard_error = math.sqrt(float(np.var(sums, ddof=1)) * len(excess) / PLAY_BLOCK_ROWS) / total
+    return max(float(np.sum(excess)) / total, 0.0) + PLAY_CONFIDENCE_SIGMAS * standard_error
+
+
+def _trimmed(nu2: np.ndarray, unit: np.ndarray, explained: np.ndarray | None):
+    """(the rows kept: not beyond :data:`PLAY_TRIM` times the 1-sigma the median row implies, ``explained``
+    as an array), or (None, ...) when the rows show nothing at all."""
     explained = np.zeros_like(unit) if explained is None else explained
     ratio = nu2 / (explained + unit)
     typical = float(np.median(ratio)) / CHI2_1_MEDIAN  # what the bulk of the rows shows
     if not typical > 0:
-        return 0.0
-    kept = ratio <= PLAY_TRIM**2 * typical
-    return max(float(np.sum(nu2[kept] - explained[kept]) / np.sum(unit[kept])), 0.0)
+        return None, explained
+    return ratio <= PLAY_TRIM**2 * typical, explained
 
 
-def _play_rows(result) -> tuple[np.ndarray, np.ndarray, np.ndarray | None] | None:
+def _play_rows(result) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray] | None:
     """(squared lateral and vertical NHC innovations (n, 2), the squared speed at each (n,), the filter's
-    own part of their variance (n, 2) or None where not recorded) of the rows
+    own part of their variance (n, 2) or None where not recorded, their noise that is not the play's (n, 2):
+    the rows' R less the play's NHC 1-sigma squared, zero where not recorded) of the rows
     :func:`play_from_innovations` takes, or None when too few are left."""
     record = result.innovations
     if (record is None or record.innovation is None or NHC_SOURCE not in record.names or result.forward is None
@@ -204,8 +247,15 @@ def _play_rows(result) -> tuple[np.ndarray, np.ndarray, np.ndarray | None] | Non
         values = np.asarray(values[take], dtype=float)
         return np.column_stack([values[lateral], values[vertical]])
 
-    own = getattr(record, "filter_variance", None)
-    return nhc_rows(record.innovation) ** 2, speed2[take], None if own is None else nhc_rows(own)
+    own, noise = getattr(record, "filter_variance", None), getattr(record, "noise_variance", None)
+    other = np.zeros((int(take.sum()), 2))
+    nhc = getattr(getattr(result, "timeline", None), "measurements", {}).get(NHC_SOURCE)
+    if noise is not None and nhc is not None and len(nhc.time_s):
+        # the play's part of a row's R is the NHC's 1-sigma (times a joint's relaxing factor) squared
+        at = np.clip(np.searchsorted(nhc.time_s, record.time_s[take] - 1e-9), 0, len(nhc.time_s) - 1)
+        scale = np.ones(len(at)) if nhc.nhc_scale is None else np.asarray(nhc.nhc_scale)[at]
+        other = np.maximum(nhc_rows(noise) - np.square(nhc.sigma_nhc_mps * scale)[:, None], 0.0)
+    return nhc_rows(record.innovation) ** 2, speed2[take], None if own is None else nhc_rows(own), other
 
 
 def _usable(result, name: str, moving: bool, min_dof: int, trusted: bool = True, accepted: bool = True):

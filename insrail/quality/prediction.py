@@ -191,14 +191,15 @@ def _stops(plan: _Plan) -> list[tuple[float, float]]:
     return [(float(plan.time_s[max(a - 1, 0)]), float(plan.time_s[b - 1])) for a, b in zip(first, after)]
 
 
-def _snapshot(lat, h, vel_ned, accel_ned, c_bn, dt, ell) -> NavSnapshot:
-    """The INS state of a trolley on straight level track."""
+def _snapshot(lat, h, vel_ned, accel_ned, c_bn, dt, ell, rate_span_s) -> NavSnapshot:
+    """The INS state of a trolley on straight level track (``rate_span_s``: the IMU's record interval)."""
     omega_in = earth.earth_rate_ned(lat, ell) + earth.transport_rate_ned(lat, h, vel_ned, ell)
     c_nb = c_bn.T
     omega_ib_b = c_nb @ omega_in
     f_b = c_nb @ (accel_ned - np.array([0.0, 0.0, earth.normal_gravity(lat, h, ell)]))
     return NavSnapshot(time_s=0.0, lat=lat, lon=0.0, h=h, vel_ned=vel_ned, c_bn=c_bn, omega_ib_b=omega_ib_b, f_b=f_b,
-                       mean_vel_ned=vel_ned, mean_omega_ib_b=omega_ib_b, segment_s=dt, odometer_scale=0.0, ellipsoid=ell)
+                       mean_vel_ned=vel_ned, mean_omega_ib_b=omega_ib_b, segment_s=dt, odometer_scale=0.0, rate_span_s=rate_span_s,
+                       ellipsoid=ell)
 
 
 def predict(
@@ -278,7 +279,7 @@ def predict(
         key = (plan.speed_mps[j], plan.accel_mps2[j])
         if key not in cache:
             vel = key[0] * forward_ned
-            snap = replace(_snapshot(lat, h, vel, key[1] * forward_ned, c_bn, dt, ellipsoid), time_s=plan.time_s[j])
+            snap = replace(_snapshot(lat, h, vel, key[1] * forward_ned, c_bn, dt, ellipsoid, 1.0 / profile.rate_hz), time_s=plan.time_s[j])
             F = dynamics_matrix(lat, h, vel, c_bn, snap.f_b, snap.omega_ib_b, noise, ellipsoid)
             phi, q = discretise(F, gqg, dt)
             q[:3, :3] += play_noise(vel * dt, dt, play)

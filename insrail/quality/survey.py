@@ -165,6 +165,8 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
     i_start = np.searchsorted(imu.time_s, t - seg - 1e-6)
     omega_b = (cum_theta[i_end + 1] - cum_theta[i_start + 1]) / span
     f_b = (cum_vel[i_end + 1] - cum_vel[i_start + 1]) / span
+    # the fusion's models take the rate of the record ending at the epoch (its noise is the NHC rows')
+    rate_span = np.diff(imu.time_s, prepend=imu.time_s[0] - (imu.time_s[1] - imu.time_s[0]))[i_end]
 
     applied_at: dict[int, list] = {}
     for name, pairs in timeline.applied.items():
@@ -176,6 +178,7 @@ def _covariance(survey, result, options, profile, ellipsoid, smoothed, forward_l
         return NavSnapshot(time_s=float(t[j]), lat=float(lat[j]), lon=float(lon[j]), h=float(h[j]), vel_ned=vel[j],
                            c_bn=c_bn[j], omega_ib_b=omega_b[j], f_b=f_b[j], mean_vel_ned=vel[j],
                            mean_omega_ib_b=omega_b[j], segment_s=float(seg[j]), odometer_scale=float(odometer_scale[j]),
+                           rate_span_s=float(rate_span[j]),
                            ellipsoid=ellipsoid)
 
     resets = reset_segments(result)
