@@ -1,6 +1,7 @@
-"""`insrail --help` and `insrail fuse` import only what they use (a fresh interpreter per command,
-its sys.modules read after the command returns): the simulator, the quality tables, the reports,
-the GUI and the cluster are never loaded for them, and --help loads no numerical library."""
+"""`insrail --help`, `insrail fuse` and `insrail report` import only what they use (a fresh interpreter
+per command, its sys.modules read after the command returns): the simulator, the quality tables, the
+reports, the GUI and the cluster are never loaded for --help and fuse, --help loads no numerical
+library, and the reports load neither the filter nor its compiled kernels."""
 
 import subprocess
 import sys
@@ -53,3 +54,15 @@ def test_fuse_imports_only_the_reader_and_the_filter(short_nav_survey, tmp_path)
                           "--no-smoother", "--rate", "10")
     assert "insrail.nav.fusion" in modules  # it did fuse
     assert loaded(modules, NEVER) == []
+
+
+def test_report_imports_neither_the_filter_nor_numba(tmp_path, tmp_path_factory):
+    from report_support import SURVEY, saved_project
+
+    project = saved_project(tmp_path_factory)
+    modules = imported_by(tmp_path, "report", str(project.folder), "--survey", SURVEY, "--xlsx",
+                          str(tmp_path / "book.xlsx"), "--pdf", str(tmp_path / "report.pdf"))
+    assert (tmp_path / "book.xlsx").is_file() and (tmp_path / "report.pdf").is_file()  # it did report
+    assert loaded(modules, ("numba", "insrail.nav.fusion", "insrail.quality.survey", "insrail.quality.covariance",
+                            "insrail.quality.prediction", "insrail.sim", "insrail.gui", "scipy.stats",
+                            "scipy.signal", "distributed", "dask")) == []

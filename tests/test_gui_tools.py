@@ -23,7 +23,8 @@ from insrail.project import load_project, save_project
 from insrail.project.control_points import ControlPoint
 from insrail.project.demo import project_for_simulated_survey
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
-from insrail.quality import GnssQuality, predict, sweep
+from insrail.quality import GnssQuality, predict
+from insrail.quality.sweep import sweep
 from insrail.quality.tables import accuracy_rows
 from insrail.sim.gnss_obs import convert_survey_to_raw_gnss
 from insrail.sim.scenario import preset

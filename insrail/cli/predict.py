@@ -69,7 +69,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from insrail.nav.fusion import FusionOptions
+    from insrail.nav.fusion_options import FusionOptions
     from insrail.quality.prediction import GnssQuality, predict
     from insrail.quality.sweep import sweep
     from insrail.quality.tables import (

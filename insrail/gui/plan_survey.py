@@ -41,9 +41,9 @@ from insrail.gui.forms import spin_box
 from insrail.gui.importer import shipped_names
 from insrail.gui.worker import TaskWorker
 from insrail.names import quantity_name
-from insrail.nav.fusion import FusionOptions
-from insrail.quality import GnssQuality, Prediction, SweepTable, predict, sweep
-from insrail.quality.sweep import PARAMETERS
+from insrail.nav.fusion_options import FusionOptions
+from insrail.quality import GnssQuality, Prediction, SweepTable, predict
+from insrail.quality.sweep import PARAMETERS, sweep
 from insrail.quality.tables import (
     ROWS,
     SWEEP_VALUES,

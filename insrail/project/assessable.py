@@ -38,7 +38,7 @@ import numpy as np
 
 from insrail.notices import Notice, Phrase
 from insrail.quality.prediction import LONG_LAG_M, SHORT_LAG_M
-from insrail.quality.survey import SectionQuality
+from insrail.quality.section_quality import SectionQuality
 from insrail.track.exceedance import Assessment
 from insrail.track.tolerance import Check, ToleranceProfile
 

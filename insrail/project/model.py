@@ -75,7 +75,7 @@ from insrail.io.survey import MANIFEST_NAME, SurveyManifest, TrolleyGeometry, pa
 from insrail.io.tomlfile import read_toml
 from insrail.names import DEFAULT_LANGUAGE, LANGUAGES
 from insrail.notices import Phrase
-from insrail.nav.fusion import FusionOptions
+from insrail.nav.fusion_options import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.project.control_points import ControlPoint, parse_control_points
 from insrail.project.local_control import LocalControl, parse_local_control

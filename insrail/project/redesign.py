@@ -26,7 +26,6 @@ import numpy as np
 from insrail.io.atomic import atomic_write
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project, RedesignTable
-from insrail.project.pipeline import read_design
 from insrail.project.results import exceedances_csv, load_results, summary_toml
 from insrail.track.alignment_csv import format_alignment_csv
 from insrail.track.exceedance import SleeperGeometry
@@ -95,6 +94,8 @@ def measured_geometry(columns: dict[str, np.ndarray], number: np.ndarray) -> tup
 
 def _labeller(project: Project):
     """Station -> displayed chainage, with the design's station equations (K-chainage without one)."""
+    from insrail.project.pipeline import read_design  # the processing's filter: not for the reports' tamping names
+
     equations = read_design(project.resolve(project.design)).station_equations if project.design else StationEquations()
     return lambda stations: list(equations.label(np.atleast_1d(stations)))
 

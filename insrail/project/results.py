@@ -48,7 +48,7 @@ from insrail.io.errors import InputError
 from insrail.nav.trajectory import Trajectory, load_trajectory, read_trajectory_fields, trajectory_records
 from insrail.progress import CancelToken, check_cancel
 from insrail.project import table_cache
-from insrail.quality.survey import SectionQuality, weakness
+from insrail.quality.section_quality import SectionQuality, weakness
 from insrail.track.adjustment import REASONS, Adjustment, FastenerType, below_threshold_count, threshold_steps
 from insrail.track.exceedance import Assessment, SleeperGeometry, track_quality
 from insrail.track.parameters import guiding_rail_is_right, track_parameters

@@ -31,7 +31,7 @@ from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.ellipsoid import Ellipsoid, wgs84_baseline_scale_ppm
 from insrail.geodesy.errors import SettingsError
 from insrail.io.survey import SurveyManifest, TrolleyGeometry
-from insrail.nav.fusion import FusionOptions
+from insrail.nav.fusion_options import FusionOptions
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.names import DEFAULT_LANGUAGE
 from insrail.notices import Notice
