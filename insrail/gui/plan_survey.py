@@ -42,6 +42,7 @@ from insrail.gui.importer import shipped_names
 from insrail.gui.worker import TaskWorker
 from insrail.names import quantity_name
 from insrail.nav.fusion import FusionOptions
+from insrail.progress import ProgressMessage, progress_text
 from insrail.quality import GnssQuality, Prediction, SweepTable, predict, sweep
 from insrail.quality.sweep import PARAMETERS
 from insrail.quality.tables import (
@@ -272,9 +273,9 @@ class PlanSurveyDialog(QDialog):
             self.worker.cancel()
             self.cancel_button.setEnabled(False)
 
-    def _progressed(self, fraction: float, message: str) -> None:
+    def _progressed(self, fraction: float, message: ProgressMessage) -> None:
         self.progress.setValue(round(fraction * PROGRESS_STEPS))
-        self.message.setText(message)
+        self.message.setText(progress_text(message))
 
     def _failed(self, message: str) -> None:
         self._say(message, error=True)

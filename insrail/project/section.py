@@ -286,7 +286,7 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
     started = time.monotonic()
     runs = []
     for i, survey in enumerate(entry.surveys):
-        step(0.3 * i / len(entry.surveys), f"reading the results of {survey}")
+        step(0.3 * i / len(entry.surveys), Phrase("reading the results of {survey}", {"survey": survey}))
         results = load_results(project.folder, survey)
         if results.quality is None and entry.overlap == "best":
             raise InputError(results.folder / QUALITY_FILE, None, "missing: the section's overlap rule 'best' needs the "
