@@ -1152,4 +1152,16 @@ ZH_CN: dict[str, str] = {
     "{survey}: done in {elapsed_s:.1f} s": "{survey}：用时 {elapsed_s:.1f} s 完成",
     "{survey}: FAILED: {error}": "{survey}：失败：{error}",
     "waiting for {holder} to finish ({file})": "正在等待 {holder} 结束（{file}）",
+    # why an axis of the IMU's mounting is not estimated from the survey (insrail.nav.mounting)
+    "the trolley hardly moves": "小车几乎未移动",
+    "fewer than {count} valid sleepers with a design cant": "具有设计超高的有效轨枕少于 {count} 根",
+    "it needs the cant against a design's: insrail process": "需与设计超高比较：请运行 insrail process",
+    "from the velocity": "由速度估计",
+    "the pass without the NHC failed: {error}": "不加非完整约束（NHC）的解算失败：{error}",
+    # why a sleeper is not assessed (sleepers.csv's not_assessed, said in the report's language)
+    "fusion: {reason}": "组合导航：{reason}",
+    "IMU gap of {gap_s:.2f} s bridged": "已桥接 {gap_s:.2f} s 的 IMU 数据中断",
+    "{kind} {text}": "{kind} {text}",
+    "{text}": "{text}",
+    "{event} (assessed with {profile})": "{event}（按 {profile} 评定）",
 }
