@@ -1103,6 +1103,7 @@ ZH_CN: dict[str, str] = {
     "smoother": "平滑",
     "trajectory": "轨迹",
     "strapdown: {done} of {epochs} IMU epochs": "捷联解算：IMU 历元 {done}/{epochs}",
+    "IMU {done}/{epochs} epochs": "IMU 历元 {done}/{epochs}",
     "comparing": "正在比较",
     "done": "完成",
     "reading the results of {survey}": "正在读取测量 {survey} 的结果",

@@ -194,7 +194,8 @@ def test_every_notice_is_a_template_with_its_chinese():
         f"  {where}: {text!r}" for text, where in sorted(missing.items(), key=lambda item: item[1]))
 
 
-#: the names a progress callback goes by where it is called (``insrail.progress``)
+#: the names a progress callback goes by where it is called (``insrail.progress``), besides ``..._progress`` and
+#: ``..._step`` (a sub-step's: ``imu_step``)
 PROGRESS_CALLBACKS = {"progress", "step", "report", "bar", "forward_progress"}
 
 
@@ -206,8 +207,8 @@ def progress_messages(folder: Path = PACKAGE) -> tuple[dict[str, str], list[str]
     found, sentences = {}, []
     for path in sorted(folder.rglob("*.py")):
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in PROGRESS_CALLBACKS
-                    and len(node.args) == 2):
+            if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and len(node.args) == 2
+                    and (node.func.id in PROGRESS_CALLBACKS or node.func.id.endswith(("_progress", "_step")))):
                 continue
             where = f"{path.relative_to(folder.parent)}:{node.lineno}"
             message = node.args[1]

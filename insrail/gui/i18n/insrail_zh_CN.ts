@@ -564,6 +564,11 @@
       <translation>第 {line} {unit}：{message}</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/loader.py" line="55" />
+      <source>internal error {kind}: {error} (details on the console; please report it)</source>
+      <translation>内部错误 {kind}：{error}（详情见控制台；请报告此问题）</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/logpanel.py" line="29" />
       <source>warning: </source>
       <translation>警告：</translation>
@@ -2019,6 +2024,11 @@
       <translation>将原始数据复制到项目中（surveys/&lt;测量名称&gt;/）；原始数据文件夹保持不变</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/wizard.py" line="456" />
+      <source>choose the folder for the project file and its results</source>
+      <translation>请选择存放项目文件及其结果的文件夹</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/wizard.py" line="189" />
       <source>Ellipsoid</source>
       <translation>椭球</translation>
@@ -2079,6 +2089,11 @@
       <translation>0 m：此杆臂是否已实测？</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/wizard.py" line="458" />
+      <source>{folder} is a file, not a folder</source>
+      <translation>{folder} 是文件，不是文件夹</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/wizard.py" line="490" />
       <source>Lever arms at 0 m: {arms}. A trolley's sensors are never all at the IMU centre: enter the measured lever arms, copy them from an earlier project, or confirm below that they really are zero.</source>
       <translation>杆臂为 0 m：{arms}。小车的传感器不可能都位于 IMU 中心：请输入实测杆臂、从以往项目复制，或在下方确认其确实为零。</translation>
@@ -2097,6 +2112,16 @@
       <location filename="../../../insrail/gui/wizard.py" line="310" />
       <source>survey.toml (the description of the survey's files) will be written into the raw-data folder {folder}.</source>
       <translation>survey.toml（测量文件的说明）将写入原始数据文件夹 {folder}。</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="460" />
+      <source>a project already exists in {folder}: open it, or choose another folder</source>
+      <translation>{folder} 中已有项目：请打开它，或选择其他文件夹</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="465" />
+      <source>cannot create the folder: {error}</source>
+      <translation>无法创建文件夹：{error}</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/wizard.py" line="469" />
