@@ -15,8 +15,8 @@ view's two pictures (track, track_measure) and nothing else (the project is left
 ``--redesign`` runs Run > Re-design for tamping on the project's first survey (the ballasted demo,
 ``insrail demo --preset ballasted``) and takes the re-design view alone (``gui_redesign_...png``).
 ``--log`` processes every survey of the project afresh (its results' cache emptied first) and takes the
-window with the log panel opened wide: the core's progress lines and notices in the window's language
-(``gui_log_...png``).
+window with the log panel opened wide: the core's progress lines (``gui_log_...png``) and, scrolled to its
+end, the notices and the survey's result (``gui_log_end_...png``), in the window's language.
 """
 
 from __future__ import annotations
@@ -98,7 +98,9 @@ def log_picture(app, window, camera, size: tuple[int, int]) -> None:
     dock = next(d for d in window.findChildren(QDockWidget) if d.widget() is window.log)
     window.resizeDocks([dock], [size[1] // 2], Qt.Vertical)
     window.log.verticalScrollBar().setValue(0)
-    camera.save(window, "log")
+    camera.save(window, "log")  # the progress of the stages
+    window.log.verticalScrollBar().setValue(window.log.verticalScrollBar().maximum())
+    camera.save(window, "log_end")  # the notices (warnings) and the survey's result
 
 
 def main(project: str, raw_gnss_project: str | None = None, track_only: bool = False, redesign: bool = False,

@@ -255,7 +255,7 @@ class PlanSurveyDialog(QDialog):
             return None
         self.running_inputs = inputs
         # Bound methods of the dialog: the worker's signals reach them as queued calls in the GUI thread.
-        self.worker = TaskWorker("prediction", inputs.run, self)
+        self.worker = TaskWorker(tr("prediction"), inputs.run, self)
         self.worker.progressed.connect(self._progressed)
         self.worker.succeeded.connect(self._show)
         self.worker.failed.connect(self._failed)

@@ -1159,6 +1159,11 @@
       <translation>设置计划测量后按“运行”。</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="258" />
+      <source>prediction</source>
+      <translation>精度预测</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/plan_survey.py" line="265" />
       <source>predicting…</source>
       <translation>正在预测…</translation>
