@@ -1165,4 +1165,21 @@ ZH_CN: dict[str, str] = {
     "{kind} {text}": "{kind} {text}",
     "{text}": "{text}",
     "{event} (assessed with {profile})": "{event}（按 {profile} 评定）",
+    # what the project now says differently from the settings a survey was processed with (insrail.project.run_settings)
+    "{what}: processed with {old}; the project now says {new}: process again":
+        "{what}：处理时为 {old}；项目现为 {new}：请重新处理",
+    "the project's settings cannot be resolved now ({error}): the results stand as recorded":
+        "项目设置当前无法解析（{error}）：结果按记录保留",
+    "coordinate system": "坐标系",
+    "tolerance profile": "容许偏差标准",
+    "fastener type": "扣件类型",
+    "trolley geometry": "小车几何参数",
+    "fusion options": "组合导航选项",
+    "adjustment settings": "调整量设置",
+    "{model} on {benchmarks}": "{model}（基于 {benchmarks}）",
+    "ellipsoidal heights (no benchmarks)": "椭球高（无水准点）",
+    "none (fitted lines)": "无（拟合线形）",
+    "[{section}] of summary.toml": "summary.toml 的 [{section}]",
+    "other values": "其他数值",
+    "{setting} with other contents": "{setting}（内容已改变）",
 }

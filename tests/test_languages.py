@@ -169,16 +169,17 @@ def notice_templates() -> tuple[dict[str, str], list[str]]:
 
 def phrase_vocabulary() -> set[str]:
     """The words a Phrase takes from a variable: the aiding sources, the states a filter reset widens, the IMU's
-    axes of mounting and their reasons, an IMU outlier's reasons, a check's directions."""
+    axes of mounting and their reasons, an IMU outlier's reasons, a check's directions, the recorded settings."""
     from insrail.nav import measurements
     from insrail.nav.fusion import RESET_STATES
     from insrail.nav.imu_screening import OUTLIER_REASONS
     from insrail.nav.mounting import AXES
+    from insrail.project.run_settings import _DESCRIBED as RECORDED_SETTINGS
 
     sources = {cls.name for cls in vars(measurements).values()
                if isinstance(cls, type) and isinstance(getattr(cls, "name", None), str)}
     return (sources | {label for label, _, _ in RESET_STATES} | set(AXES) | set(OUTLIER_REASONS)
-            | set(names.DIRECTION_NAMES) | {"{stage}: {message}"}) - {""}
+            | set(names.DIRECTION_NAMES) | {"{stage}: {message}"} | {what for _, what, _ in RECORDED_SETTINGS}) - {""}
 
 
 def test_every_notice_is_a_template_with_its_chinese():

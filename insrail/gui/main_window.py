@@ -628,7 +628,7 @@ class MainWindow(QMainWindow):
             self._enable_project_actions()
             return
         for line in settings_change_lines(self.project, name):  # the views show what was processed
-            self.log.warning(f"{name}: {line}")
+            self.log.warning(f"{name}: {line.said()}")  # in the application's language
         self._request_views(name)
 
     def _show_runs(self) -> None:

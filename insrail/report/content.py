@@ -314,7 +314,7 @@ def load_report_content(project: Project, results: StoredResults) -> ReportConte
     return ReportContent(project, results, profile, fastener, tuple(columns), valid, results.columns["station_m"],
                          notes=tuple(notes), recorded=recorded,
                          # the standard sentence translated; a change's own line names settings as project.toml does
-                         settings_changes=tuple(t(line) for line in recorded.changes(project, _first_survey(results))))
+                         settings_changes=tuple(line.said() for line in recorded.changes(project, _first_survey(results))))
 
 
 def _first_survey(results: StoredResults) -> str:
