@@ -14,6 +14,9 @@ observations (``[gnss_raw]``), the GNSS page is post-processed and shown too. Wi
 view's two pictures (track, track_measure) and nothing else (the project is left as it is).
 ``--redesign`` runs Run > Re-design for tamping on the project's first survey (the ballasted demo,
 ``insrail demo --preset ballasted``) and takes the re-design view alone (``gui_redesign_...png``).
+``--log`` processes every survey of the project afresh (its results' cache emptied first) and takes the
+window with the log panel opened wide: the core's progress lines (``gui_log_...png``) and, scrolled to its
+end, the notices and the survey's result (``gui_log_end_...png``), in the window's language.
 """
 
 from __future__ import annotations
@@ -81,7 +84,27 @@ def redesign_picture(app, window, camera) -> None:
     camera.save(window, "redesign")
 
 
-def main(project: str, raw_gnss_project: str | None = None, track_only: bool = False, redesign: bool = False) -> None:
+def log_picture(app, window, camera, size: tuple[int, int]) -> None:
+    """The log panel after processing every survey from its raw files (the progress of each stage, the notices)."""
+    from PySide6.QtCore import Qt
+    from PySide6.QtWidgets import QDockWidget
+
+    from insrail.project.pipeline import CACHE_FOLDER
+    from insrail.project.results import RESULTS_FOLDER
+
+    shutil.rmtree(window.project.folder / RESULTS_FOLDER / CACHE_FOLDER, ignore_errors=True)
+    window.process()
+    wait(app, lambda: window.worker is not None or window.loader is not None)
+    dock = next(d for d in window.findChildren(QDockWidget) if d.widget() is window.log)
+    window.resizeDocks([dock], [size[1] // 2], Qt.Vertical)
+    window.log.verticalScrollBar().setValue(0)
+    camera.save(window, "log")  # the progress of the stages
+    window.log.verticalScrollBar().setValue(window.log.verticalScrollBar().maximum())
+    camera.save(window, "log_end")  # the notices (warnings) and the survey's result
+
+
+def main(project: str, raw_gnss_project: str | None = None, track_only: bool = False, redesign: bool = False,
+         log: bool = False) -> None:
     app = QApplication.instance() or QApplication([])
     screen = app.primaryScreen().size()
     size = (screen.width(), screen.height())
@@ -92,10 +115,15 @@ def main(project: str, raw_gnss_project: str | None = None, track_only: bool = F
         window = MainWindow(settings)
         window.show()
         place(window, size)
-        if not track_only and not redesign:
+        if not track_only and not redesign and not log:
             camera.save(window, "empty")  # no project open: what the window says
         window.open_project(project)
         wait(app, lambda: window.loader is not None)
+        if log:
+            log_picture(app, window, camera, size)
+            window.modified = False
+            window.close()
+            return
         if redesign:
             redesign_picture(app, window, camera)
             window.modified = False
@@ -186,5 +214,6 @@ def main(project: str, raw_gnss_project: str | None = None, track_only: bool = F
 
 
 if __name__ == "__main__":
-    arguments = [a for a in sys.argv[1:] if a not in ("--track-only", "--redesign")]
-    main(*arguments[:2], track_only="--track-only" in sys.argv[1:], redesign="--redesign" in sys.argv[1:])
+    arguments = [a for a in sys.argv[1:] if a not in ("--track-only", "--redesign", "--log")]
+    main(*arguments[:2], track_only="--track-only" in sys.argv[1:], redesign="--redesign" in sys.argv[1:],
+         log="--log" in sys.argv[1:])

@@ -193,6 +193,9 @@ def notices_of(summary: dict) -> list[Notice]:
     return [Notice.from_dict(table) for table in summary.get("notices", [])]
 
 
-def phrase_of(stored: str | Mapping) -> Phrase:
-    """A text as a file keeps it (:meth:`Phrase.to_dict`'s table), or as an older insrail wrote it (English)."""
+def phrase_of(stored: str | Mapping | Phrase) -> Phrase:
+    """A text as a file keeps it (:meth:`Phrase.to_dict`'s table), or as an older insrail wrote it (English), or
+    as a caller gives it (a Phrase, or a literal template without fields)."""
+    if isinstance(stored, Phrase):
+        return stored
     return Phrase.from_dict(stored) if isinstance(stored, Mapping) else Phrase(str(stored))

@@ -45,6 +45,31 @@ def test_every_gui_text_has_its_chinese_in_the_ts_file():
     assert {t: z for t, z in translations.items() if t in texts and fields(t) != fields(z)} == {}
 
 
+def test_the_ts_file_has_no_unfinished_or_empty_translation():
+    """Every message of the .ts is translated, not only those the code's tr() calls name (a text marked unfinished
+    by Linguist or left empty is English in a Chinese window)."""
+    untranslated = [source for source, translation in gui_translations.read_ts(TS).items()
+                    if not (translation or "").strip()]
+    assert not untranslated, f"unfinished or empty in {TS.name}:\n" + "\n".join(f"  {text!r}" for text in untranslated)
+
+
+def test_the_log_panels_prefixes_and_the_cores_progress_are_in_the_windows_language(qtbot, chinese):
+    from insrail.gui.logpanel import LogPanel
+    from insrail.notices import Phrase
+    from insrail.progress import progress_text
+
+    panel = LogPanel()
+    qtbot.addWidget(panel)
+    panel.warning("x")
+    panel.error("y")
+    panel.progress(progress_text(Phrase("{survey}: {message}", {"survey": "K12", "message": Phrase(
+        "reading the results of {survey}", {"survey": "K12"})})))
+    panel.progress(progress_text("smoother"))
+    lines = [line.split("  ", 1)[1] for line in panel.toPlainText().splitlines()]
+    assert lines == ["警告：x", "错误：y", "K12：正在读取测量 K12 的结果", "平滑"]
+    assert str(Phrase("reading the results of {survey}", {"survey": "K12"})) == "reading the results of K12"  # the CLI's
+
+
 def test_the_shipped_qm_is_the_ts_compiled(tmp_path):
     if shutil.which("pyside6-lrelease", path=str(Path(sys.executable).parent)) is None:
         pytest.skip("pyside6-lrelease not beside this Python")

@@ -169,16 +169,17 @@ def notice_templates() -> tuple[dict[str, str], list[str]]:
 
 def phrase_vocabulary() -> set[str]:
     """The words a Phrase takes from a variable: the aiding sources, the states a filter reset widens, the IMU's
-    axes of mounting and their reasons, an IMU outlier's reasons, a check's directions."""
+    axes of mounting and their reasons, an IMU outlier's reasons, a check's directions, the recorded settings."""
     from insrail.nav import measurements
     from insrail.nav.fusion import RESET_STATES
     from insrail.nav.imu_screening import OUTLIER_REASONS
     from insrail.nav.mounting import AXES
+    from insrail.project.run_settings import _DESCRIBED as RECORDED_SETTINGS
 
     sources = {cls.name for cls in vars(measurements).values()
                if isinstance(cls, type) and isinstance(getattr(cls, "name", None), str)}
     return (sources | {label for label, _, _ in RESET_STATES} | set(AXES) | set(OUTLIER_REASONS)
-            | set(names.DIRECTION_NAMES) | {"{stage}: {message}"}) - {""}
+            | set(names.DIRECTION_NAMES) | {"{stage}: {message}"} | {what for _, what, _ in RECORDED_SETTINGS}) - {""}
 
 
 def test_every_notice_is_a_template_with_its_chinese():
@@ -308,3 +309,54 @@ def test_every_template_is_given_the_fields_it_names():
                 wrong.append(f"{path.relative_to(PACKAGE.parent)}:{node.lineno}: {sorted(named)}")
     assert checked > 200
     assert not wrong, wrong
+
+
+#: the names a progress callback goes by where it is called (``insrail.progress``), besides ``..._progress`` and
+#: ``..._step`` (a sub-step's: ``imu_step``)
+PROGRESS_CALLBACKS = {"progress", "step", "report", "bar", "forward_progress"}
+
+
+def progress_messages(folder: Path = PACKAGE) -> tuple[dict[str, str], list[str]]:
+    """Every literal message of a progress call ``progress(fraction, "message")`` under ``folder``: text -> where;
+    and where a message is an f-string or a concatenation (English the GUI's log cannot say in its language). A
+    message that is a ``Phrase(...)`` is walked by :func:`notice_templates`; one given by a variable is a Phrase
+    made elsewhere."""
+    found, sentences = {}, []
+    for path in sorted(folder.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and len(node.args) == 2
+                    and (node.func.id in PROGRESS_CALLBACKS or node.func.id.endswith(("_progress", "_step")))):
+                continue
+            where = f"{path.relative_to(folder.parent)}:{node.lineno}"
+            message = node.args[1]
+            texts = _literals(message)
+            if texts is None and isinstance(message, (ast.JoinedStr, ast.BinOp)):
+                sentences.append(where)
+            for text in texts or ():
+                found.setdefault(text, where)
+    return {text: where for text, where in found.items() if text}, sentences
+
+
+def test_every_progress_message_is_a_template_with_its_chinese():
+    """The GUI's log and status bar show the core's progress in the window's language, the CLI's bar in English:
+    a progress message is a literal or a Phrase (never an f-string) and has its Chinese."""
+    messages, sentences = progress_messages()
+    assert not sentences, "progress messages written as f-strings or concatenations (make them Phrases):\n" + "\n".join(
+        sentences)
+    assert len(messages) > 40  # the walk finds them (the package has over fifty)
+    missing = {text: where for text, where in messages.items() if text not in ZH_CN}
+    assert not missing, "no Chinese in insrail/names_zh.py for:\n" + "\n".join(
+        f"  {where}: {text!r}" for text, where in sorted(missing.items(), key=lambda item: item[1]))
+
+
+def test_the_walks_find_an_untranslated_text(tmp_path):
+    """The walks above can fail: a module with an f-string progress message, an untranslated literal one and an
+    f-string notice is found out."""
+    module = tmp_path / "insrail_like" / "stage.py"
+    module.parent.mkdir()
+    module.write_text('def run(progress, step, name):\n'
+                      '    progress(0.5, f"reading {name}")\n'
+                      '    step(1.0, "an untranslated step")\n', encoding="utf-8")
+    messages, sentences = progress_messages(module.parent)
+    assert sentences == ["insrail_like/stage.py:2"]
+    assert [text for text in messages if text not in ZH_CN] == ["an untranslated step"]

@@ -262,3 +262,61 @@ def test_libreoffice_renders_a_chinese_workbook_in_a_cjk_font(chinese, tmp_path)
     text = pdf_text(rendered)
     for term in ("汇总", "轨距", "水平", "轨向", "高低", "调整量", "里程"):
         assert term in text, term
+
+
+def not_assessed_reasons():
+    """Reasons as the processing makes them: a fusion section's (a list of phrases, its commas written as "; "), a
+    turnout's (the user's name of it verbatim, assessed with its profile) and a bridged IMU gap's."""
+    from insrail.notices import Phrase
+    from insrail.project.gap_sleepers import gap_reason
+    from insrail.project.sleeper_integrity import fusion_reasons
+    from insrail.track.events import TrackEvent
+
+    section = Phrase("{reasons}", {"reasons": [
+        Phrase("{source} {share_pct:.0f} % rejected", {"source": Phrase("gnss_position"), "share_pct": 40.0}),
+        Phrase("{source} residuals {ratio:.1f} x their 1-sigma", {"source": Phrase("odometer_nhc"), "ratio": 3.2})]})
+    integrity = {"not_valid": [{"time_from_s": 0.0, "time_to_s": 1.0, "reason": str(section), "why": section.to_dict()}]}
+    turnout = TrackEvent("turnout", 100.0, 130.0, text="W12", profile="turnout_speed_up")
+    return [*(reason for _, _, reason in fusion_reasons(integrity)), turnout.described(), gap_reason(10.0, 10.5)]
+
+
+def test_a_sleepers_reasons_are_english_in_sleepers_csv_and_chinese_in_the_workbook(chinese, tmp_path):
+    from insrail.names import in_language
+    from insrail.project.sleeper_integrity import reasons_of, reasons_section, said_reasons, written
+
+    fusion, turnout, gap = not_assessed_reasons()
+    column = "; ".join([written(fusion), written(turnout), written(gap)])
+    assert column == ("fusion: gnss_position 40 % rejected; odometer_nhc residuals 3.2 x their 1-sigma; "
+                      "turnout W12 (assessed with turnout_speed_up); IMU gap of 0.50 s bridged")  # sleepers.csv's
+    summary = {"assessment": {"not_assessed_reasons": reasons_section([fusion, turnout, gap, turnout])}}
+    with in_language("zh-CN"):
+        said = said_reasons(column, reasons_of(summary))
+        assert said_reasons("an older insrail's reason", reasons_of(summary)) == "an older insrail's reason"
+    assert said == ("组合导航：GNSS 位置 40 % 被拒，里程计与非完整约束 残差为其 1σ 的 3.2 倍；道岔 W12（按 turnout_speed_up 评定）；"
+                    "已桥接 0.50 s 的 IMU 数据中断")
+    results = stored(chinese)
+    reasons = tuple(column if k % 7 == 3 else "" for k in range(len(results)))
+    marked = replace(results, not_assessed=reasons,
+                     summary={**results.summary, "assessment": {**results.summary["assessment"], **summary["assessment"]}})
+    book = openpyxl.load_workbook(write_workbook(chinese, marked, tmp_path / "report.xlsx"), read_only=True)
+    texts = [value for row in book["轨枕"].iter_rows(values_only=True) for value in row if isinstance(value, str)]
+    assert said in texts and column not in texts
+    assert english_words(" ".join(texts)) == set()
+
+
+def test_the_mountings_reasons_are_said_in_the_reports_language():
+    """Why an axis of the IMU's mounting is not estimated reaches the PDF's processing page: a reason with a number
+    is a phrase in summary.toml (its English beside it), said in Chinese."""
+    import numpy as np
+
+    from insrail.names import in_language
+    from insrail.nav.mounting import MountingEstimate, roll_from_cant
+    from insrail.report.content import mounting_text
+
+    table = roll_from_cant(np.zeros(3), np.zeros(10), np.zeros(10), 1.5, np.ones(10, dtype=bool)).to_dict()
+    assert table["roll"]["not_estimated"] == "fewer than 96 valid sleepers with a design cant"
+    assert MountingEstimate.from_dict(table, np.zeros(3)).to_dict() == table
+    with in_language("zh-CN"):
+        text = mounting_text({"fusion": {"mounting": table}})
+    assert "横滚 未估计（具有设计超高的有效轨枕少于 96 根）" in text
+    assert english_words(text) == set()

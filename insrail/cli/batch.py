@@ -21,6 +21,7 @@ import sys
 from pathlib import Path
 
 from insrail.cli.progressbar import TerminalProgress
+from insrail.progress import ProgressMessage
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -90,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
         security = dask_security(args.security)
     bar = TerminalProgress("batch")
 
-    def progress(fraction: float, message: str) -> None:
+    def progress(fraction: float, message: ProgressMessage) -> None:
         if not bar.tty:  # plain lines in logs: one per finished survey
             print(f"batch: {100 * fraction:3.0f} %  {message}", file=sys.stderr, flush=True)
         else:

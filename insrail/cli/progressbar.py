@@ -5,6 +5,8 @@ from __future__ import annotations
 import sys
 import time
 
+from insrail.progress import ProgressMessage
+
 
 class TerminalProgress:
     """Callable progress sink drawing ``[#####.....]  42 %  message`` on stderr.
@@ -22,8 +24,9 @@ class TerminalProgress:
         self._last_draw = 0.0
         self._start = time.monotonic()
 
-    def __call__(self, fraction: float, message: str = "") -> None:
+    def __call__(self, fraction: float, message: ProgressMessage = "") -> None:
         fraction = min(max(fraction, 0.0), 1.0)
+        message = str(message)  # the CLI's output is English (a Phrase's template filled in)
         if self.tty:
             now = time.monotonic()
             if now - self._last_draw < 0.1 and fraction < 1.0:

@@ -271,7 +271,7 @@ def ppk(rover_obs: str | Path, base_obs: str | Path, nav_files: Sequence[str | P
         install_output(produced, out_pos)
     solution = replace(solution, source=out_pos)
     qc = gnss_qc(solution)
-    report(1.0, f"fix rate {100 * qc.fix_rate:.1f} %")
+    report(1.0, Phrase("fix rate {fix_rate_pct:.1f} %", {"fix_rate_pct": 100 * qc.fix_rate}))
     return PpkResult(out_pos, solution, qc, options, rover, base, base_from_header, baseline_m, tuple(notes),
                      time.monotonic() - started)
 

@@ -13,6 +13,7 @@ from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QFileDialog
 
 from insrail.export import default_export_path, export_formats, write_export
+from insrail.notices import Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress
 from insrail.project.lock import project_run
 from insrail.project.results import report_path
@@ -107,7 +108,7 @@ def export_file(window, format_name: str, path: str | Path | None = None):
         return None
 
     def write(progress, _cancel) -> Path:
-        progress(0.0, f"writing {path.name}")
+        progress(0.0, Phrase("writing {file}", {"file": path.name}))
         return write_export(project, stored, format_name, path)
 
     return _start_writing(window, survey, f"{what} {path}", tr("exporting the {what} of {survey} to {path}").format(what=what.lower(), survey=survey, path=path),
@@ -133,5 +134,5 @@ def rewrite_stale_reports(window, survey: str | None = None):
         return stale[-1]
 
     names = ", ".join(path.name for path in stale)
-    return _start_writing(window, survey, f"reports of {survey}", f"writing {names} again from the results of {survey}",
-                          write)
+    return _start_writing(window, survey, tr("reports of {survey}").format(survey=survey),
+                          tr("writing {files} again from the results of {survey}").format(files=names, survey=survey), write)

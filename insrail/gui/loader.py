@@ -13,6 +13,7 @@ import traceback
 
 from PySide6.QtCore import QThread, Signal
 
+from insrail.gui.translation import tr
 from insrail.io.errors import InputError, said
 from insrail.project import Project, load_results
 from insrail.project.plotdata import track_data, trajectory_views
@@ -51,8 +52,8 @@ class ResultsLoader(QThread):
             self.failed.emit(self.request, said(error))
         except Exception as error:  # noqa: BLE001 (a defect: the window must survive it and say what happened)
             traceback.print_exc()
-            self.failed.emit(self.request, f"internal error {type(error).__name__}: {error} "
-                                           "(details on the console; please report it)")
+            self.failed.emit(self.request, tr("internal error {kind}: {error} (details on the console; please report "
+                                              "it)").format(kind=type(error).__name__, error=error))
 
     def _load(self) -> None:
         project, results = self.project, {}

@@ -8,6 +8,8 @@ import time
 from PySide6.QtCore import QSize
 from PySide6.QtWidgets import QPlainTextEdit
 
+from insrail.gui.translation import tr
+
 
 class LogPanel(QPlainTextEdit):
     def __init__(self, parent=None):
@@ -24,10 +26,10 @@ class LogPanel(QPlainTextEdit):
         self._append("", message)
 
     def warning(self, message: str) -> None:
-        self._append("warning: ", message)
+        self._append(tr("warning: "), message)
 
     def error(self, message: str) -> None:
-        self._append("error: ", message)
+        self._append(tr("error: "), message)
 
     def progress(self, message: str) -> None:
         """Log a progress message once per stage: counters ("epoch 1200/28000") do not make new lines."""

@@ -50,7 +50,9 @@ from insrail.gui.worker import CoreWorker, ProcessingWorker, TaskWorker
 from insrail.io.errors import InputError, said
 from insrail.io.survey import read_manifest
 from insrail.io.tomlfile import read_toml
+from insrail.names import t
 from insrail.notices import notices_of
+from insrail.progress import ProgressMessage, progress_text
 from insrail.project import (
     Project,
     ProjectError,
@@ -428,7 +430,7 @@ class MainWindow(QMainWindow):
         try:
             fallback = read_manifest(self.project.resolve(self.project.surveys[0].folder)).trolley
         except InputError as error:
-            self.log.warning(f"first survey's trolley geometry unavailable: {error.said()}")
+            self.log.warning(tr("first survey's trolley geometry unavailable: {error}").format(error=error.said()))
         dialog = ImportDialog(self.project.trolley(), fallback, self)
         dialog.accepted.connect(lambda: self.add_survey(dialog.widget.name.text().strip(), dialog.folder))
         dialog.show()
@@ -460,7 +462,7 @@ class MainWindow(QMainWindow):
         worker = ProcessingWorker(self.project, names, self)
         worker.surveyDone.connect(self._survey_done)
         worker.cancelled.connect(self._processing_cancelled)
-        return self._start(worker, f"processing {', '.join(names)}", tr("Processing failed"))
+        return self._start(worker, tr("processing {surveys}").format(surveys=", ".join(names)), tr("Processing failed"))
 
     def _processing_cancelled(self) -> None:
         self.log.warning(tr("processing cancelled; previous results kept"))
@@ -489,10 +491,11 @@ class MainWindow(QMainWindow):
             self.cancel_button.setEnabled(False)
             self.status.setText(tr("Cancelling…"))
 
-    def _progressed(self, fraction: float, message: str) -> None:
+    def _progressed(self, fraction: float, message: ProgressMessage) -> None:
         self.progress.setValue(round(fraction * PROGRESS_STEPS))
-        self.status.setText(message)
-        self.log.progress(message)
+        text = progress_text(message)  # in the window's language (the core wrote the template)
+        self.status.setText(text)
+        self.log.progress(text)
 
     def _survey_done(self, name: str) -> None:
         self.explorer.set_project(self.project)
@@ -625,7 +628,7 @@ class MainWindow(QMainWindow):
             self._enable_project_actions()
             return
         for line in settings_change_lines(self.project, name):  # the views show what was processed
-            self.log.warning(f"{name}: {line}")
+            self.log.warning(f"{name}: {line.said()}")  # in the application's language
         self._request_views(name)
 
     def _show_runs(self) -> None:
@@ -633,7 +636,7 @@ class MainWindow(QMainWindow):
         try:
             checks = load_tolerance_profile(self.project.resource(self.project.tolerance_profile)).checks
         except (InputError, ValueError, OSError) as error:
-            self.log.warning(f"the check channels are shown by their columns: {said(error)}")
+            self.log.warning(tr("the check channels are shown by their columns: {error}").format(error=said(error)))
             checks = ()
         self.repeatability.set_runs({run: (s.columns["station_m"], s.columns) for run, s in self.results.items()},
                                     checks)
@@ -687,8 +690,9 @@ class MainWindow(QMainWindow):
         if self.settings_editor is not None:
             self.settings_editor.adopt_saved("track.events", self.project.events)
         event = dialog.events.events[-1]
-        self.log.info(f"{KIND_NAMES[event.kind]} {event.start:.3f}–{event.end:.3f} m marked in "
-                      f"{self.project.resolve(self.project.events).resolve()}; processing again assesses with it")
+        self.log.info(tr("{kind} {start:.3f}–{end:.3f} m marked in {file}; processing again assesses with it").format(
+            kind=t(KIND_NAMES[event.kind]), start=event.start, end=event.end,
+            file=self.project.resolve(self.project.events).resolve()))
         self._show_stale_reports()
 
     def _exported(self, path: Path) -> None:
@@ -749,11 +753,11 @@ class MainWindow(QMainWindow):
             with project_run(project.folder, [name], progress, cancel):  # as processing the survey does
                 return run_gnss_stage(project, folder, manifest, cache, progress, cancel)
 
-        worker = TaskWorker(f"survey {name}: GNSS", task, self)
+        worker = TaskWorker(tr("survey {survey}: GNSS").format(survey=name), task, self)
         worker.succeeded.connect(self._gnss_done)
         worker.cancelled.connect(self._gnss_cancelled)
         self.tabs.setCurrentWidget(self.gnss)
-        return self._start(worker, f"post-processing the GNSS of {name}", tr("GNSS post-processing failed"))
+        return self._start(worker, tr("post-processing the GNSS of {survey}").format(survey=name), tr("GNSS post-processing failed"))
 
     def _gnss_done(self, stage: GnssStageResult) -> None:
         summary = stage.summary(self.project.fusion.gnss_quality_policy)
@@ -782,22 +786,25 @@ class MainWindow(QMainWindow):
                 run = run_redesign(project, name, progress, cancel)
             return run.summary, redesign_plot(stored)
 
-        worker = TaskWorker(f"survey {name}: tamping re-design", task, self)
+        worker = TaskWorker(tr("survey {survey}: tamping re-design").format(survey=name), task, self)
         worker.succeeded.connect(self._redesign_done)
-        worker.cancelled.connect(lambda: self.log.warning("tamping re-design cancelled; nothing written"))
-        return self._start(worker, f"re-designing {name} for tamping", tr("Tamping re-design failed"))
+        worker.cancelled.connect(lambda: self.log.warning(tr("tamping re-design cancelled; nothing written")))
+        return self._start(worker, tr("re-designing {survey} for tamping").format(survey=name), tr("Tamping re-design failed"))
 
     def _redesign_done(self, answer: tuple[dict, RedesignPlot | None]) -> None:
         summary, plot = answer
         self.redesign_view.set_data(plot)
         self.tabs.setCurrentWidget(self.redesign_view)
         movement, count = summary["movement"], summary["exceedances"]
-        self.log.info(f"{summary['survey']} re-designed: largest lift {movement['largest_lift_mm']:.1f} mm, largest "
-                      f"slew {movement['largest_slew_mm']:.1f} mm; exceedances of {summary['profile']}: "
-                      f"{count['before']} before, {count['after']} after the job")
+        self.log.info(tr("{survey} re-designed: largest lift {lift_mm:.1f} mm, largest slew {slew_mm:.1f} mm; "
+                         "exceedances of {profile}: {before} before, {after} after the job").format(
+            survey=summary["survey"], lift_mm=movement["largest_lift_mm"], slew_mm=movement["largest_slew_mm"],
+            profile=summary["profile"], before=count["before"], after=count["after"]))
         for stretch in summary["cannot_pass"]:
-            self.log.warning(f"{summary['survey']}: cannot pass under the constraints: {stretch['what']} "
-                             f"{stretch['from_m']:.1f}-{stretch['to_m']:.1f} m (peak {stretch['value_mm']:.2f} mm)")
+            self.log.warning(tr("{survey}: cannot pass under the constraints: {what} {from_m:.1f}-{to_m:.1f} m "
+                                "(peak {value_mm:.2f} mm)").format(survey=summary["survey"], what=stretch["what"],
+                                                                   from_m=stretch["from_m"], to_m=stretch["to_m"],
+                                                                   value_mm=stretch["value_mm"]))
         if summary["design"]["problem"]:
             self.log.warning(f"{summary['survey']}: {summary['design']['problem']}")
 

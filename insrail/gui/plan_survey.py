@@ -42,6 +42,7 @@ from insrail.gui.importer import shipped_names
 from insrail.gui.worker import TaskWorker
 from insrail.names import quantity_name
 from insrail.nav.fusion_options import FusionOptions
+from insrail.progress import ProgressMessage, progress_text
 from insrail.quality import GnssQuality, Prediction, SweepTable, predict
 from insrail.quality.sweep import PARAMETERS, sweep
 from insrail.quality.tables import (
@@ -254,7 +255,7 @@ class PlanSurveyDialog(QDialog):
             return None
         self.running_inputs = inputs
         # Bound methods of the dialog: the worker's signals reach them as queued calls in the GUI thread.
-        self.worker = TaskWorker("prediction", inputs.run, self)
+        self.worker = TaskWorker(tr("prediction"), inputs.run, self)
         self.worker.progressed.connect(self._progressed)
         self.worker.succeeded.connect(self._show)
         self.worker.failed.connect(self._failed)
@@ -272,9 +273,9 @@ class PlanSurveyDialog(QDialog):
             self.worker.cancel()
             self.cancel_button.setEnabled(False)
 
-    def _progressed(self, fraction: float, message: str) -> None:
+    def _progressed(self, fraction: float, message: ProgressMessage) -> None:
         self.progress.setValue(round(fraction * PROGRESS_STEPS))
-        self.message.setText(message)
+        self.message.setText(progress_text(message))
 
     def _failed(self, message: str) -> None:
         self._say(message, error=True)

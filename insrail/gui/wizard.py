@@ -454,16 +454,16 @@ class NewProjectWizard(QWizard):
         folder = Path(text)
         problem = None
         if not text:
-            problem = "choose the folder for the project file and its results"
+            problem = tr("choose the folder for the project file and its results")
         elif folder.exists() and not folder.is_dir():
-            problem = f"{folder} is a file, not a folder"
+            problem = tr("{folder} is a file, not a folder").format(folder=folder)
         elif (folder / PROJECT_FILE).exists():
-            problem = f"a project already exists in {folder}: open it, or choose another folder"
+            problem = tr("a project already exists in {folder}: open it, or choose another folder").format(folder=folder)
         if problem is None and not folder.exists():
             try:
                 folder.mkdir(parents=True)
             except OSError as error:
-                problem = f"cannot create the folder: {error.strerror or error}"
+                problem = tr("cannot create the folder: {error}").format(error=error.strerror or error)
             else:
                 self.created_folder = folder
                 note.setStyleSheet("")

@@ -14,8 +14,10 @@ from collections.abc import Callable, Sequence
 from PySide6.QtCore import QThread, Signal
 
 from insrail.gnss.ppk import GnssProcessingError
+from insrail.gui.translation import tr
 from insrail.io.errors import InputError, said
-from insrail.progress import Cancelled, CancelToken, ProgressFn
+from insrail.notices import Phrase, phrase_of
+from insrail.progress import Cancelled, CancelToken, ProgressFn, ProgressMessage
 from insrail.project import Project, process
 
 #: Failures the core words for the user (bad input, settings, files, RTKLIB refusing the data);
@@ -26,7 +28,8 @@ EXPECTED_ERRORS = (InputError, ValueError, OSError, GnssProcessingError)
 class CoreWorker(QThread):
     """Runs :meth:`work` in its thread; failures and cancellation become signals."""
 
-    progressed = Signal(float, str)  # fraction in [0, 1], the core's message
+    #: fraction in [0, 1], the core's message (a literal or a Phrase: said in the window's language, in its thread)
+    progressed = Signal(float, object)
     failed = Signal(str)  # what went wrong, as the core words it, after the subject
     cancelled = Signal()
 
@@ -51,8 +54,8 @@ class CoreWorker(QThread):
             self.failed.emit(f"{self.subject}: {said(error)}")  # a reader's error in the window's language
         except Exception as error:  # noqa: BLE001 (a defect: the window must survive it and say what happened)
             traceback.print_exc()
-            self.failed.emit(f"{self.subject}: internal error {type(error).__name__}: {error} "
-                             "(details on the console; please report it)")
+            self.failed.emit(tr("{subject}: internal error {kind}: {error} (details on the console; please report "
+                                "it)").format(subject=self.subject, kind=type(error).__name__, error=error))
 
 
 class ProcessingWorker(CoreWorker):
@@ -68,10 +71,11 @@ class ProcessingWorker(CoreWorker):
     def work(self) -> None:
         count = len(self.surveys)
         for index, name in enumerate(self.surveys):
-            def report(fraction: float, message: str, index=index, name=name) -> None:
-                self.progressed.emit((index + fraction) / count, f"{name}: {message}")
+            def report(fraction: float, message: ProgressMessage, index=index, name=name) -> None:
+                self.progressed.emit((index + fraction) / count,
+                                     Phrase("{survey}: {message}", {"survey": name, "message": phrase_of(message)}))
 
-            self.subject = f"survey {name}"
+            self.subject = tr("survey {survey}").format(survey=name)
             process(self.project, name, progress=report, cancel=self._stop)
             self.surveyDone.emit(name)
 

@@ -587,7 +587,7 @@ def read_survey(folder: str | Path, progress: ProgressFn | None = None,
     roles = list(manifest.files.items())
     for index, (role, entry) in enumerate(roles):
         check_cancel(cancel)
-        step(index / len(roles), f"reading {role}: {entry.path}")
+        step(index / len(roles), Phrase("reading {role}: {file}", {"role": role, "file": str(entry.path)}))
         try:
             loaded[role] = entry.read(folder)
         except InputError as exc:

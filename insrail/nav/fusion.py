@@ -1511,7 +1511,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
             if event == EVENT_PROGRESS:
                 check_cancel(cancel)
                 j = int(state.pos[0])
-                progress(j / m_epochs, f"forward filter {t[epochs[j]] - t[epochs[0]]:.0f} s")
+                progress(j / m_epochs, Phrase("forward filter {elapsed_s:.0f} s", {"elapsed_s": t[epochs[j]] - t[epochs[0]]}))
             upto = int(epochs[state.pos[0] - 1]) + 1 if state.pos[0] < m_epochs else int(epochs[-1]) + 1
             nav_file.append(nav_buf[: upto - nav_base[0]])
             nav_base[0] = upto

@@ -42,7 +42,7 @@ import numpy as np
 
 from insrail.nav import earth
 from insrail.nav.rotation import euler_to_dcm
-from insrail.notices import Phrase
+from insrail.notices import Phrase, phrase_of
 
 MIN_OBSERVATIONS = 5
 MAX_REJECTED_SHARE = 0.2
@@ -166,13 +166,14 @@ class FusionIntegrity:
                                "station_to_m": round(float(self.station_to_m[k]), 1),
                                "time_from_s": round(float(self.time_from_s[k]), 3),
                                "time_to_s": round(float(self.time_to_s[k]), 3), "reason": str(self.reasons[k]),
+                               "why": phrase_of(self.reasons[k]).to_dict(),
                                "nis_per_dof": clean(self.nis_per_dof[k]),
                                "rejected_share": clean(self.rejected_share[k])}
                               for k in np.flatnonzero(~self.valid)],
-                "suspect": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why)}
-                            for a, b, why in self.suspect_s],
-                "missed_fixes": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why)}
-                                 for a, b, why in self.missed_s],
+                "suspect": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why),
+                             "why": phrase_of(why).to_dict()} for a, b, why in self.suspect_s],
+                "missed_fixes": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why),
+                                  "why": phrase_of(why).to_dict()} for a, b, why in self.missed_s],
                 "missed_share": round(self.missed_share, 4)}
 
 

@@ -22,6 +22,7 @@ from insrail.io.types import ImuIncrements
 from insrail.nav import _kernels
 from insrail.nav.earth import WGS84, Ellipsoid
 from insrail.nav.rotation import dcm_to_quat, euler_to_dcm
+from insrail.notices import Phrase
 from insrail.progress import CancelToken, ProgressFn, check_cancel
 
 #: Epochs per call of the compiled loop; progress and cancel are served between calls.
@@ -260,7 +261,7 @@ def integrate(
         )
         if progress is not None:
             done = chunk_stop - start
-            progress(done / max(n_epochs, 1), f"strapdown: {done} of {n_epochs} IMU epochs")
+            progress(done / max(n_epochs, 1), Phrase("strapdown: {done} of {epochs} IMU epochs", {"done": done, "epochs": n_epochs}))
 
     times = np.empty(rows)
     times[0] = initial.time_s

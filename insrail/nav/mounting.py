@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from insrail.nav.rotation import euler_to_dcm
-from insrail.notices import Phrase
+from insrail.notices import Phrase, phrase_of
 
 #: moving epochs: the rail point's speed above this [m/s]
 MIN_SPEED_MPS = 0.3
@@ -54,7 +54,7 @@ class MountingEstimate:
     given_rpy_rad: np.ndarray
     rpy_rad: np.ndarray
     sigma_rad: np.ndarray
-    why: dict = field(default_factory=dict)  # axis -> why it is not estimated
+    why: dict = field(default_factory=dict)  # axis -> why it is not estimated (a Phrase: said in the report's language)
 
     @property
     def significant(self) -> np.ndarray:
@@ -77,7 +77,7 @@ class MountingEstimate:
     def from_dict(cls, table: dict | None, given_rpy_rad) -> MountingEstimate:
         """From :meth:`to_dict`'s table (None: a fusion cached before the calibration: not estimated)."""
         if table is None:
-            return not_estimated(given_rpy_rad, "fused before the mounting calibration")
+            return not_estimated(given_rpy_rad, Phrase("fused before the mounting calibration"))
         given = np.radians(np.asarray(table["given_rpy_deg"], dtype=float))
         rpy, sigma, why = given.copy(), np.full(3, np.nan), {}
         for i, axis in enumerate(AXES):
@@ -85,7 +85,7 @@ class MountingEstimate:
             if "estimate_deg" in entry:
                 rpy[i], sigma[i] = math.radians(entry["estimate_deg"]), math.radians(entry["sigma_deg"])
             else:
-                why[axis] = entry["not_estimated"]
+                why[axis] = why_of(entry)
         return cls(given, rpy, sigma, why)
 
     def to_dict(self) -> dict:
@@ -98,7 +98,8 @@ class MountingEstimate:
                              "sigma_deg": round(math.degrees(self.sigma_rad[i]), 5),
                              "applied": bool(self.significant[i])}
             else:
-                out[axis] = {"not_estimated": self.why.get(axis, "")}
+                why = phrase_of(self.why.get(axis, ""))
+                out[axis] = {"not_estimated": str(why), **why.to_dict()}  # the English, and its template for a report
         return out
 
     def text(self) -> Phrase:
@@ -112,11 +113,16 @@ class MountingEstimate:
                                      "given_deg": math.degrees(self.given_rpy_rad[i])}))
             else:
                 parts.append(Phrase("{axis} not estimated ({reason})",
-                                    {"axis": Phrase(axis), "reason": Phrase(self.why.get(axis, ""))}))
+                                    {"axis": Phrase(axis), "reason": phrase_of(self.why.get(axis, ""))}))
         return Phrase("IMU mounting from the survey: {axes}", {"axes": parts})
 
 
-def not_estimated(given_rpy_rad, why: str) -> MountingEstimate:
+def why_of(entry: dict) -> Phrase:
+    """Why an axis is not estimated, from :meth:`MountingEstimate.to_dict`'s table (English alone: an older summary)."""
+    return Phrase.from_dict(entry) if "template" in entry else Phrase(str(entry["not_estimated"]))
+
+
+def not_estimated(given_rpy_rad, why: Phrase) -> MountingEstimate:
     given = np.asarray(given_rpy_rad, dtype=float)
     return MountingEstimate(given, given.copy(), np.full(3, np.nan), {axis: why for axis in AXES})
 
@@ -148,7 +154,7 @@ def yaw_pitch_from_velocity(trajectory, given_rpy_rad, rail_point_m: np.ndarray)
     speed = np.linalg.norm(v_b, axis=1)
     moving = speed > MIN_SPEED_MPS
     if moving.sum() < 100:
-        return not_estimated(given, "the trolley hardly moves")
+        return not_estimated(given, Phrase("the trolley hardly moves"))
     v = v_b[moving] * np.sign(v_b[moving, :1])  # a trolley pushed backwards runs along -x_v
     yaw = -np.arctan2(v[:, 1], np.hypot(v[:, 0], v[:, 2]))
     pitch = np.arctan2(v[:, 2], v[:, 0])
@@ -158,7 +164,7 @@ def yaw_pitch_from_velocity(trajectory, given_rpy_rad, rail_point_m: np.ndarray)
     for i, series, attitude in ((1, pitch, sigma_att[:, 1]), (2, yaw, sigma_att[:, 2])):
         estimate[i] = float(np.mean(series))
         sigma[i] = math.hypot(_block_sigma(t[moving], series, BLOCK_S), float(np.median(attitude)))
-    return MountingEstimate(given, estimate, sigma, {"roll": "it needs the cant against a design's: insrail process"})
+    return MountingEstimate(given, estimate, sigma, {"roll": Phrase("it needs the cant against a design's: insrail process")})
 
 
 def roll_from_cant(given_rpy_rad, cant_m: np.ndarray, design_cant_m: np.ndarray, spacing_m: float,
@@ -168,10 +174,11 @@ def roll_from_cant(given_rpy_rad, cant_m: np.ndarray, design_cant_m: np.ndarray,
     difference = (np.asarray(cant_m, float) - np.asarray(design_cant_m, float))
     use = np.asarray(valid, bool) & np.isfinite(difference)
     if use.sum() < 2 * ROLL_BLOCK_SLEEPERS:
-        return not_estimated(given, f"fewer than {2 * ROLL_BLOCK_SLEEPERS} valid sleepers with a design cant")
+        return not_estimated(given, Phrase("fewer than {count} valid sleepers with a design cant",
+                                           {"count": 2 * ROLL_BLOCK_SLEEPERS}))
     tilt = difference[use] / spacing_m
     estimate, sigma = given.copy(), np.full(3, np.nan)
     estimate[0] = given[0] + float(np.mean(tilt))
     sigma[0] = math.hypot(_block_sigma(np.arange(use.sum(), dtype=float), tilt, float(ROLL_BLOCK_SLEEPERS)),
                           CROSS_LEVEL_REFERENCE_M / spacing_m)
-    return MountingEstimate(given, estimate, sigma, {"pitch": "from the velocity", "yaw": "from the velocity"})
+    return MountingEstimate(given, estimate, sigma, {"pitch": Phrase("from the velocity"), "yaw": Phrase("from the velocity")})

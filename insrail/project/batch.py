@@ -39,6 +39,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from insrail.io.errors import InputError
+from insrail.notices import Phrase
 from insrail.progress import Cancelled, CancelToken, ProgressFn, is_cancelled
 from insrail.project.model import PROJECT_FILE, Project, load_project
 
@@ -169,8 +170,9 @@ def _run_tasks(tasks: list[BatchTask], failed: list[BatchOutcome], workers, sche
     def report(outcome: BatchOutcome) -> None:
         outcomes.append(outcome)
         if progress is not None:
-            state = f"done in {outcome.elapsed_s:.1f} s" if outcome.ok else f"FAILED: {outcome.detail}"
-            progress(len(outcomes) / total, f"{outcome.label}: {state}")
+            progress(len(outcomes) / total,
+                     Phrase("{survey}: done in {elapsed_s:.1f} s", {"survey": outcome.label, "elapsed_s": outcome.elapsed_s})
+                     if outcome.ok else Phrase("{survey}: FAILED: {error}", {"survey": outcome.label, "error": outcome.detail}))
 
     for outcome in failed:
         report(outcome)

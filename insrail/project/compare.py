@@ -28,6 +28,7 @@ import tomli_w
 
 from insrail.io.atomic import atomic_write
 from insrail.io.errors import InputError
+from insrail.notices import Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import RESULTS_FOLDER, load_results
@@ -71,7 +72,7 @@ def compare_surveys(project: Project, names: list[str] | None = None, progress: 
     runs, labels, placements = {}, (), {}
     for index, name in enumerate(names):
         check_cancel(cancel)
-        step(index / len(names), f"reading the results of {name}")
+        step(index / len(names), Phrase("reading the results of {survey}", {"survey": name}))
         project.survey(name)  # an unknown name fails here, listing the project's surveys
         stored = load_results(project.folder, name)
         valid = (stored.columns["valid"] > 0) & np.isfinite(stored.columns["station_m"])

@@ -16,6 +16,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from insrail.notices import Phrase
 from insrail.track.sleeper_table import SleeperTable
 
 #: gaps at least this long [s] flag their sleepers
@@ -24,10 +25,20 @@ FLAG_GAP_S = 0.25
 MARGIN_M = 5.0
 
 
+def long_gaps_of(gaps_s) -> list[tuple[float, float]]:
+    """The gaps ``[start, end]`` [s of week] long enough to flag their sleepers."""
+    return [(float(a), float(b)) for a, b in gaps_s if b - a >= FLAG_GAP_S]
+
+
+def gap_reason(start: float, end: float) -> Phrase:
+    """Why the sleepers around a bridged gap are not assessed (sleepers.csv's ``not_assessed``)."""
+    return Phrase("IMU gap of {gap_s:.2f} s bridged", {"gap_s": end - start})
+
+
 def flag_gap_sleepers(table: SleeperTable, gaps_s) -> SleeperTable:
     """``table`` with the sleepers within :data:`MARGIN_M` of each bridged gap ``[start, end]``
     [s of week] of at least :data:`FLAG_GAP_S` not valid, reason "IMU gap of ... s bridged"."""
-    long_gaps = [(float(a), float(b)) for a, b in gaps_s if b - a >= FLAG_GAP_S]
+    long_gaps = long_gaps_of(gaps_s)
     if not long_gaps or len(table) < 2:
         return table
     order = np.argsort(table.time_s)
@@ -36,7 +47,7 @@ def flag_gap_sleepers(table: SleeperTable, gaps_s) -> SleeperTable:
     for start, end in long_gaps:
         s0, s1 = np.interp([start, end], table.time_s[order], table.station_m[order])
         near = (table.station_m >= min(s0, s1) - MARGIN_M) & (table.station_m <= max(s0, s1) + MARGIN_M)
-        why = f"IMU gap of {end - start:.2f} s bridged"
+        why = str(gap_reason(start, end))
         for k in np.flatnonzero(near):
             reasons[k] = why if not reasons[k] else f"{reasons[k]}; {why}"
         flagged |= near

@@ -41,6 +41,7 @@ from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 from urllib.parse import quote
 
+from insrail.notices import Phrase
 from insrail.progress import CancelToken, ProgressFn, check_cancel
 
 try:
@@ -111,10 +112,10 @@ def _acquire(fd: int, path: Path, what: str, project_folder: Path, progress: Pro
     holder = _holder(fd)
     if not _wait.get():
         raise ProjectBusy(project_folder, f"{what} is in use by {holder}")
-    message = f"waiting for {holder} to finish ({path})"
+    message = Phrase("waiting for {holder} to finish ({file})", {"holder": holder, "file": str(path)})
     announce = _announce.get()
     if announce is not None:
-        announce(message)
+        announce(str(message))
     elif progress is not None:
         progress(0.0, message)
     while not _try(fd, how):

@@ -37,8 +37,8 @@ def yaw_pitch_pass(survey, build_aiding, profile, options, ellipsoid, fuse, prog
     the survey's aiding for the options); not estimated without GNSS."""
     trolley = survey.manifest.trolley
     if survey.gnss is None:
-        return not_estimated(trolley.mounting_rpy_rad, "no GNSS: only the NHC gives the direction of travel in "
-                                                       "the IMU's axes")
+        return not_estimated(trolley.mounting_rpy_rad, Phrase("no GNSS: only the NHC gives the direction of travel in "
+                                                              "the IMU's axes"))
     pass_options = replace(options, use_nhc=False, smoother=True, estimate_play=False)
     dt = float(np.median(np.diff(survey.imu.time_s[:1000])))
     every = max(int(round(1.0 / (UPDATE_RATE_OUTPUT_HZ * dt))), 1)
@@ -46,9 +46,10 @@ def yaw_pitch_pass(survey, build_aiding, profile, options, ellipsoid, fuse, prog
         result = fuse(survey.imu, build_aiding(pass_options), profile, pass_options, ellipsoid, output_every=every,
                       progress=progress, cancel=cancel)
     except ValueError as error:
-        return not_estimated(trolley.mounting_rpy_rad, f"the pass without the NHC failed: {error}")
+        return not_estimated(trolley.mounting_rpy_rad, Phrase("the pass without the NHC failed: {error}",
+                                                              {"error": str(error)}))
     if not result.integrity.trusted:
-        return not_estimated(trolley.mounting_rpy_rad, "the pass without the NHC is not consistent")
+        return not_estimated(trolley.mounting_rpy_rad, Phrase("the pass without the NHC is not consistent"))
     rail_point = trolley.imu_to_reference_rail_m if trolley.imu_to_reference_rail_m is not None else np.zeros(3)
     return yaw_pitch_from_velocity(result.trajectory, trolley.mounting_rpy_rad, rail_point)
 
@@ -63,7 +64,7 @@ def roll_check(manifest, table, design_cant_available: bool) -> MountingEstimate
     a design)."""
     trolley = manifest.trolley
     if not design_cant_available:
-        return not_estimated(trolley.mounting_rpy_rad, "no design cant to compare the cant with")
+        return not_estimated(trolley.mounting_rpy_rad, Phrase("no design cant to compare the cant with"))
     return roll_from_cant(trolley.mounting_rpy_rad, table.cant_m, table.design_cant_m, trolley.rail_centre_spacing_m,
                           table.valid)
 

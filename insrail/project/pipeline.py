@@ -86,7 +86,7 @@ from insrail.project.relative_survey import (
     withheld_adjustment_section,
     without_deviations,
 )
-from insrail.project.gap_sleepers import flag_gap_sleepers
+from insrail.project.gap_sleepers import flag_gap_sleepers, gap_reason, long_gaps_of
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_stage
 from insrail.project.local_control import LocalFit, fit_local
 from insrail.project.lock import cache_entry, project_run
@@ -126,7 +126,7 @@ from insrail.project.results import (
     trajectory_section,
     write_results,
 )
-from insrail.project.sleeper_integrity import flag_sleepers
+from insrail.project.sleeper_integrity import flag_sleepers, fusion_reasons, reasons_section
 from insrail.project.sleeper_parameters import (
     line_curvature_1pm,
     parameter_bases,
@@ -186,7 +186,7 @@ from insrail.track.sleepers import AnchorError
 
 CACHE_FOLDER = ".cache"
 #: Bumped when the meaning of a cached stage changes, so stale caches are never reused.
-CACHE_VERSION = 23  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma; 16: a track heading's 1-sigma holds the trolley's yaw against the chord; 17: the NHC relaxed over rail joints' shocks, listed in the fusion's info; 18: the IMU mounting estimated (a pass without the NHC), a reset after a gap a last resort (the gap's error grown), relative surveys; 19: a gap return accepted far off grown as a reset's; 20: notices as templates and fields (read in the report's language); 21: the odometer's, the ZUPT's and the GNSS classes' noise estimated from the innovations (the fusion info's calibration); 22: sparse prism fixes back after their usual interval are no gap return (no growth over it); 23: the NHC rows' noise holds the gyro's white noise through the lever arm, the play's upper confidence limit where the filter's own part is most of the NHC innovations
+CACHE_VERSION = 24  # 6: IMU screening, start-up for every IMU class, optional gnss and odometer roles; 7: filter resets, integrity; 8: the prism fix a survey starts from is applied; 9: ZUPT noise per stop, re-alignment at a reset, the odometer scale's exact Jacobian; 10: the notices of a run held by prism fixes (its 1-sigma there, a run beyond them); 11: the trolley play as position process noise; 12: the static start's level angles hold the horizontal accelerometer errors (P0), the unit check's rest by the aiding; 13: the trolley play estimated from the NHC innovations (a second pass); 14: the cross-level 1-sigma in the quality analysis and quality.csv; 15: the along-track 1-sigma; 16: a track heading's 1-sigma holds the trolley's yaw against the chord; 17: the NHC relaxed over rail joints' shocks, listed in the fusion's info; 18: the IMU mounting estimated (a pass without the NHC), a reset after a gap a last resort (the gap's error grown), relative surveys; 19: a gap return accepted far off grown as a reset's; 20: notices as templates and fields (read in the report's language); 21: the odometer's, the ZUPT's and the GNSS classes' noise estimated from the innovations (the fusion info's calibration); 22: sparse prism fixes back after their usual interval are no gap return (no growth over it); 23: the NHC rows' noise holds the gyro's white noise through the lever arm, the play's upper confidence limit where the filter's own part is most of the NHC innovations; 24: the integrity intervals' and the mounting's reasons as phrases (said in the report's language)
 #: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
 #: entry 52 MB instead of 370 MB, read back in a rerun); 3, the epochs' stations in their own
 #: file (track-<key>.epochs.npy), read by parts; 4, without a design the line-type fit always
@@ -410,7 +410,7 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
         # differs from the given one beyond 3 sigma: the NHC then holds the right axes to the rail
         mounting = (yaw_pitch_pass(survey, build_aiding, profile, run.fusion, run.ellipsoid, fuse_pass,
                                    progress=progress.sub(0.05, 0.3), cancel=cancel)
-                    if run.fusion.use_nhc else not_estimated(manifest.trolley.mounting_rpy_rad, "the NHC is off"))
+                    if run.fusion.use_nhc else not_estimated(manifest.trolley.mounting_rpy_rad, Phrase("the NHC is off")))
         survey = replace(survey, manifest=with_mounting(survey.manifest, mounting.applied_rpy_rad()))
         checked += mounting_notices(mounting, "survey.toml")
         # the trajectory is streamed into the cache as the smoother makes it (sealed below)
@@ -716,6 +716,10 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         event_files[TURNOUT_EXCEEDANCES_FILE] = exceedances_csv(replace(assessment, exceedances=in_turnouts))
         summary["files"]["turnout_exceedances"] = TURNOUT_EXCEEDANCES_FILE
     summary["assessment"]["not_assessed_sleepers"] = int((measured & ~table.valid).sum())
+    summary["assessment"]["not_assessed_reasons"] = reasons_section(  # sleepers.csv's reasons, for a report's language
+        [*(reason for _, _, reason in fusion_reasons(fusion_info.get("integrity"))),
+         *(event.described() for event in events if event.excluded),
+         *(gap_reason(*gap) for gap in long_gaps_of(fusion_info.get("imu_gaps_s", [])))])
     line_fit_files = extras.line.files() if extras.line is not None else {}
     if extras.line is not None:
         summary["track"]["line_fit"] = extras.line.section()

@@ -34,7 +34,7 @@ from insrail.io.survey import SurveyManifest, TrolleyGeometry
 from insrail.nav.fusion_options import FusionOptions
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.names import DEFAULT_LANGUAGE
-from insrail.notices import Notice
+from insrail.notices import Notice, Phrase
 from insrail.project.model import FUSION_FLAGS, FUSION_NUMBERS, AdjustmentSettings, HeightSettings, Project
 from insrail.project.stagecache import file_sha256
 from insrail.track.adjustment import FastenerType, load_fastener_type
@@ -165,16 +165,18 @@ def report_language(project: Project) -> str:
 # --------------------------------------------------------------------------- read back
 
 #: (record key, what it is called, how a recorded value reads) for the comparison with the project now.
+#: each recorded setting: its key, what it is in words, and its value in words (a Phrase or a name verbatim)
 _DESCRIBED = (
     ("crs", "coordinate system", lambda c: EngineeringCRS.from_settings(c).describe()),
-    ("heights", "height model", lambda h: (f"{h.get('model', '?')} on {h['benchmarks']}" if h.get("benchmarks")
-                                           else "ellipsoidal heights (no benchmarks)")),
+    ("heights", "height model", lambda h: (Phrase("{model} on {benchmarks}", {"model": h.get("model", "?"),
+                                                                               "benchmarks": h["benchmarks"]})
+                                           if h.get("benchmarks") else Phrase("ellipsoidal heights (no benchmarks)"))),
     ("imu_profile", "IMU profile", lambda p: p.get("name", "?")),
     ("tolerance_profile", "tolerance profile", lambda p: p.get("name", "?")),
     ("fastener", "fastener type", lambda p: p.get("name", "?")),
-    ("design", "design", lambda d: d.get("file") or "none (fitted lines)"),
-    ("trolley", "trolley geometry", lambda t: f"[{SETTINGS_SECTION}.trolley] of summary.toml"),
-    ("fusion", "fusion options", lambda f: f"[{SETTINGS_SECTION}.fusion] of summary.toml"),
+    ("design", "design", lambda d: d.get("file") or Phrase("none (fitted lines)")),
+    ("trolley", "trolley geometry", lambda t: Phrase("[{section}] of summary.toml", {"section": f"{SETTINGS_SECTION}.trolley"})),
+    ("fusion", "fusion options", lambda f: Phrase("[{section}] of summary.toml", {"section": f"{SETTINGS_SECTION}.fusion"})),
     ("adjustment", "adjustment settings", lambda a: ", ".join(f"{k} {v}" for k, v in a.items())),
 )
 
@@ -209,12 +211,12 @@ class RecordedSettings:
         digest = self.record.get("tolerance_profile", {}).get("digest")
         return digest is None or digest == _contents_digest(profile)
 
-    def changes(self, project: Project, survey: str) -> list[str]:
+    def changes(self, project: Project, survey: str) -> list[Phrase]:
         """What the project says now that differs from what the results were processed with, one
         line each ("processed with ...; the project now says ...: process again"); the missing
         record is one line too. A project that no longer resolves (a profile file gone) says so."""
         if self.missing:
-            return [NOT_RECORDED]
+            return [Phrase(NOT_RECORDED)]
         try:
             manifest = project.manifest(survey)
             trolley = project.trolley()
@@ -222,7 +224,8 @@ class RecordedSettings:
                 manifest = replace(manifest, trolley=trolley)
             now = resolve_run_settings(project, manifest).record()
         except (ValueError, OSError, KeyError) as error:
-            return [f"the project's settings cannot be resolved now ({error}): the results stand as recorded"]
+            return [Phrase("the project's settings cannot be resolved now ({error}): the results stand as recorded",
+                           {"error": str(error)})]
         lines = []
         for key, what, describe in _DESCRIBED:
             then, today = self.record.get(key), now[key]
@@ -230,8 +233,10 @@ class RecordedSettings:
                 continue
             old, new = describe(then), describe(today)
             if old == new:  # the same name, other contents: a profile or file edited, a lever arm changed
-                new = "other values" if key in ("trolley", "fusion") else f"{new} with other contents"
-            lines.append(f"{what}: processed with {old}; the project now says {new}: process again")
+                new = Phrase("other values") if key in ("trolley", "fusion") else Phrase("{setting} with other contents",
+                                                                                         {"setting": new})
+            lines.append(Phrase("{what}: processed with {old}; the project now says {new}: process again",
+                                {"what": Phrase(what), "old": old, "new": new}))
         return lines
 
 
@@ -244,7 +249,7 @@ def processed_crs_text(project: Project, summary: dict) -> str:
     return crs.describe() if crs is not None else f"{project.crs.describe()} (the project's now; {NOT_RECORDED})"
 
 
-def settings_change_lines(project: Project, survey: str) -> list[str]:
+def settings_change_lines(project: Project, survey: str) -> list[Phrase]:
     """What the project now says differently from the settings the survey's stored results were
     processed with ([] without results or changes): the warning lines of ``insrail report``,
     ``insrail export`` and the GUI's log."""

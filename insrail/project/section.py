@@ -47,6 +47,7 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.compare import worst_over_placements
 from insrail.project.lock import project_run
 from insrail.project.model import Project, SectionEntry
+from insrail.project.sleeper_integrity import reasons_of, reasons_section
 from insrail.project.results import (
     EXCEEDANCES_FILE,
     QUALITY_FILE,
@@ -290,7 +291,7 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
     started = time.monotonic()
     runs = []
     for i, survey in enumerate(entry.surveys):
-        step(0.3 * i / len(entry.surveys), f"reading the results of {survey}")
+        step(0.3 * i / len(entry.surveys), Phrase("reading the results of {survey}", {"survey": survey}))
         results = load_results(project.folder, survey)
         if results.quality is None and entry.overlap == "best":
             raise InputError(results.folder / QUALITY_FILE, None, "missing: the section's overlap rule 'best' needs the "
@@ -374,7 +375,9 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
                   "station_from_m": float(c["station_m"][0]), "station_to_m": float(c["station_m"][-1]),
                   **({"parameters": first["track"]["parameters"]} if "parameters" in first.get("track", {}) else {})},
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),
-                       "by_check": counts},
+                       "by_check": counts,  # the surveys' reasons its sleepers carry, for a report's language
+                       "not_assessed_reasons": reasons_section(
+                           reason for run in runs for reason in reasons_of(run.summary).values())},
         "adjustment": adjustment_section(adjustment, assessment, after_adjustment, project.adjustment, fastener),
         "track_quality": track_quality_section(geometry),
         "notices": [n.to_dict() for n in notices],

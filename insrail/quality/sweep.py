@@ -17,7 +17,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from insrail.names import quantity_name
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
+from insrail.notices import Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.quality.prediction import AccuracyFigures, GnssQuality, predict
 
@@ -81,7 +83,8 @@ def sweep(
     forward, smoothed = [], []
     for i, value in enumerate(values):
         check_cancel(cancel)
-        step(i / len(values), f"{parameter} = {value:g} {unit}")
+        step(i / len(values), Phrase("{parameter} = {value:g} {unit}",
+                                          {"parameter": Phrase(quantity_name(parameter).name), "value": value, "unit": unit}))
         si = value * factor
         kwargs = dict(predict_kwargs, speed_mps=si if parameter == "speed" else speed_mps)
         gnss_i = replace(gnss, white_horizontal_m=si, white_vertical_m=2.0 * si) if parameter == "gnss_sigma" else gnss

@@ -38,6 +38,7 @@ from insrail.names import (
     rail_direction,
     t,
 )
+from insrail.nav.mounting import why_of
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.project.model import Project
 from insrail.report.labels import deviation_group
@@ -49,6 +50,7 @@ from insrail.project.results import (
     check_column,
 )
 from insrail.project.run_settings import RecordedSettings
+from insrail.project.sleeper_integrity import reasons_of, said_reasons
 from insrail.track.adjustment import FastenerType, load_fastener_type
 from insrail.track.adjustment_parts import PartTable, materials, parts_text
 from insrail.track.events import KIND_NAMES
@@ -312,7 +314,7 @@ def load_report_content(project: Project, results: StoredResults) -> ReportConte
     return ReportContent(project, results, profile, fastener, tuple(columns), valid, results.columns["station_m"],
                          notes=tuple(notes), recorded=recorded,
                          # the standard sentence translated; a change's own line names settings as project.toml does
-                         settings_changes=tuple(t(line) for line in recorded.changes(project, _first_survey(results))))
+                         settings_changes=tuple(line.said() for line in recorded.changes(project, _first_survey(results))))
 
 
 def _first_survey(results: StoredResults) -> str:
@@ -383,6 +385,14 @@ OTHER_CHECKS_GROUP = "Other checks of the tolerance profile"
 ADJUSTMENT_GROUP = "Adjustment (move the rail by)"
 
 
+def _said_reasons(results: StoredResults) -> np.ndarray:
+    """Each sleeper's reasons for not being assessed in the report's language (sleepers.csv keeps the English)."""
+    columns = results.not_assessed or ("",) * len(results)
+    reasons = reasons_of(results.summary)
+    said = {column: said_reasons(column, reasons) for column in set(columns)}  # a few distinct texts, many sleepers
+    return np.array([said[column] for column in columns], dtype=object)
+
+
 def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[Column]:
     c = results.columns
     n = len(results)
@@ -393,7 +403,7 @@ def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[
         _named("label", SLEEPER_GROUP, np.array(results.label, dtype=object), "@", width=13),
         _named("station_m", SLEEPER_GROUP, c["station_m"], "0.000", width=11),
         *([_named("chain_zone", SLEEPER_GROUP, c["chain_zone"], "0", width=8)] if "chain_zone" in c else []),
-        _named("not_assessed", SLEEPER_GROUP, np.array(results.not_assessed or ("",) * n, dtype=object), "@", width=18),
+        _named("not_assessed", SLEEPER_GROUP, _said_reasons(results), "@", width=18),
     ]
     sources = [k for k in c if k.startswith("source_")]  # a joined line section (insrail.project.section)
     if sources:
@@ -732,7 +742,7 @@ def mounting_text(summary: dict) -> str | None:
                 axis=t(axis), estimate=entry["estimate_deg"], sigma=entry["sigma_deg"])
             parts.append(estimate + (t(" (applied)") if entry["applied"] else ""))
         else:
-            parts.append(t("{axis} not estimated ({reason})").format(axis=t(axis), reason=t(entry["not_estimated"])))
+            parts.append(t("{axis} not estimated ({reason})").format(axis=t(axis), reason=why_of(entry).said()))
     applied = ", ".join(f"{v:+.3f}" for v in mounting["applied_rpy_deg"])
     given = ", ".join(f"{v:+.3f}" for v in mounting["given_rpy_deg"])
     return t("processed with roll, pitch, yaw [{applied}]° (survey.toml [{given}]°); estimated from the survey: "

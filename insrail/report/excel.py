@@ -36,7 +36,7 @@ from openpyxl.worksheet.worksheet import Worksheet
 
 from insrail.io.atomic import atomic_write
 from insrail.names import check_name, fastener_name, in_language, profile_name, quantity_name, t
-from insrail.notices import notices_of, phrase_of
+from insrail.notices import Phrase, notices_of, phrase_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
@@ -965,5 +965,5 @@ def _write_workbook(project: Project, results: StoredResults, path: Path, step: 
     finally:
         for sheet in sheets:
             sheet.close()
-    step(1.0, f"workbook written: {path.name}")
+    step(1.0, Phrase("workbook written: {file}", {"file": path.name}))
     return path

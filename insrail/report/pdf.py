@@ -57,7 +57,7 @@ from insrail.names import (
     t,
 )
 from insrail.nav.imu_profile import load_imu_profile
-from insrail.notices import notices_of
+from insrail.notices import Phrase, notices_of
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project.compare import (
     BASE_PARAMETERS,
@@ -805,7 +805,7 @@ def _charts(content: ReportContent, progress: StepProgress, cancel: CancelToken)
     spans = chart_spans(float(station[0]), float(station[-1]))
     for number, (start, end) in enumerate(spans):
         check_cancel(cancel)
-        progress(number / len(spans), f"charts {start:.0f} m")
+        progress(number / len(spans), Phrase("charts {station_m:.0f} m", {"station_m": start}))
         inside = np.flatnonzero((station >= start) & (station < end))
         if not inside.size:
             continue
@@ -1094,5 +1094,5 @@ def _write_pdf(project: Project, results: StoredResults, path: Path, step: StepP
         doc.addPageTemplates([PageTemplate("page", frames=[frame], onPageEnd=_on_page)])
         doc.setProgressCallBack(_layout_progress(step.sub(0.5, 0.98), cancel))
         doc.build(story, canvasmaker=NumberedCanvas)
-    step(1.0, f"report written: {path.name}")
+    step(1.0, Phrase("report written: {file}", {"file": path.name}))
     return path

@@ -38,6 +38,7 @@ from insrail.io.types import (
 from insrail.nav import earth
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.nav.rotation import euler_to_dcm
+from insrail.notices import Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.sim import sensors
 from insrail.sim.design import design_alignment
@@ -228,7 +229,7 @@ def simulate(
         truth["vel_ned_mps"][sl] = v_ned
         truth["rpy_rad"][sl] = np.column_stack([roll, pitch, heading])
         truth["station_m"][sl] = path_of(profile.evaluate(tt)[0])
-        imu_step(sl.stop / n, f"IMU {sl.stop}/{n} epochs")
+        imu_step(sl.stop / n, Phrase("IMU {done}/{epochs} epochs", {"done": sl.stop, "epochs": n}))
     wheel[0] = 0.0
     # true distance of the odometer wheel (and of the second one) since the first epoch
     wheel_distance = np.cumsum(wheel, axis=0)

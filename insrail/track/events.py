@@ -19,6 +19,7 @@ import numpy as np
 
 from insrail.io.events import Event
 from insrail.io.types import OdometerData
+from insrail.notices import Phrase
 from insrail.track.sleeper_table import SleeperTable
 from insrail.track.sleepers import StationTrack
 
@@ -46,9 +47,17 @@ class TrackEvent:
     @property
     def description(self) -> str:
         """How a sleeper's "not assessed" column names it: "turnout W12", "level crossing LC 3"."""
-        name = KIND_NAMES[self.kind]
-        text = f"{name} {self.text}".strip() if self.kind != "no_assess" else (self.text or name)
-        return f"{text} (assessed with {self.profile})" if self.profile else text
+        return str(self.described())
+
+    def described(self) -> Phrase:
+        """:meth:`description` as a phrase (the kind's name in the report's language, the event's own text verbatim)."""
+        name = Phrase(KIND_NAMES[self.kind])
+        if self.kind == "no_assess":
+            text = Phrase("{text}", {"text": self.text}) if self.text else name
+        else:
+            text = Phrase("{kind} {text}", {"kind": name, "text": self.text.rstrip()}) if self.text.strip() else name
+        return Phrase("{event} (assessed with {profile})", {"event": text, "profile": self.profile}) if self.profile \
+            else text
 
 
 def place_event(event: Event, epoch_time_s: np.ndarray, epoch_station_m: np.ndarray,

@@ -269,82 +269,92 @@
       <translation>按当前结果生成</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="24" />
+      <location filename="../../../insrail/gui/export_files.py" line="25" />
       <source>Excel workbook</source>
       <translation>Excel 工作簿</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="24" />
+      <location filename="../../../insrail/gui/export_files.py" line="25" />
       <source>Excel workbook (*.xlsx)</source>
       <translation>Excel 工作簿 (*.xlsx)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="25" />
+      <location filename="../../../insrail/gui/export_files.py" line="26" />
       <source>PDF report</source>
       <translation>PDF 报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="25" />
+      <location filename="../../../insrail/gui/export_files.py" line="26" />
       <source>PDF report (*.pdf)</source>
       <translation>PDF 报告 (*.pdf)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="27" />
+      <location filename="../../../insrail/gui/export_files.py" line="28" />
       <source>&amp;Lift/lining table…</source>
       <translation>起拨道量表(&amp;L)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="27" />
+      <location filename="../../../insrail/gui/export_files.py" line="28" />
       <source>Lift/lining table (*.csv)</source>
       <translation>起拨道量表 (*.csv)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="28" />
+      <location filename="../../../insrail/gui/export_files.py" line="29" />
       <source>&amp;DXF drawing…</source>
       <translation>DXF 图(&amp;D)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="28" />
+      <location filename="../../../insrail/gui/export_files.py" line="29" />
       <source>DXF drawing (*.dxf)</source>
       <translation>DXF 图 (*.dxf)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="29" />
+      <location filename="../../../insrail/gui/export_files.py" line="30" />
       <source>Measured lines as &amp;LandXML…</source>
       <translation>实测线形 LandXML(&amp;L)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="29" />
+      <location filename="../../../insrail/gui/export_files.py" line="30" />
       <source>LandXML (*.xml)</source>
       <translation>LandXML (*.xml)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="30" />
+      <location filename="../../../insrail/gui/export_files.py" line="31" />
       <source>Sleeper &amp;coordinates…</source>
       <translation>轨枕坐标(&amp;C)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="30" />
+      <location filename="../../../insrail/gui/export_files.py" line="31" />
       <source>CSV (*.csv)</source>
       <translation>CSV (*.csv)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="79" />
+      <location filename="../../../insrail/gui/export_files.py" line="80" />
       <source>Export failed</source>
       <translation>导出失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="92" />
+      <location filename="../../../insrail/gui/export_files.py" line="93" />
       <source>exporting the {what} of {survey} to {path}</source>
       <translation>正在将测量 {survey} 的{what}导出至 {path}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="38" />
+      <location filename="../../../insrail/gui/export_files.py" line="137" />
+      <source>reports of {survey}</source>
+      <translation>测量 {survey} 的报告</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="138" />
+      <source>writing {files} again from the results of {survey}</source>
+      <translation>正在根据测量 {survey} 的结果重新生成 {files}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/export_files.py" line="39" />
       <source>Export the survey shown: {what}</source>
       <translation>导出当前测量：{what}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/export_files.py" line="52" />
+      <location filename="../../../insrail/gui/export_files.py" line="53" />
       <source>Export the {what} of {survey}</source>
       <translation>导出测量 {survey} 的{what}</translation>
     </message>
@@ -369,97 +379,97 @@
       <translation>取自文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="134" />
+      <location filename="../../../insrail/gui/importer.py" line="135" />
       <source>Starts on a station of the design (before the first position fix)</source>
       <translation>从设计线路上的已知里程起测（首个定位之前）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="142" />
+      <location filename="../../../insrail/gui/importer.py" line="143" />
       <source>increasing stations</source>
       <translation>里程增加方向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="143" />
+      <location filename="../../../insrail/gui/importer.py" line="144" />
       <source>decreasing stations</source>
       <translation>里程减小方向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="145" />
+      <location filename="../../../insrail/gui/importer.py" line="146" />
       <source>Station</source>
       <translation>里程</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="146" />
+      <location filename="../../../insrail/gui/importer.py" line="147" />
       <source>Offset right of the centreline</source>
       <translation>偏离线路中线（向右）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="147" />
+      <location filename="../../../insrail/gui/importer.py" line="148" />
       <source>Height above the profile</source>
       <translation>高于设计纵断面</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="148" />
+      <location filename="../../../insrail/gui/importer.py" line="149" />
       <source>1-sigma of the start point</source>
       <translation>起测点中误差（1σ）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="149" />
+      <location filename="../../../insrail/gui/importer.py" line="150" />
       <source>The trolley faces</source>
       <translation>小车朝向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="151" />
+      <location filename="../../../insrail/gui/importer.py" line="152" />
       <source>Add files…</source>
       <translation>添加文件…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="153" />
+      <location filename="../../../insrail/gui/importer.py" line="154" />
       <source>Open survey folder…</source>
       <translation>打开测量文件夹…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="155" />
+      <location filename="../../../insrail/gui/importer.py" line="156" />
       <source>Remove</source>
       <translation>移除</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="157" />
+      <location filename="../../../insrail/gui/importer.py" line="158" />
       <source>Check files</source>
       <translation>检查文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="164" />
+      <location filename="../../../insrail/gui/importer.py" line="165" />
       <source>Survey name</source>
       <translation>测量名称</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="165" />
+      <location filename="../../../insrail/gui/importer.py" line="166" />
       <source>GPS week</source>
       <translation>GPS 周</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="166" />
+      <location filename="../../../insrail/gui/importer.py" line="167" />
       <source>IMU profile</source>
       <translation>IMU 误差模型</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="272" />
+      <location filename="../../../insrail/gui/importer.py" line="273" />
       <source>Raw files of one survey</source>
       <translation>一次测量的原始文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="309" />
+      <location filename="../../../insrail/gui/importer.py" line="310" />
       <source>ok</source>
       <translation>正常</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="437" />
+      <location filename="../../../insrail/gui/importer.py" line="443" />
       <source>Import raw files as a survey</source>
       <translation>导入原始数据为测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="443" />
+      <location filename="../../../insrail/gui/importer.py" line="449" />
       <source>Import</source>
       <translation>导入</translation>
     </message>
@@ -494,17 +504,17 @@
       <translation>问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="171" />
+      <location filename="../../../insrail/gui/importer.py" line="172" />
       <source>First rows of the selected file</source>
       <translation>所选文件的前几行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="176" />
+      <location filename="../../../insrail/gui/importer.py" line="177" />
       <source>Problems found by the readers</source>
       <translation>读取时发现的问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="312" />
+      <location filename="../../../insrail/gui/importer.py" line="313" />
       <source>no role</source>
       <translation>未指定用途</translation>
     </message>
@@ -514,27 +524,27 @@
       <translation>无法读取：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="277" />
+      <location filename="../../../insrail/gui/importer.py" line="278" />
       <source>Survey folder (with {file})</source>
       <translation>测量文件夹（含 {file}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="305" />
+      <location filename="../../../insrail/gui/importer.py" line="306" />
       <source>no file gives the position: give a GNSS solution (gnss) or total-station prism fixes (prism)</source>
       <translation>没有提供位置的文件：请给出 GNSS 解（gnss）或全站仪棱镜定位（prism）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="315" />
+      <location filename="../../../insrail/gui/importer.py" line="316" />
       <source>duplicate role</source>
       <translation>用途重复</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="391" />
+      <location filename="../../../insrail/gui/importer.py" line="394" />
       <source>no trolley geometry: enter it in the project</source>
       <translation>无小车几何参数：请在项目中填写</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="394" />
+      <location filename="../../../insrail/gui/importer.py" line="397" />
       <source>enter a survey name</source>
       <translation>请输入测量名称</translation>
     </message>
@@ -549,647 +559,722 @@
       <translation>{count} 条记录</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="311" />
+      <location filename="../../../insrail/gui/importer.py" line="312" />
       <source>choose the role of this file</source>
       <translation>请选择此文件的用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="318" />
+      <location filename="../../../insrail/gui/importer.py" line="319" />
       <source>no format</source>
       <translation>未识别格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="322" />
+      <location filename="../../../insrail/gui/importer.py" line="323" />
       <source>format does not fit the role</source>
       <translation>格式与用途不符</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="302" />
+      <location filename="../../../insrail/gui/importer.py" line="303" />
       <source>no file has the role {role} (required: {required})</source>
       <translation>没有用途为 {role} 的文件（必需：{required}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="317" />
+      <location filename="../../../insrail/gui/importer.py" line="318" />
       <source>format not recognised: choose one</source>
       <translation>未识别格式：请选择</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="314" />
+      <location filename="../../../insrail/gui/importer.py" line="315" />
       <source>more than one file has the role {role}</source>
       <translation>多个文件的用途为 {role}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="409" />
+      <location filename="../../../insrail/gui/importer.py" line="412" />
       <source>cannot copy into {folder}: {error}</source>
       <translation>无法复制到 {folder}：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="320" />
+      <location filename="../../../insrail/gui/importer.py" line="321" />
       <source>format {format} does not hold {role} data</source>
       <translation>格式 {format} 不含 {role} 数据</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="329" />
+      <location filename="../../../insrail/gui/importer.py" line="331" />
       <source>{unit} {line}: {message}</source>
       <translation>第 {line} {unit}：{message}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="93" />
+      <location filename="../../../insrail/gui/loader.py" line="55" />
+      <source>internal error {kind}: {error} (details on the console; please report it)</source>
+      <translation>内部错误 {kind}：{error}（详情见控制台；请报告此问题）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/logpanel.py" line="29" />
+      <source>warning: </source>
+      <translation>警告：</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/logpanel.py" line="32" />
+      <source>error: </source>
+      <translation>错误：</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="95" />
       <source>Ready</source>
       <translation>就绪</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="147" />
+      <location filename="../../../insrail/gui/main_window.py" line="149" />
       <source>Properties</source>
       <translation>属性</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="148" />
+      <location filename="../../../insrail/gui/main_window.py" line="150" />
       <source>Log</source>
       <translation>日志</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="155" />
+      <location filename="../../../insrail/gui/main_window.py" line="157" />
       <source>Cancel</source>
       <translation>取消</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="158" />
+      <location filename="../../../insrail/gui/main_window.py" line="160" />
       <source>Open folder</source>
       <translation>打开文件夹</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="159" />
+      <location filename="../../../insrail/gui/main_window.py" line="161" />
       <source>Open the folder of the exported report</source>
       <translation>打开导出报告所在的文件夹</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="214" />
+      <location filename="../../../insrail/gui/main_window.py" line="216" />
       <source>&amp;New project…</source>
       <translation>新建项目(&amp;N)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="215" />
+      <location filename="../../../insrail/gui/main_window.py" line="217" />
       <source>Create a project with the wizard</source>
       <translation>用向导创建项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="216" />
+      <location filename="../../../insrail/gui/main_window.py" line="218" />
       <source>&amp;Open project…</source>
       <translation>打开项目(&amp;O)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="217" />
+      <location filename="../../../insrail/gui/main_window.py" line="219" />
       <source>&amp;Save project</source>
       <translation>保存项目(&amp;S)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="218" />
+      <location filename="../../../insrail/gui/main_window.py" line="220" />
       <source>&amp;Import raw files…</source>
       <translation>导入原始数据(&amp;I)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="219" />
+      <location filename="../../../insrail/gui/main_window.py" line="221" />
       <source>Add a survey from raw files</source>
       <translation>从原始数据添加测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="220" />
+      <location filename="../../../insrail/gui/main_window.py" line="222" />
       <source>&amp;Process</source>
       <translation>处理(&amp;P)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="220" />
+      <location filename="../../../insrail/gui/main_window.py" line="222" />
       <source>Process every survey of the project</source>
       <translation>处理项目的全部测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="221" />
+      <location filename="../../../insrail/gui/main_window.py" line="223" />
       <source>Post-process &amp;GNSS</source>
       <translation>GNSS 后处理(&amp;G)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="222" />
+      <location filename="../../../insrail/gui/main_window.py" line="224" />
       <source>Run the PPK stage (RTKLIB) of the survey on the GNSS page</source>
       <translation>对 GNSS 页的测量运行 PPK 后处理（RTKLIB）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="223" />
+      <location filename="../../../insrail/gui/main_window.py" line="225" />
       <source>Re-design for &amp;tamping</source>
       <translation>捣固整道设计(&amp;T)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="224" />
+      <location filename="../../../insrail/gui/main_window.py" line="226" />
       <source>Compute the lift and slew per sleeper of the survey shown after which the track passes the tolerance profile (a tamping machine's job)</source>
       <translation>计算所显示测量每根轨枕的起道量和拨道量，使作业后的线路满足容许偏差标准（捣固车作业）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="226" />
+      <location filename="../../../insrail/gui/main_window.py" line="228" />
       <source>&amp;Cancel</source>
       <translation>取消(&amp;C)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="227" />
+      <location filename="../../../insrail/gui/main_window.py" line="229" />
       <source>Stop the running job (processing, export, GNSS)</source>
       <translation>停止正在运行的任务（处理、导出、GNSS）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="228" />
+      <location filename="../../../insrail/gui/main_window.py" line="230" />
       <source>&amp;Excel workbook…</source>
       <translation>Excel 工作簿(&amp;E)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="229" />
+      <location filename="../../../insrail/gui/main_window.py" line="231" />
       <source>Export the crews' Excel workbook of the survey shown</source>
       <translation>导出当前测量的作业班组 Excel 工作簿</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="230" />
+      <location filename="../../../insrail/gui/main_window.py" line="232" />
       <source>Export Excel</source>
       <translation>导出 Excel</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="231" />
+      <location filename="../../../insrail/gui/main_window.py" line="233" />
       <source>&amp;PDF report…</source>
       <translation>PDF 报告(&amp;P)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="232" />
+      <location filename="../../../insrail/gui/main_window.py" line="234" />
       <source>Export the PDF survey report of the survey shown</source>
       <translation>导出当前测量的 PDF 测量报告</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="233" />
+      <location filename="../../../insrail/gui/main_window.py" line="235" />
       <source>Export PDF</source>
       <translation>导出 PDF</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="235" />
+      <location filename="../../../insrail/gui/main_window.py" line="237" />
       <source>&amp;Plan survey…</source>
       <translation>测量规划(&amp;P)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="236" />
+      <location filename="../../../insrail/gui/main_window.py" line="238" />
       <source>Predict the accuracy of a planned survey (IMU, GNSS, speed, aiding)</source>
       <translation>预测计划测量的精度（IMU、GNSS、速度、辅助观测）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="237" />
+      <location filename="../../../insrail/gui/main_window.py" line="239" />
       <source>&amp;Quit</source>
       <translation>退出(&amp;Q)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="239" />
+      <location filename="../../../insrail/gui/main_window.py" line="241" />
       <source>&amp;File</source>
       <translation>文件(&amp;F)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="242" />
+      <location filename="../../../insrail/gui/main_window.py" line="244" />
       <source>Open &amp;recent</source>
       <translation>最近打开(&amp;R)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="246" />
+      <location filename="../../../insrail/gui/main_window.py" line="248" />
       <source>&amp;Export</source>
       <translation>导出(&amp;E)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="254" />
+      <location filename="../../../insrail/gui/main_window.py" line="256" />
       <source>&amp;Run</source>
       <translation>运行(&amp;R)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="259" />
+      <location filename="../../../insrail/gui/main_window.py" line="261" />
       <source>&amp;Tools</source>
       <translation>工具(&amp;T)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="261" />
+      <location filename="../../../insrail/gui/main_window.py" line="263" />
       <source>&amp;View</source>
       <translation>视图(&amp;V)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="264" />
+      <location filename="../../../insrail/gui/main_window.py" line="266" />
       <source>&amp;Help</source>
       <translation>帮助(&amp;H)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="265" />
+      <location filename="../../../insrail/gui/main_window.py" line="267" />
       <source>&amp;About insrail</source>
       <translation>关于 insrail(&amp;A)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="267" />
+      <location filename="../../../insrail/gui/main_window.py" line="269" />
       <source>Main</source>
       <translation>主工具栏</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="281" />
+      <location filename="../../../insrail/gui/main_window.py" line="283" />
       <source>Project &amp;settings…</source>
       <translation>项目设置(&amp;S)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="282" />
+      <location filename="../../../insrail/gui/main_window.py" line="284" />
       <source>Edit the project's settings (coordinate system, trolley, processing, assessment)</source>
       <translation>编辑项目设置（坐标系、小车、数据处理、评估）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="284" />
+      <location filename="../../../insrail/gui/main_window.py" line="286" />
       <source>&amp;Undo</source>
       <translation>撤销(&amp;U)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="286" />
+      <location filename="../../../insrail/gui/main_window.py" line="288" />
       <source>&amp;Redo</source>
       <translation>重做(&amp;R)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="288" />
+      <location filename="../../../insrail/gui/main_window.py" line="290" />
       <source>&amp;Edit</source>
       <translation>编辑(&amp;E)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="293" />
+      <location filename="../../../insrail/gui/main_window.py" line="295" />
       <source>&amp;Preferences…</source>
       <translation>首选项(&amp;P)…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="294" />
+      <location filename="../../../insrail/gui/main_window.py" line="296" />
       <source>The application's language</source>
       <translation>应用程序的语言</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="356" />
+      <location filename="../../../insrail/gui/main_window.py" line="358" />
       <source>Unsaved changes</source>
       <translation>未保存的修改</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="463" />
+      <location filename="../../../insrail/gui/main_window.py" line="465" />
       <source>Processing failed</source>
       <translation>处理失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="466" />
+      <location filename="../../../insrail/gui/main_window.py" line="468" />
       <source>processing cancelled; previous results kept</source>
       <translation>处理已取消；保留之前的结果</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="701" />
+      <location filename="../../../insrail/gui/main_window.py" line="705" />
       <source>export cancelled; nothing written</source>
       <translation>导出已取消；未写入任何文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="756" />
+      <location filename="../../../insrail/gui/main_window.py" line="760" />
       <source>GNSS post-processing failed</source>
       <translation>GNSS 后处理失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="760" />
+      <location filename="../../../insrail/gui/main_window.py" line="764" />
       <source> (from the cache)</source>
       <translation>（取自缓存）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="760" />
+      <location filename="../../../insrail/gui/main_window.py" line="764" />
       <source> (computed now)</source>
       <translation>（本次计算）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="768" />
+      <location filename="../../../insrail/gui/main_window.py" line="772" />
       <source>GNSS post-processing cancelled</source>
       <translation>GNSS 后处理已取消</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="788" />
+      <location filename="../../../insrail/gui/main_window.py" line="792" />
       <source>Tamping re-design failed</source>
       <translation>捣固整道设计失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="815" />
+      <location filename="../../../insrail/gui/main_window.py" line="822" />
       <source>About insrail</source>
       <translation>关于 insrail</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="115" />
+      <location filename="../../../insrail/gui/main_window.py" line="117" />
       <source>Track</source>
       <translation>轨道</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="115" />
+      <location filename="../../../insrail/gui/main_window.py" line="117" />
       <source>Plan</source>
       <translation>平面</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="115" />
+      <location filename="../../../insrail/gui/main_window.py" line="117" />
       <source>Navigation</source>
       <translation>导航</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="116" />
+      <location filename="../../../insrail/gui/main_window.py" line="118" />
       <source>Repeatability</source>
       <translation>重复性</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="116" />
+      <location filename="../../../insrail/gui/main_window.py" line="118" />
       <source>Re-design</source>
       <translation>整道设计</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="117" />
+      <location filename="../../../insrail/gui/main_window.py" line="119" />
       <source>GNSS</source>
       <translation>GNSS</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="345" />
+      <location filename="../../../insrail/gui/main_window.py" line="347" />
       <source>no project — insrail</source>
       <translation>无项目 — insrail</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="375" />
+      <location filename="../../../insrail/gui/main_window.py" line="377" />
       <source>Open project</source>
       <translation>打开项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="490" />
+      <location filename="../../../insrail/gui/main_window.py" line="492" />
       <source>Cancelling…</source>
       <translation>正在取消…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="697" />
+      <location filename="../../../insrail/gui/main_window.py" line="701" />
       <source>Written {name} in {folder}</source>
       <translation>已写入 {name}，位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="815" />
+      <location filename="../../../insrail/gui/main_window.py" line="822" />
       <source>Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports.</source>
       <translation>惯性轨道几何测量小车数据处理：GNSS/INS/里程计组合导航、轨道几何、报告。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="320" />
+      <location filename="../../../insrail/gui/main_window.py" line="322" />
       <source>settings saved to {path}; {rerun}</source>
       <translation>设置已保存至 {path}；{rerun}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="356" />
+      <location filename="../../../insrail/gui/main_window.py" line="358" />
       <source>Save the changes to {project}?</source>
       <translation>保存对 {project} 的修改？</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="375" />
+      <location filename="../../../insrail/gui/main_window.py" line="377" />
       <source>insrail project (project.toml)</source>
       <translation>insrail 项目 (project.toml)</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="381" />
+      <location filename="../../../insrail/gui/main_window.py" line="383" />
       <source>Cannot open the project</source>
       <translation>无法打开项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="397" />
+      <location filename="../../../insrail/gui/main_window.py" line="399" />
       <source>project {name}: {path}</source>
       <translation>项目 {name}：{path}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="416" />
+      <location filename="../../../insrail/gui/main_window.py" line="418" />
       <source>Cannot save the project</source>
       <translation>无法保存项目</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="420" />
+      <location filename="../../../insrail/gui/main_window.py" line="422" />
       <source>saved {path}</source>
       <translation>已保存 {path}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="446" />
+      <location filename="../../../insrail/gui/main_window.py" line="448" />
       <source>Cannot add the survey</source>
       <translation>无法添加测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="449" />
+      <location filename="../../../insrail/gui/main_window.py" line="451" />
       <source>survey {name} imported from {folder}</source>
       <translation>测量 {name} 已从 {folder} 导入</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="510" />
+      <location filename="../../../insrail/gui/main_window.py" line="465" />
+      <source>processing {surveys}</source>
+      <translation>正在处理 {surveys}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="513" />
       <source>{survey}: {count} exceedances, results in {folder}</source>
       <translation>{survey}：超限 {count} 处，结果位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="596" />
+      <location filename="../../../insrail/gui/main_window.py" line="599" />
       <source>Showing survey {survey}</source>
       <translation>正在显示测量 {survey}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="696" />
+      <location filename="../../../insrail/gui/main_window.py" line="693" />
+      <source>{kind} {start:.3f}–{end:.3f} m marked in {file}; processing again assesses with it</source>
+      <translation>已在 {file} 中标记{kind} {start:.3f}–{end:.3f} m；重新处理后按其评定</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="700" />
       <source>written {path}</source>
       <translation>已写入 {path}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="762" />
+      <location filename="../../../insrail/gui/main_window.py" line="756" />
+      <source>survey {survey}: GNSS</source>
+      <translation>测量 {survey}：GNSS</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="760" />
+      <source>post-processing the GNSS of {survey}</source>
+      <translation>正在对测量 {survey} 的 GNSS 进行后处理</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="766" />
       <source>GNSS of {survey}: fix rate {rate:.1f} % of {epochs} epochs{source}</source>
       <translation>测量 {survey} 的 GNSS：{epochs} 个历元中固定率 {rate:.1f} %{source}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="508" />
+      <location filename="../../../insrail/gui/main_window.py" line="789" />
+      <source>survey {survey}: tamping re-design</source>
+      <translation>测量 {survey}：捣固重新设计</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="791" />
+      <source>tamping re-design cancelled; nothing written</source>
+      <translation>捣固重新设计已取消；未写入任何文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="792" />
+      <source>re-designing {survey} for tamping</source>
+      <translation>正在为捣固重新设计测量 {survey}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="799" />
+      <source>{survey} re-designed: largest lift {lift_mm:.1f} mm, largest slew {slew_mm:.1f} mm; exceedances of {profile}: {before} before, {after} after the job</source>
+      <translation>{survey} 已重新设计：最大起道量 {lift_mm:.1f} mm，最大拨道量 {slew_mm:.1f} mm；{profile} 超限：作业前 {before} 处，作业后 {after} 处</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="511" />
       <source>{survey}: {file} is older than these results: the banner over the views writes it again</source>
       <translation>{survey}：{file} 早于当前结果：视图上方的提示栏可重新生成</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
+      <location filename="../../../insrail/gui/main_window.py" line="804" />
+      <source>{survey}: cannot pass under the constraints: {what} {from_m:.1f}-{to_m:.1f} m (peak {value_mm:.2f} mm)</source>
+      <translation>{survey}：在约束下无法满足：{what} {from_m:.1f}-{to_m:.1f} m（峰值 {value_mm:.2f} mm）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="433" />
+      <source>first survey's trolley geometry unavailable: {error}</source>
+      <translation>无法读取第一个测量的小车几何参数：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="639" />
+      <source>the check channels are shown by their columns: {error}</source>
+      <translation>检测通道按其列名显示：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="63" />
       <source>5 m lag lateral</source>
       <translation>5 m 间隔横向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="62" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="63" />
       <source>5 m lag vertical</source>
       <translation>5 m 间隔垂向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="63" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="64" />
       <source>150 m lag lateral</source>
       <translation>150 m 间隔横向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="63" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="64" />
       <source>150 m lag vertical</source>
       <translation>150 m 间隔垂向</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="64" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="65" />
       <source>cant</source>
       <translation>超高</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="110" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="111" />
       <source>Plan survey — predicted accuracy</source>
       <translation>测量规划 — 预测精度</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="119" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="120" />
       <source>IMU profile from resources/imu_profiles (bias, random walks)</source>
       <translation>resources/imu_profiles 中的 IMU 误差模型（零偏、随机游走）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="126" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="127" />
       <source>track length after a 300 s static alignment (about 1.5 s of computing per km)</source>
       <translation>300 s 静态对准后的线路长度（每公里约计算 1.5 s）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="128" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="129" />
       <source>none</source>
       <translation>无</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="129" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="130" />
       <source>a GNSS outage of this duration in the middle of the run</source>
       <translation>在测量中段的此时长 GNSS 中断</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="132" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="133" />
       <source>odometer</source>
       <translation>里程计</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="133" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="134" />
       <source>non-holonomic constraint (NHC)</source>
       <translation>非完整约束（NHC）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="134" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="135" />
       <source>zero-velocity updates at rest (ZUPT)</source>
       <translation>静止时零速修正（ZUPT）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="141" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="142" />
       <source>vary one parameter from the baseline, like the thesis's chapter 3</source>
       <translation>从基准变化一个参数（如论文第 3 章）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="147" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="148" />
       <source>GNSS σ horizontal</source>
       <translation>GNSS σ 水平</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="148" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="149" />
       <source>GNSS σ vertical</source>
       <translation>GNSS σ 高程</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="149" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="150" />
       <source>Speed</source>
       <translation>速度</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="150" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="151" />
       <source>Track length</source>
       <translation>线路长度</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="151" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="152" />
       <source>GNSS outage mid-run</source>
       <translation>中段 GNSS 中断</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="152" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="153" />
       <source>Solution</source>
       <translation>解算</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="153" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="154" />
       <source>Aiding</source>
       <translation>辅助观测</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="158" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="159" />
       <source>Sweep</source>
       <translation>参数扫描</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="159" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="160" />
       <source>Values</source>
       <translation>取值</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="161" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="162" />
       <source>Run</source>
       <translation>运行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="186" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="187" />
       <source>Set the planned run and press Run.</source>
       <translation>设置计划测量后按“运行”。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="264" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="258" />
+      <source>prediction</source>
+      <translation>精度预测</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/plan_survey.py" line="265" />
       <source>predicting…</source>
       <translation>正在预测…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="283" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="284" />
       <source>cancelled</source>
       <translation>已取消</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="321" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="322" />
       <source>done</source>
       <translation>完成</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="123" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="124" />
       <source>white (epoch-to-epoch) GNSS sigma; the fusion adds its correlated part</source>
       <translation>GNSS 白噪声（历元间）标准差；融合另加其相关部分</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="131" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="132" />
       <source>smoothed (RTS)</source>
       <translation>平滑解（RTS）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="131" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="132" />
       <source>forward filter</source>
       <translation>前向滤波</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="314" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="315" />
       <source>smoothed solution</source>
       <translation>平滑解</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="314" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="315" />
       <source>forward solution</source>
       <translation>前向解</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="328" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="329" />
       <source>Figure</source>
       <translation>指标</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="328" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="329" />
       <source>Limit [mm]</source>
       <translation>限值 [mm]</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="328" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="329" />
       <source>3σ against the limit</source>
       <translation>3σ 与限值比较</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="349" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="350" />
       <source>Figure, 1σ [mm]</source>
       <translation>指标，1σ [mm]</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="223" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="224" />
       <source>values in {unit}, separated by spaces; empty: the typical range shown</source>
       <translation>以 {unit} 为单位的数值，以空格分隔；留空：采用所示的典型范围</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="315" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="316" />
       <source>{solution}, 1 sigma [mm], {parameter} in {unit}; the plot shows 3 sigma against the limits</source>
       <translation>{solution}，1 倍标准差 [mm]，{parameter} 单位 {unit}；图中为 3 倍标准差与限值比较</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/plan_survey.py" line="235" />
+      <location filename="../../../insrail/gui/plan_survey.py" line="236" />
       <source>sweep values: expected numbers separated by spaces, found {text}</source>
       <translation>扫描取值：应为以空格分隔的数字，实为 {text}</translation>
     </message>
@@ -1309,7 +1394,7 @@
       <translation>整个项目使用同一小车（取第一个测量的）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="458" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="459" />
       <source>Trolley for the whole project</source>
       <translation>整个项目使用同一小车</translation>
     </message>
@@ -1339,22 +1424,22 @@
       <translation>无法读取第一个测量的小车几何参数：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="504" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="505" />
       <source>Changed: {settings}. Nothing is processed again; the reports show the change when written again.</source>
       <translation>已修改：{settings}。无需重新处理；重新生成报告时即体现此修改。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="518" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="519" />
       <source>Cannot write {path}: {error}</source>
       <translation>无法写入 {path}：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="499" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="500" />
       <source>Changed: {settings}. Processing again will run: {stages}.</source>
       <translation>已修改：{settings}。重新处理将运行：{stages}。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/settings_editor.py" line="500" />
+      <location filename="../../../insrail/gui/settings_editor.py" line="501" />
       <source>Changed: {settings}. Processing again will run: {stages} (the earlier stages from the cache).</source>
       <translation>已修改：{settings}。重新处理将运行：{stages}（之前的步骤取自缓存）。</translation>
     </message>
@@ -1984,6 +2069,11 @@
       <translation>将原始数据复制到项目中（surveys/&lt;测量名称&gt;/）；原始数据文件夹保持不变</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/wizard.py" line="457" />
+      <source>choose the folder for the project file and its results</source>
+      <translation>请选择存放项目文件及其结果的文件夹</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/wizard.py" line="189" />
       <source>Ellipsoid</source>
       <translation>椭球</translation>
@@ -2024,32 +2114,37 @@
       <translation>投影面高程的处理方式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="511" />
+      <location filename="../../../insrail/gui/wizard.py" line="512" />
       <source>Choose the project folder (first page).</source>
       <translation>请选择项目文件夹（第一页）。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="514" />
+      <location filename="../../../insrail/gui/wizard.py" line="515" />
       <source>Add the raw files of the first survey.</source>
       <translation>请添加第一个测量的原始数据。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="534" />
+      <location filename="../../../insrail/gui/wizard.py" line="536" />
       <source>The survey's files have problems (listed above).</source>
       <translation>测量文件有问题（见上方列表）。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="482" />
+      <location filename="../../../insrail/gui/wizard.py" line="483" />
       <source>0 m: is this lever arm measured?</source>
       <translation>0 m：此杆臂是否已实测？</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="490" />
+      <location filename="../../../insrail/gui/wizard.py" line="459" />
+      <source>{folder} is a file, not a folder</source>
+      <translation>{folder} 是文件，不是文件夹</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="491" />
       <source>Lever arms at 0 m: {arms}. A trolley's sensors are never all at the IMU centre: enter the measured lever arms, copy them from an earlier project, or confirm below that they really are zero.</source>
       <translation>杆臂为 0 m：{arms}。小车的传感器不可能都位于 IMU 中心：请输入实测杆臂、从以往项目复制，或在下方确认其确实为零。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="531" />
+      <location filename="../../../insrail/gui/wizard.py" line="533" />
       <source>{folder} is not empty: choose another survey name.</source>
       <translation>{folder} 不为空：请另选测量名称。</translation>
     </message>
@@ -2064,7 +2159,17 @@
       <translation>survey.toml（测量文件的说明）将写入原始数据文件夹 {folder}。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="469" />
+      <location filename="../../../insrail/gui/wizard.py" line="461" />
+      <source>a project already exists in {folder}: open it, or choose another folder</source>
+      <translation>{folder} 中已有项目：请打开它，或选择其他文件夹</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="466" />
+      <source>cannot create the folder: {error}</source>
+      <translation>无法创建文件夹：{error}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/wizard.py" line="470" />
       <source>created the folder {folder}</source>
       <translation>已创建文件夹 {folder}</translation>
     </message>
@@ -2074,9 +2179,19 @@
       <translation>无法读取 {path} 的小车参数：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/wizard.py" line="528" />
+      <location filename="../../../insrail/gui/wizard.py" line="530" />
       <source>The project has problems; go back and correct them:</source>
       <translation>项目存在问题；请返回更正：</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/worker.py" line="78" />
+      <source>survey {survey}</source>
+      <translation>测量 {survey}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/worker.py" line="57" />
+      <source>{subject}: internal error {kind}: {error} (details on the console; please report it)</source>
+      <translation>{subject}：内部错误 {kind}：{error}（详情见控制台；请报告此问题）</translation>
     </message>
   </context>
 </TS>
