@@ -784,7 +784,7 @@ class MainWindow(QMainWindow):
 
         worker = TaskWorker(f"survey {name}: tamping re-design", task, self)
         worker.succeeded.connect(self._redesign_done)
-        worker.cancelled.connect(lambda: self.log.warning("tamping re-design cancelled; nothing written"))
+        worker.cancelled.connect(lambda: self.log.warning(tr("tamping re-design cancelled; nothing written")))
         return self._start(worker, f"re-designing {name} for tamping", tr("Tamping re-design failed"))
 
     def _redesign_done(self, answer: tuple[dict, RedesignPlot | None]) -> None:
@@ -792,12 +792,15 @@ class MainWindow(QMainWindow):
         self.redesign_view.set_data(plot)
         self.tabs.setCurrentWidget(self.redesign_view)
         movement, count = summary["movement"], summary["exceedances"]
-        self.log.info(f"{summary['survey']} re-designed: largest lift {movement['largest_lift_mm']:.1f} mm, largest "
-                      f"slew {movement['largest_slew_mm']:.1f} mm; exceedances of {summary['profile']}: "
-                      f"{count['before']} before, {count['after']} after the job")
+        self.log.info(tr("{survey} re-designed: largest lift {lift:.1f} mm, largest slew {slew:.1f} mm; exceedances "
+                         "of {profile}: {before} before, {after} after the job").format(
+            survey=summary["survey"], lift=movement["largest_lift_mm"], slew=movement["largest_slew_mm"],
+            profile=summary["profile"], before=count["before"], after=count["after"]))
         for stretch in summary["cannot_pass"]:
-            self.log.warning(f"{summary['survey']}: cannot pass under the constraints: {stretch['what']} "
-                             f"{stretch['from_m']:.1f}-{stretch['to_m']:.1f} m (peak {stretch['value_mm']:.2f} mm)")
+            self.log.warning(tr("{survey}: cannot pass under the constraints: {what} {start:.1f}-{end:.1f} m "
+                                "(peak {peak:.2f} mm)").format(survey=summary["survey"], what=stretch["what"],
+                                                               start=stretch["from_m"], end=stretch["to_m"],
+                                                               peak=stretch["value_mm"]))
         if summary["design"]["problem"]:
             self.log.warning(f"{summary['survey']}: {summary['design']['problem']}")
 

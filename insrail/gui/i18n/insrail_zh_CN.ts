@@ -359,197 +359,197 @@
       <translation>记录</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="97" />
+      <location filename="../../../insrail/gui/importer.py" line="99" />
       <source>letters, digits, '.', '_' or '-'</source>
       <translation>字母、数字、“.”、“_”或“-”</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="100" />
+      <location filename="../../../insrail/gui/importer.py" line="102" />
       <source>from the files</source>
       <translation>取自文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="120" />
+      <location filename="../../../insrail/gui/importer.py" line="122" />
       <source>Add files…</source>
       <translation>添加文件…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="122" />
+      <location filename="../../../insrail/gui/importer.py" line="124" />
       <source>Open survey folder…</source>
       <translation>打开测量文件夹…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="124" />
+      <location filename="../../../insrail/gui/importer.py" line="126" />
       <source>Remove</source>
       <translation>移除</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="126" />
+      <location filename="../../../insrail/gui/importer.py" line="128" />
       <source>Check files</source>
       <translation>检查文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="133" />
+      <location filename="../../../insrail/gui/importer.py" line="135" />
       <source>Survey name</source>
       <translation>测量名称</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="134" />
+      <location filename="../../../insrail/gui/importer.py" line="136" />
       <source>GPS week</source>
       <translation>GPS 周</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="135" />
+      <location filename="../../../insrail/gui/importer.py" line="137" />
       <source>IMU profile</source>
       <translation>IMU 误差模型</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="221" />
+      <location filename="../../../insrail/gui/importer.py" line="223" />
       <source>Raw files of one survey</source>
       <translation>一次测量的原始文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="258" />
+      <location filename="../../../insrail/gui/importer.py" line="260" />
       <source>ok</source>
       <translation>正常</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="340" />
+      <location filename="../../../insrail/gui/importer.py" line="342" />
       <source>Import raw files as a survey</source>
       <translation>导入原始数据为测量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="346" />
+      <location filename="../../../insrail/gui/importer.py" line="348" />
       <source>Import</source>
       <translation>导入</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="105" />
+      <location filename="../../../insrail/gui/importer.py" line="107" />
       <source>File</source>
       <translation>文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="105" />
+      <location filename="../../../insrail/gui/importer.py" line="107" />
       <source>Role</source>
       <translation>用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="105" />
+      <location filename="../../../insrail/gui/importer.py" line="107" />
       <source>Format</source>
       <translation>格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="105" />
+      <location filename="../../../insrail/gui/importer.py" line="107" />
       <source>Check</source>
       <translation>检测项</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="114" />
+      <location filename="../../../insrail/gui/importer.py" line="116" />
       <source>Line</source>
       <translation>行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="114" />
+      <location filename="../../../insrail/gui/importer.py" line="116" />
       <source>What is wrong</source>
       <translation>问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="140" />
+      <location filename="../../../insrail/gui/importer.py" line="142" />
       <source>First rows of the selected file</source>
       <translation>所选文件的前几行</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="145" />
+      <location filename="../../../insrail/gui/importer.py" line="147" />
       <source>Problems found by the readers</source>
       <translation>读取时发现的问题</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="261" />
+      <location filename="../../../insrail/gui/importer.py" line="263" />
       <source>no role</source>
       <translation>未指定用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="77" />
+      <location filename="../../../insrail/gui/importer.py" line="79" />
       <source>cannot read: {error}</source>
       <translation>无法读取：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="226" />
+      <location filename="../../../insrail/gui/importer.py" line="228" />
       <source>Survey folder (with {file})</source>
       <translation>测量文件夹（含 {file}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="254" />
+      <location filename="../../../insrail/gui/importer.py" line="256" />
       <source>no file gives the position: give a GNSS solution (gnss) or total-station prism fixes (prism)</source>
       <translation>没有提供位置的文件：请给出 GNSS 解（gnss）或全站仪棱镜定位（prism）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="264" />
+      <location filename="../../../insrail/gui/importer.py" line="266" />
       <source>duplicate role</source>
       <translation>用途重复</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="306" />
+      <location filename="../../../insrail/gui/importer.py" line="308" />
       <source>no trolley geometry: enter it in the project</source>
       <translation>无小车几何参数：请在项目中填写</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="309" />
+      <location filename="../../../insrail/gui/importer.py" line="311" />
       <source>enter a survey name</source>
       <translation>请输入测量名称</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="69" />
+      <location filename="../../../insrail/gui/importer.py" line="71" />
       <source>not a readable .npy file: {error}</source>
       <translation>不是可读取的 .npy 文件：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="72" />
+      <location filename="../../../insrail/gui/importer.py" line="74" />
       <source>{count} records</source>
       <translation>{count} 条记录</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="260" />
+      <location filename="../../../insrail/gui/importer.py" line="262" />
       <source>choose the role of this file</source>
       <translation>请选择此文件的用途</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="267" />
+      <location filename="../../../insrail/gui/importer.py" line="269" />
       <source>no format</source>
       <translation>未识别格式</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="271" />
+      <location filename="../../../insrail/gui/importer.py" line="273" />
       <source>format does not fit the role</source>
       <translation>格式与用途不符</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="251" />
+      <location filename="../../../insrail/gui/importer.py" line="253" />
       <source>no file has the role {role} (required: {required})</source>
       <translation>没有用途为 {role} 的文件（必需：{required}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="266" />
+      <location filename="../../../insrail/gui/importer.py" line="268" />
       <source>format not recognised: choose one</source>
       <translation>未识别格式：请选择</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="263" />
+      <location filename="../../../insrail/gui/importer.py" line="265" />
       <source>more than one file has the role {role}</source>
       <translation>多个文件的用途为 {role}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="322" />
+      <location filename="../../../insrail/gui/importer.py" line="324" />
       <source>cannot copy into {folder}: {error}</source>
       <translation>无法复制到 {folder}：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="269" />
+      <location filename="../../../insrail/gui/importer.py" line="271" />
       <source>format {format} does not hold {role} data</source>
       <translation>格式 {format} 不含 {role} 数据</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/importer.py" line="278" />
+      <location filename="../../../insrail/gui/importer.py" line="280" />
       <source>{unit} {line}: {message}</source>
       <translation>第 {line} {unit}：{message}</translation>
     </message>
@@ -824,7 +824,7 @@
       <translation>捣固整道设计失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="815" />
+      <location filename="../../../insrail/gui/main_window.py" line="818" />
       <source>About insrail</source>
       <translation>关于 insrail</translation>
     </message>
@@ -879,7 +879,7 @@
       <translation>已写入 {name}，位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="815" />
+      <location filename="../../../insrail/gui/main_window.py" line="818" />
       <source>Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports.</source>
       <translation>惯性轨道几何测量小车数据处理：GNSS/INS/里程计组合导航、轨道几何、报告。</translation>
     </message>
@@ -949,9 +949,24 @@
       <translation>测量 {survey} 的 GNSS：{epochs} 个历元中固定率 {rate:.1f} %{source}</translation>
     </message>
     <message>
+      <location filename="../../../insrail/gui/main_window.py" line="787" />
+      <source>tamping re-design cancelled; nothing written</source>
+      <translation>捣固整道设计已取消；未写入任何文件</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="795" />
+      <source>{survey} re-designed: largest lift {lift:.1f} mm, largest slew {slew:.1f} mm; exceedances of {profile}: {before} before, {after} after the job</source>
+      <translation>{survey} 整道设计完成：最大起道量 {lift:.1f} mm，最大拨道量 {slew:.1f} mm；{profile} 超限：作业前 {before} 处，作业后 {after} 处</translation>
+    </message>
+    <message>
       <location filename="../../../insrail/gui/main_window.py" line="508" />
       <source>{survey}: {file} is older than these results: the banner over the views writes it again</source>
       <translation>{survey}：{file} 早于当前结果：视图上方的提示栏可重新生成</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="800" />
+      <source>{survey}: cannot pass under the constraints: {what} {start:.1f}-{end:.1f} m (peak {peak:.2f} mm)</source>
+      <translation>{survey}：在约束下无法达标：{what} {start:.1f}-{end:.1f} m（峰值 {peak:.2f} mm）</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/plan_survey.py" line="62" />
