@@ -121,7 +121,7 @@ def test_cancelling_the_covariance_analysis_caches_nothing(processed, tmp_path):
     messages = []
 
     def progress(fraction, message):
-        messages.append((fraction, message))
+        messages.append((fraction, str(message)))  # a Phrase's English (insrail.progress)
 
     with pytest.raises(Cancelled):
         process(fresh, SURVEY, progress=progress, cancel=lambda: bool(messages) and messages[-1][1].startswith("covariance: smoother"))

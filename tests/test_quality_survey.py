@@ -59,7 +59,7 @@ def test_the_fusions_record_gives_the_replays_figures(recorded, fused):
     replayed = EpochQuality.from_profile(fused[2].profile, smoothed=True)
     messages = []
     from_record = epoch_quality(survey, result, ellipsoid=CGCS2000, covariance_store=store,
-                                progress=lambda f, m: messages.append((f, m)))
+                                progress=lambda f, m: messages.append((f, str(m))))
     assert from_record.smoothed
     for name in ("time_s", "moving", "lag5_first_epoch", "lag5_second_epoch", "lag150_first_epoch",
                  "lag150_second_epoch"):
