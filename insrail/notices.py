@@ -193,6 +193,21 @@ def notices_of(summary: dict) -> list[Notice]:
     return [Notice.from_dict(table) for table in summary.get("notices", [])]
 
 
+#: How problems follow one another: on one line ("a; b") or one a line (an indented list).
+IN_A_LINE, ONE_A_LINE = "{before}; {then}", "{before}\n  {then}"
+
+
+def one_after_another(parts: list[str | Phrase], joint: str = IN_A_LINE) -> Phrase:
+    """Problems said one after another (``joint``: :data:`IN_A_LINE` or :data:`ONE_A_LINE`), each in the
+    language in use."""
+    if not parts:
+        raise ValueError("one_after_another: no parts")
+    said = phrase_of(parts[0])
+    for part in parts[1:]:
+        said = Phrase(joint, {"before": said, "then": phrase_of(part)})
+    return said
+
+
 def phrase_of(stored: str | Mapping | Phrase) -> Phrase:
     """A text as a file keeps it (:meth:`Phrase.to_dict`'s table), or as an older insrail wrote it (English), or
     as a caller gives it (a Phrase, or a literal template without fields)."""

@@ -318,10 +318,10 @@ def test_lever_arms_of_the_track_are_not_required_to_read_a_survey(tmp_path):
     assert "imu_to_reference_rail_m" not in text and "imu_to_sleeper_detector_m" not in text
     trolley = read_manifest(tmp_path).trolley
     assert trolley.imu_to_reference_rail_m is None and trolley.imu_to_sleeper_detector_m is None
-    assert track_lever_arm_problems(trolley, {"imu", "gnss"}) == [
+    assert list(map(str, track_lever_arm_problems(trolley, {"imu", "gnss"}))) == [
         "trolley.imu_to_reference_rail_m: missing; insrail process needs it because the rails are placed from the "
         "reference rail's point (3 numbers [m], IMU body frame FRD)"]
-    assert track_lever_arm_problems(trolley, {"imu", "gnss", "sleepers"})[1].startswith(
+    assert str(track_lever_arm_problems(trolley, {"imu", "gnss", "sleepers"})[1]).startswith(
         "trolley.imu_to_sleeper_detector_m: missing; insrail process needs it because files.sleepers is given")
     with pytest.raises(ValueError, match="trolley.imu_to_reference_rail_m: not given, but used"):
         trolley.lever_arm_m("imu_to_reference_rail_m")

@@ -200,11 +200,7 @@ def test_every_notice_is_a_template_with_its_chinese():
 _ERROR_HELPERS = {"fail": None, "error": "insrail/track/landxml.py"}
 #: Where an InputError's message is another error's English text (a geometry core's DesignError, a parser's
 #: ValueError, a list of problems joined): said in English in every language until those speak in templates.
-ENGLISH_MESSAGES = {
-    "insrail/io/track_sensors.py", "insrail/project/model.py",
-    "insrail/project/plausibility.py", "insrail/project/track_events.py",
-    "insrail/track/alignment_csv.py",
-}
+ENGLISH_MESSAGES: set[str] = set()
 
 
 def input_error_templates() -> tuple[dict[str, str], list[str], set[str]]:
@@ -220,8 +216,8 @@ def input_error_templates() -> tuple[dict[str, str], list[str], set[str]]:
                 continue
             name = node.func.id if isinstance(node.func, ast.Name) else getattr(node.func, "attr", None)
             message = next((k.value for k in node.keywords if k.arg == "message"), None)
-            if name in ("InputError", "LandXMLError"):
-                index = 2 if name == "InputError" else 3
+            if name in ("InputError", "LandXMLError", "DesignError"):
+                index = 3 if name == "LandXMLError" else 2  # a DesignError's: part, index, message
                 message = node.args[index] if len(node.args) > index else message
             elif name in _ERROR_HELPERS and _ERROR_HELPERS[name] in (None, relative):
                 message = next((a for a in node.args if isinstance(a, (ast.Constant, ast.JoinedStr, ast.IfExp, ast.BinOp))
@@ -294,7 +290,7 @@ def test_every_template_is_given_the_fields_it_names():
             if not isinstance(node, ast.Call):
                 continue
             name = node.func.id if isinstance(node.func, ast.Name) else getattr(node.func, "attr", None)
-            if name not in ("InputError", "LandXMLError", "fail", "error", "Phrase", "Notice"):
+            if name not in ("InputError", "LandXMLError", "DesignError", "fail", "error", "Phrase", "Notice"):
                 continue
             arguments = node.args[1:] if name == "Notice" else node.args  # a notice's first is its stage
             template = next((a.value for a in arguments if isinstance(a, ast.Constant) and isinstance(a.value, str)), None)
@@ -360,3 +356,30 @@ def test_the_walks_find_an_untranslated_text(tmp_path):
     messages, sentences = progress_messages(module.parent)
     assert sentences == ["insrail_like/stage.py:2"]
     assert [text for text in messages if text not in ZH_CN] == ["an untranslated step"]
+
+
+def test_the_cores_errors_reach_a_reader_in_the_language_in_use():
+    """A design element's own check (the geometry core's DesignError), a missing lever arm and a missing IMU
+    profile: English on the CLI as before, the user's language in the window, names and values verbatim."""
+    from insrail.io.errors import InputError, reason_of, said
+    from insrail.io.survey import TrolleyGeometry, track_lever_arm_problems
+    from insrail.nav.imu_profile import load_imu_profile
+    from insrail.notices import one_after_another
+    from insrail.track.alignment import Arc
+
+    with pytest.raises(ValueError) as raised:
+        Arc(100.0, -5.0, "left")
+    error = InputError("design.csv", 7, reason_of(raised.value))
+    assert str(error) == "design.csv, line 7: Arc: radius must be a positive finite number of metres, got -5.0"
+    with names.in_language("zh-CN"):
+        assert error.said().startswith("design.csv，第 7 行：圆曲线") and "-5.0" in error.said()
+    problems = track_lever_arm_problems(TrolleyGeometry(), {"imu", "sleepers"})
+    error = InputError("project.toml", None, one_after_another(problems))
+    assert str(error).count("; trolley.") == 1 and "needs it because files.sleepers is given" in str(error)
+    with names.in_language("zh-CN"):
+        assert "trolley.imu_to_sleeper_detector_m：缺失" in error.said() and "because" not in error.said()
+    with pytest.raises(ValueError) as raised:
+        load_imu_profile("no-such-profile")
+    assert str(raised.value).startswith("IMU profile not found: no-such-profile (shipped profiles: ")
+    with names.in_language("zh-CN"):
+        assert said(raised.value).startswith("未找到 IMU 配置文件：no-such-profile")

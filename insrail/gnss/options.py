@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from insrail.io.errors import InputError
+from insrail.notices import Phrase
 from insrail.resources import resource
 
 DEFAULT_CONFIG = ("gnss", "ppk_default.conf")
@@ -60,25 +61,25 @@ def same_value(key: str, a: str, b: str, table: Mapping[str, tuple[int, str]]) -
     return a == b
 
 
-def check_option(key: str, value: str, table: Mapping[str, tuple[int, str]]) -> str | None:
+def check_option(key: str, value: str, table: Mapping[str, tuple[int, str]]) -> Phrase | None:
     """None if RTKLIB accepts ``key = value``, else what is wrong."""
     if key not in table:
-        return f"unknown RTKLIB option {key!r}"
+        return Phrase("unknown RTKLIB option {key!r}", {"key": key})
     fmt, comment = table[key]
     if fmt == 0:
         try:
             int(value, 0)
         except ValueError:
-            return f"{key} = {value!r}: expected an integer"
+            return Phrase("{key} = {value!r}: expected an integer", {"key": key, "value": value})
     elif fmt == 1:
         try:
             float(value)
         except ValueError:
-            return f"{key} = {value!r}: expected a number"
+            return Phrase("{key} = {value!r}: expected a number", {"key": key, "value": value})
     elif fmt == 3:
         choices = _enum_choices(comment)
         if value not in choices:
-            return f"{key} = {value!r}: expected one of {comment}"
+            return Phrase("{key} = {value!r}: expected one of {choices}", {"key": key, "value": value, "choices": comment})
     return None
 
 

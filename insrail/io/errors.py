@@ -75,7 +75,21 @@ class ManifestError(ProblemsError):
     """``survey.toml`` (or the files it names) has problems; ``problems`` lists all of them."""
 
 
+def reason_of(error: BaseException) -> str | Phrase:
+    """What a core error (a ValueError) says, as a reader's InputError takes it: its Phrase where it carries one
+    (``error.phrase``, as a DesignError does, or a Phrase as its argument), else its English text."""
+    phrase = getattr(error, "phrase", None)
+    if isinstance(phrase, Phrase):
+        return phrase
+    if error.args and isinstance(error.args[0], Phrase):
+        return error.args[0]
+    return str(error)
+
+
 def said(error: BaseException) -> str:
     """An error as the user reads it in the language in use: an :class:`InputError` said (:meth:`InputError.said`),
     any other in its own words."""
-    return error.said() if isinstance(error, InputError) else str(error)
+    if isinstance(error, InputError):
+        return error.said()
+    reason = reason_of(error)
+    return reason.said() if isinstance(reason, Phrase) else reason

@@ -220,9 +220,9 @@ FUSION_LEVER_ARMS = {"imu_to_antenna_m": ("gnss",), "imu_to_odometer_m": ("odome
                      "imu_to_prism_m": ("prism", "total_station")}
 #: The lever arms only the track reconstruction (``insrail process``) uses, and why: a survey that is
 #: only fused (a walk, a road test) need not give them. None: needed by every processed survey.
-TRACK_LEVER_ARMS = {"imu_to_reference_rail_m": (None, "the rails are placed from the reference rail's point"),
+TRACK_LEVER_ARMS = {"imu_to_reference_rail_m": (None, Phrase("the rails are placed from the reference rail's point")),
                     "imu_to_sleeper_detector_m": ("sleepers",
-                                                  "the sleeper pulses are placed on the track at the detector")}
+                                                  Phrase("the sleeper pulses are placed on the track at the detector"))}
 #: left/right names survey.toml accepts for the first odometer's role and lever arm (a survey of one
 #: odometer keeps ``[files.odometer]`` and ``imu_to_odometer_m``)
 ROLE_ALIASES = {"odometer_left": "odometer"}
@@ -343,7 +343,8 @@ def _parse_files(folder: Path, table, problems: list[str], raw_gnss: bool = Fals
             if FORMATS[name].check_options is not None and all(
                     option in hints and _option_problem(hints[option], value) is None
                     for option, value in options.items()):
-                problems += [f"{key}.{option}: {why}" for option, why in FORMATS[name].check_options(options)]
+                problems += [Phrase("{key}.{option}: {why}", {"key": key, "option": option, "why": why})
+                             for option, why in FORMATS[name].check_options(options)]
         if isinstance(path, str) and isinstance(name, str):
             files[role] = SurveyFile(path=path, format=name, options=options, time_offset_s=float(time_offset_s))
     return files
@@ -393,15 +394,15 @@ def parse_trolley(table, roles: set[str], problems: list[str]) -> TrolleyGeometr
                            rail_centre_spacing_m=float(spacing), beam_wheel_spacing_m=float(beam))
 
 
-def track_lever_arm_problems(trolley: TrolleyGeometry, roles: set[str]) -> list[str]:
+def track_lever_arm_problems(trolley: TrolleyGeometry, roles: set[str]) -> list[Phrase]:
     """``trolley.<key>: missing ...`` for each lever arm the track reconstruction needs with the
     survey's data (``roles``) that ``trolley`` does not give (:data:`TRACK_LEVER_ARMS`)."""
     problems = []
     for key, (role, why) in TRACK_LEVER_ARMS.items():
         if getattr(trolley, key) is None and (role is None or role in roles):
-            given = f"files.{role} is given: " if role is not None else ""
-            problems.append(f"trolley.{key}: missing; insrail process needs it because {given}{why} "
-                            "(3 numbers [m], IMU body frame FRD)")
+            given = Phrase("files.{role} is given: ", {"role": role}) if role is not None else ""
+            problems.append(Phrase("trolley.{key}: missing; insrail process needs it because {given}{why} "
+                                   "(3 numbers [m], IMU body frame FRD)", {"key": key, "given": given, "why": why}))
     return problems
 
 

@@ -15,6 +15,7 @@ import numpy as np
 from insrail.io.errors import InputError
 from insrail.io.textparse import check_table_time, find_gaps, read_numeric_table, write_numeric_table
 from insrail.io.types import GaugeData, SleeperPulses
+from insrail.notices import Phrase, one_after_another
 
 # Any real gauge (600 mm narrow gauge to 1676 mm broad gauge) read in mm is far above
 # this; a median below it means the file was written in metres.
@@ -36,29 +37,30 @@ def read_gauge_mm(path: str | Path) -> GaugeData:
                      source=table.path)
 
 
-def gauge_volts_option_problems(options: dict) -> list[tuple[str, str]]:
+def gauge_volts_option_problems(options: dict) -> list[tuple[str, Phrase]]:
     """(option, why) for each calibration option of ``gauge-volts`` that is missing or cannot be a
     calibration; ``options`` as survey.toml gives them (absent keys left out)."""
     problems = []
-    for key, what in (("k_mm_per_v", "the sensor's slope k [mm/V] (thesis eq. 5.3)"),
-                      ("b_mm", "the sensor's offset b [mm] (thesis eq. 5.3)")):
+    for key, what in (("k_mm_per_v", Phrase("the sensor's slope k [mm/V] (thesis eq. 5.3)")),
+                      ("b_mm", Phrase("the sensor's offset b [mm] (thesis eq. 5.3)"))):
         if options.get(key) is None:
-            problems.append((key, f"missing: the gauge-volts format needs {what}"))
+            problems.append((key, Phrase("missing: the gauge-volts format needs {what}", {"what": what})))
     k = options.get("k_mm_per_v")
     if k is not None and k == 0:
-        problems.append(("k_mm_per_v", "is 0: a slope of 0 mm/V makes every reading the same gauge; expected the "
-                         "calibration's slope (typically a few mm/V)"))
+        problems.append(("k_mm_per_v", Phrase("is 0: a slope of 0 mm/V makes every reading the same gauge; expected "
+                                              "the calibration's slope (typically a few mm/V)")))
     given = [options.get(key) is not None for key in ("temperature_coefficient_mm_per_c", "calibration_temperature_c")]
     if given[0] and not given[1]:
-        problems.append(("calibration_temperature_c", "missing: with temperature_coefficient_mm_per_c give the "
-                         "temperature [°C] at which k and b were calibrated"))
+        problems.append(("calibration_temperature_c", Phrase("missing: with temperature_coefficient_mm_per_c give the "
+                                                             "temperature [°C] at which k and b were calibrated")))
     if given[1] and not given[0]:
-        problems.append(("temperature_coefficient_mm_per_c", "missing: calibration_temperature_c is given but no "
-                         "temperature coefficient K_T [mm/°C]"))
+        problems.append(("temperature_coefficient_mm_per_c", Phrase("missing: calibration_temperature_c is given but "
+                                                                    "no temperature coefficient K_T [mm/°C]")))
     low, high = TEMPERATURE_RANGE_C
     t_cal = options.get("calibration_temperature_c")
     if t_cal is not None and not low <= t_cal <= high:
-        problems.append(("calibration_temperature_c", f"{t_cal:g}: expected degrees Celsius, {low:g} .. {high:g}"))
+        problems.append(("calibration_temperature_c", Phrase("{value:g}: expected degrees Celsius, {low:g} .. {high:g}",
+                                                             {"value": t_cal, "low": low, "high": high})))
     return problems
 
 
@@ -71,7 +73,8 @@ def read_gauge_volts(path: str | Path, k_mm_per_v: float | None = None, b_mm: fl
                "temperature_coefficient_mm_per_c": temperature_coefficient_mm_per_c}
     problems = gauge_volts_option_problems(options)
     if problems:
-        raise InputError(path, None, "; ".join(f"option {key}: {why}" for key, why in problems))
+        raise InputError(path, None, one_after_another([Phrase("option {key}: {why}", {"key": key, "why": why})
+                                                        for key, why in problems]))
     table = read_numeric_table(path, columns=(2, 3), column_names=("t", "volts", "temperature_c"))
     time_s = check_table_time(table)
     with_temperature = table.values.shape[1] == 3

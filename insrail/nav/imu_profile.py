@@ -16,6 +16,7 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from insrail.notices import ONE_A_LINE, Phrase, one_after_another
 from insrail.resources import resources_dir
 
 _DEG = math.pi / 180.0
@@ -93,39 +94,43 @@ def load_imu_profile(name_or_path: str | Path) -> ImuProfile:
         path = resources_dir() / "imu_profiles" / f"{name_or_path}.toml"
     if not path.is_file():
         shipped = sorted(p.stem for p in (resources_dir() / "imu_profiles").glob("*.toml"))
-        raise ValueError(f"IMU profile not found: {name_or_path} (shipped profiles: {', '.join(shipped)})")
+        raise ValueError(Phrase("IMU profile not found: {name} (shipped profiles: {shipped})",
+                                {"name": str(name_or_path), "shipped": ", ".join(shipped)}))
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as err:
-        raise ValueError(f"{path}: not valid TOML: {err}") from None
+        raise ValueError(Phrase("{path}: not valid TOML: {error}", {"path": str(path), "error": str(err)})) from None
     values: dict[str, object] = {}
     problems = []
     for (section, key), (attr, factor) in _FIELDS.items():
         raw = data.get(section, {}).get(key)
         if not isinstance(raw, (int, float)) or isinstance(raw, bool) or not math.isfinite(raw) or raw < 0:
-            problems.append(f"{section}.{key}: expected a non-negative number, found {raw!r}")
+            problems.append(Phrase("{section}.{key}: expected a non-negative number, found {raw!r}",
+                                   {"section": section, "key": key, "raw": raw}))
         elif key.endswith("tau_s") and raw <= 0:
-            problems.append(f"{section}.{key}: a correlation time must be positive")
+            problems.append(Phrase("{section}.{key}: a correlation time must be positive", {"section": section, "key": key}))
         else:
             values[attr] = float(raw) * factor
     envelope = data.get("range", {})
     if not isinstance(envelope, dict):
-        problems.append("range: expected a table [range]")
+        problems.append(Phrase("range: expected a table [range]"))
         envelope = {}
     for key in envelope:
         if key not in _RANGE_FIELDS:
-            problems.append(f"range.{key}: unknown key (expected {', '.join(_RANGE_FIELDS)})")
+            problems.append(Phrase("range.{key}: unknown key (expected {expected})",
+                                   {"key": key, "expected": ", ".join(_RANGE_FIELDS)}))
     for key, (attr, factor, default) in _RANGE_FIELDS.items():
         raw = envelope.get(key, default)
         if not isinstance(raw, (int, float)) or isinstance(raw, bool) or not math.isfinite(raw) or raw <= 0:
-            problems.append(f"range.{key}: expected a positive number, found {raw!r}")
+            problems.append(Phrase("range.{key}: expected a positive number, found {raw!r}", {"key": key, "raw": raw}))
         else:
             values[attr] = float(raw) * factor
     rate = data.get("rate_hz", 200.0)
     if not isinstance(rate, (int, float)) or rate <= 0:
-        problems.append(f"rate_hz: expected a positive number, found {rate!r}")
+        problems.append(Phrase("rate_hz: expected a positive number, found {rate!r}", {"rate": rate}))
     if problems:
-        raise ValueError(f"{path}: invalid IMU profile:\n  " + "\n  ".join(problems))
+        raise ValueError(Phrase("{path}: invalid IMU profile:\n  {problems}",
+                                {"path": str(path), "problems": one_after_another(problems, ONE_A_LINE)}))
     return ImuProfile(
         name=str(data.get("name", path.stem)),
         description=str(data.get("description", "")),

@@ -74,7 +74,7 @@ from insrail.io.events import read_events
 from insrail.io.survey import MANIFEST_NAME, SurveyManifest, TrolleyGeometry, parse_trolley, read_manifest
 from insrail.io.tomlfile import read_toml
 from insrail.names import DEFAULT_LANGUAGE, LANGUAGES
-from insrail.notices import Phrase
+from insrail.notices import Phrase, one_after_another
 from insrail.nav.fusion_options import FusionOptions
 from insrail.nav.imu_profile import load_imu_profile
 from insrail.project.control_points import ControlPoint, parse_control_points
@@ -295,7 +295,7 @@ class Project:
         problems: list[str] = []
         trolley = parse_trolley(self.trolley_settings, set() if roles is None else roles, problems)
         if roles is not None and problems:
-            raise InputError(self.path, None, "; ".join(map(str, problems)))
+            raise InputError(self.path, None, one_after_another(problems))
         return trolley
 
     def to_settings(self) -> dict[str, Any]:

@@ -34,7 +34,6 @@ from pathlib import Path
 import numpy as np
 
 from insrail.io.errors import InputError
-from insrail.notices import Phrase
 from insrail.io.formats import FORMATS
 from insrail.io.imu import release_pages
 from insrail.io.survey import MANIFEST_NAME, SurveyData, TrolleyGeometry, track_lever_arm_problems
@@ -47,7 +46,7 @@ from insrail.io.types import (
 )
 from insrail.nav.earth import geodetic_to_ecef
 from insrail.nav.imu_profile import load_imu_profile
-from insrail.notices import Notice, Phrase
+from insrail.notices import Notice, Phrase, one_after_another
 
 MAX_HEIGHT_ANOMALY_M = 150.0
 MAX_ANOMALY_SPREAD_M = 5.0
@@ -126,7 +125,7 @@ def check_trolley(trolley: TrolleyGeometry, source: Path, nominal_gauge_m: float
     (lever arms not given are not numbers and are not checked as such)."""
     missing = track_lever_arm_problems(trolley, roles)
     if missing:
-        raise InputError(source, None, "; ".join(map(str, missing)))
+        raise InputError(source, None, one_after_another(missing))
     for name, arm in trolley.given_lever_arms().items():
         if np.max(np.abs(arm)) > MAX_LEVER_ARM_M:
             raise InputError(source, None, "trolley.{name} = {arm} m: a lever arm on a trolley is at most "

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, reason_of
 from insrail.io.events import Event, EventList, read_events
 from insrail.io.survey import SurveyManifest
 from insrail.project.model import Project
@@ -57,7 +57,7 @@ def survey_events(project: Project, manifest: SurveyManifest, folder: Path,
             try:
                 placed.append(place_event_on(event, track, odometer, source))
             except ValueError as error:
-                raise InputError(events.source, event.line, str(error)) from None
+                raise InputError(events.source, event.line, reason_of(error)) from None
             if event.profile:
                 try:
                     load_tolerance_profile(project.resource(event.profile))

@@ -50,12 +50,14 @@ def _turn_sign(turn: str) -> float:
 
 def _check_length(kind: str, length_m: float) -> None:
     if not (math.isfinite(length_m) and length_m > 0.0):
-        raise ValueError(f"{kind}: length must be a positive number of metres, got {length_m!r}")
+        raise DesignError("horizontal", None, "{kind}: length must be a positive number of metres, got {length!r}",
+                          {"kind": kind, "length": length_m})
 
 
 def _check_turn(kind: str, turn: str) -> None:
     if turn not in TURNS:
-        raise ValueError(f"{kind}: turn must be 'left' or 'right', got {turn!r}")
+        raise DesignError("horizontal", None, "{kind}: turn must be 'left' or 'right', got {turn!r}",
+                          {"kind": kind, "turn": turn})
 
 
 def _format_radius(radius_m: float) -> str:
@@ -94,7 +96,8 @@ class Arc:
     def __post_init__(self):
         _check_length("Arc", self.length_m)
         if not (math.isfinite(self.radius_m) and self.radius_m > 0.0):
-            raise ValueError(f"Arc: radius must be a positive finite number of metres, got {self.radius_m!r}")
+            raise DesignError("horizontal", None, "Arc: radius must be a positive finite number of metres, got {radius!r}",
+                              {"radius": self.radius_m})
         _check_turn("Arc", self.turn)
 
     @property
@@ -128,11 +131,12 @@ class Clothoid:
         for name in ("radius_start_m", "radius_end_m"):
             radius = getattr(self, name)
             if math.isnan(radius) or radius <= 0.0:
-                raise ValueError(f"Clothoid: {name} must be a positive number of metres or inf, got {radius!r}")
+                raise DesignError("horizontal", None, "Clothoid: {name} must be a positive number of metres or inf, got "
+                                  "{radius!r}", {"name": name, "radius": radius})
         if math.isinf(self.radius_start_m) and math.isinf(self.radius_end_m):
-            raise ValueError("Clothoid: both radii are infinite; that is a Line")
+            raise DesignError("horizontal", None, "Clothoid: both radii are infinite; that is a Line")
         if self.radius_start_m == self.radius_end_m:
-            raise ValueError("Clothoid: both radii are equal; that is an Arc")
+            raise DesignError("horizontal", None, "Clothoid: both radii are equal; that is an Arc")
         _check_turn("Clothoid", self.turn)
 
     @property
@@ -307,14 +311,14 @@ class HorizontalAlignment:
         object.__setattr__(self, "elements", tuple(self.elements))
         for name in ("start_east_m", "start_north_m", "start_azimuth_rad", "start_station_m"):
             if not math.isfinite(getattr(self, name)):
-                raise DesignError("horizontal", None, f"{name} must be a finite number, got {getattr(self, name)!r}")
+                raise DesignError("horizontal", None, "{name} must be a finite number, got {value!r}",
+                                  {"name": name, "value": getattr(self, name)})
         if not self.elements:
             raise DesignError("horizontal", None, "a horizontal alignment needs at least one element")
         for index, element in enumerate(self.elements):
             if not isinstance(element, (Line, Clothoid, Arc)):
-                raise DesignError(
-                    "horizontal", index, f"element {index + 1} is not a Line, Clothoid or Arc: {element!r}"
-                )
+                raise DesignError("horizontal", index, "element {number} is not a Line, Clothoid or Arc: {element}",
+                                  {"number": index + 1, "element": repr(element)})
         for index in range(1, len(self.elements)):
             before, after = self.elements[index - 1], self.elements[index]
             if (isinstance(before, Clothoid) or isinstance(after, Clothoid)) and not _same_curvature(
@@ -323,9 +327,9 @@ class HorizontalAlignment:
                 raise DesignError(
                     "horizontal",
                     index,
-                    f"element {index + 1} ({after.describe()}) does not continue the curvature of element "
-                    f"{index} ({before.describe()}): a clothoid must join its neighbours without a jump "
-                    "in curvature (check the radii and turn directions)",
+                    "element {number} ({after}) does not continue the curvature of element {previous} ({before}): a "
+                    "clothoid must join its neighbours without a jump in curvature (check the radii and turn directions)",
+                    {"number": index + 1, "after": after.describe(), "previous": index, "before": before.describe()},
                 )
         object.__setattr__(self, "_knots", _build_knots(self))
 
@@ -491,6 +495,7 @@ class DesignAlignment:
                 raise DesignError(
                     "station_equations",
                     index,
-                    f"station equation {index + 1} falls at station {internal:.4f} m, outside the "
-                    f"alignment [{start:.4f}, {end:.4f}] m",
+                    "station equation {number} falls at station {station:.4f} m, outside the alignment "
+                    "[{start:.4f}, {end:.4f}] m",
+                    {"number": index + 1, "station": internal, "start": start, "end": end},
                 )

@@ -32,7 +32,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, reason_of
 from insrail.io.atomic import atomic_write
 from insrail.track.alignment import Arc, Clothoid, DesignAlignment, HorizontalAlignment, Line
 from insrail.track.errors import DesignError
@@ -142,23 +142,23 @@ def _horizontal_element(path: Path, row: _Row):
     radius_start = _optional_number(path, line, "radius_start_m", cells.get("radius_start_m", ""), allow_inf=True)
     radius_end = _optional_number(path, line, "radius_end_m", cells.get("radius_end_m", ""), allow_inf=True)
     turn = cells.get("turn", "").lower()
+    if kind == "line" and (radius_start is not None or radius_end is not None or turn):
+        raise InputError(path, line, "a line takes no radius and no turn")
+    if kind == "arc" and radius_start is None:
+        raise InputError(path, line, "an arc needs radius_start_m (its radius)")
+    if kind == "arc" and radius_end is not None and radius_end != radius_start:
+        raise InputError(path, line, "an arc has one radius: leave radius_end_m empty or equal to radius_start_m")
+    if kind == "clothoid" and (radius_start is None or radius_end is None):
+        raise InputError(path, line, "a clothoid needs radius_start_m and radius_end_m ('inf' at a tangent end)")
     try:
         if kind == "line":
-            if radius_start is not None or radius_end is not None or turn:
-                raise ValueError("a line takes no radius and no turn")
             return Line(length)
         if kind == "arc":
-            if radius_start is None:
-                raise ValueError("an arc needs radius_start_m (its radius)")
-            if radius_end is not None and radius_end != radius_start:
-                raise ValueError("an arc has one radius: leave radius_end_m empty or equal to radius_start_m")
             return Arc(length, radius_start, turn)
         if kind == "clothoid":
-            if radius_start is None or radius_end is None:
-                raise ValueError("a clothoid needs radius_start_m and radius_end_m ('inf' at a tangent end)")
             return Clothoid(length, radius_start, radius_end, turn)
-    except ValueError as err:
-        raise InputError(path, line, str(err)) from None
+    except ValueError as err:  # the element's own checks (DesignError)
+        raise InputError(path, line, reason_of(err)) from None
     raise InputError(path, line, "type: expected line, clothoid or arc, found {type!r}", fields={"type": cells.get('type', '')})
 
 
@@ -204,9 +204,9 @@ def read_alignment_csv(path: str | Path) -> DesignAlignment:
     def design_error(err: DesignError) -> InputError:
         section = sections.get(err.part)
         if section is None:
-            return InputError(path, None, err.message)
+            return InputError(path, None, err.phrase)
         line = line_of[err.part][err.index] if err.index is not None else section.line
-        return InputError(path, line, err.message)
+        return InputError(path, line, err.phrase)
 
     try:
         equation_rows = sections["station_equations"].rows if "station_equations" in sections else []
@@ -243,7 +243,7 @@ def read_alignment_csv(path: str | Path) -> DesignAlignment:
                 try:
                     pvis.append(PVI(*numbers))
                 except ValueError as err:
-                    raise InputError(path, row.line, str(err)) from None
+                    raise InputError(path, row.line, reason_of(err)) from None
             vertical = VerticalProfile(tuple(pvis))
         cant = None
         if "cant" in sections:

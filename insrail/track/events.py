@@ -83,17 +83,19 @@ def place_event_on(event: Event, track: StationTrack, odometer: OdometerData | N
         times = positions
         if event.unit == "odometer_m":
             if odometer is None or len(odometer.time_s) < 2:
-                raise ValueError("an event in odometer distance needs the survey's odometer data")
+                raise ValueError(Phrase("an event in odometer distance needs the survey's odometer data"))
             distance = odometer.distance_m
             if np.any((positions < distance.min()) | (positions > distance.max())):
-                raise ValueError(f"odometer distance {event.start:g}..{event.end:g} m lies outside the odometer "
-                                 f"record ({distance.min():.3f}..{distance.max():.3f} m)")
+                raise ValueError(Phrase("odometer distance {start:g}..{end:g} m lies outside the odometer record "
+                                        "({first:.3f}..{last:.3f} m)", {"start": event.start, "end": event.end,
+                                                                        "first": distance.min(), "last": distance.max()}))
             order = np.argsort(distance, kind="stable")
             times = np.interp(positions, distance[order], odometer.time_s[order])
         first, last = track.first_time_s, track.last_time_s
         if np.any((times < first) | (times > last)):
-            raise ValueError(f"time {times[0]:.3f}..{times[1]:.3f} s lies outside the survey's time on the track "
-                             f"({first:.3f}..{last:.3f} s)")
+            raise ValueError(Phrase("time {start:.3f}..{end:.3f} s lies outside the survey's time on the track "
+                                    "({first:.3f}..{last:.3f} s)", {"start": times[0], "end": times[1], "first": first,
+                                                                    "last": last}))
         start, end = np.sort(track.station_at(times))
     return TrackEvent(event.kind, float(start), float(end), event.text, event.profile, source)
 

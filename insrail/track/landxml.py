@@ -45,7 +45,7 @@ from xml.parsers import expat
 import numpy as np
 
 import insrail
-from insrail.io.errors import InputError
+from insrail.io.errors import InputError, reason_of
 from insrail.notices import Phrase
 from insrail.io.atomic import atomic_write
 from insrail.track.alignment import Arc, Clothoid, DesignAlignment, HorizontalAlignment, Line
@@ -62,10 +62,10 @@ _STANDARD_GAUGE_M = 1.435  # Cant@gauge; insrail's cant is referred to the 1.5 m
 class LandXMLError(InputError):
     """Bad LandXML: the file, the line, the element path and what was expected."""
 
-    def __init__(self, path: str | Path, line: int | None, element_path: str, message: str,
+    def __init__(self, path: str | Path, line: int | None, element_path: str, message: str | Phrase,
                  fields: dict | None = None):
         self.element_path = element_path
-        phrase = Phrase(message, fields or {})
+        phrase = message if isinstance(message, Phrase) else Phrase(message, fields or {})
         super().__init__(path, line, Phrase("{element_path}: {message}", {"element_path": element_path, "message": phrase})
                          if element_path else phrase)
 
@@ -133,7 +133,7 @@ class _Document:
             self.paths[id(child)] = path
             self._name_paths(child, path)
 
-    def error(self, element: ET.Element, message: str, fields: dict | None = None) -> LandXMLError:
+    def error(self, element: ET.Element, message: str | Phrase, fields: dict | None = None) -> LandXMLError:
         return LandXMLError(self.path, self.lines.get(id(element)), self.paths.get(id(element), element.tag), message,
                             fields)
 
@@ -248,7 +248,7 @@ def _parse_element(doc: _Document, node: ET.Element, tolerance_m: float) -> _Par
     except ValueError as err:
         if isinstance(err, LandXMLError):
             raise
-        raise doc.error(node, str(err)) from None
+        raise doc.error(node, reason_of(err)) from None
     raise doc.error(node, "unsupported geometry element <{tag}>; expected Line, Spiral or Curve", fields={"tag": node.tag})
 
 
@@ -296,7 +296,7 @@ def _horizontal(doc: _Document, alignment_node: ET.Element, position_tolerance_m
         )
     except DesignError as err:
         node = parsed[err.index].node if err.index is not None else geometry[0]
-        raise doc.error(node, err.message) from None
+        raise doc.error(node, err.phrase) from None
     for item, placed in zip(parsed, horizontal.placed_elements):
         gap = float(np.hypot(item.start[0] - placed.start_east_m, item.start[1] - placed.start_north_m))
         if gap > position_tolerance_m:
@@ -334,7 +334,7 @@ def _station_equations(doc: _Document, alignment_node: ET.Element, start_station
     try:
         result = StationEquations(tuple(equations), prefix=_station_prefix(alignment_node))
     except DesignError as err:
-        raise doc.error(nodes[err.index] if err.index is not None else alignment_node, err.message) from None
+        raise doc.error(nodes[err.index] if err.index is not None else alignment_node, err.phrase) from None
     for node, internal in zip(nodes, result.internal_stations_m):
         given = doc.number(node, "staInternal", required=False)
         if given is not None and abs(given - internal) > DEFAULT_POSITION_TOLERANCE_M:
@@ -370,12 +370,12 @@ def _profile(doc: _Document, alignment_node: ET.Element, profile_name: str | Non
         except ValueError as err:
             if isinstance(err, LandXMLError):
                 raise
-            raise doc.error(node, str(err)) from None
+            raise doc.error(node, reason_of(err)) from None
         nodes.append(node)
     try:
         return VerticalProfile(tuple(pvis))
     except DesignError as err:
-        raise doc.error(nodes[err.index] if err.index is not None else profile, err.message) from None
+        raise doc.error(nodes[err.index] if err.index is not None else profile, err.phrase) from None
 
 
 def _cant(doc: _Document, alignment_node: ET.Element) -> CantTable | None:
@@ -396,7 +396,7 @@ def _cant(doc: _Document, alignment_node: ET.Element) -> CantTable | None:
     try:
         return CantTable(stations, values)
     except DesignError as err:
-        raise doc.error(nodes[err.index] if err.index is not None else cants[0], err.message) from None
+        raise doc.error(nodes[err.index] if err.index is not None else cants[0], err.phrase) from None
 
 
 def _check_units(doc: _Document) -> None:
@@ -434,7 +434,7 @@ def read_landxml_alignments(
             )
         except DesignError as err:
             equation_nodes = [c for c in node if c.tag == "StaEquation"]
-            raise doc.error(equation_nodes[err.index] if err.index is not None else node, err.message) from None
+            raise doc.error(equation_nodes[err.index] if err.index is not None else node, err.phrase) from None
     return tuple(result)
 
 

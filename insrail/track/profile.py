@@ -52,19 +52,23 @@ class PVI:
     def __post_init__(self):
         for name in ("station_m", "elevation_m"):
             if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"PVI: {name} must be a finite number, got {getattr(self, name)!r}")
+                raise DesignError("profile", None, "PVI: {name} must be a finite number, got {value!r}",
+                                  {"name": name, "value": getattr(self, name)})
         if self.curve not in CURVE_KINDS:
-            raise ValueError(f"PVI: curve must be one of {', '.join(CURVE_KINDS)}, got {self.curve!r}")
+            raise DesignError("profile", None, "PVI: curve must be one of {kinds}, got {curve!r}",
+                              {"kinds": ", ".join(CURVE_KINDS), "curve": self.curve})
         given = [v for v in (self.curve_length_m, self.curve_radius_m) if v is not None]
         if self.curve == "none":
             if given:
-                raise ValueError("PVI: a curve length or radius is given but the curve kind is 'none'")
+                raise DesignError("profile", None, "PVI: a curve length or radius is given but the curve kind is 'none'")
             return
         if len(given) != 1:
-            raise ValueError(f"PVI: a {self.curve} curve needs exactly one of curve_length_m or curve_radius_m")
+            raise DesignError("profile", None, "PVI: a {curve} curve needs exactly one of curve_length_m or curve_radius_m",
+                              {"curve": self.curve})
         value = given[0]
         if not (math.isfinite(value) and value >= 0.0):
-            raise ValueError(f"PVI: the curve length or radius must be a finite number >= 0, got {value!r}")
+            raise DesignError("profile", None, "PVI: the curve length or radius must be a finite number >= 0, got "
+                              "{value!r}", {"value": value})
 
 
 @dataclass(frozen=True)
@@ -103,14 +107,14 @@ class VerticalProfile:
                 raise DesignError(
                     "profile",
                     i,
-                    f"PVI {i + 1} at station {stations[i]:.4f} m is not after PVI {i} at station "
-                    f"{stations[i - 1]:.4f} m; PVI stations must increase",
+                    "PVI {number} at station {station:.4f} m is not after PVI {previous} at station {before:.4f} m; "
+                    "PVI stations must increase",
+                    {"number": i + 1, "station": stations[i], "previous": i, "before": stations[i - 1]},
                 )
         for i in (0, len(self.pvis) - 1):
             if self.pvis[i].curve != "none":
-                raise DesignError(
-                    "profile", i, f"PVI {i + 1} is an end of the profile and cannot carry a vertical curve"
-                )
+                raise DesignError("profile", i, "PVI {number} is an end of the profile and cannot carry a vertical curve",
+                                  {"number": i + 1})
         object.__setattr__(self, "_curves", self._resolve_curves(stations))
 
     @property
@@ -164,10 +168,8 @@ class VerticalProfile:
                 if pvi.curve_radius_m is not None:
                     radius = pvi.curve_radius_m
                 elif half_deflection == 0.0:
-                    raise DesignError(
-                        "profile", i, f"PVI {i + 1}: the grades in and out are equal, so a circular curve length "
-                        "cannot define a radius"
-                    )
+                    raise DesignError("profile", i, "PVI {number}: the grades in and out are equal, so a circular curve "
+                                      "length cannot define a radius", {"number": i + 1})
                 else:
                     radius = pvi.curve_length_m / (half_deflection * (math.cos(a1) + math.cos(a2)))
                 tangent = radius * half_deflection
@@ -177,19 +179,19 @@ class VerticalProfile:
                 centre_z = begin_z + sag * radius * math.cos(a1)
             begin, end = pvi.station_m - before, pvi.station_m + after
             if begin < previous_end - _STATION_TOLERANCE_M:
-                start = f"begins at station {begin:.4f} m, before"
                 if previous_pvi == 0:
-                    message = f"{start} PVI 1 at {previous_end:.4f} m"
-                else:
-                    message = (f"{start} the end of the vertical curve of PVI {previous_pvi + 1} at "
-                               f"{previous_end:.4f} m: curves overlap by {previous_end - begin:.4f} m")
-                raise DesignError("profile", i, f"the vertical curve of PVI {i + 1} {message}")
+                    raise DesignError("profile", i, "the vertical curve of PVI {number} begins at station {begin:.4f} m, "
+                                      "before PVI 1 at {end:.4f} m", {"number": i + 1, "begin": begin, "end": previous_end})
+                raise DesignError("profile", i, "the vertical curve of PVI {number} begins at station {begin:.4f} m, before "
+                                  "the end of the vertical curve of PVI {previous} at {end:.4f} m: curves overlap by "
+                                  "{overlap:.4f} m", {"number": i + 1, "begin": begin, "previous": previous_pvi + 1,
+                                                       "end": previous_end, "overlap": previous_end - begin})
             if end > stations[i + 1] + _STATION_TOLERANCE_M:
                 raise DesignError(
                     "profile",
                     i,
-                    f"the vertical curve of PVI {i + 1} ends at station {end:.4f} m, beyond PVI {i + 2} "
-                    f"at {stations[i + 1]:.4f} m",
+                    "the vertical curve of PVI {number} ends at station {end:.4f} m, beyond PVI {next} at {station:.4f} m",
+                    {"number": i + 1, "end": end, "next": i + 2, "station": stations[i + 1]},
                 )
             rows.append(
                 (i, begin, end, before + after, pvi.station_m, pvi.elevation_m, g1, g2, pvi.curve == "circular",
@@ -267,20 +269,21 @@ class CantTable:
         stations = np.array(self.stations_m, dtype=float).reshape(-1)
         cant = np.array(self.cant_m, dtype=float).reshape(-1)
         if stations.size != cant.size:
-            raise DesignError("cant", None, f"{stations.size} stations but {cant.size} cant values")
+            raise DesignError("cant", None, "{stations} stations but {values} cant values",
+                              {"stations": stations.size, "values": cant.size})
         if stations.size < 2:
             raise DesignError("cant", None, "a cant table needs at least two rows")
         for values, what in ((stations, "station"), (cant, "cant")):
             bad = np.flatnonzero(~np.isfinite(values))
             if bad.size:
-                raise DesignError("cant", int(bad[0]), f"cant row {bad[0] + 1}: {what} is not a finite number")
+                raise DesignError("cant", int(bad[0]), "cant row {row}: {what} is not a finite number",
+                                  {"row": int(bad[0]) + 1, "what": what})
         steps = np.flatnonzero(np.diff(stations) <= 0.0)
         if steps.size:
             i = int(steps[0]) + 1
-            raise DesignError(
-                "cant", i, f"cant row {i + 1} at station {stations[i]:.4f} m is not after row {i} at "
-                f"{stations[i - 1]:.4f} m; stations must increase"
-            )
+            raise DesignError("cant", i, "cant row {row} at station {station:.4f} m is not after row {previous} at "
+                              "{before:.4f} m; stations must increase",
+                              {"row": i + 1, "station": stations[i], "previous": i, "before": stations[i - 1]})
         stations.setflags(write=False)
         cant.setflags(write=False)
         object.__setattr__(self, "stations_m", stations)

@@ -48,9 +48,8 @@ class StationEquations:
     def __post_init__(self):
         object.__setattr__(self, "equations", tuple(self.equations))
         if any(ch.isdigit() or ch in "+-" for ch in self.prefix):
-            raise DesignError(
-                "station_equations", None, f"the station prefix {self.prefix!r} may not hold digits, '+' or '-'"
-            )
+            raise DesignError("station_equations", None, "the station prefix {prefix!r} may not hold digits, '+' or '-'",
+                              {"prefix": self.prefix})
         internal = []
         for index, equation in enumerate(self.equations):
             if index == 0:
@@ -61,8 +60,9 @@ class StationEquations:
                 raise DesignError(
                     "station_equations",
                     index,
-                    f"station equation {index + 1} (back {equation.back_m:.4f} m) does not come after equation "
-                    f"{index} (ahead {previous.ahead_m:.4f} m): the displayed station must increase between them",
+                    "station equation {number} (back {back:.4f} m) does not come after equation {previous} (ahead "
+                    "{ahead:.4f} m): the displayed station must increase between them",
+                    {"number": index + 1, "back": equation.back_m, "previous": index, "ahead": previous.ahead_m},
                 )
             internal.append(internal[-1] + (equation.back_m - previous.ahead_m))
         array = np.array(internal, dtype=float)
