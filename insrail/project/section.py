@@ -341,7 +341,7 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
             raise InputError(results.folder / QUALITY_FILE, None, "missing: the section's overlap rule 'best' needs the "
                                                                   "predicted accuracy; process the survey again")
         if not (results.columns["valid"] > 0).any():
-            raise ValueError(f"section {name}: survey {survey} has no valid sleeper")
+            raise ValueError(Phrase("section {name}: survey {survey} has no valid sleeper", {"name": name, "survey": survey}))
         runs.append(results)
         check_cancel(cancel)
     profiles = {r.summary.get("assessment", {}).get("tolerance_profile") for r in runs}
@@ -353,7 +353,8 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
     for run in runs[1:]:
         table = _fold(table, _run_table(run, names, common, window), entry.overlap)
     if not len(table.label):
-        raise ValueError(f"section {name}: no sleeper of {', '.join(names)} lies between {window[0]} and {window[1]} m")
+        raise ValueError(Phrase("section {name}: no sleeper of {surveys} lies between {start} and {end} m",
+                                {"name": name, "surveys": ", ".join(names), "start": window[0], "end": window[1]}))
     step(0.4, "overlaps")
     placements = worst_over_placements(project, runs[0].columns)
     overlaps = tuple(o for o in (overlap_differences(a, b, placements) for i, a in enumerate(runs) for b in runs[i + 1:])

@@ -167,7 +167,7 @@ def _station(path: Path, line: int, column: str, text: str, equations: StationEq
         try:
             return equations.parse_label(text)
         except ValueError as err:
-            raise InputError(path, line, "{column}: {err}", fields={"column": column, "err": err}) from None
+            raise InputError(path, line, "{column}: {err}", fields={"column": column, "err": reason_of(err)}) from None
     return _number(path, line, column, text)
 
 

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from insrail.notices import Phrase
 from insrail.track.errors import DesignError
 
 _LABEL = re.compile(r"^\s*(?P<prefix>[^\d+\-]*)(?P<sign>-?)(?P<km>\d+)\+(?P<metres>\d+(?:\.\d*)?)\s*$")
@@ -34,7 +35,8 @@ class StationEquation:
     def __post_init__(self):
         for name in ("back_m", "ahead_m"):
             if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"StationEquation: {name} must be a finite number, got {getattr(self, name)!r}")
+                raise DesignError("station_equations", None, "StationEquation: {name} must be a finite number, got {value!r}",
+                                  {"name": name, "value": getattr(self, name)})
 
 
 @dataclass(frozen=True)
@@ -104,17 +106,19 @@ class StationEquations:
             count = member.sum(axis=-1)
             if np.any(count == 0):
                 bad = displayed[count == 0].flat[0]
-                raise ValueError(f"displayed station {bad:.4f} m lies in a short chain: it does not exist on this line")
+                raise ValueError(Phrase("displayed station {station:.4f} m lies in a short chain: it does not exist on this "
+                                        "line", {"station": float(bad)}))
             if np.any(count > 1):
                 bad = displayed[count > 1].flat[0]
-                raise ValueError(f"displayed station {bad:.4f} m exists twice (long chain): give its zone")
+                raise ValueError(Phrase("displayed station {station:.4f} m exists twice (long chain): give its zone",
+                                        {"station": float(bad)}))
             zones = np.argmax(member, axis=-1)
         else:
             zones = np.broadcast_to(np.asarray(zone, dtype=int), displayed.shape)
             if np.any((zones < 0) | (zones > len(self.equations))):
-                raise ValueError(f"zone must be between 0 and {len(self.equations)}")
+                raise ValueError(Phrase("zone must be between 0 and {count}", {"count": len(self.equations)}))
             if not np.all(np.take_along_axis(member, zones[..., None], axis=-1)):
-                raise ValueError("a displayed station does not exist in the zone given for it")
+                raise ValueError(Phrase("a displayed station does not exist in the zone given for it"))
         return displayed - self._zone_shift()[zones]
 
     def label(self, internal_m, decimals: int = 3) -> list[str] | str:
@@ -134,12 +138,14 @@ class StationEquations:
         """Continuous station of a label such as "DK1+695.917" (the prefix must match)."""
         match = _LABEL.match(text)
         if match is None:
-            raise ValueError(f"{text!r} is not a station label like '{self.prefix}1+234.567'")
+            raise ValueError(Phrase("{text!r} is not a station label like '{prefix}1+234.567'",
+                                    {"text": text, "prefix": self.prefix}))
         if match["prefix"].strip() != self.prefix:
-            raise ValueError(f"station label {text!r} has prefix {match['prefix']!r}, expected {self.prefix!r}")
+            raise ValueError(Phrase("station label {text!r} has prefix {found!r}, expected {prefix!r}",
+                                    {"text": text, "found": match["prefix"], "prefix": self.prefix}))
         metres = float(match["metres"])
         if metres >= 1000.0:
-            raise ValueError(f"station label {text!r}: the metres after '+' must be below 1000")
+            raise ValueError(Phrase("station label {text!r}: the metres after '+' must be below 1000", {"text": text}))
         displayed = int(match["km"]) * 1000.0 + metres
         if match["sign"]:
             displayed = -displayed
