@@ -1713,4 +1713,9 @@ ZH_CN: dict[str, str] = {
     "station label {text!r}: the metres after '+' must be below 1000": "里程标记 {text!r}：'+' 后的米数须小于 1000",
     'section {name}: survey {survey} has no valid sleeper': '区段 {name}：测量 {survey} 没有有效轨枕',
     'section {name}: no sleeper of {surveys} lies between {start} and {end} m': '区段 {name}：{surveys} 没有轨枕位于 {start} 到 {end} m 之间',
+    'options_overrides[{key!r}]: {problem}': 'options_overrides[{key!r}]：{problem}',
+    'RTKLIB refused {key} = {value!r}': 'RTKLIB 拒绝了 {key} = {value!r}',
+    '{key} = {value!r}: insrail does not let RTKLIB write files of its own; leave it empty': '{key} = {value!r}：insrail 不允许 RTKLIB 自行写文件；请留空',
+    'insrail needs {needed}: cannot use {forced}': 'insrail 需要 {needed}：不能使用 {forced}',
+    'GNSS post-processing failed: {error}': 'GNSS 后处理失败：{error}',
 }

@@ -114,7 +114,7 @@ def load_options(config: str | Path | None = None,
         text = str(value).strip()
         problem = check_option(key, text, table)
         if problem:
-            raise OptionError(f"options_overrides[{key!r}]: {problem}")
+            raise OptionError(Phrase("options_overrides[{key!r}]: {problem}", {"key": key, "problem": problem}))
         options[key] = text
     return options
 
@@ -134,7 +134,7 @@ def apply_options(options: Mapping[str, str]):
     for key, value in options.items():
         # Index the table directly: pyrtklib's searchopt() frees RTKLIB's static entry.
         if pyrtklib.str2opt(pyrtklib.sysopts[index[key]], value) != 1:
-            raise OptionError(f"RTKLIB refused {key} = {value!r}")
+            raise OptionError(Phrase("RTKLIB refused {key} = {value!r}", {"key": key, "value": value}))
     prcopt, solopt, filopt = pyrtklib.prcopt_t(), pyrtklib.solopt_t(), pyrtklib.filopt_t()
     pyrtklib.getsysopts(prcopt, solopt, filopt)
     return prcopt, solopt, filopt

@@ -199,8 +199,8 @@ _REFUSED_FILE_OPTIONS = ("file-tempdir", "file-geexefile", "file-solstatfile", "
 def _stage_option_files(options: dict[str, str], workdir: Path) -> None:
     for key in _REFUSED_FILE_OPTIONS:
         if options.get(key, "").strip():
-            raise OptionError(f"{key} = {options[key]!r}: insrail does not let RTKLIB write files of its own; "
-                              "leave it empty")
+            raise OptionError(Phrase("{key} = {value!r}: insrail does not let RTKLIB write files of its own; leave it "
+                                     "empty", {"key": key, "value": options[key]}))
     for number, key in enumerate(_INPUT_FILE_OPTIONS, 1):
         value = options.get(key, "").strip()
         if value:
@@ -283,7 +283,8 @@ def _base_options(options: dict[str, str], rover: RinexObsInfo, base: RinexObsIn
     forced = {k: options[k] for k, v in FORCED_OUTPUT_OPTIONS.items()
               if k in options and not same_value(k, options[k], v, table)}
     if forced:
-        raise OptionError(f"insrail needs {FORCED_OUTPUT_OPTIONS}: cannot use {forced}")
+        raise OptionError(Phrase("insrail needs {needed}: cannot use {forced}",
+                                 {"needed": str(FORCED_OUTPUT_OPTIONS), "forced": str(forced)}))
     options.update(FORCED_OUTPUT_OPTIONS)
     notes: list[Phrase] = []
     if base_position is not None:
@@ -353,7 +354,7 @@ def _run_child(options: dict[str, str], inputs: list[str], out_path: str, progre
     finally:
         errors.close()
     if error:
-        raise GnssProcessingError(f"GNSS post-processing failed: {error}")
+        raise GnssProcessingError(Phrase("GNSS post-processing failed: {error}", {"error": str(error)}))
 
 
 def _written_fraction(out_path: str, first_s: float, span_s: float) -> float:
