@@ -226,6 +226,24 @@ def test_runs_that_disagree_are_a_notice(project, tmp_path, capsys):
                for n in summary["notices"])
 
 
+def test_a_run_without_a_valid_sleeper_is_refused_naming_the_section_once(project, tmp_path, capsys):
+    project, _ = project
+    spoilt = tmp_path / "p"
+    import shutil
+
+    shutil.copytree(project.folder, spoilt)
+    path = spoilt / "results" / "run2" / "sleepers.csv"
+    header, *rows = path.read_text().splitlines()
+    valid = header.split(",").index("valid")
+    path.write_text("\n".join([header] + [",".join(v if i != valid else "0" for i, v in enumerate(row.split(",")))
+                                          for row in rows]) + "\n")
+    assert main(["section", str(spoilt), "--no-reports"]) == 1
+    err = capsys.readouterr().err
+    refusal = [line for line in err.splitlines() if line.startswith("insrail:")]
+    assert refusal == ["insrail: section km1: survey run2 has no valid sleeper"], err
+    assert "done" not in err  # the progress of a join that failed does not end in "100 %  done"
+
+
 def test_section_settings_are_checked(tmp_path):
     for name in ("a", "b"):
         (tmp_path / name).mkdir()

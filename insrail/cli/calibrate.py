@@ -86,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
             where = ("not in a project with a design: the roll needs the design's cant (--project)" if found is None
                      else f"{found[0].path} has no design: the roll needs the design's cant")
     except ValueError as err:
-        bar.done()
+        bar.stopped()
         print(f"insrail calibrate: {args.survey}: {err}", file=sys.stderr)
         return 1
     bar.done()

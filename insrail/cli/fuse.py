@@ -88,11 +88,11 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as err:
         if isinstance(err, InputError):
             raise
-        bar.done()
+        bar.stopped()
         print(f"insrail fuse: survey {survey.manifest.name} ({args.survey}): {err}", file=sys.stderr)
         return 1
     if args.ellipsoid is not None and project_ellipsoid is not None and args.ellipsoid != project_ellipsoid.name:
-        bar.done()
+        bar.stopped()
         print(f"insrail fuse: --ellipsoid {args.ellipsoid} conflicts with the project's CRS on {project_ellipsoid.name}: "
               "leave it out with --project", file=sys.stderr)
         return 2
@@ -125,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
         if isinstance(err, InputError) or not isinstance(err, ValueError):
             raise
         # profile, start-up, screening, filter: the message says what to do
-        bar.done()
+        bar.stopped()
         print(f"insrail fuse: survey {survey.manifest.name} ({args.survey}): {err}", file=sys.stderr)
         return 1
     bar(0.9, "writing")

@@ -186,6 +186,7 @@ def run(args: argparse.Namespace) -> int:
         try:
             results = process(project, name, progress=bar)
         except ValueError as err:  # geodesy fits, tolerance/fastener files, reconstruction limits
+            bar.stopped()
             print(f"insrail: survey {name}: {err}", file=sys.stderr)
             return 1
         elapsed = bar.done()

@@ -22,6 +22,7 @@ class TerminalProgress:
         self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
         self._last_decile = -1
         self._last_draw = 0.0
+        self._drawn = False
         self._start = time.monotonic()
 
     def __call__(self, fraction: float, message: ProgressMessage = "") -> None:
@@ -32,6 +33,7 @@ class TerminalProgress:
             if now - self._last_draw < 0.1 and fraction < 1.0:
                 return
             self._last_draw = now
+            self._drawn = fraction < 1.0
             filled = int(round(self.width * fraction))
             bar = "#" * filled + "." * (self.width - filled)
             self.stream.write(f"\r{self.label} [{bar}] {100 * fraction:5.1f} %  {message[:40]:<40}")
@@ -49,3 +51,9 @@ class TerminalProgress:
         """Finish the bar; returns the elapsed wall time [s]."""
         self(1.0, "done")
         return time.monotonic() - self._start
+
+    def stopped(self) -> None:
+        """End the bar of a step that failed: no "100 % done" above its error (on a terminal, the line ends)."""
+        if self.tty and self._drawn:
+            self.stream.write("\n")
+            self.stream.flush()

@@ -84,8 +84,10 @@ def run(args: argparse.Namespace) -> int:
         try:
             result = join_section(project, name, progress=bar)
         except ValueError as err:
-            bar.done()
-            print(f"insrail: section {name}: {err}", file=sys.stderr)
+            bar.stopped()
+            # the join's own refusals name the section already (batch prints them as they are)
+            message, prefix = str(err), f"section {name}: "
+            print(f"insrail: {message if message.startswith(prefix) else prefix + message}", file=sys.stderr)
             return 1
         bar.done()
         show_section(result)

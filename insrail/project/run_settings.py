@@ -21,8 +21,10 @@ from __future__ import annotations
 import hashlib
 import json
 import tomllib
+import dataclasses
 from dataclasses import asdict, dataclass, replace
 from functools import cached_property
+from pathlib import PurePath
 from typing import Any
 
 import numpy as np
@@ -54,8 +56,27 @@ def _same(recorded, now) -> bool:
 
 
 def _contents_digest(value) -> str:
-    """A digest of a loaded profile's contents (its repr: every field, not the file's path)."""
+    """A digest of a loaded profile's contents: every field but where its file was read from, so results
+    processed by an insrail installed elsewhere (its built-in profiles in another folder) still match."""
+    return hashlib.sha256(repr(_without_paths(value)).encode()).hexdigest()[:16]
+
+
+def _legacy_digest(value) -> str:
+    """The digest results recorded before the path was left out (the repr, the file's path in it)."""
     return hashlib.sha256(repr(value).encode()).hexdigest()[:16]
+
+
+def _without_paths(value):
+    """``value``'s fields, nested, leaving out the file paths (a path says where, not what)."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return (type(value).__name__,
+                tuple((f.name, _without_paths(getattr(value, f.name))) for f in dataclasses.fields(value)
+                      if not isinstance(getattr(value, f.name), PurePath)))
+    if isinstance(value, (list, tuple)):
+        return tuple(_without_paths(v) for v in value)
+    if isinstance(value, dict):
+        return tuple((k, _without_paths(v)) for k, v in value.items())
+    return value
 
 
 def _plain(value):
@@ -209,7 +230,7 @@ class RecordedSettings:
     def same_tolerance_profile(self, profile: ToleranceProfile) -> bool:
         """Whether ``profile`` has the contents the results were assessed with (True when not recorded)."""
         digest = self.record.get("tolerance_profile", {}).get("digest")
-        return digest is None or digest == _contents_digest(profile)
+        return digest is None or digest in (_contents_digest(profile), _legacy_digest(profile))
 
     def changes(self, project: Project, survey: str) -> list[Phrase]:
         """What the project says now that differs from what the results were processed with, one
@@ -222,13 +243,18 @@ class RecordedSettings:
             trolley = project.trolley()
             if trolley is not None:
                 manifest = replace(manifest, trolley=trolley)
-            now = resolve_run_settings(project, manifest).record()
+            settings = resolve_run_settings(project, manifest)
+            now = settings.record()
         except (ValueError, OSError, KeyError) as error:
             return [Phrase("the project's settings cannot be resolved now ({error}): the results stand as recorded",
                            {"error": str(error)})]
         lines = []
         for key, what, describe in _DESCRIBED:
             then, today = self.record.get(key), now[key]
+            loaded = {"imu_profile": settings.imu_profile, "tolerance_profile": settings.tolerance_profile,
+                      "fastener": settings.fastener, "fusion": settings.fusion}.get(key)
+            if loaded is not None and then is not None and then.get("digest") == _legacy_digest(loaded):
+                then = {**then, "digest": today["digest"]}  # recorded with the path in the digest: the same contents
             if then is None or _same(then, today):
                 continue
             old, new = describe(then), describe(today)
