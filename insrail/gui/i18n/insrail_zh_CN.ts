@@ -889,7 +889,7 @@
       <translation>捣固整道设计失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="822" />
+      <location filename="../../../insrail/gui/main_window.py" line="831" />
       <source>About insrail</source>
       <translation>关于 insrail</translation>
     </message>
@@ -944,7 +944,7 @@
       <translation>已写入 {name}，位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="822" />
+      <location filename="../../../insrail/gui/main_window.py" line="831" />
       <source>Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports.</source>
       <translation>惯性轨道几何测量小车数据处理：GNSS/INS/里程计组合导航、轨道几何、报告。</translation>
     </message>
@@ -1062,6 +1062,16 @@
       <location filename="../../../insrail/gui/main_window.py" line="804" />
       <source>{survey}: cannot pass under the constraints: {what} {from_m:.1f}-{to_m:.1f} m (peak {value_mm:.2f} mm)</source>
       <translation>{survey}：在约束下无法满足：{what} {from_m:.1f}-{to_m:.1f} m（峰值 {value_mm:.2f} mm）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="809" />
+      <source>{survey}: {count} stretches pass after the job by less than the survey's uncertainty of the check (three stated 1-sigma): the true track there may not pass</source>
+      <translation>{survey}：作业后 {count} 段检测值通过的余量小于测量不确定度（所述 1σ 的三倍）：实际线路在该处可能不通过</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="813" />
+      <source>{survey}: not assessed after the job: {check} {direction} (stated 1-sigma {sigma_mm:.2f} mm against the limit {limit_mm:.1f} mm) over {where}</source>
+      <translation>{survey}：作业后不评定：{check} {direction}（所述 1σ {sigma_mm:.2f} mm，限值 {limit_mm:.1f} mm），区段 {where}</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/main_window.py" line="433" />
