@@ -1169,6 +1169,7 @@ ZH_CN: dict[str, str] = {
     "Where a bound holds, and where the track is not said to pass": "受限区段及不能判定通过的区段",
     "cannot pass: {what}": "无法通过：{what}",
     "passes by less than its uncertainty ({count} stretches): {what}": "通过余量小于测量不确定度（{count} 段）：{what}",
+    "passes by less than its uncertainty: {what}": "通过余量小于测量不确定度：{what}",
     "not assessed: {what} (stated 1-sigma {sigma_mm:.2f} mm against the limit {limit_mm:.1f} mm)":
         "不评定：{what}（所述 1σ {sigma_mm:.2f} mm，限值 {limit_mm:.1f} mm）",
     "Where a check's value after the job is within its limit by less than three of the survey's stated 1-sigma "

@@ -824,6 +824,11 @@ def redesign_bound_name(what: str, profile: ToleranceProfile) -> str:
 
 
 
+#: Per check and rail, up to this many stretches passing by less than their uncertainty are listed one by one in the
+#: reports; more as one row from the first to the last (summary.toml lists each).
+LISTED_UNCERTAIN = 5
+
+
 def redesign_not_passing(summary: dict, profile: ToleranceProfile) -> list[tuple[str, float, float, float]]:
     """Where the re-design does not say the track passes after the job (redesign/summary.toml), as
     (what, from [m], to [m], value [mm]) rows: each stretch that cannot pass under the constraints; per
@@ -836,9 +841,14 @@ def redesign_not_passing(summary: dict, profile: ToleranceProfile) -> list[tuple
     for stretch in summary.get("uncertain", []):
         close.setdefault(stretch["what"], []).append(stretch)
     for what, stretches in close.items():
-        rows.append((t("passes by less than its uncertainty ({count} stretches): {what}").format(
-            count=len(stretches), what=redesign_bound_name(what, profile)), stretches[0]["from_m"],
-            stretches[-1]["to_m"], max((s["value_mm"] for s in stretches), key=abs)))
+        name = redesign_bound_name(what, profile)
+        if len(stretches) <= LISTED_UNCERTAIN:
+            rows += [(t("passes by less than its uncertainty: {what}").format(what=name), s["from_m"], s["to_m"],
+                      s["value_mm"]) for s in stretches]
+        else:
+            rows.append((t("passes by less than its uncertainty ({count} stretches): {what}").format(
+                count=len(stretches), what=name), stretches[0]["from_m"], stretches[-1]["to_m"],
+                max((s["value_mm"] for s in stretches), key=abs)))
     for item in summary.get("not_assessed", []):
         what = redesign_bound_name(f"{item['check']} track {item['direction']}".strip(), profile)
         for start, end in item["stretches_m"]:

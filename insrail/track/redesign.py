@@ -518,15 +518,19 @@ def redesign(geometry: SleeperGeometry, profile: ToleranceProfile, settings: Red
 AT_HELD_LIMIT_M = 1e-6
 #: The whole-track checks of the lifts' programme (``track_rows``) held inside their limits by the margin.
 _TRACK_KINDS = ("cross_level", "twist")
+#: Every kind of check the programme holds (the chord checks of ``rail_checks`` and the track rows).
+_HELD_KINDS = ("versine", "differential_versine", *_TRACK_KINDS)
 
 
 def _margins(profile: ToleranceProfile, margin_m: float, uncertainty: dict, not_assessed: dict,
              judged: np.ndarray) -> dict[tuple[str, str], float]:
-    """Per check name and direction, how far inside its limit the programme holds it: the largest
+    """Per check the programme holds, by name and direction, how far inside its limit: the largest
     uncertainty stated for it over the sleepers where it is assessed, at least ``margin_m`` (the
     survey's unstated error), at most the limit (held at zero: as close as the survey tells)."""
     margins = {}
     for check in profile.checks:
+        if check.kind not in _HELD_KINDS:
+            continue
         limit = min(-check.lower, check.upper)
         for direction in check.directions or ("",):
             stated = uncertainty.get((check.name, direction))
