@@ -34,8 +34,8 @@ def redesign_page(content: ReportContent) -> list[Flowable]:
     heading = t("Tamping re-design")
     story: list[Flowable] = [PageBreak(), Heading(heading), Paragraph(heading, H1), Paragraph(text(t(
         "The least lift and slew per sleeper after which the track passes the chord checks of {profile} (each held "
-        "inside its limit by three of the survey's stated 1-sigma of it, at least {margin_mm:g} mm): {direction}, lift {min_lift_mm:g} to {max_lift_mm:g} mm, slew at most "
-        "{max_slew_mm:g} mm; largest lift {lift_mm:.1f} mm at {lift_at_m:.1f} m, largest slew {slew_mm:.1f} mm at "
+        "inside its limit by three of the survey's stated 1-sigma of it, at least {margin_mm:g} mm): {direction}, "
+        "lift {min_lift_mm:g} to {max_lift_mm:g} mm, slew at most {max_slew_mm:g} mm; largest lift {lift_mm:.1f} mm at {lift_at_m:.1f} m, largest slew {slew_mm:.1f} mm at "
         "{slew_at_m:.1f} m, {sleepers} sleepers moved; exceedances {before} before, {after} after the job. Signs: "
         "{convention}.").format(
         profile=profile_name(content.profile) if content.profile.name == summary["profile"] else summary["profile"],
