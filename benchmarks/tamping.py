@@ -67,6 +67,13 @@ def main() -> int:
     print(f"  chord values held at their limit: {summary['binding_check_values']}")
     for stretch in summary["cannot_pass"]:
         print(f"  cannot pass: {stretch['what']} {stretch['from_m']:.1f}-{stretch['to_m']:.1f} m ({stretch['value_mm']} mm)")
+    held = ", ".join(f"{h['check']} {h['direction']} {h['margin_mm']:.2f} mm".replace("  ", " ")
+                     for h in summary["settings"]["held_inside_mm"])
+    print(f"  held inside the limits by: {held}")
+    print(f"  passes by less than its uncertainty: {len(summary['uncertain'])} stretches")
+    for item in summary["not_assessed"]:
+        print(f"  not assessed: {item['check']} {item['direction']} (1-sigma {item['sigma_mm']:.2f} mm against "
+              f"{item['limit_mm']:.1f} mm) over {item['stretches_m']}")
     rows = run.rows
     lifts = np.array([[r.lift_left_mm, r.lift_right_mm] for r in rows])
     slews = np.array([r.slew_mm for r in rows])
@@ -85,10 +92,22 @@ def main() -> int:
     true = SleeperGeometry.from_arrays(station, lateral, vertical, gauge, cant, design_cant, valid=judged)
     before = assess(true, profile)
     after = assess(moved(true, run.result.lift_m, run.result.slew_m), profile)
-    print(f"  exceedances, measured track: {summary['exceedances']['before']} before, {summary['exceedances']['after']} after")
+    print(f"  exceedances, measured track: {summary['exceedances']['before']} before, {summary['exceedances']['after']} after "
+          f"(the checks the survey assesses)")
     print(f"  exceedances, TRUE track moved by the amounts: {len(before.exceedances)} before, {len(after.exceedances)} after")
+    listed = [(s.what.split(" ")[0], s.station_from_m, s.station_to_m, "cannot pass") for s in run.result.cannot_pass]
+    listed += [(s.what.split(" ")[0], s.station_from_m, s.station_to_m, "uncertain") for s in run.result.uncertain]
+    listed += [(item["check"], a, b, "not assessed") for item in summary["not_assessed"] for a, b in item["stretches_m"]]
+    near_m = 2.5  # a knot spacing: the true track's run of a value may start a little beside the measured one's
+    where = {}
     for e in after.exceedances:
-        print(f"    {e.check} {e.rail} {e.direction} {e.station_from_m:.1f}-{e.station_to_m:.1f} m: "
+        hit = next((kind for check, a, b, kind in listed
+                    if check == e.check and a - near_m <= e.station_to_m and e.station_from_m <= b + near_m), None)
+        where.setdefault(hit or "NOT LISTED", []).append(e)
+    print("  of these, in a listed stretch of the same check: "
+          + ", ".join(f"{kind} {len(found)}" for kind, found in sorted(where.items())))
+    for e in where.get("NOT LISTED", []):
+        print(f"    not listed: {e.check} {e.rail} {e.direction} {e.station_from_m:.1f}-{e.station_to_m:.1f} m: "
               f"{1e3 * e.peak:.2f} mm (limit {1e3 * e.limit:.1f})")
 
     # the re-designed line as the design of the next survey (here: the same run processed again)

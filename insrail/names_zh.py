@@ -1150,11 +1150,13 @@ ZH_CN: dict[str, str] = {
     "Tamping re-design": "捣固重新设计",
     "Tamping sheet": "捣固作业表",
     "The least lift and slew per sleeper after which the track passes the chord checks of {profile} (each held "
-    "{margin_mm:g} mm inside its limit): {direction}, lift {min_lift_mm:g} to {max_lift_mm:g} mm, slew at most "
+    "inside its limit by three of the survey's stated 1-sigma of it, at least {margin_mm:g} mm): {direction}, lift "
+    "{min_lift_mm:g} to {max_lift_mm:g} mm, slew at most "
     "{max_slew_mm:g} mm; largest lift {lift_mm:.1f} mm at {lift_at_m:.1f} m, largest slew {slew_mm:.1f} mm at "
     "{slew_at_m:.1f} m, {sleepers} sleepers moved; exceedances {before} before, {after} after the job. Signs: "
     "{convention}.":
-        "每根轨枕处使线路通过 {profile} 各弦测检测（各留 {margin_mm:g} mm 余量）的最小起道量与拨道量：{direction}，"
+        "每根轨枕处使线路通过 {profile} 各弦测检测（各项在限值内留出测量所述该项 1σ 的三倍、至少 {margin_mm:g} mm 的余量）"
+        "的最小起道量与拨道量：{direction}，"
         "起道 {min_lift_mm:g} 至 {max_lift_mm:g} mm，拨道不超过 {max_slew_mm:g} mm；最大起道 {lift_mm:.1f} mm，位于 "
         "{lift_at_m:.1f} m；最大拨道 {slew_mm:.1f} mm，位于 {slew_at_m:.1f} m；移动轨枕 {sleepers} 根；超限：作业前 "
         "{before} 处，作业后 {after} 处。符号：{convention}。",
@@ -1164,8 +1166,19 @@ ZH_CN: dict[str, str] = {
     "tolerance (mm)": "允许偏差（mm）",
     "value (mm)": "数值（mm）",
     "none": "无",
-    "Where a bound holds, and what cannot pass": "受限区段及无法通过的检测",
+    "Where a bound holds, and where the track is not said to pass": "受限区段及不能判定通过的区段",
     "cannot pass: {what}": "无法通过：{what}",
+    "passes by less than its uncertainty ({count} stretches): {what}": "通过余量小于测量不确定度（{count} 段）：{what}",
+    "passes by less than its uncertainty: {what}": "通过余量小于测量不确定度：{what}",
+    "not assessed: {what} (stated 1-sigma {sigma_mm:.2f} mm against the limit {limit_mm:.1f} mm)":
+        "不评定：{what}（所述 1σ {sigma_mm:.2f} mm，限值 {limit_mm:.1f} mm）",
+    "Where a check's value after the job is within its limit by less than three of the survey's stated 1-sigma "
+    "({uncertain} stretches), the true track may not pass it; where the stated 1-sigma is too large for the "
+    "limit ({not_assessed} checks), the check is not assessed after the job, as the processing does not "
+    "assess it: neither is said to pass; both are listed below.":
+        "作业后检测值距限值不足测量所述 1σ 三倍之处（{uncertain} 段），实际线路可能不通过；所述 1σ 相对限值过大之处"
+        "（{not_assessed} 项检测），作业后不评定该项检测，与数据处理一致：两者均不判为通过，列于下表。",
+    "Where the track is not said to pass after the job": "作业后不能判定通过的区段",
     "lift at max_lift": "起道达到最大起道量",
     "slew at max_slew": "拨道达到最大拨道量",
     "lift at min_lift": "起道达到最小起道量",
@@ -1176,8 +1189,11 @@ ZH_CN: dict[str, str] = {
     "The tamping re-design, in working order (increasing chainage). ": "捣固重新设计，按作业顺序（里程增加方向）。",
     "{amounts}. Signs: {convention}.": "{amounts}。符号：{convention}。",
     "lift_left_mm, lift_right_mm, slew_mm: move the rail (the track) by the amount after which the track passes the "
-    "profile's chord checks (docs/tamping.md); cant_mm = the cant after the job":
-        "左轨起道、右轨起道、拨道：钢轨（线路）按此量移动后即通过容许偏差标准的各项弦测检测；作业后超高：作业完成后的超高",
+    "profile's chord checks by at least the survey's uncertainty (docs/tamping.md), except in the stretches "
+    "summary.toml lists (cannot pass, passes by less than its uncertainty, not assessed); cant_mm = the cant after "
+    "the job":
+        "左轨起道、右轨起道、拨道：钢轨（线路）按此量移动后即以不小于测量不确定度的余量通过容许偏差标准的各项弦测检测，"
+        "summary.toml 所列区段除外（无法通过、通过余量小于测量不确定度、不评定）；作业后超高：作业完成后的超高",
     "mm; lift + up; slew + to the right looking towards increasing chainage; cant + left rail higher; mark: "
     "TS/SC/CS/ST, PVI of the re-designed line, fixed start/end":
         "mm；面向里程增加方向：起道向上为正，拨道向右为正；超高左轨高为正；标记：重新设计线形的直缓/缓圆/圆缓/缓直点、"

@@ -182,6 +182,10 @@ def _redesigned(project) -> None:
         "exceedances": {"before": 12, "after": 1},
         "active": [dict(stretch, what=what) for what in ("lift at max_lift", "slew at max_slew", "fixed stretch")],
         "cannot_pass": [dict(stretch, what="short_wave_30m_5m left lateral")],
+        "uncertain": [dict(stretch, what="versine_10m right vertical", value_mm=1.9)],
+        "not_assessed": [{"check": "versine_10m", "direction": "lateral", "sigma_mm": 1.2, "limit_mm": 2.0,
+                          "sleepers": 10, "exceedances_not_listed": 0,
+                          "stretches_m": [[float(station[30]), float(station[40])]]}],
     }
     folder = results.folder / REDESIGN_FOLDER
     folder.mkdir()
@@ -203,7 +207,8 @@ def test_a_chinese_workbook_of_a_redesigned_survey_has_a_tamping_sheet_without_e
     tamping = " ".join(str(value) for row in book["捣固"].iter_rows(values_only=True) for value in row
                        if isinstance(value, str))
     for term in ("起道", "拨道", "超高", "里程", "直缓点", "缓圆点", "变坡点", "固定点起点（redesign.fixed[0]）",
-                 "固定点终点（道岔 W12）", "作业段 1/"):
+                 "固定点终点（道岔 W12）", "作业段 1/", "作业后不能判定通过的区段", "通过余量小于测量不确定度：",
+                 "不评定："):
         assert term in tamping, term
     assert english_words(tamping) == set()
 
@@ -211,7 +216,8 @@ def test_a_chinese_workbook_of_a_redesigned_survey_has_a_tamping_sheet_without_e
 @pytest.mark.skipif(shutil.which("pdftotext") is None, reason="poppler-utils not installed; .ci/run installs it")
 def test_a_chinese_pdf_of_a_redesigned_survey_has_no_english(redesigned, tmp_path):
     text = pdf_text(write_pdf(redesigned, stored(redesigned), tmp_path / "report.pdf"))
-    for term in ("捣固重新设计", "起道", "拨道", "固定点区段", "只起不落", "起道达到最大起道量", "无法通过：短波不平顺", "作业前"):
+    for term in ("捣固重新设计", "起道", "拨道", "固定点区段", "只起不落", "起道达到最大起道量", "无法通过：短波不平顺", "作业前",
+                 "通过余量小于测量不确定度：", "不评定："):
         assert term in text, term
     assert english_words(text) == set()
 

@@ -42,6 +42,14 @@ def run(args: argparse.Namespace) -> int:
         for stretch in run.summary["cannot_pass"]:
             print(f"  warning: cannot pass under the constraints: {stretch['what']} {stretch['from_m']:.1f}-"
                   f"{stretch['to_m']:.1f} m (peak {stretch['value_mm']:.2f} mm)")
+        if run.summary["uncertain"]:
+            print(f"  warning: {len(run.summary['uncertain'])} stretches pass after the job by less than the survey's "
+                  "uncertainty of the check (three stated 1-sigma): the true track there may not pass "
+                  "(summary.toml [[uncertain]])")
+        for item in run.summary["not_assessed"]:
+            print(f"  warning: not assessed after the job: {item['check']} {item['direction']}".rstrip()
+                  + f" (stated 1-sigma {item['sigma_mm']:.2f} mm against the limit {item['limit_mm']:.1f} mm) over "
+                  + ", ".join(f"{a:.0f}-{b:.0f} m" for a, b in item["stretches_m"]))
         if run.fit_problem:
             print(f"  warning: {run.fit_problem}")
     return 0

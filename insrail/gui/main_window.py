@@ -805,6 +805,15 @@ class MainWindow(QMainWindow):
                                 "(peak {value_mm:.2f} mm)").format(survey=summary["survey"], what=stretch["what"],
                                                                    from_m=stretch["from_m"], to_m=stretch["to_m"],
                                                                    value_mm=stretch["value_mm"]))
+        if summary.get("uncertain"):
+            self.log.warning(tr("{survey}: {count} stretches pass after the job by less than the survey's uncertainty "
+                                "of the check (three stated 1-sigma): the true track there may not pass").format(
+                survey=summary["survey"], count=len(summary["uncertain"])))
+        for item in summary.get("not_assessed", []):
+            self.log.warning(tr("{survey}: not assessed after the job: {check} {direction} (stated 1-sigma {sigma_mm:.2f} mm "
+                                "against the limit {limit_mm:.1f} mm) over {where}").format(
+                survey=summary["survey"], check=item["check"], direction=item["direction"], sigma_mm=item["sigma_mm"],
+                limit_mm=item["limit_mm"], where=", ".join(f"{a:.0f}-{b:.0f} m" for a, b in item["stretches_m"])))
         if summary["design"]["problem"]:
             self.log.warning(f"{summary['survey']}: {summary['design']['problem']}")
 

@@ -86,6 +86,30 @@ def section_sigma_m(check: Check, quality: SectionQuality, direction: str) -> np
     return figure[1] * np.asarray(getattr(quality, figure[0]), dtype=float)
 
 
+def sleeper_sigmas(profile: ToleranceProfile, quality: SectionQuality | None,
+                   station_m: np.ndarray) -> dict[tuple[str, str], np.ndarray]:
+    """(check name, direction) -> the stated 1-sigma of its values at each sleeper at ``station_m`` (the
+    figure of the section holding it; NaN where that section states none), for every check of ``profile``
+    the survey states a figure for (:func:`stated_figure`). What a tamping re-design holds its checks
+    inside their limits by (``insrail.project.redesign``)."""
+    if quality is None or not len(quality.station_from_m):
+        return {}
+    section = _section_of(np.asarray(station_m, dtype=float), quality)
+    out = {}
+    for check in profile.checks:
+        for direction in check.directions or ("",):
+            sigma = section_sigma_m(check, quality, direction)
+            if sigma is not None:
+                out[(check.name, direction)] = sigma[section]
+    return out
+
+
+def _section_of(station: np.ndarray, quality: SectionQuality) -> np.ndarray:
+    """A sleeper's section: the one its station falls in (before the first / after the last: those)."""
+    return np.clip(np.searchsorted(quality.station_from_m, station, side="right") - 1, 0,
+                   len(quality.station_from_m) - 1)
+
+
 @dataclass(frozen=True)
 class NotAssessable:
     """One check in one direction not assessed over some sections: ``sleepers`` (n,) the sleepers
@@ -111,9 +135,7 @@ def not_assessable(profile: ToleranceProfile, quality: SectionQuality | None, st
     if quality is None or not len(quality.station_from_m):
         return []
     station = np.asarray(station_m, dtype=float)
-    # a sleeper's section: the one its station falls in (before the first / after the last: those)
-    section = np.clip(np.searchsorted(quality.station_from_m, station, side="right") - 1, 0,
-                      len(quality.station_from_m) - 1)
+    section = _section_of(station, quality)
     out = []
     for check in profile.checks:
         limit = check_limit_m(check)

@@ -452,6 +452,8 @@ class RedesignPlot:
     exceedances_before: int
     exceedances_after: int
     cannot_pass: int
+    uncertain: int  # stretches passing by less than the survey's uncertainty (redesign/summary.toml)
+    not_assessed: int  # checks the survey cannot assess after the job
 
 
 def redesign_plot(stored: StoredResults) -> RedesignPlot | None:
@@ -479,7 +481,8 @@ def redesign_plot(stored: StoredResults) -> RedesignPlot | None:
     return RedesignPlot(stored.survey, station, measured, after, amount["lift_left"], amount["lift_right"],
                         amount["slew"], tuple((f["from_m"], f["to_m"], f["source"]) for f in summary["settings"]["fixed"]),
                         marks, summary["profile"], movement["largest_lift_mm"], movement["largest_slew_mm"],
-                        count["before"], count["after"], len(summary["cannot_pass"]))
+                        count["before"], count["after"], len(summary["cannot_pass"]), len(summary.get("uncertain", [])),
+                        len(summary.get("not_assessed", [])))
 
 
 @dataclass(frozen=True)

@@ -6,10 +6,19 @@ files in ``results/<survey>/redesign/``.
 * ``design.csv`` and ``design.xml``: the line types fitted to the track as it will be after the job
   (the measured centreline moved by the corrections; :func:`insrail.track.linefit.fit_alignment`),
   an element table and LandXML that ``[track] design`` of the next survey can name.
-* ``exceedances_after.csv``: the profile's checks on the measured rails moved by the amounts.
-* ``summary.toml``: the settings (with the fixed stretches and where each came from), the largest
-  lift and slew, where the bounds hold, the stretches that cannot pass and the exceedances before
-  and after.
+* ``exceedances_after.csv``: the profile's checks on the measured rails moved by the amounts (the
+  checks the survey can assess there: the processing's rule).
+* ``summary.toml``: the settings (with the fixed stretches and where each came from, and how far
+  inside its limit each check was held), the largest lift and slew, where the bounds hold, and the
+  stretches where the track is not predicted to pass after the job: those that cannot pass under
+  the constraints, those that pass by less than the survey's uncertainty of the check, and the
+  checks the survey cannot assess there (``not_assessed``); the exceedances before and after.
+
+What the survey's accuracy allows (quality.csv, :mod:`insrail.project.assessable`): a check is
+assessed where three of its stated 1-sigma fit within its limit, as in the processing; where it is
+assessed, the re-design holds it that far (three 1-sigma, at least ``margin_mm``) inside its limit,
+so that the true track moved by the amounts passes too, and a value after the job closer to its
+limit is listed as passing by less than its uncertainty.
 
 The settings are resolved once (:func:`resolve_settings`): project.toml's ``[redesign]`` with, by
 default, every turnout, level crossing and bridge of the survey's events (summary.toml ``[[events]]``,
@@ -18,22 +27,24 @@ already placed on the survey's chainage) as a fixed stretch.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project import assessable
 from insrail.project.model import Project, RedesignTable
-from insrail.project.results import exceedances_csv, load_results, summary_toml
+from insrail.project.results import StoredQuality, exceedances_csv, load_results, summary_toml
+from insrail.quality.section_quality import SectionQuality
 from insrail.track.alignment_csv import format_alignment_csv
-from insrail.track.exceedance import SleeperGeometry
+from insrail.track.exceedance import SleeperGeometry, assess
 from insrail.track.landxml import format_landxml
 from insrail.track.linefit import AlignmentFit, LineFitError, fit_alignment
-from insrail.track.redesign import FixedStretch, Redesign, RedesignSettings, redesign
+from insrail.track.redesign import FixedStretch, Redesign, RedesignSettings, judged_only, moved, redesign
 from insrail.track.stationing import StationEquations
-from insrail.track.tolerance import load_tolerance_profile
+from insrail.track.tolerance import ToleranceProfile, load_tolerance_profile
 
 REDESIGN_FOLDER = "redesign"
 TAMPING_FILE = "tamping.csv"
@@ -92,6 +103,36 @@ def measured_geometry(columns: dict[str, np.ndarray], number: np.ndarray) -> tup
     return geometry, columns["valid"] > 0
 
 
+def section_quality(stored: StoredQuality | None) -> SectionQuality | None:
+    """quality.csv as read back (millimetres) as the figures the assessable rule takes (metres)."""
+    if stored is None:
+        return None
+    sigmas = {f.name: 1e-3 * getattr(stored, f.name[:-2] + "_mm") for f in fields(SectionQuality)
+              if f.name.startswith("sigma_")}
+    return SectionQuality(stored.station_from_m, stored.station_to_m, smoothed=stored.smoothed, **sigmas)
+
+
+@dataclass(frozen=True)
+class SurveyUncertainty:
+    """What the survey's stated accuracy allows the re-design to promise: per (check name, direction)
+    how far inside its limit a value must be for the true track to pass (three stated 1-sigma, per
+    sleeper [m]), and the checks it cannot assess where (:mod:`insrail.project.assessable`)."""
+
+    within_m: dict[tuple[str, str], np.ndarray]
+    not_assessable: list[assessable.NotAssessable]
+
+    def masks(self) -> dict[tuple[str, str], np.ndarray]:
+        return assessable.masks(self.not_assessable)
+
+
+def survey_uncertainty(profile: ToleranceProfile, quality: StoredQuality | None, station_m: np.ndarray) -> SurveyUncertainty:
+    """The one assessable rule applied to a re-design (none stated: nothing to draw in, all assessed)."""
+    figures = section_quality(quality)
+    sigmas = assessable.sleeper_sigmas(profile, figures, station_m)
+    return SurveyUncertainty({key: assessable.RESOLVE_SIGMAS * sigma for key, sigma in sigmas.items()},
+                             assessable.not_assessable(profile, figures, station_m))
+
+
 def _labeller(project: Project):
     """Station -> displayed chainage, with the design's station equations (K-chainage without one)."""
     from insrail.project.pipeline import read_design  # the processing's filter: not for the reports' tamping names
@@ -146,7 +187,7 @@ def _stretches(stretches) -> list[dict]:
              "value_mm": round(1e3 * s.value_m, 2)} for s in stretches]
 
 
-def _summary(survey: str, profile_name: str, result: Redesign, fit_problem: str) -> dict:
+def _summary(survey: str, profile_name: str, result: Redesign, fit_problem: str, not_assessed: list[dict]) -> dict:
     lift, slew = result.lift_m, result.slew_m
     at = lambda values: float(result.station_m[int(np.nanargmax(np.abs(values)))])  # noqa: E731
     settings = result.settings
@@ -156,6 +197,8 @@ def _summary(survey: str, profile_name: str, result: Redesign, fit_problem: str)
         "settings": {"lift_only": settings.lift_only, "min_lift_mm": 1e3 * settings.min_lift_m,
                      "max_lift_mm": 1e3 * settings.max_lift_m, "max_slew_mm": 1e3 * settings.max_slew_m,
                      "margin_mm": 1e3 * settings.margin_m,
+                     "held_inside_mm": [{"check": check, "direction": direction, "margin_mm": round(1e3 * margin, 3)}
+                                        for (check, direction), margin in result.margin_m.items()],
                      "fixed": [{"from_m": f.from_m, "to_m": f.to_m, "tolerance_mm": 1e3 * f.tolerance_m, "source": f.source}
                                for f in settings.fixed]},
         "movement": {"largest_lift_mm": round(1e3 * float(np.nanmax(lift)), 2), "largest_lift_at_m": at(np.nanmax(lift, axis=1)),
@@ -163,10 +206,13 @@ def _summary(survey: str, profile_name: str, result: Redesign, fit_problem: str)
                      "largest_slew_mm": round(1e3 * float(np.nanmax(np.abs(slew))), 2), "largest_slew_at_m": at(slew),
                      "total_movement_m": round(result.total_movement_m, 4),
                      "sleepers_moved": int(np.sum((np.nanmax(np.abs(lift), axis=1) > 5e-4) | (np.abs(slew) > 5e-4)))},
-        "exceedances": {"before": len(result.before.exceedances), "after": len(result.after.exceedances)},
+        "exceedances": {"before": len(result.before.exceedances), "after": len(result.after.exceedances),
+                        "uncertain_after": len(result.uncertain), "checks_not_assessed": len(not_assessed)},
         "active": _stretches(result.active),
         "binding_check_values": result.binding_rows,
         "cannot_pass": _stretches(result.cannot_pass),
+        "uncertain": _stretches(result.uncertain),
+        "not_assessed": not_assessed,
         "design": {"fitted": not fit_problem, "problem": fit_problem,
                    "files": [DESIGN_CSV, DESIGN_XML] if not fit_problem else []},
         "files": {"tamping": TAMPING_FILE, "exceedances_after": EXCEEDANCES_AFTER_FILE},
@@ -175,7 +221,9 @@ def _summary(survey: str, profile_name: str, result: Redesign, fit_problem: str)
 
 #: tamping.csv's notes for people (the reports give them in their language: insrail.names_zh has them)
 TAMPING_AMOUNTS = ("lift_left_mm, lift_right_mm, slew_mm: move the rail (the track) by the amount after which the "
-                   "track passes the profile's chord checks (docs/tamping.md); cant_mm = the cant after the job")
+                   "track passes the profile's chord checks by at least the survey's uncertainty (docs/tamping.md), "
+                   "except in the stretches summary.toml lists (cannot pass, passes by less than its uncertainty, "
+                   "not assessed); cant_mm = the cant after the job")
 TAMPING_CONVENTION = ("mm; lift + up; slew + to the right looking towards increasing chainage; cant + left rail higher; "
                       "mark: TS/SC/CS/ST, PVI of the re-designed line, fixed start/end")
 TAMPING_HEADER = ["station_m", "label", "lift_left_mm", "lift_right_mm", "slew_mm", "cant_mm", "mark"]
@@ -207,7 +255,9 @@ def run_redesign(project: Project, survey: str, progress: ProgressFn | None = No
     geometry, assessed = measured_geometry(stored.columns, stored.number)
     profile = load_tolerance_profile(project.resource(project.tolerance_profile))
     settings = resolve_settings(project.redesign, stored.summary.get("events", []))
-    result = redesign(geometry, profile, settings, assessed, StepProgress(progress, 0.05, 0.7), cancel)
+    uncertainty = survey_uncertainty(profile, stored.quality, geometry.station_m)
+    result = redesign(geometry, profile, settings, assessed, StepProgress(progress, 0.05, 0.7), cancel,
+                      uncertainty=uncertainty.within_m, not_assessed=uncertainty.masks())
     check_cancel(cancel)
     step(0.7, "fitting the line types to the track after the job")
     station, east, north, height, cant = _centre_after(stored.columns, result)
@@ -222,7 +272,10 @@ def run_redesign(project: Project, survey: str, progress: ProgressFn | None = No
     rows = tamping_rows(result, cant_after, _labeller(project), fit)
     folder = stored.folder / REDESIGN_FOLDER
     folder.mkdir(exist_ok=True)
-    summary = _summary(survey, profile.name, result, problem)
+    everything = assess(judged_only(moved(geometry, result.lift_m, result.slew_m), assessed), profile)
+    found = uncertainty.not_assessable
+    summary = _summary(survey, profile.name, result, problem,
+                       assessable.summary_section(found, assessable.left_out(found, everything, result.after)))
     files = {TAMPING_FILE: tamping_csv_text(rows, survey, profile.name),
              EXCEEDANCES_AFTER_FILE: "".join(exceedances_csv(result.after))}
     if fit is not None:

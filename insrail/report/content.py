@@ -821,3 +821,38 @@ def redesign_bound_name(what: str, profile: ToleranceProfile) -> str:
     if check is None or len(channel) > 2:
         return what  # a profile changed since the re-design: the id as written
     return channel_name(check, *(channel + ["", ""])[:2]) if channel else check_name(check)
+
+
+
+#: Per check and rail, up to this many stretches passing by less than their uncertainty are listed one by one in the
+#: reports; more as one row from the first to the last (summary.toml lists each).
+LISTED_UNCERTAIN = 5
+
+
+def redesign_not_passing(summary: dict, profile: ToleranceProfile) -> list[tuple[str, float, float, float]]:
+    """Where the re-design does not say the track passes after the job (redesign/summary.toml), as
+    (what, from [m], to [m], value [mm]) rows: each stretch that cannot pass under the constraints; per
+    check and rail, the stretches that pass by less than the survey's uncertainty (first to last, the
+    largest value, how many: summary.toml lists each); each check the survey cannot assess there
+    (its stated 1-sigma as the value). Summaries of before the survey's accuracy was taken: the first."""
+    rows = [(t("cannot pass: {what}").format(what=redesign_bound_name(c["what"], profile)), c["from_m"], c["to_m"],
+             c["value_mm"]) for c in summary["cannot_pass"]]
+    close: dict[str, list[dict]] = {}
+    for stretch in summary.get("uncertain", []):
+        close.setdefault(stretch["what"], []).append(stretch)
+    for what, stretches in close.items():
+        name = redesign_bound_name(what, profile)
+        if len(stretches) <= LISTED_UNCERTAIN:
+            rows += [(t("passes by less than its uncertainty: {what}").format(what=name), s["from_m"], s["to_m"],
+                      s["value_mm"]) for s in stretches]
+        else:
+            rows.append((t("passes by less than its uncertainty ({count} stretches): {what}").format(
+                count=len(stretches), what=name), stretches[0]["from_m"], stretches[-1]["to_m"],
+                max((s["value_mm"] for s in stretches), key=abs)))
+    for item in summary.get("not_assessed", []):
+        what = redesign_bound_name(f"{item['check']} track {item['direction']}".strip(), profile)
+        for start, end in item["stretches_m"]:
+            rows.append((t("not assessed: {what} (stated 1-sigma {sigma_mm:.2f} mm against the limit {limit_mm:.1f} mm)")
+                         .format(what=what, sigma_mm=item["sigma_mm"], limit_mm=item["limit_mm"]), start, end,
+                         item["sigma_mm"]))
+    return sorted(rows, key=lambda row: row[1])

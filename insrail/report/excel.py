@@ -18,6 +18,7 @@ import math
 import re
 import shutil
 import tempfile
+import tomllib
 import unicodedata
 import zipfile
 from collections.abc import Callable, Sequence
@@ -62,6 +63,7 @@ from insrail.report.content import (
     is_relative,
     survey_start,
     survey_title,
+    redesign_not_passing,
     tamping_mark_name,
     threshold_text,
 )
@@ -662,7 +664,7 @@ def _tamping_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
     """The tamping re-design (``insrail redesign``) for the machine's crew: A4 portrait, the stretches to
     tamp as work sections, each sleeper moved with its lift, slew and the cant after the job, and the marks."""
     from insrail.export.tamping import read_tamping
-    from insrail.project.redesign import REDESIGN_FOLDER, TAMPING_FILE
+    from insrail.project.redesign import REDESIGN_FOLDER, SUMMARY_FILE as REDESIGN_SUMMARY, TAMPING_FILE
 
     table = read_tamping(content.results.folder / REDESIGN_FOLDER / TAMPING_FILE)
     widths = TAMPING_WIDTHS
@@ -699,6 +701,14 @@ def _tamping_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress
         sheet.append([sheet.cell(table.label[i]), sheet.cell(table.station_m[i], "0.000"),
                       *(sheet.cell(values[k][i], amount) for k in ("lift_left", "lift_right", "slew", "cant")),
                       sheet.cell(tamping_mark_name(table.mark[i]))])
+    summary_path = content.results.folder / REDESIGN_FOLDER / REDESIGN_SUMMARY
+    if summary_path.is_file():  # where the crew must not take the track for passing after the job
+        summary = tomllib.loads(summary_path.read_text(encoding="utf-8"))
+        sheet.append([sheet.cell(t("Where the track is not said to pass after the job"), font=BOLD)])
+        for what, start, end, value in redesign_not_passing(summary, content.profile) or [(t("none"), None, None, None)]:
+            sheet.append([sheet.cell("" if start is None else f"{start:.1f} – {end:.1f} m"), sheet.cell(None),
+                          *(sheet.cell(None) for _ in range(4)),
+                          sheet.cell(what if value is None else f"{what}: {value:.1f} mm")])
     sheet.sheet.print_title_rows = f"{header}:{header}"
     progress(1.0, "tamping sheet")
 

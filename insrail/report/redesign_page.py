@@ -1,6 +1,8 @@
 """The PDF section of a tamping re-design (``insrail redesign``): the settings and fixed stretches, the
-largest movements, where the bounds hold and what cannot pass, and per chord check the values before
-and after the job (the measured rails, and the same rails moved by tamping.csv's amounts)."""
+largest movements, where the bounds hold and where the track is not predicted to pass (cannot pass,
+passes by less than the survey's uncertainty, not assessed), and per chord check the values before
+and after the job (the measured rails, and the same rails moved by tamping.csv's amounts; a check the
+survey cannot assess there has no value, as in the processing's assessment)."""
 
 from __future__ import annotations
 
@@ -12,14 +14,14 @@ from reportlab.platypus import Flowable, PageBreak, Paragraph
 
 from insrail.names import channel_name, profile_name, t
 from insrail.report.charts import Series, StripChart, strip_drawing
-from insrail.report.content import ReportContent, fixed_source_name, redesign_bound_name
+from insrail.report.content import ReportContent, fixed_source_name, redesign_bound_name, redesign_not_passing
 from insrail.report.pdf import BODY, H1, H2, MARGIN, Heading, page_size, table, text
 
 
 def redesign_page(content: ReportContent) -> list[Flowable]:
     """Nothing for a survey without a re-design."""
     from insrail.export.tamping import read_tamping
-    from insrail.project.redesign import REDESIGN_FOLDER, SUMMARY_FILE, TAMPING_FILE, measured_geometry
+    from insrail.project.redesign import REDESIGN_FOLDER, SUMMARY_FILE, TAMPING_FILE, measured_geometry, survey_uncertainty
     from insrail.track.exceedance import assess
     from insrail.track.redesign import judged_only, moved
 
@@ -32,8 +34,8 @@ def redesign_page(content: ReportContent) -> list[Flowable]:
     heading = t("Tamping re-design")
     story: list[Flowable] = [PageBreak(), Heading(heading), Paragraph(heading, H1), Paragraph(text(t(
         "The least lift and slew per sleeper after which the track passes the chord checks of {profile} (each held "
-        "{margin_mm:g} mm inside its limit): {direction}, lift {min_lift_mm:g} to {max_lift_mm:g} mm, slew at most "
-        "{max_slew_mm:g} mm; largest lift {lift_mm:.1f} mm at {lift_at_m:.1f} m, largest slew {slew_mm:.1f} mm at "
+        "inside its limit by three of the survey's stated 1-sigma of it, at least {margin_mm:g} mm): {direction}, "
+        "lift {min_lift_mm:g} to {max_lift_mm:g} mm, slew at most {max_slew_mm:g} mm; largest lift {lift_mm:.1f} mm at {lift_at_m:.1f} m, largest slew {slew_mm:.1f} mm at "
         "{slew_at_m:.1f} m, {sleepers} sleepers moved; exceedances {before} before, {after} after the job. Signs: "
         "{convention}.").format(
         profile=profile_name(content.profile) if content.profile.name == summary["profile"] else summary["profile"],
@@ -44,6 +46,13 @@ def redesign_page(content: ReportContent) -> list[Flowable]:
         slew_mm=movement["largest_slew_mm"], slew_at_m=movement["largest_slew_at_m"],
         sleepers=movement["sleepers_moved"], before=count["before"], after=count["after"],
         convention=t(tamping.metadata.get("convention", "")))), BODY)]
+    if "uncertain" in summary:  # a re-design that took the survey's accuracy
+        story.append(Paragraph(text(t(
+            "Where a check's value after the job is within its limit by less than three of the survey's stated 1-sigma "
+            "({uncertain} stretches), the true track may not pass it; where the stated 1-sigma is too large for the "
+            "limit ({not_assessed} checks), the check is not assessed after the job, as the processing does not "
+            "assess it: neither is said to pass; both are listed below.").format(
+            uncertain=len(summary["uncertain"]), not_assessed=len(summary["not_assessed"]))), BODY))
     rows = [[f"{f['from_m']:.1f}", f"{f['to_m']:.1f}", f"{f['tolerance_mm']:g}", fixed_source_name(f["source"])]
             for f in settings["fixed"]]
     story += [Paragraph(t("Fixed stretches"), H2),
@@ -52,9 +61,9 @@ def redesign_page(content: ReportContent) -> list[Flowable]:
     profile = content.profile
     bound = [[redesign_bound_name(s["what"], profile), f"{s['from_m']:.1f}", f"{s['to_m']:.1f}", f"{s['value_mm']:.1f}"]
              for s in summary["active"]]
-    bound += [[t("cannot pass: {what}").format(what=redesign_bound_name(c["what"], profile)), f"{c['from_m']:.1f}",
-               f"{c['to_m']:.1f}", f"{c['value_mm']:.1f}"] for c in summary["cannot_pass"]]
-    story += [Paragraph(t("Where a bound holds, and what cannot pass"), H2),
+    bound += [[what, f"{start:.1f}", f"{end:.1f}", f"{value:.1f}"]
+              for what, start, end, value in redesign_not_passing(summary, profile)]
+    story += [Paragraph(t("Where a bound holds, and where the track is not said to pass"), H2),
               table([t("what"), t("from (m)"), t("to (m)"), t("value (mm)")], bound or [[t("none"), "-", "-", "-"]],
                     [90 * mm, 25 * mm, 25 * mm, 25 * mm])]
     sleepers = np.array([not m for m in tamping.mark])
@@ -64,8 +73,9 @@ def redesign_page(content: ReportContent) -> list[Flowable]:
     lift = np.column_stack([np.interp(station, tamping.station_m[sleepers], tamping.values[k][sleepers])
                             for k in ("lift_left", "lift_right")]) * 1e-3
     slew = np.interp(station, tamping.station_m[sleepers], tamping.values["slew"][sleepers]) * 1e-3
-    before = assess(judged_only(geometry, judged), profile)
-    after = assess(judged_only(moved(geometry, lift, slew), judged), profile)
+    not_assessed = survey_uncertainty(profile, content.results.quality, station).masks()
+    before = assess(judged_only(geometry, judged), profile, not_assessed=not_assessed)
+    after = assess(judged_only(moved(geometry, lift, slew), judged), profile, not_assessed=not_assessed)
     page = page_size(content)
     width = page[0] - 2 * MARGIN
     checks = {check.name: check for check in profile.checks}

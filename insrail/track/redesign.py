@@ -23,6 +23,15 @@ every :data:`KNOT_SPACING` sleepers (a machine's lift and slew are smooth). Ever
 pass (a dip beside a bridge deeper than the chord allows), the programme still has a solution,
 the excess stays where it cannot go, and the stretch is listed (:attr:`Redesign.cannot_pass`).
 
+What the survey can tell of the track after the job: its moved values carry the survey's error, so
+a check held at its limit may fail on the true track. The caller states per check the survey's
+``uncertainty`` of its values (``insrail.project.redesign``: three of quality.csv's 1-sigma, the
+one assessable rule of ``insrail.project.assessable``) and where a check is ``not_assessed`` at all.
+Each check is held that far inside its limit (at least ``margin_m``); a value after the job within
+it of the limit is "passes by less than its uncertainty" (:attr:`Redesign.uncertain`), and a check
+not assessed is neither passed nor failed (left out of :attr:`Redesign.after`, as the processing's
+assessment leaves it out).
+
 The rows of every chord placement number hundreds per sleeper; they enter as the current solution
 violates them (constraint generation, the rows of
 :class:`insrail.track.adjustment_programme` -- the same rows the fastener optimisation holds), a
@@ -31,6 +40,7 @@ few per sleeper in the end.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -130,8 +140,10 @@ class Redesign:
 
     ``lift_m`` (n, 2) [left, right] + up, ``slew_m`` (n,) + right: NaN at a sleeper without a
     measurement. ``before``/``after``: the profile's assessment of the measured track and of the
-    measured track moved by the corrections; ``cannot_pass``: the stretches where a check still
-    fails after the job (the bounds do not let it pass); ``active``: where a bound holds the
+    measured track moved by the corrections, without the checks the survey cannot assess there;
+    ``cannot_pass``: the stretches where a check still fails after the job (the bounds do not let
+    it pass); ``uncertain``: where one passes by less than its uncertainty; ``margin_m``: per check
+    name and direction, how far inside its limit the programme held it; ``active``: where a bound holds the
     corrections (lift at its largest or smallest, slew at its largest, a fixed stretch's edge)."""
 
     station_m: np.ndarray
@@ -142,9 +154,12 @@ class Redesign:
     before: Assessment
     after: Assessment
     cannot_pass: tuple[Stretch, ...]
+    #: where a check passes after the job by less than its stated uncertainty (the true track may not)
+    uncertain: tuple[Stretch, ...]
     active: tuple[Stretch, ...]
     binding_rows: dict[str, int]  # per check name, the rows the solution holds at their limit
     rounds: int
+    margin_m: dict[tuple[str, str], float]
 
     @property
     def total_movement_m(self) -> float:
@@ -448,24 +463,33 @@ def _bounds(settings: RedesignSettings, fixed: np.ndarray, tolerance: np.ndarray
 
 def redesign(geometry: SleeperGeometry, profile: ToleranceProfile, settings: RedesignSettings,
              assessed: np.ndarray | None = None, progress: ProgressFn | None = None,
-             cancel: CancelToken = None) -> Redesign:
+             cancel: CancelToken = None, uncertainty: Mapping[tuple[str, str], np.ndarray] | None = None,
+             not_assessed: Mapping[tuple[str, str], np.ndarray] | None = None) -> Redesign:
     """The corrections (module docstring) for ``geometry`` (deviations of every measured sleeper,
     those inside events too: the chords reach across them) under ``settings``; ``assessed``: the
-    sleepers the profile judges (event stretches are not), by default every measured one."""
+    sleepers the profile judges (event stretches are not), by default every measured one.
+    ``uncertainty``: (check name, direction) -> per sleeper how far inside its limit a value must be
+    for the true track to pass ([m]; NaN or absent: none stated); ``not_assessed``: (check name,
+    direction) -> the sleepers where the survey cannot assess that check (``direction`` "" for a
+    check of the whole track, as :func:`insrail.track.exceedance.assess` takes them)."""
     progress = StepProgress(progress)
+    uncertainty, not_assessed = dict(uncertainty or {}), dict(not_assessed or {})
     n = geometry.station_m.size
     vertical_measured = np.all(np.isfinite(geometry.vertical_deviation_m), axis=1) & np.isfinite(geometry.cant_m)
     lateral_measured = np.all(np.isfinite(geometry.lateral_deviation_m), axis=1)
     fixed, tolerance = settings.fixed_mask(geometry.station_m)
     lift_low, lift_high, _ = _bounds(settings, fixed, tolerance, vertical_measured)
     _, _, slew_limit = _bounds(settings, fixed, tolerance, lateral_measured)
-    held = {}
-    for direction in ("lateral", "vertical"):
-        held[direction] = [replace(c, limit_m=c.limit_m - settings.margin_m) for c in rail_checks(profile, direction)]
+    judged = (vertical_measured & lateral_measured) if assessed is None else np.asarray(assessed, bool)
+    margins = _margins(profile, settings.margin_m, uncertainty, not_assessed, judged)
+    held = {direction: [replace(c, limit_m=c.limit_m - margins[(check.name, direction)])
+                        for check in profile.checks if direction in check.directions
+                        for c in rail_checks(replace(profile, checks=(check,)), direction)]
+            for direction in ("lateral", "vertical")}
     vertical_deviation = np.where(vertical_measured[:, None], geometry.vertical_deviation_m, np.nan)
     lateral_deviation = np.where(lateral_measured[:, None], geometry.lateral_deviation_m, np.nan)
     vertical = _families(vertical_deviation, vertical_measured, held["vertical"],
-                         track_rows(geometry, profile, "vertical", UNIT_M))
+                         track_rows(geometry, _held_track_checks(profile, margins), "vertical", UNIT_M))
     progress(0.0, "tamping re-design: the lifts")
     lift, rounds_v = _solve_direction(vertical, n, np.concatenate([lift_low, lift_low]),
                                       np.concatenate([lift_high, lift_high]), per_rail=True, cancel=cancel)
@@ -479,16 +503,76 @@ def redesign(geometry: SleeperGeometry, profile: ToleranceProfile, settings: Red
     lift = np.where(np.abs(lift) < 1e-9, 0.0, lift)
     slew = np.where(np.abs(slew) < 1e-9, 0.0, slew)
 
-    judged = (vertical_measured & lateral_measured) if assessed is None else np.asarray(assessed, bool)
-    masked = judged_only(geometry, judged)
-    before = assess(masked, profile)
-    after = assess(judged_only(moved(geometry, lift, slew), judged), profile)
+    before = assess(judged_only(geometry, judged), profile, not_assessed=not_assessed)
+    after = assess(judged_only(moved(geometry, lift, slew), judged), profile, not_assessed=not_assessed)
     cannot = tuple(Stretch(e.first_index, e.last_index, e.station_from_m, e.station_to_m,
                            f"{e.check} {e.rail} {e.direction}".strip(), e.peak) for e in after.exceedances)
     active = _active(geometry.station_m, lift, slew, fixed, settings)
     binding = _binding(moved(geometry, lift, slew), held)
-    return Redesign(geometry.station_m, lift, slew, fixed, settings, before, after, cannot, active, binding,
-                    max(rounds_v, rounds_l))
+    return Redesign(geometry.station_m, lift, slew, fixed, settings, before, after, cannot,
+                    _uncertain(after, geometry.station_m, uncertainty), active, binding, max(rounds_v, rounds_l),
+                    margins)
+
+
+#: A value after the job within this of the limit it was held at is at it [m] (the solver's and the floats' rounding).
+AT_HELD_LIMIT_M = 1e-6
+#: The whole-track checks of the lifts' programme (``track_rows``) held inside their limits by the margin.
+_TRACK_KINDS = ("cross_level", "twist")
+#: Every kind of check the programme holds (the chord checks of ``rail_checks`` and the track rows).
+_HELD_KINDS = ("versine", "differential_versine", *_TRACK_KINDS)
+
+
+def _margins(profile: ToleranceProfile, margin_m: float, uncertainty: dict, not_assessed: dict,
+             judged: np.ndarray) -> dict[tuple[str, str], float]:
+    """Per check the programme holds, by name and direction, how far inside its limit: the largest
+    uncertainty stated for it over the sleepers where it is assessed, at least ``margin_m`` (the
+    survey's unstated error), at most the limit (held at zero: as close as the survey tells)."""
+    margins = {}
+    for check in profile.checks:
+        if check.kind not in _HELD_KINDS:
+            continue
+        limit = min(-check.lower, check.upper)
+        for direction in check.directions or ("",):
+            stated = uncertainty.get((check.name, direction))
+            margin = margin_m
+            if stated is not None:
+                where = judged & ~np.asarray(not_assessed.get((check.name, direction), False), bool)
+                values = np.asarray(stated, float)[where]
+                if np.isfinite(values).any():
+                    margin = max(margin, float(np.nanmax(values)))
+            margins[(check.name, direction)] = min(margin, limit) if np.isfinite(limit) else margin
+    return margins
+
+
+def _held_track_checks(profile: ToleranceProfile, margins: dict[tuple[str, str], float]) -> ToleranceProfile:
+    """``profile`` with its cross-level and twist limits drawn in by their margins (the lifts' track rows)."""
+    def held(check):
+        if check.kind not in _TRACK_KINDS:
+            return check
+        margin = margins[(check.name, "")]
+        return replace(check, lower=min(check.lower + margin, 0.0), upper=max(check.upper - margin, 0.0))
+
+    return replace(profile, checks=tuple(held(check) for check in profile.checks))
+
+
+def _uncertain(after: Assessment, station: np.ndarray, uncertainty: dict) -> tuple[Stretch, ...]:
+    """Runs of sleepers where a check's value after the job is within its limit but not by its
+    uncertainty: the true track there may fail it."""
+    found = []
+    for channel in after.channels:
+        stated = uncertainty.get((channel.check, channel.direction))
+        if stated is None:
+            continue
+        values = channel.values
+        within = np.nan_to_num(np.asarray(stated, float)) - AT_HELD_LIMIT_M
+        with np.errstate(invalid="ignore"):
+            close = ((values <= channel.upper) & (values > channel.upper - within)) | (
+                (values >= channel.lower) & (values < channel.lower + within))
+        for first, last in _runs(close):
+            peak = first + int(np.nanargmax(np.abs(values[first:last + 1])))
+            found.append(Stretch(int(first), int(last), float(station[first]), float(station[last]),
+                                 f"{channel.check} {channel.rail} {channel.direction}".strip(), float(values[peak])))
+    return tuple(sorted(found, key=lambda s: (s.station_from_m, s.what)))
 
 
 def judged_only(geometry: SleeperGeometry, judged: np.ndarray) -> SleeperGeometry:

@@ -889,7 +889,7 @@
       <translation>捣固整道设计失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="822" />
+      <location filename="../../../insrail/gui/main_window.py" line="831" />
       <source>About insrail</source>
       <translation>关于 insrail</translation>
     </message>
@@ -944,7 +944,7 @@
       <translation>已写入 {name}，位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="822" />
+      <location filename="../../../insrail/gui/main_window.py" line="831" />
       <source>Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports.</source>
       <translation>惯性轨道几何测量小车数据处理：GNSS/INS/里程计组合导航、轨道几何、报告。</translation>
     </message>
@@ -1062,6 +1062,16 @@
       <location filename="../../../insrail/gui/main_window.py" line="804" />
       <source>{survey}: cannot pass under the constraints: {what} {from_m:.1f}-{to_m:.1f} m (peak {value_mm:.2f} mm)</source>
       <translation>{survey}：在约束下无法满足：{what} {from_m:.1f}-{to_m:.1f} m（峰值 {value_mm:.2f} mm）</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="809" />
+      <source>{survey}: {count} stretches pass after the job by less than the survey's uncertainty of the check (three stated 1-sigma): the true track there may not pass</source>
+      <translation>{survey}：作业后 {count} 段检测值通过的余量小于测量不确定度（所述 1σ 的三倍）：实际线路在该处可能不通过</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/main_window.py" line="813" />
+      <source>{survey}: not assessed after the job: {check} {direction} (stated 1-sigma {sigma_mm:.2f} mm against the limit {limit_mm:.1f} mm) over {where}</source>
+      <translation>{survey}：作业后不评定：{check} {direction}（所述 1σ {sigma_mm:.2f} mm，限值 {limit_mm:.1f} mm），区段 {where}</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/main_window.py" line="433" />
@@ -1784,12 +1794,12 @@
       <translation>里程 [m]</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/redesign.py" line="68" />
+      <location filename="../../../insrail/gui/views/redesign.py" line="70" />
       <source>measured</source>
       <translation>实测</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/redesign.py" line="68" />
+      <location filename="../../../insrail/gui/views/redesign.py" line="70" />
       <source>after tamping</source>
       <translation>捣固后</translation>
     </message>
@@ -1799,37 +1809,37 @@
       <translation>此测量尚无整道设计：“运行 &gt; 捣固整道设计”计算起道量和拨道量，使作业后的线路满足容许偏差标准。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/redesign.py" line="70" />
+      <location filename="../../../insrail/gui/views/redesign.py" line="72" />
       <source>Vertical (mean of the rails) [mm]</source>
       <translation>高低（两轨平均）[mm]</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/redesign.py" line="72" />
+      <location filename="../../../insrail/gui/views/redesign.py" line="74" />
       <source>Lateral (mean of the rails) [mm]</source>
       <translation>轨向（两轨平均）[mm]</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/redesign.py" line="74" />
+      <location filename="../../../insrail/gui/views/redesign.py" line="76" />
       <source>Lift and slew [mm]</source>
       <translation>起道量和拨道量 [mm]</translation>
     </message>
     <message>
       <location filename="../../../insrail/gui/views/redesign.py" line="54" />
-      <source>Survey {survey}, profile {profile}: largest lift {lift:.1f} mm, largest slew {slew:.1f} mm; exceedances {before} before, {after} after the job; {cannot} stretches cannot pass under the constraints.</source>
-      <translation>测量 {survey}，容许偏差标准 {profile}：最大起道量 {lift:.1f} mm，最大拨道量 {slew:.1f} mm；超限作业前 {before} 处，作业后 {after} 处；{cannot} 段在约束下无法达标。</translation>
+      <source>Survey {survey}, profile {profile}: largest lift {lift:.1f} mm, largest slew {slew:.1f} mm; exceedances {before} before, {after} after the job; {cannot} stretches cannot pass under the constraints, {uncertain} pass by less than the survey's uncertainty, {not_assessed} checks not assessed (the log lists them).</source>
+      <translation>测量 {survey}，容许偏差标准 {profile}：最大起道量 {lift:.1f} mm，最大拨道量 {slew:.1f} mm；超限作业前 {before} 处，作业后 {after} 处；{cannot} 段在约束下无法达标，{uncertain} 段通过余量小于测量不确定度，{not_assessed} 项检测不评定（见日志）。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/redesign.py" line="74" />
+      <location filename="../../../insrail/gui/views/redesign.py" line="76" />
       <source>lift left rail</source>
       <translation>左轨起道量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/redesign.py" line="75" />
+      <location filename="../../../insrail/gui/views/redesign.py" line="77" />
       <source>lift right rail</source>
       <translation>右轨起道量</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/redesign.py" line="75" />
+      <location filename="../../../insrail/gui/views/redesign.py" line="77" />
       <source>slew</source>
       <translation>拨道量</translation>
     </message>

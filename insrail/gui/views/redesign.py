@@ -53,9 +53,11 @@ class RedesignView(DrawWhenShown, QWidget):
         else:
             self.note.setText(tr("Survey {survey}, profile {profile}: largest lift {lift:.1f} mm, largest slew "
                                  "{slew:.1f} mm; exceedances {before} before, {after} after the job; {cannot} "
-                                 "stretches cannot pass under the constraints.").format(
+                                 "stretches cannot pass under the constraints, {uncertain} pass by less than the "
+                                 "survey's uncertainty, {not_assessed} checks not assessed (the log lists them).").format(
                 survey=data.survey, profile=data.profile, lift=data.largest_lift_mm, slew=data.largest_slew_mm,
-                before=data.exceedances_before, after=data.exceedances_after, cannot=data.cannot_pass))
+                before=data.exceedances_before, after=data.exceedances_after, cannot=data.cannot_pass,
+                uncertain=data.uncertain, not_assessed=data.not_assessed))
         self.request_draw(now=data is None)
 
     def _draw(self) -> None:
