@@ -56,10 +56,10 @@ def one_survey(workdir: Path, seed: int, imu: str) -> tuple[list[dict], list[str
     from survey_builder import BuiltCell
     built = BuiltCell(folder / "project", folder / "sim" / "truth", scenario(cell))
     results = built.project / "results" / SURVEY_NAME
-    with contextlib.redirect_stdout(io.StringIO()) as out, contextlib.redirect_stderr(io.StringIO()):
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()) as err:
         code = main(["process", str(built.project)])
     if code != 0:
-        return [], [f"refused (exit {code}): {out.getvalue().strip().splitlines()[-1]}"]
+        return [], [f"refused (exit {code}): {err.getvalue().strip()[-400:]}"]
     quality = np.genfromtxt(results / "quality.csv", delimiter=",", names=True)
     comparison = truth_errors(results / "sleepers.csv", built, normal_heights=True)
     rail = comparison.rails["right"]
