@@ -180,7 +180,7 @@ def python_fusion(imu, aiding, profile, options, ellipsoid, output_every=1, gap_
             corrections[j, 0], corrections[j, 1] = e, e + dx
             sigma[j] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
             e_next, P_s_next, phi_next, p_minus_next = e + dx, P_s, phi, p_minus
-        e, P_s = rts_step(e_next, P_s_next, phi_next, p_minus_next, np.diag(sigma_hist[0] ** 2))
+        e, P_s = rts_step(e_next, P_s_next, phi_next, p_minus_next, setup.P0)
         corrections[0, 0] = corrections[0, 1] = e
         sigma[0] = np.sqrt(np.maximum(np.diag(P_s), 0.0))
         smoothed = trajectory(t, nav_store, epochs, sensor_hist, sigma, corrections, ellipsoid, output_every)

@@ -117,10 +117,10 @@ def test_odometer_nhc_jacobian(use_odometer, use_nhc):
     assert len(z) == int(use_odometer) + 2 * int(use_nhc)
 
 
-def test_the_nhc_rows_noise_holds_the_gyros_white_noise_through_the_lever_arm():
-    """The NHC point's velocity takes the last IMU record's rate through the lever arm: its white noise
-    (a tactical unit's 0.1 deg/sqrt(h) over a 5 ms record) moves the rows by what their R adds to the
-    play's 1-sigma, measured here on 20000 noisy rates."""
+def test_the_nhc_and_odometer_rows_noise_holds_the_gyros_white_noise_through_the_lever_arm():
+    """The NHC point's and the wheel's velocity take the last IMU record's rate through their lever arms: its
+    white noise (a tactical unit's 0.1 deg/sqrt(h) over a 5 ms record) moves the rows by what their R adds to
+    the play's and the odometer's 1-sigma, measured here on 20000 noisy rates."""
     arw, span = math.radians(0.1) / 60.0, 0.005
     m = OdometerNhc(np.array([1000.0]), np.array([1.31]), np.eye(3), np.array([0.45, -0.6, 0.31]),
                     np.array([0.1, -0.6, 0.31]), np.array([0.004]), sigma_nhc_mps=0.0001, gyro_white_noise=arw)
@@ -128,7 +128,8 @@ def test_the_nhc_rows_noise_holds_the_gyros_white_noise_through_the_lever_arm():
     z0, _, R = m.model(nav, 0)
     rates = nav.omega_ib_b + RNG.normal(0.0, arw / math.sqrt(span), (20000, 3))
     z = np.array([m.model(replace(nav, omega_ib_b=w), 0)[0] for w in rates])
-    np.testing.assert_allclose(np.var(z[:, 1:], axis=0), np.diag(R)[1:] - 0.0001**2, rtol=0.05)
+    np.testing.assert_allclose(np.var(z, axis=0), np.diag(R) - np.array([0.004, 0.0001, 0.0001])**2, rtol=0.05)
+    assert 0.2e-3 < math.sqrt(np.diag(R)[0] - 0.004**2) < 0.3e-3  # the wheel 0.75 m from the IMU
     assert 0.2e-3 < math.sqrt(np.diag(R)[2] - 0.0001**2) < 0.3e-3  # vertical, the rail point 0.6 m beside the IMU
     assert np.diag(m.model(replace(nav, rate_span_s=0.02), 0)[2])[2] < np.diag(R)[2]  # a rate over a longer record
 

@@ -26,9 +26,16 @@ white, as the thesis does, makes the solution follow that wander at the 150 m sc
 the 300 m/150 m check measures; modelled, the filter leans on the INS, odometer and NHC
 there and on GNSS only for the long-term position.
 
-Sensor errors are first-order Gauss-Markov: the filter's initial sigma is the turn-on
-plus in-run value, the driving noise only the in-run part's, 2 sigma_gm^2 / tau; the
-turn-on part is thus estimated as a slowly forgotten constant. The odometer scale is a
+Sensor errors are first-order Gauss-Markov. A bias is a turn-on constant plus an in-run
+Gauss-Markov part (sigma_gm, tau): its variance stays turn-on^2 + sigma_gm^2 however long it is
+not observed, and over a short time it changes only by the in-run part, 2 sigma_gm^2 / tau per
+second. One state holds both as a Gauss-Markov process of that variance driven by that noise, its
+correlation time tau (turn-on^2 + sigma_gm^2) / sigma_gm^2 (:func:`bias_tau_s`; a random constant
+without an in-run part). With the in-run part's own tau the turn-on part was forgotten within
+tau / 2 wherever nothing observed it: a MEMS accelerometer's 2 mg turn-on bias across the track,
+which only the roll balances (prism fixes, no GNSS), was believed known to 0.05 mg after a few
+minutes, and with it the roll to 0.3 mrad against an actual 2.4 mrad (issue 33). The
+scale factors' initial sigma is their Gauss-Markov sigma. The odometer scale is a
 random constant with a tiny random walk (wheel wear, temperature).
 
 Discretisation over an interval dt (thesis 2.101, 2.105): Phi = I + F dt + (F dt)^2 / 2
@@ -88,15 +95,24 @@ class ErrorModelNoise:
             gnss_sigma_ned_m=tuple(gnss_sigma_ned_m),
             vrw=p.accel_vrw,
             arw=p.gyro_arw,
-            gyro_bias_tau_s=p.gyro_bias_gm_tau_s,
+            gyro_bias_tau_s=bias_tau_s(p.gyro_bias_turn_on, p.gyro_bias_gm_sigma, p.gyro_bias_gm_tau_s),
             gyro_bias_psd=2.0 * p.gyro_bias_gm_sigma**2 / p.gyro_bias_gm_tau_s,
-            accel_bias_tau_s=p.accel_bias_gm_tau_s,
+            accel_bias_tau_s=bias_tau_s(p.accel_bias_turn_on, p.accel_bias_gm_sigma, p.accel_bias_gm_tau_s),
             accel_bias_psd=2.0 * p.accel_bias_gm_sigma**2 / p.accel_bias_gm_tau_s,
             gyro_scale_tau_s=p.gyro_scale_factor_tau_s,
             gyro_scale_psd=2.0 * p.gyro_scale_factor**2 / p.gyro_scale_factor_tau_s,
             accel_scale_tau_s=p.accel_scale_factor_tau_s,
             accel_scale_psd=2.0 * p.accel_scale_factor**2 / p.accel_scale_factor_tau_s,
         )
+
+
+def bias_tau_s(turn_on: float, gm_sigma: float, gm_tau_s: float) -> float:
+    """Correlation time [s] of the one Gauss-Markov state that holds a bias's turn-on constant and its
+    in-run part (module docstring): the variance turn-on^2 + gm_sigma^2, driven by the in-run part's
+    2 gm_sigma^2 / gm_tau_s; infinite (a random constant) without an in-run part."""
+    if gm_sigma <= 0.0:
+        return math.inf
+    return gm_tau_s * (turn_on**2 + gm_sigma**2) / gm_sigma**2
 
 
 def initial_sensor_sigmas(p: ImuProfile) -> np.ndarray:

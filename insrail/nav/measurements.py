@@ -331,7 +331,8 @@ class OdometerNhc:
     #: the gyro's white noise [rad/sqrt(s)]: the NHC point's velocity takes the last record's rate
     #: through the lever arm, so its rows carry that rate's noise, gyro_white_noise^2 / rate_span_s
     #: through the lever (a tactical unit's 0.1 deg/sqrt(h) at 200 Hz: 0.25 mm/s vertically for
-    #: a rail point 0.6 m beside the IMU, more than a trolley without play shows otherwise)
+    #: a rail point 0.6 m beside the IMU, more than a trolley without play shows otherwise); the
+    #: odometer's row takes it through the wheel's lever arm
     gyro_white_noise: float = 0.0
     use_odometer: bool = True
     use_nhc: bool = True
@@ -398,7 +399,9 @@ class OdometerNhc:
             H_odo[0, ODO] = -corrected / (1.0 + nav.odometer_scale)
             rows.append(H_odo[0])
             z.append(v_mean[0] - corrected)
-            sig.append(self.sigma_speed_mps[i])
+            # the wheel's speed takes the last record's rate through its lever arm, as the NHC's rows do
+            rate = self.gyro_white_noise**2 / nav.rate_span_s * np.sum(np.square(H_odo[0, BG : BG + 3]))
+            sig.append(math.sqrt(self.sigma_speed_mps[i] ** 2 + rate))
         if self.use_nhc:
             v_ref, H_nhc = frame.velocity_rows(self.nhc_lever_arm_m, nav.vel_ned)
             rows.extend(H_nhc[1:3])
@@ -769,7 +772,8 @@ def _odometer_nhc_model(ctx, params, obs, z, H, r):
         corrected = obs[1] / (1.0 + ctx[CTX_ODO_SCALE])
         H[0, ODO] = -corrected / (1.0 + ctx[CTX_ODO_SCALE])
         z[0] = v - corrected
-        r[0] = obs[2]
+        # the odometer's noise and the last record's rate noise through the wheel's lever arm
+        r[0] = obs[2] + params[18] * params[18] / ctx[CTX_RATE_SPAN] * (H[0, BG] ** 2 + H[0, BG + 1] ** 2 + H[0, BG + 2] ** 2)
         m = 1
     if params[17] != 0.0:
         lever = (params[12], params[13], params[14])

@@ -364,6 +364,10 @@ class Start:
     #: a static start's (lat [rad], h [m], C_b^n): its level angles hold the horizontal accelerometer
     #: errors (insrail.nav.fusion.initial_covariance); None at a moving start
     levelled_at: tuple[float, float, np.ndarray] | None = None
+    #: C_b^n l of the point whose position started the filter (the antenna, the prism): the IMU's start
+    #: position is that position less the lever turned by the start attitude, so its error holds the
+    #: attitude's through the lever (insrail.nav.fusion.initial_covariance); None: no lever
+    position_lever_ned_m: np.ndarray | None = None
 
 
 class StartupError(ValueError):
@@ -463,7 +467,8 @@ def initial_state(imu: ImuIncrements, track: PositionTrack, stops, odometer: Odo
                  rpy_rad=(float(roll), float(pitch), float(heading)),
                  sigma_pos_ned_m=np.maximum(track.sigma_ned_m[i0], MIN_START_SIGMA_M), sigma_vel_mps=sigma_vel,
                  sigma_level_rad=sigma_level, sigma_heading_rad=float(sigma_heading), notices=tuple(notices),
-                 levelled_at=(float(lat0 - d_lat), float(h0 - d_h), c_bn) if method.startswith("static") else None)
+                 levelled_at=(float(lat0 - d_lat), float(h0 - d_h), c_bn) if method.startswith("static") else None,
+                 position_lever_ned_m=c_bn @ np.asarray(track.lever_arm_m, dtype=float))
 
 
 def _sigmas(known: KnownStart) -> Phrase:
