@@ -184,7 +184,8 @@ class StageClock:
         self._reset_peak()
         self.stage, self.wall, self.cpu, self.compiled_s = stage, now, cpu, self.compiles.total_s
 
-    def progress(self, fraction: float, message: str) -> None:
+    def progress(self, fraction: float, message) -> None:
+        message = getattr(message, "template", message)  # a Phrase: its English template
         if message in STAGES:
             self.enter(STAGES[message])
         elif message.startswith("covariance"):

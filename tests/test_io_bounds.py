@@ -77,3 +77,22 @@ def test_a_decompression_bomb_is_refused_after_writing_no_more_than_the_limit(tm
     plausible = tmp_path / "base.obs.gz"
     plausible.write_bytes(gzip.compress(bytes(range(256)) * 4096))  # 1 MB, hardly compressible
     assert staging.stage_file(plausible, work, "base", ".obs").stat().st_size == 256 * 4096
+
+
+@pytest.mark.parametrize("block", [3, 7, 64])
+def test_line_count_and_the_first_overlong_line_across_blocks(tmp_path, monkeypatch, block):
+    """The compiled scan counts the lines and names the first one over the limit wherever the
+    blocks it reads cut the lines."""
+    from insrail.io import textparse
+
+    monkeypatch.setattr(textparse, "_SCAN_BLOCK", block)
+    monkeypatch.setattr(textparse, "MAX_LINE_CHARS", 10)
+    path = tmp_path / "table.txt"
+    path.write_bytes(b"1 2 3\n\n123456789\r\n1234567890\n5 6")
+    assert check_text_file(path) == 5  # a last line without a line end counts
+    path.write_bytes(b"1 2 3\n\n123456789\r\n1234567890\n12345678901\n1\n")
+    with pytest.raises(InputError, match="line 5: line longer than the limit"):
+        check_text_file(path)
+    path.write_bytes(b"1 2\n3 4\n" + b"9" * 30)  # the open last line over the limit
+    with pytest.raises(InputError, match="line 3: line longer than the limit"):
+        check_text_file(path)

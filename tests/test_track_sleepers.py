@@ -119,3 +119,12 @@ def test_numbering_refuses_what_it_cannot_number():
         number_sleepers([1.0, 3.0, 5.0, 7.0], t, s, 0.0)
     with pytest.raises(ValueError, match="spacing must be positive"):
         number_sleepers([1.0, 2.0, 3.0], t, s, 0.0, spacing_m=0.0)
+
+
+def test_sleeper_walk_median_is_numpys():
+    from insrail.track.sleepers import _median
+
+    rng = np.random.default_rng(3)
+    for n in range(1, 32):
+        values = list(rng.normal(size=n))
+        assert _median(values) == float(np.median(values))

@@ -272,19 +272,45 @@ _BLOCK_BYTES = 1 << 24
 
 def _blocks_of_whole_lines(handle):
     """The file's bytes in blocks of about :data:`_BLOCK_BYTES` that end at a line end (the last
-    one at the end of the file); check_text_file bounds a line, so every block holds one."""
-    carry = b""
+    one at the end of the file); check_text_file bounds a line, so every block holds one. Each block
+    is a view of one buffer the file is read into (no copy of it made), good until the next block
+    is asked for; the part of a line after a block's last line end moves to the buffer's front."""
+    buffer = bytearray(2 * _BLOCK_BYTES)
+    carried = 0  # bytes of the next block already in the buffer's front
     while True:
-        block = handle.read(_BLOCK_BYTES)
-        if not block:
-            if carry:
-                yield carry
+        if len(buffer) - carried < _BLOCK_BYTES:  # a line longer than a block (not after check_text_file)
+            grown = bytearray(2 * len(buffer))
+            grown[:carried] = buffer[:carried]
+            buffer = grown
+        got = handle.readinto(memoryview(buffer)[carried:carried + _BLOCK_BYTES])
+        if not got:
+            if carried:
+                yield memoryview(buffer)[:carried]
             return
-        data = carry + block
-        cut = data.rfind(b"\n") + 1
+        filled = carried + got
+        cut = buffer.rfind(b"\n", 0, filled) + 1
         if cut:
-            yield data[:cut]
-        carry = data[cut:]
+            yield memoryview(buffer)[:cut]
+        buffer[:filled - cut] = buffer[cut:filled]
+        carried = filled - cut
+
+
+@compiled
+def line_scan(data, run, max_line_chars):
+    """One block of a text file's bytes after ``run`` bytes of a line begun before it: (the line
+    ends in the block, the index among them of the first line longer than ``max_line_chars`` or -1
+    (the scan stops there), the bytes of the line still open after the block).
+    :func:`insrail.io.textparse.check_text_file`'s count, in one pass without temporary arrays."""
+    ended = 0
+    for i in range(data.shape[0]):
+        if data[i] == 10:
+            if run > max_line_chars:
+                return ended, ended, run
+            ended += 1
+            run = 0
+        else:
+            run += 1
+    return ended, -1, run
 
 
 def parse_numeric_file(path: Path, skip_lines: int, comma: bool, line_count: int) -> np.ndarray | None:

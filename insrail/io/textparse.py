@@ -46,7 +46,6 @@ MAX_LINE_CHARS = 1 << 16
 MAX_LINES = 100_000_000
 MAX_QUOTED_CHARS = 24
 _SCAN_BLOCK = 1 << 24
-_NEWLINE = 10
 _BINARY = Phrase("binary data (a NUL byte), not a text file: a disk image, an archive or a file in UTF-16? "
                  "Save text as UTF-8 or ASCII")
 
@@ -149,21 +148,20 @@ def check_text_file(path: Path, max_lines: int = MAX_LINES, each_block: Callable
     ``each_block`` once it passed (a cache key hashes the file in the same pass, and a disk image
     is refused at its first block, not after hashing gigabytes). Returns the number of lines (a
     last line without a line end counts)."""
+    from insrail.io.fastparse import line_scan  # numba: only when a file is read
+
     lineno, run = 1, 0  # the current line, and the bytes of it seen so far
     with open(path, "rb") as handle:
         for block in iter(lambda: handle.read(_SCAN_BLOCK), b""):
             nul = block.find(b"\0")
             if nul >= 0:
                 raise InputError(path, lineno + block.count(b"\n", 0, nul), _BINARY)
-            ends = np.flatnonzero(np.frombuffer(block, dtype=np.uint8) == _NEWLINE)
-            lengths = np.diff(ends, prepend=-1 - run) - 1  # of the lines ending in this block
-            long = np.flatnonzero(lengths > MAX_LINE_CHARS)
-            if long.size:
-                raise InputError(path, lineno + int(long[0]), _too_long())
-            run = len(block) - 1 - int(ends[-1]) if ends.size else run + len(block)
+            ended, long, run = line_scan(np.frombuffer(block, dtype=np.uint8), run, MAX_LINE_CHARS)
+            if long >= 0:
+                raise InputError(path, lineno + long, _too_long())
             if run > MAX_LINE_CHARS:
-                raise InputError(path, lineno + ends.size, _too_long())
-            lineno += ends.size
+                raise InputError(path, lineno + ended, _too_long())
+            lineno += ended
             if lineno - 1 > max_lines:
                 raise InputError(path, max_lines + 1, "more than the limit of {max_lines:,} lines: not a "
                                  "plausible survey file (a 200 Hz IMU records 17 million lines a day)", fields={"max_lines": max_lines})

@@ -105,3 +105,42 @@ def neighbour_median_and_spread(rates: np.ndarray, neighbours: int) -> tuple[np.
             reference[r, axis] = ref
             spread[r, axis] = 1.4826 * _middle(departures, count)
     return reference, spread
+
+
+@njit(cache=True, nogil=True)
+def candidate_rows(time_s: np.ndarray, increments: np.ndarray, nominal: float, gap: float, full_range: float,
+                   jump: float, lo: int, hi: int) -> np.ndarray:
+    """The rows ``lo`` .. ``hi`` - 1 among which the screening's candidates are (``_candidates``): the
+    rate of each (its increment over the interval since the row before, ``nominal`` for row 0 and
+    after more than ``gap`` s) not finite on an axis, beyond ``full_range``, or a step larger than
+    ``jump`` from the row before or to the row after among the finite rates inside the range; row
+    indices, increasing. One pass, the same divisions and differences as the whole-array form."""
+    found = np.empty(hi - lo, np.int64)
+    count = 0
+    previous = np.full(3, np.nan)  # the clean rates of the row before (NaN: not finite or beyond)
+    clean = np.empty(3)
+    for i in range(lo, hi):
+        step = time_s[i] - time_s[max(i - 1, 0)]
+        interval = nominal if i == 0 or step > gap else step
+        bad = False
+        for axis in range(3):
+            rate = increments[i, axis] / interval
+            if not np.isfinite(rate) or np.abs(rate) > full_range:
+                bad = True
+                clean[axis] = np.nan
+            else:
+                clean[axis] = rate
+        edge = False
+        if i > lo:
+            for axis in range(3):
+                if np.abs(clean[axis] - previous[axis]) > jump:
+                    edge = True
+            if edge:  # the row before is a candidate too (once)
+                if count == 0 or found[count - 1] != i - 1:
+                    found[count] = i - 1
+                    count += 1
+        if bad or edge:
+            found[count] = i
+            count += 1
+        previous[:] = clean
+    return found[:count]

@@ -82,24 +82,20 @@ def ecef_to_geodetic(xyz, ell: Ellipsoid = WGS84):
     """ECEF (..., 3) [m] to geodetic (lat [rad], lon [rad], h [m]).
 
     Bowring's starting value then fixed-point iteration; for points within a few
-    hundred km of the surface four iterations reach 1e-12 rad and 1e-9 m.
+    hundred km of the surface four iterations reach 1e-12 rad and 1e-9 m. Compiled, point by
+    point (:mod:`insrail.nav._ecef_kernels`).
     """
+    from insrail.nav._ecef_kernels import ecef_to_geodetic_points  # compiled: imported when first needed
+
     xyz = np.asarray(xyz, dtype=float)
-    x, y, z = xyz[..., 0], xyz[..., 1], xyz[..., 2]
-    e2 = ell.e2
-    lon = np.arctan2(y, x)
-    p = np.hypot(x, y)
-    b = ell.b
-    ep2 = e2 / (1.0 - e2)
-    beta = np.arctan2(z * ell.a, p * b)
-    lat = np.arctan2(z + ep2 * b * np.sin(beta) ** 3, p - e2 * ell.a * np.cos(beta) ** 3)
-    for _ in range(4):
-        _, r_n = radii(lat, ell)
-        h = p * np.cos(lat) + z * np.sin(lat) - ell.a**2 / r_n
-        lat = np.arctan2(z, p * (1.0 - e2 * r_n / (r_n + h)))
-    _, r_n = radii(lat, ell)
-    h = p * np.cos(lat) + z * np.sin(lat) - ell.a**2 / r_n
-    return lat, lon, h
+    shape = xyz.shape[:-1]
+    points = xyz.reshape(-1, 3)
+    lat, lon, h = (np.empty(points.shape[0]) for _ in range(3))
+    ecef_to_geodetic_points(np.ascontiguousarray(points[:, 0]), np.ascontiguousarray(points[:, 1]),
+                            np.ascontiguousarray(points[:, 2]), ell.a, ell.b, ell.e2, lat, lon, h)
+    if not shape:  # one point: numbers, as numpy's scalar arithmetic gives them
+        return lat[0], lon[0], h[0]
+    return lat.reshape(shape), lon.reshape(shape), h.reshape(shape)
 
 
 def dcm_ecef_from_ned(lat, lon):

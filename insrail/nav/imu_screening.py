@@ -112,18 +112,12 @@ def _candidates(time_s: np.ndarray, increments: np.ndarray, nominal: float, full
     """Indices in [first, stop) of the records that may be outliers: not finite, beyond the range,
     or next to a step between neighbouring records larger than ``jump``; the records either side
     of the chunk are read for its steps."""
+    from insrail.nav._screening_kernels import candidate_rows  # numba: only when screening
+
     n = len(time_s)
     stop = min(stop, n)
     lo, hi = max(first - 1, 0), min(stop + 1, n)
-    with np.errstate(invalid="ignore", over="ignore"):
-        values = increments[lo:hi] / _intervals(time_s, np.arange(lo, hi), nominal)[:, None]
-        finite = np.isfinite(values)
-        beyond = finite & (np.abs(values) > full_range)
-        clean = np.where(finite & ~beyond, values, np.nan)
-        edge = (np.abs(np.diff(clean, axis=0)) > jump).any(axis=1)
-    candidate = (~finite.all(axis=1) | beyond.any(axis=1) | np.concatenate([edge, [False]])
-                 | np.concatenate([[False], edge]))
-    found = np.flatnonzero(candidate) + lo
+    found = candidate_rows(np.asarray(time_s), np.asarray(increments), nominal, GAP_FACTOR * nominal, full_range, jump, lo, hi)
     release_pages(increments)  # a mapped file's pages behind the chunk
     return found[(found >= first) & (found < stop)]
 

@@ -28,7 +28,6 @@ from dataclasses import dataclass, replace
 
 import highspy._core as highspy_core
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 from scipy import sparse
 from scipy.optimize import Bounds, LinearConstraint, milp
 
@@ -481,8 +480,9 @@ class _ChordRows:
 
 def _trailing_argmax(values: np.ndarray, width: int) -> np.ndarray:
     """Index of the largest of values[k - width + 1 .. k] for every k (-inf marks excluded entries)."""
-    padded = np.concatenate([np.full(width - 1, -np.inf), values])
-    return np.arange(values.size) - (width - 1) + sliding_window_view(padded, width).argmax(axis=1)
+    from insrail.track._windows import trailing_argmax  # compiled: imported when first needed
+
+    return trailing_argmax(np.ascontiguousarray(values, dtype=float), int(width))
 
 
 class _TrackRowFamily:

@@ -93,14 +93,16 @@ def _walk(stations: np.ndarray, anchor: int, spacing_m: float, tolerance_m: floa
     """
     accepted = np.zeros(len(stations), dtype=bool)
     steps = np.zeros(len(stations), dtype=int)
+    # Python floats (the same doubles): a pulse at a time, numpy's scalars would cost most of the walk
+    at = stations.tolist()
     accepted[anchor] = True
-    last = stations[anchor]
+    last = at[anchor]
     regular_gaps: list[float] = []
     spacing = spacing_m
     i = anchor + 1
-    while i < len(stations):
-        gap = stations[i] - last
-        k = int(np.rint(gap / spacing))
+    while i < len(at):
+        gap = at[i] - last
+        k = int(round(gap / spacing))  # half to even, as np.rint
         window = tolerance_m * max(1.0, 0.5 * k)
         if k < 1 or abs(gap - k * spacing) > window:
             i += 1
@@ -109,19 +111,27 @@ def _walk(stations: np.ndarray, anchor: int, spacing_m: float, tolerance_m: floa
         # stands): the one closest to where the sleeper is expected is the sleeper's.
         expected = last + k * spacing
         best = i
-        for j in range(i + 1, len(stations)):
-            if stations[j] - expected > window:
+        for j in range(i + 1, len(at)):
+            if at[j] - expected > window:
                 break
-            if abs(stations[j] - expected) < abs(stations[best] - expected):
+            if abs(at[j] - expected) < abs(at[best] - expected):
                 best = j
-        gap = stations[best] - last
-        accepted[best], steps[best], last = True, k, stations[best]
+        gap = at[best] - last
+        accepted[best], steps[best], last = True, k, at[best]
         if k == 1:
             regular_gaps.append(gap)
             if len(regular_gaps) >= SPACING_MEMORY:
-                spacing = float(np.median(regular_gaps[-SPACING_MEMORY:]))
+                spacing = _median(regular_gaps[-SPACING_MEMORY:])
         i = best + 1
     return accepted, steps
+
+
+def _median(values: list[float]) -> float:
+    """``float(np.median(values))`` of a short list, to the bit (the middle value, or the mean of the
+    two middle ones as numpy's: their sum halved), without numpy's per-call cost."""
+    ordered = sorted(values)
+    middle = len(ordered) // 2
+    return ordered[middle] if len(ordered) % 2 else (ordered[middle - 1] + ordered[middle]) / 2.0
 
 
 def _anchor(stations: np.ndarray, spacing_m: float, tolerance_m: float) -> int:

@@ -1,0 +1,45 @@
+"""The compiled ECEF -> geodetic conversion against the whole-array numpy formulae it replaced."""
+
+import numpy as np
+
+from insrail.nav import earth
+
+
+def numpy_ecef_to_geodetic(xyz, ell):
+    """The reference: Bowring's start and four fixed-point iterations on whole arrays."""
+    x, y, z = xyz[..., 0], xyz[..., 1], xyz[..., 2]
+    e2 = ell.e2
+    lon = np.arctan2(y, x)
+    p = np.hypot(x, y)
+    b = ell.b
+    ep2 = e2 / (1.0 - e2)
+    beta = np.arctan2(z * ell.a, p * b)
+    lat = np.arctan2(z + ep2 * b * np.sin(beta) ** 3, p - e2 * ell.a * np.cos(beta) ** 3)
+    for _ in range(4):
+        _, r_n = earth.radii(lat, ell)
+        h = p * np.cos(lat) + z * np.sin(lat) - ell.a**2 / r_n
+        lat = np.arctan2(z, p * (1.0 - e2 * r_n / (r_n + h)))
+    _, r_n = earth.radii(lat, ell)
+    h = p * np.cos(lat) + z * np.sin(lat) - ell.a**2 / r_n
+    return lat, lon, h
+
+
+def test_ecef_to_geodetic_is_the_numpy_formulae_to_the_bit():
+    rng = np.random.default_rng(7)
+    n = 20_000
+    lat = np.concatenate([rng.uniform(-np.pi / 2, np.pi / 2, n), rng.uniform(0.3, 0.8, n)])
+    lon = np.concatenate([rng.uniform(-np.pi, np.pi, n), rng.uniform(1.8, 2.2, n)])
+    h = np.concatenate([rng.uniform(-500.0, 9000.0, n), rng.uniform(0.0, 100.0, n)])
+    for ell in (earth.WGS84, earth.CGCS2000):
+        xyz = earth.geodetic_to_ecef(lat, lon, h, ell)
+        for got, want in zip(earth.ecef_to_geodetic(xyz, ell), numpy_ecef_to_geodetic(xyz, ell)):
+            np.testing.assert_array_equal(got, want)
+
+
+def test_ecef_to_geodetic_keeps_the_shape_and_gives_numbers_for_one_point():
+    xyz = earth.geodetic_to_ecef(np.full((2, 3), 0.5), np.full((2, 3), 2.0), np.full((2, 3), 40.0))
+    lat, lon, h = earth.ecef_to_geodetic(xyz)
+    assert lat.shape == lon.shape == h.shape == (2, 3)
+    one = earth.ecef_to_geodetic(xyz[0, 0])
+    assert all(np.ndim(value) == 0 for value in one)
+    np.testing.assert_allclose(one, (0.5, 2.0, 40.0), atol=1e-9)
