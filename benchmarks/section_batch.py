@@ -13,10 +13,12 @@ and after each run (the wall speed-up needs idle cores), and whether every joine
 the first one byte for byte (sleepers.csv, exceedances.csv, quality.csv).
 
 On a loaded machine the wall times say little; so it also prints the CPU time (user + system) each
-worker process and this process spent on the batch, and the wall time an idle machine would take,
-estimated as the busiest worker's CPU plus this process's: a lower bound, as it counts no worker
-waiting for another (between the adjustment's colours). Simulated surveys are kept in DIR (default
-/tmp/insrail-section-batch).
+worker process and this process (the scheduler runs here too) spent on the batch, and the wall time an
+idle machine would take, estimated as the busiest worker's CPU plus this process's: a lower bound, as it
+counts no worker waiting for another (between the adjustment's colours). Each task's CPU time is taken
+on its worker (a worker plugin; one thread a worker): from them the ideal makespan on 1 and 2 workers
+(:func:`ideal_makespan`), and with --tasks every task's worker, start, wall and CPU time. Simulated
+surveys are kept in DIR (default /tmp/insrail-section-batch).
 """
 
 from __future__ import annotations
@@ -52,8 +54,47 @@ def _warm() -> str:
     return str(os.getpid())
 
 
+class TaskClock:
+    """A worker plugin: each task's wall and CPU time (the worker process's user + system, all its threads:
+    with one thread a worker that is the task's), kept on the worker for :func:`_task_times`."""
+
+    name = "insrail-task-clock"
+
+    def setup(self, worker) -> None:
+        self.started, self.times = {}, []
+
+    def transition(self, key, start, finish, **kwargs) -> None:
+        if finish == "executing":
+            self.started[key] = (time.time(), _cpu_s())
+        elif start == "executing" and key in self.started:
+            wall, cpu = self.started.pop(key)
+            self.times.append((str(key), wall, time.time() - wall, _cpu_s() - cpu))
+
+
+def _task_times(dask_worker) -> list:
+    return dask_worker.plugins[TaskClock.name].times
+
+
+def _task_name(key: str) -> str:
+    """``run_task-3f2a...`` -> ``run_task``."""
+    return key.split("-", 1)[0]
+
+
+def ideal_makespan(runs_s: list[float], parts_s: list[float], workers: int) -> float:
+    """The batch's time on ``workers`` idle workers from its tasks' CPU times: the runs shared longest first
+    (each to the worker free first), then the join's parts, at best their sum shared evenly and never less
+    than the longest part (a window's programme is one task; the colours after it wait for it). The
+    coordinator's own work (the join's table, the assessment, the files) and any wait between colours
+    are left out: a lower bound of the wall time."""
+    free = [0.0] * workers
+    for cpu in sorted(runs_s, reverse=True):
+        free[free.index(min(free))] += cpu
+    return max(free) + max(sum(parts_s) / workers, max(parts_s, default=0.0))
+
+
 def main() -> None:
     from distributed import Client, LocalCluster
+    from distributed.diagnostics.plugin import WorkerPlugin
 
     from insrail.cli.main import main as cli
     from insrail.project import load_project
@@ -63,6 +104,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--workdir", type=Path, default=Path("/tmp/insrail-section-batch"))
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
+    parser.add_argument("--tasks", action="store_true", help="print each task's worker, start, wall and CPU time")
     args = parser.parse_args()
     root = args.workdir
     started = time.perf_counter()
@@ -83,17 +125,30 @@ def main() -> None:
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
             with Client(cluster) as client:
                 pids = client.run(_warm)
+                client.register_plugin(type("Clock", (TaskClock, WorkerPlugin), {})(), name=TaskClock.name)
                 before = client.run(_cpu_s)
                 load = os.getloadavg()[0]
-                started, here = time.perf_counter(), _cpu_s()
+                started, here, epoch = time.perf_counter(), _cpu_s(), time.time()
                 code = cli(["batch", str(copy), "--section", SECTION, "--scheduler", cluster.scheduler_address,
                             "--no-reports"])
                 walls[workers], here = time.perf_counter() - started, _cpu_s() - here
                 spent = {worker: cpu - before[worker] for worker, cpu in client.run(_cpu_s).items()}
+                tasks = client.run(_task_times)
         if code != 0:
             raise SystemExit(f"insrail batch exited with {code} on {workers} worker(s)")
         joined[workers] = [(copy / "results" / SECTION / name).read_bytes() for name in JOINED_FILES]
         idle[workers] = max(spent.values()) + here
+        every = [(number, *task) for number, (_, times) in enumerate(sorted(tasks.items())) for task in times]
+        if args.tasks:
+            print(f"tasks on {workers} worker(s): worker, task, start [s after the batch's start], wall, CPU [s]")
+            for number, key, begun, wall, cpu in sorted(every, key=lambda t: (t[0], t[2])):
+                print(f"  w{number} {_task_name(key):<20} {begun - epoch:7.1f} {wall:7.1f} {cpu:7.1f}")
+        cpu_of = {name: [t[4] for t in every if _task_name(t[1]) == name] for name in ("run_task", "solve_part_in_zone")}
+        print(f"{workers} worker(s): task CPU s: runs {' '.join(f'{v:.1f}' for v in cpu_of['run_task'])}; the join's "
+              f"{len(cpu_of['solve_part_in_zone'])} parts {sum(cpu_of['solve_part_in_zone']):.1f} in all, the longest "
+              f"{max(cpu_of['solve_part_in_zone'], default=0.0):.1f}; ideal makespan from them: "
+              + ", ".join(f"{k} worker(s) {ideal_makespan(cpu_of['run_task'], cpu_of['solve_part_in_zone'], k):.1f} s"
+                          for k in (1, 2)))
         print(f"{workers} worker(s) ({len(set(pids.values()))} processes): {walls[workers]:.1f} s wall, load average "
               f"before {load:.2f}, after {os.getloadavg()[0]:.2f}; CPU s per worker "
               f"{' '.join(f'{v:.1f}' for v in sorted(spent.values(), reverse=True))}, here {here:.1f}; "

@@ -137,6 +137,19 @@ def test_a_section_batched_on_a_two_worker_dask_cluster_is_the_local_join(sectio
     assert not (copy / "reports").exists() or not list((copy / "reports").glob("track_geometry_line.*"))
 
 
+def test_batch_tasks_start_with_the_largest_survey(section_project):
+    from insrail.project.batch import BatchTask, longest_first, section_tasks
+
+    tasks = section_tasks(section_project, ["line"])
+    assert [t.survey for t in tasks] == [name for name, _ in SECTION_RUNS]
+    imu = [(section_project.folder / "surveys" / t.survey / "imu.npy").stat().st_size for t in tasks]
+    assert all(t.size_bytes > size for t, size in zip(tasks, imu))
+    assert [t.survey for t in longest_first(tasks)] == [t.survey for t in sorted(tasks, key=lambda t: -t.size_bytes)]
+    same = [BatchTask(section_project.path, name, 5) for name in ("a", "b")]
+    assert longest_first([*same, BatchTask(section_project.path, "c", 9)])[0].survey == "c"
+    assert longest_first(same) == same  # equal sizes keep their order
+
+
 def test_a_section_batch_with_a_failed_run_is_not_joined(section_project, tmp_path, capsys):
     (copy,) = fresh_copies([section_project], tmp_path)
     (copy / "surveys" / "run3" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
@@ -270,7 +283,9 @@ def test_cancelling_a_batch_drops_the_surveys_not_started(tiny_projects, tmp_pat
     from insrail.progress import Cancelled
 
     broken, *good = fresh_copies(tiny_projects, tmp_path)
-    (broken / "surveys" / "tiny" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
+    # the largest survey (comment lines) though given last: started first, longest processing time first
+    (broken / "surveys" / "tiny" / "gauge.txt").write_text("# format: gauge-mm\n" + "# a long header\n" * 200_000
+                                                           + "not a number\n")
     stop = threading.Event()
     messages = []
 
@@ -279,7 +294,7 @@ def test_cancelling_a_batch_drops_the_surveys_not_started(tiny_projects, tmp_pat
         stop.set()  # the user cancels as soon as the first survey is reported
 
     with pytest.raises(Cancelled):
-        run_batch([broken, *good], workers=1, progress=progress, cancel=stop)
+        run_batch([*good, broken], workers=1, progress=progress, cancel=stop)
     assert "FAILED" in messages[0]
     assert not (good[-1] / "results" / "tiny").exists()  # never started
 

@@ -52,8 +52,11 @@ POLL_S = 0.2
 
 @dataclass(frozen=True)
 class BatchTask:
+    """One survey to process; ``size_bytes``: its folder's files (the order tasks start in, :func:`longest_first`)."""
+
     project_file: Path
     survey: str
+    size_bytes: int = 0
 
 
 @dataclass(frozen=True)
@@ -84,15 +87,32 @@ def batch_tasks(projects: list[str | Path]) -> tuple[list[BatchTask], list[Batch
         except InputError as error:
             failed.append(BatchOutcome(path, "*", False, str(error), 0.0))
             continue
-        tasks += [BatchTask(project.path, survey.name) for survey in project.surveys]
+        tasks += [BatchTask(project.path, survey.name, survey_bytes(project, survey.name)) for survey in project.surveys]
     return tasks, failed
+
+
+def survey_bytes(project: Project, survey: str) -> int:
+    """The size of the files in a survey's folder (its records; 0 for a folder that cannot be read: the
+    processing says why)."""
+    try:
+        return sum(entry.stat().st_size for entry in project.resolve(project.survey(survey).folder).iterdir()
+                   if entry.is_file())
+    except OSError:
+        return 0
+
+
+def longest_first(tasks: list[BatchTask]) -> list[BatchTask]:
+    """The tasks in the order they are started: the largest survey first (its processing time follows its
+    records, the IMU's above all), so that the last task to start on fewer workers than tasks is a short one
+    and no worker is left with a long one after the others are done; equal sizes keep their order."""
+    return sorted(tasks, key=lambda task: -task.size_bytes)
 
 
 def section_tasks(project: Project, sections: list[str]) -> list[BatchTask]:
     """One task per run of the named sections (a run shared by two sections once, in section order).
     KeyError for a section the project does not define."""
     surveys = dict.fromkeys(survey for name in sections for survey in project.section(name).surveys)
-    return [BatchTask(project.path, survey) for survey in surveys]
+    return [BatchTask(project.path, survey, survey_bytes(project, survey)) for survey in surveys]
 
 
 def run_task(task: BatchTask) -> BatchOutcome:
@@ -213,7 +233,7 @@ def _outcome(future, task: BatchTask) -> BatchOutcome:
 
 def _run_locally(tasks, workers, report, cancel) -> None:
     workers = max(1, min(workers or os.cpu_count() or 1, len(tasks)))
-    waiting = list(tasks)
+    waiting = longest_first(tasks)
     pending = {}
     with ProcessPoolExecutor(workers, mp_context=get_context("spawn")) as pool:
 
@@ -249,7 +269,9 @@ def _run_on_dask(tasks, scheduler, report, cancel, security=None) -> None:
     with _dask_client(scheduler, security) as client:
         from distributed import wait as dask_wait
 
-        pending = {client.submit(run_task, task, pure=False): task for task in tasks}
+        ordered = longest_first(tasks)  # the scheduler starts the higher priority first
+        pending = {client.submit(run_task, task, pure=False, priority=len(ordered) - rank): task
+                   for rank, task in enumerate(ordered)}
         try:
             while pending:
                 try:
