@@ -19,10 +19,12 @@ from __future__ import annotations
 
 import datetime
 import math
+import shutil
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
 
 import numpy as np
+import shared_build
 from scipy.spatial import cKDTree
 
 from insrail.io.survey import TrolleyGeometry
@@ -272,6 +274,16 @@ def build_cell(cell: Cell, folder: Path, seed: int, config: ScenarioConfig | Non
         (project / name).write_bytes((simulated / "truth" / name).read_bytes())
     (project / "project.toml").write_text(project_toml(cell, config))
     return BuiltCell(project, simulated / "truth", config)
+
+
+def built_cell_copy(cell: Cell, folder: Path, seed: int) -> BuiltCell:
+    """:func:`build_cell` (the cell's own :func:`scenario`) made once per test run for every test asking for
+    the same cell and seed (``shared_build``); its user project copied into ``folder/project``, to be changed
+    and processed there. The simulator's folder (``truth``) is the shared one: read-only."""
+    shared = shared_build.built_once(f"cell-{cell.cell_id}-{seed}", lambda out: build_cell(cell, out, seed))
+    project = folder / "project"
+    shutil.copytree(shared / "project", project)
+    return BuiltCell(project, shared / "sim" / "truth", scenario(cell))
 
 
 # --- accuracy against the truth ------------------------------------------------------------------

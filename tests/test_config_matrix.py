@@ -37,11 +37,12 @@ import io
 import re
 import tomllib
 import zlib
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
-from survey_builder import SURVEY_NAME, Cell, build_cell, pairwise_cells, rms, truth_errors
+from survey_builder import SURVEY_NAME, Cell, built_cell_copy, pairwise_cells, rms, survey_toml, truth_errors
 
 from insrail.cli.main import main
 from insrail.project.assessable import RESOLVE_SIGMAS
@@ -115,7 +116,7 @@ def _process_and_report(project: Path) -> None:
 
 @pytest.mark.parametrize("cell", _cells())
 def test_a_user_style_survey_is_as_accurate_as_it_says(cell: Cell, tmp_path):
-    built = build_cell(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
+    built = built_cell_copy(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
     _process_and_report(built.project)
     results = built.project / "results" / SURVEY_NAME
     # heights: normal with benchmarks or prism fixes (engineering frame), else ellipsoidal (H = h)
@@ -160,9 +161,15 @@ def test_a_user_style_survey_is_as_accurate_as_it_says(cell: Cell, tmp_path):
 def test_a_survey_without_its_gauge_record_is_refused_before_the_fusion(tmp_path):
     """`insrail process` needs the gauge record (docs/formats.md): a survey without one is refused with the
     key to give, before any fusion is computed, and `insrail report` then says there is nothing to report."""
-    cell = Cell(imu="nav", position="gnss+prism", ellipsoid="CGCS2000", design="csv", direction="with",
-                left_out="gauge", trolley="minimal")
-    built = build_cell(cell, tmp_path, seed=1)
+    cell = Cell(imu="nav", position="gnss+prism", ellipsoid="WGS84", design="csv", direction="with",
+                left_out="none", trolley="calibrated")  # a matrix cell's survey (simulated once), its gauge record left out
+    built = built_cell_copy(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
+    survey = built.project / "survey"
+    files = {role: (entry["path"], entry["format"])
+             for role, entry in tomllib.loads((survey / "survey.toml").read_text())["files"].items() if role != "gauge"}
+    (survey / "gauge.txt").unlink()
+    (survey / "survey.toml").write_text(survey_toml(replace(cell, left_out="gauge"), files))
+    assert "gauge" not in (survey / "survey.toml").read_text()
     code, out = insrail("process", str(built.project))
     assert code == 1 and "files.gauge: missing" in out
     assert not _fused(built.project)
@@ -176,7 +183,7 @@ def test_a_run_the_imu_takes_for_a_stop_is_refused_by_the_prism_fixes(tmp_path):
     before the fusion, with remedies `insrail process` users have (not a --heading it does not take)."""
     cell = Cell(imu="mems_handheld", position="prism", ellipsoid="WGS84", design="csv", direction="with",
                 left_out="odometer", trolley="calibrated")
-    built = build_cell(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
+    built = built_cell_copy(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
     code, out = insrail("process", str(built.project))
     assert code == 1 and "prism fixes move by" in out and "which the IMU takes for a stop" in out, out
     assert "odometer's file" in out and "survey.imu_profile" in out and "--heading" not in out, out
@@ -191,7 +198,7 @@ def test_a_prism_fix_held_out_is_within_3_sigma_of_the_trajectory_or_its_stretch
     missed by metres, and the survey refused (87 % of it beyond its 1-sigma)."""
     cell = Cell(imu="mems", position="prism", ellipsoid="CGCS2000", design="csv", direction="with",
                 left_out="sleepers", trolley="calibrated")
-    built = build_cell(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
+    built = built_cell_copy(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
     prism = built.project / "survey" / "prism.txt"
     header, *rows = prism.read_text().splitlines()
     held_out = rows[3]  # the fourth CPIII point: the trolley reaches it 180 m after the start

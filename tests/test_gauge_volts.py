@@ -16,7 +16,7 @@ from insrail.cli.main import main
 from insrail.io import InputError, ManifestError, read_any, read_manifest
 from insrail.track.alignment_csv import read_alignment_csv
 from insrail.track.rails import gauge_curve_correction_m
-from survey_builder import SURVEY_NAME, Cell, build_cell
+from survey_builder import SURVEY_NAME, Cell, built_cell_copy
 
 K_MM_PER_V, B_MM, K_T_MM_PER_C, T_CAL_C = 2.5, 1400.0, 0.0165, 20.0
 CALIBRATION = (f"k_mm_per_v = {K_MM_PER_V}\nb_mm = {B_MM}\ntemperature_coefficient_mm_per_c = {K_T_MM_PER_C}\n"
@@ -125,7 +125,7 @@ def test_gauge_in_volts_processes_to_the_gauge_of_the_millimetre_file_and_the_be
     irregularities (1 mm RMS here): sleeper by sleeper the correction scatters by a few hundredths of a mm."""
     cell = Cell(imu="nav", position="rtklib-pos", ellipsoid="CGCS2000", design="csv", direction="with",
                 left_out="none", trolley="minimal")
-    built = build_cell(cell, tmp_path / "mm", seed=7)
+    built = built_cell_copy(cell, tmp_path / "mm", seed=7)
     code, out = _insrail("process", str(built.project))
     assert code == 0, out
     volts_project = tmp_path / "volts"

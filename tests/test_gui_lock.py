@@ -9,7 +9,7 @@ test forever, and none may appear here anyway.
 from __future__ import annotations
 
 import pytest
-from survey_builder import SURVEY_NAME, Cell, build_cell
+from survey_builder import SURVEY_NAME, Cell, built_cell_copy
 from test_project_lock import hold_in_child
 
 pytest.importorskip("pytestqt")
@@ -18,6 +18,8 @@ from PySide6.QtWidgets import QDialog, QMessageBox
 from insrail.project.lock import ProjectBusy, project_run, waiting_policy
 
 WAIT_S = 60
+#: The survey (simulated once per test run; test_gauge_volts processes the same one)
+CELL = Cell("nav", "rtklib-pos", "CGCS2000", "csv", "with", "none", "minimal")
 
 
 @pytest.fixture
@@ -37,7 +39,7 @@ def no_dialogs(monkeypatch):
 
 
 def test_process_waits_for_a_run_of_another_process_says_for_whom_and_goes_on(window, qtbot, no_dialogs, tmp_path):
-    built = build_cell(Cell("nav", "rtklib-pos", "CGCS2000", "csv", "with", "none", "minimal"), tmp_path, seed=1)
+    built = built_cell_copy(CELL, tmp_path, seed=7)
     assert window.open_project(built.project / "project.toml")
     qtbot.waitUntil(lambda: window.loader is None, timeout=WAIT_S * 1000)
 
@@ -69,7 +71,7 @@ def test_process_waits_for_a_run_of_another_process_says_for_whom_and_goes_on(wi
 
 
 def test_process_cancelled_while_waiting_for_the_lock_ends_cleanly(window, qtbot, no_dialogs, tmp_path):
-    built = build_cell(Cell("nav", "rtklib-pos", "CGCS2000", "csv", "with", "none", "minimal"), tmp_path, seed=2)
+    built = built_cell_copy(CELL, tmp_path, seed=7)
     assert window.open_project(built.project / "project.toml")
     qtbot.waitUntil(lambda: window.loader is None, timeout=WAIT_S * 1000)
     holder = hold_in_child(built.project, SURVEY_NAME)

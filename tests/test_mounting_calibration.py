@@ -17,7 +17,7 @@ import pytest
 
 from insrail.cli.main import main
 from insrail.nav.mounting import CROSS_LEVEL_REFERENCE_M, roll_from_cant
-from survey_builder import SURVEY_NAME, Cell, build_cell, truth_errors
+from survey_builder import SURVEY_NAME, Cell, built_cell_copy, truth_errors
 
 WRONG_DEG = 0.3
 CELL = Cell("nav", "rtklib-pos", "CGCS2000", "csv", "with", "none", "calibrated")
@@ -40,7 +40,7 @@ def surveys(tmp_path_factory):
     """The same simulated run processed with the right mounting and with each axis 0.3 deg wrong."""
     built = {}
     for name, offset in (("right", 0.0), ("wrong", WRONG_DEG)):
-        cell = build_cell(CELL, tmp_path_factory.mktemp(name), seed=zlib.crc32(CELL.cell_id.encode()))
+        cell = built_cell_copy(CELL, tmp_path_factory.mktemp(name), seed=zlib.crc32(CELL.cell_id.encode()))
         toml = cell.project / "survey" / "survey.toml"
         given = np.degrees(cell.config.trolley.mounting_rpy_rad) + offset
         text, count = re.subn(r"mounting_rpy_deg = .*", f"mounting_rpy_deg = [{', '.join(f'{v:.4f}' for v in given)}]",
