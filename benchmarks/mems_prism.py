@@ -41,7 +41,7 @@ LAG_SLEEPERS = 8  # 5 m at 0.625 m
 
 def one_survey(workdir: Path, seed: int, imu: str) -> tuple[list[dict], list[str]]:
     """Per section of quality.csv: {figure: (stated 1-sigma [m], actual errors [m])}; the summary's notices."""
-    from survey_builder import SURVEY_NAME, Cell, build_cell, scenario, truth_errors
+    from survey_builder import SURVEY_NAME, BuiltCell, Cell, build_cell, scenario, truth_errors
 
     from insrail.cli.main import main
     from insrail.nav.earth import CGCS2000
@@ -53,7 +53,6 @@ def one_survey(workdir: Path, seed: int, imu: str) -> tuple[list[dict], list[str
     folder = workdir / f"{imu}-seed{seed}"
     if not (folder / "project").is_dir():
         build_cell(cell, folder, seed=seed)
-    from survey_builder import BuiltCell
     built = BuiltCell(folder / "project", folder / "sim" / "truth", scenario(cell))
     results = built.project / "results" / SURVEY_NAME
     with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()) as err:
@@ -80,15 +79,12 @@ def one_survey(workdir: Path, seed: int, imu: str) -> tuple[list[dict], list[str
         def inside(station):
             return (station >= lo) & (station < hi)
 
-        cant_station = measured["station_m"] if "station_m" in measured.dtype.names else None
         sections.append({
             "lateral": (1e-3 * row["sigma_lateral_mm"], rail.lateral_m[inside(rail.station_m)]),
             "vertical": (1e-3 * row["sigma_vertical_mm"], rail.vertical_m[inside(rail.station_m)]),
             "lag5_lateral": (1e-3 * row["sigma_lag5_lateral_mm"], lag_lateral[inside(lag_station)]),
             "lag5_vertical": (1e-3 * row["sigma_lag5_vertical_mm"], lag_vertical[inside(lag_station)]),
-            "cross_level": (1e-3 * row["sigma_cross_level_mm"],
-                            comparison.cant_error_m[inside(cant_station)] if cant_station is not None
-                            else np.empty(0)),
+            "cross_level": (1e-3 * row["sigma_cross_level_mm"], comparison.cant_error_m[inside(measured["station_m"])]),
             "along_track": (1e-3 * row["sigma_along_track_mm"],
                             along[errors.moving & inside(errors.station_m)]),
             "span": (lo, hi),

@@ -17,10 +17,34 @@ sys.path.insert(0, str(Path(__file__).parent))
 import shared_build  # noqa: E402 (a test helper beside the tests)
 
 
+NUMBA_WARMUP = "numba-warmup"
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_configure(config):
+    """The xdist controller fills insrail's numba cache once while its workers start (tests/numba_warmup.py);
+    without it every worker of a clean checkout compiled the kernels itself."""
+    if hasattr(config, "workerinput") or not config.getoption("numprocesses", None) or config.option.collectonly:
+        return
+    run_folder = config._tmp_path_factory.getbasetemp()
+    config._numba_warmup = shared_build.start_holding(
+        run_folder, NUMBA_WARMUP, [sys.executable, str(Path(__file__).with_name("numba_warmup.py")),
+                                   str(run_folder / "shared" / NUMBA_WARMUP)])
+
+
+def pytest_unconfigure(config):
+    warmup = getattr(config, "_numba_warmup", None)
+    if warmup is not None:
+        warmup.kill()  # a run stopped early does not wait for it
+        warmup.wait()
+
+
 @pytest.fixture(scope="session", autouse=True)
 def _shared_run_folder(tmp_path_factory):
-    """Where inputs made once per run for every xdist worker are kept (`shared_build`)."""
+    """Where inputs made once per run for every xdist worker are kept (`shared_build`); the numba cache
+    filled (or the controller's warm-up ended) before a worker's first test."""
     shared_build.RUN_FOLDER = shared_build.run_folder(tmp_path_factory)
+    shared_build.wait_for(NUMBA_WARMUP)
 
 
 @pytest.fixture(scope="session")

@@ -13,6 +13,7 @@ import fcntl
 import os
 import pickle
 import shutil
+import subprocess
 from collections.abc import Callable
 from pathlib import Path
 from typing import TypeVar
@@ -58,3 +59,22 @@ def computed_once(name: str, compute: Callable[[], T]) -> T:
         (folder / "value.pickle").write_bytes(pickle.dumps(value))
 
     return pickle.loads((built_once(name, build) / "value.pickle").read_bytes())
+
+
+def start_holding(run_folder: Path, name: str, argv: list[str]) -> subprocess.Popen:
+    """Starts ``argv`` in the background holding the lock of ``name`` until it ends (the lock passes to it with
+    its file descriptor); its output goes to ``name.log``. :func:`wait_for` waits for it."""
+    folder = run_folder / "shared"
+    folder.mkdir(exist_ok=True)
+    with open(folder / (name + ".lock"), "w") as lock, open(folder / (name + ".log"), "w") as log:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        return subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
+                                pass_fds=(lock.fileno(),))
+
+
+def wait_for(name: str) -> None:
+    """Returns once no process started by :func:`start_holding` for ``name`` runs any more (at once if none was)."""
+    lock_path = _shared(name).with_name(name + ".lock")
+    if lock_path.exists():
+        with open(lock_path) as lock:
+            fcntl.flock(lock, fcntl.LOCK_SH)

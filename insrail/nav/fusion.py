@@ -913,13 +913,22 @@ class SmootherStore:
         self.count = 0
 
     def reversed_chunks(self):
-        """(index of the chunk's first record, records (k, RECORD)) from the last chunk to the first."""
+        """(index of the chunk's first record, records (k, RECORD)) from the last chunk to the first.
+        The records are read into one buffer (a fresh 15 MB block per chunk is a fresh mapping whose
+        pages the kernel faults in and zeroes, ``insrail.memory``): each chunk is good until the next
+        one is asked for, and read-only."""
         self.file.flush()
         size = self.RECORD * 8
+        buffer = np.empty((min(self.chunk, max(self.count, 1)), self.RECORD))
         for first in range(((self.count - 1) // self.chunk) * self.chunk, -1, -self.chunk):
             n = min(self.chunk, self.count - first)
             self.file.seek(first * size)
-            yield first, np.frombuffer(self.file.read(n * size), dtype=np.float64).reshape(n, self.RECORD)
+            records = buffer[:n]
+            if self.file.readinto(memoryview(records).cast("B")) != n * size:
+                raise OSError(f"{tempfile.gettempdir()} (the smoother's temporary file): records {first}-{first + n - 1} "
+                              "not written")
+            records.flags.writeable = False
+            yield first, records
 
     def reversed_blocks(self):
         """Blocks (j, Phi_j, P-_j, P+_j, dx_j) for j = count, ..., 1, unpacked (compiled) into
