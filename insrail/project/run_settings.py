@@ -249,10 +249,11 @@ class RecordedSettings:
             return [Phrase("the project's settings cannot be resolved now ({error}): the results stand as recorded",
                            {"error": str(error)})]
         lines = []
+        digested = {"imu_profile": settings.imu_profile, "tolerance_profile": settings.tolerance_profile,
+                    "fastener": settings.fastener, "fusion": settings.fusion}
         for key, what, describe in _DESCRIBED:
             then, today = self.record.get(key), now[key]
-            loaded = {"imu_profile": settings.imu_profile, "tolerance_profile": settings.tolerance_profile,
-                      "fastener": settings.fastener, "fusion": settings.fusion}.get(key)
+            loaded = digested.get(key)
             if loaded is not None and then is not None and then.get("digest") == _legacy_digest(loaded):
                 then = {**then, "digest": today["digest"]}  # recorded with the path in the digest: the same contents
             if then is None or _same(then, today):

@@ -147,7 +147,7 @@ def _position_taper(station_m: np.ndarray, start: float, end: float, rises: bool
     return 0.5 * (1.0 - np.cos(np.pi * np.clip(np.minimum(rise, fall), 0.0, 1.0)))
 
 
-def _fold(table: _Table, run: _Table, rule: str, seam_m: float = 0.0) -> _Table:
+def _fold(table: _Table, run: _Table, rule: str, seam_m: float) -> _Table:
     """Join ``run`` into ``table`` (see the module docstring); ``seam_m``: the shortest length the runs' difference
     is spread over (:func:`seam_length_m`)."""
     s, r = table.columns["station_m"], run.columns["station_m"]
