@@ -71,6 +71,29 @@ def test_a_mounting_given_wrong_is_estimated_applied_and_said(surveys):
     assert "mounting_rpy_deg by more than" not in out
 
 
+@pytest.mark.parametrize("name", ["right", "wrong"])
+def test_the_pass_beside_the_main_fusion_gives_the_results_of_one_after_the_other(surveys, name, tmp_path, monkeypatch):
+    """The fixture's processing ran the mounting's pass and the main fusion side by side (the right mounting: the
+    main fusion's guess kept; the wrong one: discarded, fused again); on one CPU they run one after the other,
+    as before: the results are the same to the byte."""
+    from insrail.project import mounting_stage
+
+    cell, _ = surveys[name]
+    serial = tmp_path / "project"
+    shutil.copytree(cell.project, serial, ignore=shutil.ignore_patterns("results", "reports"))
+    monkeypatch.setattr(mounting_stage.os, "cpu_count", lambda: 1)
+    code, out = insrail("process", str(serial))
+    assert code == 0, out
+    ran, again = (folder / "results" / SURVEY_NAME for folder in (cell.project, serial))
+    for file in ("trajectory.npy", "sleepers.csv", "quality.csv", "exceedances.csv"):
+        assert (ran / file).read_bytes() == (again / file).read_bytes(), file
+
+    def summary(folder):
+        return re.sub(r"processing_time_s = .*", "", (folder / "summary.toml").read_text())
+
+    assert summary(ran) == summary(again)
+
+
 def test_with_the_estimate_the_30m_5m_error_is_as_with_the_right_mounting(surveys):
     right, wrong = _chord_errors(surveys["right"][0]), _chord_errors(surveys["wrong"][0])
     assert np.all(wrong <= 1.1 * right), (wrong, right)

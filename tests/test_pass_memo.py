@@ -1,6 +1,7 @@
 """The IMU screening, gap bridging and stops made once for the passes over one survey (insrail.nav.pass_memo):
 the passes give what they give without the memo, and new inputs are screened anew."""
 
+import threading
 from dataclasses import replace
 
 import numpy as np
@@ -76,3 +77,27 @@ def test_same_inputs_compares_arrays_by_value_and_objects_by_identity():
     assert not same_inputs(a, b + 1e-12)
     assert not same_inputs(np.array([np.nan]), np.array([np.nan]))  # made again, never taken for the same
     assert not same_inputs(5.0, 5) and not same_inputs(None, (a,)) and not same_inputs((a,), (a, a))
+
+
+def test_passes_in_two_threads_make_a_value_once():
+    """The mounting's pass and the main fusion side by side: the second to ask waits for the first's value."""
+    memo = PassMemo()
+    inputs = (np.arange(5.0), 3.0)
+    started, values = threading.Event(), []
+
+    def make():
+        started.set()
+        threading.Event().wait(0.2)  # the other thread asks meanwhile
+        return object()
+
+    def ask():
+        values.append(memo.get("screening", inputs, make))
+
+    threads = [threading.Thread(target=ask)]
+    threads[0].start()
+    started.wait()
+    threads.append(threading.Thread(target=ask))
+    threads[1].start()
+    for thread in threads:
+        thread.join()
+    assert memo.made == 1 and values[0] is values[1]

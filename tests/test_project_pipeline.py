@@ -198,6 +198,25 @@ def test_cancel_leaves_the_previous_results(processed, stage):
     assert sorted(p.name for p in results.iterdir()) == [".cache", ".locks", "short"]  # no staging folder left
 
 
+def test_cancel_in_the_fusion_leaves_nothing_in_the_cache(processed):
+    """Cancelled while the mounting's pass and the main fusion run side by side (insrail.project.mounting_stage):
+    both stop, and neither the guessed trajectory nor a partial file is left in the cache."""
+    project, _ = processed
+    project = replace(project, fusion=replace(project.fusion, gate_probability=0.99991))  # a fusion not in the cache
+    cache = project.folder / "results" / ".cache"
+    before = sorted(p.name for p in cache.iterdir())
+    asked = []
+
+    def progress(fraction, message):
+        if "forward filter" in str(message):
+            asked.append(fraction)
+
+    with pytest.raises(Cancelled):
+        process(project, "short", progress=progress, cancel=lambda: bool(asked))
+    assert asked
+    assert sorted(p.name for p in cache.iterdir()) == before
+
+
 def test_cli_process(processed, capsys):
     project, _ = processed
     assert main(["process", str(project.folder), "--survey", "short"]) == 0

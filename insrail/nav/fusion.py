@@ -497,7 +497,9 @@ EVENT_DONE, EVENT_REJECTED, EVENT_ACCEPTED, EVENT_FLUSH, EVENT_PROGRESS, EVENT_N
 IMU_CHUNK = 1 << 16
 _UPPER = np.triu_indices(N_STATES)
 
-compiled = njit(cache=True, error_model="numpy")
+# nogil: the kernels work on arrays alone (no Python object inside), so the mounting's pass and the main
+# fusion run side by side in two threads (``insrail.project.mounting_stage.fused_with_mounting``)
+compiled = njit(cache=True, nogil=True, error_model="numpy")
 
 
 @compiled

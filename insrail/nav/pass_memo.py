@@ -12,10 +12,15 @@ A kept value is returned only for the same inputs: the records, the profile and 
 same objects (held here, so their ids cannot be reused), arrays equal value for value, numbers
 equal; anything else makes it again. The caller drops it (:meth:`PassMemo.clear`) when the passes
 are done, so the screened records are not held through the stages after the fusion.
+
+Passes running side by side in threads (the mounting's pass and the main fusion,
+``insrail.project.mounting_stage.fused_with_mounting``) share one memo: a value is made by one
+thread at a time, so the second pass to ask for it waits for the first's and takes it.
 """
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from typing import Any
 
@@ -40,18 +45,21 @@ class PassMemo:
 
     def __init__(self) -> None:
         self._kept: dict[str, tuple[Any, Any]] = {}
+        self._making = threading.Lock()
         self.made = 0  # values made (not taken from the memo): tests read it
 
     def get(self, name: str, inputs: Any, make: Callable[[], Any]) -> Any:
         """The value kept under ``name`` when it was made from the same ``inputs``, else ``make()``
-        (kept for the next call)."""
-        kept = self._kept.get(name)
-        if kept is not None and same_inputs(kept[0], inputs):
-            return kept[1]
-        value = make()
-        self.made += 1
-        self._kept[name] = (inputs, value)
-        return value
+        (kept for the next call). Another thread asking meanwhile waits for it."""
+        with self._making:
+            kept = self._kept.get(name)
+            if kept is not None and same_inputs(kept[0], inputs):
+                return kept[1]
+            value = make()
+            self.made += 1
+            self._kept[name] = (inputs, value)
+            return value
 
     def clear(self) -> None:
-        self._kept.clear()
+        with self._making:
+            self._kept.clear()

@@ -8,11 +8,20 @@ leaves for the stages after it.
 * Roll, after the track, where there is a design (its cant is the reference): :func:`roll_check`; a
   roll more than 3 sigma off is applied and the rails placed again.
 Each applied axis is a warning naming survey.toml's key and the value to give it.
+
+The yaw/pitch pass and the main fusion run side by side (:func:`fused_with_mounting`): the main fusion
+starts at once with survey.toml's mounting, a guess the pass almost always confirms (a 10 km survey:
+some 8 s of wall time saved of 17). Where the pass applies an axis the guess is thrown away and the
+survey fused again with the estimate, as without the guess: the result is the same either way.
 """
 
 from __future__ import annotations
 
 import math
+import os
+import threading
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from contextvars import copy_context
 from dataclasses import replace
 
 import numpy as np
@@ -26,9 +35,14 @@ from insrail.nav.mounting import (
     yaw_pitch_from_velocity,
 )
 from insrail.notices import Notice, Phrase
+from insrail.progress import StepProgress, is_cancelled
 
 #: the calibration pass's trajectory holds the update epochs (10 Hz): enough for the velocity's direction
 UPDATE_RATE_OUTPUT_HZ = 10.0
+#: the yaw/pitch pass's share of the progress of the pass and the main fusion (about its share of their time)
+PASS_SHARE = 0.3
+#: how often the caller hears of the progress of the pass and the main fusion running side by side [s]
+PROGRESS_INTERVAL_S = 0.25
 
 
 def yaw_pitch_pass(survey, build_aiding, profile, options, ellipsoid, fuse, progress=None, cancel=None
@@ -52,6 +66,66 @@ def yaw_pitch_pass(survey, build_aiding, profile, options, ellipsoid, fuse, prog
         return not_estimated(trolley.mounting_rpy_rad, Phrase("the pass without the NHC is not consistent"))
     rail_point = trolley.imu_to_reference_rail_m if trolley.imu_to_reference_rail_m is not None else np.zeros(3)
     return yaw_pitch_from_velocity(result.trajectory, trolley.mounting_rpy_rad, rail_point)
+
+
+def fused_with_mounting(survey, estimate, fuse, discard, progress=None, cancel=None):
+    """(the mounting estimate, the survey with it applied, the main fusion's result): ``estimate(survey,
+    progress, cancel)`` the yaw/pitch pass (:func:`yaw_pitch_pass`), ``fuse(survey, progress, cancel)`` the
+    main fusion of a survey, ``discard(result)`` drops what a main fusion left (``result``: its result, or
+    None after it failed). As the pass and then the main fusion with the estimate applied, one after the
+    other; where the pass fuses (the survey has GNSS) and there are two CPUs, side by side in two threads:
+    the main fusion with survey.toml's mounting, its result kept where the pass applies no axis (the same
+    survey to the bit, so the same result), else discarded and the survey fused again with the estimate.
+    The threads' progress reaches ``progress`` from the caller's thread; a cancel stops both, and either's
+    failure stops the other; the pass's failure is raised, the main fusion's where it is kept (as one
+    after the other)."""
+    step = StepProgress(progress)
+    share = PASS_SHARE if survey.gnss is not None else 0.0  # without GNSS the pass does not fuse
+    if survey.gnss is None or (os.cpu_count() or 1) < 2:
+        mounting = estimate(survey, step.sub(0.0, share), cancel)
+        mounted = replace(survey, manifest=with_mounting(survey.manifest, mounting.applied_rpy_rad()))
+        return mounting, mounted, fuse(mounted, step.sub(share, 1.0), cancel)
+    given = np.asarray(survey.manifest.trolley.mounting_rpy_rad, dtype=float)
+    guessed = replace(survey, manifest=with_mounting(survey.manifest, given))
+    stop = threading.Event()
+    done, said = {"pass": 0.0, "fusion": 0.0}, {}
+
+    def reporter(name):
+        def report(fraction, message):
+            done[name] = max(done[name], fraction)  # a self-calibration pass starts again from 0
+            said[name] = message
+        return report
+
+    def stopped() -> bool:
+        return stop.is_set() or is_cancelled(cancel)
+
+    def reached() -> float:
+        return share * done["pass"] + (1.0 - share) * done["fusion"]
+
+    def follow(future) -> None:  # the threads' progress to the caller until ``future`` is done
+        while not future.done():
+            wait((future,), timeout=PROGRESS_INTERVAL_S)
+            step(reached(), said.get("fusion") or said.get("pass", ""))
+
+    kept = False
+    with ThreadPoolExecutor(2, thread_name_prefix="insrail-fusion") as pool:
+        # each thread in a copy of the caller's context (the language, the lock's and the cache's notices)
+        passing = pool.submit(copy_context().run, estimate, survey, reporter("pass"), stopped)
+        fusing = pool.submit(copy_context().run, fuse, guessed, reporter("fusion"), stopped)
+        try:
+            follow(passing)
+            mounting = passing.result()
+            mounted = replace(survey, manifest=with_mounting(survey.manifest, mounting.applied_rpy_rad()))
+            kept = mounting.applied_rpy_rad().tobytes() == given.tobytes()
+            if kept:
+                follow(fusing)
+                return mounting, mounted, fusing.result()
+        finally:
+            if not kept:  # the pass failed or applied an axis: the guess goes
+                stop.set()
+                wait((fusing,))
+                discard(fusing.result() if fusing.exception() is None else None)
+    return mounting, mounted, fuse(mounted, step.sub(reached(), 1.0), cancel)
 
 
 def with_mounting(manifest, rpy_rad):

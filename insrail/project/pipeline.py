@@ -76,7 +76,13 @@ from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.project import assessable
 from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
 from insrail.project.design_start import known_start
-from insrail.project.mounting_stage import mounting_notices, roll_check, with_mounting, yaw_pitch_pass
+from insrail.project.mounting_stage import (
+    fused_with_mounting,
+    mounting_notices,
+    roll_check,
+    with_mounting,
+    yaw_pitch_pass,
+)
 from insrail.project.odometer_pair_stage import slip_events, with_odometer_pair
 from insrail.project.relative_survey import (
     absolute_notice,
@@ -399,25 +405,38 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
         known = (known_start(project, alignment, run.crs, manifest.start, manifest.trolley, height_fit)
                  if manifest.start is not None and not manifest.relative else None)
 
-        def build_aiding(options):
-            return replace(aiding_for(survey, options, profile, fixes, shocks.nhc_relaxed_s()), design_azimuth=design,
-                           relative=frame, known_start=known)
+        def aiding_builder(survey):
+            return lambda options: replace(aiding_for(survey, options, profile, fixes, shocks.nhc_relaxed_s()),
+                                           design_azimuth=design, relative=frame, known_start=known)
 
         # every pass screens the same IMU records: once for all (the screened records dropped after the passes)
         memo = PassMemo()
         fuse_pass = partial(fuse, memo=memo)
+
+        def estimated_mounting(survey, progress, cancel):
+            return yaw_pitch_pass(survey, aiding_builder(survey), profile, run.fusion, run.ellipsoid, fuse_pass,
+                                  progress=progress, cancel=cancel)
+
+        def fused(survey, progress, cancel):  # the trajectory streamed into the cache as it is made (sealed below)
+            return fuse_consistent(survey.imu, aiding_builder(survey), profile, run.fusion, run.ellipsoid,
+                                   new_store=SmootherStore if run.fusion.smoother else None, fuse=fuse_pass,
+                                   progress=progress, cancel=cancel, trajectory_file=path)
+
+        def discarded(outcome):  # a main fusion with a mounting the pass did not confirm
+            if outcome is not None and outcome[2] is not None:
+                outcome[2].close()
+            path.unlink(missing_ok=True)
+
         # the IMU's mounting from the survey (where GNSS gives the direction of travel), applied where it
         # differs from the given one beyond 3 sigma: the NHC then holds the right axes to the rail
-        mounting = (yaw_pitch_pass(survey, build_aiding, profile, run.fusion, run.ellipsoid, fuse_pass,
-                                   progress=progress.sub(0.05, 0.3), cancel=cancel)
-                    if run.fusion.use_nhc else not_estimated(manifest.trolley.mounting_rpy_rad, Phrase("the NHC is off")))
-        survey = replace(survey, manifest=with_mounting(survey.manifest, mounting.applied_rpy_rad()))
+        if run.fusion.use_nhc:
+            mounting, survey, (result, options, store, _) = fused_with_mounting(
+                survey, estimated_mounting, fused, discarded, progress.sub(0.05, 0.87), cancel)
+        else:
+            mounting = not_estimated(manifest.trolley.mounting_rpy_rad, Phrase("the NHC is off"))
+            survey = replace(survey, manifest=with_mounting(survey.manifest, mounting.applied_rpy_rad()))
+            result, options, store, _ = fused(survey, progress.sub(0.05, 0.87), cancel)
         checked += mounting_notices(mounting, "survey.toml")
-        # the trajectory is streamed into the cache as the smoother makes it (sealed below)
-        result, options, store, _ = fuse_consistent(
-            survey.imu, build_aiding,
-            profile, run.fusion, run.ellipsoid, new_store=SmootherStore if run.fusion.smoother else None, fuse=fuse_pass,
-            progress=progress.sub(0.3 if survey.gnss is not None else 0.05, 0.87), cancel=cancel, trajectory_file=path)
         memo.clear()
         check_cancel(cancel)
         if not result.integrity.trusted:
