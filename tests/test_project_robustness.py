@@ -297,6 +297,35 @@ def test_the_clock_check_correlation_is_scipy_signals_bit_for_bit():
         assert np.array_equal(_correlate_full(a, b), correlate(a, b, mode="full", method="fft"))
 
 
+def test_a_clock_error_found_while_the_fusion_runs_stops_it_and_comes_first(tiny, tmp_path, monkeypatch):
+    """The clocks are checked beside the other checks and the fusion's start (insrail.project.clocks.ClockCheck):
+    a verdict reached once the fusion runs stops it, is raised as when the clocks were checked first, and leaves
+    nothing in the cache."""
+    from insrail.project import clocks
+
+    class LateClock(ValueError):
+        pass
+
+    project = copy_of(tiny, tmp_path)
+    for entry in cache_of(project).iterdir():  # fused again
+        entry.unlink()
+    fusing = threading.Event()
+
+    def late_verdict(survey, labels):
+        fusing.wait(120)
+        raise LateClock("odometer.txt: its time stamps run 2.00 s late")
+
+    def progress(fraction, message):
+        if "forward filter" in str(message):
+            fusing.set()
+
+    monkeypatch.setattr(clocks, "check_clocks", late_verdict)
+    with pytest.raises(LateClock, match="2.00 s late"):
+        process(load_project(project), SURVEY, progress=progress)
+    assert fusing.is_set()
+    assert not any(entry.name.startswith(("fusion-", ".fusion-")) for entry in cache_of(project).iterdir())
+
+
 def test_a_given_time_offset_is_applied_and_nothing_said(tiny, tmp_path):
     """A known latency written as time_offset_s, as a user writes it: the 1 s odometer is accepted and
     fused as the clean one (no filter reset, every sleeper valid)."""
@@ -339,13 +368,13 @@ def test_a_gauge_outlier_is_removed_and_listed(tiny, tmp_path, capsys):
 
 
 def test_on_a_clean_survey_the_checks_change_nothing_and_say_nothing(tiny, tmp_path, monkeypatch):
-    from insrail.project import pipeline
+    from insrail.project import clocks, pipeline
 
     unchecked = copy_of(tiny, tmp_path / "unchecked")
     for entry in cache_of(unchecked).iterdir():  # fused again: the checks run on the raw files
         entry.unlink()
     monkeypatch.setattr(pipeline, "check_survey", lambda survey, nominal: (survey, []))
-    monkeypatch.setattr(pipeline, "check_clocks", lambda survey, labels: [])
+    monkeypatch.setattr(clocks, "check_clocks", lambda survey, labels: [])
     monkeypatch.setattr(pipeline, "check_trolley", lambda *args: None)
     monkeypatch.setattr(pipeline, "check_benchmarks", lambda *args: None)
     process(load_project(unchecked), SURVEY)

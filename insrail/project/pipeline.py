@@ -72,7 +72,7 @@ from insrail.nav.self_calibration import fuse_consistent
 from insrail.nav.shocks import NHC_RELAXED_S, detect_shocks
 from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.notices import Notice, Phrase
-from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel, is_cancelled
 from insrail.project import assessable
 from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
 from insrail.project.design_start import known_start
@@ -97,7 +97,7 @@ from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE, run_gnss_sta
 from insrail.project.local_control import LocalFit, fit_local
 from insrail.project.lock import cache_entry, project_run
 from insrail.project.model import Project
-from insrail.project.clocks import check_clocks
+from insrail.project.clocks import ClockCheck
 from insrail.project.plausibility import (
     check_benchmarks,
     check_imu_profile,
@@ -383,21 +383,21 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
     survey, placed = with_total_station_fixes(read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel,
                                                           gnss=gnss, trolley_from_project=True))
     survey = replace(survey, manifest=manifest)
-    clocks = check_clocks(survey, file_labels(survey))  # first: a time-scale mix-up also upsets the other checks
-    survey, checked = check_survey(survey, nominal_gauge_m(project))
-    survey, pair_notices, odometer_pair = with_odometer_pair(survey, file_labels(survey))
-    checked = [*clocks, *checked, *pair_notices]
-    checked = [*placed, *gnss_free_run_notices(survey), *checked]
-    fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
-             if survey.prism is not None and len(survey.prism) else None)
-    profile = run.imu_profile
-    # rail joints: the NHC does not hold over their shocks (thesis 5.3.1.2); listed as events later
-    shocks = detect_shocks(survey.imu)
+    # first: a time-scale mix-up also upsets the other checks (checked beside them and the fusion's start)
+    clocks = ClockCheck(survey, file_labels(survey))
     # The smoother's record of the filter (Phi, P-, P+ per update epoch, on disk) outlives the
     # fusion so that the covariance analysis needs only its backward pass, not a replay.
     store = None
-    cache.mkdir(parents=True, exist_ok=True)
     try:  # fused again where the first pass shows the NHC or the GNSS sigmas do not hold (self_calibration)
+        survey, checked = check_survey(survey, nominal_gauge_m(project))
+        survey, pair_notices, odometer_pair = with_odometer_pair(survey, file_labels(survey))
+        free_run = gnss_free_run_notices(survey)
+        fixes = (prism_fixes(project, survey.prism, manifest.trolley, height_fit)
+                 if survey.prism is not None and len(survey.prism) else None)
+        profile = run.imu_profile
+        # rail joints: the NHC does not hold over their shocks (thesis 5.3.1.2); listed as events later
+        shocks = detect_shocks(survey.imu)
+        cache.mkdir(parents=True, exist_ok=True)
         alignment = read_design(project.resolve(run.design)) if run.design else None
         design = design_azimuth_for(project, alignment, profile)
         frame = (relative_frame(project, alignment, run.crs, manifest.start, manifest.trolley, height_fit)
@@ -427,16 +427,20 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
                 outcome[2].close()
             path.unlink(missing_ok=True)
 
+        def fusion_cancel():  # the clocks' error comes first: the fusion stops for it
+            return is_cancelled(cancel) or clocks.failed()
+
         # the IMU's mounting from the survey (where GNSS gives the direction of travel), applied where it
         # differs from the given one beyond 3 sigma: the NHC then holds the right axes to the rail
         if run.fusion.use_nhc:
             mounting, survey, (result, options, store, _) = fused_with_mounting(
-                survey, estimated_mounting, fused, discarded, progress.sub(0.05, 0.87), cancel)
+                survey, estimated_mounting, fused, discarded, progress.sub(0.05, 0.87), fusion_cancel)
         else:
             mounting = not_estimated(manifest.trolley.mounting_rpy_rad, Phrase("the NHC is off"))
             survey = replace(survey, manifest=with_mounting(survey.manifest, mounting.applied_rpy_rad()))
-            result, options, store, _ = fused(survey, progress.sub(0.05, 0.87), cancel)
-        checked += mounting_notices(mounting, "survey.toml")
+            result, options, store, _ = fused(survey, progress.sub(0.05, 0.87), fusion_cancel)
+        checked = [*placed, *free_run, *clocks.notices(), *checked, *pair_notices,
+                   *mounting_notices(mounting, "survey.toml")]
         memo.clear()
         check_cancel(cancel)
         if not result.integrity.trusted:
@@ -463,8 +467,9 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
         else:
             quality = epoch_quality(survey, result, options, profile, run.ellipsoid,
                                     progress=progress.sub(0.87, 1.0), cancel=cancel)
-    except BaseException:  # untrusted, cancelled or failed once the streamed trajectory is complete: no unsealed entry left
-        path.unlink(missing_ok=True)
+    except BaseException as error:  # untrusted, cancelled or failed once the streamed trajectory is complete:
+        path.unlink(missing_ok=True)  # no unsealed entry left
+        clocks.first(error)  # as when the clocks were checked before all else
         raise
     finally:
         if store is not None:
