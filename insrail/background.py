@@ -13,7 +13,8 @@ analysis of a fusion while the track is reconstructed from the fused trajectory.
   when the caller fails or is cancelled: the job raises :class:`~insrail.progress.Cancelled` at
   its next check point and is waited for, so nothing of it goes on behind the caller's back);
 * failures: the job's exception is raised by :meth:`BackgroundJob.result` as it was raised (its
-  message and traceback).
+  message and traceback). As a context manager the job is stopped and waited for when the block
+  ends, so a failure between the start and the result leaves no thread behind.
 
 The job runs in a copy of the caller's context (:mod:`contextvars`: the language, the notices
 being collected). It should spend its time in code that releases the GIL (numpy, LAPACK, nogil
@@ -101,6 +102,14 @@ class BackgroundJob(Generic[T]):
         if self._error is not None:
             raise self._error
         return self._value
+
+    def __enter__(self) -> BackgroundJob[T]:
+        return self
+
+    def __exit__(self, kind, error, traceback) -> bool:
+        """The job stopped and waited for when the block ends (at once when it failed: see :meth:`stop`)."""
+        self.stop()
+        return False
 
     def stop(self) -> None:
         """Ask the job to stop and wait until it has (what it raised then is dropped: the caller's

@@ -76,3 +76,12 @@ def test_on_one_cpu_the_job_runs_at_once_in_the_caller_with_the_progress_given(m
     assert said == [0.25, 0.5, 0.75, 1.0]
     with pytest.raises(ValueError, match="step 1"):
         BackgroundJob(stepping(4, fail_at=1), None, None, "analysis")
+
+
+def test_as_a_context_manager_a_failure_in_the_block_stops_the_job_and_leaves_no_thread():
+    with pytest.raises(KeyError, match="the caller's own failure"):
+        with BackgroundJob(stepping(10_000, 0.001), None, None, "figures", threaded=True) as job:
+            raise KeyError("the caller's own failure")
+    assert not any(thread.name == "figures" for thread in threading.enumerate())
+    with BackgroundJob(stepping(3), None, None, "figures", threaded=True) as job:
+        assert job.result() == "figures"

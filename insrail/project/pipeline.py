@@ -19,7 +19,9 @@ Three stages are cached in ``<project>/results/.cache/``, each under a hash of w
   ellipsoid (and with prism fixes the geodesy placing them). A cached fusion reads no raw file.
   Beside it ``fusion-<key>.quality.npz``: the covariance analysis of the fusion's timeline
   (:func:`insrail.quality.epoch_quality`, per update epoch), computed right after the fusion
-  while its timeline, the survey and (smoothed) the filter's own record of Phi, P-, P+ are at hand. The per-section table in ``quality.csv`` is
+  while its timeline, the survey and (smoothed) the filter's own record of Phi, P-, P+ are at hand
+  (from the record: in a thread beside the track reconstruction, which reads only the trajectory
+  file; the entry is sealed once the analysis is saved, :class:`FusionEntry`). The per-section table in ``quality.csv`` is
   formed from it on the reconstructed chainage (which depends on the track settings).
 * ``track-<key>.npz``        the sleepers and the epochs' stations (not the rails: what the later
   stages take from them, :class:`~insrail.track.sleeper_table.EpochStations`): the fusion key plus CRS, height model,
@@ -786,7 +788,12 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                                 *_line_fit_notices(extras.line, table)]]
     if local is not None:
         summary["local_control"] = local.summary()
-    summary["track_quality"] = track_quality_section(geometry)
+    # the report's figures of the trajectory, read from its file by parts (numpy, mostly without the GIL),
+    # beside the band-pass filters' first import of scipy.signal
+    with BackgroundJob(lambda said, stop: trajectory_section(trajectory_file), None, cancel,
+                       "trajectory figures") as figures:
+        summary["track_quality"] = track_quality_section(geometry)
+        trajectory_figures = figures.result()
     summary["events"] = events_section(events, table.station_m, turnout_counts)
     summary["joints"] = joints_section(joints, shocks)
     summary["track"]["sleeper_pulses"] = recon.sleepers.repair_counts()
@@ -816,7 +823,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         table = without_deviations(table)
         recon = replace(recon, table=table)
     summary["files"]["quality"] = QUALITY_FILE
-    summary["trajectory"] = trajectory_section(trajectory_file)  # the report's figures, read here in chunks
+    summary["trajectory"] = trajectory_figures
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment, parameter_columns(
             table, extras.attitude_rad, curvature, speed, bases)),
