@@ -4,13 +4,16 @@ outage."""
 
 import shutil
 import subprocess
+import threading
+import time
 import tomllib
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from insrail.progress import Cancelled
+from insrail import background
+from insrail.progress import Cancelled, is_cancelled
 from insrail.project import pipeline, process
 from insrail.project.demo import project_for_simulated_survey
 from insrail.project.results import QUALITY_FILE, QUALITY_HEADER, _read_quality, load_results
@@ -210,3 +213,81 @@ def test_the_workbook_summary_gives_the_predicted_accuracy_per_section(processed
     shown = [row[column] for row in rows[header + 1:header + 1 + len(stored.quality)]]
     np.testing.assert_allclose(shown, stored.quality.sigma_lag5_lateral_mm, atol=1e-9)
     assert rows[header].index("Predicted 1σ, 150 m lag difference, vertical (mm)") == column + 3
+
+
+def fresh_copy(project, tmp_path, name: str):
+    """A project of the same survey with nothing computed yet."""
+    root = tmp_path / name
+    shutil.copytree(project.folder / "surveys" / SURVEY, root / "surveys" / SURVEY)
+    return root, project_for_simulated_survey(root, root / "surveys" / SURVEY)
+
+
+RESULT_FILES = ("sleepers.csv", "quality.csv", "exceedances.csv", "trajectory.npy")
+
+
+def test_the_analysis_beside_the_track_says_its_progress_forward_and_matches_the_serial_run(processed, tmp_path,
+                                                                                          monkeypatch):
+    """With two CPUs the covariance analysis runs in a thread beside the track reconstruction: every
+    progress call comes from the calling thread, the fractions never go back, the analysis's progress
+    is said within the track's step; with one CPU it runs before the track, and the results are the
+    same to the byte."""
+    project, _ = processed
+    runs = {}
+    for cpus in (2, 1):
+        monkeypatch.setattr(background.os, "cpu_count", lambda: cpus)
+        root, fresh = fresh_copy(project, tmp_path, f"cpus-{cpus}")
+        said = []
+        caller = threading.current_thread()
+        process(fresh, SURVEY, progress=lambda f, m: said.append((f, str(m), threading.current_thread() is caller)))
+        assert all(in_caller for _, _, in_caller in said)
+        track = next(i for i, (_, m, _) in enumerate(said) if m == "rails, chainage and sleepers")
+        analysis = [i for i, (_, m, _) in enumerate(said) if m.startswith("covariance")]
+        assert analysis and (min(analysis) > track if cpus > 1 else max(analysis) < track)
+        fractions = [f for f, _, _ in said[min(analysis[0], track):]]  # (the fusion's second pass starts again)
+        assert fractions == sorted(fractions)
+        assert not any(thread.name == "covariance analysis" for thread in threading.enumerate())
+        runs[cpus] = root / "results" / SURVEY
+    for name in RESULT_FILES:
+        assert (runs[2] / name).read_bytes() == (runs[1] / name).read_bytes(), name
+    assert list((runs[2].parent / ".cache").glob("fusion-*.quality.npz.sha256"))  # sealed
+
+
+def test_cancelling_while_the_analysis_runs_beside_the_track_stops_both_and_caches_no_fusion(processed, tmp_path,
+                                                                                          monkeypatch):
+    project, _ = processed
+    monkeypatch.setattr(background.os, "cpu_count", lambda: 2)
+    root, fresh = fresh_copy(project, tmp_path, "cancelled")
+    real = pipeline.recorded_quality
+    running = threading.Event()
+
+    def held(*args, cancel, **kwargs):  # still running when the track starts, until the cancel reaches it
+        running.set()
+        while not is_cancelled(cancel):
+            time.sleep(0.01)
+        return real(*args, cancel=cancel, **kwargs)
+
+    monkeypatch.setattr(pipeline, "recorded_quality", held)
+    messages = []
+    with pytest.raises(Cancelled):
+        process(fresh, SURVEY, progress=lambda f, m: messages.append(str(m)),
+                cancel=lambda: "rails, chainage and sleepers" in messages)
+    assert running.is_set()
+    assert not any(thread.name == "covariance analysis" for thread in threading.enumerate())
+    assert not list((root / "results" / ".cache").glob("fusion-*"))  # neither the trajectory nor its analysis
+    assert not (root / "results" / SURVEY).exists()
+
+
+def test_a_failure_of_the_analysis_beside_the_track_propagates_and_caches_no_fusion(processed, tmp_path,
+                                                                                   monkeypatch):
+    project, _ = processed
+    monkeypatch.setattr(background.os, "cpu_count", lambda: 2)
+    root, fresh = fresh_copy(project, tmp_path, "failed")
+
+    def broken(*args, **kwargs):
+        raise ValueError("the covariance store holds 3 segments, the fusion's timeline 5: it is not this fusion's record")
+
+    monkeypatch.setattr(pipeline, "recorded_quality", broken)
+    with pytest.raises(ValueError, match="the covariance store holds 3 segments"):
+        process(fresh, SURVEY)
+    assert not list((root / "results" / ".cache").glob("fusion-*"))
+    assert not (root / "results" / SURVEY).exists()

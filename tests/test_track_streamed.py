@@ -1,6 +1,7 @@
 """The track reconstruction by parts (insrail.track.streamed) gives the whole run's results to the bit,
 in memory that does not grow with the survey's length."""
 
+import threading
 from dataclasses import fields, replace
 
 import numpy as np
@@ -10,6 +11,7 @@ from hypothesis import strategies as st
 from memory_support import peak_growth_bytes
 from track_truth import truth_reconstruction
 
+from insrail.geodesy.errors import GeodesyError
 from insrail.io.track_sensors import read_sleeper_times
 from insrail.io.types import GaugeData, Gap
 from insrail.nav.trajectory import TRAJECTORY_DTYPE, Trajectory, load_trajectory, save_trajectory
@@ -223,3 +225,42 @@ def test_a_cancel_leaves_no_spool_and_no_epochs_file(tmp_path, truth):
                                    truth.to_engineering, design=truth.design, spool_folder=tmp_path,
                                    epochs_file=tmp_path / "epochs.npy", check=cancel_at_the_tenth_part)
     assert [p.name for p in tmp_path.iterdir()] == ["trajectory.npy"]
+    assert not any(thread.name.startswith("rails") for thread in threading.enumerate())  # none left making parts
+
+
+@pytest.mark.parametrize("cpus", [1, 2], ids=["one CPU: serial", "two CPUs: threads"])
+def test_the_rails_made_by_threads_or_one_at_a_time_are_the_same(tmp_path, truth, cpus, monkeypatch):
+    monkeypatch.setattr(streamed.os, "cpu_count", lambda: cpus)
+    made_in = set()
+
+    class NotingTheThread:  # the truth, its conversion noting the thread it runs in
+        def __getattr__(self, name):
+            return getattr(truth, name)
+
+        def to_engineering(self, lat, lon, h):
+            made_in.add(threading.current_thread() is threading.main_thread())
+            return truth.to_engineering(lat, lon, h)
+
+    whole, parts = _both(tmp_path, NotingTheThread(), _part(truth.trajectory, _stretch(truth, seconds=60.0)),
+                         design=truth.design)
+    _assert_same(whole, parts)
+    assert made_in == ({True} if cpus == 1 else {True, False})  # the whole run's in the caller's thread
+
+
+def test_a_failure_in_a_thread_making_rails_propagates_with_its_message(tmp_path, truth, monkeypatch):
+    monkeypatch.setattr(streamed.os, "cpu_count", lambda: 2)
+    path = tmp_path / "trajectory.npy"
+    save_trajectory(path, _part(truth.trajectory, _stretch(truth, seconds=30.0)))
+    calls = []
+
+    def failing_on_the_fifth_part(lat, lon, h):
+        calls.append(1)
+        if len(calls) == 5 * 3:  # three conversions per part
+            raise GeodesyError("3 point(s) lie up to 9.00° from the central meridian 114.3°")
+        return truth.to_engineering(lat, lon, h)
+
+    with pytest.raises(GeodesyError, match=r"3 point\(s\) lie up to 9.00° from the central meridian"):
+        reconstruct_track_streamed(path, truth.trajectory.ellipsoid, truth.trolley, truth.gauge, failing_on_the_fifth_part,
+                                   design=truth.design, spool_folder=tmp_path, epochs_file=tmp_path / "epochs.npy")
+    assert [p.name for p in tmp_path.iterdir()] == ["trajectory.npy"]
+    assert not any(thread.name.startswith("rails") for thread in threading.enumerate())

@@ -18,7 +18,9 @@ them when their process dies, so the lock of a run that was killed is never in t
   run looks the entry up and, when absent, computes and writes it: two surveys with identical data
   (one survey copied under two names, a batch) share cache keys, and the second waits and reuses
   the entry instead of writing the same files at the same time. Taken inside the project lock and
-  after the survey locks (a run never waits for a survey while holding an entry: no deadlock).
+  after the survey locks (a run never waits for a survey while holding an entry: no deadlock). A run
+  may hold two entries, always in the pipeline's order: the fusion's stays held (not sealed while its
+  covariance analysis runs beside) while the track's is taken, never the other way round.
   These files are removed by a run that finds no other run of the project (nobody can hold or
   wait for one then); a lock file is never removed otherwise, since a run that opened it before
   its removal and one that opens it after would each get a lock of their own.

@@ -19,7 +19,9 @@ Three stages are cached in ``<project>/results/.cache/``, each under a hash of w
   ellipsoid (and with prism fixes the geodesy placing them). A cached fusion reads no raw file.
   Beside it ``fusion-<key>.quality.npz``: the covariance analysis of the fusion's timeline
   (:func:`insrail.quality.epoch_quality`, per update epoch), computed right after the fusion
-  while its timeline, the survey and (smoothed) the filter's own record of Phi, P-, P+ are at hand. The per-section table in ``quality.csv`` is
+  while its timeline, the survey and (smoothed) the filter's own record of Phi, P-, P+ are at hand
+  (from the record: in a thread beside the track reconstruction, which reads only the trajectory
+  file; the entry is sealed once the analysis is saved, :class:`FusionEntry`). The per-section table in ``quality.csv`` is
   formed from it on the reconstructed chainage (which depends on the track settings).
 * ``track-<key>.npz``        the sleepers and the epochs' stations (not the rails: what the later
   stages take from them, :class:`~insrail.track.sleeper_table.EpochStations`): the fusion key plus CRS, height model,
@@ -43,6 +45,7 @@ import hashlib
 import json
 import time
 import tomllib
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
 from functools import cached_property, partial
 from pathlib import Path
@@ -50,6 +53,7 @@ from pathlib import Path
 import numpy as np
 import tomli_w
 
+from insrail.background import BackgroundJob
 from insrail.geodesy.height_anomaly import HeightAnomalyFit, fit_height_anomaly
 from insrail.io.atomic import atomic_write
 from insrail.io.control import read_benchmarks
@@ -366,19 +370,86 @@ def quality_cache_file(trajectory_file: Path) -> Path:
     return trajectory_file.with_suffix(".quality.npz")
 
 
+class FusionEntry:
+    """The fusion stage's cache entry (``fusion-<key>``): the fused trajectory's cache file, the
+    fusion statistics (``info``, what the ``.toml`` beside it holds) and, for a fusion just computed,
+    what it leaves for the track (``fresh``) and its covariance analysis, which may still be running
+    (:class:`~insrail.background.BackgroundJob`, beside the track reconstruction).
+
+    A context manager: a fresh entry is sealed (:meth:`seal`: the analysis awaited and saved, the
+    statistics written, the checksums last) only once all its files are complete; when the block
+    fails or is cancelled first, the analysis is stopped and waited for and the trajectory file
+    removed, so no unsealed entry is left (:mod:`insrail.project.stagecache`)."""
+
+    def __init__(self, path: Path, info: dict, fresh: FreshFusion | None = None,
+                 quality: BackgroundJob[EpochQuality] | None = None, store: SmootherStore | None = None):
+        self.path, self.fresh = path, fresh
+        self._info, self._quality, self._store = info, quality, store
+
+    @property
+    def info(self) -> dict:
+        """The fusion statistics, with ``from_cache`` (a copy: the caller takes items out)."""
+        return {"from_cache": self.fresh is None} | self._info
+
+    def relay(self, progress: ProgressFn | None) -> None:
+        """Say the running analysis's progress through ``progress`` (the calling thread's step)."""
+        if self._quality is not None:
+            self._quality.relay(progress)
+
+    def seal(self, progress: ProgressFn | None = None) -> None:
+        """The analysis awaited (its progress said through ``progress``) and cached, the statistics
+        written and the entry's checksums written last; nothing to do for an entry already sealed."""
+        if self._quality is None:
+            return
+        try:
+            save_dataclass(quality_cache_file(self.path), self._quality.result(progress))
+            with atomic_write(self.path.with_suffix(".toml"), "wb") as handle:
+                tomli_w.dump(self._info, handle)
+            seal(self.path, self.path.with_suffix(".toml"))
+        except BaseException:
+            self._discard()
+            raise
+        self._quality = None
+        self._close_store()
+
+    def _discard(self) -> None:
+        """The analysis stopped and waited for, the trajectory file removed (the entry's checksums
+        are written last: none is there yet)."""
+        self._quality.stop()
+        self._quality = None
+        self._close_store()
+        self.path.unlink(missing_ok=True)
+
+    def _close_store(self) -> None:
+        if self._store is not None:
+            self._store.close()
+            self._store = None
+
+    def __enter__(self) -> FusionEntry:
+        return self
+
+    def __exit__(self, kind, error, traceback) -> bool:
+        if self._quality is not None:  # not sealed yet
+            if kind is None:
+                self.seal()
+            else:  # failed or cancelled while the entry was open: no unsealed entry left
+                self._discard()
+        return False
+
+
 def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManifest, folder: Path, key: str,
                       height_fit: HeightAnomalyFit | None, gnss: GnssSolution | None,
-                      progress: StepProgress, cancel: CancelToken) -> tuple[FreshFusion | None, Path, dict]:
-    """What a computed fusion leaves for the track (None when it comes from the cache), the fused
-    trajectory's cache file and the fusion statistics. A cached fusion reads no raw file.
-    ``gnss``: the solution of the GNSS stage for a survey with raw observations. A fresh fusion
-    is followed by its covariance analysis (cached in :func:`quality_cache_file`)."""
+                      progress: StepProgress, cancel: CancelToken) -> FusionEntry:
+    """The fusion stage's cache entry: the fused trajectory's cache file and the fusion statistics,
+    from the cache (reading no raw file) or computed. ``gnss``: the solution of the GNSS stage for a
+    survey with raw observations. A fresh fusion is followed by its covariance analysis (cached in
+    :func:`quality_cache_file`), which runs on beside the caller until the entry is sealed."""
     cache = project.folder / RESULTS_FOLDER / CACHE_FOLDER
     path = cache / f"fusion-{key}.npy"
     info_path = path.with_suffix(".toml")
     if intact("fusion", path, info_path, quality_cache_file(path)):
         progress(1.0, "fusion reused from the cache")
-        return None, path, {"from_cache": True} | tomllib.loads(info_path.read_text(encoding="utf-8"))
+        return FusionEntry(path, tomllib.loads(info_path.read_text(encoding="utf-8")))
     # the trolley in force is the manifest's, checked before the fusion (the project's or the survey's)
     survey, placed = with_total_station_fixes(read_survey(folder, progress=progress.sub(0.0, 0.05), cancel=cancel,
                                                           gnss=gnss, trolley_from_project=True))
@@ -460,41 +531,40 @@ def _fused_trajectory(project: Project, run: RunSettings, manifest: SurveyManife
         # about 15 % of the fusion's time with the record (a forward-only fusion: 40 %, a replay)
         if store is not None and result.trajectory.smoothed:
             # the analysis of the record reads neither the 200 Hz IMU record nor the fusion's result
-            # (its forward solution and innovations, ~0.3 kB per update epoch): both go first
+            # (its forward solution and innovations, ~0.3 kB per update epoch): both go first. It
+            # runs beside the track reconstruction, which needs only the trajectory file
             epochs = UpdateEpochs.of(survey.odometer, result)
             survey, result = replace(survey, imu=None), None
-            quality = recorded_quality(epochs, store, progress=progress.sub(0.87, 1.0), cancel=cancel)
-        else:
-            quality = epoch_quality(survey, result, options, profile, run.ellipsoid,
-                                    progress=progress.sub(0.87, 1.0), cancel=cancel)
+            quality = BackgroundJob(lambda said, stop: recorded_quality(epochs, store, progress=said, cancel=stop),
+                                    progress.sub(0.87, 1.0), cancel, "covariance analysis")
+        else:  # the replay needs the IMU record: done now, before the track takes its memory
+            quality = BackgroundJob(lambda said, stop: epoch_quality(survey, result, options, profile, run.ellipsoid,
+                                                                     progress=said, cancel=stop),
+                                    progress.sub(0.87, 1.0), cancel, "covariance analysis", threaded=False)
     except BaseException as error:  # untrusted, cancelled or failed once the streamed trajectory is complete:
         path.unlink(missing_ok=True)  # no unsealed entry left
-        clocks.first(error)  # as when the clocks were checked before all else
-        raise
-    finally:
         if store is not None:
             store.close()
-    save_dataclass(quality_cache_file(path), quality)
+        clocks.first(error)  # as when the clocks were checked before all else
+        raise
     if survey.gnss is not None:
         info["gnss"] = gnss_section(survey.gnss.time_s, survey.gnss.quality, *imu_span_s)
-    with atomic_write(info_path, "wb") as handle:
-        tomli_w.dump(info, handle)
-    seal(path, info_path)
     # the track reads the trajectory from the file by parts, as from the cache
-    return FreshFusion(survey.gauge, survey.sleepers), path, {"from_cache": False} | info
+    return FusionEntry(path, info, FreshFusion(survey.gauge, survey.sleepers), quality, store)
 
 
 def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyManifest, folder: Path,
                          fresh: FreshFusion | None,
                          trajectory_file: Path, key: str, height_fit: HeightAnomalyFit | None,
-                         cancel: CancelToken, local: LocalFit | None = None, fusion_info: dict | None = None
-                         ) -> tuple[TrackReconstruction, TrackExtras, bool]:
+                         cancel: CancelToken, local: LocalFit | None = None, fusion_info: dict | None = None,
+                         relay: Callable[[], None] | None = None) -> tuple[TrackReconstruction, TrackExtras, bool]:
     """Rails, chainage and sleepers and their :class:`TrackExtras` (from the cache when nothing
     they depend on changed; a reconstruction from the cache carries no ``fitted`` and
     ``reference`` objects, only their :class:`FittedLine`); with local control every coordinate
     from here on is in the local grid. Without a design the line-type fit leaves out the
     sleepers ``fusion_info`` marks not valid (fusion not consistent, IMU gaps bridged): they are
-    not measurements of the line (the fusion key, part of this stage's, determines them)."""
+    not measurements of the line (the fusion key, part of this stage's, determines them). ``relay``:
+    called per part of the trajectory read (it says the progress of what runs beside the stage)."""
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"track-{key}.npz"
     extras_path, epochs_path = path.with_suffix(".extras.npz"), path.with_suffix(".epochs.npy")
     cached = (cached_dataclass("track reconstruction", path, TrackReconstruction)
@@ -514,6 +584,12 @@ def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyMan
         fresh = FreshFusion(gauge, _read_role(folder, manifest, "sleepers"))
     design = read_design(project.resolve(run.design)) if run.design is not None else None
     check_cancel(cancel)
+
+    def check() -> None:  # per part: the cancel, and the progress of what runs beside
+        check_cancel(cancel)
+        if relay is not None:
+            relay()
+
     try:
         # the file does not say on which ellipsoid the fusion ran: the run's; read by parts, the
         # rails and stations (25 doubles per epoch) are never held whole
@@ -522,7 +598,7 @@ def _reconstructed_track(project: Project, run: RunSettings, manifest: SurveyMan
             pulses=fresh.pulses, start_station_m=project.start_station_m, first_number=project.first_sleeper_number,
             stationing=project.stationing_direction, anchor=project.sleeper_anchor,
             beam_wheel_spacing_m=manifest.trolley.beam_wheel_spacing_m, spool_folder=path.parent,
-            epochs_file=epochs_path, check=lambda: check_cancel(cancel), fit_line=False)
+            epochs_file=epochs_path, check=check, fit_line=False)
     except AnchorError as error:
         raise InputError(project.path, None, "track.sleeper_anchor: {error}", fields={"error": error}) from None
     if design is None:
@@ -640,22 +716,27 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     step(0.04, "height model")
     height_fit = fit_heights(project)
     key = fusion_key(project, manifest, folder, gnss.pos_sha256 if gnss else "", run)
-    with cache_entry(project.folder, f"fusion-{key}", step.sub(0.04, 0.8), cancel):
-        fresh, trajectory_file, fusion_info = _fused_trajectory(project, run, manifest, folder, key, height_fit,
-                                                                 gnss.solution if gnss else None,
-                                                                 step.sub(0.04, 0.8), cancel)
-    release_free_memory()
-    check_cancel(cancel)
-    mounting = MountingEstimate.from_dict(fusion_info.get("mounting"), manifest.trolley.mounting_rpy_rad)
-    manifest = with_mounting(manifest, mounting.applied_rpy_rad())  # the fusion's, for the rails
+    # the fusion's entry stays open (locked, not sealed) while its covariance analysis runs beside the
+    # track reconstruction, which reads only the trajectory file; it is sealed before the quality is used
+    with cache_entry(project.folder, f"fusion-{key}", step.sub(0.04, 0.8), cancel), \
+            _fused_trajectory(project, run, manifest, folder, key, height_fit, gnss.solution if gnss else None,
+                              step.sub(0.04, 0.8), cancel) as fusion:
+        fresh, trajectory_file, fusion_info = fusion.fresh, fusion.path, fusion.info
+        release_free_memory()
+        check_cancel(cancel)
+        mounting = MountingEstimate.from_dict(fusion_info.get("mounting"), manifest.trolley.mounting_rpy_rad)
+        manifest = with_mounting(manifest, mounting.applied_rpy_rad())  # the fusion's, for the rails
 
-    step(0.82, "rails, chainage and sleepers")
-    local = fit_local(project.local_control) if project.local_control is not None else None
-    events_key = events_sha256(project, manifest, folder)
-    reconstruction_key = track_key(project, run, key, events_key)
-    with cache_entry(project.folder, f"track-{reconstruction_key}", step.sub(0.82, 0.88), cancel):
-        recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
-                                                           reconstruction_key, height_fit, cancel, local, fusion_info)
+        step(0.82, "rails, chainage and sleepers")
+        beside = step.sub(0.82, 0.88)  # the analysis's progress, said by this thread
+        local = fit_local(project.local_control) if project.local_control is not None else None
+        events_key = events_sha256(project, manifest, folder)
+        reconstruction_key = track_key(project, run, key, events_key)
+        with cache_entry(project.folder, f"track-{reconstruction_key}", step.sub(0.82, 0.88), cancel):
+            recon, extras, track_cached = _reconstructed_track(project, run, manifest, folder, fresh, trajectory_file,
+                                                               reconstruction_key, height_fit, cancel, local,
+                                                               fusion_info, relay=partial(fusion.relay, beside))
+        fusion.seal(beside)
     # the roll of the mounting from the cant against the design's: beyond 3 sigma the rails are placed again
     roll = roll_check(manifest, recon.table, run.design is not None)
     if roll.significant[0]:
@@ -731,7 +812,12 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                                 *_line_fit_notices(extras.line, table)]]
     if local is not None:
         summary["local_control"] = local.summary()
-    summary["track_quality"] = track_quality_section(geometry)
+    # the report's figures of the trajectory, read from its file by parts (numpy, mostly without the GIL),
+    # beside the band-pass filters' first import of scipy.signal
+    with BackgroundJob(lambda said, stop: trajectory_section(trajectory_file), None, cancel,
+                       "trajectory figures") as figures:
+        summary["track_quality"] = track_quality_section(geometry)
+        trajectory_figures = figures.result()
     summary["events"] = events_section(events, table.station_m, turnout_counts)
     summary["joints"] = joints_section(joints, shocks)
     summary["track"]["sleeper_pulses"] = recon.sleepers.repair_counts()
@@ -761,7 +847,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
         table = without_deviations(table)
         recon = replace(recon, table=table)
     summary["files"]["quality"] = QUALITY_FILE
-    summary["trajectory"] = trajectory_section(trajectory_file)  # the report's figures, read here in chunks
+    summary["trajectory"] = trajectory_figures
     results_folder = write_results(project.folder / RESULTS_FOLDER, entry.name, {
         TRAJECTORY_FILE: trajectory_file, SLEEPERS_FILE: sleepers_csv(table, assessment, adjustment, parameter_columns(
             table, extras.attitude_rad, curvature, speed, bases)),

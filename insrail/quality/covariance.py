@@ -361,7 +361,7 @@ class _BackwardState:
         self.active = np.zeros(1, dtype=np.int64)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # touches no Python object: runs beside the caller's thread
 def _project(out, P, u, j, low, pos, att):  # pragma: no cover - compiled
     """out[j] = lateral and vertical position variance, roll variance and along-track position
     variance of P at epoch j (projections ``u`` from epoch ``low`` on)."""
@@ -374,7 +374,7 @@ def _project(out, P, u, j, low, pos, att):  # pragma: no cover - compiled
         out[j, r] = total
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # touches no Python object: runs beside the caller's thread
 def _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, pos, att, starts_ptr, starts_idx, ends_ptr, ends_idx,
                     P_s, columns, slot_of, pair_of_slot, active, var_s, var_f, cross_s):  # pragma: no cover - compiled
     """The RTS recursion over one chunk of epochs (see :func:`_smooth`); ``first`` = 1 when the

@@ -23,7 +23,9 @@ import math
 import numpy as np
 from numba import njit
 
-compiled = njit(cache=True, error_model="numpy")
+#: nogil: no Python object is touched, so the threads making the next parts' rails run on meanwhile
+#: (insrail.track.streamed)
+compiled = njit(cache=True, nogil=True, error_model="numpy")
 
 #: a point this close [m] to the one projected before it starts from that one's station
 WARM_START_M = 1.0

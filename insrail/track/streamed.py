@@ -6,7 +6,8 @@ reference of the tests), reading the trajectory file by record ranges of :data:`
 and keeping the per-epoch quantities in a spool of plain files (one per quantity, float64,
 written and read with plain IO: neither they nor a memory map count towards the process's memory):
 
-* pass A, per chunk: the rails in the trolley's frame (pointwise) are spooled; the facing's
+* pass A, per chunk: the rails in the trolley's frame (pointwise: made by two threads ahead of the
+  rest, :data:`RAILS_THREADS`) are spooled; the facing's
   whole-run reductions are carried (with a design: the count of the cosines to the design's
   tangent, of the negative ones and the two middle candidates, which decide the sign of their
   median exactly; without one: the distance travelled along the x axis, a carried ``cumsum``,
@@ -25,7 +26,8 @@ written and read with plain IO: neither they nor a memory map count towards the 
 * σ and the attitude at the sleepers by :func:`chunked_interp` (the heading unwrapped with its
   correction's ``cumsum`` carried).
 
-The memory held: a chunk's arrays (~0.4 kB per epoch of a chunk), a band's points and the
+The memory held: a chunk's arrays (~0.4 kB per epoch of a chunk; in pass A up to
+``RAILS_THREADS + 2`` chunks), a band's points and the
 sleeper-level results; the epochs' stations go to a file
 (:class:`~insrail.track.sleeper_table.EpochStationsFile`). A back-and-forth run puts more epochs
 into one band: documented, not capped.
@@ -33,10 +35,14 @@ into one band: documented, not capped.
 
 from __future__ import annotations
 
+import itertools
 import os
 import shutil
 import tempfile
+from collections import deque
 from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import closing
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -86,6 +92,9 @@ from insrail.track.sleepers import (
 CHUNK_EPOCHS = 1 << 15
 #: Sleepers resampled at a time (the table's bands).
 BAND_SLEEPERS = 500
+#: Threads making the parts' rails (at most os.cpu_count()): their time goes to numpy, the compiled
+#: ECEF -> geodetic kernel (nogil) and PROJ, which release the GIL.
+RAILS_THREADS = 2
 
 #: The spooled per-epoch quantities and their widths. Rails, cant and forward axis in the
 #: trolley's frame (turned to the stationing when read); stations in the stationing's.
@@ -202,28 +211,25 @@ class _Streamed:
         """Spools the rails (and the reference rail's design stations); the facing."""
         median, carry = _MedianSign(), projection_carry()
         travelled, last, ends, with_position = 0.0, None, [], 0
-        for start, count in self.parts:
-            self.check()
-            trajectory = replace(load_trajectory(self.file, only=POSE_FIELDS, start=start, count=count),
-                                 ellipsoid=self.ellipsoid)
-            rails = rails_from_pose(trajectory, self.trolley, self.gauge, self.to_engineering)
-            for name, values in (("time", rails.time_s), ("left", rails.left_rail_enh_m),
-                                 ("right", rails.right_rail_enh_m), ("forward", rails.forward_enh),
-                                 ("gauge", rails.gauge_m), ("cant", rails.cant_m),
-                                 ("sigma_pos", rails.sigma_pos_ned_m), ("sigma_roll", rails.sigma_roll_rad),
-                                 ("rpy", trajectory.rpy_rad)):
-                self.spool.write(name, start, values)
-            if design is not None:
-                station = reference_stations_on_design(rails, design, carry)
-                self.spool.write("reference_station", start, station)
-                median.add(design_cosines(rails, design, station))
-            else:
-                track, forward = track_and_forward(rails)
-                steps, last = self._steps(track, forward, last)
-                travelled = float(np.cumsum(np.concatenate([[travelled], steps]))[-1])
-                positioned = track[np.all(np.isfinite(track), axis=1)]
-                with_position += len(positioned)
-                ends.extend(positioned[[0, -1]] if len(positioned) else [])
+        with closing(self._rails_in_order()) as parts:  # closed on any exit: no thread left making parts
+            for start, rpy, rails in parts:
+                for name, values in (("time", rails.time_s), ("left", rails.left_rail_enh_m),
+                                     ("right", rails.right_rail_enh_m), ("forward", rails.forward_enh),
+                                     ("gauge", rails.gauge_m), ("cant", rails.cant_m),
+                                     ("sigma_pos", rails.sigma_pos_ned_m), ("sigma_roll", rails.sigma_roll_rad),
+                                     ("rpy", rpy)):
+                    self.spool.write(name, start, values)
+                if design is not None:
+                    station = reference_stations_on_design(rails, design, carry)
+                    self.spool.write("reference_station", start, station)
+                    median.add(design_cosines(rails, design, station))
+                else:
+                    track, forward = track_and_forward(rails)
+                    steps, last = self._steps(track, forward, last)
+                    travelled = float(np.cumsum(np.concatenate([[travelled], steps]))[-1])
+                    positioned = track[np.all(np.isfinite(track), axis=1)]
+                    with_position += len(positioned)
+                    ends.extend(positioned[[0, -1]] if len(positioned) else [])
         if design is not None:
             self.facing = 1.0 if median.n == 0 or median.non_negative() else -1.0
             return self.facing
@@ -233,6 +239,36 @@ class _Streamed:
         # turned to the stationing the x axis, so the distance travelled along it, change sign
         self.direction = facing_from(travelled if self.facing > 0 else -travelled, self.ends, stationing)
         return self.facing
+
+    def _part_rails(self, start: int, count: int) -> tuple[int, np.ndarray, RailPoints]:
+        """The first epoch, the attitude and the rails of one part (point by point: any part on its own)."""
+        trajectory = replace(load_trajectory(self.file, only=POSE_FIELDS, start=start, count=count),
+                             ellipsoid=self.ellipsoid)
+        return start, trajectory.rpy_rad, rails_from_pose(trajectory, self.trolley, self.gauge, self.to_engineering)
+
+    def _rails_in_order(self) -> Iterator[tuple[int, np.ndarray, RailPoints]]:
+        """:meth:`_part_rails` of every part, in order, :data:`RAILS_THREADS` threads making the
+        next ones meanwhile (the same numbers as one at a time: each part's are its own). ``check``
+        runs in the calling thread before each part is handed over; on any exit the parts not yet
+        begun are dropped and the ones being made waited for."""
+        threads = min(RAILS_THREADS, os.cpu_count() or 1)
+        if threads < 2:
+            for start, count in self.parts:
+                self.check()
+                yield self._part_rails(start, count)
+            return
+        waiting = iter(self.parts)
+        with ThreadPoolExecutor(threads, thread_name_prefix="rails") as pool:
+            ahead = deque(pool.submit(self._part_rails, *part) for part in itertools.islice(waiting, threads + 1))
+            try:
+                while ahead:
+                    self.check()
+                    rails = ahead.popleft().result()
+                    ahead.extend(pool.submit(self._part_rails, *part) for part in itertools.islice(waiting, 1))
+                    yield rails
+            finally:
+                for future in ahead:
+                    future.cancel()
 
     @staticmethod
     def _steps(track: np.ndarray, forward: np.ndarray, last):
