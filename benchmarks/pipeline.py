@@ -277,7 +277,7 @@ def step_report(name: str, root: Path, clock: StageClock) -> dict:
     clock.enter("read results")
     results = load_results(project.folder, name)
     xlsx, pdf = out / f"track_geometry_{name}.xlsx", out / f"track_geometry_{name}.pdf"
-    together = side_by_side()
+    together = side_by_side(len(results))
     if together:  # as `insrail report` writes them: the workbook in a process of its own
         clock.enter("workbook + pdf")
         write_both(project, results, xlsx, pdf, concurrent=True)

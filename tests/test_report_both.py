@@ -77,7 +77,7 @@ def test_cancel_stops_both_and_writes_nothing(tmp_path_factory, tmp_path):
 def test_one_after_the_other_where_no_second_cpu_is_free(tmp_path_factory, tmp_path, monkeypatch):
     import insrail.report.both as both
 
-    monkeypatch.setattr(both, "side_by_side", lambda: False)
+    monkeypatch.setattr(both, "side_by_side", lambda sleepers: False)
     monkeypatch.setattr(both.multiprocessing, "get_context", lambda method: pytest.fail("a process was started"))
     project = shared_project(tmp_path_factory)
     write_both(project, stored(project), tmp_path / "book.xlsx", tmp_path / "report.pdf")
@@ -91,3 +91,17 @@ def test_an_error_that_does_not_pickle_keeps_its_kind_and_message():
     error = NotARegularFile("/x/book.xlsx", "a folder")
     sent = _portable(error)
     assert isinstance(sent, OSError) and str(sent) == str(error)
+
+
+def test_a_short_survey_or_a_busy_machine_is_written_in_one_process(monkeypatch):
+    import insrail.report.both as both
+
+    monkeypatch.setattr(both.os, "sched_getaffinity", lambda pid: {0, 1, 2, 3})
+    monkeypatch.setattr(both.os, "getloadavg", lambda: (1.0, 1.0, 1.0))
+    assert both.side_by_side(both.SIDE_BY_SIDE_MIN_SLEEPERS)
+    assert not both.side_by_side(both.SIDE_BY_SIDE_MIN_SLEEPERS - 1)  # its workbook is quicker than a start-up
+    monkeypatch.setattr(both.os, "getloadavg", lambda: (3.5, 1.0, 1.0))
+    assert not both.side_by_side(16_000)  # no CPU idle
+    monkeypatch.setattr(both.os, "getloadavg", lambda: (0.2, 1.0, 1.0))
+    monkeypatch.setattr(both.os, "sched_getaffinity", lambda pid: {0})
+    assert not both.side_by_side(16_000)  # one CPU

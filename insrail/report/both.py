@@ -3,8 +3,9 @@ this one writes the PDF.
 
 Both writers are pure Python (the GIL): threads would take turns, a second process runs them at once.
 It is spawned, never forked (the GUI and the batch have threads; a fork copies their locks held), and
-pays its own start-up (about 1 s of imports, overlapping the PDF); it is used only where a second CPU is
-free to take it (:func:`side_by_side`), else the two are written one after the other in this process.
+pays its own start-up (about 1 s of imports, overlapping the PDF); it is used only for a survey long
+enough to pay for it and where a second CPU is free to take it (:func:`side_by_side`), else the two are
+written one after the other in this process.
 The child gets the project and the results read here (pickled), so both reports are of the same
 results; its progress comes back over a pipe and is shown with the PDF's as one (the mean of the two
 fractions). A failure in either reaches the caller with its own message and type (a ValueError stays a
@@ -26,24 +27,33 @@ from insrail.project.model import Project
 from insrail.project.results import StoredResults
 
 
-def side_by_side() -> bool:
-    """A second CPU free for the workbook's process: this process may use more than one, they are not all
-    busy (the last minute's load average, this process included, leaves one idle), and it is no daemon
-    (a pool's worker, which may have no children). On a busy machine a second process only adds its
-    start-up to the CPU time the two reports take."""
+#: Below this many sleepers the workbook takes less time than its process's start-up (some 1.1 s of imports
+#: against 0.13 ms of CPU per sleeper, 2026-12): both are written here, one after the other.
+SIDE_BY_SIDE_MIN_SLEEPERS = 10_000
+
+
+def side_by_side(sleepers: int) -> bool:
+    """The workbook of ``sleepers`` rows in a process of its own: long enough to pay for its start-up,
+    and a second CPU free for it: this process may use more than one, they are not all busy (the last
+    minute's load average, this process included, leaves one idle), and it is no daemon (a pool's
+    worker, which may have no children). On a busy machine a second process only adds its start-up to
+    the CPU time the two reports take."""
     cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
-    return cpus > 1 and load <= cpus - 1 and not multiprocessing.current_process().daemon
+    return (sleepers >= SIDE_BY_SIDE_MIN_SLEEPERS and cpus > 1 and load <= cpus - 1
+            and not multiprocessing.current_process().daemon)
 
 
 def write_both(project: Project, results: StoredResults, xlsx: Path, pdf: Path, progress: ProgressFn | None = None,
                cancel: CancelToken = None, sections: Sequence = (), concurrent: bool | None = None) -> list[Path]:
     """Write the workbook to ``xlsx`` and the PDF (with ``sections``) to ``pdf``; returns both paths.
     ``concurrent``: None decides by :func:`side_by_side`; False writes one after the other here."""
-    from insrail.report import write_pdf, write_workbook
+    from insrail.report import write_pdf
 
     shown = _Shared(progress)
-    if not (side_by_side() if concurrent is None else concurrent):
+    if not (side_by_side(len(results)) if concurrent is None else concurrent):
+        from insrail.report import write_workbook  # here only: openpyxl's imports are the child's otherwise
+
         write_workbook(project, results, xlsx, progress=shown.part(0), cancel=cancel)
         return [xlsx, write_pdf(project, results, pdf, progress=shown.part(1), cancel=cancel, sections=sections)]
     context = multiprocessing.get_context("spawn")
