@@ -8,7 +8,8 @@ process as the commands would:
 
 1. ``process``: `insrail process` on the fresh project (fusion, coordinates, track, assessment,
    adjustment, result files);
-2. ``report``:  `insrail report` (the workbook and the PDF);
+2. ``report``:  `insrail report` (the workbook and the PDF: side by side, the workbook in a spawned process,
+   where a second CPU is free, as insrail.report.both decides; the step's CPU includes that process's);
 3. ``rerun``:   `insrail process` again after the surveyor edited the tolerance profile (a copy of
    the default with a band-passed D1 check added: fusion, track and adjustment from the cache, a
    new assessment and result files).
@@ -271,18 +272,25 @@ def step_report(name: str, root: Path, clock: StageClock) -> dict:
     from insrail.project import load_project
     from insrail.project.results import load_results
     from insrail.report import write_pdf, write_workbook
+    from insrail.report.both import side_by_side, write_both
 
     project = load_project(root)
     out = root / "reports"
     out.mkdir(exist_ok=True)
     clock.enter("read results")
     results = load_results(project.folder, name)
-    clock.enter("workbook")
-    write_workbook(project, results, out / f"track_geometry_{name}.xlsx")
-    clock.enter("pdf")
-    write_pdf(project, results, out / f"track_geometry_{name}.pdf")
+    xlsx, pdf = out / f"track_geometry_{name}.xlsx", out / f"track_geometry_{name}.pdf"
+    together = side_by_side(len(results))
+    if together:  # as `insrail report` writes them: the workbook in a process of its own
+        clock.enter("workbook + pdf")
+        write_both(project, results, xlsx, pdf, concurrent=True)
+    else:
+        clock.enter("workbook")
+        write_workbook(project, results, xlsx)
+        clock.enter("pdf")
+        write_pdf(project, results, pdf)
     clock.enter(None)
-    return {}
+    return {"side_by_side": together}
 
 
 def child_main(argv: list[str]) -> None:

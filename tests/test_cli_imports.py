@@ -66,3 +66,19 @@ def test_report_imports_neither_the_filter_nor_numba(tmp_path, tmp_path_factory)
     assert loaded(modules, ("numba", "insrail.nav.fusion", "insrail.quality.survey", "insrail.quality.covariance",
                             "insrail.quality.prediction", "insrail.sim", "insrail.gui", "scipy.stats",
                             "scipy.signal", "distributed", "dask")) == []
+
+
+def test_loading_a_project_with_a_design_imports_no_pipeline(tmp_path):
+    """The design file is checked when the project is loaded (every command, the reports) by its reader,
+    not through the processing pipeline (the fusion, numba, the solvers)."""
+    from pathlib import Path
+
+    folder = tmp_path / "project"
+    (folder / "surveys" / "a").mkdir(parents=True)
+    (folder / "surveys" / "a" / "survey.toml").touch()
+    (folder / "design.xml").write_bytes((Path(__file__).parent / "data" / "landxml" / "handmade_spiral_arc.xml").read_bytes())
+    (folder / "project.toml").write_text('[[surveys]]\nname = "a"\nfolder = "surveys/a"\n\n[project]\nname = "x"\n\n'
+                                         '[track]\ndesign = "design.xml"\n\n'
+                                         '[geodesy.crs]\nellipsoid = "CGCS2000"\ncentral_meridian_deg = 114.3\n')
+    modules = imported_by(tmp_path, "report", str(folder), "--check")
+    assert loaded(modules, ("insrail.project.pipeline", "numba", "insrail.nav.fusion", "openpyxl", "reportlab")) == []

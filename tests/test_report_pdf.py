@@ -272,3 +272,68 @@ def test_the_trajectory_figures_come_from_the_summary_or_for_older_results_from_
     assert _trajectory_rows(trajectory_statistics(processed), smoother=True) == expected
     gone = replace(older, folder=older.folder.parent / "nowhere")
     assert _trajectory_rows(trajectory_statistics(gone), smoother=True) == [("Trajectory", "not available")]
+
+
+def test_a_decimated_chart_marks_every_exceedance_and_draws_its_peak():
+    """16 000 sleepers on one chart (decimated to its pixel columns): every exceedance run keeps its red
+    mark and its peak is still drawn (the line reaches it in the peak's pixel column)."""
+    from reportlab.graphics.shapes import Rect
+
+    from insrail.report.charts import LIMIT_COLOUR
+
+    rng = np.random.default_rng(7)
+    station = 0.625 * np.arange(16000)
+    values = np.sin(station / 7.0)
+    values[0], values[-1] = -1.0, 1.0  # the first and last points are kept: they fix the value scale
+    exceeding = np.zeros(16000, dtype=bool)
+    starts = np.sort(rng.choice(np.arange(10, 15980, 8), 60, replace=False))
+    for start in starts:
+        length = int(rng.integers(1, 4))
+        values[start:start + length] = rng.choice([-1, 1]) * rng.uniform(2.5, 6.0, length)
+        exceeding[start:start + length] = True
+    chart = StripChart("test", "mm", (Series("v", values),), (-2.0, 2.0), exceeding)
+    width = 760.0
+    drawing = strip_drawing(chart, station, np.ones(16000, dtype=bool), 0.0, station[-1], width, 95.0)
+    lines = [shape for shape in drawing.contents if isinstance(shape, PolyLine)]
+    x = np.concatenate([np.asarray(line.points[0::2]) for line in lines])
+    y = np.concatenate([np.asarray(line.points[1::2]) for line in lines])
+    assert x.size <= 2 * (width - 46.0 - 8.0) + 2  # decimated
+    scale = (y[-1] - y[0]) / 2.0  # points per mm (values -1 and 1 at the ends)
+    marks = [shape for shape in drawing.contents if isinstance(shape, Rect) and shape.fillColor == LIMIT_COLOUR]
+    px = 46.0 + station / station[-1] * (width - 46.0 - 8.0)
+    runs = np.split(np.flatnonzero(exceeding), np.flatnonzero(np.diff(np.flatnonzero(exceeding)) > 1) + 1)
+    for run in runs:
+        assert any(mark.x <= px[run[0]] and px[run[-1]] <= mark.x + mark.width for mark in marks)
+        peak = run[np.argmax(np.abs(values[run]))]
+        column = np.abs(x - px[peak]) <= 1.0
+        drawn = (y[column] - y[0]) / scale - 1.0  # back to mm
+        assert (drawn.max() if values[peak] > 0 else -drawn.min()) >= abs(values[peak]) - 1e-6
+
+
+def test_table_cells_written_as_strings_lay_out_as_their_paragraphs(tmp_path):
+    """table() draws a cell that would be a one-line paragraph of its own text as a string: the same
+    widths, row heights and (rendered) page; anything else stays a paragraph."""
+    from reportlab.lib.units import mm
+    from reportlab.platypus import SimpleDocTemplate, Table
+
+    from insrail.report.pdf import TABLE_STYLE, _cell, table
+
+    header = ["no.", "check", "peak"]
+    rows = [[1, "30 m / 5 m differential versine, left", "2.51"], [2, "two  spaces", "x" * 80],
+            [3, "σ 中文", "-"], [4, "", "1 & <b>"], [5, " leading", "0.25"]]
+    widths = [12 * mm, 60 * mm, 30 * mm]
+    fast = table(header, rows, widths)
+    kinds = [[isinstance(cell, str) for cell in row] for row in fast._cellvalues]
+    assert kinds == [[True, True, True], [True, True, True], [True, False, False], [True, False, True],
+                     [True, False, True], [True, False, True]]
+    slow = Table([[_cell(value) for value in row] for row in [header, *rows]], colWidths=widths, repeatRows=1,
+                 style=TABLE_STYLE, hAlign="LEFT")
+    assert fast.wrap(500, 800) == slow.wrap(500, 800) and fast._rowHeights == slow._rowHeights
+    if shutil.which("pdftoppm") is None:
+        return
+    pages = []
+    for name, flowable in (("fast", fast), ("slow", slow)):
+        SimpleDocTemplate(str(tmp_path / f"{name}.pdf")).build([flowable])
+        subprocess.run(["pdftoppm", "-r", "150", "-gray", str(tmp_path / f"{name}.pdf"), str(tmp_path / name)], check=True)
+        pages.append(next(tmp_path.glob(f"{name}*.pgm")).read_bytes())
+    assert pages[0] == pages[1]

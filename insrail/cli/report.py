@@ -45,10 +45,16 @@ def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> 
     from insrail.project.lock import project_run
     from insrail.project.results import load_results
     from insrail.report import write_pdf, write_workbook
+    from insrail.report.both import write_both
 
     written = []
     with project_run(project.folder, [survey]):  # no run replaces the results while they are read
         results = load_results(project.folder, survey)
+        if xlsx is not None and pdf is not None:  # side by side where a second CPU is free
+            bar = TerminalProgress(f"{survey} workbook and pdf")
+            written = write_both(project, results, xlsx, pdf, progress=bar)
+            bar.done()
+            return written
         for path, writer, what in ((xlsx, write_workbook, "workbook"), (pdf, write_pdf, "pdf")):
             if path is not None:
                 bar = TerminalProgress(f"{survey} {what}")

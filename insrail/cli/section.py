@@ -58,17 +58,17 @@ def write_section_reports(project, name: str) -> None:
     from insrail.cli.report import default_paths
     from insrail.project.lock import project_run
     from insrail.project.results import load_results
-    from insrail.report import write_pdf, write_workbook
+    from insrail.report.both import write_both
     from insrail.report.section_page import section_page
 
     xlsx, pdf = default_paths(project.folder, name)
     with project_run(project.folder, [name]):  # no run replaces the results while they are read
         results = load_results(project.folder, name)
-        for path, writer, kwargs in ((xlsx, write_workbook, {}), (pdf, write_pdf, {"sections": (section_page,)})):
-            bar = TerminalProgress(f"{name} {path.suffix[1:]}")
-            writer(project, results, path, progress=bar, **kwargs)
-            bar.done()
-            print(f"{name}: {path.resolve()}")
+        bar = TerminalProgress(f"{name} workbook and pdf")
+        written = write_both(project, results, xlsx, pdf, progress=bar, sections=(section_page,))
+        bar.done()
+    for path in written:
+        print(f"{name}: {path.resolve()}")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -674,7 +674,7 @@ def _height(reader: _Reader, table: dict) -> HeightSettings:
 
 
 def _check_design(reader: _Reader, design: str) -> None:
-    from insrail.project.pipeline import read_design
+    from insrail.project.design_file import read_design
 
     try:
         read_design(reader.folder / design)

@@ -17,7 +17,7 @@ import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from functools import partial
+from functools import cache, partial
 from pathlib import Path
 from xml.sax.saxutils import escape
 
@@ -26,6 +26,7 @@ from reportlab.lib import colors
 from reportlab.lib.pagesizes import A3, A4, landscape
 from reportlab.lib.styles import ParagraphStyle, getSampleStyleSheet
 from reportlab.lib.units import mm
+from reportlab.pdfbase.pdfmetrics import stringWidth
 from reportlab.pdfgen.canvas import Canvas
 from reportlab.platypus import (
     BaseDocTemplate,
@@ -33,6 +34,7 @@ from reportlab.platypus import (
     Flowable,
     Frame,
     KeepInFrame,
+    LongTable,
     PageBreak,
     PageTemplate,
     Paragraph,
@@ -173,9 +175,34 @@ def key_values(rows: list[tuple[str, object]], widths=(55 * mm, 150 * mm)) -> Ta
                  hAlign="LEFT")
 
 
+#: :func:`table`'s style where its plain-text cells are strings in the SMALL paragraphs' font, size and leading.
+SMALL_TEXT_TABLE_STYLE = TableStyle([*TABLE_STYLE.getCommands(),
+                                     ("FONT", (0, 0), (-1, -1), SMALL.fontName, SMALL.fontSize, SMALL.leading)])
+CELL_PADDING = 6.0  # reportlab's left and right padding of a table cell
+
+
+def _small_cell(value, width: float) -> str | Paragraph:
+    """A cell of :func:`table` in a column ``width`` wide: a SMALL paragraph, or the text itself where the
+    paragraph would be one line of it as it is (Helvetica shows it, no whitespace to collapse, narrower than
+    the column). A string is drawn at the paragraph's baseline (a font size below the cell's top) and is as
+    high (one leading), but costs a fraction of its layout: a 10 km report's exceedance tables hold some
+    8 000 cells."""
+    value = str(value)
+    if (value and value == " ".join(value.split()) and helvetica_can_show(value)
+            and stringWidth(value, SMALL.fontName, SMALL.fontSize) < width - 2 * CELL_PADDING - 0.5):
+        return value
+    return _cell(value)
+
+
 def table(header: list[str], rows: list[list], widths: list[float] | None = None) -> Table:
-    data = [[_cell(h) for h in header]] + [[_cell(v) for v in row] for row in rows]
-    return Table(data, colWidths=widths, repeatRows=1, style=TABLE_STYLE, hAlign="LEFT")
+    """A table with a header row repeated on each page; its cells SMALL paragraphs (:func:`_small_cell`
+    where the column widths are given). A LongTable: laid out a page at a time, not measured whole for each
+    page it runs over."""
+    if widths is None:
+        data = [[_cell(h) for h in header]] + [[_cell(v) for v in row] for row in rows]
+        return LongTable(data, repeatRows=1, style=TABLE_STYLE, hAlign="LEFT")
+    data = [[_small_cell(v, width) for v, width in zip(row, widths, strict=True)] for row in [header, *rows]]
+    return LongTable(data, colWidths=widths, repeatRows=1, style=SMALL_TEXT_TABLE_STYLE, hAlign="LEFT")
 
 
 class Heading(Flowable):
@@ -801,6 +828,7 @@ def _charts(content: ReportContent, progress: StepProgress, cancel: CancelToken)
     layout = pages_of_charts(len(charts), available)
     labels = content.column("label").values
     axis = content.chainage
+    ticks = cache(axis.ticks)  # the same ticks for every chart of a span (their labels cost more than the chart)
     story: list[Flowable] = []
     spans = chart_spans(float(station[0]), float(station[-1]))
     for number, (start, end) in enumerate(spans):
@@ -816,7 +844,7 @@ def _charts(content: ReportContent, progress: StepProgress, cancel: CancelToken)
             height = available / on_page - 2
             for chart in charts[first:first + on_page]:
                 story.append(Deferred(partial(strip_drawing, chart, station, content.valid, start, end, width, height,
-                                              ticks=axis.ticks, axis_title=axis.title)))
+                                              ticks=ticks, axis_title=axis.title)))
             first += on_page
             story.append(PageBreak())
     return story
@@ -923,11 +951,11 @@ def _adjustment(content: ReportContent) -> list[Flowable]:
             vertical = [by_rail[rail].vertical_mm if rail in by_rail else 0.0 for rail in (0, 1)]
             failing = "; ".join(dict.fromkeys(row.failing for row in by_rail.values() if row.failing))
             rows.append([str(next(iter(by_rail.values())).count), str(int(numbers[sleeper])), text_cell(labels[sleeper]),
-                         *(_amount(value) for value in (*lateral, *vertical)), _cell(failing) if failing else ""])
+                         *(_amount(value) for value in (*lateral, *vertical)), _cell(failing) if failing else []])
         story += [CondPageBreak(40 * mm),
                   Paragraph(text(t("Work section {number} of {count}: {first} – {last}").format(
                       number=section.number, count=len(work_sections), first=labels[first], last=labels[last])), H2),
-                  Table(rows, colWidths=ADJUSTMENT_WIDTHS, repeatRows=1, style=TABLE_STYLE, hAlign="LEFT")]
+                  LongTable(rows, colWidths=ADJUSTMENT_WIDTHS, repeatRows=1, style=TABLE_STYLE, hAlign="LEFT")]
     return story
 
 
