@@ -4,21 +4,24 @@
 
 The simulator's `long` preset (10.2 km) cut into four runs of about 2.6 km with 100 m overlaps over
 one track (same track seed, own noise seeds), the `.npy` IMU. For each cluster size a fresh copy of
-the project (no results, no cache) goes through `insrail batch PROJECT --section km20-30 --scheduler
-ADDRESS --no-reports` on a `distributed.LocalCluster` of that many single-threaded worker processes,
-started and warmed (insrail imported, numba's cache loaded) before the clock starts: a real cluster's
-workers outlive a batch. The runs and the join's adjustment parts run on the workers; the rest of the
-join here. Prints each wall time, the speed-up over one worker, the machine's load average before
-and after each run (the wall speed-up needs idle cores), and whether every joined section equals
-the first one byte for byte (sleepers.csv, exceedances.csv, quality.csv).
+the project (no results, no cache, an empty cache of parsed tables: the runs' sleepers.csv are the same
+bytes for every size, and the join would find the first size's parse) goes through `insrail batch
+PROJECT --section km20-30 --scheduler ADDRESS --no-reports` on a `distributed.LocalCluster` of that
+many single-threaded worker processes, started and warmed (insrail imported, numba's cache loaded)
+before the clock starts: a real cluster's workers outlive a batch. The runs and the join's adjustment
+parts run on the workers; the rest of the join here. Prints each wall time, the speed-up over one
+worker, the machine's load average before and after each run (the wall speed-up needs idle cores),
+and whether every joined section equals the first one byte for byte (sleepers.csv, exceedances.csv,
+quality.csv).
 
 On a loaded machine the wall times say little; so it also prints the CPU time (user + system) each
 worker process and this process (the scheduler runs here too) spent on the batch, and the wall time an
 idle machine would take, estimated as the busiest worker's CPU plus this process's: a lower bound, as it
-counts no worker waiting for another (between the adjustment's colours). Each task's CPU time is taken
-on its worker (a worker plugin; one thread a worker): from them the ideal makespan on 1 and 2 workers
-(:func:`ideal_makespan`), and with --tasks every task's worker, start, wall and CPU time. Simulated
-surveys are kept in DIR (default /tmp/insrail-section-batch).
+counts no worker waiting for another (between the adjustment's colours). The runs' CPU side by side
+against one after the other says what the cores lose to each other (shared caches and memory). Each
+task's CPU time is taken on its worker (a worker plugin; one thread a worker): from them the ideal
+makespan on 1 and 2 workers (:func:`ideal_makespan`), and with --tasks every task's worker, start,
+wall and CPU time. Simulated surveys are kept in DIR (default /tmp/insrail-section-batch).
 """
 
 from __future__ import annotations
@@ -117,11 +120,14 @@ def main() -> None:
     save_project(project)
     load_project(root / "source")  # the project as saved is valid
 
-    walls, idle, joined = {}, {}, {}
+    walls, idle, joined, runs_cpu = {}, {}, {}, {}
     for workers in args.workers:
         copy = root / f"workers{workers}"
         shutil.rmtree(copy, ignore_errors=True)
         shutil.copytree(root / "source", copy, ignore=shutil.ignore_patterns("results", "reports"))
+        parsed = root / f"table-cache{workers}"  # the user's parsed tables: each cluster size starts without them
+        shutil.rmtree(parsed, ignore_errors=True)
+        os.environ["XDG_CACHE_HOME"] = str(parsed)
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
             with Client(cluster) as client:
                 pids = client.run(_warm)
@@ -144,6 +150,7 @@ def main() -> None:
             for number, key, begun, wall, cpu in sorted(every, key=lambda t: (t[0], t[2])):
                 print(f"  w{number} {_task_name(key):<20} {begun - epoch:7.1f} {wall:7.1f} {cpu:7.1f}")
         cpu_of = {name: [t[4] for t in every if _task_name(t[1]) == name] for name in ("run_task", "solve_part_in_zone")}
+        runs_cpu[workers] = sum(cpu_of["run_task"])
         print(f"{workers} worker(s): task CPU s: runs {' '.join(f'{v:.1f}' for v in cpu_of['run_task'])}; the join's "
               f"{len(cpu_of['solve_part_in_zone'])} parts {sum(cpu_of['solve_part_in_zone']):.1f} in all, the longest "
               f"{max(cpu_of['solve_part_in_zone'], default=0.0):.1f}; ideal makespan from them: "
@@ -157,7 +164,8 @@ def main() -> None:
     for workers in args.workers[1:]:
         print(f"{workers} workers: speed-up {walls[first] / walls[workers]:.2f}x over {first} (wall), "
               f"{idle[first] / idle[workers]:.2f}x (idle-machine estimate from CPU); joined section identical: "
-              f"{joined[workers] == joined[first]}")
+              f"{joined[workers] == joined[first]}; the runs' CPU {runs_cpu[workers]:.1f} s side by side against "
+              f"{runs_cpu[first]:.1f} s ({100 * (runs_cpu[workers] / runs_cpu[first] - 1):+.0f} %)")
 
 
 if __name__ == "__main__":

@@ -163,6 +163,27 @@ def test_a_section_batch_with_a_failed_run_is_not_joined(section_project, tmp_pa
     assert main(["batch", str(copy), str(copy), "--section", "line"]) == 2
 
 
+def test_a_section_batch_on_a_dask_cluster_with_a_failed_run_is_not_joined_and_reads_the_others_ahead(
+        section_project, tmp_path, capsys, monkeypatch):
+    """On the cluster, as locally: a failed run leaves the section unjoined (exit 1). Each run that was
+    processed was read as it came (while the others ran): the user's cache of parsed tables holds it."""
+    from distributed import LocalCluster
+
+    from insrail.project import table_cache
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    (copy,) = fresh_copies([section_project], tmp_path)
+    (copy / "surveys" / "run3" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+        code = main(["batch", str(copy), "--section", "line", "--scheduler", cluster.scheduler_address, "--no-reports"])
+    out = capsys.readouterr()
+    assert code == 1
+    assert "3 of 4 surveys processed, 1 failed" in out.out and "section line not joined: a run failed" in out.err
+    assert not (copy / "results" / "line").exists()
+    for name in ("run1", "run2", "run4"):
+        assert table_cache.load((copy / "results" / name / "sleepers.csv").read_bytes()) is not None, name
+
+
 def test_batch_cli_reports_a_failed_survey_and_goes_on(tiny_projects, tmp_path, capsys):
     good, broken = fresh_copies(tiny_projects[:2], tmp_path)
     (broken / "surveys" / "tiny" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")

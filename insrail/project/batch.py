@@ -18,9 +18,11 @@ TLS: a ``tls://`` address and Dask's security settings (``distributed.comm.tls.*
 
 A line section (:mod:`insrail.project.section`) is batched with :func:`run_section_batch`: its runs
 are the tasks (on the cores or the cluster, as above), and once every run is processed the section
-is joined here, in the coordinating process, from the result files the workers wrote; on a cluster
-the join's adjustment (most of the join's work) goes back to the workers, its independent parts as
-tasks (:func:`insrail.track.adjustment.optimise_amounts`). The joined section is the one ``insrail
+is joined here, in the coordinating process, from the result files the workers wrote; each run's files
+are read here as it finishes, while the others are processed, so that the join finds their parse in the
+user's cache (:mod:`insrail.project.table_cache`). On a cluster the join's adjustment (most of the join's
+work) goes back to the workers, through the batch's one client, its independent parts as tasks
+(:func:`insrail.track.adjustment.optimise_amounts`). The joined section is the one ``insrail
 process`` of each run and ``insrail section`` give.
 
 Cancelling (the ``cancel`` token, or Ctrl-C in the CLI) stops scheduling: tasks not started are
@@ -36,7 +38,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from multiprocessing import get_context
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Callable
 
 from insrail.io.errors import InputError
 from insrail.notices import Phrase
@@ -181,14 +183,18 @@ def run_batch(projects: list[str | Path], workers: int | None = None, scheduler:
 
 
 def _run_tasks(tasks: list[BatchTask], failed: list[BatchOutcome], workers, scheduler,
-               progress: ProgressFn | None, cancel: CancelToken, security) -> list[BatchOutcome]:
+               progress: ProgressFn | None, cancel: CancelToken, security, client=None,
+               finished: Callable[[BatchOutcome], None] | None = None) -> list[BatchOutcome]:
     """Run ``tasks`` after reporting ``failed`` (projects that did not load); outcomes in task order,
-    ``failed`` first."""
+    ``failed`` first. ``client``: a Dask client of the cluster at ``scheduler`` to submit to (default: one
+    for this batch); ``finished`` is called with each task's outcome as it comes, before its progress."""
     outcomes: list[BatchOutcome] = []
     total = len(tasks) + len(failed)
 
     def report(outcome: BatchOutcome) -> None:
         outcomes.append(outcome)
+        if finished is not None:
+            finished(outcome)
         if progress is not None:
             progress(len(outcomes) / total,
                      Phrase("{survey}: done in {elapsed_s:.1f} s", {"survey": outcome.label, "elapsed_s": outcome.elapsed_s})
@@ -196,8 +202,11 @@ def _run_tasks(tasks: list[BatchTask], failed: list[BatchOutcome], workers, sche
 
     for outcome in failed:
         report(outcome)
-    if tasks and scheduler is not None:
-        _run_on_dask(tasks, scheduler, report, cancel, security)
+    if tasks and client is not None:
+        _run_on_dask(tasks, client, report, cancel)
+    elif tasks and scheduler is not None:
+        with _dask_client(scheduler, security) as client:
+            _run_on_dask(tasks, client, report, cancel)
     elif tasks:
         _run_locally(tasks, workers, report, cancel)
     order = {(t.project_file, t.survey): i for i, t in enumerate(tasks)}
@@ -213,14 +222,34 @@ def run_section_batch(project: Project, sections: list[str], workers: int | None
     from insrail.project.section import join_section
 
     tasks = section_tasks(project, sections)
-    outcomes = _run_tasks(tasks, [], workers, scheduler, progress, cancel, security)
-    if not all(o.ok for o in outcomes):
-        return outcomes, []
     if scheduler is None:
+        outcomes = _run_tasks(tasks, [], workers, None, progress, cancel, security, finished=_read_ahead(project))
+        if not all(o.ok for o in outcomes):
+            return outcomes, []
         return outcomes, [join_section(project, name, cancel=cancel) for name in sections]
-    with _dask_client(scheduler, security) as client:  # the join's adjustment solved on the cluster's workers
+    with _dask_client(scheduler, security) as client:  # the runs, then the join's adjustment, on the cluster's workers
+        outcomes = _run_tasks(tasks, [], None, scheduler, progress, cancel, security, client, _read_ahead(project))
+        if not all(o.ok for o in outcomes):
+            return outcomes, []
         executor = client.get_executor(pure=False)
         return outcomes, [join_section(project, name, cancel=cancel, executor=executor) for name in sections]
+
+
+def _read_ahead(project: Project) -> Callable[[BatchOutcome], None]:
+    """What to do with each processed run while the others are still processed: read its results once, so
+    that the user's cache of parsed sleeper tables (:mod:`insrail.project.table_cache`) holds them when the
+    section is joined (the join reads the files again under its lock: the cache answers only for the very
+    bytes it parsed). A run that cannot be read is left to the join to report."""
+    from insrail.project.results import load_results
+
+    def read(outcome: BatchOutcome) -> None:
+        if outcome.ok:
+            try:
+                load_results(project.folder, outcome.survey)
+            except (InputError, OSError):
+                pass
+
+    return read
 
 
 def _outcome(future, task: BatchTask) -> BatchOutcome:
@@ -265,23 +294,22 @@ def _dask_client(scheduler: str, security=None):
     return Client(scheduler, timeout="10s", security=security)
 
 
-def _run_on_dask(tasks, scheduler, report, cancel, security=None) -> None:
-    with _dask_client(scheduler, security) as client:
-        from distributed import wait as dask_wait
+def _run_on_dask(tasks, client, report, cancel) -> None:
+    from distributed import wait as dask_wait
 
-        ordered = longest_first(tasks)  # the scheduler starts the higher priority first
-        pending = {client.submit(run_task, task, pure=False, priority=len(ordered) - rank): task
-                   for rank, task in enumerate(ordered)}
-        try:
-            while pending:
-                try:
-                    dask_wait(list(pending), timeout=POLL_S, return_when="FIRST_COMPLETED")
-                except TimeoutError:
-                    pass
-                for future in [f for f in pending if f.done()]:
-                    report(_outcome(future, pending.pop(future)))
-                if is_cancelled(cancel):
-                    raise Cancelled("batch cancelled by the user")
-        except BaseException:
-            client.cancel(list(pending))
-            raise
+    ordered = longest_first(tasks)  # the scheduler starts the higher priority first
+    pending = {client.submit(run_task, task, pure=False, priority=len(ordered) - rank): task
+               for rank, task in enumerate(ordered)}
+    try:
+        while pending:
+            try:
+                dask_wait(list(pending), timeout=POLL_S, return_when="FIRST_COMPLETED")
+            except TimeoutError:
+                pass
+            for future in [f for f in pending if f.done()]:
+                report(_outcome(future, pending.pop(future)))
+            if is_cancelled(cancel):
+                raise Cancelled("batch cancelled by the user")
+    except BaseException:
+        client.cancel(list(pending))
+        raise

@@ -411,7 +411,7 @@ def _colour_progress(progress, colour: int, count: int):
 
 def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], progress=None, cancel=None,
                         threshold: float = 1.0, executor: Executor | None = None,
-                        tasks_see_cancel: bool = True) -> np.ndarray:
+                        tasks_see_cancel: bool = True, unadjusted: _State | None = None) -> np.ndarray:
     """Amounts [steps] (n, 2) of one direction.
 
     Only the sleepers near exceedances are moved (two reaches of the check around each
@@ -426,12 +426,13 @@ def _optimise_direction(problem: DirectionProblem, checks: list[RailCheck], prog
     The line is then checked again: windows around exceedances that the previous round did not
     already try are solved again, until there are none. Last, amounts below the action ``threshold``
     [steps] are taken out where the checks allow (:func:`insrail.track.adjustment_programme.apply_threshold`).
+    ``unadjusted``: the line's state without amounts, when the caller has it (the first round's).
     """
     n = problem.deviation.shape[0]
     amounts = np.zeros((n, 2))
     tried = np.zeros(n, bool)  # exceeding sleepers a round already worked on
     for sweep in range(MAX_SWEEPS):
-        state = _state(problem, amounts, checks)
+        state = unadjusted if sweep == 0 and unadjusted is not None else _state(problem, amounts, checks)
         fresh = ~tried[state.trouble]
         windows = _trouble_windows(n, state.trouble[fresh], state.pad[fresh], merge=16)
         if not windows:
@@ -497,13 +498,11 @@ def optimise_amounts(
             done[direction] = max(done[direction], fraction)  # a second round starts again from 0
 
         return _optimise_direction(problems[direction], checks[direction], direction_progress, cancel,
-                                   threshold_steps(fastener, threshold_m), parts_executor, local)
+                                   threshold_steps(fastener, threshold_m), parts_executor, local, unadjusted[direction])
 
-    def expected_work(direction: str) -> int:
-        state = _state(problems[direction], np.zeros(problems[direction].deviation.shape), checks[direction])
-        return int(state.pad.sum())
-
-    order = sorted(DIRECTIONS, key=expected_work, reverse=True)
+    # the first round's state, its sleepers' reach: the work expected of a direction (the heavier starts first)
+    unadjusted = {d: _state(problems[d], np.zeros(problems[d].deviation.shape), checks[d]) for d in DIRECTIONS}
+    order = sorted(DIRECTIONS, key=lambda d: int(unadjusted[d].pad.sum()), reverse=True)
     local = executor is None
     with ThreadPoolExecutor(min(len(order), os.cpu_count() or 1)) as pool, \
             ThreadPoolExecutor(os.cpu_count() or 1) if local else nullcontext(executor) as parts_executor:
