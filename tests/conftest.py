@@ -70,6 +70,18 @@ def short_nav_survey():
                                                                      imu_format="npy"))
 
 
+@pytest.fixture(scope="session")
+def tiny_nav_survey():
+    """The numba warm-up's 50 m survey (tests/numba_warmup.py: navigation-grade IMU, text files), simulated once
+    per test run (read-only): for tests that need a survey to run a command on, not its length."""
+    from numba_warmup import tiny_scenario
+
+    from insrail.sim.simulate import simulate
+
+    return shared_build.built_once("tiny-nav", lambda out: simulate(tiny_scenario(), seed=1, out_dir=out,
+                                                                    imu_format="text"))
+
+
 @pytest.fixture
 def window(qtbot, tmp_path):
     """The desktop application's main window (pytest-qt), with throwaway settings."""
