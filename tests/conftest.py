@@ -14,7 +14,8 @@ if os.environ.get("CI"):
 # Test helpers (reference implementations) live beside the tests.
 sys.path.insert(0, str(Path(__file__).parent))
 
-import shared_build  # noqa: E402 (a test helper beside the tests)
+import cpu_log  # noqa: E402 (a test helper beside the tests)
+import shared_build  # noqa: E402
 
 
 NUMBA_WARMUP = "numba-warmup"
@@ -23,7 +24,9 @@ NUMBA_WARMUP = "numba-warmup"
 @pytest.hookimpl(trylast=True)
 def pytest_configure(config):
     """The xdist controller fills insrail's numba cache once while its workers start (tests/numba_warmup.py);
-    without it every worker of a clean checkout compiled the kernels itself."""
+    without it every worker of a clean checkout compiled the kernels itself. INSRAIL_TEST_CPU_LOG: each
+    test's CPU time logged (tests/cpu_log.py)."""
+    cpu_log.register(config)
     if hasattr(config, "workerinput") or not config.getoption("numprocesses", None) or config.option.collectonly:
         return
     run_folder = config._tmp_path_factory.getbasetemp()
@@ -65,6 +68,18 @@ def short_nav_survey():
 
     return shared_build.built_once("short-nav", lambda out: simulate(preset("short"), seed=1, out_dir=out,
                                                                      imu_format="npy"))
+
+
+@pytest.fixture(scope="session")
+def tiny_nav_survey():
+    """The numba warm-up's 50 m survey (tests/numba_warmup.py: navigation-grade IMU, text files), simulated once
+    per test run (read-only): for tests that need a survey to run a command on, not its length."""
+    from numba_warmup import tiny_scenario
+
+    from insrail.sim.simulate import simulate
+
+    return shared_build.built_once("tiny-nav", lambda out: simulate(tiny_scenario(), seed=1, out_dir=out,
+                                                                    imu_format="text"))
 
 
 @pytest.fixture

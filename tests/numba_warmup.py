@@ -14,17 +14,22 @@ from dataclasses import replace
 from pathlib import Path
 
 
+def tiny_scenario():
+    """The `short` scenario cut to 50 m after a 30 s static start (navigation-grade IMU, GNSS throughout)."""
+    from insrail.sim.scenario import GnssSpec, preset
+
+    short = preset("short")
+    return replace(short, name="warmup", gnss=GnssSpec(),
+                   motion=replace(short.motion, start_station_m=1100.0, end_station_m=1150.0, stops=(),
+                                  static_start_s=30.0, static_end_s=5.0))
+
+
 def warm_up(folder: Path) -> None:
     from insrail.project import process
     from insrail.project.demo import project_for_simulated_survey
-    from insrail.sim.scenario import GnssSpec, preset
     from insrail.sim.simulate import simulate
 
-    short = preset("short")
-    scenario = replace(short, name="warmup", gnss=GnssSpec(),
-                       motion=replace(short.motion, start_station_m=1100.0, end_station_m=1150.0, stops=(),
-                                      static_start_s=30.0, static_end_s=5.0))
-    simulate(scenario, 1, folder / "surveys" / "warmup", imu_format="text")
+    simulate(tiny_scenario(), 1, folder / "surveys" / "warmup", imu_format="text")
     process(project_for_simulated_survey(folder, folder / "surveys" / "warmup", name="warmup"), "warmup")
 
 

@@ -158,19 +158,30 @@ def _gpst_calendar(week: np.ndarray, tow: np.ndarray) -> list[str]:
     return out
 
 
+def _savetxt(path: Path, values: np.ndarray, fmt: str | list[str]) -> None:
+    """np.savetxt's bytes (``fmt``: one row's format, or one format per column joined by spaces), formatted a block
+    of rows at a time with one ``%`` (np.savetxt formats row by row: most of a cell's file writing)."""
+    values = np.asarray(values, dtype=np.float64).reshape(len(values), -1)
+    row = (fmt if isinstance(fmt, str) else " ".join(fmt)) + "\n"
+    with open(path, "w") as handle:
+        for start in range(0, len(values), 50_000):
+            block = values[start:start + 50_000]
+            handle.write((row * len(block)) % tuple(block.ravel().tolist()))
+
+
 def write_raw_files(cell: Cell, simulated: Path, survey: Path) -> dict[str, tuple[str, str]]:
     """The cell's raw files in ``survey`` from the simulator's folder; returns {role: (file, format)}."""
     survey.mkdir(parents=True)
     files: dict[str, tuple[str, str]] = {}
     imu = np.load(simulated / "imu.npy")
     # KF-GINS text as KF-GINS writes it: no header, no week
-    np.savetxt(survey / "imu.txt", np.column_stack([imu["time_s"], imu["dtheta_rad"], imu["dvel_mps"]]),
+    _savetxt(survey / "imu.txt", np.column_stack([imu["time_s"], imu["dtheta_rad"], imu["dvel_mps"]]),
                fmt=["%.9f"] + ["%.16e"] * 6)
     files["imu"] = ("imu.txt", "kfgins-imu")
     if cell.gnss:
         pos = _table(simulated / "gnss.pos")  # week tow lat lon h Q ns sdn sde sdu sdne sdeu sdun age ratio
         if cell.position == "kfgins-gnss":
-            np.savetxt(survey / "gnss.txt", pos[:, [1, 2, 3, 4, 7, 8, 9]], fmt="%.9f %.11f %.11f %.4f %.4f %.4f %.4f")
+            _savetxt(survey / "gnss.txt", pos[:, [1, 2, 3, 4, 7, 8, 9]], fmt="%.9f %.11f %.11f %.4f %.4f %.4f %.4f")
             files["gnss"] = ("gnss.txt", "kfgins-gnss")
         else:  # RTKLIB's own layout: calendar GPST, its header lines
             with open(survey / "gnss.pos", "w") as handle:
@@ -193,13 +204,13 @@ def write_raw_files(cell: Cell, simulated: Path, survey: Path) -> dict[str, tupl
         (survey / "benchmarks.txt").write_text("id,lat,lon,h,H\n" + "".join(",".join(r) + "\n" for r in bench))
     if cell.has("odometer"):
         odo = _table(simulated / "odometer.txt")
-        np.savetxt(survey / "odometer.txt", odo, fmt="%.3f %.3f")
+        _savetxt(survey / "odometer.txt", odo, fmt="%.3f %.3f")
         files["odometer"] = ("odometer.txt", "odometer-distance")
     if cell.has("gauge"):
-        np.savetxt(survey / "gauge.txt", _table(simulated / "gauge.txt"), fmt="%.3f %.2f")
+        _savetxt(survey / "gauge.txt", _table(simulated / "gauge.txt"), fmt="%.3f %.2f")
         files["gauge"] = ("gauge.txt", "gauge-mm")
     if cell.has("sleepers"):
-        np.savetxt(survey / "sleepers.txt", _table(simulated / "sleepers.txt")[:, 0], fmt="%.4f")
+        _savetxt(survey / "sleepers.txt", _table(simulated / "sleepers.txt")[:, 0], fmt="%.4f")
         files["sleepers"] = ("sleepers.txt", "sleeper-times")
     return files
 

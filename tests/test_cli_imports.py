@@ -49,8 +49,8 @@ def test_a_commands_help_imports_no_other_commands_core(tmp_path, command):
     assert loaded(modules, others) == []
 
 
-def test_fuse_imports_only_the_reader_and_the_filter(short_nav_survey, tmp_path):
-    modules = imported_by(tmp_path, "fuse", str(short_nav_survey), "--out", str(tmp_path / "out"),
+def test_fuse_imports_only_the_reader_and_the_filter(tiny_nav_survey, tmp_path):
+    modules = imported_by(tmp_path, "fuse", str(tiny_nav_survey), "--out", str(tmp_path / "out"),
                           "--no-smoother", "--rate", "10")
     assert "insrail.nav.fusion" in modules  # it did fuse
     assert loaded(modules, NEVER) == []

@@ -4,6 +4,7 @@ desktop application), and a Chinese report carries the field's standard terms an
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -15,11 +16,22 @@ from insrail.names_zh import ZH_CN
 PACKAGE = Path(insrail.__file__).parent
 
 
+def source_nodes(path: Path) -> tuple[ast.AST, ...]:
+    """Every node of the module's syntax tree, in ast.walk's order."""
+    return _nodes_of_source(path.read_text(encoding="utf-8"))
+
+
+@functools.cache
+def _nodes_of_source(source: str) -> tuple[ast.AST, ...]:
+    # parsed once per worker: six walks read the whole package (the trees are only read)
+    return tuple(ast.walk(ast.parse(source)))
+
+
 def translated_literals(folder: Path, function: str = "t") -> dict[str, str]:
     """Every string literal passed to ``function(...)`` under ``folder``: text -> where (file:line)."""
     found = {}
     for path in sorted(folder.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in source_nodes(path):
             if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == function
                     and node.args and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)):
                 found.setdefault(node.args[0].value, f"{path.relative_to(PACKAGE.parent)}:{node.lineno}")
@@ -106,8 +118,7 @@ def test_no_function_hides_the_translation_function_under_a_variable_of_its_name
     (the GNSS residual plot did): every module calling t() keeps the name free in its function scopes."""
     offenders = []
     for path in sorted(PACKAGE.rglob("*.py")):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        for function in (n for n in ast.walk(tree) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))):
+        for function in (n for n in source_nodes(path) if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef))):
             body = [n for statement in function.body for n in ast.walk(statement)]
             calls = any(isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "t" for n in body)
             binds = [n.lineno for n in body if isinstance(n, ast.Name) and n.id == "t" and isinstance(n.ctx, ast.Store)]
@@ -148,7 +159,7 @@ def notice_templates() -> tuple[dict[str, str], list[str]]:
     call is a Phrase made elsewhere (walked there) or a word of :func:`phrase_vocabulary`."""
     found, sentences = {}, []
     for path in sorted(PACKAGE.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in source_nodes(path):
             if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("Notice", "Phrase")):
                 continue
             where = f"{path.relative_to(PACKAGE.parent)}:{node.lineno}"
@@ -211,7 +222,7 @@ def input_error_templates() -> tuple[dict[str, str], list[str], set[str]]:
     found, sentences, english = {}, [], set()
     for path in sorted(PACKAGE.rglob("*.py")):
         relative = str(path.relative_to(PACKAGE.parent))
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in source_nodes(path):
             if not isinstance(node, ast.Call):
                 continue
             name = node.func.id if isinstance(node.func, ast.Name) else getattr(node.func, "attr", None)
@@ -286,7 +297,7 @@ def test_every_template_is_given_the_fields_it_names():
 
     checked, wrong = 0, []
     for path in sorted(PACKAGE.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in source_nodes(path):
             if not isinstance(node, ast.Call):
                 continue
             name = node.func.id if isinstance(node.func, ast.Name) else getattr(node.func, "attr", None)
@@ -319,7 +330,7 @@ def progress_messages(folder: Path = PACKAGE) -> tuple[dict[str, str], list[str]
     made elsewhere."""
     found, sentences = {}, []
     for path in sorted(folder.rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in source_nodes(path):
             if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and len(node.args) == 2
                     and (node.func.id in PROGRESS_CALLBACKS or node.func.id.endswith(("_progress", "_step")))):
                 continue
