@@ -239,14 +239,15 @@ def _read_ahead(project: Project) -> Callable[[BatchOutcome], None]:
     """What to do with each processed run while the others are still processed: read its results once, so
     that the user's cache of parsed sleeper tables (:mod:`insrail.project.table_cache`) holds them when the
     section is joined (the join reads the files again under its lock: the cache answers only for the very
-    bytes it parsed). A run that cannot be read is left to the join to report."""
+    bytes it parsed). Nothing without such a cache; a run that cannot be read here is left to the join to report."""
+    from insrail.project import table_cache
     from insrail.project.results import load_results
 
     def read(outcome: BatchOutcome) -> None:
-        if outcome.ok:
+        if outcome.ok and table_cache.cache_folder() is not None:
             try:
                 load_results(project.folder, outcome.survey)
-            except (InputError, OSError):
+            except Exception:  # noqa: BLE001 - the join reads the run again and says what is wrong with it
                 pass
 
     return read
