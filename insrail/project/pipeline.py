@@ -78,6 +78,7 @@ from insrail.nav.trajectory import Trajectory, load_trajectory
 from insrail.notices import Notice, Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel, is_cancelled
 from insrail.project import assessable
+from insrail.project.design_file import read_design
 from insrail.project.design_heading import design_azimuth_for, relative_frame, uses_design
 from insrail.project.design_start import known_start
 from insrail.project.mounting_stage import (
@@ -178,10 +179,9 @@ from insrail.track.adjustment import (
     programme_settings,
     reassess,
 )
-from insrail.track.alignment import DesignAlignment
-from insrail.track.alignment_csv import format_alignment_csv, read_alignment_csv
+from insrail.track.alignment_csv import format_alignment_csv
 from insrail.track.exceedance import Assessment, SleeperGeometry, assess
-from insrail.track.landxml import format_landxml, read_landxml
+from insrail.track.landxml import format_landxml
 from insrail.track.linefit import element_table
 from insrail.track.parameters import line_speed_mps
 from insrail.track.sleeper_table import (
@@ -280,11 +280,6 @@ class FreshFusion:
 
     gauge: GaugeData
     pulses: SleeperPulses | None
-
-
-def read_design(path: Path) -> DesignAlignment:
-    """A design alignment from an alignment CSV or a LandXML file (by extension)."""
-    return read_landxml(path) if path.suffix.lower() == ".xml" else read_alignment_csv(path)
 
 
 def _geodesy_settings(run: RunSettings) -> dict:
