@@ -148,3 +148,13 @@ def test_too_many_lines_are_refused(tmp_path):
     with pytest.raises(InputError, match="line 31.*more than the limit of 30 lines"):
         check_text_file(path, max_lines=30)
     assert check_text_file(path, max_lines=31) == 31
+
+
+def test_a_small_file_is_read_into_a_buffer_of_its_size_not_a_whole_block(tmp_path):
+    path = written(tmp_path, "1 2 3\n4 5 6\n")
+    with open(path, "rb") as handle:
+        blocks = [bytes(block) for block in fastparse._blocks_of_whole_lines(handle)]
+        handle.seek(0)
+        first = next(fastparse._blocks_of_whole_lines(handle))
+        assert len(first.obj) <= 2 * (path.stat().st_size + 1)
+    assert blocks == [b"1 2 3\n4 5 6\n"]

@@ -21,6 +21,7 @@ None and the caller runs the general parser, which gives the values or the error
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -275,14 +276,17 @@ def _blocks_of_whole_lines(handle):
     one at the end of the file); check_text_file bounds a line, so every block holds one. Each block
     is a view of one buffer the file is read into (no copy of it made), good until the next block
     is asked for; the part of a line after a block's last line end moves to the buffer's front."""
-    buffer = bytearray(2 * _BLOCK_BYTES)
+    # a file smaller than a block is read in one block of its size: a 32 MB buffer zeroed for a small file
+    # was most of its read
+    block_bytes = max(min(_BLOCK_BYTES, os.fstat(handle.fileno()).st_size + 1), 1)
+    buffer = bytearray(2 * block_bytes)
     carried = 0  # bytes of the next block already in the buffer's front
     while True:
-        if len(buffer) - carried < _BLOCK_BYTES:  # a line longer than a block (not after check_text_file)
+        if len(buffer) - carried < block_bytes:  # a line longer than a block (not after check_text_file)
             grown = bytearray(2 * len(buffer))
             grown[:carried] = buffer[:carried]
             buffer = grown
-        got = handle.readinto(memoryview(buffer)[carried:carried + _BLOCK_BYTES])
+        got = handle.readinto(memoryview(buffer)[carried:carried + block_bytes])
         if not got:
             if carried:
                 yield memoryview(buffer)[:carried]
