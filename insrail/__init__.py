@@ -22,4 +22,12 @@ uses in its own docstring):
   docstring). Latitude/longitude in radians inside the core.
 """
 
+import os as _os
+
 __version__ = "0.1.0"
+
+# The pipeline runs its own threads (the fusion's passes, the covariance analysis, the rails) over small
+# matrices (21 states): OpenBLAS's threads only spin-wait against them (10 km, `benchmarks/pipeline.py`:
+# process 61.7 -> 49.7 s CPU, 37.0 -> 31.5 s wall with one). A value the user set is kept; it holds where
+# numpy is first imported after insrail (every insrail command, the GUI, the batch's processes).
+_os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")

@@ -97,11 +97,17 @@ def test_a_short_survey_or_a_busy_machine_is_written_in_one_process(monkeypatch)
     import insrail.report.both as both
 
     monkeypatch.setattr(both.os, "sched_getaffinity", lambda pid: {0, 1, 2, 3})
-    monkeypatch.setattr(both.os, "getloadavg", lambda: (1.0, 1.0, 1.0))
+    monkeypatch.setattr(both, "running_tasks", lambda: 1.0)
     assert both.side_by_side(both.SIDE_BY_SIDE_MIN_SLEEPERS)
     assert not both.side_by_side(both.SIDE_BY_SIDE_MIN_SLEEPERS - 1)  # its workbook is quicker than a start-up
-    monkeypatch.setattr(both.os, "getloadavg", lambda: (3.5, 1.0, 1.0))
+    monkeypatch.setattr(both, "running_tasks", lambda: 4.0)
     assert not both.side_by_side(16_000)  # no CPU idle
-    monkeypatch.setattr(both.os, "getloadavg", lambda: (0.2, 1.0, 1.0))
+    monkeypatch.setattr(both, "running_tasks", lambda: 1.0)
     monkeypatch.setattr(both.os, "sched_getaffinity", lambda pid: {0})
     assert not both.side_by_side(16_000)  # one CPU
+
+
+def test_the_running_tasks_are_counted_now_this_process_included():
+    import insrail.report.both as both
+
+    assert both.running_tasks() >= 1.0  # this test is running

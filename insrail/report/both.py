@@ -34,14 +34,23 @@ SIDE_BY_SIDE_MIN_SLEEPERS = 10_000
 
 def side_by_side(sleepers: int) -> bool:
     """The workbook of ``sleepers`` rows in a process of its own: long enough to pay for its start-up,
-    and a second CPU free for it: this process may use more than one, they are not all busy (the last
-    minute's load average, this process included, leaves one idle), and it is no daemon (a pool's
-    worker, which may have no children). On a busy machine a second process only adds its start-up to
-    the CPU time the two reports take."""
+    and a second CPU free for it: this process may use more than one, they are not all busy now (the
+    tasks running, this process included, leave one idle: :func:`running_tasks`), and it is no daemon (a
+    pool's worker, which may have no children). On a busy machine a second process only adds its
+    start-up to the CPU time the two reports take."""
     cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
-    return (sleepers >= SIDE_BY_SIDE_MIN_SLEEPERS and cpus > 1 and load <= cpus - 1
+    return (sleepers >= SIDE_BY_SIDE_MIN_SLEEPERS and cpus > 1 and running_tasks() <= cpus - 1
             and not multiprocessing.current_process().daemon)
+
+
+def running_tasks() -> float:
+    """The tasks running or ready to run now, this process included: the kernel's count (``/proc/loadavg``'s
+    fourth field). The load average lags by a minute: right after ``insrail process`` used both CPUs it
+    still says they are busy. Elsewhere: the last minute's load average plus this process."""
+    try:
+        return float(Path("/proc/loadavg").read_text(encoding="ascii").split()[3].split("/")[0])
+    except (OSError, IndexError, ValueError):
+        return (os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0) + 1.0
 
 
 def write_both(project: Project, results: StoredResults, xlsx: Path, pdf: Path, progress: ProgressFn | None = None,
