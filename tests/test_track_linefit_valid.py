@@ -166,3 +166,20 @@ def test_a_spiral_spiral_curve_keeps_its_peak():
     assert result is None
     kinds = [type(e).__name__ for e in chain.alignment(x).elements]
     assert kinds == ["Line", "Clothoid", "Clothoid", "Line"]
+
+
+def test_a_chain_solved_past_its_data_is_refused_naming_the_stretch(monkeypatch):
+    """Hypothesis found a chain whose simplification left its last element cut to nothing: the
+    refusal said "the fitted elements are longer than the data" without saying where. Any refusal
+    while the chain is solved now names the stretch."""
+    import insrail.track.linefit as linefit
+
+    def cut_to_nothing(chain, x, station, east, north):
+        raise LineFitError("line fitting: the fitted elements are longer than the data")
+
+    monkeypatch.setattr(linefit, "_solve_chain", cut_to_nothing)
+    stations = np.arange(100.0, 900.0, SPACING_M)
+    with pytest.raises(LineFitError) as refused:
+        linefit.fit_horizontal(stations, 500_000.0 + stations, np.full(stations.size, 3_300_000.0))
+    assert "between 100.0 and 899.4 m" in str(refused.value)
+    assert "the fitted elements are longer than the data" in str(refused.value)

@@ -780,51 +780,53 @@ def fit_horizontal(
             f"line fitting: the centreline from {station[0]:.1f} to {station[-1]:.1f} m spans "
             f"{station[-1] - station[0]:.1f} m; at least {2 * chord_half_m + curvature_window_m:.1f} m are needed"
         )
-    seeds = _seed_curves(station, east, north, chord_half_m, curvature_window_m, max_radius_m)
-    start, end = station[0] - _END_MARGIN_M, station[-1] + _END_MARGIN_M
-    _, heading = _heading(station, east, north, chord_half_m)
-    azimuth0 = float(heading[0])
-    reference_east = east[0] - _END_MARGIN_M * math.sin(azimuth0)
-    reference_north = north[0] - _END_MARGIN_M * math.cos(azimuth0)
-    # data beginning (ending) on a curve: its curvature at the chain's start (end) is fitted
-    open_start = bool(seeds) and seeds[0].start_curvature is not None
-    open_end = bool(seeds) and seeds[-1].end_curvature is not None
-    kinds = [] if open_start else [LINE]
-    for seed in seeds:
-        kinds += list(seed.kinds) + ([] if seed.end_curvature is not None else [LINE])
-    edges = ([seeds[0].start_curvature] if open_start else []) + ([seeds[-1].end_curvature] if open_end else [])
-    chain = _Chain(start, end, reference_east, reference_north, tuple(kinds), free_start_curvature=open_start,
-                   free_end_curvature=open_end)
-    boundaries = [start] + [b for seed in seeds for b in seed.boundaries_m] + [end]
-    lengths = np.maximum(np.diff(boundaries), 1.0)
-    x0 = np.concatenate(([0.0, azimuth0], lengths[:-1], [k for seed in seeds for k in seed.curvatures], edges))
-    x = _solve_chain(chain, x0, station, east, north)
-    reach = chord_half_m + 0.5 * curvature_window_m
-    probed_reach = (math.inf, math.inf)
-    for probe in (False, True):
-        if probe:  # a curve beginning where the curvature diagram does not reach: try a transition there
-            probed = _with_edge_probes(chain, x, station, east, north, reach)
-            if probed is None:
-                break
-            probe_chain, probe_x, sides = probed
-            # a probe reaching far beyond the diagram's blind end is no curve it missed
-            probed_reach = tuple(2.0 * (reach + _END_MARGIN_M) if side else math.inf for side in sides)
-            probe_x = _solve_edge_probes(probe_chain, probe_x, sides, station, east, north, probed_reach)
-            kept = _simplified(probe_chain, probe_x, min_transition_shift_m, max_radius_m, probed_reach)
-            if kept is not None and kept[0].kinds == chain.kinds:
-                break  # the data do not need the probes: the solution without them stands as it was
-            chain, x = probe_chain, _solve_chain(probe_chain, probe_x, station, east, north)
-        for _ in range(_MAX_SIMPLIFICATIONS):
-            simpler = _simplified(chain, x, min_transition_shift_m, max_radius_m, probed_reach)
-            if simpler is None:
-                break
-            chain, x = simpler
-            x = _solve_chain(chain, x, station, east, north)
-    try:
+    try:  # any refusal while the chain is solved names the stretch (a chain solved past its data: an element cut
+        # to nothing)
+        seeds = _seed_curves(station, east, north, chord_half_m, curvature_window_m, max_radius_m)
+        start, end = station[0] - _END_MARGIN_M, station[-1] + _END_MARGIN_M
+        _, heading = _heading(station, east, north, chord_half_m)
+        azimuth0 = float(heading[0])
+        reference_east = east[0] - _END_MARGIN_M * math.sin(azimuth0)
+        reference_north = north[0] - _END_MARGIN_M * math.cos(azimuth0)
+        # data beginning (ending) on a curve: its curvature at the chain's start (end) is fitted
+        open_start = bool(seeds) and seeds[0].start_curvature is not None
+        open_end = bool(seeds) and seeds[-1].end_curvature is not None
+        kinds = [] if open_start else [LINE]
+        for seed in seeds:
+            kinds += list(seed.kinds) + ([] if seed.end_curvature is not None else [LINE])
+        edges = ([seeds[0].start_curvature] if open_start else []) + ([seeds[-1].end_curvature] if open_end else [])
+        chain = _Chain(start, end, reference_east, reference_north, tuple(kinds), free_start_curvature=open_start,
+                       free_end_curvature=open_end)
+        boundaries = [start] + [b for seed in seeds for b in seed.boundaries_m] + [end]
+        lengths = np.maximum(np.diff(boundaries), 1.0)
+        x0 = np.concatenate(([0.0, azimuth0], lengths[:-1], [k for seed in seeds for k in seed.curvatures], edges))
+        x = _solve_chain(chain, x0, station, east, north)
+        reach = chord_half_m + 0.5 * curvature_window_m
+        probed_reach = (math.inf, math.inf)
+        for probe in (False, True):
+            if probe:  # a curve beginning where the curvature diagram does not reach: try a transition there
+                probed = _with_edge_probes(chain, x, station, east, north, reach)
+                if probed is None:
+                    break
+                probe_chain, probe_x, sides = probed
+                # a probe reaching far beyond the diagram's blind end is no curve it missed
+                probed_reach = tuple(2.0 * (reach + _END_MARGIN_M) if side else math.inf for side in sides)
+                probe_x = _solve_edge_probes(probe_chain, probe_x, sides, station, east, north, probed_reach)
+                kept = _simplified(probe_chain, probe_x, min_transition_shift_m, max_radius_m, probed_reach)
+                if kept is not None and kept[0].kinds == chain.kinds:
+                    break  # the data do not need the probes: the solution without them stands as it was
+                chain, x = probe_chain, _solve_chain(probe_chain, probe_x, station, east, north)
+            for _ in range(_MAX_SIMPLIFICATIONS):
+                simpler = _simplified(chain, x, min_transition_shift_m, max_radius_m, probed_reach)
+                if simpler is None:
+                    break
+                chain, x = simpler
+                x = _solve_chain(chain, x, station, east, north)
         with_margins = chain.alignment(x)
     except ValueError as error:  # the validator's refusal (DesignError) or an element it cannot form
+        reason = str(error).removeprefix("line fitting: ")
         raise LineFitError(
-            f"line fitting: no valid alignment between {station[0]:.1f} and {station[-1]:.1f} m ({error})"
+            f"line fitting: no valid alignment between {station[0]:.1f} and {station[-1]:.1f} m ({reason})"
         ) from None
     feet = _foot(with_margins, station, east, north)[0]
     # cut where the outermost points' perpendiculars fall, so the plan spans exactly the data
