@@ -8,6 +8,7 @@ angles of the survey's trolley geometry.
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -142,11 +143,17 @@ def trajectory_records(path) -> int:
         return _trajectory_header(path, handle)
 
 
+#: numpy parses a ``.npy`` header with ast.literal_eval, and CPython 3.11's parser is not safe in two threads at
+#: once ("SystemError: AST constructor recursion depth mismatch": the track's threads read the trajectory by parts)
+NPY_HEADER_LOCK = threading.Lock()
+
+
 def _trajectory_header(path, handle) -> int:
     """Reads the ``.npy`` header of an open trajectory file; its record count."""
     version = np.lib.format.read_magic(handle)
     read_header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
-    shape, fortran, dtype = read_header(handle)
+    with NPY_HEADER_LOCK:
+        shape, fortran, dtype = read_header(handle)
     if dtype != TRAJECTORY_DTYPE or fortran or len(shape) != 1:
         raise ValueError(f"{path}: not an insrail trajectory file (record layout {dtype})")
     return shape[0]

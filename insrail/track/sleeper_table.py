@@ -18,7 +18,7 @@ import numpy as np
 from insrail.io.atomic import named_write
 from insrail.io.survey import TrolleyGeometry
 from insrail.io.types import GaugeData, SleeperPulses
-from insrail.nav.trajectory import Trajectory
+from insrail.nav.trajectory import NPY_HEADER_LOCK, Trajectory
 from insrail.track.alignment import DesignAlignment
 from insrail.track.by_parts import station_track_by_parts
 from insrail.track.chainage import (
@@ -284,8 +284,9 @@ class EpochStationsFile:
         """(where the data begin, the number of epochs)."""
         with open(self.path, "rb") as handle:
             version = np.lib.format.read_magic(handle)
-            shape, _, _ = (np.lib.format.read_array_header_1_0 if version == (1, 0)
-                           else np.lib.format.read_array_header_2_0)(handle)
+            with NPY_HEADER_LOCK:  # the header's parser is not safe in two threads at once (nav.trajectory)
+                shape, _, _ = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                               else np.lib.format.read_array_header_2_0)(handle)
             return handle.tell(), shape[0]
 
     def _part(self, offset: int, n: int, first: int, size: int) -> EpochStations:
