@@ -17,19 +17,26 @@ analysis of a fusion while the track is reconstructed from the fused trajectory.
   ends, so a failure between the start and the result leaves no thread behind.
 
 The job runs in a copy of the caller's context (:mod:`contextvars`: the language, the notices
-being collected). It should spend its time in code that releases the GIL (numpy, LAPACK, nogil
-numba kernels), or the two threads take turns instead of running side by side.
+being collected, the CPU budget). It should spend its time in code that releases the GIL (numpy,
+LAPACK, nogil numba kernels), or the two threads take turns instead of running side by side.
 
-Serial fallback: with ``os.cpu_count() == 1`` (or ``threaded=False``) the job runs to its end in
+Serial fallback: with a CPU budget of one (or ``threaded=False``) the job runs to its end in
 the constructor, with the progress given there; the results are the same either way.
+
+The CPU budget (:func:`cpu_budget`) is the one answer to "how many threads may this run keep busy",
+asked by every pool and every job beside the caller: the CPUs the process may run on (its affinity),
+no more than the batch gave the run (:func:`cpus_limited`: a spawned batch worker its share of the
+cores, a Dask worker its ``nthreads``), so that N batch workers on C cores keep C busy, not N times C.
 """
 
 from __future__ import annotations
 
 import contextvars
 import os
+import sys
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Generic, TypeVar
 
 from insrail.progress import CancelToken, ProgressFn, ProgressMessage, is_cancelled
@@ -40,9 +47,49 @@ T = TypeVar("T")
 WAIT_POLL_S = 0.1
 
 
-def threads_worth_it() -> bool:
-    """True when a second thread can run beside the caller (more than one CPU)."""
-    return (os.cpu_count() or 1) > 1
+#: The threads the batch gave the run in this context (:func:`cpus_limited`); None: no limit given.
+_CPU_LIMIT: contextvars.ContextVar[int | None] = contextvars.ContextVar("insrail_cpu_limit", default=None)
+
+
+def cpu_budget() -> int:
+    """How many threads this run may keep busy (at least one): the CPUs this process may run on (its
+    affinity; ``os.cpu_count()`` bounds it too, the count tests and embedders set to force a number),
+    no more than the limit the batch gave it (:func:`cpus_limited`) nor, in a task on a Dask worker,
+    than the worker's threads (a worker of one thread runs its task serially)."""
+    cpus = os.cpu_count() or 1
+    if hasattr(os, "sched_getaffinity"):
+        cpus = min(cpus, len(os.sched_getaffinity(0)))
+    for limit in (_CPU_LIMIT.get(), _dask_worker_threads()):
+        if limit is not None:
+            cpus = min(cpus, limit)
+    return max(1, cpus)
+
+
+def _dask_worker_threads() -> int | None:
+    """The threads of the Dask worker running the current task (a context of its); None elsewhere.
+    Dask is not imported for the question: a task on a worker finds it imported."""
+    distributed = sys.modules.get("distributed")
+    if distributed is None:
+        return None
+    try:
+        return distributed.get_worker().state.nthreads
+    except ValueError:  # not in a worker's task
+        return None
+
+
+@contextmanager
+def cpus_limited(limit: int | None) -> Iterator[None]:
+    """Within the block (and the threads started from it with its context, :class:`BackgroundJob`'s),
+    :func:`cpu_budget` is at most ``limit`` (None: as outside). A limit only narrows the one in force."""
+    if limit is None:
+        yield
+        return
+    outer = _CPU_LIMIT.get()
+    token = _CPU_LIMIT.set(max(1, limit if outer is None else min(outer, limit)))
+    try:
+        yield
+    finally:
+        _CPU_LIMIT.reset(token)
 
 
 class BackgroundJob(Generic[T]):
@@ -57,7 +104,7 @@ class BackgroundJob(Generic[T]):
         self._value: T | None = None
         self._error: BaseException | None = None
         self._thread: threading.Thread | None = None
-        if not (threads_worth_it() if threaded is None else threaded):
+        if not (cpu_budget() > 1 if threaded is None else threaded):
             self._value = job(progress or (lambda fraction, message: None), cancel)
             return
         self._guard = threading.Lock()
@@ -92,15 +139,28 @@ class BackgroundJob(Generic[T]):
             self._said = latest[0]
             progress(*latest)
 
-    def result(self, progress: ProgressFn | None = None) -> T:
-        """The job's value, once it has ended (its progress said meanwhile); its exception if it failed."""
+    def done(self) -> bool:
+        """True once the job has ended (returned or failed)."""
+        return self._thread is None or not self._thread.is_alive()
+
+    def wait(self, timeout_s: float | None = None) -> bool:
+        """Wait for the job's end, at most ``timeout_s`` (None: as long as it takes); True if it has ended."""
         if self._thread is not None:
-            while self._thread.is_alive():
-                self._thread.join(WAIT_POLL_S)
+            self._thread.join(timeout_s)
+        return self.done()
+
+    def exception(self, progress: ProgressFn | None = None) -> BaseException | None:
+        """What the job raised, once it has ended (its progress said meanwhile); None if it returned."""
+        if self._thread is not None:
+            while not self.wait(WAIT_POLL_S):
                 self.relay(progress)
             self.relay(progress)
-        if self._error is not None:
-            raise self._error
+        return self._error
+
+    def result(self, progress: ProgressFn | None = None) -> T:
+        """The job's value, once it has ended (its progress said meanwhile); its exception if it failed."""
+        if (error := self.exception(progress)) is not None:
+            raise error
         return self._value
 
     def __enter__(self) -> BackgroundJob[T]:

@@ -72,17 +72,17 @@ def test_a_mounting_given_wrong_is_estimated_applied_and_said(surveys):
 
 
 @pytest.mark.parametrize("name", ["right", "wrong"])
-def test_the_pass_beside_the_main_fusion_gives_the_results_of_one_after_the_other(surveys, name, tmp_path, monkeypatch):
+def test_the_pass_beside_the_main_fusion_gives_the_results_of_one_after_the_other(surveys, name, tmp_path):
     """The fixture's processing ran the mounting's pass and the main fusion side by side (the right mounting: the
     main fusion's guess kept; the wrong one: discarded, fused again); on one CPU they run one after the other,
     as before: the results are the same to the byte."""
-    from insrail.project import mounting_stage
+    from insrail.background import cpus_limited
 
     cell, _ = surveys[name]
     serial = tmp_path / "project"
     shutil.copytree(cell.project, serial, ignore=shutil.ignore_patterns("results", "reports"))
-    monkeypatch.setattr(mounting_stage.os, "cpu_count", lambda: 1)
-    code, out = insrail("process", str(serial))
+    with cpus_limited(1):
+        code, out = insrail("process", str(serial))
     assert code == 0, out
     ran, again = (folder / "results" / SURVEY_NAME for folder in (cell.project, serial))
     for file in ("trajectory.npy", "sleepers.csv", "quality.csv", "exceedances.csv"):

@@ -11,10 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
+from insrail.background import cpus_limited
 from insrail.nav.mounting import MountingEstimate, not_estimated
 from insrail.notices import Phrase
 from insrail.progress import Cancelled, check_cancel
-from insrail.project import mounting_stage
 from insrail.project.mounting_stage import fused_with_mounting
 
 GIVEN = np.radians([0.1, -0.2, 0.3])
@@ -137,11 +137,11 @@ def test_cancel_stops_both_threads():
     assert runs.discarded == [None]
 
 
-def test_one_cpu_or_no_gnss_runs_them_one_after_the_other_in_the_callers_thread(monkeypatch):
+def test_one_cpu_or_no_gnss_runs_them_one_after_the_other_in_the_callers_thread():
     for survey, cpus in ((None, 1), (Survey(Manifest(Trolley(tuple(GIVEN))), gnss=None), 2)):
-        monkeypatch.setattr(mounting_stage.os, "cpu_count", lambda cpus=cpus: cpus)
         for estimate in (confirmed, applying_yaw):
             runs = Fusions(estimate=estimate, steps=3)
-            mounting, _, result = runs(survey=survey)
+            with cpus_limited(cpus):
+                mounting, _, result = runs(survey=survey)
             assert runs.threads == {threading.get_ident()} and runs.discarded == []
             assert [m.tobytes() for m in runs.fused] == [mounting.applied_rpy_rad().tobytes()]

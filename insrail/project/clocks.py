@@ -32,15 +32,12 @@ time stamps are the ones named.
 
 from __future__ import annotations
 
-import os
-import threading
-from concurrent.futures import Future
-from contextvars import copy_context
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from insrail.background import BackgroundJob
 from insrail.io.errors import InputError, ManifestError
 from insrail.io.survey import MANIFEST_NAME, SurveyData
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData, SleeperPulses
@@ -397,34 +394,23 @@ def check_clocks(survey: SurveyData, labels: dict[str, str]) -> list[Notice]:
 
 class ClockCheck:
     """:func:`check_clocks` beside the work after it (the other checks, the fusion's IMU screening; 1.7 s of
-    CPU at 10 km), in a thread of its own where there are two CPUs, at once in the caller's where there is
-    one. Its verdict still comes first: :meth:`failed` tells the work beside it to stop, :meth:`first`
-    raises its error in place of the work's, :meth:`notices` waits for them (raising its error)."""
+    CPU at 10 km), a :class:`~insrail.background.BackgroundJob` (at once in the caller's thread on a CPU
+    budget of one). Its verdict still comes first: :meth:`failed` tells the work beside it to stop,
+    :meth:`first` raises its error in place of the work's, :meth:`notices` waits for them (raising its error)."""
 
     def __init__(self, survey: SurveyData, labels: dict[str, str]):
-        self._verdict: Future = Future()
-        if (os.cpu_count() or 1) < 2:
-            self._verdict.set_result(check_clocks(survey, labels))
-            return
-
-        def check() -> None:
-            try:
-                self._verdict.set_result(check_clocks(survey, labels))
-            except BaseException as error:
-                self._verdict.set_exception(error)
-
-        threading.Thread(target=copy_context().run, args=(check,), name="insrail-clocks", daemon=True).start()
+        self._job = BackgroundJob(lambda progress, cancel: check_clocks(survey, labels), None, None, "insrail-clocks")
 
     def failed(self) -> bool:
-        return self._verdict.done() and self._verdict.exception() is not None
+        return self._job.done() and self._job.exception() is not None
 
     def notices(self) -> list[Notice]:
-        return self._verdict.result()
+        return self._job.result()
 
     def first(self, error: BaseException) -> None:
         """Raise the clocks' error, if any, where the work beside them failed with ``error`` (a cancel by the
         user is not held up for the verdict)."""
-        if isinstance(error, Cancelled) and not self._verdict.done():
+        if isinstance(error, Cancelled) and not self._job.done():
             return
-        if self._verdict.exception() is not None:
-            raise self._verdict.exception() from None
+        if (verdict := self._job.exception()) is not None:
+            raise verdict from None

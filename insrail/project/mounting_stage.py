@@ -9,23 +9,21 @@ leaves for the stages after it.
   roll more than 3 sigma off is applied and the rails placed again.
 Each applied axis is a warning naming survey.toml's key and the value to give it.
 
-The yaw/pitch pass and the main fusion run side by side (:func:`fused_with_mounting`): the main fusion
-starts at once with survey.toml's mounting, a guess the pass almost always confirms (a 10 km survey:
-some 8 s of wall time saved of 17). Where the pass applies an axis the guess is thrown away and the
-survey fused again with the estimate, as without the guess: the result is the same either way.
+The yaw/pitch pass and the main fusion run side by side (:func:`fused_with_mounting`, two jobs of
+:mod:`insrail.background`): the main fusion starts at once with survey.toml's mounting, a guess the pass
+almost always confirms (a 10 km survey: some 8 s of wall time saved of 17). Where the pass applies an
+axis the guess is thrown away and the survey fused again with the estimate, as without the guess: the
+result is the same either way.
 """
 
 from __future__ import annotations
 
 import math
-import os
-import threading
-from concurrent.futures import ThreadPoolExecutor, wait
-from contextvars import copy_context
 from dataclasses import replace
 
 import numpy as np
 
+from insrail.background import BackgroundJob, cpu_budget
 from insrail.nav.mounting import (
     AXES,
     SIGNIFICANT_SIGMAS,
@@ -35,7 +33,7 @@ from insrail.nav.mounting import (
     yaw_pitch_from_velocity,
 )
 from insrail.notices import Notice, Phrase
-from insrail.progress import StepProgress, is_cancelled
+from insrail.progress import StepProgress
 
 #: the calibration pass's trajectory holds the update epochs (10 Hz): enough for the velocity's direction
 UPDATE_RATE_OUTPUT_HZ = 10.0
@@ -73,45 +71,42 @@ def fused_with_mounting(survey, estimate, fuse, discard, progress=None, cancel=N
     progress, cancel)`` the yaw/pitch pass (:func:`yaw_pitch_pass`), ``fuse(survey, progress, cancel)`` the
     main fusion of a survey, ``discard(result)`` drops what a main fusion left (``result``: its result, or
     None after it failed). As the pass and then the main fusion with the estimate applied, one after the
-    other; where the pass fuses (the survey has GNSS) and there are two CPUs, side by side in two threads:
-    the main fusion with survey.toml's mounting, its result kept where the pass applies no axis (the same
-    survey to the bit, so the same result), else discarded and the survey fused again with the estimate.
-    The threads' progress reaches ``progress`` from the caller's thread; a cancel stops both, and either's
-    failure stops the other; the pass's failure is raised, the main fusion's where it is kept (as one
-    after the other)."""
+    other; where the pass fuses (the survey has GNSS) and the CPU budget is two or more, side by side, each a
+    :class:`~insrail.background.BackgroundJob`: the main fusion with survey.toml's mounting, its result kept
+    where the pass applies no axis (the same survey to the bit, so the same result), else discarded and the
+    survey fused again with the estimate. The jobs' progress reaches ``progress`` from the caller's thread;
+    a cancel stops both, and either's failure stops the other; the pass's failure is raised, the main
+    fusion's where it is kept (as one after the other)."""
     step = StepProgress(progress)
     share = PASS_SHARE if survey.gnss is not None else 0.0  # without GNSS the pass does not fuse
-    if survey.gnss is None or (os.cpu_count() or 1) < 2:
+    if survey.gnss is None or cpu_budget() < 2:
         mounting = estimate(survey, step.sub(0.0, share), cancel)
         mounted = replace(survey, manifest=with_mounting(survey.manifest, mounting.applied_rpy_rad()))
         return mounting, mounted, fuse(mounted, step.sub(share, 1.0), cancel)
     given = np.asarray(survey.manifest.trolley.mounting_rpy_rad, dtype=float)
     guessed = replace(survey, manifest=with_mounting(survey.manifest, given))
-    stop = threading.Event()
     done, said = {"pass": 0.0, "fusion": 0.0}, {}
 
-    def reporter(name):
-        def report(fraction, message):
-            done[name] = max(done[name], fraction)  # a self-calibration pass starts again from 0
-            said[name] = message
-        return report
-
-    def stopped() -> bool:
-        return stop.is_set() or is_cancelled(cancel)
+    def heard(name):  # a job's progress as relayed (forward only: a self-calibration pass starts again from 0)
+        def hear(fraction, message):
+            done[name], said[name] = fraction, message
+        return hear
 
     def reached() -> float:
         return share * done["pass"] + (1.0 - share) * done["fusion"]
 
-    def follow(future) -> None:  # the threads' progress to the caller until ``future`` is done
-        while not future.done():
-            wait((future,), timeout=PROGRESS_INTERVAL_S)
+    def follow(job) -> None:  # both jobs' progress to the caller until ``job`` has ended
+        while not job.done():
+            job.wait(PROGRESS_INTERVAL_S)
+            passing.relay(heard("pass"))
+            fusing.relay(heard("fusion"))
             step(reached(), said.get("fusion") or said.get("pass", ""))
 
     kept = False
-    with ThreadPoolExecutor(2, thread_name_prefix="insrail-fusion") as pool:
-        # each thread in a copy of the caller's context (the language, the lock's and the cache's notices)
-        passing = pool.submit(copy_context().run, estimate, survey, reporter("pass"), stopped)
-        fusing = pool.submit(copy_context().run, fuse, guessed, reporter("fusion"), stopped)
+    with BackgroundJob(lambda told, stop: estimate(survey, told, stop), None, cancel, "insrail-mounting-pass",
+                       threaded=True) as passing, \
+            BackgroundJob(lambda told, stop: fuse(guessed, told, stop), None, cancel, "insrail-fusion",
+                          threaded=True) as fusing:
         try:
             follow(passing)
             mounting = passing.result()
@@ -122,8 +117,7 @@ def fused_with_mounting(survey, estimate, fuse, discard, progress=None, cancel=N
                 return mounting, mounted, fusing.result()
         finally:
             if not kept:  # the pass failed or applied an axis: the guess goes
-                stop.set()
-                wait((fusing,))
+                fusing.stop()
                 discard(fusing.result() if fusing.exception() is None else None)
     return mounting, mounted, fuse(mounted, step.sub(reached(), 1.0), cancel)
 

@@ -1,0 +1,61 @@
+"""The CPU budget (insrail.background.cpu_budget): the process's CPUs, narrowed by the batch (a local worker's
+share of the cores, a Dask worker's threads), seen by the threads of its jobs, and kept to by every pool."""
+
+from __future__ import annotations
+
+import os
+import threading
+
+import pytest
+
+from insrail.background import BackgroundJob, cpu_budget, cpus_limited
+
+
+def cores(monkeypatch, count: int) -> None:
+    """This process may run on ``count`` CPUs."""
+    monkeypatch.setattr(os, "cpu_count", lambda: count)
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(count)), raising=False)
+
+
+def test_the_budget_is_the_affinity_narrowed_by_a_limit_that_only_narrows(monkeypatch):
+    cores(monkeypatch, 8)
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1, 2}, raising=False)  # taskset: 3 of the 8
+    assert cpu_budget() == 3
+    with cpus_limited(2):
+        assert cpu_budget() == 2
+        with cpus_limited(5):  # a wider limit inside a narrower one does not widen it
+            assert cpu_budget() == 2
+        with cpus_limited(None):
+            assert cpu_budget() == 2
+    with cpus_limited(16):
+        assert cpu_budget() == 3
+    with cpus_limited(0):
+        assert cpu_budget() == 1
+    assert cpu_budget() == 3
+
+
+def test_a_jobs_thread_keeps_the_callers_budget_and_one_thread_runs_it_in_the_caller(monkeypatch):
+    cores(monkeypatch, 4)
+    with cpus_limited(2):
+        job = BackgroundJob(lambda progress, cancel: (cpu_budget(), threading.current_thread()), None, None, "budget")
+        budget, thread = job.result()
+    assert budget == 2 and thread is not threading.current_thread()
+    with cpus_limited(1):
+        budget, thread = BackgroundJob(lambda progress, cancel: (cpu_budget(), threading.current_thread()), None,
+                                       None, "budget").result()
+    assert budget == 1 and thread is threading.current_thread()
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_a_task_on_a_dask_worker_gets_the_workers_threads(threads, monkeypatch):
+    distributed = pytest.importorskip("distributed")
+    cores(monkeypatch, 4)
+
+    def budgets():  # the task's own, and a job's beside it (its thread started from the task)
+        with BackgroundJob(lambda progress, cancel: cpu_budget(), None, None, "beside", threaded=True) as job:
+            return cpu_budget(), job.result()
+
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=threads, processes=False,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        assert client.submit(budgets, pure=False).result() == (threads, threads)
+    assert cpu_budget() == 4  # outside the worker's tasks, in the same process: the process's
