@@ -5,10 +5,14 @@ from __future__ import annotations
 
 import os
 import threading
+from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
 from insrail.background import BackgroundJob, cpu_budget, cpus_limited
+from insrail.project import batch
+from insrail.project.batch import BatchTask, run_task, worker_cpus
 
 
 def cores(monkeypatch, count: int) -> None:
@@ -44,6 +48,27 @@ def test_a_jobs_thread_keeps_the_callers_budget_and_one_thread_runs_it_in_the_ca
         budget, thread = BackgroundJob(lambda progress, cancel: (cpu_budget(), threading.current_thread()), None,
                                        None, "budget").result()
     assert budget == 1 and thread is threading.current_thread()
+
+
+def test_local_batch_workers_share_the_cores(monkeypatch):
+    cores(monkeypatch, 4)
+    assert [worker_cpus(n) for n in (1, 2, 3, 4, 8)] == [4, 2, 1, 1, 1]
+
+
+def test_a_batch_task_runs_its_survey_within_the_cpus_it_was_given(monkeypatch):
+    cores(monkeypatch, 4)
+    seen = []
+
+    def process(project, survey):
+        seen.append(cpu_budget())
+        return SimpleNamespace(folder=Path("results") / survey)
+
+    monkeypatch.setattr(batch, "load_project", lambda path: "project")
+    monkeypatch.setattr("insrail.project.pipeline.process", process)
+    for cpus in (1, 2, None):
+        assert run_task(BatchTask(Path("project.toml"), "run1"), cpus).ok
+    assert seen == [1, 2, 4]
+    assert cpu_budget() == 4  # the limit ends with the task
 
 
 @pytest.mark.parametrize("threads", [1, 2])

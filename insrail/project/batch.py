@@ -9,6 +9,11 @@ survey). With a Dask scheduler address the tasks are submitted to that cluster
 (``pip install insrail[cluster]``); its workers must see the project folders under the same
 paths (a shared file system).
 
+A task's own threads (the fusion's pass beside it, the track's, the adjustment's) keep to the task's
+CPU budget (:func:`insrail.background.cpu_budget`): in a local worker process its share of the cores
+(``max(1, cores // workers)``, given with the task), on a Dask worker the worker's threads. So the
+batch keeps as many CPUs busy as it has workers' threads, not that many times each run's threads.
+
 Security: a Dask scheduler runs whatever its clients submit, and its workers unpickle what they
 receive. Anyone who can reach a plain ``tcp://`` scheduler can run code on every worker, with
 access to every project folder they see. Run the scheduler on a trusted network only, or with
@@ -32,7 +37,6 @@ their previous results in place), and :class:`insrail.progress.Cancelled` is rai
 
 from __future__ import annotations
 
-import os
 import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
@@ -40,6 +44,7 @@ from multiprocessing import get_context
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
+from insrail.background import cpu_budget, cpus_limited
 from insrail.io.errors import InputError
 from insrail.notices import Phrase
 from insrail.progress import Cancelled, CancelToken, ProgressFn, is_cancelled
@@ -117,16 +122,18 @@ def section_tasks(project: Project, sections: list[str]) -> list[BatchTask]:
     return [BatchTask(project.path, survey, survey_bytes(project, survey)) for survey in surveys]
 
 
-def run_task(task: BatchTask) -> BatchOutcome:
-    """Process one survey (in a worker). Any error becomes a failed outcome: one bad survey must
-    not take the batch down."""
+def run_task(task: BatchTask, cpus: int | None = None) -> BatchOutcome:
+    """Process one survey (in a worker) with at most ``cpus`` threads busy (None: the worker's own
+    budget, a Dask worker's threads). Any error becomes a failed outcome: one bad survey must not take
+    the batch down."""
     from insrail.memory import tune_allocator
     from insrail.project.pipeline import process
 
     tune_allocator()  # a worker is a process of its own (spawned, or a Dask worker)
     started = time.monotonic()
     try:
-        results = process(load_project(task.project_file), task.survey)
+        with cpus_limited(cpus):
+            results = process(load_project(task.project_file), task.survey)
     except Exception as error:  # noqa: BLE001 - reported per survey, with its type
         detail = str(error) if isinstance(error, InputError) else f"{type(error).__name__}: {error}"
         return BatchOutcome(task.project_file, task.survey, False, detail, time.monotonic() - started)
@@ -261,8 +268,14 @@ def _outcome(future, task: BatchTask) -> BatchOutcome:
         return BatchOutcome(task.project_file, task.survey, False, f"worker lost: {type(error).__name__}: {error}", 0.0)
 
 
+def worker_cpus(workers: int) -> int:
+    """The CPU budget of each of ``workers`` local worker processes: their share of this one's."""
+    return max(1, cpu_budget() // workers)
+
+
 def _run_locally(tasks, workers, report, cancel) -> None:
-    workers = max(1, min(workers or os.cpu_count() or 1, len(tasks)))
+    workers = max(1, min(workers or cpu_budget(), len(tasks)))
+    cpus = worker_cpus(workers)
     waiting = longest_first(tasks)
     pending = {}
     with ProcessPoolExecutor(workers, mp_context=get_context("spawn")) as pool:
@@ -270,7 +283,7 @@ def _run_locally(tasks, workers, report, cancel) -> None:
         def start_more() -> None:  # no more tasks in flight than workers: the rest stay cancellable
             while waiting and len(pending) < workers:
                 task = waiting.pop(0)
-                pending[pool.submit(run_task, task)] = task
+                pending[pool.submit(run_task, task, cpus)] = task
 
         try:
             start_more()
