@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import threading
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -84,3 +85,32 @@ def test_a_task_on_a_dask_worker_gets_the_workers_threads(threads, monkeypatch):
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         assert client.submit(budgets, pure=False).result() == (threads, threads)
     assert cpu_budget() == 4  # outside the worker's tasks, in the same process: the process's
+
+
+def test_the_adjustment_keeps_to_the_budget(monkeypatch):
+    """The adjustment sizes its pools by the budget: a batch worker of one CPU solves the directions and
+    parts one at a time (the same amounts)."""
+    from test_track_adjustment_parts import kinked_track
+
+    from insrail.track import adjustment
+    from insrail.track.adjustment import load_fastener_type, optimise_amounts
+    from insrail.track.tolerance import load_tolerance_profile
+
+    cores(monkeypatch, 4)
+    pools = []
+
+    class Recorded(ThreadPoolExecutor):
+        def __init__(self, max_workers=None, *args, **kwargs):
+            pools.append(max_workers)
+            super().__init__(max_workers, *args, **kwargs)
+
+    monkeypatch.setattr(adjustment, "ThreadPoolExecutor", Recorded)
+    geometry = kinked_track([400, 1900], 2400)
+    amounts = {}
+    for cpus in (1, 4):
+        pools.clear()
+        with cpus_limited(cpus):
+            amounts[cpus] = optimise_amounts(geometry, load_tolerance_profile(), load_fastener_type())
+        assert pools == [min(2, cpus), cpus]  # the directions' pool, the parts'
+    for one, four in zip(amounts[1], amounts[4]):
+        assert one.tobytes() == four.tobytes()

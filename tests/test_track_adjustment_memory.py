@@ -3,6 +3,8 @@ and memory that does not grow with the line's length (issue 24's 20 km line)."""
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from memory_support import peak_growth_bytes
@@ -108,7 +110,7 @@ def test_optimise_amounts_memory_does_not_grow_with_the_line(monkeypatch):
     sleeper-level arrays of the amounts and deviations (the whole line's track rows, built for
     every window, grew 1.34 kB per sleeper here)."""
     monkeypatch.setattr(adjustment, "ROW_BLOCK", 97)
-    monkeypatch.setattr(adjustment.os, "cpu_count", lambda: 1)
+    monkeypatch.setattr(os, "cpu_count", lambda: 1)
     profile, fastener = load_tolerance_profile(), load_fastener_type()
 
     moved = []

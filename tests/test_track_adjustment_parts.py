@@ -3,6 +3,7 @@ Dask cluster's workers in a section batch): the amounts of solving them one afte
 
 from __future__ import annotations
 
+import os
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -66,7 +67,7 @@ def test_parts_side_by_side_give_the_amounts_of_one_after_the_other(monkeypatch)
     a part that changed a sleeper outside its zone has its round solved again in order."""
     profile, fastener = load_tolerance_profile(), load_fastener_type()
     geometry = kinked_track([400, 700, 1100, 1900, 2700], 3200)
-    monkeypatch.setattr(adjustment.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
     executor = CountingExecutor()
     with executor:
         remote = optimise_amounts(geometry, profile, fastener, executor=executor)

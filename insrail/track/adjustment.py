@@ -29,7 +29,6 @@ The chord checks work on sleeper indices (a 30 m chord is 48 sleeper spacings, t
 
 from __future__ import annotations
 
-import os
 import tomllib
 from concurrent.futures import FIRST_COMPLETED, Executor, ThreadPoolExecutor, wait
 from contextlib import nullcontext
@@ -38,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from insrail.background import cpu_budget
 from insrail.progress import CancelToken, ProgressFn, check_cancel
 from insrail.resources import resources_dir
 from insrail.track.adjustment_programme import (
@@ -504,8 +504,8 @@ def optimise_amounts(
     unadjusted = {d: _state(problems[d], np.zeros(problems[d].deviation.shape), checks[d]) for d in DIRECTIONS}
     order = sorted(DIRECTIONS, key=lambda d: int(unadjusted[d].pad.sum()), reverse=True)
     local = executor is None
-    with ThreadPoolExecutor(min(len(order), os.cpu_count() or 1)) as pool, \
-            ThreadPoolExecutor(os.cpu_count() or 1) if local else nullcontext(executor) as parts_executor:
+    with ThreadPoolExecutor(min(len(order), cpu_budget())) as pool, \
+            ThreadPoolExecutor(cpu_budget()) if local else nullcontext(executor) as parts_executor:
         futures = {direction: pool.submit(solve, direction) for direction in order}
         while not wait(futures.values(), timeout=PROGRESS_INTERVAL_S).done.issuperset(futures.values()):
             if progress is not None:
