@@ -114,3 +114,16 @@ def test_the_adjustment_keeps_to_the_budget(monkeypatch):
         assert pools == [min(2, cpus), cpus]  # the directions' pool, the parts'
     for one, four in zip(amounts[1], amounts[4]):
         assert one.tobytes() == four.tobytes()
+
+
+def test_the_rails_of_a_one_cpu_run_are_made_in_its_own_thread(monkeypatch):
+    from insrail.track import streamed
+
+    cores(monkeypatch, 4)
+    pools = []
+    monkeypatch.setattr(streamed, "ThreadPoolExecutor", lambda threads, **kwargs: pools.append(threads))
+    track = SimpleNamespace(parts=[(0, 5), (5, 5)], check=lambda: None,
+                            _part_rails=lambda start, count: (start, threading.current_thread()))
+    with cpus_limited(1):
+        made = list(streamed._Streamed._rails_in_order(track))
+    assert made == [(0, threading.current_thread()), (5, threading.current_thread())] and pools == []

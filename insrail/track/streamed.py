@@ -48,6 +48,7 @@ from pathlib import Path
 
 import numpy as np
 
+from insrail.background import cpu_budget
 from insrail.geodesy.ellipsoid import Ellipsoid
 from insrail.io.survey import TrolleyGeometry
 from insrail.io.types import GaugeData, SleeperPulses
@@ -92,7 +93,7 @@ from insrail.track.sleepers import (
 CHUNK_EPOCHS = 1 << 15
 #: Sleepers resampled at a time (the table's bands).
 BAND_SLEEPERS = 500
-#: Threads making the parts' rails (at most os.cpu_count()): their time goes to numpy, the compiled
+#: Threads making the parts' rails (at most the CPU budget): their time goes to numpy, the compiled
 #: ECEF -> geodetic kernel (nogil) and PROJ, which release the GIL.
 RAILS_THREADS = 2
 
@@ -251,7 +252,7 @@ class _Streamed:
         next ones meanwhile (the same numbers as one at a time: each part's are its own). ``check``
         runs in the calling thread before each part is handed over; on any exit the parts not yet
         begun are dropped and the ones being made waited for."""
-        threads = min(RAILS_THREADS, os.cpu_count() or 1)
+        threads = min(RAILS_THREADS, cpu_budget())
         if threads < 2:
             for start, count in self.parts:
                 self.check()
