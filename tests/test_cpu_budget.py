@@ -127,3 +127,13 @@ def test_the_rails_of_a_one_cpu_run_are_made_in_its_own_thread(monkeypatch):
     with cpus_limited(1):
         made = list(streamed._Streamed._rails_in_order(track))
     assert made == [(0, threading.current_thread()), (5, threading.current_thread())] and pools == []
+
+
+def test_a_run_of_one_cpu_writes_its_reports_in_one_process(monkeypatch):
+    from insrail.report import both
+
+    cores(monkeypatch, 4)
+    monkeypatch.setattr(both, "running_tasks", lambda: 1.0)
+    assert both.side_by_side(both.SIDE_BY_SIDE_MIN_SLEEPERS)
+    with cpus_limited(1):
+        assert not both.side_by_side(both.SIDE_BY_SIDE_MIN_SLEEPERS)

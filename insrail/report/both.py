@@ -22,6 +22,7 @@ import threading
 from collections.abc import Sequence
 from pathlib import Path
 
+from insrail.background import cpu_budget
 from insrail.progress import Cancelled, CancelToken, ProgressFn, ProgressMessage, is_cancelled
 from insrail.project.model import Project
 from insrail.project.results import StoredResults
@@ -38,7 +39,7 @@ def side_by_side(sleepers: int) -> bool:
     tasks running, this process included, leave one idle: :func:`running_tasks`), and it is no daemon (a
     pool's worker, which may have no children). On a busy machine a second process only adds its
     start-up to the CPU time the two reports take."""
-    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    cpus = cpu_budget()
     return (sleepers >= SIDE_BY_SIDE_MIN_SLEEPERS and cpus > 1 and running_tasks() <= cpus - 1
             and not multiprocessing.current_process().daemon)
 
