@@ -8,7 +8,9 @@ the project (no results, no cache, an empty cache of parsed tables: the runs' sl
 bytes for every size, and the join would find the first size's parse) goes through `insrail batch
 PROJECT --section km20-30 --scheduler ADDRESS --no-reports` on a `distributed.LocalCluster` of that
 many single-threaded worker processes, started and warmed (insrail imported, numba's cache loaded)
-before the clock starts: a real cluster's workers outlive a batch. The runs and the join's adjustment
+before the clock starts: a real cluster's workers outlive a batch. A task on a single-threaded worker
+has a CPU budget of one (:func:`insrail.background.cpu_budget`, printed): each run is processed
+serially, the one worker's batch keeps one core busy. The runs and the join's adjustment
 parts run on the workers; the rest of the join here. Prints each wall time, the speed-up over one
 worker, the machine's load average before and after each run (the wall speed-up needs idle cores),
 and whether every joined section equals the first one byte for byte (sleepers.csv, exceedances.csv,
@@ -99,6 +101,7 @@ def main() -> None:
     from distributed import Client, LocalCluster
     from distributed.diagnostics.plugin import WorkerPlugin
 
+    from insrail.background import cpu_budget
     from insrail.cli.main import main as cli
     from insrail.project import load_project
     from insrail.project.demo import project_for_simulated_survey
@@ -131,6 +134,7 @@ def main() -> None:
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
             with Client(cluster) as client:
                 pids = client.run(_warm)
+                budget = client.submit(cpu_budget, pure=False).result()
                 client.register_plugin(type("Clock", (TaskClock, WorkerPlugin), {})(), name=TaskClock.name)
                 before = client.run(_cpu_s)
                 load = os.getloadavg()[0]
@@ -156,7 +160,8 @@ def main() -> None:
               f"{max(cpu_of['solve_part_in_zone'], default=0.0):.1f}; ideal makespan from them: "
               + ", ".join(f"{k} worker(s) {ideal_makespan(cpu_of['run_task'], cpu_of['solve_part_in_zone'], k):.1f} s"
                           for k in (1, 2)))
-        print(f"{workers} worker(s) ({len(set(pids.values()))} processes): {walls[workers]:.1f} s wall, load average "
+        print(f"{workers} worker(s) ({len(set(pids.values()))} processes, a task's CPU budget {budget}): "
+              f"{walls[workers]:.1f} s wall, load average "
               f"before {load:.2f}, after {os.getloadavg()[0]:.2f}; CPU s per worker "
               f"{' '.join(f'{v:.1f}' for v in sorted(spent.values(), reverse=True))}, here {here:.1f}; "
               f"idle-machine estimate {idle[workers]:.1f} s")
