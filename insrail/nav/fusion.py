@@ -54,12 +54,11 @@ from typing import Self
 
 import numpy as np
 from numba import njit
-from scipy.special import chdtri
 
 from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
-from insrail.nav import _kernels, earth, error_model, integrity, kalman
+from insrail.nav import _kernels, chi2, earth, error_model, integrity, kalman
 from insrail.nav import measurements as meas
 from insrail.nav.alignment import (
     aiding_still,
@@ -294,7 +293,7 @@ def loud_returns(sources, record_time_s, record_source, accepted, nis, dof, inno
             back = mine[i + 1]
             key = (source.name, round(float(times[i]), 3))
             if (key in found or not accepted[back]
-                    or not nis[back] > chdtri(dof[back], 1.0 - LOUD_RETURN_QUANTILE)):
+                    or not nis[back] > chi2.upper_quantile(dof[back], 1.0 - LOUD_RETURN_QUANTILE)):
                 continue
             peak = np.abs(np.nan_to_num(np.asarray(innovation[back][:3], dtype=float)))
             pos = tuple(peak.tolist()) if source.position_innovation else (0.0, 0.0, 0.0)
@@ -1387,8 +1386,8 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                                 for m in aiding.measurements], stops)
     P0 = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
                             start.sigma_heading_rad, start.levelled_at, start.position_lever_ned_m)
-    # chi-square quantile of the gate probability per degree of freedom (scipy.special: no scipy.stats import)
-    gates = np.array([np.inf] + [chdtri(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
+    # chi-square quantile of the gate probability per degree of freedom
+    gates = np.array([np.inf] + [chi2.upper_quantile(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
     on_rail = holds_to_rail(aiding.measurements)
     return _Setup(imu, dt0, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
                   noise, gqg, play_drift(options, aiding.measurements), gates, track if on_rail else None, c_vb)
