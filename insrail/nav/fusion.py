@@ -47,6 +47,8 @@ import itertools
 import math
 import os
 import tempfile
+import threading
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
@@ -109,7 +111,8 @@ from insrail.nav.trajectory import (
     trajectory_from_records,
 )
 from insrail.notices import Notice, Phrase
-from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.background import WAIT_POLL_S, BackgroundJob
+from insrail.progress import CancelToken, ProgressFn, ProgressMessage, StepProgress, check_cancel
 
 
 @dataclass(frozen=True)
@@ -1005,7 +1008,8 @@ class _RowFile:
         self.file.close()
 
 
-#: IMU epochs of the trajectory made at a time (about 45 MB while one is made)
+#: IMU epochs of the trajectory made at a time (about 45 MB while one is made); a quarter of it beside the
+#: smoother (:func:`_smoothed_trajectory`), so that the chunk made after the smoother's end is short
 TRAJECTORY_CHUNK = 100_000
 #: update epochs of the filter-rate record held at a time while it is made
 HIST_CHUNK = 4096
@@ -1668,9 +1672,10 @@ def fuse(
         trajectory = None
         if options.smoother:  # first: the forward solution at the updates is then not held through it
             check_cancel(cancel)
-            _rts(store, m_epochs, setup.P0, smoothed_rows, cancel, step.sub(0.8, 0.9))
-            trajectory = build(smoothed_rows, smoothed=True, output_every=output_every,
-                               path=trajectory_file, progress=step.sub(0.9, 1.0))
+            trajectory = _smoothed_trajectory(store, m_epochs, setup.P0, smoothed_rows,
+                                              partial(build, smoothed_rows, smoothed=True, output_every=output_every,
+                                                      path=trajectory_file),
+                                              step.sub(0.8, 1.0), cancel)
         forward = at_updates = build(None, smoothed=False, indices=epochs)
         if forward_file is not None or full_forward:
             forward = build(None, smoothed=False, output_every=output_every, path=forward_file)
@@ -1734,13 +1739,14 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
     return notices
 
 
-def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: CancelToken, progress) -> None:
+def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: CancelToken, progress,
+         made: Callable[[int], None] = lambda first: None) -> None:
     """Backward RTS pass (compiled, chunk by chunk from the store). Writes per update epoch j
     into row j of ``out`` the correction pair (left: e_j relative to the stored post-update
     solution, right: e_j + dx_j relative to the pre-update solution) and the smoothed sigmas
-    (SMOOTHED_WIDTH), a chunk at a time. ``p0``: P at epoch 0, whole (its level angles' and start
-    position's correlations with the sensor and attitude errors: their diagonal alone lets the
-    smoother move epoch 0 away from the start it was given)."""
+    (SMOOTHED_WIDTH), a chunk at a time; ``made(j)`` once the rows from j on are written. ``p0``: P
+    at epoch 0, whole (its level angles' and start position's correlations with the sensor and
+    attitude errors: their diagonal alone lets the smoother move epoch 0 away from the start it was given)."""
     state = np.zeros(1)
     e_next = np.zeros(N_STATES)
     P_s_next, phi_next, p_minus_next = (np.zeros((N_STATES, N_STATES)) for _ in range(3))
@@ -1751,24 +1757,87 @@ def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: Ca
         corrections, sigma = np.zeros((k + 1, 2, N_STATES)), np.zeros((k + 1, N_STATES))  # row r: epoch first + r
         _rts_chunk(chunk, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma)
         out.write(first + 1, np.hstack([corrections[1:].reshape(k, 2 * N_STATES), sigma[1:]]))
+        made(first + 1)
     # epoch 0: before the first segment
     if state[0]:
         e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, p0)
     else:
         e, P_s = np.zeros(N_STATES), p0
     out.write(0, np.concatenate([e, e, np.sqrt(np.maximum(np.diag(P_s), 0.0))])[None])
+    made(0)
+
+
+class _RowsMade:
+    """From which update epoch on the smoother's rows are written, told by the smoother's thread and
+    waited for by the trajectory's (:func:`_smoothed_trajectory`)."""
+
+    def __init__(self, m: int):
+        self.first = m + 1  # none yet
+        self.over = False  # the smoother returned or failed
+        self.changed = threading.Condition()
+
+    def made(self, first: int) -> None:
+        with self.changed:
+            self.first = first
+            self.changed.notify_all()
+
+    def end(self) -> None:
+        with self.changed:
+            self.over = True
+            self.changed.notify_all()
+
+    def wait(self, first: int, timeout_s: float) -> bool:
+        """Whether the rows from ``first`` on are written (waits for them up to ``timeout_s``)."""
+        with self.changed:
+            return self.changed.wait_for(lambda: self.first <= first or self.over, timeout_s) and self.first <= first
+
+
+def _smoothed_trajectory(store: SmootherStore, m: int, p0: np.ndarray, smoothed_rows: _RowFile, build,
+                         progress: ProgressFn, cancel: CancelToken) -> Trajectory:
+    """The backward pass (:func:`_rts`) and the smoothed trajectory ``build(progress=, cancel=, ready=)``
+    made from its rows (:func:`_trajectory`): side by side where there are two CPUs (the pass in a
+    background job, its kernel without the GIL; the trajectory's chunks last first, each as soon as
+    the rows it reads are written), else one after the other. The same rows and the same file either
+    way. The progress is the mean of the two's."""
+    rows = _RowsMade(m)
+    done = {"smoother": 0.0, "trajectory": 0.0}
+
+    def tell(part: str, fraction: float, message: ProgressMessage) -> None:  # the caller's thread only
+        done[part] = fraction
+        progress(0.5 * (done["smoother"] + done["trajectory"]), message)
+
+    def smooth(job_progress: ProgressFn, stopped: CancelToken) -> None:
+        try:
+            _rts(store, m, p0, smoothed_rows, stopped, job_progress, made=rows.made)
+        finally:
+            rows.end()
+
+    with BackgroundJob(smooth, partial(tell, "smoother"), cancel, name="insrail-smoother") as job:
+        def ready(first: int) -> None:
+            while not rows.wait(first, WAIT_POLL_S):
+                job.relay(partial(tell, "smoother"))
+                check_cancel(cancel)
+                if rows.over:
+                    job.result()  # its failure
+                    raise AssertionError(f"the smoother ended without the rows from update epoch {first} on")
+            job.relay(partial(tell, "smoother"))
+
+        trajectory = build(progress=partial(tell, "trajectory"), cancel=cancel, ready=ready)
+        job.result(partial(tell, "smoother"))
+    return trajectory
 
 
 def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_rows: _RowFile | None, gps_week, ell,
                 smoothed, output_every: int = 1, indices: np.ndarray | None = None, path: Path | None = None,
-                progress=None, cancel: CancelToken = None) -> Trajectory:
+                progress=None, cancel: CancelToken = None, ready: Callable[[int], None] | None = None) -> Trajectory:
     """Trajectory at every ``output_every``-th IMU epoch from the first update epoch on (or at
     ``indices``), the errors (``smoothed_rows``: the smoother's; None: none) interpolated
     linearly between update epochs. Built in chunks from the IMU-rate record of the forward pass
     and the filter-rate rows of the update epochs each chunk lies between; with ``path`` each
     chunk is written to that ``trajectory.npy`` as it is made and the result is a memory map of
-    the file."""
-    chunk = TRAJECTORY_CHUNK
+    the file. ``ready(j)``: the chunks are made last first, each once ``ready`` returned for the
+    first update epoch it reads (the smoother makes its rows from the last on)."""
+    chunk = TRAJECTORY_CHUNK if ready is None else max(TRAJECTORY_CHUNK // 4, 1)
     if indices is None:  # every output_every-th epoch, made chunk by chunk (not one index per epoch held)
         first = int(epochs[0])
         n = len(range(first, int(epochs[-1]) + 1, output_every))
@@ -1786,20 +1855,25 @@ def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_row
             return idx_all[c0:c1]
     writer = TrajectoryWriter(path, n) if path is not None else None
     records = None if writer is not None else np.empty(n, dtype=TRAJECTORY_DTYPE)
+    blocks = [(c0, c1) for c0, c1 in itertools.pairwise(cuts) if c1 > c0]
+    made = 0
     try:
-        for c0, c1 in itertools.pairwise(cuts):
-            if c1 == c0:
-                continue
+        for c0, c1 in blocks if ready is None else reversed(blocks):
             if progress is not None:
                 check_cancel(cancel)
-                progress(c0 / n, "trajectory")
+                progress(made / n, "trajectory")
             idx = rows_of(c0, c1)
+            if ready is not None:
+                ready(_first_update(epochs, int(idx[0])))
             rows = nav_file.read(int(idx[0]), int(idx[-1]) + 1)[idx - idx[0]]
             block = _trajectory_block(t, rows, idx, epochs, history, smoothed_rows, ell)
-            if writer is not None:
+            if writer is None:
+                records[c0:c1] = block
+            elif ready is None:
                 writer.write(block)
             else:
-                records[c0:c1] = block
+                writer.write_at(c0, block)
+            made += c1 - c0
         if writer is not None:
             writer.commit()
     finally:
@@ -1810,10 +1884,20 @@ def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_row
     return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week, ellipsoid=ell)
 
 
+def _segments(epochs, idx) -> np.ndarray:
+    """The segment of each IMU epoch ``idx``: segment j covers epochs (epochs[j-1], epochs[j]]."""
+    return np.clip(np.searchsorted(epochs, idx, side="left"), 1, max(len(epochs) - 1, 1))
+
+
+def _first_update(epochs, first_idx: int) -> int:
+    """The first update epoch whose rows the trajectory from IMU epoch ``first_idx`` on reads."""
+    return int(_segments(epochs, np.array([first_idx]))[0]) - 1
+
+
 def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _RowFile | None, ell) -> np.ndarray:
-    """TRAJECTORY_DTYPE records of IMU epochs ``idx`` from their forward navigation vectors ``nav``."""
-    # Segment j covers epochs (epochs[j-1], epochs[j]]; w is the position inside it.
-    seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, max(len(epochs) - 1, 1))
+    """TRAJECTORY_DTYPE records of IMU epochs ``idx`` (increasing) from their forward navigation vectors ``nav``."""
+    # w is the position inside the segment (:func:`_segments`)
+    seg = _segments(epochs, idx)
     j0, j1 = int(seg.min()) - 1, min(int(seg.max()) + 1, len(epochs))  # the update epochs the block lies between
     rows = history.read(j0, j1)
     sensor_hist, sigma_hist = np.ascontiguousarray(rows[:, :13]), np.ascontiguousarray(rows[:, 13:])
