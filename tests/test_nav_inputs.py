@@ -83,6 +83,31 @@ def test_a_spike_inside_the_envelope_but_far_outside_the_noise_is_removed_and_br
     assert abs(got[k, axis] - true[k, axis]) < 0.01 * added
 
 
+@pytest.mark.parametrize("chunk", [1 << 18, 997])
+def test_spikes_of_both_quantities_are_found_alike_side_by_side_and_one_after_the_other(monkeypatch, chunk):
+    """The angular rates' below-envelope test runs in a thread beside the specific force's: the same
+    outliers in the same order, a record spiking in both listed once, by its specific force (as serially)."""
+    from functools import partial
+
+    from insrail.background import BackgroundJob
+    from insrail.nav import imu_screening
+
+    imu = walking_imu()
+    dtheta, dvel = imu.dtheta_rad.copy(), imu.dvel_mps.copy()
+    dtheta[[1500, 2345, 3100], 0] += 3e-3
+    dvel[[700, 2345, 3600], 2] += 0.07
+    spiked = ImuIncrements(imu.time_s, dtheta, dvel, source=imu.source)
+    runs = {}
+    for threaded in (False, True):
+        monkeypatch.setattr(imu_screening, "BackgroundJob", partial(BackgroundJob, threaded=threaded))
+        screened, outliers, notices = screen_imu(spiked, load_imu_profile("nav"), chunk=chunk)
+        runs[threaded] = (screened.time_s.tobytes(), outliers, [n.message for n in notices])
+    assert runs[True] == runs[False]
+    assert [(o.index, o.quantity) for o in runs[True][1]] == [(700, "specific force"), (1500, "angular rate"),
+                                                               (2345, "specific force"), (3100, "angular rate"),
+                                                               (3600, "specific force")]
+
+
 def test_motion_too_rough_for_the_below_envelope_test_removes_nothing_by_it_and_says_so():
     imu = walking_imu()
     dtheta = imu.dtheta_rad.copy()
