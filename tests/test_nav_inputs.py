@@ -362,6 +362,33 @@ def test_cli_fuse_says_what_to_do_when_the_start_fails(tmp_path, capsys):
     assert "imu.txt: IMU data gap of 6.0" in err and "cannot be bridged - split the survey there" in err
 
 
+def test_cli_fuse_reads_the_survey_beside_its_imports_and_names_a_bad_line_as_before(tmp_path, capsys, monkeypatch):
+    """`insrail fuse` reads the survey in a thread of its own while the filter's modules are imported; what
+    it finds wrong in a file is the same input error (file, line, expected), exit code 1, nothing written."""
+    import threading
+
+    from test_io_survey import make_manifest, make_survey_files
+
+    from insrail import background
+    from insrail.cli.main import main
+    from insrail.io import survey as survey_io
+
+    monkeypatch.setattr(background, "threads_worth_it", lambda: True)  # also with one CPU
+    write_manifest = survey_io.write_manifest
+    write_manifest(tmp_path, make_manifest(make_survey_files(tmp_path)))
+    lines = (tmp_path / "imu.txt").read_text().splitlines(keepends=True)
+    lines[6] = "230400.5 0.1 x 0.3\n"
+    (tmp_path / "imu.txt").write_text("".join(lines))
+    read_in = []
+    read_survey = survey_io.read_survey
+    monkeypatch.setattr(survey_io, "read_survey",
+                        lambda *a, **k: (read_in.append(threading.current_thread().name), read_survey(*a, **k))[1])
+    assert main(["fuse", str(tmp_path), "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err
+    assert "insrail: input error:" in err and "imu.txt" in err and "line 7" in err and "Traceback" not in err
+    assert read_in == ["insrail-reading"] and not (tmp_path / "out").exists()
+
+
 def test_a_bridged_gap_tells_the_filter_what_the_interpolation_may_miss():
     """The interpolation's error on the stretches beside a gap stands for the gap's: the sway the
     logger lost is of that size, and the filter gets it as process noise on the gap's segment."""
