@@ -295,3 +295,33 @@ def test_a_smoother_failing_beside_the_trajectory_fails_the_fusion(faulty_imu, t
                     trajectory_file=tmp_path / "trajectory.npy")
     assert list(tmp_path.iterdir()) == []
     assert not [t for t in threading.enumerate() if t.name == "insrail-smoother"]
+
+
+def test_the_smoother_records_written_beside_the_filter_are_the_ones_written_by_it(faulty_imu, monkeypatch):
+    """The forward pass's records go to the store from a background job while the filter fills the other
+    buffer: the same records in the same order as written one after the other (a small chunk: many
+    appends); an append that fails (a full disk) fails the fusion."""
+    survey, imu = faulty_imu
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions(smoother=False)
+    stored = {}
+    for threaded in (False, True):
+        monkeypatch.setattr(fusion, "BackgroundJob", partial(BackgroundJob, threaded=threaded))
+        with fusion.SmootherStore(chunk=61) as store:
+            fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
+                        covariance_store=store)
+            store.file.seek(0)
+            stored[threaded] = (store.count, store.file.read())
+    assert stored[True] == stored[False] and stored[True][0] > 1000
+    appended = []
+
+    def full_disk(self, records):
+        appended.append(threading.current_thread().name)
+        if len(appended) == 3:
+            raise OSError(28, "No space left on device", "the smoother's temporary file")
+
+    monkeypatch.setattr(fusion.SmootherStore, "append_records", full_disk)
+    with fusion.SmootherStore(chunk=61) as store, pytest.raises(OSError, match="No space left"):
+        fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
+                    covariance_store=store)
+    assert appended[:3] == ["insrail-records"] * 3 and len(appended) <= 4

@@ -1480,7 +1480,8 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     nav_buf[0] = state.nav[:12]
     nav_base = np.array([k0 + 1], dtype=np.int64)
     nav_file.append(nav_buf[:1])
-    rec_buf = np.empty((store.chunk if store is not None else 1, RECORD_SIZE))
+    writer = _RecordWriter(store) if store is not None else None
+    rec_buf = writer.buffer if writer is not None else np.empty((1, RECORD_SIZE))
     rec_fill = np.zeros(1, dtype=np.int64)
     hist_rows = min(HIST_CHUNK, m_epochs)
     sensor_hist = np.empty((hist_rows, 13))
@@ -1521,52 +1522,60 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     if m_epochs > 1 and np.max(np.diff(epochs)) > nav_chunk:
         nav_chunk = int(np.max(np.diff(epochs)))
         nav_buf = np.empty((nav_chunk, 12))
-    while True:
-        event, e = _forward_kernel(
-            state.pos, state.nav, state.sensor, state.gnss_error, state.odo, state.x, state.P, state.P_minus,
-            state.phi_top, state.phi_diag, state.ctx, state.sums, state.pending,
-            dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, setup.play, gnss_tau, gap_j, gap_q,
-            plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
-            nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist, hist_base,
-            nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu, hph, noise)
-        if event == EVENT_DONE:
-            break
-        if event == EVENT_NEED_IMU:
-            _fill_imu_chunk(imu, setup.dt0, int(epochs[state.pos[0] - 1]), dtheta, dvel, dt, imu_span)
-            continue
-        if event in (EVENT_FLUSH, EVENT_PROGRESS):
-            if event == EVENT_PROGRESS:
-                check_cancel(cancel)
-                j = int(state.pos[0])
-                progress(j / m_epochs, Phrase("forward filter {elapsed_s:.0f} s", {"elapsed_s": t[epochs[j]] - t[epochs[0]]}))
-            upto = int(epochs[state.pos[0] - 1]) + 1 if state.pos[0] < m_epochs else int(epochs[-1]) + 1
-            nav_file.append(nav_buf[: upto - nav_base[0]])
-            nav_base[0] = upto
-            if store is not None and rec_fill[0]:
-                store.append_records(rec_buf[: rec_fill[0]])
-                rec_fill[0] = 0
-            save_history()
-            continue
-        k, i = int(plan.source[e]), int(plan.observation[e])
-        source = sources[k]
-        if event == EVENT_REJECTED:
-            m = int(dof[e])
-            rejected[k] += 1
-            time_s = float(source.time_s[i])
-            rejections.append(Rejection(time_s, source.name, float(nis[e]), float(setup.gates[m]),
-                                        tuple(event_nu[:m].tolist())))
-            reset = runs.rejected(k, i, time_s, event_nu[:m].copy())
-            if reset is not None:
-                reset = realign_at_reset(reset, state.nav, setup, options, ellipsoid)
-                resets.append(reset)
-                state.pending[0] = 1.0
-                state.pending[1:] = reset.floors()
-        else:
-            runs.accepted(k)
-        watched[:] = [runs.pending(s) for s in range(k_src)]
-    nav_file.append(nav_buf[: int(epochs[-1]) + 1 - nav_base[0]])
-    if store is not None and rec_fill[0]:
-        store.append_records(rec_buf[: rec_fill[0]])
+    try:
+        while True:
+            event, e = _forward_kernel(
+                state.pos, state.nav, state.sensor, state.gnss_error, state.odo, state.x, state.P, state.P_minus,
+                state.phi_top, state.phi_diag, state.ctx, state.sums, state.pending,
+                dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, setup.play, gnss_tau, gap_j, gap_q,
+                plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
+                nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist, hist_base,
+                nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu, hph, noise)
+            if event == EVENT_DONE:
+                break
+            if event == EVENT_NEED_IMU:
+                _fill_imu_chunk(imu, setup.dt0, int(epochs[state.pos[0] - 1]), dtheta, dvel, dt, imu_span)
+                continue
+            if event in (EVENT_FLUSH, EVENT_PROGRESS):
+                if event == EVENT_PROGRESS:
+                    check_cancel(cancel)
+                    j = int(state.pos[0])
+                    progress(j / m_epochs, Phrase("forward filter {elapsed_s:.0f} s",
+                                                  {"elapsed_s": t[epochs[j]] - t[epochs[0]]}))
+                upto = int(epochs[state.pos[0] - 1]) + 1 if state.pos[0] < m_epochs else int(epochs[-1]) + 1
+                nav_file.append(nav_buf[: upto - nav_base[0]])
+                nav_base[0] = upto
+                if store is not None and rec_fill[0]:
+                    writer.append(int(rec_fill[0]))
+                    rec_buf = writer.buffer
+                    rec_fill[0] = 0
+                save_history()
+                continue
+            k, i = int(plan.source[e]), int(plan.observation[e])
+            source = sources[k]
+            if event == EVENT_REJECTED:
+                m = int(dof[e])
+                rejected[k] += 1
+                time_s = float(source.time_s[i])
+                rejections.append(Rejection(time_s, source.name, float(nis[e]), float(setup.gates[m]),
+                                            tuple(event_nu[:m].tolist())))
+                reset = runs.rejected(k, i, time_s, event_nu[:m].copy())
+                if reset is not None:
+                    reset = realign_at_reset(reset, state.nav, setup, options, ellipsoid)
+                    resets.append(reset)
+                    state.pending[0] = 1.0
+                    state.pending[1:] = reset.floors()
+            else:
+                runs.accepted(k)
+            watched[:] = [runs.pending(s) for s in range(k_src)]
+        nav_file.append(nav_buf[: int(epochs[-1]) + 1 - nav_base[0]])
+        if store is not None and rec_fill[0]:
+            writer.append(int(rec_fill[0]))
+        if writer is not None:
+            writer.wait()
+    finally:
+        if writer is not None:
+            writer.stop()
     save_history()
     statistics = {}
     for k in dict.fromkeys(plan.source.tolist()):  # the sources in the order they first applied
@@ -1575,6 +1584,44 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
             int(used[k]), int(rejected[k]), sum_sq[k, :dof_k].copy() if used[k] else None, float(sum_nis[k]),
             int(sum_dof[k])).summary()
     return _ForwardPass(history, nis, dof, accepted, statistics, rejections, resets, nu, hph, noise)
+
+
+class _RecordWriter:
+    """The forward pass's smoother records appended to the store (7.3 kB per update epoch) by a background
+    job while the filter fills the other of two buffers: the file's write beside the filter, without the
+    GIL; one after the other with one CPU. The appends keep their order."""
+
+    def __init__(self, store: SmootherStore):
+        self.store = store
+        self.buffers = [np.empty((store.chunk, RECORD_SIZE)) for _ in range(2)]
+        self.current = 0
+        self.job: BackgroundJob | None = None
+
+    @property
+    def buffer(self) -> np.ndarray:
+        """Where the filter writes its next records."""
+        return self.buffers[self.current]
+
+    def append(self, count: int) -> None:
+        """The first ``count`` records of :attr:`buffer` appended to the store once the last append is done;
+        the other buffer is :attr:`buffer` then."""
+        self.wait()
+        records = self.buffer[:count]
+        self.job = BackgroundJob(lambda progress, cancel: self.store.append_records(records), None, None,
+                                 name="insrail-records")
+        self.current = 1 - self.current
+
+    def wait(self) -> None:
+        """The last append done; its failure (a full disk) raised."""
+        job, self.job = self.job, None
+        if job is not None:
+            job.result()
+
+    def stop(self) -> None:
+        """The last append waited for (after a failure of the filter: its own failure is the one reported)."""
+        if self.job is not None:
+            self.job.stop()
+            self.job = None
 
 
 def _fill_imu_chunk(imu: ImuIncrements, dt0: float, start: int, dtheta, dvel, dt, span) -> None:
