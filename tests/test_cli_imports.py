@@ -54,6 +54,7 @@ def test_fuse_imports_only_the_reader_and_the_filter(tiny_nav_survey, tmp_path):
                           "--no-smoother", "--rate", "10")
     assert "insrail.nav.fusion" in modules  # it did fuse
     assert loaded(modules, NEVER) == []
+    assert loaded(modules, ("scipy.special",)) == []  # the gates' chi-square quantiles are tabulated (insrail.nav.chi2)
 
 
 def test_report_imports_neither_the_filter_nor_numba(tmp_path, tmp_path_factory):

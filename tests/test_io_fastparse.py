@@ -158,3 +158,26 @@ def test_a_small_file_is_read_into_a_buffer_of_its_size_not_a_whole_block(tmp_pa
         first = next(fastparse._blocks_of_whole_lines(handle))
         assert len(first.obj) <= 2 * (path.stat().st_size + 1)
     assert blocks == [b"1 2 3\n4 5 6\n"]
+
+
+def test_the_powers_of_five_are_fast_floats_table():
+    """The table of 128-bit powers of five (normalised with bit lengths at import) is the one normalising
+    them a bit at a time gives, as fast_float generates it."""
+    expected = []
+    for q in range(fastparse._SMALLEST_POWER_OF_FIVE, 0):
+        power5 = 5 ** -q
+        z = power5.bit_length() if power5 & (power5 - 1) else power5.bit_length() - 1
+        c = (1 << (z + 127 if q >= -27 else 2 * z + 128)) // power5 + 1
+        while c >= 1 << 128:
+            c >>= 1
+        expected.append(c)
+    for q in range(0, fastparse._LARGEST_POWER_OF_FIVE + 1):
+        power5 = 5 ** q
+        while power5 < 1 << 127:
+            power5 <<= 1
+        while power5 >= 1 << 128:
+            power5 >>= 1
+        expected.append(power5)
+    table = fastparse._POWERS_OF_FIVE
+    assert [(int(hi) << 64) | int(lo) for hi, lo in table] == expected
+    assert (int(table[-fastparse._SMALLEST_POWER_OF_FIVE][0]), int(table[-fastparse._SMALLEST_POWER_OF_FIVE][1])) == (1 << 63, 0)

@@ -2,13 +2,15 @@
 length): the reader, the screening and the stop detection give with tiny chunks exactly what they
 give in one chunk, and so does the fusion of the `short` survey (every epoch within 0.01 mm)."""
 
+import threading
 from contextlib import ExitStack
 from dataclasses import replace
-from functools import partial
+from functools import partial, partialmethod
 
 import numpy as np
 import pytest
 
+from insrail.background import BackgroundJob
 from insrail.io import imu as imu_io
 from insrail.io.survey import read_survey
 from insrail.io.types import ImuIncrements
@@ -239,3 +241,87 @@ def test_the_running_sum_of_the_odometer_check_is_numpys_to_the_bit(survey, monk
     got, values = plausibility.running_sum_at(dvel, 0, records)
     assert got == records
     np.testing.assert_array_equal(values, whole)
+
+
+@pytest.mark.parametrize("in_file", [True, False])
+def test_the_trajectory_made_beside_the_smoother_is_the_one_made_after_it(faulty_imu, tmp_path, monkeypatch, in_file):
+    """The smoother in a thread of its own and the trajectory's chunks made last first as its rows come
+    (tiny chunks: every readiness wait), or one after the other: the same trajectory to the bit."""
+    survey, imu = faulty_imu
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions()
+    threads = []
+
+    def fused(label, threaded):
+        path = tmp_path / f"{label}.npy" if in_file else None
+        monkeypatch.setattr(fusion, "BackgroundJob", partial(BackgroundJob, threaded=threaded))
+        result = fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
+                             trajectory_file=path, progress=lambda f, m: threads.append((threading.get_ident(), f)))
+        return path.read_bytes() if in_file else np.asarray(result.trajectory.lat_rad).tobytes() + \
+            np.asarray(result.trajectory.sigma_rpy_rad).tobytes() + np.asarray(result.trajectory.odometer_scale).tobytes()
+
+    smoothed_in = []
+    rts = fusion._rts
+    monkeypatch.setattr(fusion, "_rts", lambda *a, **k: (smoothed_in.append(threading.current_thread().name), rts(*a, **k)))
+    serial = fused("serial", False)
+    monkeypatch.setattr(fusion, "TRAJECTORY_CHUNK", TINY)
+    monkeypatch.setattr(fusion.SmootherStore, "__init__", partialmethod(fusion.SmootherStore.__init__, chunk=53))
+    said = len(threads)
+    assert fused("beside", True) == serial
+    assert smoothed_in == [threading.current_thread().name, "insrail-smoother"]
+    assert {ident for ident, _ in threads} == {threading.get_ident()}  # the progress said in the caller's thread only
+    fractions = [f for _, f in threads[said:]]
+    assert fractions == sorted(fractions)
+
+
+def test_a_smoother_failing_beside_the_trajectory_fails_the_fusion(faulty_imu, tmp_path, monkeypatch):
+    """The smoother's failure in its thread is the fusion's (not a wait for rows that never come), and
+    nothing of the trajectory is left."""
+    survey, imu = faulty_imu
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions()
+    rts = fusion._rts
+
+    def failing(*args, made, **kwargs):
+        def made_then_fail(first):
+            made(first)
+            raise OSError(28, "No space left on device", "the smoother's temporary file")
+        rts(*args, made=made_then_fail, **kwargs)
+
+    monkeypatch.setattr(fusion, "_rts", failing)
+    monkeypatch.setattr(fusion, "BackgroundJob", partial(BackgroundJob, threaded=True))
+    with pytest.raises(OSError, match="No space left"):
+        fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
+                    trajectory_file=tmp_path / "trajectory.npy")
+    assert list(tmp_path.iterdir()) == []
+    assert not [t for t in threading.enumerate() if t.name == "insrail-smoother"]
+
+
+def test_the_smoother_records_written_beside_the_filter_are_the_ones_written_by_it(faulty_imu, monkeypatch):
+    """The forward pass's records go to the store from a background job while the filter fills the other
+    buffer: the same records in the same order as written one after the other (a small chunk: many
+    appends); an append that fails (a full disk) fails the fusion."""
+    survey, imu = faulty_imu
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions(smoother=False)
+    stored = {}
+    for threaded in (False, True):
+        monkeypatch.setattr(fusion, "BackgroundJob", partial(BackgroundJob, threaded=threaded))
+        with fusion.SmootherStore(chunk=61) as store:
+            fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
+                        covariance_store=store)
+            store.file.seek(0)
+            stored[threaded] = (store.count, store.file.read())
+    assert stored[True] == stored[False] and stored[True][0] > 1000
+    appended = []
+
+    def full_disk(self, records):
+        appended.append(threading.current_thread().name)
+        if len(appended) == 3:
+            raise OSError(28, "No space left on device", "the smoother's temporary file")
+
+    monkeypatch.setattr(fusion.SmootherStore, "append_records", full_disk)
+    with fusion.SmootherStore(chunk=61) as store, pytest.raises(OSError, match="No space left"):
+        fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
+                    covariance_store=store)
+    assert appended[:3] == ["insrail-records"] * 3 and len(appended) <= 4

@@ -83,6 +83,31 @@ def test_a_spike_inside_the_envelope_but_far_outside_the_noise_is_removed_and_br
     assert abs(got[k, axis] - true[k, axis]) < 0.01 * added
 
 
+@pytest.mark.parametrize("chunk", [1 << 18, 997])
+def test_spikes_of_both_quantities_are_found_alike_side_by_side_and_one_after_the_other(monkeypatch, chunk):
+    """The angular rates' below-envelope test runs in a thread beside the specific force's: the same
+    outliers in the same order, a record spiking in both listed once, by its specific force (as serially)."""
+    from functools import partial
+
+    from insrail.background import BackgroundJob
+    from insrail.nav import imu_screening
+
+    imu = walking_imu()
+    dtheta, dvel = imu.dtheta_rad.copy(), imu.dvel_mps.copy()
+    dtheta[[1500, 2345, 3100], 0] += 3e-3
+    dvel[[700, 2345, 3600], 2] += 0.07
+    spiked = ImuIncrements(imu.time_s, dtheta, dvel, source=imu.source)
+    runs = {}
+    for threaded in (False, True):
+        monkeypatch.setattr(imu_screening, "BackgroundJob", partial(BackgroundJob, threaded=threaded))
+        screened, outliers, notices = screen_imu(spiked, load_imu_profile("nav"), chunk=chunk)
+        runs[threaded] = (screened.time_s.tobytes(), outliers, [n.message for n in notices])
+    assert runs[True] == runs[False]
+    assert [(o.index, o.quantity) for o in runs[True][1]] == [(700, "specific force"), (1500, "angular rate"),
+                                                               (2345, "specific force"), (3100, "angular rate"),
+                                                               (3600, "specific force")]
+
+
 def test_motion_too_rough_for_the_below_envelope_test_removes_nothing_by_it_and_says_so():
     imu = walking_imu()
     dtheta = imu.dtheta_rad.copy()
@@ -335,6 +360,33 @@ def test_cli_fuse_says_what_to_do_when_the_start_fails(tmp_path, capsys):
     assert main(["fuse", str(tmp_path), "--out", str(tmp_path / "out")]) == 1
     err = capsys.readouterr().err
     assert "imu.txt: IMU data gap of 6.0" in err and "cannot be bridged - split the survey there" in err
+
+
+def test_cli_fuse_reads_the_survey_beside_its_imports_and_names_a_bad_line_as_before(tmp_path, capsys, monkeypatch):
+    """`insrail fuse` reads the survey in a thread of its own while the filter's modules are imported; what
+    it finds wrong in a file is the same input error (file, line, expected), exit code 1, nothing written."""
+    import threading
+
+    from test_io_survey import make_manifest, make_survey_files
+
+    from insrail import background
+    from insrail.cli.main import main
+    from insrail.io import survey as survey_io
+
+    monkeypatch.setattr(background, "threads_worth_it", lambda: True)  # also with one CPU
+    write_manifest = survey_io.write_manifest
+    write_manifest(tmp_path, make_manifest(make_survey_files(tmp_path)))
+    lines = (tmp_path / "imu.txt").read_text().splitlines(keepends=True)
+    lines[6] = "230400.5 0.1 x 0.3\n"
+    (tmp_path / "imu.txt").write_text("".join(lines))
+    read_in = []
+    read_survey = survey_io.read_survey
+    monkeypatch.setattr(survey_io, "read_survey",
+                        lambda *a, **k: (read_in.append(threading.current_thread().name), read_survey(*a, **k))[1])
+    assert main(["fuse", str(tmp_path), "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err
+    assert "insrail: input error:" in err and "imu.txt" in err and "line 7" in err and "Traceback" not in err
+    assert read_in == ["insrail-reading"] and not (tmp_path / "out").exists()
 
 
 def test_a_bridged_gap_tells_the_filter_what_the_interpolation_may_miss():

@@ -41,16 +41,11 @@ def _powers_of_five_128() -> np.ndarray:
         z = power5.bit_length() if power5 & (power5 - 1) else power5.bit_length() - 1
         bits = z + 127 if q >= -27 else 2 * z + 128
         c = (1 << bits) // power5 + 1
-        while c >= 1 << 128:
-            c >>= 1
-        table.append(c)
+        table.append(c >> max(c.bit_length() - 128, 0))  # its top 128 bits
     for q in range(0, _LARGEST_POWER_OF_FIVE + 1):
         power5 = 5 ** q
-        while power5 < 1 << 127:
-            power5 <<= 1
-        while power5 >= 1 << 128:
-            power5 >>= 1
-        table.append(power5)
+        shift = 128 - power5.bit_length()  # normalised: the highest of 128 bits set
+        table.append(power5 << shift if shift >= 0 else power5 >> -shift)
     mask = (1 << 64) - 1
     return np.array([[c >> 64, c & mask] for c in table], dtype=np.uint64)
 

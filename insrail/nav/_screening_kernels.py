@@ -49,7 +49,7 @@ def _middle(window: np.ndarray, count: int) -> float:
     return (window[half - 1] + window[half]) / 2.0
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # nogil: the two quantities' medians are made side by side (screen_imu)
 def neighbour_median_and_spread(rates: np.ndarray, neighbours: int) -> tuple[np.ndarray, np.ndarray]:
     """For each record r of ``rates`` (m, 3) with ``neighbours`` records on either side (rows
     ``neighbours`` .. m - neighbours - 1) and each axis: the median of the 2 x ``neighbours``

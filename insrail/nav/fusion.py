@@ -47,6 +47,8 @@ import itertools
 import math
 import os
 import tempfile
+import threading
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
@@ -54,12 +56,11 @@ from typing import Self
 
 import numpy as np
 from numba import njit
-from scipy.special import chdtri
 
 from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
-from insrail.nav import _kernels, earth, error_model, integrity, kalman
+from insrail.nav import _kernels, chi2, earth, error_model, integrity, kalman
 from insrail.nav import measurements as meas
 from insrail.nav.alignment import (
     aiding_still,
@@ -110,7 +111,8 @@ from insrail.nav.trajectory import (
     trajectory_from_records,
 )
 from insrail.notices import Notice, Phrase
-from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.background import WAIT_POLL_S, BackgroundJob
+from insrail.progress import CancelToken, ProgressFn, ProgressMessage, StepProgress, check_cancel
 
 
 @dataclass(frozen=True)
@@ -294,7 +296,7 @@ def loud_returns(sources, record_time_s, record_source, accepted, nis, dof, inno
             back = mine[i + 1]
             key = (source.name, round(float(times[i]), 3))
             if (key in found or not accepted[back]
-                    or not nis[back] > chdtri(dof[back], 1.0 - LOUD_RETURN_QUANTILE)):
+                    or not nis[back] > chi2.upper_quantile(dof[back], 1.0 - LOUD_RETURN_QUANTILE)):
                 continue
             peak = np.abs(np.nan_to_num(np.asarray(innovation[back][:3], dtype=float)))
             pos = tuple(peak.tolist()) if source.position_innovation else (0.0, 0.0, 0.0)
@@ -1006,7 +1008,8 @@ class _RowFile:
         self.file.close()
 
 
-#: IMU epochs of the trajectory made at a time (about 45 MB while one is made)
+#: IMU epochs of the trajectory made at a time (about 45 MB while one is made); a quarter of it beside the
+#: smoother (:func:`_smoothed_trajectory`), so that the chunk made after the smoother's end is short
 TRAJECTORY_CHUNK = 100_000
 #: update epochs of the filter-rate record held at a time while it is made
 HIST_CHUNK = 4096
@@ -1387,8 +1390,8 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
                                 for m in aiding.measurements], stops)
     P0 = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
                             start.sigma_heading_rad, start.levelled_at, start.position_lever_ned_m)
-    # chi-square quantile of the gate probability per degree of freedom (scipy.special: no scipy.stats import)
-    gates = np.array([np.inf] + [chdtri(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
+    # chi-square quantile of the gate probability per degree of freedom
+    gates = np.array([np.inf] + [chi2.upper_quantile(m, 1.0 - options.gate_probability) for m in range(1, meas.MAX_ROWS + 1)])
     on_rail = holds_to_rail(aiding.measurements)
     return _Setup(imu, dt0, outliers, notices, stops, start, epochs, plan, bridged_process_noise(imu, epochs), P0,
                   noise, gqg, play_drift(options, aiding.measurements), gates, track if on_rail else None, c_vb)
@@ -1477,7 +1480,8 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     nav_buf[0] = state.nav[:12]
     nav_base = np.array([k0 + 1], dtype=np.int64)
     nav_file.append(nav_buf[:1])
-    rec_buf = np.empty((store.chunk if store is not None else 1, RECORD_SIZE))
+    writer = _RecordWriter(store) if store is not None else None
+    rec_buf = writer.buffer if writer is not None else np.empty((1, RECORD_SIZE))
     rec_fill = np.zeros(1, dtype=np.int64)
     hist_rows = min(HIST_CHUNK, m_epochs)
     sensor_hist = np.empty((hist_rows, 13))
@@ -1518,52 +1522,60 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     if m_epochs > 1 and np.max(np.diff(epochs)) > nav_chunk:
         nav_chunk = int(np.max(np.diff(epochs)))
         nav_buf = np.empty((nav_chunk, 12))
-    while True:
-        event, e = _forward_kernel(
-            state.pos, state.nav, state.sensor, state.gnss_error, state.odo, state.x, state.P, state.P_minus,
-            state.phi_top, state.phi_diag, state.ctx, state.sums, state.pending,
-            dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, setup.play, gnss_tau, gap_j, gap_q,
-            plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
-            nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist, hist_base,
-            nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu, hph, noise)
-        if event == EVENT_DONE:
-            break
-        if event == EVENT_NEED_IMU:
-            _fill_imu_chunk(imu, setup.dt0, int(epochs[state.pos[0] - 1]), dtheta, dvel, dt, imu_span)
-            continue
-        if event in (EVENT_FLUSH, EVENT_PROGRESS):
-            if event == EVENT_PROGRESS:
-                check_cancel(cancel)
-                j = int(state.pos[0])
-                progress(j / m_epochs, Phrase("forward filter {elapsed_s:.0f} s", {"elapsed_s": t[epochs[j]] - t[epochs[0]]}))
-            upto = int(epochs[state.pos[0] - 1]) + 1 if state.pos[0] < m_epochs else int(epochs[-1]) + 1
-            nav_file.append(nav_buf[: upto - nav_base[0]])
-            nav_base[0] = upto
-            if store is not None and rec_fill[0]:
-                store.append_records(rec_buf[: rec_fill[0]])
-                rec_fill[0] = 0
-            save_history()
-            continue
-        k, i = int(plan.source[e]), int(plan.observation[e])
-        source = sources[k]
-        if event == EVENT_REJECTED:
-            m = int(dof[e])
-            rejected[k] += 1
-            time_s = float(source.time_s[i])
-            rejections.append(Rejection(time_s, source.name, float(nis[e]), float(setup.gates[m]),
-                                        tuple(event_nu[:m].tolist())))
-            reset = runs.rejected(k, i, time_s, event_nu[:m].copy())
-            if reset is not None:
-                reset = realign_at_reset(reset, state.nav, setup, options, ellipsoid)
-                resets.append(reset)
-                state.pending[0] = 1.0
-                state.pending[1:] = reset.floors()
-        else:
-            runs.accepted(k)
-        watched[:] = [runs.pending(s) for s in range(k_src)]
-    nav_file.append(nav_buf[: int(epochs[-1]) + 1 - nav_base[0]])
-    if store is not None and rec_fill[0]:
-        store.append_records(rec_buf[: rec_fill[0]])
+    try:
+        while True:
+            event, e = _forward_kernel(
+                state.pos, state.nav, state.sensor, state.gnss_error, state.odo, state.x, state.P, state.P_minus,
+                state.phi_top, state.phi_diag, state.ctx, state.sums, state.pending,
+                dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, setup.play, gnss_tau, gap_j, gap_q,
+                plan.first, plan.source, plan.observation, kinds, params, rows, row_first, setup.gates,
+                nav_buf, nav_base, rec_buf, rec_fill, store is not None, sensor_hist, sigma_hist, hist_base,
+                nis, dof, accepted, used, sum_sq, sum_nis, sum_dof, watched, event_nu, nu, hph, noise)
+            if event == EVENT_DONE:
+                break
+            if event == EVENT_NEED_IMU:
+                _fill_imu_chunk(imu, setup.dt0, int(epochs[state.pos[0] - 1]), dtheta, dvel, dt, imu_span)
+                continue
+            if event in (EVENT_FLUSH, EVENT_PROGRESS):
+                if event == EVENT_PROGRESS:
+                    check_cancel(cancel)
+                    j = int(state.pos[0])
+                    progress(j / m_epochs, Phrase("forward filter {elapsed_s:.0f} s",
+                                                  {"elapsed_s": t[epochs[j]] - t[epochs[0]]}))
+                upto = int(epochs[state.pos[0] - 1]) + 1 if state.pos[0] < m_epochs else int(epochs[-1]) + 1
+                nav_file.append(nav_buf[: upto - nav_base[0]])
+                nav_base[0] = upto
+                if store is not None and rec_fill[0]:
+                    writer.append(int(rec_fill[0]))
+                    rec_buf = writer.buffer
+                    rec_fill[0] = 0
+                save_history()
+                continue
+            k, i = int(plan.source[e]), int(plan.observation[e])
+            source = sources[k]
+            if event == EVENT_REJECTED:
+                m = int(dof[e])
+                rejected[k] += 1
+                time_s = float(source.time_s[i])
+                rejections.append(Rejection(time_s, source.name, float(nis[e]), float(setup.gates[m]),
+                                            tuple(event_nu[:m].tolist())))
+                reset = runs.rejected(k, i, time_s, event_nu[:m].copy())
+                if reset is not None:
+                    reset = realign_at_reset(reset, state.nav, setup, options, ellipsoid)
+                    resets.append(reset)
+                    state.pending[0] = 1.0
+                    state.pending[1:] = reset.floors()
+            else:
+                runs.accepted(k)
+            watched[:] = [runs.pending(s) for s in range(k_src)]
+        nav_file.append(nav_buf[: int(epochs[-1]) + 1 - nav_base[0]])
+        if store is not None and rec_fill[0]:
+            writer.append(int(rec_fill[0]))
+        if writer is not None:
+            writer.wait()
+    finally:
+        if writer is not None:
+            writer.stop()
     save_history()
     statistics = {}
     for k in dict.fromkeys(plan.source.tolist()):  # the sources in the order they first applied
@@ -1572,6 +1584,44 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
             int(used[k]), int(rejected[k]), sum_sq[k, :dof_k].copy() if used[k] else None, float(sum_nis[k]),
             int(sum_dof[k])).summary()
     return _ForwardPass(history, nis, dof, accepted, statistics, rejections, resets, nu, hph, noise)
+
+
+class _RecordWriter:
+    """The forward pass's smoother records appended to the store (7.3 kB per update epoch) by a background
+    job while the filter fills the other of two buffers: the file's write beside the filter, without the
+    GIL; one after the other with one CPU. The appends keep their order."""
+
+    def __init__(self, store: SmootherStore):
+        self.store = store
+        self.buffers = [np.empty((store.chunk, RECORD_SIZE)) for _ in range(2)]
+        self.current = 0
+        self.job: BackgroundJob | None = None
+
+    @property
+    def buffer(self) -> np.ndarray:
+        """Where the filter writes its next records."""
+        return self.buffers[self.current]
+
+    def append(self, count: int) -> None:
+        """The first ``count`` records of :attr:`buffer` appended to the store once the last append is done;
+        the other buffer is :attr:`buffer` then."""
+        self.wait()
+        records = self.buffer[:count]
+        self.job = BackgroundJob(lambda progress, cancel: self.store.append_records(records), None, None,
+                                 name="insrail-records")
+        self.current = 1 - self.current
+
+    def wait(self) -> None:
+        """The last append done; its failure (a full disk) raised."""
+        job, self.job = self.job, None
+        if job is not None:
+            job.result()
+
+    def stop(self) -> None:
+        """The last append waited for (after a failure of the filter: its own failure is the one reported)."""
+        if self.job is not None:
+            self.job.stop()
+            self.job = None
 
 
 def _fill_imu_chunk(imu: ImuIncrements, dt0: float, start: int, dtheta, dvel, dt, span) -> None:
@@ -1669,9 +1719,10 @@ def fuse(
         trajectory = None
         if options.smoother:  # first: the forward solution at the updates is then not held through it
             check_cancel(cancel)
-            _rts(store, m_epochs, setup.P0, smoothed_rows, cancel, step.sub(0.8, 0.9))
-            trajectory = build(smoothed_rows, smoothed=True, output_every=output_every,
-                               path=trajectory_file, progress=step.sub(0.9, 1.0))
+            trajectory = _smoothed_trajectory(store, m_epochs, setup.P0, smoothed_rows,
+                                              partial(build, smoothed_rows, smoothed=True, output_every=output_every,
+                                                      path=trajectory_file),
+                                              step.sub(0.8, 1.0), cancel)
         forward = at_updates = build(None, smoothed=False, indices=epochs)
         if forward_file is not None or full_forward:
             forward = build(None, smoothed=False, output_every=output_every, path=forward_file)
@@ -1735,13 +1786,14 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
     return notices
 
 
-def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: CancelToken, progress) -> None:
+def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: CancelToken, progress,
+         made: Callable[[int], None] = lambda first: None) -> None:
     """Backward RTS pass (compiled, chunk by chunk from the store). Writes per update epoch j
     into row j of ``out`` the correction pair (left: e_j relative to the stored post-update
     solution, right: e_j + dx_j relative to the pre-update solution) and the smoothed sigmas
-    (SMOOTHED_WIDTH), a chunk at a time. ``p0``: P at epoch 0, whole (its level angles' and start
-    position's correlations with the sensor and attitude errors: their diagonal alone lets the
-    smoother move epoch 0 away from the start it was given)."""
+    (SMOOTHED_WIDTH), a chunk at a time; ``made(j)`` once the rows from j on are written. ``p0``: P
+    at epoch 0, whole (its level angles' and start position's correlations with the sensor and
+    attitude errors: their diagonal alone lets the smoother move epoch 0 away from the start it was given)."""
     state = np.zeros(1)
     e_next = np.zeros(N_STATES)
     P_s_next, phi_next, p_minus_next = (np.zeros((N_STATES, N_STATES)) for _ in range(3))
@@ -1752,24 +1804,87 @@ def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: Ca
         corrections, sigma = np.zeros((k + 1, 2, N_STATES)), np.zeros((k + 1, N_STATES))  # row r: epoch first + r
         _rts_chunk(chunk, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma)
         out.write(first + 1, np.hstack([corrections[1:].reshape(k, 2 * N_STATES), sigma[1:]]))
+        made(first + 1)
     # epoch 0: before the first segment
     if state[0]:
         e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, p0)
     else:
         e, P_s = np.zeros(N_STATES), p0
     out.write(0, np.concatenate([e, e, np.sqrt(np.maximum(np.diag(P_s), 0.0))])[None])
+    made(0)
+
+
+class _RowsMade:
+    """From which update epoch on the smoother's rows are written, told by the smoother's thread and
+    waited for by the trajectory's (:func:`_smoothed_trajectory`)."""
+
+    def __init__(self, m: int):
+        self.first = m + 1  # none yet
+        self.over = False  # the smoother returned or failed
+        self.changed = threading.Condition()
+
+    def made(self, first: int) -> None:
+        with self.changed:
+            self.first = first
+            self.changed.notify_all()
+
+    def end(self) -> None:
+        with self.changed:
+            self.over = True
+            self.changed.notify_all()
+
+    def wait(self, first: int, timeout_s: float) -> bool:
+        """Whether the rows from ``first`` on are written (waits for them up to ``timeout_s``)."""
+        with self.changed:
+            return self.changed.wait_for(lambda: self.first <= first or self.over, timeout_s) and self.first <= first
+
+
+def _smoothed_trajectory(store: SmootherStore, m: int, p0: np.ndarray, smoothed_rows: _RowFile, build,
+                         progress: ProgressFn, cancel: CancelToken) -> Trajectory:
+    """The backward pass (:func:`_rts`) and the smoothed trajectory ``build(progress=, cancel=, ready=)``
+    made from its rows (:func:`_trajectory`): side by side where there are two CPUs (the pass in a
+    background job, its kernel without the GIL; the trajectory's chunks last first, each as soon as
+    the rows it reads are written), else one after the other. The same rows and the same file either
+    way. The progress is the mean of the two's."""
+    rows = _RowsMade(m)
+    done = {"smoother": 0.0, "trajectory": 0.0}
+
+    def tell(part: str, fraction: float, message: ProgressMessage) -> None:  # the caller's thread only
+        done[part] = fraction
+        progress(0.5 * (done["smoother"] + done["trajectory"]), message)
+
+    def smooth(job_progress: ProgressFn, stopped: CancelToken) -> None:
+        try:
+            _rts(store, m, p0, smoothed_rows, stopped, job_progress, made=rows.made)
+        finally:
+            rows.end()
+
+    with BackgroundJob(smooth, partial(tell, "smoother"), cancel, name="insrail-smoother") as job:
+        def ready(first: int) -> None:
+            while not rows.wait(first, WAIT_POLL_S):
+                job.relay(partial(tell, "smoother"))
+                check_cancel(cancel)
+                if rows.over:
+                    job.result()  # its failure
+                    raise AssertionError(f"the smoother ended without the rows from update epoch {first} on")
+            job.relay(partial(tell, "smoother"))
+
+        trajectory = build(progress=partial(tell, "trajectory"), cancel=cancel, ready=ready)
+        job.result(partial(tell, "smoother"))
+    return trajectory
 
 
 def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_rows: _RowFile | None, gps_week, ell,
                 smoothed, output_every: int = 1, indices: np.ndarray | None = None, path: Path | None = None,
-                progress=None, cancel: CancelToken = None) -> Trajectory:
+                progress=None, cancel: CancelToken = None, ready: Callable[[int], None] | None = None) -> Trajectory:
     """Trajectory at every ``output_every``-th IMU epoch from the first update epoch on (or at
     ``indices``), the errors (``smoothed_rows``: the smoother's; None: none) interpolated
     linearly between update epochs. Built in chunks from the IMU-rate record of the forward pass
     and the filter-rate rows of the update epochs each chunk lies between; with ``path`` each
     chunk is written to that ``trajectory.npy`` as it is made and the result is a memory map of
-    the file."""
-    chunk = TRAJECTORY_CHUNK
+    the file. ``ready(j)``: the chunks are made last first, each once ``ready`` returned for the
+    first update epoch it reads (the smoother makes its rows from the last on)."""
+    chunk = TRAJECTORY_CHUNK if ready is None else max(TRAJECTORY_CHUNK // 4, 1)
     if indices is None:  # every output_every-th epoch, made chunk by chunk (not one index per epoch held)
         first = int(epochs[0])
         n = len(range(first, int(epochs[-1]) + 1, output_every))
@@ -1787,20 +1902,25 @@ def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_row
             return idx_all[c0:c1]
     writer = TrajectoryWriter(path, n) if path is not None else None
     records = None if writer is not None else np.empty(n, dtype=TRAJECTORY_DTYPE)
+    blocks = [(c0, c1) for c0, c1 in itertools.pairwise(cuts) if c1 > c0]
+    made = 0
     try:
-        for c0, c1 in itertools.pairwise(cuts):
-            if c1 == c0:
-                continue
+        for c0, c1 in blocks if ready is None else reversed(blocks):
             if progress is not None:
                 check_cancel(cancel)
-                progress(c0 / n, "trajectory")
+                progress(made / n, "trajectory")
             idx = rows_of(c0, c1)
+            if ready is not None:
+                ready(_first_update(epochs, int(idx[0])))
             rows = nav_file.read(int(idx[0]), int(idx[-1]) + 1)[idx - idx[0]]
             block = _trajectory_block(t, rows, idx, epochs, history, smoothed_rows, ell)
-            if writer is not None:
+            if writer is None:
+                records[c0:c1] = block
+            elif ready is None:
                 writer.write(block)
             else:
-                records[c0:c1] = block
+                writer.write_at(c0, block)
+            made += c1 - c0
         if writer is not None:
             writer.commit()
     finally:
@@ -1811,10 +1931,20 @@ def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_row
     return trajectory_from_records(records, smoothed=smoothed, gps_week=gps_week, ellipsoid=ell)
 
 
+def _segments(epochs, idx) -> np.ndarray:
+    """The segment of each IMU epoch ``idx``: segment j covers epochs (epochs[j-1], epochs[j]]."""
+    return np.clip(np.searchsorted(epochs, idx, side="left"), 1, max(len(epochs) - 1, 1))
+
+
+def _first_update(epochs, first_idx: int) -> int:
+    """The first update epoch whose rows the trajectory from IMU epoch ``first_idx`` on reads."""
+    return int(_segments(epochs, np.array([first_idx]))[0]) - 1
+
+
 def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _RowFile | None, ell) -> np.ndarray:
-    """TRAJECTORY_DTYPE records of IMU epochs ``idx`` from their forward navigation vectors ``nav``."""
-    # Segment j covers epochs (epochs[j-1], epochs[j]]; w is the position inside it.
-    seg = np.clip(np.searchsorted(epochs, idx, side="left"), 1, max(len(epochs) - 1, 1))
+    """TRAJECTORY_DTYPE records of IMU epochs ``idx`` (increasing) from their forward navigation vectors ``nav``."""
+    # w is the position inside the segment (:func:`_segments`)
+    seg = _segments(epochs, idx)
     j0, j1 = int(seg.min()) - 1, min(int(seg.max()) + 1, len(epochs))  # the update epochs the block lies between
     rows = history.read(j0, j1)
     sensor_hist, sigma_hist = np.ascontiguousarray(rows[:, :13]), np.ascontiguousarray(rows[:, 13:])

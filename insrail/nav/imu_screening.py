@@ -51,6 +51,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from insrail.background import BackgroundJob
 from insrail.io.imu import release_pages
 from insrail.io.types import GAP_FACTOR, ImuIncrements
 from insrail.nav.alignment import GRAVITY_MPS2, gravity_tolerance_mps2, stop_thresholds
@@ -188,9 +189,16 @@ def screen_imu(imu: ImuIncrements, profile: ImuProfile, max_fraction: float = 0.
     notices: list[Notice] = []
     noise = {"specific force": profile.accel_vrw / math.sqrt(nominal), "angular rate": profile.gyro_arw / math.sqrt(nominal)}
     quiet: dict[int, Outlier] = {}
-    for quantity, values in increments.items():
-        for k, axis, value, ref in _spikes_below_envelope(imu.time_s, values, nominal, noise[quantity], bad,
-                                                           min(chunk, QUIET_CHUNK)):
+
+    def spikes(quantity: str) -> list[tuple[int, int, float, float]]:
+        return _spikes_below_envelope(imu.time_s, increments[quantity], nominal, noise[quantity], bad,
+                                      min(chunk, QUIET_CHUNK))
+
+    # the angular rates' in a thread beside the specific force's (their medians compiled without the GIL)
+    with BackgroundJob(lambda progress, cancel: spikes("angular rate"), None, None, name="insrail-screening") as rates:
+        found_in = {"specific force": spikes("specific force"), "angular rate": rates.result()}
+    for quantity, spiked in found_in.items():
+        for k, axis, value, ref in spiked:
             if k not in quiet:
                 quiet[k] = Outlier(float(imu.time_s[k]), k, quantity, "xyz"[axis], value, ref, "spike below the envelope")
     if len(quiet) > max_fraction * n:

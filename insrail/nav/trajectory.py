@@ -68,7 +68,9 @@ def trajectory_from_records(records: np.ndarray, **kwargs) -> Trajectory:
 class TrajectoryWriter:
     """Writes ``trajectory.npy`` (``n`` TRAJECTORY_DTYPE records) block by block as they are made,
     under a temporary name: :meth:`commit` puts it in place, :meth:`discard` (after a failure, or
-    after commit: then a no-op) removes what was written. The file reads like any ``np.save``d one."""
+    after commit: then a no-op) removes what was written. The file reads like any ``np.save``d one.
+    The blocks are written one after the other, or each at its place (:meth:`write_at`: blocks made
+    last first), not both."""
 
     def __init__(self, path, n: int):
         from pathlib import Path
@@ -79,11 +81,29 @@ class TrajectoryWriter:
         self.handle = open(self.tmp, "wb")
         named_write(self.path, np.lib.format.write_array_header_1_0, self.handle, {
             "descr": np.lib.format.dtype_to_descr(TRAJECTORY_DTYPE), "fortran_order": False, "shape": (n,)})
+        named_write(self.path, self.handle.flush)
+        self.header_bytes = self.handle.tell()
 
     def write(self, block: np.ndarray) -> None:
         if block.dtype != TRAJECTORY_DTYPE or self.written + len(block) > self.n:
             raise ValueError(f"{self.path}: expected at most {self.n - self.written} more trajectory records")
         named_write(self.path, self.handle.write, memoryview(np.ascontiguousarray(block)).cast("B"))
+        self.written += len(block)
+
+    def write_at(self, first: int, block: np.ndarray) -> None:
+        """Records ``first`` .. ``first + len(block) - 1``; every record written once."""
+        import errno
+        import os
+
+        if block.dtype != TRAJECTORY_DTYPE or first < 0 or first + len(block) > self.n:
+            raise ValueError(f"{self.path}: records {first}-{first + len(block) - 1} are not among its {self.n}")
+        data = memoryview(np.ascontiguousarray(block)).cast("B")
+        offset = self.header_bytes + first * TRAJECTORY_DTYPE.itemsize
+        while data:  # a regular file takes it all at once but at the end of the disk's space
+            done = named_write(self.path, os.pwrite, self.handle.fileno(), data, offset)
+            if not done:
+                raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(self.path))
+            data, offset = data[done:], offset + done
         self.written += len(block)
 
     def commit(self) -> None:
