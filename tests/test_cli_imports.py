@@ -100,3 +100,12 @@ def test_process_imports_neither_scipy_signal_nor_stats(tiny_nav_survey, tmp_pat
     assert "insrail.track.butterworth" in modules and summary["track_quality"]  # it did band-pass
     assert loaded(modules, ("scipy.signal", "scipy.stats")) == []
 
+
+def test_the_pipeline_and_the_project_import_no_scipy_optimize():
+    """scipy.optimize (some 0.5 s) is imported by a line-type fit and the adjustment's integer repair when
+    they run, not by every processing's start."""
+    code = "import sys, insrail.project.model, insrail.project.pipeline; print(sorted(m for m in sys.modules " \
+           "if m.startswith('scipy.optimize')))"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
