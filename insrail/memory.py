@@ -19,7 +19,6 @@ heap and are reused).
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import functools
 import os
 
@@ -39,7 +38,9 @@ def glibc() -> ctypes.CDLL | None:
         os.confstr("CS_GNU_LIBC_VERSION")
     except (AttributeError, ValueError, OSError):
         return None
-    return ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+    # the process's own symbols, glibc's among them: ctypes.util.find_library("c") runs `ldconfig -p`, some
+    # 40 ms of every command's start
+    return ctypes.CDLL(None)
 
 
 def tune_allocator(libc: ctypes.CDLL | None = None) -> bool:

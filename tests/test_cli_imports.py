@@ -83,3 +83,30 @@ def test_loading_a_project_with_a_design_imports_no_pipeline(tmp_path):
                                          '[geodesy.crs]\nellipsoid = "CGCS2000"\ncentral_meridian_deg = 114.3\n')
     modules = imported_by(tmp_path, "report", str(folder), "--check")
     assert loaded(modules, ("insrail.project.pipeline", "numba", "insrail.nav.fusion", "openpyxl", "reportlab")) == []
+
+
+def test_process_imports_neither_scipy_signal_nor_stats(tiny_nav_survey, tmp_path):
+    """The band-passed figures are filtered without scipy.signal (insrail.track.butterworth), which
+    imports scipy.stats: some 0.7 s of every processing."""
+    import shutil
+    import tomllib
+
+    from insrail.project.demo import project_for_simulated_survey
+
+    folder = tmp_path / "project"
+    shutil.copytree(tiny_nav_survey, folder / "surveys" / "tiny")
+    project_for_simulated_survey(folder, folder / "surveys" / "tiny", name="tiny")
+    modules = imported_by(tmp_path, "process", str(folder))
+    summary = tomllib.loads((folder / "results" / "tiny" / "summary.toml").read_text(encoding="utf-8"))
+    assert "insrail.track.butterworth" in modules and summary["track_quality"]  # it did band-pass
+    assert loaded(modules, ("scipy.signal", "scipy.stats")) == []
+
+
+def test_the_pipeline_and_the_project_import_no_scipy_optimize():
+    """scipy.optimize (some 0.5 s) is imported by a line-type fit and the adjustment's integer repair when
+    they run, not by every processing's start."""
+    code = "import sys, insrail.project.model, insrail.project.pipeline; print(sorted(m for m in sys.modules " \
+           "if m.startswith('scipy.optimize')))"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"

@@ -73,3 +73,16 @@ def test_without_glibc_nothing_happens(monkeypatch):
     monkeypatch.setattr(memory, "glibc", lambda: None)
     assert memory.tune_allocator() is False
     memory.release_free_memory()  # nothing raised
+
+
+@pytest.mark.skipif(memory.glibc() is None, reason="glibc only")
+def test_glibc_is_found_without_searching_the_library_path(monkeypatch):
+    """The C library is the process's own (no `ldconfig -p` run by ctypes.util.find_library at every start)."""
+    import ctypes.util
+
+    def no_search(name):
+        raise AssertionError(f"find_library({name!r}) searched the library path")
+
+    monkeypatch.setattr(ctypes.util, "find_library", no_search)
+    libc = memory.glibc.__wrapped__()
+    assert hasattr(libc, "mallopt") and hasattr(libc, "malloc_trim")

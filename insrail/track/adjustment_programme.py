@@ -29,7 +29,6 @@ from dataclasses import dataclass, replace
 import highspy._core as highspy_core
 import numpy as np
 from scipy import sparse
-from scipy.optimize import Bounds, LinearConstraint, milp
 
 from insrail.progress import check_cancel
 from insrail.track.exceedance import SleeperGeometry
@@ -868,6 +867,10 @@ def _integer_choice(problem: DirectionProblem, rows: TrackRows, amounts: np.ndar
     row_lower = np.concatenate([rows.lower[touched] - constant, np.full(count, -np.inf), target])
     row_upper = np.concatenate([rows.upper[touched] - constant, target, np.full(count, np.inf)])
     cost = np.concatenate([np.zeros(count), np.ones(count)])
+    # imported here, where a rounding broke a hard row: nothing else of the adjustment needs scipy.optimize (some
+    # 0.5 s to import; many surveys never get here)
+    from scipy.optimize import Bounds, LinearConstraint, milp
+
     result = milp(cost, constraints=LinearConstraint(a, row_lower, row_upper),
                   integrality=np.concatenate([np.ones(count), np.zeros(count)]),
                   bounds=Bounds(np.concatenate([lower, np.zeros(count)]), np.concatenate([upper, np.full(count, np.inf)])),

@@ -269,18 +269,18 @@ def band_pass(
         raise ValueError(f"wavelength band {band}: expected 0 < shortest < longest")
     if shortest <= 2 * spacing_m:
         raise ValueError(f"shortest wavelength {shortest} m is not resolved by a {spacing_m} m grid")
-    # imported here: scipy.signal pulls in scipy.stats (about a second) that other commands never use
-    from scipy import signal
+    # imported here: its filter loop is a numba kernel, which the reports (BANDS_M) do not load
+    from insrail.track.butterworth import band_pass_sos, zero_phase
 
     grid = UniformGrid.resample(station, deviation, spacing_m, max_gap_m)
-    sos = signal.butter(order, [1.0 / longest, 1.0 / shortest], btype="bandpass", fs=1.0 / spacing_m, output="sos")
+    sos = band_pass_sos(order, 1.0 / longest, 1.0 / shortest, 1.0 / spacing_m)
     filtered = np.full(grid.values.size, np.nan)
     finite = np.isfinite(grid.values)
     edges = np.flatnonzero(np.diff(np.concatenate([[0], finite.astype(int), [0]])))
     minimum = int(np.ceil(MIN_SEGMENT_WAVELENGTHS * longest / spacing_m))
     for start, stop in zip(edges[::2], edges[1::2]):  # one call per valid stretch, not per sample
         if stop - start >= minimum:
-            filtered[start:stop] = signal.sosfiltfilt(sos, grid.values[start:stop])
+            filtered[start:stop] = zero_phase(sos, grid.values[start:stop])
     return grid.at(station, filtered)
 
 
