@@ -56,7 +56,8 @@ def test_fuse_imports_only_the_reader_and_the_filter(tiny_nav_survey, tmp_path):
     assert loaded(modules, NEVER) == []
 
 
-def test_report_imports_neither_the_filter_nor_numba(tmp_path, tmp_path_factory):
+def test_report_imports_neither_the_filter_nor_the_solvers(tmp_path, tmp_path_factory):
+    """Nor scipy, HiGHS and pyproj, which the project model's and the results' modules use only to compute."""
     from report_support import SURVEY, saved_project
 
     project = saved_project(tmp_path_factory)
@@ -64,8 +65,8 @@ def test_report_imports_neither_the_filter_nor_numba(tmp_path, tmp_path_factory)
                           str(tmp_path / "book.xlsx"), "--pdf", str(tmp_path / "report.pdf"))
     assert (tmp_path / "book.xlsx").is_file() and (tmp_path / "report.pdf").is_file()  # it did report
     assert loaded(modules, ("numba", "insrail.nav.fusion", "insrail.quality.survey", "insrail.quality.covariance",
-                            "insrail.quality.prediction", "insrail.sim", "insrail.gui", "scipy.stats",
-                            "scipy.signal", "distributed", "dask")) == []
+                            "insrail.quality.prediction", "insrail.sim", "insrail.gui", "scipy", "highspy",
+                            "pyproj", "distributed", "dask")) == []
 
 
 def test_loading_a_project_with_a_design_imports_no_pipeline(tmp_path):

@@ -43,7 +43,6 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from insrail.track.alignment import (
     Arc,
@@ -53,6 +52,8 @@ from insrail.track.alignment import (
     Line,
 )
 from insrail.track.profile import PVI, CantTable, VerticalProfile
+
+# scipy.optimize is imported where it solves: start-up of commands that only read a project (insrail.track.alignment).
 
 _END_MARGIN_M = 5.0
 """The fitted chain reaches this far beyond the data, so every point has a perpendicular foot."""
@@ -535,6 +536,8 @@ def _solve_chain(chain: _Chain, x_start, station, east, north, free=None, prior_
             return matrix
         return np.vstack((matrix, np.diag(prior_weight)))
 
+    from scipy.optimize import least_squares
+
     solution = least_squares(residuals, x_start[free], jac=jacobian, bounds=(lower[free], np.inf), x_scale="jac",
                              max_nfev=max_evaluations)
     return full(solution.x)
@@ -1010,6 +1013,8 @@ def fit_vertical(
         except ValueError:
             return np.full(station.size, 10.0)
         return height - profile.elevation_at(station)
+
+    from scipy.optimize import least_squares
 
     solution = least_squares(residuals, x0, bounds=(lower, upper), x_scale="jac", method="trf")
     profile = _profile(solution.x, station[0], station[-1], count)

@@ -35,7 +35,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from insrail.track.alignment import Arc, HorizontalAlignment, Line
 from insrail.track.linefit import (
@@ -232,6 +231,8 @@ def _fit_window_profile(profile: VerticalProfile, start: float, end: float, stat
 
     lower = np.concatenate((np.full(count, first), np.full(count + 2, -np.inf), np.zeros(count)))
     upper = np.concatenate((np.full(count, last), np.full(2 * count + 2, np.inf)))
+    from scipy.optimize import least_squares
+
     solution = least_squares(residuals, x0, bounds=(lower, upper), x_scale="jac", method="trf")
     try:
         return _profile(solution.x, first, last, count)
