@@ -202,7 +202,7 @@ class ChainageAxis:
         prefix = _PREFIX.match(labels[0]).group(1).strip()
         try:
             reader = StationEquations(prefix=prefix)
-            displayed = np.array([reader.parse_label(label) for label in labels])
+            displayed = reader.parse_labels(labels)
         except ValueError:  # not chainage labels (or mixed prefixes): metres of station
             return cls(station_m, np.zeros(len(labels)), None)
         return cls(station_m, np.round(displayed - station_m, 3), prefix)
