@@ -167,6 +167,12 @@ class ReportContent:
     def chainage(self) -> ChainageAxis:
         """K-chainage of any station of this survey (chart axes)."""
         return ChainageAxis.from_labels(self.station_m, self.results.label)
+
+    @cached_property
+    def adjustment(self) -> AdjustmentWork:
+        """The adjustment's rows and parts (:func:`adjustment_work`), made once for every sheet and table listing them."""
+        return adjustment_work(self)
+
     @property
     def events(self) -> tuple[EventRow, ...]:
         """The survey's events (turnouts, level crossings, ...) as the processing placed them."""
@@ -530,10 +536,10 @@ class WorkSection:
     rows: tuple[CrewRow, ...]
 
 
-def crew_sections(content: ReportContent, work: AdjustmentWork | None = None) -> list[WorkSection]:
+def crew_sections(content: ReportContent) -> list[WorkSection]:
     """The adjustment as the crew's sheet lists it: per sleeper in working order each rail with an
     amount, split into work sections (every amount exactly as in sleepers.csv)."""
-    work = work or adjustment_work(content)
+    work = content.adjustment
     keys = {key: k for k, key in enumerate(ADJUSTMENT_KEYS)}
     notes = content.results.adjustment_notes or content.column("unresolved").values  # as the results word them
     rows: list[list[CrewRow]] = []
