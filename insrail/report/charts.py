@@ -22,7 +22,7 @@ from reportlab import rl_config
 rl_config.shapeChecking = 0
 from reportlab.graphics.renderbase import renderScaledDrawing  # noqa: E402
 from reportlab.graphics.renderPDF import _PDFRenderer  # noqa: E402
-from reportlab.graphics.shapes import Circle, Drawing, Line, PolyLine, Rect, String  # noqa: E402
+from reportlab.graphics.shapes import Circle, Drawing, Line, Path, PolyLine, Rect, String  # noqa: E402
 from reportlab.lib import colors  # noqa: E402
 from reportlab.lib.rl_accel import fp_str  # noqa: E402
 from reportlab.pdfbase.pdfmetrics import stringWidth  # noqa: E402
@@ -221,17 +221,27 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
         drawing.add(Line(x0, bottom, x0, bottom + plot_h, strokeColor=event.colour, strokeWidth=0.3))
         drawing.add(String(x0 + 1.5, bottom + plot_h - 9.0, event.name, fontName=font_for(event.name, FONT), fontSize=5.5,
                            fillColor=event.colour))
+    # the grid lines of each direction one path (apart, they drew as they do together): a node each cost
+    # more to render than its line
     step = nice_step(high - low, 5)
+    grid = _grid_path()
     for tick in np.arange(math.ceil(low / step) * step, high, step):
         y = float(py(tick))
-        drawing.add(Line(left, y, left + plot_w, y, strokeColor=GRID_COLOUR, strokeWidth=0.3))
+        grid.moveTo(left, y)
+        grid.lineTo(left + plot_w, y)
         drawing.add(String(left - 3, y - 2.5, f"{tick:g}", fontName=FONT, fontSize=6.5, textAnchor="end"))
+    if grid.points:
+        drawing.add(grid)
     x_step = nice_step(station_to - station_from, 10)
+    grid = _grid_path()
     for tick, label in ticks(station_from, station_to, x_step):
         x = float(px(tick))
-        drawing.add(Line(x, bottom, x, bottom + plot_h, strokeColor=GRID_COLOUR, strokeWidth=0.3))
+        grid.moveTo(x, bottom)
+        grid.lineTo(x, bottom + plot_h)
         if label_axis:
             drawing.add(String(x, bottom - 9, label, fontName=FONT, fontSize=6.5, textAnchor="middle"))
+    if grid.points:
+        drawing.add(grid)
     if label_axis and axis_title:
         drawing.add(String(left - 17, bottom - 9, axis_title, fontName=font_for(axis_title, FONT), fontSize=6, textAnchor="end",
                            fillColor=colors.HexColor("#555555")))
@@ -270,6 +280,10 @@ def strip_drawing(chart: StripChart, station_m: np.ndarray, valid: np.ndarray, s
         drawing.add(String(x, height - 10, band.name, fontName=font_for(band.name, FONT), fontSize=7, textAnchor="end"))
         x -= width_text + 14
     return drawing
+
+
+def _grid_path() -> Path:
+    return Path(strokeColor=GRID_COLOUR, strokeWidth=0.3, fillColor=None)
 
 
 @dataclass(frozen=True)
