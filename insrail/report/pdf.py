@@ -988,9 +988,10 @@ def _adjustment(content: ReportContent) -> list[Flowable]:
         return story + [Paragraph(text(t("No rail to move: every check of the tolerance profile passes as measured.")),
                                   BODY)]
     numbers, labels = content.column("number").values, content.column("label").values
+    header = [_cell(t(title)) for title in ADJUSTMENT_TITLES]  # every section's table repeats it, as a page does
     for section in work_sections:
         first, last = section.rows[0].sleeper, section.rows[-1].sleeper
-        rows: list[list] = [[_cell(t(title)) for title in ADJUSTMENT_TITLES]]
+        rows: list[list] = [header]
         for sleeper, lines in itertools.groupby(section.rows, key=lambda row: row.sleeper):
             by_rail = {row.rail: row for row in lines}
             lateral = [by_rail[rail].lateral_mm if rail in by_rail else 0.0 for rail in (0, 1)]
