@@ -83,3 +83,13 @@ def test_loading_a_project_with_a_design_imports_no_pipeline(tmp_path):
                                          '[geodesy.crs]\nellipsoid = "CGCS2000"\ncentral_meridian_deg = 114.3\n')
     modules = imported_by(tmp_path, "report", str(folder), "--check")
     assert loaded(modules, ("insrail.project.pipeline", "numba", "insrail.nav.fusion", "openpyxl", "reportlab")) == []
+
+
+def test_the_workbooks_process_imports_neither_the_pdf_writer_nor_the_solvers():
+    """The process writing the workbook beside the PDF (insrail.report.both) pays only for openpyxl and the
+    results: no reportlab, no scipy, HiGHS or pyproj, no urllib/http (xml.sax.saxutils's imports)."""
+    listing = "import sys, insrail.report.both, insrail.report.excel; print('\\n'.join(sorted(sys.modules)))"
+    done = subprocess.run([sys.executable, "-c", listing], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert loaded(set(done.stdout.split()), ("reportlab", "scipy", "pyproj", "highspy", "numba", "urllib.request",
+                                             "http", "insrail.nav.fusion")) == []

@@ -23,9 +23,9 @@ import unicodedata
 import zipfile
 from collections.abc import Callable, Sequence
 from functools import cache
+from html import escape  # as xml.sax.saxutils's (& < >) with quote=False, without its import of urllib and http
 from pathlib import Path
 from typing import IO
-from xml.sax.saxutils import escape
 
 import numpy as np
 from openpyxl import Workbook
@@ -357,7 +357,7 @@ def _cells(letter: str, rows: list[str], values: list, styles: list[int]) -> lis
     out = []
     for row, value, style in zip(rows, values, styles):
         if isinstance(value, str):
-            out.append(f'<c r="{letter}{row}" s="{style}" t="inlineStr"><is><t>{escape(value)}</t></is></c>' if value
+            out.append(f'<c r="{letter}{row}" s="{style}" t="inlineStr"><is><t>{escape(value, quote=False)}</t></is></c>' if value
                        else f'<c r="{letter}{row}" s="{style}"/>')
         elif value is None or not math.isfinite(value):  # an empty, styled cell (NaN: not computable)
             out.append(f'<c r="{letter}{row}" s="{style}"/>')
