@@ -34,6 +34,7 @@ from insrail.names import (
     check_name,
     check_unit,
     column_name,
+    in_language,
     joined,
     rail_direction,
     t,
@@ -49,7 +50,7 @@ from insrail.project.results import (
     StoredResults,
     check_column,
 )
-from insrail.project.run_settings import RecordedSettings
+from insrail.project.run_settings import RecordedSettings, report_language
 from insrail.project.sleeper_integrity import reasons_of, said_reasons
 from insrail.track.adjustment import FastenerType, load_fastener_type
 from insrail.track.adjustment_parts import PartTable, materials, parts_text
@@ -321,6 +322,13 @@ def load_report_content(project: Project, results: StoredResults) -> ReportConte
                          notes=tuple(notes), recorded=recorded,
                          # the standard sentence translated; a change's own line names settings as project.toml does
                          settings_changes=tuple(line.said() for line in recorded.changes(project, _first_survey(results))))
+
+
+def report_content(project: Project, results: StoredResults) -> ReportContent:
+    """:func:`load_report_content` in the project's report language, as each writer makes it: one content for
+    both reports written in one process (its columns, chainage axis and adjustment work made once)."""
+    with in_language(report_language(project)):
+        return load_report_content(project, results)
 
 
 def _first_survey(results: StoredResults) -> str:

@@ -942,15 +942,16 @@ TAMPING_SHEET = ("Tamping", _tamping_sheet, 0.02)
 
 
 def write_workbook(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
-                   cancel: CancelToken = None) -> Path:
-    """Write the crews' workbook for one survey's results to ``path`` (atomically); returns the path."""
+                   cancel: CancelToken = None, content: ReportContent | None = None) -> Path:
+    """Write the crews' workbook for one survey's results to ``path`` (atomically); returns the path.
+    ``content``: the results' :func:`insrail.report.content.report_content`, where the caller made it already."""
     with in_language(report_language(project)):
-        return _write_workbook(project, results, Path(path), StepProgress(progress), cancel)
+        return _write_workbook(project, results, Path(path), StepProgress(progress), cancel, content)
 
 
 def _write_workbook(project: Project, results: StoredResults, path: Path, step: StepProgress,
-                    cancel: CancelToken) -> Path:
-    content = load_report_content(project, results)
+                    cancel: CancelToken, content: ReportContent | None) -> Path:
+    content = content or load_report_content(project, results)
     workbook = Workbook(write_only=True)
     workbook.properties.title = t("{project} – {survey}: track geometry").format(project=project.name,
                                                                                  survey=results.survey)

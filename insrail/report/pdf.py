@@ -1107,14 +1107,15 @@ def _layout_progress(progress: StepProgress, cancel: CancelToken) -> Callable[[s
 
 
 def write_pdf(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
-              cancel: CancelToken = None, sections: Sequence[Section] = ()) -> Path:
+              cancel: CancelToken = None, sections: Sequence[Section] = (), content: ReportContent | None = None) -> Path:
     """Write the survey report for one survey's results to ``path`` (atomically); returns the path.
 
     ``sections`` are added after the plan view, each a function of the report content returning
     flowables; the repeatability of repeat runs follows by itself when the project's last
-    comparison (``insrail compare``) includes this survey."""
+    comparison (``insrail compare``) includes this survey. ``content``: the results'
+    :func:`insrail.report.content.report_content`, where the caller made it already."""
     with in_language(report_language(project)), _wrapped_as_the_language_writes():
-        return _write_pdf(project, results, Path(path), StepProgress(progress), cancel, sections)
+        return _write_pdf(project, results, Path(path), StepProgress(progress), cancel, sections, content)
 
 
 #: The paragraph styles, wrapped between words in English and between any two characters in Chinese (no spaces).
@@ -1135,8 +1136,8 @@ def _wrapped_as_the_language_writes():
 
 
 def _write_pdf(project: Project, results: StoredResults, path: Path, step: StepProgress, cancel: CancelToken,
-               sections: Sequence[Section]) -> Path:
-    content = load_report_content(project, results)
+               sections: Sequence[Section], content: ReportContent | None) -> Path:
+    content = content or load_report_content(project, results)
     step(0.02, "the trajectory's statistics")
     trajectory = trajectory_statistics(results)
     check_cancel(cancel)
