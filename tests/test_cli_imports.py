@@ -57,7 +57,8 @@ def test_fuse_imports_only_the_reader_and_the_filter(tiny_nav_survey, tmp_path):
     assert loaded(modules, ("scipy.special",)) == []  # the gates' chi-square quantiles are tabulated (insrail.nav.chi2)
 
 
-def test_report_imports_neither_the_filter_nor_numba(tmp_path, tmp_path_factory):
+def test_report_imports_neither_the_filter_nor_the_solvers(tmp_path, tmp_path_factory):
+    """Nor scipy, HiGHS and pyproj, which the project model's and the results' modules use only to compute."""
     from report_support import SURVEY, saved_project
 
     project = saved_project(tmp_path_factory)
@@ -65,8 +66,8 @@ def test_report_imports_neither_the_filter_nor_numba(tmp_path, tmp_path_factory)
                           str(tmp_path / "book.xlsx"), "--pdf", str(tmp_path / "report.pdf"))
     assert (tmp_path / "book.xlsx").is_file() and (tmp_path / "report.pdf").is_file()  # it did report
     assert loaded(modules, ("numba", "insrail.nav.fusion", "insrail.quality.survey", "insrail.quality.covariance",
-                            "insrail.quality.prediction", "insrail.sim", "insrail.gui", "scipy.stats",
-                            "scipy.signal", "distributed", "dask")) == []
+                            "insrail.quality.prediction", "insrail.sim", "insrail.gui", "scipy", "highspy",
+                            "pyproj", "distributed", "dask")) == []
 
 
 def test_loading_a_project_with_a_design_imports_no_pipeline(tmp_path):
@@ -110,3 +111,13 @@ def test_the_pipeline_and_the_project_import_no_scipy_optimize():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"
+
+
+def test_the_workbooks_process_imports_neither_the_pdf_writer_nor_the_solvers():
+    """The process writing the workbook beside the PDF (insrail.report.both) pays only for openpyxl and the
+    results: no reportlab, no scipy, HiGHS or pyproj, no urllib/http (xml.sax.saxutils's imports)."""
+    listing = "import sys, insrail.report.both, insrail.report.excel; print('\\n'.join(sorted(sys.modules)))"
+    done = subprocess.run([sys.executable, "-c", listing], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert loaded(set(done.stdout.split()), ("reportlab", "scipy", "pyproj", "highspy", "numba", "urllib.request",
+                                             "http", "insrail.nav.fusion")) == []

@@ -84,6 +84,23 @@ def test_one_after_the_other_where_no_second_cpu_is_free(tmp_path_factory, tmp_p
     assert (tmp_path / "book.xlsx").is_file() and (tmp_path / "report.pdf").is_file()
 
 
+def test_one_after_the_other_the_content_is_made_once(tmp_path_factory, tmp_path, monkeypatch):
+    """In one process both reports present one content (its columns, chainage axis, adjustment work made once)."""
+    import insrail.report.both as both
+    import insrail.report.content as content
+    import insrail.report.excel as excel
+    import insrail.report.pdf as pdf
+
+    made = []
+    load = content.load_report_content
+    for module in (content, excel, pdf):
+        monkeypatch.setattr(module, "load_report_content", lambda *args: made.append(load(*args)) or made[-1])
+    monkeypatch.setattr(both, "side_by_side", lambda sleepers: False)
+    project = shared_project(tmp_path_factory)
+    write_both(project, stored(project), tmp_path / "book.xlsx", tmp_path / "report.pdf")
+    assert len(made) == 1 and (tmp_path / "book.xlsx").is_file() and (tmp_path / "report.pdf").is_file()
+
+
 def test_an_error_that_does_not_pickle_keeps_its_kind_and_message():
     from insrail.io.atomic import NotARegularFile
     from insrail.report.both import _portable

@@ -199,6 +199,45 @@ def test_a_16000_sleeper_chart_stays_light_and_keeps_its_spike():
     assert top == pytest.approx(95.0 - 14.0 - 0.05 / 1.1 * (95.0 - 14.0 - 14.0), abs=1.0)  # the spike reaches the top
 
 
+def test_a_chart_writes_the_page_operators_reportlab_writes():
+    """The chart's renderer writes a polyline's path at once (charts.polyline_code): the same operators."""
+    from reportlab.graphics import renderPDF
+    from reportlab.pdfgen.canvas import Canvas
+
+    station = 0.625 * np.arange(4000)
+    values = 3.0 * np.sin(station / 7.0) + 1e-4 * np.arange(4000)
+    values[1000:1010] = np.nan  # two runs: two paths
+    chart = StripChart("test", "mm", (Series("v", values), Series("w", -values)), (-2.0, 2.0))
+    drawing = strip_drawing(chart, station, np.isfinite(values), 0.0, station[-1], 760.0, 95.0)
+    assert sum(isinstance(shape, PolyLine) for shape in drawing.contents) == 4
+    ours, reportlabs = Canvas(str(Path("unused.pdf"))), Canvas(str(Path("unused.pdf")))
+    drawing.canv = ours
+    drawing.draw()
+    renderPDF.draw(drawing, reportlabs, 0, 0)
+    assert ours._code == reportlabs._code
+
+
+@pytest.mark.parametrize("method", ["drawString", "drawRightString", "drawCentredString"])
+def test_the_canvas_writes_a_string_as_reportlab_does(method):
+    """NumberedCanvas writes a plain string itself (no text object): the operators reportlab's Canvas writes,
+    and reportlab's own way for what is not plain (another font, characters Helvetica lacks, options)."""
+    from reportlab.pdfgen.canvas import Canvas
+
+    from insrail.report.fonts import register_cjk
+    from insrail.report.pdf import NumberedCanvas
+
+    cases = [("Helvetica", 8, r"DK1+234.5 (a) \ é €"), ("Helvetica-Bold", 7.5, "k"), ("Helvetica", 8, ""),
+             ("Helvetica", 8, "−3 σ"), (register_cjk(), 8, "中文 abc"), ("Times-Roman", 6.5, "x\ty")]
+    options = [{}, {"mode": 0}, {"mode": None, "charSpace": 0}, {"charSpace": 1}, {"wordSpace": 2}, {"direction": "LTR"}]
+    for font, size, words in cases:
+        for option in options:
+            reportlabs, ours = Canvas("unused.pdf"), NumberedCanvas("unused.pdf")
+            for canvas in (reportlabs, ours):
+                canvas.setFont(font, size, 1.2 * size)
+                getattr(canvas, method)(10.123, 20.5, words, **option)
+            assert ours._code == reportlabs._code, (font, words, option)
+
+
 def test_invalid_stretch_is_shaded(project):
     results = stored(project)
     station = results.columns["station_m"]

@@ -158,6 +158,18 @@ def test_station_equations_short_and_long_chains():
         StationEquations((StationEquation(100.0, 200.0), StationEquation(150.0, 160.0)))
 
 
+def test_station_labels_read_at_once_as_one_by_one():
+    labels = ["DK1+000.000", "DK1+715.917", "DK2+110.000", "DK1+995.5"]
+    zones = [0, 1, 2, 1]
+    expected = [EQUATIONS.parse_label(label, zone=zone) for label, zone in zip(labels, zones)]
+    assert EQUATIONS.parse_labels(labels, zone=zones).tolist() == expected
+    assert EQUATIONS.parse_labels(labels[:3]).tolist() == expected[:3]
+    with pytest.raises(ValueError, match="exists twice"):
+        EQUATIONS.parse_labels(labels)
+    with pytest.raises(ValueError, match="prefix 'K'"):
+        EQUATIONS.parse_labels(["DK1+000", "K1+000"])
+
+
 @given(st.floats(0.0, 3000.0))
 def test_station_equations_round_trip(internal):
     displayed = EQUATIONS.displayed_from_internal(internal)

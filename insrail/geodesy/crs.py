@@ -32,16 +32,19 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pyproj
-from pyproj import CRS, Proj, Transformer
-from pyproj.exceptions import CRSError
 
 from insrail.geodesy._validation import Problems
 from insrail.geodesy.ellipsoid import ELLIPSOIDS, Ellipsoid
 from insrail.geodesy.errors import GeodesyError, SettingsError
+
+if TYPE_CHECKING:
+    from pyproj import CRS, Proj, Transformer
+
+# pyproj is imported where PROJ is asked: the project model holds an EngineeringCRS, and commands that
+# only read a project's results (insrail report) would pay for pyproj's imports otherwise.
 
 CUSTOM_ELLIPSOID = "custom"
 PROJECTION_HEIGHT_CONVENTIONS = ("scale_factor", "semi_major_axis")
@@ -181,6 +184,8 @@ class EngineeringCRS:
     @cached_property
     def pyproj_crs(self) -> CRS:
         """The projected CRS as pyproj sees it (with the projection height folded in)."""
+        from pyproj import CRS
+
         if self.epsg is not None:
             return CRS.from_epsg(self.epsg)
         return CRS.from_proj4(
@@ -194,6 +199,8 @@ class EngineeringCRS:
         # Geographic CRS on the *projection's* ellipsoid: latitude/longitude pass through
         # unchanged (the expanded-ellipsoid convention), and PROJ sees one datum, so no
         # datum step - in particular no silent "ballpark" - can sneak in.
+        from pyproj import Transformer
+
         transformer = Transformer.from_crs(self.pyproj_crs.geodetic_crs, self.pyproj_crs, always_xy=True)
         if "ballpark" in transformer.description.lower():
             raise GeodesyError(f"PROJ offers only a ballpark transformation for {self.describe()}: "
@@ -202,6 +209,8 @@ class EngineeringCRS:
 
     @cached_property
     def _proj(self) -> Proj:
+        from pyproj import Proj
+
         return Proj(self.pyproj_crs)
 
     def __getstate__(self) -> dict[str, Any]:
@@ -330,6 +339,10 @@ def _check_values(values: Mapping[str, Any], problems: Problems) -> None:
 
 def _fields_from_epsg(crs: EngineeringCRS) -> dict[str, Any]:
     """Field values of an EPSG transverse Mercator zone; conflicting explicit values raise."""
+    import pyproj
+    from pyproj import CRS
+    from pyproj.exceptions import CRSError
+
     problems = Problems()
     _check_values({"epsg": crs.epsg}, problems)
     problems.raise_if_any()

@@ -17,14 +17,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from pyproj import Transformer
-from pyproj.exceptions import ProjError
-from pyproj.transformer import TransformerGroup
 
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import GeoidGridError
+
+if TYPE_CHECKING:  # pyproj itself is imported where used (insrail.geodesy.crs)
+    from pyproj import Transformer
 
 EGM96_GRID_NAME = "egm96_15.gtx"
 #: The package's own grids (package data: every install and the bundle carry them).
@@ -60,6 +61,9 @@ class GeoidGrid:
     @cached_property
     def _transformer(self) -> Transformer:
         # An absolute path and no '@' prefix: PROJ must use this very file or fail.
+        from pyproj import Transformer
+        from pyproj.exceptions import ProjError
+
         pipeline = f"+proj=vgridshift +grids={self.path.resolve()} +multiplier=1"
         try:
             return Transformer.from_pipeline(pipeline)
@@ -108,6 +112,9 @@ def checked_transformer(source_crs, target_crs) -> Transformer:
     EPSG:4326+5773): if the best operation needs a grid that is not installed, PROJ
     would silently use a ballpark operation that leaves heights unchanged.
     """
+    from pyproj import Transformer
+    from pyproj.transformer import TransformerGroup
+
     transformer = Transformer.from_crs(source_crs, target_crs, always_xy=True)
     if "ballpark" not in transformer.description.lower():
         return transformer

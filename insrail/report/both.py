@@ -63,9 +63,12 @@ def write_both(project: Project, results: StoredResults, xlsx: Path, pdf: Path, 
     shown = _Shared(progress)
     if not (side_by_side(len(results)) if concurrent is None else concurrent):
         from insrail.report import write_workbook  # here only: openpyxl's imports are the child's otherwise
+        from insrail.report.content import report_content
 
-        write_workbook(project, results, xlsx, progress=shown.part(0), cancel=cancel)
-        return [xlsx, write_pdf(project, results, pdf, progress=shown.part(1), cancel=cancel, sections=sections)]
+        content = report_content(project, results)  # made once for both
+        write_workbook(project, results, xlsx, progress=shown.part(0), cancel=cancel, content=content)
+        return [xlsx, write_pdf(project, results, pdf, progress=shown.part(1), cancel=cancel, sections=sections,
+                                content=content)]
     context = multiprocessing.get_context("spawn")
     stop = context.Event()
     receiver, sender = context.Pipe(duplex=False)

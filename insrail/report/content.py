@@ -34,6 +34,7 @@ from insrail.names import (
     check_name,
     check_unit,
     column_name,
+    in_language,
     joined,
     rail_direction,
     t,
@@ -49,7 +50,7 @@ from insrail.project.results import (
     StoredResults,
     check_column,
 )
-from insrail.project.run_settings import RecordedSettings
+from insrail.project.run_settings import RecordedSettings, report_language
 from insrail.project.sleeper_integrity import reasons_of, said_reasons
 from insrail.track.adjustment import FastenerType, load_fastener_type
 from insrail.track.adjustment_parts import PartTable, materials, parts_text
@@ -167,6 +168,12 @@ class ReportContent:
     def chainage(self) -> ChainageAxis:
         """K-chainage of any station of this survey (chart axes)."""
         return ChainageAxis.from_labels(self.station_m, self.results.label)
+
+    @cached_property
+    def adjustment(self) -> AdjustmentWork:
+        """The adjustment's rows and parts (:func:`adjustment_work`), made once for every sheet and table listing them."""
+        return adjustment_work(self)
+
     @property
     def events(self) -> tuple[EventRow, ...]:
         """The survey's events (turnouts, level crossings, ...) as the processing placed them."""
@@ -202,7 +209,7 @@ class ChainageAxis:
         prefix = _PREFIX.match(labels[0]).group(1).strip()
         try:
             reader = StationEquations(prefix=prefix)
-            displayed = np.array([reader.parse_label(label) for label in labels])
+            displayed = reader.parse_labels(labels)
         except ValueError:  # not chainage labels (or mixed prefixes): metres of station
             return cls(station_m, np.zeros(len(labels)), None)
         return cls(station_m, np.round(displayed - station_m, 3), prefix)
@@ -315,6 +322,13 @@ def load_report_content(project: Project, results: StoredResults) -> ReportConte
                          notes=tuple(notes), recorded=recorded,
                          # the standard sentence translated; a change's own line names settings as project.toml does
                          settings_changes=tuple(line.said() for line in recorded.changes(project, _first_survey(results))))
+
+
+def report_content(project: Project, results: StoredResults) -> ReportContent:
+    """:func:`load_report_content` in the project's report language, as each writer makes it: one content for
+    both reports written in one process (its columns, chainage axis and adjustment work made once)."""
+    with in_language(report_language(project)):
+        return load_report_content(project, results)
 
 
 def _first_survey(results: StoredResults) -> str:
@@ -530,10 +544,10 @@ class WorkSection:
     rows: tuple[CrewRow, ...]
 
 
-def crew_sections(content: ReportContent, work: AdjustmentWork | None = None) -> list[WorkSection]:
+def crew_sections(content: ReportContent) -> list[WorkSection]:
     """The adjustment as the crew's sheet lists it: per sleeper in working order each rail with an
     amount, split into work sections (every amount exactly as in sleepers.csv)."""
-    work = work or adjustment_work(content)
+    work = content.adjustment
     keys = {key: k for k, key in enumerate(ADJUSTMENT_KEYS)}
     notes = content.results.adjustment_notes or content.column("unresolved").values  # as the results word them
     rows: list[list[CrewRow]] = []

@@ -22,9 +22,10 @@ import tomllib
 import unicodedata
 import zipfile
 from collections.abc import Callable, Sequence
+from functools import cache
+from html import escape  # as xml.sax.saxutils's (& < >) with quote=False, without its import of urllib and http
 from pathlib import Path
 from typing import IO
-from xml.sax.saxutils import escape
 
 import numpy as np
 from openpyxl import Workbook
@@ -47,7 +48,6 @@ from insrail.report.content import (
     SEVERITY_RULE,
     Column,
     ReportContent,
-    adjustment_work,
     after_adjustment_text,
     crew_sections,
     check_description,
@@ -357,7 +357,7 @@ def _cells(letter: str, rows: list[str], values: list, styles: list[int]) -> lis
     out = []
     for row, value, style in zip(rows, values, styles):
         if isinstance(value, str):
-            out.append(f'<c r="{letter}{row}" s="{style}" t="inlineStr"><is><t>{escape(value)}</t></is></c>' if value
+            out.append(f'<c r="{letter}{row}" s="{style}" t="inlineStr"><is><t>{escape(value, quote=False)}</t></is></c>' if value
                        else f'<c r="{letter}{row}" s="{style}"/>')
         elif value is None or not math.isfinite(value):  # an empty, styled cell (NaN: not computable)
             out.append(f'<c r="{letter}{row}" s="{style}"/>')
@@ -609,14 +609,18 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
     header = sheet.header([t(title) for title in CREW_TITLES])
     # at 100 % with the body font's widths; fitted to the page width where a substitute font is wider
     sheet.start(list(widths), f"A{header + 1}", CREW_PAPER, page_header(content), orientation="portrait")
-    work = adjustment_work(content)
-    work_sections = crew_sections(content, work)
+    work_sections = crew_sections(content)
     numbers, labels = content.column("number").values, content.column("label").values
     plain, bold, amount = sheet.style_id(), sheet.style_id(font=BOLD), sheet.style_id("+0;-0;")
     wrapped, red = sheet.style_id(alignment=WRAPPED), sheet.style_id(font=RED_FONT, alignment=WRAPPED)
     columns: list[list] = [[] for _ in CREW_TITLES]
     styles: list[list[int]] = [[] for _ in CREW_TITLES]
     heights: list[float | None] = []
+
+    @cache  # the same parts and notes recur on thousands of lines
+    def lines_of(text: str, width: float) -> int:
+        return _wrapped_lines(text, width, BODY_CHARACTER_WIDTH)
+
     for section in work_sections:
         first, last = section.rows[0].sleeper, section.rows[-1].sleeper
         sleepers = len({row.sleeper for row in section.rows})
@@ -637,8 +641,7 @@ def _adjustment_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgr
             for k, (value, style) in enumerate(zip(values, [plain, plain, plain, plain, amount, amount, wrapped, red])):
                 columns[k].append(value)
                 styles[k].append(style)
-            lines = max(sum(_wrapped_lines(part, widths[6], BODY_CHARACTER_WIDTH) for part in row.parts) or 1,
-                        _wrapped_lines(row.failing, widths[7], BODY_CHARACTER_WIDTH))
+            lines = max(sum(lines_of(part, widths[6]) for part in row.parts) or 1, lines_of(row.failing, widths[7]))
             heights.append(LINE_HEIGHT_PT * lines + 2.0 if lines > 1 else None)
     if not work_sections:
         columns[0].append(t("no rail to move: every check of the tolerance profile passes as measured"))
@@ -731,7 +734,7 @@ def _fastener_line(content: ReportContent) -> str:
 
 def _materials_sheet(sheet: _Sheet, content: ReportContent, progress: StepProgress, cancel: CancelToken) -> None:
     _adjustment_header(sheet, content, t("Materials list: the fastener parts the adjustment sheet needs"))
-    work = adjustment_work(content)
+    work = content.adjustment
     for note in work.notes:
         sheet.append([sheet.cell(t("No parts for {note}").format(note=note))])
     sheet.append([sheet.cell(t("Parts marked * have sizes not taken from published figures: check them against the "
@@ -939,15 +942,16 @@ TAMPING_SHEET = ("Tamping", _tamping_sheet, 0.02)
 
 
 def write_workbook(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
-                   cancel: CancelToken = None) -> Path:
-    """Write the crews' workbook for one survey's results to ``path`` (atomically); returns the path."""
+                   cancel: CancelToken = None, content: ReportContent | None = None) -> Path:
+    """Write the crews' workbook for one survey's results to ``path`` (atomically); returns the path.
+    ``content``: the results' :func:`insrail.report.content.report_content`, where the caller made it already."""
     with in_language(report_language(project)):
-        return _write_workbook(project, results, Path(path), StepProgress(progress), cancel)
+        return _write_workbook(project, results, Path(path), StepProgress(progress), cancel, content)
 
 
 def _write_workbook(project: Project, results: StoredResults, path: Path, step: StepProgress,
-                    cancel: CancelToken) -> Path:
-    content = load_report_content(project, results)
+                    cancel: CancelToken, content: ReportContent | None) -> Path:
+    content = content or load_report_content(project, results)
     workbook = Workbook(write_only=True)
     workbook.properties.title = t("{project} – {survey}: track geometry").format(project=project.name,
                                                                                  survey=results.survey)

@@ -26,7 +26,8 @@ from reportlab.lib import colors
 from reportlab.lib.pagesizes import A3, A4, landscape
 from reportlab.lib.styles import ParagraphStyle, getSampleStyleSheet
 from reportlab.lib.units import mm
-from reportlab.pdfbase.pdfmetrics import stringWidth
+from reportlab.lib.rl_accel import fp_str, unicode2T1
+from reportlab.pdfbase.pdfmetrics import getFont, stringWidth
 from reportlab.pdfgen.canvas import Canvas
 from reportlab.platypus import (
     BaseDocTemplate,
@@ -239,10 +240,55 @@ class Scaled(Flowable):
         self.canv.restoreState()
 
 
+_STRING_OPTIONS = {"mode", "charSpace", "direction", "wordSpace", "shaping"}  # of Canvas.drawString
+
+
 class NumberedCanvas(Canvas):
     """Writes "page i of n" once the number of pages is known: each page ends by drawing its own form
     (a PDF XObject, drawn in the page's graphics state), and the forms are written at the end. A
-    page goes out as soon as it is complete; no page is held to the end of the document."""
+    page goes out as soon as it is complete; no page is held to the end of the document.
+
+    A plain string (the tables' cells, the charts' labels: some 70 000 at 10 km) is written without
+    reportlab's text object: :meth:`_plain_text` writes the operators its drawString would."""
+
+    def drawString(self, x, y, text, *args, **kwargs):  # noqa: N802 - reportlab's names
+        self._draw_plain(x, y, text, 0.0, args, kwargs) or super().drawString(x, y, text, *args, **kwargs)
+
+    def drawRightString(self, x, y, text, *args, **kwargs):  # noqa: N802
+        self._draw_plain(x, y, text, 1.0, args, kwargs) or super().drawRightString(x, y, text, *args, **kwargs)
+
+    def drawCentredString(self, x, y, text, *args, **kwargs):  # noqa: N802
+        self._draw_plain(x, y, text, 0.5, args, kwargs) or super().drawCentredString(x, y, text, *args, **kwargs)
+
+    def _draw_plain(self, x: float, y: float, text, anchor: float, args: tuple, kwargs: dict) -> bool:
+        """Write ``text`` at x (its start, end or centre: ``anchor`` 0, 1, 0.5 of its width) when it is plain
+        (no text mode, spacing, direction or shaping asked for); False where reportlab must write it."""
+        plain = (not args and set(kwargs) <= _STRING_OPTIONS and kwargs.get("mode") is None
+                 and kwargs.get("direction") is None and not any(kwargs.get(k) for k in ("charSpace", "wordSpace", "shaping")))
+        if not plain:
+            return False
+        code = self._plain_text(x, y, text, anchor)
+        if code is None:
+            return False
+        self._code.append(code)
+        return True
+
+    def _plain_text(self, x: float, y: float, text, anchor: float) -> str | None:
+        """The operators ``Canvas.drawString`` (and its right-aligned and centred kin) writes for ``text`` in a
+        standard font whose encoding holds all of it: a text object positioned, one string shown; None for
+        anything else (an embedded font, characters of another font, an empty string, a top-down page)."""
+        if not isinstance(text, str) or not self.bottomup:
+            return None
+        font = getFont(self._fontname)
+        if font._dynamicFont or font._multiByte:
+            return None
+        runs = unicode2T1(text, [font] + font.substitutionFonts)
+        if len(runs) != 1 or runs[0][0] is not font:
+            return None
+        if anchor:
+            width = stringWidth(text, self._fontname, self._fontsize)
+            x = x - width if anchor == 1.0 else x - 0.5 * width
+        return f"BT 1 0 0 1 {fp_str(x, y)} Tm ({self._escape(runs[0][1])}) Tj T* ET"
 
     def showPage(self):
         self.doForm(self._page_number_form(self._pageNumber))
@@ -942,9 +988,10 @@ def _adjustment(content: ReportContent) -> list[Flowable]:
         return story + [Paragraph(text(t("No rail to move: every check of the tolerance profile passes as measured.")),
                                   BODY)]
     numbers, labels = content.column("number").values, content.column("label").values
+    header = [_cell(t(title)) for title in ADJUSTMENT_TITLES]  # every section's table repeats it, as a page does
     for section in work_sections:
         first, last = section.rows[0].sleeper, section.rows[-1].sleeper
-        rows: list[list] = [[_cell(t(title)) for title in ADJUSTMENT_TITLES]]
+        rows: list[list] = [header]
         for sleeper, lines in itertools.groupby(section.rows, key=lambda row: row.sleeper):
             by_rail = {row.rail: row for row in lines}
             lateral = [by_rail[rail].lateral_mm if rail in by_rail else 0.0 for rail in (0, 1)]
@@ -1060,14 +1107,15 @@ def _layout_progress(progress: StepProgress, cancel: CancelToken) -> Callable[[s
 
 
 def write_pdf(project: Project, results: StoredResults, path, progress: ProgressFn | None = None,
-              cancel: CancelToken = None, sections: Sequence[Section] = ()) -> Path:
+              cancel: CancelToken = None, sections: Sequence[Section] = (), content: ReportContent | None = None) -> Path:
     """Write the survey report for one survey's results to ``path`` (atomically); returns the path.
 
     ``sections`` are added after the plan view, each a function of the report content returning
     flowables; the repeatability of repeat runs follows by itself when the project's last
-    comparison (``insrail compare``) includes this survey."""
+    comparison (``insrail compare``) includes this survey. ``content``: the results'
+    :func:`insrail.report.content.report_content`, where the caller made it already."""
     with in_language(report_language(project)), _wrapped_as_the_language_writes():
-        return _write_pdf(project, results, Path(path), StepProgress(progress), cancel, sections)
+        return _write_pdf(project, results, Path(path), StepProgress(progress), cancel, sections, content)
 
 
 #: The paragraph styles, wrapped between words in English and between any two characters in Chinese (no spaces).
@@ -1088,8 +1136,8 @@ def _wrapped_as_the_language_writes():
 
 
 def _write_pdf(project: Project, results: StoredResults, path: Path, step: StepProgress, cancel: CancelToken,
-               sections: Sequence[Section]) -> Path:
-    content = load_report_content(project, results)
+               sections: Sequence[Section], content: ReportContent | None) -> Path:
+    content = content or load_report_content(project, results)
     step(0.02, "the trajectory's statistics")
     trajectory = trajectory_statistics(results)
     check_cancel(cancel)

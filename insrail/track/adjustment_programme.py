@@ -25,10 +25,9 @@ simplex restarting from its last basis), and a few per sleeper ever enter the pr
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
-import highspy._core as highspy_core
 import numpy as np
-from scipy import sparse
 
 from insrail.progress import check_cancel
 from insrail.track.exceedance import SleeperGeometry
@@ -38,6 +37,13 @@ from insrail.track.irregularity import (
     interpolate_valid,
 )
 from insrail.track.tolerance import ToleranceProfile
+
+if TYPE_CHECKING:
+    from scipy import sparse
+
+# scipy.sparse, scipy.optimize and HiGHS (some 0.5 s of imports) are imported where a programme is
+# built: insrail.track.adjustment imports this module, and the project model imports that one, so
+# every command reading a project (insrail report, export) would pay for them otherwise.
 
 VIOLATION_PENALTY = 1000.0  # cost of 1 step of residual exceedance against 1 step of movement
 #: In the guiding-rail-first practice the rail that follows costs this much per step of its own
@@ -174,6 +180,8 @@ class _RowCollector:
         self.count += size
 
     def build(self) -> TrackRows:
+        from scipy import sparse
+
         n = self.n
         if not self.count:
             empty = np.empty(0)
@@ -546,6 +554,8 @@ class _Programme:
     as they are found violated."""
 
     def __init__(self, problem: DirectionProblem, amounts: np.ndarray, free: np.ndarray, threshold: float | None = None):
+        import highspy._core as highspy_core
+
         # the bare solver: highspy.Highs (a wrapper of it) prints a banner on stdout when created
         self.highs = highspy_core._Highs()
         for key, value in (HIGHS_OPTIONS if threshold is None else HIGHS_INTEGER_OPTIONS).items():
@@ -553,6 +563,7 @@ class _Programme:
         self.infinity = highspy_core.kHighsInf
         self.optimal = highspy_core.HighsModelStatus.kOptimal
         self.integer = threshold is not None
+        self.integer_type = highspy_core.HighsVarType.kInteger
         n = free.size
         self.free_column = np.concatenate([free, free])
         columns = np.flatnonzero(self.free_column)
@@ -596,7 +607,7 @@ class _Programme:
         on_minus = self._add_variables(np.zeros(count), np.zeros(count), np.ones(count))
         columns = np.concatenate([plus, minus, on_plus, on_minus]).astype(np.int32)
         self.highs.changeColsIntegrality(columns.size, columns,
-                                         np.full(columns.size, highspy_core.HighsVarType.kInteger))
+                                         np.full(columns.size, self.integer_type))
         for amount, on, most in ((plus, on_plus, plus_max), (minus, on_minus, minus_max)):
             index = np.column_stack([amount, on])
             self._add_rows(index, np.broadcast_to([1.0, -threshold], index.shape), np.zeros(count),
@@ -617,6 +628,8 @@ class _Programme:
 
     def _add_rows(self, index: np.ndarray, values: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
         """Rows over (R, w) variable indices (-1: none); duplicates within a row are summed."""
+        from scipy import sparse
+
         keep = index >= 0
         row = np.broadcast_to(np.arange(index.shape[0])[:, None], index.shape)[keep]
         matrix = sparse.csr_array((np.asarray(values)[keep], (row, index[keep])), shape=(index.shape[0], self.variables))
@@ -843,6 +856,9 @@ def repair_rounding(problem: DirectionProblem, amounts: np.ndarray, continuous: 
 
 def _integer_choice(problem: DirectionProblem, rows: TrackRows, amounts: np.ndarray, continuous: np.ndarray,
                     region: np.ndarray) -> np.ndarray | None:
+    from scipy import sparse
+    from scipy.optimize import Bounds, LinearConstraint, milp
+
     total = amounts.shape[0]
     columns = np.concatenate([region, total + region])  # rail-major amount columns
     target = np.concatenate([continuous[region, 0], continuous[region, 1]])
@@ -867,10 +883,6 @@ def _integer_choice(problem: DirectionProblem, rows: TrackRows, amounts: np.ndar
     row_lower = np.concatenate([rows.lower[touched] - constant, np.full(count, -np.inf), target])
     row_upper = np.concatenate([rows.upper[touched] - constant, target, np.full(count, np.inf)])
     cost = np.concatenate([np.zeros(count), np.ones(count)])
-    # imported here, where a rounding broke a hard row: nothing else of the adjustment needs scipy.optimize (some
-    # 0.5 s to import; many surveys never get here)
-    from scipy.optimize import Bounds, LinearConstraint, milp
-
     result = milp(cost, constraints=LinearConstraint(a, row_lower, row_upper),
                   integrality=np.concatenate([np.ones(count), np.zeros(count)]),
                   bounds=Bounds(np.concatenate([lower, np.zeros(count)]), np.concatenate([upper, np.full(count, np.inf)])),

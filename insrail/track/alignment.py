@@ -21,12 +21,19 @@ import math
 from dataclasses import dataclass, field
 from functools import cached_property
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-from scipy.spatial import cKDTree
 
 from insrail.track.errors import DesignError
 from insrail.track.profile import CantTable, VerticalProfile
 from insrail.track.stationing import StationEquations
+
+if TYPE_CHECKING:
+    from scipy.spatial import cKDTree
+
+# scipy is imported where it is used: the project model and the results reader import this module, and
+# every command reading a project (insrail report, export) would pay for scipy's imports otherwise.
 
 TURNS = ("left", "right")
 
@@ -428,6 +435,8 @@ class HorizontalAlignment:
     # ------------------------------------------------------------- projection
     @cached_property
     def _projection_index(self) -> tuple[cKDTree, np.ndarray, float]:
+        from scipy.spatial import cKDTree
+
         spacing = max(1.0, self.length_m / 200_000)
         count = math.ceil(self.length_m / spacing) + 1
         stations = np.linspace(self.start_station_m, self.end_station_m, count)

@@ -42,10 +42,9 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
-import highspy._core as highspy_core
-from scipy import sparse
 
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 from insrail.track import adjustment_programme
@@ -54,6 +53,12 @@ from insrail.track.adjustment_programme import _TrackRowFamily as TrackRowFamily
 from insrail.track.adjustment_programme import RailCheck, rail_checks, track_rows
 from insrail.track.exceedance import Assessment, SleeperGeometry, assess
 from insrail.track.tolerance import ToleranceProfile
+
+if TYPE_CHECKING:
+    from scipy import sparse
+
+# scipy.sparse and HiGHS are imported where a programme is built: start-up of commands that only read a
+# project (insrail.track.adjustment_programme).
 
 #: Unit of the programme's variables [m]: 0.1 mm, fine enough for a machine's millimetre values
 #: and leaving the chord rows' limits many units wide.
@@ -188,11 +193,14 @@ class _Programme(adjustment_programme._Programme):
     row side a slack costing :data:`EXCESS_PENALTY`."""
 
     def __init__(self, basis: sparse.csr_array, lower: np.ndarray, upper: np.ndarray):
+        import highspy._core as highspy_core
+
         self.highs = highspy_core._Highs()
         for key, value in {**adjustment_programme.HIGHS_OPTIONS, **REDESIGN_OPTIONS}.items():
             self.highs.setOptionValue(key, value)
         self.infinity = highspy_core.kHighsInf
         self.optimal = highspy_core.HighsModelStatus.kOptimal
+        self.out_of_time = highspy_core.HighsModelStatus.kTimeLimit
         self.variables = 0
         self.basis, self.size = basis, basis.shape[1]
         # a positive lower bound (a minimum lift) is carried by plus alone; each knot costs the
@@ -207,6 +215,8 @@ class _Programme(adjustment_programme._Programme):
         """Rows ``offset + coefficients . correction[columns]`` (columns of sleeper and rail) within
         [lower, upper], each finite side as ``sign * (...) - slack <= sign * bound``; returns how
         many rows were new."""
+        from scipy import sparse
+
         fresh = np.array([(family, int(k)) not in self.keys for k in key], bool)
         if not fresh.any():
             return 0
@@ -253,6 +263,8 @@ class _Programme(adjustment_programme._Programme):
                  upper: np.ndarray) -> None:
         """Rows ``on_sleepers @ correction + other_values . variables[others] <= upper`` (the
         corrections per sleeper column, through the knots)."""
+        from scipy import sparse
+
         count = others.shape[0]
         if not count:
             return
@@ -274,7 +286,7 @@ class _Programme(adjustment_programme._Programme):
         self.highs.setOptionValue("time_limit", self.highs.getRunTime() + SOLVE_TIME_LIMIT_S)
         self.highs.run()
         status = self.highs.getModelStatus()
-        if status == highspy_core.HighsModelStatus.kTimeLimit:
+        if status == self.out_of_time:
             raise RedesignError(f"the tamping re-design's linear programme found no solution in {SOLVE_TIME_LIMIT_S:g} s "
                                 f"({self.variables} variables); re-design a shorter stretch (docs/tamping.md)")
         if status != self.optimal:
@@ -306,6 +318,8 @@ class _SlidingChord:
         self.d = deviation
 
     def rows(self, programme: _Programme, limit: float) -> None:
+        from scipy import sparse
+
         m, p, n, size = self.check.first_steps, self.check.second_steps, self.n, self.group
         if n <= m:
             return
@@ -370,6 +384,8 @@ class _SlidingChord:
 def _knot_basis(n: int, spacing: int) -> sparse.csr_array:
     """(n, knots): the corrections of n sleepers, linear between knots every ``spacing`` sleepers
     (the last sleeper a knot too)."""
+    from scipy import sparse
+
     knots = np.unique(np.append(np.arange(0, n, spacing), n - 1))
     j = np.arange(n)
     right = np.clip(np.searchsorted(knots, j, side="right"), 1, knots.size - 1)
@@ -413,6 +429,8 @@ def _solve_direction(families: tuple[list, list], n: int, lower_m: np.ndarray, u
                      per_rail: bool, cancel: CancelToken = None) -> tuple[np.ndarray, int]:
     """Corrections [m] (n, 2) of one direction (``per_rail`` False: one per sleeper for both rails)
     and the rounds of constraint generation it took."""
+    from scipy import sparse
+
     generated, sliding = families
     knots = _knot_basis(n, KNOT_SPACING)
     if per_rail:
