@@ -191,8 +191,8 @@ def test_a_user_style_survey_is_as_accurate_as_it_says(cell: Cell, tmp_path):
 def test_a_survey_without_its_gauge_record_is_refused_before_the_fusion(tmp_path):
     """`insrail process` needs the gauge record (docs/formats.md): a survey without one is refused with the
     key to give, before any fusion is computed, and `insrail report` then says there is nothing to report."""
-    cell = Cell(imu="nav", position="gnss+prism", ellipsoid="WGS84", design="csv", direction="with",
-                left_out="none", trolley="calibrated")  # a matrix cell's survey (simulated once), its gauge record left out
+    cell = Cell(imu="nav", position="prism", ellipsoid="Xian80", design="landxml", direction="against",
+                left_out="none", trolley="calibrated")  # a default run's cell (simulated once), its gauge record left out
     built = built_cell_copy(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
     survey = built.project / "survey"
     files = {role: (entry["path"], entry["format"])
