@@ -1,7 +1,8 @@
 """The configuration matrix (issue 32): `insrail process` and `insrail report` on short simulated surveys set
 up as a surveyor sets them up, over a pairwise selection of IMU grade x position source x ellipsoid x design x
 direction x sensor left out x trolley keys (tests/survey_builder.py), each checked against the simulator's
-truth, not only for its exit code.
+truth, not only for its exit code. The default test run processes the cells holding every level of every factor
+(DEFAULT_RUN_CELLS) and the extra tunnel cell; ``-m slow`` runs the whole pairwise selection.
 
 Bars, from what insrail states for the survey or from documented figures:
 
@@ -42,7 +43,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from survey_builder import SURVEY_NAME, Cell, built_cell_copy, pairwise_cells, rms, survey_toml, truth_errors
+from survey_builder import FACTORS, SURVEY_NAME, Cell, built_cell_copy, pairwise_cells, rms, survey_toml, truth_errors
 
 from insrail.cli.main import main
 from insrail.project.assessable import RESOLVE_SIGMAS
@@ -76,14 +77,43 @@ KNOWN = (
 #: Cells beside the pairwise selection: a tunnel (prism fixes alone) without a design.
 EXTRA_CELLS = (Cell("nav", "prism", "CGCS2000", "fitted", "with", "none", "minimal"),)
 
+#: The cells of the default test run: five of the pairwise selection holding every level of every factor
+#: (test_the_default_runs_cells_hold_every_level_of_every_factor), and EXTRA_CELLS. The pairwise selection's
+#: other cells (every pair of levels, some 10 s of CPU each, one 50 s) run with ``-m slow``: the default run was
+#: over its 10 minutes. Chosen for what they hold beside the levels: a MEMS unit in a tunnel (prism fixes alone,
+#: the cell the held-out fix test changes), the hand-held MEMS with GNSS and prism fixes without an odometer,
+#: the navigation grade with prism fixes alone against the stationing, the tactical grade with KF-GINS GNSS on a
+#: fitted design, the tactical FOG with an RTKLIB .pos and the minimal trolley keys.
+DEFAULT_RUN_CELLS = frozenset({
+    "mems-prism-CGCS2000-csv-with-sleepers-calibrated",
+    "mems_handheld-gnss+prism-custom-csv-against-odometer-calibrated",
+    "nav-prism-Xian80-landxml-against-none-calibrated",
+    "tactical-kfgins-gnss-WGS84-fitted-with-odometer-calibrated",
+    "tactical_fog-rtklib-pos-Krassovsky-landxml-against-none-minimal",
+})
+
 
 def _cells() -> list:
     params = []
     for cell in pairwise_cells() + list(EXTRA_CELLS):
         reasons = [reason for reason, hits in KNOWN if hits(cell)]
         marks = [pytest.mark.xfail(strict=True, reason="; ".join(reasons))] if reasons else []
+        if cell.cell_id not in DEFAULT_RUN_CELLS and cell not in EXTRA_CELLS:
+            marks.append(pytest.mark.slow)
         params.append(pytest.param(cell, id=cell.cell_id, marks=marks))
     return params
+
+
+def test_the_default_runs_cells_hold_every_level_of_every_factor():
+    """The default run's cells are of the pairwise selection (their seeds, their bars) and hold every level of
+    every factor: each IMU grade, position source, ellipsoid, design form, direction, sensor left out and
+    trolley set-up is processed, reported and checked against the truth in every default test run."""
+    pairwise = {cell.cell_id: cell for cell in pairwise_cells()}
+    assert DEFAULT_RUN_CELLS <= set(pairwise)
+    chosen = [pairwise[cell_id] for cell_id in DEFAULT_RUN_CELLS]
+    assert not [cell.cell_id for cell in chosen if any(hits(cell) for _, hits in KNOWN)]  # none known to fail
+    for factor, levels in FACTORS.items():
+        assert {getattr(cell, factor) for cell in chosen} == set(levels), factor
 
 
 def insrail(*args: str) -> tuple[int, str]:
@@ -161,8 +191,8 @@ def test_a_user_style_survey_is_as_accurate_as_it_says(cell: Cell, tmp_path):
 def test_a_survey_without_its_gauge_record_is_refused_before_the_fusion(tmp_path):
     """`insrail process` needs the gauge record (docs/formats.md): a survey without one is refused with the
     key to give, before any fusion is computed, and `insrail report` then says there is nothing to report."""
-    cell = Cell(imu="nav", position="gnss+prism", ellipsoid="WGS84", design="csv", direction="with",
-                left_out="none", trolley="calibrated")  # a matrix cell's survey (simulated once), its gauge record left out
+    cell = Cell(imu="nav", position="prism", ellipsoid="Xian80", design="landxml", direction="against",
+                left_out="none", trolley="calibrated")  # a default run's cell (simulated once), its gauge record left out
     built = built_cell_copy(cell, tmp_path, seed=zlib.crc32(cell.cell_id.encode()))
     survey = built.project / "survey"
     files = {role: (entry["path"], entry["format"])

@@ -3,14 +3,13 @@ install: the EGM96 grid the check compares with ships inside the package (no sys
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 from insrail.cli.demo import demo_events
 from insrail.cli.main import main
 from insrail.geodesy.geoid import SHIPPED_GRIDS_DIR, find_egm96_grid
 from insrail.project.demo import project_for_simulated_survey
-from insrail.sim.scenario import preset
-from insrail.sim.simulate import simulate
 
 
 def swap_h_and_big_h(path: Path) -> None:
@@ -25,11 +24,11 @@ def swap_h_and_big_h(path: Path) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
-def test_the_demo_with_h_and_H_swapped_in_its_benchmarks_is_refused_naming_the_file(tmp_path, capsys):
+def test_the_demo_with_h_and_H_swapped_in_its_benchmarks_is_refused_naming_the_file(short_nav_survey, tmp_path, capsys):
     assert find_egm96_grid().parent == SHIPPED_GRIDS_DIR  # not Debian's /usr/share/proj
     root = tmp_path / "demo"
     survey = root / "surveys" / "short"
-    simulate(preset("short"), 1, survey, imu_format="npy")  # as `insrail demo` builds its project
+    shutil.copytree(short_nav_survey, survey)  # `short`, seed 1, as `insrail demo` simulates it (a copy: it is edited)
     project = demo_events(project_for_simulated_survey(root, survey, name="insrail demo"))
     benchmarks = project.resolve(project.height.benchmarks)
     swap_h_and_big_h(benchmarks)

@@ -6,6 +6,7 @@ minutes with a 15 s outage, so RTKLIB runs in a couple of seconds.
 
 from __future__ import annotations
 
+import inspect
 import shutil
 from dataclasses import replace
 
@@ -14,6 +15,7 @@ import pytest
 
 pytest.importorskip("pytestqt")
 
+from gui_wait import wait_for_worker
 from real_data import REAL
 
 from insrail.gui.choices import choose
@@ -37,7 +39,37 @@ def table_rows(table) -> list[list[str]]:
     return [[table.item(r, c).text() for c in range(table.columnCount())] for r in range(table.rowCount())]
 
 
-def test_plan_survey_shows_the_figures_of_predict(window, qtbot):
+def recording(monkeypatch, name: str) -> list:
+    """The dialog's calls of ``insrail.gui.plan_survey.<name>`` (predict or sweep): each call's arguments bound
+    to the function's parameters (without its progress and cancel) and its result. The test compares them with
+    the call it expects instead of computing the prediction a second time (deterministic: the same figures)."""
+    from insrail.gui import plan_survey
+
+    function = getattr(plan_survey, name)
+    calls = []
+
+    def recorded(*args, **kwargs):
+        bound = inspect.signature(function).bind(*args, **kwargs)
+        result = function(*args, **kwargs)
+        calls.append((_inputs(bound), result))
+        return result
+
+    monkeypatch.setattr(plan_survey, name, recorded)
+    return calls
+
+
+def _inputs(bound: inspect.BoundArguments) -> dict:
+    bound.apply_defaults()
+    return {key: value for key, value in bound.arguments.items() if key not in ("progress", "cancel")}
+
+
+def inputs_of(function, *args, **kwargs) -> dict:
+    """What a call ``function(*args, **kwargs)`` passes, as :func:`recording` holds it."""
+    return _inputs(inspect.signature(function).bind(*args, **kwargs))
+
+
+def test_plan_survey_shows_the_figures_of_predict(window, qtbot, monkeypatch):
+    calls = recording(monkeypatch, "predict")
     dialog = window.plan_survey()
     assert dialog.isVisible() and window.plan_survey() is dialog  # one dialog, raised again
     choose(dialog.imu, "tactical")
@@ -49,10 +81,11 @@ def test_plan_survey_shows_the_figures_of_predict(window, qtbot):
     dialog.nhc.setChecked(False)
     dialog.run_button.click()
     assert not dialog.run_button.isEnabled() and dialog.cancel_button.isEnabled()
-    qtbot.waitUntil(lambda: dialog.worker is None, timeout=30_000)
+    wait_for_worker(qtbot, dialog)  # as long as it reports progress: under load it took over 30 s
 
-    expected = predict("tactical", GnssQuality(0.015, 0.030), FusionOptions(use_nhc=False), speed_mps=2.0,
-                       length_m=300.0, outages=((150.0, 20.0),))
+    ((inputs, expected),) = calls
+    assert inputs == inputs_of(predict, "tactical", GnssQuality(0.015, 0.030), FusionOptions(use_nhc=False),
+                               speed_mps=2.0, length_m=300.0, outages=((150.0, 20.0),))
     rows = accuracy_rows(expected.smoothed, with_outage=True)
     shown = table_rows(dialog.table)
     assert [r[0] for r in shown] == [row.label for row in rows]
@@ -65,7 +98,8 @@ def test_plan_survey_shows_the_figures_of_predict(window, qtbot):
     assert dialog.plot.isHidden() and dialog.message.text() == "done"
 
 
-def test_plan_survey_sweep_table_and_plot(window, qtbot):
+def test_plan_survey_sweep_table_and_plot(window, qtbot, monkeypatch):
+    calls = recording(monkeypatch, "sweep")
     dialog = window.plan_survey()
     dialog.length.setValue(200.0)
     dialog.smoothed.setCurrentIndex(1)  # forward filter
@@ -76,10 +110,11 @@ def test_plan_survey_sweep_table_and_plot(window, qtbot):
     assert dialog.run() is None and "sweep values" in dialog.message.text()
     dialog.sweep_values.setText("1, 3")
     dialog.run()
-    qtbot.waitUntil(lambda: dialog.worker is None, timeout=30_000)
+    wait_for_worker(qtbot, dialog)
 
-    expected = sweep("speed", (1.0, 3.0), "nav", GnssQuality(), speed_mps=1.0,
-                     aiding=FusionOptions(smoother=False), length_m=200.0)
+    ((inputs, expected),) = calls
+    assert inputs == inputs_of(sweep, "speed", (1.0, 3.0), "nav", GnssQuality(), speed_mps=1.0,
+                               aiding=FusionOptions(smoother=False), length_m=200.0, outages=())
     shown = table_rows(dialog.table)
     assert [dialog.table.horizontalHeaderItem(c).text() for c in (2, 3)] == ["1 m/s", "3 m/s"]
     assert shown[4][0] == "30 m/5 m vertical (5 m lag)" and shown[4][1] == "2.0"
@@ -95,9 +130,10 @@ def test_plan_survey_cancel(window, qtbot):
     dialog = window.plan_survey()
     dialog.length.setValue(30_000.0)  # about a minute of computing
     dialog.run()
-    qtbot.waitUntil(lambda: dialog.progress.value() > 0, timeout=30_000)
+    wait_for_worker(qtbot, dialog, until=lambda: dialog.progress.value() > 0)
+    assert dialog.worker is not None, "the minute of computing ended before it could be cancelled"
     dialog.cancel_button.click()
-    qtbot.waitUntil(lambda: dialog.worker is None, timeout=30_000)
+    wait_for_worker(qtbot, dialog)
     assert dialog.message.text() == "cancelled" and dialog.result is None and dialog.run_button.isEnabled()
 
 
