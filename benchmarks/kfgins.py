@@ -16,7 +16,8 @@ script writes KF-GINS's inputs (the IMU and GNSS texts without comment lines, on
 the survey's IMU profile as noise) once, then runs, ``--runs`` times in turn, the whole
 ``KF-GINS config.yaml`` and the whole ``insrail fuse SURVEY --out DIR`` (forward + RTS smoother,
 GNSS + odometer + NHC + ZUPT, reading and writing included) under ``/usr/bin/time``, and prints
-per run wall time, CPU time (user + sys), peak RSS and IMU epochs/s, and the throughput ratio
+per run (insrail from bytecode compiled beforehand, as an install has it: benchmarks/bytecode.py)
+wall time, CPU time (user + sys), peak RSS and IMU epochs/s, and the throughput ratio
 insrail / KF-GINS (wall and CPU) of the best runs. It also prints the first-call cost of the
 compiled kernels (a fresh numba cache). Both read the same 200 Hz text IMU file.
 
@@ -44,6 +45,8 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from bytecode import installed_env
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -182,7 +185,7 @@ def process_and_report(project: Path, env: dict, cwd: Path) -> dict:
 def bench_survey(survey_dir: Path, binary: Path, scratch: Path, runs: int) -> dict:
     """Both ratios of one survey (module docstring): prints its runs and returns the best runs."""
     config, epochs = kfgins_inputs(survey_dir, scratch / "run")
-    env = dict(os.environ, PYTHONPATH=str(REPO))
+    env = installed_env(dict(os.environ, PYTHONPATH=str(REPO)), scratch / "pycache")
     out = scratch / "insrail-out"
     project = fresh_project(survey_dir, scratch / "project")
 

@@ -14,7 +14,8 @@ process as the commands would:
    the default with a band-passed D1 check added: fusion, track and adjustment from the cache, a
    new assessment and result files).
 
-Per stage (the pipeline's progress steps; "start-up" is the interpreter and the imports) it prints
+Per stage (the pipeline's progress steps; "start-up" is the interpreter and the imports, insrail's
+from bytecode compiled beforehand as an install has it: benchmarks/bytecode.py) it prints
 the wall time, the CPU time (user + system) and the stage's own peak resident memory (the
 kernel's high-water mark is reset at each stage: /proc/self/clear_refs). Per step it prints the
 whole process's wall, CPU and peak RSS (getrusage of the child), i.e. what `/usr/bin/time -v`
@@ -51,6 +52,8 @@ import tempfile
 import threading
 import time
 from pathlib import Path
+
+from bytecode import installed_env
 
 #: The pipeline's progress messages that begin a stage, and the stage's name in the table.
 STAGES = {
@@ -309,11 +312,11 @@ def child_main(argv: list[str]) -> None:
     print("BENCHMARK " + json.dumps({"stages": clock.merged(), **info}), flush=True)
 
 
-def run_child(step: str, name: str, root: Path) -> dict:
+def run_child(step: str, name: str, root: Path, env: dict[str, str]) -> dict:
     """One step in a fresh interpreter; its stages and its own wall, CPU and peak RSS."""
     started = time.time()
     child = subprocess.Popen([sys.executable, __file__, "--child", step, name, str(root), repr(started)],
-                             stdout=subprocess.PIPE, text=True)
+                             stdout=subprocess.PIPE, text=True, env=env)
     out = child.stdout.read()
     _, status, usage = os.wait4(child.pid, 0)
     wall = time.time() - started
@@ -370,17 +373,18 @@ def main() -> int:
     failed = False
     with tempfile.TemporaryDirectory() as tmp:
         workdir = args.workdir or Path(tmp)
+        env = installed_env(dict(os.environ), workdir / "pycache")
         for name in scenarios:
             root = workdir / name
             if not (args.reuse and (root / "project.toml").is_file()):
-                simulated = run_child("simulate", name, root)
+                simulated = run_child("simulate", name, root, env)
                 print(f"{name}: simulated in {simulated['wall_s']:.1f} s")
             shutil.rmtree(root / "results", ignore_errors=True)
             shutil.rmtree(root / "reports", ignore_errors=True)
             edit_tolerances(root)
             totals = {}
             for step in ("process", "report", "rerun"):
-                report = run_child(step, name, root)
+                report = run_child(step, name, root, env)
                 totals[step] = report
                 print_step(name, step, report)
                 if args.keep_outputs and step != "report":
