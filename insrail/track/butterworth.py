@@ -3,9 +3,9 @@
 ``scipy.signal.sosfiltfilt(sos, x)`` (odd extension, scipy's default padding), bit for bit.
 
 Done here because ``import scipy.signal`` imports scipy.stats, scipy.optimize and
-scipy.interpolate: some 0.7 s of CPU in every ``insrail process`` (the band-passed EN 13848
-figures of summary.toml) and in every rerun after a tolerance edit, for a few filters of a few
-thousand samples. The steps are scipy 1.17's (buttap, lp2bp_zpk, bilinear_zpk, zpk2sos with
+scipy.interpolate: 0.85 s of CPU beyond the pipeline's other imports in every ``insrail process``
+(the band-passed EN 13848 figures of summary.toml) and in every rerun after a tolerance edit, for a
+few filters of a few thousand samples. The steps are scipy 1.17's (buttap, lp2bp_zpk, bilinear_zpk, zpk2sos with
 "nearest" pairing, sosfilt_zi, odd_ext, the _sosfilt loop), written out for the digital band-pass
 only, in the same floating-point operations and order, so the results are scipy's to the bit
 (tests/test_butterworth.py compares them). Frequencies in cycles per unit of the samples' spacing

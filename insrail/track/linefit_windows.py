@@ -231,7 +231,9 @@ def _fit_window_profile(profile: VerticalProfile, start: float, end: float, stat
 
     lower = np.concatenate((np.full(count, first), np.full(count + 2, -np.inf), np.zeros(count)))
     upper = np.concatenate((np.full(count, last), np.full(2 * count + 2, np.inf)))
-    from scipy.optimize import least_squares  # scipy.optimize (some 0.5 s to import) only when a line is fitted: a survey on a design never fits one
+    # scipy.optimize imported when a line is fitted (a survey on a design never fits one): 0.1 s of CPU beyond
+    # the pipeline's own imports
+    from scipy.optimize import least_squares
 
     solution = least_squares(residuals, x0, bounds=(lower, upper), x_scale="jac", method="trf")
     try:
