@@ -373,7 +373,7 @@ def test_cli_fuse_reads_the_survey_beside_its_imports_and_names_a_bad_line_as_be
     from insrail.cli.main import main
     from insrail.io import survey as survey_io
 
-    monkeypatch.setattr(background, "threads_worth_it", lambda: True)  # also with one CPU
+    monkeypatch.setattr(background, "cpu_budget", lambda: 2)  # also with one CPU
     write_manifest = survey_io.write_manifest
     write_manifest(tmp_path, make_manifest(make_survey_files(tmp_path)))
     lines = (tmp_path / "imu.txt").read_text().splitlines(keepends=True)
