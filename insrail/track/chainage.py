@@ -26,6 +26,7 @@ Which way the stations grow is the project's choice (:data:`WITH_TRAVEL` or a gr
 
 from __future__ import annotations
 
+from concurrent.futures import Executor
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -63,14 +64,17 @@ def reference_stations_on_design(rails: RailPoints, design: DesignAlignment,
 
 def stations_on_design(rails: RailPoints, design: DesignAlignment,
                        reference_station_m: np.ndarray | None = None,
-                       carries: dict[str, np.ndarray] | None = None) -> RailStations:
+                       carries: dict[str, np.ndarray] | None = None, executor: Executor | None = None) -> RailStations:
     """Stations of the centreline and both rails by projection on the design's plan;
     ``reference_station_m``: the reference rail's, when already projected
     (:func:`reference_stations_on_design`: each projection of 10 km of epochs takes seconds);
-    ``carries``: the projections' carries ("centre", "left", "right") for rails given in parts."""
+    ``carries``: the projections' carries ("centre", "left", "right") for rails given in parts;
+    ``executor``: the centreline is projected there meanwhile (the compiled projection runs without
+    the GIL; each series has its own carry, so the numbers are the same)."""
     h = design.horizontal
     carries = carries or {}
-    centre, offset = h.station_offset(rails.centre_enh_m[:, 0], rails.centre_enh_m[:, 1], carries.get("centre"))
+    centre_args = (h.station_offset, rails.centre_enh_m[:, 0], rails.centre_enh_m[:, 1], carries.get("centre"))
+    centre_future = executor.submit(*centre_args) if executor is not None else None
 
     def projected(rail: str, points: np.ndarray) -> np.ndarray:
         if reference_station_m is not None and rail == rails.reference_rail:
@@ -79,6 +83,7 @@ def stations_on_design(rails: RailPoints, design: DesignAlignment,
 
     left, right = projected("left", rails.left_rail_enh_m), projected("right", rails.right_rail_enh_m)
     reference = left if rails.reference_rail == "left" else right
+    centre, offset = centre_future.result() if centre_future is not None else centre_args[0](*centre_args[1:])
     return RailStations(centre, left, right, reference, offset, from_design=True)
 
 

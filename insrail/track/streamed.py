@@ -13,8 +13,9 @@ written and read with plain IO: neither they nor a memory map count towards the 
   median exactly; without one: the distance travelled along the x axis, a carried ``cumsum``,
   and the first and last track points); the reference rail's design stations are spooled (the
   projection carries its warm start from chunk to chunk: :func:`projection_carry`);
-* pass B, per chunk: the rails turned to the stationing, their stations (on the design, or the
-  travelled distance carried again), spooled with each chunk's station range;
+* pass B, per chunk: the rails turned to the stationing, their stations (on the design, the
+  centreline's projected by a second thread meanwhile; or the travelled distance carried again),
+  spooled with each chunk's station range;
 * the sleepers: the monotone (time, station) track of the reference rail is made per chunk (its
   running maximum, or minimum, carried) and interpolated by parts (:func:`chunked_interp`:
   ``np.interp`` to the bit, a query going to the chunk that holds its left neighbour);
@@ -42,7 +43,7 @@ import tempfile
 from collections import deque
 from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
-from contextlib import closing
+from contextlib import closing, nullcontext
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -296,13 +297,20 @@ class _Streamed:
         carries = {"centre": projection_carry(), "left": projection_carry(), "right": projection_carry()}
         self.ranges = {name: _Range([], []) for name in ("reference_station", "left_station", "right_station")}
         self.kept = {"gauge": [np.inf, -np.inf], "cant": [np.inf, -np.inf]}
+        # with a design a second thread projects the centreline meanwhile (within the CPU budget)
+        with (ThreadPoolExecutor(1, thread_name_prefix="centreline") if design is not None and cpu_budget() > 1
+              else nullcontext()) as pool:
+            self._stations_by_parts(design, start_station_m, epochs, carries, pool)
+
+    def _stations_by_parts(self, design, start_station_m, epochs, carries, pool) -> None:
+        """The parts of :meth:`stations_pass` in order (``pool``: where the centreline is projected)."""
         travelled, last = 0.0, None
         for start, count in self.parts:
             self.check()
             rails = self.rails(start, count)
             if design is not None:
                 stations = stations_on_design(rails, design, self.spool.read("reference_station", start, count),
-                                              carries)
+                                              carries, pool)
             else:
                 track, forward = track_and_forward(rails)
                 steps, last = self._steps(track, forward, last)
