@@ -42,11 +42,16 @@ def _fit_windows(s_sorted: np.ndarray, v_sorted: np.ndarray, at: np.ndarray, hal
     m, n_terms = len(at), degree + 1
     # Scaled, centred abscissa in [-1, 1] keeps the normal equations well conditioned.
     u = (s_sorted[point] - at[window]) / half
-    powers = u[:, None] ** np.arange(2 * degree + 1)
+    # u**0 and u**1 are u's own 1 and u (what numpy's power gives them, exactly); the higher powers by it
+    powers = np.empty((len(u), 2 * degree + 1))
+    powers[:, 0] = 1.0
+    powers[:, 1] = u
+    powers[:, 2:] = u[:, None] ** np.arange(2, 2 * degree + 1)
     moments = np.stack([np.bincount(window, powers[:, p], minlength=m) for p in range(2 * degree + 1)], axis=1)
     normal = moments[:, np.add.outer(np.arange(n_terms), np.arange(n_terms))]
+    values = v_sorted[point]
     rhs = np.stack(
-        [np.stack([np.bincount(window, powers[:, p] * v_sorted[point, c], minlength=m) for p in range(n_terms)], axis=1)
+        [np.stack([np.bincount(window, powers[:, p] * values[:, c], minlength=m) for p in range(n_terms)], axis=1)
          for c in range(v_sorted.shape[1])],
         axis=2,
     )
