@@ -109,6 +109,10 @@ class CovarianceProfile:
     smoothed: PassCovariance | None
 
 
+#: Epochs whose smoother gains are solved at a time: a part's Phi and P- beside their successors' and
+#: the gains take 20 kB per epoch (~5 MB; a whole record block of 2048 epochs took 40 MB more).
+SMOOTH_PART_EPOCHS = 256
+
 #: the figures per epoch, in this order: lateral and vertical position, roll (on the attitude error),
 #: along-track position
 N_PROJECTIONS = 4
@@ -300,20 +304,20 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
     of every pair; ``var_forward`` (m, N_PROJECTIONS), when given, receives the filtered variances of the
     same epochs.
 
-    Per block: the gains A_j in one batched solve, then the recursion itself (P_s, the pushed
-    columns, the pairs starting and ending at each epoch) in the compiled
-    :func:`_backward_chunk`, so no Python runs per epoch."""
+    Per part of a block (:data:`SMOOTH_PART_EPOCHS`): the gains A_j in one batched solve, then the
+    recursion itself (P_s, the pushed columns, the pairs starting and ending at each epoch) in the
+    compiled :func:`_backward_chunk`, so no Python runs per epoch."""
     n = plan.n
     var_s = np.empty((m, N_PROJECTIONS))
     cross_s = np.empty((plan.n_pairs, 2))
     var_f = var_forward if var_forward is not None else np.empty((m, N_PROJECTIONS))
     state = _BackwardState(n, plan.n_pairs)
-    starts_ptr, starts_idx = _csr(plan.first.astype(np.int64, copy=False), m)
-    ends_ptr, ends_idx = _csr(plan.second.astype(np.int64, copy=False), m)
+    starts = _csr(plan.first.astype(np.int64, copy=False), m)
+    ends = _csr(plan.second.astype(np.int64, copy=False), m)
     expected = m - 1
-    carry = None  # (Phi, P-) of the epoch after the chunk's first one
-    for js, phi, p_minus, p_plus in blocks:
-        js = np.asarray(js, dtype=np.int64)
+    carry = None  # (Phi, P-) of the epoch after the part's first one
+    for block in blocks:
+        js = np.asarray(block[0], dtype=np.int64)
         due = np.arange(expected, expected - len(js), -1)
         if np.any(js != due):
             i = int(np.flatnonzero(js != due)[0])
@@ -321,25 +325,39 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
         expected -= len(js)
         check_cancel(cancel)
         progress((m - 1 - expected) / m, "covariance: smoother")
-        # Phi and P- of epoch j + 1 beside epoch j: the previous record (the chunk before for the first)
-        phi_next, p_minus_next = np.empty_like(phi), np.empty_like(p_minus)
-        phi_next[1:], p_minus_next[1:] = phi[:-1], p_minus[:-1]
-        first = 0
-        if carry is not None:
-            phi_next[0], p_minus_next[0] = carry
-        else:  # the last epoch: its smoothed covariance is the filtered one
-            phi_next[0], p_minus_next[0] = np.eye(n), np.eye(n)
-            first = 1
-        carry = (phi[-1].copy(), p_minus[-1].copy())
-        gains = np.linalg.solve(p_minus_next, phi_next @ p_plus).transpose(0, 2, 1)  # P+ Phi^T (P-)^-1
-        low = int(js[-1])  # the block's projections, epochs low..js[0]
-        u = np.stack(projections(plan.heading_rad[low : js[0] + 1]))  # (N_PROJECTIONS, k, 3)
-        _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, POS, ATT, starts_ptr, starts_idx, ends_ptr,
-                        ends_idx, state.P_s, state.columns, state.slot_of, state.pair_of_slot, state.active,
-                        var_s, var_f, cross_s)
+        # a block's gains and their temporaries by parts of SMOOTH_PART_EPOCHS (each matrix's solve is
+        # its own: the same numbers), the block itself let go before the next one is read
+        for first in range(0, len(js), SMOOTH_PART_EPOCHS):
+            part = slice(first, first + SMOOTH_PART_EPOCHS)
+            carry = _smooth_part(plan, js[part], block[1][part], block[2][part], block[3][part], carry, state,
+                                 starts, ends, var_s, var_f, cross_s)
+        del block
     if expected != -1:
         raise ValueError(f"the covariance record ends at epoch {expected + 1}, not at epoch 0")
     return var_s, cross_s
+
+
+def _smooth_part(plan: _Plan, js, phi, p_minus, p_plus, carry, state: _BackwardState, starts, ends, var_s, var_f,
+                 cross_s):
+    """:func:`_backward_chunk` over consecutive epochs ``js`` (decreasing) with their Phi, P- and P+;
+    ``carry``: Phi and P- of the epoch after the first one (None: the first is the last epoch).
+    Returns the carry for the part that follows."""
+    n = plan.n
+    # Phi and P- of epoch j + 1 beside epoch j: the previous record (the part before's for the first)
+    phi_next, p_minus_next = np.empty_like(phi), np.empty_like(p_minus)
+    phi_next[1:], p_minus_next[1:] = phi[:-1], p_minus[:-1]
+    first = 0
+    if carry is not None:
+        phi_next[0], p_minus_next[0] = carry
+    else:  # the last epoch: its smoothed covariance is the filtered one
+        phi_next[0], p_minus_next[0] = np.eye(n), np.eye(n)
+        first = 1
+    gains = np.linalg.solve(p_minus_next, phi_next @ p_plus).transpose(0, 2, 1)  # P+ Phi^T (P-)^-1
+    low = int(js[-1])  # the part's projections, epochs low..js[0]
+    u = np.stack(projections(plan.heading_rad[low : js[0] + 1]))  # (N_PROJECTIONS, k, 3)
+    _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, POS, ATT, *starts, *ends, state.P_s,
+                    state.columns, state.slot_of, state.pair_of_slot, state.active, var_s, var_f, cross_s)
+    return phi[-1].copy(), p_minus[-1].copy()
 
 
 def _csr(epochs: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:

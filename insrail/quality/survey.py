@@ -33,18 +33,20 @@ import numpy as np
 from insrail.io.survey import SurveyData
 from insrail.nav import earth
 from insrail.nav.error_model import (
+    N_STATES,
     ErrorModelNoise,
     discretise,
     dynamics_matrix,
     noise_matrix,
     play_noise,
 )
-from insrail.nav.fusion import FusionOptions, FusionResult, SmootherStore, play_drift
+from insrail.nav.fusion import FusionOptions, FusionResult, SmootherStore, _unpack_records, play_drift
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import NavSnapshot
 from insrail.nav.rotation import euler_to_dcm
 from insrail.progress import CancelToken, ProgressFn
 from insrail.quality.covariance import (
+    SMOOTH_PART_EPOCHS,
     CovarianceProfile,
     PassCovariance,
     analyse,
@@ -182,10 +184,24 @@ def _recorded(epochs: UpdateEpochs, store: SmootherStore, anchor_spacing_m, prog
     if store.count != len(t) - 1:
         raise ValueError(f"the covariance store holds {store.count} segments, the fusion's timeline "
                          f"{len(t) - 1}: it is not this fusion's record")
-    blocks = ((j, phi, p_minus, p_plus) for j, phi, p_minus, p_plus, _ in store.reversed_blocks())
-    return analyse_recorded(epochs.initial_covariance, blocks, t, epochs.station_m, epochs.heading_rad,
+    return analyse_recorded(epochs.initial_covariance, _reversed_parts(store), t, epochs.station_m, epochs.heading_rad,
                             _anchors(epochs.station_m, anchor_spacing_m), (SHORT_LAG_M, LONG_LAG_M),
                             progress=progress, cancel=cancel)
+
+
+def _reversed_parts(store: SmootherStore):
+    """The store's records as blocks (j, Phi_j, P-_j, P+_j) of :data:`SMOOTH_PART_EPOCHS`, j decreasing
+    (``SmootherStore.reversed_blocks`` without the updates dx): the store's read buffer is unpacked a
+    part at a time, so that no more than a part's matrices (4 MB) are held beside the analysis."""
+    for first, chunk in store.reversed_chunks():
+        records = chunk[::-1]
+        top = first + len(chunk)
+        for start in range(0, len(records), SMOOTH_PART_EPOCHS):
+            part = records[start : start + SMOOTH_PART_EPOCHS]
+            k = len(part)
+            phi, p_minus, p_plus = (np.empty((k, N_STATES, N_STATES)) for _ in range(3))
+            _unpack_records(part, phi, p_minus, p_plus, np.empty((k, N_STATES)))
+            yield np.arange(top - start, top - start - k, -1), phi, p_minus, p_plus
 
 
 def _forward_index(nav, t: np.ndarray) -> np.ndarray:
