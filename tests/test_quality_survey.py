@@ -8,6 +8,8 @@ import pytest
 from insrail.io.survey import read_survey
 from insrail.nav.earth import CGCS2000
 from insrail.nav.fusion import FusionOptions, SmootherStore, fuse_survey
+from insrail.quality import covariance
+from insrail.quality import survey as quality_survey
 from insrail.quality.survey import EpochQuality, epoch_quality, sections, survey_quality
 from insrail.sim.scenario import preset
 from insrail.sim.simulate import simulate
@@ -80,6 +82,19 @@ def test_the_record_is_analysed_without_the_imu_data(recorded):
     without = epoch_quality(replace(survey, imu=None), result, ellipsoid=CGCS2000, covariance_store=store)
     for name, value in vars(with_imu).items():
         np.testing.assert_array_equal(getattr(without, name), value, err_msg=name)
+
+
+def test_the_record_is_analysed_alike_by_parts_of_any_size(recorded, monkeypatch):
+    """The smoother's gains are solved and the record unpacked by parts (memory): every matrix is
+    its own, so the figures are the same to the bit with parts of a few epochs or of the whole record."""
+    survey, result, store = recorded
+    figures = []
+    for part in (7, 1 << 30):
+        monkeypatch.setattr(covariance, "SMOOTH_PART_EPOCHS", part)
+        monkeypatch.setattr(quality_survey, "SMOOTH_PART_EPOCHS", part)
+        figures.append(epoch_quality(survey, result, ellipsoid=CGCS2000, covariance_store=store))
+    for name, value in vars(figures[0]).items():
+        np.testing.assert_array_equal(getattr(figures[1], name), value, err_msg=name)
 
 
 def test_a_record_of_another_fusion_is_refused(recorded):
