@@ -718,7 +718,7 @@ class _Generation:
         self.spans = [(max(0, sleepers[0] - f.reach_steps), min(free.size, sleepers[-1] + f.reach_steps + 1))
                       for f in families]
         self.reference = None if reference is None else reference.T.reshape(-1)
-        self.known = np.zeros(0, np.int64)
+        self.known: set[int] = set()  # a set: np.isin against the keys so far sorted them at every look-up
 
     def add(self, current: np.ndarray, half: np.ndarray) -> int:
         """Add the new rows that ``current``, widened by ``half`` a step per free amount, violates;
@@ -731,7 +731,7 @@ class _Generation:
                 continue
             key = rows.key * len(self.families) + family.family  # unique over the families
             fresh = (free_column[rows.columns] & (np.asarray(rows.coefficients) != 0)).any(axis=1)
-            fresh &= ~np.isin(key, self.known)
+            fresh &= np.fromiter((k not in self.known for k in key.tolist()), bool, key.size)
             if not fresh.any():
                 continue
             new = rows.take(np.flatnonzero(fresh))
@@ -739,7 +739,7 @@ class _Generation:
                 value = new.offset + (np.asarray(new.coefficients) * self.reference[new.columns]).sum(axis=1)
                 held = (value >= new.lower - 1e-7) & (value <= new.upper + 1e-7)
                 new = replace(new, soft=new.soft & ~held, rounded=np.zeros(new.key.size, bool))
-            self.known = np.concatenate([self.known, key[fresh]])
+            self.known.update(key[fresh].tolist())
             self.programme.add(new)
             added += new.key.size
         return added
