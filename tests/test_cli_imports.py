@@ -70,6 +70,20 @@ def test_report_imports_neither_the_filter_nor_the_solvers(tmp_path, tmp_path_fa
                             "pyproj", "distributed", "dask")) == []
 
 
+def test_each_report_alone_imports_only_its_own_writer(tmp_path, tmp_path_factory):
+    """`insrail report --pdf` loads no openpyxl (nor urllib and http, xml.sax.saxutils's imports), `--xlsx`
+    no reportlab: some 0.1-0.25 s of start-up each, also the parent's when the two are written side by side."""
+    from report_support import SURVEY, saved_project
+
+    project = saved_project(tmp_path_factory)
+    for option, writer, other in (("--pdf", "reportlab", ("openpyxl", "urllib.request", "http", "xml.sax.saxutils")),
+                                  ("--xlsx", "openpyxl", ("reportlab",))):
+        out = tmp_path / f"report{option.replace('--', '.')}"
+        modules = imported_by(tmp_path, "report", str(project.folder), "--survey", SURVEY, option, str(out))
+        assert out.is_file() and writer in modules  # it did report
+        assert loaded(modules, other) == [], option
+
+
 def test_loading_a_project_with_a_design_imports_no_pipeline(tmp_path):
     """The design file is checked when the project is loaded (every command, the reports) by its reader,
     not through the processing pipeline (the fusion, numba, the solvers)."""

@@ -60,8 +60,10 @@ def write_run(root, name, table, rows, rng, lag5_mm):
                               "by_check": {}},
                "quality": {"pass": "smoothed"}, "notices": [{"stage": "imu", "message": f"{name}: a notice"}]}
     start = np.arange(sub.station_m[0], sub.station_m[-1], 200.0)
+    # every check resolved by the figures (three 1-sigma within its limit: the 1 mm cross-level's 0.3 mm), as the
+    # runs' own assessment above has it; test_a_check_a_run_cannot_assess_is_not_assessed_in_the_section: one not
     quality = "\n".join([",".join(QUALITY_HEADER)] + [
-        f"{s:.3f},{s + 200:.3f},3.000,3.000,{lag5_mm:.3f},{lag5_mm:.3f},1.000,1.000,0.500,5.000" for s in start]) + "\n"
+        f"{s:.3f},{s + 200:.3f},3.000,3.000,{lag5_mm:.3f},{lag5_mm:.3f},1.000,1.000,0.300,5.000" for s in start]) + "\n"
     write_results(root / RESULTS_FOLDER, name, {
         SLEEPERS_FILE: sleepers_csv(sub, assessment, adjustment), EXCEEDANCES_FILE: exceedances_csv(assessment),
         "quality.csv": quality, SUMMARY_FILE: summary_toml(summary)})
@@ -260,6 +262,64 @@ def test_runs_that_disagree_are_a_notice(project, tmp_path, capsys, amounts_not_
     summary = load_results(shifted, "km1").summary
     assert any(n["stage"] == "section" and "more than 3 x the predicted 0.01 mm" in n["message"]
                for n in summary["notices"])
+
+
+def test_a_check_a_run_cannot_assess_is_not_assessed_in_the_section(project, tmp_path, capsys, monkeypatch):
+    """A run whose stated accuracy cannot resolve a check (a noisy survey) leaves it out (insrail.project.assessable):
+    the section joining it leaves it out too, wherever a row holds that run's values, and its adjustment does not
+    hold it there (the section assessed it anyway: exceedances and amounts from a survey's noise)."""
+    import shutil
+
+    from insrail.project import section
+
+    project, _ = project
+    noisy = tmp_path / "p"
+    shutil.copytree(project.folder, noisy)
+    # run2's first 200 m (1312.5-1512.5 m, its overlap with run1 and 12.5 m beyond it): a 1 mm 5 m lag figure across
+    # the track, where the 2 mm 30 m / 5 m and 10 m versine checks ask for 0.67 mm (three 1-sigma within the limit)
+    path = noisy / "results" / "run2" / "quality.csv"
+    header, first, *rest = path.read_text().splitlines()
+    cells = first.split(",")
+    cells[header.split(",").index("sigma_lag5_lateral_mm")] = "1.000"
+    path.write_text("\n".join([header, ",".join(cells), *rest]) + "\n")
+    save_project(replace(project, folder=noisy, sections=(SectionEntry("km1", ("run2", "run1")),
+                                                          SectionEntry("km1m", ("run1", "run2"), overlap="mean"))))
+    held = {}
+
+    def no_amounts(geometry, *args, not_assessed=None, **kwargs):  # what the adjustment was told not to hold
+        held[len(held)] = not_assessed
+        return np.zeros_like(geometry.lateral_deviation_m), np.zeros_like(geometry.vertical_deviation_m)
+
+    monkeypatch.setattr(section, "optimise_amounts", no_amounts)
+    assert main(["section", str(noisy), "--no-reports"]) == 0
+    out = capsys.readouterr().out
+    assert "short_wave_30m_5m lateral: not assessable at the stated 1-sigma 1.00 mm" in out
+    for name, not_assessed in zip(("km1", "km1m"), held.values()):
+        joined = load_results(noisy, name)
+        c, station = joined.columns, joined.columns["station_m"]
+        # the rows holding run2's values there: its own, and the overlap's, whichever run the rule takes (with "best"
+        # run1's, but the rails' positions go over to run2's there row by row; in a mean both runs')
+        left_out = (station > 1312.4) & (station < 1512.4)
+        np.testing.assert_array_equal(np.flatnonzero(left_out), np.arange(500, 820))
+        if name == "km1":
+            assert (c["source_run1"][500:800] == 1.0).all()
+        flagged = {(n["check"], n["direction"]): n for n in joined.summary["assessment"]["not_assessable"]}
+        assert set(flagged) == {("versine_10m", "lateral"), ("short_wave_30m_5m", "lateral")}, name
+        short_wave = flagged[("short_wave_30m_5m", "lateral")]
+        assert short_wave["sleepers"] == 320 and short_wave["sigma_mm"] == 1.0 and short_wave["limit_mm"] == 2.0
+        assert short_wave["stretches_m"] == [[1312.5, 1511.875]]
+        assert short_wave["exceedances_not_listed"] > 0  # the alignment defect at 1312.5 m: the noisy run cannot tell
+        for rail in ("left", "right"):
+            values = c[f"check_short_wave_30m_5m_{rail}_lateral_mm"]
+            assert np.isnan(values[left_out]).all() and np.isfinite(values[~left_out]).sum() > 600
+            assert np.isfinite(c[f"check_short_wave_30m_5m_{rail}_vertical_mm"][left_out]).any()  # resolved: assessed
+        assert np.isfinite(c["check_gauge_mm"][left_out]).all()  # no stated figure: the gauge is assessed as before
+        assert not any(e.check == "short_wave_30m_5m" and e.direction == "lateral"
+                       and 1312.4 < e.station_from_m < 1512.4 for e in joined.exceedances)
+        np.testing.assert_array_equal(not_assessed[("short_wave_30m_5m", "lateral")], left_out)  # not held there
+        assert any("short_wave_30m_5m lateral: not assessable" in n["message"] for n in joined.summary["notices"])
+        # the sleepers' own reasons are the runs' (a check left out is an empty value of it, as in a run's file)
+        assert set(joined.not_assessed) == set(load_results(noisy, "run1").not_assessed)
 
 
 def test_a_run_without_a_valid_sleeper_is_refused_naming_the_section_once(project, tmp_path, capsys):

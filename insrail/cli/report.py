@@ -44,7 +44,6 @@ def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> 
     """Write the requested reports of one processed survey with a progress bar; returns the files."""
     from insrail.project.lock import project_run
     from insrail.project.results import load_results
-    from insrail.report import write_pdf, write_workbook
     from insrail.report.both import write_both
 
     written = []
@@ -55,10 +54,12 @@ def write_reports(project, survey: str, xlsx: Path | None, pdf: Path | None) -> 
             written = write_both(project, results, xlsx, pdf, progress=bar)
             bar.done()
             return written
-        for path, writer, what in ((xlsx, write_workbook, "workbook"), (pdf, write_pdf, "pdf")):
+        import insrail.report as reports  # a writer's module (openpyxl, reportlab) imported when it is used
+
+        for path, writer, what in ((xlsx, "write_workbook", "workbook"), (pdf, "write_pdf", "pdf")):
             if path is not None:
                 bar = TerminalProgress(f"{survey} {what}")
-                written.append(writer(project, results, path, progress=bar))
+                written.append(getattr(reports, writer)(project, results, path, progress=bar))
                 bar.done()
     return written
 

@@ -40,7 +40,7 @@ def section_names(project, given: list[str] | None) -> list[str] | None:
 
 
 def show_section(result) -> None:
-    """The joined section's sleepers, overlaps and warnings, on stdout."""
+    """The joined section's sleepers, overlaps and own warnings (the runs' were said by their processing), on stdout."""
     print(f"section {result.name}: {result.summary['track']['sleepers']} sleepers from {', '.join(result.summary['section']['surveys'])}"
           f"; results in {result.folder.resolve()}")
     for overlap in result.overlaps:
@@ -48,9 +48,8 @@ def show_section(result) -> None:
                  if "30m_5m" in p or "short_wave" in p]
         print(f"  overlap {overlap['runs'][0]}/{overlap['runs'][1]} {overlap['from_m']:.0f}-{overlap['to_m']:.0f} m, "
               f"{overlap['sleepers']} sleepers" + (f"; 30 m/5 m difference std (mm): {', '.join(parts)}" if parts else ""))
-    for notice in result.summary["notices"]:
-        if notice["stage"] == "section":
-            print(f"  warning: {notice['message']}")
+    for notice in result.notices:
+        print(f"  warning: {notice.message}")
 
 
 def write_section_reports(project, name: str) -> None:

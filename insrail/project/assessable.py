@@ -37,8 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from insrail.notices import Notice, Phrase
-from insrail.quality.prediction import LONG_LAG_M, SHORT_LAG_M
-from insrail.quality.section_quality import SectionQuality
+from insrail.quality.section_quality import LONG_LAG_M, SHORT_LAG_M, SectionQuality
 from insrail.track.exceedance import Assessment
 from insrail.track.tolerance import Check, ToleranceProfile
 

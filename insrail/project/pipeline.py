@@ -629,11 +629,11 @@ def _read_role(folder: Path, manifest: SurveyManifest, role: str):
 
 
 def _adjustment(project: Project, run: RunSettings, geometry: SleeperGeometry, progress,
-                cancel) -> tuple[Assessment, Adjustment]:
+                cancel, not_assessed: dict[tuple[str, str], np.ndarray]) -> tuple[Assessment, Adjustment]:
     """The optimised adjustment and the assessment of the geometry it leaves (every check of the
-    profile; sleepers still failing flagged with the reason). The amounts come from the cache
-    when the geometry, the checks the optimisation holds, the fastener and the strategy are those
-    of an earlier run."""
+    profile where the survey can assess it: ``not_assessed``; sleepers still failing flagged with the
+    reason). The amounts come from the cache when the geometry, the checks the optimisation holds and
+    where, the fastener and the strategy are those of an earlier run."""
     fastener, profile = run.fastener, run.tolerance_profile
     strategy = run.adjustment.strategy
     digest = hashlib.sha256(json.dumps({"version": CACHE_VERSION, "fastener": repr(fastener), "strategy": strategy,
@@ -642,6 +642,8 @@ def _adjustment(project: Project, run: RunSettings, geometry: SleeperGeometry, p
     for values in (geometry.lateral_deviation_m, geometry.vertical_deviation_m, geometry.gauge_m, geometry.cant_m,
                    geometry.design_cant_m, geometry.station_m):
         digest.update(np.ascontiguousarray(values).tobytes())
+    for key in sorted(not_assessed):
+        digest.update(repr(key).encode() + np.packbits(not_assessed[key]).tobytes())
     path = project.folder / RESULTS_FOLDER / CACHE_FOLDER / f"adjustment-{digest.hexdigest()[:32]}.npz"
     with cache_entry(project.folder, path.stem, progress, cancel):
         cached = cached_dataclass("adjustment", path, Adjustment)
@@ -649,8 +651,9 @@ def _adjustment(project: Project, run: RunSettings, geometry: SleeperGeometry, p
             lateral, vertical = cached.lateral_m, cached.vertical_m
         else:
             lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=progress,
-                                                 cancel=cancel, threshold_m=run.adjustment.threshold_m)
-        after, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
+                                                 cancel=cancel, threshold_m=run.adjustment.threshold_m,
+                                                 not_assessed=not_assessed)
+        after, adjustment = reassess(geometry, lateral, vertical, profile, fastener, not_assessed)
         if cached is None:
             save_dataclass(path, adjustment)
     return after, adjustment
@@ -780,7 +783,8 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     if manifest.relative:  # its deviations hold the IMU's drift: no amounts to plan (relative_survey)
         adjustment, after_adjustment = no_amounts(len(table.station_m), run.fastener.name), assessment
     else:
-        after_adjustment, adjustment = _adjustment(project, run, geometry, step.sub(0.9, 0.97), cancel)
+        after_adjustment, adjustment = _adjustment(project, run, geometry, step.sub(0.9, 0.97), cancel,
+                                                   assessable.masks(unresolved))
     release_free_memory()
     check_cancel(cancel)
 

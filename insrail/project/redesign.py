@@ -29,12 +29,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from insrail.io.atomic import atomic_write
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project import assessable
+from insrail.project.assessable import NotAssessable
 from insrail.project.model import Project, RedesignTable
 from insrail.project.results import StoredQuality, exceedances_csv, load_results, summary_toml
 from insrail.quality.section_quality import SectionQuality
@@ -45,9 +46,6 @@ from insrail.track.linefit import AlignmentFit, LineFitError, fit_alignment
 from insrail.track.redesign import FixedStretch, Redesign, RedesignSettings, judged_only, moved, redesign
 from insrail.track.stationing import StationEquations
 from insrail.track.tolerance import ToleranceProfile, load_tolerance_profile
-
-if TYPE_CHECKING:
-    from insrail.project.assessable import NotAssessable
 
 REDESIGN_FOLDER = "redesign"
 TAMPING_FILE = "tamping.csv"
@@ -125,16 +123,11 @@ class SurveyUncertainty:
     not_assessable: list[NotAssessable]
 
     def masks(self) -> dict[tuple[str, str], np.ndarray]:
-        from insrail.project.assessable import masks
-
-        return masks(self.not_assessable)
+        return assessable.masks(self.not_assessable)
 
 
 def survey_uncertainty(profile: ToleranceProfile, quality: StoredQuality | None, station_m: np.ndarray) -> SurveyUncertainty:
     """The one assessable rule applied to a re-design (none stated: nothing to draw in, all assessed)."""
-    # here: the rule's module imports the accuracy prediction, which the reports (the PDF's re-design page) must not
-    from insrail.project import assessable
-
     figures = section_quality(quality)
     sigmas = assessable.sleeper_sigmas(profile, figures, station_m)
     return SurveyUncertainty({key: assessable.RESOLVE_SIGMAS * sigma for key, sigma in sigmas.items()},
@@ -281,8 +274,6 @@ def run_redesign(project: Project, survey: str, progress: ProgressFn | None = No
     folder = stored.folder / REDESIGN_FOLDER
     folder.mkdir(exist_ok=True)
     everything = assess(judged_only(moved(geometry, result.lift_m, result.slew_m), assessed), profile)
-    from insrail.project import assessable
-
     found = uncertainty.not_assessable
     summary = _summary(survey, profile.name, result, problem,
                        assessable.summary_section(found, assessable.left_out(found, everything, result.after)))

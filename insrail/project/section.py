@@ -31,6 +31,12 @@ Joining (runs in the order of their first station, each folded into the table so
 * Sleepers are numbered continuously from the project's first sleeper number; the assessment
   (tolerance profile) and the adjustment are computed again on the joined table, so a chord
   across the seam uses both runs.
+* A check a run cannot assess (its quality.csv, by the processing's rule: :mod:`insrail.project.assessable`)
+  is not assessed, nor held by the adjustment, at the rows holding that run's values: those its ``source_``
+  column takes (in a weighted mean: either run's) and every row of its overlaps, whatever the rule (the
+  position columns go over from one run to the other there row by row). summary.toml
+  ``[[assessment.not_assessable]]`` and a warning (CLI, PDF, workbook) say which checks were left out where,
+  as a survey's do: the section says no more than its runs.
 
 The overlap's run-to-run differences are computed as ``insrail compare`` computes them
 (:func:`insrail.track.repeatability.repeatability`) and written to summary.toml
@@ -56,9 +62,12 @@ import tomli_w
 from insrail.io.errors import InputError
 from insrail.notices import Notice, Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
+from insrail.project import assessable
 from insrail.project.compare import worst_over_placements
 from insrail.project.lock import project_run
+from insrail.project.assessable import NotAssessable
 from insrail.project.model import Project, SectionEntry
+from insrail.project.redesign import section_quality
 from insrail.project.sleeper_integrity import reasons_of, reasons_section
 from insrail.project.results import (
     EXCEEDANCES_FILE,
@@ -104,6 +113,9 @@ class _Table:
     not_assessed: list[str]  # why a row is left out of the assessment ("" when it is not)
     sigma_mm: np.ndarray  # the accuracy figure of the row (for later folds)
     weights: dict[str, np.ndarray]
+    # per run, the rows holding its values: its weight's, and over an overlap both runs' (the position columns go
+    # over from one to the other there, row by row, whichever run the weights take)
+    sources: dict[str, np.ndarray]
 
 
 def _accuracy_mm(quality: StoredQuality | None, station_m: np.ndarray) -> np.ndarray:
@@ -128,7 +140,8 @@ def _run_table(results: StoredResults, names: list[str], columns: list[str], win
     weights[results.survey][:] = 1.0
     reasons = results.not_assessed or ("",) * len(results)
     return _Table({k: c[k][keep].copy() for k in columns}, [lbl for lbl, k in zip(results.label, keep) if k],
-                  [r for r, k in zip(reasons, keep) if k], _accuracy_mm(results.quality, c["station_m"][keep]), weights)
+                  [r for r, k in zip(reasons, keep) if k], _accuracy_mm(results.quality, c["station_m"][keep]), weights,
+                  {name: weight > 0 for name, weight in weights.items()})
 
 
 def _is_position(name: str) -> bool:
@@ -162,6 +175,7 @@ def _fold(table: _Table, run: _Table, rule: str, seam_m: float) -> _Table:
     columns = {k: v.copy() for k, v in table.columns.items()}
     sigma = table.sigma_mm.copy()
     weights = {k: v.copy() for k, v in table.weights.items()}
+    sources = {k: v.copy() for k, v in table.sources.items()}
     label = np.array(table.label + [""], dtype=object)[:-1]  # an object array even when empty
     run_label = np.array(run.label + [""], dtype=object)[:-1]
     reason = np.array(table.not_assessed + [""], dtype=object)[:-1]
@@ -173,7 +187,7 @@ def _fold(table: _Table, run: _Table, rule: str, seam_m: float) -> _Table:
         mix, take = run_valid & table_valid, run_valid & ~table_valid
     else:
         mix, take = np.zeros(len(j), dtype=bool), run_valid & (~table_valid | (run.sigma_mm[j] < sigma[i]))
-    for mine, theirs in ((columns, run.columns), (weights, run.weights)):
+    for mine, theirs in ((columns, run.columns), (weights, run.weights), (sources, run.sources)):
         for k, values in mine.items():
             values[i[take]] = theirs[k][j[take]]
     sigma[i[take]], label[i[take]], reason[i[take]] = run.sigma_mm[j[take]], run_label[j[take]], run_reason[j[take]]
@@ -190,6 +204,8 @@ def _fold(table: _Table, run: _Table, rule: str, seam_m: float) -> _Table:
                           else np.where(heavier_is_run, theirs, values[im]))
         for k, values in weights.items():
             values[im] = (1 - share) * values[im] + share * run.weights[k][jm]
+        for k, values in sources.items():
+            values[im] |= run.sources[k][jm]
         sigma[im] = np.where(unknown, np.minimum(sigma[im], run.sigma_mm[jm]), 1.0 / np.sqrt(wt + wr))
         label[im] = np.where(heavier_is_run, run_label[jm], label[im])
         reason[im] = np.where(heavier_is_run, run_reason[jm], reason[im])
@@ -197,8 +213,16 @@ def _fold(table: _Table, run: _Table, rule: str, seam_m: float) -> _Table:
     label, reason = list(label), list(reason)
     extra = np.flatnonzero(~matched)
     columns = {k: np.concatenate([v, run.columns[k][extra]]) for k, v in columns.items()}
+    sources = {k: np.concatenate([v, run.sources[k][extra]]) for k, v in sources.items()}
     if both.any():
         _taper_positions(columns, table, run, i, j, both, run_valid, table_valid, seam_m)
+        # over the overlap the position columns take the runs' difference row by row (its noise too); beyond it, held
+        # at its end values (smooth): there each row holds its own run's values only
+        station = columns["station_m"]
+        lo, hi = min(s[i[both]].min(), r[j[both]].min()), max(s[i[both]].max(), r[j[both]].max())
+        overlap = (station >= lo) & (station <= hi)
+        for k, values in sources.items():
+            values[overlap] |= table.sources[k][i[both]].any() | run.sources[k][j[both]].any()
     weights = {k: np.concatenate([v, run.weights[k][extra]]) for k, v in weights.items()}
     sigma = np.concatenate([sigma, run.sigma_mm[extra]])
     label += [run.label[j] for j in extra]
@@ -206,7 +230,29 @@ def _fold(table: _Table, run: _Table, rule: str, seam_m: float) -> _Table:
     order = np.argsort(columns["station_m"], kind="stable")
     return _Table({k: v[order] for k, v in columns.items()}, [label[i] for i in order], [reason[i] for i in order],
                   sigma[order],
-                  {k: v[order] for k, v in weights.items()})
+                  {k: v[order] for k, v in weights.items()}, {k: v[order] for k, v in sources.items()})
+
+
+def _not_assessable(profile: ToleranceProfile, runs: list[StoredResults], table: _Table) -> list[NotAssessable]:
+    """The checks the joined table leaves out where (:mod:`insrail.project.assessable`): at a row, those that a run
+    whose values it holds (``_Table.sources``) cannot assess there, by the processing's rule on that run's
+    quality.csv (as ``insrail redesign`` applies it), so the section says no more than its runs. A row of a
+    weighted mean holds both runs' values, and one run's noise in a mean is still noise the limit cannot tell
+    from the track: not assessable where either run could not assess it. Stretches: the rows left out."""
+    station = table.columns["station_m"]
+    found: dict[tuple[str, str], list[NotAssessable]] = {}
+    for run in runs:
+        held = np.where(table.sources[run.survey], station, np.nan)  # a NaN station: no sleeper of this run
+        for n in assessable.not_assessable(profile, section_quality(run.quality), held):
+            found.setdefault((n.check, n.direction), []).append(n)
+    joined = []
+    for (check, direction), per_run in found.items():
+        sleepers = np.logical_or.reduce([n.sleepers for n in per_run])
+        edges = np.flatnonzero(np.diff(np.r_[0, sleepers.astype(np.int8), 0]))
+        stretches = tuple((float(station[a]), float(station[b - 1])) for a, b in zip(edges[::2], edges[1::2]))
+        joined.append(NotAssessable(check, direction, sleepers, max(n.sigma_m for n in per_run), per_run[0].limit_m,
+                                    stretches))
+    return joined
 
 
 def seam_length_m(profile: ToleranceProfile) -> float:
@@ -321,6 +367,7 @@ class SectionResult:
     folder: Path
     summary: dict
     overlaps: tuple[dict, ...]
+    notices: tuple[Notice, ...]  # the join's own (the overlaps', the checks left out); summary's also has the runs'
 
 
 def _format(name: str) -> str:
@@ -407,14 +454,20 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
         curvature_1pm=1e-3 * c["curvature_per_km"] if "curvature_per_km" in c else None,
         line_speed_mps=c["line_speed_kmh"] / 3.6 if "line_speed_kmh" in c and np.isfinite(c["line_speed_kmh"]).any()
         else None)
-    assessment = assess(geometry, profile)
+    unresolved = _not_assessable(profile, runs, table)
+    not_assessed = assessable.masks(unresolved)
+    everything = assessment = assess(geometry, profile)
+    if unresolved:
+        assessment = assess(geometry, profile, not_assessed=not_assessed)
+    not_listed = assessable.left_out(unresolved, everything, assessment)
     check_cancel(cancel)
     step(0.6, "adjustment amounts")
     fastener = load_fastener_type(project.resource(project.fastener))
     strategy = project.adjustment.strategy
     lateral, vertical = optimise_amounts(geometry, profile, fastener, strategy, progress=step.sub(0.6, 0.95),
-                                         cancel=cancel, threshold_m=project.adjustment.threshold_m, executor=executor)
-    after_adjustment, adjustment = reassess(geometry, lateral, vertical, profile, fastener)
+                                         cancel=cancel, threshold_m=project.adjustment.threshold_m, executor=executor,
+                                         not_assessed=not_assessed)
+    after_adjustment, adjustment = reassess(geometry, lateral, vertical, profile, fastener, not_assessed)
     columns = {k: (v, _format(k)) for k, v in c.items()}
     columns |= sleeper_check_columns(assessment, adjustment)
     columns |= {f"source_{run}": (table.weights[run], "%.6f") for run in names}
@@ -433,6 +486,8 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
                                               "parameter": parameter, "from_m": overlap["from_m"],
                                               "to_m": overlap["to_m"], "sigmas": NOTICE_SIGMAS,
                                               "predicted_mm": values["predicted_sigma_mm"]}))
+    notices += assessable.notices(unresolved, not_listed)
+    own = tuple(notices)
     for run in runs:
         notices += [Notice.from_dict(n) for n in run.summary.get("notices", [])]
     counts: dict[str, int] = {}
@@ -455,7 +510,8 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
         "assessment": {"tolerance_profile": assessment.profile, "exceedances": len(assessment.exceedances),
                        "by_check": counts,  # the surveys' reasons its sleepers carry, for a report's language
                        "not_assessed_reasons": reasons_section(
-                           reason for run in runs for reason in reasons_of(run.summary).values())},
+                           reason for run in runs for reason in reasons_of(run.summary).values()),
+                       "not_assessable": assessable.summary_section(unresolved, not_listed)},
         "adjustment": adjustment_section(adjustment, assessment, after_adjustment, project.adjustment, fastener),
         "track_quality": track_quality_section(geometry),
         "notices": [n.to_dict() for n in notices],
@@ -470,4 +526,4 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
         SLEEPERS_FILE: columns_csv(number, tuple(table.label), columns, tuple(table.not_assessed)), EXCEEDANCES_FILE: exceedances_csv(assessment),
         QUALITY_FILE: _joined_quality(runs), SUMMARY_FILE: tomli_w.dumps(summary).encode("utf-8")}, cancel)
     step(1.0, "done")
-    return SectionResult(name, folder, summary, overlaps)
+    return SectionResult(name, folder, summary, overlaps, own)

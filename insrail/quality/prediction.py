@@ -44,10 +44,10 @@ from insrail.nav.relative import FRAME_HEADING_SIGMA_RAD, START_SIGMA_M
 from insrail.nav.rotation import euler_to_dcm
 from insrail.progress import CancelToken, ProgressFn
 from insrail.quality.covariance import CovarianceProfile, PassCovariance, analyse
+from insrail.quality.section_quality import LONG_LAG_M, SHORT_LAG_M
 
 #: Cant is the roll error times the rail-centre spacing (thesis eq. 2.1, L = 1500 mm).
 CANT_BASE_M = 1.5
-SHORT_LAG_M, LONG_LAG_M = 5.0, 150.0
 
 
 @dataclass(frozen=True)

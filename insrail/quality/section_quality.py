@@ -12,6 +12,9 @@ import numpy as np
 if TYPE_CHECKING:
     from insrail.quality.covariance import CovarianceProfile
 
+#: The lags [m] of the ``sigma_lag5_*`` and ``sigma_lag150_*`` figures (here, not with the prediction that makes
+#: them, so that the rule of what a survey can assess, insrail.project.assessable, loads without the filter)
+SHORT_LAG_M, LONG_LAG_M = 5.0, 150.0
 _COLUMNS = ("sigma_lateral_m", "sigma_vertical_m", "sigma_lag5_lateral_m", "sigma_lag5_vertical_m",
             "sigma_lag150_lateral_m", "sigma_lag150_vertical_m", "sigma_cross_level_m", "sigma_along_track_m")
 

@@ -340,11 +340,21 @@ def _first_survey(results: StoredResults) -> str:
 
 def _exceeding(results: StoredResults, check: str, rail: str, direction: str) -> np.ndarray:
     """Sleepers inside the pipeline's exceedance runs of one check channel."""
-    row_of = {int(number): row for row, number in enumerate(results.number)}
     mask = np.zeros(len(results), dtype=bool)
-    for e in results.exceedances:
-        if (e.check, e.rail, e.direction) == (check, rail, direction):
-            mask[row_of[e.first_sleeper]:row_of[e.last_sleeper] + 1] = True
+    runs = [(e.first_sleeper, e.last_sleeper) for e in results.exceedances
+            if (e.check, e.rail, e.direction) == (check, rail, direction)]
+    if not runs:
+        return mask
+    # a sleeper number's row (the last one where a number repeats), found by a sorted search: a look-up
+    # table of every sleeper per channel cost more than the rest of the columns
+    number = np.asarray(results.number)
+    order = np.argsort(number, kind="stable")
+    ends = np.asarray(runs, dtype=number.dtype)
+    rows = order[np.searchsorted(number[order], ends, side="right") - 1]
+    if not np.array_equal(number[rows], ends):
+        raise KeyError(f"an exceedance of {check} names a sleeper not in the results")
+    for first, last in rows:
+        mask[first:last + 1] = True
     return mask
 
 
@@ -494,8 +504,16 @@ def adjustment_work(content: ReportContent) -> AdjustmentWork:
     amounts = amounts[order]
     tables = _in_language(content.fastener.parts) if content.fastener is not None else {}
     places = [(key.split("_")[1], RAILS.index(key.split("_")[2])) for key in ADJUSTMENT_KEYS]
-    parts = tuple(tuple(parts_text(tables, direction, rail, amount) for (direction, rail), amount in zip(places, row))
-                  for row in amounts)
+    texts: dict[tuple[str, int, float], str] = {}  # a few distinct amounts, many sleepers
+
+    def text(direction: str, rail: int, amount: float) -> str:
+        key = (direction, rail, amount)
+        if key not in texts:
+            texts[key] = parts_text(tables, direction, rail, amount)
+        return texts[key]
+
+    parts = tuple(tuple(text(direction, rail, amount) for (direction, rail), amount in zip(places, row))
+                  for row in amounts.tolist())
     listed = tuple(materials(tables, amounts[:, :2], amounts[:, 2:]))
     notes = tuple(f"{direction}: {table.note}" for direction, table in tables.items() if table.note)
     return AdjustmentWork(order, amounts, parts, listed, notes)

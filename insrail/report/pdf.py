@@ -18,8 +18,8 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from functools import cache, partial
+from html import escape  # as xml.sax.saxutils's (& < >) with quote=False, without its import of urllib and http
 from pathlib import Path
-from xml.sax.saxutils import escape
 
 import numpy as np
 from reportlab.lib import colors
@@ -163,7 +163,8 @@ KEY_VALUE_STYLE = TableStyle([
 def text(value) -> str:
     """Paragraph markup for any text: escaped, the runs Helvetica cannot show (Chinese, σ) in a CJK font
     and the rest in the paragraph's own font."""
-    return "".join(escape(run) if font == PARAGRAPH_FONT else f'<font name="{font}">{escape(run)}</font>'
+    return "".join(escape(run, quote=False) if font == PARAGRAPH_FONT
+                   else f'<font name="{font}">{escape(run, quote=False)}</font>'
                    for run, font in font_runs(str(value), PARAGRAPH_FONT))
 
 

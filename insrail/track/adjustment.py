@@ -13,9 +13,10 @@ Two ways to compute them:
 * :func:`optimise_adjustment`: per direction, both rails together (a linear programme, HiGHS;
   :mod:`insrail.track.adjustment_programme`): the least movement that brings every chord check
   of each rail (10 m versine, 30 m / 5 m and 300 m / 150 m differential versines, every chord
-  placement) inside its limit, never pushes gauge, gauge change rate, cross-level or twist out
-  of the profile's limits where they were inside (and brings them in where it can), keeps every
-  amount in the fastener's range, in whole steps. ``strategy="guiding_rail_first"`` is the
+  placement; not where the survey cannot assess a check: ``not_assessed``) inside its limit, never
+  pushes gauge, gauge change rate, cross-level or twist out of the profile's limits where they were
+  inside (and brings them in where it can), keeps every amount in the fastener's range, in whole
+  steps. ``strategy="guiding_rail_first"`` is the
   crews' practice: the guiding rail (outer rail of a curve, left on straights) is lined and the
   low rail (inner rail, left on straights) levelled, the other rail follows through gauge and
   cross-level.
@@ -31,6 +32,7 @@ from __future__ import annotations
 
 import tomllib
 from concurrent.futures import FIRST_COMPLETED, Executor, ThreadPoolExecutor, wait
+from collections.abc import Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -477,11 +479,13 @@ def threshold_steps(fastener: FastenerType, threshold_m: float | None) -> float:
 def optimise_amounts(
     geometry: SleeperGeometry, profile: ToleranceProfile, fastener: FastenerType, strategy: str = DEFAULT_STRATEGY,
     progress: ProgressFn | None = None, cancel: CancelToken = None, threshold_m: float | None = None,
-    executor: Executor | None = None,
+    executor: Executor | None = None, not_assessed: Mapping[tuple[str, str], np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(lateral, vertical) amounts [m] (n, 2) of :func:`optimise_adjustment`, not yet re-assessed.
     Each amount is 0 or at least the action threshold ``threshold_m`` (rounded up to whole steps;
     None: one step) where the checks allow it (:func:`below_threshold_count` counts the others).
+    ``not_assessed`` (as :func:`insrail.track.exceedance.assess` takes it): the chord checks are not
+    held where the survey cannot assess them (:func:`insrail.track.adjustment_programme.rail_checks`).
 
     The two directions are independent: one thread each, the heavier submitted first. The
     independent parts of each round (:func:`independent_parts`) are solved as tasks of
@@ -490,7 +494,7 @@ def optimise_amounts(
     either way. ``progress`` is called from the calling thread, ``cancel`` is checked before every
     programme is solved here and while the executor's tasks run (see :mod:`insrail.progress`)."""
     problems = {d: direction_problem(geometry, profile, fastener, d, strategy) for d in DIRECTIONS}
-    checks = {d: rail_checks(profile, d) for d in DIRECTIONS}
+    checks = {d: rail_checks(profile, d, not_assessed=not_assessed) for d in DIRECTIONS}
     done = {d: 0.0 for d in DIRECTIONS}
 
     def solve(direction: str) -> np.ndarray:
@@ -546,8 +550,10 @@ def _reach_steps(check, spacing_m: float = SLEEPER_SPACING_M) -> int:
 
 
 def reassess(geometry: SleeperGeometry, lateral_m: np.ndarray, vertical_m: np.ndarray, profile: ToleranceProfile,
-             fastener: FastenerType) -> tuple[Assessment, Adjustment]:
-    """The assessment of the adjusted geometry (every check of ``profile``) and the adjustment
+             fastener: FastenerType, not_assessed: Mapping[tuple[str, str], np.ndarray] | None = None,
+             ) -> tuple[Assessment, Adjustment]:
+    """The assessment of the adjusted geometry (every check of ``profile``, none where ``not_assessed``
+    says the survey cannot assess it: :func:`insrail.track.exceedance.assess`) and the adjustment
     with every sleeper-rail of a remaining exceedance run flagged. The reason is "fastener range
     exhausted" where an amount within the check's reach sits at the end of the range, "check not
     held by the optimisation" for a check the programme does not model (band-passed peaks, chords
@@ -565,7 +571,7 @@ def reassess(geometry: SleeperGeometry, lateral_m: np.ndarray, vertical_m: np.nd
         at_end[direction] = (amounts[direction] <= low + 1e-9) | (amounts[direction] >= high - 1e-9)
     provisional = Adjustment(lateral_m, vertical_m, unresolved["lateral"], unresolved["vertical"], fastener.name,
                              reasons["lateral"], reasons["vertical"])
-    after = assess(provisional.apply(geometry), profile)
+    after = assess(provisional.apply(geometry), profile, not_assessed=not_assessed)
     checks = {c.name: c for c in profile.checks}
     held = {d: rail_checks(profile, d) for d in DIRECTIONS}
     for e in after.exceedances:

@@ -24,7 +24,8 @@ simplex restarting from its last basis), and a few per sleeper ever enter the pr
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -58,12 +59,15 @@ TOLERANCE = 1e-9
 @dataclass(frozen=True)
 class RailCheck:
     """A per-rail chord check in sleeper steps: a differential versine (chord m, pair p) or a
-    versine (back a, ahead b); |value| <= limit_m."""
+    versine (back a, ahead b); |value| <= limit_m. ``held`` (N,) bool: the sleepers whose value
+    (for a differential versine: first sleeper of the pair) the programme holds, where the survey
+    can assess the check (:func:`rail_checks`); None: every one."""
 
     kind: str  # "differential_versine" | "versine"
     first_steps: int  # chord m | back a
     second_steps: int  # pair p | ahead b
     limit_m: float
+    held: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     @property
     def reach_steps(self) -> int:
@@ -98,23 +102,33 @@ class RailCheck:
         lo, hi = max(0, start - back), min(deviation_m.size, stop + ahead)
         values = self.values(deviation_m[lo:hi])[start - lo: stop - lo]
         with np.errstate(invalid="ignore"):
-            return np.flatnonzero(np.abs(values) > self.limit_m + TOLERANCE) + start
+            found = np.flatnonzero(np.abs(values) > self.limit_m + TOLERANCE) + start
+        return found if self.held is None else found[self.held[found]]
 
 
-def rail_checks(profile: ToleranceProfile, direction: str, spacing_m: float = SLEEPER_SPACING_M) -> list[RailCheck]:
-    """The profile's chord checks of ``direction`` that the programme holds (chords a whole number of sleepers)."""
+def rail_checks(profile: ToleranceProfile, direction: str, spacing_m: float = SLEEPER_SPACING_M,
+                not_assessed: Mapping[tuple[str, str], np.ndarray] | None = None) -> list[RailCheck]:
+    """The profile's chord checks of ``direction`` that the programme holds (chords a whole number of sleepers).
+    ``not_assessed``: (check name, direction) -> the sleepers (N,) bool where the survey cannot assess
+    that check (:func:`insrail.track.exceedance.assess`'s): not held there. Its values there are the
+    survey's noise as much as the track's; amounts that chased them would move rails for nothing (and on
+    a survey whose noise crosses the limits everywhere, one programme over the whole line, every row of
+    it violated, takes minutes)."""
     checks = []
     for check in profile.checks:
         if direction not in check.directions:
             continue
         limit = min(-check.lower, check.upper)
+        left_out = (not_assessed or {}).get((check.name, direction))
+        held = None if left_out is None else ~np.asarray(left_out, dtype=bool)
         if check.kind == "differential_versine":
-            checks.append(RailCheck(check.kind, round(check.chord_m / spacing_m), round(check.pair_m / spacing_m), limit))
+            checks.append(RailCheck(check.kind, round(check.chord_m / spacing_m), round(check.pair_m / spacing_m), limit,
+                                    held))
         elif check.kind == "versine":
             back = check.chord_m / 2.0 if check.back_m is None else check.back_m
             a, b = back / spacing_m, (check.chord_m - back) / spacing_m
             if min(a, b) >= 1 and abs(a - round(a)) < 1e-6 and abs(b - round(b)) < 1e-6:
-                checks.append(RailCheck(check.kind, round(a), round(b), limit))
+                checks.append(RailCheck(check.kind, round(a), round(b), limit, held))
     return checks
 
 
@@ -430,6 +444,11 @@ class _ChordRows:
         if rows is None:
             return None
         k, second, offset, coefficients, high = rows
+        if self.check.held is not None:  # the rows of values the survey cannot assess are not held
+            keep = np.flatnonzero(self.check.held[k[0] + lo])
+            if not keep.size:
+                return None
+            k, second, offset, high = tuple(c[keep] for c in k), second[keep], offset[keep], high[keep]
         columns = np.column_stack(k) + lo + self.rail * self.n
         key = (k[0] + lo) * self.n + second + lo
         return _Rows(2 * key + high, columns, np.broadcast_to(coefficients, columns.shape), offset,
@@ -699,7 +718,7 @@ class _Generation:
         self.spans = [(max(0, sleepers[0] - f.reach_steps), min(free.size, sleepers[-1] + f.reach_steps + 1))
                       for f in families]
         self.reference = None if reference is None else reference.T.reshape(-1)
-        self.known = np.zeros(0, np.int64)
+        self.known: set[int] = set()  # a set: np.isin against the keys so far sorted them at every look-up
 
     def add(self, current: np.ndarray, half: np.ndarray) -> int:
         """Add the new rows that ``current``, widened by ``half`` a step per free amount, violates;
@@ -712,7 +731,7 @@ class _Generation:
                 continue
             key = rows.key * len(self.families) + family.family  # unique over the families
             fresh = (free_column[rows.columns] & (np.asarray(rows.coefficients) != 0)).any(axis=1)
-            fresh &= ~np.isin(key, self.known)
+            fresh &= np.fromiter((k not in self.known for k in key.tolist()), bool, key.size)
             if not fresh.any():
                 continue
             new = rows.take(np.flatnonzero(fresh))
@@ -720,7 +739,7 @@ class _Generation:
                 value = new.offset + (np.asarray(new.coefficients) * self.reference[new.columns]).sum(axis=1)
                 held = (value >= new.lower - 1e-7) & (value <= new.upper + 1e-7)
                 new = replace(new, soft=new.soft & ~held, rounded=np.zeros(new.key.size, bool))
-            self.known = np.concatenate([self.known, key[fresh]])
+            self.known.update(key[fresh].tolist())
             self.programme.add(new)
             added += new.key.size
         return added
