@@ -61,6 +61,17 @@ def fresh_copies(projects, folder):
     return copies
 
 
+def copies_with_their_cache(projects, folder):
+    """The projects without their result files but with their stage cache (hard links: the cache's files are
+    replaced, never written in place): a batch takes the runs' cached fusion, track and adjustment. For the tests
+    of what a batch does around its runs (a failed run, its messages, the connection), not of the runs'
+    processing, which the tests comparing a batch with the single runs check on :func:`fresh_copies`."""
+    copies = fresh_copies(projects, folder)
+    for project, copy in zip(projects, copies):
+        shutil.copytree(project.folder / "results" / ".cache", copy / "results" / ".cache", copy_function=os.link)
+    return copies
+
+
 def assert_same_results(projects, copies):
     for project, copy in zip(projects, copies):
         for name in RESULT_FILES:
@@ -151,7 +162,7 @@ def test_batch_tasks_start_with_the_largest_survey(section_project):
 
 
 def test_a_section_batch_with_a_failed_run_is_not_joined(section_project, tmp_path, capsys):
-    (copy,) = fresh_copies([section_project], tmp_path)
+    (copy,) = copies_with_their_cache([section_project], tmp_path)
     (copy / "surveys" / "run3" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
     assert main(["batch", str(copy), "--section", "line", "--workers", "2", "--no-reports"]) == 1
     out = capsys.readouterr()
@@ -172,7 +183,7 @@ def test_a_section_batch_on_a_dask_cluster_with_a_failed_run_is_not_joined_and_r
     from insrail.project import table_cache
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    (copy,) = fresh_copies([section_project], tmp_path)
+    (copy,) = copies_with_their_cache([section_project], tmp_path)
     (copy / "surveys" / "run3" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
     with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
         code = main(["batch", str(copy), "--section", "line", "--scheduler", cluster.scheduler_address, "--no-reports"])
@@ -185,7 +196,7 @@ def test_a_section_batch_on_a_dask_cluster_with_a_failed_run_is_not_joined_and_r
 
 
 def test_batch_cli_reports_a_failed_survey_and_goes_on(tiny_projects, tmp_path, capsys):
-    good, broken = fresh_copies(tiny_projects[:2], tmp_path)
+    good, broken = copies_with_their_cache(tiny_projects[:2], tmp_path)
     (broken / "surveys" / "tiny" / "gauge.txt").write_text("# format: gauge-mm\nnot a number\n")
     (tmp_path / "not-a-project").mkdir()
     code = main(["batch", str(good), str(broken), str(tmp_path / "not-a-project"), "--workers", "2"])
@@ -340,7 +351,7 @@ def test_dask_batch_over_tls_with_the_security_settings_of_a_config_file(tiny_pr
     cluster_security = Security(tls_ca_file=str(cert), tls_scheduler_cert=str(cert), tls_scheduler_key=str(key),
                                 tls_worker_cert=str(cert), tls_worker_key=str(key), tls_client_cert=str(cert),
                                 tls_client_key=str(key), require_encryption=True)
-    (copy,) = fresh_copies(tiny_projects[:1], tmp_path)
+    (copy,) = copies_with_their_cache(tiny_projects[:1], tmp_path)
     with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None,
                       protocol="tls://", security=cluster_security) as cluster:
         assert cluster.scheduler_address.startswith("tls://")

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from shared_build import computed_once
 
 from insrail.track.alignment import Arc, Clothoid, HorizontalAlignment, Line
 from insrail.track.alignment_csv import read_alignment_csv, write_alignment_csv
@@ -45,11 +46,17 @@ def rms(values):
     return float(np.sqrt(np.mean(values**2)))
 
 
-@pytest.fixture(scope="module")
-def with_long_waves():
+def _fitted_with_long_waves():
     points = centreline(IRREGULARITY_LATERAL + LONG_WAVE_LATERAL, IRREGULARITY_VERTICAL + LONG_WAVE_VERTICAL)
     fit = fit_alignment(*points)
     return points, fit, fit_windows(fit, *points)
+
+
+@pytest.fixture(scope="module")
+def with_long_waves():
+    """The global and the windowed fit of the 3 km line with long waves (some 14 s of CPU): computed once per test
+    run, not once per xdist worker that runs one of this module's tests (shared_build)."""
+    return computed_once("linefit-windows-long-waves", _fitted_with_long_waves)
 
 
 def test_windows_recover_the_irregularities_the_global_fit_buries_in_long_waves(with_long_waves):
