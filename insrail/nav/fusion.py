@@ -846,10 +846,10 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
 
 @compiled
 def _rts_gains(records, after, gains, p0, with_start):
-    """The smoother gains (``kalman.rts_gain``) of one chunk of smoother records into ``gains``, row r + 1
-    that of the chunk's record r (its epoch): from the record's P+ and the next record's Phi and P-, the
-    last record's from ``after`` (the first record of the chunk after this one; no row: the pass's last
-    epoch, which has no gain). ``with_start`` (the first chunk): row 0 too, epoch 0's from ``p0``."""
+    """The smoother gains (``kalman.rts_gain``) of a run of consecutive smoother records into ``gains``, row
+    r + 1 that of record r (its epoch): from the record's P+ and the next record's Phi and P-, the last
+    record's from ``after`` (the record after the run; no row: the pass's last epoch, which has no gain).
+    ``with_start`` (the run of the first records): row 0 too, epoch 0's from ``p0``."""
     n = p0.shape[0]
     phi = np.empty((n, n))
     p_minus = np.empty((n, n))
@@ -873,13 +873,13 @@ def _rts_gains(records, after, gains, p0, with_start):
 
 @compiled
 def _rts_chunk(records, gains, state, e_next, P_s_next, p_minus_next, corrections, sigma, p0, with_start):
-    """The backward RTS recursion over one chunk of smoother records with their gains (:func:`_rts_gains`)
-    (record r: the chunk's epoch r + 1, written to row r + 1 of corrections and sigma), last record first.
+    """The backward RTS recursion over a run of consecutive smoother records with their gains
+    (:func:`_rts_gains`; record r written to row r + 1 of corrections and sigma), last record first.
     state[0] = 1 once an epoch has been smoothed (the last epoch: smoothed = filtered); (e_next, P_s_next,
-    p_minus_next) carry the successor epoch's quantities from chunk to chunk. ``with_start`` (the first
-    chunk, the last one smoothed): then epoch 0 too, before the first segment, from its covariance ``p0``
-    (row 0; its correction pair is one error, no update was applied there) - here rather than from Python,
-    whose call of the compiled step would load a kernel of its own from the cache at the smoother's end."""
+    p_minus_next) carry the successor epoch's quantities from run to run. ``with_start`` (the run of the
+    first records, the last one smoothed): then epoch 0 too, before the first segment, from its covariance
+    ``p0`` (row 0; its correction pair is one error, no update was applied there) - here rather than from
+    Python, whose call of the compiled step would load a kernel of its own from the cache at the smoother's end."""
     n = e_next.shape[0]
     phi = np.empty((n, n))
     p_minus = np.empty((n, n))
@@ -957,32 +957,18 @@ class SmootherStore:
         The records are read into one buffer (a fresh 15 MB block per chunk is a fresh mapping whose
         pages the kernel faults in and zeroes, ``insrail.memory``): each chunk is good until the next
         one is asked for, and read-only."""
-        buffer = self.chunk_buffer()
-        for first in self.chunk_starts()[::-1]:
-            yield first, self.read_chunk(first, buffer)
-
-    def chunk_starts(self) -> range:
-        """The index of every chunk's first record, in the file's order."""
-        return range(0, self.count, self.chunk)
-
-    def chunk_buffer(self) -> np.ndarray:
-        """A buffer :meth:`read_chunk` reads any chunk into."""
-        return np.empty((min(self.chunk, max(self.count, 1)), self.RECORD))
-
-    def read_chunk(self, first: int, buffer: np.ndarray) -> np.ndarray:
-        """The records of the chunk from record ``first`` on, read into ``buffer`` (:meth:`chunk_buffer`):
-        a read-only view of it."""
         self.file.flush()
         size = self.RECORD * 8
-        n = min(self.chunk, self.count - first)
-        records = buffer[:n]
-        records.flags.writeable = True
-        self.file.seek(first * size)
-        if self.file.readinto(memoryview(records).cast("B")) != n * size:
-            raise OSError(f"{tempfile.gettempdir()} (the smoother's temporary file): records {first}-{first + n - 1} "
-                          "not written")
-        records.flags.writeable = False
-        return records
+        buffer = np.empty((min(self.chunk, max(self.count, 1)), self.RECORD))
+        for first in range(((self.count - 1) // self.chunk) * self.chunk, -1, -self.chunk):
+            n = min(self.chunk, self.count - first)
+            self.file.seek(first * size)
+            records = buffer[:n]
+            if self.file.readinto(memoryview(records).cast("B")) != n * size:
+                raise OSError(f"{tempfile.gettempdir()} (the smoother's temporary file): records {first}-{first + n - 1} "
+                              "not written")
+            records.flags.writeable = False
+            yield first, records
 
     def reversed_blocks(self):
         """Blocks (j, Phi_j, P-_j, P+_j, dx_j) for j = count, ..., 1, unpacked (compiled) into
@@ -1836,6 +1822,10 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
     return notices
 
 
+#: update epochs whose smoother gains are made at a time, beside the recursion through the ones after them (:func:`_rts`)
+GAIN_BLOCK = 256
+
+
 def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: CancelToken, progress,
          made: Callable[[int], None] = lambda first: None) -> None:
     """Backward RTS pass (compiled, chunk by chunk from the store). Writes per update epoch j
@@ -1844,38 +1834,40 @@ def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: Ca
     (SMOOTHED_WIDTH), a chunk at a time; ``made(j)`` once the rows from j on are written. ``p0``: P
     at epoch 0, whole (its level angles' and start position's correlations with the sensor and
     attitude errors: their diagonal alone lets the smoother move epoch 0 away from the start it was given).
-    The gains of the chunk before (:func:`_rts_gains`, half the work) are made in a background job while
-    the recursion runs through a chunk: they need none of its results (two chunks read, in two buffers)."""
+    The gains (:func:`_rts_gains`, half the work) need none of the smoothed results: those of the next
+    GAIN_BLOCK records down are made in a background job while the recursion runs through a block."""
     state = np.zeros(1)
     e_next = np.zeros(N_STATES)
     P_s_next, p_minus_next = np.zeros((N_STATES, N_STATES)), np.zeros((N_STATES, N_STATES))
-    starts = store.chunk_starts()[::-1]
-    buffers = [store.chunk_buffer() for _ in range(min(len(starts), 2))]
-
-    def gains_of(first: int, records: np.ndarray, after: np.ndarray) -> np.ndarray:
-        gains = np.empty((len(records) + 1, N_STATES, N_STATES))  # row r: epoch first + r
-        _rts_gains(records, after, gains, p0, first == 0)
-        return gains
-
-    records = store.read_chunk(starts[0], buffers[0]) if starts else None
-    gains = gains_of(starts[0], records, records[:0]) if starts else None
-    for at, first in enumerate(starts):
+    after = np.zeros((0, RECORD_SIZE))  # the first record of the chunk smoothed before (the one after it)
+    for first, records in store.reversed_chunks():
         check_cancel(cancel)
         progress((m - first) / m, "smoother")
-        upcoming = None
-        if at + 1 < len(starts):
-            before = store.read_chunk(starts[at + 1], buffers[(at + 1) % 2])
-            upcoming = BackgroundJob(lambda progress, stopped, lower=starts[at + 1], chunk=before, after=records[:1].copy():
-                                     gains_of(lower, chunk, after), None, cancel, name="insrail-rts-gains")
-        with upcoming if upcoming is not None else contextlib.nullcontext():
-            k = len(records)
-            corrections, sigma = np.zeros((k + 1, 2, N_STATES)), np.zeros((k + 1, N_STATES))  # row r: epoch first + r
-            _rts_chunk(records, gains, state, e_next, P_s_next, p_minus_next, corrections, sigma, p0, first == 0)
-            start = 0 if first == 0 else 1  # the first chunk's row 0 is epoch 0
-            out.write(first + start, np.hstack([corrections[start:].reshape(k + 1 - start, 2 * N_STATES), sigma[start:]]))
-            made(first + start)
-            if upcoming is not None:
-                gains, records = upcoming.result(), before
+        k = len(records)
+
+        def gains_of(lower: int, records=records, later=after, first=first) -> np.ndarray:
+            upper = min(lower + GAIN_BLOCK, len(records))
+            gains = np.empty((upper - lower + 1, N_STATES, N_STATES))  # row r: the epoch of record lower + r - 1
+            _rts_gains(records[lower:upper], records[upper : upper + 1] if upper < len(records) else later, gains, p0,
+                       first == 0 and lower == 0)
+            return gains
+
+        corrections, sigma = np.zeros((k + 1, 2, N_STATES)), np.zeros((k + 1, N_STATES))  # row r: epoch first + r
+        lowers = range(((k - 1) // GAIN_BLOCK) * GAIN_BLOCK, -1, -GAIN_BLOCK)
+        gains = gains_of(lowers[0])
+        for at, lower in enumerate(lowers):
+            upcoming = (BackgroundJob(lambda progress, stopped, below=lowers[at + 1]: gains_of(below), None, cancel,
+                                      name="insrail-rts-gains") if at + 1 < len(lowers) else None)
+            with upcoming if upcoming is not None else contextlib.nullcontext():
+                upper = min(lower + GAIN_BLOCK, k)
+                _rts_chunk(records[lower:upper], gains, state, e_next, P_s_next, p_minus_next,
+                           corrections[lower : upper + 1], sigma[lower : upper + 1], p0, first == 0 and lower == 0)
+                if upcoming is not None:
+                    gains = upcoming.result()
+        after = records[:1].copy()
+        start = 0 if first == 0 else 1  # the first chunk's row 0 is epoch 0
+        out.write(first + start, np.hstack([corrections[start:].reshape(k + 1 - start, 2 * N_STATES), sigma[start:]]))
+        made(first + start)
     if not store.count:  # no segment: epoch 0 as the filter started it
         out.write(0, np.concatenate([np.zeros(2 * N_STATES), np.sqrt(np.maximum(np.diag(p0), 0.0))])[None])
         made(0)
