@@ -1840,24 +1840,27 @@ def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: Ca
     e_next = np.zeros(N_STATES)
     P_s_next, p_minus_next = np.zeros((N_STATES, N_STATES)), np.zeros((N_STATES, N_STATES))
     after = np.zeros((0, RECORD_SIZE))  # the first record of the chunk smoothed before (the one after it)
+    # the block's gains and the next one's, made in the caller's memory (a job's thread would keep its own heap)
+    gain_buffers = [np.empty((GAIN_BLOCK + 1, N_STATES, N_STATES)) for _ in range(2)]
     for first, records in store.reversed_chunks():
         check_cancel(cancel)
         progress((m - first) / m, "smoother")
         k = len(records)
 
-        def gains_of(lower: int, records=records, later=after, first=first) -> np.ndarray:
+        def gains_of(lower: int, into: np.ndarray, records=records, later=after, first=first) -> np.ndarray:
             upper = min(lower + GAIN_BLOCK, len(records))
-            gains = np.empty((upper - lower + 1, N_STATES, N_STATES))  # row r: the epoch of record lower + r - 1
+            gains = into[: upper - lower + 1]  # row r: the epoch of record lower + r - 1
             _rts_gains(records[lower:upper], records[upper : upper + 1] if upper < len(records) else later, gains, p0,
                        first == 0 and lower == 0)
             return gains
 
         corrections, sigma = np.zeros((k + 1, 2, N_STATES)), np.zeros((k + 1, N_STATES))  # row r: epoch first + r
         lowers = range(((k - 1) // GAIN_BLOCK) * GAIN_BLOCK, -1, -GAIN_BLOCK)
-        gains = gains_of(lowers[0])
+        gains = gains_of(lowers[0], gain_buffers[0])
         for at, lower in enumerate(lowers):
-            upcoming = (BackgroundJob(lambda progress, stopped, below=lowers[at + 1]: gains_of(below), None, cancel,
-                                      name="insrail-rts-gains") if at + 1 < len(lowers) else None)
+            upcoming = (BackgroundJob(lambda progress, stopped, below=lowers[at + 1], into=gain_buffers[(at + 1) % 2]:
+                                      gains_of(below, into), None, cancel, name="insrail-rts-gains")
+                        if at + 1 < len(lowers) else None)
             with upcoming if upcoming is not None else contextlib.nullcontext():
                 upper = min(lower + GAIN_BLOCK, k)
                 _rts_chunk(records[lower:upper], gains, state, e_next, P_s_next, p_minus_next,
