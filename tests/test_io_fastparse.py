@@ -9,6 +9,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from insrail import background
 from insrail.io import fastparse
 from insrail.io.errors import InputError
 from insrail.io.fastparse import parse_numeric_file
@@ -105,6 +106,29 @@ def test_an_imu_file_as_insrail_writes_it_takes_the_fast_path(tmp_path, monkeypa
         np.savetxt(handle, data, fmt=["%.9f"] + ["%.16e"] * 6)
     parsed = fast(path, skip_lines=3)
     assert parsed is not None and np.array_equal(bits(parsed), bits(np.loadtxt(path, ndmin=2)))
+
+
+@pytest.mark.parametrize("bad_row", [None, 40, 1990])
+def test_the_halves_of_a_block_parsed_side_by_side_give_the_values_of_one_pass(tmp_path, monkeypatch, bad_row):
+    """Each block's second half (from a line end after its middle) parsed in a thread beside the first: the
+    values are those of one pass, and a row with a field too few in either half still hands the file to
+    the general parser."""
+    monkeypatch.setattr(background, "cpu_budget", lambda: 2)  # also with one CPU
+    monkeypatch.setattr(fastparse, "_BLOCK_BYTES", 4096)
+    monkeypatch.setattr(fastparse, "_SPLIT_BYTES", 64)
+    rng = np.random.default_rng(4)
+    data = np.column_stack([456300 + np.arange(1, 2001) / 200, rng.normal(0, 1e-4, (2000, 6))])
+    path = tmp_path / "imu.txt"
+    np.savetxt(path, data, fmt=["%.9f"] + ["%.16e"] * 6, header="format: kfgins-imu")
+    if bad_row is not None:
+        lines = path.read_text().splitlines(keepends=True)
+        lines[1 + bad_row] = lines[1 + bad_row].rsplit(" ", 1)[0] + "\n"
+        path.write_text("".join(lines))
+    parsed = fast(path, skip_lines=1)
+    if bad_row is None:
+        assert parsed is not None and np.array_equal(bits(parsed), bits(np.loadtxt(path, ndmin=2)))
+    else:
+        assert parsed is None
 
 
 MALFORMED = [  # (file content, the error's line, what the message says)

@@ -55,16 +55,17 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from insrail.background import BackgroundJob
     from insrail.io.survey import read_survey
+    from insrail.memory import collector_paused
 
     bar = TerminalProgress("fuse")
     # a project's [trolley] replaces the survey's own, which may then be left out
     project_trolley = args.project is not None and _project_trolley_given(args.project)
     reading_progress = partial(_reading_progress, bar)
     # the survey's files read (their text parsed by compiled code, without the GIL) while the filter's modules are
-    # imported: some 0.2 s of a short survey's 2 s
-    with BackgroundJob(lambda progress, cancel: read_survey(args.survey, progress=progress,
-                                                            trolley_from_project=project_trolley),
-                       reading_progress, None, name="insrail-reading") as reading:
+    # imported: some 0.2 s of a short survey's 2 s; the start-up without the garbage collector's passes
+    with collector_paused(), BackgroundJob(lambda progress, cancel: read_survey(args.survey, progress=progress,
+                                                                                trolley_from_project=project_trolley),
+                                           reading_progress, None, name="insrail-reading") as reading:
         import tomli_w
 
         from insrail.io.atomic import atomic_write

@@ -174,8 +174,11 @@ def profile_checks(project) -> tuple:
 
 
 def run(args: argparse.Namespace) -> int:
-    from insrail.project import load_project, process
-    from insrail.report.stale import stale_report_lines
+    from insrail.memory import collector_paused
+
+    with collector_paused():  # the start-up's imports
+        from insrail.project import load_project, process
+        from insrail.report.stale import stale_report_lines
 
     project = load_project(args.project)
     names = chosen_surveys(project, args.survey)

@@ -43,6 +43,7 @@ compensated (added to the estimates on feedback).
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
 import os
@@ -844,11 +845,41 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
 
 
 @compiled
-def _rts_chunk(records, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma):
-    """The backward RTS pass over one chunk of smoother records (record r: the chunk's epoch r + 1,
-    written to row r + 1 of corrections and sigma), last record first. state[0] = 1 once an epoch has been smoothed
-    (the last epoch: smoothed = filtered); (e_next, P_s_next, phi_next, p_minus_next) carry
-    the successor epoch's quantities from chunk to chunk."""
+def _rts_gains(records, after, gains, p0, with_start):
+    """The smoother gains (``kalman.rts_gain``) of a run of consecutive smoother records into ``gains``, row
+    r + 1 that of record r (its epoch): from the record's P+ and the next record's Phi and P-, the last
+    record's from ``after`` (the record after the run; no row: the pass's last epoch, which has no gain).
+    ``with_start`` (the run of the first records): row 0 too, epoch 0's from ``p0``."""
+    n = p0.shape[0]
+    phi = np.empty((n, n))
+    p_minus = np.empty((n, n))
+    p_plus = np.empty((n, n))
+    unused = np.empty((n, n))
+    dx = np.empty(n)
+    k = records.shape[0]
+    for r in range(k):
+        if r + 1 < k:
+            _unpack_record(records[r + 1], phi, p_minus, unused, dx)
+        elif after.shape[0]:
+            _unpack_record(after[0], phi, p_minus, unused, dx)
+        else:
+            continue
+        _unpack_record(records[r], unused, unused, p_plus, dx)
+        gains[r + 1] = kalman.rts_gain(phi, p_minus, p_plus)
+    if with_start:
+        _unpack_record(records[0], phi, p_minus, p_plus, dx)
+        gains[0] = kalman.rts_gain(phi, p_minus, p0)
+
+
+@compiled
+def _rts_chunk(records, gains, state, e_next, P_s_next, p_minus_next, corrections, sigma, p0, with_start):
+    """The backward RTS recursion over a run of consecutive smoother records with their gains
+    (:func:`_rts_gains`; record r written to row r + 1 of corrections and sigma), last record first.
+    state[0] = 1 once an epoch has been smoothed (the last epoch: smoothed = filtered); (e_next, P_s_next,
+    p_minus_next) carry the successor epoch's quantities from run to run. ``with_start`` (the run of the
+    first records, the last one smoothed): then epoch 0 too, before the first segment, from its covariance
+    ``p0`` (row 0; its correction pair is one error, no update was applied there) - here rather than from
+    Python, whose call of the compiled step would load a kernel of its own from the cache at the smoother's end."""
     n = e_next.shape[0]
     phi = np.empty((n, n))
     p_minus = np.empty((n, n))
@@ -862,15 +893,20 @@ def _rts_chunk(records, state, e_next, P_s_next, phi_next, p_minus_next, correct
             P_s = p_plus.copy()
             state[0] = 1.0
         else:
-            e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, p_plus)
+            e, P_s = kalman.rts_smoothed(gains[j], e_next, P_s_next, p_minus_next, p_plus)
         for k in range(n):
             corrections[j, 0, k] = e[k]
             corrections[j, 1, k] = e[k] + dx[k]
             sigma[j, k] = math.sqrt(max(P_s[k, k], 0.0))
             e_next[k] = e[k] + dx[k]
         P_s_next[:, :] = P_s
-        phi_next[:, :] = phi
         p_minus_next[:, :] = p_minus
+    if with_start:
+        e, P_s = kalman.rts_smoothed(gains[0], e_next, P_s_next, p_minus_next, p0)
+        for k in range(n):
+            corrections[0, 0, k] = e[k]
+            corrections[0, 1, k] = e[k]
+            sigma[0, k] = np.sqrt(np.maximum(P_s[k, k], 0.0))
 
 
 # --------------------------------------------------------------------------- storage
@@ -1786,6 +1822,10 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
     return notices
 
 
+#: update epochs whose smoother gains are made at a time, beside the recursion through the ones after them (:func:`_rts`)
+GAIN_BLOCK = 256
+
+
 def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: CancelToken, progress,
          made: Callable[[int], None] = lambda first: None) -> None:
     """Backward RTS pass (compiled, chunk by chunk from the store). Writes per update epoch j
@@ -1793,25 +1833,47 @@ def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: Ca
     solution, right: e_j + dx_j relative to the pre-update solution) and the smoothed sigmas
     (SMOOTHED_WIDTH), a chunk at a time; ``made(j)`` once the rows from j on are written. ``p0``: P
     at epoch 0, whole (its level angles' and start position's correlations with the sensor and
-    attitude errors: their diagonal alone lets the smoother move epoch 0 away from the start it was given)."""
+    attitude errors: their diagonal alone lets the smoother move epoch 0 away from the start it was given).
+    The gains (:func:`_rts_gains`, half the work) need none of the smoothed results: those of the next
+    GAIN_BLOCK records down are made in a background job while the recursion runs through a block."""
     state = np.zeros(1)
     e_next = np.zeros(N_STATES)
-    P_s_next, phi_next, p_minus_next = (np.zeros((N_STATES, N_STATES)) for _ in range(3))
-    for first, chunk in store.reversed_chunks():
+    P_s_next, p_minus_next = np.zeros((N_STATES, N_STATES)), np.zeros((N_STATES, N_STATES))
+    after = np.zeros((0, RECORD_SIZE))  # the first record of the chunk smoothed before (the one after it)
+    # the block's gains and the next one's, made in the caller's memory (a job's thread would keep its own heap)
+    gain_buffers = [np.empty((GAIN_BLOCK + 1, N_STATES, N_STATES)) for _ in range(2)]
+    for first, records in store.reversed_chunks():
         check_cancel(cancel)
         progress((m - first) / m, "smoother")
-        k = len(chunk)
+        k = len(records)
+
+        def gains_of(lower: int, into: np.ndarray, records=records, later=after, first=first) -> np.ndarray:
+            upper = min(lower + GAIN_BLOCK, len(records))
+            gains = into[: upper - lower + 1]  # row r: the epoch of record lower + r - 1
+            _rts_gains(records[lower:upper], records[upper : upper + 1] if upper < len(records) else later, gains, p0,
+                       first == 0 and lower == 0)
+            return gains
+
         corrections, sigma = np.zeros((k + 1, 2, N_STATES)), np.zeros((k + 1, N_STATES))  # row r: epoch first + r
-        _rts_chunk(chunk, state, e_next, P_s_next, phi_next, p_minus_next, corrections, sigma)
-        out.write(first + 1, np.hstack([corrections[1:].reshape(k, 2 * N_STATES), sigma[1:]]))
-        made(first + 1)
-    # epoch 0: before the first segment
-    if state[0]:
-        e, P_s = kalman.rts_step(e_next, P_s_next, phi_next, p_minus_next, p0)
-    else:
-        e, P_s = np.zeros(N_STATES), p0
-    out.write(0, np.concatenate([e, e, np.sqrt(np.maximum(np.diag(P_s), 0.0))])[None])
-    made(0)
+        lowers = range(((k - 1) // GAIN_BLOCK) * GAIN_BLOCK, -1, -GAIN_BLOCK)
+        gains = gains_of(lowers[0], gain_buffers[0])
+        for at, lower in enumerate(lowers):
+            upcoming = (BackgroundJob(lambda progress, stopped, below=lowers[at + 1], into=gain_buffers[(at + 1) % 2]:
+                                      gains_of(below, into), None, cancel, name="insrail-rts-gains")
+                        if at + 1 < len(lowers) else None)
+            with upcoming if upcoming is not None else contextlib.nullcontext():
+                upper = min(lower + GAIN_BLOCK, k)
+                _rts_chunk(records[lower:upper], gains, state, e_next, P_s_next, p_minus_next,
+                           corrections[lower : upper + 1], sigma[lower : upper + 1], p0, first == 0 and lower == 0)
+                if upcoming is not None:
+                    gains = upcoming.result()
+        after = records[:1].copy()
+        start = 0 if first == 0 else 1  # the first chunk's row 0 is epoch 0
+        out.write(first + start, np.hstack([corrections[start:].reshape(k + 1 - start, 2 * N_STATES), sigma[start:]]))
+        made(first + start)
+    if not store.count:  # no segment: epoch 0 as the filter started it
+        out.write(0, np.concatenate([np.zeros(2 * N_STATES), np.sqrt(np.maximum(np.diag(p0), 0.0))])[None])
+        made(0)
 
 
 class _RowsMade:
@@ -1999,5 +2061,5 @@ def _trajectory_rows(t, nav, idx, seg, epochs, sensor_hist, sigma_hist, correcti
 # These kernels run compiled code of other modules (the measurement models, the Kalman update, the
 # strapdown): their cache entries go when those modules change (numba checks only this file).
 _kernels.drop_stale_cache((_propagate_segment, dynamics_rows, _transition, _feedback, _pack_record, _unpack_record,
-                           _unpack_records, _forward_kernel, _rts_chunk, _trajectory_rows),
+                           _unpack_records, _forward_kernel, _rts_gains, _rts_chunk, _trajectory_rows),
                           (meas.__file__, kalman.__file__, _kernels.__file__, error_model.__file__))

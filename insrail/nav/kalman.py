@@ -151,8 +151,21 @@ def inflate(P: np.ndarray, states: np.ndarray, sigma_floor: np.ndarray) -> np.nd
 def rts_step(e_next, P_s_next, phi_next, p_minus_next, p_plus):
     """One backward step of the RTS smoother: (e_j, P_s_j) from epoch j+1's smoothed error
     e_next (relative to j+1's pre-update solution) and covariance P_s_next, the transition
-    phi_next and predicted covariance p_minus_next of the segment j -> j+1, and P+_j.
-    A_j = P+_j Phi^T (P-_{j+1})^-1 (thesis 2.93-2.95)."""
+    phi_next and predicted covariance p_minus_next of the segment j -> j+1, and P+_j:
+    :func:`rts_smoothed` with the gain :func:`rts_gain` (thesis 2.93-2.95)."""
+    return rts_smoothed(rts_gain(phi_next, p_minus_next, p_plus), e_next, P_s_next, p_minus_next, p_plus)
+
+
+@compiled
+def rts_gain(phi_next, p_minus_next, p_plus):
+    """The smoother gain A_j = P+_j Phi^T (P-_{j+1})^-1 of :func:`rts_step`, C-ordered. It needs the
+    forward pass's quantities only, none of the smoothed ones: the gains can be made ahead of the
+    backward recursion (``insrail.nav.fusion._rts``)."""
     A = np.linalg.solve(np.ascontiguousarray(p_minus_next.T), np.ascontiguousarray((p_plus @ phi_next.T).T)).T
-    A = np.ascontiguousarray(A)
+    return np.ascontiguousarray(A)
+
+
+@compiled
+def rts_smoothed(A, e_next, P_s_next, p_minus_next, p_plus):
+    """(e_j, P_s_j) of :func:`rts_step` from its gain ``A`` (:func:`rts_gain`)."""
     return A @ e_next, p_plus + A @ np.ascontiguousarray(P_s_next - p_minus_next) @ np.ascontiguousarray(A.T)
