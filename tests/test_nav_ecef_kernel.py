@@ -24,7 +24,11 @@ def numpy_ecef_to_geodetic(xyz, ell):
     return lat, lon, h
 
 
-def test_ecef_to_geodetic_is_the_numpy_formulae_to_the_bit():
+def test_ecef_to_geodetic_is_the_numpy_formulae_to_the_last_bit():
+    """The same formulae in the same order: the kernel's libm calls and numpy's agree to the bit where numpy
+    runs the same scalar routines, and to one unit in the last place where it has vector routines of its own
+    (AVX-512 builds of sin, cos and arctan2 differ from libm in some 4 % of values by one ulp). The height, a
+    difference of numbers the size of the Earth's radius, then differs by that radius's last bit (2e-9 m)."""
     rng = np.random.default_rng(7)
     n = 20_000
     lat = np.concatenate([rng.uniform(-np.pi / 2, np.pi / 2, n), rng.uniform(0.3, 0.8, n)])
@@ -32,8 +36,11 @@ def test_ecef_to_geodetic_is_the_numpy_formulae_to_the_bit():
     h = np.concatenate([rng.uniform(-500.0, 9000.0, n), rng.uniform(0.0, 100.0, n)])
     for ell in (earth.WGS84, earth.CGCS2000):
         xyz = earth.geodetic_to_ecef(lat, lon, h, ell)
-        for got, want in zip(earth.ecef_to_geodetic(xyz, ell), numpy_ecef_to_geodetic(xyz, ell)):
-            np.testing.assert_array_equal(got, want)
+        (lat_got, lon_got, h_got), (lat_want, lon_want, h_want) = (earth.ecef_to_geodetic(xyz, ell),
+                                                                    numpy_ecef_to_geodetic(xyz, ell))
+        np.testing.assert_array_max_ulp(lat_got, lat_want, maxulp=1)
+        np.testing.assert_array_max_ulp(lon_got, lon_want, maxulp=1)
+        np.testing.assert_allclose(h_got, h_want, rtol=0.0, atol=2.0 * np.spacing(ell.a))
 
 
 def test_ecef_to_geodetic_keeps_the_shape_and_gives_numbers_for_one_point():
