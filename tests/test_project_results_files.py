@@ -195,3 +195,18 @@ def test_the_trajectory_section_is_the_whole_files_figures(tmp_path, monkeypatch
     np.save(path, np.zeros(3))
     with pytest.raises(ValueError, match="not an insrail trajectory"):
         results.trajectory_section(path)
+
+
+def test_an_amount_of_no_millimetres_is_written_0_0_never_minus_0_0():
+    """The optimiser leaves some zero amounts negative (-0.0): a crew reads "-0.0" as an instruction."""
+    from insrail.track.adjustment import Adjustment
+
+    amounts = np.array([[-0.0, 0.0], [-0.002, 0.001]])
+    flags = np.zeros((2, 2), dtype=bool)
+    adjustment = Adjustment(amounts, -amounts, flags, flags, "f", np.zeros((2, 2), np.uint8),
+                            np.zeros((2, 2), np.uint8))
+    columns = results.sleeper_check_columns(Assessment("p", (), ()), adjustment)
+    written = {name: [fmt % value for value in values] for name, (values, fmt) in columns.items()
+               if name.startswith("adjust_")}
+    assert written == {"adjust_lateral_left_mm": ["0.0", "-2.0"], "adjust_lateral_right_mm": ["0.0", "1.0"],
+                       "adjust_vertical_left_mm": ["0.0", "2.0"], "adjust_vertical_right_mm": ["0.0", "-1.0"]}

@@ -158,7 +158,9 @@ def sleeper_check_columns(assessment: Assessment, adjustment: Adjustment) -> dic
     for direction, amounts, flags in (("lateral", adjustment.lateral_m, adjustment.unresolved_lateral),
                                       ("vertical", adjustment.vertical_m, adjustment.unresolved_vertical)):
         for side, rail in enumerate(("left", "right")):
-            columns[f"adjust_{direction}_{rail}_mm"] = (1e3 * amounts[:, side], "%.1f")
+            # + 0.0: an amount of no millimetres is printed 0.0, never -0.0 (the sign of a zero the optimiser
+            # left negative is no instruction to a crew)
+            columns[f"adjust_{direction}_{rail}_mm"] = (1e3 * amounts[:, side] + 0.0, "%.1f")
             columns[f"unresolved_{direction}_{rail}"] = (flags[:, side], "%d")
     return columns
 
