@@ -170,6 +170,9 @@ def test_fusion_and_its_covariance_analysis_grow_only_at_the_filter_rate(survey,
 
     from insrail.quality.survey import UpdateEpochs, recorded_quality
 
+    # the forward pass's records on disk, as a survey's above RECORDS_IN_MEMORY_BYTES (below it they are held in
+    # memory by design: 7.4 kB per update epoch, bounded by that constant)
+    monkeypatch.setattr(fusion, "RECORDS_IN_MEMORY_BYTES", 0)
     monkeypatch.setattr(fusion, "IMU_CHUNK", TINY)
     monkeypatch.setattr(fusion, "HIST_CHUNK", 37)
     monkeypatch.setattr(fusion, "TRAJECTORY_CHUNK", TINY)
@@ -243,6 +246,39 @@ def test_the_running_sum_of_the_odometer_check_is_numpys_to_the_bit(survey, monk
     np.testing.assert_array_equal(values, whole)
 
 
+
+def test_the_records_held_in_memory_fuse_as_the_records_on_disk(faulty_imu, tmp_path, monkeypatch):
+    """The forward pass's records (the smoother's store, the navigation file) in memory below
+    RECORDS_IN_MEMORY_BYTES, in temporary files above it, or moved to them when more comes than
+    was held (a store held for 500 records): trajectory.npy byte-identical, the same events."""
+    survey, imu = faulty_imu
+    in_memory = _fused_files(survey, imu, tmp_path, "memory")
+    monkeypatch.setattr(fusion, "RECORDS_IN_MEMORY_BYTES", 0)
+    assert _fused_files(survey, imu, tmp_path, "disk") == in_memory
+    monkeypatch.setattr(fusion, "RECORDS_IN_MEMORY_BYTES", 1 << 40)
+    hold = fusion.SmootherStore.hold_in_memory
+    monkeypatch.setattr(fusion.SmootherStore, "hold_in_memory", lambda store, count: hold(store, 500))
+    assert _fused_files(survey, imu, tmp_path, "spilled") == in_memory
+
+
+def test_a_spool_moves_to_its_file_when_more_comes_than_it_holds():
+    """Bytes appended past the memory held go, with the ones before them, to the temporary file:
+    read back the same, read-only; bytes never appended are an error, not a short read."""
+    spool = fusion._Spool("insrail-test-", "the test's temporary file")
+    spool.hold_in_memory(100)
+    data = np.arange(150, dtype=np.uint8)
+    spool.append(data[:60])
+    assert spool.memory is not None and spool.file is None
+    spool.append(data[60:])
+    assert spool.memory is None and spool.file is not None
+    for into in (None, np.zeros(200, dtype=np.uint8)):
+        back = spool.read(10, 140, into)
+        np.testing.assert_array_equal(back, data[10:])
+        assert not back.flags.writeable
+    with pytest.raises(OSError, match="not written"):
+        spool.read(100, 51)
+    spool.close()
+
 @pytest.mark.parametrize("in_file", [True, False])
 def test_the_trajectory_made_beside_the_smoother_is_the_one_made_after_it(faulty_imu, tmp_path, monkeypatch, in_file):
     """The smoother in a thread of its own and the trajectory's chunks made last first as its rows come
@@ -310,8 +346,7 @@ def test_the_smoother_records_written_beside_the_filter_are_the_ones_written_by_
         with fusion.SmootherStore(chunk=61) as store:
             fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
                         covariance_store=store)
-            store.file.seek(0)
-            stored[threaded] = (store.count, store.file.read())
+            stored[threaded] = (store.count, store.spool.read(0, store.spool.size).tobytes())
     assert stored[True] == stored[False] and stored[True][0] > 1000
     appended = []
 

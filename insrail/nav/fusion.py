@@ -912,11 +912,86 @@ def _rts_chunk(records, gains, state, e_next, P_s_next, p_minus_next, correction
 # --------------------------------------------------------------------------- storage
 
 
+#: bytes of one fusion's records of its forward pass (the smoother's store and the IMU-rate navigation file) held
+#: in memory, not in temporary files, when all of them fit: the short survey's ~130 MB then never go through the
+#: file system (written and read back: system time). The 10 km survey's larger records stay on disk: its
+#: ``insrail process`` peaks at ~410 MB RSS against a bar of 500 MB.
+RECORDS_IN_MEMORY_BYTES = 256 * 2**20
+
+
+class _Spool:
+    """Bytes appended and read back by offset: in a temporary file, or in a buffer of a size given
+    beforehand (:meth:`hold_in_memory`) until more than it holds is appended (then in the file: the
+    bytes are the same either way, only where they lie differs)."""
+
+    def __init__(self, prefix: str, what: str):
+        self.prefix, self.what = prefix, what
+        self.memory: np.ndarray | None = None
+        self.file = None
+        self.size = 0
+
+    def hold_in_memory(self, capacity: int) -> None:
+        """The next ``capacity`` bytes appended kept in memory (an empty spool)."""
+        if self.size:
+            raise ValueError(f"{self.what}: {self.size} bytes already appended")
+        self.close()
+        self.memory = np.empty(capacity, dtype=np.uint8)  # pages faulted in as they are written
+
+    def append(self, data: np.ndarray) -> None:
+        data = np.ascontiguousarray(data).reshape(-1).view(np.uint8)
+        if self.memory is not None and self.size + len(data) > len(self.memory):
+            memory, self.memory = self.memory[: self.size], None
+            self.size = 0
+            self.append(memory)
+        if self.memory is not None:
+            self.memory[self.size : self.size + len(data)] = data
+        else:
+            try:
+                if self.file is None:
+                    self.file = tempfile.TemporaryFile(prefix=self.prefix)
+                self.file.write(memoryview(data))
+            except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
+                raise OSError(err.errno, err.strerror, f"{tempfile.gettempdir()} ({self.what})") from None
+        self.size += len(data)
+
+    def read(self, offset: int, nbytes: int, into: np.ndarray | None = None) -> np.ndarray:
+        """``nbytes`` bytes from ``offset``, read-only: a view of the memory, or read from the file into the
+        start of ``into`` (uint8, a fresh array without it)."""
+        if offset + nbytes > self.size:
+            raise OSError(f"{tempfile.gettempdir()} ({self.what}): bytes {offset}-{offset + nbytes - 1} not written")
+        if self.memory is not None:
+            data = self.memory[offset : offset + nbytes]
+        else:
+            data = (np.empty(nbytes, dtype=np.uint8) if into is None else into)[:nbytes]
+            self.file.flush()
+            if os.preadv(self.file.fileno(), [data], offset) != nbytes:
+                raise OSError(f"{tempfile.gettempdir()} ({self.what}): bytes {offset}-{offset + nbytes - 1} "
+                              "not read back")
+        data = data.view()
+        data.flags.writeable = False
+        return data
+
+    def clear(self) -> None:
+        """Forget every byte (the memory held stays held)."""
+        if self.file is not None:
+            self.file.seek(0)
+            self.file.truncate()
+        self.size = 0
+
+    def close(self) -> None:
+        self.memory = None
+        if self.file is not None:
+            self.file.close()
+            self.file = None
+
+
 class SmootherStore:
-    """Append-only, chunked, disk-backed record of a forward pass for the RTS pass: per update
+    """Append-only, chunked record of a forward pass for the RTS pass: per update
     epoch j = 1, 2, ... (record j - 1) Phi and Q's result P- of the segment ending at j, P+
     after the updates at j and the update dx applied there, packed (``_pack_record``: Phi's
     dense rows and diagonal, upper triangles: 916 doubles, 7.3 kB). Read back last epoch first.
+    In a temporary file, or in memory when :func:`fuse` finds its records small enough
+    (:data:`RECORDS_IN_MEMORY_BYTES`).
 
     :func:`fuse` keeps its own for the smoother and closes it. A caller that wants the
     covariances once the fusion is done (the covariance analysis of ``insrail.quality``
@@ -927,7 +1002,7 @@ class SmootherStore:
     RECORD = RECORD_SIZE
 
     def __init__(self, chunk: int = 2048):
-        self.file = tempfile.TemporaryFile(prefix="insrail-rts-")
+        self.spool = _Spool("insrail-rts-", "the smoother's temporary file")
         self.chunk = chunk
         self.count = 0
 
@@ -937,38 +1012,30 @@ class SmootherStore:
     def __exit__(self, *exc) -> None:
         self.close()
 
+    def hold_in_memory(self, count: int) -> None:
+        """The next ``count`` records appended kept in memory (an empty store)."""
+        self.spool.hold_in_memory(count * self.RECORD * 8)
+
     def append_records(self, records: np.ndarray) -> None:
         """Append packed records (k, RECORD)."""
-        try:
-            self.file.write(memoryview(np.ascontiguousarray(records, dtype=np.float64)).cast("B"))
-        except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
-            raise OSError(err.errno, err.strerror,
-                          f"{tempfile.gettempdir()} (the smoother's temporary file)") from None
+        self.spool.append(np.asarray(records, dtype=np.float64))
         self.count += len(records)
 
     def clear(self) -> None:
         """Forget every record (the forward pass is run again: :func:`fuse`'s gap returns)."""
-        self.file.seek(0)
-        self.file.truncate()
+        self.spool.clear()
         self.count = 0
 
     def reversed_chunks(self):
         """(index of the chunk's first record, records (k, RECORD)) from the last chunk to the first.
-        The records are read into one buffer (a fresh 15 MB block per chunk is a fresh mapping whose
-        pages the kernel faults in and zeroes, ``insrail.memory``): each chunk is good until the next
-        one is asked for, and read-only."""
-        self.file.flush()
+        From a file, the records are read into one buffer (a fresh 15 MB block per chunk is a fresh
+        mapping whose pages the kernel faults in and zeroes, ``insrail.memory``): each chunk is good
+        until the next one is asked for, and read-only."""
         size = self.RECORD * 8
-        buffer = np.empty((min(self.chunk, max(self.count, 1)), self.RECORD))
+        buffer = np.empty(min(self.chunk, max(self.count, 1)) * size, dtype=np.uint8)
         for first in range(((self.count - 1) // self.chunk) * self.chunk, -1, -self.chunk):
             n = min(self.chunk, self.count - first)
-            self.file.seek(first * size)
-            records = buffer[:n]
-            if self.file.readinto(memoryview(records).cast("B")) != n * size:
-                raise OSError(f"{tempfile.gettempdir()} (the smoother's temporary file): records {first}-{first + n - 1} "
-                              "not written")
-            records.flags.writeable = False
-            yield first, records
+            yield first, self.spool.read(first * size, n * size, buffer).view(np.float64).reshape(n, self.RECORD)
 
     def reversed_blocks(self):
         """Blocks (j, Phi_j, P-_j, P+_j, dx_j) for j = count, ..., 1, unpacked (compiled) into
@@ -981,37 +1048,35 @@ class SmootherStore:
             yield np.arange(first + k, first, -1), phi, p_minus, p_plus, dx
 
     def close(self):
-        self.file.close()
+        self.spool.close()
 
 
 class _EpochFile:
-    """The forward pass's navigation vectors (12 doubles) at the IMU rate, from one IMU epoch on,
-    in a temporary file: appended in chunks, read back by ranges, never all in memory."""
+    """The forward pass's navigation vectors (12 doubles) at the IMU rate, from one IMU epoch on: appended
+    in chunks, read back by ranges; in a temporary file (never all in memory), or in memory when
+    :func:`fuse` finds the records small enough (:data:`RECORDS_IN_MEMORY_BYTES`)."""
 
     WIDTH = 12
 
-    def __init__(self, first_epoch: int):
-        self.file = tempfile.TemporaryFile(prefix="insrail-nav-")
+    def __init__(self, first_epoch: int, rows_in_memory: int = 0):
+        self.spool = _Spool("insrail-nav-", "the fusion's temporary file")
+        if rows_in_memory:
+            self.spool.hold_in_memory(rows_in_memory * self.WIDTH * 8)
         self.first_epoch = first_epoch
         self.count = 0
 
     def append(self, rows: np.ndarray) -> None:
-        try:
-            self.file.write(memoryview(np.ascontiguousarray(rows[:, : self.WIDTH])).cast("B"))
-        except OSError as err:
-            raise OSError(err.errno, err.strerror, f"{tempfile.gettempdir()} (the fusion's temporary file)") from None
+        self.spool.append(rows[:, : self.WIDTH])
         self.count += len(rows)
 
     def read(self, start_epoch: int, stop_epoch: int) -> np.ndarray:
-        """Rows of IMU epochs start_epoch .. stop_epoch - 1."""
-        self.file.flush()
+        """Rows of IMU epochs start_epoch .. stop_epoch - 1 (read-only)."""
         size = self.WIDTH * 8
-        self.file.seek((start_epoch - self.first_epoch) * size)
-        data = self.file.read((stop_epoch - start_epoch) * size)
-        return np.frombuffer(data, dtype=np.float64).reshape(-1, self.WIDTH)
+        data = self.spool.read((start_epoch - self.first_epoch) * size, (stop_epoch - start_epoch) * size)
+        return data.view(np.float64).reshape(-1, self.WIDTH)
 
     def close(self):
-        self.file.close()
+        self.spool.close()
 
 
 class _RowFile:
@@ -1722,7 +1787,12 @@ def fuse(
     m_epochs = len(epochs)
     own_store = covariance_store is None and options.smoother
     store = SmootherStore() if own_store else covariance_store
-    nav_file = _EpochFile(int(epochs[0]))
+    nav_rows = int(epochs[-1]) + 1 - int(epochs[0])
+    records_bytes = nav_rows * _EpochFile.WIDTH * 8 + (0 if store is None else (m_epochs - 1) * store.RECORD * 8)
+    in_memory = records_bytes <= RECORDS_IN_MEMORY_BYTES
+    if store is not None and in_memory:
+        store.hold_in_memory(m_epochs - 1)
+    nav_file = _EpochFile(int(epochs[0]), nav_rows if in_memory else 0)
     history = _RowFile(HISTORY_WIDTH, "the fusion's temporary file")
     smoothed_rows = _RowFile(SMOOTHED_WIDTH, "the smoother's temporary file") if options.smoother else None
     obs_time = np.empty(len(plan.epoch))
@@ -1747,7 +1817,7 @@ def fuse(
             setup = replace(setup, bridged_q=with_gap_noise(bridged_q, returns, t[epochs]))
             nav_file.close()
             history.close()
-            nav_file = _EpochFile(int(epochs[0]))
+            nav_file = _EpochFile(int(epochs[0]), nav_rows if in_memory else 0)
             history = _RowFile(HISTORY_WIDTH, "the fusion's temporary file")
             if store is not None:
                 store.clear()
