@@ -395,7 +395,10 @@ def disk_full_cases(base: Path, workdir: Path) -> list[Outcome]:
     for entry in cache(project).iterdir():
         entry.unlink()
     raised.clear()
-    result = run_cli(["process", str(project)], mock.patch.object(fusion.tempfile, "TemporaryFile", temporary))
+    # the smoother's records in a temporary file, as a survey's above fusion.RECORDS_IN_MEMORY_BYTES (the short
+    # survey's are held in memory)
+    result = run_cli(["process", str(project)], mock.patch.object(fusion.tempfile, "TemporaryFile", temporary),
+                     mock.patch.object(fusion, "RECORDS_IN_MEMORY_BYTES", 0))
     outcomes.append(classify_injected(case, result, bool(raised)))
 
     real_open = open

@@ -451,6 +451,8 @@ def test_a_full_disk_in_the_fusions_temporary_file_is_named(tiny, tmp_path, monk
         return FullDisk() if kwargs.get("prefix") in full else real(**kwargs)
 
     monkeypatch.setattr(fusion.tempfile, "TemporaryFile", temporary_file)
+    # the records in temporary files, as a survey's above RECORDS_IN_MEMORY_BYTES (this one's are held in memory)
+    monkeypatch.setattr(fusion, "RECORDS_IN_MEMORY_BYTES", 0)
     assert main(["process", str(project)]) == 1
     error = capsys.readouterr().err
     assert f"({named}): No space left on device (the disk is full" in error, error
