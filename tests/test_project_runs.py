@@ -4,6 +4,7 @@ track (design plus the scenario's fixed bumps, no random roughness), 150 m each.
 import os
 import shutil
 import subprocess
+import sys
 import tomllib
 from dataclasses import replace
 
@@ -372,3 +373,20 @@ def test_dask_batch_over_tls_with_the_security_settings_of_a_config_file(tiny_pr
 def test_batch_refuses_a_scheduler_address_it_cannot_use_as_bad_usage(tmp_path, capsys, address, expected):
     assert main(["batch", str(tmp_path), "--scheduler", address]) == 2
     assert f"insrail batch: --scheduler {address}: {expected}" in capsys.readouterr().err
+
+
+def test_the_batch_stops_the_dask_workers_statistical_profiler_on_python_3_11():
+    """Dask's profiler can deadlock a Python 3.11 worker process (CPython gh-106883): the batch's client stops it
+    on the workers it finds, here one started with the profiler on."""
+    import dask
+    from distributed import LocalCluster
+
+    from insrail.project.batch import _dask_client
+
+    with dask.config.set({"distributed.worker.profile.enabled": True}), \
+            LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+        worker = next(iter(cluster.workers.values()))
+        assert "profile" in worker.periodic_callbacks  # the cluster's default, which the test must see stopped
+        with _dask_client(cluster.scheduler_address):
+            profiling = {"profile", "profile-cycle"} & set(worker.periodic_callbacks)
+    assert profiling == (set() if sys.version_info < (3, 12) else {"profile", "profile-cycle"})

@@ -37,6 +37,7 @@ their previous results in place), and :class:`insrail.progress.Cancelled` is rai
 
 from __future__ import annotations
 
+import sys
 import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
@@ -305,7 +306,24 @@ def _dask_client(scheduler: str, security=None):
         from distributed import Client
     except ImportError:
         raise RuntimeError("a Dask scheduler needs the 'distributed' package: pip install insrail[cluster]") from None
-    return Client(scheduler, timeout="10s", security=security)
+    client = Client(scheduler, timeout="10s", security=security)
+    if sys.version_info < (3, 12):
+        client.run(_stop_statistical_profiler)
+    return client
+
+
+def _stop_statistical_profiler(dask_worker) -> None:
+    """Stop a Dask worker's statistical profiler (the dashboard's profile: ``sys._current_frames()`` every 10 ms).
+
+    Why: on Python 3.11 ``sys._current_frames()`` can deadlock the whole worker process (CPython gh-106883,
+    dask/distributed#8616: it holds the runtime's lock while allocating, a garbage collection then frees a
+    thread-local object that takes the same lock). A batch that hangs for ever is worse than a dashboard
+    without its profile. Workers joining after the client connected keep theirs: start them with
+    ``DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED=False`` (README, "A line section on a Dask cluster")."""
+    for name in ("profile", "profile-cycle"):
+        callback = dask_worker.periodic_callbacks.pop(name, None)
+        if callback is not None:
+            callback.stop()
 
 
 def _run_on_dask(tasks, client, report, cancel) -> None:
