@@ -261,6 +261,18 @@ def test_the_records_held_in_memory_fuse_as_the_records_on_disk(faulty_imu, tmp_
     assert _fused_files(survey, imu, tmp_path, "spilled") == in_memory
 
 
+def test_a_callers_covariance_store_keeps_its_records_on_disk(faulty_imu, tmp_path):
+    """The store ``insrail process`` keeps for the covariance analysis outlives the fusion into the track
+    reconstruction, where a run peaks: its records go to the temporary file however small they are."""
+    survey, imu = faulty_imu
+    profile = load_imu_profile(survey.manifest.imu_profile)
+    options = fusion.FusionOptions()
+    with fusion.SmootherStore() as store:
+        fusion.fuse(imu, fusion.aiding_for(survey, options, profile), profile, options, CGCS2000,
+                    trajectory_file=tmp_path / "t.npy", covariance_store=store)
+        assert store.count > 0 and store.spool.memory is None and store.spool.file is not None
+
+
 def test_a_spool_moves_to_its_file_when_more_comes_than_it_holds():
     """Bytes appended past the memory held go, with the ones before them, to the temporary file:
     read back the same, read-only; bytes never appended are an error, not a short read."""

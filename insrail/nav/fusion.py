@@ -913,9 +913,11 @@ def _rts_chunk(records, gains, state, e_next, P_s_next, p_minus_next, correction
 
 
 #: bytes of one fusion's records of its forward pass (the smoother's store and the IMU-rate navigation file) held
-#: in memory, not in temporary files, when all of them fit: the short survey's ~130 MB then never go through the
-#: file system (written and read back: system time). The 10 km survey's larger records stay on disk: its
-#: ``insrail process`` peaks at ~410 MB RSS against a bar of 500 MB.
+#: in memory, not in temporary files, when all of them fit and the fusion owns them (``insrail fuse``): the short
+#: survey's ~130 MB then never go through the file system (written and read back: system time). A caller's
+#: covariance store (``insrail process``) outlives the fusion into the track reconstruction, where a run peaks
+#: (the 10 km survey at ~410 MB RSS against a bar of 500 MB): there both stay on disk, or a survey of 2-3 km
+#: would peak above the 10 km one.
 RECORDS_IN_MEMORY_BYTES = 256 * 2**20
 
 
@@ -1789,7 +1791,7 @@ def fuse(
     store = SmootherStore() if own_store else covariance_store
     nav_rows = int(epochs[-1]) + 1 - int(epochs[0])
     records_bytes = nav_rows * _EpochFile.WIDTH * 8 + (0 if store is None else (m_epochs - 1) * store.RECORD * 8)
-    in_memory = records_bytes <= RECORDS_IN_MEMORY_BYTES
+    in_memory = covariance_store is None and records_bytes <= RECORDS_IN_MEMORY_BYTES
     if store is not None and in_memory:
         store.hold_in_memory(m_epochs - 1)
     nav_file = _EpochFile(int(epochs[0]), nav_rows if in_memory else 0)
