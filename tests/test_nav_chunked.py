@@ -146,16 +146,39 @@ def test_the_filter_fed_in_imu_chunks_gives_the_same_files_and_events(faulty_imu
 
 
 def test_the_mapped_imu_file_fuses_as_the_record_in_memory(survey, short_nav_survey, tmp_path, monkeypatch):
-    """read_imu_npy maps the increments (not held in memory); fused from the map, with its pages
-    let go behind the filter, the trajectory is the one fused from a copy in memory."""
+    """read_imu_npy maps the increments of a record above MAPPED_ABOVE_BYTES (not held in memory);
+    fused from the map, with its pages let go behind the filter, the trajectory is the one fused
+    from a copy in memory."""
     path = short_nav_survey / survey.manifest.files["imu"].path
     n = 100_000
+    monkeypatch.setattr(imu_io, "MAPPED_ABOVE_BYTES", 0)  # this survey's record is held in memory
     mapped = imu_io.read_imu_npy(path)
     assert isinstance(mapped.dtheta_rad.base, np.memmap) or isinstance(mapped.dtheta_rad, np.memmap)
     mapped = replace(mapped, time_s=mapped.time_s[:n], dtheta_rad=mapped.dtheta_rad[:n], dvel_mps=mapped.dvel_mps[:n])
     in_memory = replace(mapped, dtheta_rad=np.array(mapped.dtheta_rad), dvel_mps=np.array(mapped.dvel_mps))
     monkeypatch.setattr(fusion, "IMU_CHUNK", TINY)
     assert _fused_files(survey, mapped, tmp_path, "mapped") == _fused_files(survey, in_memory, tmp_path, "memory")
+
+
+def test_the_text_imu_file_is_copied_as_the_binary_one(survey, short_nav_survey, tmp_path, monkeypatch):
+    """read_imu_kfgins hands the parsed increments over to the copy read_imu_npy makes: mapped above
+    MAPPED_ABOVE_BYTES (a 10 km survey's 100 MB table is not held beside the fusion, which lets the
+    pages go behind it), in memory below; the same bits as the binary file's either way, read-only."""
+    n = 50_000
+    binary = imu_io.read_imu_npy(short_nav_survey / survey.manifest.files["imu"].path)
+    binary = replace(binary, time_s=binary.time_s[:n], dtheta_rad=binary.dtheta_rad[:n], dvel_mps=binary.dvel_mps[:n])
+    imu_io.write_imu_kfgins(tmp_path / "imu.txt", binary)
+    for mapped_above, mapped in ((n * 48 - 1, True), (n * 48, False)):
+        monkeypatch.setattr(imu_io, "MAPPED_ABOVE_BYTES", mapped_above)
+        text = imu_io.read_imu_kfgins(tmp_path / "imu.txt")
+        for name in ("dtheta_rad", "dvel_mps"):
+            values = getattr(text, name)
+            assert (isinstance(values.base, np.memmap) or isinstance(values, np.memmap)) == mapped, name
+            assert np.array_equal(values, getattr(binary, name)), name
+            assert not values.flags.writeable
+        assert np.allclose(text.time_s, binary.time_s, rtol=0, atol=1e-9)  # written to 1 ns
+        imu_io.release_pages(text.dtheta_rad, text.dvel_mps)
+        assert np.array_equal(text.dvel_mps, binary.dvel_mps)  # read back after the pages were let go
 
 
 def test_fusion_and_its_covariance_analysis_grow_only_at_the_filter_rate(survey, tmp_path, monkeypatch):

@@ -423,6 +423,7 @@ def test_a_read_only_project_is_named_and_its_results_kept(tiny, tmp_path, monke
 def test_a_full_disk_in_the_fusions_temporary_file_is_named(tiny, tmp_path, monkeypatch, capsys, full_from, named):
     import errno
 
+    from insrail.io import imu as imu_io
     from insrail.nav import fusion
 
     project = copy_of(tiny, tmp_path)
@@ -451,8 +452,10 @@ def test_a_full_disk_in_the_fusions_temporary_file_is_named(tiny, tmp_path, monk
         return FullDisk() if kwargs.get("prefix") in full else real(**kwargs)
 
     monkeypatch.setattr(fusion.tempfile, "TemporaryFile", temporary_file)
-    # the records in temporary files, as a survey's above RECORDS_IN_MEMORY_BYTES (this one's are held in memory)
+    # the records in temporary files, as a survey's above RECORDS_IN_MEMORY_BYTES and MAPPED_ABOVE_BYTES (this
+    # one's are held in memory)
     monkeypatch.setattr(fusion, "RECORDS_IN_MEMORY_BYTES", 0)
+    monkeypatch.setattr(imu_io, "MAPPED_ABOVE_BYTES", 0)
     assert main(["process", str(project)]) == 1
     error = capsys.readouterr().err
     assert f"({named}): No space left on device (the disk is full" in error, error

@@ -71,8 +71,14 @@ def read_imu_kfgins(path: str | Path) -> ImuIncrements:
     time_s = check_table_time(table)
     dtheta, dvel = table.values[:, 1:4], table.values[:, 4:7]
     _check_increment_magnitudes(table.path, time_s, _norms(dtheta), _norms(dvel))
-    return ImuIncrements(time_s=np.ascontiguousarray(time_s), dtheta_rad=np.ascontiguousarray(dtheta),
-                         dvel_mps=np.ascontiguousarray(dvel), gps_week=header_gps_week(table.path, table.comments),
+    # the increments leave the parsed table for the copy read_imu_npy's make: a 10 km survey's
+    # 100 MB table is not held beside the fusion, which reads a mapped copy in chunks
+    with _IncrementsCopy(len(time_s)) as copy:
+        for start in range(0, len(time_s), NPY_READ_CHUNK):
+            copy.append(dtheta[start : start + NPY_READ_CHUNK], dvel[start : start + NPY_READ_CHUNK])
+        increments = copy.copied()
+    return ImuIncrements(time_s=np.ascontiguousarray(time_s), dtheta_rad=increments["dtheta_rad"],
+                         dvel_mps=increments["dvel_mps"], gps_week=header_gps_week(table.path, table.comments),
                          gaps=find_gaps(time_s), source=table.path)
 
 
@@ -87,9 +93,12 @@ def write_imu_kfgins(path: str | Path, imu: ImuIncrements) -> None:
                         ["%.9f"] + ["%.16e"] * 6, header)
 
 
-#: records read at a time from a binary IMU file (14 MB) while it is checked
+#: IMU records checked or copied at a time (a binary file's 14 MB)
 NPY_READ_CHUNK = 1 << 18
-#: the increments of a binary IMU file as the fusion reads them (the private copy read_imu_npy maps)
+#: an IMU record's increments above this size are copied to a file and mapped, not held in memory
+#: (a 10 km survey's: 87 MB); below it a file costs more time than the memory it saves
+MAPPED_ABOVE_BYTES = 32 << 20
+#: the increments as the fusion reads them (the private copy _IncrementsCopy makes)
 _INCREMENTS_DTYPE = np.dtype([("dtheta_rad", "<f8", (3,)), ("dvel_mps", "<f8", (3,))])
 
 
@@ -155,11 +164,10 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
 
     Checked in chunks of NPY_READ_CHUNK records with plain reads. The times are held in memory;
     the increments (any float layout, as float64) are copied as they are checked into a private
-    temporary file, already unlinked, and returned as read-only views of a memory map of that copy:
-    never held whole (whoever reads them in chunks lets the pages go behind the cursor,
-    :func:`release_pages`; the fusion does), and what the fusion reads is what was checked, even
-    if the file is rewritten or cut while a survey is processed (a map of the file itself would
-    then fault). Errors name the 0-based record index.
+    copy (:class:`_IncrementsCopy`: above MAPPED_ABOVE_BYTES a temporary file, already unlinked,
+    mapped) and returned as read-only views of it: a large record is never held whole, and what the
+    fusion reads is what was checked, even if the file is rewritten or cut while a survey is
+    processed (a map of the file itself would then fault). Errors name the 0-based record index.
     """
     path = Path(path)
     if not path.exists():
@@ -172,13 +180,13 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
 
         time_s = np.empty(n)
         norms = {"dtheta_rad": np.empty(n), "dvel_mps": np.empty(n)}
-        with tempfile.TemporaryFile(prefix="insrail-imu-") as copy:
+        with _IncrementsCopy(n) as copy:
             for start in range(0, n, NPY_READ_CHUNK):
                 count = min(NPY_READ_CHUNK, n - start)
                 records = np.fromfile(handle, dtype=dtype, count=count)
                 if len(records) != count:
                     raise InputError(path, None, "the file ends after {read} of its {n} records", fields={"read": start + len(records), "n": n})
-                checked = np.empty(count, dtype=_INCREMENTS_DTYPE)
+                checked = {}
                 for name in IMU_NPY_DTYPE.names:
                     values = np.asarray(records[name], dtype=np.float64)
                     if name == "time_s":
@@ -190,18 +198,61 @@ def read_imu_npy(path: str | Path) -> ImuIncrements:
                     if not finite.all():
                         index = start + int(np.argmin(finite))
                         fail(index, "{name} is {value}: expected finite numbers", fields={"name": name, "value": values[index - start]})
-                try:
-                    copy.write(memoryview(checked).cast("B"))
-                except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
-                    raise OSError(err.errno, err.strerror,
-                                  f"{tempfile.gettempdir()} (the IMU record's temporary copy)") from None
+                copy.append(checked["dtheta_rad"], checked["dvel_mps"])
             check_time_order(time_s, fail, unit="index", where=lambda index: index)
             _check_increment_magnitudes(path, time_s, norms["dtheta_rad"], norms["dvel_mps"])
             del norms
-            copy.flush()
-            increments = np.memmap(copy, dtype=_INCREMENTS_DTYPE, mode="r", shape=(n,))  # outlives the file handle
+            increments = copy.copied()
     return ImuIncrements(time_s=time_s, dtheta_rad=increments["dtheta_rad"], dvel_mps=increments["dvel_mps"],
                          gaps=find_gaps(time_s), source=path)
+
+
+class _IncrementsCopy:
+    """The increments as checked, appended chunk by chunk to a private copy: for a record above
+    :data:`MAPPED_ABOVE_BYTES` a temporary file (already unlinked), then mapped read-only, never held
+    whole in memory; whoever reads the map in chunks lets the pages go behind the cursor
+    (:func:`release_pages`; the fusion does). Either way what is read is what was checked, even if
+    the survey's file is rewritten or cut meanwhile, in the same layout."""
+
+    def __init__(self, records: int) -> None:
+        self._records = records
+        self._filled = 0
+        self._file = None
+        self._memory = None
+        if records * _INCREMENTS_DTYPE.itemsize > MAPPED_ABOVE_BYTES:
+            self._file = tempfile.TemporaryFile(prefix="insrail-imu-")
+        else:
+            self._memory = np.empty(records, dtype=_INCREMENTS_DTYPE)
+
+    def __enter__(self) -> "_IncrementsCopy":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._file is not None:
+            self._file.close()  # the map made by copied() outlives the handle
+
+    def append(self, dtheta_rad: np.ndarray, dvel_mps: np.ndarray) -> None:
+        stop = self._filled + len(dtheta_rad)
+        if self._memory is not None:
+            self._memory["dtheta_rad"][self._filled : stop], self._memory["dvel_mps"][self._filled : stop] = dtheta_rad, dvel_mps
+        else:
+            chunk = np.empty(len(dtheta_rad), dtype=_INCREMENTS_DTYPE)
+            chunk["dtheta_rad"], chunk["dvel_mps"] = dtheta_rad, dvel_mps
+            try:
+                self._file.write(memoryview(chunk).cast("B"))
+            except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
+                raise OSError(err.errno, err.strerror,
+                              f"{tempfile.gettempdir()} (the IMU record's temporary copy)") from None
+        self._filled = stop
+
+    def copied(self) -> np.ndarray:
+        """The records appended (all ``records`` of them)."""
+        assert self._filled == self._records
+        if self._memory is not None:
+            self._memory.flags.writeable = False  # as the map: what was checked stays so
+            return self._memory
+        self._file.flush()
+        return np.memmap(self._file, dtype=_INCREMENTS_DTYPE, mode="r", shape=(self._records,))
 
 
 def write_imu_npy(path: str | Path, imu: ImuIncrements) -> None:
