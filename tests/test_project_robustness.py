@@ -481,6 +481,29 @@ def test_a_full_disk_while_writing_the_results_keeps_the_previous_ones(tiny, tmp
     assert sorted(p.name for p in (project / "results").iterdir()) == [".cache", ".locks", SURVEY]  # no staging left
 
 
+def test_a_full_disk_in_the_track_reconstructions_spool_is_named(tiny, tmp_path, monkeypatch, capsys):
+    project = copy_of(tiny, tmp_path)
+    before = (results_of(project) / "sleepers.csv").read_bytes()
+    for entry in cache_of(project).glob("track-*"):  # the track reconstructed again, from the cached fusion
+        entry.unlink()
+    real, filled = os.pwrite, []
+
+    def pwrite(fd, data, offset):  # the spool's files fill the disk: a part of a write taken, then none
+        if "/.track-spool-" not in os.readlink(f"/proc/self/fd/{fd}"):
+            return real(fd, data, offset)
+        if filled:
+            raise OSError(errno.ENOSPC, "No space left on device")  # as the system says it: no file name
+        filled.append(fd)
+        return real(fd, memoryview(data)[:len(data) // 2], offset)
+
+    monkeypatch.setattr(atomic.os, "pwrite", pwrite)
+    assert main(["process", str(project)]) == 1
+    error = capsys.readouterr().err
+    assert f"insrail: {cache_of(project)}/.track-spool-" in error and ".f64: No space left on device (the disk is full" in error, error
+    assert (results_of(project) / "sleepers.csv").read_bytes() == before
+    assert not list(cache_of(project).glob(".track-spool-*")) and not list(cache_of(project).glob("track-*"))
+
+
 class _RoomForAHeader(io.FileIO):
     """/dev/full behind a file object with room for an .npy header: the disk fills after it, for the
     file object's writes and for numpy's own (``ndarray.tofile`` writes to the descriptor, /dev/full's,

@@ -150,6 +150,17 @@ def save_npy(path: str | Path, array) -> None:
         handle.write(array)  # its bytes, in place (any dtype: a plain buffer)
 
 
+def write_at(path: str | Path, fd: int, data, offset: int) -> None:
+    """All of ``data`` (a buffer) at ``offset`` of the open file ``fd`` of ``path`` (``os.pwrite``); an OSError names
+    ``path``. A regular file takes it all at once but at the end of the disk's space: there a part, then ENOSPC."""
+    data = memoryview(data).cast("B")
+    while data:
+        done = named_write(path, os.pwrite, fd, data, offset)
+        if not done:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+        data, offset = data[done:], offset + done
+
+
 def naming(err: OSError, path: str | Path) -> OSError:
     """``err`` naming ``path`` when it names no file (a full disk names none): what a writer raises."""
     if err.filename:
