@@ -9,7 +9,7 @@ import stat
 import numpy as np
 import pytest
 
-from insrail.io.atomic import NotARegularFile, atomic_write, remove_dead_temporaries
+from insrail.io.atomic import NotARegularFile, atomic_write, naming, remove_dead_temporaries, save_npy
 from insrail.io.rtklib import read_rtklib_pos
 from insrail.io.timescale import (
     calendar_to_week_seconds,
@@ -130,3 +130,24 @@ def test_a_killed_writers_temporary_is_removed_by_the_next_write(tmp_path):
         assert path.read_bytes() == b"%PDF"
         assert not dead.exists() and alive.exists()
     assert remove_dead_temporaries(path) == [alive]  # its writer gone now too
+
+
+def test_save_npy_writes_what_np_save_writes(tmp_path):
+    import io
+
+    records = np.zeros(5, dtype=[("time_s", "f8"), ("dvel_mps", "f8", (3,))])
+    records["time_s"] = np.arange(5.0)
+    saved = io.BytesIO()
+    np.save(saved, records)
+    save_npy(tmp_path / "records.npy", records)
+    assert (tmp_path / "records.npy").read_bytes() == saved.getvalue()
+    with pytest.raises(ValueError, match="an array of Python objects cannot be saved"):  # pointers, not data
+        save_npy(tmp_path / "objects.npy", np.array([None, "x"], dtype=object))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["records.npy"]
+
+
+def test_an_error_without_errno_keeps_its_message_when_named(tmp_path):
+    from insrail.cli.main import describe_os_error
+
+    named = naming(OSError("3 requested and 0 written"), tmp_path / "a.npy")  # as numpy's writer raises it
+    assert describe_os_error(named) == f"{tmp_path / 'a.npy'}: 3 requested and 0 written"

@@ -4,7 +4,10 @@ results swap leaves the previous results readable, leftovers of killed runs are 
 
 from __future__ import annotations
 
+import dataclasses
+import errno
 import fcntl
+import io
 import os
 import shutil
 import subprocess
@@ -18,7 +21,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from insrail.cli.main import main
+from insrail.cli.main import describe_os_error, main
+from insrail.io import atomic
 from insrail.io.errors import InputError
 from insrail.project import load_project, pipeline, process
 from insrail.project import results as results_module
@@ -478,6 +482,104 @@ def test_a_full_disk_while_writing_the_results_keeps_the_previous_ones(tiny, tmp
     assert f"{results_of(project) / 'trajectory.npy'}: No space left on device (the disk is full" in error, error
     assert (results_of(project) / "sleepers.csv").read_bytes() == before
     assert sorted(p.name for p in (project / "results").iterdir()) == [".cache", ".locks", SURVEY]  # no staging left
+
+
+def test_a_full_disk_in_the_track_reconstructions_spool_is_named(tiny, tmp_path, monkeypatch, capsys):
+    project = copy_of(tiny, tmp_path)
+    before = (results_of(project) / "sleepers.csv").read_bytes()
+    for entry in cache_of(project).glob("track-*"):  # the track reconstructed again, from the cached fusion
+        entry.unlink()
+    real, filled = os.pwrite, []
+
+    def pwrite(fd, data, offset):  # the spool's files fill the disk: a part of a write taken, then none
+        if "/.track-spool-" not in os.readlink(f"/proc/self/fd/{fd}"):
+            return real(fd, data, offset)
+        if filled:
+            raise OSError(errno.ENOSPC, "No space left on device")  # as the system says it: no file name
+        filled.append(fd)
+        return real(fd, memoryview(data)[:len(data) // 2], offset)
+
+    monkeypatch.setattr(atomic.os, "pwrite", pwrite)
+    assert main(["process", str(project)]) == 1
+    error = capsys.readouterr().err
+    assert f"insrail: {cache_of(project)}/.track-spool-" in error and ".f64: No space left on device (the disk is full" in error, error
+    assert (results_of(project) / "sleepers.csv").read_bytes() == before
+    assert not list(cache_of(project).glob(".track-spool-*")) and not list(cache_of(project).glob("track-*"))
+
+
+class _RoomForAHeader(io.FileIO):
+    """/dev/full behind a file object with room for an .npy header: the disk fills after it, for the
+    file object's writes and for numpy's own (``ndarray.tofile`` writes to the descriptor, /dev/full's,
+    and says only "N requested and 0 written")."""
+
+    room = 4096
+
+    def write(self, data):
+        if len(data) > self.room:
+            raise OSError(errno.ENOSPC, "No space left on device")  # as the system says it: no file name
+        self.room -= len(data)
+        return len(data)
+
+
+def _disk_full_in(monkeypatch, name: str) -> None:
+    """The atomic writes of the files called ``name`` fill the disk after their header."""
+    real = os.fdopen
+
+    def fdopen(fd, mode="r", *args, **kwargs):
+        if not Path(os.readlink(f"/proc/self/fd/{fd}")).name.startswith(f".{name}."):  # atomic_write's temporary
+            return real(fd, mode, *args, **kwargs)
+        os.close(fd)
+        return io.BufferedWriter(_RoomForAHeader("/dev/full", "w"))
+
+    monkeypatch.setattr(atomic.os, "fdopen", fdopen)
+
+
+@pytest.mark.parametrize("name", ["imu.npy", "nav.npy"])  # the raw IMU record; the truth at the IMU rate
+def test_a_full_disk_while_simulating_names_the_npy_file_and_keeps_the_previous_survey(tmp_path, monkeypatch, name):
+    scenario = tiny_scenario()
+    scenario = replace(scenario, motion=replace(scenario.motion, end_station_m=1120.0, static_start_s=5.0,
+                                                static_end_s=2.0))
+    survey = tmp_path / "survey"
+    survey.mkdir()
+    (survey / "survey.toml").write_text("# the survey simulated before\n")
+    _disk_full_in(monkeypatch, name)
+    with pytest.raises(OSError) as failed:
+        simulate(scenario, 1, survey, imu_format="npy", overwrite=True)
+    message = describe_os_error(failed.value)
+    assert f"/{name}: No space left on device (the disk is full" in message and message.startswith(str(tmp_path)), message
+    assert (survey / "survey.toml").read_text() == "# the survey simulated before\n"
+    assert sorted(tmp_path.iterdir()) == [survey]  # no half-written survey left beside it
+
+
+@dataclasses.dataclass
+class _Times:
+    time_s: np.ndarray
+
+
+def _save_imu(path: Path, time_s: np.ndarray) -> None:
+    from insrail.io.imu import write_imu_npy
+    from insrail.io.types import ImuIncrements
+
+    write_imu_npy(path, ImuIncrements(time_s, np.zeros((len(time_s), 3)), np.zeros((len(time_s), 3))))
+
+
+def _save_stage(path: Path, time_s: np.ndarray) -> None:
+    from insrail.project.stagecache import save_dataclass
+
+    save_dataclass(path, _Times(time_s))
+
+
+@pytest.mark.parametrize("name, save", [("imu.npy", _save_imu), ("track.npz", _save_stage)])  # np.save's; np.savez's
+def test_a_full_disk_while_saving_arrays_names_the_file_and_keeps_the_previous_one(tmp_path, monkeypatch, name, save):
+    path = tmp_path / name
+    save(path, np.arange(10.0))
+    _disk_full_in(monkeypatch, name)
+    with pytest.raises(OSError) as failed:
+        save(path, np.arange(100_000.0))
+    assert describe_os_error(failed.value).startswith(f"{path}: No space left on device (the disk is full")
+    with open(path, "rb") as handle:
+        assert np.array_equal(np.load(handle)["time_s"], np.arange(10.0))
+    assert [p.name for p in tmp_path.iterdir() if p.suffix != ".sha256"] == [name]  # no temporary left
 
 
 @pytest.mark.parametrize(("arguments", "message"), [

@@ -175,6 +175,47 @@ def test_a_section_batch_with_a_failed_run_is_not_joined(section_project, tmp_pa
     assert main(["batch", str(copy), str(copy), "--section", "line"]) == 2
 
 
+def test_a_section_batch_leaves_out_what_a_noisy_run_cannot_assess_and_says_so_once(section_project, tmp_path, capsys):
+    """`insrail batch PROJECT --section line` with a noisy run2 (its cached covariance analysis states a 1 mm 5 m lag
+    figure across the track, where the 30 m / 5 m and 10 m versine lateral checks ask for 0.67 mm: three 1-sigma
+    within the 2 mm limit): run2 leaves them out and warns; the joined section leaves them out wherever a row holds
+    run2's values (its own and its overlaps') and says so once, naming run2, not beside run2's own warning."""
+    from insrail.project.pipeline import fusion_key, quality_cache_file
+    from insrail.project.stagecache import load_dataclass, save_dataclass
+    from insrail.quality.survey import EpochQuality
+
+    (copy,) = copies_with_their_cache([section_project], tmp_path)  # the runs' fusion and track from the cache
+    project = load_project(copy)
+    analysis = quality_cache_file(copy / "results" / ".cache" /
+                                  f"fusion-{fusion_key(project, project.manifest('run2'), copy / 'surveys' / 'run2')}.npy")
+    stated = load_dataclass(analysis, EpochQuality)
+    save_dataclass(analysis, replace(stated, lag5_sigma_lateral_m=np.full_like(stated.lag5_sigma_lateral_m, 1e-3)))
+    assert main(["batch", str(copy), "--section", "line", "--workers", "1", "--no-reports"]) == 0
+    out = capsys.readouterr().out
+    def left_out(summary):
+        return {(n["check"], n["direction"]): n for n in summary["assessment"]["not_assessable"]}
+
+    run2, joined = load_results(copy, "run2"), load_results(copy, "line")
+    noisy = left_out(run2.summary).keys() - left_out(load_results(section_project.folder, "run2").summary).keys()
+    assert noisy == {("short_wave_30m_5m", "lateral"), ("versine_10m", "lateral")}  # (the 300 m chord: in any 150 m run)
+    station = joined.columns["station_m"]
+    held = (station >= run2.columns["station_m"].min() - 0.3) & (station <= run2.columns["station_m"].max() + 0.3)
+    assert (joined.columns["source_run2"][~held] == 0).all() and held.sum() > 200
+    for key in noisy:
+        assert left_out(joined.summary)[key]["surveys"] == [["run2"]]
+        assert left_out(joined.summary)[key]["stretches_m"] == [[pytest.approx(station[held][0]),
+                                                                 pytest.approx(station[held][-1])]]
+    for rail in ("left", "right"):
+        values = joined.columns[f"check_short_wave_30m_5m_{rail}_lateral_mm"]
+        assert np.isnan(values[held]).all() and np.isfinite(values[~held]).any()
+    assert not any((e.check, e.direction) in noisy and station[held][0] <= e.station_from_m <= station[held][-1]
+                   for e in joined.exceedances)
+    # said once: a warning per check and direction, the section's (its stretches name the runs), none of the runs'
+    warned = [n["message"] for n in joined.summary["notices"] if "not assessable" in n["message"]]
+    assert len(warned) == len(left_out(joined.summary)) and all(" m (run" in m for m in warned), warned
+    assert sum("not assessable" in line for line in out.splitlines()) == len(warned), out
+
+
 def test_a_section_batch_on_a_dask_cluster_with_a_failed_run_is_not_joined_and_reads_the_others_ahead(
         section_project, tmp_path, capsys, monkeypatch):
     """On the cluster, as locally: a failed run leaves the section unjoined (exit 1). Each run that was

@@ -267,10 +267,12 @@ def test_runs_that_disagree_are_a_notice(project, tmp_path, capsys, amounts_not_
 def test_a_check_a_run_cannot_assess_is_not_assessed_in_the_section(project, tmp_path, capsys, monkeypatch):
     """A run whose stated accuracy cannot resolve a check (a noisy survey) leaves it out (insrail.project.assessable):
     the section joining it leaves it out too, wherever a row holds that run's values, and its adjustment does not
-    hold it there (the section assessed it anyway: exceedances and amounts from a survey's noise)."""
+    hold it there (the section assessed it anyway: exceedances and amounts from a survey's noise). The section's
+    warning names the run and stands for the run's own: each said once, the run's other warnings kept."""
     import shutil
 
-    from insrail.project import section
+    from insrail.project import assessable, section
+    from insrail.project.redesign import section_quality
 
     project, _ = project
     noisy = tmp_path / "p"
@@ -282,6 +284,12 @@ def test_a_check_a_run_cannot_assess_is_not_assessed_in_the_section(project, tmp
     cells = first.split(",")
     cells[header.split(",").index("sigma_lag5_lateral_mm")] = "1.000"
     path.write_text("\n".join([header, ",".join(cells), *rest]) + "\n")
+    run2 = load_results(noisy, "run2")  # its own warnings, as processing with that quality.csv writes them
+    found = assessable.not_assessable(load_tolerance_profile("cn_hsr_ballastless"), section_quality(run2.quality),
+                                      run2.columns["station_m"])
+    (noisy / "results" / "run2" / "summary.toml").write_bytes(summary_toml(run2.summary | {"notices": [
+        *run2.summary["notices"], *(n.to_dict() for n in assessable.notices(found, [0] * len(found)))]}))
+    assert sum("not assessable" in n["message"] for n in load_results(noisy, "run2").summary["notices"]) == 2
     save_project(replace(project, folder=noisy, sections=(SectionEntry("km1", ("run2", "run1")),
                                                           SectionEntry("km1m", ("run1", "run2"), overlap="mean"))))
     held = {}
@@ -317,7 +325,12 @@ def test_a_check_a_run_cannot_assess_is_not_assessed_in_the_section(project, tmp
         assert not any(e.check == "short_wave_30m_5m" and e.direction == "lateral"
                        and 1312.4 < e.station_from_m < 1512.4 for e in joined.exceedances)
         np.testing.assert_array_equal(not_assessed[("short_wave_30m_5m", "lateral")], left_out)  # not held there
-        assert any("short_wave_30m_5m lateral: not assessable" in n["message"] for n in joined.summary["notices"])
+        said = [n["message"] for n in joined.summary["notices"]]
+        warned = [m for m in said if "not assessable" in m]
+        assert len(warned) == 2 and sum(m.startswith("short_wave_30m_5m lateral: not assessable") for m in warned) == 1
+        assert all(" over 1312-1512 m (run2): 320 sleepers not assessed" in m for m in warned), warned
+        assert {"run1: a notice", "run2: a notice"} <= set(said)  # the runs' other warnings: kept
+        assert short_wave["surveys"] == [["run2"]]
         # the sleepers' own reasons are the runs' (a check left out is an empty value of it, as in a run's file)
         assert set(joined.not_assessed) == set(load_results(noisy, "run1").not_assessed)
 

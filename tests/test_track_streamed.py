@@ -1,6 +1,7 @@
 """The track reconstruction by parts (insrail.track.streamed) gives the whole run's results to the bit,
 in memory that does not grow with the survey's length."""
 
+import os
 import threading
 from dataclasses import fields, replace
 
@@ -230,7 +231,7 @@ def test_a_cancel_leaves_no_spool_and_no_epochs_file(tmp_path, truth):
 
 @pytest.mark.parametrize("cpus", [1, 2], ids=["one CPU: serial", "two CPUs: threads"])
 def test_the_rails_made_by_threads_or_one_at_a_time_are_the_same(tmp_path, truth, cpus, monkeypatch):
-    monkeypatch.setattr(streamed.os, "cpu_count", lambda: cpus)
+    monkeypatch.setattr(os, "cpu_count", lambda: cpus)
     made_in = set()
 
     class NotingTheThread:  # the truth, its conversion noting the thread it runs in
@@ -248,7 +249,7 @@ def test_the_rails_made_by_threads_or_one_at_a_time_are_the_same(tmp_path, truth
 
 
 def test_a_failure_in_a_thread_making_rails_propagates_with_its_message(tmp_path, truth, monkeypatch):
-    monkeypatch.setattr(streamed.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
     path = tmp_path / "trajectory.npy"
     save_trajectory(path, _part(truth.trajectory, _stretch(truth, seconds=30.0)))
     calls = []

@@ -133,11 +133,39 @@ def atomic_write(path: str | Path, mode: str = "w", *, encoding: str | None = "u
         raise
 
 
+def save_npy(path: str | Path, array) -> None:
+    """``array`` as ``np.save`` writes it, atomically (:func:`atomic_write`); a full disk raises ENOSPC naming ``path``.
+
+    The data goes through the file object, not numpy's own writer (``ndarray.tofile``, which ``np.save``
+    uses on a real file): that one reports a full disk as an OSError with neither errno nor file name
+    ("Not enough free space to write 24737240 bytes after offset 256"), which no one can act on.
+    """
+    import numpy as np
+
+    array = np.asarray(array, order="C")  # a Fortran-ordered array is saved in C order: read back the same
+    if array.dtype.hasobject:  # its buffer holds pointers; np.save would pickle it, which no reader here allows
+        raise ValueError(f"{path}: an array of Python objects cannot be saved")
+    with atomic_write(path, "wb") as handle:
+        np.lib.format.write_array_header_1_0(handle, np.lib.format.header_data_from_array_1_0(array))
+        handle.write(array)  # its bytes, in place (any dtype: a plain buffer)
+
+
+def write_at(path: str | Path, fd: int, data, offset: int) -> None:
+    """All of ``data`` (a buffer) at ``offset`` of the open file ``fd`` of ``path`` (``os.pwrite``); an OSError names
+    ``path``. A regular file takes it all at once but at the end of the disk's space: there a part, then ENOSPC."""
+    data = memoryview(data).cast("B")
+    while data:
+        done = named_write(path, os.pwrite, fd, data, offset)
+        if not done:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+        data, offset = data[done:], offset + done
+
+
 def naming(err: OSError, path: str | Path) -> OSError:
     """``err`` naming ``path`` when it names no file (a full disk names none): what a writer raises."""
     if err.filename:
         return err
-    return OSError(err.errno, err.strerror, str(path))
+    return OSError(err.errno, err.strerror or str(err), str(path))  # no errno: its message is all there is
 
 
 def named_write(path: str | Path, write, *args):

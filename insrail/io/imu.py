@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from insrail.io.atomic import atomic_write
+from insrail.io.atomic import save_npy
 from insrail.io.errors import InputError
 from insrail.io.textparse import (
     check_table_time,
@@ -261,8 +261,7 @@ def write_imu_npy(path: str | Path, imu: ImuIncrements) -> None:
     records["time_s"] = imu.time_s
     records["dtheta_rad"] = imu.dtheta_rad
     records["dvel_mps"] = imu.dvel_mps
-    with atomic_write(path, "wb") as handle:
-        np.save(handle, records, allow_pickle=False)
+    save_npy(path, records)
 
 
 TIME_SCALES = ("gps-sow", "unix-gpst", "rtklib-tag")

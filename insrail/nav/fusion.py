@@ -58,6 +58,7 @@ from typing import Self
 import numpy as np
 from numba import njit
 
+from insrail.io.atomic import write_at
 from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
@@ -1091,13 +1092,8 @@ class _RowFile:
         self.width, self.what = width, what
 
     def write(self, first: int, rows: np.ndarray) -> None:
-        data = memoryview(np.ascontiguousarray(rows, dtype=np.float64).reshape(len(rows), self.width)).cast("B")
-        try:
-            written = os.pwrite(self.file.fileno(), data, first * self.width * 8)
-        except OSError as err:
-            raise OSError(err.errno, err.strerror, f"{tempfile.gettempdir()} ({self.what})") from None
-        if written != len(data):
-            raise OSError(f"{tempfile.gettempdir()} ({self.what}): {written} of {len(data)} bytes written")
+        write_at(f"{tempfile.gettempdir()} ({self.what})", self.file.fileno(),
+                 np.ascontiguousarray(rows, dtype=np.float64).reshape(len(rows), self.width), first * self.width * 8)
 
     def read(self, first: int, stop: int) -> np.ndarray:
         """Rows first .. stop - 1, (stop - first, width)."""

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from insrail.geodesy.ellipsoid import WGS84, Ellipsoid
-from insrail.io.atomic import named_write
+from insrail.io.atomic import named_write, write_at
 
 
 @dataclass(frozen=True)
@@ -92,18 +92,10 @@ class TrajectoryWriter:
 
     def write_at(self, first: int, block: np.ndarray) -> None:
         """Records ``first`` .. ``first + len(block) - 1``; every record written once."""
-        import errno
-        import os
-
         if block.dtype != TRAJECTORY_DTYPE or first < 0 or first + len(block) > self.n:
             raise ValueError(f"{self.path}: records {first}-{first + len(block) - 1} are not among its {self.n}")
-        data = memoryview(np.ascontiguousarray(block)).cast("B")
-        offset = self.header_bytes + first * TRAJECTORY_DTYPE.itemsize
-        while data:  # a regular file takes it all at once but at the end of the disk's space
-            done = named_write(self.path, os.pwrite, self.handle.fileno(), data, offset)
-            if not done:
-                raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(self.path))
-            data, offset = data[done:], offset + done
+        write_at(self.path, self.handle.fileno(), np.ascontiguousarray(block),
+                 self.header_bytes + first * TRAJECTORY_DTYPE.itemsize)
         self.written += len(block)
 
     def commit(self) -> None:

@@ -120,9 +120,12 @@ class NotAssessable:
     sigma_m: float
     limit_m: float
     stretches_m: tuple[tuple[float, float], ...]
+    # a line section's (insrail.project.section): per stretch, the runs whose stated 1-sigma leaves it out there
+    surveys: tuple[tuple[str, ...], ...] = ()
 
     def where(self) -> str:
-        return ", ".join(f"{a:.0f}-{b:.0f} m" for a, b in self.stretches_m)
+        return ", ".join(f"{a:.0f}-{b:.0f} m" + (f" ({', '.join(runs)})" if runs else "")
+                         for (a, b), runs in zip(self.stretches_m, self.surveys or ((),) * len(self.stretches_m)))
 
     def label(self) -> str:
         return f"{self.check} {self.direction}".strip()
@@ -191,14 +194,16 @@ def left_out(found: list[NotAssessable], everything: Assessment, assessed: Asses
     return [count(everything, n) - count(assessed, n) for n in found]
 
 
+#: The warning of a check not assessed somewhere (:func:`notices`; a line section knows its runs' by it).
+NOTICE = ("{check}: not assessable at the stated 1-sigma {sigma_mm:.2f} mm (quality.csv) against its limit {limit_mm:.1f} "
+          "mm ({sigmas:g} sigma beyond it: the survey's noise alone would cross it) over {where}: {sleepers} sleepers not "
+          "assessed for it, {exceedances} exceedances there not listed; a better IMU, slower pushing or more control "
+          "makes it assessable")
+
+
 def notices(found: list[NotAssessable], dropped: list[int]) -> list[Notice]:
     """A warning per check and direction not assessed somewhere."""
-    return [Notice("assessment", "{check}: not assessable at the stated 1-sigma {sigma_mm:.2f} mm (quality.csv) "
-                                 "against its limit {limit_mm:.1f} mm ({sigmas:g} sigma beyond it: the survey's noise "
-                                 "alone would cross it) over {where}: {sleepers} sleepers not assessed for it, "
-                                 "{exceedances} exceedances there not "
-                                 "listed; a better IMU, slower pushing or more control makes it assessable",
-                   station_m=n.stretches_m[0][0],
+    return [Notice("assessment", NOTICE, station_m=n.stretches_m[0][0],
                    fields={"check": Phrase("{check} {direction}", {"check": n.check, "direction": Phrase(n.direction)})
                            if n.direction else n.check,
                            "sigma_mm": 1e3 * n.sigma_m, "limit_mm": 1e3 * n.limit_m, "sigmas": RESOLVE_SIGMAS,
@@ -211,5 +216,6 @@ def summary_section(found: list[NotAssessable], dropped: list[int]) -> list[dict
     """summary.toml ``[[assessment.not_assessable]]``."""
     return [{"check": n.check, "direction": n.direction, "sigma_mm": round(1e3 * n.sigma_m, 3),
              "limit_mm": round(1e3 * n.limit_m, 3), "sleepers": int(n.sleepers.sum()), "exceedances_not_listed": k,
-             "stretches_m": [[round(a, 3), round(b, 3)] for a, b in n.stretches_m]}
+             "stretches_m": [[round(a, 3), round(b, 3)] for a, b in n.stretches_m],
+             **({"surveys": [list(runs) for runs in n.surveys]} if n.surveys else {})}
             for n, k in zip(found, dropped)]

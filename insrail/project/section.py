@@ -36,7 +36,8 @@ Joining (runs in the order of their first station, each folded into the table so
   column takes (in a weighted mean: either run's) and every row of its overlaps, whatever the rule (the
   position columns go over from one run to the other there row by row). summary.toml
   ``[[assessment.not_assessable]]`` and a warning (CLI, PDF, workbook) say which checks were left out where,
-  as a survey's do: the section says no more than its runs.
+  as a survey's do, and by which runs' figures (``surveys``, per stretch): the section says no more than its
+  runs, and says it once (the runs' own warnings of it are not copied into the section's summary; their others are).
 
 The overlap's run-to-run differences are computed as ``insrail compare`` computes them
 (:func:`insrail.track.repeatability.repeatability`) and written to summary.toml
@@ -240,18 +241,20 @@ def _not_assessable(profile: ToleranceProfile, runs: list[StoredResults], table:
     weighted mean holds both runs' values, and one run's noise in a mean is still noise the limit cannot tell
     from the track: not assessable where either run could not assess it. Stretches: the rows left out."""
     station = table.columns["station_m"]
-    found: dict[tuple[str, str], list[NotAssessable]] = {}
+    found: dict[tuple[str, str], dict[str, NotAssessable]] = {}
     for run in runs:
         held = np.where(table.sources[run.survey], station, np.nan)  # a NaN station: no sleeper of this run
         for n in assessable.not_assessable(profile, section_quality(run.quality), held):
-            found.setdefault((n.check, n.direction), []).append(n)
+            found.setdefault((n.check, n.direction), {})[run.survey] = n
     joined = []
     for (check, direction), per_run in found.items():
-        sleepers = np.logical_or.reduce([n.sleepers for n in per_run])
+        sleepers = np.logical_or.reduce([n.sleepers for n in per_run.values()])
         edges = np.flatnonzero(np.diff(np.r_[0, sleepers.astype(np.int8), 0]))
         stretches = tuple((float(station[a]), float(station[b - 1])) for a, b in zip(edges[::2], edges[1::2]))
-        joined.append(NotAssessable(check, direction, sleepers, max(n.sigma_m for n in per_run), per_run[0].limit_m,
-                                    stretches))
+        surveys = tuple(tuple(survey for survey, n in per_run.items() if n.sleepers[a:b].any())
+                        for a, b in zip(edges[::2], edges[1::2]))
+        joined.append(NotAssessable(check, direction, sleepers, max(n.sigma_m for n in per_run.values()),
+                                    next(iter(per_run.values())).limit_m, stretches, surveys))
     return joined
 
 
@@ -368,6 +371,7 @@ class SectionResult:
     summary: dict
     overlaps: tuple[dict, ...]
     notices: tuple[Notice, ...]  # the join's own (the overlaps', the checks left out); summary's also has the runs'
+    # (but their checks not assessable, which the join's name the runs of)
 
 
 def _format(name: str) -> str:
@@ -488,8 +492,8 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
                                               "predicted_mm": values["predicted_sigma_mm"]}))
     notices += assessable.notices(unresolved, not_listed)
     own = tuple(notices)
-    for run in runs:
-        notices += [Notice.from_dict(n) for n in run.summary.get("notices", [])]
+    for run in runs:  # but their checks not assessable: the section's own warning says where, naming the runs
+        notices += [n for n in map(Notice.from_dict, run.summary.get("notices", [])) if n.template != assessable.NOTICE]
     counts: dict[str, int] = {}
     for e in assessment.exceedances:
         counts[e.check] = counts.get(e.check, 0) + 1

@@ -20,6 +20,7 @@ import tomli_w
 
 from insrail import __version__
 from insrail.geodesy import EngineeringCRS
+from insrail.io.atomic import save_npy
 from insrail.io.control import write_benchmarks, write_prism_enu
 from insrail.io.imu import write_imu_kfgins, write_imu_npy
 from insrail.io.odometer import write_odometer_distance, write_odometer_pulses
@@ -355,9 +356,9 @@ def simulate(
         )
         truth_dir = tmp / "truth"
         truth_dir.mkdir()
-        np.save(truth_dir / "nav.npy", truth)
+        save_npy(truth_dir / "nav.npy", truth)
         files["truth_nav"] = truth_dir / "nav.npy"
-        np.save(truth_dir / "antenna.npy", antenna_truth)
+        save_npy(truth_dir / "antenna.npy", antenna_truth)
         files["truth_antenna"] = truth_dir / "antenna.npy"
         files["truth_sleepers"] = write_sleeper_truth(
             truth_dir / "sleepers.csv", sleeper_truth, np.arange(len(nominal)), pass_time, detected
@@ -518,7 +519,7 @@ def _write_error_truth(folder: Path, config, errors, t, outages, false_times, jo
     gm["time_s"] = t[::every]
     gm["gyro_radps"] = errors.gyro_bias_gm[::every]
     gm["accel_mps2"] = errors.accel_bias_gm[::every]
-    np.save(folder / "imu_bias_gm.npy", gm)
+    save_npy(folder / "imu_bias_gm.npy", gm)
     return path
 
 

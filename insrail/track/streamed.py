@@ -37,7 +37,6 @@ into one band: documented, not capped.
 from __future__ import annotations
 
 import itertools
-import os
 import shutil
 import tempfile
 from collections import deque
@@ -51,6 +50,7 @@ import numpy as np
 
 from insrail.background import cpu_budget
 from insrail.geodesy.ellipsoid import Ellipsoid
+from insrail.io.atomic import write_at
 from insrail.io.survey import TrolleyGeometry
 from insrail.io.types import GaugeData, SleeperPulses
 from insrail.nav.trajectory import load_trajectory, trajectory_records
@@ -117,8 +117,8 @@ class _Spool:
         return self.handles[name]
 
     def write(self, name: str, start: int, values: np.ndarray) -> None:
-        data = np.ascontiguousarray(values, dtype=np.float64)
-        os.pwrite(self._handle(name).fileno(), data.tobytes(), start * _WIDTHS[name] * 8)
+        write_at(self.folder / f"{name}.f64", self._handle(name).fileno(), np.ascontiguousarray(values, dtype=np.float64),
+                 start * _WIDTHS[name] * 8)
 
     def read(self, name: str, start: int, count: int) -> np.ndarray:
         width = _WIDTHS[name]
