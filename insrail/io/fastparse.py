@@ -25,7 +25,8 @@ import os
 from pathlib import Path
 
 import numpy as np
-from numba import njit
+
+from insrail.jit import cached_njit
 
 _SMALLEST_POWER_OF_FIVE = -342
 _LARGEST_POWER_OF_FIVE = 308
@@ -59,7 +60,7 @@ _HIDDEN_BIT = np.uint64(1 << 52)
 _U0, _U1, _U2, _U3 = np.uint64(0), np.uint64(1), np.uint64(2), np.uint64(3)
 _S32 = np.uint64(32)
 
-compiled = njit(cache=True, nogil=True)
+compiled = cached_njit(nogil=True)
 
 
 @compiled

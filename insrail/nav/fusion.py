@@ -56,11 +56,11 @@ from pathlib import Path
 from typing import Self
 
 import numpy as np
-from numba import njit
 
 from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
+from insrail.jit import cached_njit
 from insrail.nav import _kernels, chi2, earth, error_model, integrity, kalman
 from insrail.nav import measurements as meas
 from insrail.nav.alignment import (
@@ -502,7 +502,7 @@ _UPPER = np.triu_indices(N_STATES)
 
 # nogil: the kernels work on arrays alone (no Python object inside), so the mounting's pass and the main
 # fusion run side by side in two threads (``insrail.project.mounting_stage.fused_with_mounting``)
-compiled = njit(cache=True, nogil=True, error_model="numpy")
+compiled = cached_njit(nogil=True, error_model="numpy")
 
 
 @compiled
@@ -732,6 +732,20 @@ def _unpack_records(records, phi, P_minus, P, dx):
 
 
 @compiled
+def _first_not_below(ascending, value):
+    """np.searchsorted(ascending, value) (side left) of integers, written out: numba's searchsorted is defined in
+    numba.np.arraymath, which the cached kernel would then import when loaded, and with it scipy.linalg (insrail.jit)."""
+    low, high = 0, ascending.shape[0]
+    while low < high:
+        middle = (low + high) // 2
+        if ascending[middle] < value:
+            low = middle + 1
+        else:
+            high = middle
+    return low
+
+
+@compiled
 def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, phi_diag, ctx, sums, pending,
                     dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, play, gnss_decay_tau, gap_j, gap_q,
                     first, source, observation, kinds, params, rows, row_first, gates,
@@ -774,7 +788,7 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
             dynamics_rows(ctx, f_b, w_b, earth_c, top_f)
             _transition(top_f, decay, gqg, seg, sums[0:3], play, phi_top, phi_diag, P, P_minus)
             # the motion an IMU gap's interpolation may have missed, the error grown over a GNSS gap
-            g = np.searchsorted(gap_j, j)
+            g = _first_not_below(gap_j, j)
             if g < gap_j.shape[0] and gap_j[g] == j:
                 for k in range(n):
                     for c in range(n):
