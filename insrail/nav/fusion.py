@@ -1912,6 +1912,11 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
 GAIN_BLOCK = 256
 
 
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.flags.writeable = False
+    return array
+
+
 def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: CancelToken, progress,
          made: Callable[[int], None] = lambda first: None) -> None:
     """Backward RTS pass (compiled, chunk by chunk from the store). Writes per update epoch j
@@ -1925,7 +1930,9 @@ def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: Ca
     state = np.zeros(1)
     e_next = np.zeros(N_STATES)
     P_s_next, p_minus_next = np.zeros((N_STATES, N_STATES)), np.zeros((N_STATES, N_STATES))
-    after = np.zeros((0, RECORD_SIZE))  # the first record of the chunk smoothed before (the one after it)
+    # the first record of the chunk smoothed before (the one after it); read-only as the records' own views (the
+    # spool's), so that _rts_gains has one signature: a second is a second kernel loaded from the cache, 20 ms of CPU
+    after = _read_only(np.zeros((0, RECORD_SIZE)))
     # the block's gains and the next one's, made in the caller's memory (a job's thread would keep its own heap)
     gain_buffers = [np.empty((GAIN_BLOCK + 1, N_STATES, N_STATES)) for _ in range(2)]
     for first, records in store.reversed_chunks():
@@ -1953,7 +1960,7 @@ def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: Ca
                            corrections[lower : upper + 1], sigma[lower : upper + 1], p0, first == 0 and lower == 0)
                 if upcoming is not None:
                     gains = upcoming.result()
-        after = records[:1].copy()
+        after = _read_only(records[:1].copy())
         start = 0 if first == 0 else 1  # the first chunk's row 0 is epoch 0
         out.write(first + start, np.hstack([corrections[start:].reshape(k + 1 - start, 2 * N_STATES), sigma[start:]]))
         made(first + start)
