@@ -970,6 +970,17 @@ class _Spool:
                 raise OSError(err.errno, err.strerror, f"{tempfile.gettempdir()} ({self.what})") from None
         self.size += len(data)
 
+    def room(self, nbytes: int) -> np.ndarray | None:
+        """Up to ``nbytes`` of the memory after the bytes appended, to be filled in place and then counted by
+        :meth:`filled`; None when the bytes are not held in memory or it is full."""
+        if self.memory is None or self.size == len(self.memory):
+            return None
+        return self.memory[self.size : self.size + nbytes]
+
+    def filled(self, nbytes: int) -> None:
+        """The first ``nbytes`` of the last :meth:`room` appended (written there in place)."""
+        self.size += nbytes
+
     def read(self, offset: int, nbytes: int, into: np.ndarray | None = None) -> np.ndarray:
         """``nbytes`` bytes from ``offset``, read-only: a view of the memory, or read from the file into the
         start of ``into`` (uint8, a fresh array without it)."""
@@ -1036,6 +1047,17 @@ class SmootherStore:
         """Append packed records (k, RECORD)."""
         self.spool.append(np.asarray(records, dtype=np.float64))
         self.count += len(records)
+
+    def room(self) -> np.ndarray | None:
+        """Where up to a chunk of the next records can be written in place ((k, RECORD), then counted by
+        :meth:`filled`): in the memory that holds them; None when they are not held in memory or it is full."""
+        room = self.spool.room(self.chunk * self.RECORD * 8)
+        return None if room is None else room.view(np.float64).reshape(-1, self.RECORD)
+
+    def filled(self, count: int) -> None:
+        """The first ``count`` records of the last :meth:`room` appended (written there in place)."""
+        self.spool.filled(count * self.RECORD * 8)
+        self.count += count
 
     def clear(self) -> None:
         """Forget every record (the forward pass is run again: :func:`fuse`'s gap returns)."""
@@ -1598,7 +1620,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     nav_base = np.array([k0 + 1], dtype=np.int64)
     nav_file.append(nav_buf[:1])
     writer = _RecordWriter(store) if store is not None else None
-    rec_buf = writer.buffer if writer is not None else np.empty((1, RECORD_SIZE))
+    rec_buf = writer.next_buffer() if writer is not None else np.empty((1, RECORD_SIZE))
     rec_fill = np.zeros(1, dtype=np.int64)
     hist_rows = min(HIST_CHUNK, m_epochs)
     sensor_hist = np.empty((hist_rows, 13))
@@ -1664,7 +1686,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
                 nav_base[0] = upto
                 if store is not None and rec_fill[0]:
                     writer.append(int(rec_fill[0]))
-                    rec_buf = writer.buffer
+                    rec_buf = writer.next_buffer()
                     rec_fill[0] = 0
                 save_history()
                 continue
@@ -1704,26 +1726,36 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
 
 
 class _RecordWriter:
-    """The forward pass's smoother records appended to the store (7.3 kB per update epoch) by a background
-    job while the filter fills the other of two buffers: the file's write beside the filter, without the
-    GIL; one after the other with one CPU. The appends keep their order."""
+    """The forward pass's smoother records appended to the store (7.3 kB per update epoch). Held in memory, the
+    filter writes them there itself (no copy); in a file, a background job appends one of two buffers while the
+    filter fills the other: the file's write beside the filter, without the GIL; one after the other with one CPU.
+    The appends keep their order."""
 
     def __init__(self, store: SmootherStore):
         self.store = store
-        self.buffers = [np.empty((store.chunk, RECORD_SIZE)) for _ in range(2)]
+        self.buffers: list[np.ndarray] | None = None
         self.current = 0
+        self.in_place = False  # the last buffer given is the store's memory
         self.job: BackgroundJob | None = None
 
-    @property
-    def buffer(self) -> np.ndarray:
-        """Where the filter writes its next records."""
+    def next_buffer(self) -> np.ndarray:
+        """Where the filter writes its next records (up to its length); :meth:`append` then appends them."""
+        room = self.store.room() if self.job is None else None
+        self.in_place = room is not None
+        if self.in_place:
+            return room
+        if self.buffers is None:
+            self.buffers = [np.empty((self.store.chunk, RECORD_SIZE)) for _ in range(2)]
         return self.buffers[self.current]
 
     def append(self, count: int) -> None:
-        """The first ``count`` records of :attr:`buffer` appended to the store once the last append is done;
-        the other buffer is :attr:`buffer` then."""
+        """The first ``count`` records of the last :meth:`next_buffer` appended to the store (once the last
+        append is done); the other buffer is the next one then."""
+        if self.in_place:
+            self.store.filled(count)
+            return
         self.wait()
-        records = self.buffer[:count]
+        records = self.buffers[self.current][:count]
         self.job = BackgroundJob(lambda progress, cancel: self.store.append_records(records), None, None,
                                  name="insrail-records")
         self.current = 1 - self.current
@@ -2058,6 +2090,9 @@ def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_row
     writer = TrajectoryWriter(path, n) if path is not None else None
     records = None if writer is not None else np.empty(n, dtype=TRAJECTORY_DTYPE)
     blocks = [(c0, c1) for c0, c1 in itertools.pairwise(cuts) if c1 > c0]
+    # every block made in one buffer (written out, or copied into the records, before the next is made): a fresh
+    # 6 MB block each was a fresh mapping whose pages the kernel faults in and zeroes (insrail.memory)
+    buffer = np.empty((max((c1 - c0 for c0, c1 in blocks), default=0), TRAJECTORY_DTYPE.itemsize // 8))
     made = 0
     try:
         for c0, c1 in blocks if ready is None else reversed(blocks):
@@ -2067,8 +2102,10 @@ def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_row
             idx = rows_of(c0, c1)
             if ready is not None:
                 ready(_first_update(epochs, int(idx[0])))
-            rows = nav_file.read(int(idx[0]), int(idx[-1]) + 1)[idx - idx[0]]
-            block = _trajectory_block(t, rows, idx, epochs, history, smoothed_rows, ell)
+            rows = nav_file.read(int(idx[0]), int(idx[-1]) + 1)
+            if len(rows) != len(idx):  # not every epoch (output_every): those of idx, read-only as the record itself
+                rows = _read_only(rows[idx - idx[0]])
+            block = _trajectory_block(t, rows, idx, epochs, history, smoothed_rows, ell, buffer[: len(idx)])
             if writer is None:
                 records[c0:c1] = block
             elif ready is None:
@@ -2096,8 +2133,10 @@ def _first_update(epochs, first_idx: int) -> int:
     return int(_segments(epochs, np.array([first_idx]))[0]) - 1
 
 
-def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _RowFile | None, ell) -> np.ndarray:
-    """TRAJECTORY_DTYPE records of IMU epochs ``idx`` (increasing) from their forward navigation vectors ``nav``."""
+def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _RowFile | None, ell,
+                      out: np.ndarray) -> np.ndarray:
+    """TRAJECTORY_DTYPE records of IMU epochs ``idx`` (increasing) from their forward navigation vectors ``nav``,
+    made in ``out`` (len(idx), 32): a view of it."""
     # w is the position inside the segment (:func:`_segments`)
     seg = _segments(epochs, idx)
     j0, j1 = int(seg.min()) - 1, min(int(seg.max()) + 1, len(epochs))  # the update epochs the block lies between
@@ -2108,7 +2147,6 @@ def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _Ro
         rows = smoothed_rows.read(j0, j1)
         corrections = np.ascontiguousarray(rows[:, : 2 * N_STATES]).reshape(j1 - j0, 2, N_STATES)
         sigma_hist = np.ascontiguousarray(rows[:, 2 * N_STATES :])
-    out = np.empty((len(idx), TRAJECTORY_DTYPE.itemsize // 8))
     _trajectory_rows(t, np.ascontiguousarray(nav), idx, seg - j0, epochs[j0:j1], sensor_hist, sigma_hist,
                      corrections, smoothed_rows is not None, _kernels.earth_constants(ell), out)
     return out.view(TRAJECTORY_DTYPE).reshape(len(idx))
