@@ -1,14 +1,16 @@
 """insrail's compiled (numba) functions: cached on disk, and loaded from that cache without numba's compiler set-up.
 
-:func:`cached_njit` is ``numba.cached_njit(...)`` with one difference, in how a kernel is loaded from the
+:func:`cached_njit` is ``numba.njit(cache=True, ...)`` with one difference, in how a kernel is loaded from the
 on-disk cache. numba's cache loads a kernel only after ``target_context.refresh()``: the set-up its *compiler*
 needs, the typing and lowering registries of every numba extension (numba.np.arraymath, numba.np.linalg,
 numba.typed, numba.experimental, the random generators, ...), which imports them all, numba.np.arraymath's BLAS
 check importing scipy.linalg and through scipy's array-API layer numpy.f2py and numpy.testing. A cached kernel is
 machine code that needs none of it: only the runtime it links against (``rtsys.initialize``, numba's reference
 counting and allocation, which the full refresh begins with too) and the modules named by the environments
-pickled with it (imported as they are unpickled). On `insrail fuse` of the short survey the refresh was 0.10 s of
-CPU time, and the imports only it made (numba.np.arraymath with scipy.linalg) another 0.15 s, of a 2.4 s command.
+pickled with it (imported as they are unpickled). In a fresh process the refresh took 0.3 s of CPU time, half of it
+importing numba.np.arraymath with scipy.linalg: a seventh of `insrail fuse` on the short survey (2.4 s). A kernel's
+environment naming numba.np.arraymath imports it all the same (the forward kernel's searchsorted is written out for
+that: ``insrail.nav.fusion._first_not_below``).
 
 A kernel not in the cache (the first run, a new signature, a changed source) is compiled as numba always does:
 the compiler refreshes the registries itself (``numba.core.compiler.compile_extra``). The loaded machine code
@@ -19,12 +21,12 @@ find by importing ``scipy.linalg.cython_blas`` and ``scipy.linalg.cython_lapack`
 the usual way runs the package ``scipy.linalg`` first: its whole namespace, scipy's array-API layer, numpy.f2py and
 numpy.testing, 0.16 s of CPU time for two extension modules that need none of it (they link to the BLAS library
 themselves). :func:`_load_scipy_blas` loads the two modules alone into ``sys.modules`` when this module is imported,
-where numba's import finds them (a later ``import scipy.linalg`` imports the package as always, and its
-``from .cython_blas import ...`` finds the same modules).
+where numba's import finds them (a later ``import scipy.linalg`` imports the package as always, and
+``scipy.linalg.cython_blas`` is then the module loaded here).
 
 The loader uses two private methods of numba's cache (``_guard_against_spurious_io_errors``,
-``_load_overload``), unchanged since numba 0.49; tests/test_jit.py checks that a kernel loaded this way in a
-fresh process runs, and that the registries stay unloaded.
+``_load_overload``, as in numba 0.68): tests/test_jit.py loads a kernel so in a fresh process, runs it and checks
+that the registries and scipy.linalg stay unloaded.
 """
 
 from __future__ import annotations
