@@ -314,6 +314,24 @@ def test_a_spool_moves_to_its_file_when_more_comes_than_it_holds():
         spool.read(100, 51)
     spool.close()
 
+def test_records_written_in_place_in_the_stores_memory_are_appended_records():
+    """The filter writes its records straight into the memory that holds them (a chunk at a time, the last room
+    what is left); a full memory, or one not held, gives no room (the records are then appended)."""
+    records = np.arange(5 * fusion.RECORD_SIZE, dtype=float).reshape(5, fusion.RECORD_SIZE)
+    with fusion.SmootherStore(chunk=3) as store, fusion.SmootherStore(chunk=3) as appended:
+        assert store.room() is None  # not held in memory
+        store.hold_in_memory(5)
+        for first in (0, 3):
+            room = store.room()
+            assert room.shape == (min(3, 5 - first), fusion.RECORD_SIZE) and room.flags.writeable
+            room[:] = records[first : first + len(room)]
+            store.filled(len(room))
+        assert store.room() is None and store.count == 5
+        appended.hold_in_memory(5)
+        appended.append_records(records)
+        assert [(f, c.tobytes()) for f, c in store.reversed_chunks()] == [(f, c.tobytes()) for f, c in appended.reversed_chunks()]
+
+
 @pytest.mark.parametrize("in_file", [True, False])
 def test_the_trajectory_made_beside_the_smoother_is_the_one_made_after_it(faulty_imu, tmp_path, monkeypatch, in_file):
     """The smoother in a thread of its own and the trajectory's chunks made last first as its rows come

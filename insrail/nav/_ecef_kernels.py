@@ -7,10 +7,10 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from insrail.jit import cached_njit
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@cached_njit(nogil=True, error_model="numpy")
 def ecef_to_geodetic_points(x, y, z, a, b, e2, lat_out, lon_out, h_out):
     """Bowring's start and four fixed-point iterations (:func:`insrail.nav.earth.ecef_to_geodetic`)
     of the points (x, y, z) [m] into lat_out, lon_out [rad] and h_out [m]."""

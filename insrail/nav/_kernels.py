@@ -32,8 +32,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from insrail.jit import cached_njit
 from insrail.nav.earth import Ellipsoid
 
 NAV_Q_NE = 0
@@ -55,7 +55,7 @@ EARTH_SIZE = 7
 # Cached on disk so a new process starts in well under a second. IEEE semantics for
 # division (error_model="numpy") drop numba's per-division zero checks (~8 % faster); the
 # only divisor that can vanish, cos(lat), is kept away from zero by NavState's pole check.
-compiled = njit(cache=True, error_model="numpy")
+compiled = cached_njit(error_model="numpy")
 
 # Below |0.5 phi| = 1e-3 rad the Taylor series of cos and sin(x)/x, cut after x^4, are
 # exact in double precision (next term < 1e-18) and cheaper than the library calls.

@@ -13,10 +13,11 @@ partition orders such ties its own way).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from insrail.jit import cached_njit
 
 
-@njit(cache=True, inline="always")
+@cached_njit(inline="always")
 def _insert(window: np.ndarray, size: int, value: float) -> None:
     """``value`` into the sorted ``window[:size]`` (NaN kept as +inf: counted apart by the caller)."""
     v = np.inf if np.isnan(value) else value
@@ -27,7 +28,7 @@ def _insert(window: np.ndarray, size: int, value: float) -> None:
     window[j + 1] = v
 
 
-@njit(cache=True, inline="always")
+@cached_njit(inline="always")
 def _remove(window: np.ndarray, size: int, value: float) -> None:
     """One entry equal to ``value`` (bit for bit, so a -0.0 is not taken for a 0.0) out of ``window[:size]``."""
     v = np.inf if np.isnan(value) else value
@@ -41,7 +42,7 @@ def _remove(window: np.ndarray, size: int, value: float) -> None:
         window[i] = window[i + 1]
 
 
-@njit(cache=True, inline="always")
+@cached_njit(inline="always")
 def _middle(window: np.ndarray, count: int) -> float:
     half = count // 2
     if count % 2:
@@ -49,7 +50,7 @@ def _middle(window: np.ndarray, count: int) -> float:
     return (window[half - 1] + window[half]) / 2.0
 
 
-@njit(cache=True, nogil=True)  # nogil: the two quantities' medians are made side by side (screen_imu)
+@cached_njit(nogil=True)  # nogil: the two quantities' medians are made side by side (screen_imu)
 def neighbour_median_and_spread(rates: np.ndarray, neighbours: int) -> tuple[np.ndarray, np.ndarray]:
     """For each record r of ``rates`` (m, 3) with ``neighbours`` records on either side (rows
     ``neighbours`` .. m - neighbours - 1) and each axis: the median of the 2 x ``neighbours``
@@ -107,7 +108,7 @@ def neighbour_median_and_spread(rates: np.ndarray, neighbours: int) -> tuple[np.
     return reference, spread
 
 
-@njit(cache=True, nogil=True)
+@cached_njit(nogil=True)
 def candidate_rows(time_s: np.ndarray, increments: np.ndarray, nominal: float, gap: float, full_range: float,
                    jump: float, lo: int, hi: int) -> np.ndarray:
     """The rows ``lo`` .. ``hi`` - 1 among which the screening's candidates are (``_candidates``): the

@@ -56,12 +56,12 @@ from pathlib import Path
 from typing import Self
 
 import numpy as np
-from numba import njit
 
 from insrail.io.atomic import write_at
 from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
+from insrail.jit import cached_njit
 from insrail.nav import _kernels, chi2, earth, error_model, integrity, kalman
 from insrail.nav import measurements as meas
 from insrail.nav.alignment import (
@@ -503,7 +503,7 @@ _UPPER = np.triu_indices(N_STATES)
 
 # nogil: the kernels work on arrays alone (no Python object inside), so the mounting's pass and the main
 # fusion run side by side in two threads (``insrail.project.mounting_stage.fused_with_mounting``)
-compiled = njit(cache=True, nogil=True, error_model="numpy")
+compiled = cached_njit(nogil=True, error_model="numpy")
 
 
 @compiled
@@ -733,6 +733,20 @@ def _unpack_records(records, phi, P_minus, P, dx):
 
 
 @compiled
+def _first_not_below(ascending, value):
+    """np.searchsorted(ascending, value) (side left) of integers, written out: numba's searchsorted is defined in
+    numba.np.arraymath, which the cached kernel would then import when loaded, and with it scipy.linalg (insrail.jit)."""
+    low, high = 0, ascending.shape[0]
+    while low < high:
+        middle = (low + high) // 2
+        if ascending[middle] < value:
+            low = middle + 1
+        else:
+            high = middle
+    return low
+
+
+@compiled
 def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, phi_diag, ctx, sums, pending,
                     dtheta, dvel, dt, imu_span, t, epochs, earth_c, decay, gqg, play, gnss_decay_tau, gap_j, gap_q,
                     first, source, observation, kinds, params, rows, row_first, gates,
@@ -775,7 +789,7 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
             dynamics_rows(ctx, f_b, w_b, earth_c, top_f)
             _transition(top_f, decay, gqg, seg, sums[0:3], play, phi_top, phi_diag, P, P_minus)
             # the motion an IMU gap's interpolation may have missed, the error grown over a GNSS gap
-            g = np.searchsorted(gap_j, j)
+            g = _first_not_below(gap_j, j)
             if g < gap_j.shape[0] and gap_j[g] == j:
                 for k in range(n):
                     for c in range(n):
@@ -957,6 +971,17 @@ class _Spool:
                 raise OSError(err.errno, err.strerror, f"{tempfile.gettempdir()} ({self.what})") from None
         self.size += len(data)
 
+    def room(self, nbytes: int) -> np.ndarray | None:
+        """Up to ``nbytes`` of the memory after the bytes appended, to be filled in place and then counted by
+        :meth:`filled`; None when the bytes are not held in memory or it is full."""
+        if self.memory is None or self.size == len(self.memory):
+            return None
+        return self.memory[self.size : self.size + nbytes]
+
+    def filled(self, nbytes: int) -> None:
+        """The first ``nbytes`` of the last :meth:`room` appended (written there in place)."""
+        self.size += nbytes
+
     def read(self, offset: int, nbytes: int, into: np.ndarray | None = None) -> np.ndarray:
         """``nbytes`` bytes from ``offset``, read-only: a view of the memory, or read from the file into the
         start of ``into`` (uint8, a fresh array without it)."""
@@ -1023,6 +1048,17 @@ class SmootherStore:
         """Append packed records (k, RECORD)."""
         self.spool.append(np.asarray(records, dtype=np.float64))
         self.count += len(records)
+
+    def room(self) -> np.ndarray | None:
+        """Where up to a chunk of the next records can be written in place ((k, RECORD), then counted by
+        :meth:`filled`): in the memory that holds them; None when they are not held in memory or it is full."""
+        room = self.spool.room(self.chunk * self.RECORD * 8)
+        return None if room is None else room.view(np.float64).reshape(-1, self.RECORD)
+
+    def filled(self, count: int) -> None:
+        """The first ``count`` records of the last :meth:`room` appended (written there in place)."""
+        self.spool.filled(count * self.RECORD * 8)
+        self.count += count
 
     def clear(self) -> None:
         """Forget every record (the forward pass is run again: :func:`fuse`'s gap returns)."""
@@ -1580,7 +1616,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
     nav_base = np.array([k0 + 1], dtype=np.int64)
     nav_file.append(nav_buf[:1])
     writer = _RecordWriter(store) if store is not None else None
-    rec_buf = writer.buffer if writer is not None else np.empty((1, RECORD_SIZE))
+    rec_buf = writer.next_buffer() if writer is not None else np.empty((1, RECORD_SIZE))
     rec_fill = np.zeros(1, dtype=np.int64)
     hist_rows = min(HIST_CHUNK, m_epochs)
     sensor_hist = np.empty((hist_rows, 13))
@@ -1646,7 +1682,7 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
                 nav_base[0] = upto
                 if store is not None and rec_fill[0]:
                     writer.append(int(rec_fill[0]))
-                    rec_buf = writer.buffer
+                    rec_buf = writer.next_buffer()
                     rec_fill[0] = 0
                 save_history()
                 continue
@@ -1686,26 +1722,36 @@ def _forward(setup: _Setup, options: FusionOptions, ellipsoid: earth.Ellipsoid, 
 
 
 class _RecordWriter:
-    """The forward pass's smoother records appended to the store (7.3 kB per update epoch) by a background
-    job while the filter fills the other of two buffers: the file's write beside the filter, without the
-    GIL; one after the other with one CPU. The appends keep their order."""
+    """The forward pass's smoother records appended to the store (7.3 kB per update epoch). Held in memory, the
+    filter writes them there itself (no copy); in a file, a background job appends one of two buffers while the
+    filter fills the other: the file's write beside the filter, without the GIL; one after the other with one CPU.
+    The appends keep their order."""
 
     def __init__(self, store: SmootherStore):
         self.store = store
-        self.buffers = [np.empty((store.chunk, RECORD_SIZE)) for _ in range(2)]
+        self.buffers: list[np.ndarray] | None = None
         self.current = 0
+        self.in_place = False  # the last buffer given is the store's memory
         self.job: BackgroundJob | None = None
 
-    @property
-    def buffer(self) -> np.ndarray:
-        """Where the filter writes its next records."""
+    def next_buffer(self) -> np.ndarray:
+        """Where the filter writes its next records (up to its length); :meth:`append` then appends them."""
+        room = self.store.room() if self.job is None else None
+        self.in_place = room is not None
+        if self.in_place:
+            return room
+        if self.buffers is None:
+            self.buffers = [np.empty((self.store.chunk, RECORD_SIZE)) for _ in range(2)]
         return self.buffers[self.current]
 
     def append(self, count: int) -> None:
-        """The first ``count`` records of :attr:`buffer` appended to the store once the last append is done;
-        the other buffer is :attr:`buffer` then."""
+        """The first ``count`` records of the last :meth:`next_buffer` appended to the store (once the last
+        append is done); the other buffer is the next one then."""
+        if self.in_place:
+            self.store.filled(count)
+            return
         self.wait()
-        records = self.buffer[:count]
+        records = self.buffers[self.current][:count]
         self.job = BackgroundJob(lambda progress, cancel: self.store.append_records(records), None, None,
                                  name="insrail-records")
         self.current = 1 - self.current
@@ -1894,6 +1940,11 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
 GAIN_BLOCK = 256
 
 
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.flags.writeable = False
+    return array
+
+
 def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: CancelToken, progress,
          made: Callable[[int], None] = lambda first: None) -> None:
     """Backward RTS pass (compiled, chunk by chunk from the store). Writes per update epoch j
@@ -1907,7 +1958,9 @@ def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: Ca
     state = np.zeros(1)
     e_next = np.zeros(N_STATES)
     P_s_next, p_minus_next = np.zeros((N_STATES, N_STATES)), np.zeros((N_STATES, N_STATES))
-    after = np.zeros((0, RECORD_SIZE))  # the first record of the chunk smoothed before (the one after it)
+    # the first record of the chunk smoothed before (the one after it); read-only as the records' own views (the
+    # spool's), so that _rts_gains has one signature: a second is a second kernel loaded from the cache, 20 ms of CPU
+    after = _read_only(np.zeros((0, RECORD_SIZE)))
     # the block's gains and the next one's, made in the caller's memory (a job's thread would keep its own heap)
     gain_buffers = [np.empty((GAIN_BLOCK + 1, N_STATES, N_STATES)) for _ in range(2)]
     for first, records in store.reversed_chunks():
@@ -1935,7 +1988,7 @@ def _rts(store: SmootherStore, m: int, p0: np.ndarray, out: _RowFile, cancel: Ca
                            corrections[lower : upper + 1], sigma[lower : upper + 1], p0, first == 0 and lower == 0)
                 if upcoming is not None:
                     gains = upcoming.result()
-        after = records[:1].copy()
+        after = _read_only(records[:1].copy())
         start = 0 if first == 0 else 1  # the first chunk's row 0 is epoch 0
         out.write(first + start, np.hstack([corrections[start:].reshape(k + 1 - start, 2 * N_STATES), sigma[start:]]))
         made(first + start)
@@ -2033,6 +2086,9 @@ def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_row
     writer = TrajectoryWriter(path, n) if path is not None else None
     records = None if writer is not None else np.empty(n, dtype=TRAJECTORY_DTYPE)
     blocks = [(c0, c1) for c0, c1 in itertools.pairwise(cuts) if c1 > c0]
+    # every block made in one buffer (written out, or copied into the records, before the next is made): a fresh
+    # 6 MB block each was a fresh mapping whose pages the kernel faults in and zeroes (insrail.memory)
+    buffer = np.empty((max((c1 - c0 for c0, c1 in blocks), default=0), TRAJECTORY_DTYPE.itemsize // 8))
     made = 0
     try:
         for c0, c1 in blocks if ready is None else reversed(blocks):
@@ -2042,8 +2098,10 @@ def _trajectory(t, nav_file: _EpochFile, epochs, history: _RowFile, smoothed_row
             idx = rows_of(c0, c1)
             if ready is not None:
                 ready(_first_update(epochs, int(idx[0])))
-            rows = nav_file.read(int(idx[0]), int(idx[-1]) + 1)[idx - idx[0]]
-            block = _trajectory_block(t, rows, idx, epochs, history, smoothed_rows, ell)
+            rows = nav_file.read(int(idx[0]), int(idx[-1]) + 1)
+            if len(rows) != len(idx):  # not every epoch (output_every): those of idx, read-only as the record itself
+                rows = _read_only(rows[idx - idx[0]])
+            block = _trajectory_block(t, rows, idx, epochs, history, smoothed_rows, ell, buffer[: len(idx)])
             if writer is None:
                 records[c0:c1] = block
             elif ready is None:
@@ -2071,8 +2129,10 @@ def _first_update(epochs, first_idx: int) -> int:
     return int(_segments(epochs, np.array([first_idx]))[0]) - 1
 
 
-def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _RowFile | None, ell) -> np.ndarray:
-    """TRAJECTORY_DTYPE records of IMU epochs ``idx`` (increasing) from their forward navigation vectors ``nav``."""
+def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _RowFile | None, ell,
+                      out: np.ndarray) -> np.ndarray:
+    """TRAJECTORY_DTYPE records of IMU epochs ``idx`` (increasing) from their forward navigation vectors ``nav``,
+    made in ``out`` (len(idx), 32): a view of it."""
     # w is the position inside the segment (:func:`_segments`)
     seg = _segments(epochs, idx)
     j0, j1 = int(seg.min()) - 1, min(int(seg.max()) + 1, len(epochs))  # the update epochs the block lies between
@@ -2083,7 +2143,6 @@ def _trajectory_block(t, nav, idx, epochs, history: _RowFile, smoothed_rows: _Ro
         rows = smoothed_rows.read(j0, j1)
         corrections = np.ascontiguousarray(rows[:, : 2 * N_STATES]).reshape(j1 - j0, 2, N_STATES)
         sigma_hist = np.ascontiguousarray(rows[:, 2 * N_STATES :])
-    out = np.empty((len(idx), TRAJECTORY_DTYPE.itemsize // 8))
     _trajectory_rows(t, np.ascontiguousarray(nav), idx, seg - j0, epochs[j0:j1], sensor_hist, sigma_hist,
                      corrections, smoothed_rows is not None, _kernels.earth_constants(ell), out)
     return out.view(TRAJECTORY_DTYPE).reshape(len(idx))

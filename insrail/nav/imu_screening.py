@@ -296,8 +296,10 @@ def _unit_guesses(quantity: str, rate_hz: float) -> list[tuple[str, float | None
              rate_hz * degrees)]
 
 
-#: records the unit check reads at a time (whole blocks of them)
-UNITS_CHUNK = 1 << 18
+#: records the unit check reads at a time (whole blocks of them); its temporary arrays of a record's interval
+#: (8 bytes each) stay under the C allocator's 2 MiB threshold (insrail.memory), reused from its heap: at 1 << 18
+#: each was a fresh mapping, its 512 pages faulted in and zeroed
+UNITS_CHUNK = 1 << 17
 
 
 def _block_means(values: np.ndarray, time_s: np.ndarray, nominal: float, per_block: int) -> np.ndarray:
@@ -379,8 +381,12 @@ def check_units(imu: ImuIncrements, profile: ImuProfile, aiding_still: Stillness
             finite = np.isfinite(imu.dvel_mps).all(axis=1) & np.isfinite(imu.dtheta_rad).all(axis=1)
             dvel, dtheta = np.where(finite[:, None], dvel, 0.0), np.where(finite[:, None], dtheta, 0.0)
 
+        # the specific force's 50 ms means: its gravity (tested, then said in a message) and the rest below, made once
+        f_sub = _block_means(dvel, t, nominal, sub)
+
         def gravity_of(increments):  # over 50 ms: a few corrupt records move the median by nothing
-            return float(np.median(np.linalg.norm(_block_means(increments, t, nominal, sub), axis=1)))
+            means = f_sub if increments is dvel else _block_means(increments, t, nominal, sub)
+            return float(np.median(np.linalg.norm(means, axis=1)))
 
         def gravity_plausible(increments):
             return abs(gravity_of(increments) / GRAVITY_MPS2 - 1.0) <= GRAVITY_TOLERANCE
@@ -392,7 +398,6 @@ def check_units(imu: ImuIncrements, profile: ImuProfile, aiding_still: Stillness
         _, accel_quiet = stop_thresholds(profile.gyro_arw, profile.accel_vrw, rate_hz)
         subs = max(per_block // sub, 2)
         per_block_rest = sub * subs
-        f_sub = _block_means(dvel, t, nominal, sub)
         m = (len(f_sub) // subs) * subs
         spread = np.linalg.norm(f_sub[:m].reshape(-1, subs, 3).std(axis=1), axis=1)
         f_mean = f_sub[:m].reshape(-1, subs, 3).mean(axis=1)
@@ -417,6 +422,8 @@ def check_units(imu: ImuIncrements, profile: ImuProfile, aiding_still: Stillness
         def rest_rate(increments):
             return float(np.median(np.linalg.norm(_block_means(increments, t, nominal, per_block_rest)[rest], axis=1)))
 
+        gyro_rest_rate = rest_rate(dtheta)  # tested, then said in a message: made once
+
         def wanders_at_rest(increments):
             """Running sums at rest wander far more within a second than they change from record to
             record; increments at rest (in any unit) are a constant plus white noise: the record-to-
@@ -426,7 +433,9 @@ def check_units(imu: ImuIncrements, profile: ImuProfile, aiding_still: Stillness
             return bool(np.std(np.diff(blocks, axis=1)) < 0.5 * spread)
 
         # the telescoping sum of differences is small over any second: only wandering values can be sums
-        judged("angular rate", dtheta, lambda increments: rest_rate(increments) <= limit, f"{rest_rate(dtheta):.4g} rad/s",
+        judged("angular rate", dtheta,
+               lambda increments: (gyro_rest_rate if increments is dtheta else rest_rate(increments)) <= limit,
+               f"{gyro_rest_rate:.4g} rad/s",
                f"at rest ({rest.sum() * per_block_rest * nominal:.0f} s where the accelerometers are quiet) the angular "
                f"rate should be the earth rate plus the {profile.name} profile's gyro bias, at most {limit:.3g} rad/s",
                sums_possible=wanders_at_rest)

@@ -16,9 +16,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-compiled = njit(cache=True, error_model="numpy")
+from insrail.jit import cached_njit
+
+compiled = cached_njit(error_model="numpy")
 
 
 @compiled

@@ -41,8 +41,8 @@ from dataclasses import dataclass, field, replace
 from typing import ClassVar, Protocol
 
 import numpy as np
-from numba import njit
 
+from insrail.jit import cached_njit
 from insrail.nav import _kernels, earth
 from insrail.nav.error_model import ATT, BG, GNSS, N_STATES, ODO, POS, SG, VEL
 from insrail.nav.rotation import cross, skew
@@ -566,7 +566,7 @@ class PositionFix(_TimedSource):
 # dispatches on the kind. The Python methods stay the definition (the covariance analysis
 # uses them); tests/test_nav_measurements.py holds the twins to them.
 
-compiled_model = njit(cache=True, error_model="numpy")
+compiled_model = cached_njit(error_model="numpy")
 
 CTX_TIME, CTX_LAT, CTX_LON, CTX_H = 0, 1, 2, 3
 CTX_VEL = 4  # (3)

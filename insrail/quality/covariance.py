@@ -59,8 +59,8 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from insrail.jit import cached_njit
 from insrail.nav.error_model import ATT, POS
 from insrail.nav.kalman import inflate
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
@@ -379,7 +379,7 @@ class _BackwardState:
         self.active = np.zeros(1, dtype=np.int64)
 
 
-@njit(cache=True, nogil=True)  # touches no Python object: runs beside the caller's thread
+@cached_njit(nogil=True)  # touches no Python object: runs beside the caller's thread
 def _project(out, P, u, j, low, pos, att):  # pragma: no cover - compiled
     """out[j] = lateral and vertical position variance, roll variance and along-track position
     variance of P at epoch j (projections ``u`` from epoch ``low`` on)."""
@@ -392,7 +392,7 @@ def _project(out, P, u, j, low, pos, att):  # pragma: no cover - compiled
         out[j, r] = total
 
 
-@njit(cache=True, nogil=True)  # touches no Python object: runs beside the caller's thread
+@cached_njit(nogil=True)  # touches no Python object: runs beside the caller's thread
 def _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, pos, att, starts_ptr, starts_idx, ends_ptr, ends_idx,
                     P_s, columns, slot_of, pair_of_slot, active, var_s, var_f, cross_s):  # pragma: no cover - compiled
     """The RTS recursion over one chunk of epochs (see :func:`_smooth`); ``first`` = 1 when the

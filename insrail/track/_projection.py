@@ -21,11 +21,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+from insrail.jit import cached_njit
 
 #: nogil: no Python object is touched, so the threads making the next parts' rails run on meanwhile
 #: (insrail.track.streamed)
-compiled = njit(cache=True, nogil=True, error_model="numpy")
+compiled = cached_njit(nogil=True, error_model="numpy")
 
 #: a point this close [m] to the one projected before it starts from that one's station
 WARM_START_M = 1.0

@@ -10,10 +10,11 @@ takes them again.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from insrail.jit import cached_njit
 
 
-@njit(cache=True, nogil=True)
+@cached_njit(nogil=True)
 def trailing_argmax(values: np.ndarray, width: int) -> np.ndarray:
     """For every k the index of the largest of ``values[k - width + 1 .. k]``, the first one where
     several are as large; where all of them are -inf (or the window begins before the values), the

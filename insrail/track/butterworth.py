@@ -15,7 +15,8 @@ only, in the same floating-point operations and order, so the results are scipy'
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from insrail.jit import cached_njit
 
 
 def band_pass_sos(order: int, low: float, high: float, fs: float) -> np.ndarray:
@@ -187,7 +188,7 @@ def _steady_state(sos: np.ndarray) -> np.ndarray:
     return zi
 
 
-@njit(cache=True, nogil=True)
+@cached_njit(nogil=True)
 def _filter_sections(sos: np.ndarray, x: np.ndarray, zi: np.ndarray) -> None:
     """The cascade of sections over ``x`` in place from the states ``zi`` (updated): scipy's _sosfilt
     loop, the same products and sums in the same order (transposed direct form II)."""
