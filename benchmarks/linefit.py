@@ -13,11 +13,16 @@ clothoid length and vertical-curve radius against the design with the issue's ba
 Then adds a GNSS-like long-wave error (--long-wave-mm at 2 km wavelength plus a drift of the
 same size, across and up) and prints how well the global fit and the windowed reference
 (500 m windows, 150 m overlap, eq. 5.24) recover the injected irregularities, with run times.
+
+Last (scenario `cut`), data cut the way a user's are (CUT_CASES: a stretch without points inside a
+compound curve, data beginning or ending a few metres from a curve), with CPU time and solver
+evaluations per fit.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import tempfile
 import time
 from pathlib import Path
@@ -31,9 +36,9 @@ import numpy as np
 from insrail.sim.scenario import preset
 from insrail.sim.simulate import simulate
 from insrail.sim.truth import read_sleeper_truth
-from insrail.track.alignment import Arc, Clothoid
+from insrail.track.alignment import Arc, Clothoid, HorizontalAlignment, Line
 from insrail.track.alignment_csv import read_alignment_csv
-from insrail.track.linefit import fit_alignment
+from insrail.track.linefit import LineFitError, fit_alignment
 from insrail.track.linefit_windows import fit_windows
 
 BOUNDARY_BAR_M = 2.0
@@ -128,9 +133,85 @@ def long_wave_recovery(amplitude_mm, design, truth, east, north, height, noise) 
               f"{np.sqrt(np.mean(ev**2)):>14.3f}{np.abs(ev).max():>14.3f}")
 
 
+INF = math.inf
+COMPOUND = (Line(300.0), Clothoid(80.0, INF, 1200.0, "right"), Arc(250.0, 1200.0, "right"),
+            Clothoid(60.0, 1200.0, 2500.0, "right"), Arc(300.0, 2500.0, "right"),
+            Clothoid(90.0, 2500.0, INF, "right"), Line(300.0))
+
+
+def curve(transition_m: float) -> tuple:
+    return (Line(200.0), Clothoid(transition_m, INF, 1000.0, "right"), Arc(300.0, 1000.0, "right"),
+            Clothoid(transition_m, 1000.0, INF, "right"), Line(300.0))
+
+
+CUT_CASES = {
+    # (elements, first station, last station or None: the end, stretch without points (start, length) or None)
+    "gap 50 m in the R 1200 m arc": (COMPOUND, 0.0, None, (480.0, 50.0)),
+    "gap 50 m over the clothoid R 1200 -> 2500 m": (COMPOUND, 0.0, None, (615.0, 50.0)),
+    "gap 60 m in the R 2500 m arc": (COMPOUND, 0.0, None, (800.0, 60.0)),
+    "data from 3 m before a 40 m transition": (curve(40.0), 197.0, None, None),
+    "data from 6 m before an 80 m transition": (curve(80.0), 194.0, None, None),
+    "data to 6 m after an 80 m transition": (curve(80.0), 0.0, 666.0, None),
+}
+"""Data the line fit once took hundreds of solver evaluations over and returned over-segmented (a gap in
+a compound curve), or refused (a few metres of straight before a curve: the curvature diagram's blind end)."""
+
+
+def cut_cases(noise_mm: float, seed: int) -> bool:
+    """Fit each of CUT_CASES, 0.6 m spacing, white noise; print CPU time, solver evaluations and the
+    elements against the truth (kinds, joints within the boundary bar, radii within the radius bar)."""
+    import scipy.optimize
+
+    evaluations = []
+    solve = scipy.optimize.least_squares
+
+    def counted(*args, **kwargs):  # linefit imports least_squares from scipy.optimize when it fits
+        solution = solve(*args, **kwargs)
+        evaluations.append(solution.nfev)
+        return solution
+
+    scipy.optimize.least_squares = counted
+    print(f"\ncut data: points every 0.6 m, noise {noise_mm} mm")
+    print("  case                                          CPU [s]  evaluations  elements")
+    all_ok = True
+    try:
+        for name, (elements, first, last, gap) in CUT_CASES.items():
+            truth = HorizontalAlignment(500_000.0, 3_300_000.0, 0.7, 0.0, elements)
+            station = np.arange(first, truth.end_station_m if last is None else last, 0.6)
+            if gap is not None:
+                station = station[(station < gap[0]) | (station > gap[0] + gap[1])]
+            rng = np.random.default_rng(seed)
+            east, north = (v + rng.normal(0.0, 1e-3 * noise_mm, station.size) for v in truth.point_at(station))
+            height = 30.0 + 0.002 * station + rng.normal(0.0, 1e-3 * noise_mm, station.size)
+            evaluations.clear()
+            started = time.process_time()
+            try:
+                plan = fit_alignment(station, east, north, height).alignment.horizontal
+            except LineFitError as error:
+                ok, found = False, f"refused: {error}"
+            else:
+                want = [p for p in truth.placed_elements
+                        if p.end_station_m > station[0] + 0.5 and p.start_station_m < station[-1] - 0.5]
+                got = plan.placed_elements
+                ok = [type(p.element) for p in got] == [type(p.element) for p in want] and all(
+                    (g is got[0] or abs(g.start_station_m - w.start_station_m) < BOUNDARY_BAR_M)
+                    and (not isinstance(w.element, Arc)
+                         or abs(g.element.radius_m / w.element.radius_m - 1.0) < RADIUS_BAR)
+                    for g, w in zip(got, want))
+                found = " ".join(f"{type(p.element).__name__}" + (f" R {p.element.radius_m:.0f}"
+                                 if isinstance(p.element, Arc) else f" {p.element.length_m:.0f}") for p in got)
+            cpu = time.process_time() - started
+            print(f"  {name:<46}{cpu:>7.2f}{sum(evaluations):>13d}  {verdict(ok)}: {found}")
+            all_ok &= ok
+    finally:
+        scipy.optimize.least_squares = solve
+    return all_ok
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--scenario", nargs="+", default=["short", "long"])
+    parser.add_argument("--scenario", nargs="+", default=["short", "long", "cut"],
+                        help="simulator scenarios, and 'cut': the gap and data-edge cases (see cut_cases)")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--noise-mm", type=float, default=0.5)
     parser.add_argument("--long-wave-mm", type=float, default=5.0)
@@ -138,6 +219,9 @@ def main() -> int:
     args = parser.parse_args()
     all_ok = True
     for name in args.scenario:
+        if name == "cut":
+            all_ok &= cut_cases(args.noise_mm, args.seed)
+            continue
         folder = survey(name, args.seed, args.work)
         truth = read_sleeper_truth(folder / "truth" / "sleepers.csv")
         design = read_alignment_csv(folder / "truth" / "design.csv")

@@ -97,3 +97,23 @@ def test_data_without_two_chords_clear_of_their_gaps_are_refused_naming_the_stre
     with pytest.raises(LineFitError, match=r"between 0\.0 and 74\.6 m .*no two chords of 20 m have both ends on the "
                                            r"data, points more than 5\.0 m apart being a gap"):
         fit_horizontal(stations, 1000.0 + stations, np.full(stations.size, 2000.0))
+
+
+@pytest.mark.parametrize("transition_m", [40.0, 80.0])
+@pytest.mark.parametrize("before_m", [3.0, 6.0, 10.0])
+@pytest.mark.parametrize("at_start", [True, False], ids=["start", "end"])
+def test_data_beginning_a_few_metres_before_a_curve_fit_the_straight_and_the_transition(at_start, before_m,
+                                                                                        transition_m):
+    """Data beginning (ending) a few metres on the straight before (after) a transition, closer than
+    the curvature diagram's blind end: they were refused (the transition fitted as a piece running
+    from the data's edge, which then went, leaving the arc to run there: 100 mm off). Now the
+    straight and the whole transition are found."""
+    truth = HorizontalAlignment(1000.0, 2000.0, 0.7, 0.0, (
+        Line(200.0), Clothoid(transition_m, INF, 1000.0, "right"), Arc(300.0, 1000.0, "right"),
+        Clothoid(transition_m, 1000.0, INF, "right"), Line(200.0)))
+    if at_start:
+        stations = np.arange(200.0 - before_m, truth.end_station_m, 0.6)
+    else:
+        stations = np.arange(0.0, truth.end_station_m - 200.0 + before_m, 0.6)
+    fit = fit_horizontal(stations, *noisy_points(truth, stations, 7))
+    assert_fits(fit.alignment, truth, stations[0], stations[-1])

@@ -606,8 +606,12 @@ def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max
       an inflection; neighbouring straights join.
 
     A removed element's length goes half to each kept neighbour, so the other joints keep their
-    stations for the refit.
+    stations for the refit. Before all that, a clothoid piece the chain's end cuts that is that flat
+    there but leads into an arc is the whole transition after a straight (:func:`_with_straight_end`).
     """
+    straightened = _with_straight_end(chain, x, max_radius_m)
+    if straightened is not None:
+        return straightened
     lengths, ends = chain.lengths(x), chain.curvatures(x)
     count = chain.element_count
     edge_start, edge_end = chain.edge_curvatures(x)
@@ -692,6 +696,38 @@ def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max
     edges = [edge_start] * free_start + [edge_end] * free_end
     return (replace(chain, kinds=kinds, free_start_curvature=free_start, free_end_curvature=free_end),
             np.concatenate((x[:2], new_lengths[:-1], curvatures, edges)))
+
+
+def _with_straight_end(chain: _Chain, x: np.ndarray, max_radius_m: float):
+    """The chain with a clothoid piece cut by its start (end), its curvature at the data's edge
+    fitted flatter than ``max_radius_m`` and an arc after (before) it, split into a straight and
+    the whole clothoid, and the matching x; None when there is none.
+
+    The data then begin (end) a few metres before (after) the transition: closer than the curvature
+    diagram's blind end, so the seed took them for a run beginning inside it. A piece held to begin
+    at curvature 0 cannot bend like the straight and the clothoid after it (it stretches over both),
+    and removed like a probe's, it would leave the curve's arc running to the data's edge. The
+    straight is seeded over the end margin (the transition beginning at the data's edge); the refit
+    moves it.
+    """
+    edge_start, edge_end = chain.edge_curvatures(x)
+    start = (chain.free_start_curvature and abs(edge_start) < 1.0 / max_radius_m and chain.element_count > 1
+             and chain.kinds[1] == ARC)
+    end = (chain.free_end_curvature and abs(edge_end) < 1.0 / max_radius_m and chain.element_count > 1
+           and chain.kinds[-2] == ARC)
+    if not (start or end):
+        return None
+    kinds, lengths = list(chain.kinds), list(chain.lengths(x))
+    if start:
+        kinds.insert(0, LINE)
+        lengths[0:1] = [_END_MARGIN_M, max(lengths[0] - _END_MARGIN_M, 1.0)]
+    if end:
+        kinds.append(LINE)
+        lengths[-1:] = [max(lengths[-1] - _END_MARGIN_M, 1.0), _END_MARGIN_M]
+    free_start, free_end = chain.free_start_curvature and not start, chain.free_end_curvature and not end
+    edges = [edge_start] * free_start + [edge_end] * free_end
+    return (replace(chain, kinds=tuple(kinds), free_start_curvature=free_start, free_end_curvature=free_end),
+            np.concatenate((x[:2], lengths[:-1], x[2 + chain.element_count - 1 : chain.edge_index], edges)))
 
 
 def _without(items: list, gone: list) -> tuple[list, bool]:
