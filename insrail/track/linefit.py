@@ -4,7 +4,8 @@ Plan. The heading of the centreline is constant on straights, linear in station 
 circular arcs and a parabola in station on clothoids, so its derivative, the
 curvature, is a trapezoid per curve. The pipeline:
 
-1. heading from chords of +-``chord_half_m`` (interpolated, so uneven spacing is fine);
+1. heading from chords of +-``chord_half_m`` (interpolated, so uneven spacing is fine; not from
+   a chord ending in a gap in the data, interpolated across it);
    curvature = heading change over ``curvature_window_m``, which averages out the
    short-wave irregularities (3-70 m) the fit must not chase;
 2. segmentation: every run of |curvature| above 1/``max_radius_m`` is one curve group
@@ -64,6 +65,13 @@ _PRIOR_UNIT_M = 1e-3
 _MIN_ELEMENT_M = 1e-3
 """Elements the fit shrinks below this length are dropped (e.g. a curve without transitions)."""
 
+_GAP_CHORD_FRACTION, _GAP_SPACING_FACTOR = 0.5, 4.0
+"""A gap in the data: points farther apart than both this fraction of the heading chord's half
+and this many times their median spacing. A chord end interpolated across half a chord's half
+(5 m) is off an R 300 m curve by 10 mm, 0.5 mrad of the chord's heading: noise to the curvature
+window's averaging. Data sparser than that (a point every few metres) have a gap only where their
+points lie four times farther apart than usual."""
+
 _MIN_CURVE_RUN_M = 20.0
 _MIN_FLAT_M = 10
 """Shortest flat stretch [m, grid steps of 1 m] of the smoothed curvature that seeds an arc."""
@@ -105,12 +113,36 @@ def _checked_series(station_m, *values, names) -> tuple[np.ndarray, ...]:
 
 # ----------------------------------------------------------------- segmentation
 def _heading(station, east, north, chord_half_m):
-    """Unwrapped azimuth [rad] of the chord centred on each station (stations near the ends dropped)."""
+    """Unwrapped azimuth [rad] of the chord centred on each station (stations near the ends dropped).
+
+    Stations whose chord ends inside a gap in the data (between points farther apart than
+    :func:`_gap_m`) are dropped too: the end interpolated across the gap lies on the gap's chord,
+    off a curve by its sagitta (31 cm for 50 m at R 1000 m), and the curvature diagram would show
+    arcs that are not there. Between the kept headings the diagram interpolates linearly, which on
+    an arc is exact.
+    """
     inner = (station >= station[0] + chord_half_m) & (station <= station[-1] - chord_half_m)
     s = station[inner]
+    gap_m = _gap_m(station, chord_half_m)
+    s = s[_known(station, s - chord_half_m, gap_m) & _known(station, s + chord_half_m, gap_m)]
+    if s.size < 2:
+        raise LineFitError(f"line fitting: no two chords of {2 * chord_half_m:.0f} m have both ends on the data, "
+                           f"points more than {gap_m:.1f} m apart being a gap")
     d_east = np.interp(s + chord_half_m, station, east) - np.interp(s - chord_half_m, station, east)
     d_north = np.interp(s + chord_half_m, station, north) - np.interp(s - chord_half_m, station, north)
     return s, np.unwrap(np.arctan2(d_east, d_north))
+
+
+def _gap_m(station, chord_half_m) -> float:
+    """Spacing [m] of neighbouring points above which they have a gap between them (_GAP_CHORD_FRACTION)."""
+    return max(_GAP_CHORD_FRACTION * chord_half_m, _GAP_SPACING_FACTOR * float(np.median(np.diff(station))))
+
+
+def _known(samples, at, gap_m) -> np.ndarray:
+    """Whether each station ``at`` lies between neighbouring ``samples`` at most ``gap_m`` apart
+    (outside a gap, where interpolating them holds)."""
+    spacing = np.diff(samples)
+    return spacing[np.clip(np.searchsorted(samples, at) - 1, 0, spacing.size - 1)] <= gap_m
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
@@ -170,20 +202,24 @@ class _CurveSeed:
     end_curvature: float | None = None
 
 
-def _plateaus(g, magnitude, window_m) -> list[tuple[int, int, float]]:
+def _plateaus(g, magnitude, known, window_m) -> list[tuple[int, int, float]]:
     """(first, last, level) of the flat stretches of one curve's smoothed curvature magnitude.
 
     Flat: the magnitude changes by less than 10 % of its peak over ``window_m`` (a clothoid
-    changes it by its whole step over its length, arcs not at all). Neighbouring flats within
-    5 % of each other are one arc interrupted by noise. A curve without a flat stretch (an arc
-    shorter than the smoothing) gets one plateau at its peak.
+    changes it by its whole step over its length, arcs not at all), judged only where it and the
+    samples a window away are ``known`` (measured, not interpolated across a gap in the data:
+    interpolated, a clothoid's curvature looks flat). Neighbouring flats within 5 % of each other
+    are one arc interrupted by noise or a gap. A curve without a flat stretch (an arc shorter than
+    the smoothing) gets one plateau at its peak.
     """
     half = round(0.5 * window_m)
     peak = float(magnitude.max())
     change = np.full(magnitude.size, np.inf)
     change[half:-half] = np.abs(magnitude[2 * half :] - magnitude[: -2 * half])
+    measured = known.copy()
+    measured[half:-half] &= known[2 * half :] & known[: -2 * half]
     flats = []
-    for first, last in _runs((change < 0.1 * peak) & (magnitude > 0.25 * peak)):
+    for first, last in _runs((change < 0.1 * peak) & (magnitude > 0.25 * peak) & measured):
         if last - first < _MIN_FLAT_M:
             continue
         level = float(np.median(magnitude[first : last + 1]))
@@ -222,6 +258,8 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
     if grid.size < 2:
         return []
     curvature = (np.interp(grid + 0.5 * window_m, s, heading) - np.interp(grid - 0.5 * window_m, s, heading)) / window_m
+    gap_m = _gap_m(station, chord_half_m)
+    known = _known(s, grid - 0.5 * window_m, gap_m) & _known(s, grid + 0.5 * window_m, gap_m)
     seeds = []
     reach = int(window_m)
     for first, last in _runs(np.abs(curvature) > 1.0 / max_radius_m):
@@ -231,7 +269,8 @@ def _seed_curves(station, east, north, chord_half_m, window_m, max_radius_m) -> 
         # widen the run to where the curvature leaves zero, so the 10 % crossings are inside it
         lo, hi = max(first - reach, 0), min(last + reach, grid.size - 1)
         g, magnitude = grid[lo : hi + 1], sign * curvature[lo : hi + 1]
-        flats = _plateaus(g, np.where((g >= grid[first]) & (g <= grid[last]), magnitude, 0.0), window_m)
+        flats = _plateaus(g, np.where((g >= grid[first]) & (g <= grid[last]), magnitude, 0.0), known[lo : hi + 1],
+                          window_m)
         levels = [0.0] + [level for _, _, level in flats] + [0.0]
         arcs = [sign * level for level in levels[1:-1]]
         # a group the data cut: how it begins and ends (module docstring)
@@ -567,8 +606,12 @@ def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max
       an inflection; neighbouring straights join.
 
     A removed element's length goes half to each kept neighbour, so the other joints keep their
-    stations for the refit.
+    stations for the refit. Before all that, a clothoid piece the chain's end cuts that is that flat
+    there but leads into an arc is the whole transition after a straight (:func:`_with_straight_end`).
     """
+    straightened = _with_straight_end(chain, x, max_radius_m)
+    if straightened is not None:
+        return straightened
     lengths, ends = chain.lengths(x), chain.curvatures(x)
     count = chain.element_count
     edge_start, edge_end = chain.edge_curvatures(x)
@@ -653,6 +696,38 @@ def _simplified(chain: _Chain, x: np.ndarray, min_transition_shift_m: float, max
     edges = [edge_start] * free_start + [edge_end] * free_end
     return (replace(chain, kinds=kinds, free_start_curvature=free_start, free_end_curvature=free_end),
             np.concatenate((x[:2], new_lengths[:-1], curvatures, edges)))
+
+
+def _with_straight_end(chain: _Chain, x: np.ndarray, max_radius_m: float):
+    """The chain with a clothoid piece cut by its start (end), its curvature at the data's edge
+    fitted flatter than ``max_radius_m`` and an arc after (before) it, split into a straight and
+    the whole clothoid, and the matching x; None when there is none.
+
+    The data then begin (end) a few metres before (after) the transition: closer than the curvature
+    diagram's blind end, so the seed took them for a run beginning inside it. A piece held to begin
+    at curvature 0 cannot bend like the straight and the clothoid after it (it stretches over both),
+    and removed like a probe's, it would leave the curve's arc running to the data's edge. The
+    straight is seeded over the end margin (the transition beginning at the data's edge); the refit
+    moves it.
+    """
+    edge_start, edge_end = chain.edge_curvatures(x)
+    start = (chain.free_start_curvature and abs(edge_start) < 1.0 / max_radius_m and chain.element_count > 1
+             and chain.kinds[1] == ARC)
+    end = (chain.free_end_curvature and abs(edge_end) < 1.0 / max_radius_m and chain.element_count > 1
+           and chain.kinds[-2] == ARC)
+    if not (start or end):
+        return None
+    kinds, lengths = list(chain.kinds), list(chain.lengths(x))
+    if start:
+        kinds.insert(0, LINE)
+        lengths[0:1] = [_END_MARGIN_M, max(lengths[0] - _END_MARGIN_M, 1.0)]
+    if end:
+        kinds.append(LINE)
+        lengths[-1:] = [max(lengths[-1] - _END_MARGIN_M, 1.0), _END_MARGIN_M]
+    free_start, free_end = chain.free_start_curvature and not start, chain.free_end_curvature and not end
+    edges = [edge_start] * free_start + [edge_end] * free_end
+    return (replace(chain, kinds=tuple(kinds), free_start_curvature=free_start, free_end_curvature=free_end),
+            np.concatenate((x[:2], lengths[:-1], x[2 + chain.element_count - 1 : chain.edge_index], edges)))
 
 
 def _without(items: list, gone: list) -> tuple[list, bool]:
