@@ -200,8 +200,9 @@ CACHE_VERSION = 25  # 6: IMU screening, start-up for every IMU class, optional g
 #: What a cached track holds: 2, the epochs' stations instead of the rails (a 10 km survey's
 #: entry 52 MB instead of 370 MB, read back in a rerun); 3, the epochs' stations in their own
 #: file (track-<key>.epochs.npy), read by parts; 4, without a design the line-type fit always
-#: valid and leaving out the sleepers the fusion marks not valid.
-TRACK_CACHE_LAYOUT = 4
+#: valid and leaving out the sleepers the fusion marks not valid; 5, the line-type fit over gaps in the
+#: data (no chord across them) and with data beginning or ending a few metres before a curve.
+TRACK_CACHE_LAYOUT = 5
 
 
 @dataclass(frozen=True)
