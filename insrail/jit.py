@@ -41,6 +41,11 @@ from numba.core.caching import FunctionCache
 from numba.core.runtime import rtsys
 
 
+#: numba's cache has the private methods the loader calls (numba 0.59-0.68 have): a numba without them loads
+#: kernels its own way, with the compiler's set-up, only slower
+_NUMBA_CACHE_AS_KNOWN = all(hasattr(FunctionCache, name) for name in ("_guard_against_spurious_io_errors", "_load_overload"))
+
+
 class _CachedMachineCode(FunctionCache):
     """numba's per-function disk cache, whose load skips the compiler's registries (module docstring)."""
 
@@ -56,7 +61,8 @@ def cached_njit(**options) -> Callable:
 
     def decorate(function):
         dispatcher = njit(cache=True, **options)(function)
-        dispatcher._cache = _CachedMachineCode(dispatcher.py_func)
+        if _NUMBA_CACHE_AS_KNOWN:
+            dispatcher._cache = _CachedMachineCode(dispatcher.py_func)
         return dispatcher
 
     return decorate
