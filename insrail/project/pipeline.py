@@ -59,6 +59,7 @@ from insrail.io.atomic import atomic_write
 from insrail.io.control import read_benchmarks
 from insrail.io.errors import InputError
 from insrail.io.formats import get_format
+from insrail.io.textparse import checked_once
 from insrail.io.survey import (
     MANIFEST_NAME,
     SurveyManifest,
@@ -682,8 +683,9 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
         for folder in (results / CACHE_FOLDER, results):
             clean_leftovers(folder)
 
+    # the raw files hashed for the fusion's key are checked as text once, not again when they are read
     with project_run(project.folder, [survey_name], progress, cancel, when_alone=clean), \
-            collect_cache_notices() as cache_notices:
+            collect_cache_notices() as cache_notices, checked_once():
         return _process_survey(project, survey_name, progress, cancel, cache_notices)
 
 
