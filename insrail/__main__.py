@@ -1,5 +1,5 @@
 """``python -m insrail`` runs the command-line interface."""
 
-from insrail.cli.main import main
+from insrail.cli.main import console
 
-raise SystemExit(main())
+console()

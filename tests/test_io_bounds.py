@@ -96,3 +96,26 @@ def test_line_count_and_the_first_overlong_line_across_blocks(tmp_path, monkeypa
     path.write_bytes(b"1 2\n3 4\n" + b"9" * 30)  # the open last line over the limit
     with pytest.raises(InputError, match="line 3: line longer than the limit"):
         check_text_file(path)
+
+
+def test_a_file_checked_once_is_scanned_again_only_when_it_changed(tmp_path, monkeypatch):
+    import os
+
+    from insrail.io import textparse
+
+    path = tmp_path / "imu.txt"
+    path.write_text(IMU_LINE * 3)
+    scans = []
+    scan = textparse._scan_text_file
+    monkeypatch.setattr(textparse, "_scan_text_file", lambda *args: scans.append(args[0]) or scan(*args))
+    hashed = []
+    with textparse.checked_once():
+        assert check_text_file(path, each_block=hashed.append) == 3  # a cache key's pass
+        assert check_text_file(path) == 3 and len(scans) == 1  # the reading's: the same file, not scanned again
+        assert check_text_file(path, each_block=hashed.append) == 3 and len(scans) == 2  # its bytes asked for
+        path.write_bytes(IMU_LINE.encode() * 2 + b"\x00" * len(IMU_LINE))  # same size, binary now
+        os.utime(path, ns=(0, path.stat().st_mtime_ns + 1_000_000))
+        with pytest.raises(InputError, match="binary data"):
+            check_text_file(path)
+    path.write_text(IMU_LINE * 4)
+    assert check_text_file(path) == 4 and check_text_file(path) == 4 and len(scans) == 5  # outside: every time

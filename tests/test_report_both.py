@@ -1,5 +1,5 @@
 """The workbook and the PDF written side by side (insrail.report.both): the workbook in a spawned
-process gives the same workbook as in this one; its failure, the PDF's and a cancel reach the caller
+or a forked process gives the same workbook as in this one; its failure, the PDF's and a cancel reach the caller
 with their messages, and leave no file half-written."""
 
 from __future__ import annotations
@@ -28,7 +28,10 @@ def _left_over(folder) -> list[str]:
     return sorted(path.name for path in folder.iterdir() if path.name.endswith(".tmp"))
 
 
-def test_side_by_side_writes_the_same_workbook_and_a_pdf(tmp_path_factory, tmp_path):
+def test_side_by_side_writes_the_same_workbook_and_a_pdf(tmp_path_factory, tmp_path, monkeypatch):
+    import insrail.report.both as both
+
+    monkeypatch.setattr(both, "start_method", lambda: "spawn")
     project = shared_project(tmp_path_factory)
     results = stored(project)
     seen = []
@@ -42,7 +45,47 @@ def test_side_by_side_writes_the_same_workbook_and_a_pdf(tmp_path_factory, tmp_p
     assert not multiprocessing.active_children() and _left_over(tmp_path) == []
 
 
-def test_a_failing_workbook_reaches_the_caller_with_its_message(tmp_path_factory, tmp_path):
+def test_a_forked_workbook_is_the_same_as_one_written_here(tmp_path_factory, tmp_path, monkeypatch):
+    import insrail.report.both as both
+
+    monkeypatch.setattr(both, "start_method", lambda: "fork")
+    project = shared_project(tmp_path_factory)
+    results = stored(project)
+    seen = []
+    written = write_both(project, results, tmp_path / "book.xlsx", tmp_path / "report.pdf",
+                         progress=lambda fraction, message: seen.append(fraction), concurrent=True)
+    assert written == [tmp_path / "book.xlsx", tmp_path / "report.pdf"]
+    assert (tmp_path / "report.pdf").read_bytes().startswith(b"%PDF")
+    write_workbook(project, results, tmp_path / "here.xlsx")
+    assert _values(tmp_path / "book.xlsx") == _values(tmp_path / "here.xlsx")
+    assert seen and max(seen) == 1.0
+    assert not multiprocessing.active_children() and _left_over(tmp_path) == []
+
+
+def test_the_child_is_forked_only_from_a_process_of_one_thread():
+    import subprocess
+    import sys
+
+    import insrail.report.both as both
+
+    alone = subprocess.run([sys.executable, "-c", "from insrail.report.both import start_method; print(start_method())"],
+                           capture_output=True, text=True, check=True).stdout.strip()
+    assert alone == "fork"  # as `insrail report` runs it (Linux: /proc/self/task)
+    release = threading.Event()
+    other = threading.Thread(target=release.wait)
+    other.start()
+    try:
+        assert both.start_method() == "spawn"  # another thread might hold a lock the child would copy held
+    finally:
+        release.set()
+        other.join()
+
+
+@pytest.mark.parametrize("method", ["spawn", "fork"])
+def test_a_failing_workbook_reaches_the_caller_with_its_message(tmp_path_factory, tmp_path, monkeypatch, method):
+    import insrail.report.both as both
+
+    monkeypatch.setattr(both, "start_method", lambda: method)
     project = shared_project(tmp_path_factory)
     (tmp_path / "book.xlsx").mkdir()  # the workbook's process refuses a folder as its file
     with pytest.raises(OSError) as failed:
@@ -53,7 +96,11 @@ def test_a_failing_workbook_reaches_the_caller_with_its_message(tmp_path_factory
     assert not multiprocessing.active_children() and _left_over(tmp_path) == []
 
 
-def test_a_failing_pdf_stops_the_workbook_and_reaches_the_caller(tmp_path_factory, tmp_path):
+@pytest.mark.parametrize("method", ["spawn", "fork"])
+def test_a_failing_pdf_stops_the_workbook_and_reaches_the_caller(tmp_path_factory, tmp_path, monkeypatch, method):
+    import insrail.report.both as both
+
+    monkeypatch.setattr(both, "start_method", lambda: method)
     project = shared_project(tmp_path_factory)
     (tmp_path / "report.pdf").mkdir()
     with pytest.raises(OSError) as failed:
@@ -63,7 +110,11 @@ def test_a_failing_pdf_stops_the_workbook_and_reaches_the_caller(tmp_path_factor
     assert not multiprocessing.active_children() and _left_over(tmp_path) == []
 
 
-def test_cancel_stops_both_and_writes_nothing(tmp_path_factory, tmp_path):
+@pytest.mark.parametrize("method", ["spawn", "fork"])
+def test_cancel_stops_both_and_writes_nothing(tmp_path_factory, tmp_path, monkeypatch, method):
+    import insrail.report.both as both
+
+    monkeypatch.setattr(both, "start_method", lambda: method)
     project = shared_project(tmp_path_factory)
     cancel = threading.Event()
     cancel.set()
@@ -77,7 +128,7 @@ def test_cancel_stops_both_and_writes_nothing(tmp_path_factory, tmp_path):
 def test_one_after_the_other_where_no_second_cpu_is_free(tmp_path_factory, tmp_path, monkeypatch):
     import insrail.report.both as both
 
-    monkeypatch.setattr(both, "side_by_side", lambda sleepers: False)
+    monkeypatch.setattr(both, "side_by_side", lambda sleepers, method: False)
     monkeypatch.setattr(both.multiprocessing, "get_context", lambda method: pytest.fail("a process was started"))
     project = shared_project(tmp_path_factory)
     write_both(project, stored(project), tmp_path / "book.xlsx", tmp_path / "report.pdf")
@@ -95,7 +146,7 @@ def test_one_after_the_other_the_content_is_made_once(tmp_path_factory, tmp_path
     load = content.load_report_content
     for module in (content, excel, pdf):
         monkeypatch.setattr(module, "load_report_content", lambda *args: made.append(load(*args)) or made[-1])
-    monkeypatch.setattr(both, "side_by_side", lambda sleepers: False)
+    monkeypatch.setattr(both, "side_by_side", lambda sleepers, method: False)
     project = shared_project(tmp_path_factory)
     write_both(project, stored(project), tmp_path / "book.xlsx", tmp_path / "report.pdf")
     assert len(made) == 1 and (tmp_path / "book.xlsx").is_file() and (tmp_path / "report.pdf").is_file()
@@ -117,8 +168,11 @@ def test_a_short_survey_or_a_busy_machine_is_written_in_one_process(monkeypatch)
     monkeypatch.setattr(both, "running_tasks", lambda: 1.0)
     assert both.side_by_side(both.SIDE_BY_SIDE_MIN_SLEEPERS)
     assert not both.side_by_side(both.SIDE_BY_SIDE_MIN_SLEEPERS - 1)  # its workbook is quicker than a start-up
+    assert both.side_by_side(both.FORKED_MIN_SLEEPERS, "fork")  # a forked child starts at once
+    assert not both.side_by_side(both.FORKED_MIN_SLEEPERS - 1, "fork")
     monkeypatch.setattr(both, "running_tasks", lambda: 4.0)
     assert not both.side_by_side(16_000)  # no CPU idle
+    assert not both.side_by_side(16_000, "fork")
     monkeypatch.setattr(both, "running_tasks", lambda: 1.0)
     monkeypatch.setattr(both.os, "sched_getaffinity", lambda pid: {0})
     assert not both.side_by_side(16_000)  # one CPU

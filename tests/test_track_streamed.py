@@ -265,3 +265,40 @@ def test_a_failure_in_a_thread_making_rails_propagates_with_its_message(tmp_path
                                    design=truth.design, spool_folder=tmp_path, epochs_file=tmp_path / "epochs.npy")
     assert [p.name for p in tmp_path.iterdir()] == ["trajectory.npy"]
     assert not any(thread.name.startswith("rails") for thread in threading.enumerate())
+
+
+@pytest.mark.parametrize("cpus", [1, 2], ids=["one CPU: one band after the other", "two CPUs: two bands at once"])
+def test_the_bands_fitted_by_threads_or_one_at_a_time_are_the_same(tmp_path, truth, cpus, monkeypatch):
+    monkeypatch.setattr(streamed.os, "cpu_count", lambda: cpus)
+    fitted_in = set()
+    fit = streamed.sliding_window_fit
+
+    def noting_the_thread(*args, **kwargs):
+        fitted_in.add(threading.current_thread().name.split("_")[0])
+        return fit(*args, **kwargs)
+
+    monkeypatch.setattr(streamed, "sliding_window_fit", noting_the_thread)
+    whole, parts = _both(tmp_path, truth, _part(truth.trajectory, _stretch(truth, seconds=60.0)), design=truth.design)
+    _assert_same(whole, parts)
+    assert fitted_in == ({"MainThread"} if cpus == 1 else {"bands"})
+
+
+def test_a_cancel_among_the_bands_leaves_no_thread_and_no_spool(tmp_path, truth, monkeypatch):
+    monkeypatch.setattr(streamed.os, "cpu_count", lambda: 2)
+    path = tmp_path / "trajectory.npy"
+    save_trajectory(path, _part(truth.trajectory, _stretch(truth, seconds=120.0)))
+    fits = []
+    fit = streamed.sliding_window_fit
+    monkeypatch.setattr(streamed, "sliding_window_fit", lambda *args, **kwargs: fits.append(1) or fit(*args, **kwargs))
+
+    def cancel_among_the_bands():
+        if len(fits) >= 2:  # a band fitted (both rails): at the latest at the fourth band's check
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        reconstruct_track_streamed(path, truth.trajectory.ellipsoid, truth.trolley, truth.gauge,
+                                   truth.to_engineering, design=truth.design, spool_folder=tmp_path,
+                                   epochs_file=tmp_path / "epochs.npy", check=cancel_among_the_bands)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["epochs.npy", "trajectory.npy"]  # the spool is gone (the
+    # epochs' file, complete before the bands, is the caller's to seal or leave unsealed)
+    assert not any(thread.name.startswith("bands") for thread in threading.enumerate())

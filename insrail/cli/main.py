@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import atexit
 import errno
 import os
 import sys
+import threading
 import traceback
+from typing import NoReturn
 
 from insrail import __version__
 from insrail.io.errors import InputError
@@ -102,6 +105,29 @@ def main(argv: list[str] | None = None) -> int:
         if os.environ.get(DEBUG_VARIABLE):
             traceback.print_exc()
         return 3
+
+
+def console() -> NoReturn:
+    """The ``insrail`` command (``python -m insrail`` too): :func:`main`, then :func:`exit_at_once`."""
+    exit_at_once(main())
+
+
+def exit_at_once(code: int) -> NoReturn:
+    """End the process with ``code`` without the interpreter's teardown. What an exit does for others is
+    done first, as the interpreter does it: the threads Python started joined (and the thread pools told
+    to stop), the atexit functions run (multiprocessing's children, ``weakref.finalize``'s temporary
+    folders, logging), the output flushed; then ``os._exit``. Skipped is only the teardown that frees
+    every object and module one by one, some 0.1 s of CPU after ``insrail report`` and 0.14 s after
+    ``insrail process`` of a short survey, where the kernel takes the whole address space back at once.
+    Every file a command writes is closed before it returns (atomic writes), so no buffer is lost."""
+    threading._shutdown()  # what Py_FinalizeEx calls first (private): the pools told to stop, the threads joined
+    atexit._run_exitfuncs()  # and then (private too)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe: the exit status the interpreter gives then
+            code = code or 120
+    os._exit(code)
 
 
 #: Environment variable that makes an internal error print its traceback.

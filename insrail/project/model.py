@@ -61,8 +61,6 @@ from typing import Any
 
 import numpy as np
 import tomli_w
-import tomlkit
-import tomlkit.exceptions
 
 from insrail.geodesy.crs import EngineeringCRS
 from insrail.geodesy.errors import GeoidGridError, SettingsError
@@ -352,6 +350,9 @@ def save_project(project: Project, path: str | Path | None = None) -> Path:
     The file the user wrote keeps its comments, order and layout: the settings are merged into it
     (:func:`_merge`), only the values that changed rewritten. Should the merged text not read back as
     the settings (a layout tomlkit cannot edit), the plain document is written instead."""
+    import tomlkit  # here only: some 20 ms of the start of every command that reads a project
+    import tomlkit.exceptions
+
     path = Path(path) if path is not None else project.path
     settings = tomllib.loads(tomli_w.dumps(project.to_settings()))  # tuples as lists: as they read back
     try:

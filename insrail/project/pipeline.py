@@ -59,6 +59,7 @@ from insrail.io.atomic import atomic_write
 from insrail.io.control import read_benchmarks
 from insrail.io.errors import InputError
 from insrail.io.formats import get_format
+from insrail.io.textparse import checked_once
 from insrail.io.survey import (
     MANIFEST_NAME,
     SurveyManifest,
@@ -683,8 +684,9 @@ def process(project: Project, survey_name: str, progress: ProgressFn | None = No
         for folder in (results / CACHE_FOLDER, results):
             clean_leftovers(folder)
 
+    # the raw files hashed for the fusion's key are checked as text once, not again when they are read
     with project_run(project.folder, [survey_name], progress, cancel, when_alone=clean), \
-            collect_cache_notices() as cache_notices:
+            collect_cache_notices() as cache_notices, checked_once():
         return _process_survey(project, survey_name, progress, cancel, cache_notices)
 
 
@@ -713,8 +715,15 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                               step.sub(0.0, 0.04), cancel)
     check_cancel(cancel)
     step(0.04, "height model")
-    height_fit = fit_heights(project)
-    key = fusion_key(project, manifest, folder, gnss.pos_sha256 if gnss else "", run)
+    # the benchmarks' fit beside the hashing of the raw files for the fusion's key (hashlib, without the
+    # GIL); a failure of the fit is said first, as when it ran first
+    with BackgroundJob(lambda said, stop: fit_heights(project), None, cancel, "height model") as fitting:
+        try:
+            key = fusion_key(project, manifest, folder, gnss.pos_sha256 if gnss else "", run)
+        except BaseException:
+            fitting.result()
+            raise
+        height_fit = fitting.result()
     # the fusion's entry stays open (locked, not sealed) while its covariance analysis runs beside the
     # track reconstruction, which reads only the trajectory file; it is sealed before the quality is used
     with cache_entry(project.folder, f"fusion-{key}", step.sub(0.04, 0.8), cancel), \
@@ -781,11 +790,17 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
     release_free_memory()
     check_cancel(cancel)
     step(0.9, "adjustment amounts")
-    if manifest.relative:  # its deviations hold the IMU's drift: no amounts to plan (relative_survey)
-        adjustment, after_adjustment = no_amounts(len(table.station_m), run.fastener.name), assessment
-    else:
-        after_adjustment, adjustment = _adjustment(project, run, geometry, step.sub(0.9, 0.97), cancel,
-                                                   assessable.masks(unresolved))
+    # the report's figures of the trajectory, read from its file by parts (numpy, mostly without the GIL),
+    # and of the track quality (the band-pass filters' first import of scipy.signal) beside the adjustment,
+    # whose programmes HiGHS solves without the GIL
+    with BackgroundJob(lambda said, stop: (trajectory_section(trajectory_file), track_quality_section(geometry)),
+                       None, cancel, "figures") as figures:
+        if manifest.relative:  # its deviations hold the IMU's drift: no amounts to plan (relative_survey)
+            adjustment, after_adjustment = no_amounts(len(table.station_m), run.fastener.name), assessment
+        else:
+            after_adjustment, adjustment = _adjustment(project, run, geometry, step.sub(0.9, 0.97), cancel,
+                                                       assessable.masks(unresolved))
+        trajectory_figures, track_quality = figures.result()
     release_free_memory()
     check_cancel(cancel)
 
@@ -812,12 +827,7 @@ def _process_survey(project: Project, survey_name: str, progress: ProgressFn | N
                                                 *_line_fit_notices(extras.line, table)]]
     if local is not None:
         summary["local_control"] = local.summary()
-    # the report's figures of the trajectory, read from its file by parts (numpy, mostly without the GIL),
-    # beside the band-pass filters' first import of scipy.signal
-    with BackgroundJob(lambda said, stop: trajectory_section(trajectory_file), None, cancel,
-                       "trajectory figures") as figures:
-        summary["track_quality"] = track_quality_section(geometry)
-        trajectory_figures = figures.result()
+    summary["track_quality"] = track_quality
     summary["events"] = events_section(events, table.station_m, turnout_counts)
     summary["joints"] = joints_section(joints, shocks)
     summary["track"]["sleeper_pulses"] = recon.sleepers.repair_counts()

@@ -40,5 +40,7 @@ def font_for(text: str, font: str = "Helvetica") -> str:
 def font_runs(text: str, font: str = "Helvetica") -> list[tuple[str, str]]:
     """(run, font) of ``text``: ``font`` where it shows the characters, the CJK font for the rest (a
     bold title keeps its weight but for a "−" or a Chinese word)."""
+    if helvetica_can_show(text):  # most text: one run, without a look at each character
+        return [(text, font)] if text else []
     return [("".join(run), font if shown else register_cjk())
             for shown, run in itertools.groupby(text, helvetica_can_show)]

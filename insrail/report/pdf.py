@@ -264,8 +264,9 @@ class NumberedCanvas(Canvas):
     def _draw_plain(self, x: float, y: float, text, anchor: float, args: tuple, kwargs: dict) -> bool:
         """Write ``text`` at x (its start, end or centre: ``anchor`` 0, 1, 0.5 of its width) when it is plain
         (no text mode, spacing, direction or shaping asked for); False where reportlab must write it."""
-        plain = (not args and set(kwargs) <= _STRING_OPTIONS and kwargs.get("mode") is None
-                 and kwargs.get("direction") is None and not any(kwargs.get(k) for k in ("charSpace", "wordSpace", "shaping")))
+        plain = not args and (not kwargs or (  # most calls pass no option
+            set(kwargs) <= _STRING_OPTIONS and kwargs.get("mode") is None and kwargs.get("direction") is None
+            and not any(kwargs.get(k) for k in ("charSpace", "wordSpace", "shaping"))))
         if not plain:
             return False
         code = self._plain_text(x, y, text, anchor)

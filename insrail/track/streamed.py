@@ -39,6 +39,7 @@ from __future__ import annotations
 import itertools
 import shutil
 import tempfile
+import threading
 from collections import deque
 from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
@@ -97,6 +98,9 @@ BAND_SLEEPERS = 500
 #: Threads making the parts' rails (at most the CPU budget): their time goes to numpy, the compiled
 #: ECEF -> geodetic kernel (nogil) and PROJ, which release the GIL.
 RAILS_THREADS = 2
+#: Threads fitting the table's bands (at most the CPU budget): most of their time goes to numpy's
+#: loops (the windows' powers above all), which release the GIL.
+BAND_THREADS = 2
 
 #: The spooled per-epoch quantities and their widths. Rails, cant and forward axis in the
 #: trolley's frame (turned to the stationing when read); stations in the stationing's.
@@ -105,16 +109,19 @@ _WIDTHS = {"time": 1, "left": 3, "right": 3, "forward": 3, "gauge": 1, "cant": 1
 
 
 class _Spool:
-    """Per-epoch columns in plain float64 files under a temporary folder (removed by :meth:`close`)."""
+    """Per-epoch columns in plain float64 files under a temporary folder (removed by :meth:`close`).
+    Written and read at given positions (``pwrite``, ``preadv``): threads may read at once."""
 
     def __init__(self, folder: Path | None):
         self.folder = Path(tempfile.mkdtemp(prefix=".track-spool-", dir=folder))
         self.handles: dict[str, object] = {}
+        self._opening = threading.Lock()
 
     def _handle(self, name: str):
-        if name not in self.handles:
-            self.handles[name] = open(self.folder / f"{name}.f64", "w+b")
-        return self.handles[name]
+        with self._opening:
+            if name not in self.handles:
+                self.handles[name] = open(self.folder / f"{name}.f64", "w+b")
+            return self.handles[name]
 
     def write(self, name: str, start: int, values: np.ndarray) -> None:
         write_at(self.folder / f"{name}.f64", self._handle(name).fileno(), np.ascontiguousarray(values, dtype=np.float64),
@@ -122,11 +129,13 @@ class _Spool:
 
     def read(self, name: str, start: int, count: int) -> np.ndarray:
         width = _WIDTHS[name]
-        handle = self._handle(name)
-        handle.seek(start * width * 8)
-        values = np.fromfile(handle, dtype=np.float64, count=count * width)
-        if len(values) != count * width:
-            raise ValueError(f"{self.folder / name}: spool ends before record {start + count}")
+        values = np.empty(count * width)
+        into, offset, done = memoryview(values).cast("B"), start * width * 8, 0
+        while done < len(into):
+            got = os.preadv(self._handle(name).fileno(), [into[done:]], offset + done)
+            if not got:
+                raise ValueError(f"{self.folder / name}: spool ends before record {start + count}")
+            done += got
         return values if width == 1 else values.reshape(count, width)
 
     def close(self) -> None:
@@ -402,6 +411,27 @@ class _Streamed:
         return float(self.spool.read("time", 0, 1)[0]), float(self.spool.read("time", self.n - 1, 1)[0])
 
 
+def _each_band(firsts, fit: Callable[[int], None], check: Callable[[], None]) -> None:
+    """``fit`` of every band (its first sleeper), :data:`BAND_THREADS` at a time; ``check`` runs in the
+    calling thread before each band is begun. The bands write disjoint rows: the table is the same,
+    to the bit, as one band after the other."""
+    threads = min(BAND_THREADS, cpu_budget())
+    if threads < 2:
+        for first in firsts:
+            check()
+            fit(first)
+        return
+    with ThreadPoolExecutor(threads, thread_name_prefix="bands") as pool:  # on any exit: the running ones waited for
+        running: deque = deque()
+        for first in firsts:
+            check()
+            if len(running) == threads:
+                running.popleft().result()
+            running.append(pool.submit(fit, first))
+        for band in running:
+            band.result()
+
+
 def path_at_times(trajectory_file, ellipsoid: Ellipsoid, trolley: TrolleyGeometry, time_s: np.ndarray
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The IMU's path at ``time_s`` in a local plane tangent at its first point (north, east [m])
@@ -498,8 +528,8 @@ def reconstruct_track_streamed(
         n = len(at)
         left, right = np.full((n, 3), np.nan), np.full((n, 3), np.nan)
         gauge_at, cant_at = np.full(n, np.nan), np.full(n, np.nan)
-        for first in range(0, n, BAND_SLEEPERS):
-            check()
+
+        def fit_band(first: int) -> None:  # each band's sleepers are its own
             part = slice(first, first + BAND_SLEEPERS)
             band = at[part]
             low, high = band.min() - half, band.max() + half
@@ -507,6 +537,8 @@ def reconstruct_track_streamed(
             right[part] = sliding_window_fit(*run.band("right_station", "right", low, high), band, window_m)
             gauge_at[part] = run.interpolated("gauge", band, half)
             cant_at[part] = run.interpolated("cant", band, half)
+
+        _each_band(range(0, n, BAND_SLEEPERS), fit_band, check)
         sigma = chunked_interp(sleepers.time_s, run.epoch_blocks(("sigma_pos", "sigma_roll")))
         table = sleeper_table_of(sleepers, left, right, gauge_at, cant_at, sigma[:, :3], sigma[:, 3], design,
                                  design_gauge_m, trolley.rail_centre_spacing_m)
