@@ -2,7 +2,7 @@
 
 np.loadtxt spends its time in the C library's string-to-double conversion (Python's dtoa,
 about 0.5 µs a field, holding the GIL): a 1.8-million-line IMU file takes 3-4 s. Here one numba
-loop over the file's bytes (memory-mapped, in blocks) splits lines and
+loop over the file's bytes (read in blocks, so memory holds the values and two blocks) splits lines and
 fields and converts each field with the Eisel-Lemire algorithm (Lemire, "Number parsing at a
 gigabyte per second", 2021; as in the fast_float library): the 64-bit decimal significand times a
 128-bit approximation of 5**q gives the correctly rounded double, and the rare cases the
@@ -21,7 +21,6 @@ None and the caller runs the general parser, which gives the values or the error
 
 from __future__ import annotations
 
-import mmap
 import os
 from pathlib import Path
 
@@ -264,31 +263,36 @@ def _parse(data, start, comma, out_bits, rows, columns):
 
 #: fields a line can hold within the line length limit (a number and a separator each)
 _PROBE_COLUMNS = 1 << 15
-#: bytes parsed at a time (a block's second half in a thread beside its first, :func:`_parse_halves`)
+#: bytes read at a time: memory stays the values plus two blocks, whatever the file's size
 _BLOCK_BYTES = 1 << 24
 
 
-def mapped_file(path: Path) -> mmap.mmap | bytes:
-    """The bytes of the file at ``path`` mapped read-only: the pages of the system's file cache themselves, not
-    read into buffers of the process (each a copy of the file, and pages it must fault in and zero); unmapped
-    when the last array over them goes. An empty file gives ``b""`` (a map cannot be empty)."""
-    with open(path, "rb") as handle:
-        if os.fstat(handle.fileno()).st_size == 0:
-            return b""
-        return mmap.mmap(handle.fileno(), 0, access=mmap.ACCESS_READ)
-
-
-def _blocks_of_whole_lines(whole: mmap.mmap | bytes):
-    """The file's bytes ``whole`` (:func:`mapped_file`) as uint8 arrays over them, in blocks of about
-    :data:`_BLOCK_BYTES` that end at a line end (the last one at the end of the file); check_text_file
-    bounds a line, so a block holds one (a longer line makes its block longer)."""
-    data = np.frombuffer(whole, dtype=np.uint8)
-    start, size = 0, len(whole)
-    while start < size:
-        stop = start + _BLOCK_BYTES
-        cut = size if stop >= size else (whole.rfind(b"\n", start, stop) + 1 or whole.find(b"\n", stop) + 1 or size)
-        yield data[start:cut]
-        start = cut
+def _blocks_of_whole_lines(handle):
+    """The file's bytes in blocks of about :data:`_BLOCK_BYTES` that end at a line end (the last
+    one at the end of the file); check_text_file bounds a line, so every block holds one. Each block
+    is a view of one buffer the file is read into (no copy of it made), good until the next block
+    is asked for; the part of a line after a block's last line end moves to the buffer's front."""
+    # a file smaller than a block is read in one block of its size: a 32 MB buffer zeroed for a small file
+    # was most of its read
+    block_bytes = max(min(_BLOCK_BYTES, os.fstat(handle.fileno()).st_size + 1), 1)
+    buffer = bytearray(2 * block_bytes)
+    carried = 0  # bytes of the next block already in the buffer's front
+    while True:
+        if len(buffer) - carried < block_bytes:  # a line longer than a block (not after check_text_file)
+            grown = bytearray(2 * len(buffer))
+            grown[:carried] = buffer[:carried]
+            buffer = grown
+        got = handle.readinto(memoryview(buffer)[carried:carried + block_bytes])
+        if not got:
+            if carried:
+                yield memoryview(buffer)[:carried]
+            return
+        filled = carried + got
+        cut = buffer.rfind(b"\n", 0, filled) + 1
+        if cut:
+            yield memoryview(buffer)[:cut]
+        buffer[:filled - cut] = buffer[cut:filled]
+        carried = filled - cut
 
 
 @compiled
@@ -315,23 +319,25 @@ def parse_numeric_file(path: Path, skip_lines: int, comma: bool, line_count: int
     docstring). ``line_count`` bounds the rows (from :func:`insrail.io.textparse.check_text_file`)."""
     out_bits = None
     rows, columns = 0, -1
-    for data in _blocks_of_whole_lines(mapped_file(path)):
-        start = 0
-        if skip_lines:
-            start, skip_lines = _skip_lines(data, skip_lines)
-            if start < 0:
+    with open(path, "rb") as handle:
+        for block in _blocks_of_whole_lines(handle):
+            data = np.frombuffer(block, dtype=np.uint8)
+            start = 0
+            if skip_lines:
+                start, skip_lines = _skip_lines(data, skip_lines)
+                if start < 0:
+                    return None
+            if out_bits is None:  # the first data row's field count sizes the values
+                probe = np.empty((1, _PROBE_COLUMNS), dtype=np.int64)
+                found, columns = _parse(data, start, comma, probe, 0, -1)
+                if found < 0:
+                    return None
+                if found == 0:
+                    continue  # no data row in this block
+                out_bits = np.empty((max(line_count, 1), columns), dtype=np.int64)
+            rows, columns = _parse_halves(data, start, comma, out_bits, rows, columns)
+            if rows < 0:
                 return None
-        if out_bits is None:  # the first data row's field count sizes the values
-            probe = np.empty((1, _PROBE_COLUMNS), dtype=np.int64)
-            found, columns = _parse(data, start, comma, probe, 0, -1)
-            if found < 0:
-                return None
-            if found == 0:
-                continue  # no data row in this block
-            out_bits = np.empty((max(line_count, 1), columns), dtype=np.int64)
-        rows, columns = _parse_halves(data, start, comma, out_bits, rows, columns)
-        if rows < 0:
-            return None
     if out_bits is None:
         return None
     return out_bits[:rows].view(np.float64)

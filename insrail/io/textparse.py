@@ -13,7 +13,7 @@ Bounds (a disk image or a log copied in by mistake must not take the machine's m
 file holds no NUL byte (:func:`check_text_file` refuses it as binary, echoing none of its bytes), no
 line longer than :data:`MAX_LINE_CHARS` and at most :data:`MAX_LINES` lines (a 200 Hz IMU records
 17 million lines a day; a numeric table of more does not fit this machine's memory anyway). The scan
-maps the file and goes through it in blocks, so refusing a 5 GB file takes seconds and a few megabytes.
+streams the file in blocks, so refusing a 5 GB file takes seconds and a few megabytes.
 
 Speed: the fast path is a compiled reader (:mod:`insrail.io.fastparse`: numba over the
 memory-mapped bytes, exact Eisel-Lemire conversion), about 4x quicker than np.loadtxt and giving
@@ -164,10 +164,9 @@ def checked_once() -> Iterator[None]:
 def check_text_file(path: Path, max_lines: int = MAX_LINES, each_block: Callable[[bytes], object] | None = None
                     ) -> int:
     """Refuse ``path`` when it is binary, has an overlong line or more than ``max_lines`` lines
-    (see the module docstring); one pass over the file mapped into memory (no copy of it read), in
-    blocks of :data:`_SCAN_BLOCK` bytes, each handed to ``each_block`` once it passed (a cache key
-    hashes the file in the same pass, and a disk image is refused at its first block, not after
-    hashing gigabytes). Returns the number of lines (a
+    (see the module docstring); one pass in blocks of :data:`_SCAN_BLOCK` bytes, each handed to
+    ``each_block`` once it passed (a cache key hashes the file in the same pass, and a disk image
+    is refused at its first block, not after hashing gigabytes). Returns the number of lines (a
     last line without a line end counts). Within :func:`checked_once` a file checked before and
     unchanged is not scanned again (unless ``each_block`` asks for its bytes)."""
     checked = _CHECKED.get()
@@ -184,27 +183,25 @@ def check_text_file(path: Path, max_lines: int = MAX_LINES, each_block: Callable
 
 def _scan_text_file(path: Path, max_lines: int, each_block: Callable[[bytes], object] | None) -> int:
     """:func:`check_text_file`'s pass over the file."""
-    from insrail.io.fastparse import line_scan, mapped_file  # numba: only when a file is read
+    from insrail.io.fastparse import line_scan  # numba: only when a file is read
 
     lineno, run = 1, 0  # the current line, and the bytes of it seen so far
-    whole = mapped_file(path)
-    data = np.frombuffer(whole, dtype=np.uint8)
-    for start in range(0, len(whole), _SCAN_BLOCK):
-        stop = min(start + _SCAN_BLOCK, len(whole))
-        nul = whole.find(b"\0", start, stop)
-        if nul >= 0:
-            raise InputError(path, lineno + whole[start:nul].count(b"\n"), _BINARY)
-        ended, long, run = line_scan(data[start:stop], run, MAX_LINE_CHARS)
-        if long >= 0:
-            raise InputError(path, lineno + long, _too_long())
-        if run > MAX_LINE_CHARS:
-            raise InputError(path, lineno + ended, _too_long())
-        lineno += ended
-        if lineno - 1 > max_lines:
-            raise InputError(path, max_lines + 1, "more than the limit of {max_lines:,} lines: not a "
-                             "plausible survey file (a 200 Hz IMU records 17 million lines a day)", fields={"max_lines": max_lines})
-        if each_block is not None:
-            each_block(data[start:stop])
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(_SCAN_BLOCK), b""):
+            nul = block.find(b"\0")
+            if nul >= 0:
+                raise InputError(path, lineno + block.count(b"\n", 0, nul), _BINARY)
+            ended, long, run = line_scan(np.frombuffer(block, dtype=np.uint8), run, MAX_LINE_CHARS)
+            if long >= 0:
+                raise InputError(path, lineno + long, _too_long())
+            if run > MAX_LINE_CHARS:
+                raise InputError(path, lineno + ended, _too_long())
+            lineno += ended
+            if lineno - 1 > max_lines:
+                raise InputError(path, max_lines + 1, "more than the limit of {max_lines:,} lines: not a "
+                                 "plausible survey file (a 200 Hz IMU records 17 million lines a day)", fields={"max_lines": max_lines})
+            if each_block is not None:
+                each_block(block)
     return lineno if run else lineno - 1
 
 
