@@ -269,7 +269,7 @@ def test_a_failure_in_a_thread_making_rails_propagates_with_its_message(tmp_path
 
 @pytest.mark.parametrize("cpus", [1, 2], ids=["one CPU: one band after the other", "two CPUs: two bands at once"])
 def test_the_bands_fitted_by_threads_or_one_at_a_time_are_the_same(tmp_path, truth, cpus, monkeypatch):
-    monkeypatch.setattr(streamed.os, "cpu_count", lambda: cpus)
+    monkeypatch.setattr(os, "cpu_count", lambda: cpus)
     fitted_in = set()
     fit = streamed.sliding_window_fit
 
@@ -284,7 +284,7 @@ def test_the_bands_fitted_by_threads_or_one_at_a_time_are_the_same(tmp_path, tru
 
 
 def test_a_cancel_among_the_bands_leaves_no_thread_and_no_spool(tmp_path, truth, monkeypatch):
-    monkeypatch.setattr(streamed.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(os, "cpu_count", lambda: 2)
     path = tmp_path / "trajectory.npy"
     save_trajectory(path, _part(truth.trajectory, _stretch(truth, seconds=120.0)))
     fits = []

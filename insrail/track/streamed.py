@@ -37,6 +37,7 @@ into one band: documented, not capped.
 from __future__ import annotations
 
 import itertools
+import os
 import shutil
 import tempfile
 import threading
