@@ -165,7 +165,7 @@ def fresh_project(survey_dir: Path, folder: Path) -> Path:
     from insrail.project.demo import project_for_simulated_survey
 
     survey = folder / "surveys" / survey_dir.name
-    if not (folder / "project.toml").is_file():
+    if not (folder / "project.toml").is_file() or not survey.is_dir():
         shutil.rmtree(folder, ignore_errors=True)
         shutil.copytree(survey_dir, survey, copy_function=os.link)
         project_for_simulated_survey(folder, survey, name="kfgins bench")
@@ -187,7 +187,8 @@ def bench_survey(survey_dir: Path, binary: Path, scratch: Path, runs: int) -> di
     config, epochs = kfgins_inputs(survey_dir, scratch / "run")
     env = installed_env(dict(os.environ, PYTHONPATH=str(REPO)), scratch / "pycache")
     out = scratch / "insrail-out"
-    project = fresh_project(survey_dir, scratch / "project")
+    # a project per survey: one scratch folder serves several surveys (made once each, then reused)
+    project = fresh_project(survey_dir, scratch / "projects" / survey_dir.resolve().name)
 
     # first call with an empty numba cache: the one-off compile cost of the kernels
     cache = scratch / "numba-cache"
