@@ -28,10 +28,13 @@ def _left_over(folder) -> list[str]:
     return sorted(path.name for path in folder.iterdir() if path.name.endswith(".tmp"))
 
 
-def test_side_by_side_writes_the_same_workbook_and_a_pdf(tmp_path_factory, tmp_path, monkeypatch):
+@pytest.mark.parametrize("method", ["spawn", "fork"])
+def test_side_by_side_writes_the_same_workbook_and_a_pdf(tmp_path_factory, tmp_path, monkeypatch, method):
+    """The workbook's own process, spawned (the GUI, the batch) or forked (insrail report), writes the
+    workbook this process would, beside the PDF, with one progress for both."""
     import insrail.report.both as both
 
-    monkeypatch.setattr(both, "start_method", lambda: "spawn")
+    monkeypatch.setattr(both, "start_method", lambda: method)
     project = shared_project(tmp_path_factory)
     results = stored(project)
     seen = []
@@ -42,23 +45,6 @@ def test_side_by_side_writes_the_same_workbook_and_a_pdf(tmp_path_factory, tmp_p
     write_workbook(project, results, tmp_path / "here.xlsx")
     assert _values(tmp_path / "book.xlsx") == _values(tmp_path / "here.xlsx")
     assert seen and max(seen) == 1.0 and all(0.0 <= f <= 1.0 for f in seen)  # one progress for both
-    assert not multiprocessing.active_children() and _left_over(tmp_path) == []
-
-
-def test_a_forked_workbook_is_the_same_as_one_written_here(tmp_path_factory, tmp_path, monkeypatch):
-    import insrail.report.both as both
-
-    monkeypatch.setattr(both, "start_method", lambda: "fork")
-    project = shared_project(tmp_path_factory)
-    results = stored(project)
-    seen = []
-    written = write_both(project, results, tmp_path / "book.xlsx", tmp_path / "report.pdf",
-                         progress=lambda fraction, message: seen.append(fraction), concurrent=True)
-    assert written == [tmp_path / "book.xlsx", tmp_path / "report.pdf"]
-    assert (tmp_path / "report.pdf").read_bytes().startswith(b"%PDF")
-    write_workbook(project, results, tmp_path / "here.xlsx")
-    assert _values(tmp_path / "book.xlsx") == _values(tmp_path / "here.xlsx")
-    assert seen and max(seen) == 1.0
     assert not multiprocessing.active_children() and _left_over(tmp_path) == []
 
 
