@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from insrail.io.atomic import save_npy
+from insrail.io.atomic import named_write, save_npy
 from insrail.io.errors import InputError
 from insrail.io.textparse import (
     check_table_time,
@@ -238,11 +238,9 @@ class _IncrementsCopy:
         else:
             chunk = np.empty(len(dtheta_rad), dtype=_INCREMENTS_DTYPE)
             chunk["dtheta_rad"], chunk["dvel_mps"] = dtheta_rad, dvel_mps
-            try:
-                self._file.write(memoryview(chunk).cast("B"))
-            except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
-                raise OSError(err.errno, err.strerror,
-                              f"{tempfile.gettempdir()} (the IMU record's temporary copy)") from None
+            # an unnamed file: said where it lies (a full disk names the folder to clear)
+            named_write(f"{tempfile.gettempdir()} (the IMU record's temporary copy)", self._file.write,
+                        memoryview(chunk).cast("B"))
         self._filled = stop
 
     def copied(self) -> np.ndarray:

@@ -57,7 +57,7 @@ from typing import Self
 
 import numpy as np
 
-from insrail.io.atomic import write_at
+from insrail.io.atomic import named_write, write_at
 from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
 from insrail.io.types import GnssSolution, ImuIncrements, OdometerData
@@ -963,12 +963,11 @@ class _Spool:
         if self.memory is not None:
             self.memory[self.size : self.size + len(data)] = data
         else:
-            try:
-                if self.file is None:
-                    self.file = tempfile.TemporaryFile(prefix=self.prefix)
-                self.file.write(memoryview(data))
-            except OSError as err:  # an unnamed file: say where it lies (a full disk names the folder to clear)
-                raise OSError(err.errno, err.strerror, f"{tempfile.gettempdir()} ({self.what})") from None
+            # an unnamed file: said where it lies (a full disk names the folder to clear)
+            where = f"{tempfile.gettempdir()} ({self.what})"
+            if self.file is None:
+                self.file = named_write(where, lambda: tempfile.TemporaryFile(prefix=self.prefix))
+            named_write(where, self.file.write, memoryview(data))
         self.size += len(data)
 
     def room(self, nbytes: int) -> np.ndarray | None:
