@@ -228,6 +228,39 @@ def test_an_action_threshold_takes_out_small_amounts_without_a_new_exceedance():
         assert flags[e.first_index:e.last_index + 1].any(), e
 
 
+def test_programme_rows_are_written_as_scipys_canonical_matrix():
+    """The rows the programme hands HiGHS (written from (R, w) index arrays without scipy): every
+    entry on its variable, the unused (-1) left out, a variable twice in a row summed."""
+    from scipy import sparse
+
+    from insrail.track.adjustment import direction_problem
+    from insrail.track.adjustment_programme import _Programme
+
+    profile, fastener = load_tolerance_profile(), load_fastener_type()
+    problem = direction_problem(consistent_track(40, seed=1), profile, fastener, "lateral")
+    free = np.zeros(40, bool)
+    free[5:25] = True
+    programme = _Programme(problem, np.zeros((40, 2)), free)
+    rng = np.random.default_rng(3)
+    index = rng.integers(-1, programme.variables, (50, 5))
+    index[0] = -1  # a row without an entry
+    index[1] = [7, 3, 7, -1, 3]  # duplicates
+    values = rng.normal(size=index.shape)
+    values[1] = [1.0, 2.0, -1.0, 5.0, 0.5]  # 7 sums to 0 (HiGHS drops it)
+    programme._add_rows(index, values, np.full(50, -1.0), np.full(50, 1.0))
+    keep = index >= 0
+    row = np.broadcast_to(np.arange(50)[:, None], index.shape)[keep]
+    expected = sparse.csr_array((values[keep], (row, index[keep])), shape=(50, programme.variables))
+    expected.sum_duplicates()
+    expected.eliminate_zeros()
+    written = programme.highs.getLp().a_matrix_
+    assert written.num_row_ == 50 and written.num_col_ == programme.variables
+    np.testing.assert_array_equal(written.start_, expected.indptr)
+    np.testing.assert_array_equal(written.index_, expected.indices)
+    np.testing.assert_array_equal(written.value_, expected.data)
+    assert written.index_[written.start_[1]:written.start_[2]] == [3] and written.value_[written.start_[1]] == 2.5
+
+
 def test_fastener_parts_wj7_and_bad_part_tables(tmp_path):
     from insrail.track.adjustment_parts import parts_text
 
