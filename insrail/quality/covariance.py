@@ -109,8 +109,8 @@ class CovarianceProfile:
     smoothed: PassCovariance | None
 
 
-#: Epochs whose smoother gains are solved at a time: a part's Phi and P- beside their successors' and
-#: the gains take 20 kB per epoch (~5 MB; a whole record block of 2048 epochs took 40 MB more).
+#: Epochs of the backward pass per call of its kernel: a record's part is unpacked (Phi, P-, P+: 15 kB per
+#: epoch, ~4 MB) and projected at a time (a whole record block of 2048 epochs took 30 MB more).
 SMOOTH_PART_EPOCHS = 256
 
 #: the figures per epoch, in this order: lateral and vertical position, roll (on the attitude error),
@@ -304,9 +304,9 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
     of every pair; ``var_forward`` (m, N_PROJECTIONS), when given, receives the filtered variances of the
     same epochs.
 
-    Per part of a block (:data:`SMOOTH_PART_EPOCHS`): the gains A_j in one batched solve, then the
-    recursion itself (P_s, the pushed columns, the pairs starting and ending at each epoch) in the
-    compiled :func:`_backward_chunk`, so no Python runs per epoch."""
+    Per part of a block (:data:`SMOOTH_PART_EPOCHS`) the compiled :func:`_backward_chunk`: the gains A_j
+    and the recursion itself (P_s, the pushed columns, the pairs starting and ending at each epoch), so
+    no Python runs per epoch."""
     n = plan.n
     var_s = np.empty((m, N_PROJECTIONS))
     cross_s = np.empty((plan.n_pairs, 2))
@@ -315,7 +315,6 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
     starts = _csr(plan.first.astype(np.int64, copy=False), m)
     ends = _csr(plan.second.astype(np.int64, copy=False), m)
     expected = m - 1
-    carry = None  # (Phi, P-) of the epoch after the part's first one
     for block in blocks:
         js = np.asarray(block[0], dtype=np.int64)
         due = np.arange(expected, expected - len(js), -1)
@@ -325,39 +324,27 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
         expected -= len(js)
         check_cancel(cancel)
         progress((m - 1 - expected) / m, "covariance: smoother")
-        # a block's gains and their temporaries by parts of SMOOTH_PART_EPOCHS (each matrix's solve is
-        # its own: the same numbers), the block itself let go before the next one is read
+        # a block by parts of SMOOTH_PART_EPOCHS (a part's projections at a time), the block itself let go
+        # before the next one is read
         for first in range(0, len(js), SMOOTH_PART_EPOCHS):
             part = slice(first, first + SMOOTH_PART_EPOCHS)
-            carry = _smooth_part(plan, js[part], block[1][part], block[2][part], block[3][part], carry, state,
-                                 starts, ends, var_s, var_f, cross_s)
+            _smooth_part(plan, js[part], block[1][part], block[2][part], block[3][part], state, starts, ends, var_s,
+                         var_f, cross_s)
         del block
     if expected != -1:
         raise ValueError(f"the covariance record ends at epoch {expected + 1}, not at epoch 0")
     return var_s, cross_s
 
 
-def _smooth_part(plan: _Plan, js, phi, p_minus, p_plus, carry, state: _BackwardState, starts, ends, var_s, var_f,
-                 cross_s):
+def _smooth_part(plan: _Plan, js, phi, p_minus, p_plus, state: _BackwardState, starts, ends, var_s, var_f, cross_s):
     """:func:`_backward_chunk` over consecutive epochs ``js`` (decreasing) with their Phi, P- and P+;
-    ``carry``: Phi and P- of the epoch after the first one (None: the first is the last epoch).
-    Returns the carry for the part that follows."""
-    n = plan.n
-    # Phi and P- of epoch j + 1 beside epoch j: the previous record (the part before's for the first)
-    phi_next, p_minus_next = np.empty_like(phi), np.empty_like(p_minus)
-    phi_next[1:], p_minus_next[1:] = phi[:-1], p_minus[:-1]
-    first = 0
-    if carry is not None:
-        phi_next[0], p_minus_next[0] = carry
-    else:  # the last epoch: its smoothed covariance is the filtered one
-        phi_next[0], p_minus_next[0] = np.eye(n), np.eye(n)
-        first = 1
-    gains = np.linalg.solve(p_minus_next, phi_next @ p_plus).transpose(0, 2, 1)  # P+ Phi^T (P-)^-1
+    ``state`` carries Phi and P- of the epoch after the first one from the part before."""
     low = int(js[-1])  # the part's projections, epochs low..js[0]
     u = np.stack(projections(plan.heading_rad[low : js[0] + 1]))  # (N_PROJECTIONS, k, 3)
-    _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, POS, ATT, *starts, *ends, state.P_s,
-                    state.columns, state.slot_of, state.pair_of_slot, state.active, var_s, var_f, cross_s)
-    return phi[-1].copy(), p_minus[-1].copy()
+    _backward_chunk(js, low, phi, p_minus, p_plus, state.phi_next, state.p_minus_next, 0 if state.started else 1, u,
+                    POS, ATT, *starts, *ends, state.P_s, state.columns, state.slot_of, state.pair_of_slot,
+                    state.active, var_s, var_f, cross_s)
+    state.started = True
 
 
 def _csr(epochs: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
@@ -368,10 +355,14 @@ def _csr(epochs: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 class _BackwardState:
-    """What the backward recursion carries from one chunk to the next: the smoothed covariance
-    and the pushed columns of the active pairs (row 2 s lateral, 2 s + 1 vertical of slot s)."""
+    """What the backward recursion carries from one chunk to the next: the smoothed covariance,
+    the pushed columns of the active pairs (row 2 s lateral, 2 s + 1 vertical of slot s) and Phi and
+    P- of the last chunk's first epoch (the gain of the epoch before needs them); ``started`` once
+    the survey's last epoch is smoothed."""
 
     def __init__(self, n: int, n_pairs: int):
+        self.started = False
+        self.phi_next, self.p_minus_next = np.zeros((n, n)), np.zeros((n, n))
         self.P_s = np.zeros((n, n))
         self.columns = np.zeros((2 * max(n_pairs, 1), n))
         self.slot_of = np.full(max(n_pairs, 1), -1, dtype=np.int64)
@@ -393,18 +384,34 @@ def _project(out, P, u, j, low, pos, att):  # pragma: no cover - compiled
 
 
 @cached_njit(nogil=True)  # touches no Python object: runs beside the caller's thread
-def _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, pos, att, starts_ptr, starts_idx, ends_ptr, ends_idx,
-                    P_s, columns, slot_of, pair_of_slot, active, var_s, var_f, cross_s):  # pragma: no cover - compiled
-    """The RTS recursion over one chunk of epochs (see :func:`_smooth`); ``first`` = 1 when the
-    chunk starts with the last epoch of the survey (P_s = P+ there)."""
+def _gain(phi_next, p_minus_next, p_plus):  # pragma: no cover - compiled
+    """The smoother gain A = P+ Phi^T (P-)^-1 (Phi and P- of the epoch after), C-ordered: solved as
+    (P-)^-1 Phi P+ and transposed (the numbers of numpy's own solve and product, to the bit)."""
+    rhs = np.ascontiguousarray(phi_next) @ np.ascontiguousarray(p_plus)
+    return np.ascontiguousarray(np.linalg.solve(p_minus_next, rhs).T)
+
+
+@cached_njit(nogil=True)  # touches no Python object: runs beside the caller's thread
+def _backward_chunk(js, low, phi, p_minus, p_plus, phi_next, p_minus_next, first, u, pos, att, starts_ptr, starts_idx,
+                    ends_ptr, ends_idx, P_s, columns, slot_of, pair_of_slot, active, var_s, var_f,
+                    cross_s):  # pragma: no cover - compiled
+    """The RTS recursion over one chunk of epochs (see :func:`_smooth`) with Phi, P- and P+ of each;
+    ``phi_next``, ``p_minus_next``: those of the epoch after the chunk's first one (unused when ``first``
+    = 1: the chunk starts with the last epoch of the survey, P_s = P+ there), left holding those of the
+    chunk's last epoch for the chunk that follows. The gains are made here, one epoch at a time: no
+    batch of them (20 kB per epoch with its temporaries) is held or faulted in."""
     n = P_s.shape[0]
     for e in range(len(js)):
         j = js[e]
         if e < first:
             P_s[:, :] = p_plus[e]
         else:
-            a = np.ascontiguousarray(gains[e])
-            x = np.ascontiguousarray(P_s - p_minus_next[e])
+            if e == 0:
+                a = _gain(phi_next, p_minus_next, p_plus[e])
+                x = np.ascontiguousarray(P_s - p_minus_next)
+            else:
+                a = _gain(phi[e - 1], p_minus[e - 1], p_plus[e])
+                x = np.ascontiguousarray(P_s - p_minus[e - 1])
             smoothed = p_plus[e] + (a @ x) @ a.T
             P_s[:, :] = 0.5 * (smoothed + smoothed.T)
             k = 2 * active[0]
@@ -440,6 +447,8 @@ def _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, pos, att, st
                     for p in range(3):
                         total += P_s[i, pos + p] * u[r, j - low, p]
                     columns[2 * slot + r, i] = total
+    phi_next[:, :] = phi[len(js) - 1]
+    p_minus_next[:, :] = p_minus[len(js) - 1]
 
 
 def _group(epochs: np.ndarray, m: int) -> dict[int, np.ndarray]:
