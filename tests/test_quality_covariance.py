@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from insrail.quality import covariance
 from insrail.quality.covariance import analyse
 
 N = 9  # enough states for the position (0-2) and attitude (6-8) blocks the analysis reads
@@ -70,7 +71,9 @@ def _lag_sigma(cov, j, k, state, sign=1.0):
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
-def test_lag_differences_equal_the_stacked_exact_covariance(seed):
+@pytest.mark.parametrize("checkpoint", [1, 5, 32, 1000])  # the smoother's columns through the gains' product
+def test_lag_differences_equal_the_stacked_exact_covariance(seed, checkpoint, monkeypatch):
+    monkeypatch.setattr(covariance, "CHECKPOINT_EPOCHS", checkpoint)
     m = 40
     P0, segments = _system(seed, m)
     station = np.arange(m, dtype=float) * 0.5

@@ -85,8 +85,9 @@ def test_the_record_is_analysed_without_the_imu_data(recorded):
 
 
 def test_the_record_is_analysed_alike_by_parts_of_any_size(recorded, monkeypatch):
-    """The smoother's gains are solved and the record unpacked by parts (memory): every matrix is
-    its own, so the figures are the same to the bit with parts of a few epochs or of the whole record."""
+    """The record is unpacked and analysed by parts (memory), each part carrying Phi and P- of its first
+    epoch to the gain of the part after: the figures are the same to the bit with parts of a few epochs or
+    of the whole record."""
     survey, result, store = recorded
     figures = []
     for part in (7, 1 << 30):

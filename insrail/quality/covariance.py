@@ -36,7 +36,9 @@ every e_k|N with k > j (a linear function of x_k and Y_N). Therefore
 
     P_j,k|N = Cov(e_j|N, e_k|N) = A_j P_j+1,k|N = A_j A_j+1 ... A_k-1 P_k|N .
 
-The backward pass pushes D = P_k|N[:, pos] u_k^T from epoch k back to j with D <- A_i D.
+The backward pass pushes D = P_k|N[:, pos] u_k^T from epoch k back to j with D <- A_i D, the columns
+of all pairs alive at once through the product A_i ... A_t-1 since a checkpoint t (``CHECKPOINT_EPOCHS``):
+the same sums in another order (some 1e-13 of a lag difference's 1-sigma).
 It reads Phi, P- and P+ of every epoch back from a disk record the forward pass wrote
 (as the fusion's own smoother does), so the models are evaluated once per epoch.
 ``analyse_recorded`` runs the backward pass alone over the record the fusion itself wrote
@@ -109,9 +111,14 @@ class CovarianceProfile:
     smoothed: PassCovariance | None
 
 
-#: Epochs whose smoother gains are solved at a time: a part's Phi and P- beside their successors' and
-#: the gains take 20 kB per epoch (~5 MB; a whole record block of 2048 epochs took 40 MB more).
+#: Epochs of the backward pass per call of its kernel: a record's part is unpacked (Phi, P-, P+: 15 kB per
+#: epoch, ~4 MB) and projected at a time (a whole record block of 2048 epochs took 30 MB more).
 SMOOTH_PART_EPOCHS = 256
+
+#: The backward pass pushes the columns of the pairs alive (some 300 on a 150 m lag) one epoch on, D <- A_i D:
+#: N^2 each. It pushes instead the product of the gains since a checkpoint (N^3: some 25 columns' worth), the
+#: columns seeded since one by one, and every column through the product at the checkpoint, this many epochs on.
+CHECKPOINT_EPOCHS = 32
 
 #: the figures per epoch, in this order: lateral and vertical position, roll (on the attitude error),
 #: along-track position
@@ -304,9 +311,9 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
     of every pair; ``var_forward`` (m, N_PROJECTIONS), when given, receives the filtered variances of the
     same epochs.
 
-    Per part of a block (:data:`SMOOTH_PART_EPOCHS`): the gains A_j in one batched solve, then the
-    recursion itself (P_s, the pushed columns, the pairs starting and ending at each epoch) in the
-    compiled :func:`_backward_chunk`, so no Python runs per epoch."""
+    Per part of a block (:data:`SMOOTH_PART_EPOCHS`) the compiled :func:`_backward_chunk`: the gains A_j
+    and the recursion itself (P_s, the pushed columns, the pairs starting and ending at each epoch), so
+    no Python runs per epoch."""
     n = plan.n
     var_s = np.empty((m, N_PROJECTIONS))
     cross_s = np.empty((plan.n_pairs, 2))
@@ -315,7 +322,6 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
     starts = _csr(plan.first.astype(np.int64, copy=False), m)
     ends = _csr(plan.second.astype(np.int64, copy=False), m)
     expected = m - 1
-    carry = None  # (Phi, P-) of the epoch after the part's first one
     for block in blocks:
         js = np.asarray(block[0], dtype=np.int64)
         due = np.arange(expected, expected - len(js), -1)
@@ -325,39 +331,27 @@ def _smooth(plan: _Plan, blocks, m, progress, cancel, var_forward: np.ndarray | 
         expected -= len(js)
         check_cancel(cancel)
         progress((m - 1 - expected) / m, "covariance: smoother")
-        # a block's gains and their temporaries by parts of SMOOTH_PART_EPOCHS (each matrix's solve is
-        # its own: the same numbers), the block itself let go before the next one is read
+        # a block by parts of SMOOTH_PART_EPOCHS (a part's projections at a time), the block itself let go
+        # before the next one is read
         for first in range(0, len(js), SMOOTH_PART_EPOCHS):
             part = slice(first, first + SMOOTH_PART_EPOCHS)
-            carry = _smooth_part(plan, js[part], block[1][part], block[2][part], block[3][part], carry, state,
-                                 starts, ends, var_s, var_f, cross_s)
+            _smooth_part(plan, js[part], block[1][part], block[2][part], block[3][part], state, starts, ends, var_s,
+                         var_f, cross_s)
         del block
     if expected != -1:
         raise ValueError(f"the covariance record ends at epoch {expected + 1}, not at epoch 0")
     return var_s, cross_s
 
 
-def _smooth_part(plan: _Plan, js, phi, p_minus, p_plus, carry, state: _BackwardState, starts, ends, var_s, var_f,
-                 cross_s):
+def _smooth_part(plan: _Plan, js, phi, p_minus, p_plus, state: _BackwardState, starts, ends, var_s, var_f, cross_s):
     """:func:`_backward_chunk` over consecutive epochs ``js`` (decreasing) with their Phi, P- and P+;
-    ``carry``: Phi and P- of the epoch after the first one (None: the first is the last epoch).
-    Returns the carry for the part that follows."""
-    n = plan.n
-    # Phi and P- of epoch j + 1 beside epoch j: the previous record (the part before's for the first)
-    phi_next, p_minus_next = np.empty_like(phi), np.empty_like(p_minus)
-    phi_next[1:], p_minus_next[1:] = phi[:-1], p_minus[:-1]
-    first = 0
-    if carry is not None:
-        phi_next[0], p_minus_next[0] = carry
-    else:  # the last epoch: its smoothed covariance is the filtered one
-        phi_next[0], p_minus_next[0] = np.eye(n), np.eye(n)
-        first = 1
-    gains = np.linalg.solve(p_minus_next, phi_next @ p_plus).transpose(0, 2, 1)  # P+ Phi^T (P-)^-1
+    ``state`` carries Phi and P- of the epoch after the first one from the part before."""
     low = int(js[-1])  # the part's projections, epochs low..js[0]
     u = np.stack(projections(plan.heading_rad[low : js[0] + 1]))  # (N_PROJECTIONS, k, 3)
-    _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, POS, ATT, *starts, *ends, state.P_s,
-                    state.columns, state.slot_of, state.pair_of_slot, state.active, var_s, var_f, cross_s)
-    return phi[-1].copy(), p_minus[-1].copy()
+    _backward_chunk(js, low, phi, p_minus, p_plus, state.phi_next, state.p_minus_next, 0 if state.started else 1, u,
+                    POS, ATT, *starts, *ends, state.P_s, state.product, state.columns, state.young, state.slot_of,
+                    state.pair_of_slot, state.pair_of_young, state.active, CHECKPOINT_EPOCHS, var_s, var_f, cross_s)
+    state.started = True
 
 
 def _csr(epochs: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
@@ -368,15 +362,25 @@ def _csr(epochs: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 class _BackwardState:
-    """What the backward recursion carries from one chunk to the next: the smoothed covariance
-    and the pushed columns of the active pairs (row 2 s lateral, 2 s + 1 vertical of slot s)."""
+    """What the backward recursion carries from one chunk to the next: the smoothed covariance,
+    the pushed columns of the active pairs and Phi and P- of the last chunk's first epoch (the gain of
+    the epoch before needs them); ``started`` once the survey's last epoch is smoothed.
+
+    The columns lie in two sets (:data:`CHECKPOINT_EPOCHS`), each slot s two rows, 2 s lateral and
+    2 s + 1 vertical: ``columns`` as they were at the last checkpoint, their value now ``product``
+    (A_i ... A_t-1 since checkpoint t) times them, and ``young``, those seeded since, as they are now.
+    ``slot_of[pair]`` is s in the first set and -1 - s in the second; ``active``: the slots in use in
+    each and the epochs since the checkpoint."""
 
     def __init__(self, n: int, n_pairs: int):
+        self.started = False
+        self.phi_next, self.p_minus_next = np.zeros((n, n)), np.zeros((n, n))
         self.P_s = np.zeros((n, n))
-        self.columns = np.zeros((2 * max(n_pairs, 1), n))
+        self.product = np.eye(n)
+        self.columns, self.young = np.zeros((2 * max(n_pairs, 1), n)), np.zeros((2 * max(n_pairs, 1), n))
         self.slot_of = np.full(max(n_pairs, 1), -1, dtype=np.int64)
-        self.pair_of_slot = np.full(max(n_pairs, 1), -1, dtype=np.int64)
-        self.active = np.zeros(1, dtype=np.int64)
+        self.pair_of_slot, self.pair_of_young = (np.full(max(n_pairs, 1), -1, dtype=np.int64) for _ in range(2))
+        self.active = np.zeros(3, dtype=np.int64)
 
 
 @cached_njit(nogil=True)  # touches no Python object: runs beside the caller's thread
@@ -393,23 +397,57 @@ def _project(out, P, u, j, low, pos, att):  # pragma: no cover - compiled
 
 
 @cached_njit(nogil=True)  # touches no Python object: runs beside the caller's thread
-def _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, pos, att, starts_ptr, starts_idx, ends_ptr, ends_idx,
-                    P_s, columns, slot_of, pair_of_slot, active, var_s, var_f, cross_s):  # pragma: no cover - compiled
-    """The RTS recursion over one chunk of epochs (see :func:`_smooth`); ``first`` = 1 when the
-    chunk starts with the last epoch of the survey (P_s = P+ there)."""
+def _gain(phi_next, p_minus_next, p_plus):  # pragma: no cover - compiled
+    """The smoother gain A = P+ Phi^T (P-)^-1 (Phi and P- of the epoch after), C-ordered: solved as
+    (P-)^-1 Phi P+ and transposed (the numbers of numpy's own solve and product, to the bit)."""
+    rhs = np.ascontiguousarray(phi_next) @ np.ascontiguousarray(p_plus)
+    return np.ascontiguousarray(np.linalg.solve(p_minus_next, rhs).T)
+
+
+@cached_njit(nogil=True)  # touches no Python object: runs beside the caller's thread
+def _drop(rows, slot_of, pair_of_slot, active, which, slot, code):  # pragma: no cover - compiled
+    """Slot ``slot`` of a set of pushed columns (``active[which]`` slots in use) freed: the set's last slot
+    moved into it, its pair's ``slot_of`` set to ``code`` (the freed slot as ``slot_of`` tells it)."""
+    last = active[which] - 1
+    if slot != last:
+        rows[2 * slot] = rows[2 * last]
+        rows[2 * slot + 1] = rows[2 * last + 1]
+        moved = pair_of_slot[last]
+        slot_of[moved] = code
+        pair_of_slot[slot] = moved
+    active[which] = last
+
+
+@cached_njit(nogil=True)  # touches no Python object: runs beside the caller's thread
+def _backward_chunk(js, low, phi, p_minus, p_plus, phi_next, p_minus_next, first, u, pos, att, starts_ptr, starts_idx,
+                    ends_ptr, ends_idx, P_s, product, columns, young, slot_of, pair_of_slot, pair_of_young, active,
+                    checkpoint, var_s, var_f, cross_s):  # pragma: no cover - compiled
+    """The RTS recursion over one chunk of epochs (see :func:`_smooth`) with Phi, P- and P+ of each;
+    ``phi_next``, ``p_minus_next``: those of the epoch after the chunk's first one (unused when ``first``
+    = 1: the chunk starts with the last epoch of the survey, P_s = P+ there), left holding those of the
+    chunk's last epoch for the chunk that follows. The gains are made here, one epoch at a time: no
+    batch of them (20 kB per epoch with its temporaries) is held or faulted in. The columns are brought
+    to the current epoch every ``checkpoint`` epochs (:class:`_BackwardState`)."""
     n = P_s.shape[0]
     for e in range(len(js)):
         j = js[e]
         if e < first:
             P_s[:, :] = p_plus[e]
         else:
-            a = np.ascontiguousarray(gains[e])
-            x = np.ascontiguousarray(P_s - p_minus_next[e])
+            if e == 0:
+                a = _gain(phi_next, p_minus_next, p_plus[e])
+                x = np.ascontiguousarray(P_s - p_minus_next)
+            else:
+                a = _gain(phi[e - 1], p_minus[e - 1], p_plus[e])
+                x = np.ascontiguousarray(P_s - p_minus[e - 1])
             smoothed = p_plus[e] + (a @ x) @ a.T
             P_s[:, :] = 0.5 * (smoothed + smoothed.T)
-            k = 2 * active[0]
+            if active[0]:
+                product[:, :] = a @ product
+            k = 2 * active[1]
             if k:
-                columns[:k] = columns[:k] @ a.T  # each row d^T A^T = (A d)^T
+                young[:k] = young[:k] @ a.T  # each row d^T A^T = (A d)^T
+            active[2] += 1
         _project(var_s, P_s, u, j, low, pos, att)
         _project(var_f, p_plus[e], u, j, low, pos, att)
         for t in range(starts_ptr[j], starts_ptr[j + 1]):  # pairs whose first epoch is j: read and drop
@@ -418,28 +456,48 @@ def _backward_chunk(js, low, gains, p_minus_next, p_plus, first, u, pos, att, st
             for r in range(2):
                 total = 0.0
                 for p in range(3):
-                    total += u[r, j - low, p] * columns[2 * slot + r, pos + p]
+                    if slot >= 0:  # (product d)[pos + p]
+                        value = 0.0
+                        for i in range(n):
+                            value += product[pos + p, i] * columns[2 * slot + r, i]
+                    else:
+                        value = young[2 * (-1 - slot) + r, pos + p]
+                    total += u[r, j - low, p] * value
                 cross_s[pair, r] = total
-            last = active[0] - 1
-            if slot != last:
-                columns[2 * slot] = columns[2 * last]
-                columns[2 * slot + 1] = columns[2 * last + 1]
-                moved = pair_of_slot[last]
-                slot_of[moved] = slot
-                pair_of_slot[slot] = moved
-            active[0] = last
+            if slot >= 0:
+                _drop(columns, slot_of, pair_of_slot, active, 0, slot, slot)
+            else:
+                _drop(young, slot_of, pair_of_young, active, 1, -1 - slot, slot)
         for t in range(ends_ptr[j], ends_ptr[j + 1]):  # pairs whose second epoch is j: seeded with P_s[:, pos] u^T
             pair = ends_idx[t]
-            slot = active[0]
-            active[0] = slot + 1
-            slot_of[pair] = slot
-            pair_of_slot[slot] = pair
+            slot = active[1]
+            active[1] = slot + 1
+            slot_of[pair] = -1 - slot
+            pair_of_young[slot] = pair
             for r in range(2):
                 for i in range(n):
                     total = 0.0
                     for p in range(3):
                         total += P_s[i, pos + p] * u[r, j - low, p]
-                    columns[2 * slot + r, i] = total
+                    young[2 * slot + r, i] = total
+        if active[2] >= checkpoint:  # every column brought to now, the young ones among them
+            k = 2 * active[0]
+            if k:
+                columns[:k] = columns[:k] @ product.T
+            for slot in range(active[1]):
+                to = active[0]
+                active[0] = to + 1
+                columns[2 * to] = young[2 * slot]
+                columns[2 * to + 1] = young[2 * slot + 1]
+                slot_of[pair_of_young[slot]] = to
+                pair_of_slot[to] = pair_of_young[slot]
+            active[1] = 0
+            active[2] = 0
+            product[:, :] = 0.0
+            for i in range(n):
+                product[i, i] = 1.0
+    phi_next[:, :] = phi[len(js) - 1]
+    p_minus_next[:, :] = p_minus[len(js) - 1]
 
 
 def _group(epochs: np.ndarray, m: int) -> dict[int, np.ndarray]:

@@ -192,16 +192,20 @@ def _recorded(epochs: UpdateEpochs, store: SmootherStore, anchor_spacing_m, prog
 def _reversed_parts(store: SmootherStore):
     """The store's records as blocks (j, Phi_j, P-_j, P+_j) of :data:`SMOOTH_PART_EPOCHS`, j decreasing
     (``SmootherStore.reversed_blocks`` without the updates dx): the store's read buffer is unpacked a
-    part at a time, so that no more than a part's matrices (4 MB) are held beside the analysis."""
+    part at a time, so that no more than a part's matrices (4 MB) are held beside the analysis. Every
+    part is unpacked into the same arrays (fresh ones per part were fresh mappings whose pages the
+    kernel faults in and zeroes, ``insrail.memory``): a part is good until the next one is asked for."""
+    size = max(min(SMOOTH_PART_EPOCHS, store.chunk, store.count), 1)  # a part lies inside a chunk
+    phi, p_minus, p_plus = (np.empty((size, N_STATES, N_STATES)) for _ in range(3))
+    dx = np.empty((size, N_STATES))
     for first, chunk in store.reversed_chunks():
         records = chunk[::-1]
         top = first + len(chunk)
         for start in range(0, len(records), SMOOTH_PART_EPOCHS):
             part = records[start : start + SMOOTH_PART_EPOCHS]
             k = len(part)
-            phi, p_minus, p_plus = (np.empty((k, N_STATES, N_STATES)) for _ in range(3))
-            _unpack_records(part, phi, p_minus, p_plus, np.empty((k, N_STATES)))
-            yield np.arange(top - start, top - start - k, -1), phi, p_minus, p_plus
+            _unpack_records(part, phi[:k], p_minus[:k], p_plus[:k], dx[:k])
+            yield np.arange(top - start, top - start - k, -1), phi[:k], p_minus[:k], p_plus[:k]
 
 
 def _forward_index(nav, t: np.ndarray) -> np.ndarray:
