@@ -1438,8 +1438,24 @@ def _screened(imu: ImuIncrements, profile: ImuProfile, odometer: OdometerData | 
     return imu, outliers, tuple(notices)
 
 
+def summed_records(imu: ImuIncrements, first: int, count: int) -> ImuIncrements:
+    """The records from ``first`` on, ``count`` at a time summed into one (a coarser mechanisation):
+    record 0 is record ``first`` (where the filter starts: its increments are not integrated), record i
+    the sum of records first + (i - 1) count + 1 .. first + i count, stamped with the last one's time;
+    the records after the last whole group are left out."""
+    groups = (len(imu) - 1 - first) // count
+    stop = first + 1 + groups * count
+
+    def summed(increments: np.ndarray) -> np.ndarray:
+        return np.concatenate([increments[first : first + 1],
+                               increments[first + 1 : stop].reshape(groups, count, 3).sum(axis=1)])
+
+    return replace(imu, time_s=np.ascontiguousarray(imu.time_s[first:stop:count]), dtheta_rad=summed(imu.dtheta_rad),
+                   dvel_mps=summed(imu.dvel_mps))
+
+
 def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: FusionOptions,
-             ellipsoid: earth.Ellipsoid, memo: PassMemo | None = None) -> _Setup:
+             ellipsoid: earth.Ellipsoid, memo: PassMemo | None = None, imu_every: int = 1) -> _Setup:
     memo = memo if memo is not None else PassMemo()
     records = imu
     noise = ErrorModelNoise.from_profile(profile, options.gnss_correlated_tau_s, options.gnss_correlated_sigma_ned_m)
@@ -1516,10 +1532,13 @@ def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: F
     start = initial_state(imu, track, stops, aiding.odometer, c_vb, profile, options, ellipsoid, aiding.design_azimuth,
                           known=aiding.known_start)
     notices.extend(start.notices)
-    every = max(int(round(1.0 / (options.update_rate_hz * dt0))), 1)
-    epochs = update_grid(t, start.epoch, every, aiding.measurements)
     motion = (np.array([s[0] for s in stops]), np.array([s[1] for s in stops]),
               stop_motion_sigma(imu, stops, profile.accel_vrw))
+    if imu_every > 1:  # screened, bridged and started on every record; then mechanised on their sums
+        imu, start, dt0 = summed_records(imu, start.epoch, imu_every), replace(start, epoch=0), dt0 * imu_every
+        t = imu.time_s
+    every = max(int(round(1.0 / (options.update_rate_hz * dt0))), 1)
+    epochs = update_grid(t, start.epoch, every, aiding.measurements)
     plan = schedule(t[epochs], [replace(m, stop_motion=motion) if isinstance(m, Zupt) else m
                                 for m in aiding.measurements], stops)
     P0 = initial_covariance(profile, options, start.sigma_pos_ned_m, start.sigma_vel_mps, start.sigma_level_rad,
@@ -1800,6 +1819,8 @@ def fuse(
     forward_file: Path | None = None,
     full_forward: bool = False,
     memo: PassMemo | None = None,
+    imu_every: int = 1,
+    records_in_memory_bytes: int = RECORDS_IN_MEMORY_BYTES,
 ) -> FusionResult:
     """Fuse IMU increments with a list of aiding sources into a trajectory.
 
@@ -1818,11 +1839,17 @@ def fuse(
                      at the update epochs only (what the covariance analysis linearises on)
     memo           : a :class:`~insrail.nav.pass_memo.PassMemo` shared by the passes over one survey:
                      the IMU screening, gap bridging and stops made once for all of them
+    imu_every      : the records screened, bridged and the filter started as always, then mechanised
+                     ``imu_every`` at a time, summed (:func:`summed_records`; a pass that needs less than
+                     the full rate: the mounting's); ``output_every`` then counts the summed records
+    records_in_memory_bytes : the forward pass's records (its IMU-rate solution, the smoother's record)
+                     held in memory up to this size in all, else in temporary files (a pass beside the
+                     main fusion takes less: the peak memory is the two's together)
     """
     if covariance_store is not None and covariance_store.count:
         raise ValueError(f"the covariance store already holds {covariance_store.count} records: pass an empty one")
     step = StepProgress(progress)
-    setup = _prepare(imu, aiding, profile, options, ellipsoid, memo)
+    setup = _prepare(imu, aiding, profile, options, ellipsoid, memo, imu_every)
     imu, epochs, t = setup.imu, setup.epochs, setup.imu.time_s
     plan, notices = setup.plan, setup.notices
     bridged_q = setup.bridged_q
@@ -1832,7 +1859,7 @@ def fuse(
     store = SmootherStore() if own_store else covariance_store
     nav_rows = int(epochs[-1]) + 1 - int(epochs[0])
     records_bytes = nav_rows * _EpochFile.WIDTH * 8 + (0 if store is None else (m_epochs - 1) * store.RECORD * 8)
-    in_memory = covariance_store is None and records_bytes <= RECORDS_IN_MEMORY_BYTES
+    in_memory = covariance_store is None and records_bytes <= records_in_memory_bytes
     if store is not None and in_memory:
         store.hold_in_memory(m_epochs - 1)
     nav_file = _EpochFile(int(epochs[0]), nav_rows if in_memory else 0)
