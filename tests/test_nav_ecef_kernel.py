@@ -50,3 +50,35 @@ def test_ecef_to_geodetic_keeps_the_shape_and_gives_numbers_for_one_point():
     one = earth.ecef_to_geodetic(xyz[0, 0])
     assert all(np.ndim(value) == 0 for value in one)
     np.testing.assert_allclose(one, (0.5, 2.0, 40.0), atol=1e-9)
+
+
+def test_ecef_to_geodetic_ends_at_the_fixed_point_with_the_doubles_of_all_four_iterations():
+    """The kernel stops iterating at the first latitude that gives itself again: the same doubles as
+    all four iterations, compiled the same way (numba; Python's ``math`` rounds the powers
+    differently), for points near the surface (most converged after one iteration, a few
+    alternating between neighbouring doubles)."""
+    import math
+
+    from numba import njit
+
+    @njit(error_model="numpy")
+    def four_iterations(x, y, z, a, b, e2, out):
+        ep2 = e2 / (1.0 - e2)
+        for i in range(x.shape[0]):
+            p = math.hypot(x[i], y[i])
+            beta = math.atan2(z[i] * a, p * b)
+            lat = math.atan2(z[i] + ep2 * b * math.sin(beta) ** 3.0, p - e2 * a * math.cos(beta) ** 3.0)
+            for _ in range(4):
+                r_n = a / math.sqrt(1.0 - e2 * math.sin(lat) ** 2.0)
+                h = p * math.cos(lat) + z[i] * math.sin(lat) - a**2.0 / r_n
+                lat = math.atan2(z[i], p * (1.0 - e2 * r_n / (r_n + h)))
+            r_n = a / math.sqrt(1.0 - e2 * math.sin(lat) ** 2.0)
+            out[i] = lat, math.atan2(y[i], x[i]), p * math.cos(lat) + z[i] * math.sin(lat) - a**2.0 / r_n
+
+    rng = np.random.default_rng(11)
+    n = 20_000
+    ell = earth.CGCS2000
+    xyz = earth.geodetic_to_ecef(rng.uniform(0.3, 0.8, n), rng.uniform(1.8, 2.2, n), rng.uniform(0.0, 100.0, n), ell)
+    want = np.empty((n, 3))
+    four_iterations(*(np.ascontiguousarray(xyz[:, k]) for k in range(3)), ell.a, ell.b, ell.e2, want)
+    np.testing.assert_array_equal(np.column_stack(earth.ecef_to_geodetic(xyz, ell)), want)

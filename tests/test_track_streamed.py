@@ -108,6 +108,25 @@ def test_on_a_design_stationed_against_the_travel(tmp_path, truth, pulses):
     _assert_same(whole, parts)
 
 
+
+@pytest.mark.parametrize("on_design", [True, False], ids=["on the design", "without a design"])
+def test_the_spool_holds_each_column_once_and_only_what_is_read_again(tmp_path, truth, monkeypatch, on_design):
+    """Every part's column is written once: the centreline's stations (in the epochs' file) never, nor
+    on the design the forward axis (the stations are the projections') or the reference rail's
+    stations again in pass B (pass A's)."""
+    written = []
+    write = streamed._Spool.write
+    monkeypatch.setattr(streamed._Spool, "write",
+                        lambda spool, name, start, values: (written.append((name, start)), write(spool, name, start, values)))
+    options = {"design": truth.design} if on_design else {"start_station_m": 1000.0}
+    whole, parts = _both(tmp_path, truth, _part(truth.trajectory, _stretch(truth)), **options)
+    _assert_same(whole, parts)
+    assert len(written) == len(set(written))
+    names = {name for name, _ in written}
+    assert "centre_station" not in names and ("forward" in names) is not on_design
+    assert {"time", "left", "right", "reference_station", "left_station", "right_station"} <= names
+
+
 def test_the_trolley_facing_backwards_with_anchor_numbering(tmp_path, truth):
     trajectory = _part(truth.trajectory, _stretch(truth))
     rpy = trajectory.rpy_rad.copy()

@@ -7,7 +7,8 @@ and keeping the per-epoch quantities in a spool of plain files (one per quantity
 written and read with plain IO: neither they nor a memory map count towards the process's memory):
 
 * pass A, per chunk: the rails in the trolley's frame (pointwise: made by two threads ahead of the
-  rest, :data:`RAILS_THREADS`) are spooled; the facing's
+  rest, :data:`RAILS_THREADS`) are spooled (the forward axis only without a design: the distance
+  travelled along it is the stationing then); the facing's
   whole-run reductions are carried (with a design: the count of the cosines to the design's
   tangent, of the negative ones and the two middle candidates, which decide the sign of their
   median exactly; without one: the distance travelled along the x axis, a carried ``cumsum``,
@@ -15,7 +16,8 @@ written and read with plain IO: neither they nor a memory map count towards the 
   projection carries its warm start from chunk to chunk: :func:`projection_carry`);
 * pass B, per chunk: the rails turned to the stationing, their stations (on the design, the
   centreline's projected by a second thread meanwhile; or the travelled distance carried again),
-  spooled with each chunk's station range;
+  spooled with each chunk's station range (the rails' only: the centreline's go to the epochs' file;
+  on the design the reference rail's are pass A's);
 * the sleepers: the monotone (time, station) track of the reference rail is made per chunk (its
   running maximum, or minimum, carried) and interpolated by parts (:func:`chunked_interp`:
   ``np.interp`` to the bit, a query going to the chunk that holds its left neighbour);
@@ -106,7 +108,7 @@ BAND_THREADS = 2
 #: The spooled per-epoch quantities and their widths. Rails, cant and forward axis in the
 #: trolley's frame (turned to the stationing when read); stations in the stationing's.
 _WIDTHS = {"time": 1, "left": 3, "right": 3, "forward": 3, "gauge": 1, "cant": 1, "sigma_pos": 3, "sigma_roll": 1,
-           "rpy": 3, "reference_station": 1, "centre_station": 1, "left_station": 1, "right_station": 1}
+           "rpy": 3, "reference_station": 1, "left_station": 1, "right_station": 1}
 
 
 class _Spool:
@@ -226,11 +228,12 @@ class _Streamed:
         with closing(self._rails_in_order()) as parts:  # closed on any exit: no thread left making parts
             for start, rpy, rails in parts:
                 for name, values in (("time", rails.time_s), ("left", rails.left_rail_enh_m),
-                                     ("right", rails.right_rail_enh_m), ("forward", rails.forward_enh),
-                                     ("gauge", rails.gauge_m), ("cant", rails.cant_m),
-                                     ("sigma_pos", rails.sigma_pos_ned_m), ("sigma_roll", rails.sigma_roll_rad),
-                                     ("rpy", rpy)):
+                                     ("right", rails.right_rail_enh_m), ("gauge", rails.gauge_m),
+                                     ("cant", rails.cant_m), ("sigma_pos", rails.sigma_pos_ned_m),
+                                     ("sigma_roll", rails.sigma_roll_rad), ("rpy", rpy)):
                     self.spool.write(name, start, values)
+                if design is None:
+                    self.spool.write("forward", start, rails.forward_enh)
                 if design is not None:
                     station = reference_stations_on_design(rails, design, carry)
                     self.spool.write("reference_station", start, station)
@@ -289,13 +292,15 @@ class _Streamed:
             track, forward = np.concatenate([last[0], track]), np.concatenate([last[1], forward])
         return along_steps(track, forward), (track[-1:], forward[-1:])
 
-    def rails(self, start: int, count: int) -> RailPoints:
-        """The spooled rails of a part, turned to the stationing (the cross slope is not spooled: NaN)."""
+    def rails(self, start: int, count: int, design: DesignAlignment | None) -> RailPoints:
+        """The spooled rails of a part, turned to the stationing (the cross slope is not spooled: NaN;
+        with a ``design`` neither is the forward axis)."""
         left, right = self.spool.read("left", start, count), self.spool.read("right", start, count)
+        forward = self.spool.read("forward", start, count) if design is None else np.full((count, 3), np.nan)
         trolley_rails = RailPoints(
             time_s=self.spool.read("time", start, count), reference_rail=self.trolley.reference_rail,
             left_rail_enh_m=left, right_rail_enh_m=right, centre_enh_m=0.5 * (left + right),
-            forward_enh=self.spool.read("forward", start, count), gauge_m=self.spool.read("gauge", start, count),
+            forward_enh=forward, gauge_m=self.spool.read("gauge", start, count),
             cross_slope_rad=np.full(count, np.nan), cant_m=self.spool.read("cant", start, count),
             sigma_pos_ned_m=np.full((count, 3), np.nan), sigma_roll_rad=np.full(count, np.nan))
         return in_stationing_frame(trolley_rails, self.facing)
@@ -317,7 +322,7 @@ class _Streamed:
         travelled, last = 0.0, None
         for start, count in self.parts:
             self.check()
-            rails = self.rails(start, count)
+            rails = self.rails(start, count, design)
             if design is not None:
                 stations = stations_on_design(rails, design, self.spool.read("reference_station", start, count),
                                               carries, pool)
@@ -332,11 +337,11 @@ class _Streamed:
                 stations = stations_from_travelled(rails, track, forward, distance, start_station_m,
                                                    self.direction)
             epochs.write(EpochStations(rails.time_s, stations.reference_m, stations.centre_m))
-            for name, values in (("reference_station", stations.reference_m), ("centre_station", stations.centre_m),
-                                 ("left_station", stations.left_m), ("right_station", stations.right_m)):
-                self.spool.write(name, start, values)
-                if name in self.ranges:
-                    self.ranges[name].add(values)
+            for name, values in (("reference_station", stations.reference_m), ("left_station", stations.left_m),
+                                 ("right_station", stations.right_m)):
+                if design is None or name != "reference_station":  # on the design: pass A's, as spooled
+                    self.spool.write(name, start, values)
+                self.ranges[name].add(values)
             for name, values in (("gauge", rails.gauge_m), ("cant", rails.cant_m)):
                 kept = stations.reference_m[np.isfinite(stations.reference_m) & np.isfinite(values)]
                 if len(kept):
