@@ -2,8 +2,8 @@
 leaves for the stages after it.
 
 * Yaw and pitch, before the fusion, where the survey has GNSS (the velocity's direction must come from
-  positions, not from the NHC): a smoothed pass without the NHC, coarser than the main fusion
-  (:func:`yaw_pitch_pass`: the IMU summed to 50 Hz, updates at 2 Hz). An axis more than 3 sigma off survey.toml's is applied to the trolley the
+  positions, not from the NHC): a smoothed pass without the NHC, on the IMU summed to 50 Hz
+  (:func:`yaw_pitch_pass`). An axis more than 3 sigma off survey.toml's is applied to the trolley the
   fusion and the track use; ``fusion_log``/summary ``[fusion.mounting]`` records the estimate.
 * Roll, after the track, where there is a design (its cant is the reference): :func:`roll_check`; a
   roll more than 3 sigma off is applied and the rails placed again.
@@ -37,16 +37,16 @@ from insrail.progress import StepProgress
 
 #: the calibration pass's trajectory at 10 Hz: enough for the velocity's direction
 UPDATE_RATE_OUTPUT_HZ = 10.0
-#: The pass mechanises the IMU records summed to about this rate and updates at this one (or the
-#: main fusion's, if lower): a mean direction of travel over the survey needs neither the IMU's full
-#: rate nor 10 Hz updates. At 10 km (200 Hz, 10 Hz updates) the pass then takes 6 s of CPU less (of
-#: 10.7), keeps its record in memory instead of 0.8 GB of temporary files, and its estimate moves
-#: by 0.3 sigma or less (yaw 0.1195 -> 0.1180 deg, sigma 0.0045-0.0047; the truth 0.12).
+#: The pass mechanises the IMU records summed to about this rate: a mean direction of travel over the
+#: survey does not need the IMU's full rate. At 10 km (200 Hz) the pass takes some 2.3 s of CPU less
+#: (of 10.7, one core) and writes 0.13 GB less; its estimate moves by 0.03 sigma (yaw 0.1195 -> 0.1196
+#: deg, sigma 0.0045; the truth 0.12). Its updates stay at the main fusion's rate: at 2 Hz the pass
+#: took a 40 s GNSS false fix of 1 m for a yaw of -4.6 deg (+-1.5) and applied it (tests/test_nav_integrity.py's
+#: false fix; 5 Hz: 0.08 deg, 10 Hz: 0.31 deg, both +-0.1 and not applied).
 PASS_IMU_RATE_HZ = 50.0
-PASS_UPDATE_RATE_HZ = 2.0
 #: The pass's records in memory up to this size, else in temporary files: it runs beside the main
-#: fusion, whose own records make the process's peak (10 km: the pass's 177 MB held raised the peak
-#: from 407 to 562 MB; the short survey's 27 MB stay in memory).
+#: fusion, whose own records make the process's peak (10 km at 2 Hz updates: the pass's 177 MB held
+#: raised the peak from 407 to 562 MB; the short survey's 27 MB stay in memory).
 PASS_RECORDS_IN_MEMORY_BYTES = 64 * 2**20
 #: the yaw/pitch pass's share of the progress of the pass and the main fusion (about its share of their time)
 PASS_SHARE = 0.3
@@ -62,8 +62,7 @@ def yaw_pitch_pass(survey, build_aiding, profile, options, ellipsoid, fuse, prog
     if survey.gnss is None:
         return not_estimated(trolley.mounting_rpy_rad, Phrase("no GNSS: only the NHC gives the direction of travel in "
                                                               "the IMU's axes"))
-    pass_options = replace(options, use_nhc=False, smoother=True, estimate_play=False,
-                           update_rate_hz=min(options.update_rate_hz, PASS_UPDATE_RATE_HZ))
+    pass_options = replace(options, use_nhc=False, smoother=True, estimate_play=False)
     dt = float(np.median(np.diff(survey.imu.time_s[:1000])))
     imu_every = max(int(round(1.0 / (PASS_IMU_RATE_HZ * dt))), 1)
     every = max(int(round(1.0 / (UPDATE_RATE_OUTPUT_HZ * dt * imu_every))), 1)
