@@ -271,7 +271,8 @@ def test_a_check_a_run_cannot_assess_is_not_assessed_in_the_section(project, tmp
     warning names the run and stands for the run's own: each said once, the run's other warnings kept."""
     import shutil
 
-    from insrail.project import assessable, section
+    from insrail.notices import Notice, Phrase
+    from insrail.project import assessable, relative_survey, section
     from insrail.project.redesign import section_quality
 
     project, _ = project
@@ -287,9 +288,16 @@ def test_a_check_a_run_cannot_assess_is_not_assessed_in_the_section(project, tmp
     run2 = load_results(noisy, "run2")  # its own warnings, as processing with that quality.csv writes them
     found = assessable.not_assessable(load_tolerance_profile("cn_hsr_ballastless"), section_quality(run2.quality),
                                       run2.columns["station_m"])
+    # and the warning a relative survey gives for its own sections (insrail.project.relative_survey), as one would
+    relative = Notice("track", relative_survey.NOTICE, station_m=1312.5, fields={
+        "check": "short_wave_30m_5m", "count": 1, "sections": 4, "sigmas": 3, "limit_mm": 2.0,
+        "where": [Phrase("{from_m:.0f}-{to_m:.0f} m ({sigma_mm:.2f} mm)", {"from_m": 1312.5, "to_m": 1512.5,
+                                                                           "sigma_mm": 1.0})]})
     (noisy / "results" / "run2" / "summary.toml").write_bytes(summary_toml(run2.summary | {"notices": [
-        *run2.summary["notices"], *(n.to_dict() for n in assessable.notices(found, [0] * len(found)))]}))
+        *run2.summary["notices"], *(n.to_dict() for n in assessable.notices(found, [0] * len(found))),
+        relative.to_dict()]}))
     assert sum("not assessable" in n["message"] for n in load_results(noisy, "run2").summary["notices"]) == 2
+    assert sum("cannot be assessed" in n["message"] for n in load_results(noisy, "run2").summary["notices"]) == 1
     save_project(replace(project, folder=noisy, sections=(SectionEntry("km1", ("run2", "run1")),
                                                           SectionEntry("km1m", ("run1", "run2"), overlap="mean"))))
     held = {}
@@ -330,6 +338,7 @@ def test_a_check_a_run_cannot_assess_is_not_assessed_in_the_section(project, tmp
         assert len(warned) == 2 and sum(m.startswith("short_wave_30m_5m lateral: not assessable") for m in warned) == 1
         assert all(" over 1312-1512 m (run2): 320 sleepers not assessed" in m for m in warned), warned
         assert {"run1: a notice", "run2: a notice"} <= set(said)  # the runs' other warnings: kept
+        assert not any("cannot be assessed" in m for m in said)  # the section's own warning says it for its rows
         assert short_wave["surveys"] == [["run2"]]
         # the sleepers' own reasons are the runs' (a check left out is an empty value of it, as in a run's file)
         assert set(joined.not_assessed) == set(load_results(noisy, "run1").not_assessed)

@@ -48,6 +48,13 @@ def chord_verdicts(profile, quality) -> dict[str, np.ndarray]:
     return {name: decides(sigma, check_limit_m(check)) for name, (check, sigma) in _chord_sigmas(profile, quality).items()}
 
 
+#: a relative survey's warning per chord check (:func:`relative_notices`); a section of such runs says it
+#: itself, for its own rows (``insrail.project.section``: the runs' copies are left out)
+NOTICE = ("relative survey: the {check} check cannot be assessed in {count} of {sections} sections, where the stated "
+          "1-sigma of its error exceeds 1/{sigmas:g} of its {limit_mm:g} mm limit: {where}; its values and exceedances "
+          "there are left out")
+
+
 def relative_notices(profile, quality) -> list[Notice]:
     """A warning for each chord check that cannot be assessed in some sections (see the module docstring)."""
     notices = []
@@ -58,10 +65,7 @@ def relative_notices(profile, quality) -> list[Notice]:
         where = [Phrase("{from_m:.0f}-{to_m:.0f} m ({sigma_mm:.2f} mm)", {"from_m": a, "to_m": b, "sigma_mm": 1e3 * s})
                  if np.isfinite(s) else Phrase("{from_m:.0f}-{to_m:.0f} m (too short for its lag)", {"from_m": a, "to_m": b})
                  for a, b, s, ok in zip(quality.station_from_m, quality.station_to_m, sigma, assessed) if not ok]
-        notices.append(Notice("track", "relative survey: the {check} check cannot be assessed in {count} of {sections} "
-                              "sections, where the stated 1-sigma of its error exceeds 1/{sigmas:g} of its {limit_mm:g} mm "
-                              "limit: {where}; its values and exceedances there are left out",
-                              station_m=float(quality.station_from_m[0]),
+        notices.append(Notice("track", NOTICE, station_m=float(quality.station_from_m[0]),
                               fields={"check": name, "count": int((~assessed).sum()), "sections": len(assessed),
                                       "sigmas": RESOLVE_SIGMAS, "limit_mm": 1e3 * check_limit_m(check), "where": where}))
     return notices

@@ -63,7 +63,7 @@ import tomli_w
 from insrail.io.errors import InputError
 from insrail.notices import Notice, Phrase
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
-from insrail.project import assessable
+from insrail.project import assessable, relative_survey
 from insrail.project.compare import worst_over_placements
 from insrail.project.lock import project_run
 from insrail.project.assessable import NotAssessable
@@ -492,8 +492,11 @@ def _join_section(project: Project, entry: SectionEntry, name: str, progress: Pr
                                               "predicted_mm": values["predicted_sigma_mm"]}))
     notices += assessable.notices(unresolved, not_listed)
     own = tuple(notices)
-    for run in runs:  # but their checks not assessable: the section's own warning says where, naming the runs
-        notices += [n for n in map(Notice.from_dict, run.summary.get("notices", [])) if n.template != assessable.NOTICE]
+    # but their checks not assessable (an absolute run's, a relative run's by sections): the section's own
+    # warning says where, naming the runs
+    own_checks = (assessable.NOTICE, relative_survey.NOTICE)
+    for run in runs:
+        notices += [n for n in map(Notice.from_dict, run.summary.get("notices", [])) if n.template not in own_checks]
     counts: dict[str, int] = {}
     for e in assessment.exceedances:
         counts[e.check] = counts.get(e.check, 0) + 1
