@@ -1820,7 +1820,6 @@ def fuse(
     full_forward: bool = False,
     memo: PassMemo | None = None,
     imu_every: int = 1,
-    records_in_memory_bytes: int = RECORDS_IN_MEMORY_BYTES,
 ) -> FusionResult:
     """Fuse IMU increments with a list of aiding sources into a trajectory.
 
@@ -1842,9 +1841,6 @@ def fuse(
     imu_every      : the records screened, bridged and the filter started as always, then mechanised
                      ``imu_every`` at a time, summed (:func:`summed_records`; a pass that needs less than
                      the full rate: the mounting's); ``output_every`` then counts the summed records
-    records_in_memory_bytes : the forward pass's records (its IMU-rate solution, the smoother's record)
-                     held in memory up to this size in all, else in temporary files (a pass beside the
-                     main fusion takes less: the peak memory is the two's together)
     """
     if covariance_store is not None and covariance_store.count:
         raise ValueError(f"the covariance store already holds {covariance_store.count} records: pass an empty one")
@@ -1859,7 +1855,7 @@ def fuse(
     store = SmootherStore() if own_store else covariance_store
     nav_rows = int(epochs[-1]) + 1 - int(epochs[0])
     records_bytes = nav_rows * _EpochFile.WIDTH * 8 + (0 if store is None else (m_epochs - 1) * store.RECORD * 8)
-    in_memory = covariance_store is None and records_bytes <= records_in_memory_bytes
+    in_memory = covariance_store is None and records_bytes <= RECORDS_IN_MEMORY_BYTES
     if store is not None and in_memory:
         store.hold_in_memory(m_epochs - 1)
     nav_file = _EpochFile(int(epochs[0]), nav_rows if in_memory else 0)

@@ -44,10 +44,6 @@ UPDATE_RATE_OUTPUT_HZ = 10.0
 #: took a 40 s GNSS false fix of 1 m for a yaw of -4.6 deg (+-1.5) and applied it (tests/test_nav_integrity.py's
 #: false fix; 5 Hz: 0.08 deg, 10 Hz: 0.31 deg, both +-0.1 and not applied).
 PASS_IMU_RATE_HZ = 50.0
-#: The pass's records in memory up to this size, else in temporary files: it runs beside the main
-#: fusion, whose own records make the process's peak (10 km at 2 Hz updates: the pass's 177 MB held
-#: raised the peak from 407 to 562 MB; the short survey's 27 MB stay in memory).
-PASS_RECORDS_IN_MEMORY_BYTES = 64 * 2**20
 #: the yaw/pitch pass's share of the progress of the pass and the main fusion (about its share of their time)
 PASS_SHARE = 0.3
 #: how often the caller hears of the progress of the pass and the main fusion running side by side [s]
@@ -68,8 +64,7 @@ def yaw_pitch_pass(survey, build_aiding, profile, options, ellipsoid, fuse, prog
     every = max(int(round(1.0 / (UPDATE_RATE_OUTPUT_HZ * dt * imu_every))), 1)
     try:  # a survey the pass cannot fuse is the main fusion's to refuse or to fuse: its mounting stays as given
         result = fuse(survey.imu, build_aiding(pass_options), profile, pass_options, ellipsoid, output_every=every,
-                      progress=progress, cancel=cancel, imu_every=imu_every,
-                      records_in_memory_bytes=PASS_RECORDS_IN_MEMORY_BYTES)
+                      progress=progress, cancel=cancel, imu_every=imu_every)
     except ValueError as error:
         return not_estimated(trolley.mounting_rpy_rad, Phrase("the pass without the NHC failed: {error}",
                                                               {"error": str(error)}))
