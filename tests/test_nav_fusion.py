@@ -277,9 +277,13 @@ def test_cli_fuse_places_prism_fixes_by_the_project_and_refuses_them_without(tun
     assert not (tmp_path / "without" / "trajectory.npy").exists()
 
 
-def test_summed_records_start_at_the_filters_first_record_and_keep_every_increment():
+@pytest.mark.parametrize("chunk", [2, 65536])
+def test_summed_records_start_at_the_filters_first_record_and_keep_every_increment(chunk, monkeypatch):
     from insrail.io.types import ImuIncrements
+    from insrail.nav import fusion
     from insrail.nav.fusion import summed_records
+
+    monkeypatch.setattr(fusion, "SUMMED_CHUNK_GROUPS", chunk)  # by chunks of 2 groups: the same sums
 
     rng = np.random.default_rng(3)
     n = 23

@@ -1438,20 +1438,28 @@ def _screened(imu: ImuIncrements, profile: ImuProfile, odometer: OdometerData | 
     return imu, outliers, tuple(notices)
 
 
+#: groups of records summed at a time by :func:`summed_records`
+SUMMED_CHUNK_GROUPS = 65536
+
+
 def summed_records(imu: ImuIncrements, first: int, count: int) -> ImuIncrements:
     """The records from ``first`` on, ``count`` at a time summed into one (a coarser mechanisation):
     record 0 is record ``first`` (where the filter starts: its increments are not integrated), record i
     the sum of records first + (i - 1) count + 1 .. first + i count, stamped with the last one's time;
-    the records after the last whole group are left out."""
+    the records after the last whole group are left out. Read a chunk at a time, a file-backed record's
+    pages let go behind each (the main fusion reads the same record beside the mounting's pass: touched
+    whole at once, its 87 MB at 10 km stayed resident)."""
     groups = (len(imu) - 1 - first) // count
-    stop = first + 1 + groups * count
-
-    def summed(increments: np.ndarray) -> np.ndarray:
-        return np.concatenate([increments[first : first + 1],
-                               increments[first + 1 : stop].reshape(groups, count, 3).sum(axis=1)])
-
-    return replace(imu, time_s=np.ascontiguousarray(imu.time_s[first:stop:count]), dtheta_rad=summed(imu.dtheta_rad),
-                   dvel_mps=summed(imu.dvel_mps))
+    dtheta, dvel = np.empty((groups + 1, 3)), np.empty((groups + 1, 3))
+    dtheta[0], dvel[0] = imu.dtheta_rad[first], imu.dvel_mps[first]
+    for start in range(0, groups, SUMMED_CHUNK_GROUPS):
+        end = min(start + SUMMED_CHUNK_GROUPS, groups)
+        rows = slice(first + 1 + start * count, first + 1 + end * count)
+        for increments, out in ((imu.dtheta_rad, dtheta), (imu.dvel_mps, dvel)):
+            np.sum(increments[rows].reshape(end - start, count, 3), axis=1, out=out[1 + start : 1 + end])
+        release_pages(imu.dtheta_rad, imu.dvel_mps)
+    time_s = np.ascontiguousarray(imu.time_s[first : first + 1 + groups * count : count])
+    return replace(imu, time_s=time_s, dtheta_rad=dtheta, dvel_mps=dvel)
 
 
 def _prepare(imu: ImuIncrements, aiding: Aiding, profile: ImuProfile, options: FusionOptions,
