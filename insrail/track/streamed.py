@@ -232,13 +232,12 @@ class _Streamed:
                                      ("cant", rails.cant_m), ("sigma_pos", rails.sigma_pos_ned_m),
                                      ("sigma_roll", rails.sigma_roll_rad), ("rpy", rpy)):
                     self.spool.write(name, start, values)
-                if design is None:
-                    self.spool.write("forward", start, rails.forward_enh)
                 if design is not None:
                     station = reference_stations_on_design(rails, design, carry)
                     self.spool.write("reference_station", start, station)
                     median.add(design_cosines(rails, design, station))
                 else:
+                    self.spool.write("forward", start, rails.forward_enh)
                     track, forward = track_and_forward(rails)
                     steps, last = self._steps(track, forward, last)
                     travelled = float(np.cumsum(np.concatenate([[travelled], steps]))[-1])
