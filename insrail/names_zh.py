@@ -1516,10 +1516,16 @@ ZH_CN: dict[str, str] = {
         "工程坐标 E/N 经坐标系换算；项目无水准点：H 作为椭球高",
     "APPROX POSITION XYZ of {file}: metre level": "{file} 的 APPROX POSITION XYZ：米级",
     # the fusion's integrity (summary.toml [fusion.integrity] summary)
-    "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{missed}"
-    "{inconsistent}": "{sections} 个 {section_m:.0f} m 区段中 {consistent} 个与其 1σ 一致{bad}{resets}{missed}{inconsistent}",
+    "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{detours}"
+    "{missed}{inconsistent}":
+        "{sections} 个 {section_m:.0f} m 区段中 {consistent} 个与其 1σ 一致{bad}{resets}{detours}{missed}{inconsistent}",
     "; not valid: {share_pct:.0f} % of the length": "；无效：占长度的 {share_pct:.0f} %",
     "; {count} filter reset(s)": "；滤波器重置 {count} 次",
+    "; {count} detour(s) of a source between two resets": "；两次重置之间 {count} 段随观测源偏离又返回",
+    "between the filter resets at t = {first_s:.1f} s and {second_s:.1f} s the solution followed {source} {off_m:.3f} m "
+    "off and back: the source was wrong there (a false fix), or before and after":
+        "在 t = {first_s:.1f} s 与 {second_s:.1f} s 两次滤波器重置之间，解随{source}偏离 {off_m:.3f} m 后又返回："
+        "该段观测源有误（假固定解），或其前后有误",
     "; {count} position fix(es) missed by the trajectory beyond their 1-sigma ({share_pct:.0f} % of the length)":
         "；轨迹偏离 {count} 个定位点超过其 1σ（占长度的 {share_pct:.0f} %）",
     # a start on the design (survey.toml [start])

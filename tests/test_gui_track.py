@@ -76,6 +76,43 @@ def test_the_cursor_readout_names_rail_and_direction_of_every_value(view):
     assert f"<b>Gauge</b>: {gauge:+.2f} mm" in text
 
 
+def test_sleepers_not_valid_are_greyed_in_every_plot_and_the_readout_says_why(qtbot):
+    """As the PDF's charts grey them: a run of sleepers the fusion cannot vouch for (the values drawn are
+    no measurement of the track) is shaded behind every plot, and the read-out there says why."""
+    import pyqtgraph as pg
+
+    from insrail.gui import plotstyle
+    from insrail.project.plotdata import INVALID_PAD_M, invalid_spans
+
+    data = columns()
+    station = data["station_m"]
+    valid = np.ones(SLEEPERS, bool)
+    valid[[5]] = False
+    valid[300:340] = False
+    spans = invalid_spans(station, valid)
+    assert spans == ((station[5] - INVALID_PAD_M, station[5] + INVALID_PAD_M),
+                     (station[300] - INVALID_PAD_M, station[339] + INVALID_PAD_M))
+    assert invalid_spans(station, np.ones(SLEEPERS, bool)) == ()
+    why = "fusion: between the filter resets at t = 1.0 s and 41.0 s the solution followed gnss_position"
+    reasons = tuple(why if not ok else "" for ok in valid)
+    widget = TrackView()
+    qtbot.addWidget(widget)
+    widget.resize(1366, 740)
+    widget.show()
+    widget.set_results(station, np.arange(1, SLEEPERS + 1), [f"{s:.1f}" for s in station], data,
+                       chainage_plots(data, load_tolerance_profile("cn_hsr_ballastless")), (), survey="run",
+                       invalid=spans, not_assessed=reasons)
+    widget._draw()
+    for item in widget.plots.plots.values():
+        grey = [region.getRegion() for region in item.items if isinstance(region, pg.LinearRegionItem)
+                and region.brush.style() == plotstyle.INVALID_BRUSH.style()]
+        assert sorted(grey) == sorted(spans)
+    widget.show_values_at(float(station[320]))
+    assert f"<b>not assessed</b>: {why}" in widget.readout.text()
+    widget.show_values_at(float(station[100]))
+    assert "not assessed" not in widget.readout.text()
+
+
 def test_panning_stays_on_the_data_and_the_wheel_zooms_along_chainage_only(view, qtbot):
     first = next(iter(view.plots.plots.values()))
     station = view._station

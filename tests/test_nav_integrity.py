@@ -17,7 +17,7 @@ import pytest
 from insrail.io.survey import read_manifest, read_survey, write_manifest
 from insrail.nav import earth, integrity
 from insrail.nav.earth import CGCS2000
-from insrail.nav.fusion import FusionOptions, fuse_survey
+from insrail.nav.fusion import FilterReset, FusionOptions, fuse_survey
 from insrail.nav.measurements import PositionFix
 from insrail.sim import gnss_faults
 from insrail.sim.evaluation import trajectory_errors
@@ -92,7 +92,7 @@ def test_a_reset_turns_a_lost_heading_to_the_tracks(off_deg, backwards):
     within three sigma of the track it is left alone."""
 
     from insrail.nav import _kernels
-    from insrail.nav.fusion import FilterReset, realign_at_reset
+    from insrail.nav.fusion import realign_at_reset
     from insrail.nav.rotation import euler_to_dcm, quat_to_dcm
     from insrail.nav.startup import PositionTrack
 
@@ -151,6 +151,43 @@ def test_sections_inconsistent_with_their_sigma_are_not_valid_and_most_of_them_f
                                  time_s, station)
     assert not untrusted.trusted and "inconsistent with its own 1-sigma over 100 %" in untrusted.failure()
     assert "gnss_position" in untrusted.failure() and "lever arms" in untrusted.failure()
+
+
+def _reset_at(time_s: float, source: str = "gnss_position") -> FilterReset:
+    return FilterReset(time_s, source, 20.0, 21, time_s - 20.0, (), ("position",), (0.5, 0.5, 0.5))
+
+
+@pytest.mark.parametrize(("back_m", "second_source", "detour"), [
+    (-1.0, "gnss_position", True),  # off by 1 m and back: a false fix; the solution between followed it
+    (-0.6, "gnss_position", True),  # most of the way back
+    (1.0, "gnss_position", False),  # a second step the same way: no detour to blame the stretch between for
+    (0.0, "gnss_position", False),
+    (-1.0, "prism", False),  # two sources: each reset stands on its own
+    (-1.0, "gnss_velocity", False),  # not a position: its innovations are no jump of the solution
+])
+def test_two_resets_that_undo_each_other_make_the_time_between_them_suspect(back_m, second_source, detour):
+    names = ["gnss_position", "prism", "gnss_velocity"]
+    time_s = np.arange(0.0, 1000.0, 1.0)
+    source = np.zeros(time_s.size, int)
+    source[(time_s >= 335.0) & (time_s <= 360.0)] = names.index(second_source)  # the second reset's source there
+    accepted = np.ones(time_s.size, bool)
+    innovation = np.zeros((time_s.size, 3), np.float32)
+    first, second = _reset_at(320.0), _reset_at(360.0, second_source)
+    for reset, jump in ((first, (1.0, 0.0, 0.0)), (second, (back_m, 0.0, 0.0))):
+        run = (time_s >= reset.first_rejected_s) & (time_s <= reset.time_s) & (source == names.index(reset.source))
+        accepted[run] = False
+        innovation[run] = jump
+    record = replace(_record(names, time_s, source, np.full(time_s.size, 3.0), np.full(time_s.size, 3), accepted),
+                     innovation=innovation)
+    verdict = integrity.assess(record, time_s, time_s, [first, second], positions={"gnss_position", "prism"})
+    assert [(a, b) for a, b, _ in verdict.suspect_s] == [(299.0, 330.0), (339.0, 370.0)]  # each reset's own
+    if detour:  # from the first reset's suspect start to the second one's end: the 9 s between them as well
+        assert [(a, b) for a, b, _ in verdict.detours_s] == [(299.0, 370.0)]
+        assert "followed gnss_position 1.000 m off and back" in str(verdict.detours_s[0][2])
+        assert (299.0, 370.0) in [(a, b) for a, b, _ in verdict.not_valid_intervals()]
+        assert "1 detour(s)" in str(verdict.summary()) and verdict.to_dict()["detours"][0]["time_to_s"] == 370.0
+    else:
+        assert verdict.detours_s == () and "detour" not in str(verdict.summary())
 
 
 def _northward(duration_s: float = 600.0, sigma_m: float = 0.01):
@@ -286,6 +323,13 @@ def test_sleepers_where_the_filter_was_reset_are_flagged_and_not_assessed(small_
     assert flagged.any() and all("filter reset" in r for r in reasons[flagged])
     assert not stored.columns["valid"][flagged].any()
     assert stored.columns["valid"][~flagged].mean() > 0.9
+    # the solution between the two resets followed the false fix 1 m off: none of it may be valid (18 sleepers
+    # 537 mm off the design were, between the resets' suspect intervals, before the detour was found)
+    valid = np.asarray(stored.columns["valid"], bool)
+    off_mm = np.abs(np.column_stack([stored.columns[f"lateral_deviation_{rail}_mm"] for rail in ("left", "right")]))
+    assert valid.sum() > 300 and np.nanmax(off_mm[valid]) < 30.0
+    assert any("followed gnss_position" in r for r in reasons[flagged])
+    assert any("detour" in n["message"] or "followed gnss_position" in n["message"] for n in results.summary["notices"])
     assert results.summary["fusion"]["resets"] >= 1
     assert any("filter reset" in n["message"] for n in results.summary["notices"])
     for e in results.assessment.exceedances:  # none where the solution was suspect

@@ -589,7 +589,8 @@ class MainWindow(QMainWindow):
         self.shown_survey = data.survey
         self.empty_state.hide()
         self.track.set_results(data.station_m, data.number, data.label, data.columns, data.plots,
-                               data.exceedances, data.bands, data.survey, data.events, chainage)
+                               data.exceedances, data.bands, data.survey, data.events, chainage, data.invalid,
+                               data.not_assessed)
         self.redesign_view.set_data(data.redesign)
         pending, self._pending_view = self._pending_view, None
         if pending is not None and pending.get("survey") == data.survey:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pyqtgraph as pg
 from PySide6.QtCore import Qt
+from PySide6.QtGui import QBrush, QColor
 
 #: Colour-blind-safe cycle (Okabe-Ito), in the order the curves of a plot are drawn.
 COLOURS = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000")
@@ -13,6 +14,9 @@ CROSSHAIR_PEN = pg.mkPen("#606060", width=1)
 INVISIBLE_PEN = pg.mkPen((0, 0, 0, 0))
 # The survey's predicted accuracy (+-3 sigma per section) behind the curves.
 BAND_BRUSH = pg.mkBrush(110, 110, 110, 55)
+#: sleepers not valid (not assessed), behind everything: hatched in grey, apart from the predicted-accuracy band's
+#: flat grey (the PDF's charts and the workbook's rows grey them)
+INVALID_BRUSH = QBrush(QColor("#9a9a9a"), Qt.BDiagPattern)
 BAND_LEGEND_COLOUR = "#8a8a8a"
 
 

@@ -1935,7 +1935,8 @@ def fuse(
     resets = forward_pass.resets
     fixes = [m for m in aiding.measurements if isinstance(m, PositionFix)]
     missed = integrity.missed_fixes(trajectory, fixes, float(setup.gates[3]), ellipsoid) if fixes else ()
-    verdict = integrity.assess(innovations, t[epochs], station, resets, missed=missed)
+    verdict = integrity.assess(innovations, t[epochs], station, resets, missed=missed,
+                               positions={m.name for m in sources if m.position_innovation})
     notices += [Notice("fusion", gap.message(), time_s=gap.end_s, severity="info") for gap in returns]
     notices += integrity_notices(resets, verdict)
     start = setup.start
@@ -1962,7 +1963,7 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
                 for k in np.flatnonzero(~verdict.valid)]
     notices += [Notice("fusion", "not valid from t = {time_from_s:.1f} s to {time_to_s:.1f} s: {why}; its sleepers are not "
                                  "assessed", time_s=start, fields={"time_from_s": start, "time_to_s": end, "why": why})
-                for start, end, why in verdict.missed_s]
+                for start, end, why in (*verdict.detours_s, *verdict.missed_s)]
     return notices
 
 

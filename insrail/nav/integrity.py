@@ -18,6 +18,13 @@ that record into a verdict per section of track and for the whole survey:
   The fault that started the run lies after that last agreement, not at the first rejection: a
   single bad IMU record 35 ms before a sleeper pulse spoils that sleeper's pose before the next
   odometer update is rejected;
+- two resets of one source whose jumps undo each other (:data:`DETOUR_SHARE`: the median innovations of
+  the runs of rejections they ended add up to little of either) bracket a **detour**: the source went
+  off and came back (a false fix of a few tens of seconds), the first reset moved the solution onto it
+  and the second one back. The solution between them followed the source off the track, agreeing with
+  it and so with its own 1-sigma: the whole time from the first reset's suspect start to the second
+  one's end is suspect (a 1 m false fix of 40 s left 18 sleepers between the two resets' intervals
+  valid, 537 mm off the design);
 - every position fix (a prism on CPIII control), accepted or rejected by the forward filter, is
   compared with the final trajectory (:func:`missed_fixes`): a trajectory that misses a fix by
   more than the filter's gate, against the fix's and its own 1-sigma, is not valid from the
@@ -48,6 +55,8 @@ MIN_OBSERVATIONS = 5
 MAX_REJECTED_SHARE = 0.2
 MAX_NIS_PER_DOF = 4.0
 RESET_SETTLE_S = 10.0
+#: two resets of one source make a detour where their jumps add up to at most this share of the larger
+DETOUR_SHARE = 0.5
 MOSTLY = 0.5
 SECTION_M = 200.0
 
@@ -104,6 +113,8 @@ class FusionIntegrity:
     #: (:func:`missed_fixes`) and their share of the travelled length
     missed_s: tuple[tuple[float, float, Phrase], ...] = ()
     missed_share: float = 0.0
+    #: (start, end, why) in seconds of week of each detour between two resets (:func:`detours`)
+    detours_s: tuple[tuple[float, float, Phrase], ...] = ()
 
     @property
     def trusted(self) -> bool:
@@ -114,17 +125,19 @@ class FusionIntegrity:
         out = [(float(self.time_from_s[k]), float(self.time_to_s[k]),
                 (f"fusion inconsistent in section {self.station_from_m[k]:.0f}-{self.station_to_m[k]:.0f} m: "
                  f"{self.reasons[k]}")) for k in np.flatnonzero(~self.valid)]
-        return out + list(self.suspect_s) + list(self.missed_s)
+        return out + list(self.suspect_s) + list(self.detours_s) + list(self.missed_s)
 
     def summary(self) -> Phrase:
         bad = int(np.sum(~self.valid))
         return Phrase(
-            "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{missed}"
-            "{inconsistent}",
+            "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{detours}"
+            "{missed}{inconsistent}",
             {"consistent": len(self.valid) - bad, "sections": len(self.valid), "section_m": SECTION_M,
              "bad": Phrase("; not valid: {share_pct:.0f} % of the length", {"share_pct": 100 * self.invalid_share})
              if bad else Phrase(""),
              "resets": Phrase("; {count} filter reset(s)", {"count": len(self.suspect_s)}) if self.suspect_s else Phrase(""),
+             "detours": Phrase("; {count} detour(s) of a source between two resets", {"count": len(self.detours_s)})
+             if self.detours_s else Phrase(""),
              "missed": Phrase("; {count} position fix(es) missed by the trajectory beyond their 1-sigma ({share_pct:.0f} % "
                               "of the length)", {"count": len(self.missed_s), "share_pct": 100 * self.missed_share})
              if self.missed_s else Phrase(""),
@@ -172,6 +185,8 @@ class FusionIntegrity:
                               for k in np.flatnonzero(~self.valid)],
                 "suspect": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why),
                              "why": phrase_of(why).to_dict()} for a, b, why in self.suspect_s],
+                "detours": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why),
+                             "why": phrase_of(why).to_dict()} for a, b, why in self.detours_s],
                 "missed_fixes": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why),
                                   "why": phrase_of(why).to_dict()} for a, b, why in self.missed_s],
                 "missed_share": round(self.missed_share, 4)}
@@ -189,6 +204,43 @@ def last_agreement_s(record: InnovationRecord, source: str, first_rejected_s: fl
         return first_rejected_s
     agreed = record.accepted & (record.source == record.names.index(source)) & (record.time_s < first_rejected_s)
     return float(record.time_s[agreed].max()) if agreed.any() else first_rejected_s
+
+
+def reset_jump(record: InnovationRecord, reset) -> np.ndarray | None:
+    """Where a filter reset of a position source moved the solution: the median innovation (NED m) of the run
+    of rejected observations it ended; None without the record's innovations."""
+    if record.innovation is None or reset.source not in record.names:
+        return None
+    run = ((record.source == record.names.index(reset.source)) & ~record.accepted
+           & (record.time_s >= reset.first_rejected_s) & (record.time_s <= reset.time_s))
+    rows = np.asarray(record.innovation[run][:, :3], dtype=float)
+    if not len(rows) or not np.isfinite(rows).all(axis=0).any():
+        return None
+    return np.nanmedian(rows, axis=0)
+
+
+def detours(record: InnovationRecord, resets, suspect, positions) -> tuple[tuple[float, float, Phrase], ...]:
+    """(start, end, why) of every detour (module docstring): two resets in a row of one source of ``positions``
+    (the names of the sources whose innovation's first three rows are a NED position [m]) whose jumps
+    (:func:`reset_jump`) add up to at most :data:`DETOUR_SHARE` of the larger, from the first one's suspect
+    start to the second one's suspect end (``suspect``: the resets' intervals, in their order)."""
+    out = []
+    order = sorted(range(len(resets)), key=lambda i: resets[i].time_s)
+    for a, b in zip(order, order[1:]):
+        first, second = resets[a], resets[b]
+        if first.source != second.source or first.source not in positions:
+            continue
+        there, back = reset_jump(record, first), reset_jump(record, second)
+        if there is None or back is None:
+            continue
+        off = float(np.linalg.norm(np.nan_to_num(there)))
+        if float(np.linalg.norm(np.nan_to_num(there + back))) > DETOUR_SHARE * max(off, float(np.linalg.norm(np.nan_to_num(back)))):
+            continue
+        out.append((suspect[a][0], suspect[b][1],
+                    Phrase("between the filter resets at t = {first_s:.1f} s and {second_s:.1f} s the solution followed "
+                           "{source} {off_m:.3f} m off and back: the source was wrong there (a false fix), or before and after",
+                           {"first_s": first.time_s, "second_s": second.time_s, "source": Phrase(first.source), "off_m": off})))
+    return tuple(out)
 
 
 def missed_fixes(trajectory, fixes, gate: float, ellipsoid) -> tuple[tuple[float, float, Phrase], ...]:
@@ -243,10 +295,11 @@ def _share(intervals, time_s: np.ndarray, station_m: np.ndarray) -> float:
 
 
 def assess(record: InnovationRecord, time_s: np.ndarray, station_m: np.ndarray, resets=(),
-           section_m: float = SECTION_M, missed=()) -> FusionIntegrity:
+           section_m: float = SECTION_M, missed=(), positions=frozenset()) -> FusionIntegrity:
     """The integrity of a forward pass whose update epochs ``time_s`` lie at ``station_m``
     (non-decreasing travelled distance) with the observations in ``record``; ``missed``: the
-    intervals around the position fixes the final trajectory misses (:func:`missed_fixes`)."""
+    intervals around the position fixes the final trajectory misses (:func:`missed_fixes`);
+    ``positions``: the sources whose innovations are positions (:func:`detours`)."""
     length = float(station_m[-1] - station_m[0])
     n = max(int(math.floor(length / section_m + 0.75)), 1)  # the last section takes the remainder
     edges = station_m[0] + section_m * np.arange(n + 1)
@@ -289,4 +342,5 @@ def assess(record: InnovationRecord, time_s: np.ndarray, station_m: np.ndarray, 
                      reset.message()) for reset in resets)
     return FusionIntegrity(record.names, edges[:-1].copy(), edges[1:].copy(), time_from, time_to, count, share,
                            nis_per_dof, valid, tuple(reasons), suspect, invalid_share, missed_s=tuple(missed),
-                           missed_share=_share(missed, np.asarray(time_s), np.asarray(station_m)))
+                           missed_share=_share(missed, np.asarray(time_s), np.asarray(station_m)),
+                           detours_s=detours(record, resets, suspect, positions))

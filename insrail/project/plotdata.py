@@ -39,6 +39,7 @@ from insrail.nav.rotation import euler_to_dcm
 from insrail.nav.trajectory import Trajectory
 from insrail.project.gnss_stage import GNSS_POS_FILE, GNSS_QC_FILE
 from insrail.project.model import Project
+from insrail.project.sleeper_integrity import said_per_sleeper
 from insrail.project.results import (
     RESULTS_FOLDER,
     SUMMARY_FILE,
@@ -425,6 +426,22 @@ class EventSpan:
     not_assessed: bool  # its sleepers are left out of the assessment (greyed)
 
 
+#: an invalid sleeper's shading reaches this far either side of it [m] (about half a sleeper spacing, as in the
+#: PDF's charts: a single invalid sleeper stays visible)
+INVALID_PAD_M = 0.3
+
+
+def invalid_spans(station_m: np.ndarray, valid: np.ndarray) -> tuple[tuple[float, float], ...]:
+    """(from, to) [m] of each run of sleepers that are not valid (not assessed: the fusion cannot vouch for them,
+    no design there, ...), widened by :data:`INVALID_PAD_M`; the reports grey the same runs."""
+    bad = np.flatnonzero(~np.asarray(valid, dtype=bool))
+    if not bad.size:
+        return ()
+    breaks = np.flatnonzero(np.diff(bad) > 1)
+    first, last = np.concatenate([bad[:1], bad[breaks + 1]]), np.concatenate([bad[breaks], bad[-1:]])
+    return tuple((float(station_m[a]) - INVALID_PAD_M, float(station_m[b]) + INVALID_PAD_M) for a, b in zip(first, last))
+
+
 def event_spans(summary: dict) -> tuple[EventSpan, ...]:
     """The events processing placed on the chainage (summary.toml's ``[[events]]``)."""
     return tuple(EventSpan(e["station_from_m"], e["station_to_m"], f"{t(KIND_NAMES[e['kind']])} {e['text']}".strip(),
@@ -499,6 +516,8 @@ class TrackData:
     bands: dict[str, QualityBand]
     events: tuple[EventSpan, ...] = ()
     redesign: RedesignPlot | None = None  # the tamping re-design, if the survey has one
+    invalid: tuple[tuple[float, float], ...] = ()  # the runs of sleepers not valid (:func:`invalid_spans`)
+    not_assessed: tuple[str, ...] = ()  # per sleeper, why it is not assessed, in the language in use ("": it is)
 
 
 def track_data(project: Project, stored: StoredResults) -> TrackData:
@@ -506,7 +525,9 @@ def track_data(project: Project, stored: StoredResults) -> TrackData:
     plots = chainage_plots(stored.columns, profile)
     return TrackData(stored.survey, stored.columns["station_m"], stored.number, stored.label, stored.columns,
                      plots, stored.exceedances, quality_bands(plots, profile, stored.quality),
-                     event_spans(stored.summary), redesign_plot(stored))
+                     event_spans(stored.summary), redesign_plot(stored),
+                     invalid_spans(stored.columns["station_m"], stored.columns["valid"] > 0),
+                     said_per_sleeper(stored.not_assessed or ("",) * len(stored.number), stored.summary))
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,8 @@
 
 The fusion's integrity verdict (``insrail.nav.integrity``, kept in the fusion's cached info as
 ``integrity``) names the times where the solution was inconsistent with its 1-sigma (not-valid
-sections), suspect (around a filter reset) or where the trajectory misses a position fix. A
+sections), suspect (around a filter reset, and between two resets that undid each other) or where the
+trajectory misses a position fix. A
 sleeper the trolley passed inside one of them is
 marked not valid, so no exceedance is assessed there and no adjustment amount computed from it,
 and sleepers.csv says why in its ``not_assessed`` column (reasons joined by "; ", with those of
@@ -29,7 +30,7 @@ from insrail.notices import Phrase, phrase_of
 from insrail.track.sleeper_table import SleeperTable
 
 #: where the fusion's integrity verdict lists its intervals (``insrail.nav.integrity.FusionIntegrity.to_dict``)
-INTEGRITY_INTERVALS = ("not_valid", "suspect", "missed_fixes")
+INTEGRITY_INTERVALS = ("not_valid", "suspect", "detours", "missed_fixes")
 
 
 def fusion_reasons(integrity: dict | None) -> list[tuple[float, float, Phrase]]:
@@ -89,3 +90,11 @@ def said_reasons(column: str, reasons: Mapping[str, Phrase]) -> str:
         said.append(reasons[match].said())
         rest = rest[len(match) + 2:]
     return t("; ").join(said)
+
+
+def said_per_sleeper(not_assessed: tuple[str, ...], summary: Mapping) -> tuple[str, ...]:
+    """Each sleeper's ``not_assessed`` column (sleepers.csv's English) in the language in use (the workbook's "not
+    assessed because" column, the GUI's read-out)."""
+    reasons = reasons_of(summary)
+    said = {column: said_reasons(column, reasons) for column in set(not_assessed)}  # a few texts, many sleepers
+    return tuple(said[column] for column in not_assessed)

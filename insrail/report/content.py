@@ -51,7 +51,7 @@ from insrail.project.results import (
     check_column,
 )
 from insrail.project.run_settings import RecordedSettings, report_language
-from insrail.project.sleeper_integrity import reasons_of, said_reasons
+from insrail.project.sleeper_integrity import said_per_sleeper
 from insrail.track.adjustment import FastenerType, load_fastener_type
 from insrail.track.adjustment_parts import PartTable, materials, parts_text
 from insrail.track.events import KIND_NAMES
@@ -411,10 +411,7 @@ ADJUSTMENT_GROUP = "Adjustment (move the rail by)"
 
 def _said_reasons(results: StoredResults) -> np.ndarray:
     """Each sleeper's reasons for not being assessed in the report's language (sleepers.csv keeps the English)."""
-    columns = results.not_assessed or ("",) * len(results)
-    reasons = reasons_of(results.summary)
-    said = {column: said_reasons(column, reasons) for column in set(columns)}  # a few distinct texts, many sleepers
-    return np.array([said[column] for column in columns], dtype=object)
+    return np.array(said_per_sleeper(results.not_assessed or ("",) * len(results), results.summary), dtype=object)
 
 
 def _sleeper_columns(results: StoredResults, profile: ToleranceProfile) -> list[Column]:

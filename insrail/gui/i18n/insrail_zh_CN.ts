@@ -859,37 +859,37 @@
       <translation>处理已取消；保留之前的结果</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="705" />
+      <location filename="../../../insrail/gui/main_window.py" line="706" />
       <source>export cancelled; nothing written</source>
       <translation>导出已取消；未写入任何文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="760" />
+      <location filename="../../../insrail/gui/main_window.py" line="761" />
       <source>GNSS post-processing failed</source>
       <translation>GNSS 后处理失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="764" />
+      <location filename="../../../insrail/gui/main_window.py" line="765" />
       <source> (from the cache)</source>
       <translation>（取自缓存）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="764" />
+      <location filename="../../../insrail/gui/main_window.py" line="765" />
       <source> (computed now)</source>
       <translation>（本次计算）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="772" />
+      <location filename="../../../insrail/gui/main_window.py" line="773" />
       <source>GNSS post-processing cancelled</source>
       <translation>GNSS 后处理已取消</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="792" />
+      <location filename="../../../insrail/gui/main_window.py" line="793" />
       <source>Tamping re-design failed</source>
       <translation>捣固整道设计失败</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="831" />
+      <location filename="../../../insrail/gui/main_window.py" line="832" />
       <source>About insrail</source>
       <translation>关于 insrail</translation>
     </message>
@@ -939,12 +939,12 @@
       <translation>正在取消…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="701" />
+      <location filename="../../../insrail/gui/main_window.py" line="702" />
       <source>Written {name} in {folder}</source>
       <translation>已写入 {name}，位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="831" />
+      <location filename="../../../insrail/gui/main_window.py" line="832" />
       <source>Inertial track-geometry trolley processing: GNSS/INS/odometer fusion, track geometry, reports.</source>
       <translation>惯性轨道几何测量小车数据处理：GNSS/INS/里程计组合导航、轨道几何、报告。</translation>
     </message>
@@ -1004,52 +1004,52 @@
       <translation>{survey}：超限 {count} 处，结果位于 {folder}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="599" />
+      <location filename="../../../insrail/gui/main_window.py" line="600" />
       <source>Showing survey {survey}</source>
       <translation>正在显示测量 {survey}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="693" />
+      <location filename="../../../insrail/gui/main_window.py" line="694" />
       <source>{kind} {start:.3f}–{end:.3f} m marked in {file}; processing again assesses with it</source>
       <translation>已在 {file} 中标记{kind} {start:.3f}–{end:.3f} m；重新处理后按其评定</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="700" />
+      <location filename="../../../insrail/gui/main_window.py" line="701" />
       <source>written {path}</source>
       <translation>已写入 {path}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="756" />
+      <location filename="../../../insrail/gui/main_window.py" line="757" />
       <source>survey {survey}: GNSS</source>
       <translation>测量 {survey}：GNSS</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="760" />
+      <location filename="../../../insrail/gui/main_window.py" line="761" />
       <source>post-processing the GNSS of {survey}</source>
       <translation>正在对测量 {survey} 的 GNSS 进行后处理</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="766" />
+      <location filename="../../../insrail/gui/main_window.py" line="767" />
       <source>GNSS of {survey}: fix rate {rate:.1f} % of {epochs} epochs{source}</source>
       <translation>测量 {survey} 的 GNSS：{epochs} 个历元中固定率 {rate:.1f} %{source}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="789" />
+      <location filename="../../../insrail/gui/main_window.py" line="790" />
       <source>survey {survey}: tamping re-design</source>
       <translation>测量 {survey}：捣固重新设计</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="791" />
+      <location filename="../../../insrail/gui/main_window.py" line="792" />
       <source>tamping re-design cancelled; nothing written</source>
       <translation>捣固重新设计已取消；未写入任何文件</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="792" />
+      <location filename="../../../insrail/gui/main_window.py" line="793" />
       <source>re-designing {survey} for tamping</source>
       <translation>正在为捣固重新设计测量 {survey}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="799" />
+      <location filename="../../../insrail/gui/main_window.py" line="800" />
       <source>{survey} re-designed: largest lift {lift_mm:.1f} mm, largest slew {slew_mm:.1f} mm; exceedances of {profile}: {before} before, {after} after the job</source>
       <translation>{survey} 已重新设计：最大起道量 {lift_mm:.1f} mm，最大拨道量 {slew_mm:.1f} mm；{profile} 超限：作业前 {before} 处，作业后 {after} 处</translation>
     </message>
@@ -1059,17 +1059,17 @@
       <translation>{survey}：{file} 早于当前结果：视图上方的提示栏可重新生成</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="804" />
+      <location filename="../../../insrail/gui/main_window.py" line="805" />
       <source>{survey}: cannot pass under the constraints: {what} {from_m:.1f}-{to_m:.1f} m (peak {value_mm:.2f} mm)</source>
       <translation>{survey}：在约束下无法满足：{what} {from_m:.1f}-{to_m:.1f} m（峰值 {value_mm:.2f} mm）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="809" />
+      <location filename="../../../insrail/gui/main_window.py" line="810" />
       <source>{survey}: {count} stretches pass after the job by less than the survey's uncertainty of the check (three stated 1-sigma): the true track there may not pass</source>
       <translation>{survey}：作业后 {count} 段检测值通过的余量小于测量不确定度（所述 1σ 的三倍）：实际线路在该处可能不通过</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="813" />
+      <location filename="../../../insrail/gui/main_window.py" line="814" />
       <source>{survey}: not assessed after the job: {check} {direction} (stated 1-sigma {sigma_mm:.2f} mm against the limit {limit_mm:.1f} mm) over {where}</source>
       <translation>{survey}：作业后不评定：{check} {direction}（所述 1σ {sigma_mm:.2f} mm，限值 {limit_mm:.1f} mm），区段 {where}</translation>
     </message>
@@ -1079,7 +1079,7 @@
       <translation>无法读取第一个测量的小车几何参数：{error}</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/main_window.py" line="639" />
+      <location filename="../../../insrail/gui/main_window.py" line="640" />
       <source>the check channels are shown by their columns: {error}</source>
       <translation>检测通道按其列名显示：{error}</translation>
     </message>
@@ -1864,72 +1864,77 @@
       <translation>{count} 个测次</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="59" />
+      <location filename="../../../insrail/gui/views/track.py" line="60" />
       <source>Move the mouse over the plots to read every value at a sleeper.</source>
       <translation>将鼠标移到曲线上可读取该轨枕处的全部数值。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="384" />
+      <location filename="../../../insrail/gui/views/track.py" line="396" />
       <source>Go to: #sleeper, K1+234.5 or station</source>
       <translation>转到：#轨枕号、K1+234.5 或里程</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="385" />
+      <location filename="../../../insrail/gui/views/track.py" line="397" />
       <source>Go to a sleeper (#123), a chainage as printed on the sleepers (K1+234.5) or a station in metres; Enter</source>
       <translation>转到轨枕（#123）、轨枕上标注的里程（K1+234.5）或以米计的里程；回车</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="391" />
+      <location filename="../../../insrail/gui/views/track.py" line="403" />
       <source>Measuring tool: click two points of a plot to read the chainage and value differences between them</source>
       <translation>量测工具：在曲线上点击两点，读取两点间的里程差和数值差</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="400" />
+      <location filename="../../../insrail/gui/views/track.py" line="412" />
       <source>Mark the span between the two measured points as a turnout, level crossing, bridge, joint, stretch not to assess or note in the project's event file</source>
       <translation>在项目的事件文件中将两量测点之间标记为道岔、平交道口、桥梁、接头、不评估地段或备注</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="389" />
+      <location filename="../../../insrail/gui/views/track.py" line="401" />
       <source>Measure</source>
       <translation>量测</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="399" />
+      <location filename="../../../insrail/gui/views/track.py" line="411" />
       <source>Mark as track event…</source>
       <translation>标记为线路事件…</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="405" />
+      <location filename="../../../insrail/gui/views/track.py" line="417" />
       <source>Plots</source>
       <translation>曲线</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="663" />
+      <location filename="../../../insrail/gui/views/track.py" line="684" />
       <source>Measuring: click the first point in a plot.</source>
       <translation>量测：在曲线上点击第一点。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="680" />
+      <location filename="../../../insrail/gui/views/track.py" line="701" />
       <source>Measuring: click the second point.</source>
       <translation>量测：点击第二点。</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="648" />
+      <location filename="../../../insrail/gui/views/track.py" line="667" />
       <source>&lt;b&gt;{label}&lt;/b&gt; sleeper {number} ({station:.3f} m)</source>
       <translation>&lt;b&gt;{label}&lt;/b&gt; 轨枕 {number}（{station:.3f} m）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="633" />
+      <location filename="../../../insrail/gui/views/track.py" line="652" />
       <source>{text} is no sleeper number, chainage or station of this survey</source>
       <translation>{text} 不是本测量的轨枕号、里程或测站</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="689" />
+      <location filename="../../../insrail/gui/views/track.py" line="676" />
+      <source>&lt;b&gt;not assessed&lt;/b&gt;: {why}</source>
+      <translation>&lt;b&gt;不评定&lt;/b&gt;：{why}</translation>
+    </message>
+    <message>
+      <location filename="../../../insrail/gui/views/track.py" line="710" />
       <source>Δ chainage &lt;b&gt;{length:+.3f} m&lt;/b&gt; (sleeper {first} {first_label} → {second} {second_label})</source>
       <translation>Δ 里程 &lt;b&gt;{length:+.3f} m&lt;/b&gt;（轨枕 {first} {first_label} → {second} {second_label}）</translation>
     </message>
     <message>
-      <location filename="../../../insrail/gui/views/track.py" line="180" />
+      <location filename="../../../insrail/gui/views/track.py" line="191" />
       <source>±{sigmas:g}σ predicted</source>
       <translation>预测 ±{sigmas:g}σ</translation>
     </message>

@@ -13,6 +13,7 @@ chainage, and neither can leave the surveyed chainage."""
 from __future__ import annotations
 
 import math
+from html import escape
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -81,6 +82,15 @@ EVENT_NOT_ASSESSED_BRUSH = pg.mkBrush(123, 94, 167, 45)
 EVENT_BRUSH = pg.mkBrush(123, 94, 167, 18)
 EVENT_PEN = pg.mkPen("#7b5ea7", width=1, style=Qt.DotLine)
 EVENT_TEXT = "#7b5ea7"
+
+
+def _add_invalid(item: pg.PlotItem, invalid: Sequence[tuple[float, float]]) -> None:
+    """The runs of sleepers that are not valid, greyed behind everything (their values are drawn: the
+    reports grey the same runs; the read-out says why a sleeper is not assessed)."""
+    for low, high in invalid:
+        span = pg.LinearRegionItem((low, high), movable=False, brush=plotstyle.INVALID_BRUSH, pen=pg.mkPen(None))
+        span.setZValue(-9)
+        item.addItem(span, ignoreBounds=True)
 
 
 def _add_events(item: pg.PlotItem, events: Sequence[EventSpan], named: bool) -> None:
@@ -154,7 +164,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
 
     def set_data(self, station_m: np.ndarray, columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
                  visible: set[str], bands: Mapping[str, QualityBand] | None = None,
-                 events: Sequence[EventSpan] = ()) -> None:
+                 events: Sequence[EventSpan] = (), invalid: Sequence[tuple[float, float]] = ()) -> None:
         self.plots.clear()
         self._crosshairs.clear()
         self._regions.clear()
@@ -163,13 +173,14 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
         self._station, self._fits, self._window, self._synced = np.asarray(station_m), {}, None, set()
         self._following = True  # a reused plot's old window, clamped to the new limits, is no pan
         try:
-            self._add_plots(shown, columns, bands or {}, events)
+            self._add_plots(shown, columns, bands or {}, events, invalid)
         finally:
             self._following = False
         self.follow()
 
     def _add_plots(self, shown: Sequence[ChainagePlot], columns: Mapping[str, np.ndarray],
-                   bands: Mapping[str, QualityBand], events: Sequence[EventSpan]) -> None:
+                   bands: Mapping[str, QualityBand], events: Sequence[EventSpan],
+                   invalid: Sequence[tuple[float, float]]) -> None:
         station_m = self._station
         self._lay_out(len(shown))
         self.setMinimumHeight(MIN_PLOT_HEIGHT * len(shown))
@@ -199,6 +210,7 @@ class ChainagePlots(pg.GraphicsLayoutWidget):
             crosshair = pg.InfiniteLine(angle=90, pen=plotstyle.CROSSHAIR_PEN)
             item.addItem(crosshair, ignoreBounds=True)
             self._crosshairs.append(crosshair)
+            _add_invalid(item, invalid)
             _add_events(item, events, named=not row)
             if len(station_m):
                 low, high = float(station_m[0]) - PAN_MARGIN_M, float(station_m[-1]) + PAN_MARGIN_M
@@ -462,6 +474,8 @@ class TrackView(DrawWhenShown, QWidget):
         self._measured: list[tuple[str, float]] = []  # (plot key, station) of the measuring tool's points
         self._pending_range: tuple[float, float] | None = None  # a range to apply once drawn
         self._events: tuple[EventSpan, ...] = ()
+        self._invalid: tuple[tuple[float, float], ...] = ()
+        self._not_assessed: tuple[str, ...] = ()
         self._chainage: ChainageAxis | None = None
         self._pending_scroll: str | None = None  # the plot to scroll to once drawn
         self.plots.cursorMoved.connect(self.show_values_at)
@@ -470,10 +484,12 @@ class TrackView(DrawWhenShown, QWidget):
     def set_results(self, station_m: np.ndarray, number: np.ndarray, label: Sequence[str],
                     columns: Mapping[str, np.ndarray], plots: Sequence[ChainagePlot],
                     exceedances: Sequence[ExceedanceRow], bands: Mapping[str, QualityBand] | None = None,
-                    survey: str = "", events: Sequence[EventSpan] = (), chainage: ChainageAxis | None = None) -> None:
+                    survey: str = "", events: Sequence[EventSpan] = (), chainage: ChainageAxis | None = None,
+                    invalid: Sequence[tuple[float, float]] = (), not_assessed: Sequence[str] = ()) -> None:
         """Plain arrays (one per sleeper, in chainage order), the plots to draw from them, the
-        predicted-accuracy bands of some plots (by plot key), the survey's events and its chainage
-        axis (None: the axis in metres of station). The same
+        predicted-accuracy bands of some plots (by plot key), the survey's events, its chainage
+        axis (None: the axis in metres of station), the runs of sleepers not valid and per sleeper why it
+        is not assessed ("": it is). The same
         ``survey`` again (processed once more) keeps the chainage window and the plots shown."""
         same = bool(survey) and survey == self.survey and bool(self._specs)
         state = self.view_state() if same else None
@@ -482,6 +498,8 @@ class TrackView(DrawWhenShown, QWidget):
         self._columns, self._specs, self._rows = columns, tuple(plots), tuple(exceedances)
         self._bands = dict(bands or {})
         self._events = tuple(events)
+        self._invalid = tuple(invalid)
+        self._not_assessed = tuple(not_assessed)
         self._chainage = chainage
         self._pending_scroll = None
         failing = {f"check_{e.check}" for e in self._rows}
@@ -544,7 +562,8 @@ class TrackView(DrawWhenShown, QWidget):
 
     def _draw(self) -> None:
         self.ruler.set_chainage(self._chainage)
-        self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands, self._events)
+        self.plots.set_data(self._station, self._columns, self._specs, self._visible, self._bands, self._events,
+                            self._invalid)
         self.ruler.setVisible(bool(self.plots.plots))
         self._place_ruler()
         self.plots.mark_measure([station for _, station in self._measured])
@@ -653,6 +672,8 @@ class TrackView(DrawWhenShown, QWidget):
             values = ", ".join(f"{label} {value:+.2f}" if label else f"{value:+.2f}"
                                for label, value in plot_values(spec, self._columns, i))
             parts.append(f"<b>{spec.title}</b>: {values} {spec.unit}")
+        if i < len(self._not_assessed) and self._not_assessed[i]:
+            parts.insert(1, tr("<b>not assessed</b>: {why}").format(why=escape(self._not_assessed[i])))
         self._set_readout(" &nbsp;|&nbsp; ".join(parts))
 
     def _measure_toggled(self, on: bool) -> None:
