@@ -1517,11 +1517,17 @@ ZH_CN: dict[str, str] = {
     "APPROX POSITION XYZ of {file}: metre level": "{file} 的 APPROX POSITION XYZ：米级",
     # the fusion's integrity (summary.toml [fusion.integrity] summary)
     "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{detours}"
-    "{missed}{inconsistent}":
-        "{sections} 个 {section_m:.0f} m 区段中 {consistent} 个与其 1σ 一致{bad}{resets}{detours}{missed}{inconsistent}",
+    "{steps}{missed}{inconsistent}":
+        "{sections} 个 {section_m:.0f} m 区段中 {consistent} 个与其 1σ 一致{bad}{resets}{detours}{steps}{missed}{inconsistent}",
     "; not valid: {share_pct:.0f} % of the length": "；无效：占长度的 {share_pct:.0f} %",
     "; {count} filter reset(s)": "；滤波器重置 {count} 次",
     "; {count} detour(s) of a source between two resets": "；两次重置之间 {count} 段随观测源偏离又返回",
+    "; {count} step(s) of a position source that stayed": "；定位观测源 {count} 处跳变未返回",
+    "after the filter reset at t = {time_s:.1f} s the solution follows {source} {off_m:.3f} m from where it was: the "
+    "absolute position (the deviations from the design) before or after it is off by about that much, a wrong fix "
+    "that stayed or one before it; check against a control point":
+        "t = {time_s:.1f} s 滤波器重置后，解随{source}偏离原位置 {off_m:.3f} m：其前或其后的绝对位置（相对设计的偏差）"
+        "约有同等误差，可能是保持下来的错误固定解或其前的错误固定解；请用控制点检核",
     "between the filter resets at t = {first_s:.1f} s and {second_s:.1f} s the solution followed {source} {off_m:.3f} m "
     "off and back: the source was wrong there (a false fix), or before and after":
         "在 t = {first_s:.1f} s 与 {second_s:.1f} s 两次滤波器重置之间，解随{source}偏离 {off_m:.3f} m 后又返回："

@@ -157,15 +157,17 @@ def _reset_at(time_s: float, source: str = "gnss_position") -> FilterReset:
     return FilterReset(time_s, source, 20.0, 21, time_s - 20.0, (), ("position",), (0.5, 0.5, 0.5))
 
 
-@pytest.mark.parametrize(("back_m", "second_source", "detour"), [
-    (-1.0, "gnss_position", True),  # off by 1 m and back: a false fix; the solution between followed it
-    (-0.6, "gnss_position", True),  # most of the way back
-    (1.0, "gnss_position", False),  # a second step the same way: no detour to blame the stretch between for
-    (0.0, "gnss_position", False),
-    (-1.0, "prism", False),  # two sources: each reset stands on its own
-    (-1.0, "gnss_velocity", False),  # not a position: its innovations are no jump of the solution
+@pytest.mark.parametrize(("back_m", "second_source", "detour", "steps"), [
+    (-1.0, "gnss_position", True, 0),  # off by 1 m and back: a false fix; the solution between followed it
+    (-0.6, "gnss_position", True, 0),  # most of the way back
+    (1.0, "gnss_position", False, 2),  # a second step the same way: no detour to blame the stretch between for
+    (-0.3, "gnss_position", False, 2),
+    (-1.0, "prism", False, 2),  # two sources: each reset stands on its own
+    (-1.0, "gnss_velocity", False, 1),  # not a position: its innovations are no jump of the solution
 ])
-def test_two_resets_that_undo_each_other_make_the_time_between_them_suspect(back_m, second_source, detour):
+def test_two_resets_that_undo_each_other_make_the_time_between_them_suspect(back_m, second_source, detour, steps):
+    """A detour between two resets is suspect as a whole; a reset no later one undid is a step, said at its time
+    (the absolute position on one side of it is off by the jump)."""
     names = ["gnss_position", "prism", "gnss_velocity"]
     time_s = np.arange(0.0, 1000.0, 1.0)
     source = np.zeros(time_s.size, int)
@@ -188,6 +190,11 @@ def test_two_resets_that_undo_each_other_make_the_time_between_them_suspect(back
         assert "1 detour(s)" in str(verdict.summary()) and verdict.to_dict()["detours"][0]["time_to_s"] == 370.0
     else:
         assert verdict.detours_s == () and "detour" not in str(verdict.summary())
+    assert len(verdict.steps_s) == steps and len(verdict.to_dict()["steps"]) == steps
+    if steps:
+        assert verdict.steps_s[0][:2] == (320.0, pytest.approx(1.0))
+        assert "after the filter reset at t = 320.0 s the solution follows gnss_position 1.000 m" in str(verdict.steps_s[0][2])
+        assert f"{steps} step(s) of a position source that stayed" in str(verdict.summary())
 
 
 def _northward(duration_s: float = 600.0, sigma_m: float = 0.01):

@@ -1954,6 +1954,7 @@ def integrity_notices(resets, verdict: FusionIntegrity) -> list[Notice]:
     stretch around a position fix the trajectory misses (their sleepers are not assessed): notices
     with their times."""
     notices = [Notice("fusion", reset.message(), time_s=reset.time_s) for reset in resets]
+    notices += [Notice("fusion", why, time_s=at) for at, _, why in verdict.steps_s]
     notices += [Notice("fusion", "not valid from t = {time_from_s:.1f} s to {time_to_s:.1f} s (travelled "
                                  "{station_from_m:.0f}-{station_to_m:.0f} m): {why}; its sleepers are not assessed",
                        time_s=float(verdict.time_from_s[k]),

@@ -25,6 +25,11 @@ that record into a verdict per section of track and for the whole survey:
   it and so with its own 1-sigma: the whole time from the first reset's suspect start to the second
   one's end is suspect (a 1 m false fix of 40 s left 18 sleepers between the two resets' intervals
   valid, 537 mm off the design);
+- a reset of a position source that no later one undoes is a **step**: the source said one thing before it
+  and another after it, and the solution follows it; which side is right cannot be told, and the absolute
+  position on one side is off by about the jump (a GNSS fix that stayed 0.5 m off left the deviations from the
+  design 0.28-0.5 m off after it). Said as a warning at the reset (:func:`steps`); the chord checks either
+  side are not affected;
 - every position fix (a prism on CPIII control), accepted or rejected by the forward filter, is
   compared with the final trajectory (:func:`missed_fixes`): a trajectory that misses a fix by
   more than the filter's gate, against the fix's and its own 1-sigma, is not valid from the
@@ -115,6 +120,8 @@ class FusionIntegrity:
     missed_share: float = 0.0
     #: (start, end, why) in seconds of week of each detour between two resets (:func:`detours`)
     detours_s: tuple[tuple[float, float, Phrase], ...] = ()
+    #: (time, jump [m], why) of each reset of a position source that stayed (:func:`steps`)
+    steps_s: tuple[tuple[float, float, Phrase], ...] = ()
 
     @property
     def trusted(self) -> bool:
@@ -131,13 +138,15 @@ class FusionIntegrity:
         bad = int(np.sum(~self.valid))
         return Phrase(
             "{consistent} of {sections} sections of {section_m:.0f} m consistent with their 1-sigma{bad}{resets}{detours}"
-            "{missed}{inconsistent}",
+            "{steps}{missed}{inconsistent}",
             {"consistent": len(self.valid) - bad, "sections": len(self.valid), "section_m": SECTION_M,
              "bad": Phrase("; not valid: {share_pct:.0f} % of the length", {"share_pct": 100 * self.invalid_share})
              if bad else Phrase(""),
              "resets": Phrase("; {count} filter reset(s)", {"count": len(self.suspect_s)}) if self.suspect_s else Phrase(""),
              "detours": Phrase("; {count} detour(s) of a source between two resets", {"count": len(self.detours_s)})
              if self.detours_s else Phrase(""),
+             "steps": Phrase("; {count} step(s) of a position source that stayed", {"count": len(self.steps_s)})
+             if self.steps_s else Phrase(""),
              "missed": Phrase("; {count} position fix(es) missed by the trajectory beyond their 1-sigma ({share_pct:.0f} % "
                               "of the length)", {"count": len(self.missed_s), "share_pct": 100 * self.missed_share})
              if self.missed_s else Phrase(""),
@@ -187,6 +196,8 @@ class FusionIntegrity:
                              "why": phrase_of(why).to_dict()} for a, b, why in self.suspect_s],
                 "detours": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why),
                              "why": phrase_of(why).to_dict()} for a, b, why in self.detours_s],
+                "steps": [{"time_s": round(at, 3), "jump_m": round(off, 3), "reason": str(why),
+                           "why": phrase_of(why).to_dict()} for at, off, why in self.steps_s],
                 "missed_fixes": [{"time_from_s": round(a, 3), "time_to_s": round(b, 3), "reason": str(why),
                                   "why": phrase_of(why).to_dict()} for a, b, why in self.missed_s],
                 "missed_share": round(self.missed_share, 4)}
@@ -219,27 +230,45 @@ def reset_jump(record: InnovationRecord, reset) -> np.ndarray | None:
     return np.nanmedian(rows, axis=0)
 
 
-def detours(record: InnovationRecord, resets, suspect, positions) -> tuple[tuple[float, float, Phrase], ...]:
-    """(start, end, why) of every detour (module docstring): two resets in a row of one source of ``positions``
-    (the names of the sources whose innovation's first three rows are a NED position [m]) whose jumps
-    (:func:`reset_jump`) add up to at most :data:`DETOUR_SHARE` of the larger, from the first one's suspect
-    start to the second one's suspect end (``suspect``: the resets' intervals, in their order)."""
-    out = []
+def detours(resets, jumps, suspect) -> tuple[tuple[tuple[float, float, Phrase], ...], set[int]]:
+    """(start, end, why) of every detour (module docstring), and the indices of the resets that make them: two
+    resets in a row of one source whose ``jumps`` (per reset, :func:`reset_jump`; None: not a position source)
+    add up to at most :data:`DETOUR_SHARE` of the larger, from the first one's suspect start to the second
+    one's suspect end (``suspect``: the resets' intervals, in their order)."""
+    out, paired = [], set()
     order = sorted(range(len(resets)), key=lambda i: resets[i].time_s)
     for a, b in zip(order, order[1:]):
         first, second = resets[a], resets[b]
-        if first.source != second.source or first.source not in positions:
-            continue
-        there, back = reset_jump(record, first), reset_jump(record, second)
-        if there is None or back is None:
+        there, back = jumps[a], jumps[b]
+        if first.source != second.source or there is None or back is None:
             continue
         off = float(np.linalg.norm(np.nan_to_num(there)))
         if float(np.linalg.norm(np.nan_to_num(there + back))) > DETOUR_SHARE * max(off, float(np.linalg.norm(np.nan_to_num(back)))):
             continue
+        paired |= {a, b}
         out.append((suspect[a][0], suspect[b][1],
                     Phrase("between the filter resets at t = {first_s:.1f} s and {second_s:.1f} s the solution followed "
                            "{source} {off_m:.3f} m off and back: the source was wrong there (a false fix), or before and after",
                            {"first_s": first.time_s, "second_s": second.time_s, "source": Phrase(first.source), "off_m": off})))
+    return tuple(out), paired
+
+
+def steps(resets, jumps, paired: set[int]) -> tuple[tuple[float, float, Phrase], ...]:
+    """(reset time, jump [m], why) of every reset of a position source that no later one undid (not in
+    ``paired``, :func:`detours`): the solution stays on the source's side of the jump, and the source said
+    one thing before it and another after. Which side is right the filter cannot tell; the chord checks on
+    either side are not affected (the sleepers in the reset's suspect interval are not assessed), but the
+    absolute position on one side is off by about the jump: said where it happened."""
+    out = []
+    for index, (reset, jump) in enumerate(zip(resets, jumps)):
+        if jump is None or index in paired:
+            continue
+        off = float(np.linalg.norm(np.nan_to_num(jump)))
+        out.append((reset.time_s, off,
+                    Phrase("after the filter reset at t = {time_s:.1f} s the solution follows {source} {off_m:.3f} m from "
+                           "where it was: the absolute position (the deviations from the design) before or after it is off "
+                           "by about that much, a wrong fix that stayed or one before it; check against a control point",
+                           {"time_s": reset.time_s, "source": Phrase(reset.source), "off_m": off})))
     return tuple(out)
 
 
@@ -340,7 +369,9 @@ def assess(record: InnovationRecord, time_s: np.ndarray, station_m: np.ndarray, 
     invalid_share = float(widths[~valid].sum() / widths.sum()) if widths.sum() > 0 else float(np.mean(~valid))
     suspect = tuple((last_agreement_s(record, reset.source, reset.first_rejected_s), reset.time_s + RESET_SETTLE_S,
                      reset.message()) for reset in resets)
+    jumps = [reset_jump(record, reset) if reset.source in positions else None for reset in resets]
+    found, paired = detours(resets, jumps, suspect)
     return FusionIntegrity(record.names, edges[:-1].copy(), edges[1:].copy(), time_from, time_to, count, share,
                            nis_per_dof, valid, tuple(reasons), suspect, invalid_share, missed_s=tuple(missed),
                            missed_share=_share(missed, np.asarray(time_s), np.asarray(station_m)),
-                           detours_s=detours(record, resets, suspect, positions))
+                           detours_s=found, steps_s=steps(resets, jumps, paired))
