@@ -212,7 +212,11 @@ def check_odometer(odometer: OdometerData, gnss: GnssSolution, odometer_label: s
     usable = ((duration <= 1.5 * SCALE_WINDOW_S) & (gnss_travel > MIN_WINDOW_TRAVEL_M) & np.isfinite(odo_travel))
     if usable.sum() < 10:
         return []
-    scale = float(np.sum(odo_travel[usable]) / np.sum(gnss_travel[usable]))
+    # the median window: a unit or a calibration scales every window alike; a wheel stuck or slipping for a
+    # while (its own check below, then the fusion's gate) moves only a few (on a 300 m survey a wheel stuck
+    # for 15 s took the whole survey's ratio to 0.94, refused as a distance "in another unit")
+    ratio = odo_travel[usable] / gnss_travel[usable]
+    scale = float(np.median(ratio))
     path = odometer.source or Path(odometer_label)
     if abs(scale - 1.0) > MAX_SCALE_ERROR:
         if 700 < scale < 1400:
@@ -225,7 +229,6 @@ def check_odometer(odometer: OdometerData, gnss: GnssSolution, odometer_label: s
         raise InputError(path, None, "{read_as}the odometer travels {scale:.4g} m per metre of GNSS "
                          "({gnss_label}) over {windows} windows of {scale_window_s:g} s; expected 1 within "
                          "{max_error_pct:.0f} %: likely {cause}", fields={"read_as": read_as(odometer_label), "scale": scale, "gnss_label": gnss_label, "windows": int(usable.sum()), "scale_window_s": SCALE_WINDOW_S, "max_error_pct": 100 * MAX_SCALE_ERROR, "cause": cause})
-    ratio = odo_travel[usable] / gnss_travel[usable]
     disagree = float(np.mean(np.abs(ratio / scale - 1.0) > 0.1))
     if disagree > MAX_SPEED_DISAGREEMENT_SHARE:
         raise InputError(path, None, "{read_as}the odometer's speed disagrees with the GNSS speed "
