@@ -18,7 +18,7 @@
    (conservative). Bar: within 1.5x of case 1.
 3. In case 2 one CPIII point of the file is 5 mm off: `insrail process` names it (a warning per set-up
    using it) and leaves it out.
-4. No GNSS at all (`tunnel-no-gnss`, the gnss role dropped from survey.toml): the fusion starts from the
+4. No GNSS at all (`tunnel-no-gnss`: no GNSS file in its survey.toml): the fusion starts from the
    fix taken during the static start and is held by a fix every 60 m; per seed of --seeds the figures
    of case 1 over the run, then cases 2 and 3 on the same survey (4b). At the end, over the seeds: the
    largest errors, how often they stay within 2 mm, and the 95 % and RMS figures.

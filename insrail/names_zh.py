@@ -153,6 +153,8 @@ ZH_CN: dict[str, str] = {
     "solution form {form!r} is not supported: expected latitude/longitude/height (RTKLIB out-solformat=llh)":
         "不支持解的形式 {form!r}：应为纬度/经度/高度（RTKLIB out-solformat=llh）",
     "empty file: no data lines": "空文件：没有数据行",
+    "empty file: no solution epochs (a survey without any GNSS, in a tunnel, leaves [files.gnss] out of its survey.toml)":
+        "空文件：没有解算历元（完全没有 GNSS 的测量，如隧道内，请从 survey.toml 中删去 [files.gnss]）",
     "{what}.{alias}: the same as {what}.{key}; give one of them": "{what}.{alias}：与 {what}.{key} 相同；只给其中之一",
     "files: missing table [files.<role>] (the imu role is required)": "files：缺少表 [files.<role>]（必须有 imu 角色）",
     "files.odometer_right: a second odometer needs the first, [files.odometer] (or [files.odometer_left]); a survey with one odometer gives it as [files.odometer], on whichever rail, with its lever arm trolley.imu_to_odometer_m":

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from insrail.cli.main import main
-from insrail.io.survey import read_manifest, write_manifest
+from insrail.io.survey import read_manifest
 from insrail.project import process
 from insrail.project.demo import project_for_simulated_survey
 from insrail.project.model import save_project
@@ -29,9 +29,8 @@ def tunnel_project(tmp_path_factory):
     root = tmp_path_factory.mktemp("tunnel-project")
     survey = root / "surveys" / "tunnel"
     simulate(config, seed=4, out_dir=survey, imu_format="npy")
-    manifest = read_manifest(survey)  # a survey without GNSS: the gnss role goes
-    (survey / manifest.files["gnss"].path).unlink()
-    write_manifest(survey, replace(manifest, files={r: e for r, e in manifest.files.items() if r != "gnss"}))
+    # a survey without GNSS, as a user's: no gnss role and no empty GNSS file (which insrail refuses)
+    assert "gnss" not in read_manifest(survey).files and not (survey / "gnss.pos").exists()
     project = replace(project_for_simulated_survey(root, survey, name="tunnel"), design=None, start_station_m=START_M)
     save_project(project)  # as the user's project.toml: no [track] design
     return project

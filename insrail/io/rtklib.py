@@ -78,7 +78,8 @@ def _first_data_fields(path: Path, text: str) -> list[str]:
         content = strip_comment(raw)
         if content:
             return content.split()
-    raise InputError(path, None, "empty file: no data lines")
+    raise InputError(path, None, "empty file: no solution epochs (a survey without any GNSS, in a tunnel, leaves "
+                     "[files.gnss] out of its survey.toml)")
 
 
 def _dms_to_degrees(fields: np.ndarray) -> np.ndarray:

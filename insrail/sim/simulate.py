@@ -430,8 +430,9 @@ def _write_survey(folder, config, seed, imu, imu_format, gnss, odometer, gauge, 
     else:
         entries = {"imu": SurveyFile("imu.npy", "imu-npy")}
         write_imu_npy(folder / "imu.npy", imu)
-    entries["gnss"] = SurveyFile("gnss.pos", "rtklib-pos")
-    write_rtklib_pos(folder / "gnss.pos", gnss)
+    if len(gnss):  # a survey without any GNSS (the `tunnel-no-gnss` preset) has no GNSS file, as a user's has none
+        entries["gnss"] = SurveyFile("gnss.pos", "rtklib-pos")
+        write_rtklib_pos(folder / "gnss.pos", gnss)
     if config.odometer.form == "pulses":
         entries["odometer"] = SurveyFile("odometer.txt", "odometer-pulses", {"pulse_length_m": config.odometer.pulse_length_m})
         write_odometer_pulses(folder / "odometer.txt", odometer)
