@@ -1,9 +1,9 @@
 """GNSS faults swept over duration and size: are the sleepers left valid as good as they say?
 
-    python benchmarks/fault_sweep.py [--workdir DIR] [--only TEXT ...]
+    python benchmarks/fault_sweep.py [--workdir DIR] [--grade nav|tactical|mems|...] [--only TEXT ...]
 
-A 300 m cut of the `short` survey (nav grade, seed 3, 60 s static start; the survey of
-tests/test_nav_integrity.py) is simulated once; each case puts one GNSS fault into its solution file
+A 300 m cut of the `short` survey (seed 3, 60 s static start; with the nav grade the survey of
+tests/test_nav_integrity.py; ``--grade`` another IMU profile) is simulated once; each case puts one GNSS fault into its solution file
 (``insrail.sim.gnss_faults``), makes a demo project of it and runs ``insrail process`` as a user would.
 Per case it prints the exit code (an untrusted survey is refused: rc 1 and why), the valid sleepers,
 the largest error of a valid sleeper's rail deviations from the design against the simulator's truth
@@ -38,13 +38,13 @@ import numpy as np
 GROSS_MM = 20.0
 
 
-def base_survey(workdir: Path) -> Path:
+def base_survey(workdir: Path, grade: str) -> Path:
     from insrail.sim.scenario import preset
     from insrail.sim.simulate import simulate
 
-    folder = workdir / "simulated"
+    folder = workdir / f"simulated-{grade}"
     if not (folder / "survey.toml").exists():
-        base = preset("short")
+        base = preset("short", imu_profile=grade)
         config = replace(base, motion=replace(base.motion, end_station_m=1350.0, static_start_s=60.0,
                                               static_end_s=20.0, stops=()), gnss=replace(base.gnss, outages=()))
         simulate(config, seed=3, out_dir=folder, imu_format="npy")
@@ -76,7 +76,7 @@ def run_case(base: Path, workdir: Path, name: str, fault, gnss, truth) -> str:
     from insrail.project.demo import project_for_simulated_survey
     from insrail.sim.evaluation import truth_rail_deviations
 
-    root = workdir / name.replace("/", "_")
+    root = workdir / f"{base.name}-cases" / name.replace("/", "_")  # beside the base survey, never inside it
     shutil.rmtree(root, ignore_errors=True)
     folder = root / "surveys" / "faulty"
     shutil.copytree(base, folder)
@@ -106,6 +106,7 @@ def run_case(base: Path, workdir: Path, name: str, fault, gnss, truth) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--workdir", type=Path)
+    parser.add_argument("--grade", default="nav", help="the IMU profile (resources/imu_profiles; default: nav)")
     parser.add_argument("--only", nargs="*", default=[])
     args = parser.parse_args()
     from insrail.io.survey import read_survey
@@ -114,7 +115,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as scratch:
         workdir = args.workdir or Path(scratch)
         workdir.mkdir(parents=True, exist_ok=True)
-        base = base_survey(workdir)
+        base = base_survey(workdir, args.grade)
         gnss = read_survey(base).gnss
         truth = read_sleeper_truth(base / "truth" / "sleepers.csv")
         for name, fault in cases(float(gnss.time_s[0]), float(gnss.time_s[-1])).items():
