@@ -197,6 +197,24 @@ def test_two_resets_that_undo_each_other_make_the_time_between_them_suspect(back
         assert f"{steps} step(s) of a position source that stayed" in str(verdict.summary())
 
 
+def test_a_reset_of_another_source_between_them_does_not_part_a_detour():
+    names = ["gnss_position", "prism"]
+    time_s = np.arange(0.0, 1000.0, 1.0)
+    source = np.where((time_s >= 330.0) & (time_s <= 345.0), 1, 0)
+    accepted = np.ones(time_s.size, bool)
+    innovation = np.zeros((time_s.size, 3), np.float32)
+    resets = [_reset_at(320.0), _reset_at(345.0, "prism"), _reset_at(380.0)]
+    for reset, jump in zip(resets, ((1.0, 0.0, 0.0), (0.0, 0.3, 0.0), (-1.0, 0.0, 0.0))):
+        run = (time_s >= reset.first_rejected_s) & (time_s <= reset.time_s) & (source == names.index(reset.source))
+        accepted[run] = False
+        innovation[run] = jump
+    record = replace(_record(names, time_s, source, np.full(time_s.size, 3.0), np.full(time_s.size, 3), accepted),
+                     innovation=innovation)
+    verdict = integrity.assess(record, time_s, time_s, resets, positions={"gnss_position", "prism"})
+    assert [(a, b) for a, b, _ in verdict.detours_s] == [(299.0, 390.0)]
+    assert [at for at, _, _ in verdict.steps_s] == [345.0]  # the prism's own reset stays a step
+
+
 def _northward(duration_s: float = 600.0, sigma_m: float = 0.01):
     """A trajectory going north at 1 m/s from 30 deg N on CGCS2000, heading north, level."""
     time_s = np.arange(0.0, duration_s + 0.5, 1.0)

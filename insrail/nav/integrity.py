@@ -236,21 +236,22 @@ def detours(resets, jumps, suspect) -> tuple[tuple[tuple[float, float, Phrase], 
     add up to at most :data:`DETOUR_SHARE` of the larger, from the first one's suspect start to the second
     one's suspect end (``suspect``: the resets' intervals, in their order)."""
     out, paired = [], set()
-    order = sorted(range(len(resets)), key=lambda i: resets[i].time_s)
-    for a, b in zip(order, order[1:]):
-        first, second = resets[a], resets[b]
-        there, back = jumps[a], jumps[b]
-        if first.source != second.source or there is None or back is None:
-            continue
-        off = float(np.linalg.norm(np.nan_to_num(there)))
-        if float(np.linalg.norm(np.nan_to_num(there + back))) > DETOUR_SHARE * max(off, float(np.linalg.norm(np.nan_to_num(back)))):
-            continue
-        paired |= {a, b}
-        out.append((suspect[a][0], suspect[b][1],
-                    Phrase("between the filter resets at t = {first_s:.1f} s and {second_s:.1f} s the solution followed "
-                           "{source} {off_m:.3f} m off and back: the source was wrong there (a false fix), or before and after",
-                           {"first_s": first.time_s, "second_s": second.time_s, "source": Phrase(first.source), "off_m": off})))
-    return tuple(out), paired
+    for source in {reset.source for reset in resets}:  # a reset of another source between them does not part them
+        order = sorted((i for i, reset in enumerate(resets) if reset.source == source), key=lambda i: resets[i].time_s)
+        for a, b in zip(order, order[1:]):
+            there, back = jumps[a], jumps[b]
+            if there is None or back is None or a in paired:
+                continue
+            off = float(np.linalg.norm(np.nan_to_num(there)))
+            if float(np.linalg.norm(np.nan_to_num(there + back))) > DETOUR_SHARE * max(off, float(np.linalg.norm(np.nan_to_num(back)))):
+                continue
+            paired |= {a, b}
+            out.append((suspect[a][0], suspect[b][1],
+                        Phrase("between the filter resets at t = {first_s:.1f} s and {second_s:.1f} s the solution followed "
+                               "{source} {off_m:.3f} m off and back: the source was wrong there (a false fix), or before and "
+                               "after", {"first_s": resets[a].time_s, "second_s": resets[b].time_s,
+                                         "source": Phrase(source), "off_m": off})))
+    return tuple(sorted(out, key=lambda interval: interval[0])), paired
 
 
 def steps(resets, jumps, paired: set[int]) -> tuple[tuple[float, float, Phrase], ...]:
