@@ -24,6 +24,16 @@ themselves). :func:`_load_scipy_blas` loads the two modules alone into ``sys.mod
 where numba's import finds them (a later ``import scipy.linalg`` imports the package as always, and
 ``scipy.linalg.cython_blas`` is then the module loaded here).
 
+What a first run compiles (an install's, every CI run's: most of a first `insrail process`'s CPU time) the
+kernels keep small by three rules. No slice assignment between arrays (``a[:] = b``, ``a[i] = row``): numba
+compiles with each the message of a shape mismatch, both shapes formatted into a string, which pulls in its
+string formatting (str of an integer, join, ...), seconds for the first of each dimension; the kernels copy element
+by element (:func:`copy_rows`), and call np.linalg.solve's LAPACK routine themselves, as solve copies its input so
+(``insrail.nav.kalman.solve_transposed``). One signature per kernel: a constant integer argument is a type of its
+own (``Literal[int]``; ``np.int64(0)`` is not), as is each layout and writability of an array, and each signature
+is compiled anew. And scalar code is math's (``math.isfinite``, ``abs``), not numpy's ufuncs, each of which is
+compiled too. None of it changes an operation or its order: the results are the same to the bit.
+
 The loader uses two private methods of numba's cache (``_guard_against_spurious_io_errors``,
 ``_load_overload``, as in numba 0.68): tests/test_jit.py loads a kernel so in a fresh process, runs it and checks
 that the registries and scipy.linalg stay unloaded.
@@ -66,6 +76,15 @@ def cached_njit(**options) -> Callable:
         return dispatcher
 
     return decorate
+
+
+@cached_njit(nogil=True)
+def copy_rows(source, out):  # pragma: no cover - compiled
+    """out[:, :] = source for 2-d arrays of one shape, element by element (module docstring). Callers pass views
+    of whole rows, C-ordered and writable like the arrays they come from: one signature for every caller."""
+    for r in range(source.shape[0]):
+        for c in range(source.shape[1]):
+            out[r, c] = source[r, c]
 
 
 def _load_scipy_blas() -> None:

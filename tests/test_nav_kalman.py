@@ -53,6 +53,44 @@ def test_rts_step_matches_the_smoother_of_a_random_walk():
     assert e[0] == pytest.approx(0.2 * p_plus0 / p_minus1)
 
 
+def test_the_smoother_gain_and_step_are_numbas_solve_and_products_to_the_bit():
+    # the kernels write out what numba's np.linalg.solve and array expressions did (no slice assignment
+    # compiled): the same LAPACK call and the same sums give the same bits
+    from numba import njit
+
+    @njit
+    def by_arrays(phi_next, p_minus_next, p_plus, e_next, P_s_next):
+        A = np.ascontiguousarray(np.linalg.solve(np.ascontiguousarray(p_minus_next.T),
+                                                 np.ascontiguousarray((p_plus @ phi_next.T).T)).T)
+        return A, A @ e_next, p_plus + A @ np.ascontiguousarray(P_s_next - p_minus_next) @ np.ascontiguousarray(A.T)
+
+    rng = np.random.default_rng(7)
+    n = 25
+    phi = np.eye(n) + 0.01 * rng.standard_normal((n, n))
+    root = rng.standard_normal((n, n))
+    p_plus, p_minus, P_s = (m @ m.T + n * np.eye(n) for m in (root, root + 0.1, root - 0.1))
+    e_next = rng.standard_normal(n)
+    A, e, smoothed = by_arrays(phi, p_minus, p_plus, e_next, P_s)
+    gain = kalman.rts_gain(phi, p_minus, p_plus)
+    assert gain.flags.c_contiguous
+    np.testing.assert_array_equal(gain, A)
+    got_e, got_smoothed = kalman.rts_smoothed(gain, e_next, P_s, p_minus, p_plus)
+    np.testing.assert_array_equal(got_e, e)
+    np.testing.assert_array_equal(got_smoothed, smoothed)
+
+
+def test_solve_transposed_solves_in_place_and_raises_as_solve():
+    a = np.array([[4.0, 1.0], [2.0, 3.0]])
+    b = np.array([[1.0, 0.0, 2.0], [0.0, 1.0, 1.0]])
+    a_t, b_t = a.T.copy(), b.T.copy()
+    kalman.solve_transposed(a_t, b_t)
+    np.testing.assert_allclose(b_t.T, np.linalg.solve(a, b), rtol=1e-15)
+    with pytest.raises(np.linalg.LinAlgError, match="singular"):
+        kalman.solve_transposed(np.ones((2, 2)), b.T.copy())
+    with pytest.raises(np.linalg.LinAlgError, match="infs or NaNs"):
+        kalman.solve_transposed(a.T.copy(), np.full((1, 2), np.nan))
+
+
 def test_one_schedule_orders_sources_by_epoch_then_list_order():
     times = np.arange(0.0, 2.01, 0.1)  # update epochs 0..20
     gnss = GnssPosition(np.array([-1.0, 0.0, 0.5, 1.0, 1.05, 9.0]), np.zeros(6), np.zeros(6), np.zeros(6),

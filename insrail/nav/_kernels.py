@@ -145,7 +145,8 @@ def lat_sincos(q_ne):
 
 @compiled
 def lat_lon(q_ne):
-    """Geodetic latitude and longitude [rad] from q_n^e."""
+    """Geodetic latitude and longitude [rad] from q_n^e, a tuple (as the strapdown's: each layout or
+    writability of an array passed instead would compile it and :func:`_down_axis_ecef` once more)."""
     c02, c12, c22 = _down_axis_ecef(q_ne)
     return math.atan2(-c22, math.sqrt(c02 * c02 + c12 * c12)), math.atan2(-c12, -c02)
 
@@ -166,7 +167,7 @@ def euler(q_bn):
 def lat_lon_rows(q_ne, lat, lon):
     """:func:`lat_lon` for every row of q_ne (m, 4) into lat, lon (m,)."""
     for i in range(q_ne.shape[0]):
-        lat[i], lon[i] = lat_lon(q_ne[i])
+        lat[i], lon[i] = lat_lon((q_ne[i, 0], q_ne[i, 1], q_ne[i, 2], q_ne[i, 3]))
 
 
 @compiled

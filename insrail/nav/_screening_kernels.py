@@ -8,9 +8,14 @@ order outwards from it (the sorted values on either side of the median give them
 are np.median's: the mean of the two middle values ((a + b) / 2, as np.mean of two), NaN where a
 window holds a NaN (the sign of a median of exactly zero between a -0.0 and a 0.0 aside: numpy's
 partition orders such ties its own way).
+
+Scalar tests and magnitudes are math's and the builtin abs, not numpy's ufuncs (the same values): a ufunc
+on a scalar, like a slice assignment between arrays, adds to the compiling of a first run.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -20,7 +25,7 @@ from insrail.jit import cached_njit
 @cached_njit(inline="always")
 def _insert(window: np.ndarray, size: int, value: float) -> None:
     """``value`` into the sorted ``window[:size]`` (NaN kept as +inf: counted apart by the caller)."""
-    v = np.inf if np.isnan(value) else value
+    v = np.inf if math.isnan(value) else value
     j = size - 1
     while j >= 0 and window[j] > v:
         window[j + 1] = window[j]
@@ -31,7 +36,7 @@ def _insert(window: np.ndarray, size: int, value: float) -> None:
 @cached_njit(inline="always")
 def _remove(window: np.ndarray, size: int, value: float) -> None:
     """One entry equal to ``value`` (bit for bit, so a -0.0 is not taken for a 0.0) out of ``window[:size]``."""
-    v = np.inf if np.isnan(value) else value
+    v = np.inf if math.isnan(value) else value
     negative = np.signbit(v)
     at = size - 1
     for i in range(size):
@@ -69,16 +74,16 @@ def neighbour_median_and_spread(rates: np.ndarray, neighbours: int) -> tuple[np.
             if r == 0:
                 for i in range(centre - neighbours, centre + neighbours + 1):
                     if i != centre:
-                        nans += np.isnan(rates[i, axis])
+                        nans += math.isnan(rates[i, axis])
                         _insert(window, size, rates[i, axis])
                         size += 1
             else:  # the window moves by one: its first record and the new centre leave, the old centre and the next enter
                 for leaving in (centre - neighbours - 1, centre):
-                    nans -= np.isnan(rates[leaving, axis])
+                    nans -= math.isnan(rates[leaving, axis])
                     _remove(window, size, rates[leaving, axis])
                     size -= 1
                 for entering in (centre - 1, centre + neighbours):
-                    nans += np.isnan(rates[entering, axis])
+                    nans += math.isnan(rates[entering, axis])
                     _insert(window, size, rates[entering, axis])
                     size += 1
             if nans:
@@ -90,13 +95,13 @@ def neighbour_median_and_spread(rates: np.ndarray, neighbours: int) -> tuple[np.
             lo, hi = count // 2 - 1, count // 2
             for k in range(count):
                 if lo < 0:
-                    departures[k] = np.abs(window[hi] - ref)
+                    departures[k] = abs(window[hi] - ref)
                     hi += 1
                 elif hi >= count:
-                    departures[k] = np.abs(window[lo] - ref)
+                    departures[k] = abs(window[lo] - ref)
                     lo -= 1
                 else:
-                    below, above = np.abs(window[lo] - ref), np.abs(window[hi] - ref)
+                    below, above = abs(window[lo] - ref), abs(window[hi] - ref)
                     if below <= above:
                         departures[k] = below
                         lo -= 1
@@ -118,15 +123,17 @@ def candidate_rows(time_s: np.ndarray, increments: np.ndarray, nominal: float, g
     indices, increasing. One pass, the same divisions and differences as the whole-array form."""
     found = np.empty(hi - lo, np.int64)
     count = 0
-    previous = np.full(3, np.nan)  # the clean rates of the row before (NaN: not finite or beyond)
+    previous = np.empty(3)  # the clean rates of the row before (NaN: not finite or beyond)
     clean = np.empty(3)
+    for axis in range(3):  # not np.full: one more of numpy's functions compiled on a first run
+        previous[axis] = np.nan
     for i in range(lo, hi):
         step = time_s[i] - time_s[max(i - 1, 0)]
         interval = nominal if i == 0 or step > gap else step
         bad = False
         for axis in range(3):
             rate = increments[i, axis] / interval
-            if not np.isfinite(rate) or np.abs(rate) > full_range:
+            if not math.isfinite(rate) or abs(rate) > full_range:
                 bad = True
                 clean[axis] = np.nan
             else:
@@ -134,7 +141,7 @@ def candidate_rows(time_s: np.ndarray, increments: np.ndarray, nominal: float, g
         edge = False
         if i > lo:
             for axis in range(3):
-                if np.abs(clean[axis] - previous[axis]) > jump:
+                if abs(clean[axis] - previous[axis]) > jump:
                     edge = True
             if edge:  # the row before is a candidate too (once)
                 if count == 0 or found[count - 1] != i - 1:
@@ -143,5 +150,6 @@ def candidate_rows(time_s: np.ndarray, increments: np.ndarray, nominal: float, g
         if bad or edge:
             found[count] = i
             count += 1
-        previous[:] = clean
+        for axis in range(3):  # not previous[:] = clean: that compiles numba's message of a shape mismatch
+            previous[axis] = clean[axis]
     return found[:count]

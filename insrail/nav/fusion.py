@@ -57,6 +57,7 @@ from typing import Self
 
 import numpy as np
 
+from insrail import jit
 from insrail.io.atomic import named_write, write_at
 from insrail.io.imu import release_pages
 from insrail.io.survey import SurveyData, TrolleyGeometry
@@ -656,7 +657,7 @@ def _transition(top_f, decay, gqg, seg, disp, play, phi_top, phi_diag, P, P_minu
 def _feedback(nav, dx, sensor, gnss_error, odo, earth_c):
     """Apply the error estimate dx to the navigation vector, the sensor, GNSS and odometer
     error estimates (in place)."""
-    lat, lon = _kernels.lat_lon(nav[0:4])
+    lat, lon = _kernels.lat_lon((nav[0], nav[1], nav[2], nav[3]))
     h = nav[4]
     r_m, r_n = _kernels.radii(math.sin(lat), earth_c)
     lat -= dx[POS] / (r_m + h)
@@ -726,10 +727,12 @@ def _unpack_record(rec, phi, P_minus, P, dx):
 
 
 @compiled
-def _unpack_records(records, phi, P_minus, P, dx):
-    """:func:`_unpack_record` of each row of ``records`` into row r of the outputs."""
-    for r in range(records.shape[0]):
-        _unpack_record(records[r], phi[r], P_minus[r], P[r], dx[r])
+def _unpack_reversed(records, phi, P_minus, P, dx):
+    """:func:`_unpack_record` of each row of ``records``, the last first: record k - 1 - r into row r of the
+    outputs (from a reversed view of the records both kernels would be compiled a second time, for its layout)."""
+    k = records.shape[0]
+    for r in range(k):
+        _unpack_record(records[k - 1 - r], phi[r], P_minus[r], P[r], dx[r])
 
 
 @compiled
@@ -797,7 +800,7 @@ def _forward_kernel(pos, nav, sensor, gnss_error, odo, x, P, P_minus, phi_top, p
             if pending[0] != 0.0:  # a reset: a burst of process noise on this segment
                 kalman.inflate_in_place(P_minus, pending[1:])
                 pending[0] = 0.0
-            P[:, :] = P_minus
+            jit.copy_rows(P_minus, P)
             x[:] = 0.0
             decay_gnss = math.exp(-seg / gnss_decay_tau)  # the estimate follows its model
             for k in range(3):
@@ -880,10 +883,10 @@ def _rts_gains(records, after, gains, p0, with_start):
         else:
             continue
         _unpack_record(records[r], unused, unused, p_plus, dx)
-        gains[r + 1] = kalman.rts_gain(phi, p_minus, p_plus)
+        jit.copy_rows(kalman.rts_gain(phi, p_minus, p_plus), gains[r + 1])
     if with_start:
         _unpack_record(records[0], phi, p_minus, p_plus, dx)
-        gains[0] = kalman.rts_gain(phi, p_minus, p0)
+        jit.copy_rows(kalman.rts_gain(phi, p_minus, p0), gains[0])
 
 
 @compiled
@@ -914,8 +917,8 @@ def _rts_chunk(records, gains, state, e_next, P_s_next, p_minus_next, correction
             corrections[j, 1, k] = e[k] + dx[k]
             sigma[j, k] = math.sqrt(max(P_s[k, k], 0.0))
             e_next[k] = e[k] + dx[k]
-        P_s_next[:, :] = P_s
-        p_minus_next[:, :] = p_minus
+        jit.copy_rows(P_s, P_s_next)
+        jit.copy_rows(p_minus, p_minus_next)
     if with_start:
         e, P_s = kalman.rts_smoothed(gains[0], e_next, P_s_next, p_minus_next, p0)
         for k in range(n):
@@ -1082,7 +1085,7 @@ class SmootherStore:
             k = len(chunk)
             phi, p_minus, p_plus = (np.empty((k, N_STATES, N_STATES)) for _ in range(3))
             dx = np.empty((k, N_STATES))
-            _unpack_records(chunk[::-1], phi, p_minus, p_plus, dx)
+            _unpack_reversed(chunk, phi, p_minus, p_plus, dx)
             yield np.arange(first + k, first, -1), phi, p_minus, p_plus, dx
 
     def close(self):
@@ -2193,7 +2196,7 @@ def _trajectory_rows(t, nav, idx, seg, epochs, sensor_hist, sigma_hist, correcti
         left, right = epochs[j - 1], epochs[j]
         span = t[right] - t[left]
         w = (t[idx[i]] - t[left]) / span if span > 0.0 else 1.0
-        lat, lon = _kernels.lat_lon(nav[i, 0:4])
+        lat, lon = _kernels.lat_lon((nav[i, 0], nav[i, 1], nav[i, 2], nav[i, 3]))
         h = nav[i, 4]
         vel = (nav[i, 5], nav[i, 6], nav[i, 7])
         q_bn = (nav[i, 8], nav[i, 9], nav[i, 10], nav[i, 11])
@@ -2218,7 +2221,7 @@ def _trajectory_rows(t, nav, idx, seg, epochs, sensor_hist, sigma_hist, correcti
 
 
 # These kernels run compiled code of other modules (the measurement models, the Kalman update, the
-# strapdown): their cache entries go when those modules change (numba checks only this file).
+# strapdown, the copy of insrail.jit): their cache entries go when those modules change (numba checks only this file).
 _kernels.drop_stale_cache((_propagate_segment, dynamics_rows, _transition, _feedback, _pack_record, _unpack_record,
-                           _unpack_records, _forward_kernel, _rts_gains, _rts_chunk, _trajectory_rows),
-                          (meas.__file__, kalman.__file__, _kernels.__file__, error_model.__file__))
+                           _unpack_reversed, _forward_kernel, _rts_gains, _rts_chunk, _trajectory_rows),
+                          (meas.__file__, kalman.__file__, _kernels.__file__, error_model.__file__, jit.__file__))

@@ -16,10 +16,21 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import _helperlib, types
 
 from insrail.jit import cached_njit
 
 compiled = cached_njit(error_model="numpy")
+
+# LAPACK's dgesv called as numba's np.linalg.solve calls it: through numba's C helper numba_xgesv, which finds
+# dgesv in scipy.linalg.cython_lapack. The same routine on the same numbers gives solve's result to the bit;
+# solve itself copies its right-hand side in by a slice assignment, which compiles numba's message of a shape
+# mismatch (shapes formatted into a string: seconds of a first run's compiling, insrail.jit).
+_LAPACK_INT = np.int64 if getattr(_helperlib, "LAPACK_BUILD_ILP64", False) else np.int32  # numba's F_INT
+_XGESV = types.ExternalFunction("numba_xgesv", types.intc(
+    types.char, types.intp, types.intp, types.CPointer(types.float64), types.intp,
+    types.CPointer(types.int64 if _LAPACK_INT is np.int64 else types.int32), types.CPointer(types.float64), types.intp))
+_DOUBLE = ord("d")
 
 
 @compiled
@@ -158,15 +169,47 @@ def rts_step(e_next, P_s_next, phi_next, p_minus_next, p_plus):
 
 
 @compiled
+def solve_transposed(a_t, b_t):
+    """np.linalg.solve(a, b) for a = a_t^T (n x n) and b = b_t^T (n x k), in place and to the bit: C-ordered,
+    a_t and b_t are a and b in Fortran's order, as LAPACK takes them (the copies solve makes); b_t becomes
+    the solution's transpose, a_t a's LU factors. Errors as solve's: LinAlgError for an infinite or NaN
+    entry and for a singular a."""
+    n, k = b_t.shape[1], b_t.shape[0]
+    for i in range(n):
+        for j in range(n):
+            if not math.isfinite(a_t[i, j]):
+                raise np.linalg.LinAlgError("Array must not contain infs or NaNs.")
+        for c in range(k):
+            if not math.isfinite(b_t[c, i]):
+                raise np.linalg.LinAlgError("Array must not contain infs or NaNs.")
+    pivots = np.empty(n, dtype=_LAPACK_INT)
+    if _XGESV(_DOUBLE, n, k, a_t.ctypes, n, pivots.ctypes, b_t.ctypes, n) != 0:
+        raise np.linalg.LinAlgError("Matrix is singular to machine precision.")
+
+
+@compiled
 def rts_gain(phi_next, p_minus_next, p_plus):
     """The smoother gain A_j = P+_j Phi^T (P-_{j+1})^-1 of :func:`rts_step`, C-ordered. It needs the
     forward pass's quantities only, none of the smoothed ones: the gains can be made ahead of the
-    backward recursion (``insrail.nav.fusion._rts``)."""
-    A = np.linalg.solve(np.ascontiguousarray(p_minus_next.T), np.ascontiguousarray((p_plus @ phi_next.T).T)).T
-    return np.ascontiguousarray(A)
+    backward recursion (``insrail.nav.fusion._rts``). A^T solves P-^T A^T = (P+ Phi^T)^T."""
+    gain = p_plus @ phi_next.T  # (P+ Phi^T)^T in Fortran's order
+    solve_transposed(p_minus_next.copy(), gain)
+    return gain
 
 
 @compiled
 def rts_smoothed(A, e_next, P_s_next, p_minus_next, p_plus):
-    """(e_j, P_s_j) of :func:`rts_step` from its gain ``A`` (:func:`rts_gain`)."""
-    return A @ e_next, p_plus + A @ np.ascontiguousarray(P_s_next - p_minus_next) @ np.ascontiguousarray(A.T)
+    """(e_j, P_s_j) of :func:`rts_step` from its gain ``A`` (:func:`rts_gain`). The sums element by
+    element: numba compiles an array expression as a loop of its own, and that for each of them."""
+    n = A.shape[0]
+    difference = np.empty((n, n))
+    a_t = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            difference[i, j] = P_s_next[i, j] - p_minus_next[i, j]
+            a_t[i, j] = A[j, i]
+    smoothed = A @ difference @ a_t
+    for i in range(n):
+        for j in range(n):
+            smoothed[i, j] = p_plus[i, j] + smoothed[i, j]
+    return A @ e_next, smoothed

@@ -632,7 +632,8 @@ def fill_context(ctx, nav, sums, dt_last, odo_scale, gnss_error, time_s, earth):
     c[6] = 2.0 * (q1 * q3 - q0 * q2)
     c[7] = 2.0 * (q2 * q3 + q0 * q1)
     c[8] = q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3
-    lat, lon = _kernels.lat_lon(nav[_kernels.NAV_Q_NE : _kernels.NAV_Q_NE + 4])
+    lat, lon = _kernels.lat_lon((nav[_kernels.NAV_Q_NE], nav[_kernels.NAV_Q_NE + 1], nav[_kernels.NAV_Q_NE + 2],
+                               nav[_kernels.NAV_Q_NE + 3]))
     h = nav[_kernels.NAV_H]
     ctx[CTX_TIME], ctx[CTX_LAT], ctx[CTX_LON], ctx[CTX_H] = time_s, lat, lon, h
     seg = sums[9]
@@ -768,7 +769,8 @@ def _odometer_nhc_model(ctx, params, obs, z, H, r):
     if params[16] != 0.0 and obs[4] != 0.0:
         lever = (params[9], params[10], params[11])
         mean_vel = (ctx[CTX_MEAN_VEL], ctx[CTX_MEAN_VEL + 1], ctx[CTX_MEAN_VEL + 2])
-        v = _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, mean_vel, 0, H, 0)
+        # np.int64: constant arguments (Literal[int]) would compile the row a second time, for them
+        v = _vehicle_velocity_row(ctx, params, c_nv, omega_nb, lever, mean_vel, np.int64(0), H, np.int64(0))
         corrected = obs[1] / (1.0 + ctx[CTX_ODO_SCALE])
         H[0, ODO] = -corrected / (1.0 + ctx[CTX_ODO_SCALE])
         z[0] = v - corrected

@@ -62,9 +62,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from insrail import jit
 from insrail.jit import cached_njit
 from insrail.nav.error_model import ATT, POS
-from insrail.nav.kalman import inflate
+from insrail.nav import _kernels, kalman
+from insrail.nav.kalman import inflate, solve_transposed
 from insrail.progress import CancelToken, ProgressFn, StepProgress, check_cancel
 
 #: One segment of the timeline: (Phi, Q, [(H, R), ...]) from the previous update epoch to this one.
@@ -401,7 +403,15 @@ def _gain(phi_next, p_minus_next, p_plus):  # pragma: no cover - compiled
     """The smoother gain A = P+ Phi^T (P-)^-1 (Phi and P- of the epoch after), C-ordered: solved as
     (P-)^-1 Phi P+ and transposed (the numbers of numpy's own solve and product, to the bit)."""
     rhs = np.ascontiguousarray(phi_next) @ np.ascontiguousarray(p_plus)
-    return np.ascontiguousarray(np.linalg.solve(p_minus_next, rhs).T)
+    n = rhs.shape[0]
+    a_t = np.empty((n, n))
+    gain = np.empty((n, n))  # the solution's transpose: A
+    for i in range(n):
+        for j in range(n):
+            a_t[i, j] = p_minus_next[j, i]
+            gain[i, j] = rhs[j, i]
+    solve_transposed(a_t, gain)
+    return gain
 
 
 @cached_njit(nogil=True)  # touches no Python object: runs beside the caller's thread
@@ -410,8 +420,7 @@ def _drop(rows, slot_of, pair_of_slot, active, which, slot, code):  # pragma: no
     moved into it, its pair's ``slot_of`` set to ``code`` (the freed slot as ``slot_of`` tells it)."""
     last = active[which] - 1
     if slot != last:
-        rows[2 * slot] = rows[2 * last]
-        rows[2 * slot + 1] = rows[2 * last + 1]
+        jit.copy_rows(rows[2 * last : 2 * last + 2], rows[2 * slot : 2 * slot + 2])
         moved = pair_of_slot[last]
         slot_of[moved] = code
         pair_of_slot[slot] = moved
@@ -432,21 +441,30 @@ def _backward_chunk(js, low, phi, p_minus, p_plus, phi_next, p_minus_next, first
     for e in range(len(js)):
         j = js[e]
         if e < first:
-            P_s[:, :] = p_plus[e]
+            jit.copy_rows(p_plus[e], P_s)
         else:
             if e == 0:
                 a = _gain(phi_next, p_minus_next, p_plus[e])
-                x = np.ascontiguousarray(P_s - p_minus_next)
+                before = p_minus_next
             else:
                 a = _gain(phi[e - 1], p_minus[e - 1], p_plus[e])
-                x = np.ascontiguousarray(P_s - p_minus[e - 1])
-            smoothed = p_plus[e] + (a @ x) @ a.T
-            P_s[:, :] = 0.5 * (smoothed + smoothed.T)
+                before = p_minus[e - 1]
+            x = np.empty((n, n))
+            for i in range(n):
+                for c in range(n):
+                    x[i, c] = P_s[i, c] - before[i, c]
+            smoothed = (a @ x) @ a.T
+            for i in range(n):
+                for c in range(n):
+                    smoothed[i, c] = p_plus[e, i, c] + smoothed[i, c]
+            for i in range(n):
+                for c in range(n):
+                    P_s[i, c] = 0.5 * (smoothed[i, c] + smoothed[c, i])
             if active[0]:
-                product[:, :] = a @ product
+                jit.copy_rows(a @ product, product)
             k = 2 * active[1]
             if k:
-                young[:k] = young[:k] @ a.T  # each row d^T A^T = (A d)^T
+                jit.copy_rows(young[:k] @ a.T, young[:k])  # each row d^T A^T = (A d)^T
             active[2] += 1
         _project(var_s, P_s, u, j, low, pos, att)
         _project(var_f, p_plus[e], u, j, low, pos, att)
@@ -465,9 +483,10 @@ def _backward_chunk(js, low, phi, p_minus, p_plus, phi_next, p_minus_next, first
                     total += u[r, j - low, p] * value
                 cross_s[pair, r] = total
             if slot >= 0:
-                _drop(columns, slot_of, pair_of_slot, active, 0, slot, slot)
+                # np.int64: a constant argument (Literal[int]) would compile _drop once per value
+                _drop(columns, slot_of, pair_of_slot, active, np.int64(0), slot, slot)
             else:
-                _drop(young, slot_of, pair_of_young, active, 1, -1 - slot, slot)
+                _drop(young, slot_of, pair_of_young, active, np.int64(1), -1 - slot, slot)
         for t in range(ends_ptr[j], ends_ptr[j + 1]):  # pairs whose second epoch is j: seeded with P_s[:, pos] u^T
             pair = ends_idx[t]
             slot = active[1]
@@ -483,12 +502,11 @@ def _backward_chunk(js, low, phi, p_minus, p_plus, phi_next, p_minus_next, first
         if active[2] >= checkpoint:  # every column brought to now, the young ones among them
             k = 2 * active[0]
             if k:
-                columns[:k] = columns[:k] @ product.T
+                jit.copy_rows(columns[:k] @ product.T, columns[:k])
             for slot in range(active[1]):
                 to = active[0]
                 active[0] = to + 1
-                columns[2 * to] = young[2 * slot]
-                columns[2 * to + 1] = young[2 * slot + 1]
+                jit.copy_rows(young[2 * slot : 2 * slot + 2], columns[2 * to : 2 * to + 2])
                 slot_of[pair_of_young[slot]] = to
                 pair_of_slot[to] = pair_of_young[slot]
             active[1] = 0
@@ -496,8 +514,13 @@ def _backward_chunk(js, low, phi, p_minus, p_plus, phi_next, p_minus_next, first
             product[:, :] = 0.0
             for i in range(n):
                 product[i, i] = 1.0
-    phi_next[:, :] = phi[len(js) - 1]
-    p_minus_next[:, :] = p_minus[len(js) - 1]
+    jit.copy_rows(phi[len(js) - 1], phi_next)
+    jit.copy_rows(p_minus[len(js) - 1], p_minus_next)
+
+
+# These kernels run compiled code of other modules (the LAPACK call of insrail.nav.kalman, the copy of
+# insrail.jit): their cache entries go when those modules change (numba checks only this file).
+_kernels.drop_stale_cache((_gain, _drop, _backward_chunk), (kalman.__file__, jit.__file__))
 
 
 def _group(epochs: np.ndarray, m: int) -> dict[int, np.ndarray]:

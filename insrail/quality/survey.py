@@ -40,7 +40,7 @@ from insrail.nav.error_model import (
     noise_matrix,
     play_noise,
 )
-from insrail.nav.fusion import FusionOptions, FusionResult, SmootherStore, _unpack_records, play_drift
+from insrail.nav.fusion import FusionOptions, FusionResult, SmootherStore, _unpack_reversed, play_drift
 from insrail.nav.imu_profile import ImuProfile, load_imu_profile
 from insrail.nav.measurements import NavSnapshot
 from insrail.nav.rotation import euler_to_dcm
@@ -199,12 +199,11 @@ def _reversed_parts(store: SmootherStore):
     phi, p_minus, p_plus = (np.empty((size, N_STATES, N_STATES)) for _ in range(3))
     dx = np.empty((size, N_STATES))
     for first, chunk in store.reversed_chunks():
-        records = chunk[::-1]
         top = first + len(chunk)
-        for start in range(0, len(records), SMOOTH_PART_EPOCHS):
-            part = records[start : start + SMOOTH_PART_EPOCHS]
+        for start in range(0, len(chunk), SMOOTH_PART_EPOCHS):
+            part = chunk[max(len(chunk) - start - SMOOTH_PART_EPOCHS, 0) : len(chunk) - start]  # unpacked last first
             k = len(part)
-            _unpack_records(part, phi[:k], p_minus[:k], p_plus[:k], dx[:k])
+            _unpack_reversed(part, phi[:k], p_minus[:k], p_plus[:k], dx[:k])
             yield np.arange(top - start, top - start - k, -1), phi[:k], p_minus[:k], p_plus[:k]
 
 

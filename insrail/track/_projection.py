@@ -33,9 +33,24 @@ WARM_START_M = 1.0
 
 
 @compiled
+def _last_not_above(ascending, value):
+    """np.searchsorted(ascending, value, side="right") - 1, written out (a NaN value, as numpy's, after every
+    knot): numba's searchsorted compiles for seconds on a first run, and its module (numba.np.arraymath, with
+    scipy.linalg) would be imported when the cached kernel is loaded (insrail.jit)."""
+    low, high = 0, ascending.shape[0]
+    while low < high:
+        middle = (low + high) // 2
+        if not value < ascending[middle]:
+            low = middle + 1
+        else:
+            high = middle
+    return low - 1
+
+
+@compiled
 def knot_state(k_station, k_east, k_north, k_azimuth, k_curvature, k_rate, gl_fractions, gl_weights, s):
     """(east, north, unwrapped azimuth, curvature) at station ``s`` (the end elements extrapolated)."""
-    i = np.searchsorted(k_station, s, side="right") - 1
+    i = _last_not_above(k_station, s)
     i = min(max(i, 0), k_station.shape[0] - 1)
     d = s - k_station[i]
     azimuth, curvature, rate = k_azimuth[i], k_curvature[i], k_rate[i]
