@@ -28,25 +28,28 @@ import shared_build  # noqa: E402
 
 
 NUMBA_WARMUP = "numba-warmup"
+NUMBA_WARMUP_BESIDE = "numba-warmup-beside"
 
 
 @pytest.hookimpl(trylast=True)
 def pytest_configure(config):
-    """The xdist controller fills insrail's numba cache once while its workers start (tests/numba_warmup.py);
-    without it every worker of a clean checkout compiled the kernels itself. INSRAIL_TEST_CPU_LOG: each
-    test's CPU time logged (tests/cpu_log.py)."""
+    """The xdist controller fills insrail's numba cache once while its workers start (tests/numba_warmup.py),
+    in two processes (the processing's kernels; beside them on the other core those it leaves out, then
+    shared inputs); without it every worker of a clean checkout compiled the kernels itself.
+    INSRAIL_TEST_CPU_LOG: each test's CPU time logged (tests/cpu_log.py)."""
     cpu_log.register(config)
     if hasattr(config, "workerinput") or not config.getoption("numprocesses", None) or config.option.collectonly:
         return
     run_folder = config._tmp_path_factory.getbasetemp()
-    config._numba_warmup = shared_build.start_holding(
-        run_folder, NUMBA_WARMUP, [sys.executable, str(Path(__file__).with_name("numba_warmup.py")),
-                                   str(run_folder / "shared" / NUMBA_WARMUP)])
+    script = str(Path(__file__).with_name("numba_warmup.py"))
+    config._numba_warmups = (
+        shared_build.start_holding(run_folder, NUMBA_WARMUP,
+                                   [sys.executable, script, str(run_folder / "shared" / NUMBA_WARMUP)]),
+        shared_build.start_holding(run_folder, NUMBA_WARMUP_BESIDE, [sys.executable, script, "--beside", str(run_folder)]))
 
 
 def pytest_unconfigure(config):
-    warmup = getattr(config, "_numba_warmup", None)
-    if warmup is not None:
+    for warmup in getattr(config, "_numba_warmups", ()):
         warmup.kill()  # a run stopped early does not wait for it
         warmup.wait()
 
@@ -57,6 +60,7 @@ def _shared_run_folder(tmp_path_factory):
     filled (or the controller's warm-up ended) before a worker's first test."""
     shared_build.RUN_FOLDER = shared_build.run_folder(tmp_path_factory)
     shared_build.wait_for(NUMBA_WARMUP)
+    shared_build.wait_for(NUMBA_WARMUP_BESIDE)
 
 
 @pytest.fixture(scope="session")

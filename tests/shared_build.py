@@ -61,15 +61,25 @@ def computed_once(name: str, compute: Callable[[], T]) -> T:
     return pickle.loads((built_once(name, build) / "value.pickle").read_bytes())
 
 
+#: The environment variable naming, in a process started by :func:`start_holding`, the descriptor of its lock
+HELD_LOCK_FD = "SHARED_BUILD_HELD_LOCK_FD"
+
+
 def start_holding(run_folder: Path, name: str, argv: list[str]) -> subprocess.Popen:
-    """Starts ``argv`` in the background holding the lock of ``name`` until it ends (the lock passes to it with
-    its file descriptor); its output goes to ``name.log``. :func:`wait_for` waits for it."""
+    """Starts ``argv`` in the background holding the lock of ``name`` until it ends or calls :func:`release_held`
+    (the lock passes to it with its file descriptor); its output goes to ``name.log``. :func:`wait_for` waits
+    for it."""
     folder = run_folder / "shared"
     folder.mkdir(exist_ok=True)
     with open(folder / (name + ".lock"), "w") as lock, open(folder / (name + ".log"), "w") as log:
         fcntl.flock(lock, fcntl.LOCK_EX)
         return subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=log, stderr=subprocess.STDOUT,
-                                pass_fds=(lock.fileno(),))
+                                pass_fds=(lock.fileno(),), env={**os.environ, HELD_LOCK_FD: str(lock.fileno())})
+
+
+def release_held() -> None:
+    """In a process started by :func:`start_holding`: lets the lock go before the process ends."""
+    os.close(int(os.environ.pop(HELD_LOCK_FD)))
 
 
 def wait_for(name: str) -> None:

@@ -52,11 +52,16 @@ def _fitted_with_long_waves():
     return points, fit, fit_windows(fit, *points)
 
 
+def long_waves_once():
+    """The global and the windowed fit of the 3 km line with long waves (some 14 s of CPU): computed once per test
+    run, not once per xdist worker that runs one of this module's tests (shared_build); with -n, while the
+    workers wait for the numba warm-up (tests/numba_warmup.py's PREBUILT)."""
+    return computed_once("linefit-windows-long-waves", _fitted_with_long_waves)
+
+
 @pytest.fixture(scope="module")
 def with_long_waves():
-    """The global and the windowed fit of the 3 km line with long waves (some 14 s of CPU): computed once per test
-    run, not once per xdist worker that runs one of this module's tests (shared_build)."""
-    return computed_once("linefit-windows-long-waves", _fitted_with_long_waves)
+    return long_waves_once()
 
 
 def test_windows_recover_the_irregularities_the_global_fit_buries_in_long_waves(with_long_waves):
